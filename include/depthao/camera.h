@@ -1,0 +1,62 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Pinhole camera in the optical frame (x right, y down, z forward, metres).
+ *
+ * Pixel (u, v) has its centre at integer coordinates.  A view position is an
+ * affine function of the pixel times the depth z (UvToViewParams):
+ *     x = (u * ax + bx) * z,   y = (v * ay + by) * z
+ * with ax = 1/fx, bx = -cx/fx, ay = 1/fy, by = -cy/fy, precomputed once.
+ */
+#ifndef DEPTHAO_CAMERA_H
+#define DEPTHAO_CAMERA_H
+
+#include <stdint.h>
+
+#include <depthao/error.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct dao_camera {
+	uint32_t width, height;  /* image size in pixels */
+	double fx, fy, cx, cy;   /* intrinsics in pixels */
+	float ax, ay, bx, by;    /* UvToViewParams, derived */
+};
+
+/*
+ * Sets up a camera from intrinsics.  fx, fy must be finite and > 0, cx, cy
+ * finite; width and height in 1..DAO_MAX_DIMENSION.  Returns 0 or -EINVAL.
+ */
+DAO_API int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t width, uint32_t height,
+			       double fx, double fy, double cx, double cy,
+			       struct dao_error *err);
+
+/*
+ * Sets up a camera from horizontal and vertical field of view (radians, in
+ * (0, pi)), as OpenNI reports them: fx = (w/2) / tan(hfov/2),
+ * cx = (w-1)/2, and the same for y.
+ */
+DAO_API int dao_camera_from_fov(struct dao_camera *cam, uint32_t width, uint32_t height,
+			double hfov, double vfov, struct dao_error *err);
+
+/* Field of view (radians) of a camera: hfov = 2 atan(w / (2 fx)). */
+DAO_API void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov);
+
+/* Pixel (u, v) at depth z -> view position p[3]. */
+DAO_API void dao_camera_pixel_to_view(const struct dao_camera *cam, float u, float v, float z,
+			      float p[3]);
+
+/*
+ * View position -> pixel.  Returns 0, or -EDOM when p is not in front of the
+ * camera (z <= 0 or not finite).
+ */
+DAO_API int dao_camera_view_to_pixel(const struct dao_camera *cam, const float p[3],
+			     float *u, float *v);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,87 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The AO context: one camera, one parameter set, and the working buffers for
+ * frames of that camera's size.  All memory is allocated when the context is
+ * created; processing a frame allocates nothing.
+ *
+ * A context is used by one thread at a time; separate contexts are fully
+ * independent (the library has no global mutable state).
+ */
+#ifndef DEPTHAO_CONTEXT_H
+#define DEPTHAO_CONTEXT_H
+
+#include <stdint.h>
+
+#include <depthao/camera.h>
+#include <depthao/error.h>
+#include <depthao/frame.h>
+#include <depthao/params.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct dao_context;
+
+/*
+ * Creates a context for frames of cam->width x cam->height.  `params` may be
+ * NULL for the default preset.  Returns 0, -EINVAL (bad camera or params) or
+ * -ENOMEM.
+ */
+DAO_API int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
+		       const struct dao_params *params, struct dao_error *err);
+
+/* Destroys a context; NULL-safe. */
+DAO_API void dao_context_destroy(struct dao_context *ctx);
+
+/* Replaces the parameters (validated first; on error the old ones stay). */
+DAO_API int dao_context_set_params(struct dao_context *ctx, const struct dao_params *params,
+			   struct dao_error *err);
+
+/* Copies the current parameters. */
+DAO_API void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out);
+
+/* The camera the context was created with. */
+const struct dao_camera *dao_context_camera(const struct dao_context *ctx);
+
+/*
+ * Computes ambient occlusion for one depth frame.
+ *
+ * depth:   DAO_PIXFMT_DEPTH16 (with depth_unit > 0) or DAO_PIXFMT_DEPTH_F32,
+ *          of the camera's size.
+ * normals: NULL to derive normals from depth, or DAO_PIXFMT_NORMAL_F32 unit
+ *          normals in the optical frame (facing the camera).
+ * frame_index: selects the per-pixel noise pattern; the result is a pure
+ *          function of (depth, normals, params, frame_index).
+ * ao:      NULL, or DAO_PIXFMT_GRAY_F32 / GRAY16 / GRAY8 visibility
+ *          (1 = open); pixels without depth get params.invalid_value.
+ *
+ * The frame's depth, normals and AO stay in the context for dao_context_shade().
+ */
+DAO_API int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
+			const struct dao_frame *normals, uint64_t frame_index,
+			struct dao_frame *ao, struct dao_error *err);
+
+/*
+ * Renders the occlusion-shaded image of the last processed frame into `out`
+ * (DAO_PIXFMT_RGB24, or GRAY8 for the AO/gray modes), using the shading
+ * parameters.  Returns -EAGAIN if no frame was processed yet.
+ */
+DAO_API int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err);
+
+/*
+ * Copies the normals (DAO_PIXFMT_NORMAL_F32) or the view-space depth in
+ * metres after prefiltering (DAO_PIXFMT_DEPTH_F32, 0 = no data) of the last
+ * processed frame.
+ */
+DAO_API int dao_context_get_normals(const struct dao_context *ctx, struct dao_frame *out,
+			    struct dao_error *err);
+DAO_API int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
+			  struct dao_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

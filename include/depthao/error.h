@@ -1,0 +1,33 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Error reporting.
+ *
+ * Every fallible libdepthao function returns 0 on success or a negative
+ * errno-style code (-EINVAL, -ENOMEM, -EIO, ...).  Functions whose failure a
+ * user can cause also take an optional `struct dao_error *`; when it is not
+ * NULL it receives the code and a one-line message saying what was wrong and
+ * what to do about it.
+ */
+#ifndef DEPTHAO_ERROR_H
+#define DEPTHAO_ERROR_H
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define DAO_ERROR_MESSAGE_MAX 256
+
+struct dao_error {
+	int code;                             /* negative errno, 0 = none */
+	char message[DAO_ERROR_MESSAGE_MAX];  /* NUL-terminated, no newline */
+};
+
+/* A short description of a negative error code (never NULL). */
+DAO_API const char *dao_strerror(int code);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,152 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Parameters of the AO pipeline, and a table that describes them.
+ *
+ * `struct dao_params` holds every setting of a context.  The table returned
+ * by dao_param_table() names each field with its type, range, default and
+ * help text, so command-line flags, config keys, run-time `set` commands and
+ * help output are all generated from one place (as FFmpeg's AVOption tables).
+ */
+#ifndef DEPTHAO_PARAMS_H
+#define DEPTHAO_PARAMS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <depthao/error.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum dao_quality {
+	DAO_QUALITY_LOW = 0,
+	DAO_QUALITY_MEDIUM,   /* the default: meets the accuracy bars in README.md */
+	DAO_QUALITY_HIGH,
+	DAO_QUALITY_ULTRA,
+	DAO_QUALITY_COUNT,
+	DAO_QUALITY_DEFAULT = DAO_QUALITY_MEDIUM,
+};
+
+enum dao_prefilter {
+	DAO_PREFILTER_NONE = 0,
+	DAO_PREFILTER_BILATERAL,  /* edge-preserving smoothing scaled to sensor noise */
+};
+
+enum dao_normals {
+	DAO_NORMALS_SMALLER_DELTA = 0, /* per axis the smaller one-sided difference (1 px) */
+	DAO_NORMALS_WIDE,              /* same, over a wider footprint (normal_radius px) */
+};
+
+enum dao_noise {
+	DAO_NOISE_IGN = 0,  /* interleaved gradient noise (Jimenez 2014) */
+	DAO_NOISE_R2,       /* R2 low-discrepancy sequence (Roberts 2018) */
+	DAO_NOISE_NONE,     /* same directions at every pixel */
+};
+
+enum dao_denoise {
+	DAO_DENOISE_NONE = 0,
+	DAO_DENOISE_PLANE,      /* 5x5, weights against the extrapolated depth plane */
+	DAO_DENOISE_BILATERAL,  /* separable cross-bilateral (Gaussian x depth threshold) */
+};
+
+enum dao_shade {
+	DAO_SHADE_LAMBERT = 0,  /* n . l with a head light, times AO */
+	DAO_SHADE_TURBO,        /* depth colormap times AO */
+	DAO_SHADE_JET,
+	DAO_SHADE_GRAY,
+	DAO_SHADE_AO,           /* AO alone as gray */
+};
+
+struct dao_params {
+	/* depth input */
+	float depth_min;          /* m; nearer = no data */
+	float depth_max;          /* m; farther = no data */
+	int prefilter;            /* enum dao_prefilter */
+	float depth_noise;        /* sensor noise model: sigma(z) = depth_noise * z^2 (1/m) */
+	int prefilter_radius;     /* px */
+	int normals;              /* enum dao_normals */
+	int normal_radius;        /* px, for DAO_NORMALS_WIDE */
+
+	/* GTAO */
+	float radius;             /* world-space radius R, m */
+	float falloff;            /* fraction of R over which occluders fade out */
+	int slices;               /* slice directions per pixel */
+	int steps;                /* samples per side of each slice */
+	float thickness;          /* thin-occluder compensation, 0 = infinitely thick */
+	float max_screen_radius;  /* cap of the projected radius, px */
+	float min_screen_radius;  /* below this projected radius, no search (visibility 1), px */
+	float distribution_power; /* sample spacing: t^power, > 1 packs samples near the pixel */
+	int noise;                /* enum dao_noise */
+	float final_power;        /* visibility^power */
+	float albedo;             /* multi-bounce fit (Jimenez 2016), 0 = off */
+	float invalid_value;      /* visibility written for pixels without depth */
+
+	/* denoise */
+	int denoise;              /* enum dao_denoise */
+	int denoise_radius;       /* px, bilateral */
+	float denoise_sharpness;  /* depth tolerance of the denoise, in units of sigma(z) */
+
+	/* shading */
+	int shade;                /* enum dao_shade */
+	float near_m, far_m;      /* colormap range, m; 0 = from the frame's depth */
+	float shade_power;        /* shaded = mix(occlusion_color, color, AO^shade_power) */
+	uint32_t occlusion_color; /* 0xRRGGBB */
+};
+
+enum dao_param_type {
+	DAO_PARAM_FLOAT = 0,  /* float field, range [min, max] */
+	DAO_PARAM_INT,        /* int field, range [min, max] */
+	DAO_PARAM_ENUM,       /* int field, one of enum_names (index) */
+	DAO_PARAM_COLOR,      /* uint32_t 0xRRGGBB field, written "RRGGBB" or "#RRGGBB" */
+};
+
+#define DAO_PARAM_RUNTIME   (1u << 0) /* may change while a stream runs */
+#define DAO_PARAM_SHADING   (1u << 1) /* affects only the shaded image */
+
+struct dao_param_info {
+	const char *name;              /* "radius": flag --radius, config key radius */
+	const char *help;              /* one line */
+	const char *unit;              /* "m", "px", NULL */
+	enum dao_param_type type;
+	size_t offset;                 /* offsetof(struct dao_params, field) */
+	double min, max;               /* inclusive range (FLOAT, INT) */
+	const char *const *enum_names; /* NULL-terminated (ENUM) */
+	unsigned flags;                /* DAO_PARAM_* */
+};
+
+/* The table of all parameters; *count receives its length. */
+DAO_API const struct dao_param_info *dao_param_table(size_t *count);
+
+/* The entry called `name` (dashes and underscores are equivalent), or NULL. */
+DAO_API const struct dao_param_info *dao_param_find(const char *name);
+
+/* Name of a quality preset ("low", ...), NULL if out of range. */
+DAO_API const char *dao_quality_name(enum dao_quality q);
+
+/* Parses "low|medium|high|ultra|default". Returns 0 or -EINVAL. */
+DAO_API int dao_quality_parse(const char *name, enum dao_quality *q, struct dao_error *err);
+
+/* Fills `p` with a quality preset. */
+DAO_API void dao_params_init(struct dao_params *p, enum dao_quality q);
+
+/*
+ * Sets one parameter from text, checking type and range.  On error nothing
+ * changes and the message names the parameter, the value and the valid range.
+ */
+DAO_API int dao_params_set(struct dao_params *p, const char *name, const char *value,
+		   struct dao_error *err);
+
+/* Writes the value of one parameter as text ("0.5", "bilateral", "000000"). */
+DAO_API int dao_params_get(const struct dao_params *p, const char *name, char *buf, size_t len,
+		   struct dao_error *err);
+
+/* Checks every field against its range and the fields against each other. */
+DAO_API int dao_params_validate(const struct dao_params *p, struct dao_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

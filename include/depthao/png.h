@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * PNG files through libpng.  16-bit samples are big-endian on disk and host
+ * order in memory.  Writes go to a temporary file in the same directory that
+ * is renamed into place, so a failed write never leaves a half-written file.
+ */
+#ifndef DEPTHAO_PNG_H
+#define DEPTHAO_PNG_H
+
+#include <depthao/error.h>
+#include <depthao/frame.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/*
+ * Reads a PNG into a newly allocated frame (free with dao_frame_free()).
+ * Gray 8-bit -> GRAY8, gray 16-bit -> GRAY16, RGB 8-bit -> RGB24; other
+ * layouts (palette, alpha, 16-bit RGB) are converted to RGB24 when 8-bit
+ * and rejected otherwise.  Errors: -ENOENT/-EACCES (cannot open), -EINVAL
+ * (not a PNG, truncated or corrupt, unsupported layout), -ENOMEM.
+ */
+DAO_API int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err);
+
+/*
+ * Reads a depth image: a single-channel 16-bit PNG, returned as
+ * DAO_PIXFMT_DEPTH16 with the given unit (metres per count).  Any other
+ * layout is -EINVAL with a message saying what the file is.
+ */
+DAO_API int dao_png_read_depth(const char *path, float depth_unit, struct dao_frame *out,
+		       struct dao_error *err);
+
+/*
+ * Writes GRAY8, GRAY16, DEPTH16 (as 16-bit gray) or RGB24 frames.
+ * Errors: -EINVAL (bad frame or format), or the errno of the failing
+ * create/write/rename (e.g. -ENOENT, -EACCES, -ENOSPC).
+ */
+DAO_API int dao_png_write(const char *path, const struct dao_frame *frame, struct dao_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

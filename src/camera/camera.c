@@ -1,0 +1,84 @@
+/* SPDX-License-Identifier: MIT */
+#include <errno.h>
+#include <math.h>
+
+#include <depthao/camera.h>
+#include <depthao/frame.h>
+
+#include "core/error_internal.h"
+#include "core/math_util.h"
+
+static int check_size(uint32_t w, uint32_t h, struct dao_error *err)
+{
+	if (w == 0 || h == 0 || w > DAO_MAX_DIMENSION || h > DAO_MAX_DIMENSION)
+		return dao_error_set(err, -EINVAL,
+				     "camera size %ux%u is out of range (1..%d pixels per side)", w,
+				     h, DAO_MAX_DIMENSION);
+	return 0;
+}
+
+int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t w, uint32_t h, double fx,
+			       double fy, double cx, double cy, struct dao_error *err)
+{
+	if (!cam)
+		return dao_error_set(err, -EINVAL, "camera is NULL");
+	int r = check_size(w, h, err);
+	if (r)
+		return r;
+	if (!isfinite(fx) || !isfinite(fy) || fx <= 0 || fy <= 0)
+		return dao_error_set(err, -EINVAL,
+				     "focal lengths fx=%g, fy=%g must be finite and > 0 (pixels)",
+				     fx, fy);
+	if (!isfinite(cx) || !isfinite(cy))
+		return dao_error_set(err, -EINVAL,
+				     "principal point cx=%g, cy=%g must be finite (pixels)", cx, cy);
+	*cam = (struct dao_camera){
+		.width = w, .height = h,
+		.fx = fx, .fy = fy, .cx = cx, .cy = cy,
+		/* UvToViewParams in pixel units: x = (u*ax + bx) z */
+		.ax = (float)(1.0 / fx), .bx = (float)(-cx / fx),
+		.ay = (float)(1.0 / fy), .by = (float)(-cy / fy),
+	};
+	return 0;
+}
+
+int dao_camera_from_fov(struct dao_camera *cam, uint32_t w, uint32_t h, double hfov,
+			double vfov, struct dao_error *err)
+{
+	int r = check_size(w, h, err);
+	if (r)
+		return r;
+	if (!isfinite(hfov) || !isfinite(vfov) || hfov <= 0 || vfov <= 0 || hfov >= DAO_PI ||
+	    vfov >= DAO_PI)
+		return dao_error_set(err, -EINVAL,
+				     "field of view %g x %g rad must be in (0, pi) (give degrees "
+				     "converted to radians)", hfov, vfov);
+	double fx = (w / 2.0) / tan(hfov / 2.0);
+	double fy = (h / 2.0) / tan(vfov / 2.0);
+	return dao_camera_from_intrinsics(cam, w, h, fx, fy, (w - 1) / 2.0, (h - 1) / 2.0, err);
+}
+
+void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov)
+{
+	if (hfov)
+		*hfov = 2.0 * atan(cam->width / (2.0 * cam->fx));
+	if (vfov)
+		*vfov = 2.0 * atan(cam->height / (2.0 * cam->fy));
+}
+
+void dao_camera_pixel_to_view(const struct dao_camera *cam, float u, float v, float z, float p[3])
+{
+	p[0] = (u * cam->ax + cam->bx) * z;
+	p[1] = (v * cam->ay + cam->by) * z;
+	p[2] = z;
+}
+
+int dao_camera_view_to_pixel(const struct dao_camera *cam, const float p[3], float *u, float *v)
+{
+	if (!(p[2] > 0) || !isfinite(p[2]) || !isfinite(p[0]) || !isfinite(p[1]))
+		return -EDOM;
+	/* inverse of the affine map: u = (x/z - bx) / ax */
+	*u = (float)(cam->fx * (p[0] / p[2]) + cam->cx);
+	*v = (float)(cam->fy * (p[1] / p[2]) + cam->cy);
+	return 0;
+}

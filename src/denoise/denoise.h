@@ -1,0 +1,47 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_DENOISE_DENOISE_H
+#define DAO_DENOISE_DENOISE_H
+
+#include <depthao/camera.h>
+
+/* What the AO denoise filters need besides the AO itself. */
+struct dao_denoise_setup {
+	int width, height;
+	float ax, ay, bx, by;  /* UvToViewParams */
+	float noise_k;         /* sigma(z) = noise_k z^2 */
+	float sharpness;       /* depth tolerance in units of sigma(z) */
+	int radius;            /* bilateral radius, px */
+	float invalid_value;
+};
+
+/*
+ * Depth tolerance of the denoise filters at depth z: sharpness x the larger
+ * of sensor noise (k z^2) and a relative floor (0.2 % of z) for clean input.
+ */
+static inline float dao_denoise_tolerance(const struct dao_denoise_setup *s, float z)
+{
+	float sigma = s->noise_k * z * z;
+	float floor_rel = 0.002f * z;
+	return s->sharpness * (sigma > floor_rel ? sigma : floor_rel);
+}
+
+/*
+ * Seed 002's 5x5 spatial filter (UE4 mobile GTAO): per axis the depth
+ * gradient of the smoother side is extrapolated to a plane, and each tap is
+ * weighted by 1 - saturate(|plane z - tap z| / tolerance).  Rows [y0, y1).
+ */
+void dao_denoise_plane(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
+		       float *ao_out, int y0, int y1);
+
+/*
+ * Seed 004's separable cross-bilateral blur: Gaussian in pixels times a
+ * depth test; the test compares each tap with the plane of the centre pixel
+ * (from its normal), so slopes are not cut.  The horizontal pass writes
+ * `tmp`; the vertical pass reads it.  Rows [y0, y1) of each pass.
+ */
+void dao_denoise_bilateral_h(const struct dao_denoise_setup *s, const float *z, const float *n,
+			     const float *ao_in, float *tmp, int y0, int y1);
+void dao_denoise_bilateral_v(const struct dao_denoise_setup *s, const float *z, const float *n,
+			     const float *tmp, float *ao_out, int y0, int y1);
+
+#endif

@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_KERNELS_GTAO_H
+#define DAO_KERNELS_GTAO_H
+
+#include <stdint.h>
+
+#include <depthao/camera.h>
+#include <depthao/params.h>
+
+/* Everything the GTAO kernels need per frame, derived once from camera and params. */
+struct dao_gtao_setup {
+	int width, height;
+	float ax, ay, bx, by;      /* UvToViewParams */
+	float focal;               /* pixels per metre at z = 1 (mean of fx, fy) */
+	float radius;              /* R, m */
+	float search_radius;       /* R (1 + falloff/2): where the weight reaches 0, m */
+	float falloff_mul, falloff_add; /* weight = saturate(dist * mul + add) */
+	float thin;                /* z-axis stretch of the falloff distance (thin occluders) */
+	float decay;               /* horizon pulled down by later lower samples: 1 = not at all */
+	float max_r_px, min_r_px;
+	float power;               /* sample distribution power */
+	int slices, steps;
+	int noise;                 /* enum dao_noise */
+	uint32_t frame;
+	float final_power, albedo, invalid_value;
+};
+
+void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
+			 const struct dao_params *p, uint64_t frame_index);
+
+/*
+ * Scalar reference GTAO (Jimenez et al. 2016) over rows [y0, y1): the
+ * correctness oracle for every optimised kernel.
+ * z: metres (0 = no data), n: 3 floats per pixel, ao: visibility out.
+ */
+void dao_gtao_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *ao,
+		  int y0, int y1);
+
+/* The per-pixel noise pair (slice rotation, step jitter) in [0, 1). */
+void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, float *n1);
+
+/* Visibility post-processing shared by all kernels: final power, then multi-bounce. */
+float dao_gtao_finish(const struct dao_gtao_setup *s, float vis);
+
+#endif

@@ -1,0 +1,128 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * GTAO, scalar reference (Jimenez, Wu, Pesce, Jarabo 2016, "Practical
+ * Real-Time Strategies for Accurate Indirect Occlusion"; seeds 000, 002).
+ * Plain and exact (libm trig), kept as the oracle for optimised kernels.
+ */
+#include <math.h>
+#include <stddef.h>
+
+#include "core/math_util.h"
+#include "kernels/gtao.h"
+#include "kernels/gtao_sample.h"
+
+static inline float dot3(const float a[3], const float b[3])
+{
+	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void cross3(const float a[3], const float b[3], float o[3])
+{
+	o[0] = a[1] * b[2] - a[2] * b[1];
+	o[1] = a[2] * b[0] - a[0] * b[2];
+	o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/*
+ * Largest horizon cosine along one side of a slice.  `low` is the cosine of
+ * the normal-hemisphere boundary on that side, the value of "no occluder".
+ */
+static float search_side(const struct dao_gtao_setup *s, const float *z, int x, int y,
+			 float dx, float dy, float r_px, float jitter, const float P[3],
+			 const float V[3], float low)
+{
+	float best = low;
+	for (int i = 0; i < s->steps; i++) {
+		float t = powf(((float)i + jitter) / (float)s->steps, s->power);
+		float dist = 1.0f + t * (r_px - 1.0f);
+		float u, v, zs;
+		if (!dao_gtao_sample(z, s->width, s->height, x, y, dx, dy, dist, &u, &v, &zs))
+			continue;
+		float D[3] = { (u * s->ax + s->bx) * zs - P[0], (v * s->ay + s->by) * zs - P[1],
+			       zs - P[2] };
+		float len = sqrtf(dot3(D, D));
+		if (!(len > 0.0f))
+			continue;
+		float c = dot3(D, V) / len;
+		/* falloff on a distance that stretches the view axis, so occluders far in
+		 * front of the pixel (likely thin) fade sooner (XeGTAO's thin-occluder idea) */
+		float dz = D[2] * (1.0f + s->thin);
+		float fd = sqrtf(D[0] * D[0] + D[1] * D[1] + dz * dz);
+		float wgt = dao_saturate(fd * s->falloff_mul + s->falloff_add);
+		c = dao_lerpf(low, c, wgt);
+		best = c > best ? c : dao_lerpf(c, best, s->decay);
+	}
+	return best;
+}
+
+static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const float *nrm, int x,
+			int y)
+{
+	const float zc = z[(size_t)y * s->width + x];
+	const float P[3] = { ((float)x * s->ax + s->bx) * zc, ((float)y * s->ay + s->by) * zc, zc };
+	const float lp = sqrtf(dot3(P, P));
+	const float V[3] = { -P[0] / lp, -P[1] / lp, -P[2] / lp };
+	const float *N = nrm + 3 * ((size_t)y * s->width + x);
+
+	float r_px = s->search_radius * s->focal / zc;
+	if (r_px < s->min_r_px || r_px < 1.0f)
+		return 1.0f;
+	r_px = fminf(r_px, s->max_r_px);
+
+	float n0, n1;
+	dao_gtao_noise(s, x, y, &n0, &n1);
+
+	float vis = 0.0f, norm = 0.0f;
+	for (int sl = 0; sl < s->slices; sl++) {
+		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
+		const float dx = cosf(phi), dy = sinf(phi);
+		/* the screen line through the pixel is the image of the plane through the
+		 * camera centre containing P and the view-space direction (dx/fx, dy/fy, 0) */
+		const float dir[3] = { dx * s->ax, dy * s->ay, 0.0f };
+		float dv = dot3(dir, V);
+		float ortho[3] = { dir[0] - dv * V[0], dir[1] - dv * V[1], dir[2] - dv * V[2] };
+		float axis[3];
+		cross3(ortho, V, axis);
+		float la = sqrtf(dot3(axis, axis));
+		axis[0] /= la, axis[1] /= la, axis[2] /= la;
+		float na = dot3(N, axis);
+		float pn[3] = { N[0] - axis[0] * na, N[1] - axis[1] * na, N[2] - axis[2] * na };
+		float lpn = sqrtf(dot3(pn, pn));
+		if (!(lpn > 1e-6f))
+			continue;
+		float cos_n = dao_clampf(dot3(pn, V) / lpn, -1.0f, 1.0f);
+		float n = acosf(cos_n);
+		if (dot3(ortho, pn) < 0.0f)
+			n = -n;
+		float sin_n = sinf(n);
+
+		/* side + (towards dir) and side - */
+		float hc_pos = search_side(s, z, x, y, dx, dy, r_px, n1, P, V, cosf(n + DAO_HALF_PI_F));
+		float hc_neg = search_side(s, z, x, y, -dx, -dy, r_px, n1, P, V, cosf(n - DAO_HALF_PI_F));
+		float h1 = acosf(dao_clampf(hc_pos, -1.0f, 1.0f));
+		float h0 = -acosf(dao_clampf(hc_neg, -1.0f, 1.0f));
+		/* clamp to the hemisphere around the projected normal */
+		h0 = n + fmaxf(h0 - n, -DAO_HALF_PI_F);
+		h1 = n + fminf(h1 - n, DAO_HALF_PI_F);
+		/* cosine-weighted slice integral, Jimenez 2016 eq. 7 */
+		float a0 = 0.25f * (-cosf(2.0f * h0 - n) + cos_n + 2.0f * h0 * sin_n);
+		float a1 = 0.25f * (-cosf(2.0f * h1 - n) + cos_n + 2.0f * h1 * sin_n);
+		vis += lpn * (a0 + a1);
+		/* the same integral unoccluded (h = n -+ pi/2) is cos n + n sin n; dividing
+		 * by it makes an open surface exactly 1 for any slice set (a ratio estimator
+		 * of the hemisphere average, with far less variance at few slices) */
+		norm += lpn * (cos_n + n * sin_n);
+	}
+	return norm > 0.0f ? vis / norm : 1.0f;
+}
+
+void dao_gtao_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *ao,
+		  int y0, int y1)
+{
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++) {
+			size_t i = (size_t)y * s->width + x;
+			ao[i] = z[i] > 0.0f ? dao_gtao_finish(s, gtao_pixel(s, z, n, x, y))
+					    : s->invalid_value;
+		}
+}

@@ -1,0 +1,68 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_KERNELS_GTAO_SAMPLE_H
+#define DAO_KERNELS_GTAO_SAMPLE_H
+
+#include <math.h>
+
+/*
+ * Depth at a point exactly on the slice line (x, y) + t (dx, dy).
+ *
+ * A sample rounded to the nearest pixel lies off the slice plane; on a
+ * tilted surface that alone makes the surface occlude itself.  Instead the
+ * sample is moved along the line until its major-axis coordinate is an
+ * integer, and the depth is interpolated between the two pixels that
+ * straddle the line on the minor axis.  Interpolation is in 1/z, which is
+ * affine on any plane, so samples of a plane lie exactly on it.  Across a
+ * depth edge (taps more than 10 % apart) the nearer tap is taken instead of
+ * inventing a surface in between.
+ *
+ * Returns 0 when the point is off the image or has no data; otherwise the
+ * pixel coordinates (*u, *v) and depth *zs of the sample.
+ */
+static inline int dao_gtao_sample(const float *z, int w, int h, int x, int y, float dx,
+				  float dy, float t, float *u, float *v, float *zs)
+{
+	int major_x = fabsf(dx) >= fabsf(dy);
+	float dmaj = major_x ? dx : dy, dmin = major_x ? dy : dx;
+	int cmaj = major_x ? x : y, cmin = major_x ? y : x;
+	int nmaj = major_x ? w : h, nmin = major_x ? h : w;
+
+	int m = (int)lrintf((float)cmaj + dmaj * t);
+	if (m == cmaj)
+		m += dmaj > 0.0f ? 1 : -1;
+	if (m < 0 || m >= nmaj)
+		return 0;
+	float tt = (float)(m - cmaj) / dmaj;
+	float fm = (float)cmin + dmin * tt;
+	float fl = floorf(fm);
+	int i0 = (int)fl;
+	float f = fm - fl;
+	if (i0 < -1 || i0 >= nmin)
+		return 0;
+
+	float z0 = 0.0f, z1 = 0.0f;
+	if (i0 >= 0)
+		z0 = major_x ? z[(size_t)i0 * w + m] : z[(size_t)m * w + i0];
+	if (i0 + 1 < nmin)
+		z1 = major_x ? z[(size_t)(i0 + 1) * w + m] : z[(size_t)m * w + i0 + 1];
+
+	float zz;
+	if (z0 > 0.0f && z1 > 0.0f && fabsf(z0 - z1) <= 0.1f * fminf(z0, z1)) {
+		zz = 1.0f / ((1.0f - f) / z0 + f / z1);
+	} else {
+		zz = f < 0.5f ? z0 : z1;
+		if (!(zz > 0.0f))
+			return 0;
+	}
+	*zs = zz;
+	if (major_x) {
+		*u = (float)m;
+		*v = fm;
+	} else {
+		*u = fm;
+		*v = (float)m;
+	}
+	return 1;
+}
+
+#endif

@@ -1,0 +1,76 @@
+/* SPDX-License-Identifier: MIT */
+#include <math.h>
+
+#include "core/math_util.h"
+#include "kernels/gtao.h"
+#include "kernels/noise.h"
+
+void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
+			 const struct dao_params *p, uint64_t frame_index)
+{
+	const float R = p->radius;
+	/* the weight falls linearly from 1 at R(1 - f/2) to 0 at R(1 + f/2): centred on
+	 * R, so on average it matches the hard radius of the ground-truth definition */
+	const float half = 0.5f * p->falloff * R;
+	*s = (struct dao_gtao_setup){
+		.width = (int)cam->width,
+		.height = (int)cam->height,
+		.ax = cam->ax, .ay = cam->ay, .bx = cam->bx, .by = cam->by,
+		.focal = (float)(0.5 * (cam->fx + cam->fy)),
+		.radius = R,
+		.search_radius = R + half,
+		.thin = 2.0f * p->thickness,
+		.decay = 1.0f,
+		.max_r_px = p->max_screen_radius,
+		.min_r_px = p->min_screen_radius,
+		.power = p->distribution_power,
+		.slices = p->slices,
+		.steps = p->steps,
+		.noise = p->noise,
+		.frame = (uint32_t)frame_index,
+		.final_power = p->final_power,
+		.albedo = p->albedo,
+		.invalid_value = p->invalid_value,
+	};
+	if (half > 0.0f) {
+		s->falloff_mul = -1.0f / (2.0f * half);
+		s->falloff_add = (R + half) / (2.0f * half);
+	} else {
+		/* hard cut at R */
+		s->falloff_mul = -1e30f;
+		s->falloff_add = R * 1e30f;
+	}
+}
+
+void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, float *n1)
+{
+	switch (s->noise) {
+	case DAO_NOISE_IGN:
+		*n0 = dao_ign(x, y, s->frame);
+		*n1 = dao_ign(x + 17, y + 41, s->frame);
+		break;
+	case DAO_NOISE_R2:
+		dao_r2(x, y, s->frame, n0, n1);
+		break;
+	default:
+		*n0 = 0.5f;
+		*n1 = 0.5f;
+		break;
+	}
+}
+
+float dao_gtao_finish(const struct dao_gtao_setup *s, float vis)
+{
+	vis = dao_saturate(vis);
+	if (s->final_power != 1.0f)
+		vis = powf(vis, s->final_power);
+	if (s->albedo > 0.0f) {
+		/* multi-bounce fit, Jimenez et al. 2016 eq. 10 */
+		const float rho = s->albedo;
+		const float a = 2.0404f * rho - 0.3324f;
+		const float b = -4.7951f * rho + 0.6417f;
+		const float c = 2.7552f * rho + 0.6903f;
+		vis = fmaxf(vis, ((a * vis + b) * vis + c) * vis);
+	}
+	return dao_saturate(vis);
+}

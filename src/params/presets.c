@@ -1,0 +1,60 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Quality presets.  The medium preset is the default of the library and the
+ * CLI; its values were tuned against the ray-traced ground truth of the
+ * synthetic scenes (`depthao eval`, table in README.md).
+ */
+#include "params/presets.h"
+
+static const struct dao_params common = {
+	.depth_min = 0.05f,
+	.depth_max = 20.0f,
+	.prefilter = DAO_PREFILTER_BILATERAL,
+	.depth_noise = 0.0012f,
+	.prefilter_radius = 3,
+	.normals = DAO_NORMALS_WIDE,
+	.normal_radius = 2,
+	.radius = 0.5f,
+	.falloff = 0.3f,
+	.slices = 3,
+	.steps = 6,
+	.thickness = 0.5f,
+	.max_screen_radius = 160.0f,
+	.min_screen_radius = 0.0f,
+	.distribution_power = 1.5f,
+	.noise = DAO_NOISE_IGN,
+	.final_power = 1.0f,
+	.albedo = 0.0f,
+	.invalid_value = 1.0f,
+	.denoise = DAO_DENOISE_PLANE,
+	.denoise_radius = 4,
+	.denoise_sharpness = 4.0f,
+	.shade = DAO_SHADE_LAMBERT,
+	.near_m = 0.0f,
+	.far_m = 0.0f,
+	.shade_power = 1.0f,
+	.occlusion_color = 0x000000,
+};
+
+void dao_preset_fill(struct dao_params *p, enum dao_quality q)
+{
+	*p = common;
+	switch (q) {
+	case DAO_QUALITY_LOW:
+		p->slices = 2;
+		p->steps = 4;
+		break;
+	case DAO_QUALITY_MEDIUM:
+	case DAO_QUALITY_COUNT:
+		break;
+	case DAO_QUALITY_HIGH:
+		p->slices = 6;
+		p->steps = 10;
+		break;
+	case DAO_QUALITY_ULTRA:
+		p->slices = 12;
+		p->steps = 16;
+		p->denoise = DAO_DENOISE_BILATERAL;
+		break;
+	}
+}

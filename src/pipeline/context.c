@@ -1,0 +1,381 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The AO context: owns the working planes and runs the per-frame pipeline
+ *   decode -> prefilter -> normals -> GTAO -> denoise -> output / shade.
+ * Every stage works on row bands [y0, y1) of float planes.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <depthao/context.h>
+
+#include "core/error_internal.h"
+#include "core/math_util.h"
+#include "denoise/denoise.h"
+#include "depth/decode.h"
+#include "depth/prefilter.h"
+#include "kernels/gtao.h"
+#include "normals/normals.h"
+#include "shade/colormap.h"
+#include "shade/shade.h"
+
+struct dao_context {
+	struct dao_camera cam;
+	struct dao_params params;
+	size_t npix;
+	float *z_raw;   /* decoded depth, m */
+	float *z;       /* prefiltered depth, m (aliases z_raw when no prefilter) */
+	float *z_buf;   /* storage for the prefiltered plane */
+	float *n;       /* normals, 3 per pixel */
+	float *ao_raw;  /* GTAO output */
+	float *ao;      /* after denoise (aliases ao_raw when none) */
+	float *ao_buf;  /* storage for the denoised plane */
+	float *tmp;     /* scratch of the separable denoise */
+	int have_frame;
+	float depth_unit;  /* metres per count of the last frame, 0 for float input */
+	struct dao_colormap cmap;
+	int cmap_mode;
+};
+
+int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
+		       const struct dao_params *params, struct dao_error *err)
+{
+	if (!out)
+		return dao_error_set(err, -EINVAL, "context output pointer is NULL");
+	*out = NULL;
+	if (!cam)
+		return dao_error_set(err, -EINVAL, "camera is NULL");
+	/* re-validate the camera: it is a plain struct the caller may have filled */
+	struct dao_camera checked;
+	int r = dao_camera_from_intrinsics(&checked, cam->width, cam->height, cam->fx, cam->fy,
+					   cam->cx, cam->cy, err);
+	if (r)
+		return r;
+	struct dao_params p;
+	if (params) {
+		r = dao_params_validate(params, err);
+		if (r)
+			return r;
+		p = *params;
+	} else {
+		dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	}
+
+	struct dao_context *ctx = calloc(1, sizeof *ctx);
+	if (!ctx)
+		return dao_error_set(err, -ENOMEM, "out of memory for the context");
+	ctx->cam = checked;
+	ctx->params = p;
+	ctx->npix = (size_t)checked.width * checked.height;
+	/* 1 + 1 + 3 + 1 + 1 + 1 planes of floats */
+	float *mem = malloc(ctx->npix * 8 * sizeof(float));
+	if (!mem) {
+		free(ctx);
+		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
+				     checked.width, checked.height);
+	}
+	ctx->z_raw = mem;
+	ctx->z_buf = mem + ctx->npix;
+	ctx->n = mem + 2 * ctx->npix;
+	ctx->ao_raw = mem + 5 * ctx->npix;
+	ctx->ao_buf = mem + 6 * ctx->npix;
+	ctx->tmp = mem + 7 * ctx->npix;
+	ctx->cmap_mode = -1;
+	*out = ctx;
+	return 0;
+}
+
+void dao_context_destroy(struct dao_context *ctx)
+{
+	if (!ctx)
+		return;
+	free(ctx->z_raw);
+	free(ctx);
+}
+
+int dao_context_set_params(struct dao_context *ctx, const struct dao_params *params,
+			   struct dao_error *err)
+{
+	if (!ctx || !params)
+		return dao_error_set(err, -EINVAL, "context or parameters are NULL");
+	int r = dao_params_validate(params, err);
+	if (r)
+		return r;
+	ctx->params = *params;
+	return 0;
+}
+
+void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out)
+{
+	*out = ctx->params;
+}
+
+const struct dao_camera *dao_context_camera(const struct dao_context *ctx)
+{
+	return &ctx->cam;
+}
+
+static int check_depth(const struct dao_context *ctx, const struct dao_frame *depth,
+		       struct dao_error *err)
+{
+	int r = dao_frame_check(depth, "depth input", ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (depth->format != DAO_PIXFMT_DEPTH16 && depth->format != DAO_PIXFMT_DEPTH_F32)
+		return dao_error_set(err, -EINVAL,
+				     "depth input: format %s is not depth16 or depth-f32",
+				     dao_pixfmt_name(depth->format));
+	if (depth->format == DAO_PIXFMT_DEPTH16 &&
+	    (!isfinite(depth->depth_unit) || depth->depth_unit <= 0.0f || depth->depth_unit > 1.0f))
+		return dao_error_set(err, -EINVAL,
+				     "depth input: depth_unit %g must be in (0, 1] metres per count "
+				     "(e.g. 0.001 for millimetres)", (double)depth->depth_unit);
+	if ((depth->stride & (depth->format == DAO_PIXFMT_DEPTH16 ? 1 : 3)) != 0 &&
+	    depth->height > 1)
+		return dao_error_set(err, -EINVAL,
+				     "depth input: stride %d is not a multiple of the sample size",
+				     (int)depth->stride);
+	return 0;
+}
+
+/* Copies caller normals, normalised and facing the camera; non-finite ones are rejected. */
+static int load_normals(struct dao_context *ctx, const struct dao_frame *nf, struct dao_error *err)
+{
+	int r = dao_frame_check(nf, "normals input", ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (nf->format != DAO_PIXFMT_NORMAL_F32)
+		return dao_error_set(err, -EINVAL, "normals input: format %s is not normal-f32",
+				     dao_pixfmt_name(nf->format));
+	const int w = (int)ctx->cam.width;
+	for (int y = 0; y < (int)ctx->cam.height; y++) {
+		const unsigned char *row = (const unsigned char *)nf->data + (size_t)y * nf->stride;
+		for (int x = 0; x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			float v[3];
+			memcpy(v, row + 12 * (size_t)x, sizeof v);
+			float *o = ctx->n + 3 * i;
+			float zc = ctx->z[i];
+			if (zc <= 0.0f) {
+				o[0] = 0.0f, o[1] = 0.0f, o[2] = -1.0f;
+				continue;
+			}
+			float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+			if (!isfinite(len) || len < 1e-6f)
+				return dao_error_set(err, -EINVAL,
+						     "normals input: pixel (%d, %d) has depth but its "
+						     "normal is not a finite non-zero vector", x, y);
+			float P[3];
+			dao_camera_pixel_to_view(&ctx->cam, (float)x, (float)y, zc, P);
+			if (v[0] * P[0] + v[1] * P[1] + v[2] * P[2] > 0.0f)
+				len = -len;
+			o[0] = v[0] / len, o[1] = v[1] / len, o[2] = v[2] / len;
+		}
+	}
+	return 0;
+}
+
+static int check_ao_out(const struct dao_context *ctx, const struct dao_frame *ao,
+			struct dao_error *err)
+{
+	int r = dao_frame_check(ao, "AO output", ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (ao->format != DAO_PIXFMT_GRAY_F32 && ao->format != DAO_PIXFMT_GRAY16 &&
+	    ao->format != DAO_PIXFMT_GRAY8)
+		return dao_error_set(err, -EINVAL,
+				     "AO output: format %s is not gray-f32, gray16 or gray8",
+				     dao_pixfmt_name(ao->format));
+	return 0;
+}
+
+static void write_ao(const struct dao_context *ctx, struct dao_frame *out)
+{
+	const int w = (int)ctx->cam.width, h = (int)ctx->cam.height;
+	for (int y = 0; y < h; y++) {
+		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
+		const float *src = ctx->ao + (size_t)y * w;
+		for (int x = 0; x < w; x++) {
+			float v = dao_saturate(src[x]);
+			if (out->format == DAO_PIXFMT_GRAY_F32) {
+				memcpy(row + 4 * (size_t)x, &v, 4);
+			} else if (out->format == DAO_PIXFMT_GRAY16) {
+				uint16_t q = (uint16_t)lrintf(v * 65535.0f);
+				memcpy(row + 2 * (size_t)x, &q, 2);
+			} else {
+				row[x] = (uint8_t)lrintf(v * 255.0f);
+			}
+		}
+	}
+}
+
+int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
+			const struct dao_frame *normals, uint64_t frame_index,
+			struct dao_frame *ao, struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	int r = check_depth(ctx, depth, err);
+	if (!r && ao)
+		r = check_ao_out(ctx, ao, err);
+	if (r)
+		return r;
+
+	const struct dao_params *p = &ctx->params;
+	const int w = (int)ctx->cam.width, h = (int)ctx->cam.height;
+	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
+
+	dao_decode_depth(depth, p->depth_min, p->depth_max, ctx->z_raw, 0, h);
+	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
+		dao_prefilter_bilateral(ctx->z_raw, ctx->z_buf, w, h, p->prefilter_radius, p->depth_noise,
+					ctx->depth_unit, 0, h);
+		ctx->z = ctx->z_buf;
+	} else {
+		ctx->z = ctx->z_raw;
+	}
+
+	if (normals) {
+		r = load_normals(ctx, normals, err);
+		if (r) {
+			ctx->have_frame = 0;
+			return r;
+		}
+	} else {
+		int nr = p->normals == DAO_NORMALS_WIDE ? p->normal_radius : 1;
+		dao_normals_from_depth(&ctx->cam, ctx->z, nr, ctx->n, 0, h);
+	}
+
+	struct dao_gtao_setup gs;
+	dao_gtao_setup_init(&gs, &ctx->cam, p, frame_index);
+	dao_gtao_ref(&gs, ctx->z, ctx->n, ctx->ao_raw, 0, h);
+
+	struct dao_denoise_setup ds = {
+		.width = w, .height = h,
+		.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
+		.noise_k = p->depth_noise,
+		.sharpness = p->denoise_sharpness,
+		.radius = p->denoise_radius,
+		.invalid_value = p->invalid_value,
+	};
+	switch (p->denoise) {
+	case DAO_DENOISE_PLANE:
+		dao_denoise_plane(&ds, ctx->z, ctx->ao_raw, ctx->ao_buf, 0, h);
+		ctx->ao = ctx->ao_buf;
+		break;
+	case DAO_DENOISE_BILATERAL:
+		dao_denoise_bilateral_h(&ds, ctx->z, ctx->n, ctx->ao_raw, ctx->tmp, 0, h);
+		dao_denoise_bilateral_v(&ds, ctx->z, ctx->n, ctx->tmp, ctx->ao_buf, 0, h);
+		ctx->ao = ctx->ao_buf;
+		break;
+	default:
+		ctx->ao = ctx->ao_raw;
+		break;
+	}
+
+	/* pixels without input depth are exactly invalid_value, whatever the filters did */
+	for (size_t i = 0; i < ctx->npix; i++)
+		if (ctx->z_raw[i] <= 0.0f)
+			ctx->ao[i] = p->invalid_value;
+
+	ctx->have_frame = 1;
+	if (ao)
+		write_ao(ctx, ao);
+	return 0;
+}
+
+static void depth_range(const struct dao_context *ctx, float *lo, float *hi)
+{
+	float a = INFINITY, b = 0.0f;
+	for (size_t i = 0; i < ctx->npix; i++) {
+		float z = ctx->z_raw[i];
+		if (z > 0.0f) {
+			a = fminf(a, z);
+			b = fmaxf(b, z);
+		}
+	}
+	if (!(b > a)) {
+		a = b > 0.0f ? b * 0.5f : 0.5f;
+		b = a * 2.0f + 0.001f;
+	}
+	*lo = a;
+	*hi = b;
+}
+
+int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	int r = dao_frame_check(out, "shaded output", ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (out->format != DAO_PIXFMT_RGB24 && out->format != DAO_PIXFMT_GRAY8)
+		return dao_error_set(err, -EINVAL, "shaded output: format %s is not rgb24 or gray8",
+				     dao_pixfmt_name(out->format));
+	if (!ctx->have_frame)
+		return dao_error_set(err, -EAGAIN,
+				     "no frame to shade: call dao_context_process() first");
+	const struct dao_params *p = &ctx->params;
+	if (ctx->cmap_mode != p->shade) {
+		dao_colormap_fill(&ctx->cmap, p->shade);
+		ctx->cmap_mode = p->shade;
+	}
+	float lo = p->near_m, hi = p->far_m;
+	if (lo <= 0.0f || hi <= 0.0f) {
+		float a, b;
+		depth_range(ctx, &a, &b);
+		if (lo <= 0.0f)
+			lo = a;
+		if (hi <= 0.0f)
+			hi = b;
+		if (hi <= lo)
+			hi = lo + 0.001f;
+	}
+	struct dao_shade_setup ss = {
+		.width = (int)ctx->cam.width, .height = (int)ctx->cam.height,
+		.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
+		.mode = p->shade,
+		.near_m = lo, .far_m = hi,
+		.power = p->shade_power,
+		.occ = { (float)((p->occlusion_color >> 16) & 255), (float)((p->occlusion_color >> 8) & 255),
+			 (float)(p->occlusion_color & 255) },
+		.map = &ctx->cmap,
+	};
+	dao_shade(&ss, ctx->z_raw, ctx->n, ctx->ao, out, 0, (int)ctx->cam.height);
+	return 0;
+}
+
+static int copy_plane(const struct dao_context *ctx, const float *src, size_t comps,
+		      enum dao_pixfmt fmt, struct dao_frame *out, const char *what,
+		      struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	int r = dao_frame_check(out, what, ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (out->format != fmt)
+		return dao_error_set(err, -EINVAL, "%s: format %s, expected %s", what,
+				     dao_pixfmt_name(out->format), dao_pixfmt_name(fmt));
+	if (!ctx->have_frame)
+		return dao_error_set(err, -EAGAIN, "%s: no frame processed yet", what);
+	const size_t row = (size_t)ctx->cam.width * comps;
+	for (uint32_t y = 0; y < ctx->cam.height; y++)
+		memcpy((char *)out->data + (size_t)y * out->stride, src + y * row, row * sizeof(float));
+	return 0;
+}
+
+int dao_context_get_normals(const struct dao_context *ctx, struct dao_frame *out,
+			    struct dao_error *err)
+{
+	return copy_plane(ctx, ctx ? ctx->n : NULL, 3, DAO_PIXFMT_NORMAL_F32, out, "normals output",
+			  err);
+}
+
+int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
+			  struct dao_error *err)
+{
+	return copy_plane(ctx, ctx ? ctx->z : NULL, 1, DAO_PIXFMT_DEPTH_F32, out, "depth output",
+			  err);
+}

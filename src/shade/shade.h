@@ -1,0 +1,31 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_SHADE_SHADE_H
+#define DAO_SHADE_SHADE_H
+
+#include <stdint.h>
+
+#include <depthao/frame.h>
+
+#include "shade/colormap.h"
+
+struct dao_shade_setup {
+	int width, height;
+	float ax, ay, bx, by;       /* UvToViewParams */
+	int mode;                   /* enum dao_shade */
+	float near_m, far_m;        /* resolved colormap range (> 0, near < far) */
+	float power;                /* AO exponent */
+	float occ[3];               /* occlusion colour, 0..255 */
+	const struct dao_colormap *map;
+};
+
+/*
+ * Occlusion-shaded image, seed 004's composite:
+ *   out = mix(occlusion colour, base colour, AO^power)
+ * with base = a Lambert head light (N . V) in gray, a depth colormap over
+ * [near, far], or white (AO alone).  Pixels without depth are black.
+ * `out` is RGB24 or GRAY8 (Rec. 601 luma of the RGB result).  Rows [y0, y1).
+ */
+void dao_shade(const struct dao_shade_setup *s, const float *z, const float *n, const float *ao,
+	       const struct dao_frame *out, int y0, int y1);
+
+#endif
