@@ -12,11 +12,10 @@ struct dao_gtao_setup {
 	int width, height;
 	float ax, ay, bx, by;      /* UvToViewParams */
 	float focal;               /* pixels per metre at z = 1 (mean of fx, fy) */
-	float radius;              /* R, m */
-	float search_radius;       /* R (1 + falloff/2): where the weight reaches 0, m */
+	float radius;              /* effective radius: R x DAO_GTAO_RADIUS_SCALE, m */
+	float search_radius;       /* where the falloff weight reaches 0, m */
 	float falloff_mul, falloff_add; /* weight = saturate(dist * mul + add) */
-	float thin;                /* z-axis stretch of the falloff distance (thin occluders) */
-	float decay;               /* horizon pulled down by later lower samples: 1 = not at all */
+	float decay;               /* share of the horizon kept when a later sample is lower */
 	float max_r_px, min_r_px;
 	float power;               /* sample distribution power */
 	int slices, steps;
@@ -24,6 +23,14 @@ struct dao_gtao_setup {
 	uint32_t frame;
 	float final_power, albedo, invalid_value;
 };
+
+/*
+ * With a handful of samples per side the largest sampled horizon is on
+ * average below the true one (peaks fall between samples), so GTAO
+ * under-occludes; searching a little beyond R compensates.  Tuned against the
+ * ray-traced ground truth (`depthao eval`), like XeGTAO's radius multiplier.
+ */
+#define DAO_GTAO_RADIUS_SCALE 1.2f
 
 void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 			 const struct dao_params *p, uint64_t frame_index);

@@ -44,12 +44,10 @@ static float search_side(const struct dao_gtao_setup *s, const float *z, int x, 
 		if (!(len > 0.0f))
 			continue;
 		float c = dot3(D, V) / len;
-		/* falloff on a distance that stretches the view axis, so occluders far in
-		 * front of the pixel (likely thin) fade sooner (XeGTAO's thin-occluder idea) */
-		float dz = D[2] * (1.0f + s->thin);
-		float fd = sqrtf(D[0] * D[0] + D[1] * D[1] + dz * dz);
-		float wgt = dao_saturate(fd * s->falloff_mul + s->falloff_add);
+		float wgt = dao_saturate(len * s->falloff_mul + s->falloff_add);
 		c = dao_lerpf(low, c, wgt);
+		/* thickness heuristic (UE4): a lower sample after a higher one means we
+		 * may be looking past a thin occluder; pull the horizon towards it */
 		best = c > best ? c : dao_lerpf(c, best, s->decay);
 	}
 	return best;

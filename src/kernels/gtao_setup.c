@@ -8,10 +8,13 @@
 void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 			 const struct dao_params *p, uint64_t frame_index)
 {
-	const float R = p->radius;
+	const float R = p->radius * DAO_GTAO_RADIUS_SCALE;
 	/* the weight falls linearly from 1 at R(1 - f/2) to 0 at R(1 + f/2): centred on
 	 * R, so on average it matches the hard radius of the ground-truth definition */
 	const float half = 0.5f * p->falloff * R;
+	/* thickness is the pull per sample at 8 steps; scale it so the pull over the
+	 * whole radius does not depend on the step count */
+	const float decay = powf(1.0f - p->thickness, 8.0f / (float)p->steps);
 	*s = (struct dao_gtao_setup){
 		.width = (int)cam->width,
 		.height = (int)cam->height,
@@ -19,8 +22,7 @@ void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 		.focal = (float)(0.5 * (cam->fx + cam->fy)),
 		.radius = R,
 		.search_radius = R + half,
-		.thin = 2.0f * p->thickness,
-		.decay = 1.0f,
+		.decay = decay,
 		.max_r_px = p->max_screen_radius,
 		.min_r_px = p->min_screen_radius,
 		.power = p->distribution_power,
@@ -47,7 +49,8 @@ void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, flo
 	switch (s->noise) {
 	case DAO_NOISE_IGN:
 		*n0 = dao_ign(x, y, s->frame);
-		*n1 = dao_ign(x + 17, y + 41, s->frame);
+		/* swapped axes give a second IGN field uncorrelated with the first */
+		*n1 = dao_ign(y + 7, x + 13, s->frame);
 		break;
 	case DAO_NOISE_R2:
 		dao_r2(x, y, s->frame, n0, n1);

@@ -48,7 +48,7 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_INT, OFF(slices), 1, 32, NULL, RT },
 	{ "steps", "horizon samples per side of each slice", NULL,
 	  DAO_PARAM_INT, OFF(steps), 1, 64, NULL, RT },
-	{ "thickness", "thin-occluder compensation (0 = every surface infinitely thick)", NULL,
+	{ "thickness", "thin-occluder heuristic: pull of later, lower samples on the horizon (0 = surfaces infinitely thick)", NULL,
 	  DAO_PARAM_FLOAT, OFF(thickness), 0.0, 1.0, NULL, RT },
 	{ "max-screen-radius", "cap of the radius projected on screen", "px",
 	  DAO_PARAM_FLOAT, OFF(max_screen_radius), 1.0, 4096.0, NULL, RT },

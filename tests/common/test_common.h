@@ -1,0 +1,22 @@
+/* SPDX-License-Identifier: MIT */
+/* Helpers shared by the test programs. */
+#ifndef DAO_TEST_COMMON_H
+#define DAO_TEST_COMMON_H
+
+#include <stddef.h>
+
+#include <depthao/depthao.h>
+
+/* Exit code that makes meson report SKIP. */
+#define DAO_TEST_SKIP 77
+
+/*
+ * Path of a file under ../shared/data (from $DAO_SHARED_DATA), written to
+ * buf.  Returns 0 if the file exists, -1 otherwise (the caller skips).
+ */
+int dao_test_data_path(const char *rel, char *buf, size_t len);
+
+/* A fresh empty directory under the build tree's temp area; returns its path (static). */
+const char *dao_test_tmpdir(const char *tag);
+
+#endif
