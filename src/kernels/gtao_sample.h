@@ -13,8 +13,9 @@
  * integer, and the depth is interpolated between the two pixels that
  * straddle the line on the minor axis.  Interpolation is in 1/z, which is
  * affine on any plane, so samples of a plane lie exactly on it.  Across a
- * depth edge (taps more than 10 % apart) the nearer tap is taken instead of
- * inventing a surface in between.
+ * depth edge (taps more than 10 % apart) the nearer tap is taken, at its own
+ * position, instead of inventing a surface in between.  Where a tap has no
+ * data there is no sample.
  *
  * Returns 0 when the point is off the image or has no data; otherwise the
  * pixel coordinates (*u, *v) and depth *zs of the sample.
@@ -46,20 +47,32 @@ static inline int dao_gtao_sample(const float *z, int w, int h, int x, int y, fl
 	if (i0 + 1 < nmin)
 		z1 = major_x ? z[(size_t)(i0 + 1) * w + m] : z[(size_t)m * w + i0 + 1];
 
-	float zz;
-	if (z0 > 0.0f && z1 > 0.0f && fabsf(z0 - z1) <= 0.1f * fminf(z0, z1)) {
-		zz = 1.0f / ((1.0f - f) / z0 + f / z1);
+	float zz, fmin = fm;
+	if (z0 > 0.0f && z1 > 0.0f) {
+		if (fabsf(z0 - z1) <= 0.1f * fminf(z0, z1)) {
+			zz = 1.0f / ((1.0f - f) / z0 + f / z1);
+		} else {
+			/* a depth edge: the nearer tap, at its own position (a depth moved
+			 * to another pixel would no longer lie on its surface) */
+			int use1 = f >= 0.5f;
+			zz = use1 ? z1 : z0;
+			fmin = (float)(i0 + use1);
+		}
+	} else if (z0 > 0.0f && f < 1e-3f) {
+		zz = z0; /* on the line: the other tap is not needed */
+	} else if (z1 > 0.0f && f > 1.0f - 1e-3f) {
+		zz = z1;
 	} else {
-		zz = f < 0.5f ? z0 : z1;
-		if (!(zz > 0.0f))
-			return 0;
+		/* a tap is missing (a hole, or the point is off the image): a lone tap
+		 * off the line could make a plane occlude itself, so no sample */
+		return 0;
 	}
 	*zs = zz;
 	if (major_x) {
 		*u = (float)m;
-		*v = fm;
+		*v = fmin;
 	} else {
-		*u = fm;
+		*u = fmin;
 		*v = (float)m;
 	}
 	return 1;

@@ -1,0 +1,147 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The ground truth itself must be right: ray intersections against analytic
+ * answers, and the AO estimator against closed forms.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+
+#include <cmocka.h>
+
+#include "synth/synth.h"
+
+static void test_sphere_hit(void **state)
+{
+	(void)state;
+	struct synth_prim p = { .kind = SYNTH_SPHERE, .c = { 0, 0, 5 }, .r = 1 };
+	synth_prim_bound(&p);
+	double t;
+	vec3 n;
+	assert_true(synth_prim_intersect(&p, v3(0, 0, 0), v3(0, 0, 1), 0, 100, &t, &n));
+	assert_true(fabs(t - 4.0) < 1e-12);
+	assert_true(fabs(n.z + 1.0) < 1e-12);
+	/* from inside, the far side */
+	assert_true(synth_prim_intersect(&p, v3(0, 0, 5), v3(1, 0, 0), 0, 100, &t, &n));
+	assert_true(fabs(t - 1.0) < 1e-12);
+	/* tmax limits the hit */
+	assert_false(synth_prim_intersect(&p, v3(0, 0, 0), v3(0, 0, 1), 0, 3.9, &t, &n));
+	/* miss */
+	assert_false(synth_prim_intersect(&p, v3(0, 2, 0), v3(0, 0, 1), 0, 100, &t, &n));
+}
+
+static void test_box_hit(void **state)
+{
+	(void)state;
+	struct synth_prim p = { .kind = SYNTH_BOX, .c = { 0, 0, 3 }, .half = { 1, 2, 0.5 } };
+	p.axis[0] = v3(1, 0, 0), p.axis[1] = v3(0, 1, 0), p.axis[2] = v3(0, 0, 1);
+	synth_prim_bound(&p);
+	double t;
+	vec3 n;
+	assert_true(synth_prim_intersect(&p, v3(0, 0, 0), v3(0, 0, 1), 0, 100, &t, &n));
+	assert_true(fabs(t - 2.5) < 1e-12);
+	assert_true(fabs(n.z + 1.0) < 1e-12);
+	assert_true(synth_prim_intersect(&p, v3(5, 0, 3), v3(-1, 0, 0), 0, 100, &t, &n));
+	assert_true(fabs(t - 4.0) < 1e-12 && fabs(n.x - 1.0) < 1e-12);
+	assert_false(synth_prim_intersect(&p, v3(5, 0, 3), v3(1, 0, 0), 0, 100, &t, &n));
+}
+
+static void test_cylinder_hit(void **state)
+{
+	(void)state;
+	struct synth_prim p = { .kind = SYNTH_CYLINDER, .c = { 0, 0, 4 }, .n = { 0, 1, 0 },
+				.r = 0.5, .h = 1 };
+	synth_prim_bound(&p);
+	double t;
+	vec3 n;
+	assert_true(synth_prim_intersect(&p, v3(0, 0, 0), v3(0, 0, 1), 0, 100, &t, &n));
+	assert_true(fabs(t - 3.5) < 1e-12 && fabs(n.z + 1.0) < 1e-12);
+	/* cap from above */
+	assert_true(synth_prim_intersect(&p, v3(0, -5, 4), v3(0, 1, 0), 0, 100, &t, &n));
+	assert_true(fabs(t - 4.0) < 1e-12 && fabs(n.y + 1.0) < 1e-12);
+	/* beyond the length */
+	assert_false(synth_prim_intersect(&p, v3(0, 1.5, 0), v3(0, 0, 1), 0, 100, &t, &n));
+}
+
+/* A point on a floor at distance d from an infinite wall: visibility has a closed form. */
+static double wall_visibility(double d, double R)
+{
+	/* Rays hit the wall (x = d) within R when the direction's x-component
+	 * w_x > d / R.  With cosine-weighted directions about the floor normal,
+	 * w_x is distributed as the x coordinate of a uniform point on the unit
+	 * disk, so P(w_x > a) = (acos(a) - a sqrt(1 - a^2)) / pi. */
+	double a = d / R;
+	if (a >= 1.0)
+		return 1.0;
+	return 1.0 - (acos(a) - a * sqrt(1.0 - a * a)) / 3.14159265358979323846;
+}
+
+static void test_ground_truth_corner(void **state)
+{
+	(void)state;
+	/* camera looking straight down at a floor 2 m away, a wall at x = +0.3 m
+	 * through the whole view: the ground truth must match the closed form */
+	struct synth_scene s = { .name = "test", .count = 2 };
+	s.prims[0] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 0, 2 }, .n = { 0, 0, -1 } };
+	s.prims[1] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0.3, 0, 0 }, .n = { -1, 0, 0 } };
+	synth_prim_bound(&s.prims[0]);
+	synth_prim_bound(&s.prims[1]);
+	struct dao_camera cam;
+	assert_int_equal(dao_camera_from_intrinsics(&cam, 64, 8, 100, 100, 31.5, 3.5, NULL), 0);
+	struct synth_image img;
+	assert_int_equal(synth_render(&s, &cam, 0.5, 32, 2, &img, NULL), 0);
+	int checked = 0;
+	for (int x = 0; x < 64; x++) {
+		double X = (x - 31.5) / 100.0 * 2.0; /* floor point x at z = 2 */
+		if (X >= 0.29)
+			break; /* pixels on the wall */
+		double expect = wall_visibility(0.3 - X, 0.5);
+		float got = img.gt[3 * 64 + x];
+		/* 1024 stratified rays: error well below 0.01 */
+		assert_true(fabs(got - expect) < 0.01);
+		checked++;
+	}
+	assert_true(checked > 20);
+	synth_image_free(&img);
+}
+
+static void test_noise_model(void **state)
+{
+	(void)state;
+	enum { W = 200, H = 100 };
+	float *d = malloc(W * H * sizeof(float));
+	for (int i = 0; i < W * H; i++)
+		d[i] = 2.0f;
+	synth_sensor_noise(d, W, H, 0.0012, 0.0, 0.02, 7);
+	double sum = 0, sum2 = 0;
+	int n = 0, dropped = 0;
+	for (int i = 0; i < W * H; i++) {
+		if (d[i] == 0.0f) {
+			dropped++;
+			continue;
+		}
+		sum += d[i] - 2.0;
+		sum2 += (d[i] - 2.0) * (d[i] - 2.0);
+		n++;
+	}
+	double sd = sqrt(sum2 / n - (sum / n) * (sum / n));
+	/* sigma = 0.0012 * 2^2 = 4.8 mm */
+	assert_true(fabs(sd - 0.0048) < 0.0003);
+	assert_true(fabs(sum / n) < 0.0003);
+	assert_true(dropped >= 0.02 * W * H && dropped < 0.025 * W * H);
+	free(d);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_sphere_hit),
+		cmocka_unit_test(test_box_hit),
+		cmocka_unit_test(test_cylinder_hit),
+		cmocka_unit_test(test_ground_truth_corner),
+		cmocka_unit_test(test_noise_model),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
