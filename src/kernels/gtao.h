@@ -12,7 +12,7 @@ struct dao_gtao_setup {
 	int width, height;
 	float ax, ay, bx, by;      /* UvToViewParams */
 	float focal;               /* pixels per metre at z = 1 (mean of fx, fy) */
-	float radius;              /* effective radius: R x DAO_GTAO_RADIUS_SCALE, m */
+	float radius;              /* effective radius, dao_gtao_effective_radius(), m */
 	float search_radius;       /* where the falloff weight reaches 0, m */
 	float falloff_mul, falloff_add; /* weight = saturate(dist * mul + add) */
 	float decay;               /* share of the horizon kept when a later sample is lower */
@@ -25,12 +25,19 @@ struct dao_gtao_setup {
 };
 
 /*
- * With a handful of samples per side the largest sampled horizon is on
- * average below the true one (peaks fall between samples), so GTAO
- * under-occludes; searching a little beyond R compensates.  Tuned against the
- * ray-traced ground truth (`depthao eval`), like XeGTAO's radius multiplier.
+ * With K samples per side the largest sampled horizon is on average below the
+ * true one (peaks fall between samples, about half a sample spacing R/K
+ * short), so GTAO under-occludes; searching a little beyond R compensates:
+ * R_eff = R (1 + DAO_GTAO_RADIUS_REACH / K).  Tuned against the ray-traced
+ * ground truth (`depthao eval`), like XeGTAO's radius multiplier.
  */
-#define DAO_GTAO_RADIUS_SCALE 1.2f
+#define DAO_GTAO_RADIUS_REACH 1.2f
+
+/* The radius the kernels search for a world radius R and K steps per side. */
+static inline float dao_gtao_effective_radius(float R, int steps)
+{
+	return R * (1.0f + DAO_GTAO_RADIUS_REACH / (float)steps);
+}
 
 void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 			 const struct dao_params *p, uint64_t frame_index);

@@ -8,7 +8,7 @@
 void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 			 const struct dao_params *p, uint64_t frame_index)
 {
-	const float R = p->radius * DAO_GTAO_RADIUS_SCALE;
+	const float R = dao_gtao_effective_radius(p->radius, p->steps);
 	/* the weight falls linearly from 1 at R(1 - f/2) to 0 at R(1 + f/2): centred on
 	 * R, so on average it matches the hard radius of the ground-truth definition */
 	const float half = 0.5f * p->falloff * R;

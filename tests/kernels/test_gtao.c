@@ -146,9 +146,9 @@ static void test_floor_and_wall(void **state)
 	float *ao = malloc(128 * 96 * sizeof(float));
 	struct dao_params p;
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	p.radius = 0.5f / DAO_GTAO_RADIUS_SCALE; /* an effective radius of exactly 0.5 m */
 	p.slices = 24;
 	p.steps = 48;
+	p.radius = 0.5f * 0.5f / dao_gtao_effective_radius(0.5f, 48); /* effective 0.5 m */
 	p.falloff = 0.0f;
 	p.thickness = 0.0f;
 	p.distribution_power = 1.0f;
