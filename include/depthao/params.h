@@ -83,6 +83,7 @@ struct dao_params {
 	float final_power;        /* visibility^power */
 	float albedo;             /* multi-bounce fit (Jimenez 2016), 0 = off */
 	float invalid_value;      /* visibility written for pixels without depth */
+	int threads;              /* worker threads of a context, 0 = one per available CPU */
 
 	/* denoise */
 	int denoise;              /* enum dao_denoise */

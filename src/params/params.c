@@ -64,6 +64,8 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(albedo), 0.0, 0.95, NULL, RT },
 	{ "invalid-value", "visibility written where there is no depth", NULL,
 	  DAO_PARAM_FLOAT, OFF(invalid_value), 0.0, 1.0, NULL, RT },
+	{ "threads", "threads per context (0 = one per available CPU)", NULL,
+	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
 	{ "denoise", "spatial filter of the AO", NULL,
 	  DAO_PARAM_ENUM, OFF(denoise), 0, 0, denoise_names, RT },
 	{ "denoise-radius", "radius of the bilateral denoise", "px",

@@ -26,6 +26,7 @@ static const struct dao_params common = {
 	.final_power = 1.0f,
 	.albedo = 0.0f,
 	.invalid_value = 1.0f,
+	.threads = 0,
 	.denoise = DAO_DENOISE_PLANE,
 	.denoise_radius = 4,
 	.denoise_sharpness = 4.0f,

@@ -18,6 +18,7 @@
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
 #include "normals/normals.h"
+#include "pipeline/threadpool.h"
 #include "shade/colormap.h"
 #include "shade/shade.h"
 
@@ -37,7 +38,28 @@ struct dao_context {
 	float depth_unit;  /* metres per count of the last frame, 0 for float input */
 	struct dao_colormap cmap;
 	int cmap_mode;
+	struct dao_pool *pool;
+	int pool_threads;  /* params.threads the pool was made for */
 };
+
+/* Worker threads for a `threads` parameter (0 = every available CPU). */
+static int resolve_threads(int threads)
+{
+	return threads > 0 ? threads : dao_pool_online_cpus();
+}
+
+static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err)
+{
+	struct dao_pool *pool;
+	int r = dao_pool_create(&pool, resolve_threads(threads));
+	if (r)
+		return dao_error_set(err, r, "cannot start %d worker threads: %s",
+				     resolve_threads(threads), dao_strerror(r));
+	dao_pool_destroy(ctx->pool);
+	ctx->pool = pool;
+	ctx->pool_threads = threads;
+	return 0;
+}
 
 int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 		       const struct dao_params *params, struct dao_error *err)
@@ -83,6 +105,11 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->ao_buf = mem + 6 * ctx->npix;
 	ctx->tmp = mem + 7 * ctx->npix;
 	ctx->cmap_mode = -1;
+	r = make_pool(ctx, p.threads, err);
+	if (r) {
+		dao_context_destroy(ctx);
+		return r;
+	}
 	*out = ctx;
 	return 0;
 }
@@ -91,6 +118,7 @@ void dao_context_destroy(struct dao_context *ctx)
 {
 	if (!ctx)
 		return;
+	dao_pool_destroy(ctx->pool);
 	free(ctx->z_raw);
 	free(ctx);
 }
@@ -103,6 +131,11 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 	int r = dao_params_validate(params, err);
 	if (r)
 		return r;
+	if (params->threads != ctx->pool_threads) {
+		r = make_pool(ctx, params->threads, err);
+		if (r)
+			return r;
+	}
 	ctx->params = *params;
 	return 0;
 }
@@ -191,12 +224,81 @@ static int check_ao_out(const struct dao_context *ctx, const struct dao_frame *a
 	return 0;
 }
 
-static void write_ao(const struct dao_context *ctx, struct dao_frame *out)
+
+/* One frame's work, shared by the stage functions the pool runs on row bands. */
+struct frame_job {
+	struct dao_context *ctx;
+	const struct dao_frame *depth;
+	struct dao_frame *ao_out;
+	int normal_radius;
+	struct dao_gtao_setup gtao;
+	struct dao_denoise_setup denoise;
+};
+
+static void stage_decode(void *arg, int y0, int y1)
 {
-	const int w = (int)ctx->cam.width, h = (int)ctx->cam.height;
-	for (int y = 0; y < h; y++) {
+	struct frame_job *j = arg;
+	dao_decode_depth(j->depth, j->ctx->params.depth_min, j->ctx->params.depth_max,
+			 j->ctx->z_raw, y0, y1);
+}
+
+static void stage_prefilter(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	struct dao_context *c = j->ctx;
+	dao_prefilter_bilateral(c->z_raw, c->z_buf, (int)c->cam.width, (int)c->cam.height,
+				c->params.prefilter_radius, c->params.depth_noise, c->depth_unit, y0, y1);
+}
+
+static void stage_normals(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_normals_from_depth(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
+}
+
+static void stage_gtao(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_gtao_ref(&j->gtao, j->ctx->z, j->ctx->n, j->ctx->ao_raw, y0, y1);
+}
+
+static void stage_denoise_plane(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_denoise_plane(&j->denoise, j->ctx->z, j->ctx->ao_raw, j->ctx->ao_buf, y0, y1);
+}
+
+static void stage_denoise_h(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_denoise_bilateral_h(&j->denoise, j->ctx->z, j->ctx->n, j->ctx->ao_raw, j->ctx->tmp,
+				y0, y1);
+}
+
+static void stage_denoise_v(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_denoise_bilateral_v(&j->denoise, j->ctx->z, j->ctx->n, j->ctx->tmp, j->ctx->ao_buf,
+				y0, y1);
+}
+
+/* Pixels without input depth are exactly invalid_value, whatever the filters did;
+ * then the caller's output format. */
+static void stage_output(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	struct dao_context *c = j->ctx;
+	const int w = (int)c->cam.width;
+	const float invalid = c->params.invalid_value;
+	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
+		if (c->z_raw[i] <= 0.0f)
+			c->ao[i] = invalid;
+	struct dao_frame *out = j->ao_out;
+	if (!out)
+		return;
+	for (int y = y0; y < y1; y++) {
 		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
-		const float *src = ctx->ao + (size_t)y * w;
+		const float *src = c->ao + (size_t)y * w;
 		for (int x = 0; x < w; x++) {
 			float v = dao_saturate(src[x]);
 			if (out->format == DAO_PIXFMT_GRAY_F32) {
@@ -224,64 +326,56 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		return r;
 
 	const struct dao_params *p = &ctx->params;
-	const int w = (int)ctx->cam.width, h = (int)ctx->cam.height;
+	const int h = (int)ctx->cam.height;
+	struct frame_job job = {
+		.ctx = ctx,
+		.depth = depth,
+		.ao_out = ao,
+		.normal_radius = p->normals == DAO_NORMALS_WIDE ? p->normal_radius : 1,
+		.denoise = {
+			.width = (int)ctx->cam.width, .height = h,
+			.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
+			.noise_k = p->depth_noise,
+			.sharpness = p->denoise_sharpness,
+			.radius = p->denoise_radius,
+			.invalid_value = p->invalid_value,
+		},
+	};
+	dao_gtao_setup_init(&job.gtao, &ctx->cam, p, frame_index);
 	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
+	ctx->have_frame = 0;
 
-	dao_decode_depth(depth, p->depth_min, p->depth_max, ctx->z_raw, 0, h);
+	dao_pool_run(ctx->pool, h, 8, stage_decode, &job);
 	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
-		dao_prefilter_bilateral(ctx->z_raw, ctx->z_buf, w, h, p->prefilter_radius, p->depth_noise,
-					ctx->depth_unit, 0, h);
+		dao_pool_run(ctx->pool, h, 4, stage_prefilter, &job);
 		ctx->z = ctx->z_buf;
 	} else {
 		ctx->z = ctx->z_raw;
 	}
-
 	if (normals) {
 		r = load_normals(ctx, normals, err);
-		if (r) {
-			ctx->have_frame = 0;
+		if (r)
 			return r;
-		}
 	} else {
-		int nr = p->normals == DAO_NORMALS_WIDE ? p->normal_radius : 1;
-		dao_normals_from_depth(&ctx->cam, ctx->z, nr, ctx->n, 0, h);
+		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
 	}
-
-	struct dao_gtao_setup gs;
-	dao_gtao_setup_init(&gs, &ctx->cam, p, frame_index);
-	dao_gtao_ref(&gs, ctx->z, ctx->n, ctx->ao_raw, 0, h);
-
-	struct dao_denoise_setup ds = {
-		.width = w, .height = h,
-		.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
-		.noise_k = p->depth_noise,
-		.sharpness = p->denoise_sharpness,
-		.radius = p->denoise_radius,
-		.invalid_value = p->invalid_value,
-	};
+	dao_pool_run(ctx->pool, h, 2, stage_gtao, &job);
 	switch (p->denoise) {
 	case DAO_DENOISE_PLANE:
-		dao_denoise_plane(&ds, ctx->z, ctx->ao_raw, ctx->ao_buf, 0, h);
+		dao_pool_run(ctx->pool, h, 4, stage_denoise_plane, &job);
 		ctx->ao = ctx->ao_buf;
 		break;
 	case DAO_DENOISE_BILATERAL:
-		dao_denoise_bilateral_h(&ds, ctx->z, ctx->n, ctx->ao_raw, ctx->tmp, 0, h);
-		dao_denoise_bilateral_v(&ds, ctx->z, ctx->n, ctx->tmp, ctx->ao_buf, 0, h);
+		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, &job);
+		dao_pool_run(ctx->pool, h, 4, stage_denoise_v, &job);
 		ctx->ao = ctx->ao_buf;
 		break;
 	default:
 		ctx->ao = ctx->ao_raw;
 		break;
 	}
-
-	/* pixels without input depth are exactly invalid_value, whatever the filters did */
-	for (size_t i = 0; i < ctx->npix; i++)
-		if (ctx->z_raw[i] <= 0.0f)
-			ctx->ao[i] = p->invalid_value;
-
+	dao_pool_run(ctx->pool, h, 8, stage_output, &job);
 	ctx->have_frame = 1;
-	if (ao)
-		write_ao(ctx, ao);
 	return 0;
 }
 

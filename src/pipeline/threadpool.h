@@ -1,0 +1,34 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * A persistent pool of worker threads owned by one context.  Work is a
+ * function over row bands: dao_pool_run() splits [0, rows) into bands, runs
+ * them on the workers and the calling thread, and returns when all are done.
+ * Threads are created once (dao_pool_create) and never per frame.
+ */
+#ifndef DAO_PIPELINE_THREADPOOL_H
+#define DAO_PIPELINE_THREADPOOL_H
+
+struct dao_pool;
+
+/* fn processes rows [y0, y1) with the caller's argument. */
+typedef void (*dao_pool_fn)(void *arg, int y0, int y1);
+
+/* Creates a pool running `threads` bands in parallel (>= 1; 1 = no workers). */
+int dao_pool_create(struct dao_pool **out, int threads);
+
+void dao_pool_destroy(struct dao_pool *pool);
+
+/* Number of threads work is spread over (workers + the caller). */
+int dao_pool_threads(const struct dao_pool *pool);
+
+/*
+ * Runs fn over [0, rows) in bands of at least `min_rows` rows and waits for
+ * completion.  Bands are handed out dynamically, so a slow core does not hold
+ * up the others.  Not re-entrant: one dao_pool_run at a time per pool.
+ */
+void dao_pool_run(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg);
+
+/* Number of CPUs this process may run on (at least 1). */
+int dao_pool_online_cpus(void);
+
+#endif
