@@ -16,7 +16,7 @@ static const struct dao_params common = {
 	.normal_radius = 4,
 	.radius = 0.5f,
 	.falloff = 0.2f,
-	.slices = 3,
+	.slices = 2,
 	.steps = 6,
 	.thickness = 0.0f,
 	.max_screen_radius = 160.0f,
@@ -42,19 +42,18 @@ void dao_preset_fill(struct dao_params *p, enum dao_quality q)
 	*p = common;
 	switch (q) {
 	case DAO_QUALITY_LOW:
-		p->slices = 2;
-		p->steps = 4;
+		p->slices = 1;
 		break;
 	case DAO_QUALITY_MEDIUM:
 	case DAO_QUALITY_COUNT:
 		break;
 	case DAO_QUALITY_HIGH:
-		p->slices = 6;
-		p->steps = 10;
+		p->slices = 4;
+		p->steps = 8;
 		break;
 	case DAO_QUALITY_ULTRA:
-		p->slices = 12;
-		p->steps = 16;
+		p->slices = 8;
+		p->steps = 12;
 		p->denoise = DAO_DENOISE_BILATERAL;
 		break;
 	}
