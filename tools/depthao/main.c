@@ -1,14 +1,59 @@
 /* SPDX-License-Identifier: MIT */
+/* depthao: ambient occlusion from depth images, on the command line. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include <depthao/depthao.h>
 
+#include "commands.h"
+
+static void usage(FILE *out)
+{
+	fprintf(out,
+		"usage: depthao <command> [options]\n"
+		"\n"
+		"commands:\n"
+		"  process   depth PNG file or directory -> AO and occlusion-shaded PNGs\n"
+		"  synth     write synthetic scenes with ray-traced ground-truth AO\n"
+		"  eval      measure every quality preset against the ground truth\n"
+		"\n"
+		"  depthao <command> --help   options of a command\n"
+		"  depthao --version          version\n");
+}
+
+int usage_error(const char *cmd, const char *fmt, ...)
+{
+	va_list ap;
+	fputs("depthao: ", stderr);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	if (cmd)
+		fprintf(stderr, " (see 'depthao %s --help')\n", cmd);
+	else
+		fputs(" (see 'depthao --help')\n", stderr);
+	return 2;
+}
+
 int main(int argc, char **argv)
 {
-	if (argc > 1 && strcmp(argv[1], "--version") == 0) {
+	if (argc < 2)
+		return usage_error(NULL, "no command given");
+	const char *cmd = argv[1];
+	if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+		usage(stdout);
+		return 0;
+	}
+	if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "-V") == 0) {
 		printf("depthao %s\n", dao_version());
 		return 0;
 	}
-	return 2;
+	if (strcmp(cmd, "process") == 0)
+		return cmd_process(argc - 1, argv + 1);
+	if (strcmp(cmd, "synth") == 0)
+		return cmd_synth(argc - 1, argv + 1);
+	if (strcmp(cmd, "eval") == 0)
+		return cmd_eval(argc - 1, argv + 1);
+	return usage_error(NULL, "unknown command '%s'", cmd);
 }

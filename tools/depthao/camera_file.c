@@ -1,0 +1,89 @@
+/* SPDX-License-Identifier: MIT */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <json-c/json.h>
+
+#include <depthao/frame.h>
+
+#include "atomic_file.h"
+#include "camera_file.h"
+
+static int get_number(struct json_object *o, double *out)
+{
+	if (!o || !(json_object_is_type(o, json_type_double) || json_object_is_type(o, json_type_int)))
+		return -1;
+	*out = json_object_get_double(o);
+	return 0;
+}
+
+int camera_file_read(const char *path, struct dao_camera *cam, char *msg, size_t len)
+{
+	struct json_object *root = json_object_from_file(path);
+	if (!root) {
+		if (access(path, R_OK) != 0)
+			snprintf(msg, len, "cannot read camera file '%s': %s", path, strerror(errno));
+		else
+			snprintf(msg, len, "camera file '%s' is not valid JSON: %s", path,
+				 json_util_get_last_err() ? json_util_get_last_err() : "parse error");
+		return -1;
+	}
+	int rc = -1;
+	struct json_object *w, *h, *k;
+	double wd, hd, m[9];
+	if (!json_object_object_get_ex(root, "width", &w) || get_number(w, &wd) ||
+	    !json_object_object_get_ex(root, "height", &h) || get_number(h, &hd)) {
+		snprintf(msg, len, "camera file '%s': needs numeric \"width\" and \"height\"", path);
+		goto out;
+	}
+	if (!json_object_object_get_ex(root, "intrinsic_matrix", &k) ||
+	    !json_object_is_type(k, json_type_array) || json_object_array_length(k) != 9) {
+		snprintf(msg, len,
+			 "camera file '%s': needs \"intrinsic_matrix\", an array of 9 numbers "
+			 "(column-major [fx,0,0, 0,fy,0, cx,cy,1])", path);
+		goto out;
+	}
+	for (int i = 0; i < 9; i++)
+		if (get_number(json_object_array_get_idx(k, (size_t)i), &m[i])) {
+			snprintf(msg, len, "camera file '%s': intrinsic_matrix[%d] is not a number", path, i);
+			goto out;
+		}
+	if (wd < 1 || hd < 1 || wd > DAO_MAX_DIMENSION || hd > DAO_MAX_DIMENSION ||
+	    wd != (double)(uint32_t)wd || hd != (double)(uint32_t)hd) {
+		snprintf(msg, len, "camera file '%s': size %gx%g is not a valid image size", path, wd, hd);
+		goto out;
+	}
+	struct dao_error err;
+	if (dao_camera_from_intrinsics(cam, (uint32_t)wd, (uint32_t)hd, m[0], m[4], m[6], m[7], &err)) {
+		snprintf(msg, len, "camera file '%s': %s", path, err.message);
+		goto out;
+	}
+	rc = 0;
+out:
+	json_object_put(root);
+	return rc;
+}
+
+int camera_file_write(const char *path, const struct dao_camera *cam, struct json_object *extra,
+		      char *msg, size_t len)
+{
+	struct json_object *root = json_object_new_object();
+	struct json_object *k = json_object_new_array();
+	const double m[9] = { cam->fx, 0, 0, 0, cam->fy, 0, cam->cx, cam->cy, 1 };
+	json_object_object_add(root, "width", json_object_new_int((int)cam->width));
+	json_object_object_add(root, "height", json_object_new_int((int)cam->height));
+	for (int i = 0; i < 9; i++)
+		json_object_array_add(k, json_object_new_double(m[i]));
+	json_object_object_add(root, "intrinsic_matrix", k);
+	if (extra) {
+		json_object_object_foreach(extra, key, val)
+			json_object_object_add(root, key, json_object_get(val));
+	}
+	const char *text = json_object_to_json_string_ext(root, JSON_C_TO_STRING_PRETTY);
+	int rc = atomic_write_text(path, text, msg, len);
+	json_object_put(root);
+	return rc;
+}

@@ -1,0 +1,305 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * depthao eval: renders the synthetic suite with ray-traced ground truth,
+ * runs the library with each quality preset, and prints scene x preset
+ * (MAE, bias, p99).  With --check it also enforces the accuracy bars of the
+ * default preset (used by the test suite).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <depthao/depthao.h>
+
+#include "cli_params.h"
+#include "commands.h"
+#include "synth/suite.h"
+
+/* Accuracy bars for the default preset at R = 0.5 m (README.md, issue #2). */
+#define BAR_PLANE_OCCLUSION 0.003
+#define BAR_CLEAN_MEAN_MAE 0.035
+#define BAR_CLEAN_MAX_MAE 0.075
+#define BAR_NOISY_MAX_MAE 0.06
+
+struct eval_options {
+	enum dao_quality qualities[DAO_QUALITY_COUNT];
+	int nq;
+	const char *scenes[SYNTH_SUITE_MAX / 2 + 1];
+	int rays_sqrt;
+	int check;
+	int noise;
+	struct dao_params overrides_base;   /* the defaults, to detect overridden fields */
+	char *override_args[64];
+	int n_override;
+};
+
+static void usage(FILE *out)
+{
+	fprintf(out,
+		"usage: depthao eval [options] [parameter options]\n"
+		"\n"
+		"Renders the synthetic scenes (640x480, ray-traced ground truth), runs each quality\n"
+		"preset on them clean and with Kinect-like noise, and prints MAE, bias and p99 of\n"
+		"the visibility against the ground truth.\n"
+		"\n"
+		"  --quality LIST    comma-separated presets (default: low,medium,high)\n"
+		"  --scenes LIST     comma-separated scenes (default: all)\n"
+		"  --rays N          ground-truth rays per pixel, a square (default 256)\n"
+		"  --no-noise        skip the noisy variants\n"
+		"  --check           exit 1 unless the default preset meets the accuracy bars\n"
+		"  --help            this text\n"
+		"Parameter options (e.g. --radius 0.5) override every preset.\n");
+}
+
+static int parse_list(char *arg, const char **out, int max)
+{
+	int n = 0;
+	for (char *tok = strtok(arg, ","); tok; tok = strtok(NULL, ",")) {
+		if (n >= max)
+			return -1;
+		out[n++] = tok;
+	}
+	return n;
+}
+
+static int parse_args(int argc, char **argv, struct eval_options *o)
+{
+	o->rays_sqrt = 16;
+	o->noise = 1;
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			usage(stdout);
+			exit(0);
+		} else if (strcmp(a, "--check") == 0) {
+			o->check = 1;
+		} else if (strcmp(a, "--no-noise") == 0) {
+			o->noise = 0;
+		} else if (strcmp(a, "--quality") == 0 || strcmp(a, "--scenes") == 0 ||
+			   strcmp(a, "--rays") == 0) {
+			if (i + 1 >= argc) {
+				return usage_error("eval", "%s needs a value", a);
+			}
+			char *v = argv[++i];
+			if (strcmp(a, "--rays") == 0) {
+				char *end;
+				long n = strtol(v, &end, 10);
+				long r = lrint(sqrt((double)n));
+				if (*end || n < 1 || r * r != n || n > 65536) {
+					return usage_error("eval", "--rays %s must be a perfect square in 1..65536", v);
+				}
+				o->rays_sqrt = (int)r;
+			} else if (strcmp(a, "--scenes") == 0) {
+				int n = parse_list(v, o->scenes, SYNTH_SUITE_MAX / 2);
+				if (n < 0) {
+					return usage_error("eval", "too many scenes in --scenes");
+				}
+				o->scenes[n] = NULL;
+			} else {
+				const char *names[DAO_QUALITY_COUNT + 1];
+				int n = parse_list(v, names, DAO_QUALITY_COUNT);
+				if (n <= 0) {
+					return usage_error("eval", "--quality needs one to four presets");
+				}
+				for (int k = 0; k < n; k++) {
+					struct dao_error err;
+					if (dao_quality_parse(names[k], &o->qualities[k], &err)) {
+						return usage_error("eval", "%s", err.message);
+					}
+				}
+				o->nq = n;
+			}
+		} else if (strncmp(a, "--", 2) == 0) {
+			/* parameter options are applied per preset later; remember them */
+			struct dao_params scratch;
+			dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+			int j = i;
+			char msg[DAO_ERROR_MESSAGE_MAX];
+			int r = cli_apply_param_option(&scratch, argc, argv, &j, msg, sizeof msg);
+			if (r < 0)
+				return usage_error("eval", "%s", msg);
+			if (r == 0)
+				return usage_error("eval", "unknown option '%s'", a);
+			for (int k = i; k <= j && o->n_override < 64; k++)
+				o->override_args[o->n_override++] = argv[k];
+			i = j;
+		} else {
+			return usage_error("eval", "unexpected argument '%s'", a);
+		}
+	}
+	if (o->nq == 0) {
+		o->qualities[0] = DAO_QUALITY_LOW;
+		o->qualities[1] = DAO_QUALITY_MEDIUM;
+		o->qualities[2] = DAO_QUALITY_HIGH;
+		o->nq = 3;
+	}
+	return 0;
+}
+
+/* Preset q with the command-line overrides applied. */
+static int params_for(const struct eval_options *o, enum dao_quality q, struct dao_params *p)
+{
+	dao_params_init(p, q);
+	char *args[66];
+	args[0] = "eval";
+	for (int k = 0; k < o->n_override; k++)
+		args[k + 1] = o->override_args[k];
+	char msg[DAO_ERROR_MESSAGE_MAX];
+	for (int i = 1; i <= o->n_override; i++)
+		if (cli_apply_param_option(p, o->n_override + 1, args, &i, msg, sizeof msg) < 0) {
+			fprintf(stderr, "depthao: %s\n", msg);
+			return -1;
+		}
+	struct dao_error err;
+	if (dao_params_validate(p, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return -1;
+	}
+	return 0;
+}
+
+struct preset_summary {
+	double clean_sum, clean_max, noisy_max, plane_occ, ms;
+	int clean_n, frames;
+	long nan, invalid;
+};
+
+int cmd_eval(int argc, char **argv)
+{
+	struct eval_options o = { 0 };
+	if (parse_args(argc, argv, &o))
+		return 2;
+	/* validate the scene names before the long render */
+	for (int k = 0; o.scenes[k]; k++) {
+		struct synth_scene sc;
+		struct dao_error e;
+		if (synth_scene_build(o.scenes[k], 0.0, &sc, &e))
+			return usage_error("eval", "%s", e.message);
+	}
+	int default_col = -1;
+	for (int k = 0; k < o.nq; k++)
+		if (o.qualities[k] == DAO_QUALITY_DEFAULT)
+			default_col = k;
+	if (o.check && default_col < 0) {
+		return usage_error("eval", "--check needs the default preset in --quality");
+	}
+
+	struct synth_suite suite;
+	struct dao_error err;
+	fprintf(stderr, "depthao: rendering ground truth (%d rays per pixel)...\n",
+		o.rays_sqrt * o.rays_sqrt);
+	if (synth_suite_load(&suite, o.scenes[0] ? o.scenes : NULL, 0.5, o.rays_sqrt, o.noise, 1,
+			     2, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	const size_t np = (size_t)suite.cam.width * suite.cam.height;
+	float *ao = malloc(np * sizeof(float));
+	struct synth_metrics (*res)[DAO_QUALITY_COUNT] = calloc((size_t)suite.count, sizeof *res);
+	struct preset_summary sum[DAO_QUALITY_COUNT] = { 0 };
+	int status = 0;
+	if (!ao || !res) {
+		fprintf(stderr, "depthao: out of memory\n");
+		status = 1;
+		goto out;
+	}
+
+	for (int k = 0; k < o.nq; k++) {
+		struct dao_params p;
+		struct dao_context *ctx;
+		if (params_for(&o, o.qualities[k], &p)) {
+			status = 2;
+			goto out;
+		}
+		if (dao_context_create(&ctx, &suite.cam, &p, &err)) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			status = 1;
+			goto out;
+		}
+		for (int i = 0; i < suite.count; i++) {
+			double ms;
+			if (synth_suite_run_case(&suite, i, ctx, ao, &res[i][k], &ms, &err)) {
+				fprintf(stderr, "depthao: %s\n", err.message);
+				dao_context_destroy(ctx);
+				status = 1;
+				goto out;
+			}
+			const struct synth_case *c = &suite.cases[i];
+			const struct synth_metrics *m = &res[i][k];
+			struct preset_summary *s = &sum[k];
+			s->ms += ms;
+			s->frames++;
+			s->nan += m->nan_count;
+			s->invalid += m->invalid_not_one;
+			if (!synth_scene_is_structured(c->scene)) {
+				if (!c->noisy)
+					s->plane_occ = m->mean_occlusion;
+			} else if (!c->noisy) {
+				s->clean_sum += m->mae;
+				s->clean_n++;
+				s->clean_max = fmax(s->clean_max, m->mae);
+			}
+			if (c->noisy)
+				s->noisy_max = fmax(s->noisy_max, m->mae);
+		}
+		dao_context_destroy(ctx);
+	}
+
+	printf("| scene | input |");
+	for (int k = 0; k < o.nq; k++)
+		printf(" %s%s MAE | bias | p99 |", dao_quality_name(o.qualities[k]),
+		       k == default_col ? " (default)" : "");
+	printf("\n|---|---|");
+	for (int k = 0; k < o.nq; k++)
+		printf("---:|---:|---:|");
+	printf("\n");
+	for (int i = 0; i < suite.count; i++) {
+		printf("| %s | %s |", suite.cases[i].scene, suite.cases[i].noisy ? "noisy" : "clean");
+		for (int k = 0; k < o.nq; k++)
+			printf(" %.4f | %+.4f | %.3f |", res[i][k].mae, res[i][k].bias, res[i][k].p99);
+		printf("\n");
+	}
+	printf("| **clean scenes, mean MAE** | |");
+	for (int k = 0; k < o.nq; k++)
+		printf(" **%.4f** | | |", sum[k].clean_n ? sum[k].clean_sum / sum[k].clean_n : 0.0);
+	printf("\n| plane, mean occlusion | clean |");
+	for (int k = 0; k < o.nq; k++)
+		printf(" %.4f | | |", sum[k].plane_occ);
+	printf("\n| ms/frame (all threads) | |");
+	for (int k = 0; k < o.nq; k++)
+		printf(" %.0f | | |", sum[k].frames ? sum[k].ms / sum[k].frames : 0.0);
+	printf("\n");
+
+	for (int k = 0; k < o.nq; k++)
+		if (sum[k].nan || sum[k].invalid) {
+			fprintf(stderr, "depthao: %s: %ld NaN/out-of-range values, %ld no-data pixels not 1\n",
+				dao_quality_name(o.qualities[k]), sum[k].nan, sum[k].invalid);
+			status = 1;
+		}
+	if (o.check) {
+		const struct preset_summary *s = &sum[default_col];
+		double clean_mean = s->clean_n ? s->clean_sum / s->clean_n : 0.0;
+		struct {
+			const char *what;
+			double value, bar;
+		} bars[] = {
+			{ "tilted plane, mean occlusion", s->plane_occ, BAR_PLANE_OCCLUSION },
+			{ "clean scenes, mean MAE", clean_mean, BAR_CLEAN_MEAN_MAE },
+			{ "clean scenes, largest MAE", s->clean_max, BAR_CLEAN_MAX_MAE },
+			{ "noisy scenes, largest MAE", s->noisy_max, BAR_NOISY_MAX_MAE },
+		};
+		for (size_t b = 0; b < sizeof bars / sizeof bars[0]; b++) {
+			int ok = bars[b].value <= bars[b].bar;
+			fprintf(stderr, "depthao: %-30s %.4f (bar %.3f) %s\n", bars[b].what, bars[b].value,
+				bars[b].bar, ok ? "ok" : "FAILED");
+			if (!ok)
+				status = 1;
+		}
+	}
+out:
+	free(ao);
+	free(res);
+	synth_suite_free(&suite);
+	return status;
+}

@@ -1,0 +1,428 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * depthao process: a 16-bit depth PNG, or a directory of them, to AO
+ * (16-bit PNG, round(visibility x 65535)) and occlusion-shaded RGB PNGs.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <depthao/depthao.h>
+
+#include "camera_file.h"
+#include "cli_params.h"
+#include "commands.h"
+#include "file_list.h"
+#include "progress.h"
+
+/* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
+#define DEG2RAD (3.14159265358979323846 / 180.0)
+#define DEFAULT_HFOV_DEG 58.5
+#define DEFAULT_VFOV_DEG 45.6
+
+struct process_options {
+	const char *input;
+	const char *ao_out, *shaded_out;
+	double depth_unit;
+	const char *intrinsics, *fov, *intrinsics_file;
+	uint64_t frame_index;
+	int quiet;
+	struct dao_params params;
+};
+
+static void usage(FILE *out)
+{
+	struct dao_params def;
+	dao_params_init(&def, DAO_QUALITY_DEFAULT);
+	fprintf(out,
+		"usage: depthao process --input PATH [--ao-out PATH] [--shaded-out PATH] [options]\n"
+		"\n"
+		"Computes ambient occlusion for a 16-bit depth PNG, or for every *.png of a\n"
+		"directory (sorted by name; then the outputs are directories with the same file\n"
+		"names).  At least one output is required.\n"
+		"\n"
+		"  --input PATH              depth PNG or directory of depth PNGs\n"
+		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
+		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
+		"  --depth-unit M            metres per depth count (default 0.001; TUM: 0.0002)\n"
+		"  --intrinsics FX,FY,CX,CY  pinhole intrinsics in pixels\n"
+		"  --fov H,V                 field of view in degrees (OpenNI style)\n"
+		"  --intrinsics-file FILE    Open3D camera JSON (width, height, intrinsic_matrix)\n"
+		"                            without any of these: camera.json beside the input,\n"
+		"                            else a %.1f x %.1f degree field of view\n"
+		"  --quality Q               preset: low, medium, high, ultra, default (= medium)\n"
+		"  --frame-index N           noise pattern of the first frame (default 0)\n"
+		"  --quiet                   no progress bar or summary\n"
+		"  --help                    this text\n"
+		"\n"
+		"AO parameters (override the preset; defaults are the medium preset):\n",
+		DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
+	cli_print_param_help(out, &def);
+}
+
+static int parse_double(const char *s, double *out)
+{
+	char *end;
+	errno = 0;
+	double v = strtod(s, &end);
+	if (end == s || *end || errno || !isfinite(v))
+		return -1;
+	*out = v;
+	return 0;
+}
+
+/* "a,b,c" into n doubles. */
+static int parse_list(const char *s, double *v, int n)
+{
+	char buf[256];
+	if (strlen(s) >= sizeof buf)
+		return -1;
+	strcpy(buf, s);
+	int k = 0;
+	char *save = NULL;
+	for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+		if (k == n || parse_double(tok, &v[k]))
+			return -1;
+		k++;
+	}
+	return k == n ? 0 : -1;
+}
+
+static const char *option_value(int argc, char **argv, int *i, const char *name)
+{
+	const char *a = argv[*i];
+	size_t n = strlen(name);
+	if (strncmp(a, name, n) != 0)
+		return NULL;
+	if (a[n] == '=')
+		return a + n + 1;
+	if (a[n] != '\0')
+		return NULL;
+	if (*i + 1 >= argc)
+		return "";
+	return argv[++*i];
+}
+
+static int parse_args(int argc, char **argv, struct process_options *o)
+{
+	memset(o, 0, sizeof *o);
+	o->depth_unit = 0.001;
+	/* the preset first, wherever --quality appears, so parameter options override it */
+	enum dao_quality q = DAO_QUALITY_DEFAULT;
+	for (int i = 1; i < argc; i++) {
+		const char *v = option_value(argc, argv, &i, "--quality");
+		if (!v)
+			continue;
+		struct dao_error err;
+		if (!*v)
+			return usage_error("process", "--quality needs a value");
+		if (dao_quality_parse(v, &q, &err))
+			return usage_error("process", "%s", err.message);
+	}
+	dao_params_init(&o->params, q);
+
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i], *v;
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			usage(stdout);
+			exit(0);
+		}
+		if (strcmp(a, "--quiet") == 0) {
+			o->quiet = 1;
+			continue;
+		}
+		struct {
+			const char *name;
+			const char **dst;
+		} strings[] = {
+			{ "--input", &o->input }, { "--ao-out", &o->ao_out },
+			{ "--shaded-out", &o->shaded_out }, { "--intrinsics", &o->intrinsics },
+			{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
+		};
+		int matched = 0;
+		for (size_t k = 0; k < sizeof strings / sizeof strings[0]; k++) {
+			int j = i;
+			if ((v = option_value(argc, argv, &j, strings[k].name))) {
+				if (!*v)
+					return usage_error("process", "%s needs a value", strings[k].name);
+				*strings[k].dst = v;
+				i = j;
+				matched = 1;
+				break;
+			}
+		}
+		if (matched)
+			continue;
+		int j = i;
+		if ((v = option_value(argc, argv, &j, "--quality"))) {
+			i = j; /* applied above */
+			continue;
+		}
+		if ((v = option_value(argc, argv, &j, "--depth-unit"))) {
+			if (!*v || parse_double(v, &o->depth_unit) || o->depth_unit <= 0 ||
+			    o->depth_unit > 1)
+				return usage_error("process",
+						   "--depth-unit '%s' must be a number in (0, 1] metres per count",
+						   v);
+			i = j;
+			continue;
+		}
+		if ((v = option_value(argc, argv, &j, "--frame-index"))) {
+			char *end;
+			errno = 0;
+			unsigned long long n = strtoull(v, &end, 10);
+			if (!*v || *end || errno || v[0] == '-')
+				return usage_error("process", "--frame-index '%s' is not a non-negative integer", v);
+			o->frame_index = n;
+			i = j;
+			continue;
+		}
+		char msg[DAO_ERROR_MESSAGE_MAX];
+		int r = cli_apply_param_option(&o->params, argc, argv, &i, msg, sizeof msg);
+		if (r < 0)
+			return usage_error("process", "%s", msg);
+		if (r == 0)
+			return usage_error("process", "unknown option '%s'", a);
+	}
+	if (!o->input)
+		return usage_error("process", "--input is required");
+	if (!o->ao_out && !o->shaded_out)
+		return usage_error("process", "nothing to write: give --ao-out and/or --shaded-out");
+	if (!!o->intrinsics + !!o->fov + !!o->intrinsics_file > 1)
+		return usage_error("process",
+				   "give only one of --intrinsics, --fov and --intrinsics-file");
+	struct dao_error err;
+	if (dao_params_validate(&o->params, &err))
+		return usage_error("process", "%s", err.message);
+	return 0;
+}
+
+/* The camera for images of w x h, from the options, a camera.json beside the input, or a default. */
+static int resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
+			  uint32_t h, struct dao_camera *cam)
+{
+	struct dao_error err;
+	char msg[512];
+	if (o->intrinsics) {
+		double k[4];
+		if (parse_list(o->intrinsics, k, 4))
+			return usage_error("process", "--intrinsics '%s' must be four numbers FX,FY,CX,CY",
+					   o->intrinsics);
+		if (dao_camera_from_intrinsics(cam, w, h, k[0], k[1], k[2], k[3], &err))
+			return usage_error("process", "--intrinsics: %s", err.message);
+		return 0;
+	}
+	if (o->fov) {
+		double f[2];
+		if (parse_list(o->fov, f, 2))
+			return usage_error("process", "--fov '%s' must be two numbers H,V in degrees", o->fov);
+		if (dao_camera_from_fov(cam, w, h, f[0] * DEG2RAD, f[1] * DEG2RAD, &err))
+			return usage_error("process", "--fov %s: angles must be in (0, 180) degrees", o->fov);
+		return 0;
+	}
+	const char *file = o->intrinsics_file;
+	char *auto_file = NULL;
+	if (!file) {
+		char *dir = input_is_dir ? strdup(o->input) : path_dirname(o->input);
+		auto_file = dir ? path_join(dir, "camera.json") : NULL;
+		free(dir);
+		if (auto_file && access(auto_file, R_OK) == 0) {
+			file = auto_file;
+			if (!o->quiet)
+				fprintf(stderr, "depthao: using intrinsics from %s\n", file);
+		}
+	}
+	if (file) {
+		int r = camera_file_read(file, cam, msg, sizeof msg);
+		if (!r && (cam->width != w || cam->height != h)) {
+			snprintf(msg, sizeof msg, "camera file '%s' is for %ux%u images, the input is %ux%u",
+				 file, cam->width, cam->height, w, h);
+			r = -1;
+		}
+		free(auto_file);
+		if (r) {
+			fprintf(stderr, "depthao: %s\n", msg);
+			return 1;
+		}
+		return 0;
+	}
+	free(auto_file);
+	fprintf(stderr,
+		"depthao: warning: no intrinsics given; assuming a %.1f x %.1f degree field of view "
+		"(use --intrinsics, --fov or --intrinsics-file)\n", DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
+	dao_camera_from_fov(cam, w, h, DEFAULT_HFOV_DEG * DEG2RAD,
+			    DEFAULT_VFOV_DEG * DEG2RAD, NULL);
+	return 0;
+}
+
+/* Creates an output directory if missing (its parent must exist). */
+static int ensure_dir(const char *path)
+{
+	int d = path_is_dir(path);
+	if (d == 1)
+		return 0;
+	if (d == 0) {
+		fprintf(stderr, "depthao: output '%s' exists and is not a directory\n", path);
+		return 1;
+	}
+	if (mkdir(path, 0777) != 0) {
+		fprintf(stderr, "depthao: cannot create output directory '%s': %s\n", path,
+			strerror(errno));
+		return 1;
+	}
+	return 0;
+}
+
+static double now_ms(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+struct run_state {
+	struct dao_context *ctx;
+	struct dao_frame ao, rgb;
+	double ms_total;
+	size_t frames;
+};
+
+static int process_one(const struct process_options *o, struct run_state *st, const char *in,
+		       const char *ao_path, const char *shaded_path, uint64_t index)
+{
+	struct dao_error err;
+	struct dao_frame depth;
+	if (dao_png_read_depth(in, (float)o->depth_unit, &depth, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	const struct dao_camera *cam = dao_context_camera(st->ctx);
+	if (depth.width != cam->width || depth.height != cam->height) {
+		fprintf(stderr, "depthao: '%s' is %ux%u, but the sequence is %ux%u\n", in, depth.width,
+			depth.height, cam->width, cam->height);
+		dao_frame_free(&depth);
+		return 1;
+	}
+	double t0 = now_ms();
+	int r = dao_context_process(st->ctx, &depth, NULL, index, &st->ao, &err);
+	st->ms_total += now_ms() - t0;
+	st->frames++;
+	dao_frame_free(&depth);
+	if (!r && ao_path)
+		r = dao_png_write(ao_path, &st->ao, &err);
+	if (!r && shaded_path) {
+		r = dao_context_shade(st->ctx, &st->rgb, &err);
+		if (!r)
+			r = dao_png_write(shaded_path, &st->rgb, &err);
+	}
+	if (r) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	return 0;
+}
+
+/* Size of the first image, to set up the camera. */
+static int probe_size(const char *path, uint32_t *w, uint32_t *h)
+{
+	struct dao_frame f;
+	struct dao_error err;
+	if (dao_png_read(path, &f, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	*w = f.width;
+	*h = f.height;
+	dao_frame_free(&f);
+	return 0;
+}
+
+int cmd_process(int argc, char **argv)
+{
+	struct process_options o;
+	int status = parse_args(argc, argv, &o);
+	if (status)
+		return status;
+
+	int is_dir = path_is_dir(o.input);
+	if (is_dir < 0) {
+		fprintf(stderr, "depthao: cannot read input '%s': %s\n", o.input, strerror(-is_dir));
+		return 1;
+	}
+	struct file_list files = { 0 };
+	if (is_dir) {
+		int r = file_list_pngs(o.input, &files);
+		if (r) {
+			fprintf(stderr, "depthao: cannot list '%s': %s\n", o.input, strerror(-r));
+			return 1;
+		}
+		if (files.count == 0) {
+			fprintf(stderr, "depthao: no *.png files in '%s'\n", o.input);
+			return 1;
+		}
+		if ((o.ao_out && ensure_dir(o.ao_out)) || (o.shaded_out && ensure_dir(o.shaded_out))) {
+			file_list_free(&files);
+			return 1;
+		}
+	}
+	char *first = is_dir ? path_join(o.input, files.names[0]) : strdup(o.input);
+	uint32_t w = 0, h = 0;
+	struct dao_camera cam;
+	struct run_state st = { 0 };
+	struct dao_error err;
+	status = !first ? 1 : probe_size(first, &w, &h);
+	free(first);
+	if (!status)
+		status = resolve_camera(&o, is_dir, w, h, &cam);
+	if (!status && (dao_context_create(&st.ctx, &cam, &o.params, &err) ||
+			dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
+			dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, w, h, &err))) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		status = 1;
+	}
+	if (status)
+		goto out;
+
+	if (!is_dir) {
+		status = process_one(&o, &st, o.input, o.ao_out, o.shaded_out, o.frame_index);
+	} else {
+		struct progress bar;
+		progress_begin(&bar, files.count, o.quiet);
+		for (size_t i = 0; i < files.count && !status; i++) {
+			char *in = path_join(o.input, files.names[i]);
+			char *ao = o.ao_out ? path_join(o.ao_out, files.names[i]) : NULL;
+			char *sh = o.shaded_out ? path_join(o.shaded_out, files.names[i]) : NULL;
+			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh)) {
+				fprintf(stderr, "depthao: out of memory\n");
+				status = 1;
+			} else {
+				status = process_one(&o, &st, in, ao, sh, o.frame_index + i);
+			}
+			free(in);
+			free(ao);
+			free(sh);
+			progress_update(&bar, i + 1, st.ms_total / (double)(st.frames ? st.frames : 1));
+		}
+		progress_end(&bar);
+	}
+	if (!status && !o.quiet) {
+		fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st.frames,
+			st.frames == 1 ? "" : "s", st.ms_total / (double)st.frames);
+		if (o.ao_out)
+			fprintf(stderr, " %s", o.ao_out);
+		if (o.shaded_out)
+			fprintf(stderr, "%s%s", o.ao_out ? " and " : " ", o.shaded_out);
+		fputc('\n', stderr);
+	}
+out:
+	dao_frame_free(&st.ao);
+	dao_frame_free(&st.rgb);
+	dao_context_destroy(st.ctx);
+	file_list_free(&files);
+	return status;
+}
