@@ -30,6 +30,8 @@ struct process_options {
 	const char *ao_out, *shaded_out;
 	double depth_unit;
 	const char *intrinsics, *fov, *intrinsics_file;
+	double k[4];   /* parsed --intrinsics */
+	double f[2];   /* parsed --fov, degrees */
 	uint64_t frame_index;
 	int quiet;
 	struct dao_params params;
@@ -196,6 +198,13 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 	if (!!o->intrinsics + !!o->fov + !!o->intrinsics_file > 1)
 		return usage_error("process",
 				   "give only one of --intrinsics, --fov and --intrinsics-file");
+	if (o->intrinsics && parse_list(o->intrinsics, o->k, 4))
+		return usage_error("process", "--intrinsics '%s' must be four numbers FX,FY,CX,CY",
+				   o->intrinsics);
+	if (o->fov && (parse_list(o->fov, o->f, 2) || !(o->f[0] > 0 && o->f[0] < 180) ||
+		       !(o->f[1] > 0 && o->f[1] < 180)))
+		return usage_error("process", "--fov '%s' must be two angles H,V in (0, 180) degrees",
+				   o->fov);
 	struct dao_error err;
 	if (dao_params_validate(&o->params, &err))
 		return usage_error("process", "%s", err.message);
@@ -209,20 +218,12 @@ static int resolve_camera(const struct process_options *o, int input_is_dir, uin
 	struct dao_error err;
 	char msg[512];
 	if (o->intrinsics) {
-		double k[4];
-		if (parse_list(o->intrinsics, k, 4))
-			return usage_error("process", "--intrinsics '%s' must be four numbers FX,FY,CX,CY",
-					   o->intrinsics);
-		if (dao_camera_from_intrinsics(cam, w, h, k[0], k[1], k[2], k[3], &err))
+		if (dao_camera_from_intrinsics(cam, w, h, o->k[0], o->k[1], o->k[2], o->k[3], &err))
 			return usage_error("process", "--intrinsics: %s", err.message);
 		return 0;
 	}
 	if (o->fov) {
-		double f[2];
-		if (parse_list(o->fov, f, 2))
-			return usage_error("process", "--fov '%s' must be two numbers H,V in degrees", o->fov);
-		if (dao_camera_from_fov(cam, w, h, f[0] * DEG2RAD, f[1] * DEG2RAD, &err))
-			return usage_error("process", "--fov %s: angles must be in (0, 180) degrees", o->fov);
+		dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, NULL);
 		return 0;
 	}
 	const char *file = o->intrinsics_file;
