@@ -45,16 +45,16 @@ DAO_API int dao_camera_from_fov(struct dao_camera *cam, uint32_t width, uint32_t
 /* Field of view (radians) of a camera: hfov = 2 atan(w / (2 fx)). */
 DAO_API void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov);
 
-/* Pixel (u, v) at depth z -> view position p[3]. */
-DAO_API void dao_camera_pixel_to_view(const struct dao_camera *cam, float u, float v, float z,
-			      float p[3]);
+/* Pixel (u, v) at depth z -> view position p[3] (double precision, for tools). */
+DAO_API void dao_camera_pixel_to_view(const struct dao_camera *cam, double u, double v, double z,
+				      double p[3]);
 
 /*
  * View position -> pixel.  Returns 0, or -EDOM when p is not in front of the
  * camera (z <= 0 or not finite).
  */
-DAO_API int dao_camera_view_to_pixel(const struct dao_camera *cam, const float p[3],
-			     float *u, float *v);
+DAO_API int dao_camera_view_to_pixel(const struct dao_camera *cam, const double p[3],
+				     double *u, double *v);
 
 #ifdef __cplusplus
 }

@@ -66,19 +66,19 @@ void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov)
 		*vfov = 2.0 * atan(cam->height / (2.0 * cam->fy));
 }
 
-void dao_camera_pixel_to_view(const struct dao_camera *cam, float u, float v, float z, float p[3])
+void dao_camera_pixel_to_view(const struct dao_camera *cam, double u, double v, double z,
+			      double p[3])
 {
-	p[0] = (u * cam->ax + cam->bx) * z;
-	p[1] = (v * cam->ay + cam->by) * z;
+	p[0] = (u - cam->cx) / cam->fx * z;
+	p[1] = (v - cam->cy) / cam->fy * z;
 	p[2] = z;
 }
 
-int dao_camera_view_to_pixel(const struct dao_camera *cam, const float p[3], float *u, float *v)
+int dao_camera_view_to_pixel(const struct dao_camera *cam, const double p[3], double *u, double *v)
 {
 	if (!(p[2] > 0) || !isfinite(p[2]) || !isfinite(p[0]) || !isfinite(p[1]))
 		return -EDOM;
-	/* inverse of the affine map: u = (x/z - bx) / ax */
-	*u = (float)(cam->fx * (p[0] / p[2]) + cam->cx);
-	*v = (float)(cam->fy * (p[1] / p[2]) + cam->cy);
+	*u = cam->fx * (p[0] / p[2]) + cam->cx;
+	*v = cam->fy * (p[1] / p[2]) + cam->cy;
 	return 0;
 }

@@ -200,8 +200,8 @@ static int load_normals(struct dao_context *ctx, const struct dao_frame *nf, str
 				return dao_error_set(err, -EINVAL,
 						     "normals input: pixel (%d, %d) has depth but its "
 						     "normal is not a finite non-zero vector", x, y);
-			float P[3];
-			dao_camera_pixel_to_view(&ctx->cam, (float)x, (float)y, zc, P);
+			double P[3];
+			dao_camera_pixel_to_view(&ctx->cam, x, y, zc, P);
 			if (v[0] * P[0] + v[1] * P[1] + v[2] * P[2] > 0.0f)
 				len = -len;
 			o[0] = v[0] / len, o[1] = v[1] / len, o[2] = v[2] / len;

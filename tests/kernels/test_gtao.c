@@ -70,7 +70,7 @@ static void test_sample_on_plane(void **state)
 					continue;
 				/* on the line through (80, 60) */
 				assert_true(fabsf((u - 80.0f) * dy - (v - 60.0f) * dx) < 1e-3f);
-				float X[3];
+				double X[3];
 				dao_camera_pixel_to_view(&cam, u, v, zs, X);
 				double d = n[0] * X[0] + n[1] * X[1] + n[2] * X[2] - planes[p][3];
 				assert_true(fabs(d) < 2e-6 * fabs(planes[p][3]) + 1e-6);
