@@ -1,0 +1,318 @@
+/* SPDX-License-Identifier: MIT */
+/* The public context API: every error path, bounds, outputs, determinism. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/cmocka_all.h"
+#include "common/test_common.h"
+
+enum { W = 64, H = 48, PAD = 16 };
+
+static struct dao_camera camera(void)
+{
+	struct dao_camera cam;
+	dao_camera_from_intrinsics(&cam, W, H, 60, 60, 31.5, 23.5, NULL);
+	return cam;
+}
+
+/* A box on a floor-like plane, in millimetres, with a hole. */
+static void fill_depth(uint16_t *mm)
+{
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			int box = x > 24 && x < 40 && y > 14 && y < 30;
+			mm[y * W + x] = (uint16_t)(box ? 1600 : 2000);
+		}
+	mm[3 * W + 5] = 0;
+}
+
+static struct dao_frame depth_frame(uint16_t *mm)
+{
+	return (struct dao_frame){ .format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
+				   .stride = 2 * W, .data = mm, .depth_unit = 0.001f };
+}
+
+static void expect_err(int r, int code, const struct dao_error *err, const char *needle)
+{
+	assert_int_equal(r, code);
+	if (!strstr(err->message, needle))
+		fail_msg("message '%s' lacks '%s'", err->message, needle);
+}
+
+static void test_create_errors(void **state)
+{
+	(void)state;
+	struct dao_context *ctx = (struct dao_context *)1;
+	struct dao_camera cam = camera();
+	struct dao_error err;
+	expect_err(dao_context_create(NULL, &cam, NULL, &err), -EINVAL, &err, "NULL");
+	expect_err(dao_context_create(&ctx, NULL, NULL, &err), -EINVAL, &err, "camera");
+	assert_null(ctx);
+	struct dao_camera bad = cam;
+	bad.fx = -1;
+	expect_err(dao_context_create(&ctx, &bad, NULL, &err), -EINVAL, &err, "focal");
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.radius = NAN;
+	expect_err(dao_context_create(&ctx, &cam, &p, &err), -EINVAL, &err, "radius");
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.slices = 0;
+	expect_err(dao_context_create(&ctx, &cam, &p, &err), -EINVAL, &err, "slices");
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.radius = -1.0f;
+	expect_err(dao_context_create(&ctx, &cam, &p, &err), -EINVAL, &err, "radius");
+	assert_null(ctx);
+	dao_context_destroy(NULL);
+}
+
+static void test_process_errors(void **state)
+{
+	(void)state;
+	struct dao_camera cam = camera();
+	struct dao_context *ctx;
+	struct dao_error err;
+	assert_int_equal(dao_context_create(&ctx, &cam, NULL, &err), 0);
+	uint16_t mm[W * H];
+	fill_depth(mm);
+	float aof[W * H];
+	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, aof, 0, 0, 0 };
+	struct dao_frame d = depth_frame(mm);
+
+	expect_err(dao_context_shade(ctx, &(struct dao_frame){ DAO_PIXFMT_RGB24, W, H, 3 * W, aof, 0, 0, 0 }, &err),
+		   -EAGAIN, &err, "process");
+	expect_err(dao_context_process(NULL, &d, NULL, 0, &ao, &err), -EINVAL, &err, "context");
+	expect_err(dao_context_process(ctx, NULL, NULL, 0, &ao, &err), -EINVAL, &err, "depth input");
+	struct dao_frame b = d;
+	b.format = DAO_PIXFMT_GRAY16;
+	expect_err(dao_context_process(ctx, &b, NULL, 0, &ao, &err), -EINVAL, &err, "depth16");
+	b = d;
+	b.width = W - 1;
+	expect_err(dao_context_process(ctx, &b, NULL, 0, &ao, &err), -EINVAL, &err, "does not match");
+	b = d;
+	b.stride = W;
+	expect_err(dao_context_process(ctx, &b, NULL, 0, &ao, &err), -EINVAL, &err, "stride");
+	b = d;
+	b.stride = 2 * W + 1;
+	expect_err(dao_context_process(ctx, &b, NULL, 0, &ao, &err), -EINVAL, &err, "stride");
+	float units[] = { 0.0f, NAN, -0.001f, 2.0f };
+	for (int k = 0; k < 4; k++) {
+		b = d;
+		b.depth_unit = units[k];
+		expect_err(dao_context_process(ctx, &b, NULL, 0, &ao, &err), -EINVAL, &err, "depth_unit");
+	}
+	b = d;
+	b.data = NULL;
+	expect_err(dao_context_process(ctx, &b, NULL, 0, &ao, &err), -EINVAL, &err, "NULL");
+	struct dao_frame bad_ao = ao;
+	bad_ao.format = DAO_PIXFMT_RGB24;
+	expect_err(dao_context_process(ctx, &d, NULL, 0, &bad_ao, &err), -EINVAL, &err, "AO output");
+	bad_ao = ao;
+	bad_ao.height = H + 1;
+	expect_err(dao_context_process(ctx, &d, NULL, 0, &bad_ao, &err), -EINVAL, &err, "AO output");
+	/* caller normals: wrong format, and a non-finite normal where there is depth */
+	float nrm[3 * W * H];
+	for (int i = 0; i < W * H; i++)
+		nrm[3 * i] = 0, nrm[3 * i + 1] = 0, nrm[3 * i + 2] = -1;
+	struct dao_frame nf = { DAO_PIXFMT_NORMAL_F32, W, H, 12 * W, nrm, 0, 0, 0 };
+	struct dao_frame wrong = nf;
+	wrong.format = DAO_PIXFMT_GRAY_F32;
+	wrong.stride = 4 * W;
+	expect_err(dao_context_process(ctx, &d, &wrong, 0, &ao, &err), -EINVAL, &err, "normal-f32");
+	nrm[3 * (10 * W + 10)] = NAN;
+	expect_err(dao_context_process(ctx, &d, &nf, 0, &ao, &err), -EINVAL, &err, "(10, 10)");
+	/* a NaN normal where there is no depth is fine */
+	nrm[3 * (10 * W + 10)] = 0;
+	nrm[3 * (3 * W + 5)] = NAN;
+	assert_int_equal(dao_context_process(ctx, &d, &nf, 0, &ao, &err), 0);
+	/* shade output errors */
+	expect_err(dao_context_shade(ctx, &ao, &err), -EINVAL, &err, "rgb24");
+	expect_err(dao_context_shade(NULL, &ao, &err), -EINVAL, &err, "context");
+	float normals_out[3 * W * H];
+	struct dao_frame no = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, normals_out, 0, 0, 0 };
+	expect_err(dao_context_get_normals(ctx, &no, &err), -EINVAL, &err, "normal-f32");
+	/* set_params rejects and keeps the old ones */
+	struct dao_params p, before;
+	dao_context_get_params(ctx, &before);
+	p = before;
+	p.steps = 0;
+	expect_err(dao_context_set_params(ctx, &p, &err), -EINVAL, &err, "steps");
+	dao_context_get_params(ctx, &p);
+	assert_memory_equal(&p, &before, sizeof p);
+	assert_ptr_not_equal(dao_context_camera(ctx), NULL);
+	assert_int_equal(dao_context_camera(ctx)->width, W);
+	dao_context_destroy(ctx);
+}
+
+/* Caller buffers with padded strides and guard bytes: nothing outside is touched. */
+static void test_bounds_and_formats(void **state)
+{
+	(void)state;
+	struct dao_camera cam = camera();
+	struct dao_context *ctx;
+	assert_int_equal(dao_context_create(&ctx, &cam, NULL, NULL), 0);
+	uint16_t mm[W * H];
+	fill_depth(mm);
+	/* depth at an odd stride inside a larger buffer */
+	const int dstride = 2 * W + 6;
+	unsigned char *dbuf = malloc((size_t)dstride * H + 2 * PAD);
+	memset(dbuf, 0x5a, (size_t)dstride * H + 2 * PAD);
+	for (int y = 0; y < H; y++)
+		memcpy(dbuf + PAD + (size_t)y * dstride, mm + y * W, 2 * W);
+	struct dao_frame d = { DAO_PIXFMT_DEPTH16, W, H, dstride, dbuf + PAD, 0.001f, 0, 0 };
+
+	static const enum dao_pixfmt fmts[] = { DAO_PIXFMT_GRAY_F32, DAO_PIXFMT_GRAY16, DAO_PIXFMT_GRAY8 };
+	float ref[W * H];
+	for (int k = 0; k < 3; k++) {
+		size_t bpp = dao_pixfmt_bytes_per_pixel(fmts[k]);
+		int stride = (int)(W * bpp + 8);
+		size_t size = (size_t)stride * H + 2 * PAD;
+		unsigned char *buf = malloc(size);
+		memset(buf, 0xa5, size);
+		struct dao_frame ao = { fmts[k], W, H, stride, buf + PAD, 0, 0, 0 };
+		assert_int_equal(dao_context_process(ctx, &d, NULL, 0, &ao, NULL), 0);
+		for (int i = 0; i < PAD; i++)
+			assert_true(buf[i] == 0xa5 && buf[size - 1 - i] == 0xa5);
+		for (int y = 0; y < H; y++)
+			for (size_t i = W * bpp; i < (size_t)stride; i++)
+				assert_int_equal(buf[PAD + (size_t)y * stride + i], 0xa5);
+		for (int y = 0; y < H; y++)
+			for (int x = 0; x < W; x++) {
+				const unsigned char *px = buf + PAD + (size_t)y * stride + x * bpp;
+				if (k == 0) {
+					memcpy(&ref[y * W + x], px, 4);
+					assert_true(ref[y * W + x] >= 0.0f && ref[y * W + x] <= 1.0f);
+				} else if (k == 1) {
+					uint16_t q;
+					memcpy(&q, px, 2);
+					assert_int_equal(q, lrintf(ref[y * W + x] * 65535.0f));
+				} else {
+					assert_int_equal(*px, lrintf(ref[y * W + x] * 255.0f));
+				}
+			}
+		free(buf);
+	}
+	/* the no-data pixel is exactly 1; the box casts occlusion on the plane */
+	assert_true(ref[3 * W + 5] == 1.0f);
+	float lo = 1.0f;
+	for (int i = 0; i < W * H; i++)
+		lo = fminf(lo, ref[i]);
+	assert_true(lo < 0.9f);
+	/* the input was not written */
+	for (int i = 0; i < PAD; i++)
+		assert_int_equal(dbuf[i], 0x5a);
+	/* shaded output with padding */
+	int rs = 3 * W + 5;
+	unsigned char *rgb = malloc((size_t)rs * H + PAD);
+	memset(rgb, 0x33, (size_t)rs * H + PAD);
+	struct dao_frame out = { DAO_PIXFMT_RGB24, W, H, rs, rgb, 0, 0, 0 };
+	assert_int_equal(dao_context_shade(ctx, &out, NULL), 0);
+	for (int y = 0; y < H; y++)
+		for (int i = 3 * W; i < rs; i++)
+			assert_int_equal(rgb[(size_t)y * rs + i], 0x33);
+	for (int i = 0; i < PAD; i++)
+		assert_int_equal(rgb[(size_t)rs * H + i], 0x33);
+	free(rgb);
+	free(dbuf);
+	dao_context_destroy(ctx);
+}
+
+static void process_f32(struct dao_context *ctx, uint16_t *mm, uint64_t index, float *out)
+{
+	struct dao_frame d = depth_frame(mm);
+	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, out, 0, 0, 0 };
+	struct dao_error err;
+	if (dao_context_process(ctx, &d, NULL, index, &ao, &err))
+		fail_msg("%s", err.message);
+}
+
+static void test_determinism_and_params(void **state)
+{
+	(void)state;
+	struct dao_camera cam = camera();
+	struct dao_context *ctx, *ctx1;
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.threads = 1;
+	assert_int_equal(dao_context_create(&ctx, &cam, NULL, NULL), 0);
+	assert_int_equal(dao_context_create(&ctx1, &cam, &p, NULL), 0);
+	uint16_t mm[W * H];
+	fill_depth(mm);
+	float a[W * H], b[W * H], c[W * H];
+	process_f32(ctx, mm, 5, a);
+	process_f32(ctx, mm, 5, b);
+	assert_memory_equal(a, b, sizeof a);
+	/* thread count does not change the result */
+	process_f32(ctx1, mm, 5, c);
+	assert_memory_equal(a, c, sizeof a);
+	/* another frame index: another noise pattern, about the same mean */
+	process_f32(ctx, mm, 6, b);
+	double ma = 0, mb = 0;
+	int differ = 0;
+	for (int i = 0; i < W * H; i++) {
+		ma += a[i], mb += b[i];
+		differ += a[i] != b[i];
+	}
+	assert_true(differ > 0);
+	assert_true(fabs(ma - mb) / (W * H) < 0.01);
+	/* invalid_value */
+	dao_context_get_params(ctx, &p);
+	p.invalid_value = 0.5f;
+	assert_int_equal(dao_context_set_params(ctx, &p, NULL), 0);
+	process_f32(ctx, mm, 5, b);
+	assert_true(b[3 * W + 5] == 0.5f);
+	/* a flat wall facing the camera is open everywhere */
+	for (int i = 0; i < W * H; i++)
+		mm[i] = 2000;
+	process_f32(ctx, mm, 0, a);
+	for (int i = 0; i < W * H; i++)
+		assert_true(a[i] >= 0.99f);
+	dao_context_destroy(ctx);
+	dao_context_destroy(ctx1);
+}
+
+/* Float depth and caller normals give the same kind of answer as mm depth. */
+static void test_float_depth_and_normals(void **state)
+{
+	(void)state;
+	struct dao_camera cam = camera();
+	struct dao_context *ctx;
+	assert_int_equal(dao_context_create(&ctx, &cam, NULL, NULL), 0);
+	float z[W * H], nrm[3 * W * H], a[W * H], b[W * H];
+	uint16_t mm[W * H];
+	fill_depth(mm);
+	for (int i = 0; i < W * H; i++) {
+		z[i] = mm[i] ? mm[i] * 0.001f : NAN; /* NaN = no data */
+		nrm[3 * i] = 0, nrm[3 * i + 1] = 0, nrm[3 * i + 2] = -2.0f; /* normalised by the library */
+	}
+	struct dao_frame df = { DAO_PIXFMT_DEPTH_F32, W, H, 4 * W, z, 0, 0, 0 };
+	struct dao_frame nf = { DAO_PIXFMT_NORMAL_F32, W, H, 12 * W, nrm, 0, 0, 0 };
+	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, a, 0, 0, 0 };
+	assert_int_equal(dao_context_process(ctx, &df, NULL, 0, &ao, NULL), 0);
+	process_f32(ctx, mm, 0, b);
+	assert_memory_equal(a, b, sizeof a);
+	assert_int_equal(dao_context_process(ctx, &df, &nf, 0, &ao, NULL), 0);
+	assert_true(a[3 * W + 5] == 1.0f);
+	float got[3 * W * H];
+	struct dao_frame no = { DAO_PIXFMT_NORMAL_F32, W, H, 12 * W, got, 0, 0, 0 };
+	assert_int_equal(dao_context_get_normals(ctx, &no, NULL), 0);
+	assert_true(fabsf(got[3 * 100 + 2] + 1.0f) < 1e-6f);
+	float zo[W * H];
+	struct dao_frame zf = { DAO_PIXFMT_DEPTH_F32, W, H, 4 * W, zo, 0, 0, 0 };
+	assert_int_equal(dao_context_get_depth(ctx, &zf, NULL), 0);
+	assert_true(fabsf(zo[0] - 2.0f) < 1e-3f && zo[3 * W + 5] == 0.0f);
+	dao_context_destroy(ctx);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_create_errors),
+		cmocka_unit_test(test_process_errors),
+		cmocka_unit_test(test_bounds_and_formats),
+		cmocka_unit_test(test_determinism_and_params),
+		cmocka_unit_test(test_float_depth_and_normals),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
