@@ -1,0 +1,182 @@
+/* SPDX-License-Identifier: MIT */
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "common/cmocka_all.h"
+#include "common/test_common.h"
+
+static char dir[512];
+
+static const char *path(const char *name)
+{
+	static char buf[600];
+	snprintf(buf, sizeof buf, "%s/%s", dir, name);
+	return buf;
+}
+
+static void fill(struct dao_frame *f)
+{
+	size_t bpp = dao_pixfmt_bytes_per_pixel(f->format);
+	for (uint32_t y = 0; y < f->height; y++) {
+		unsigned char *row = (unsigned char *)f->data + (size_t)y * f->stride;
+		for (size_t i = 0; i < f->width * bpp; i++)
+			row[i] = (unsigned char)(i * 7 + y * 13 + (i >> 3));
+	}
+}
+
+static void assert_same_pixels(const struct dao_frame *a, const struct dao_frame *b)
+{
+	assert_int_equal(a->width, b->width);
+	assert_int_equal(a->height, b->height);
+	size_t bpp = dao_pixfmt_bytes_per_pixel(a->format);
+	for (uint32_t y = 0; y < a->height; y++)
+		assert_memory_equal((const char *)a->data + (size_t)y * a->stride,
+				    (const char *)b->data + (size_t)y * b->stride, a->width * bpp);
+}
+
+static void test_round_trips(void **state)
+{
+	(void)state;
+	static const enum dao_pixfmt fmts[] = { DAO_PIXFMT_GRAY8, DAO_PIXFMT_GRAY16, DAO_PIXFMT_RGB24 };
+	for (int k = 0; k < 3; k++) {
+		/* a strided source frame */
+		size_t bpp = dao_pixfmt_bytes_per_pixel(fmts[k]);
+		int stride = (int)(37 * bpp + 6);
+		unsigned char *buf = calloc((size_t)stride, 23);
+		struct dao_frame f = { fmts[k], 37, 23, stride, buf, 0, 0, 0 };
+		fill(&f);
+		if (fmts[k] == DAO_PIXFMT_GRAY16) {
+			uint16_t *p = (uint16_t *)(void *)buf;
+			p[0] = 0, p[1] = 65535, p[2] = 0x0102, p[3] = 0x0201; /* byte order matters */
+		}
+		struct dao_error err;
+		assert_int_equal(dao_png_write(path("rt.png"), &f, &err), 0);
+		struct dao_frame g;
+		assert_int_equal(dao_png_read(path("rt.png"), &g, &err), 0);
+		assert_int_equal(g.format, fmts[k]);
+		assert_same_pixels(&f, &g);
+		dao_frame_free(&g);
+		free(buf);
+	}
+	/* 16-bit samples are big-endian on disk: the first sample 0x1234 starts with 0x12 */
+	uint16_t px[2] = { 0x1234, 0x5678 };
+	struct dao_frame d = { DAO_PIXFMT_DEPTH16, 2, 1, 4, px, 0.001f, 0, 0 };
+	assert_int_equal(dao_png_write(path("d.png"), &d, NULL), 0);
+	struct dao_frame g;
+	assert_int_equal(dao_png_read_depth(path("d.png"), 0.0002f, &g, NULL), 0);
+	assert_int_equal(g.format, DAO_PIXFMT_DEPTH16);
+	assert_true(g.depth_unit == 0.0002f);
+	assert_int_equal(((uint16_t *)g.data)[0], 0x1234);
+	assert_int_equal(((uint16_t *)g.data)[1], 0x5678);
+	dao_frame_free(&g);
+}
+
+static void expect_read_error(const char *file, int code, const char *needle, int depth)
+{
+	struct dao_frame f;
+	struct dao_error err = { 0 };
+	int r = depth ? dao_png_read_depth(file, 0.001f, &f, &err) : dao_png_read(file, &f, &err);
+	assert_int_equal(r, code);
+	assert_null(f.data);
+	if (!strstr(err.message, needle))
+		fail_msg("'%s': message '%s' lacks '%s'", file, err.message, needle);
+}
+
+static void test_read_errors(void **state)
+{
+	(void)state;
+	expect_read_error(path("missing.png"), -ENOENT, "missing.png", 0);
+	FILE *fp = fopen(path("text.png"), "w");
+	fputs("hello, not a png", fp);
+	fclose(fp);
+	expect_read_error(path("text.png"), -EINVAL, "not a PNG", 0);
+	/* truncate a valid PNG to half */
+	uint8_t px[64 * 64];
+	for (int i = 0; i < 64 * 64; i++)
+		px[i] = (uint8_t)(i * 31 % 251);
+	struct dao_frame f = { DAO_PIXFMT_GRAY8, 64, 64, 64, px, 0, 0, 0 };
+	assert_int_equal(dao_png_write(path("g8.png"), &f, NULL), 0);
+	FILE *in = fopen(path("g8.png"), "rb");
+	unsigned char data[65536];
+	size_t n = fread(data, 1, sizeof data, in);
+	fclose(in);
+	FILE *out = fopen(path("trunc.png"), "wb");
+	fwrite(data, 1, n / 2, out);
+	fclose(out);
+	expect_read_error(path("trunc.png"), -EINVAL, "corrupt or truncated", 0);
+	/* flip bytes inside the image data: CRC mismatch */
+	data[n / 2] ^= 0xff;
+	out = fopen(path("crc.png"), "wb");
+	fwrite(data, 1, n, out);
+	fclose(out);
+	expect_read_error(path("crc.png"), -EINVAL, "corrupt", 0);
+	/* an 8-bit image is not a depth image */
+	expect_read_error(path("g8.png"), -EINVAL, "16-bit", 1);
+	struct dao_frame g;
+	struct dao_error err;
+	assert_int_equal(dao_png_read_depth(path("g8.png"), 0.0f, &g, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "unit"));
+}
+
+static int count_temp_files(void)
+{
+	int n = 0;
+	DIR *d = opendir(dir);
+	struct dirent *e;
+	while ((e = readdir(d)))
+		n += strstr(e->d_name, ".tmp-") != NULL;
+	closedir(d);
+	return n;
+}
+
+static void test_write_errors(void **state)
+{
+	(void)state;
+	uint8_t px[16] = { 0 };
+	struct dao_frame f = { DAO_PIXFMT_GRAY8, 4, 4, 4, px, 0, 0, 0 };
+	struct dao_error err;
+	int r = dao_png_write(path("no/such/dir/x.png"), &f, &err);
+	assert_int_equal(r, -ENOENT);
+	assert_non_null(strstr(err.message, "x.png"));
+	assert_int_equal(access(path("no/such/dir/x.png"), F_OK), -1);
+	/* unsupported formats and broken frames */
+	struct dao_frame bad = f;
+	bad.format = DAO_PIXFMT_GRAY_F32;
+	bad.stride = 16;
+	assert_int_equal(dao_png_write(path("f.png"), &bad, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "gray-f32"));
+	bad = f;
+	bad.stride = 2;
+	assert_int_equal(dao_png_write(path("f.png"), &bad, &err), -EINVAL);
+	assert_int_equal(dao_png_write("", &f, &err), -EINVAL);
+	assert_int_equal(access(path("f.png"), F_OK), -1);
+	/* writing over a directory fails at the rename and leaves nothing behind */
+	char sub[600];
+	snprintf(sub, sizeof sub, "%s/adir", dir);
+	assert_int_equal(mkdir(sub, 0755), 0);
+	r = dao_png_write(sub, &f, &err);
+	assert_true(r < 0);
+	assert_int_equal(count_temp_files(), 0);
+	rmdir(sub);
+}
+
+int main(void)
+{
+	snprintf(dir, sizeof dir, "%s", dao_test_tmpdir("png"));
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_round_trips),
+		cmocka_unit_test(test_read_errors),
+		cmocka_unit_test(test_write_errors),
+	};
+	int r = cmocka_run_group_tests(tests, NULL, NULL);
+	char cmd[700];
+	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+	if (system(cmd) != 0)
+		fprintf(stderr, "could not remove %s\n", dir);
+	return r;
+}
