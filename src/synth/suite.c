@@ -13,32 +13,47 @@ int synth_scene_is_structured(const char *scene)
 	return strcmp(scene, "plane") != 0;
 }
 
-static int add_case(struct synth_suite *s, const char *name, int noisy, const float *depth,
-		    float *gt, uint64_t seed, struct dao_error *err)
+int synth_case_make(struct synth_case *c, const char *scene, int noisy, const float *depth,
+		    float *gt, int width, int height, uint64_t seed, struct dao_error *err)
 {
-	const size_t np = (size_t)s->cam.width * s->cam.height;
-	struct synth_case *c = &s->cases[s->count];
-	c->scene = name;
+	const size_t np = (size_t)width * height;
+	c->scene = scene;
 	c->noisy = noisy;
 	c->gt = gt;
 	c->depth_mm = malloc(np * sizeof(uint16_t));
 	c->depth_m = malloc(np * sizeof(float));
 	if (!c->depth_mm || !c->depth_m) {
-		free(c->depth_mm);
-		free(c->depth_m);
-		return dao_error_set(err, -ENOMEM, "out of memory for the evaluation suite");
+		synth_case_free(c);
+		return dao_error_set(err, -ENOMEM, "out of memory for scene '%s'", scene);
 	}
 	memcpy(c->depth_m, depth, np * sizeof(float));
 	if (noisy)
-		synth_sensor_noise(c->depth_m, (int)s->cam.width, (int)s->cam.height, SYNTH_NOISE_K,
-				   SYNTH_NOISE_QUANTUM, SYNTH_NOISE_DROP, seed);
+		synth_sensor_noise(c->depth_m, width, height, SYNTH_NOISE_K, SYNTH_NOISE_QUANTUM,
+				   SYNTH_NOISE_DROP, seed);
 	for (size_t i = 0; i < np; i++) {
 		double mm = floor((double)c->depth_m[i] * 1000.0 + 0.5);
 		c->depth_mm[i] = (mm > 0.0 && mm <= 65535.0) ? (uint16_t)mm : 0;
 		c->depth_m[i] = (float)c->depth_mm[i] * 0.001f;
 	}
-	s->count++;
 	return 0;
+}
+
+void synth_case_free(struct synth_case *c)
+{
+	free(c->depth_mm);
+	free(c->depth_m);
+	c->depth_mm = NULL;
+	c->depth_m = NULL;
+}
+
+static int add_case(struct synth_suite *s, const char *name, int noisy, const float *depth,
+		    float *gt, uint64_t seed, struct dao_error *err)
+{
+	int r = synth_case_make(&s->cases[s->count], name, noisy, depth, gt, (int)s->cam.width,
+				(int)s->cam.height, seed, err);
+	if (!r)
+		s->count++;
+	return r;
 }
 
 int synth_suite_load(struct synth_suite *s, const char *const *scenes, double radius,
@@ -76,10 +91,8 @@ int synth_suite_load(struct synth_suite *s, const char *const *scenes, double ra
 
 void synth_suite_free(struct synth_suite *s)
 {
-	for (int i = 0; i < s->count; i++) {
-		free(s->cases[i].depth_mm);
-		free(s->cases[i].depth_m);
-	}
+	for (int i = 0; i < s->count; i++)
+		synth_case_free(&s->cases[i]);
 	for (int i = 0; i < SYNTH_SUITE_MAX / 2; i++)
 		synth_image_free(&s->images[i]);
 	s->count = 0;

@@ -47,6 +47,15 @@ int synth_suite_load(struct synth_suite *s, const char *const *scenes, double ra
 
 void synth_suite_free(struct synth_suite *s);
 
+/*
+ * Fills a case from a rendered depth plane (metres): noise (if noisy, with
+ * `seed`) and millimetre quantisation, as a sensor would deliver it.  `gt` is
+ * borrowed.  Free with synth_case_free().
+ */
+int synth_case_make(struct synth_case *c, const char *scene, int noisy, const float *depth,
+		    float *gt, int width, int height, uint64_t seed, struct dao_error *err);
+void synth_case_free(struct synth_case *c);
+
 /* Runs the library with `params` on one case; fills metrics and the time in ms. */
 int synth_suite_run_case(const struct synth_suite *s, int index, struct dao_context *ctx,
 			 float *ao, struct synth_metrics *m, double *ms, struct dao_error *err);

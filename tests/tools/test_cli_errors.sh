@@ -50,7 +50,9 @@ grep -q "c.png" "$WORK/err" || fail "broken file in a directory not named"
 # unwritable outputs
 expect_exit 1 "output dir missing" -- "$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/no/such/dir/a.png"
 grep -q "cannot create" "$WORK/err" || fail "unwritable output message: $(cat "$WORK/err")"
-expect_exit 1 "output dir parent missing" -- "$DEPTHAO" process --input "$WORK/mixed" $CAM --ao-out "$WORK/no/such/dir"
+echo x >"$WORK/afile"
+expect_exit 1 "output dir under a file" -- "$DEPTHAO" process --input "$WORK/mixed" $CAM --ao-out "$WORK/afile/sub"
+grep -q "afile" "$WORK/err" || fail "output under a file not named: $(cat "$WORK/err")"
 if [ "$(id -u)" -ne 0 ]; then
 	mkdir "$WORK/ro" && chmod 555 "$WORK/ro"
 	expect_exit 1 "read-only dir" -- "$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/ro/a.png"

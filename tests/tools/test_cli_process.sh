@@ -41,12 +41,19 @@ cp "$S/spheres/depth.png" "$WORK/seq/0001.png"
 cp "$S/spheres/depth.png" "$WORK/seq/0002.png"
 echo "not an image" > "$WORK/seq/notes.txt"
 expect_exit 0 "process dir" -- "$DEPTHAO" process --input "$WORK/seq" --intrinsics 525,525,319.5,239.5 \
-	--ao-out "$WORK/out-ao" --shaded-out "$WORK/out-shaded"
+	--ao-out "$WORK/out-ao" --shaded-out "$WORK/nested/out-shaded"
 grep -q "2 frames" "$WORK/err" || fail "directory summary: $(cat "$WORK/err")"
 for n in 0001 0002; do
 	png_is "$WORK/out-ao/$n.png" "640 480 gray16"
-	png_is "$WORK/out-shaded/$n.png" "640 480 rgb24"
+	png_is "$WORK/nested/out-shaded/$n.png" "640 480 rgb24"
 done
 [ ! -e "$WORK/out-ao/notes.txt" ] || fail "non-PNG file processed"
 no_temp_files "$WORK"
+
+# a sequence from synth --frames plays as a directory, camera.json included
+expect_exit 0 "synth frames" -- "$DEPTHAO" synth --scene thin-pole --frames 3 --rays 1 --out "$S"
+expect_exit 0 "process sequence" -- "$DEPTHAO" process --input "$S/thin-pole/depth" --ao-out "$WORK/seq-ao"
+grep -q "3 frames" "$WORK/err" || fail "sequence summary: $(cat "$WORK/err")"
+grep -q "using intrinsics from" "$WORK/err" || fail "sequence camera.json not used"
+[ -s "$S/thin-pole/ao_gt/0002.png" ] || fail "sequence ground truth missing"
 finish

@@ -46,7 +46,7 @@ static void usage(FILE *out)
 		"\n"
 		"Computes ambient occlusion for a 16-bit depth PNG, or for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
-		"names).  At least one output is required.\n"
+		"names, created if missing).  At least one output is required.\n"
 		"\n"
 		"  --input PATH              depth PNG or directory of depth PNGs\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
@@ -261,7 +261,7 @@ static int resolve_camera(const struct process_options *o, int input_is_dir, uin
 	return 0;
 }
 
-/* Creates an output directory if missing (its parent must exist). */
+/* Creates an output directory and its missing parents (mkdir -p). */
 static int ensure_dir(const char *path)
 {
 	int d = path_is_dir(path);
@@ -271,7 +271,12 @@ static int ensure_dir(const char *path)
 		fprintf(stderr, "depthao: output '%s' exists and is not a directory\n", path);
 		return 1;
 	}
-	if (mkdir(path, 0777) != 0) {
+	char *parent = path_dirname(path);
+	int r = parent && strcmp(parent, path) != 0 && path_is_dir(parent) < 0 ? ensure_dir(parent) : 0;
+	free(parent);
+	if (r)
+		return r;
+	if (mkdir(path, 0777) != 0 && errno != EEXIST) {
 		fprintf(stderr, "depthao: cannot create output directory '%s': %s\n", path,
 			strerror(errno));
 		return 1;

@@ -21,9 +21,17 @@
 #include "file_list.h"
 #include "synth/suite.h"
 
+/* Sets an out-of-memory error and returns 1 (for expressions). */
+static int set_oom(struct dao_error *err)
+{
+	snprintf(err->message, sizeof err->message, "out of memory");
+	err->code = -ENOMEM;
+	return 1;
+}
+
 struct synth_options {
 	const char *scene, *out;
-	int noise, rays_sqrt;
+	int noise, rays_sqrt, frames;
 	double radius;
 	unsigned long long seed;
 };
@@ -49,12 +57,14 @@ static void usage(FILE *out)
 		"  --seed N       noise seed (default 1)\n"
 		"  --rays N       ground-truth rays per pixel, a perfect square (default 256)\n"
 		"  --radius R     AO radius in metres (default 0.5)\n"
+		"  --frames N     a sequence of N frames with the scene's object moving, written as\n"
+		"                 DIR/NAME/depth/NNNN.png (+ camera.json) and DIR/NAME/ao_gt/NNNN.png\n"
 		"  --help         this text\n");
 }
 
 static int parse_args(int argc, char **argv, struct synth_options *o)
 {
-	*o = (struct synth_options){ .rays_sqrt = 16, .radius = 0.5, .seed = 1 };
+	*o = (struct synth_options){ .rays_sqrt = 16, .radius = 0.5, .seed = 1, .frames = 1 };
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -65,11 +75,11 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			o->noise = 1;
 			continue;
 		}
-		const char *names[] = { "--scene", "--out", "--seed", "--rays", "--radius" };
+		const char *names[] = { "--scene", "--out", "--seed", "--rays", "--radius", "--frames" };
 		size_t k;
-		for (k = 0; k < 5 && strcmp(a, names[k]) != 0; k++)
+		for (k = 0; k < 6 && strcmp(a, names[k]) != 0; k++)
 			;
-		if (k == 5)
+		if (k == 6)
 			return usage_error("synth", "unknown option '%s'", a);
 		if (i + 1 >= argc)
 			return usage_error("synth", "%s needs a value", a);
@@ -97,12 +107,21 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			if (*end || !*v || !(o->radius > 0.0 && o->radius <= 100.0))
 				return usage_error("synth", "--radius '%s' must be a number in (0, 100] metres", v);
 			break;
+		case 5: {
+			long n = strtol(v, &end, 10);
+			if (*end || !*v || n < 1 || n > 10000)
+				return usage_error("synth", "--frames '%s' must be an integer in 1..10000", v);
+			o->frames = (int)n;
+			break;
+		}
 		}
 	}
 	if (!o->scene)
 		return usage_error("synth", "--scene is required");
 	if (!o->out)
 		return usage_error("synth", "--out is required");
+	if (o->frames > 1 && strcmp(o->scene, "all") == 0)
+		return usage_error("synth", "--frames needs a single --scene");
 	if (strcmp(o->scene, "all") != 0) {
 		struct synth_scene s;
 		struct dao_error err;
@@ -176,6 +195,81 @@ out:
 	return status;
 }
 
+/* One frame of a sequence: DIR/NAME/depth/NNNN.png and DIR/NAME/ao_gt/NNNN.png. */
+static int write_sequence(const struct synth_options *o)
+{
+	struct dao_camera cam;
+	synth_default_camera(&cam);
+	char name[128], file[32], msg[512];
+	snprintf(name, sizeof name, "%s%s", o->scene, o->noise ? "-noisy" : "");
+	char *base = path_join(o->out, name);
+	char *ddir = base ? path_join(base, "depth") : NULL;
+	char *gdir = base ? path_join(base, "ao_gt") : NULL;
+	char *cam_path = ddir ? path_join(ddir, "camera.json") : NULL;
+	int status = 1;
+	if (!cam_path || make_dir(base) || make_dir(ddir) || make_dir(gdir))
+		goto out;
+	for (int i = 0; i < o->frames; i++) {
+		struct synth_scene scene;
+		struct synth_image img;
+		struct synth_case c = { 0 };
+		struct dao_frame gt = { 0 };
+		struct dao_error err;
+		double t = (double)i / (double)(o->frames - 1);
+		int r = synth_scene_build(o->scene, t, &scene, &err);
+		if (!r)
+			r = synth_render(&scene, &cam, o->radius, o->rays_sqrt, 2, &img, &err);
+		if (r) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			goto out;
+		}
+		r = synth_case_make(&c, scene.name, o->noise, img.depth, img.gt, (int)cam.width,
+				    (int)cam.height, o->seed + (uint64_t)i, &err);
+		if (!r)
+			r = dao_frame_alloc(&gt, DAO_PIXFMT_GRAY16, cam.width, cam.height, &err);
+		if (!r) {
+			for (size_t k = 0; k < (size_t)cam.width * cam.height; k++)
+				((uint16_t *)gt.data)[k] = (uint16_t)lrintf(img.gt[k] * 65535.0f);
+			struct dao_frame depth = {
+				.format = DAO_PIXFMT_DEPTH16, .width = cam.width, .height = cam.height,
+				.stride = (int32_t)(2 * cam.width), .data = c.depth_mm, .depth_unit = 0.001f,
+			};
+			snprintf(file, sizeof file, "%04d.png", i);
+			char *dp = path_join(ddir, file), *gp = path_join(gdir, file);
+			r = !dp || !gp ? set_oom(&err)
+				       : dao_png_write(dp, &depth, &err) || dao_png_write(gp, &gt, &err);
+			free(dp);
+			free(gp);
+		}
+		dao_frame_free(&gt);
+		synth_case_free(&c);
+		synth_image_free(&img);
+		if (r) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			goto out;
+		}
+	}
+	struct json_object *extra = json_object_new_object();
+	json_object_object_add(extra, "depth_unit", json_object_new_double(0.001));
+	json_object_object_add(extra, "scene", json_object_new_string(o->scene));
+	json_object_object_add(extra, "noise", json_object_new_boolean(o->noise));
+	json_object_object_add(extra, "frames", json_object_new_int(o->frames));
+	int r = camera_file_write(cam_path, &cam, extra, msg, sizeof msg);
+	json_object_put(extra);
+	if (r) {
+		fprintf(stderr, "depthao: %s\n", msg);
+		goto out;
+	}
+	printf("%s: %d frames (%s)\n", base, o->frames, o->noise ? "noisy" : "clean");
+	status = 0;
+out:
+	free(base);
+	free(ddir);
+	free(gdir);
+	free(cam_path);
+	return status;
+}
+
 int cmd_synth(int argc, char **argv)
 {
 	struct synth_options o;
@@ -184,6 +278,8 @@ int cmd_synth(int argc, char **argv)
 		return status;
 	if (make_dir(o.out))
 		return 1;
+	if (o.frames > 1)
+		return write_sequence(&o);
 	int all = strcmp(o.scene, "all") == 0;
 	const char *one[2] = { o.scene, NULL };
 	struct synth_suite suite;
