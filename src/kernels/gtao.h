@@ -12,7 +12,6 @@ struct dao_gtao_setup {
 	int width, height;
 	float ax, ay, bx, by;      /* UvToViewParams */
 	float focal;               /* pixels per metre at z = 1 (mean of fx, fy) */
-	float radius;              /* effective radius, dao_gtao_effective_radius(), m */
 	float search_radius;       /* where the falloff weight reaches 0, m */
 	float falloff_mul, falloff_add; /* weight = saturate(dist * mul + add) */
 	float decay;               /* share of the horizon kept when a later sample is lower */

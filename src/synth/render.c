@@ -15,22 +15,10 @@
 #include <string.h>
 
 #include "core/error_internal.h"
+#include "synth/rng.h"
 #include "synth/synth.h"
 
 #define PI 3.14159265358979323846
-
-static uint64_t splitmix64(uint64_t *s)
-{
-	uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-	z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-	return z ^ (z >> 31);
-}
-
-static double rand01(uint64_t *s)
-{
-	return (double)(splitmix64(s) >> 11) * (1.0 / 9007199254740992.0);
-}
 
 /* Nearest hit of a camera ray; returns the primitive index or -1. */
 static int trace(const struct synth_scene *s, vec3 o, vec3 d, double tmax, int skip, double *t,
@@ -156,7 +144,7 @@ static float pixel_gt(const struct job *j, int x, int y)
 	for (int a = 0; a < n; a++) {
 		for (int b = 0; b < n; b++) {
 			double dx, dy;
-			concentric_disk((a + rand01(&rng)) / n, (b + rand01(&rng)) / n, &dx, &dy);
+			concentric_disk((a + synth_rng_uniform(&rng)) / n, (b + synth_rng_uniform(&rng)) / n, &dx, &dy);
 			double dz = sqrt(fmax(0.0, 1.0 - dx * dx - dy * dy));
 			vec3 w = v3_add(v3_add(v3_scale(b1, dx), v3_scale(b2, dy)), v3_scale(N, dz));
 			int blocked = 0;

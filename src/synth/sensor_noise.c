@@ -7,25 +7,13 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "synth/rng.h"
 #include "synth/synth.h"
-
-static uint64_t mix64(uint64_t *s)
-{
-	uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-	z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-	return z ^ (z >> 31);
-}
-
-static double uniform(uint64_t *s)
-{
-	return ((double)(mix64(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
 
 /* Box-Muller: one standard normal deviate. */
 static double gaussian(uint64_t *s)
 {
-	double u = uniform(s), v = uniform(s);
+	double u = synth_rng_uniform(s), v = synth_rng_uniform(s);
 	return sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
 }
 
@@ -49,8 +37,8 @@ void synth_sensor_noise(float *depth, int w, int h, double k, double quantum,
 		dropped += depth[i] <= 0.0f;
 	target += dropped;
 	for (int guard = 0; dropped < target && guard < 1000000; guard++) {
-		int cx = (int)(uniform(&rng) * w), cy = (int)(uniform(&rng) * h);
-		int r = 1 + (int)(uniform(&rng) * 3.0);
+		int cx = (int)(synth_rng_uniform(&rng) * w), cy = (int)(synth_rng_uniform(&rng) * h);
+		int r = 1 + (int)(synth_rng_uniform(&rng) * 3.0);
 		for (int y = cy - r; y <= cy + r; y++)
 			for (int x = cx - r; x <= cx + r; x++) {
 				if (x < 0 || y < 0 || x >= w || y >= h)
