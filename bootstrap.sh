@@ -1,85 +1,121 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 #
-# One entry point for a fresh Debian 12 machine:
-#   ./bootstrap.sh demo   install what is missing, build, shade the bundled recording
-#   ./bootstrap.sh test   install what is missing, build, run the whole test suite
-#   ./bootstrap.sh build  install what is missing and build
-#   ./bootstrap.sh deps   only install what is missing (apt-get, as root or with sudo)
+# The one entry point for a fresh Debian 12 machine:
+#   ./bootstrap.sh deps   install the missing Debian packages (apt-get, as root or with sudo)
+#   ./bootstrap.sh build  deps, then configure and build in build/ (release, warnings are errors)
+#   ./bootstrap.sh demo   build, then shade the bundled recording into out/ao and out/shaded
+#   ./bootstrap.sh test   build, then run every test suite, the installed-library example included
 set -euo pipefail
 cd "$(dirname "$0")"
 
+# The recording the demo shades (a directory of 16-bit depth PNGs + camera.json).
+DEMO_INPUT=${DEMO_INPUT:-recordings/spheres-noisy}
+DEMO_OUT=${DEMO_OUT:-out}
 BUILD_DIR=${BUILD_DIR:-build}
-DEMO_INPUT=recordings/spheres-noisy
-DEMO_OUT=out
+DEPTHAO=$BUILD_DIR/tools/depthao/depthao
 
 PACKAGES=(
 	meson ninja-build pkg-config gcc g++
 	libpng-dev libjson-c-dev libcmocka-dev
 	libopencv-dev libopencv-contrib-dev
+	libinih-dev libopenni2-dev
 )
 
 usage() {
 	cat <<USAGE
 usage: ./bootstrap.sh deps|build|demo|test
 
-  deps    install the missing Debian packages (${PACKAGES[*]})
-  build   deps, then configure and build in $BUILD_DIR/ (warnings are errors)
-  demo    build, then shade the bundled recording $DEMO_INPUT into $DEMO_OUT/
-  test    build, then run every test suite (meson test)
+  deps    install the missing Debian packages with apt-get (as root, or through sudo):
+          ${PACKAGES[*]}
+  build   deps, then configure $BUILD_DIR/ (release, -Dwerror=true) and build it
+  demo    build, then shade the recording $DEMO_INPUT into $DEMO_OUT/ao and $DEMO_OUT/shaded
+  test    build, then run every test suite (meson test), including the example built
+          against the installed library (suite 'install')
+
+environment: BUILD_DIR (default build), DEMO_INPUT, DEMO_OUT (default out)
 USAGE
 }
 
-as_root() {
-	if [ "$(id -u)" -eq 0 ]; then
-		"$@"
-	elif command -v sudo >/dev/null 2>&1; then
-		sudo "$@"
-	else
-		echo "bootstrap: need root (or sudo) to install: ${missing[*]}" >&2
-		exit 1
-	fi
+say() { echo "bootstrap: $*"; }
+die() {
+	echo "bootstrap: error: $*" >&2
+	exit 1
 }
 
 deps() {
-	missing=()
+	if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
+		die "dpkg/apt-get not found: this script installs Debian 12 packages (${PACKAGES[*]})"
+	fi
+	local missing=() p sudo=()
 	for p in "${PACKAGES[@]}"; do
-		if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+		if [ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)" != "install ok installed" ]; then
 			missing+=("$p")
 		fi
 	done
 	if [ ${#missing[@]} -eq 0 ]; then
+		say "all ${#PACKAGES[@]} packages are installed"
 		return 0
 	fi
-	echo "bootstrap: installing ${missing[*]}"
-	as_root env DEBIAN_FRONTEND=noninteractive apt-get update -q
-	as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}"
+	if [ "$(id -u)" -ne 0 ]; then
+		command -v sudo >/dev/null 2>&1 ||
+			die "missing packages: ${missing[*]}
+installing them needs root, and sudo is not available; as root, run:
+  apt-get update && apt-get install ${missing[*]}"
+		sudo=(sudo)
+	fi
+	say "installing ${missing[*]}"
+	"${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+	"${sudo[@]}" env DEBIAN_FRONTEND=noninteractive \
+		apt-get install -y -q "${missing[@]}"
 }
 
 build() {
 	deps
-	if [ -f "$BUILD_DIR/build.ninja" ]; then
-		meson setup --reconfigure "$BUILD_DIR" -Dwerror=true >/dev/null
+	if [ -f "$BUILD_DIR/meson-private/coredata.dat" ]; then
+		meson setup --reconfigure "$BUILD_DIR" --buildtype=release -Dwerror=true >/dev/null
 	else
-		meson setup "$BUILD_DIR" -Dwerror=true
+		meson setup "$BUILD_DIR" --buildtype=release -Dwerror=true
 	fi
 	ninja -C "$BUILD_DIR"
 }
 
-demo() {
-	build
-	if [ ! -d "$DEMO_INPUT" ]; then
-		echo "bootstrap: the demo recording $DEMO_INPUT is missing" >&2
-		exit 1
-	fi
-	"$BUILD_DIR/tools/depthao/depthao" process --input "$DEMO_INPUT" \
+# The demo's main job; adjust the flags here.
+demo_command() {
+	"$DEPTHAO" process --input "$DEMO_INPUT" \
 		--ao-out "$DEMO_OUT/ao" --shaded-out "$DEMO_OUT/shaded"
-	echo "bootstrap: AO in $DEMO_OUT/ao/, occlusion-shaded images in $DEMO_OUT/shaded/"
+}
+
+demo() {
+	[ -e "$DEMO_INPUT" ] ||
+		die "the demo recording $DEMO_INPUT does not exist (set DEMO_INPUT=<dir of 16-bit depth PNGs>)"
+	build
+	demo_command
+	say "ambient occlusion (16-bit PNG): $(pwd)/$DEMO_OUT/ao/"
+	say "occlusion-shaded images (RGB PNG): $(pwd)/$DEMO_OUT/shaded/"
+}
+
+# One closing line a CI reader understands: "meson: N passed, N failed, N skipped".
+summarize() {
+	python3 - "$BUILD_DIR/meson-logs/testlog.json" <<'PY' || true
+import json, sys
+n = {"passed": 0, "failed": 0, "skipped": 0}
+for line in open(sys.argv[1]):
+    r = json.loads(line)["result"]
+    n["passed" if r in ("OK", "EXPECTEDFAIL") else "skipped" if r == "SKIP" else "failed"] += 1
+print("meson: %(passed)d passed, %(failed)d failed, %(skipped)d skipped" % n)
+PY
 }
 
 run_tests() {
 	build
-	meson test -C "$BUILD_DIR" --print-errorlogs
+	# the example check (examples/shade_depth.c against a staged install) is a meson test
+	meson test -C "$BUILD_DIR" --list 2>/dev/null | grep -q 'example-installed$' ||
+		die "the test 'example-installed' is not registered: add 'install' to the subdir list in tests/meson.build"
+	local status=0
+	meson test -C "$BUILD_DIR" --print-errorlogs || status=$?
+	summarize
+	return "$status"
 }
 
 case "${1:-}" in
@@ -87,8 +123,9 @@ deps) deps ;;
 build) build ;;
 demo) demo ;;
 test) run_tests ;;
--h | --help) usage ;;
+-h | --help | help) usage ;;
 *)
+	[ $# -eq 0 ] || echo "bootstrap: unknown argument '$1'" >&2
 	usage >&2
 	exit 2
 	;;

@@ -1,30 +1,42 @@
 /* SPDX-License-Identifier: MIT */
 /* Shades one 16-bit depth PNG with ambient occlusion, using the installed libdepthao:
  *   cc shade_depth.c $(pkg-config --cflags --libs depthao) -o shade_depth
- *   ./shade_depth depth.png shaded.png [fx fy cx cy] */
+ *   ./shade_depth depth.png out.png [fx fy cx cy [metres_per_count]] */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include <depthao/depthao.h>
 
+static int number(const char *s, double *v) /* 0 if all of s is a number */
+{
+	char *end;
+	*v = strtod(s, &end);
+	return end == s || *end != '\0';
+}
+
 int main(int argc, char **argv)
 {
-	if (argc != 3 && argc != 7) {
-		fprintf(stderr, "usage: %s depth.png out.png [fx fy cx cy]\n", argv[0]);
-		return 2;
-	}
-	struct dao_error err;
+	struct dao_error err = { 0 };
 	struct dao_frame depth = { 0 }, rgb = { 0 };
 	struct dao_context *ctx = NULL;
 	struct dao_camera cam;
+	double k[5] = { 525, 525, 0, 0, 0.001 }; /* fx fy cx cy, metres per count */
 	int status = 1;
 
-	if (dao_png_read_depth(argv[1], 0.001f, &depth, &err)) /* millimetres */
+	if (argc != 3 && argc != 7 && argc != 8) {
+		fprintf(stderr, "usage: %s depth.png out.png [fx fy cx cy [metres_per_count]]\n", argv[0]);
+		return 2;
+	}
+	for (int i = 3; i < argc; i++)
+		if (number(argv[i], &k[i - 3])) {
+			fprintf(stderr, "shade_depth: '%s' is not a number\n", argv[i]);
+			return 2;
+		}
+	if (dao_png_read_depth(argv[1], (float)k[4], &depth, &err))
 		goto fail;
-	double fx = 525, fy = 525, cx = (depth.width - 1) / 2.0, cy = (depth.height - 1) / 2.0;
-	if (argc == 7)
-		fx = atof(argv[3]), fy = atof(argv[4]), cx = atof(argv[5]), cy = atof(argv[6]);
-	if (dao_camera_from_intrinsics(&cam, depth.width, depth.height, fx, fy, cx, cy, &err) ||
+	if (argc == 3) /* default: the principal point at the image centre */
+		k[2] = (depth.width - 1) / 2.0, k[3] = (depth.height - 1) / 2.0;
+	if (dao_camera_from_intrinsics(&cam, depth.width, depth.height, k[0], k[1], k[2], k[3], &err) ||
 	    dao_context_create(&ctx, &cam, NULL, &err) || /* NULL: the default preset */
 	    dao_frame_alloc(&rgb, DAO_PIXFMT_RGB24, depth.width, depth.height, &err) ||
 	    dao_context_process(ctx, &depth, NULL, 0, NULL, &err) ||

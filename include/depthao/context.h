@@ -44,7 +44,7 @@ DAO_API int dao_context_set_params(struct dao_context *ctx, const struct dao_par
 DAO_API void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out);
 
 /* The camera the context was created with. */
-const struct dao_camera *dao_context_camera(const struct dao_context *ctx);
+DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ctx);
 
 /*
  * Computes ambient occlusion for one depth frame.

@@ -1,34 +1,63 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# Installs the library into a staging directory, builds examples/shade_depth.c
-# against it through pkg-config, and runs it on a depth image.
+# Installs the library into a staging directory, checks what was installed,
+# builds examples/shade_depth.c against it through pkg-config alone, and runs
+# it on a depth image made by MAKE_DEPTH.
 # usage: check_example.sh BUILD_DIR SOURCE_DIR MAKE_DEPTH
 set -eu
+[ $# -eq 3 ] || { echo "usage: $0 BUILD_DIR SOURCE_DIR MAKE_DEPTH" >&2; exit 2; }
 build=$1
 src=$2
 make_depth=$3
 stage=$(mktemp -d "${TMPDIR:-/tmp}/dao-install.XXXXXX")
 trap 'rm -rf "$stage"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
 
-meson install -C "$build" --destdir "$stage" --quiet >/dev/null
+"$make_depth" "$stage/depth.png" || fail "make_depth"
+# meson test points LD_LIBRARY_PATH at the build tree; the example must not see it
+unset LD_LIBRARY_PATH
+meson install -C "$build" --destdir "$stage" --quiet >/dev/null || fail "meson install"
+
+# What an installed libdepthao consists of, wherever the prefix and libdir are.
 pc=$(find "$stage" -name depthao.pc | head -n 1)
-[ -n "$pc" ] || { echo "FAIL: depthao.pc was not installed"; exit 1; }
-lib=$(find "$stage" -name 'libdepthao.so' | head -n 1)
-[ -n "$lib" ] || { echo "FAIL: libdepthao.so was not installed"; exit 1; }
-[ -f "$(find "$stage" -path '*include/depthao/depthao.h' | head -n 1)" ] || { echo "FAIL: headers missing"; exit 1; }
+[ -n "$pc" ] || fail "depthao.pc was not installed"
+lib=$(find "$stage" -name libdepthao.so | head -n 1)
+[ -n "$lib" ] || fail "libdepthao.so was not installed"
+for h in depthao api version error frame camera params context png; do
+	[ -n "$(find "$stage" -path "*/include/depthao/$h.h")" ] || fail "include/depthao/$h.h was not installed"
+done
 
-# the .pc file names the real prefix; the sysroot variable maps it into the stage
-flags=$(PKG_CONFIG_PATH=$(dirname "$pc") PKG_CONFIG_SYSROOT_DIR=$stage pkg-config --cflags --libs depthao)
-cc -std=c11 -Wall -Wextra -Werror "$src/examples/shade_depth.c" $flags \
-	-Wl,-rpath,"$(dirname "$lib")" -o "$stage/shade_depth"
+# The .pc file names the real prefix (/usr/local): redefine it to the staged one
+# (libdir and includedir are derived from it; libpng's own flags stay as they are).
+prefix=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --variable=prefix depthao)
+flags=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --define-variable=prefix="$stage$prefix" \
+	--cflags --libs depthao) || fail "pkg-config depthao"
+case "$flags" in
+*"-I$stage"*"-L$stage"* | *"-L$stage"*"-I$stage"*) ;;
+*) fail "pkg-config flags do not point into the staged install: $flags" ;;
+esac
+# shellcheck disable=SC2086 # $flags is a list of words
+${CC:-cc} -std=c11 -Wall -Wextra -Werror "$src/examples/shade_depth.c" $flags \
+	-Wl,-rpath,"$(dirname "$lib")" -o "$stage/shade_depth" || fail "building the example"
+# it must run on the staged library, not on one installed on this machine
+ldd "$stage/shade_depth" | grep -q "libdepthao.so.0 => $stage/" ||
+	fail "the example does not load the staged library: $(ldd "$stage/shade_depth" | grep depthao)"
 
-"$make_depth" "$stage/depth.png"
-"$stage/shade_depth" "$stage/depth.png" "$stage/out.png" 60 60 31.5 23.5
-sig=$(head -c 8 "$stage/out.png" | od -An -tx1 | tr -d ' \n')
-[ "$sig" = "89504e470d0a1a0a" ] || { echo "FAIL: output is not a PNG ($sig)"; exit 1; }
-# and its error path: a missing input gives a message and a non-zero exit
+"$stage/shade_depth" "$stage/depth.png" "$stage/out.png" 60 60 31.5 23.5 || fail "shade_depth with intrinsics"
+"$stage/shade_depth" "$stage/depth.png" "$stage/default.png" || fail "shade_depth with the default camera"
+for f in out default; do
+	sig=$(head -c 8 "$stage/$f.png" | od -An -tx1 | tr -d ' \n')
+	[ "$sig" = "89504e470d0a1a0a" ] || fail "$f.png is not a PNG (starts with '$sig')"
+done
+
+# Errors come back as the library's message and a non-zero exit.
 if "$stage/shade_depth" "$stage/missing.png" "$stage/x.png" 2>"$stage/err"; then
-	echo "FAIL: missing input accepted"; exit 1
+	fail "a missing input was accepted"
 fi
-grep -q "missing.png" "$stage/err" || { echo "FAIL: error message: $(cat "$stage/err")"; exit 1; }
+grep -q "missing.png" "$stage/err" || fail "no message naming the missing file: $(cat "$stage/err")"
+if "$stage/shade_depth" "$stage/depth.png" "$stage/x.png" 0 60 31.5 23.5 2>"$stage/err"; then
+	fail "fx = 0 was accepted"
+fi
+grep -q "shade_depth: ." "$stage/err" || fail "no message for fx = 0"
+[ ! -e "$stage/x.png" ] || fail "an output was written after an error"
 echo "example built against the installed library and ran"
