@@ -13,9 +13,9 @@
 
 #include "kernels/gtao.h"
 #include "kernels/gtao_sample.h"
+#include "common/floor_wall.h"
 #include "synth/synth.h"
 
-#define PI 3.14159265358979323846
 
 /* Depth of plane n.X = c through pixel (u, v): z = c / n.(u ax + bx, v ay + by, 1). */
 static float plane_z(const struct dao_camera *cam, const double n[3], double c, double u, double v)
@@ -124,21 +124,12 @@ static void test_open_plane(void **state)
 	free(ao);
 }
 
-/*
- * Floor seen from straight above with a wall at x = +0.3 m: for a floor point
- * at distance d from the wall, rays hit the wall within R when their
- * tangential x component exceeds d/R; cosine-weighted, that component is
- * uniform on the unit disk, so visibility = 1 - (acos a - a sqrt(1 - a^2))/pi,
- * a = d/R.  The converged GTAO integral must match it closely.
- */
+/* The converged GTAO integral against the closed form of the floor-and-wall scene. */
 static void test_floor_and_wall(void **state)
 {
 	(void)state;
-	struct synth_scene s = { .name = "floor-wall", .count = 2 };
-	s.prims[0] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 0, 2 }, .n = { 0, 0, -1 } };
-	s.prims[1] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0.3, 0, 0 }, .n = { -1, 0, 0 } };
-	synth_prim_bound(&s.prims[0]);
-	synth_prim_bound(&s.prims[1]);
+	struct synth_scene s;
+	floor_wall_scene(&s);
 	struct dao_camera cam;
 	dao_camera_from_intrinsics(&cam, 128, 96, 100, 100, 63.5, 47.5, NULL);
 	struct synth_image img;
@@ -161,9 +152,7 @@ static void test_floor_and_wall(void **state)
 			double X = (x - 63.5) / 100.0 * 2.0;
 			if (X > 0.28)
 				break;
-			double a = (0.3 - X) / 0.5;
-			double expect = a >= 1.0 ? 1.0 : 1.0 - (acos(a) - a * sqrt(1.0 - a * a)) / PI;
-			sum += fabs(ao[y * 128 + x] - expect);
+			sum += fabs(ao[y * 128 + x] - floor_wall_visibility(X, 0.5));
 			n++;
 		}
 	double mae = sum / n;

@@ -11,6 +11,7 @@
 
 #include <cmocka.h>
 
+#include "common/floor_wall.h"
 #include "synth/synth.h"
 
 static void test_sphere_hit(void **state)
@@ -65,29 +66,12 @@ static void test_cylinder_hit(void **state)
 	assert_false(synth_prim_intersect(&p, v3(0, 1.5, 0), v3(0, 0, 1), 0, 100, &t, &n));
 }
 
-/* A point on a floor at distance d from an infinite wall: visibility has a closed form. */
-static double wall_visibility(double d, double R)
-{
-	/* Rays hit the wall (x = d) within R when the direction's x-component
-	 * w_x > d / R.  With cosine-weighted directions about the floor normal,
-	 * w_x is distributed as the x coordinate of a uniform point on the unit
-	 * disk, so P(w_x > a) = (acos(a) - a sqrt(1 - a^2)) / pi. */
-	double a = d / R;
-	if (a >= 1.0)
-		return 1.0;
-	return 1.0 - (acos(a) - a * sqrt(1.0 - a * a)) / 3.14159265358979323846;
-}
-
 static void test_ground_truth_corner(void **state)
 {
 	(void)state;
-	/* camera looking straight down at a floor 2 m away, a wall at x = +0.3 m
-	 * through the whole view: the ground truth must match the closed form */
-	struct synth_scene s = { .name = "test", .count = 2 };
-	s.prims[0] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 0, 2 }, .n = { 0, 0, -1 } };
-	s.prims[1] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0.3, 0, 0 }, .n = { -1, 0, 0 } };
-	synth_prim_bound(&s.prims[0]);
-	synth_prim_bound(&s.prims[1]);
+	/* the ground truth must match the closed form of the floor-and-wall scene */
+	struct synth_scene s;
+	floor_wall_scene(&s);
 	struct dao_camera cam;
 	assert_int_equal(dao_camera_from_intrinsics(&cam, 64, 8, 100, 100, 31.5, 3.5, NULL), 0);
 	struct synth_image img;
@@ -97,7 +81,7 @@ static void test_ground_truth_corner(void **state)
 		double X = (x - 31.5) / 100.0 * 2.0; /* floor point x at z = 2 */
 		if (X >= 0.29)
 			break; /* pixels on the wall */
-		double expect = wall_visibility(0.3 - X, 0.5);
+		double expect = floor_wall_visibility(X, 0.5);
 		float got = img.gt[3 * 64 + x];
 		/* 1024 stratified rays: error well below 0.01 */
 		assert_true(fabs(got - expect) < 0.01);
