@@ -16,6 +16,7 @@
 #include <depthao/error.h>
 #include <depthao/frame.h>
 #include <depthao/params.h>
+#include <depthao/cpu.h>
 
 #include <depthao/api.h>
 
@@ -80,6 +81,23 @@ DAO_API int dao_context_get_normals(const struct dao_context *ctx, struct dao_fr
 			    struct dao_error *err);
 DAO_API int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  struct dao_error *err);
+
+/* Wall-clock time of each stage of the last frame, milliseconds. */
+struct dao_timings {
+	double decode_ms;     /* depth input to metres */
+	double prefilter_ms;  /* edge-preserving depth filter */
+	double normals_ms;    /* normals (and the kernels' depth layout) */
+	double gtao_ms;       /* the AO kernel */
+	double denoise_ms;
+	double output_ms;     /* AO to the caller's format */
+	double process_ms;    /* all of the last dao_context_process() */
+	double shade_ms;      /* the last dao_context_shade() */
+};
+
+DAO_API void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out);
+
+/* The kernel set the context runs (its "simd" parameter with AUTO resolved). */
+DAO_API enum dao_simd dao_context_simd(const struct dao_context *ctx);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 #include <depthao/frame.h>
 #include <depthao/camera.h>
 #include <depthao/params.h>
+#include <depthao/cpu.h>
 #include <depthao/context.h>
 #include <depthao/png.h>
 

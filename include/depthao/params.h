@@ -52,6 +52,17 @@ enum dao_denoise {
 	DAO_DENOISE_BILATERAL,  /* separable cross-bilateral (Gaussian x depth threshold) */
 };
 
+/* Which kernels run: the scalar reference (the correctness oracle) or an
+ * optimised build for an instruction set; AUTO = the best this CPU has. */
+enum dao_simd {
+	DAO_SIMD_AUTO = 0,
+	DAO_SIMD_REFERENCE,  /* plain scalar C, libm trigonometry: the oracle */
+	DAO_SIMD_GENERIC,    /* portable vector code (compiler vector extensions) */
+	DAO_SIMD_SSE41,
+	DAO_SIMD_AVX2,       /* AVX2 + FMA */
+	DAO_SIMD_COUNT,
+};
+
 enum dao_shade {
 	DAO_SHADE_LAMBERT = 0,  /* n . l with a head light, times AO */
 	DAO_SHADE_TURBO,        /* depth colormap times AO */
@@ -84,6 +95,7 @@ struct dao_params {
 	float albedo;             /* multi-bounce fit (Jimenez 2016), 0 = off */
 	float invalid_value;      /* visibility written for pixels without depth */
 	int threads;              /* worker threads of a context, 0 = one per available CPU */
+	int simd;                 /* enum dao_simd */
 
 	/* denoise */
 	int denoise;              /* enum dao_denoise */

@@ -33,6 +33,18 @@ static inline float dao_denoise_tolerance(const struct dao_denoise_setup *s, flo
 void dao_denoise_plane(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
 		       float *ao_out, int y0, int y1);
 
+/* One output pixel of the reference plane filter (the optimised ones use it at borders). */
+float dao_denoise_plane_pixel(const struct dao_denoise_setup *s, const float *z,
+			      const float *ao_in, int x, int y);
+
+#define DAO_DENOISE_SIMD_PROTO(isa)                                                           \
+	void dao_denoise_plane_##isa(const struct dao_denoise_setup *s, const float *z,       \
+				     const float *ao_in, float *ao_out, int y0, int y1)
+
+DAO_DENOISE_SIMD_PROTO(generic);
+DAO_DENOISE_SIMD_PROTO(sse41);
+DAO_DENOISE_SIMD_PROTO(avx2);
+
 /*
  * Seed 004's separable cross-bilateral blur: Gaussian in pixels times a
  * depth test; the test compares each tap with the plane of the centre pixel

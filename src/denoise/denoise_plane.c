@@ -36,41 +36,42 @@ static float smaller_side_gradient(const struct dao_denoise_setup *s, const floa
 	return 0.0f;
 }
 
+float dao_denoise_plane_pixel(const struct dao_denoise_setup *s, const float *z,
+			      const float *ao_in, int x, int y)
+{
+	const int w = s->width;
+	const float zc = z[(size_t)y * w + x];
+	if (zc <= 0.0f)
+		return s->invalid_value;
+	const float gx = smaller_side_gradient(s, z, x, y, 1, 0, zc);
+	const float gy = smaller_side_gradient(s, z, x, y, 0, 1, zc);
+	const float inv_tol = 1.0f / dao_denoise_tolerance(s, zc);
+	float sum = 0.0f, wsum = 0.0f;
+	for (int j = -2; j <= 2; j++) {
+		const int yy = y + j;
+		if (yy < 0 || yy >= s->height)
+			continue;
+		for (int k = -2; k <= 2; k++) {
+			const int xx = x + k;
+			if (xx < 0 || xx >= w)
+				continue;
+			const size_t t = (size_t)yy * w + xx;
+			if (z[t] <= 0.0f)
+				continue;
+			const float plane_z = zc + (float)k * gx + (float)j * gy;
+			const float wt = 1.0f - dao_saturate(fabsf(plane_z - z[t]) * inv_tol);
+			sum += wt * ao_in[t];
+			wsum += wt;
+		}
+	}
+	/* the centre always has weight 1, so wsum >= 1 */
+	return sum / wsum;
+}
+
 void dao_denoise_plane(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
 		       float *ao_out, int y0, int y1)
 {
-	const int w = s->width;
-	for (int y = y0; y < y1; y++) {
-		for (int x = 0; x < w; x++) {
-			const size_t i = (size_t)y * w + x;
-			const float zc = z[i];
-			if (zc <= 0.0f) {
-				ao_out[i] = s->invalid_value;
-				continue;
-			}
-			const float gx = smaller_side_gradient(s, z, x, y, 1, 0, zc);
-			const float gy = smaller_side_gradient(s, z, x, y, 0, 1, zc);
-			const float inv_tol = 1.0f / dao_denoise_tolerance(s, zc);
-			float sum = 0.0f, wsum = 0.0f;
-			for (int j = -2; j <= 2; j++) {
-				const int yy = y + j;
-				if (yy < 0 || yy >= s->height)
-					continue;
-				for (int k = -2; k <= 2; k++) {
-					const int xx = x + k;
-					if (xx < 0 || xx >= w)
-						continue;
-					const size_t t = (size_t)yy * w + xx;
-					if (z[t] <= 0.0f)
-						continue;
-					const float plane_z = zc + (float)k * gx + (float)j * gy;
-					const float wt = 1.0f - dao_saturate(fabsf(plane_z - z[t]) * inv_tol);
-					sum += wt * ao_in[t];
-					wsum += wt;
-				}
-			}
-			/* the centre always has weight 1, so wsum >= 1 */
-			ao_out[i] = sum / wsum;
-		}
-	}
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++)
+			ao_out[(size_t)y * s->width + x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
 }

@@ -20,6 +20,7 @@ struct dao_gtao_setup {
 	int slices, steps;
 	int noise;                 /* enum dao_noise */
 	uint32_t frame;
+	const float *r2_tile;      /* R2 noise of this frame over a 64 x 64 tile: n0[4096], n1[4096] */
 	float final_power, albedo, invalid_value;
 };
 
@@ -48,6 +49,9 @@ void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
  */
 void dao_gtao_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *ao,
 		  int y0, int y1);
+
+/* Fills tile[0..8191] with this frame's R2 noise pairs over a 64 x 64 tile. */
+void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index);
 
 /* The per-pixel noise pair (slice rotation, step jitter) in [0, 1). */
 void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, float *n1);

@@ -43,6 +43,13 @@ void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 	}
 }
 
+void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index)
+{
+	for (int y = 0; y < 64; y++)
+		for (int x = 0; x < 64; x++)
+			dao_r2(x, y, (uint32_t)frame_index, &tile[y * 64 + x], &tile[4096 + y * 64 + x]);
+}
+
 void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, float *n1)
 {
 	switch (s->noise) {

@@ -20,6 +20,7 @@ static const char *const prefilter_names[] = { "none", "bilateral", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", NULL };
 static const char *const denoise_names[] = { "none", "plane", "bilateral", NULL };
+static const char *const simd_names[] = { "auto", "reference", "generic", "sse4.1", "avx2", NULL };
 static const char *const shade_names[] = { "lambert", "turbo", "jet", "gray", "ao", NULL };
 
 #define RT DAO_PARAM_RUNTIME
@@ -66,6 +67,8 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(invalid_value), 0.0, 1.0, NULL, RT },
 	{ "threads", "threads per context (0 = one per available CPU)", NULL,
 	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
+	{ "simd", "kernels: auto (best for this CPU), reference (scalar oracle) or an instruction set", NULL,
+	  DAO_PARAM_ENUM, OFF(simd), 0, 0, simd_names, RT },
 	{ "denoise", "spatial filter of the AO", NULL,
 	  DAO_PARAM_ENUM, OFF(denoise), 0, 0, denoise_names, RT },
 	{ "denoise-radius", "radius of the bilateral denoise", "px",

@@ -27,6 +27,7 @@ static const struct dao_params common = {
 	.albedo = 0.0f,
 	.invalid_value = 1.0f,
 	.threads = 0,
+	.simd = DAO_SIMD_AUTO,
 	.denoise = DAO_DENOISE_PLANE,
 	.denoise_radius = 4,
 	.denoise_sharpness = 4.0f,

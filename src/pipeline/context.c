@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <depthao/context.h>
 
@@ -18,9 +19,11 @@
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
 #include "normals/normals.h"
+#include "pipeline/kernels.h"
 #include "pipeline/threadpool.h"
 #include "shade/colormap.h"
 #include "shade/shade.h"
+#include "simd/cpu_internal.h"
 
 struct dao_context {
 	struct dao_camera cam;
@@ -34,18 +37,44 @@ struct dao_context {
 	float *ao;      /* after denoise (aliases ao_raw when none) */
 	float *ao_buf;  /* storage for the denoised plane */
 	float *tmp;     /* scratch of the separable denoise */
+	float *izp;     /* 1/z of the filtered depth with a 1-px border of zeros (optimised kernels) */
+	float r2_tile[2 * 4096];
+	uint64_t r2_frame; /* frame index r2_tile was filled for, or UINT64_MAX */
 	int have_frame;
 	float depth_unit;  /* metres per count of the last frame, 0 for float input */
 	struct dao_colormap cmap;
 	int cmap_mode;
 	struct dao_pool *pool;
 	int pool_threads;  /* params.threads the pool was made for */
+	struct dao_timings times;
 };
+
+static double now_ms(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
 
 /* Worker threads for a `threads` parameter (0 = every available CPU). */
 static int resolve_threads(int threads)
 {
 	return threads > 0 ? threads : dao_pool_online_cpus();
+}
+
+/* Rejects a kernel set this CPU or build cannot run. */
+static int check_simd(int simd, struct dao_error *err)
+{
+	if (dao_simd_supported((enum dao_simd)simd))
+		return 0;
+	char list[128] = "";
+	for (int i = 0; i < DAO_SIMD_COUNT; i++)
+		if (dao_simd_supported((enum dao_simd)i)) {
+			strcat(list, list[0] ? ", " : "");
+			strcat(list, dao_simd_name((enum dao_simd)i));
+		}
+	return dao_error_set(err, -ENOTSUP, "simd=%s: this CPU or build cannot run it (available: %s)",
+			     dao_simd_name((enum dao_simd)simd), list);
 }
 
 static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err)
@@ -85,6 +114,9 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 		dao_params_init(&p, DAO_QUALITY_DEFAULT);
 	}
 
+	r = check_simd(p.simd, err);
+	if (r)
+		return r;
 	struct dao_context *ctx = calloc(1, sizeof *ctx);
 	if (!ctx)
 		return dao_error_set(err, -ENOMEM, "out of memory for the context");
@@ -104,6 +136,13 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->ao_raw = mem + 5 * ctx->npix;
 	ctx->ao_buf = mem + 6 * ctx->npix;
 	ctx->tmp = mem + 7 * ctx->npix;
+	ctx->izp = calloc(((size_t)checked.width + 2) * (checked.height + 2), sizeof(float));
+	if (!ctx->izp) {
+		dao_context_destroy(ctx);
+		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
+				     checked.width, checked.height);
+	}
+	ctx->r2_frame = UINT64_MAX;
 	ctx->cmap_mode = -1;
 	r = make_pool(ctx, p.threads, err);
 	if (r) {
@@ -120,6 +159,7 @@ void dao_context_destroy(struct dao_context *ctx)
 		return;
 	dao_pool_destroy(ctx->pool);
 	free(ctx->z_raw);
+	free(ctx->izp);
 	free(ctx);
 }
 
@@ -129,6 +169,8 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 	if (!ctx || !params)
 		return dao_error_set(err, -EINVAL, "context or parameters are NULL");
 	int r = dao_params_validate(params, err);
+	if (!r)
+		r = check_simd(params->simd, err);
 	if (r)
 		return r;
 	if (params->threads != ctx->pool_threads) {
@@ -233,7 +275,22 @@ struct frame_job {
 	int normal_radius;
 	struct dao_gtao_setup gtao;
 	struct dao_denoise_setup denoise;
+	struct dao_prefilter_setup prefilter;
+	struct dao_kernels k;
+	enum dao_simd simd;  /* resolved kernel set */
 };
+
+/* 1/z rows of the filtered depth into the bordered plane the optimised GTAO reads */
+static void fill_inverse_depth(struct dao_context *c, int y0, int y1)
+{
+	const int w = (int)c->cam.width;
+	for (int y = y0; y < y1; y++) {
+		const float *zr = c->z + (size_t)y * w;
+		float *o = c->izp + (size_t)(y + 1) * (w + 2) + 1;
+		for (int x = 0; x < w; x++)
+			o[x] = zr[x] > 0.0f ? 1.0f / zr[x] : 0.0f;
+	}
+}
 
 static void stage_decode(void *arg, int y0, int y1)
 {
@@ -242,30 +299,37 @@ static void stage_decode(void *arg, int y0, int y1)
 			 j->ctx->z_raw, y0, y1);
 }
 
-static void stage_prefilter(void *arg, int y0, int y1)
+static void stage_prefilter_h(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	struct dao_context *c = j->ctx;
-	dao_prefilter_bilateral(c->z_raw, c->z_buf, (int)c->cam.width, (int)c->cam.height,
-				c->params.prefilter_radius, c->params.depth_noise, c->depth_unit, y0, y1);
+	j->k.prefilter_h(&j->prefilter, j->ctx->z_raw, j->ctx->tmp, y0, y1);
+}
+
+static void stage_prefilter_v(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	j->k.prefilter_v(&j->prefilter, j->ctx->tmp, j->ctx->z_buf, y0, y1);
 }
 
 static void stage_normals(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	dao_normals_from_depth(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
+	if (j->simd != DAO_SIMD_REFERENCE)
+		fill_inverse_depth(j->ctx, y0, y1);
 }
 
 static void stage_gtao(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	dao_gtao_ref(&j->gtao, j->ctx->z, j->ctx->n, j->ctx->ao_raw, y0, y1);
+	struct dao_context *c = j->ctx;
+	j->k.gtao(&j->gtao, c->z, c->izp, c->n, c->ao_raw, y0, y1);
 }
 
 static void stage_denoise_plane(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	dao_denoise_plane(&j->denoise, j->ctx->z, j->ctx->ao_raw, j->ctx->ao_buf, y0, y1);
+	j->k.denoise_plane(&j->denoise, j->ctx->z, j->ctx->ao_raw, j->ctx->ao_buf, y0, y1);
 }
 
 static void stage_denoise_h(void *arg, int y0, int y1)
@@ -342,24 +406,44 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		},
 	};
 	dao_gtao_setup_init(&job.gtao, &ctx->cam, p, frame_index);
+	job.simd = dao_simd_resolve(p->simd);
+	dao_kernels_select(&job.k, job.simd);
+	if (p->noise == DAO_NOISE_R2) {
+		if (ctx->r2_frame != (frame_index & 63u)) {
+			dao_gtao_fill_r2_tile(ctx->r2_tile, frame_index);
+			ctx->r2_frame = frame_index & 63u;
+		}
+		job.gtao.r2_tile = ctx->r2_tile;
+	}
 	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
+	dao_prefilter_setup_init(&job.prefilter, (int)ctx->cam.width, h, p->prefilter_radius,
+				 p->depth_noise, ctx->depth_unit);
 	ctx->have_frame = 0;
 
+	struct dao_timings *tm = &ctx->times;
+	const double t0 = now_ms();
 	dao_pool_run(ctx->pool, h, 8, stage_decode, &job);
+	const double t1 = now_ms();
 	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
-		dao_pool_run(ctx->pool, h, 4, stage_prefilter, &job);
+		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, &job);
+		dao_pool_run(ctx->pool, h, 4, stage_prefilter_v, &job);
 		ctx->z = ctx->z_buf;
 	} else {
 		ctx->z = ctx->z_raw;
 	}
+	const double t2 = now_ms();
 	if (normals) {
 		r = load_normals(ctx, normals, err);
 		if (r)
 			return r;
+		if (job.simd != DAO_SIMD_REFERENCE)
+			fill_inverse_depth(ctx, 0, h);
 	} else {
 		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
 	}
+	const double t3 = now_ms();
 	dao_pool_run(ctx->pool, h, 2, stage_gtao, &job);
+	const double t4 = now_ms();
 	switch (p->denoise) {
 	case DAO_DENOISE_PLANE:
 		dao_pool_run(ctx->pool, h, 4, stage_denoise_plane, &job);
@@ -374,7 +458,16 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		ctx->ao = ctx->ao_raw;
 		break;
 	}
+	const double t5 = now_ms();
 	dao_pool_run(ctx->pool, h, 8, stage_output, &job);
+	const double t6 = now_ms();
+	tm->decode_ms = t1 - t0;
+	tm->prefilter_ms = t2 - t1;
+	tm->normals_ms = t3 - t2;
+	tm->gtao_ms = t4 - t3;
+	tm->denoise_ms = t5 - t4;
+	tm->output_ms = t6 - t5;
+	tm->process_ms = t6 - t0;
 	ctx->have_frame = 1;
 	return 0;
 }
@@ -395,6 +488,18 @@ static void depth_range(const struct dao_context *ctx, float *lo, float *hi)
 	}
 	*lo = a;
 	*hi = b;
+}
+
+struct shade_job {
+	const struct dao_shade_setup *setup;
+	const struct dao_context *ctx;
+	const struct dao_frame *out;
+};
+
+static void stage_shade(void *arg, int y0, int y1)
+{
+	const struct shade_job *j = arg;
+	dao_shade(j->setup, j->ctx->z_raw, j->ctx->n, j->ctx->ao, j->out, y0, y1);
 }
 
 int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err)
@@ -436,7 +541,10 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 			 (float)(p->occlusion_color & 255) },
 		.map = &ctx->cmap,
 	};
-	dao_shade(&ss, ctx->z_raw, ctx->n, ctx->ao, out, 0, (int)ctx->cam.height);
+	const double t0 = now_ms();
+	struct shade_job sj = { .setup = &ss, .ctx = ctx, .out = out };
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_shade, &sj);
+	ctx->times.shade_ms = now_ms() - t0;
 	return 0;
 }
 
@@ -472,4 +580,14 @@ int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 {
 	return copy_plane(ctx, ctx ? ctx->z : NULL, 1, DAO_PIXFMT_DEPTH_F32, out, "depth output",
 			  err);
+}
+
+void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out)
+{
+	*out = ctx->times;
+}
+
+enum dao_simd dao_context_simd(const struct dao_context *ctx)
+{
+	return dao_simd_resolve(ctx->params.simd);
 }

@@ -1,0 +1,76 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The 5x5 plane denoise of denoise_plane.c over SIMD lanes (pixels along a
+ * row); included by denoise_plane_<isa>.c.  Same arithmetic; the two border
+ * pixels of each side use the reference per-pixel code.
+ */
+#include <math.h>
+#include <stddef.h>
+
+#include "denoise/denoise.h"
+
+/* smaller_side_gradient of the reference, as selects in reverse priority */
+static inline vf gradient(vf m1, vf m2, vf p1, vf p2, vf zc)
+{
+	const vf zero = v_zero(), inf = v_set1(INFINITY);
+	vm has_m = m_and(v_gt(m1, zero), v_gt(m2, zero));
+	vm has_p = m_and(v_gt(p1, zero), v_gt(p2, zero));
+	vf cm = v_sel(has_m, v_abs(v_sub(v_add(m1, v_sub(m1, m2)), zc)), inf);
+	vf cp = v_sel(has_p, v_abs(v_sub(v_add(p1, v_sub(p1, p2)), zc)), inf);
+	vm m1_ok = v_gt(m1, zero);
+	vf g = v_sel(m1_ok, v_sub(zc, m1), zero);
+	vm p1_near = m_and(v_gt(p1, zero),
+			   m_or(v_le(m1, zero), v_lt(v_abs(v_sub(p1, zc)), v_abs(v_sub(zc, m1)))));
+	g = v_sel(p1_near, v_sub(p1, zc), g);
+	g = v_sel(has_p, v_sub(p2, p1), g);
+	return v_sel(v_lt(cm, cp), v_sub(m1, m2), g);
+}
+
+void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const float *z,
+				   const float *ao_in, float *ao_out, int y0, int y1)
+{
+	const int w = s->width, h = s->height;
+	const vf zero = v_zero(), one = v_set1(1.0f);
+	for (int y = y0; y < y1; y++) {
+		float *o = ao_out + (size_t)y * w;
+		int x = 0;
+		if (y < 2 || y >= h - 2) {
+			for (; x < w; x++)
+				o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
+			continue;
+		}
+		for (; x < 2 && x < w; x++)
+			o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
+		for (; x + VN + 2 <= w; x += VN) {
+			const float *zr = z + (size_t)y * w + x;
+			vf zc = v_load(zr);
+			vm has = v_gt(zc, zero);
+			vf gx = gradient(v_load(zr - 1), v_load(zr - 2), v_load(zr + 1), v_load(zr + 2), zc);
+			vf gy = gradient(v_load(zr - w), v_load(zr - 2 * w), v_load(zr + w),
+					 v_load(zr + 2 * w), zc);
+			vf sig = v_mul(v_mul(v_set1(s->noise_k), zc), zc);
+			vf tol = v_mul(v_set1(s->sharpness), v_max(sig, v_mul(v_set1(0.002f), zc)));
+			vf inv_tol = v_div(one, v_sel(has, tol, one));
+			vf sum = zero, wsum = zero;
+			for (int j = -2; j <= 2; j++) {
+				const float *zt = zr + (ptrdiff_t)j * w;
+				const float *at = ao_in + (size_t)(y + j) * w + x;
+				for (int k = -2; k <= 2; k++) {
+					vf t = v_load(zt + k);
+					/* zc + k gx + j gy, in the reference's order of roundings */
+					vf plane = v_add(v_add(zc, v_mul(v_set1((float)k), gx)),
+							 v_mul(v_set1((float)j), gy));
+					vf wt = v_sub(one, v_min(v_max(v_mul(v_abs(v_sub(plane, t)), inv_tol),
+								       zero), one));
+					wt = v_sel(v_gt(t, zero), wt, zero);
+					sum = v_fma(wt, v_load(at + k), sum);
+					wsum = v_add(wsum, wt);
+				}
+			}
+			vf r = v_sel(has, v_div(sum, v_sel(has, wsum, one)), v_set1(s->invalid_value));
+			v_store(o + x, r);
+		}
+		for (; x < w; x++)
+			o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
+	}
+}

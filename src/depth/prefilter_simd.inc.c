@@ -1,0 +1,85 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The prefilter passes of prefilter.c over SIMD lanes (pixels along a row);
+ * included by prefilter_<isa>.c after the SIMD vocabulary.  Same maths, with
+ * exp from simd/fastmath.h; border pixels use the reference per-pixel code.
+ */
+#include <stddef.h>
+
+#include "depth/prefilter.h"
+#include "simd/fastmath.h"
+
+/* 1 / (2 sigma_range^2) per lane, as dao_prefilter_inv_2rr */
+static inline vf inv_2rr(const struct dao_prefilter_setup *s, vf wc)
+{
+	vf sw = v_mul(v_max(v_set1(s->noise_k), v_mul(v_mul(v_set1(s->unit), wc), wc)),
+		      v_set1(DAO_PREFILTER_RANGE_SIGMAS));
+	sw = v_max(sw, v_mul(v_set1(1e-6f), wc));
+	return v_div(v_set1(1.0f), v_mul(v_mul(v_set1(2.0f), sw), sw));
+}
+
+void DAO_ISA_FN(dao_prefilter_h)(const struct dao_prefilter_setup *s, const float *z, float *tmp,
+				 int y0, int y1)
+{
+	const int w = s->width, r = s->radius;
+	const vf one = v_set1(1.0f), zero = v_zero();
+	for (int y = y0; y < y1; y++) {
+		const float *row = z + (size_t)y * w;
+		float *o = tmp + (size_t)y * w;
+		int x = 0;
+		for (; x < r && x < w; x++)
+			o[x] = dao_prefilter_h_pixel(s, z, x, y);
+		for (; x + VN + r <= w; x += VN) {
+			vf zc = v_load(row + x);
+			vm has = v_gt(zc, zero);
+			vf wc = v_div(one, v_sel(has, zc, one));
+			vf k = inv_2rr(s, wc);
+			vf sum = zero, wsum = zero;
+			for (int i = -r; i <= r; i++) {
+				vf zs = v_load(row + x + i);
+				vm ok = v_gt(zs, zero);
+				vf ws = v_div(one, v_sel(ok, zs, one));
+				vf d = v_sub(ws, wc);
+				vf e = v_sub(v_set1(-(float)(i * i) * s->inv_2ss), v_mul(v_mul(d, d), k));
+				vf wt = v_sel(ok, v_exp_neg(e), zero);
+				sum = v_fma(wt, ws, sum);
+				wsum = v_add(wsum, wt);
+			}
+			v_store(o + x, v_sel(has, v_div(sum, v_sel(has, wsum, one)), zero));
+		}
+		for (; x < w; x++)
+			o[x] = dao_prefilter_h_pixel(s, z, x, y);
+	}
+}
+
+void DAO_ISA_FN(dao_prefilter_v)(const struct dao_prefilter_setup *s, const float *tmp, float *out,
+				 int y0, int y1)
+{
+	const int w = s->width, r = s->radius;
+	const vf one = v_set1(1.0f), zero = v_zero();
+	for (int y = y0; y < y1; y++) {
+		const int a = y - r < 0 ? 0 : y - r, b = y + r >= s->height ? s->height - 1 : y + r;
+		float *o = out + (size_t)y * w;
+		int x = 0;
+		for (; x + VN <= w; x += VN) {
+			vf wc = v_load(tmp + (size_t)y * w + x);
+			vm has = v_gt(wc, zero);
+			vf k = inv_2rr(s, v_sel(has, wc, one));
+			vf sum = zero, wsum = zero;
+			for (int j = a; j <= b; j++) {
+				vf ws = v_load(tmp + (size_t)j * w + x);
+				vm ok = v_gt(ws, zero);
+				vf d = v_sub(ws, wc);
+				vf e = v_sub(v_set1(-(float)((j - y) * (j - y)) * s->inv_2ss),
+					     v_mul(v_mul(d, d), k));
+				vf wt = v_sel(ok, v_exp_neg(e), zero);
+				sum = v_fma(wt, ws, sum);
+				wsum = v_add(wsum, wt);
+			}
+			vf m = v_div(sum, v_sel(has, wsum, one));
+			v_store(o + x, v_sel(has, v_div(one, v_sel(has, m, one)), zero));
+		}
+		for (; x < w; x++)
+			o[x] = dao_prefilter_v_pixel(s, tmp, x, y);
+	}
+}

@@ -1,0 +1,293 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * GTAO over SIMD lanes: the same algorithm as gtao_ref.c (read that first),
+ * one pixel per lane along a row.  Included by gtao_<isa>.c after the SIMD
+ * vocabulary header; DAO_ISA_FN(name) gives the ISA-suffixed name.
+ *
+ * Differences from the reference, all measured by tests/kernels/test_gtao_simd.c:
+ *  - depth is read from a plane of 1/z with a one-pixel border of zeros, so
+ *    the two taps of a sample are one masked gather each and the 1/z
+ *    interpolation needs no division;
+ *  - sin/cos/acos are polynomials (simd/fastmath.h), sin n = +-sqrt(1 - cos^2 n),
+ *    and cos(2h - n) comes from the same polynomial;
+ *  - divisions by the slice direction are multiplications by its reciprocal.
+ */
+#include <stddef.h>
+
+#include "core/math_util.h"
+#include "kernels/gtao.h"
+#include "kernels/gtao_simd.h"
+#include "kernels/noise.h"
+#include "simd/fastmath.h"
+
+/* Per-lane state of one slice side's horizon search. */
+struct side {
+	vf dmaj, dmin, inv_dmaj; /* direction on the major / minor axis, 1 / dmaj */
+	vf low;                  /* cosine of "no occluder" on this side */
+};
+
+/* Per-lane constants of the pixels being processed. */
+struct px {
+	vf x, y, Px, Py, Pz, Vx, Vy, Vz, r_px, jitter;
+	vm active;
+};
+
+/* fract(a * fx + b * fy) with the reference's order of roundings */
+static inline vf ign(vf fx, vf fy)
+{
+	vf in = v_add(v_mul(v_set1(0.06711056f), fx), v_mul(v_set1(0.00583715f), fy));
+	vf f = v_sub(in, v_floor(in));
+	vf o = v_mul(v_set1(52.9829189f), f);
+	return v_sub(o, v_floor(o));
+}
+
+static void noise(const struct dao_gtao_setup *s, vf x, vf y, int xi, int yi, vf *n0, vf *n1)
+{
+	switch (s->noise) {
+	case DAO_NOISE_IGN: {
+		const vf shift = v_set1(5.588238f * (float)(s->frame & 63u));
+		*n0 = ign(v_add(x, shift), v_add(y, shift));
+		*n1 = ign(v_add(v_add(y, v_set1(7.0f)), shift), v_add(v_add(x, v_set1(13.0f)), shift));
+		return;
+	}
+	case DAO_NOISE_R2: {
+		/* per-frame 64 x 64 tile, filled by the context; VN divides 64 and x is a
+		 * multiple of VN, so the lanes never wrap within a tile row */
+		const size_t o = (size_t)(yi & 63) * 64 + (size_t)(xi & 63);
+		*n0 = v_load(s->r2_tile + o);
+		*n1 = v_load(s->r2_tile + 4096 + o);
+		return;
+	}
+	default:
+		*n0 = v_set1(0.5f);
+		*n1 = v_set1(0.5f);
+		return;
+	}
+}
+
+/* The reference's (i + jitter) / steps raised to the distribution power. */
+static inline vf step_t(const struct dao_gtao_setup *s, int i, vf jitter)
+{
+	vf t = v_mul(v_add(v_set1((float)i), jitter), v_set1(1.0f / (float)s->steps));
+	if (s->power == 1.0f)
+		return t;
+	if (s->power == 2.0f)
+		return v_mul(t, t);
+	float l[VN];
+	v_store(l, t);
+	for (int k = 0; k < VN; k++)
+		l[k] = powf(l[k], s->power);
+	return v_load(l);
+}
+
+/* Where step i of a side samples: the snapped major coordinate m, the minor
+ * coordinate fm on the line, and whether the taps are on the image. */
+struct pos {
+	vf m, fm, fl;
+	vm ok;
+};
+
+static inline struct pos sample_pos(const struct dao_gtao_setup *s, const struct px *p,
+				    const struct side *sd, vf cmaj, vf cmin, vf nmaj, vf nmin,
+				    vf step_sign, int i)
+{
+	const vf one = v_set1(1.0f), zero = v_zero();
+	struct pos o;
+	vf dist = v_add(one, v_mul(step_t(s, i, p->jitter), v_sub(p->r_px, one)));
+	/* snap the major axis to a pixel (never the centre pixel) */
+	vf m = v_round(v_add(cmaj, v_mul(sd->dmaj, dist)));
+	o.m = v_sel(v_eq(m, cmaj), v_add(m, step_sign), m);
+	o.ok = m_and(p->active, m_and(v_ge(o.m, zero), v_lt(o.m, nmaj)));
+	o.fm = v_add(cmin, v_mul(sd->dmin, v_mul(v_sub(o.m, cmaj), sd->inv_dmaj)));
+	o.fl = v_floor(o.fm);
+	o.ok = m_and(o.ok, m_and(v_ge(o.fl, v_set1(-1.0f)), v_lt(o.fl, nmin)));
+	return o;
+}
+
+#define MAX_STEPS 64
+
+/*
+ * Largest horizon cosine along one side (dao_gtao_sample + search_side of the
+ * reference).  major_x: lanes whose slice is closer to horizontal.  All the
+ * side's taps are gathered first: the loads are independent, so their cache
+ * misses overlap instead of each waiting behind the previous step's maths.
+ */
+static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
+		      const struct px *p, const struct side *sd, vm major_x)
+{
+	const vf one = v_set1(1.0f), zero = v_zero();
+	const vf cmaj = v_sel(major_x, p->x, p->y), cmin = v_sel(major_x, p->y, p->x);
+	const vf nmaj = v_sel(major_x, v_set1((float)s->width), v_set1((float)s->height));
+	const vf nmin = v_sel(major_x, v_set1((float)s->height), v_set1((float)s->width));
+	const vi second = vi_sel(major_x, vi_set1(pw), vi_set1(1)); /* offset of the minor+1 tap */
+	const vf step_sign = v_sel(v_gt(sd->dmaj, zero), one, v_set1(-1.0f));
+	const vf ax = v_set1(s->ax), bx = v_set1(s->bx), ay = v_set1(s->ay), by = v_set1(s->by);
+	const vf fmul = v_set1(s->falloff_mul), fadd = v_set1(s->falloff_add);
+	const int use_max = s->decay == 1.0f;
+	vf g0[MAX_STEPS], g1[MAX_STEPS];
+
+	for (int i = 0; i < s->steps; i++) {
+		struct pos o = sample_pos(s, p, sd, cmaj, cmin, nmaj, nmin, step_sign, i);
+		/* padded coordinates: the border row/column holds "no data" */
+		vi mi = vi_from_whole(v_add(o.m, one)), li = vi_from_whole(v_add(o.fl, one));
+		vi row = vi_sel(major_x, li, mi), col = vi_sel(major_x, mi, li);
+		vi idx = vi_add(vi_mul(row, vi_set1(pw)), col);
+		g0[i] = v_gather(izp, idx, o.ok);
+		g1[i] = v_gather(izp, vi_add(idx, second), o.ok);
+	}
+
+	vf best = sd->low;
+	for (int i = 0; i < s->steps; i++) {
+		struct pos o = sample_pos(s, p, sd, cmaj, cmin, nmaj, nmin, step_sign, i);
+		vm ok = o.ok;
+		vf iz0 = g0[i], iz1 = g1[i], f = v_sub(o.fm, o.fl);
+		vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
+		vm both = m_and(has0, has1);
+		vm edge = v_gt(v_abs(v_sub(iz0, iz1)), v_mul(v_set1(0.1f), v_min(iz0, iz1)));
+		vm use1 = v_ge(f, v_set1(0.5f));
+		/* smooth: interpolate 1/z; edge: the tap closer to the line, at its place */
+		vf iz = v_fma(f, v_sub(iz1, iz0), iz0);
+		vf fmin = o.fm;
+		vm edge_both = m_and(both, edge);
+		iz = v_sel(edge_both, v_sel(use1, iz1, iz0), iz);
+		fmin = v_sel(edge_both, v_add(o.fl, v_sel(use1, one, zero)), fmin);
+		vm only0 = m_andnot(m_and(has0, v_lt(f, v_set1(1e-3f))), has1);
+		vm only1 = m_andnot(m_and(has1, v_gt(f, v_set1(1.0f - 1e-3f))), has0);
+		iz = v_sel(only0, iz0, v_sel(only1, iz1, iz));
+		ok = m_and(ok, m_or(both, m_or(only0, only1)));
+		if (!m_any(ok))
+			continue;
+
+		vf zs = v_rcp(v_sel(ok, iz, one));
+		vf u = v_sel(major_x, o.m, fmin), v = v_sel(major_x, fmin, o.m);
+		vf Dx = v_sub(v_mul(v_fma(u, ax, bx), zs), p->Px);
+		vf Dy = v_sub(v_mul(v_fma(v, ay, by), zs), p->Py);
+		vf Dz = v_sub(zs, p->Pz);
+		vf len2 = v_fma(Dx, Dx, v_fma(Dy, Dy, v_mul(Dz, Dz)));
+		ok = m_and(ok, v_gt(len2, zero));
+		vf rl = v_rsqrt(v_sel(ok, len2, one));
+		vf len = v_mul(len2, rl);
+		vf c = v_mul(v_fma(Dx, p->Vx, v_fma(Dy, p->Vy, v_mul(Dz, p->Vz))), rl);
+		vf wgt = v_min(v_max(v_fma(len, fmul, fadd), zero), one);
+		c = v_fma(v_sub(c, sd->low), wgt, sd->low);
+		vf nb;
+		if (use_max)
+			nb = v_max(best, c);
+		else
+			nb = v_sel(v_gt(c, best), c, v_fma(v_sub(best, c), v_set1(s->decay), c));
+		best = v_sel(ok, nb, best);
+	}
+	return best;
+}
+
+/* cos(2h - n) and the slice-side integral 0.25 (-cos(2h - n) + cos n + 2 h sin n) */
+static inline vf side_integral(vf h, vf n, vf cos_n, vf sin_n)
+{
+	vf sv, cv;
+	v_sincos(v_sub(v_add(h, h), n), &sv, &cv);
+	(void)sv;
+	return v_mul(v_set1(0.25f), v_add(v_sub(cos_n, cv), v_mul(v_add(h, h), sin_n)));
+}
+
+static vf gtao_lanes(const struct dao_gtao_setup *s, const float *izp, int pw, const struct px *p,
+		     vf n0, const vf N[3])
+{
+	const vf one = v_set1(1.0f), zero = v_zero();
+	const vf half_pi = v_set1(DAO_HALF_PI_F);
+	vf vis = zero, norm = zero;
+	for (int sl = 0; sl < s->slices; sl++) {
+		vf phi = v_div(v_mul(v_add(v_set1((float)sl), n0), v_set1(DAO_PI_F)),
+			       v_set1((float)s->slices));
+		vf dx, dy;
+		v_sincos(phi, &dy, &dx);
+		/* slice plane axis: (dir - (dir.V) V) x V, dir = (dx ax, dy ay, 0) */
+		vf dirx = v_mul(dx, v_set1(s->ax)), diry = v_mul(dy, v_set1(s->ay));
+		vf dv = v_fma(dirx, p->Vx, v_mul(diry, p->Vy));
+		vf ox = v_sub(dirx, v_mul(dv, p->Vx)), oy = v_sub(diry, v_mul(dv, p->Vy));
+		vf oz = v_neg(v_mul(dv, p->Vz));
+		vf axx = v_sub(v_mul(oy, p->Vz), v_mul(oz, p->Vy));
+		vf axy = v_sub(v_mul(oz, p->Vx), v_mul(ox, p->Vz));
+		vf axz = v_sub(v_mul(ox, p->Vy), v_mul(oy, p->Vx));
+		vf la = v_sqrt(v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz))));
+		vf ila = v_div(one, la);
+		axx = v_mul(axx, ila), axy = v_mul(axy, ila), axz = v_mul(axz, ila);
+		vf na = v_fma(N[0], axx, v_fma(N[1], axy, v_mul(N[2], axz)));
+		vf pnx = v_sub(N[0], v_mul(axx, na)), pny = v_sub(N[1], v_mul(axy, na));
+		vf pnz = v_sub(N[2], v_mul(axz, na));
+		vf lpn = v_sqrt(v_fma(pnx, pnx, v_fma(pny, pny, v_mul(pnz, pnz))));
+		vm slice_ok = m_and(p->active, v_gt(lpn, v_set1(1e-6f)));
+		if (!m_any(slice_ok))
+			continue;
+		vf cos_n = v_div(v_fma(pnx, p->Vx, v_fma(pny, p->Vy, v_mul(pnz, p->Vz))),
+				 v_sel(slice_ok, lpn, one));
+		cos_n = v_min(v_max(cos_n, v_set1(-1.0f)), one);
+		vm neg = v_lt(v_fma(ox, pnx, v_fma(oy, pny, v_mul(oz, pnz))), zero);
+		vf n = v_acos(cos_n);
+		vf sin_n = v_sqrt(v_max(v_sub(one, v_mul(cos_n, cos_n)), zero));
+		n = v_sel(neg, v_neg(n), n);
+		sin_n = v_sel(neg, v_neg(sin_n), sin_n);
+
+		vm major_x = v_ge(v_abs(dx), v_abs(dy));
+		vf dmaj = v_sel(major_x, dx, dy), dmin = v_sel(major_x, dy, dx);
+		struct side pos = { dmaj, dmin, v_div(one, dmaj), v_neg(sin_n) };
+		struct side negs = { v_neg(dmaj), v_neg(dmin), v_neg(pos.inv_dmaj), sin_n };
+		struct px pa = *p;
+		pa.active = slice_ok;
+		vf hc_pos = search_side(s, izp, pw, &pa, &pos, major_x);
+		vf hc_neg = search_side(s, izp, pw, &pa, &negs, major_x);
+		vf h1 = v_acos(v_min(v_max(hc_pos, v_set1(-1.0f)), one));
+		vf h0 = v_neg(v_acos(v_min(v_max(hc_neg, v_set1(-1.0f)), one)));
+		h0 = v_add(n, v_max(v_sub(h0, n), v_neg(half_pi)));
+		h1 = v_add(n, v_min(v_sub(h1, n), half_pi));
+		vf a = v_add(side_integral(h0, n, cos_n, sin_n), side_integral(h1, n, cos_n, sin_n));
+		vis = v_add(vis, v_sel(slice_ok, v_mul(lpn, a), zero));
+		norm = v_add(norm, v_sel(slice_ok, v_mul(lpn, v_fma(n, sin_n, cos_n)), zero));
+	}
+	vm has = v_gt(norm, zero);
+	return v_sel(has, v_div(vis, v_sel(has, norm, one)), one);
+}
+
+void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z, const float *izp,
+			       const float *n, float *ao, int y0, int y1)
+{
+	const int w = s->width, pw = w + 2;
+	const float *iz_origin = izp; /* pixel (-1, -1) */
+	for (int y = y0; y < y1; y++) {
+		for (int x0 = 0; x0 < w; x0 += VN) {
+			const int lanes = w - x0 < VN ? w - x0 : VN;
+			const size_t i0 = (size_t)y * w + (size_t)x0;
+			float zl[VN], nl[3][VN], out[VN];
+			for (int k = 0; k < VN; k++) {
+				const int kk = k < lanes ? k : 0;
+				zl[k] = k < lanes ? z[i0 + k] : 0.0f;
+				for (int c = 0; c < 3; c++)
+					nl[c][k] = n[3 * (i0 + kk) + c];
+			}
+			struct px p;
+			p.x = v_add(v_set1((float)x0), v_iota());
+			p.y = v_set1((float)y);
+			p.Pz = v_load(zl);
+			p.Px = v_mul(v_add(v_mul(p.x, v_set1(s->ax)), v_set1(s->bx)), p.Pz);
+			p.Py = v_mul(v_add(v_mul(p.y, v_set1(s->ay)), v_set1(s->by)), p.Pz);
+			vm has_z = v_gt(p.Pz, v_zero());
+			vf zsafe = v_sel(has_z, p.Pz, v_set1(1.0f));
+			vf lp = v_sqrt(v_fma(p.Px, p.Px, v_fma(p.Py, p.Py, v_mul(p.Pz, p.Pz))));
+			vf ilp = v_div(v_set1(-1.0f), v_sel(has_z, lp, v_set1(1.0f)));
+			p.Vx = v_mul(p.Px, ilp), p.Vy = v_mul(p.Py, ilp), p.Vz = v_mul(p.Pz, ilp);
+			vf r = v_div(v_set1(s->search_radius * s->focal), zsafe);
+			vm big = m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, v_set1(1.0f)));
+			p.active = m_and(has_z, big);
+			p.r_px = v_min(r, v_set1(s->max_r_px));
+			vf vis = v_set1(1.0f);
+			if (m_any(p.active)) {
+				vf n0;
+				noise(s, p.x, p.y, x0, y, &n0, &p.jitter);
+				const vf N[3] = { v_load(nl[0]), v_load(nl[1]), v_load(nl[2]) };
+				vis = gtao_lanes(s, iz_origin, pw, &p, n0, N);
+			}
+			v_store(out, vis);
+			for (int k = 0; k < lanes; k++)
+				ao[i0 + k] = zl[k] > 0.0f ? dao_gtao_finish(s, out[k]) : s->invalid_value;
+		}
+	}
+}

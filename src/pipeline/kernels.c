@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+#include "depth/prefilter.h"
+#include "kernels/gtao_simd.h"
+#include "pipeline/kernels.h"
+
+static void gtao_reference(const struct dao_gtao_setup *s, const float *z, const float *izp,
+			   const float *n, float *ao, int y0, int y1)
+{
+	(void)izp;
+	dao_gtao_ref(s, z, n, ao, y0, y1);
+}
+
+#define KERNELS(isa)                                                                         \
+	(struct dao_kernels)                                                                 \
+	{                                                                                    \
+		.prefilter_h = dao_prefilter_h_##isa, .prefilter_v = dao_prefilter_v_##isa,  \
+		.gtao = dao_gtao_simd_##isa, .denoise_plane = dao_denoise_plane_##isa,       \
+	}
+
+void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
+{
+	switch (simd) {
+#if DAO_HAVE_X86_KERNELS
+	case DAO_SIMD_AVX2:
+		*k = KERNELS(avx2);
+		break;
+	case DAO_SIMD_SSE41:
+		*k = KERNELS(sse41);
+		break;
+#endif
+	case DAO_SIMD_GENERIC:
+		*k = KERNELS(generic);
+		break;
+	default:
+		*k = (struct dao_kernels){
+			.prefilter_h = dao_prefilter_h_ref,
+			.prefilter_v = dao_prefilter_v_ref,
+			.gtao = gtao_reference,
+			.denoise_plane = dao_denoise_plane,
+		};
+		simd = DAO_SIMD_REFERENCE;
+		break;
+	}
+	k->simd = simd;
+}

@@ -1,0 +1,28 @@
+/* SPDX-License-Identifier: MIT */
+/* The per-stage kernels of one kernel set (reference or an instruction set). */
+#ifndef DAO_PIPELINE_KERNELS_H
+#define DAO_PIPELINE_KERNELS_H
+
+#include <depthao/params.h>
+
+#include "denoise/denoise.h"
+#include "depth/prefilter.h"
+#include "kernels/gtao.h"
+
+struct dao_kernels {
+	enum dao_simd simd;
+	void (*prefilter_h)(const struct dao_prefilter_setup *s, const float *z, float *tmp, int y0,
+			    int y1);
+	void (*prefilter_v)(const struct dao_prefilter_setup *s, const float *tmp, float *out,
+			    int y0, int y1);
+	/* izp: bordered 1/z plane, used by the optimised kernels only */
+	void (*gtao)(const struct dao_gtao_setup *s, const float *z, const float *izp,
+		     const float *n, float *ao, int y0, int y1);
+	void (*denoise_plane)(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
+			      float *ao_out, int y0, int y1);
+};
+
+/* The kernels of `simd` (AUTO resolved by the caller; must be supported). */
+void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd);
+
+#endif

@@ -1,0 +1,83 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Vector acos / sin / cos over the SIMD vocabulary; include after one of
+ * simd_avx2.h, simd_sse41.h or simd_generic.h.  Errors against libm are
+ * measured by tests/simd/test_fastmath.c (bounds in that file).
+ */
+#ifndef DAO_SIMD_FASTMATH_H
+#define DAO_SIMD_FASTMATH_H
+
+/*
+ * acos(x), x in [-1, 1]: Abramowitz & Stegun 4.4.46,
+ * acos(x) = sqrt(1 - x) (a0 + a1 x + ... + a7 x^7) for 0 <= x <= 1 with
+ * absolute error <= 2e-8, and acos(-x) = pi - acos(x).
+ */
+static inline vf v_acos(vf x)
+{
+	vf ax = v_min(v_abs(x), v_set1(1.0f));
+	vf p = v_set1(-0.0012624911f);
+	p = v_fma(p, ax, v_set1(0.0066700901f));
+	p = v_fma(p, ax, v_set1(-0.0170881256f));
+	p = v_fma(p, ax, v_set1(0.0308918810f));
+	p = v_fma(p, ax, v_set1(-0.0501743046f));
+	p = v_fma(p, ax, v_set1(0.0889789874f));
+	p = v_fma(p, ax, v_set1(-0.2145988016f));
+	p = v_fma(p, ax, v_set1(1.5707963050f));
+	vf r = v_mul(v_sqrt(v_sub(v_set1(1.0f), ax)), p);
+	return v_sel(v_lt(x, v_zero()), v_sub(v_set1(3.14159265358979f), r), r);
+}
+
+/*
+ * sin and cos of x, |x| <= ~1e4: quadrant reduction r = x - k pi/2 with pi/2
+ * split in two parts (Cody & Waite), then Taylor series on |r| <= pi/4
+ * (truncation below 2e-9).
+ */
+static inline void v_sincos(vf x, vf *s, vf *c)
+{
+	vf k = v_round(v_mul(x, v_set1(0.636619772367581f)));
+	vf r = v_fma(k, v_set1(-1.57079637050628662f), x);
+	r = v_fma(k, v_set1(4.37113900018624283e-8f), r);
+	vf r2 = v_mul(r, r);
+	vf ps = v_set1(2.7557319e-6f);                 /* 1/9! */
+	ps = v_fma(ps, r2, v_set1(-1.98412698e-4f));   /* -1/7! */
+	ps = v_fma(ps, r2, v_set1(8.33333333e-3f));    /* 1/5! */
+	ps = v_fma(ps, r2, v_set1(-1.66666667e-1f));   /* -1/3! */
+	vf sr = v_fma(v_mul(ps, r2), r, r);
+	vf pc = v_set1(-2.7557319e-7f);                /* -1/10! */
+	pc = v_fma(pc, r2, v_set1(2.48015873e-5f));    /* 1/8! */
+	pc = v_fma(pc, r2, v_set1(-1.38888889e-3f));   /* -1/6! */
+	pc = v_fma(pc, r2, v_set1(4.16666667e-2f));    /* 1/4! */
+	pc = v_fma(pc, r2, v_set1(-0.5f));
+	vf cr = v_fma(pc, r2, v_set1(1.0f));
+	/* quadrant q = k mod 4 */
+	vf q = v_sub(k, v_mul(v_set1(4.0f), v_floor(v_mul(k, v_set1(0.25f)))));
+	vm odd = m_or(v_eq(q, v_set1(1.0f)), v_eq(q, v_set1(3.0f)));
+	vf ss = v_sel(odd, cr, sr), cc = v_sel(odd, sr, cr);
+	*s = v_sel(v_ge(q, v_set1(2.0f)), v_neg(ss), ss);
+	*c = v_sel(m_or(v_eq(q, v_set1(1.0f)), v_eq(q, v_set1(2.0f))), v_neg(cc), cc);
+}
+
+/*
+ * exp(x) for x <= 0 (0 below -80, where e^x < 2e-35): x = n ln2 + r with |r| <= ln2/2 (ln2 in
+ * two parts), e^r by its Taylor series to r^7 (truncation below 4e-9
+ * relative), then scaled by 2^n.
+ */
+static inline vf v_exp_neg(vf x)
+{
+	vm under = v_lt(x, v_set1(-80.0f));
+	x = v_max(x, v_set1(-80.0f));
+	vf n = v_round(v_mul(x, v_set1(1.44269504088896f)));
+	vf r = v_fma(n, v_set1(-0.693145751953125f), x);
+	r = v_fma(n, v_set1(-1.428606820309417e-6f), r);
+	vf p = v_set1(1.0f / 5040.0f);
+	p = v_fma(p, r, v_set1(1.0f / 720.0f));
+	p = v_fma(p, r, v_set1(1.0f / 120.0f));
+	p = v_fma(p, r, v_set1(1.0f / 24.0f));
+	p = v_fma(p, r, v_set1(1.0f / 6.0f));
+	p = v_fma(p, r, v_set1(0.5f));
+	p = v_fma(p, r, v_set1(1.0f));
+	p = v_fma(p, r, v_set1(1.0f));
+	return v_sel(under, v_zero(), v_ldexp(p, n));
+}
+
+#endif

@@ -1,0 +1,84 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * SIMD vocabulary in portable GCC/Clang vector extensions: 4 float lanes,
+ * lowered to whatever the target has (SSE2 on baseline x86-64, NEON on
+ * arm64).  Floor and round use only arithmetic so they vectorise too.
+ */
+#ifndef DAO_SIMD_GENERIC_H
+#define DAO_SIMD_GENERIC_H
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#define VN 4
+#define DAO_SIMD_NAME "generic"
+
+typedef float vf __attribute__((vector_size(16)));
+typedef int32_t vi __attribute__((vector_size(16)));
+typedef vi vm; /* -1 / 0 lanes, as vector comparisons produce */
+
+static inline vf v_set1(float a) { return (vf){ a, a, a, a }; }
+static inline vf v_zero(void) { return (vf){ 0, 0, 0, 0 }; }
+static inline vf v_iota(void) { return (vf){ 0, 1, 2, 3 }; }
+static inline vf v_load(const float *p) { vf a; memcpy(&a, p, sizeof a); return a; }
+static inline void v_store(float *p, vf a) { memcpy(p, &a, sizeof a); }
+static inline vf v_add(vf a, vf b) { return a + b; }
+static inline vf v_sub(vf a, vf b) { return a - b; }
+static inline vf v_mul(vf a, vf b) { return a * b; }
+static inline vf v_div(vf a, vf b) { return a / b; }
+static inline vf v_fma(vf a, vf b, vf c) { return a * b + c; }
+static inline vf v_sel(vm m, vf a, vf b) { return (vf)((m & (vi)a) | (~m & (vi)b)); }
+static inline vf v_min(vf a, vf b) { return v_sel(a < b, a, b); }
+static inline vf v_max(vf a, vf b) { return v_sel(a > b, a, b); }
+static inline vf v_sqrt(vf a)
+{
+	return (vf){ sqrtf(a[0]), sqrtf(a[1]), sqrtf(a[2]), sqrtf(a[3]) };
+}
+static inline vf v_abs(vf a) { return (vf)((vi)a & (vi){ 0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff }); }
+static inline vf v_neg(vf a) { return -a; }
+/* valid for |a| < 2^22, far beyond any pixel coordinate */
+static inline vf v_round(vf a)
+{
+	const vf magic = v_set1(12582912.0f); /* 1.5 * 2^23: adding it rounds to an integer, ties to even */
+	vf r = (a + magic) - magic;
+	return v_sel(v_abs(a) < v_set1(4194304.0f), r, a);
+}
+static inline vf v_floor(vf a)
+{
+	vf r = v_round(a);
+	return r - v_sel(r > a, v_set1(1.0f), v_zero());
+}
+
+/* no estimate instructions to rely on: exact */
+static inline vf v_rcp(vf a) { return v_set1(1.0f) / a; }
+static inline vf v_rsqrt(vf a) { return v_set1(1.0f) / v_sqrt(a); }
+
+static inline vm v_lt(vf a, vf b) { return a < b; }
+static inline vm v_le(vf a, vf b) { return a <= b; }
+static inline vm v_gt(vf a, vf b) { return a > b; }
+static inline vm v_ge(vf a, vf b) { return a >= b; }
+static inline vm v_eq(vf a, vf b) { return a == b; }
+static inline vm m_and(vm a, vm b) { return a & b; }
+static inline vm m_or(vm a, vm b) { return a | b; }
+static inline vm m_andnot(vm a, vm b) { return a & ~b; }
+static inline int m_any(vm a) { return (a[0] | a[1] | a[2] | a[3]) != 0; }
+
+static inline vi vi_set1(int32_t a) { return (vi){ a, a, a, a }; }
+static inline vi vi_add(vi a, vi b) { return a + b; }
+static inline vi vi_mul(vi a, vi b) { return a * b; }
+static inline vi vi_from_whole(vf a) { return __builtin_convertvector(a, vi); }
+static inline vi vi_sel(vm m, vi a, vi b) { return (m & a) | (~m & b); }
+static inline vf v_ldexp(vf a, vf n)
+{
+	return (vf)((vi)a + (__builtin_convertvector(n, vi) << 23));
+}
+static inline vf v_gather(const float *base, vi idx, vm m)
+{
+	vf o;
+	for (int k = 0; k < 4; k++)
+		o[k] = m[k] ? base[idx[k]] : 0.0f;
+	return o;
+}
+
+#endif

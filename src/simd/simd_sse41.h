@@ -1,0 +1,81 @@
+/* SPDX-License-Identifier: MIT */
+/* SIMD vocabulary for SSE4.1: 4 float lanes (no gather instruction: lane loads). */
+#ifndef DAO_SIMD_SSE41_H
+#define DAO_SIMD_SSE41_H
+
+#include <smmintrin.h>
+#include <stdint.h>
+
+#define VN 4
+#define DAO_SIMD_NAME "sse4.1"
+
+typedef __m128 vf;
+typedef __m128i vi;
+typedef __m128 vm;
+
+static inline vf v_set1(float a) { return _mm_set1_ps(a); }
+static inline vf v_zero(void) { return _mm_setzero_ps(); }
+static inline vf v_iota(void) { return _mm_setr_ps(0, 1, 2, 3); }
+static inline vf v_load(const float *p) { return _mm_loadu_ps(p); }
+static inline void v_store(float *p, vf a) { _mm_storeu_ps(p, a); }
+static inline vf v_add(vf a, vf b) { return _mm_add_ps(a, b); }
+static inline vf v_sub(vf a, vf b) { return _mm_sub_ps(a, b); }
+static inline vf v_mul(vf a, vf b) { return _mm_mul_ps(a, b); }
+static inline vf v_div(vf a, vf b) { return _mm_div_ps(a, b); }
+static inline vf v_fma(vf a, vf b, vf c) { return _mm_add_ps(_mm_mul_ps(a, b), c); }
+static inline vf v_min(vf a, vf b) { return _mm_min_ps(a, b); }
+static inline vf v_max(vf a, vf b) { return _mm_max_ps(a, b); }
+static inline vf v_sqrt(vf a) { return _mm_sqrt_ps(a); }
+static inline vf v_abs(vf a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+static inline vf v_neg(vf a) { return _mm_xor_ps(_mm_set1_ps(-0.0f), a); }
+static inline vf v_floor(vf a) { return _mm_floor_ps(a); }
+static inline vf v_round(vf a) { return _mm_round_ps(a, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC); }
+
+/* 1/a and 1/sqrt(a): estimate + one Newton step (relative error below 3e-7), a > 0 */
+static inline vf v_rcp(vf a)
+{
+	vf r = _mm_rcp_ps(a);
+	return _mm_mul_ps(r, _mm_sub_ps(_mm_set1_ps(2.0f), _mm_mul_ps(a, r)));
+}
+static inline vf v_rsqrt(vf a)
+{
+	vf r = _mm_rsqrt_ps(a);
+	vf ar2 = _mm_mul_ps(_mm_mul_ps(a, r), r);
+	return _mm_mul_ps(_mm_mul_ps(_mm_set1_ps(0.5f), r), _mm_sub_ps(_mm_set1_ps(3.0f), ar2));
+}
+
+static inline vm v_lt(vf a, vf b) { return _mm_cmplt_ps(a, b); }
+static inline vm v_le(vf a, vf b) { return _mm_cmple_ps(a, b); }
+static inline vm v_gt(vf a, vf b) { return _mm_cmpgt_ps(a, b); }
+static inline vm v_ge(vf a, vf b) { return _mm_cmpge_ps(a, b); }
+static inline vm v_eq(vf a, vf b) { return _mm_cmpeq_ps(a, b); }
+static inline vm m_and(vm a, vm b) { return _mm_and_ps(a, b); }
+static inline vm m_or(vm a, vm b) { return _mm_or_ps(a, b); }
+static inline vm m_andnot(vm a, vm b) { return _mm_andnot_ps(b, a); }
+static inline int m_any(vm a) { return _mm_movemask_ps(a) != 0; }
+static inline vf v_sel(vm m, vf a, vf b) { return _mm_blendv_ps(b, a, m); }
+
+static inline vi vi_set1(int32_t a) { return _mm_set1_epi32(a); }
+static inline vi vi_add(vi a, vi b) { return _mm_add_epi32(a, b); }
+static inline vi vi_mul(vi a, vi b) { return _mm_mullo_epi32(a, b); }
+static inline vi vi_from_whole(vf a) { return _mm_cvtps_epi32(a); }
+static inline vi vi_sel(vm m, vi a, vi b)
+{
+	return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(b), _mm_castsi128_ps(a), m));
+}
+static inline vf v_ldexp(vf a, vf n)
+{
+	return _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(a), _mm_slli_epi32(_mm_cvtps_epi32(n), 23)));
+}
+static inline vf v_gather(const float *base, vi idx, vm m)
+{
+	int32_t i[4];
+	float o[4];
+	_mm_storeu_si128((__m128i *)i, idx);
+	int bits = _mm_movemask_ps(m);
+	for (int k = 0; k < 4; k++)
+		o[k] = (bits >> k) & 1 ? base[i[k]] : 0.0f;
+	return _mm_loadu_ps(o);
+}
+
+#endif

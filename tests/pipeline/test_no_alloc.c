@@ -1,0 +1,153 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Steady state allocates nothing: the test interposes the C allocator
+ * (glibc) and counts every malloc/calloc/realloc/aligned allocation made by
+ * any code in the process while 100 frames are processed and shaded, with
+ * worker threads and for each preset.  Creating a context must be seen to
+ * allocate, or the counter is not working and the test fails.
+ */
+#define _GNU_SOURCE
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <depthao/depthao.h>
+
+#include "common/test_common.h"
+
+#ifdef __GLIBC__
+void *__libc_malloc(size_t n);
+void *__libc_calloc(size_t n, size_t m);
+void *__libc_realloc(void *p, size_t n);
+void *__libc_memalign(size_t a, size_t n);
+void __libc_free(void *p);
+
+static atomic_int counting;
+static atomic_long allocations;
+
+static void count(void)
+{
+	if (atomic_load(&counting))
+		atomic_fetch_add(&allocations, 1);
+}
+
+void *malloc(size_t n)
+{
+	count();
+	return __libc_malloc(n);
+}
+
+void *calloc(size_t n, size_t m)
+{
+	count();
+	return __libc_calloc(n, m);
+}
+
+void *realloc(void *p, size_t n)
+{
+	count();
+	return __libc_realloc(p, n);
+}
+
+void *aligned_alloc(size_t a, size_t n)
+{
+	count();
+	return __libc_memalign(a, n);
+}
+
+int posix_memalign(void **out, size_t a, size_t n)
+{
+	count();
+	*out = __libc_memalign(a, n);
+	return *out ? 0 : 12;
+}
+
+void free(void *p)
+{
+	__libc_free(p);
+}
+
+static int run(enum dao_quality q, int noise)
+{
+	enum { W = 160, H = 120 };
+	static uint16_t depth[W * H];
+	static uint8_t rgb[W * H * 3];
+	static uint16_t ao16[W * H];
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) /* a floor meeting a wall, with a box */
+			depth[y * W + x] = (uint16_t)(y > 75 ? 1500 + (H - y) * 16 : 2500) -
+					   ((x > 50 && x < 90 && y > 45 && y < 85) ? 600 : 0);
+	struct dao_camera cam;
+	struct dao_params p;
+	struct dao_context *ctx;
+	struct dao_error err;
+	if (dao_camera_from_fov(&cam, W, H, 1.0210, 0.7959, &err)) {
+		fprintf(stderr, "camera: %s\n", err.message);
+		return 1;
+	}
+	dao_params_init(&p, q);
+	p.threads = 2;
+	p.noise = noise;
+	atomic_store(&allocations, 0);
+	atomic_store(&counting, 1);
+	if (dao_context_create(&ctx, &cam, &p, &err)) {
+		fprintf(stderr, "create: %s\n", err.message);
+		return 1;
+	}
+	atomic_store(&counting, 0);
+	long at_create = atomic_load(&allocations);
+	if (at_create == 0) {
+		fprintf(stderr, "FAIL: the allocation counter saw nothing while creating a context\n");
+		return 1;
+	}
+	struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
+				.stride = 2 * W, .data = depth, .depth_unit = 0.001f };
+	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY16, .width = W, .height = H,
+				.stride = 2 * W, .data = ao16 };
+	struct dao_frame sh = { .format = DAO_PIXFMT_RGB24, .width = W, .height = H,
+				.stride = 3 * W, .data = rgb };
+	int r = 0;
+	/* warm-up: the first frames may fill lazily built tables */
+	for (int i = 0; i < 3 && !r; i++)
+		r = dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
+		    dao_context_shade(ctx, &sh, &err);
+	atomic_store(&allocations, 0);
+	atomic_store(&counting, 1);
+	for (int i = 3; i < 103 && !r; i++) {
+		r = dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
+		    dao_context_shade(ctx, &sh, &err);
+		if (i == 50) /* a run-time parameter change, as the daemon makes */
+			r = r || dao_context_set_params(ctx, &p, &err);
+	}
+	atomic_store(&counting, 0);
+	long steady = atomic_load(&allocations);
+	dao_context_destroy(ctx);
+	if (r) {
+		fprintf(stderr, "FAIL: processing: %s\n", err.message);
+		return 1;
+	}
+	printf("%-6s noise %d: %ld allocations creating the context, %ld in 100 frames\n",
+	       dao_quality_name(q), noise, at_create, steady);
+	if (steady != 0) {
+		fprintf(stderr, "FAIL: %ld heap allocations in steady state\n", steady);
+		return 1;
+	}
+	return 0;
+}
+
+int main(void)
+{
+	int r = 0;
+	for (int q = 0; q < DAO_QUALITY_COUNT; q++)
+		r |= run((enum dao_quality)q, DAO_NOISE_IGN);
+	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_R2);
+	return r;
+}
+#else
+int main(void)
+{
+	printf("SKIP: the allocation counter interposes glibc's allocator; this is not glibc\n");
+	return DAO_TEST_SKIP;
+}
+#endif

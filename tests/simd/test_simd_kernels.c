@@ -1,0 +1,425 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Every optimised kernel set against the scalar reference, in the manner of
+ * FFmpeg's checkasm: the same inputs through simd=reference and through each
+ * instruction set this CPU has, stage by stage and end to end, on synthetic
+ * scenes (clean and with sensor noise) and on the real frames in
+ * ../shared/data.  The bounds are stated in README.md (Performance).
+ */
+#include "common/cmocka_all.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <depthao/depthao.h>
+
+#include "core/math_util.h"
+#include "denoise/denoise.h"
+#include "depth/prefilter.h"
+#include "kernels/gtao.h"
+#include "pipeline/kernels.h"
+#include "simd/fastmath_check.h"
+#include "synth/synth.h"
+#include "common/test_common.h"
+
+/* bounds, optimised vs reference (measured on this project's machine in brackets) */
+#define PREFILTER_MAX_REL 2e-6    /* prefiltered depth, relative [6.7e-7] */
+#define DENOISE_MAX_ABS 1e-6      /* plane denoise output [2.4e-7] */
+#define GTAO_MAE 2e-6             /* GTAO kernel on identical inputs [3.9e-7] */
+#define GTAO_P999 1e-4            /* 99.9th percentile of |difference| [2.7e-5] */
+#define GTAO_MAX 0.05             /* a sample snapping to the other pixel of a tie [0.012] */
+#define PIPELINE_MAE 1e-5         /* whole dao_context_process [1.7e-6] */
+
+struct input {
+	char name[64];
+	struct dao_camera cam;
+	float *depth; /* metres */
+};
+
+static struct input inputs[16];
+static int ninputs;
+
+static void add_synth(const char *scene, int noisy)
+{
+	struct input *in = &inputs[ninputs];
+	struct synth_scene sc;
+	struct synth_image img;
+	assert_int_equal(synth_scene_build(scene, 0.0, &sc, NULL), 0);
+	synth_default_camera(&in->cam);
+	assert_int_equal(synth_render(&sc, &in->cam, 0.5, 0, 2, &img, NULL), 0);
+	if (noisy)
+		synth_sensor_noise(img.depth, img.width, img.height, 0.0012, 0.001, 0.01, 7);
+	in->depth = img.depth;
+	img.depth = NULL;
+	synth_image_free(&img);
+	snprintf(in->name, sizeof in->name, "%s%s", scene, noisy ? " noisy" : "");
+	ninputs++;
+}
+
+static void add_real(const char *rel, float unit, double fx, double fy, double cx, double cy)
+{
+	char path[512];
+	if (dao_test_data_path(rel, path, sizeof path)) {
+		print_message("skipping %s: ../shared/data not found\n", rel);
+		return;
+	}
+	struct input *in = &inputs[ninputs];
+	struct dao_frame f;
+	struct dao_error err;
+	if (dao_png_read_depth(path, unit, &f, &err))
+		fail_msg("%s: %s", rel, err.message);
+	assert_int_equal(dao_camera_from_intrinsics(&in->cam, f.width, f.height, fx, fy, cx, cy, NULL), 0);
+	in->depth = malloc((size_t)f.width * f.height * sizeof(float));
+	for (uint32_t y = 0; y < f.height; y++)
+		for (uint32_t x = 0; x < f.width; x++) {
+			uint16_t v;
+			memcpy(&v, (const char *)f.data + y * f.stride + 2 * x, 2);
+			in->depth[y * f.width + x] = (float)v * unit;
+		}
+	dao_frame_free(&f);
+	snprintf(in->name, sizeof in->name, "%s", rel);
+	ninputs++;
+}
+
+static int setup(void **state)
+{
+	(void)state;
+	static const char *const scenes[] = { "room-corner", "stairs", "boxes", "thin-pole" };
+	for (int i = 0; i < 4; i++) {
+		add_synth(scenes[i], 0);
+		add_synth(scenes[i], 1);
+	}
+	add_real("redwood_open3d/depth_00000.png", 0.001f, 525, 525, 319.5, 239.5);
+	add_real("tum_open3d/TUM_depth.png", 0.0002f, 525, 525, 319.5, 239.5);
+	add_real("realsense_6dpose/depth.png", 0.001f, 622.439, 622.439, 315.746, 250.804);
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	(void)state;
+	for (int i = 0; i < ninputs; i++)
+		free(inputs[i].depth);
+	return 0;
+}
+
+/* The optimised sets this CPU can run. */
+static int optimised_sets(enum dao_simd *out)
+{
+	int n = 0;
+	for (int s = DAO_SIMD_GENERIC; s < DAO_SIMD_COUNT; s++)
+		if (dao_simd_supported((enum dao_simd)s))
+			out[n++] = (enum dao_simd)s;
+	return n;
+}
+
+struct diff {
+	double mae, max, p999;
+	long n;
+};
+
+static int cmp_f(const void *a, const void *b)
+{
+	float x = *(const float *)a, y = *(const float *)b;
+	return (x > y) - (x < y);
+}
+
+static struct diff compare(const float *a, const float *b, size_t n, int relative)
+{
+	struct diff d = { 0 };
+	float *e = malloc(n * sizeof *e);
+	assert_non_null(e);
+	for (size_t i = 0; i < n; i++) {
+		if (isnan(a[i]) != isnan(b[i]))
+			fail_msg("NaN in one result only at %zu", i);
+		double v = fabs((double)a[i] - b[i]);
+		if (relative && a[i] != 0.0f)
+			v /= fabs(a[i]);
+		e[d.n++] = (float)v;
+		d.mae += v;
+		if (v > d.max)
+			d.max = v;
+	}
+	qsort(e, n, sizeof *e, cmp_f);
+	d.p999 = e[(size_t)(0.999 * (double)(n - 1))];
+	d.mae /= (double)n;
+	free(e);
+	return d;
+}
+
+/* Reference prefilter + normals of an input, as the pipeline feeds the kernels. */
+struct planes {
+	int w, h;
+	float *z, *n, *izp, *tmp;
+};
+
+static void make_planes(const struct input *in, struct planes *p)
+{
+	struct dao_params prm;
+	dao_params_init(&prm, DAO_QUALITY_DEFAULT);
+	prm.simd = DAO_SIMD_REFERENCE;
+	prm.threads = 2;
+	prm.slices = 1; /* only depth and normals are used */
+	prm.steps = 1;
+	p->w = (int)in->cam.width;
+	p->h = (int)in->cam.height;
+	size_t np = (size_t)p->w * p->h;
+	p->z = malloc(np * 4);
+	p->n = malloc(np * 12);
+	p->tmp = malloc(np * 4);
+	p->izp = calloc(((size_t)p->w + 2) * (p->h + 2), 4);
+	struct dao_context *ctx;
+	assert_int_equal(dao_context_create(&ctx, &in->cam, &prm, NULL), 0);
+	struct dao_frame d = { .format = DAO_PIXFMT_DEPTH_F32, .width = in->cam.width,
+			       .height = in->cam.height, .stride = 4 * p->w, .data = in->depth };
+	assert_int_equal(dao_context_process(ctx, &d, NULL, 0, NULL, NULL), 0);
+	struct dao_frame zf = { .format = DAO_PIXFMT_DEPTH_F32, .width = d.width, .height = d.height,
+				.stride = 4 * p->w, .data = p->z };
+	struct dao_frame nf = { .format = DAO_PIXFMT_NORMAL_F32, .width = d.width, .height = d.height,
+				.stride = 12 * p->w, .data = p->n };
+	assert_int_equal(dao_context_get_depth(ctx, &zf, NULL), 0);
+	assert_int_equal(dao_context_get_normals(ctx, &nf, NULL), 0);
+	dao_context_destroy(ctx);
+	for (int y = 0; y < p->h; y++)
+		for (int x = 0; x < p->w; x++) {
+			float z = p->z[(size_t)y * p->w + x];
+			p->izp[(size_t)(y + 1) * (p->w + 2) + x + 1] = z > 0.0f ? 1.0f / z : 0.0f;
+		}
+}
+
+static void free_planes(struct planes *p)
+{
+	free(p->z);
+	free(p->n);
+	free(p->izp);
+	free(p->tmp);
+}
+
+static void test_prefilter(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	for (int i = 0; i < ninputs; i++) {
+		const struct input *in = &inputs[i];
+		const int w = (int)in->cam.width, h = (int)in->cam.height;
+		const size_t np = (size_t)w * h;
+		struct dao_prefilter_setup s;
+		dao_prefilter_setup_init(&s, w, h, 3, 0.0012f, 0.001f);
+		float *tmp = malloc(np * 4), *ref = malloc(np * 4), *opt = malloc(np * 4);
+		dao_prefilter_h_ref(&s, in->depth, tmp, 0, h);
+		dao_prefilter_v_ref(&s, tmp, ref, 0, h);
+		for (int k = 0; k < ns; k++) {
+			struct dao_kernels kr;
+			dao_kernels_select(&kr, sets[k]);
+			kr.prefilter_h(&s, in->depth, tmp, 0, h);
+			kr.prefilter_v(&s, tmp, opt, 0, h);
+			struct diff d = compare(ref, opt, np, 1);
+			print_message("prefilter %-8s %-34s max rel %.2e\n", dao_simd_name(sets[k]),
+				      in->name, d.max);
+			for (size_t p = 0; p < np; p++)
+				if ((ref[p] == 0.0f) != (opt[p] == 0.0f))
+					fail_msg("hole mismatch at %zu", p);
+			assert_true(d.max <= PREFILTER_MAX_REL);
+		}
+		free(tmp);
+		free(ref);
+		free(opt);
+	}
+}
+
+static void test_denoise(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	for (int i = 0; i < ninputs; i++) {
+		struct planes p;
+		make_planes(&inputs[i], &p);
+		const size_t np = (size_t)p.w * p.h;
+		float *ao = malloc(np * 4), *ref = malloc(np * 4), *opt = malloc(np * 4);
+		unsigned seed = 5;
+		for (size_t k = 0; k < np; k++) { /* noisy AO to smooth */
+			seed = seed * 1103515245u + 12345u;
+			ao[k] = (float)((seed >> 8) & 0xffff) / 65535.0f;
+		}
+		struct dao_denoise_setup s = { .width = p.w, .height = p.h, .noise_k = 0.0012f,
+					       .sharpness = 4.0f, .radius = 4, .invalid_value = 1.0f };
+		dao_denoise_plane(&s, p.z, ao, ref, 0, p.h);
+		for (int k = 0; k < ns; k++) {
+			struct dao_kernels kr;
+			dao_kernels_select(&kr, sets[k]);
+			kr.denoise_plane(&s, p.z, ao, opt, 0, p.h);
+			struct diff d = compare(ref, opt, np, 0);
+			print_message("denoise   %-8s %-34s max %.2e\n", dao_simd_name(sets[k]),
+				      inputs[i].name, d.max);
+			assert_true(d.max <= DENOISE_MAX_ABS);
+		}
+		free(ao);
+		free(ref);
+		free(opt);
+		free_planes(&p);
+	}
+}
+
+static void gtao_case(const struct planes *p, const struct input *in, int slices, int steps,
+		      float thickness, int noise)
+{
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	const size_t np = (size_t)p->w * p->h;
+	struct dao_params prm;
+	dao_params_init(&prm, DAO_QUALITY_DEFAULT);
+	prm.slices = slices;
+	prm.steps = steps;
+	prm.thickness = thickness;
+	prm.noise = noise;
+	struct dao_gtao_setup s;
+	dao_gtao_setup_init(&s, &in->cam, &prm, 3);
+	static float tile[8192];
+	dao_gtao_fill_r2_tile(tile, 3);
+	s.r2_tile = tile;
+	float *ref = malloc(np * 4), *opt = malloc(np * 4);
+	dao_gtao_ref(&s, p->z, p->n, ref, 0, p->h);
+	for (int k = 0; k < ns; k++) {
+		struct dao_kernels kr;
+		dao_kernels_select(&kr, sets[k]);
+		kr.gtao(&s, p->z, p->izp, p->n, opt, 0, p->h);
+		struct diff d = compare(ref, opt, np, 0);
+		print_message("gtao %2dx%-2d th %.2f noise %d %-8s %-30s MAE %.2e p99.9 %.2e max %.3f\n",
+			      slices, steps, (double)thickness, noise, dao_simd_name(sets[k]), in->name,
+			      d.mae, d.p999, d.max);
+		assert_true(d.mae <= GTAO_MAE);
+		assert_true(d.p999 <= GTAO_P999);
+		assert_true(d.max <= GTAO_MAX);
+	}
+	free(ref);
+	free(opt);
+}
+
+static void test_gtao(void **state)
+{
+	(void)state;
+	for (int i = 0; i < ninputs; i++) {
+		struct planes p;
+		make_planes(&inputs[i], &p);
+		gtao_case(&p, &inputs[i], 2, 6, 0.0f, DAO_NOISE_IGN);
+		if (i % 3 == 0) { /* the other code paths on a few inputs */
+			gtao_case(&p, &inputs[i], 4, 8, 0.0f, DAO_NOISE_R2);
+			gtao_case(&p, &inputs[i], 3, 5, 0.05f, DAO_NOISE_NONE);
+		}
+		free_planes(&p);
+	}
+}
+
+static void test_pipeline(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	for (int i = 0; i < ninputs; i++) {
+		const struct input *in = &inputs[i];
+		const size_t np = (size_t)in->cam.width * in->cam.height;
+		float *ref = malloc(np * 4), *opt = malloc(np * 4);
+		struct dao_frame d = { .format = DAO_PIXFMT_DEPTH_F32, .width = in->cam.width,
+				       .height = in->cam.height, .stride = 4 * (int32_t)in->cam.width,
+				       .data = in->depth };
+		struct dao_frame o = { .format = DAO_PIXFMT_GRAY_F32, .width = d.width,
+				       .height = d.height, .stride = d.stride };
+		for (int k = -1; k < ns; k++) {
+			struct dao_params prm;
+			dao_params_init(&prm, DAO_QUALITY_DEFAULT);
+			prm.simd = k < 0 ? DAO_SIMD_REFERENCE : sets[k];
+			struct dao_context *ctx;
+			assert_int_equal(dao_context_create(&ctx, &in->cam, &prm, NULL), 0);
+			assert_int_equal(dao_context_simd(ctx), prm.simd);
+			o.data = k < 0 ? ref : opt;
+			assert_int_equal(dao_context_process(ctx, &d, NULL, 1, &o, NULL), 0);
+			dao_context_destroy(ctx);
+			if (k < 0)
+				continue;
+			struct diff df = compare(ref, opt, np, 0);
+			print_message("pipeline  %-8s %-34s MAE %.2e max %.3f\n",
+				      dao_simd_name(sets[k]), in->name, df.mae, df.max);
+			assert_true(df.mae <= PIPELINE_MAE);
+		}
+		free(ref);
+		free(opt);
+	}
+}
+
+typedef void (*fm_fn)(enum dao_fastmath_fn, const float *, float *, int);
+
+static void test_fastmath(void **state)
+{
+	(void)state;
+	enum { N = 1 << 16 };
+	static float in[N], out[N];
+	static const struct {
+		enum dao_simd simd;
+		fm_fn fn;
+	} impl[] = {
+		{ DAO_SIMD_GENERIC, dao_fastmath_eval_generic },
+#if DAO_HAVE_X86_KERNELS
+		{ DAO_SIMD_SSE41, dao_fastmath_eval_sse41 },
+		{ DAO_SIMD_AVX2, dao_fastmath_eval_avx2 },
+#endif
+	};
+	/* function, domain, libm, absolute or relative bound */
+	static const struct {
+		enum dao_fastmath_fn fn;
+		const char *name;
+		double lo, hi, bound;
+		int relative;
+	} fns[] = {
+		{ DAO_FM_ACOS, "acos", -1.0, 1.0, 1e-6, 0 },
+		{ DAO_FM_SIN, "sin", -7.0, 7.0, 5e-7, 0 },
+		{ DAO_FM_COS, "cos", -7.0, 7.0, 5e-7, 0 },
+		{ DAO_FM_EXP, "exp", -80.0, 0.0, 5e-7, 1 },
+		{ DAO_FM_RCP, "rcp", 0.01, 100.0, 5e-7, 1 },
+		{ DAO_FM_RSQRT, "rsqrt", 1e-6, 1e4, 5e-7, 1 },
+	};
+	for (size_t k = 0; k < sizeof impl / sizeof impl[0]; k++) {
+		if (!dao_simd_supported(impl[k].simd))
+			continue;
+		for (size_t f = 0; f < sizeof fns / sizeof fns[0]; f++) {
+			for (int i = 0; i < N; i++)
+				in[i] = (float)(fns[f].lo + (fns[f].hi - fns[f].lo) * i / (N - 1));
+			impl[k].fn(fns[f].fn, in, out, N);
+			double worst = 0;
+			for (int i = 0; i < N; i++) {
+				double x = in[i], want;
+				switch (fns[f].fn) {
+				case DAO_FM_ACOS: want = acos(x); break;
+				case DAO_FM_SIN: want = sin(x); break;
+				case DAO_FM_COS: want = cos(x); break;
+				case DAO_FM_EXP: want = exp(x); break;
+				case DAO_FM_RCP: want = 1.0 / x; break;
+				default: want = 1.0 / sqrt(x); break;
+				}
+				double e = fabs(out[i] - want);
+				if (fns[f].relative)
+					e /= fabs(want);
+				if (e > worst)
+					worst = e;
+			}
+			print_message("%-8s %-6s max %s error %.2e\n", dao_simd_name(impl[k].simd),
+				      fns[f].name, fns[f].relative ? "relative" : "absolute", worst);
+			assert_true(worst <= fns[f].bound);
+		}
+	}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_fastmath),
+		cmocka_unit_test(test_prefilter),
+		cmocka_unit_test(test_denoise),
+		cmocka_unit_test(test_gtao),
+		cmocka_unit_test(test_pipeline),
+	};
+	return cmocka_run_group_tests(tests, setup, teardown);
+}
