@@ -5,7 +5,7 @@
 
 expect_exit 0 "--help" -- "$DEPTHAO" --help && grep -q "process" "$WORK/out" || fail "--help lacks commands"
 expect_exit 0 "--version" -- "$DEPTHAO" --version && grep -q "^depthao [0-9]" "$WORK/out" || fail "--version output"
-for cmd in process synth eval; do
+for cmd in process synth eval bench; do
 	expect_exit 0 "$cmd --help" -- "$DEPTHAO" $cmd --help
 	grep -q "usage: depthao $cmd" "$WORK/out" || fail "$cmd --help lacks usage"
 done

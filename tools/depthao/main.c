@@ -17,6 +17,7 @@ static void usage(FILE *out)
 		"  process   depth PNG file or directory -> AO and occlusion-shaded PNGs\n"
 		"  synth     write synthetic scenes with ray-traced ground-truth AO\n"
 		"  eval      measure every quality preset against the ground truth\n"
+		"  bench     time the pipeline and its stages per size, preset and thread count\n"
 		"\n"
 		"  depthao <command> --help   options of a command\n"
 		"  depthao --version          version\n");
@@ -55,5 +56,7 @@ int main(int argc, char **argv)
 		return cmd_synth(argc - 1, argv + 1);
 	if (strcmp(cmd, "eval") == 0)
 		return cmd_eval(argc - 1, argv + 1);
+	if (strcmp(cmd, "bench") == 0)
+		return cmd_bench(argc - 1, argv + 1);
 	return usage_error(NULL, "unknown command '%s'", cmd);
 }
