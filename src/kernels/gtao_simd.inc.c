@@ -104,13 +104,9 @@ static inline struct pos sample_pos(const struct dao_gtao_setup *s, const struct
 	return o;
 }
 
-#define MAX_STEPS 64
-
 /*
  * Largest horizon cosine along one side (dao_gtao_sample + search_side of the
- * reference).  major_x: lanes whose slice is closer to horizontal.  All the
- * side's taps are gathered first: the loads are independent, so their cache
- * misses overlap instead of each waiting behind the previous step's maths.
+ * reference).  major_x: lanes whose slice is closer to horizontal.
  */
 static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
 		      const struct px *p, const struct side *sd, vm major_x)
@@ -124,23 +120,18 @@ static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
 	const vf ax = v_set1(s->ax), bx = v_set1(s->bx), ay = v_set1(s->ay), by = v_set1(s->by);
 	const vf fmul = v_set1(s->falloff_mul), fadd = v_set1(s->falloff_add);
 	const int use_max = s->decay == 1.0f;
-	vf g0[MAX_STEPS], g1[MAX_STEPS];
-
-	for (int i = 0; i < s->steps; i++) {
-		struct pos o = sample_pos(s, p, sd, cmaj, cmin, nmaj, nmin, step_sign, i);
-		/* padded coordinates: the border row/column holds "no data" */
-		vi mi = vi_from_whole(v_add(o.m, one)), li = vi_from_whole(v_add(o.fl, one));
-		vi row = vi_sel(major_x, li, mi), col = vi_sel(major_x, mi, li);
-		vi idx = vi_add(vi_mul(row, vi_set1(pw)), col);
-		g0[i] = v_gather(izp, idx, o.ok);
-		g1[i] = v_gather(izp, vi_add(idx, second), o.ok);
-	}
-
 	vf best = sd->low;
 	for (int i = 0; i < s->steps; i++) {
 		struct pos o = sample_pos(s, p, sd, cmaj, cmin, nmaj, nmin, step_sign, i);
 		vm ok = o.ok;
-		vf iz0 = g0[i], iz1 = g1[i], f = v_sub(o.fm, o.fl);
+		if (!m_any(ok))
+			continue;
+		/* padded coordinates: the border row/column holds "no data" */
+		vi mi = vi_from_whole(v_add(o.m, one)), li = vi_from_whole(v_add(o.fl, one));
+		vi row = vi_sel(major_x, li, mi), col = vi_sel(major_x, mi, li);
+		vi idx = vi_add(vi_mul(row, vi_set1(pw)), col);
+		vf iz0 = v_gather(izp, idx, ok), iz1 = v_gather(izp, vi_add(idx, second), ok);
+		vf f = v_sub(o.fm, o.fl);
 		vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
 		vm both = m_and(has0, has1);
 		vm edge = v_gt(v_abs(v_sub(iz0, iz1)), v_mul(v_set1(0.1f), v_min(iz0, iz1)));

@@ -39,7 +39,7 @@ struct dao_context {
 	float *tmp;     /* scratch of the separable denoise */
 	float *izp;     /* 1/z of the filtered depth with a 1-px border of zeros (optimised kernels) */
 	float r2_tile[2 * 4096];
-	uint64_t r2_frame; /* frame index r2_tile was filled for, or UINT64_MAX */
+	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
 	int have_frame;
 	float depth_unit;  /* metres per count of the last frame, 0 for float input */
 	struct dao_colormap cmap;
@@ -276,8 +276,7 @@ struct frame_job {
 	struct dao_gtao_setup gtao;
 	struct dao_denoise_setup denoise;
 	struct dao_prefilter_setup prefilter;
-	struct dao_kernels k;
-	enum dao_simd simd;  /* resolved kernel set */
+	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
 
 /* 1/z rows of the filtered depth into the bordered plane the optimised GTAO reads */
@@ -315,7 +314,7 @@ static void stage_normals(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	dao_normals_from_depth(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
-	if (j->simd != DAO_SIMD_REFERENCE)
+	if (j->k.simd != DAO_SIMD_REFERENCE)
 		fill_inverse_depth(j->ctx, y0, y1);
 }
 
@@ -406,8 +405,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		},
 	};
 	dao_gtao_setup_init(&job.gtao, &ctx->cam, p, frame_index);
-	job.simd = dao_simd_resolve(p->simd);
-	dao_kernels_select(&job.k, job.simd);
+	dao_kernels_select(&job.k, dao_simd_resolve(p->simd));
 	if (p->noise == DAO_NOISE_R2) {
 		if (ctx->r2_frame != (frame_index & 63u)) {
 			dao_gtao_fill_r2_tile(ctx->r2_tile, frame_index);
@@ -436,7 +434,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		r = load_normals(ctx, normals, err);
 		if (r)
 			return r;
-		if (job.simd != DAO_SIMD_REFERENCE)
+		if (job.k.simd != DAO_SIMD_REFERENCE)
 			fill_inverse_depth(ctx, 0, h);
 	} else {
 		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
