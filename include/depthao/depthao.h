@@ -21,6 +21,8 @@
 #include <depthao/cpu.h>
 #include <depthao/context.h>
 #include <depthao/png.h>
+#include <depthao/oni.h>
+#include <depthao/plugin.h>
 
 #include <depthao/api.h>
 

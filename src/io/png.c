@@ -16,6 +16,7 @@
 #include <depthao/png.h>
 
 #include "core/error_internal.h"
+#include "core/file_mode.h"
 
 struct png_err_ctx {
 	char message[160];
@@ -289,9 +290,7 @@ int dao_png_write(const char *path, const struct dao_frame *f, struct dao_error 
 		write_cleanup(st, 0);
 		return dao_error_set(err, -e, "cannot write '%s': %s", path, strerror(e));
 	}
-	mode_t mask = umask(0); /* mkstemp creates 0600; give the usual permissions */
-	umask(mask);
-	chmod(st->tmp, 0666 & ~mask);
+	dao_file_mode_default(st->tmp);
 	if (rename(st->tmp, path) != 0) {
 		int e = errno;
 		write_cleanup(st, 0);

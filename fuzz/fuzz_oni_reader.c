@@ -1,0 +1,112 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * libFuzzer target: the input is an .oni file.  It is opened with
+ * dao_oni_reader_open() and every frame of every depth stream is read.
+ * Any outcome is fine except a crash, a sanitizer report, an error without
+ * a message, or an error code the API does not document.
+ */
+#define _GNU_SOURCE /* memfd_create */
+#include <errno.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <depthao/frame.h>
+#include <depthao/oni.h>
+
+/* Output frames larger than this are not allocated (the reader itself caps sizes at 16384). */
+#define MAX_PIXELS (4096u * 4096u)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static int fd = -1;
+static char path[64];
+
+static void setup(void)
+{
+#ifdef MFD_CLOEXEC
+	fd = memfd_create("fuzz-oni", MFD_CLOEXEC);
+	if (fd >= 0) {
+		snprintf(path, sizeof(path), "/proc/self/fd/%d", fd);
+		if (access(path, R_OK) == 0)
+			return;
+		close(fd);
+	}
+#endif
+	snprintf(path, sizeof(path), "/tmp/fuzz-oni-%ld.oni", (long)getpid());
+	fd = -2; /* plain file, rewritten for every input */
+}
+
+static int store(const uint8_t *data, size_t size)
+{
+	if (fd >= 0) {
+		if (ftruncate(fd, 0) != 0)
+			return -1;
+		return pwrite(fd, data, size, 0) == (ssize_t)size ? 0 : -1;
+	}
+	FILE *f = fopen(path, "wb");
+	if (!f)
+		return -1;
+	size_t n = size ? fwrite(data, 1, size, f) : 0;
+	return fclose(f) == 0 && n == size ? 0 : -1;
+}
+
+static void check_error(int ret, const struct dao_error *err)
+{
+	/* documented codes only, always with a message */
+	if (ret != -EINVAL && ret != -EIO && ret != -ENOMEM && ret != -ENOENT && ret != -EACCES)
+		abort();
+	if (!err->message[0] || err->code != ret)
+		abort();
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	if (path[0] == 0)
+		setup();
+	if (store(data, size) != 0)
+		abort();
+
+	struct dao_oni_reader *r = NULL;
+	struct dao_error err = {0};
+	int ret = dao_oni_reader_open(path, &r, &err);
+	if (ret < 0) {
+		if (r)
+			abort();
+		check_error(ret, &err);
+		return 0;
+	}
+	uint32_t n = dao_oni_reader_stream_count(r);
+	if (dao_oni_reader_stream(r, n) != NULL)
+		abort();
+	(void)dao_oni_reader_depth_stream(r, &err);
+	for (uint32_t s = 0; s < n; s++) {
+		const struct dao_oni_stream_info *in = dao_oni_reader_stream(r, s);
+		if (!in || memchr(in->name, 0, sizeof(in->name)) == NULL || in->codec_fourcc[4] != 0)
+			abort();
+		if (in->sensor != DAO_ONI_SENSOR_DEPTH)
+			continue;
+		if (in->width == 0 || in->height == 0 ||
+		    (uint64_t)in->width * in->height > MAX_PIXELS)
+			continue;
+		struct dao_frame f = {DAO_PIXFMT_DEPTH16, in->width, in->height,
+				      (int32_t)(in->width * 2), NULL, 0, 0, 0};
+		f.data = malloc((size_t)in->width * in->height * 2);
+		if (!f.data)
+			abort();
+		for (uint32_t k = 0; k <= in->frame_count; k++) {
+			err.message[0] = 0;
+			ret = dao_oni_reader_read_depth(r, s, k, &f, &err);
+			if (ret < 0)
+				check_error(ret, &err);
+			else if (k == in->frame_count)
+				abort(); /* one past the end must fail */
+		}
+		free(f.data);
+	}
+	dao_oni_reader_close(r);
+	return 0;
+}

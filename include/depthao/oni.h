@@ -1,0 +1,152 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * OpenNI recordings (.oni), read and written without OpenNI.
+ *
+ * The format is OpenNI's "NI10" record stream (file versions 1.0.0.4 to
+ * 1.0.1.0): a 24-byte header, then records (node added, properties, state
+ * ready, data begin, new data, seek table, end).  Depth nodes are read and
+ * written with the codecs NONE (raw little-endian uint16), 16zP (delta
+ * coding, "16z") and 16zT (16z over an embedded table of the values that
+ * occur); other nodes (JPEG colour, IR) are listed but not decoded.
+ *
+ * Files this writer makes play in OpenNI2's own file driver frame-exactly;
+ * the reader decodes real recordings pixel-identically to OpenNI2 and turns
+ * every inconsistency (truncation, wrong magic, frames larger than declared,
+ * corrupt 16z streams) into -EINVAL or -EIO with a message, never a crash.
+ */
+#ifndef DEPTHAO_ONI_H
+#define DEPTHAO_ONI_H
+
+#include <stdint.h>
+
+#include <depthao/error.h>
+#include <depthao/frame.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum dao_oni_codec {
+	DAO_ONI_CODEC_NONE = 0, /* "NONE": raw uint16 */
+	DAO_ONI_CODEC_16Z,      /* "16zP" */
+	DAO_ONI_CODEC_16ZT,     /* "16zT" */
+	DAO_ONI_CODEC_JPEG,     /* "JPEG" (colour; listed, not decoded) */
+	DAO_ONI_CODEC_8Z,       /* "Im8z" (listed, not decoded) */
+	DAO_ONI_CODEC_OTHER,
+};
+
+enum dao_oni_sensor {
+	DAO_ONI_SENSOR_OTHER = 0,
+	DAO_ONI_SENSOR_DEPTH,
+	DAO_ONI_SENSOR_COLOR,
+	DAO_ONI_SENSOR_IR,
+};
+
+/* OpenNI2 pixel formats of depth streams (OniPixelFormat values). */
+#define DAO_ONI_PIXEL_DEPTH_1_MM 100
+#define DAO_ONI_PIXEL_DEPTH_100_UM 101
+
+struct dao_oni_stream_info {
+	char name[64];               /* node name, e.g. "Depth1" */
+	enum dao_oni_sensor sensor;
+	enum dao_oni_codec codec;
+	char codec_fourcc[5];        /* as stored, e.g. "16zT" */
+	uint32_t width, height, fps; /* from xnMapOutputMode (0 if absent) */
+	uint32_t frame_count;        /* frames found in the file */
+	int pixel_format;            /* OniPixelFormat; depth: 100 (1 mm) or 101 (100 um) */
+	float depth_unit;            /* metres per count (depth streams), else 0 */
+	uint32_t max_depth;          /* xnDeviceMaxDepth in counts, 0 if absent */
+	int has_fov;                 /* xnFOV present */
+	double hfov, vfov;           /* radians */
+	int mirrored;                /* xnMirror */
+	int registered;              /* AlternativeViewPoint: depth registered to colour */
+	uint64_t first_timestamp_us, last_timestamp_us;
+};
+
+/* --- reading ---------------------------------------------------------- */
+
+struct dao_oni_reader;
+
+/*
+ * Opens a recording and indexes it (one pass over the record headers; frame
+ * data is read on demand).  Errors: -ENOENT/-EACCES (cannot open), -EINVAL
+ * (not an .oni file, unsupported version, corrupt structure), -ENOMEM.
+ */
+DAO_API int dao_oni_reader_open(const char *path, struct dao_oni_reader **out,
+				struct dao_error *err);
+DAO_API void dao_oni_reader_close(struct dao_oni_reader *reader);
+
+DAO_API uint32_t dao_oni_reader_stream_count(const struct dao_oni_reader *reader);
+DAO_API const struct dao_oni_stream_info *
+dao_oni_reader_stream(const struct dao_oni_reader *reader, uint32_t index);
+
+/* Index of the first depth stream, or -ENOENT (with a message) if there is none. */
+DAO_API int dao_oni_reader_depth_stream(const struct dao_oni_reader *reader,
+					struct dao_error *err);
+
+/*
+ * Decodes frame `frame` (0-based, < frame_count) of depth stream `stream`
+ * into `out`, a caller-owned DAO_PIXFMT_DEPTH16 frame of the stream's size
+ * (any stride); sets out->depth_unit, ->timestamp_ns and ->sequence (the
+ * recorded 1-based frame number).  Any frame may be read in any order; no
+ * allocation happens here.  Errors: -EINVAL (bad arguments, corrupt frame,
+ * with the frame number in the message), -EIO (read error or file shrank).
+ */
+DAO_API int dao_oni_reader_read_depth(struct dao_oni_reader *reader, uint32_t stream,
+				      uint32_t frame, struct dao_frame *out,
+				      struct dao_error *err);
+
+/* --- writing ---------------------------------------------------------- */
+
+struct dao_oni_writer_options {
+	uint32_t width, height;
+	uint32_t fps;               /* nominal frame rate (1..1000) */
+	enum dao_oni_codec codec;   /* NONE, 16Z or 16ZT */
+	int pixel_format;           /* DAO_ONI_PIXEL_DEPTH_1_MM or _100_UM */
+	uint32_t max_depth;         /* xnDeviceMaxDepth in counts; 0 = 10 m in the unit */
+	double hfov, vfov;          /* radians, in (0, pi) */
+	int mirrored;               /* recorded as xnMirror */
+};
+
+struct dao_oni_writer;
+
+/*
+ * Starts a recording with one depth node.  The file is written under a
+ * temporary name beside `path` and renamed into place by
+ * dao_oni_writer_finish(), so an interrupted recording never leaves a
+ * half-written file under the final name.
+ */
+DAO_API int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *opts,
+				struct dao_oni_writer **out, struct dao_error *err);
+
+/*
+ * Appends a depth frame (DAO_PIXFMT_DEPTH16 of the declared size; counts are
+ * converted when its depth_unit differs from the file's) with a timestamp in
+ * microseconds, which must not go backwards.  Counts above max_depth are
+ * -ERANGE; so are values the chosen codec cannot represent (16z: >= 32768;
+ * 16zT: more than 32768 distinct values in one frame).
+ */
+DAO_API int dao_oni_writer_write_depth(struct dao_oni_writer *writer,
+				       const struct dao_frame *depth, uint64_t timestamp_us,
+				       struct dao_error *err);
+
+/*
+ * Writes the seek table and end record, patches the header and node record
+ * with the frame count and timestamps, and renames the file into place.
+ * Frees the writer whatever the outcome.
+ */
+DAO_API int dao_oni_writer_finish(struct dao_oni_writer *writer, struct dao_error *err);
+
+/* Abandons a recording: removes the temporary file and frees the writer. */
+DAO_API void dao_oni_writer_abort(struct dao_oni_writer *writer);
+
+/* "none", "16z", "16zt", ... and back (case-insensitive); -EINVAL if unknown. */
+DAO_API const char *dao_oni_codec_name(enum dao_oni_codec codec);
+DAO_API int dao_oni_codec_from_name(const char *name, enum dao_oni_codec *codec);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,188 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Sources and sinks: the plugin interface.
+ *
+ * A plugin is a shared module exporting one function,
+ *     const struct dao_plugin *dao_plugin_entry(void);
+ * that returns a static table: the ABI version it was built against, its
+ * name, and a source and/or a sink vtable.  Modules are looked up in the
+ * directories of $DEPTHAO_PLUGIN_PATH (colon-separated; for tests and
+ * development), then in the install directory; the first module with a
+ * given name wins.  Sources that need no extra dependency are built into
+ * the library ("oni": .oni recordings through depthao's own reader;
+ * "images": a 16-bit depth PNG or a directory of them, in name order).
+ *
+ * A source is opened from a URI "NAME:REST" (plugin NAME gets REST) or, with
+ * no known prefix, by asking every source how well it handles the URI
+ * (probe) and taking the best.  All calls return 0 or a negative errno code:
+ *   read:  0 = a frame, -EAGAIN = no frame within the timeout,
+ *          -ENODEV = the device is gone (unplugged), DAO_SOURCE_EOS (> 0)
+ *          = the end of a recording (not an error), other < 0 = errors.
+ * Frames from read stay valid until release (or the next read); sources own
+ * their buffers.  One thread at a time per source; separate sources are
+ * independent.
+ */
+#ifndef DEPTHAO_PLUGIN_H
+#define DEPTHAO_PLUGIN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <depthao/error.h>
+#include <depthao/frame.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define DAO_PLUGIN_ABI_VERSION 1
+#define DAO_PLUGIN_ENTRY_SYMBOL "dao_plugin_entry"
+#define DAO_PLUGIN_PATH_ENV "DEPTHAO_PLUGIN_PATH"
+
+/* read(): the end of a recording (files without looping). */
+#define DAO_SOURCE_EOS 1
+
+struct dao_source_info {
+	uint32_t width, height;     /* depth image size */
+	enum dao_pixfmt format;     /* DAO_PIXFMT_DEPTH16 or DAO_PIXFMT_DEPTH_F32 */
+	float depth_unit;           /* metres per count (DEPTH16) */
+	int has_fov;                /* the source knows its field of view */
+	double hfov, vfov;          /* radians */
+	double fps;                 /* nominal, 0 if unknown */
+	int64_t frame_count;        /* frames in a recording, -1 for live sources */
+	int live;                   /* a device (frames are dropped if not read in time) */
+	int mirrored;               /* images are mirrored left-right */
+	int registered;             /* depth is registered to the colour camera */
+	int has_color;              /* read() also delivers colour (RGB24) */
+	uint32_t color_width, color_height;
+	char description[160];      /* one line for logs: device or file, format, codec */
+};
+
+/* How a recording is played; live sources ignore what does not apply. */
+enum dao_playback {
+	DAO_PLAYBACK_MANUAL = 0,    /* every frame once, as fast as the caller reads */
+	DAO_PLAYBACK_REALTIME,      /* paced by the recorded timestamps */
+};
+
+struct dao_source_options {
+	enum dao_playback playback;
+	int loop;                   /* at the end, start again instead of DAO_SOURCE_EOS */
+	uint32_t start_frame;       /* first frame delivered, 0-based */
+	uint32_t step;              /* deliver every step-th frame (0 or 1 = all) */
+	int want_color;             /* also deliver colour when the source has it */
+	float depth_unit;           /* metres per count where the files do not say
+				       (16-bit PNG images); 0 = 0.001 */
+};
+
+struct dao_source_frame {
+	struct dao_frame depth;     /* sequence = recorded/device frame number */
+	struct dao_frame color;     /* format DAO_PIXFMT_NONE when absent */
+	uint64_t index;             /* 0-based position in a recording; count for live */
+};
+
+/* One entry of a device listing. */
+struct dao_device_entry {
+	char uri[256];              /* what to pass to open (without the plugin prefix) */
+	char name[128];             /* vendor and model */
+	char detail[128];           /* e.g. USB ids, modes */
+};
+
+typedef void (*dao_device_cb)(void *user, const struct dao_device_entry *entry);
+
+struct dao_source_ops {
+	/* 0..100: how well this source handles `uri` (auto selection), 0 = not at all */
+	int (*probe)(const char *uri);
+	/* optional: enumerate devices; returns the count or < 0 */
+	int (*list_devices)(dao_device_cb cb, void *user, struct dao_error *err);
+	int (*open)(const char *uri, const struct dao_source_options *opts, void **state,
+		    struct dao_error *err);
+	void (*get_info)(void *state, struct dao_source_info *info);
+	int (*start)(void *state, struct dao_error *err);
+	int (*read)(void *state, struct dao_source_frame *frame, int timeout_ms,
+		    struct dao_error *err);
+	void (*release)(void *state, struct dao_source_frame *frame);
+	/* optional: the next read delivers frame `index` of a recording */
+	int (*seek)(void *state, uint64_t index, struct dao_error *err);
+	void (*stop)(void *state);
+	void (*close)(void *state);
+};
+
+struct dao_sink_format {
+	enum dao_pixfmt format;     /* GRAY8, GRAY16, RGB24, DEPTH16 */
+	uint32_t width, height;
+	double fps;                 /* 0 if unknown */
+};
+
+struct dao_sink_ops {
+	int (*probe)(const char *uri);
+	int (*open)(const char *uri, void **state, struct dao_error *err);
+	/* accept `fmt` or adjust it to the nearest format the sink takes (-ENOTSUP if none) */
+	int (*negotiate)(void *state, struct dao_sink_format *fmt, struct dao_error *err);
+	int (*write)(void *state, const struct dao_frame *frame, struct dao_error *err);
+	int (*flush)(void *state, struct dao_error *err);
+	void (*close)(void *state);
+};
+
+struct dao_plugin {
+	uint32_t abi_version;       /* DAO_PLUGIN_ABI_VERSION */
+	const char *name;           /* lower case, the URI prefix: "openni2" */
+	const char *description;
+	const struct dao_source_ops *source; /* NULL if not a source */
+	const struct dao_sink_ops *sink;     /* NULL if not a sink */
+};
+
+typedef const struct dao_plugin *(*dao_plugin_entry_fn)(void);
+
+/* --- the registry ------------------------------------------------------ */
+
+struct dao_plugins;
+
+/*
+ * Loads the built-in plugins and every module found in `path` (a
+ * colon-separated list of directories; NULL = $DEPTHAO_PLUGIN_PATH, then the
+ * install directory).  Modules that fail to load (a missing library, a wrong
+ * ABI version) are skipped and listed by dao_plugins_skipped().
+ */
+DAO_API int dao_plugins_load(struct dao_plugins **out, const char *path, struct dao_error *err);
+DAO_API void dao_plugins_free(struct dao_plugins *plugins);
+DAO_API size_t dao_plugins_count(const struct dao_plugins *plugins);
+DAO_API const struct dao_plugin *dao_plugins_get(const struct dao_plugins *plugins, size_t i);
+/* Where plugin i came from: a module path, or "built-in". */
+DAO_API const char *dao_plugins_origin(const struct dao_plugins *plugins, size_t i);
+DAO_API const struct dao_plugin *dao_plugins_find(const struct dao_plugins *plugins,
+						  const char *name);
+/* Modules that were found but not loaded: "path: reason", i < count. */
+DAO_API size_t dao_plugins_skipped_count(const struct dao_plugins *plugins);
+DAO_API const char *dao_plugins_skipped(const struct dao_plugins *plugins, size_t i);
+/* The compiled-in module directory. */
+DAO_API const char *dao_plugins_install_dir(void);
+
+/* --- sources ----------------------------------------------------------- */
+
+struct dao_source;
+
+/*
+ * Opens a source.  `uri` is "NAME:REST" for plugin NAME, or anything else to
+ * pick the source that probes best (a path ending in .oni -> "oni").
+ * Unknown plugin names are -ENOENT with the list of available sources.
+ */
+DAO_API int dao_source_open(const struct dao_plugins *plugins, const char *uri,
+			    const struct dao_source_options *opts, struct dao_source **out,
+			    struct dao_error *err);
+DAO_API const struct dao_plugin *dao_source_plugin(const struct dao_source *src);
+DAO_API void dao_source_get_info(const struct dao_source *src, struct dao_source_info *info);
+DAO_API int dao_source_start(struct dao_source *src, struct dao_error *err);
+DAO_API int dao_source_read(struct dao_source *src, struct dao_source_frame *frame,
+			    int timeout_ms, struct dao_error *err);
+DAO_API void dao_source_release(struct dao_source *src, struct dao_source_frame *frame);
+/* -ENOTSUP for sources that cannot seek (live devices). */
+DAO_API int dao_source_seek(struct dao_source *src, uint64_t index, struct dao_error *err);
+/* Stops (if started) and closes; NULL-safe. */
+DAO_API void dao_source_close(struct dao_source *src);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

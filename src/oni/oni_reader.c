@@ -1,0 +1,582 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * .oni reader: one pass over the record headers builds a per-node frame
+ * index (the file's own seek table is not trusted; files without one, or
+ * with a stale one, read the same); frames are then decoded on demand with
+ * pread, so any frame can be read in any order and from any thread holding
+ * the reader exclusively.
+ */
+#include <depthao/oni.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/error_internal.h"
+#include "oni/codec_16z.h"
+#include "oni/oni_format.h"
+
+/* Property and node records are small; anything bigger is corruption. */
+#define ONI_MAX_FIELDS_SIZE (16u << 20)
+
+struct frame_ref {
+	uint64_t payload_pos;
+	uint32_t payload_size;
+	uint32_t number;
+	uint64_t timestamp_us;
+};
+
+struct node {
+	uint32_t id;
+	struct dao_oni_stream_info info;
+	uint32_t codec_fourcc;
+	int pixel_format_set;
+	struct frame_ref *frames;
+	uint32_t nframes, cap;
+};
+
+struct dao_oni_reader {
+	int fd;
+	uint64_t file_size;
+	int old32;
+	uint32_t max_node_id;
+	struct node *nodes;
+	uint32_t nnodes;
+	uint8_t *payload; /* largest depth payload */
+	size_t payload_cap;
+	uint16_t *pixels; /* largest depth frame, contiguous */
+	size_t pixels_cap;
+};
+
+static int read_at(struct dao_oni_reader *r, void *buf, size_t n, uint64_t pos)
+{
+	uint8_t *p = buf;
+	while (n) {
+		ssize_t k = pread(r->fd, p, n, (off_t)pos);
+		if (k < 0) {
+			if (errno == EINTR)
+				continue;
+			return -errno;
+		}
+		if (k == 0)
+			return -ENODATA;
+		p += k;
+		n -= (size_t)k;
+		pos += (uint64_t)k;
+	}
+	return 0;
+}
+
+static struct node *find_node(struct dao_oni_reader *r, uint32_t id)
+{
+	for (uint32_t i = 0; i < r->nnodes; i++)
+		if (r->nodes[i].id == id)
+			return &r->nodes[i];
+	return NULL;
+}
+
+static enum dao_oni_codec codec_of(uint32_t fourcc)
+{
+	switch (fourcc) {
+	case ONI_CODEC_NONE: return DAO_ONI_CODEC_NONE;
+	case ONI_CODEC_16Z: return DAO_ONI_CODEC_16Z;
+	case ONI_CODEC_16ZT: return DAO_ONI_CODEC_16ZT;
+	case ONI_CODEC_JPEG: return DAO_ONI_CODEC_JPEG;
+	case ONI_CODEC_8Z: return DAO_ONI_CODEC_8Z;
+	default: return DAO_ONI_CODEC_OTHER;
+	}
+}
+
+/* A counted string at f[*off]; fails unless it fits and ends in NUL. */
+static int take_string(const uint8_t *f, size_t len, size_t *off, const char **s)
+{
+	if (len - *off < 4)
+		return -EINVAL;
+	uint32_t n = oni_rd32(f + *off);
+	*off += 4;
+	if (n == 0 || n > len - *off || f[*off + n - 1] != '\0')
+		return -EINVAL;
+	*s = (const char *)f + *off;
+	*off += n;
+	return 0;
+}
+
+struct scan {
+	const char *path;
+	uint64_t pos;  /* of the current record */
+	uint32_t index;
+	struct dao_error *err;
+};
+
+#define CORRUPT(sc, ...)                                                                       \
+	dao_error_set((sc)->err, -EINVAL, "%s: corrupt .oni file: record %u at byte %llu: "   \
+		      __VA_ARGS__)
+#define AT(sc) (sc)->path, (sc)->index, (unsigned long long)(sc)->pos
+
+static int add_node(struct dao_oni_reader *r, struct scan *sc, uint32_t id, uint32_t type,
+		    const uint8_t *f, size_t len)
+{
+	size_t off = 0;
+	const char *name;
+	if (take_string(f, len, &off, &name) < 0 || len - off < 8)
+		return CORRUPT(sc, "the node record is cut short", AT(sc));
+	if (find_node(r, id))
+		return CORRUPT(sc, "node %u is added twice", AT(sc), id);
+	struct node *nodes = realloc(r->nodes, (r->nnodes + 1) * sizeof(*nodes));
+	if (!nodes)
+		return dao_error_set(sc->err, -ENOMEM, "out of memory reading %s", sc->path);
+	r->nodes = nodes;
+	struct node *n = &nodes[r->nnodes++];
+	memset(n, 0, sizeof(*n));
+	n->id = id;
+	snprintf(n->info.name, sizeof(n->info.name), "%s", name);
+	uint32_t node_type = oni_rd32(f + off);
+	n->codec_fourcc = oni_rd32(f + off + 4);
+	memcpy(n->info.codec_fourcc, f + off + 4, 4);
+	for (int i = 0; i < 4; i++)
+		if (n->info.codec_fourcc[i] < 0x20 || n->info.codec_fourcc[i] > 0x7e)
+			n->info.codec_fourcc[i] = '?';
+	n->info.codec = codec_of(n->codec_fourcc);
+	n->info.sensor = node_type == ONI_NODE_TYPE_DEPTH   ? DAO_ONI_SENSOR_DEPTH
+			 : node_type == ONI_NODE_TYPE_IMAGE ? DAO_ONI_SENSOR_COLOR
+			 : node_type == ONI_NODE_TYPE_IR    ? DAO_ONI_SENSOR_IR
+							    : DAO_ONI_SENSOR_OTHER;
+	if (n->info.sensor == DAO_ONI_SENSOR_DEPTH) {
+		n->info.pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM; /* OpenNI2's default */
+		n->info.depth_unit = 0.001f;
+	}
+	(void)type;
+	return 0;
+}
+
+static void apply_int(struct node *n, const char *name, uint64_t v)
+{
+	if (!strcmp(name, "xnDeviceMaxDepth"))
+		n->info.max_depth = v > UINT32_MAX ? UINT32_MAX : (uint32_t)v;
+	else if (!strcmp(name, "xnMirror"))
+		n->info.mirrored = v != 0;
+	else if (!strcmp(name, "AlternativeViewPoint"))
+		n->info.registered = v != 0;
+	else if (!strcmp(name, "oniPixelFormat") && n->info.sensor == DAO_ONI_SENSOR_DEPTH) {
+		n->info.pixel_format = (int)v;
+		n->info.depth_unit = v == DAO_ONI_PIXEL_DEPTH_100_UM ? 0.0001f
+				     : v == DAO_ONI_PIXEL_DEPTH_1_MM ? 0.001f
+								     : 0.0f;
+	}
+}
+
+static int apply_general(struct node *n, struct scan *sc, const char *name, const uint8_t *d,
+			 uint32_t size)
+{
+	if (!strcmp(name, "xnMapOutputMode")) {
+		if (size != 12)
+			return CORRUPT(sc, "xnMapOutputMode has %u bytes, expected 12", AT(sc), size);
+		n->info.width = oni_rd32(d);
+		n->info.height = oni_rd32(d + 4);
+		n->info.fps = oni_rd32(d + 8);
+	} else if (!strcmp(name, "xnFOV")) {
+		if (size != 16)
+			return CORRUPT(sc, "xnFOV has %u bytes, expected 16", AT(sc), size);
+		n->info.hfov = oni_rdf64(d);
+		n->info.vfov = oni_rdf64(d + 8);
+		n->info.has_fov = 1;
+	}
+	return 0;
+}
+
+static int add_property(struct dao_oni_reader *r, struct scan *sc, uint32_t type, uint32_t id,
+			const uint8_t *f, size_t len)
+{
+	size_t off = 0;
+	const char *name;
+	if (take_string(f, len, &off, &name) < 0 || len - off < 4)
+		return CORRUPT(sc, "the property record is cut short", AT(sc));
+	uint32_t size = oni_rd32(f + off);
+	off += 4;
+	if (size > len - off)
+		return CORRUPT(sc, "property %s claims %u bytes, the record holds %zu", AT(sc),
+			       name, size, len - off);
+	struct node *n = find_node(r, id);
+	if (!n)
+		return 0; /* properties of nodes we do not know (e.g. removed) */
+	if (type == ONI_REC_INT_PROPERTY && size == 8)
+		apply_int(n, name, oni_rd64(f + off));
+	else if (type == ONI_REC_GENERAL_PROPERTY)
+		return apply_general(n, sc, name, f + off, size);
+	return 0;
+}
+
+static int add_frame(struct dao_oni_reader *r, struct scan *sc, uint32_t id, const uint8_t *f,
+		     size_t len, uint64_t payload_pos, uint32_t payload_size)
+{
+	struct node *n = find_node(r, id);
+	if (!n)
+		return CORRUPT(sc, "frame data for node %u, which was never added", AT(sc), id);
+	if (len < 12)
+		return CORRUPT(sc, "the frame record is cut short", AT(sc));
+	if (n->nframes == n->cap) {
+		uint32_t cap = n->cap ? 2 * n->cap : 64;
+		struct frame_ref *fr = realloc(n->frames, cap * sizeof(*fr));
+		if (!fr)
+			return dao_error_set(sc->err, -ENOMEM, "out of memory reading %s", sc->path);
+		n->frames = fr;
+		n->cap = cap;
+	}
+	struct frame_ref *fr = &n->frames[n->nframes++];
+	fr->timestamp_us = oni_rd64(f);
+	fr->number = oni_rd32(f + 8);
+	fr->payload_pos = payload_pos;
+	fr->payload_size = payload_size;
+	return 0;
+}
+
+static int scan_records(struct dao_oni_reader *r, struct scan *sc)
+{
+	const size_t hsize = r->old32 ? ONI_RECORD_HEADER_SIZE_OLD32 : ONI_RECORD_HEADER_SIZE;
+	uint8_t h[ONI_RECORD_HEADER_SIZE];
+	uint8_t *fields = NULL;
+	size_t fields_cap = 0;
+	int ret = 0, ended = 0;
+
+	sc->pos = ONI_FILE_HEADER_SIZE;
+	for (sc->index = 0; !ended; sc->index++) {
+		if (sc->pos == r->file_size) {
+			ret = dao_error_set(sc->err, -EINVAL,
+					    "%s: truncated .oni file: it ends after %u records "
+					    "without an end record (an interrupted recording?)",
+					    sc->path, sc->index);
+			break;
+		}
+		if (r->file_size - sc->pos < hsize) {
+			ret = dao_error_set(sc->err, -EINVAL,
+					    "%s: truncated .oni file: it ends inside the header "
+					    "of record %u at byte %llu",
+					    AT(sc));
+			break;
+		}
+		if ((ret = read_at(r, h, hsize, sc->pos)) < 0) {
+			ret = dao_error_set(sc->err, ret == -ENODATA ? -EIO : ret,
+					    "%s: cannot read: %s", sc->path, strerror(-ret));
+			break;
+		}
+		uint32_t magic = oni_rd32(h), type = oni_rd32(h + 4), id = oni_rd32(h + 8);
+		uint32_t fsize = oni_rd32(h + 12), psize = oni_rd32(h + 16);
+		if (magic != ONI_RECORD_MAGIC) {
+			ret = CORRUPT(sc, "bad record magic 0x%08x", AT(sc), magic);
+			break;
+		}
+		if (fsize < hsize || fsize > ONI_MAX_FIELDS_SIZE) {
+			ret = CORRUPT(sc, "impossible fields size %u", AT(sc), fsize);
+			break;
+		}
+		if ((uint64_t)fsize + psize > r->file_size - sc->pos) {
+			ret = dao_error_set(sc->err, -EINVAL,
+					    "%s: truncated .oni file: record %u at byte %llu needs "
+					    "%llu bytes, the file has %llu left",
+					    AT(sc), (unsigned long long)fsize + psize,
+					    (unsigned long long)(r->file_size - sc->pos));
+			break;
+		}
+		if (type != ONI_REC_END && id > r->max_node_id) {
+			ret = CORRUPT(sc, "node id %u above the header's maximum %u", AT(sc), id,
+				      r->max_node_id);
+			break;
+		}
+		size_t flen = fsize - hsize;
+		if (flen > fields_cap) {
+			uint8_t *nf = realloc(fields, flen);
+			if (!nf) {
+				ret = dao_error_set(sc->err, -ENOMEM, "out of memory reading %s",
+						    sc->path);
+				break;
+			}
+			fields = nf;
+			fields_cap = flen;
+		}
+		if (flen && (ret = read_at(r, fields, flen, sc->pos + hsize)) < 0) {
+			ret = dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
+					    strerror(ret == -ENODATA ? EIO : -ret));
+			break;
+		}
+		switch (type) {
+		case ONI_REC_NODE_ADDED_1_0_0_4:
+		case ONI_REC_NODE_ADDED_1_0_0_5:
+		case ONI_REC_NODE_ADDED:
+			ret = add_node(r, sc, id, type, fields, flen);
+			break;
+		case ONI_REC_INT_PROPERTY:
+		case ONI_REC_REAL_PROPERTY:
+		case ONI_REC_STRING_PROPERTY:
+		case ONI_REC_GENERAL_PROPERTY:
+			ret = add_property(r, sc, type, id, fields, flen);
+			break;
+		case ONI_REC_NEW_DATA:
+			ret = add_frame(r, sc, id, fields, flen, sc->pos + fsize, psize);
+			break;
+		case ONI_REC_NODE_REMOVED:
+		case ONI_REC_NODE_DATA_BEGIN:
+		case ONI_REC_NODE_STATE_READY:
+		case ONI_REC_SEEK_TABLE:
+			break;
+		case ONI_REC_END:
+			ended = 1;
+			break;
+		default:
+			ret = CORRUPT(sc, "unknown record type %u", AT(sc), type);
+			break;
+		}
+		if (ret < 0)
+			break;
+		sc->pos += (uint64_t)fsize + psize;
+	}
+	free(fields);
+	return ret;
+}
+
+/* Checks a depth node once, so reads only have to check the data itself. */
+static int check_depth_node(struct dao_oni_reader *r, struct node *n, const char *path,
+			    struct dao_error *err)
+{
+	struct dao_oni_stream_info *in = &n->info;
+	if (in->width == 0 || in->height == 0 || in->width > DAO_MAX_DIMENSION ||
+	    in->height > DAO_MAX_DIMENSION)
+		return dao_error_set(err, -EINVAL,
+				     "%s: depth node '%s' has no usable size (xnMapOutputMode "
+				     "%ux%u)",
+				     path, in->name, in->width, in->height);
+	size_t npix = (size_t)in->width * in->height;
+	size_t bound;
+	switch (in->codec) {
+	case DAO_ONI_CODEC_NONE: bound = 2 * npix; break;
+	case DAO_ONI_CODEC_16Z: bound = dao_16z_bound(npix, 0); break;
+	case DAO_ONI_CODEC_16ZT: bound = dao_16z_bound(npix, 1); break;
+	default:
+		return dao_error_set(err, -EINVAL,
+				     "%s: depth node '%s' uses codec '%s', which depthao cannot "
+				     "decode (it reads NONE, 16zP and 16zT)",
+				     path, in->name, in->codec_fourcc);
+	}
+	for (uint32_t i = 0; i < n->nframes; i++) {
+		uint32_t ps = n->frames[i].payload_size;
+		if (ps > bound || (in->codec == DAO_ONI_CODEC_NONE && ps != bound))
+			return dao_error_set(err, -EINVAL,
+					     "%s: frame %u of '%s' has %u bytes of data, more than a "
+					     "%ux%u %s frame can hold (%zu)",
+					     path, i, in->name, ps, in->width, in->height,
+					     in->codec_fourcc, bound);
+		if (ps > r->payload_cap)
+			r->payload_cap = ps;
+	}
+	if (npix > r->pixels_cap)
+		r->pixels_cap = npix;
+	return 0;
+}
+
+int dao_oni_reader_open(const char *path, struct dao_oni_reader **out, struct dao_error *err)
+{
+	struct dao_oni_reader *r;
+	struct stat st;
+	uint8_t h[ONI_FILE_HEADER_SIZE];
+	int ret;
+
+	if (!path || !out)
+		return dao_error_set(err, -EINVAL, "dao_oni_reader_open: path and out are required");
+	*out = NULL;
+	r = calloc(1, sizeof(*r));
+	if (!r)
+		return dao_error_set(err, -ENOMEM, "out of memory opening %s", path);
+	r->fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (r->fd < 0) {
+		ret = dao_error_set(err, -errno, "cannot open %s: %s", path, strerror(errno));
+		free(r);
+		return ret;
+	}
+	if (fstat(r->fd, &st) < 0 || !S_ISREG(st.st_mode)) {
+		ret = dao_error_set(err, -EINVAL, "%s is not a regular file", path);
+		goto fail;
+	}
+	r->file_size = (uint64_t)st.st_size;
+	if (r->file_size < ONI_FILE_HEADER_SIZE || read_at(r, h, sizeof(h), 0) < 0) {
+		ret = dao_error_set(err, -EINVAL,
+				    "%s: not an .oni file (%llu bytes, shorter than the 24-byte "
+				    "header)",
+				    path, (unsigned long long)r->file_size);
+		goto fail;
+	}
+	if (memcmp(h, "NI10", 4) != 0) {
+		ret = dao_error_set(err, -EINVAL,
+				    "%s: not an .oni file (starts with %02x %02x %02x %02x, "
+				    "expected \"NI10\")",
+				    path, h[0], h[1], h[2], h[3]);
+		goto fail;
+	}
+	/* version {u8, u8, u16, u32}: 1.0.0.4 (oldest OpenNI reads) to 1.0.1.0 */
+	uint64_t ver = ((uint64_t)h[4] << 56) | ((uint64_t)h[5] << 48) |
+		       ((uint64_t)oni_rd16(h + 6) << 32) | oni_rd32(h + 8);
+	const uint64_t v1004 = (1ull << 56) | 4, v1010 = (1ull << 56) | (1ull << 32);
+	if (ver < v1004 || ver > v1010) {
+		ret = dao_error_set(err, -EINVAL,
+				    "%s: .oni format version %u.%u.%u.%u is not supported "
+				    "(1.0.0.4 to 1.0.1.0 are)",
+				    path, h[4], h[5], oni_rd16(h + 6), oni_rd32(h + 8));
+		goto fail;
+	}
+	r->old32 = ver < v1010;
+	r->max_node_id = oni_rd32(h + 20);
+
+	struct scan sc = {path, 0, 0, err};
+	if ((ret = scan_records(r, &sc)) < 0)
+		goto fail;
+	for (uint32_t i = 0; i < r->nnodes; i++) {
+		struct node *n = &r->nodes[i];
+		n->info.frame_count = n->nframes;
+		if (n->nframes) {
+			n->info.first_timestamp_us = n->frames[0].timestamp_us;
+			n->info.last_timestamp_us = n->frames[n->nframes - 1].timestamp_us;
+		}
+		if (n->info.sensor == DAO_ONI_SENSOR_DEPTH &&
+		    (ret = check_depth_node(r, n, path, err)) < 0)
+			goto fail;
+	}
+	/* drop nodes that carry no images (the device node) from the stream list */
+	uint32_t k = 0;
+	for (uint32_t i = 0; i < r->nnodes; i++) {
+		if (r->nodes[i].info.sensor == DAO_ONI_SENSOR_OTHER && r->nodes[i].nframes == 0) {
+			free(r->nodes[i].frames);
+			continue;
+		}
+		r->nodes[k++] = r->nodes[i];
+	}
+	r->nnodes = k;
+	if (r->payload_cap && !(r->payload = malloc(r->payload_cap))) {
+		ret = dao_error_set(err, -ENOMEM, "out of memory opening %s", path);
+		goto fail;
+	}
+	if (r->pixels_cap && !(r->pixels = malloc(r->pixels_cap * sizeof(uint16_t)))) {
+		ret = dao_error_set(err, -ENOMEM, "out of memory opening %s", path);
+		goto fail;
+	}
+	*out = r;
+	return 0;
+fail:
+	dao_oni_reader_close(r);
+	return ret;
+}
+
+void dao_oni_reader_close(struct dao_oni_reader *r)
+{
+	if (!r)
+		return;
+	if (r->fd >= 0)
+		close(r->fd);
+	for (uint32_t i = 0; i < r->nnodes; i++)
+		free(r->nodes[i].frames);
+	free(r->nodes);
+	free(r->payload);
+	free(r->pixels);
+	free(r);
+}
+
+uint32_t dao_oni_reader_stream_count(const struct dao_oni_reader *r)
+{
+	return r ? r->nnodes : 0;
+}
+
+const struct dao_oni_stream_info *dao_oni_reader_stream(const struct dao_oni_reader *r,
+							 uint32_t index)
+{
+	return r && index < r->nnodes ? &r->nodes[index].info : NULL;
+}
+
+int dao_oni_reader_depth_stream(const struct dao_oni_reader *r, struct dao_error *err)
+{
+	for (uint32_t i = 0; r && i < r->nnodes; i++)
+		if (r->nodes[i].info.sensor == DAO_ONI_SENSOR_DEPTH)
+			return (int)i;
+	return dao_error_set(err, -ENOENT, "the recording has no depth stream");
+}
+
+int dao_oni_reader_read_depth(struct dao_oni_reader *r, uint32_t stream, uint32_t frame,
+			      struct dao_frame *out, struct dao_error *err)
+{
+	if (!r || stream >= r->nnodes)
+		return dao_error_set(err, -EINVAL, "read_depth: no stream %u", stream);
+	struct node *n = &r->nodes[stream];
+	const struct dao_oni_stream_info *in = &n->info;
+	if (in->sensor != DAO_ONI_SENSOR_DEPTH)
+		return dao_error_set(err, -EINVAL, "stream %u ('%s') is not a depth stream",
+				     stream, in->name);
+	if (in->depth_unit == 0.0f)
+		return dao_error_set(err, -EINVAL,
+				     "depth stream '%s' has pixel format %d, which is not in "
+				     "millimetres or 100 um; depthao reads only metric depth",
+				     in->name, in->pixel_format);
+	if (frame >= n->nframes)
+		return dao_error_set(err, -EINVAL, "frame %u is past the end of '%s' (%u frames)",
+				     frame, in->name, n->nframes);
+	int ret = dao_frame_check(out, "oni depth output", in->width, in->height, err);
+	if (ret < 0)
+		return ret;
+	if (out->format != DAO_PIXFMT_DEPTH16)
+		return dao_error_set(err, -EINVAL, "oni depth output must be depth16, not %s",
+				     dao_pixfmt_name(out->format));
+	const struct frame_ref *fr = &n->frames[frame];
+	if ((ret = read_at(r, r->payload, fr->payload_size, fr->payload_pos)) < 0)
+		return dao_error_set(err, -EIO, "cannot read frame %u of '%s': %s", frame,
+				     in->name, ret == -ENODATA ? "the file has shrunk" : strerror(-ret));
+	size_t npix = (size_t)in->width * in->height;
+	const char *why = "";
+	if (in->codec == DAO_ONI_CODEC_NONE) {
+		for (size_t i = 0; i < npix; i++)
+			r->pixels[i] = oni_rd16(r->payload + 2 * i);
+	} else {
+		ret = in->codec == DAO_ONI_CODEC_16Z
+			      ? dao_16z_decode(r->payload, fr->payload_size, r->pixels, npix, &why)
+			      : dao_16zt_decode(r->payload, fr->payload_size, r->pixels, npix, &why);
+		if (ret < 0)
+			return dao_error_set(err, -EINVAL,
+					     "frame %u of '%s' is corrupt: %s (%s, %u bytes)", frame,
+					     in->name, why, in->codec_fourcc, fr->payload_size);
+	}
+	for (uint32_t y = 0; y < in->height; y++)
+		memcpy((uint8_t *)out->data + (size_t)y * (size_t)out->stride,
+		       r->pixels + (size_t)y * in->width, in->width * sizeof(uint16_t));
+	out->depth_unit = in->depth_unit;
+	out->timestamp_ns = fr->timestamp_us * 1000u;
+	out->sequence = fr->number;
+	return 0;
+}
+
+const char *dao_oni_codec_name(enum dao_oni_codec codec)
+{
+	switch (codec) {
+	case DAO_ONI_CODEC_NONE: return "none";
+	case DAO_ONI_CODEC_16Z: return "16z";
+	case DAO_ONI_CODEC_16ZT: return "16zt";
+	case DAO_ONI_CODEC_JPEG: return "jpeg";
+	case DAO_ONI_CODEC_8Z: return "8z";
+	default: return "other";
+	}
+}
+
+int dao_oni_codec_from_name(const char *name, enum dao_oni_codec *codec)
+{
+	static const struct {
+		const char *name;
+		enum dao_oni_codec codec;
+	} names[] = {{"none", DAO_ONI_CODEC_NONE}, {"16z", DAO_ONI_CODEC_16Z},
+		     {"16zp", DAO_ONI_CODEC_16Z},  {"16zt", DAO_ONI_CODEC_16ZT}};
+	for (size_t i = 0; name && i < sizeof(names) / sizeof(names[0]); i++) {
+		if (!strcasecmp(name, names[i].name)) {
+			*codec = names[i].codec;
+			return 0;
+		}
+	}
+	return -EINVAL;
+}

@@ -1,0 +1,8 @@
+/* SPDX-License-Identifier: MIT */
+#include "plugin/builtin.h"
+
+const struct dao_plugin *const dao_builtin_plugins[] = {
+	&dao_builtin_oni_plugin,
+	&dao_builtin_images_plugin,
+	NULL,
+};

@@ -1,0 +1,265 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Built-in source "images": one 16-bit depth PNG, or every *.png of a
+ * directory in byte order of their names, as a recording of frame_count
+ * frames (unit from the options, 0.001 by default; no field of view: PNG
+ * files do not carry one).  Frames are decoded on read; all must have the
+ * size of the first.  Real-time playback paces frames at 30 fps.
+ */
+#include <depthao/plugin.h>
+#include <depthao/png.h>
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#include "core/error_internal.h"
+#include "plugin/builtin.h"
+
+#define IMAGES_REALTIME_FPS 30
+
+struct images_source {
+	char **paths;
+	uint32_t count;
+	struct dao_source_options opts;
+	float unit;
+	uint32_t width, height;
+	struct dao_frame frame; /* the last frame read (owned) */
+	uint64_t next;
+	struct timespec last_delivery;
+	int delivered;
+	char description[160];
+};
+
+static int is_png_name(const char *name)
+{
+	size_t n = strlen(name);
+	return n > 4 && !strcasecmp(name + n - 4, ".png");
+}
+
+static int is_dir(const char *path)
+{
+	struct stat st;
+	return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+static int images_probe(const char *uri)
+{
+	return is_png_name(uri) || is_dir(uri) ? 30 : 0;
+}
+
+static int cmp_paths(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static void free_paths(struct images_source *s)
+{
+	for (uint32_t i = 0; i < s->count; i++)
+		free(s->paths[i]);
+	free(s->paths);
+	s->paths = NULL;
+	s->count = 0;
+}
+
+static int add_path(struct images_source *s, const char *dir, const char *name)
+{
+	char **p = realloc(s->paths, (s->count + 1) * sizeof(*p));
+	if (!p)
+		return -ENOMEM;
+	s->paths = p;
+	size_t len = (dir ? strlen(dir) + 1 : 0) + strlen(name) + 1;
+	if (!(p[s->count] = malloc(len)))
+		return -ENOMEM;
+	if (dir)
+		snprintf(p[s->count], len, "%s/%s", dir, name);
+	else
+		snprintf(p[s->count], len, "%s", name);
+	s->count++;
+	return 0;
+}
+
+static int list_dir(struct images_source *s, const char *dir, struct dao_error *err)
+{
+	DIR *d = opendir(dir);
+	if (!d)
+		return dao_error_set(err, -errno, "cannot open directory %s: %s", dir, strerror(errno));
+	struct dirent *e;
+	int r = 0;
+	while (r == 0 && (e = readdir(d)))
+		if (e->d_name[0] != '.' && is_png_name(e->d_name))
+			r = add_path(s, dir, e->d_name);
+	closedir(d);
+	if (r < 0)
+		return dao_error_set(err, r, "out of memory listing %s", dir);
+	if (s->count == 0)
+		return dao_error_set(err, -ENOENT, "no *.png files in %s", dir);
+	qsort(s->paths, s->count, sizeof(*s->paths), cmp_paths);
+	return 0;
+}
+
+static int read_frame(struct images_source *s, uint32_t i, struct dao_error *err)
+{
+	dao_frame_free(&s->frame);
+	int r = dao_png_read_depth(s->paths[i], s->unit, &s->frame, err);
+	if (r < 0)
+		return r;
+	if (s->width && (s->frame.width != s->width || s->frame.height != s->height))
+		return dao_error_set(err, -EINVAL, "%s is %ux%u, but the sequence is %ux%u",
+				     s->paths[i], s->frame.width, s->frame.height, s->width,
+				     s->height);
+	s->frame.sequence = i + 1;
+	s->frame.timestamp_ns = (uint64_t)i * 1000000000u / IMAGES_REALTIME_FPS;
+	return 0;
+}
+
+static int images_open(const char *uri, const struct dao_source_options *opts, void **state,
+		       struct dao_error *err)
+{
+	struct images_source *s = calloc(1, sizeof(*s));
+	int r;
+	if (!s)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	s->opts = *opts;
+	if (s->opts.step == 0)
+		s->opts.step = 1;
+	s->unit = opts->depth_unit > 0 ? opts->depth_unit : 0.001f;
+	if (!(opts->depth_unit >= 0 && opts->depth_unit <= 1)) {
+		r = dao_error_set(err, -EINVAL, "images: depth unit %g is not in (0, 1] metres",
+				  (double)opts->depth_unit);
+		goto fail;
+	}
+	if (is_dir(uri))
+		r = list_dir(s, uri, err);
+	else if (is_png_name(uri))
+		r = add_path(s, NULL, uri) < 0 ? dao_error_set(err, -ENOMEM, "out of memory") : 0;
+	else
+		r = dao_error_set(err, -EINVAL, "images: %s is neither a directory nor a .png file",
+				  uri);
+	if (r < 0)
+		goto fail;
+	if (opts->start_frame >= s->count) {
+		r = dao_error_set(err, -EINVAL, "images: start frame %u is past the end (%u images)",
+				  opts->start_frame, s->count);
+		goto fail;
+	}
+	/* the first image fixes the size */
+	if ((r = read_frame(s, 0, err)) < 0)
+		goto fail;
+	s->width = s->frame.width;
+	s->height = s->frame.height;
+	dao_frame_free(&s->frame);
+	snprintf(s->description, sizeof(s->description), "%.100s: %u depth PNG%s, %ux%u", uri,
+		 s->count, s->count == 1 ? "" : "s", s->width, s->height);
+	s->next = opts->start_frame;
+	*state = s;
+	return 0;
+fail:
+	free_paths(s);
+	dao_frame_free(&s->frame);
+	free(s);
+	return r;
+}
+
+static void images_get_info(void *state, struct dao_source_info *in)
+{
+	struct images_source *s = state;
+	in->width = s->width;
+	in->height = s->height;
+	in->format = DAO_PIXFMT_DEPTH16;
+	in->depth_unit = s->unit;
+	in->fps = 0;
+	in->frame_count = s->count;
+	snprintf(in->description, sizeof(in->description), "%s", s->description);
+}
+
+static int images_start(void *state, struct dao_error *err)
+{
+	(void)state;
+	(void)err;
+	return 0;
+}
+
+static int images_read(void *state, struct dao_source_frame *f, int timeout_ms,
+		       struct dao_error *err)
+{
+	struct images_source *s = state;
+	if (s->next >= s->count) {
+		if (!s->opts.loop)
+			return DAO_SOURCE_EOS;
+		s->next = s->opts.start_frame;
+	}
+	if (s->opts.playback == DAO_PLAYBACK_REALTIME && s->delivered) {
+		struct timespec now;
+		clock_gettime(CLOCK_MONOTONIC, &now);
+		int64_t since = (int64_t)(now.tv_sec - s->last_delivery.tv_sec) * 1000000 +
+				(now.tv_nsec - s->last_delivery.tv_nsec) / 1000;
+		int64_t due = 1000000 / IMAGES_REALTIME_FPS - since;
+		if (due > 0) {
+			int64_t wait = timeout_ms >= 0 && due > (int64_t)timeout_ms * 1000
+					       ? (int64_t)timeout_ms * 1000
+					       : due;
+			struct timespec d = {(time_t)(wait / 1000000), (long)(wait % 1000000) * 1000};
+			while (nanosleep(&d, &d) < 0 && errno == EINTR)
+				;
+			if (wait < due)
+				return -EAGAIN;
+		}
+	}
+	int r = read_frame(s, (uint32_t)s->next, err);
+	if (r < 0)
+		return r;
+	clock_gettime(CLOCK_MONOTONIC, &s->last_delivery);
+	s->delivered = 1;
+	f->depth = s->frame;
+	f->color.format = DAO_PIXFMT_NONE;
+	f->index = s->next;
+	s->next += s->opts.step;
+	return 0;
+}
+
+static int images_seek(void *state, uint64_t index, struct dao_error *err)
+{
+	struct images_source *s = state;
+	if (index >= s->count)
+		return dao_error_set(err, -EINVAL, "seek to frame %llu: there are %u images",
+				     (unsigned long long)index, s->count);
+	s->next = index;
+	return 0;
+}
+
+static void images_stop(void *state)
+{
+	(void)state;
+}
+
+static void images_close(void *state)
+{
+	struct images_source *s = state;
+	free_paths(s);
+	dao_frame_free(&s->frame);
+	free(s);
+}
+
+static const struct dao_source_ops images_source_ops = {
+	.probe = images_probe,
+	.open = images_open,
+	.get_info = images_get_info,
+	.start = images_start,
+	.read = images_read,
+	.seek = images_seek,
+	.stop = images_stop,
+	.close = images_close,
+};
+
+const struct dao_plugin dao_builtin_images_plugin = {
+	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	.name = "images",
+	.description = "a 16-bit depth PNG or a directory of them (name order)",
+	.source = &images_source_ops,
+};

@@ -1,0 +1,209 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Built-in source "oni": .oni recordings through depthao's own reader, no
+ * OpenNI needed.  Manual playback hands out every frame once; real-time
+ * playback sleeps until each frame's recorded time has come (relative to
+ * the first frame delivered); loop wraps to the first frame (or start_frame).
+ */
+#include <depthao/oni.h>
+#include <depthao/plugin.h>
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "core/error_internal.h"
+#include "plugin/builtin.h"
+
+struct oni_source {
+	struct dao_oni_reader *reader;
+	int stream;
+	struct dao_source_options opts;
+	struct dao_oni_stream_info info;
+	char path_tail[96];
+	struct dao_frame depth;
+	uint64_t next;
+	int paced;                 /* clock_start/ts_start are set */
+	struct timespec clock_start;
+	uint64_t ts_start_us;
+};
+
+static int oni_probe(const char *uri)
+{
+	size_t n = strlen(uri);
+	return n > 4 && !strcasecmp(uri + n - 4, ".oni") ? 60 : 0;
+}
+
+static int oni_open(const char *uri, const struct dao_source_options *opts, void **state,
+		    struct dao_error *err)
+{
+	struct oni_source *s = calloc(1, sizeof(*s));
+	int r;
+	if (!s)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	s->opts = *opts;
+	if (s->opts.step == 0)
+		s->opts.step = 1;
+	if ((r = dao_oni_reader_open(uri, &s->reader, err)) < 0)
+		goto fail;
+	if ((r = dao_oni_reader_depth_stream(s->reader, err)) < 0) {
+		r = dao_error_set(err, -EINVAL, "%s: the recording has no depth stream", uri);
+		goto fail;
+	}
+	s->stream = r;
+	s->info = *dao_oni_reader_stream(s->reader, (uint32_t)s->stream);
+	if (s->info.frame_count == 0) {
+		r = dao_error_set(err, -EINVAL, "%s: the depth stream '%s' has no frames", uri,
+				  s->info.name);
+		goto fail;
+	}
+	if (s->info.depth_unit == 0.0f) {
+		r = dao_error_set(err, -EINVAL,
+				  "%s: depth pixel format %d is not metric (1 mm or 100 um)", uri,
+				  s->info.pixel_format);
+		goto fail;
+	}
+	if (opts->start_frame >= s->info.frame_count) {
+		r = dao_error_set(err, -EINVAL,
+				  "%s: start frame %u is past the end (the recording has %u frames)",
+				  uri, opts->start_frame, s->info.frame_count);
+		goto fail;
+	}
+	if ((r = dao_frame_alloc(&s->depth, DAO_PIXFMT_DEPTH16, s->info.width, s->info.height,
+				 err)) < 0)
+		goto fail;
+	const char *base = strrchr(uri, '/');
+	snprintf(s->path_tail, sizeof(s->path_tail), "%s", base ? base + 1 : uri);
+	s->next = opts->start_frame;
+	*state = s;
+	return 0;
+fail:
+	dao_oni_reader_close(s->reader);
+	free(s);
+	return r;
+}
+
+static void oni_get_info(void *state, struct dao_source_info *in)
+{
+	struct oni_source *s = state;
+	in->width = s->info.width;
+	in->height = s->info.height;
+	in->format = DAO_PIXFMT_DEPTH16;
+	in->depth_unit = s->info.depth_unit;
+	in->has_fov = s->info.has_fov;
+	in->hfov = s->info.hfov;
+	in->vfov = s->info.vfov;
+	in->fps = s->info.fps;
+	in->frame_count = s->info.frame_count;
+	in->live = 0;
+	in->mirrored = s->info.mirrored;
+	in->registered = s->info.registered;
+	in->has_color = 0; /* the colour node (JPEG) is not decoded by the built-in reader */
+	snprintf(in->description, sizeof(in->description), "%.60s: %.40s %ux%u@%u %s, %u frames",
+		 s->path_tail, s->info.name, s->info.width, s->info.height, s->info.fps,
+		 s->info.codec_fourcc, s->info.frame_count);
+}
+
+static int oni_start(void *state, struct dao_error *err)
+{
+	struct oni_source *s = state;
+	s->paced = 0;
+	return 0;
+}
+
+static int64_t elapsed_us(const struct timespec *a)
+{
+	struct timespec now;
+	clock_gettime(CLOCK_MONOTONIC, &now);
+	return (int64_t)(now.tv_sec - a->tv_sec) * 1000000 + (now.tv_nsec - a->tv_nsec) / 1000;
+}
+
+/* Real time: wait for the frame's moment; -EAGAIN if it is beyond the timeout. */
+static int pace(struct oni_source *s, uint64_t ts_us, int timeout_ms)
+{
+	if (!s->paced || ts_us < s->ts_start_us) {
+		clock_gettime(CLOCK_MONOTONIC, &s->clock_start);
+		s->ts_start_us = ts_us;
+		s->paced = 1;
+		return 0;
+	}
+	int64_t due = (int64_t)(ts_us - s->ts_start_us) - elapsed_us(&s->clock_start);
+	if (due <= 0)
+		return 0;
+	int64_t wait = due;
+	if (timeout_ms >= 0 && wait > (int64_t)timeout_ms * 1000)
+		wait = (int64_t)timeout_ms * 1000;
+	struct timespec d = {(time_t)(wait / 1000000), (long)(wait % 1000000) * 1000};
+	while (nanosleep(&d, &d) < 0 && errno == EINTR)
+		;
+	return wait < due ? -EAGAIN : 0;
+}
+
+static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
+		    struct dao_error *err)
+{
+	struct oni_source *s = state;
+	if (s->next >= s->info.frame_count) {
+		if (!s->opts.loop)
+			return DAO_SOURCE_EOS;
+		s->next = s->opts.start_frame;
+		s->paced = 0; /* the timestamps start again */
+	}
+	int r = dao_oni_reader_read_depth(s->reader, (uint32_t)s->stream, (uint32_t)s->next,
+					  &s->depth, err);
+	if (r < 0)
+		return r;
+	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
+	    (r = pace(s, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+		return r; /* the frame is read again next time */
+	f->depth = s->depth;
+	f->color.format = DAO_PIXFMT_NONE;
+	f->index = s->next;
+	s->next += s->opts.step;
+	return 0;
+}
+
+static int oni_seek(void *state, uint64_t index, struct dao_error *err)
+{
+	struct oni_source *s = state;
+	if (index >= s->info.frame_count)
+		return dao_error_set(err, -EINVAL, "seek to frame %llu: the recording has %u frames",
+				     (unsigned long long)index, s->info.frame_count);
+	s->next = index;
+	s->paced = 0;
+	return 0;
+}
+
+static void oni_stop(void *state)
+{
+	(void)state;
+}
+
+static void oni_close(void *state)
+{
+	struct oni_source *s = state;
+	dao_frame_free(&s->depth);
+	dao_oni_reader_close(s->reader);
+	free(s);
+}
+
+static const struct dao_source_ops oni_source_ops = {
+	.probe = oni_probe,
+	.open = oni_open,
+	.get_info = oni_get_info,
+	.start = oni_start,
+	.read = oni_read,
+	.seek = oni_seek,
+	.stop = oni_stop,
+	.close = oni_close,
+};
+
+const struct dao_plugin dao_builtin_oni_plugin = {
+	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	.name = "oni",
+	.description = ".oni recordings (depth: NONE, 16zP, 16zT) through depthao's own reader",
+	.source = &oni_source_ops,
+};

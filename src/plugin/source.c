@@ -1,0 +1,156 @@
+/* SPDX-License-Identifier: MIT */
+/* Opening a source by URI, and the thin wrapper around its vtable. */
+#include <depthao/plugin.h>
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error_internal.h"
+
+struct dao_source {
+	const struct dao_plugin *plugin;
+	void *state;
+	int started;
+};
+
+/* "name1 (built-in), name2 (/path)" of the plugins that are sources. */
+static void list_sources(const struct dao_plugins *p, char *buf, size_t cap)
+{
+	size_t len = 0;
+	buf[0] = '\0';
+	for (size_t i = 0; i < dao_plugins_count(p); i++) {
+		const struct dao_plugin *pl = dao_plugins_get(p, i);
+		if (!pl->source)
+			continue;
+		int k = snprintf(buf + len, cap - len, "%s%s", len ? ", " : "", pl->name);
+		if (k < 0 || (size_t)k >= cap - len)
+			break;
+		len += (size_t)k;
+	}
+	size_t ns = dao_plugins_skipped_count(p);
+	if (ns && len + 32 < cap)
+		snprintf(buf + len, cap - len, "; %zu plugin(s) failed to load, see 'depthao devices'",
+			 ns);
+}
+
+/* A URI prefix "name:" of letters, digits, '-', '_' (so "C:\x" or "./a:b" are not). */
+static size_t prefix_len(const char *uri)
+{
+	size_t i = 0;
+	while ((uri[i] >= 'a' && uri[i] <= 'z') || (uri[i] >= '0' && uri[i] <= '9') ||
+	       uri[i] == '-' || uri[i] == '_')
+		i++;
+	return i > 1 && uri[i] == ':' ? i : 0;
+}
+
+int dao_source_open(const struct dao_plugins *p, const char *uri,
+		    const struct dao_source_options *opts, struct dao_source **out,
+		    struct dao_error *err)
+{
+	static const struct dao_source_options defaults = {0};
+	const struct dao_plugin *pl = NULL;
+	const char *rest = uri;
+	char names[200];
+
+	if (!p || !uri || !out)
+		return dao_error_set(err, -EINVAL, "dao_source_open: plugins, uri and out are required");
+	*out = NULL;
+	if (!opts)
+		opts = &defaults;
+	size_t n = prefix_len(uri);
+	if (n) {
+		char name[64];
+		snprintf(name, sizeof(name), "%.*s", (int)(n < 63 ? n : 63), uri);
+		pl = dao_plugins_find(p, name);
+		if (!pl || !pl->source) {
+			list_sources(p, names, sizeof(names));
+			return dao_error_set(err, -ENOENT,
+					     "no source plugin '%s' for '%s'; available: %s", name,
+					     uri, names);
+		}
+		rest = uri + n + 1;
+	} else {
+		int best = 0;
+		for (size_t i = 0; i < dao_plugins_count(p); i++) {
+			const struct dao_plugin *c = dao_plugins_get(p, i);
+			int score = c->source && c->source->probe ? c->source->probe(uri) : 0;
+			if (score > best) {
+				best = score;
+				pl = c;
+			}
+		}
+		if (!pl) {
+			list_sources(p, names, sizeof(names));
+			return dao_error_set(err, -ENOENT,
+					     "no source recognises '%s'; name one as NAME:URI "
+					     "(available: %s)",
+					     uri, names);
+		}
+	}
+	struct dao_source *s = calloc(1, sizeof(*s));
+	if (!s)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	s->plugin = pl;
+	int r = pl->source->open(rest, opts, &s->state, err);
+	if (r < 0) {
+		free(s);
+		return r;
+	}
+	*out = s;
+	return 0;
+}
+
+const struct dao_plugin *dao_source_plugin(const struct dao_source *s)
+{
+	return s ? s->plugin : NULL;
+}
+
+void dao_source_get_info(const struct dao_source *s, struct dao_source_info *info)
+{
+	memset(info, 0, sizeof(*info));
+	s->plugin->source->get_info(s->state, info);
+}
+
+int dao_source_start(struct dao_source *s, struct dao_error *err)
+{
+	if (s->started)
+		return 0;
+	int r = s->plugin->source->start(s->state, err);
+	if (r == 0)
+		s->started = 1;
+	return r;
+}
+
+int dao_source_read(struct dao_source *s, struct dao_source_frame *f, int timeout_ms,
+		    struct dao_error *err)
+{
+	if (!s->started)
+		return dao_error_set(err, -EINVAL, "read from a source that was not started");
+	memset(f, 0, sizeof(*f));
+	return s->plugin->source->read(s->state, f, timeout_ms, err);
+}
+
+void dao_source_release(struct dao_source *s, struct dao_source_frame *f)
+{
+	if (s->plugin->source->release)
+		s->plugin->source->release(s->state, f);
+}
+
+int dao_source_seek(struct dao_source *s, uint64_t index, struct dao_error *err)
+{
+	if (!s->plugin->source->seek)
+		return dao_error_set(err, -ENOTSUP, "source '%s' cannot seek", s->plugin->name);
+	return s->plugin->source->seek(s->state, index, err);
+}
+
+void dao_source_close(struct dao_source *s)
+{
+	if (!s)
+		return;
+	if (s->started && s->plugin->source->stop)
+		s->plugin->source->stop(s->state);
+	s->plugin->source->close(s->state);
+	free(s);
+}

@@ -1,0 +1,270 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The plugin registry and the built-in "oni" source: URI dispatch, error
+ * messages, modules that must be skipped, and every playback mode.
+ */
+#include <errno.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "common/test_common.h"
+#include "source_test_util.h"
+
+#define FRAMES 6
+
+static char g_path[512];
+static struct dao_plugins *g_plugins;
+
+static int setup(void **state)
+{
+	(void)state;
+	struct dao_error err;
+	snprintf(g_path, sizeof g_path, "%s/six.oni", dao_test_tmpdir("source-oni"));
+	if (test_write_oni(g_path, FRAMES, DAO_ONI_CODEC_16ZT) < 0)
+		return -1;
+	/* only built-ins: an empty search path */
+	return dao_plugins_load(&g_plugins, "", &err);
+}
+
+static int teardown(void **state)
+{
+	(void)state;
+	dao_plugins_free(g_plugins);
+	return 0;
+}
+
+static struct dao_source *open_src(const char *uri, const struct dao_source_options *o)
+{
+	return test_open_started(g_plugins, uri, o);
+}
+
+/* Reads one frame and returns its index, or the read's status (EOS/error) as -1000 - code. */
+static long long read_index(struct dao_source *s)
+{
+	struct dao_source_frame f;
+	struct dao_error err;
+	int r = dao_source_read(s, &f, 1000, &err);
+	if (r != 0)
+		return -1000 + r;
+	assert_true(test_is_frame(&f.depth, (uint32_t)f.index));
+	assert_int_equal(f.depth.sequence, f.index + 1);
+	assert_int_equal(f.depth.timestamp_ns, (1000 + f.index * 33333) * 1000);
+	assert_int_equal(f.color.format, DAO_PIXFMT_NONE);
+	dao_source_release(s, &f);
+	return (long long)f.index;
+}
+
+static void test_builtins_listed(void **state)
+{
+	(void)state;
+	assert_true(dao_plugins_count(g_plugins) >= 1);
+	const struct dao_plugin *p = dao_plugins_find(g_plugins, "oni");
+	assert_non_null(p);
+	assert_non_null(p->source);
+	assert_string_equal(dao_plugins_origin(g_plugins, 0), "built-in");
+	assert_null(dao_plugins_find(g_plugins, "nosuch"));
+}
+
+static void test_info_and_auto_pick(void **state)
+{
+	(void)state;
+	struct dao_source *s = open_src(g_path, NULL); /* no prefix: probed by extension */
+	assert_string_equal(dao_source_plugin(s)->name, "oni");
+	struct dao_source_info in;
+	dao_source_get_info(s, &in);
+	assert_int_equal(in.width, TEST_W);
+	assert_int_equal(in.height, TEST_H);
+	assert_int_equal(in.format, DAO_PIXFMT_DEPTH16);
+	assert_float_equal(in.depth_unit, 0.001, 1e-9);
+	assert_int_equal(in.frame_count, FRAMES);
+	assert_int_equal(in.live, 0);
+	assert_true(in.has_fov);
+	assert_float_equal(in.hfov, 1.0, 1e-12);
+	assert_float_equal(in.vfov, 0.75, 1e-12);
+	assert_float_equal(in.fps, TEST_FPS, 0);
+	assert_non_null(strstr(in.description, "six.oni"));
+	dao_source_close(s);
+}
+
+static void test_manual_every_frame_once(void **state)
+{
+	(void)state;
+	char uri[600];
+	snprintf(uri, sizeof uri, "oni:%s", g_path);
+	struct dao_source *s = open_src(uri, NULL);
+	for (long long i = 0; i < FRAMES; i++)
+		assert_int_equal(read_index(s), i);
+	assert_int_equal(read_index(s), -1000 + DAO_SOURCE_EOS);
+	assert_int_equal(read_index(s), -1000 + DAO_SOURCE_EOS); /* stays at the end */
+	dao_source_close(s);
+}
+
+static void test_loop_wraps(void **state)
+{
+	(void)state;
+	struct dao_source_options o = {.loop = 1, .start_frame = 4};
+	struct dao_source *s = open_src(g_path, &o);
+	long long expect[] = {4, 5, 4, 5, 4};
+	for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++)
+		assert_int_equal(read_index(s), expect[i]);
+	dao_source_close(s);
+}
+
+static void test_start_step_seek(void **state)
+{
+	(void)state;
+	struct dao_source_options o = {.start_frame = 1, .step = 2};
+	struct dao_source *s = open_src(g_path, &o);
+	assert_int_equal(read_index(s), 1);
+	assert_int_equal(read_index(s), 3);
+	assert_int_equal(read_index(s), 5);
+	assert_int_equal(read_index(s), -1000 + DAO_SOURCE_EOS);
+	struct dao_error err;
+	assert_int_equal(dao_source_seek(s, 2, &err), 0); /* back from the end */
+	assert_int_equal(read_index(s), 2);
+	assert_int_equal(dao_source_seek(s, FRAMES, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "6 frames"));
+	dao_source_close(s);
+}
+
+static void test_realtime_delivers_all(void **state)
+{
+	(void)state;
+	struct dao_source_options o = {.playback = DAO_PLAYBACK_REALTIME};
+	struct dao_source *s = open_src(g_path, &o);
+	for (long long i = 0; i < FRAMES; i++)
+		assert_int_equal(read_index(s), i); /* paced, but none skipped */
+	assert_int_equal(read_index(s), -1000 + DAO_SOURCE_EOS);
+	dao_source_close(s);
+}
+
+static void test_open_errors(void **state)
+{
+	(void)state;
+	struct dao_source *s = NULL;
+	struct dao_error err;
+	assert_int_equal(dao_source_open(g_plugins, "nosuch:thing", NULL, &s, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "no source plugin 'nosuch'"));
+	assert_non_null(strstr(err.message, "oni")); /* lists what there is */
+	assert_int_equal(dao_source_open(g_plugins, "/tmp/whatever.xyz", NULL, &s, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "no source recognises"));
+	assert_int_equal(dao_source_open(g_plugins, "oni:/nonexistent/x.oni", NULL, &s, &err),
+			 -ENOENT);
+	assert_non_null(strstr(err.message, "/nonexistent/x.oni"));
+	struct dao_source_options o = {.start_frame = FRAMES};
+	assert_int_equal(dao_source_open(g_plugins, g_path, &o, &s, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "start frame"));
+	assert_null(s);
+}
+
+/* A directory of depth PNGs: frame f of the test pattern as f.png, in name order. */
+static const char *write_pngs(const char *tag, uint32_t n, uint32_t odd_one)
+{
+	const char *dir = dao_test_tmpdir(tag);
+	struct dao_frame d;
+	struct dao_error err;
+	assert_int_equal(dao_frame_alloc(&d, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, &err), 0);
+	d.depth_unit = 0.001f;
+	for (uint32_t f = 0; f < n; f++) {
+		char path[600];
+		for (uint32_t y = 0; y < TEST_H; y++)
+			for (uint32_t x = 0; x < TEST_W; x++)
+				((uint16_t *)d.data)[y * TEST_W + x] = test_depth(f, x, y);
+		struct dao_frame w = d;
+		if (f == odd_one)
+			w.width = TEST_W - 1; /* a frame of another size */
+		snprintf(path, sizeof path, "%s/%02u.png", dir, f);
+		assert_int_equal(dao_png_write(path, &w, &err), 0);
+	}
+	dao_frame_free(&d);
+	return dir;
+}
+
+static void test_images_source(void **state)
+{
+	(void)state;
+	char uri[600];
+	snprintf(uri, sizeof uri, "images:%s", write_pngs("images", 4, 99));
+	struct dao_source_options o = {.start_frame = 1, .loop = 1, .depth_unit = 0.0002f};
+	struct dao_source *s = open_src(uri, &o);
+	struct dao_source_info in;
+	dao_source_get_info(s, &in);
+	assert_int_equal(in.frame_count, 4);
+	assert_int_equal(in.width, TEST_W);
+	assert_int_equal(in.has_fov, 0);
+	assert_float_equal(in.depth_unit, 0.0002, 1e-9);
+	struct dao_error err;
+	long long expect[] = {1, 2, 3, 1};
+	for (int i = 0; i < 4; i++) {
+		struct dao_source_frame f;
+		assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+		assert_int_equal(f.index, expect[i]);
+		assert_true(test_is_frame(&f.depth, (uint32_t)f.index));
+		assert_float_equal(f.depth.depth_unit, 0.0002, 1e-9);
+		dao_source_release(s, &f);
+	}
+	dao_source_close(s);
+
+	/* a directory is picked without a prefix too; a frame of another size is an error */
+	const char *dir = write_pngs("images-odd", 3, 2);
+	s = open_src(dir, NULL);
+	assert_string_equal(dao_source_plugin(s)->name, "images");
+	struct dao_source_frame f;
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "02.png is 36x23, but the sequence is 37x23"));
+	dao_source_close(s);
+
+	/* an empty directory */
+	snprintf(uri, sizeof uri, "images:%s", dao_test_tmpdir("images-empty"));
+	assert_int_equal(dao_source_open(g_plugins, uri, NULL, &s, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "no *.png files"));
+}
+
+static void test_modules_skipped_with_reason(void **state)
+{
+	(void)state;
+	const char *dir = getenv("DAO_FAKE_PLUGIN_DIR");
+	if (!dir)
+		skip();
+	struct dao_plugins *p;
+	struct dao_error err;
+	assert_int_equal(dao_plugins_load(&p, dir, &err), 0);
+	assert_non_null(dao_plugins_find(p, "fakesink"));
+	assert_null(dao_plugins_find(p, "wrongabi"));
+	int abi = 0, nosym = 0;
+	for (size_t i = 0; i < dao_plugins_skipped_count(p); i++) {
+		const char *m = dao_plugins_skipped(p, i);
+		abi += strstr(m, "fake-wrongabi.so") && strstr(m, "ABI") ? 1 : 0;
+		nosym += strstr(m, "fake-nosymbol.so") && strstr(m, "not a depthao plugin") ? 1 : 0;
+	}
+	assert_int_equal(abi, 1);
+	assert_int_equal(nosym, 1);
+	/* a sink is not a source */
+	struct dao_source *s;
+	assert_int_equal(dao_source_open(p, "fakesink:x", NULL, &s, &err), -ENOENT);
+	dao_plugins_free(p);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_builtins_listed),
+		cmocka_unit_test(test_info_and_auto_pick),
+		cmocka_unit_test(test_manual_every_frame_once),
+		cmocka_unit_test(test_loop_wraps),
+		cmocka_unit_test(test_start_step_seek),
+		cmocka_unit_test(test_realtime_delivers_all),
+		cmocka_unit_test(test_open_errors),
+		cmocka_unit_test(test_images_source),
+		cmocka_unit_test(test_modules_skipped_with_reason),
+	};
+	return cmocka_run_group_tests(tests, setup, teardown);
+}
