@@ -5,12 +5,13 @@
 #   ./bootstrap.sh deps   install the missing Debian packages (apt-get, as root or with sudo)
 #   ./bootstrap.sh build  deps, then configure and build in build/ (release, warnings are errors)
 #   ./bootstrap.sh demo   build, then shade the bundled recording into out/ao and out/shaded
-#   ./bootstrap.sh test   build, then run every test suite, the installed-library example included
+#   ./bootstrap.sh test   build, then run every test suite, the installed-library example included,
+#                         then the .oni/plugin suites under ASan + UBSan
 set -euo pipefail
 cd "$(dirname "$0")"
 
-# The recording the demo shades (a directory of 16-bit depth PNGs + camera.json).
-DEMO_INPUT=${DEMO_INPUT:-recordings/spheres-noisy}
+# The recording the demo shades (an .oni file, or a directory of 16-bit depth PNGs).
+DEMO_INPUT=${DEMO_INPUT:-recordings/spheres-rolling.oni}
 DEMO_OUT=${DEMO_OUT:-out}
 BUILD_DIR=${BUILD_DIR:-build}
 DEPTHAO=$BUILD_DIR/tools/depthao/depthao
@@ -31,7 +32,8 @@ usage: ./bootstrap.sh deps|build|demo|test
   build   deps, then configure $BUILD_DIR/ (release, -Dwerror=true) and build it
   demo    build, then shade the recording $DEMO_INPUT into $DEMO_OUT/ao and $DEMO_OUT/shaded
   test    build, then run every test suite (meson test), including the example built
-          against the installed library (suite 'install')
+          against the installed library (suite 'install'); then the oni and plugin
+          suites again under ASan + UBSan (in $BUILD_DIR-asan)
 
 environment: BUILD_DIR (default build), DEMO_INPUT, DEMO_OUT (default out)
 USAGE
@@ -88,7 +90,7 @@ demo_command() {
 
 demo() {
 	[ -e "$DEMO_INPUT" ] ||
-		die "the demo recording $DEMO_INPUT does not exist (set DEMO_INPUT=<dir of 16-bit depth PNGs>)"
+		die "the demo recording $DEMO_INPUT does not exist (set DEMO_INPUT=<.oni file or dir of 16-bit depth PNGs>)"
 	build
 	demo_command
 	say "ambient occlusion (16-bit PNG): $(pwd)/$DEMO_OUT/ao/"
@@ -115,7 +117,23 @@ run_tests() {
 	local status=0
 	meson test -C "$BUILD_DIR" --print-errorlogs || status=$?
 	summarize
+	sanitized_tests || status=1
 	return "$status"
+}
+
+# The parsers of untrusted files (.oni reader, 16z codecs) and the sources again, under
+# AddressSanitizer and UndefinedBehaviorSanitizer, in $BUILD_DIR-asan.
+sanitized_tests() {
+	local dir="$BUILD_DIR-asan"
+	if [ ! -f "$dir/meson-private/coredata.dat" ]; then
+		meson setup "$dir" --buildtype=debug -Db_sanitize=address,undefined \
+			-Db_lundef=false -Dwerror=true >/dev/null
+	fi
+	ninja -C "$dir" >/dev/null
+	say "sanitizers: the oni and plugin suites under ASan + UBSan"
+	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
+		LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" \
+		meson test -C "$dir" --suite oni --suite plugin --print-errorlogs
 }
 
 case "${1:-}" in

@@ -18,45 +18,40 @@
 #include "cli_params.h"
 #include "commands.h"
 #include "file_list.h"
+#include "process.h"
 #include "progress.h"
 
-/* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
-#define DEG2RAD (3.14159265358979323846 / 180.0)
-#define DEFAULT_HFOV_DEG 58.5
-#define DEFAULT_VFOV_DEG 45.6
 
-struct process_options {
-	const char *input;
-	const char *ao_out, *shaded_out;
-	double depth_unit;
-	const char *intrinsics, *fov, *intrinsics_file;
-	double k[4];   /* parsed --intrinsics */
-	double f[2];   /* parsed --fov, degrees */
-	uint64_t frame_index;
-	int quiet;
-	struct dao_params params;
-};
 
 static void usage(FILE *out)
 {
 	struct dao_params def;
 	dao_params_init(&def, DAO_QUALITY_DEFAULT);
 	fprintf(out,
-		"usage: depthao process --input PATH [--ao-out PATH] [--shaded-out PATH] [options]\n"
+		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH] [options]\n"
 		"\n"
-		"Computes ambient occlusion for a 16-bit depth PNG, or for every *.png of a\n"
+		"Computes ambient occlusion for a 16-bit depth PNG, for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
-		"names, created if missing).  At least one output is required.\n"
+		"names, created if missing), or for every frame of a recording or device (the\n"
+		"outputs are directories of 000000.png, 000001.png, ... numbered by frame).\n"
+		"At least one output is required.\n"
 		"\n"
-		"  --input PATH              depth PNG or directory of depth PNGs\n"
+		"  --input PATH|URI          depth PNG, directory of depth PNGs, .oni recording, or\n"
+		"                            a source URI NAME:ARG (oni:FILE, openni2:any,\n"
+		"                            openni2:FILE.oni; 'depthao devices' lists them)\n"
+		"  --start N                 recordings: first frame, 0-based (default 0)\n"
+		"  --frames N                at most N frames (required for live devices)\n"
+		"  --realtime                recordings: pace frames by their timestamps\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
-		"  --depth-unit M            metres per depth count (default 0.001; TUM: 0.0002)\n"
+		"  --depth-unit M            PNG input: metres per count (default 0.001; TUM: 0.0002);\n"
+		"                            recordings carry their own unit\n"
 		"  --intrinsics FX,FY,CX,CY  pinhole intrinsics in pixels\n"
 		"  --fov H,V                 field of view in degrees (OpenNI style)\n"
 		"  --intrinsics-file FILE    Open3D camera JSON (width, height, intrinsic_matrix)\n"
-		"                            without any of these: camera.json beside the input,\n"
-		"                            else a %.1f x %.1f degree field of view\n"
+		"                            without any of these: the recording's field of view,\n"
+		"                            or camera.json beside PNG input, else a %.1f x %.1f\n"
+		"                            degree field of view\n"
 		"  --quality Q               preset: low, medium, high, ultra, default (= medium)\n"
 		"  --frame-index N           noise pattern of the first frame (default 0)\n"
 		"  --quiet                   no progress bar or summary\n"
@@ -174,6 +169,24 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 			i = j;
 			continue;
 		}
+		if (strcmp(a, "--realtime") == 0) {
+			o->realtime = 1;
+			continue;
+		}
+		if ((v = option_value(argc, argv, &j, "--start")) ||
+		    (v = option_value(argc, argv, &j, "--frames"))) {
+			const char *name = strncmp(argv[i], "--start", 7) == 0 ? "--start" : "--frames";
+			char *end;
+			errno = 0;
+			unsigned long n = strtoul(v, &end, 10);
+			if (!*v || *end || errno || v[0] == '-' || n > UINT32_MAX ||
+			    (n == 0 && name[2] == 'f'))
+				return usage_error("process", "%s '%s' must be a %s integer", name, v,
+						   name[2] == 'f' ? "positive" : "non-negative");
+			*(name[2] == 's' ? &o->start : &o->max_frames) = (uint32_t)n;
+			i = j;
+			continue;
+		}
 		if ((v = option_value(argc, argv, &j, "--frame-index"))) {
 			char *end;
 			errno = 0;
@@ -212,8 +225,8 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 }
 
 /* The camera for images of w x h, from the options, a camera.json beside the input, or a default. */
-static int resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
-			  uint32_t h, struct dao_camera *cam)
+int process_resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
+			   uint32_t h, const struct dao_source_info *src, struct dao_camera *cam)
 {
 	struct dao_error err;
 	char msg[512];
@@ -226,10 +239,21 @@ static int resolve_camera(const struct process_options *o, int input_is_dir, uin
 		dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, NULL);
 		return 0;
 	}
+	if (src && src->has_fov && !o->intrinsics_file) {
+		if (dao_camera_from_fov(cam, w, h, src->hfov, src->vfov, &err))
+			return usage_error("process", "the source's field of view: %s", err.message);
+		if (!o->quiet)
+			fprintf(stderr, "depthao: field of view from the source: %.2f x %.2f degrees\n",
+				src->hfov / DEG2RAD, src->vfov / DEG2RAD);
+		return 0;
+	}
 	const char *file = o->intrinsics_file;
 	char *auto_file = NULL;
 	if (!file) {
-		char *dir = input_is_dir ? strdup(o->input) : path_dirname(o->input);
+		/* PNG input (also as the images source): camera.json beside it */
+		const char *in = src ? process_input_path(o->input) : o->input;
+		int in_dir = src ? path_is_dir(in) == 1 : input_is_dir;
+		char *dir = in_dir ? strdup(in) : path_dirname(in);
 		auto_file = dir ? path_join(dir, "camera.json") : NULL;
 		free(dir);
 		if (auto_file && access(auto_file, R_OK) == 0) {
@@ -262,7 +286,7 @@ static int resolve_camera(const struct process_options *o, int input_is_dir, uin
 }
 
 /* Creates an output directory and its missing parents (mkdir -p). */
-static int ensure_dir(const char *path)
+int process_ensure_dir(const char *path)
 {
 	int d = path_is_dir(path);
 	if (d == 1)
@@ -272,7 +296,7 @@ static int ensure_dir(const char *path)
 		return 1;
 	}
 	char *parent = path_dirname(path);
-	int r = parent && strcmp(parent, path) != 0 && path_is_dir(parent) < 0 ? ensure_dir(parent) : 0;
+	int r = parent && strcmp(parent, path) != 0 && path_is_dir(parent) < 0 ? process_ensure_dir(parent) : 0;
 	free(parent);
 	if (r)
 		return r;
@@ -284,41 +308,30 @@ static int ensure_dir(const char *path)
 	return 0;
 }
 
-static double now_ms(void)
+double process_now_ms(void)
 {
 	struct timespec t;
 	clock_gettime(CLOCK_MONOTONIC, &t);
 	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
-struct run_state {
-	struct dao_context *ctx;
-	struct dao_frame ao, rgb;
-	double ms_total;
-	size_t frames;
-};
 
-static int process_one(const struct process_options *o, struct run_state *st, const char *in,
-		       const char *ao_path, const char *shaded_path, uint64_t index)
+int process_depth(const struct process_options *o, struct run_state *st,
+		  const struct dao_frame *depth, const char *ao_path, const char *shaded_path,
+		  uint64_t index)
 {
 	struct dao_error err;
-	struct dao_frame depth;
-	if (dao_png_read_depth(in, (float)o->depth_unit, &depth, &err)) {
-		fprintf(stderr, "depthao: %s\n", err.message);
-		return 1;
-	}
 	const struct dao_camera *cam = dao_context_camera(st->ctx);
-	if (depth.width != cam->width || depth.height != cam->height) {
-		fprintf(stderr, "depthao: '%s' is %ux%u, but the sequence is %ux%u\n", in, depth.width,
-			depth.height, cam->width, cam->height);
-		dao_frame_free(&depth);
+	if (depth->width != cam->width || depth->height != cam->height) {
+		fprintf(stderr, "depthao: frame %llu is %ux%u, but the sequence is %ux%u\n",
+			(unsigned long long)index, depth->width, depth->height, cam->width,
+			cam->height);
 		return 1;
 	}
-	double t0 = now_ms();
-	int r = dao_context_process(st->ctx, &depth, NULL, index, &st->ao, &err);
-	st->ms_total += now_ms() - t0;
+	double t0 = process_now_ms();
+	int r = dao_context_process(st->ctx, depth, NULL, index, &st->ao, &err);
+	st->ms_total += process_now_ms() - t0;
 	st->frames++;
-	dao_frame_free(&depth);
 	if (!r && ao_path)
 		r = dao_png_write(ao_path, &st->ao, &err);
 	if (!r && shaded_path) {
@@ -331,6 +344,20 @@ static int process_one(const struct process_options *o, struct run_state *st, co
 		return 1;
 	}
 	return 0;
+}
+
+static int process_one(const struct process_options *o, struct run_state *st, const char *in,
+		       const char *ao_path, const char *shaded_path, uint64_t index)
+{
+	struct dao_error err;
+	struct dao_frame depth;
+	if (dao_png_read_depth(in, (float)o->depth_unit, &depth, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	int r = process_depth(o, st, &depth, ao_path, shaded_path, index);
+	dao_frame_free(&depth);
+	return r;
 }
 
 /* Size of the first image, to set up the camera. */
@@ -355,6 +382,11 @@ int cmd_process(int argc, char **argv)
 	if (status)
 		return status;
 
+	if (process_input_is_stream(o.input))
+		return process_stream(&o);
+	if (o.start || o.max_frames)
+		return usage_error("process", "--start and --frames apply to recordings and devices, "
+				   "not to PNG input");
 	int is_dir = path_is_dir(o.input);
 	if (is_dir < 0) {
 		fprintf(stderr, "depthao: cannot read input '%s': %s\n", o.input, strerror(-is_dir));
@@ -371,7 +403,8 @@ int cmd_process(int argc, char **argv)
 			fprintf(stderr, "depthao: no *.png files in '%s'\n", o.input);
 			return 1;
 		}
-		if ((o.ao_out && ensure_dir(o.ao_out)) || (o.shaded_out && ensure_dir(o.shaded_out))) {
+		if ((o.ao_out && process_ensure_dir(o.ao_out)) ||
+		    (o.shaded_out && process_ensure_dir(o.shaded_out))) {
 			file_list_free(&files);
 			return 1;
 		}
@@ -384,7 +417,7 @@ int cmd_process(int argc, char **argv)
 	status = !first ? 1 : probe_size(first, &w, &h);
 	free(first);
 	if (!status)
-		status = resolve_camera(&o, is_dir, w, h, &cam);
+		status = process_resolve_camera(&o, is_dir, w, h, NULL, &cam);
 	if (!status && (dao_context_create(&st.ctx, &cam, &o.params, &err) ||
 			dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
 			dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, w, h, &err))) {

@@ -29,9 +29,14 @@ static int set_oom(struct dao_error *err)
 	return 1;
 }
 
+/* Frame rate of synthetic .oni recordings. */
+#define SYNTH_ONI_FPS 30
+
 struct synth_options {
 	const char *scene, *out;
 	int noise, rays_sqrt, frames;
+	int oni;                 /* also write NAME.oni */
+	enum dao_oni_codec codec;
 	double radius;
 	unsigned long long seed;
 };
@@ -59,6 +64,8 @@ static void usage(FILE *out)
 		"  --radius R     AO radius in metres (default 0.5)\n"
 		"  --frames N     a sequence of N frames with the scene's object moving, written as\n"
 		"                 DIR/NAME/depth/NNNN.png (+ camera.json) and DIR/NAME/ao_gt/NNNN.png\n"
+		"  --oni CODEC    also write the depth sequence as DIR/NAME.oni (30 fps, 1 mm,\n"
+		"                 the camera's field of view) with codec none, 16z or 16zt\n"
 		"  --help         this text\n");
 }
 
@@ -75,11 +82,12 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			o->noise = 1;
 			continue;
 		}
-		const char *names[] = { "--scene", "--out", "--seed", "--rays", "--radius", "--frames" };
+		const char *names[] = { "--scene", "--out", "--seed", "--rays", "--radius", "--frames",
+					 "--oni" };
 		size_t k;
-		for (k = 0; k < 6 && strcmp(a, names[k]) != 0; k++)
+		for (k = 0; k < 7 && strcmp(a, names[k]) != 0; k++)
 			;
-		if (k == 6)
+		if (k == 7)
 			return usage_error("synth", "unknown option '%s'", a);
 		if (i + 1 >= argc)
 			return usage_error("synth", "%s needs a value", a);
@@ -114,14 +122,19 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			o->frames = (int)n;
 			break;
 		}
+		case 6:
+			if (dao_oni_codec_from_name(v, &o->codec))
+				return usage_error("synth", "--oni '%s' must be none, 16z or 16zt", v);
+			o->oni = 1;
+			break;
 		}
 	}
 	if (!o->scene)
 		return usage_error("synth", "--scene is required");
 	if (!o->out)
 		return usage_error("synth", "--out is required");
-	if (o->frames > 1 && strcmp(o->scene, "all") == 0)
-		return usage_error("synth", "--frames needs a single --scene");
+	if ((o->frames > 1 || o->oni) && strcmp(o->scene, "all") == 0)
+		return usage_error("synth", "--frames and --oni need a single --scene");
 	if (strcmp(o->scene, "all") != 0) {
 		struct synth_scene s;
 		struct dao_error err;
@@ -206,16 +219,35 @@ static int write_sequence(const struct synth_options *o)
 	char *ddir = base ? path_join(base, "depth") : NULL;
 	char *gdir = base ? path_join(base, "ao_gt") : NULL;
 	char *cam_path = ddir ? path_join(ddir, "camera.json") : NULL;
+	char *oni_path = NULL;
+	struct dao_oni_writer *oni = NULL;
 	int status = 1;
 	if (!cam_path || make_dir(base) || make_dir(ddir) || make_dir(gdir))
 		goto out;
+	if (o->oni) {
+		struct dao_error err;
+		size_t n = strlen(base);
+		struct dao_oni_writer_options wo = {
+			.width = cam.width, .height = cam.height, .fps = SYNTH_ONI_FPS,
+			.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
+		};
+		dao_camera_fov(&cam, &wo.hfov, &wo.vfov);
+		if (!(oni_path = malloc(n + 5)))
+			goto out;
+		memcpy(oni_path, base, n);
+		memcpy(oni_path + n, ".oni", 5);
+		if (dao_oni_writer_open(oni_path, &wo, &oni, &err)) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			goto out;
+		}
+	}
 	for (int i = 0; i < o->frames; i++) {
 		struct synth_scene scene;
 		struct synth_image img;
 		struct synth_case c = { 0 };
 		struct dao_frame gt = { 0 };
 		struct dao_error err;
-		double t = (double)i / (double)(o->frames - 1);
+		double t = o->frames > 1 ? (double)i / (double)(o->frames - 1) : 0.0;
 		int r = synth_scene_build(o->scene, t, &scene, &err);
 		if (!r)
 			r = synth_render(&scene, &cam, o->radius, o->rays_sqrt, 2, &img, &err);
@@ -238,6 +270,10 @@ static int write_sequence(const struct synth_options *o)
 			char *dp = path_join(ddir, file), *gp = path_join(gdir, file);
 			r = !dp || !gp ? set_oom(&err)
 				       : dao_png_write(dp, &depth, &err) || dao_png_write(gp, &gt, &err);
+			if (!r && oni)
+				r = dao_oni_writer_write_depth(oni, &depth,
+							       (uint64_t)i * 1000000u / SYNTH_ONI_FPS,
+							       &err) != 0;
 			free(dp);
 			free(gp);
 		}
@@ -260,9 +296,21 @@ static int write_sequence(const struct synth_options *o)
 		fprintf(stderr, "depthao: %s\n", msg);
 		goto out;
 	}
+	if (oni) {
+		struct dao_error err;
+		struct dao_oni_writer *w = oni;
+		oni = NULL;
+		if (dao_oni_writer_finish(w, &err)) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			goto out;
+		}
+		printf("%s: %d frames, codec %s\n", oni_path, o->frames, dao_oni_codec_name(o->codec));
+	}
 	printf("%s: %d frames (%s)\n", base, o->frames, o->noise ? "noisy" : "clean");
 	status = 0;
 out:
+	dao_oni_writer_abort(oni);
+	free(oni_path);
 	free(base);
 	free(ddir);
 	free(gdir);
@@ -278,7 +326,7 @@ int cmd_synth(int argc, char **argv)
 		return status;
 	if (make_dir(o.out))
 		return 1;
-	if (o.frames > 1)
+	if (o.frames > 1 || o.oni)
 		return write_sequence(&o);
 	int all = strcmp(o.scene, "all") == 0;
 	const char *one[2] = { o.scene, NULL };

@@ -14,10 +14,11 @@ static void usage(FILE *out)
 		"usage: depthao <command> [options]\n"
 		"\n"
 		"commands:\n"
-		"  process   depth PNG file or directory -> AO and occlusion-shaded PNGs\n"
+		"  process   depth PNGs, .oni recordings or devices -> AO and shaded PNGs\n"
 		"  synth     write synthetic scenes with ray-traced ground-truth AO\n"
 		"  eval      measure every quality preset against the ground truth\n"
 		"  bench     time the pipeline and its stages per size, preset and thread count\n"
+		"  devices   list source/sink plugins and the devices they can open\n"
 		"\n"
 		"  depthao <command> --help   options of a command\n"
 		"  depthao --version          version\n");
@@ -56,6 +57,8 @@ int main(int argc, char **argv)
 		return cmd_synth(argc - 1, argv + 1);
 	if (strcmp(cmd, "eval") == 0)
 		return cmd_eval(argc - 1, argv + 1);
+	if (strcmp(cmd, "devices") == 0)
+		return cmd_devices(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)
 		return cmd_bench(argc - 1, argv + 1);
 	return usage_error(NULL, "unknown command '%s'", cmd);

@@ -1,0 +1,71 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# process on .oni recordings (the bundled ones, one synth writes, the real Kinect
+# recording), --start/--frames, devices, and the errors a user can cause.
+. "$(dirname "$0")/cli_lib.sh"
+
+ROOT=${DAO_SOURCE_ROOT:?}
+REC="$ROOT/recordings/spheres-rolling.oni"
+
+# the bundled recording: every frame, numbered by frame, FOV from the file
+expect_exit 0 "bundled recording" -- "$DEPTHAO" process --input "$REC" \
+	--ao-out "$WORK/all/ao" --shaded-out "$WORK/all/sh"
+n=$(ls "$WORK/all/ao" | wc -l)
+[ "$n" -eq 16 ] || fail "bundled recording: $n AO files, expected 16"
+png_is "$WORK/all/ao/000015.png" "640 480 gray16"
+png_is "$WORK/all/sh/000000.png" "640 480 rgb24"
+grep -q "field of view from the source" "$WORK/err" || fail "FOV not taken from the file: $(cat "$WORK/err")"
+no_temp_files "$WORK/all"
+# consecutive frames differ (the sphere rolls), so playback is animated
+cmp -s "$WORK/all/ao/000000.png" "$WORK/all/ao/000015.png" && fail "first and last frames are identical"
+
+# --start/--frames pick frames by index, and give the same pixels as the full run
+expect_exit 0 "start/frames" -- "$DEPTHAO" process --input "oni:$REC" --start 5 --frames 3 \
+	--ao-out "$WORK/part" --quiet
+[ "$(ls "$WORK/part" | tr '\n' ' ')" = "000005.png 000006.png 000007.png " ] ||
+	fail "start/frames wrote: $(ls "$WORK/part" | tr '\n' ' ')"
+cmp -s "$WORK/part/000006.png" "$WORK/all/ao/000006.png" || fail "frame 6 differs from the full run"
+
+# synth writes a recording that process reads back
+expect_exit 0 "synth --oni" -- "$DEPTHAO" synth --scene boxes --frames 3 --rays 1 --oni 16z \
+	--out "$WORK/syn"
+[ -s "$WORK/syn/boxes.oni" ] || fail "synth wrote no boxes.oni"
+expect_exit 0 "synth recording" -- "$DEPTHAO" process --input "$WORK/syn/boxes.oni" \
+	--ao-out "$WORK/syn-ao" --quiet
+[ "$(ls "$WORK/syn-ao" | wc -l)" -eq 3 ] || fail "synth recording: not 3 frames"
+# the depth PNG frame 1 and the recording's frame 1 shade identically (same camera)
+expect_exit 0 "png frame" -- "$DEPTHAO" process --input "$WORK/syn/boxes/depth/0001.png" \
+	--ao-out "$WORK/png1.png" --frame-index 1 --quiet
+cmp -s "$WORK/png1.png" "$WORK/syn-ao/000001.png" || fail ".oni and PNG frame 1 give different AO"
+
+# a PNG directory through the images source gives the same AO as the PNG path
+expect_exit 0 "images source" -- "$DEPTHAO" process --input "images:$WORK/syn/boxes/depth" \
+	--ao-out "$WORK/img" --quiet
+cmp -s "$WORK/img/000001.png" "$WORK/png1.png" || fail "images:DIR frame 1 differs from the PNG path"
+
+# errors a user can cause
+expect_exit 1 "--start past the end" -- "$DEPTHAO" process --input "$REC" --start 99 --ao-out "$WORK/x"
+grep -q "start frame 99 is past the end" "$WORK/err" || fail "start past end: $(cat "$WORK/err")"
+expect_exit 1 "unknown plugin" -- "$DEPTHAO" process --input "nosuch:x" --ao-out "$WORK/x"
+grep -q "no source plugin 'nosuch'.*available: oni" "$WORK/err" || fail "unknown plugin: $(cat "$WORK/err")"
+printf 'NI10garbage' >"$WORK/bad.oni"
+expect_exit 1 "corrupt recording" -- "$DEPTHAO" process --input "$WORK/bad.oni" --ao-out "$WORK/x"
+grep -q "bad.oni" "$WORK/err" || fail "corrupt recording: $(cat "$WORK/err")"
+expect_usage_error "--frames on PNG input" -- "$DEPTHAO" process --input "$WORK/png1.png" --frames 2 \
+	--ao-out "$WORK/y.png"
+expect_usage_error "--frames 0" -- "$DEPTHAO" process --input "$REC" --frames 0 --ao-out "$WORK/x"
+
+# devices lists the built-in source and says where plugins come from
+expect_exit 0 "devices" -- "$DEPTHAO" devices
+grep -q "oni .*built-in" "$WORK/out" || fail "devices: $(cat "$WORK/out")"
+
+# the real Kinect recording (../shared/data), when present
+DATA=${DAO_SHARED_DATA:-../shared/data}
+if [ -r "$DATA/oni/3DJ_test.oni" ]; then
+	expect_exit 0 "kinect recording" -- "$DEPTHAO" process --input "$DATA/oni/3DJ_test.oni" \
+		--frames 2 --shaded-out "$WORK/kinect" --quiet
+	png_is "$WORK/kinect/000001.png" "640 480 rgb24"
+else
+	echo "note: $DATA/oni/3DJ_test.oni not found; the Kinect part was skipped"
+fi
+finish

@@ -1,0 +1,60 @@
+/* SPDX-License-Identifier: MIT */
+/* depthao process: what the PNG path (cmd_process.c) and the stream path share. */
+#ifndef DAO_TOOLS_PROCESS_H
+#define DAO_TOOLS_PROCESS_H
+
+#include <stdint.h>
+
+#include <depthao/depthao.h>
+
+/* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
+#define DEG2RAD (3.14159265358979323846 / 180.0)
+#define DEFAULT_HFOV_DEG 58.5
+#define DEFAULT_VFOV_DEG 45.6
+
+struct process_options {
+	const char *input;
+	const char *ao_out, *shaded_out;
+	double depth_unit;
+	const char *intrinsics, *fov, *intrinsics_file;
+	double k[4];   /* parsed --intrinsics */
+	double f[2];   /* parsed --fov, degrees */
+	uint64_t frame_index;
+	uint32_t start;        /* --start: first frame of a recording, 0-based */
+	uint32_t max_frames;   /* --frames: 0 = all */
+	int realtime;          /* --realtime: pace a recording by its timestamps */
+	int quiet;
+	struct dao_params params;
+};
+
+struct run_state {
+	struct dao_context *ctx;
+	struct dao_frame ao, rgb;
+	double ms_total;
+	size_t frames;
+};
+
+double process_now_ms(void);
+int process_ensure_dir(const char *path);
+
+/*
+ * The camera for w x h images: --intrinsics, --fov, --intrinsics-file, else
+ * the source's field of view (src may be NULL), else camera.json beside PNG
+ * input, else a default field of view (with a warning).  0 or an exit status.
+ */
+int process_resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
+			   uint32_t h, const struct dao_source_info *src, struct dao_camera *cam);
+
+/* AO (and shading) of one depth frame, written to the paths that are not NULL. */
+int process_depth(const struct process_options *o, struct run_state *st,
+		  const struct dao_frame *depth, const char *ao_path, const char *shaded_path,
+		  uint64_t index);
+
+/* Input that goes through a source plugin: "NAME:URI" or a path ending in .oni. */
+int process_input_is_stream(const char *input);
+/* The input without its "NAME:" prefix, if it has one. */
+const char *process_input_path(const char *input);
+/* The whole run for such input; returns the exit status. */
+int process_stream(const struct process_options *o);
+
+#endif

@@ -1,0 +1,177 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * depthao process on a recording or device: frames come from a source
+ * plugin (the built-in .oni reader, OpenNI2, ...), outputs are numbered by
+ * the frame's position in the recording (live: by arrival).
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <depthao/depthao.h>
+
+#include "commands.h"
+#include "file_list.h"
+#include "process.h"
+#include "progress.h"
+
+/* Live sources: how long a read may wait, and how many empty waits end the run. */
+#define READ_TIMEOUT_MS 2000
+#define MAX_EMPTY_READS 5
+
+/* Length of a "name:" source prefix (as dao_source_open reads it), 0 if none. */
+static size_t prefix_len(const char *input)
+{
+	size_t i = 0;
+	while ((input[i] >= 'a' && input[i] <= 'z') || (input[i] >= '0' && input[i] <= '9') ||
+	       input[i] == '-' || input[i] == '_')
+		i++;
+	return i > 1 && input[i] == ':' ? i + 1 : 0;
+}
+
+int process_input_is_stream(const char *input)
+{
+	size_t n = strlen(input);
+	return (n > 4 && !strcasecmp(input + n - 4, ".oni")) || prefix_len(input) > 0;
+}
+
+const char *process_input_path(const char *input)
+{
+	return input + prefix_len(input);
+}
+
+static char *numbered(const char *dir, uint64_t index)
+{
+	char name[32];
+	if (!dir)
+		return NULL;
+	snprintf(name, sizeof name, "%06llu.png", (unsigned long long)index);
+	return path_join(dir, name);
+}
+
+static int run(const struct process_options *o, struct dao_source *src,
+	       const struct dao_source_info *si, struct run_state *st)
+{
+	struct dao_error err;
+	uint64_t total = 0;
+	if (si->frame_count >= 0) {
+		uint64_t left = (uint64_t)si->frame_count - o->start;
+		total = o->max_frames && o->max_frames < left ? o->max_frames : left;
+	} else {
+		total = o->max_frames;
+	}
+	struct progress bar;
+	progress_begin(&bar, (size_t)total, o->quiet);
+	int status = 0, empty = 0;
+	uint64_t done = 0;
+	while (!status && done < total) {
+		struct dao_source_frame f;
+		int r = dao_source_read(src, &f, READ_TIMEOUT_MS, &err);
+		if (r == DAO_SOURCE_EOS)
+			break;
+		if (r == -EAGAIN) {
+			if (++empty < MAX_EMPTY_READS)
+				continue;
+			fprintf(stderr, "depthao: no frame from '%s' for %d s; giving up\n", o->input,
+				READ_TIMEOUT_MS * MAX_EMPTY_READS / 1000);
+			status = 1;
+			break;
+		}
+		if (r < 0) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			status = 1;
+			break;
+		}
+		empty = 0;
+		uint64_t index = si->live ? done : f.index;
+		char *ao = numbered(o->ao_out, index), *sh = numbered(o->shaded_out, index);
+		if ((o->ao_out && !ao) || (o->shaded_out && !sh)) {
+			fprintf(stderr, "depthao: out of memory\n");
+			status = 1;
+		} else {
+			status = process_depth(o, st, &f.depth, ao, sh, o->frame_index + index);
+		}
+		free(ao);
+		free(sh);
+		dao_source_release(src, &f);
+		done++;
+		progress_update(&bar, (size_t)done, st->ms_total / (double)(st->frames ? st->frames : 1));
+	}
+	progress_end(&bar);
+	return status;
+}
+
+int process_stream(const struct process_options *o)
+{
+	struct dao_error err;
+	struct dao_plugins *plugins = NULL;
+	struct dao_source *src = NULL;
+	struct run_state st = {0};
+	int status = 1;
+
+	if (dao_plugins_load(&plugins, NULL, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	struct dao_source_options so = {
+		.playback = o->realtime ? DAO_PLAYBACK_REALTIME : DAO_PLAYBACK_MANUAL,
+		.start_frame = o->start,
+		.depth_unit = (float)o->depth_unit,
+	};
+	if (dao_source_open(plugins, o->input, &so, &src, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		goto out;
+	}
+	struct dao_source_info si;
+	dao_source_get_info(src, &si);
+	if (si.live && !o->max_frames) {
+		usage_error("process", "'%s' is a live source; give --frames N", o->input);
+		status = 2;
+		goto out;
+	}
+	if (si.live && o->start) {
+		usage_error("process", "--start applies to recordings, '%s' is a live source",
+			    o->input);
+		status = 2;
+		goto out;
+	}
+	if (!o->quiet)
+		fprintf(stderr, "depthao: %s\n", si.description);
+	struct dao_camera cam;
+	if ((status = process_resolve_camera(o, 0, si.width, si.height, &si, &cam)))
+		goto out;
+	status = 1;
+	if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
+	    (o->shaded_out && process_ensure_dir(o->shaded_out)))
+		goto out;
+	if (dao_context_create(&st.ctx, &cam, &o->params, &err) ||
+	    dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, si.width, si.height, &err) ||
+	    dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, si.width, si.height, &err) ||
+	    dao_source_start(src, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		goto out;
+	}
+	status = run(o, src, &si, &st);
+	if (!status && st.frames == 0) {
+		fprintf(stderr, "depthao: '%s' delivered no frames\n", o->input);
+		status = 1;
+	}
+	if (!status && !o->quiet) {
+		fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st.frames,
+			st.frames == 1 ? "" : "s", st.ms_total / (double)st.frames);
+		if (o->ao_out)
+			fprintf(stderr, " %s", o->ao_out);
+		if (o->shaded_out)
+			fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
+		fputc('\n', stderr);
+	}
+out:
+	dao_source_close(src);
+	dao_frame_free(&st.ao);
+	dao_frame_free(&st.rgb);
+	dao_context_destroy(st.ctx);
+	dao_plugins_free(plugins);
+	return status;
+}
