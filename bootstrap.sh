@@ -112,7 +112,10 @@ PY
 run_tests() {
 	build
 	# the example check (examples/shade_depth.c against a staged install) is a meson test
-	meson test -C "$BUILD_DIR" --list 2>/dev/null | grep -q 'example-installed$' ||
+	# (the list is read whole first: grep -q stopping early would SIGPIPE meson under pipefail)
+	local tests
+	tests=$(meson test -C "$BUILD_DIR" --list 2>/dev/null)
+	grep -q 'example-installed$' <<<"$tests" ||
 		die "the test 'example-installed' is not registered: add 'install' to the subdir list in tests/meson.build"
 	local status=0
 	meson test -C "$BUILD_DIR" --print-errorlogs || status=$?

@@ -245,6 +245,10 @@ static int dec_stream(struct dec *d, const uint8_t *p, const uint8_t *end, const
 int dao_16z_decode(const uint8_t *in, size_t len, uint16_t *out, size_t n, const char **why)
 {
 	struct dec d = {out, n, 0, NULL, 0, NULL};
+	if (len < 2) { /* also keeps `in + len` away from a NULL `in` */
+		*why = "the stream is shorter than its first value";
+		return -EINVAL;
+	}
 	return dec_stream(&d, in, in + len, why);
 }
 

@@ -364,16 +364,25 @@ static int check_depth_node(struct dao_oni_reader *r, struct node *n, const char
 	}
 	for (uint32_t i = 0; i < n->nframes; i++) {
 		uint32_t ps = n->frames[i].payload_size;
-		if (ps > bound || (in->codec == DAO_ONI_CODEC_NONE && ps != bound))
+		if (ps > bound)
 			return dao_error_set(err, -EINVAL,
 					     "%s: frame %u of '%s' has %u bytes of data, more than a "
 					     "%ux%u %s frame can hold (%zu)",
 					     path, i, in->name, ps, in->width, in->height,
 					     in->codec_fourcc, bound);
+		/* NONE holds every pixel; one 16z byte stands for at most 60 values */
+		if ((in->codec == DAO_ONI_CODEC_NONE && ps != bound) ||
+		    (in->codec != DAO_ONI_CODEC_NONE && npix > 1 + 60 * (size_t)ps))
+			return dao_error_set(err, -EINVAL,
+					     "%s: frame %u of '%s' has %u bytes of data, too few for a "
+					     "%ux%u %s frame",
+					     path, i, in->name, ps, in->width, in->height,
+					     in->codec_fourcc);
 		if (ps > r->payload_cap)
 			r->payload_cap = ps;
 	}
-	if (npix > r->pixels_cap)
+	/* only nodes with frames need a decode buffer (a declared size alone costs nothing) */
+	if (n->nframes && npix > r->pixels_cap)
 		r->pixels_cap = npix;
 	return 0;
 }

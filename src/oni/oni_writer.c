@@ -43,6 +43,7 @@ struct dao_oni_writer {
 	struct seek_entry *seek;
 	uint32_t nframes, seek_cap;
 	uint64_t first_ts, last_ts;
+	int failed;                 /* a write failed: the file is unusable */
 };
 
 static int put(struct dao_oni_writer *w, const void *p, size_t n)
@@ -287,10 +288,12 @@ static int take_frame(struct dao_oni_writer *w, const struct dao_frame *d, struc
 		scale = (double)d->depth_unit / w->unit;
 	}
 	for (uint32_t y = 0; y < H; y++) {
-		const uint16_t *src = (const uint16_t *)((const uint8_t *)d->data + (size_t)y * (size_t)d->stride);
 		uint16_t *dst = w->pixels + (size_t)y * W;
+		/* rows may be unaligned (odd strides are valid): copy, then convert in place */
+		memcpy(dst, (const uint8_t *)d->data + (size_t)y * (size_t)d->stride,
+		       (size_t)W * sizeof(uint16_t));
 		for (uint32_t x = 0; x < W; x++) {
-			double v = convert ? floor(src[x] * scale + 0.5) : src[x];
+			double v = convert ? floor(dst[x] * scale + 0.5) : dst[x];
 			if (v > w->o.max_depth)
 				return dao_error_set(err, -ERANGE,
 						     "oni writer: frame %u pixel (%u, %u) is %.0f counts "
@@ -308,6 +311,11 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 	int r;
 	if (!w || !depth)
 		return dao_error_set(err, -EINVAL, "oni writer: writer and frame are required");
+	if (w->failed)
+		return dao_error_set(err, w->failed,
+				     "oni writer: an earlier write to %s failed (%s); the recording "
+				     "cannot continue",
+				     w->tmp_path, strerror(-w->failed));
 	if ((r = dao_frame_check(depth, "oni writer input", w->o.width, w->o.height, err)) < 0)
 		return r;
 	if (depth->format != DAO_PIXFMT_DEPTH16)
@@ -359,8 +367,10 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 		      w->last_data_pos);
 	oni_wr64(h + ONI_RECORD_HEADER_SIZE, timestamp_us);
 	oni_wr32(h + ONI_RECORD_HEADER_SIZE + 8, w->nframes + 1); /* frame numbers start at 1 */
-	if ((r = put(w, h, sizeof(h))) < 0 || (r = put(w, w->payload, (size_t)size)) < 0)
+	if ((r = put(w, h, sizeof(h))) < 0 || (r = put(w, w->payload, (size_t)size)) < 0) {
+		w->failed = r; /* a partial record is in the file: no more frames, no finish */
 		return dao_error_set(err, r, "cannot write %s: %s", w->tmp_path, strerror(-r));
+	}
 	w->seek[w->nframes].timestamp_us = timestamp_us;
 	w->seek[w->nframes].pos = pos;
 	w->last_data_pos = pos;
@@ -427,6 +437,13 @@ int dao_oni_writer_finish(struct dao_oni_writer *w, struct dao_error *err)
 	int r;
 	if (!w)
 		return dao_error_set(err, -EINVAL, "oni writer: NULL writer");
+	if (w->failed) {
+		r = dao_error_set(err, w->failed,
+				  "oni writer: an earlier write failed (%s); %s was not saved",
+				  strerror(-w->failed), w->path);
+		dao_oni_writer_abort(w);
+		return r;
+	}
 	if (w->nframes == 0) {
 		r = dao_error_set(err, -EINVAL,
 				  "oni writer: no frames were written to %s; nothing to save",

@@ -14,6 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -212,7 +214,8 @@ static void write_frames(const char *path, const struct dao_oni_writer_options *
 	int r = dao_oni_writer_open(path, o, &w, &err);
 	if (r)
 		fail_msg("writer_open %s: %d %s", path, r, err.message);
-	int32_t stride = (int32_t)((o->width + 3) * 2);
+	/* an odd stride: rows are unaligned, which frames allow (the sanitizer run checks) */
+	int32_t stride = (int32_t)((o->width + 3) * 2 + 1);
 	uint8_t *buf = malloc((size_t)stride * o->height);
 	assert_non_null(buf);
 	memset(buf, 0xEE, (size_t)stride * o->height); /* padding a reader must not see */
@@ -634,6 +637,45 @@ static void test_writer_rules(void **state)
 	expect_message(&err, "x.oni", "missing directory");
 	assert_int_equal(count_entries(sub), 0);
 	rmdir(sub);
+}
+
+/* A write that fails (the file size limit here) ends the recording cleanly. */
+static void test_write_failure(void **state)
+{
+	(void)state;
+	char sub[PLEN], path[PLEN + 16];
+	fresh_subdir(sub, "full");
+	snprintf(path, sizeof path, "%s/x.oni", sub);
+	struct dao_oni_writer_options o = {200, 200, 30, DAO_ONI_CODEC_NONE,
+					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.8, 0};
+	struct dao_oni_writer *w;
+	struct dao_error err = {0};
+	struct dao_frame f = new_depth(200, 200);
+	f.depth_unit = 0.001f;
+	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
+	struct rlimit old, lim;
+	assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+	void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
+	lim.rlim_cur = 100000; /* room for one 80 KB frame, not two */
+	lim.rlim_max = old.rlim_max;
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &lim), 0);
+	int r0 = dao_oni_writer_write_depth(w, &f, 0, &err);
+	int r1 = dao_oni_writer_write_depth(w, &f, 1, &err);
+	struct dao_error err1 = err;
+	int r2 = dao_oni_writer_write_depth(w, &f, 2, &err);
+	struct dao_error err2 = err;
+	int r3 = dao_oni_writer_finish(w, &err);
+	assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+	signal(SIGXFSZ, prev);
+	dao_frame_free(&f);
+	assert_int_equal(r0, 0);
+	assert_int_equal(r1, -EFBIG);
+	expect_message(&err1, "cannot write", "failed write");
+	assert_int_equal(r2, -EFBIG);
+	expect_message(&err2, "earlier write", "write after a failure");
+	assert_int_equal(r3, -EFBIG);
+	expect_message(&err, "not saved", "finish after a failure");
+	assert_int_equal(count_entries(sub), 0); /* neither the file nor its temporary */
 }
 
 static void test_codec_names(void **state)
@@ -1188,6 +1230,7 @@ int main(int argc, char **argv)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_round_trips),   cmocka_unit_test(test_old_layout),
 		cmocka_unit_test(test_unit_conversion), cmocka_unit_test(test_writer_rules),
+		cmocka_unit_test(test_write_failure),
 		cmocka_unit_test(test_codec_names),   cmocka_unit_test(test_bad_files),
 		cmocka_unit_test(test_corrupt_payload), cmocka_unit_test(test_file_shrinks),
 		cmocka_unit_test(test_regressions),

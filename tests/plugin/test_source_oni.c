@@ -228,6 +228,56 @@ static void test_images_source(void **state)
 	assert_non_null(strstr(err.message, "no *.png files"));
 }
 
+/* AO of the whole Kinect recording: its camera from the recorded FOV, sane, deterministic. */
+static void test_kinect_recording_ao(void **state)
+{
+	(void)state;
+	char path[512];
+	if (dao_test_data_path("oni/3DJ_test.oni", path, sizeof path)) {
+		printf("../shared/data/oni/3DJ_test.oni is absent; skipped\n");
+		skip();
+	}
+	struct dao_source *s = open_src(path, NULL);
+	struct dao_source_info in;
+	dao_source_get_info(s, &in);
+	struct dao_camera cam;
+	struct dao_error err;
+	assert_true(in.has_fov);
+	assert_int_equal(dao_camera_from_fov(&cam, in.width, in.height, in.hfov, in.vfov, &err), 0);
+	assert_float_equal(cam.fx, 575.8, 0.1); /* the README of ../shared/data */
+	assert_float_equal(cam.fy, 575.8, 0.1);
+	assert_float_equal(cam.cx, 319.5, 1e-9);
+	assert_float_equal(cam.cy, 239.5, 1e-9);
+	struct dao_context *ctx[2];
+	struct dao_frame ao[2];
+	for (int k = 0; k < 2; k++) {
+		assert_int_equal(dao_context_create(&ctx[k], &cam, NULL, &err), 0);
+		assert_int_equal(dao_frame_alloc(&ao[k], DAO_PIXFMT_GRAY_F32, 640, 480, &err), 0);
+	}
+	int frames = 0;
+	struct dao_source_frame f;
+	while (dao_source_read(s, &f, 1000, &err) == 0) {
+		double sum = 0;
+		for (int k = 0; k < 2; k++)
+			assert_int_equal(dao_context_process(ctx[k], &f.depth, NULL, f.index, &ao[k], &err), 0);
+		const float *a = ao[0].data, *b = ao[1].data;
+		for (size_t i = 0; i < 640 * 480; i++) {
+			assert_true(a[i] >= 0.0f && a[i] <= 1.0f); /* also false for NaN */
+			assert_true(a[i] == b[i]);                 /* deterministic */
+			sum += a[i];
+		}
+		double mean = sum / (640 * 480);
+		assert_true(mean > 0.5 && mean < 0.99); /* an indoor scene: mostly open, some occlusion */
+		frames++;
+	}
+	assert_int_equal(frames, 12);
+	for (int k = 0; k < 2; k++) {
+		dao_frame_free(&ao[k]);
+		dao_context_destroy(ctx[k]);
+	}
+	dao_source_close(s);
+}
+
 static void test_modules_skipped_with_reason(void **state)
 {
 	(void)state;
@@ -264,6 +314,7 @@ int main(void)
 		cmocka_unit_test(test_realtime_delivers_all),
 		cmocka_unit_test(test_open_errors),
 		cmocka_unit_test(test_images_source),
+		cmocka_unit_test(test_kinect_recording_ao),
 		cmocka_unit_test(test_modules_skipped_with_reason),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
