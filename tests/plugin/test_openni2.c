@@ -20,6 +20,8 @@
 #include <cmocka.h>
 
 #include "common/test_common.h"
+#include "synth/suite.h"
+#include "synth/synth.h"
 #include "source_test_util.h"
 
 #define FRAMES 6
@@ -82,6 +84,56 @@ static void test_round_trip_every_codec(void **state)
 		assert_int_equal(next(s), -1000 + DAO_SOURCE_EOS);
 		dao_source_close(s);
 	}
+}
+
+/* depthao synth's noisy spheres (the sphere rolling) -> .oni per codec -> OpenNI2 -> same depth. */
+static void test_synth_scene_round_trip(void **state)
+{
+	(void)state;
+	enum { N = 3 };
+	struct dao_camera cam;
+	struct synth_case cases[N];
+	struct dao_error err;
+	synth_default_camera(&cam);
+	for (int i = 0; i < N; i++) {
+		struct synth_scene sc;
+		struct synth_image img;
+		assert_int_equal(synth_scene_build("spheres", i / (double)(N - 1), &sc, &err), 0);
+		assert_int_equal(synth_render(&sc, &cam, 0.5, 1, 2, &img, &err), 0);
+		memset(&cases[i], 0, sizeof(cases[i]));
+		assert_int_equal(synth_case_make(&cases[i], sc.name, 1, img.depth, img.gt, 640, 480,
+						 7 + (uint64_t)i, &err), 0);
+		synth_image_free(&img);
+	}
+	assert_true(memcmp(cases[0].depth_mm, cases[N - 1].depth_mm, 640 * 480 * 2) != 0);
+	const enum dao_oni_codec codecs[] = {DAO_ONI_CODEC_NONE, DAO_ONI_CODEC_16Z, DAO_ONI_CODEC_16ZT};
+	for (int c = 0; c < 3; c++) {
+		char uri[600];
+		snprintf(uri, sizeof uri, "openni2:%s/spheres-%s.oni", g_dir, dao_oni_codec_name(codecs[c]));
+		struct dao_oni_writer_options o = {640, 480, 30, codecs[c], DAO_ONI_PIXEL_DEPTH_1_MM, 0,
+						   0, 0, 0};
+		dao_camera_fov(&cam, &o.hfov, &o.vfov);
+		struct dao_oni_writer *w;
+		assert_int_equal(dao_oni_writer_open(uri + 8, &o, &w, &err), 0);
+		for (int i = 0; i < N; i++) {
+			struct dao_frame d = {DAO_PIXFMT_DEPTH16, 640, 480, 1280, cases[i].depth_mm,
+					      0.001f, 0, 0};
+			assert_int_equal(dao_oni_writer_write_depth(w, &d, (uint64_t)i * 33333, &err), 0);
+		}
+		assert_int_equal(dao_oni_writer_finish(w, &err), 0);
+		struct dao_source *s = open_src(uri, NULL);
+		for (int i = 0; i < N; i++) {
+			struct dao_source_frame f;
+			assert_int_equal(dao_source_read(s, &f, 3000, &err), 0);
+			assert_int_equal(f.index, (uint64_t)i);
+			for (uint32_t y = 0; y < 480; y++)
+				assert_memory_equal((uint8_t *)f.depth.data + (size_t)y * (size_t)f.depth.stride,
+						    cases[i].depth_mm + (size_t)y * 640, 1280);
+		}
+		dao_source_close(s);
+	}
+	for (int i = 0; i < N; i++)
+		synth_case_free(&cases[i]);
 }
 
 static void test_loop_and_stop_at_end(void **state)
@@ -281,6 +333,7 @@ int main(void)
 	snprintf(g_dir, sizeof g_dir, "%s", dao_test_tmpdir("openni2"));
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_round_trip_every_codec),
+		cmocka_unit_test(test_synth_scene_round_trip),
 		cmocka_unit_test(test_loop_and_stop_at_end),
 		cmocka_unit_test(test_start_step_seek),
 		cmocka_unit_test(test_kinect_both_readers_agree),

@@ -59,6 +59,19 @@ expect_usage_error "--frames 0" -- "$DEPTHAO" process --input "$REC" --frames 0 
 expect_exit 0 "devices" -- "$DEPTHAO" devices
 grep -q "oni .*built-in" "$WORK/out" || fail "devices: $(cat "$WORK/out")"
 
+# from the build tree, the plugins built beside depthao are found without DEPTHAO_PLUGIN_PATH
+if env -u DEPTHAO_PLUGIN_PATH "$DEPTHAO" devices | grep -q "^  openni2 "; then
+	expect_exit 0 "openni2 Dummy device" -- env -u DEPTHAO_PLUGIN_PATH "$DEPTHAO" process \
+		--input openni2:Dummy --frames 2 --ao-out "$WORK/dummy" --quiet
+	png_is "$WORK/dummy/000001.png" "320 240 gray16"
+	expect_exit 0 "openni2 playback" -- env -u DEPTHAO_PLUGIN_PATH "$DEPTHAO" process \
+		--input "openni2:$REC" --start 14 --ao-out "$WORK/ni" --quiet
+	[ "$(ls "$WORK/ni" | tr '\n' ' ')" = "000014.png 000015.png " ] ||
+		fail "openni2 playback wrote: $(ls "$WORK/ni" | tr '\n' ' ')"
+else
+	echo "note: the openni2 plugin is not built; its part was skipped"
+fi
+
 # the real Kinect recording (../shared/data), when present
 DATA=${DAO_SHARED_DATA:-../shared/data}
 if [ -r "$DATA/oni/3DJ_test.oni" ]; then

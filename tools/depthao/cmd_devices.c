@@ -5,6 +5,7 @@
 
 #include <depthao/depthao.h>
 
+#include "cli_plugins.h"
 #include "commands.h"
 
 static void usage(FILE *out)
@@ -41,7 +42,7 @@ int cmd_devices(int argc, char **argv)
 	}
 	struct dao_error err;
 	struct dao_plugins *p;
-	if (dao_plugins_load(&p, NULL, &err)) {
+	if (cli_plugins_load(&p, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}

@@ -12,6 +12,7 @@
 
 #include <depthao/depthao.h>
 
+#include "cli_plugins.h"
 #include "commands.h"
 #include "file_list.h"
 #include "process.h"
@@ -111,7 +112,7 @@ int process_stream(const struct process_options *o)
 	struct run_state st = {0};
 	int status = 1;
 
-	if (dao_plugins_load(&plugins, NULL, &err)) {
+	if (cli_plugins_load(&plugins, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
