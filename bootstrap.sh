@@ -4,7 +4,8 @@
 # The one entry point for a fresh Debian 12 machine:
 #   ./bootstrap.sh deps   install the missing Debian packages (apt-get, as root or with sudo)
 #   ./bootstrap.sh build  deps, then configure and build in build/ (release, warnings are errors)
-#   ./bootstrap.sh demo   build, then shade the bundled recording into out/ao and out/shaded
+#   ./bootstrap.sh demo   build, then run depthaod on the bundled recording: out/shaded, out/ao,
+#                         out/shaded.y4m
 #   ./bootstrap.sh test   build, then run every test suite, the installed-library example included,
 #                         then the .oni/plugin suites under ASan + UBSan
 set -euo pipefail
@@ -15,6 +16,7 @@ DEMO_INPUT=${DEMO_INPUT:-recordings/spheres-rolling.oni}
 DEMO_OUT=${DEMO_OUT:-out}
 BUILD_DIR=${BUILD_DIR:-build}
 DEPTHAO=$BUILD_DIR/tools/depthao/depthao
+DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
 PACKAGES=(
 	meson ninja-build pkg-config gcc g++
@@ -30,7 +32,8 @@ usage: ./bootstrap.sh deps|build|demo|test
   deps    install the missing Debian packages with apt-get (as root, or through sudo):
           ${PACKAGES[*]}
   build   deps, then configure $BUILD_DIR/ (release, -Dwerror=true) and build it
-  demo    build, then shade the recording $DEMO_INPUT into $DEMO_OUT/ao and $DEMO_OUT/shaded
+  demo    build, then run depthaod on the recording $DEMO_INPUT: shaded and AO frames
+          into $DEMO_OUT/shaded and $DEMO_OUT/ao, a video into $DEMO_OUT/shaded.y4m
   test    build, then run every test suite (meson test), including the example built
           against the installed library (suite 'install'); then the oni and plugin
           suites again under ASan + UBSan (in $BUILD_DIR-asan)
@@ -82,19 +85,25 @@ build() {
 	ninja -C "$BUILD_DIR"
 }
 
-# The demo's main job; adjust the flags here.
+# The demo's main job: depthaod plays the recording once, every frame, into a PNG
+# sequence of the shaded stream, one of the AO, and a y4m video; adjust the flags here.
 demo_command() {
-	"$DEPTHAO" process --input "$DEMO_INPUT" \
-		--ao-out "$DEMO_OUT/ao" --shaded-out "$DEMO_OUT/shaded"
+	"$DEPTHAOD" --source "$DEMO_INPUT" --playback manual --stats-interval 0 \
+		--sink shaded=images:"$DEMO_OUT/shaded" \
+		--sink ao=images:"$DEMO_OUT/ao" --stream ao=ao \
+		--sink video=y4m:"$DEMO_OUT/shaded.y4m"
 }
 
 demo() {
 	[ -e "$DEMO_INPUT" ] ||
 		die "the demo recording $DEMO_INPUT does not exist (set DEMO_INPUT=<.oni file or dir of 16-bit depth PNGs>)"
 	build
+	rm -rf "$DEMO_OUT/shaded" "$DEMO_OUT/ao" "$DEMO_OUT/shaded.y4m"
+	mkdir -p "$DEMO_OUT"
 	demo_command
-	say "ambient occlusion (16-bit PNG): $(pwd)/$DEMO_OUT/ao/"
-	say "occlusion-shaded images (RGB PNG): $(pwd)/$DEMO_OUT/shaded/"
+	say "occlusion-shaded frames (RGB PNG): $(pwd)/$DEMO_OUT/shaded/"
+	say "ambient occlusion (16-bit PNG):    $(pwd)/$DEMO_OUT/ao/"
+	say "shaded video (YUV4MPEG2):          $(pwd)/$DEMO_OUT/shaded.y4m (e.g. ffplay $DEMO_OUT/shaded.y4m)"
 }
 
 # One closing line a CI reader understands: "meson: N passed, N failed, N skipped".
@@ -129,14 +138,14 @@ run_tests() {
 sanitized_tests() {
 	local dir="$BUILD_DIR-asan"
 	if [ ! -f "$dir/meson-private/coredata.dat" ]; then
-		meson setup "$dir" --buildtype=debug -Db_sanitize=address,undefined \
+		meson setup "$dir" --buildtype=debugoptimized -Db_sanitize=address,undefined \
 			-Db_lundef=false -Dwerror=true >/dev/null
 	fi
 	ninja -C "$dir" >/dev/null
-	say "sanitizers: the oni and plugin suites under ASan + UBSan"
+	say "sanitizers: the oni, plugin and daemon suites under ASan + UBSan"
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
 		LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" \
-		meson test -C "$dir" --suite oni --suite plugin --print-errorlogs
+		meson test -C "$dir" --suite oni --suite plugin --suite daemon --print-errorlogs
 }
 
 case "${1:-}" in

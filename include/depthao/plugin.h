@@ -9,8 +9,10 @@
  * directories of $DEPTHAO_PLUGIN_PATH (colon-separated; for tests and
  * development), then in the install directory; the first module with a
  * given name wins.  Sources that need no extra dependency are built into
- * the library ("oni": .oni recordings through depthao's own reader;
- * "images": a 16-bit depth PNG or a directory of them, in name order).
+ * the library: sources "oni" (.oni recordings through depthao's own reader)
+ * and "images" (a 16-bit depth PNG or a directory of them, in name order);
+ * sinks "images" (numbered PNGs), "y4m" (YUV4MPEG2 to a file, FIFO or
+ * stdout) and "oni" (the .oni recorder).
  *
  * A source is opened from a URI "NAME:REST" (plugin NAME gets REST) or, with
  * no known prefix, by asking every source how well it handles the URI
@@ -110,19 +112,31 @@ struct dao_source_ops {
 };
 
 struct dao_sink_format {
-	enum dao_pixfmt format;     /* GRAY8, GRAY16, RGB24, DEPTH16 */
+	enum dao_pixfmt format;     /* GRAY8, GRAY16, RGB24 or DEPTH16 */
 	uint32_t width, height;
-	double fps;                 /* 0 if unknown */
+	double fps;                 /* nominal, 0 if unknown */
+	float depth_unit;           /* DEPTH16: metres per count */
+	int has_fov;                /* the camera's field of view is known */
+	double hfov, vfov;          /* radians (recorders store it) */
+	int mirrored;               /* the images are mirrored left-right (recorders store it) */
 };
 
 struct dao_sink_ops {
+	/* 0..100: how well this sink handles `uri` (auto selection), 0 = not at all */
 	int (*probe)(const char *uri);
 	int (*open)(const char *uri, void **state, struct dao_error *err);
-	/* accept `fmt` or adjust it to the nearest format the sink takes (-ENOTSUP if none) */
+	/*
+	 * Called before the first write (again, until then, to try another
+	 * stream): accept `fmt`, or change fmt->format to the nearest format
+	 * the sink takes and return 0 (writes must then have that format; the
+	 * caller converts or picks another stream), or -ENOTSUP.
+	 */
 	int (*negotiate)(void *state, struct dao_sink_format *fmt, struct dao_error *err);
+	/* frame->sequence numbers the output where a sink names files by frame */
 	int (*write)(void *state, const struct dao_frame *frame, struct dao_error *err);
 	int (*flush)(void *state, struct dao_error *err);
-	void (*close)(void *state);
+	/* finalises (headers, seek tables, renames) and frees; errors say what was lost */
+	int (*close)(void *state, struct dao_error *err);
 };
 
 struct dao_plugin {
@@ -181,6 +195,23 @@ DAO_API void dao_source_release(struct dao_source *src, struct dao_source_frame 
 DAO_API int dao_source_seek(struct dao_source *src, uint64_t index, struct dao_error *err);
 /* Stops (if started) and closes; NULL-safe. */
 DAO_API void dao_source_close(struct dao_source *src);
+
+/* --- sinks ------------------------------------------------------------- */
+
+struct dao_sink;
+
+/* Opens a sink: "NAME:REST" for plugin NAME, else the sink that probes best. */
+DAO_API int dao_sink_open(const struct dao_plugins *plugins, const char *uri,
+			  struct dao_sink **out, struct dao_error *err);
+DAO_API const struct dao_plugin *dao_sink_plugin(const struct dao_sink *sink);
+DAO_API int dao_sink_negotiate(struct dao_sink *sink, struct dao_sink_format *fmt,
+			       struct dao_error *err);
+/* The frame must have the negotiated format and size (-EINVAL otherwise). */
+DAO_API int dao_sink_write(struct dao_sink *sink, const struct dao_frame *frame,
+			   struct dao_error *err);
+DAO_API int dao_sink_flush(struct dao_sink *sink, struct dao_error *err);
+/* Finalises and frees; NULL-safe (returns 0). */
+DAO_API int dao_sink_close(struct dao_sink *sink, struct dao_error *err);
 
 #ifdef __cplusplus
 }

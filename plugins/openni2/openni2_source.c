@@ -231,6 +231,7 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 				    "openni2: cannot open '%s': %s", s->uri, ni_error(e, sizeof(e)));
 	}
 	OniDeviceInfo di;
+	memset(&di, 0, sizeof(di));
 	if (oniDeviceGetInfo(s->dev, &di) == ONI_STATUS_OK)
 		snprintf(s->device_uri, sizeof(s->device_uri), "%s", di.uri);
 	if (!oniDeviceGetSensorInfo(s->dev, ONI_SENSOR_DEPTH))
@@ -338,8 +339,8 @@ static int ni_open(const char *uri, const struct dao_source_options *opts, void 
 		free(s);
 		return plugin_error(err, -EINVAL, "openni2: URI too long");
 	}
-	snprintf(s->uri, sizeof(s->uri), "%s", uri);
 	size_t n = strlen(uri);
+	memcpy(s->uri, uri, n + 1); /* length checked above */
 	s->is_file = n > 4 && !strcasecmp(uri + n - 4, ".oni");
 	s->opts = *opts;
 	if (s->opts.step == 0)

@@ -23,6 +23,16 @@ const char *dao_strerror(int code)
 	case -ENOSPC: return "no space left on device";
 	case -EOVERFLOW: return "value too large";
 	case -ENOTSUP: return "not supported";
+	case -ENXIO: return "no such device or address (no reader on a FIFO)";
+	case -EPIPE: return "broken pipe (the reader went away)";
+	case -ENOTDIR: return "not a directory";
+	case -EISDIR: return "is a directory";
+	case -ERANGE: return "value out of range";
+	case -EEXIST: return "already exists";
+	case -ETIMEDOUT: return "timed out";
+	case -EBUSY: return "busy";
+	case -ENODATA: return "no data";
+	case -EFBIG: return "file too large";
 	default: return "unknown error";
 	}
 }

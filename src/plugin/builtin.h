@@ -9,5 +9,10 @@ extern const struct dao_plugin *const dao_builtin_plugins[];
 
 extern const struct dao_plugin dao_builtin_oni_plugin;
 extern const struct dao_plugin dao_builtin_images_plugin;
+extern const struct dao_plugin dao_builtin_y4m_plugin;
+
+/* Sinks of the plugins above whose source lives in another file. */
+extern const struct dao_sink_ops dao_images_sink_ops; /* images_sink.c */
+extern const struct dao_sink_ops dao_oni_sink_ops;    /* oni_sink.c */
 
 #endif

@@ -260,6 +260,8 @@ static const struct dao_source_ops images_source_ops = {
 const struct dao_plugin dao_builtin_images_plugin = {
 	.abi_version = DAO_PLUGIN_ABI_VERSION,
 	.name = "images",
-	.description = "a 16-bit depth PNG or a directory of them (name order)",
+	.description = "a 16-bit depth PNG or a directory of them (name order); "
+		       "writes DIR/NNNNNN.png",
 	.source = &images_source_ops,
+	.sink = &dao_images_sink_ops,
 };

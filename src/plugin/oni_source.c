@@ -204,6 +204,8 @@ static const struct dao_source_ops oni_source_ops = {
 const struct dao_plugin dao_builtin_oni_plugin = {
 	.abi_version = DAO_PLUGIN_ABI_VERSION,
 	.name = "oni",
-	.description = ".oni recordings (depth: NONE, 16zP, 16zT) through depthao's own reader",
+	.description = ".oni recordings (depth: NONE, 16zP, 16zT) through depthao's own "
+		       "reader and writer",
 	.source = &oni_source_ops,
+	.sink = &dao_oni_sink_ops,
 };

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/error_internal.h"
+#include "plugin/uri.h"
 
 struct dao_source {
 	const struct dao_plugin *plugin;
@@ -35,15 +36,6 @@ static void list_sources(const struct dao_plugins *p, char *buf, size_t cap)
 			 ns);
 }
 
-/* A URI prefix "name:" of letters, digits, '-', '_' (so "C:\x" or "./a:b" are not). */
-static size_t prefix_len(const char *uri)
-{
-	size_t i = 0;
-	while ((uri[i] >= 'a' && uri[i] <= 'z') || (uri[i] >= '0' && uri[i] <= '9') ||
-	       uri[i] == '-' || uri[i] == '_')
-		i++;
-	return i > 1 && uri[i] == ':' ? i : 0;
-}
 
 int dao_source_open(const struct dao_plugins *p, const char *uri,
 		    const struct dao_source_options *opts, struct dao_source **out,
@@ -59,7 +51,7 @@ int dao_source_open(const struct dao_plugins *p, const char *uri,
 	*out = NULL;
 	if (!opts)
 		opts = &defaults;
-	size_t n = prefix_len(uri);
+	size_t n = dao_uri_prefix_len(uri);
 	if (n) {
 		char name[64];
 		snprintf(name, sizeof(name), "%.*s", (int)(n < 63 ? n : 63), uri);

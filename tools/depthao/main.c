@@ -19,6 +19,7 @@ static void usage(FILE *out)
 		"  eval      measure every quality preset against the ground truth\n"
 		"  bench     time the pipeline and its stages per size, preset and thread count\n"
 		"  devices   list source/sink plugins and the devices they can open\n"
+		"  ctl       talk to a running depthaod (stats, get/set, pause, snapshot)\n"
 		"\n"
 		"  depthao <command> --help   options of a command\n"
 		"  depthao --version          version\n");
@@ -57,6 +58,8 @@ int main(int argc, char **argv)
 		return cmd_synth(argc - 1, argv + 1);
 	if (strcmp(cmd, "eval") == 0)
 		return cmd_eval(argc - 1, argv + 1);
+	if (strcmp(cmd, "ctl") == 0)
+		return cmd_ctl(argc - 1, argv + 1);
 	if (strcmp(cmd, "devices") == 0)
 		return cmd_devices(argc - 1, argv + 1);
 	if (strcmp(cmd, "bench") == 0)

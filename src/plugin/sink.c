@@ -1,0 +1,183 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Opening a sink by URI, and the thin wrapper around its vtable.  The
+ * wrapper enforces the call order (negotiate before the first write; the
+ * format is fixed once a frame was written) and that every frame has the
+ * negotiated format and size, so sinks can trust what they receive.
+ */
+#include <depthao/plugin.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error_internal.h"
+#include "plugin/uri.h"
+
+struct dao_sink {
+	const struct dao_plugin *plugin;
+	void *state;
+	int negotiated;               /* fmt holds what the sink accepted */
+	int written;                  /* a write was attempted: the format is fixed */
+	struct dao_sink_format fmt;
+};
+
+/* "name1, name2" of the plugins that are sinks. */
+static void list_sinks(const struct dao_plugins *p, char *buf, size_t cap)
+{
+	size_t len = 0;
+	buf[0] = '\0';
+	for (size_t i = 0; i < dao_plugins_count(p); i++) {
+		const struct dao_plugin *pl = dao_plugins_get(p, i);
+		if (!pl->sink)
+			continue;
+		int k = snprintf(buf + len, cap - len, "%s%s", len ? ", " : "", pl->name);
+		if (k < 0 || (size_t)k >= cap - len)
+			break;
+		len += (size_t)k;
+	}
+	if (len == 0)
+		snprintf(buf, cap, "none");
+	size_t ns = dao_plugins_skipped_count(p);
+	len = strlen(buf);
+	if (ns && len + 32 < cap)
+		snprintf(buf + len, cap - len, "; %zu plugin(s) failed to load, see 'depthao devices'",
+			 ns);
+}
+
+
+int dao_sink_open(const struct dao_plugins *p, const char *uri, struct dao_sink **out,
+		  struct dao_error *err)
+{
+	const struct dao_plugin *pl = NULL;
+	const char *rest = uri;
+	char names[200];
+
+	if (!p || !uri || !out)
+		return dao_error_set(err, -EINVAL, "dao_sink_open: plugins, uri and out are required");
+	*out = NULL;
+	size_t n = dao_uri_prefix_len(uri);
+	if (n) {
+		char name[64];
+		snprintf(name, sizeof(name), "%.*s", (int)(n < 63 ? n : 63), uri);
+		pl = dao_plugins_find(p, name);
+		if (!pl || !pl->sink) {
+			list_sinks(p, names, sizeof(names));
+			return dao_error_set(err, -ENOENT, "no sink plugin '%s' for '%s'; available: %s",
+					     name, uri, names);
+		}
+		rest = uri + n + 1;
+	} else {
+		int best = 0;
+		for (size_t i = 0; i < dao_plugins_count(p); i++) {
+			const struct dao_plugin *c = dao_plugins_get(p, i);
+			int score = c->sink && c->sink->probe ? c->sink->probe(uri) : 0;
+			if (score > best) {
+				best = score;
+				pl = c;
+			}
+		}
+		if (!pl) {
+			list_sinks(p, names, sizeof(names));
+			return dao_error_set(err, -ENOENT,
+					     "no sink recognises '%s'; name one as NAME:URI "
+					     "(available: %s)",
+					     uri, names);
+		}
+	}
+	const struct dao_sink_ops *ops = pl->sink;
+	if (!ops->open || !ops->negotiate || !ops->write || !ops->close)
+		return dao_error_set(err, -ENOTSUP,
+				     "sink plugin '%s' is incomplete (it lacks open, negotiate, "
+				     "write or close); rebuild it against this depthao",
+				     pl->name);
+	struct dao_sink *s = calloc(1, sizeof(*s));
+	if (!s)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	s->plugin = pl;
+	int r = ops->open(rest, &s->state, err);
+	if (r < 0) {
+		free(s);
+		return r;
+	}
+	*out = s;
+	return 0;
+}
+
+const struct dao_plugin *dao_sink_plugin(const struct dao_sink *s)
+{
+	return s ? s->plugin : NULL;
+}
+
+int dao_sink_negotiate(struct dao_sink *s, struct dao_sink_format *fmt, struct dao_error *err)
+{
+	if (!s || !fmt)
+		return dao_error_set(err, -EINVAL, "dao_sink_negotiate: sink and fmt are required");
+	if (s->written)
+		return dao_error_set(err, -EINVAL,
+				     "sink '%s': the format cannot change after the first write; "
+				     "close the sink and open a new one",
+				     s->plugin->name);
+	s->negotiated = 0; /* until the sink accepts the new format */
+	if (dao_pixfmt_bytes_per_pixel(fmt->format) == 0)
+		return dao_error_set(err, -EINVAL, "sink '%s': pixel format %d is not valid",
+				     s->plugin->name, (int)fmt->format);
+	if (fmt->width == 0 || fmt->height == 0 || fmt->width > DAO_MAX_DIMENSION ||
+	    fmt->height > DAO_MAX_DIMENSION)
+		return dao_error_set(err, -EINVAL, "sink '%s': size %ux%u is out of range (1..%d)",
+				     s->plugin->name, fmt->width, fmt->height, DAO_MAX_DIMENSION);
+	if (!isfinite(fmt->fps) || fmt->fps < 0)
+		return dao_error_set(err, -EINVAL,
+				     "sink '%s': frame rate %g is not valid (>= 0, 0 = unknown)",
+				     s->plugin->name, fmt->fps);
+	int r = s->plugin->sink->negotiate(s->state, fmt, err);
+	if (r < 0)
+		return r;
+	s->fmt = *fmt;
+	s->negotiated = 1;
+	return 0;
+}
+
+int dao_sink_write(struct dao_sink *s, const struct dao_frame *frame, struct dao_error *err)
+{
+	int r;
+	if (!s || !frame)
+		return dao_error_set(err, -EINVAL, "dao_sink_write: sink and frame are required");
+	if (!s->negotiated)
+		return dao_error_set(err, -EINVAL,
+				     "sink '%s': write before the format was negotiated "
+				     "(call dao_sink_negotiate first)",
+				     s->plugin->name);
+	if ((r = dao_frame_check(frame, "sink input", 0, 0, err)) < 0)
+		return r;
+	if (frame->format != s->fmt.format || frame->width != s->fmt.width ||
+	    frame->height != s->fmt.height)
+		return dao_error_set(err, -EINVAL,
+				     "sink '%s' was negotiated for %ux%u %s frames, this one is "
+				     "%ux%u %s",
+				     s->plugin->name, s->fmt.width, s->fmt.height,
+				     dao_pixfmt_name(s->fmt.format), frame->width, frame->height,
+				     dao_pixfmt_name(frame->format));
+	s->written = 1;
+	return s->plugin->sink->write(s->state, frame, err);
+}
+
+int dao_sink_flush(struct dao_sink *s, struct dao_error *err)
+{
+	if (!s)
+		return dao_error_set(err, -EINVAL, "dao_sink_flush: sink is required");
+	if (!s->plugin->sink->flush)
+		return 0;
+	return s->plugin->sink->flush(s->state, err);
+}
+
+int dao_sink_close(struct dao_sink *s, struct dao_error *err)
+{
+	if (!s)
+		return 0;
+	int r = s->plugin->sink->close(s->state, err);
+	free(s);
+	return r;
+}

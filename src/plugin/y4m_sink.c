@@ -1,0 +1,329 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Built-in sink "y4m": a YUV4MPEG2 stream (what ffmpeg, ffplay and mpv read
+ * from a pipe) to stdout ("-"), a regular file (created or truncated) or an
+ * existing FIFO.
+ *
+ * The stream header is written at the first write after negotiate:
+ *     YUV4MPEG2 W<w> H<h> F<num>:<den> Ip A1:1 C<colorspace>\n
+ * then every frame is "FRAME\n" and its planes:
+ *     GRAY8  -> Cmono    one 8-bit plane
+ *     GRAY16 -> Cmono16  one plane of little-endian 16-bit samples
+ *     RGB24  -> C444     Y', Cb, Cr at full resolution, BT.601 limited range
+ * Depth is not a picture: DEPTH16 is refused (send the ao or shaded stream).
+ *
+ * A FIFO is opened non-blocking first, so that a FIFO nobody reads is a
+ * clear -ENXIO at open instead of a hang, then switched back to blocking:
+ * a slow reader slows the writer down, frames are never cut.  A reader that
+ * goes away is -EPIPE (the caller ignores SIGPIPE).
+ */
+#include <depthao/plugin.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/error_internal.h"
+#include "plugin/builtin.h"
+
+#define Y4M_FRAME_MAGIC "FRAME\n"
+#define Y4M_DEFAULT_FPS 30
+
+struct y4m_sink {
+	int fd;
+	int is_stdout;
+	char *name;                 /* for messages: the path or "stdout" */
+	struct dao_sink_format fmt;
+	int negotiated;
+	int header_done;
+	int failed;                 /* a write failed part-way: the stream is cut */
+	uint8_t *buf;               /* "FRAME\n" + planes of one frame */
+	size_t buf_len;
+};
+
+static int y4m_probe(const char *uri)
+{
+	size_t n = strlen(uri);
+	struct stat st;
+	if (n > 4 && !strcasecmp(uri + n - 4, ".y4m"))
+		return 50;
+	if (stat(uri, &st) == 0 && S_ISFIFO(st.st_mode))
+		return 30; /* a FIFO wants a stream */
+	if (!strcmp(uri, "-"))
+		return 10; /* the only built-in sink that writes to stdout */
+	return 0;
+}
+
+static int y4m_open(const char *uri, void **state, struct dao_error *err)
+{
+	int r;
+	if (!*uri)
+		return dao_error_set(err, -EINVAL,
+				     "y4m: no output given; use y4m:- (stdout), y4m:FILE or "
+				     "y4m:FIFO");
+	struct y4m_sink *s = calloc(1, sizeof(*s));
+	if (!s)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	s->fd = -1;
+	s->is_stdout = !strcmp(uri, "-");
+	if (!(s->name = strdup(s->is_stdout ? "stdout" : uri))) {
+		r = dao_error_set(err, -ENOMEM, "out of memory");
+		goto fail;
+	}
+	if (s->is_stdout) {
+		s->fd = STDOUT_FILENO;
+		*state = s;
+		return 0;
+	}
+	/* O_TRUNC is ignored for FIFOs; O_NONBLOCK makes a FIFO without reader ENXIO */
+	s->fd = open(uri, O_WRONLY | O_CREAT | O_TRUNC | O_NONBLOCK | O_CLOEXEC, 0666);
+	if (s->fd < 0) {
+		r = -errno;
+		if (r == -ENXIO)
+			dao_error_set(err, r,
+				      "y4m: no reader on FIFO %s; start the reader (e.g. ffplay "
+				      "%s) first",
+				      uri, uri);
+		else
+			dao_error_set(err, r, "y4m: cannot open %s for writing: %s", uri,
+				      strerror(-r));
+		goto fail;
+	}
+	int fl = fcntl(s->fd, F_GETFL);
+	if (fl < 0 || fcntl(s->fd, F_SETFL, fl & ~O_NONBLOCK) < 0) {
+		r = dao_error_set(err, -errno, "y4m: cannot make %s blocking: %s", uri,
+				  strerror(errno));
+		goto fail;
+	}
+	*state = s;
+	return 0;
+fail:
+	if (s->fd >= 0)
+		close(s->fd);
+	free(s->name);
+	free(s);
+	return r;
+}
+
+static int y4m_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
+{
+	struct y4m_sink *s = state;
+	size_t plane = (size_t)fmt->width * fmt->height;
+	size_t len;
+	switch (fmt->format) {
+	case DAO_PIXFMT_GRAY8:
+		len = plane;
+		break;
+	case DAO_PIXFMT_GRAY16:
+		len = 2 * plane;
+		break;
+	case DAO_PIXFMT_RGB24:
+		len = 3 * plane;
+		break;
+	case DAO_PIXFMT_GRAY_F32:
+		fmt->format = DAO_PIXFMT_GRAY16; /* the nearest: 16-bit visibility */
+		return 0;
+	case DAO_PIXFMT_NORMAL_F32:
+		fmt->format = DAO_PIXFMT_RGB24;
+		return 0;
+	default:
+		return dao_error_set(err, -ENOTSUP,
+				     "y4m: cannot stream %s frames; y4m takes pictures: "
+				     "subscribe it to the ao, ao8 or shaded stream",
+				     dao_pixfmt_name(fmt->format));
+	}
+	len += sizeof(Y4M_FRAME_MAGIC) - 1;
+	uint8_t *b = realloc(s->buf, len);
+	if (!b)
+		return dao_error_set(err, -ENOMEM, "out of memory for a %ux%u y4m frame",
+				     fmt->width, fmt->height);
+	memcpy(b, Y4M_FRAME_MAGIC, sizeof(Y4M_FRAME_MAGIC) - 1);
+	s->buf = b;
+	s->buf_len = len;
+	s->fmt = *fmt;
+	s->negotiated = 1;
+	return 0;
+}
+
+/* Writes all of buf: short writes, EINTR and (for a non-blocking stdout) EAGAIN. */
+static int write_all(struct y4m_sink *s, const uint8_t *buf, size_t len, struct dao_error *err)
+{
+	while (len) {
+		ssize_t k = write(s->fd, buf, len);
+		if (k > 0) {
+			buf += k;
+			len -= (size_t)k;
+			continue;
+		}
+		if (k < 0 && errno == EINTR)
+			continue;
+		if (k < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+			struct pollfd p = {.fd = s->fd, .events = POLLOUT};
+			if (poll(&p, 1, -1) < 0 && errno != EINTR)
+				return dao_error_set(err, -errno, "y4m: waiting to write %s: %s",
+						     s->name, strerror(errno));
+			continue;
+		}
+		int r = k < 0 ? -errno : -EIO;
+		if (r == -EPIPE)
+			return dao_error_set(err, r,
+					     "y4m: the reader of %s went away (broken pipe); "
+					     "nothing more can be written",
+					     s->name);
+		return dao_error_set(err, r, "y4m: cannot write %s: %s", s->name, strerror(-r));
+	}
+	return 0;
+}
+
+/* num:den of the frame rate: integers as N:1, NTSC-style rates as N000:1001. */
+static void fps_ratio(double fps, unsigned long *num, unsigned long *den)
+{
+	if (!(fps > 0)) {
+		*num = Y4M_DEFAULT_FPS;
+		*den = 1;
+		return;
+	}
+	if (fps > 1e6)
+		fps = 1e6;
+	double k = floor(fps + 0.5);
+	if (fabs(fps - k) < 1e-6 * fps) {
+		*num = (unsigned long)k;
+		*den = 1;
+		return;
+	}
+	k = floor(fps * 1.001 + 0.5); /* 29.97 -> 30000:1001 */
+	if (k >= 1 && fabs(fps - k * 1000 / 1001) < 1e-4 * fps) {
+		*num = (unsigned long)k * 1000;
+		*den = 1001;
+		return;
+	}
+	unsigned long n = (unsigned long)floor(fps * 1000 + 0.5), d = 1000;
+	if (n == 0)
+		n = 1;
+	unsigned long a = n, b = d;
+	while (b) {
+		unsigned long t = a % b;
+		a = b;
+		b = t;
+	}
+	*num = n / a;
+	*den = d / a;
+}
+
+static int write_header(struct y4m_sink *s, struct dao_error *err)
+{
+	char h[128];
+	unsigned long num, den;
+	const char *cs = s->fmt.format == DAO_PIXFMT_GRAY8    ? "mono"
+			 : s->fmt.format == DAO_PIXFMT_GRAY16 ? "mono16"
+							      : "444";
+	fps_ratio(s->fmt.fps, &num, &den);
+	int n = snprintf(h, sizeof(h), "YUV4MPEG2 W%u H%u F%lu:%lu Ip A1:1 C%s\n", s->fmt.width,
+			 s->fmt.height, num, den, cs);
+	return write_all(s, (const uint8_t *)h, (size_t)n, err);
+}
+
+/* BT.601 limited range, coefficients x 1000, /255 for 8-bit input, rounded. */
+static inline uint8_t bt601(long offset, long cr, long cg, long cb, unsigned r, unsigned g,
+			    unsigned b)
+{
+	long v = offset * 255000 + cr * (long)r + cg * (long)g + cb * (long)b + 127500;
+	return (uint8_t)(v / 255000);
+}
+
+static void convert(struct y4m_sink *s, const struct dao_frame *f)
+{
+	const uint32_t W = f->width, H = f->height;
+	const size_t plane = (size_t)W * H;
+	uint8_t *out = s->buf + sizeof(Y4M_FRAME_MAGIC) - 1;
+	for (uint32_t y = 0; y < H; y++) {
+		const uint8_t *row = (const uint8_t *)f->data + (size_t)y * (size_t)f->stride;
+		uint8_t *o = out + (size_t)y * W;
+		if (f->format == DAO_PIXFMT_GRAY8) {
+			memcpy(o, row, W);
+		} else if (f->format == DAO_PIXFMT_GRAY16) {
+			o = out + 2 * (size_t)y * W;
+			for (uint32_t x = 0; x < W; x++) {
+				uint16_t v;
+				memcpy(&v, row + 2 * x, 2); /* host order, maybe unaligned */
+				o[2 * x] = (uint8_t)(v & 0xff);
+				o[2 * x + 1] = (uint8_t)(v >> 8);
+			}
+		} else { /* RGB24 -> planes Y', Cb, Cr; all sums stay positive */
+			for (uint32_t x = 0; x < W; x++) {
+				unsigned r = row[3 * x], g = row[3 * x + 1], b = row[3 * x + 2];
+				o[x] = bt601(16, 65481, 128553, 24966, r, g, b);
+				o[plane + x] = bt601(128, -37797, -74203, 112000, r, g, b);
+				o[2 * plane + x] = bt601(128, 112000, -93786, -18214, r, g, b);
+			}
+		}
+	}
+}
+
+static int y4m_write(void *state, const struct dao_frame *frame, struct dao_error *err)
+{
+	struct y4m_sink *s = state;
+	int r;
+	if (!s->negotiated)
+		return dao_error_set(err, -EINVAL, "y4m: write before negotiate");
+	if (s->failed)
+		return dao_error_set(err, s->failed,
+				     "y4m: an earlier write to %s failed (%s); the stream is cut, "
+				     "open the sink again",
+				     s->name, strerror(-s->failed));
+	if (!s->header_done) {
+		if ((r = write_header(s, err)) < 0)
+			goto fail;
+		s->header_done = 1;
+	}
+	convert(s, frame);
+	if ((r = write_all(s, s->buf, s->buf_len, err)) < 0)
+		goto fail;
+	return 0;
+fail:
+	s->failed = r;
+	return r;
+}
+
+static int y4m_flush(void *state, struct dao_error *err)
+{
+	(void)state;
+	(void)err;
+	return 0; /* nothing is buffered: every write hands whole frames to the kernel */
+}
+
+static int y4m_close(void *state, struct dao_error *err)
+{
+	struct y4m_sink *s = state;
+	int r = 0;
+	if (!s->is_stdout && s->fd >= 0 && close(s->fd) != 0 && errno != EINTR)
+		r = dao_error_set(err, -errno, "y4m: closing %s failed: %s", s->name,
+				  strerror(errno));
+	free(s->buf);
+	free(s->name);
+	free(s);
+	return r;
+}
+
+static const struct dao_sink_ops y4m_sink_ops = {
+	.probe = y4m_probe,
+	.open = y4m_open,
+	.negotiate = y4m_negotiate,
+	.write = y4m_write,
+	.flush = y4m_flush,
+	.close = y4m_close,
+};
+
+const struct dao_plugin dao_builtin_y4m_plugin = {
+	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	.name = "y4m",
+	.description = "YUV4MPEG2 stream (ffmpeg, ffplay, mpv) to stdout (-), a file or a FIFO",
+	.sink = &y4m_sink_ops,
+};

@@ -1,0 +1,76 @@
+# SPDX-License-Identifier: MIT
+# Helpers for the daemon tests (sourced).
+# usage: <script> DEPTHAOD DEPTHAO JSON_GET PNG_INFO TEST_PLUGIN_DIR
+set -eu
+DAEMON=$1
+DEPTHAO=$2
+JSON_GET=$3
+PNG_INFO=$4
+TEST_PLUGINS=$5
+ROOT=${DAO_SOURCE_ROOT:?}
+REC="$ROOT/recordings/spheres-rolling.oni"
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/daod-test.XXXXXX")
+PID=
+cleanup() {
+	[ -n "$PID" ] && kill -KILL "$PID" 2>/dev/null || true
+	rm -rf "$WORK"
+}
+trap cleanup EXIT
+failures=0
+
+fail() {
+	echo "FAIL: $*"
+	failures=$((failures + 1))
+}
+
+# start_daemon LOG args...: runs depthaod in the background
+start_daemon() {
+	log=$1
+	shift
+	"$DAEMON" "$@" 2>"$log" &
+	PID=$!
+}
+
+# wait_for SECONDS COMMAND...: polls until the command succeeds
+wait_for() {
+	limit=$1
+	shift
+	i=0
+	while ! "$@" >/dev/null 2>&1; do
+		i=$((i + 1))
+		[ "$i" -le $((limit * 10)) ] || return 1
+		sleep 0.1
+	done
+}
+
+# stop_daemon: SIGTERM, then the exit status; fails if it takes over a second
+stop_daemon() {
+	t0=$(date +%s%N)
+	kill -TERM "$PID"
+	set +e
+	wait "$PID"
+	status=$?
+	set -e
+	PID=
+	ms=$((($(date +%s%N) - t0) / 1000000))
+	[ "$ms" -le 1000 ] || fail "SIGTERM took $ms ms (must stop within one second)"
+	echo "stopped in $ms ms, exit $status"
+	return "$status"
+}
+
+# stat_of SOCKET PATH: one value of 'depthao ctl stats'
+stat_of() {
+	"$DEPTHAO" ctl --socket "$1" stats | "$JSON_GET" "stats.$2"
+}
+
+rss_kb() {
+	awk '/^VmRSS/ {print $2}' "/proc/$1/status"
+}
+
+finish() {
+	if [ "$failures" -ne 0 ]; then
+		echo "$failures failure(s)"
+		exit 1
+	fi
+	echo "all passed"
+}

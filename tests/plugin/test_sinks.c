@@ -1,0 +1,1003 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The sink wrapper and the built-in sinks: "images" (PNG files), "y4m"
+ * (YUV4MPEG2 to a file or FIFO, checked byte by byte: ffprobe is not
+ * assumed) and "oni" (the recorder, read back with depthao's own reader).
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <setjmp.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <dirent.h>
+
+#include <cmocka.h>
+
+#include "common/test_common.h"
+#include "source_test_util.h"
+
+#define PI 3.14159265358979323846
+
+static struct dao_plugins *g_plugins;
+
+static int setup(void **state)
+{
+	(void)state;
+	struct dao_error err;
+	signal(SIGPIPE, SIG_IGN); /* as the daemon does: a gone reader is -EPIPE */
+	return dao_plugins_load(&g_plugins, "", &err); /* built-ins only */
+}
+
+static int teardown(void **state)
+{
+	(void)state;
+	dao_plugins_free(g_plugins);
+	return 0;
+}
+
+/* A fresh temporary directory (copied: dao_test_tmpdir's buffer is static). */
+static void tmpdir(const char *tag, char *buf, size_t len)
+{
+	snprintf(buf, len, "%s", dao_test_tmpdir(tag));
+}
+
+static struct dao_sink *open_sink(const char *uri)
+{
+	struct dao_sink *s = NULL;
+	struct dao_error err;
+	int r = dao_sink_open(g_plugins, uri, &s, &err);
+	if (r)
+		fprintf(stderr, "open %s: %s\n", uri, err.message);
+	assert_int_equal(r, 0);
+	assert_non_null(s);
+	return s;
+}
+
+static int negotiate(struct dao_sink *s, enum dao_pixfmt f, uint32_t w, uint32_t h, double fps,
+		     struct dao_error *err)
+{
+	struct dao_sink_format fmt = {.format = f, .width = w, .height = h, .fps = fps,
+				      .depth_unit = 0.001f};
+	return dao_sink_negotiate(s, &fmt, err);
+}
+
+static void close_ok(struct dao_sink *s)
+{
+	struct dao_error err;
+	int r = dao_sink_close(s, &err);
+	if (r)
+		fprintf(stderr, "close: %s\n", err.message);
+	assert_int_equal(r, 0);
+}
+
+/* Whole file into a malloc'ed buffer. */
+static uint8_t *slurp(const char *path, size_t *len)
+{
+	FILE *f = fopen(path, "rb");
+	assert_non_null(f);
+	uint8_t *buf = NULL;
+	size_t n = 0, cap = 0;
+	for (;;) {
+		if (n == cap) {
+			cap = cap ? 2 * cap : 65536;
+			buf = realloc(buf, cap);
+			assert_non_null(buf);
+		}
+		size_t k = fread(buf + n, 1, cap - n, f);
+		n += k;
+		if (k == 0)
+			break;
+	}
+	fclose(f);
+	*len = n;
+	return buf;
+}
+
+static int exists(const char *path)
+{
+	struct stat st;
+	return stat(path, &st) == 0;
+}
+
+/* Number of entries (not . and ..) in a directory. */
+static int count_entries(const char *dir)
+{
+	DIR *d = opendir(dir);
+	assert_non_null(d);
+	int n = 0;
+	struct dirent *e;
+	while ((e = readdir(d)))
+		n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+	closedir(d);
+	return n;
+}
+
+/* A frame whose pixel bytes are a function of (x, y, k); rows padded by 3 bytes. */
+static void make_frame(struct dao_frame *f, enum dao_pixfmt fmt, uint32_t w, uint32_t h,
+		       uint32_t k)
+{
+	size_t bpp = dao_pixfmt_bytes_per_pixel(fmt);
+	memset(f, 0, sizeof(*f));
+	f->format = fmt;
+	f->width = w;
+	f->height = h;
+	f->stride = (int32_t)(w * bpp + 3);
+	f->data = calloc(h, (size_t)f->stride);
+	assert_non_null(f->data);
+	f->depth_unit = 0.001f;
+	for (uint32_t y = 0; y < h; y++) {
+		uint8_t *row = (uint8_t *)f->data + (size_t)y * (size_t)f->stride;
+		for (uint32_t x = 0; x < w; x++) {
+			uint32_t v = x * 31 + y * 17 + k * 7;
+			if (bpp == 2) {
+				uint16_t s = (uint16_t)(v * 257 + 1);
+				memcpy(row + 2 * x, &s, 2);
+			} else {
+				for (size_t c = 0; c < bpp; c++)
+					row[bpp * x + c] = (uint8_t)(v + 85 * c);
+			}
+		}
+	}
+}
+
+static const uint8_t *pixel(const struct dao_frame *f, uint32_t x, uint32_t y)
+{
+	return (const uint8_t *)f->data + (size_t)y * (size_t)f->stride +
+	       x * dao_pixfmt_bytes_per_pixel(f->format);
+}
+
+/* --- the wrapper -------------------------------------------------------- */
+
+static void test_wrapper_open_errors(void **state)
+{
+	(void)state;
+	struct dao_sink *s = NULL;
+	struct dao_error err;
+	assert_int_equal(dao_sink_open(g_plugins, "nosuch:thing", &s, &err), -ENOENT);
+	assert_null(s);
+	assert_non_null(strstr(err.message, "no sink plugin 'nosuch'"));
+	assert_non_null(strstr(err.message, "available: ")); /* lists the sinks */
+	assert_non_null(strstr(err.message, "y4m"));
+	assert_non_null(strstr(err.message, "images"));
+	assert_non_null(strstr(err.message, "oni"));
+	assert_int_equal(dao_sink_open(g_plugins, "/tmp/whatever.xyz", &s, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "no sink recognises '/tmp/whatever.xyz'"));
+	assert_int_equal(dao_sink_close(NULL, &err), 0);
+}
+
+static void test_wrapper_auto_pick(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	tmpdir("sink-pick", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/x.oni", dir);
+	struct dao_sink *s = open_sink(path);
+	assert_string_equal(dao_sink_plugin(s)->name, "oni");
+	close_ok(s); /* never negotiated: nothing written */
+	assert_false(exists(path));
+	snprintf(path, sizeof path, "%s/X.ONI?codec=none", dir);
+	s = open_sink(path);
+	assert_string_equal(dao_sink_plugin(s)->name, "oni");
+	close_ok(s);
+	snprintf(path, sizeof path, "%s/x.y4m", dir);
+	s = open_sink(path);
+	assert_string_equal(dao_sink_plugin(s)->name, "y4m");
+	close_ok(s);
+	s = open_sink(dir); /* an existing directory */
+	assert_string_equal(dao_sink_plugin(s)->name, "images");
+	close_ok(s);
+}
+
+static void test_wrapper_call_order(void **state)
+{
+	(void)state;
+	char dir[512], uri[600];
+	struct dao_error err;
+	struct dao_frame f, other;
+	tmpdir("sink-order", dir, sizeof dir);
+	snprintf(uri, sizeof uri, "images:%s", dir);
+	struct dao_sink *s = open_sink(uri);
+	make_frame(&f, DAO_PIXFMT_GRAY8, 8, 6, 0);
+
+	assert_int_equal(dao_sink_write(s, &f, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "negotiate"));
+
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 0, 6, 30, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "size"));
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 6, NAN, &err), -EINVAL);
+	assert_int_equal(negotiate(s, (enum dao_pixfmt)99, 8, 6, 30, &err), -EINVAL);
+	assert_int_equal(dao_sink_write(s, &f, &err), -EINVAL); /* still not negotiated */
+
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 6, 30, &err), 0);
+	make_frame(&other, DAO_PIXFMT_GRAY8, 8, 5, 0);
+	assert_int_equal(dao_sink_write(s, &other, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "8x6 gray8"));
+	assert_non_null(strstr(err.message, "8x5 gray8"));
+	free(other.data);
+	make_frame(&other, DAO_PIXFMT_GRAY16, 8, 6, 0);
+	assert_int_equal(dao_sink_write(s, &other, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "gray16"));
+	free(other.data);
+	other = f;
+	other.data = NULL;
+	assert_int_equal(dao_sink_write(s, &other, &err), -EINVAL);
+	assert_int_equal(count_entries(dir), 0); /* none of those was written */
+
+	/* negotiating again is fine until the first write */
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 6, 25, &err), 0);
+	f.sequence = 1;
+	assert_int_equal(dao_sink_write(s, &f, &err), 0);
+	assert_int_equal(dao_sink_flush(s, &err), 0);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 6, 30, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "after the first write"));
+	close_ok(s);
+	assert_int_equal(count_entries(dir), 1);
+	free(f.data);
+}
+
+static void test_wrapper_incomplete_plugin(void **state)
+{
+	(void)state;
+	const char *dir = getenv("DAO_FAKE_PLUGIN_DIR");
+	if (!dir)
+		skip();
+	struct dao_plugins *p;
+	struct dao_sink *s = NULL;
+	struct dao_error err;
+	assert_int_equal(dao_plugins_load(&p, dir, &err), 0);
+	assert_non_null(dao_plugins_find(p, "fakesink"));
+	/* the fake sink has only probe: refused with a reason instead of a crash */
+	assert_int_equal(dao_sink_open(p, "fakesink:x", &s, &err), -ENOTSUP);
+	assert_non_null(strstr(err.message, "fakesink"));
+	assert_null(s);
+	/* a source-only plugin is not a sink */
+	assert_int_equal(dao_sink_open(p, "nosuch:x", &s, &err), -ENOENT);
+	dao_plugins_free(p);
+}
+
+/* --- images ------------------------------------------------------------- */
+
+static void check_png(const char *dir, const char *name, const struct dao_frame *want,
+		      enum dao_pixfmt read_as)
+{
+	char path[700];
+	struct dao_frame got;
+	struct dao_error err;
+	snprintf(path, sizeof path, "%s/%s", dir, name);
+	int r = dao_png_read(path, &got, &err);
+	if (r)
+		fprintf(stderr, "%s: %s\n", path, err.message);
+	assert_int_equal(r, 0);
+	assert_int_equal(got.format, read_as);
+	assert_int_equal(got.width, want->width);
+	assert_int_equal(got.height, want->height);
+	size_t bpp = dao_pixfmt_bytes_per_pixel(want->format);
+	for (uint32_t y = 0; y < want->height; y++)
+		for (uint32_t x = 0; x < want->width; x++)
+			assert_memory_equal(pixel(&got, x, y), pixel(want, x, y), bpp);
+	dao_frame_free(&got);
+}
+
+static void test_images_sink(void **state)
+{
+	(void)state;
+	char base[512], dir[600], uri[800];
+	struct dao_error err;
+	tmpdir("sink-images", base, sizeof base);
+	snprintf(dir, sizeof dir, "%s/new/sub/out", base); /* missing parents */
+	snprintf(uri, sizeof uri, "images:%s/", dir);
+	static const struct {
+		enum dao_pixfmt fmt, read_as;
+		uint64_t seq;
+		const char *name;
+	} cases[] = {
+		{DAO_PIXFMT_GRAY8, DAO_PIXFMT_GRAY8, 7, "000007.png"},
+		{DAO_PIXFMT_GRAY16, DAO_PIXFMT_GRAY16, 123456, "123456.png"},
+		{DAO_PIXFMT_RGB24, DAO_PIXFMT_RGB24, 0, "000000.png"},
+		{DAO_PIXFMT_DEPTH16, DAO_PIXFMT_GRAY16, 1234567, "1234567.png"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		struct dao_sink *s = open_sink(uri);
+		assert_string_equal(dao_sink_plugin(s)->name, "images");
+		assert_int_equal(negotiate(s, cases[i].fmt, 13, 9, 0, &err), 0);
+		struct dao_frame f;
+		make_frame(&f, cases[i].fmt, 13, 9, (uint32_t)i);
+		f.sequence = cases[i].seq;
+		assert_int_equal(dao_sink_write(s, &f, &err), 0);
+		close_ok(s);
+		check_png(dir, cases[i].name, &f, cases[i].read_as);
+		free(f.data);
+	}
+	assert_int_equal(count_entries(dir), 4); /* no temporary files left */
+
+	/* float formats: the sink names the nearest one it takes */
+	struct dao_sink *s = open_sink(uri);
+	struct dao_sink_format fmt = {.format = DAO_PIXFMT_GRAY_F32, .width = 4, .height = 4};
+	assert_int_equal(dao_sink_negotiate(s, &fmt, &err), 0);
+	assert_int_equal(fmt.format, DAO_PIXFMT_GRAY16);
+	close_ok(s);
+
+	/* a file where the directory should be */
+	char file[700];
+	snprintf(file, sizeof file, "%s/a-file", base);
+	FILE *fp = fopen(file, "w");
+	assert_non_null(fp);
+	fclose(fp);
+	snprintf(uri, sizeof uri, "images:%s", file);
+	s = NULL;
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -ENOTDIR);
+	assert_null(s);
+	assert_non_null(strstr(err.message, "a-file exists and is not a directory"));
+	snprintf(uri, sizeof uri, "images:%s/below", file);
+	assert_true(dao_sink_open(g_plugins, uri, &s, &err) < 0);
+	assert_non_null(strstr(err.message, "cannot create directory"));
+	assert_int_equal(dao_sink_open(g_plugins, "images:", &s, &err), -EINVAL);
+}
+
+/* --- y4m ---------------------------------------------------------------- */
+
+struct y4m {
+	char header[128];
+	uint32_t w, h;
+	const uint8_t *frames[64];
+	size_t nframes;
+};
+
+/* Parses a YUV4MPEG2 stream of frames of frame_bytes each; 0 if well-formed. */
+static int parse_y4m(const uint8_t *buf, size_t len, size_t frame_bytes, struct y4m *y)
+{
+	memset(y, 0, sizeof(*y));
+	const uint8_t *nl = memchr(buf, '\n', len < 128 ? len : 128);
+	if (!nl)
+		return -1;
+	size_t hl = (size_t)(nl - buf);
+	memcpy(y->header, buf, hl);
+	if (sscanf(y->header, "YUV4MPEG2 W%u H%u ", &y->w, &y->h) != 2)
+		return -1;
+	size_t pos = hl + 1;
+	while (pos < len) {
+		if (len - pos < 6 + frame_bytes || memcmp(buf + pos, "FRAME\n", 6) != 0 ||
+		    y->nframes == 64)
+			return -1;
+		y->frames[y->nframes++] = buf + pos + 6;
+		pos += 6 + frame_bytes;
+	}
+	return 0;
+}
+
+static void test_y4m_gray8(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	tmpdir("sink-y4m", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/out.y4m", dir);
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 5, 3, 25, &err), 0);
+	struct dao_frame f[3];
+	for (uint32_t k = 0; k < 3; k++) {
+		make_frame(&f[k], DAO_PIXFMT_GRAY8, 5, 3, k);
+		assert_int_equal(dao_sink_write(s, &f[k], &err), 0);
+	}
+	assert_int_equal(dao_sink_flush(s, &err), 0);
+	close_ok(s);
+	size_t len;
+	uint8_t *buf = slurp(path, &len);
+	struct y4m y;
+	assert_int_equal(parse_y4m(buf, len, 15, &y), 0);
+	assert_string_equal(y.header, "YUV4MPEG2 W5 H3 F25:1 Ip A1:1 Cmono");
+	assert_int_equal(y.nframes, 3);
+	for (uint32_t k = 0; k < 3; k++)
+		for (uint32_t r = 0; r < 3; r++)
+			assert_memory_equal(y.frames[k] + 5 * r, pixel(&f[k], 0, r), 5);
+	free(buf);
+	for (uint32_t k = 0; k < 3; k++)
+		free(f[k].data);
+
+	/* an existing file is truncated; no frame -> not even a header */
+	s = open_sink(path);
+	close_ok(s);
+	buf = slurp(path, &len);
+	assert_int_equal(len, 0);
+	free(buf);
+}
+
+static void test_y4m_gray16(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	tmpdir("sink-y4m16", dir, sizeof dir);
+	snprintf(path, sizeof path, "y4m:%s/out", dir); /* any name with the prefix */
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY16, 4, 2, 0, &err), 0); /* fps unknown */
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_GRAY16, 4, 2, 1);
+	uint16_t v = 0x1234;
+	memcpy((uint8_t *)f.data, &v, 2); /* pixel (0, 0) */
+	assert_int_equal(dao_sink_write(s, &f, &err), 0);
+	close_ok(s);
+	size_t len;
+	uint8_t *buf = slurp(path + 4, &len);
+	struct y4m y;
+	assert_int_equal(parse_y4m(buf, len, 16, &y), 0);
+	assert_string_equal(y.header, "YUV4MPEG2 W4 H2 F30:1 Ip A1:1 Cmono16");
+	assert_int_equal(y.nframes, 1);
+	assert_int_equal(y.frames[0][0], 0x34); /* little-endian samples */
+	assert_int_equal(y.frames[0][1], 0x12);
+	for (uint32_t r = 0; r < 2; r++)
+		for (uint32_t x = 0; x < 4; x++) {
+			uint16_t want;
+			memcpy(&want, pixel(&f, x, r), 2);
+			const uint8_t *got = y.frames[0] + 2 * (r * 4 + x);
+			assert_int_equal(got[0] | got[1] << 8, want);
+		}
+	free(buf);
+	free(f.data);
+}
+
+static void test_y4m_rgb_colours(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	tmpdir("sink-y4m-rgb", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/c.y4m", dir);
+	static const uint8_t rgb[][3] = {
+		{255, 255, 255}, {0, 0, 0}, {255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {128, 128, 128},
+	};
+	/* BT.601 limited range: Y' = 16 + 219 Y, Cb/Cr = 128 + 224 * ... */
+	static const int ycc[][3] = {
+		{235, 128, 128}, {16, 128, 128}, {81, 90, 240}, {145, 54, 34}, {41, 240, 110},
+		{126, 128, 128},
+	};
+	const uint32_t W = 6, H = 2;
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_RGB24, W, H, 29.97, &err), 0);
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_RGB24, W, H, 0);
+	for (uint32_t y = 0; y < H; y++)
+		for (uint32_t x = 0; x < W; x++)
+			memcpy((uint8_t *)pixel(&f, x, y), rgb[(x + y) % W], 3);
+	assert_int_equal(dao_sink_write(s, &f, &err), 0);
+	assert_int_equal(dao_sink_write(s, &f, &err), 0);
+	close_ok(s);
+	size_t len;
+	uint8_t *buf = slurp(path, &len);
+	struct y4m y;
+	assert_int_equal(parse_y4m(buf, len, 3 * W * H, &y), 0);
+	assert_string_equal(y.header, "YUV4MPEG2 W6 H2 F30000:1001 Ip A1:1 C444");
+	assert_int_equal(y.nframes, 2);
+	for (uint32_t r = 0; r < H; r++)
+		for (uint32_t x = 0; x < W; x++) {
+			const int *want = ycc[(x + r) % W];
+			size_t i = r * W + x;
+			for (int c = 0; c < 3; c++) {
+				int got = y.frames[1][c * W * H + i];
+				if (abs(got - want[c]) > 1)
+					fail_msg("colour %u,%u,%u plane %d: %d, want %d", rgb[(x + r) % W][0],
+						 rgb[(x + r) % W][1], rgb[(x + r) % W][2], c, got, want[c]);
+			}
+		}
+	/* white, black and pure red exactly as the standard's rounding gives them */
+	assert_int_equal(y.frames[0][0], 235);
+	assert_int_equal(y.frames[0][W * H + 0], 128);
+	assert_int_equal(y.frames[0][2 * W * H + 0], 128);
+	assert_int_equal(y.frames[0][1], 16);
+	assert_int_equal(y.frames[0][2], 81);
+	assert_int_equal(y.frames[0][W * H + 2], 90);
+	assert_int_equal(y.frames[0][2 * W * H + 2], 240);
+	free(buf);
+	free(f.data);
+}
+
+/* The F field of the header for a given fps. */
+static void check_fps(const char *dir, double fps, const char *want)
+{
+	char path[600];
+	struct dao_error err;
+	snprintf(path, sizeof path, "%s/fps.y4m", dir);
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 2, 2, fps, &err), 0);
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_GRAY8, 2, 2, 0);
+	assert_int_equal(dao_sink_write(s, &f, &err), 0);
+	close_ok(s);
+	free(f.data);
+	size_t len;
+	uint8_t *buf = slurp(path, &len);
+	struct y4m y;
+	assert_int_equal(parse_y4m(buf, len, 4, &y), 0);
+	if (!strstr(y.header, want))
+		fail_msg("fps %g: header '%s', want '%s'", fps, y.header, want);
+	free(buf);
+}
+
+static void test_y4m_fps_and_refusals(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	tmpdir("sink-y4m-fps", dir, sizeof dir);
+	check_fps(dir, 30, " F30:1 ");
+	check_fps(dir, 15.0, " F15:1 ");
+	check_fps(dir, 30000.0 / 1001, " F30000:1001 ");
+	check_fps(dir, 59.94, " F60000:1001 ");
+	check_fps(dir, 23.976, " F24000:1001 ");
+	check_fps(dir, 12.5, " F25:2 ");
+	check_fps(dir, 0, " F30:1 ");
+
+	snprintf(path, sizeof path, "%s/d.y4m", dir);
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_DEPTH16, 4, 4, 30, &err), -ENOTSUP);
+	assert_non_null(strstr(err.message, "depth16"));
+	assert_non_null(strstr(err.message, "ao"));
+	assert_non_null(strstr(err.message, "shaded"));
+	struct dao_sink_format fmt = {.format = DAO_PIXFMT_GRAY_F32, .width = 4, .height = 4};
+	assert_int_equal(dao_sink_negotiate(s, &fmt, &err), 0);
+	assert_int_equal(fmt.format, DAO_PIXFMT_GRAY16);
+	close_ok(s);
+
+	assert_int_equal(dao_sink_open(g_plugins, "y4m:", &s, &err), -EINVAL);
+	assert_int_equal(dao_sink_open(g_plugins, "y4m:/nonexistent-dir/x.y4m", &s, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "/nonexistent-dir/x.y4m"));
+	assert_true(dao_sink_open(g_plugins, "y4m:/", &s, &err) < 0); /* a directory */
+}
+
+/* "-" is stdout, and closing the sink leaves stdout open (in a child process). */
+static void test_y4m_stdout(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	tmpdir("sink-y4m-stdout", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/stdout", dir);
+	fflush(stdout);
+	pid_t pid = fork();
+	assert_true(pid >= 0);
+	if (pid == 0) {
+		struct dao_error err;
+		struct dao_sink *s = NULL;
+		struct dao_frame f;
+		int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+		if (fd < 0 || dup2(fd, STDOUT_FILENO) < 0)
+			_exit(2);
+		close(fd);
+		make_frame(&f, DAO_PIXFMT_GRAY8, 3, 2, 0);
+		if (dao_sink_open(g_plugins, "y4m:-", &s, &err) ||
+		    negotiate(s, DAO_PIXFMT_GRAY8, 3, 2, 30, &err) || dao_sink_write(s, &f, &err) ||
+		    dao_sink_close(s, &err))
+			_exit(3);
+		if (write(STDOUT_FILENO, "X", 1) != 1) /* still open */
+			_exit(4);
+		_exit(0);
+	}
+	int st;
+	assert_int_equal(waitpid(pid, &st, 0), pid);
+	assert_true(WIFEXITED(st));
+	assert_int_equal(WEXITSTATUS(st), 0);
+	size_t len;
+	uint8_t *buf = slurp(path, &len);
+	const char *hdr = "YUV4MPEG2 W3 H2 F30:1 Ip A1:1 Cmono\nFRAME\n";
+	assert_int_equal(len, strlen(hdr) + 6 + 1);
+	assert_memory_equal(buf, hdr, strlen(hdr));
+	assert_int_equal(buf[len - 1], 'X');
+	free(buf);
+}
+
+static double now_s(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec + t.tv_nsec * 1e-9;
+}
+
+static void test_y4m_fifo_without_reader(void **state)
+{
+	(void)state;
+	char dir[512], fifo[600], uri[700];
+	struct dao_error err;
+	struct dao_sink *s = NULL;
+	tmpdir("sink-fifo0", dir, sizeof dir);
+	snprintf(fifo, sizeof fifo, "%s/pipe", dir);
+	assert_int_equal(mkfifo(fifo, 0600), 0);
+	snprintf(uri, sizeof uri, "y4m:%s", fifo);
+	double t0 = now_s();
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -ENXIO);
+	assert_true(now_s() - t0 < 1.0);
+	assert_null(s);
+	assert_non_null(strstr(err.message, "no reader on FIFO"));
+	assert_non_null(strstr(err.message, fifo));
+}
+
+/*
+ * A reader process for a FIFO: opens it (non-blocking, so the writer's open
+ * finds a reader), says so on `ready`, waits for `go` (the writer has it
+ * open: reading before would see EOF), then copies what it reads to
+ * `copy_to`, stopping after `limit` bytes (0 = until EOF).
+ */
+static pid_t start_reader(const char *fifo, const char *copy_to, size_t limit, int *go_fd)
+{
+	int ready[2], go[2];
+	assert_int_equal(pipe(ready), 0);
+	assert_int_equal(pipe(go), 0);
+	pid_t pid = fork();
+	assert_true(pid >= 0);
+	if (pid == 0) {
+		close(ready[0]);
+		close(go[1]);
+		int fd = open(fifo, O_RDONLY | O_NONBLOCK);
+		char c = 'r';
+		if (fd < 0 || write(ready[1], &c, 1) != 1 || read(go[0], &c, 1) != 1)
+			_exit(2);
+		int fl = fcntl(fd, F_GETFL);
+		if (fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) < 0)
+			_exit(3);
+		FILE *out = fopen(copy_to, "wb");
+		if (!out)
+			_exit(4);
+		char buf[4096];
+		size_t total = 0;
+		for (;;) {
+			size_t want = sizeof buf;
+			if (limit && limit - total < want)
+				want = limit - total;
+			if (want == 0)
+				break;
+			ssize_t k = read(fd, buf, want);
+			if (k < 0 && errno == EINTR)
+				continue;
+			if (k <= 0)
+				break;
+			fwrite(buf, 1, (size_t)k, out);
+			total += (size_t)k;
+		}
+		fclose(out);
+		close(fd);
+		_exit(0);
+	}
+	close(ready[1]);
+	close(go[0]);
+	char c;
+	assert_int_equal(read(ready[0], &c, 1), 1);
+	close(ready[0]);
+	*go_fd = go[1];
+	return pid;
+}
+
+static void wait_reader(pid_t pid)
+{
+	int st;
+	assert_int_equal(waitpid(pid, &st, 0), pid);
+	assert_true(WIFEXITED(st));
+	assert_int_equal(WEXITSTATUS(st), 0);
+}
+
+static void let_reader_go(int fd)
+{
+	char c = 'g';
+	assert_int_equal(write(fd, &c, 1), 1);
+	close(fd);
+}
+
+static void test_y4m_fifo_with_reader(void **state)
+{
+	(void)state;
+	char dir[512], fifo[600], copy[600], ref[600], uri[700];
+	struct dao_error err;
+	enum { W = 64, H = 48, N = 20 }; /* 20 x 9 KiB: more than a pipe holds */
+	tmpdir("sink-fifo", dir, sizeof dir);
+	snprintf(fifo, sizeof fifo, "%s/pipe", dir);
+	snprintf(copy, sizeof copy, "%s/received", dir);
+	snprintf(ref, sizeof ref, "%s/ref.y4m", dir);
+	assert_int_equal(mkfifo(fifo, 0600), 0);
+
+	int go_fd;
+	pid_t pid = start_reader(fifo, copy, 0, &go_fd);
+	struct dao_sink *s = open_sink(fifo); /* a FIFO picks y4m without a prefix */
+	assert_string_equal(dao_sink_plugin(s)->name, "y4m");
+	let_reader_go(go_fd);
+	snprintf(uri, sizeof uri, "y4m:%s", ref);
+	struct dao_sink *r = open_sink(uri); /* the same stream into a file */
+	assert_int_equal(negotiate(s, DAO_PIXFMT_RGB24, W, H, 30, &err), 0);
+	assert_int_equal(negotiate(r, DAO_PIXFMT_RGB24, W, H, 30, &err), 0);
+	for (uint32_t k = 0; k < N; k++) {
+		struct dao_frame f;
+		make_frame(&f, DAO_PIXFMT_RGB24, W, H, k);
+		assert_int_equal(dao_sink_write(s, &f, &err), 0);
+		assert_int_equal(dao_sink_write(r, &f, &err), 0);
+		free(f.data);
+	}
+	assert_int_equal(dao_sink_flush(s, &err), 0);
+	close_ok(s);
+	close_ok(r);
+	wait_reader(pid);
+
+	size_t len, ref_len;
+	uint8_t *got = slurp(copy, &len), *want = slurp(ref, &ref_len);
+	const char *hdr = "YUV4MPEG2 W64 H48 F30:1 Ip A1:1 C444\n";
+	assert_int_equal(len, strlen(hdr) + N * (6 + 3 * W * H));
+	assert_int_equal(len, ref_len);
+	assert_memory_equal(got, want, len);
+	struct y4m y;
+	assert_int_equal(parse_y4m(got, len, 3 * W * H, &y), 0);
+	assert_int_equal(y.nframes, N);
+	free(got);
+	free(want);
+}
+
+static void test_y4m_reader_goes_away(void **state)
+{
+	(void)state;
+	char dir[512], fifo[600], copy[600];
+	struct dao_error err;
+	tmpdir("sink-fifo-epipe", dir, sizeof dir);
+	snprintf(fifo, sizeof fifo, "%s/pipe", dir);
+	snprintf(copy, sizeof copy, "%s/received", dir);
+	assert_int_equal(mkfifo(fifo, 0600), 0);
+	int go_fd;
+	pid_t pid = start_reader(fifo, copy, 10, &go_fd); /* reads 10 bytes, then leaves */
+	struct dao_sink *s = open_sink(fifo);
+	let_reader_go(go_fd);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 64, 64, 30, &err), 0);
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_GRAY8, 64, 64, 0);
+	int r = 0, n = 0;
+	while (r == 0 && n++ < 1000) /* 4 MB at most; a pipe holds 64 KiB */
+		r = dao_sink_write(s, &f, &err);
+	assert_int_equal(r, -EPIPE);
+	assert_non_null(strstr(err.message, "went away"));
+	assert_int_equal(dao_sink_write(s, &f, &err), -EPIPE); /* and stays so */
+	close_ok(s);
+	wait_reader(pid);
+	free(f.data);
+}
+
+/* --- oni ---------------------------------------------------------------- */
+
+static void fill_depth(struct dao_frame *d, uint32_t f)
+{
+	for (uint32_t y = 0; y < TEST_H; y++)
+		for (uint32_t x = 0; x < TEST_W; x++) {
+			uint16_t v = test_depth(f, x, y);
+			memcpy((uint8_t *)d->data + (size_t)y * (size_t)d->stride + 2 * x, &v, 2);
+		}
+}
+
+/* Records `n` test frames through the sink; timestamps per `ts_mode`. */
+enum ts_mode { TS_REAL, TS_ZERO, TS_BACKWARDS };
+
+static void record(const char *uri, uint32_t n, float unit, int has_fov, enum ts_mode mode)
+{
+	struct dao_error err;
+	struct dao_sink *s = open_sink(uri);
+	assert_string_equal(dao_sink_plugin(s)->name, "oni");
+	struct dao_sink_format fmt = {.format = DAO_PIXFMT_DEPTH16, .width = TEST_W,
+				      .height = TEST_H, .fps = 29.97, .depth_unit = unit,
+				      .has_fov = has_fov, .hfov = 1.0, .vfov = 0.75};
+	int r = dao_sink_negotiate(s, &fmt, &err);
+	if (r)
+		fprintf(stderr, "negotiate: %s\n", err.message);
+	assert_int_equal(r, 0);
+	struct dao_frame d;
+	make_frame(&d, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, 0); /* padded rows */
+	d.depth_unit = unit;
+	for (uint32_t f = 0; f < n; f++) {
+		fill_depth(&d, f);
+		d.sequence = f + 1;
+		d.timestamp_ns = mode == TS_ZERO ? 0 : (1000 + (uint64_t)f * 33333) * 1000;
+		if (mode == TS_BACKWARDS && f == 2)
+			d.timestamp_ns = 5000; /* before frame 1 */
+		r = dao_sink_write(s, &d, &err);
+		if (r)
+			fprintf(stderr, "write: %s\n", err.message);
+		assert_int_equal(r, 0);
+	}
+	free(d.data);
+	close_ok(s);
+}
+
+static struct dao_oni_reader *open_reader(const char *path, const struct dao_oni_stream_info **in)
+{
+	struct dao_oni_reader *rd;
+	struct dao_error err;
+	int r = dao_oni_reader_open(path, &rd, &err);
+	if (r)
+		fprintf(stderr, "%s: %s\n", path, err.message);
+	assert_int_equal(r, 0);
+	int st = dao_oni_reader_depth_stream(rd, &err);
+	assert_true(st >= 0);
+	*in = dao_oni_reader_stream(rd, (uint32_t)st);
+	return rd;
+}
+
+static void test_oni_record_and_read_back(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	tmpdir("sink-oni", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/rec.oni", dir);
+	record(path, 5, 0.001f, 1, TS_REAL);
+	assert_int_equal(count_entries(dir), 1); /* no temporary file left */
+
+	const struct dao_oni_stream_info *in;
+	struct dao_oni_reader *rd = open_reader(path, &in);
+	assert_int_equal(in->frame_count, 5);
+	assert_int_equal(in->width, TEST_W);
+	assert_int_equal(in->height, TEST_H);
+	assert_int_equal(in->fps, 30); /* 29.97 rounded */
+	assert_string_equal(in->codec_fourcc, "16zT");
+	assert_int_equal(in->pixel_format, DAO_ONI_PIXEL_DEPTH_1_MM);
+	assert_float_equal(in->depth_unit, 0.001, 1e-9);
+	assert_true(in->has_fov);
+	assert_float_equal(in->hfov, 1.0, 1e-12);
+	assert_float_equal(in->vfov, 0.75, 1e-12);
+	assert_int_equal(in->mirrored, 0);
+	struct dao_frame d;
+	assert_int_equal(dao_frame_alloc(&d, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, &err), 0);
+	for (uint32_t f = 0; f < 5; f++) {
+		assert_int_equal(dao_oni_reader_read_depth(rd, 0, f, &d, &err), 0);
+		assert_true(test_is_frame(&d, f));
+		assert_int_equal(d.timestamp_ns, (1000 + (uint64_t)f * 33333) * 1000);
+	}
+	dao_frame_free(&d);
+	dao_oni_reader_close(rd);
+}
+
+static void test_oni_codecs(void **state)
+{
+	(void)state;
+	char dir[512], path[600], uri[700];
+	struct dao_error err;
+	tmpdir("sink-oni-codec", dir, sizeof dir);
+	static const struct {
+		const char *query, *fourcc;
+	} cases[] = {{"?codec=none", "NONE"}, {"?codec=16z", "16zP"}, {"?codec=16ZT", "16zT"}};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		snprintf(path, sizeof path, "%s/c%zu.oni", dir, i);
+		snprintf(uri, sizeof uri, "oni:%s%s", path, cases[i].query);
+		record(uri, 2, 0.001f, 1, TS_REAL);
+		const struct dao_oni_stream_info *in;
+		struct dao_oni_reader *rd = open_reader(path, &in);
+		assert_string_equal(in->codec_fourcc, cases[i].fourcc);
+		assert_int_equal(in->frame_count, 2);
+		struct dao_frame d;
+		assert_int_equal(dao_frame_alloc(&d, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, &err), 0);
+		assert_int_equal(dao_oni_reader_read_depth(rd, 0, 1, &d, &err), 0);
+		assert_true(test_is_frame(&d, 1));
+		dao_frame_free(&d);
+		dao_oni_reader_close(rd);
+	}
+	struct dao_sink *s = NULL;
+	snprintf(uri, sizeof uri, "oni:%s/x.oni?codec=jpeg", dir);
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "codec 'jpeg'"));
+	snprintf(path, sizeof path, "%s/what?.oni", dir); /* a '?' without options is a name */
+	record(path, 1, 0.001f, 1, TS_REAL);
+	assert_true(exists(path));
+	snprintf(uri, sizeof uri, "oni:%s/x.oni?fps=30", dir);
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "unknown option 'fps'"));
+	assert_non_null(strstr(err.message, "codec=none|16z|16zt"));
+	assert_int_equal(dao_sink_open(g_plugins, "oni:/nonexistent-dir/x.oni", &s, &err),
+			 -ENOENT);
+	assert_non_null(strstr(err.message, "/nonexistent-dir"));
+	snprintf(uri, sizeof uri, "oni:%s", dir);
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -EISDIR);
+	assert_null(s);
+}
+
+static void test_oni_timestamps_units_fov(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	struct dao_frame d;
+	const struct dao_oni_stream_info *in;
+	struct dao_oni_reader *rd;
+	tmpdir("sink-oni-ts", dir, sizeof dir);
+	assert_int_equal(dao_frame_alloc(&d, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, &err), 0);
+
+	/* no timestamps: sequence * 1e6 / fps (30 after rounding); no fov: the default */
+	snprintf(path, sizeof path, "%s/zero.oni", dir);
+	record(path, 3, 0.001f, 0, TS_ZERO);
+	rd = open_reader(path, &in);
+	assert_true(in->has_fov);
+	assert_float_equal(in->hfov, 58.5 * PI / 180, 1e-9);
+	assert_float_equal(in->vfov, 45.6 * PI / 180, 1e-9);
+	for (uint32_t f = 0; f < 3; f++) {
+		assert_int_equal(dao_oni_reader_read_depth(rd, 0, f, &d, &err), 0);
+		assert_int_equal(d.timestamp_ns, (uint64_t)(f + 1) * 1000000 / 30 * 1000);
+	}
+	dao_oni_reader_close(rd);
+
+	/* a timestamp going backwards is clamped to the previous one */
+	snprintf(path, sizeof path, "%s/back.oni", dir);
+	record(path, 4, 0.001f, 1, TS_BACKWARDS);
+	rd = open_reader(path, &in);
+	assert_int_equal(in->frame_count, 4);
+	uint64_t want[] = {1000, 34333, 34333, 100999};
+	for (uint32_t f = 0; f < 4; f++) {
+		assert_int_equal(dao_oni_reader_read_depth(rd, 0, f, &d, &err), 0);
+		assert_int_equal(d.timestamp_ns, want[f] * 1000);
+		assert_true(test_is_frame(&d, f));
+	}
+	dao_oni_reader_close(rd);
+
+	/* 100 um: the finer pixel format */
+	snprintf(path, sizeof path, "%s/um.oni", dir);
+	record(path, 2, 0.0001f, 1, TS_REAL);
+	rd = open_reader(path, &in);
+	assert_int_equal(in->pixel_format, DAO_ONI_PIXEL_DEPTH_100_UM);
+	assert_float_equal(in->depth_unit, 0.0001, 1e-9);
+	assert_int_equal(dao_oni_reader_read_depth(rd, 0, 1, &d, &err), 0);
+	assert_true(test_is_frame(&d, 1));
+	dao_oni_reader_close(rd);
+	dao_frame_free(&d);
+}
+
+static void test_oni_nothing_to_save(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	tmpdir("sink-oni-empty", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/empty.oni", dir);
+
+	/* negotiated (the writer was opened), no frame: no file, no temporary */
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, 30, &err), 0);
+	assert_int_equal(dao_sink_close(s, &err), 0);
+	assert_int_equal(count_entries(dir), 0);
+
+	/* non-depth streams are refused, and negotiating again restarts cleanly */
+	s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, 30, &err), 0);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY16, TEST_W, TEST_H, 30, &err), -ENOTSUP);
+	assert_non_null(strstr(err.message, "records depth"));
+	assert_non_null(strstr(err.message, "subscribe it to the depth stream"));
+	assert_int_equal(negotiate(s, DAO_PIXFMT_RGB24, TEST_W, TEST_H, 30, &err), -ENOTSUP);
+	assert_int_equal(count_entries(dir), 0);
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_GRAY16, TEST_W, TEST_H, 0);
+	assert_int_equal(dao_sink_write(s, &f, &err), -EINVAL); /* not negotiated any more */
+	free(f.data);
+	assert_int_equal(dao_sink_close(s, &err), 0);
+	assert_int_equal(count_entries(dir), 0);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_wrapper_open_errors),
+		cmocka_unit_test(test_wrapper_auto_pick),
+		cmocka_unit_test(test_wrapper_call_order),
+		cmocka_unit_test(test_wrapper_incomplete_plugin),
+		cmocka_unit_test(test_images_sink),
+		cmocka_unit_test(test_y4m_gray8),
+		cmocka_unit_test(test_y4m_gray16),
+		cmocka_unit_test(test_y4m_rgb_colours),
+		cmocka_unit_test(test_y4m_fps_and_refusals),
+		cmocka_unit_test(test_y4m_stdout),
+		cmocka_unit_test(test_y4m_fifo_without_reader),
+		cmocka_unit_test(test_y4m_fifo_with_reader),
+		cmocka_unit_test(test_y4m_reader_goes_away),
+		cmocka_unit_test(test_oni_record_and_read_back),
+		cmocka_unit_test(test_oni_codecs),
+		cmocka_unit_test(test_oni_timestamps_units_fov),
+		cmocka_unit_test(test_oni_nothing_to_save),
+	};
+	return cmocka_run_group_tests(tests, setup, teardown);
+}

@@ -1,0 +1,363 @@
+/* SPDX-License-Identifier: MIT */
+#include "config.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "log.h"
+
+static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay"};
+
+const char *stream_name(enum stream_kind k)
+{
+	return k < STREAM_COUNT ? stream_names[k] : "?";
+}
+
+void config_defaults(struct daemon_config *c)
+{
+	memset(c, 0, sizeof(*c));
+	c->playback = DAO_PLAYBACK_REALTIME;
+	c->retry_initial_ms = 500;
+	c->retry_max_ms = 10000;
+	c->input_queue = 4;
+	c->quality = DAO_QUALITY_DEFAULT;
+	c->stats_interval_s = 10;
+	c->log_level = LOG_INFO;
+	c->drain_on_stop = 1;
+}
+
+__attribute__((format(printf, 3, 4))) static int fail(char *msg, size_t len, const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(msg, len, fmt, ap);
+	va_end(ap);
+	return -1;
+}
+
+static int parse_bool(const char *v, int *out)
+{
+	if (!strcasecmp(v, "true") || !strcasecmp(v, "yes") || !strcmp(v, "1") || !strcasecmp(v, "on"))
+		*out = 1;
+	else if (!strcasecmp(v, "false") || !strcasecmp(v, "no") || !strcmp(v, "0") ||
+		 !strcasecmp(v, "off"))
+		*out = 0;
+	else
+		return -1;
+	return 0;
+}
+
+static int parse_uint(const char *v, unsigned long long min, unsigned long long max,
+		      unsigned long long *out)
+{
+	char *end;
+	errno = 0;
+	if (!*v || *v == '-')
+		return -1;
+	unsigned long long n = strtoull(v, &end, 10);
+	if (*end || errno || n < min || n > max)
+		return -1;
+	*out = n;
+	return 0;
+}
+
+static int parse_doubles(const char *v, double *out, int n)
+{
+	const char *p = v;
+	for (int i = 0; i < n; i++) {
+		char *end;
+		errno = 0;
+		out[i] = strtod(p, &end);
+		if (end == p || errno || !isfinite(out[i]))
+			return -1;
+		p = end;
+		while (*p == ' ')
+			p++;
+		if (i < n - 1) {
+			if (*p != ',')
+				return -1;
+			p++;
+		}
+	}
+	return *p ? -1 : 0;
+}
+
+static int copy_str(char *dst, size_t cap, const char *v)
+{
+	size_t n = strlen(v);
+	if (n == 0 || n >= cap)
+		return -1;
+	memcpy(dst, v, n + 1);
+	return 0;
+}
+
+#define BAD(what) fail(msg, len, "[%s] %s: '%s' %s", section, key, value, what)
+
+static int set_source(struct daemon_config *c, const char *section, const char *key,
+		      const char *value, char *msg, size_t len)
+{
+	unsigned long long n;
+	if (!strcmp(key, "uri"))
+		return copy_str(c->source_uri, sizeof c->source_uri, value) ? BAD("is empty or too long")
+									      : 0;
+	if (!strcmp(key, "playback")) {
+		if (!strcmp(value, "realtime"))
+			c->playback = DAO_PLAYBACK_REALTIME;
+		else if (!strcmp(value, "manual"))
+			c->playback = DAO_PLAYBACK_MANUAL;
+		else
+			return BAD("must be realtime or manual");
+		return 0;
+	}
+	if (!strcmp(key, "loop"))
+		return parse_bool(value, &c->loop) ? BAD("must be true or false") : 0;
+	if (!strcmp(key, "start")) {
+		if (parse_uint(value, 0, UINT32_MAX, &n))
+			return BAD("must be a frame number >= 0");
+		c->start = (uint32_t)n;
+		return 0;
+	}
+	if (!strcmp(key, "depth_unit")) {
+		double u;
+		if (parse_doubles(value, &u, 1) || !(u > 0 && u <= 1))
+			return BAD("must be metres per count in (0, 1]");
+		c->depth_unit = (float)u;
+		return 0;
+	}
+	if (!strcmp(key, "intrinsics")) {
+		if (parse_doubles(value, c->intrinsics, 4) || !(c->intrinsics[0] > 0) ||
+		    !(c->intrinsics[1] > 0))
+			return BAD("must be fx,fy,cx,cy in pixels (fx, fy > 0)");
+		c->has_intrinsics = 1;
+		return 0;
+	}
+	if (!strcmp(key, "fov")) {
+		if (parse_doubles(value, c->fov_deg, 2) || !(c->fov_deg[0] > 0 && c->fov_deg[0] < 180) ||
+		    !(c->fov_deg[1] > 0 && c->fov_deg[1] < 180))
+			return BAD("must be H,V in degrees, each in (0, 180)");
+		c->has_fov = 1;
+		return 0;
+	}
+	if (!strcmp(key, "retry_initial_ms") || !strcmp(key, "retry_max_ms")) {
+		if (parse_uint(value, 10, 3600000, &n))
+			return BAD("must be milliseconds in 10..3600000");
+		*(key[6] == 'i' ? &c->retry_initial_ms : &c->retry_max_ms) = (unsigned)n;
+		return 0;
+	}
+	if (!strcmp(key, "queue")) {
+		if (parse_uint(value, 1, 64, &n))
+			return BAD("must be a frame count in 1..64");
+		c->input_queue = (unsigned)n;
+		return 0;
+	}
+	return fail(msg, len, "[%s] %s: unknown key (keys: uri, playback, loop, start, depth_unit, "
+		    "intrinsics, fov, retry_initial_ms, retry_max_ms, queue)", section, key);
+}
+
+static int set_ao(struct daemon_config *c, const char *section, const char *key,
+		  const char *value, char *msg, size_t len)
+{
+	struct dao_error err;
+	if (!strcmp(key, "quality")) {
+		if (dao_quality_parse(value, &c->quality, &err))
+			return fail(msg, len, "[%s] %s: %s", section, key, err.message);
+		return 0;
+	}
+	if (!dao_param_find(key))
+		return fail(msg, len, "[%s] %s: unknown AO parameter (see 'depthao process --help')",
+			    section, key);
+	struct dao_params scratch;
+	dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+	if (dao_params_set(&scratch, key, value, &err))
+		return fail(msg, len, "[%s] %s: %s", section, key, err.message);
+	for (unsigned i = 0; i < c->nao; i++) { /* a later setting replaces an earlier one */
+		if (dao_param_find(c->ao[i].key) == dao_param_find(key)) {
+			snprintf(c->ao[i].value, sizeof c->ao[i].value, "%s", value);
+			return 0;
+		}
+	}
+	if (c->nao == DAOD_MAX_AO_KEYS || strlen(value) >= sizeof c->ao[0].value)
+		return fail(msg, len, "[%s] %s: too many settings or value too long", section, key);
+	snprintf(c->ao[c->nao].key, sizeof c->ao[0].key, "%s", key);
+	snprintf(c->ao[c->nao].value, sizeof c->ao[0].value, "%s", value);
+	c->nao++;
+	return 0;
+}
+
+static struct sink_config *sink_named(struct daemon_config *c, const char *name, int create)
+{
+	for (unsigned i = 0; i < c->nsinks; i++)
+		if (!strcmp(c->sinks[i].name, name))
+			return &c->sinks[i];
+	if (!create || c->nsinks == DAOD_MAX_SINKS || strlen(name) >= sizeof c->sinks[0].name)
+		return NULL;
+	struct sink_config *s = &c->sinks[c->nsinks++];
+	memset(s, 0, sizeof(*s));
+	snprintf(s->name, sizeof s->name, "%s", name);
+	s->stream = STREAM_SHADED;
+	s->queue = 8;
+	return s;
+}
+
+static int set_sink(struct daemon_config *c, const char *section, const char *key,
+		    const char *value, char *msg, size_t len)
+{
+	const char *name = section + 5;
+	unsigned long long n;
+	if (!*name)
+		return fail(msg, len, "[%s]: a sink section needs a name, e.g. [sink.preview]", section);
+	struct sink_config *s = sink_named(c, name, 1);
+	if (!s)
+		return fail(msg, len, "[%s]: too many sinks (at most %d) or name too long", section,
+			    DAOD_MAX_SINKS);
+	if (!strcmp(key, "uri"))
+		return copy_str(s->uri, sizeof s->uri, value) ? BAD("is empty or too long") : 0;
+	if (!strcmp(key, "stream")) {
+		for (int k = 0; k < STREAM_COUNT; k++) {
+			if (!strcmp(value, stream_names[k])) {
+				s->stream = (enum stream_kind)k;
+				return 0;
+			}
+		}
+		return BAD("must be shaded, ao, ao8, depth or overlay");
+	}
+	if (!strcmp(key, "queue")) {
+		if (parse_uint(value, 1, 64, &n))
+			return BAD("must be a frame count in 1..64");
+		s->queue = (unsigned)n;
+		return 0;
+	}
+	return fail(msg, len, "[%s] %s: unknown key (keys: uri, stream, queue)", section, key);
+}
+
+static int set_daemon(struct daemon_config *c, const char *section, const char *key,
+		      const char *value, char *msg, size_t len)
+{
+	unsigned long long n;
+	if (!strcmp(key, "socket"))
+		return copy_str(c->socket_path, sizeof c->socket_path, value)
+			       ? BAD("is empty or longer than 107 bytes")
+			       : 0;
+	if (!strcmp(key, "stats_interval")) {
+		if (parse_uint(value, 0, 86400, &n))
+			return BAD("must be seconds in 0..86400 (0 = off)");
+		c->stats_interval_s = (unsigned)n;
+		return 0;
+	}
+	if (!strcmp(key, "stats_json"))
+		return copy_str(c->stats_json, sizeof c->stats_json, value) ? BAD("is empty or too long")
+									      : 0;
+	if (!strcmp(key, "log_level")) {
+		int l = log_level_parse(value);
+		if (l < 0)
+			return BAD("must be error, warn, info or debug");
+		c->log_level = l;
+		return 0;
+	}
+	if (!strcmp(key, "drain_on_stop"))
+		return parse_bool(value, &c->drain_on_stop) ? BAD("must be true or false") : 0;
+	if (!strcmp(key, "max_frames")) {
+		if (parse_uint(value, 0, UINT64_MAX, &n))
+			return BAD("must be a frame count >= 0 (0 = no limit)");
+		c->max_frames = n;
+		return 0;
+	}
+	return fail(msg, len, "[%s] %s: unknown key (keys: socket, stats_interval, stats_json, "
+		    "log_level, drain_on_stop, max_frames)", section, key);
+}
+
+int config_set(struct daemon_config *c, const char *section, const char *key, const char *value,
+	       char *msg, size_t len)
+{
+	if (!strcmp(section, "source"))
+		return set_source(c, section, key, value, msg, len);
+	if (!strcmp(section, "ao"))
+		return set_ao(c, section, key, value, msg, len);
+	if (!strncmp(section, "sink.", 5))
+		return set_sink(c, section, key, value, msg, len);
+	if (!strcmp(section, "daemon"))
+		return set_daemon(c, section, key, value, msg, len);
+	if (!*section)
+		return fail(msg, len, "%s: key outside any section (sections: [source], [ao], "
+			    "[sink.NAME], [daemon])", key);
+	return fail(msg, len, "[%s]: unknown section (sections: [source], [ao], [sink.NAME], "
+		    "[daemon])", section);
+}
+
+struct load_state {
+	struct daemon_config *c;
+	char msg[512];
+	int failed;
+};
+
+static int on_ini(void *user, const char *section, const char *key, const char *value)
+{
+	struct load_state *st = user;
+	char m[512];
+	if (config_set(st->c, section, key, value, m, sizeof m) == 0)
+		return 1;
+	if (!st->failed) {
+		snprintf(st->msg, sizeof st->msg, "%s", m);
+		st->failed = 1;
+	}
+	return 0; /* inih reports this line */
+}
+
+int config_load(struct daemon_config *c, const char *path, char *msg, size_t len)
+{
+	struct load_state st = {c, "", 0};
+	if (strlen(path) >= sizeof c->path)
+		return fail(msg, len, "%s: path too long", path);
+	snprintf(c->path, sizeof c->path, "%s", path);
+	int line = ini_parse(path, on_ini, &st);
+	if (line == -1)
+		return fail(msg, len, "%s: cannot open: %s", path, strerror(errno));
+	if (line == -2)
+		return fail(msg, len, "%s: out of memory", path);
+	if (line > 0 && st.failed)
+		return fail(msg, len, "%s:%d: %s", path, line, st.msg);
+	if (line > 0)
+		return fail(msg, len, "%s:%d: not 'key = value' or '[section]'", path, line);
+	return 0;
+}
+
+int config_params(const struct daemon_config *c, struct dao_params *out, char *msg, size_t len)
+{
+	struct dao_error err;
+	dao_params_init(out, c->quality);
+	for (unsigned i = 0; i < c->nao; i++)
+		if (dao_params_set(out, c->ao[i].key, c->ao[i].value, &err))
+			return fail(msg, len, "[ao] %s: %s", c->ao[i].key, err.message);
+	if (dao_params_validate(out, &err))
+		return fail(msg, len, "[ao]: %s", err.message);
+	return 0;
+}
+
+int config_check(const struct daemon_config *c, char *msg, size_t len)
+{
+	const char *where = c->path[0] ? c->path : "command line";
+	struct dao_params p;
+	char m[400];
+	if (!c->source_uri[0])
+		return fail(msg, len, "%s: [source] uri is required (or --source URI)", where);
+	if (c->nsinks == 0)
+		return fail(msg, len, "%s: no sinks: add a [sink.NAME] section with uri = ... (or "
+			    "--sink NAME=URI)", where);
+	for (unsigned i = 0; i < c->nsinks; i++)
+		if (!c->sinks[i].uri[0])
+			return fail(msg, len, "%s: [sink.%s] uri is required", where, c->sinks[i].name);
+	if (c->has_intrinsics && c->has_fov)
+		return fail(msg, len, "%s: [source] give intrinsics or fov, not both", where);
+	if (c->retry_initial_ms > c->retry_max_ms)
+		return fail(msg, len, "%s: [source] retry_initial_ms %u exceeds retry_max_ms %u", where,
+			    c->retry_initial_ms, c->retry_max_ms);
+	if (config_params(c, &p, m, sizeof m))
+		return fail(msg, len, "%s: %s", where, m);
+	return 0;
+}

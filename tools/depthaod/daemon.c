@@ -1,0 +1,752 @@
+/* SPDX-License-Identifier: MIT */
+#define _GNU_SOURCE /* pthread_timedjoin_np */
+#include "daemon.h"
+
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "frame_queue.h"
+#include "log.h"
+
+#define DEG2RAD (3.14159265358979323846 / 180.0)
+#define DEFAULT_HFOV_DEG 58.5
+#define DEFAULT_VFOV_DEG 45.6
+#define LATENCY_RING 512
+#define READ_TIMEOUT_MS 200
+#define STOP_DEADLINE_MS 900
+
+struct sink_runner {
+	struct daemon *d;
+	const struct sink_config *cfg;
+	struct frame_queue *q;
+	pthread_t thread;
+	int running;
+	struct dao_sink *sink;
+	uint64_t next_open_ns;
+	unsigned backoff_ms;
+	/* counters (atomics: read by the stats thread) */
+	atomic_ullong written, dropped, errors, opens;
+	pthread_mutex_t lat_lock;
+	uint32_t lat_us[LATENCY_RING];
+	unsigned lat_n, lat_pos;
+};
+
+struct daemon {
+	struct daemon_config cfg;
+	const struct dao_plugins *plugins;
+	struct frame_queue *input;
+	struct sink_runner sinks[DAOD_MAX_SINKS];
+	unsigned nsinks;
+	int wants[STREAM_COUNT];
+	int lossless;                 /* manual playback: wait, never drop */
+
+	pthread_t capture, process;
+	int capture_running, process_running;
+	pthread_mutex_t lock;         /* params, pause, snapshot, source info */
+	pthread_cond_t wake;
+	atomic_int stop, finished, paused;
+
+	struct dao_params params;
+	int params_pending;
+	struct dao_source_info src_info;
+	int have_src_info;
+
+	char snapshot_path[512];
+	int snapshot_state;           /* 0 none, 1 requested, 2 done, -errno failed */
+	char snapshot_msg[256];
+
+	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
+		source_failures;
+	atomic_ullong cpu_ns_total;
+	uint64_t start_ns;
+	uint64_t interval_start_ns, interval_processed;
+};
+
+static uint64_t now_ns(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
+}
+
+static uint64_t thread_cpu_ns(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
+}
+
+/* Sleeps up to ms, returning early when the daemon stops. */
+static void nap(struct daemon *d, unsigned ms)
+{
+	struct timespec until;
+	clock_gettime(CLOCK_MONOTONIC, &until);
+	until.tv_sec += ms / 1000;
+	until.tv_nsec += (long)(ms % 1000) * 1000000;
+	if (until.tv_nsec >= 1000000000) {
+		until.tv_sec++;
+		until.tv_nsec -= 1000000000;
+	}
+	pthread_mutex_lock(&d->lock);
+	while (!atomic_load(&d->stop) &&
+	       pthread_cond_timedwait(&d->wake, &d->lock, &until) != ETIMEDOUT)
+		;
+	pthread_mutex_unlock(&d->lock);
+}
+
+/* ---- capture ------------------------------------------------------------ */
+
+static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
+{
+	struct dao_source_options so = {
+		.playback = d->cfg.playback,
+		.loop = d->cfg.loop,
+		.start_frame = d->cfg.start,
+		.want_color = d->wants[STREAM_OVERLAY],
+		.depth_unit = d->cfg.depth_unit,
+	};
+	struct dao_source *src = NULL;
+	struct dao_error err = {0};
+	int r = dao_source_open(d->plugins, d->cfg.source_uri, &so, &src, &err);
+	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
+		dao_source_close(src);
+		src = NULL;
+	}
+	if (r < 0) {
+		atomic_fetch_add(&d->source_failures, 1);
+		log_warn("source %s: %s; retrying in %u ms", d->cfg.source_uri, err.message, *backoff);
+		nap(d, *backoff);
+		*backoff = *backoff * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms : *backoff * 2;
+		return NULL;
+	}
+	*backoff = d->cfg.retry_initial_ms;
+	struct dao_source_info in;
+	dao_source_get_info(src, &in);
+	pthread_mutex_lock(&d->lock);
+	d->src_info = in;
+	d->have_src_info = 1;
+	pthread_mutex_unlock(&d->lock);
+	atomic_fetch_add(&d->source_opens, 1);
+	log_info("source: %s", in.description);
+	return src;
+}
+
+static void *capture_main(void *arg)
+{
+	struct daemon *d = arg;
+	struct dao_source *src = NULL;
+	unsigned backoff = d->cfg.retry_initial_ms;
+	int live = 0;
+	while (!atomic_load(&d->stop)) {
+		if (!src) {
+			if (!(src = open_source(d, &backoff)))
+				continue;
+			live = d->src_info.live;
+		}
+		if (atomic_load(&d->paused) && !live) {
+			nap(d, 50); /* a paused recording simply waits */
+			continue;
+		}
+		struct dao_source_frame f;
+		struct dao_error err = {0};
+		int r = dao_source_read(src, &f, READ_TIMEOUT_MS, &err);
+		if (r == -EAGAIN)
+			continue;
+		if (r == DAO_SOURCE_EOS) {
+			log_info("source %s: end of the recording", d->cfg.source_uri);
+			break;
+		}
+		if (r < 0) {
+			log_warn("source %s lost: %s; reopening", d->cfg.source_uri,
+				 err.message[0] ? err.message : strerror(-r));
+			dao_source_close(src);
+			src = NULL;
+			continue;
+		}
+		if (atomic_load(&d->paused)) { /* live: keep the device flowing, drop */
+			dao_source_release(src, &f);
+			continue;
+		}
+		atomic_fetch_add(&d->captured, 1);
+		uint64_t dropped = 0;
+		struct fq_item *it = fq_begin_push(d->input, !d->lossless, &dropped);
+		atomic_fetch_add(&d->input_dropped, dropped);
+		if (!it) {
+			dao_source_release(src, &f);
+			break;
+		}
+		int ok = fq_frame_copy(&it->frame, &f.depth) == 0;
+		if (ok && f.color.format == DAO_PIXFMT_RGB24)
+			ok = fq_frame_copy(&it->color, &f.color) == 0;
+		else
+			it->color.format = DAO_PIXFMT_NONE;
+		it->index = f.index;
+		it->t_capture_ns = now_ns();
+		dao_source_release(src, &f);
+		if (ok)
+			fq_end_push(d->input, it);
+		else
+			fq_cancel_push(d->input, it);
+	}
+	dao_source_close(src);
+	fq_close(d->input);
+	return NULL;
+}
+
+/* ---- processing ---------------------------------------------------------- */
+
+static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_camera *cam)
+{
+	struct dao_error err;
+	const struct daemon_config *c = &d->cfg;
+	if (c->has_intrinsics)
+		return dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
+						  c->intrinsics[2], c->intrinsics[3], &err);
+	if (c->has_fov)
+		return dao_camera_from_fov(cam, w, h, c->fov_deg[0] * DEG2RAD, c->fov_deg[1] * DEG2RAD,
+					   &err);
+	pthread_mutex_lock(&d->lock);
+	struct dao_source_info in = d->src_info;
+	pthread_mutex_unlock(&d->lock);
+	if (in.has_fov)
+		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, &err);
+	log_warn("no intrinsics: the source has no field of view and the config gives none; "
+		 "assuming %.1f x %.1f degrees ([source] intrinsics or fov)",
+		 DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
+	return dao_camera_from_fov(cam, w, h, DEFAULT_HFOV_DEG * DEG2RAD, DEFAULT_VFOV_DEG * DEG2RAD,
+				   &err);
+}
+
+struct outputs {
+	struct dao_frame ao16, ao8, rgb, overlay;
+};
+
+static void free_outputs(struct outputs *o)
+{
+	dao_frame_free(&o->ao16);
+	dao_frame_free(&o->ao8);
+	dao_frame_free(&o->rgb);
+	dao_frame_free(&o->overlay);
+}
+
+static void ao_to_8bit(const struct dao_frame *a, struct dao_frame *b)
+{
+	for (uint32_t y = 0; y < a->height; y++) {
+		const uint16_t *s = (const uint16_t *)((const uint8_t *)a->data + (size_t)y * (size_t)a->stride);
+		uint8_t *t = (uint8_t *)b->data + (size_t)y * (size_t)b->stride;
+		for (uint32_t x = 0; x < a->width; x++)
+			t[x] = (uint8_t)(((uint32_t)s[x] * 255u + 32767u) / 65535u);
+	}
+}
+
+/* The source's colour darkened by the AO (same size only). */
+static int overlay(const struct dao_frame *color, const struct dao_frame *ao, struct dao_frame *out)
+{
+	if (color->format != DAO_PIXFMT_RGB24 || color->width != ao->width ||
+	    color->height != ao->height)
+		return -1;
+	for (uint32_t y = 0; y < ao->height; y++) {
+		const uint8_t *c = (const uint8_t *)color->data + (size_t)y * (size_t)color->stride;
+		const uint16_t *a = (const uint16_t *)((const uint8_t *)ao->data + (size_t)y * (size_t)ao->stride);
+		uint8_t *o = (uint8_t *)out->data + (size_t)y * (size_t)out->stride;
+		for (uint32_t x = 0; x < 3 * ao->width; x++)
+			o[x] = (uint8_t)(((uint32_t)c[x] * a[x / 3] + 32767u) / 65535u);
+	}
+	return 0;
+}
+
+static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *o, int have_overlay)
+{
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		struct sink_runner *s = &d->sinks[i];
+		const struct dao_frame *f;
+		switch (s->cfg->stream) {
+		case STREAM_SHADED: f = &o->rgb; break;
+		case STREAM_AO: f = &o->ao16; break;
+		case STREAM_AO8: f = &o->ao8; break;
+		case STREAM_DEPTH: f = &in->frame; break;
+		case STREAM_OVERLAY: f = have_overlay ? &o->overlay : NULL; break;
+		default: f = NULL;
+		}
+		if (!f)
+			continue;
+		uint64_t dropped = 0;
+		struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
+		atomic_fetch_add(&s->dropped, dropped);
+		if (!it)
+			continue;
+		if (fq_frame_copy(&it->frame, f) < 0) {
+			fq_cancel_push(s->q, it);
+			continue;
+		}
+		it->frame.sequence = in->index;
+		it->frame.timestamp_ns = in->frame.timestamp_ns;
+		it->frame.depth_unit = in->frame.depth_unit;
+		it->index = in->index;
+		it->t_capture_ns = in->t_capture_ns;
+		fq_end_push(s->q, it);
+	}
+}
+
+static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
+{
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_state == 1) {
+		struct dao_error err = {0};
+		int r = dao_png_write(d->snapshot_path, rgb, &err);
+		d->snapshot_state = r < 0 ? r : 2;
+		snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? err.message : "");
+		pthread_cond_broadcast(&d->wake);
+	}
+	pthread_mutex_unlock(&d->lock);
+}
+
+static void *process_main(void *arg)
+{
+	struct daemon *d = arg;
+	struct dao_context *ctx = NULL;
+	struct outputs o = {0};
+	struct fq_item *in;
+	uint64_t error_log_after = 0;
+	for (;;) {
+		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
+			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
+			continue;
+		}
+		if (!(in = fq_pop(d->input, 100))) {
+			if (fq_closed_and_empty(d->input))
+				break;
+			continue;
+		}
+		if (atomic_load(&d->stop) && !d->cfg.drain_on_stop) {
+			fq_done(d->input, in);
+			fq_clear(d->input);
+			break;
+		}
+		struct dao_error err = {0};
+		const uint32_t w = in->frame.width, h = in->frame.height;
+		if (!ctx || dao_context_camera(ctx)->width != w || dao_context_camera(ctx)->height != h) {
+			struct dao_camera cam;
+			dao_context_destroy(ctx);
+			ctx = NULL;
+			pthread_mutex_lock(&d->lock);
+			struct dao_params p = d->params;
+			d->params_pending = 0;
+			pthread_mutex_unlock(&d->lock);
+			if (make_camera(d, w, h, &cam) < 0 || dao_context_create(&ctx, &cam, &p, &err) < 0 ||
+			    fq_frame_reserve(&o.ao16, DAO_PIXFMT_GRAY16, w, h) < 0 ||
+			    fq_frame_reserve(&o.ao8, DAO_PIXFMT_GRAY8, w, h) < 0 ||
+			    fq_frame_reserve(&o.rgb, DAO_PIXFMT_RGB24, w, h) < 0 ||
+			    fq_frame_reserve(&o.overlay, DAO_PIXFMT_RGB24, w, h) < 0) {
+				log_error("cannot set up the pipeline for %ux%u frames: %s", w, h,
+					  err.message[0] ? err.message : "bad camera or out of memory");
+				dao_context_destroy(ctx);
+				ctx = NULL;
+				atomic_fetch_add(&d->process_errors, 1);
+				fq_done(d->input, in);
+				continue;
+			}
+			log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
+				 dao_simd_name(dao_context_simd(ctx)));
+		}
+		pthread_mutex_lock(&d->lock);
+		if (d->params_pending) {
+			if (dao_context_set_params(ctx, &d->params, &err) < 0)
+				log_error("new AO parameters refused: %s", err.message);
+			d->params_pending = 0;
+		}
+		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == 1;
+		pthread_mutex_unlock(&d->lock);
+
+		uint64_t c0 = thread_cpu_ns();
+		int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o.ao16, &err);
+		if (r == 0 && want_rgb)
+			r = dao_context_shade(ctx, &o.rgb, &err);
+		int have_overlay = 0;
+		if (r == 0) {
+			if (d->wants[STREAM_AO8])
+				ao_to_8bit(&o.ao16, &o.ao8);
+			if (d->wants[STREAM_OVERLAY] && in->color.format == DAO_PIXFMT_RGB24)
+				have_overlay = overlay(&in->color, &o.ao16, &o.overlay) == 0;
+		}
+		atomic_fetch_add(&d->cpu_ns_total, thread_cpu_ns() - c0);
+		if (r < 0) {
+			atomic_fetch_add(&d->process_errors, 1);
+			if (now_ns() >= error_log_after) { /* at most one message a second */
+				log_error("frame %llu: %s", (unsigned long long)in->index, err.message);
+				error_log_after = now_ns() + 1000000000u;
+			}
+			fq_done(d->input, in);
+			continue;
+		}
+		if (want_rgb)
+			take_snapshot(d, &o.rgb);
+		fan_out(d, in, &o, have_overlay);
+		fq_done(d->input, in);
+		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
+		if (d->cfg.max_frames && n >= d->cfg.max_frames) {
+			log_info("processed %llu frames (max_frames); stopping", n);
+			atomic_store(&d->finished, 1);
+			break;
+		}
+	}
+	if (atomic_load(&d->stop) && !d->cfg.drain_on_stop)
+		for (unsigned i = 0; i < d->nsinks; i++)
+			atomic_fetch_add(&d->sinks[i].dropped, fq_clear(d->sinks[i].q));
+	for (unsigned i = 0; i < d->nsinks; i++)
+		fq_close(d->sinks[i].q);
+	dao_context_destroy(ctx);
+	free_outputs(&o);
+	atomic_store(&d->finished, 1);
+	/* the capture thread may be blocked on a full input queue: unblock it */
+	fq_close(d->input);
+	return NULL;
+}
+
+/* ---- sinks ------------------------------------------------------------ */
+
+static void record_latency(struct sink_runner *s, uint64_t t_capture)
+{
+	uint64_t us = (now_ns() - t_capture) / 1000u;
+	pthread_mutex_lock(&s->lat_lock);
+	s->lat_us[s->lat_pos] = us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+	s->lat_pos = (s->lat_pos + 1) % LATENCY_RING;
+	if (s->lat_n < LATENCY_RING)
+		s->lat_n++;
+	pthread_mutex_unlock(&s->lat_lock);
+}
+
+static int open_sink(struct sink_runner *s, const struct fq_item *it)
+{
+	struct daemon *d = s->d;
+	struct dao_error err = {0};
+	if (now_ns() < s->next_open_ns)
+		return -EAGAIN;
+	int r = dao_sink_open(d->plugins, s->cfg->uri, &s->sink, &err);
+	if (r == 0) {
+		pthread_mutex_lock(&d->lock);
+		struct dao_source_info in = d->src_info;
+		pthread_mutex_unlock(&d->lock);
+		struct dao_sink_format fmt = {
+			.format = it->frame.format, .width = it->frame.width, .height = it->frame.height,
+			.fps = in.fps, .depth_unit = it->frame.depth_unit, .has_fov = in.has_fov,
+			.hfov = in.hfov, .vfov = in.vfov, .mirrored = in.mirrored,
+		};
+		r = dao_sink_negotiate(s->sink, &fmt, &err);
+		if (r == 0 && fmt.format != it->frame.format) {
+			r = -ENOTSUP;
+			snprintf(err.message, sizeof err.message,
+				 "it takes %s, not the %s stream (set [sink.%s] stream)",
+				 dao_pixfmt_name(fmt.format), stream_name(s->cfg->stream), s->cfg->name);
+		}
+		if (r < 0) {
+			struct dao_error e2;
+			dao_sink_close(s->sink, &e2);
+			s->sink = NULL;
+		}
+	}
+	if (r < 0) {
+		atomic_fetch_add(&s->errors, 1);
+		log_warn("sink %s (%s): %s; retrying in %u ms", s->cfg->name, s->cfg->uri,
+			 err.message, s->backoff_ms);
+		s->next_open_ns = now_ns() + (uint64_t)s->backoff_ms * 1000000u;
+		s->backoff_ms = s->backoff_ms * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms
+								      : s->backoff_ms * 2;
+		return r;
+	}
+	s->backoff_ms = d->cfg.retry_initial_ms;
+	atomic_fetch_add(&s->opens, 1);
+	log_info("sink %s: %s (%s stream)", s->cfg->name, s->cfg->uri, stream_name(s->cfg->stream));
+	return 0;
+}
+
+static void close_sink(struct sink_runner *s)
+{
+	struct dao_error err = {0};
+	if (s->sink && dao_sink_close(s->sink, &err) < 0)
+		log_error("sink %s: closing %s: %s", s->cfg->name, s->cfg->uri, err.message);
+	s->sink = NULL;
+}
+
+static void *sink_main(void *arg)
+{
+	struct sink_runner *s = arg;
+	struct fq_item *it;
+	while ((it = fq_pop(s->q, -1))) {
+		if (atomic_load(&s->d->stop) && !s->d->cfg.drain_on_stop) {
+			fq_done(s->q, it);
+			atomic_fetch_add(&s->dropped, fq_clear(s->q) + 1);
+			break;
+		}
+		struct dao_error err = {0};
+		if (!s->sink && open_sink(s, it) < 0) {
+			atomic_fetch_add(&s->dropped, 1);
+			fq_done(s->q, it);
+			continue;
+		}
+		if (dao_sink_write(s->sink, &it->frame, &err) < 0) {
+			atomic_fetch_add(&s->errors, 1);
+			atomic_fetch_add(&s->dropped, 1);
+			log_warn("sink %s: %s; reopening", s->cfg->name, err.message);
+			close_sink(s);
+		} else {
+			atomic_fetch_add(&s->written, 1);
+			record_latency(s, it->t_capture_ns);
+		}
+		fq_done(s->q, it);
+	}
+	if (s->sink) {
+		struct dao_error err = {0};
+		if (dao_sink_flush(s->sink, &err) < 0)
+			log_warn("sink %s: flush: %s", s->cfg->name, err.message);
+	}
+	close_sink(s);
+	return NULL;
+}
+
+/* ---- life cycle -------------------------------------------------------- */
+
+int daemon_create(struct daemon **out, const struct daemon_config *cfg,
+		  const struct dao_plugins *plugins, char *msg, size_t len)
+{
+	struct daemon *d = calloc(1, sizeof(*d));
+	if (!d) {
+		snprintf(msg, len, "out of memory");
+		return -ENOMEM;
+	}
+	d->cfg = *cfg;
+	d->plugins = plugins;
+	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
+	pthread_mutex_init(&d->lock, NULL);
+	pthread_condattr_t ca;
+	pthread_condattr_init(&ca);
+	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+	pthread_cond_init(&d->wake, &ca);
+	pthread_condattr_destroy(&ca);
+	if (config_params(cfg, &d->params, msg, len) < 0 || fq_create(&d->input, cfg->input_queue) < 0) {
+		daemon_destroy(d);
+		return -EINVAL;
+	}
+	for (unsigned i = 0; i < cfg->nsinks; i++) {
+		struct sink_runner *s = &d->sinks[i];
+		s->d = d;
+		s->cfg = &d->cfg.sinks[i];
+		s->backoff_ms = cfg->retry_initial_ms;
+		pthread_mutex_init(&s->lat_lock, NULL);
+		if (fq_create(&s->q, s->cfg->queue) < 0) {
+			snprintf(msg, len, "out of memory");
+			daemon_destroy(d);
+			return -ENOMEM;
+		}
+		d->nsinks++;
+		d->wants[s->cfg->stream] = 1;
+	}
+	*out = d;
+	return 0;
+}
+
+int daemon_start(struct daemon *d, char *msg, size_t len)
+{
+	d->start_ns = d->interval_start_ns = now_ns();
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		if (pthread_create(&d->sinks[i].thread, NULL, sink_main, &d->sinks[i]) != 0) {
+			snprintf(msg, len, "cannot start a thread");
+			return -EAGAIN;
+		}
+		d->sinks[i].running = 1;
+	}
+	if (pthread_create(&d->process, NULL, process_main, d) != 0) {
+		snprintf(msg, len, "cannot start a thread");
+		return -EAGAIN;
+	}
+	d->process_running = 1;
+	if (pthread_create(&d->capture, NULL, capture_main, d) != 0) {
+		snprintf(msg, len, "cannot start a thread");
+		return -EAGAIN;
+	}
+	d->capture_running = 1;
+	return 0;
+}
+
+int daemon_finished(struct daemon *d)
+{
+	return atomic_load(&d->finished);
+}
+
+static void join_by(pthread_t t, int *running, uint64_t deadline, const char *what)
+{
+	if (!*running)
+		return;
+	uint64_t n = now_ns();
+	uint64_t left = deadline > n ? deadline - n : 0;
+	struct timespec abs;
+	clock_gettime(CLOCK_REALTIME, &abs); /* pthread_timedjoin_np uses CLOCK_REALTIME */
+	abs.tv_sec += (time_t)(left / 1000000000u);
+	abs.tv_nsec += (long)(left % 1000000000u);
+	if (abs.tv_nsec >= 1000000000) {
+		abs.tv_sec++;
+		abs.tv_nsec -= 1000000000;
+	}
+	if (pthread_timedjoin_np(t, NULL, &abs) != 0) {
+		log_error("%s did not finish within the stop deadline; its output may be "
+			  "incomplete", what);
+		pthread_detach(t);
+	}
+	*running = 0;
+}
+
+void daemon_stop(struct daemon *d)
+{
+	atomic_store(&d->stop, 1);
+	pthread_mutex_lock(&d->lock);
+	pthread_cond_broadcast(&d->wake);
+	pthread_mutex_unlock(&d->lock);
+	uint64_t deadline = now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u;
+	fq_close(d->input); /* capture stops pushing; processing drains or drops */
+	join_by(d->capture, &d->capture_running, deadline, "the source");
+	join_by(d->process, &d->process_running, deadline, "the processing thread");
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		char what[96];
+		snprintf(what, sizeof what, "sink %s", d->sinks[i].cfg->name);
+		fq_close(d->sinks[i].q);
+		join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what);
+	}
+}
+
+void daemon_destroy(struct daemon *d)
+{
+	if (!d)
+		return;
+	if (d->capture_running || d->process_running)
+		daemon_stop(d);
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		if (d->sinks[i].running) /* detached at the deadline: leave its memory */
+			return;
+		fq_destroy(d->sinks[i].q);
+		pthread_mutex_destroy(&d->sinks[i].lat_lock);
+	}
+	fq_destroy(d->input);
+	pthread_mutex_destroy(&d->lock);
+	pthread_cond_destroy(&d->wake);
+	free(d);
+}
+
+void daemon_set_params(struct daemon *d, const struct dao_params *p)
+{
+	pthread_mutex_lock(&d->lock);
+	d->params = *p;
+	d->params_pending = 1;
+	pthread_mutex_unlock(&d->lock);
+}
+
+void daemon_get_params(struct daemon *d, struct dao_params *p)
+{
+	pthread_mutex_lock(&d->lock);
+	*p = d->params;
+	pthread_mutex_unlock(&d->lock);
+}
+
+void daemon_set_paused(struct daemon *d, int paused)
+{
+	atomic_store(&d->paused, paused);
+}
+
+int daemon_snapshot(struct daemon *d, const char *path, int timeout_ms, char *msg, size_t len)
+{
+	struct timespec until;
+	clock_gettime(CLOCK_MONOTONIC, &until);
+	until.tv_sec += timeout_ms / 1000;
+	until.tv_nsec += (long)(timeout_ms % 1000) * 1000000;
+	if (until.tv_nsec >= 1000000000) {
+		until.tv_sec++;
+		until.tv_nsec -= 1000000000;
+	}
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_state == 1) {
+		pthread_mutex_unlock(&d->lock);
+		snprintf(msg, len, "another snapshot is in progress");
+		return -EBUSY;
+	}
+	snprintf(d->snapshot_path, sizeof d->snapshot_path, "%s", path);
+	d->snapshot_state = 1;
+	int r = 0;
+	while (d->snapshot_state == 1) {
+		if (pthread_cond_timedwait(&d->wake, &d->lock, &until) == ETIMEDOUT) {
+			d->snapshot_state = 0;
+			snprintf(msg, len, "no frame within %d ms (paused, or the source is idle)",
+				 timeout_ms);
+			r = -ETIMEDOUT;
+			break;
+		}
+	}
+	if (d->snapshot_state < 0) {
+		r = d->snapshot_state;
+		snprintf(msg, len, "%s", d->snapshot_msg);
+	}
+	d->snapshot_state = 0;
+	pthread_mutex_unlock(&d->lock);
+	return r;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+	return x < y ? -1 : x > y;
+}
+
+struct json_object *daemon_stats(struct daemon *d, int reset_interval)
+{
+	uint64_t t = now_ns();
+	unsigned long long processed = atomic_load(&d->processed);
+	pthread_mutex_lock(&d->lock);
+	double secs = (double)(t - d->interval_start_ns) / 1e9;
+	double fps = secs > 0 ? (double)(processed - d->interval_processed) / secs : 0;
+	if (reset_interval) {
+		d->interval_start_ns = t;
+		d->interval_processed = processed;
+	}
+	pthread_mutex_unlock(&d->lock);
+	struct json_object *j = json_object_new_object();
+	json_object_object_add(j, "uptime_s", json_object_new_double((double)(t - d->start_ns) / 1e9));
+	json_object_object_add(j, "paused", json_object_new_boolean(atomic_load(&d->paused)));
+	json_object_object_add(j, "source_opens", json_object_new_int64((int64_t)atomic_load(&d->source_opens)));
+	json_object_object_add(j, "source_failures", json_object_new_int64((int64_t)atomic_load(&d->source_failures)));
+	json_object_object_add(j, "frames_in", json_object_new_int64((int64_t)atomic_load(&d->captured)));
+	json_object_object_add(j, "frames_dropped_in", json_object_new_int64((int64_t)atomic_load(&d->input_dropped)));
+	json_object_object_add(j, "frames_processed", json_object_new_int64((int64_t)processed));
+	json_object_object_add(j, "process_errors", json_object_new_int64((int64_t)atomic_load(&d->process_errors)));
+	json_object_object_add(j, "fps", json_object_new_double(fps));
+	json_object_object_add(j, "cpu_ms_per_frame",
+			       json_object_new_double(processed ? (double)atomic_load(&d->cpu_ns_total) / 1e6 / (double)processed : 0));
+	struct json_object *sinks = json_object_new_array();
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		struct sink_runner *s = &d->sinks[i];
+		struct json_object *o = json_object_new_object();
+		uint32_t lat[LATENCY_RING];
+		pthread_mutex_lock(&s->lat_lock);
+		unsigned n = s->lat_n;
+		memcpy(lat, s->lat_us, n * sizeof(uint32_t));
+		pthread_mutex_unlock(&s->lat_lock);
+		qsort(lat, n, sizeof(uint32_t), cmp_u32);
+		json_object_object_add(o, "name", json_object_new_string(s->cfg->name));
+		json_object_object_add(o, "uri", json_object_new_string(s->cfg->uri));
+		json_object_object_add(o, "stream", json_object_new_string(stream_name(s->cfg->stream)));
+		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)atomic_load(&s->written)));
+		json_object_object_add(o, "frames_dropped", json_object_new_int64((int64_t)atomic_load(&s->dropped)));
+		json_object_object_add(o, "errors", json_object_new_int64((int64_t)atomic_load(&s->errors)));
+		json_object_object_add(o, "queued", json_object_new_int((int)fq_length(s->q)));
+		json_object_object_add(o, "latency_ms_median",
+				       json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
+		json_object_object_add(o, "latency_ms_p99",
+				       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
+		json_object_array_add(sinks, o);
+	}
+	json_object_object_add(j, "sinks", sinks);
+	return j;
+}

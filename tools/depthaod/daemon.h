@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The running pipeline: a capture thread (source -> input queue), a
+ * processing thread (AO, shading, fan-out to every sink's own queue) and
+ * one thread per sink.  A slow sink fills only its own queue: live sources
+ * and real-time playback drop the oldest frames there (counted); manual
+ * playback of a file waits instead and loses nothing.
+ */
+#ifndef DAOD_DAEMON_H
+#define DAOD_DAEMON_H
+
+#include <stddef.h>
+
+#include <json-c/json.h>
+
+#include <depthao/depthao.h>
+
+#include "config.h"
+
+struct daemon;
+
+int daemon_create(struct daemon **out, const struct daemon_config *cfg,
+		  const struct dao_plugins *plugins, char *msg, size_t len);
+int daemon_start(struct daemon *d, char *msg, size_t len);
+/* 1 once the pipeline has ended by itself (end of a recording, max_frames). */
+int daemon_finished(struct daemon *d);
+/* Stops capture, drains or drops the queues as configured, finalises the sinks. */
+void daemon_stop(struct daemon *d);
+void daemon_destroy(struct daemon *d);
+
+/* AO parameters, applied between frames. */
+void daemon_set_params(struct daemon *d, const struct dao_params *p);
+void daemon_get_params(struct daemon *d, struct dao_params *p);
+void daemon_set_paused(struct daemon *d, int paused);
+/* Writes the next shaded frame to `path` (PNG); waits up to timeout_ms. */
+int daemon_snapshot(struct daemon *d, const char *path, int timeout_ms, char *msg, size_t len);
+
+/* Counters since start and over the last interval (the interval restarts). */
+struct json_object *daemon_stats(struct daemon *d, int reset_interval);
+
+#endif
