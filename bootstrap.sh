@@ -87,11 +87,16 @@ build() {
 
 # The demo's main job: depthaod plays the recording once, every frame, into a PNG
 # sequence of the shaded stream, one of the AO, and a y4m video; adjust the flags here.
+# With a display, a window shows the stream too (the OpenCV plugin; it stays off without one).
 demo_command() {
+	local window=()
+	if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
+		window=(--sink window=opencv:window:depthao)
+	fi
 	"$DEPTHAOD" --source "$DEMO_INPUT" --playback manual --stats-interval 0 \
 		--sink shaded=images:"$DEMO_OUT/shaded" \
 		--sink ao=images:"$DEMO_OUT/ao" --stream ao=ao \
-		--sink video=y4m:"$DEMO_OUT/shaded.y4m"
+		--sink video=y4m:"$DEMO_OUT/shaded.y4m" "${window[@]}"
 }
 
 demo() {

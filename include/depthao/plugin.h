@@ -121,6 +121,15 @@ struct dao_sink_format {
 	int mirrored;               /* the images are mirrored left-right (recorders store it) */
 };
 
+/* What a sink may ask of the program running it (the daemon); all optional. */
+struct dao_sink_host {
+	void *user;
+	/* an AO parameter of the running pipeline, as text (dao_params_get); 0 or < 0 */
+	int (*get_param)(void *user, const char *name, char *value, size_t len);
+	/* changes one for the next frames (dao_params_set rules); 0 or < 0 */
+	int (*set_param)(void *user, const char *name, const char *value);
+};
+
 struct dao_sink_ops {
 	/* 0..100: how well this sink handles `uri` (auto selection), 0 = not at all */
 	int (*probe)(const char *uri);
@@ -132,11 +141,16 @@ struct dao_sink_ops {
 	 * caller converts or picks another stream), or -ENOTSUP.
 	 */
 	int (*negotiate)(void *state, struct dao_sink_format *fmt, struct dao_error *err);
-	/* frame->sequence numbers the output where a sink names files by frame */
+	/*
+	 * frame->sequence numbers the output where a sink names files by frame.
+	 * -ECANCELED: the sink is finished for good (e.g. its window was closed).
+	 */
 	int (*write)(void *state, const struct dao_frame *frame, struct dao_error *err);
 	int (*flush)(void *state, struct dao_error *err);
 	/* finalises (headers, seek tables, renames) and frees; errors say what was lost */
 	int (*close)(void *state, struct dao_error *err);
+	/* optional: the host, before negotiate; valid until close (e.g. window controls) */
+	void (*attach_host)(void *state, const struct dao_sink_host *host);
 };
 
 struct dao_plugin {
@@ -200,10 +214,16 @@ DAO_API void dao_source_close(struct dao_source *src);
 
 struct dao_sink;
 
-/* Opens a sink: "NAME:REST" for plugin NAME, else the sink that probes best. */
+/*
+ * Opens a sink: "NAME:REST" for plugin NAME, else the sink that probes best.
+ * -ENOTSUP from a sink's open means it cannot work here at all (e.g. a
+ * window without a display): callers should not retry it.
+ */
 DAO_API int dao_sink_open(const struct dao_plugins *plugins, const char *uri,
 			  struct dao_sink **out, struct dao_error *err);
 DAO_API const struct dao_plugin *dao_sink_plugin(const struct dao_sink *sink);
+/* Passes the host to sinks that take one (no-op otherwise); before negotiate. */
+DAO_API void dao_sink_attach_host(struct dao_sink *sink, const struct dao_sink_host *host);
 DAO_API int dao_sink_negotiate(struct dao_sink *sink, struct dao_sink_format *fmt,
 			       struct dao_error *err);
 /* The frame must have the negotiated format and size (-EINVAL otherwise). */

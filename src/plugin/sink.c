@@ -106,6 +106,12 @@ int dao_sink_open(const struct dao_plugins *p, const char *uri, struct dao_sink 
 	return 0;
 }
 
+void dao_sink_attach_host(struct dao_sink *s, const struct dao_sink_host *host)
+{
+	if (s && s->plugin->sink->attach_host)
+		s->plugin->sink->attach_host(s->state, host);
+}
+
 const struct dao_plugin *dao_sink_plugin(const struct dao_sink *s)
 {
 	return s ? s->plugin : NULL;

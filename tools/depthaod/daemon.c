@@ -30,6 +30,7 @@ struct sink_runner {
 	struct dao_sink *sink;
 	uint64_t next_open_ns;
 	unsigned backoff_ms;
+	atomic_int disabled;          /* open said -ENOTSUP: never retried */
 	/* counters (atomics: read by the stats thread) */
 	atomic_ullong written, dropped, errors, opens;
 	pthread_mutex_t lat_lock;
@@ -54,6 +55,7 @@ struct daemon {
 
 	struct dao_params params;
 	int params_pending;
+	struct dao_sink_host host;    /* what sinks may ask (window controls) */
 	struct dao_source_info src_info;
 	int have_src_info;
 
@@ -422,6 +424,29 @@ static void record_latency(struct sink_runner *s, uint64_t t_capture)
 	pthread_mutex_unlock(&s->lat_lock);
 }
 
+static int host_get_param(void *user, const char *name, char *value, size_t len)
+{
+	struct dao_params p;
+	daemon_get_params(user, &p);
+	return dao_params_get(&p, name, value, len, NULL);
+}
+
+static int host_set_param(void *user, const char *name, const char *value)
+{
+	struct daemon *d = user;
+	struct dao_params p;
+	struct dao_error err = {0};
+	daemon_get_params(d, &p);
+	int r = dao_params_set(&p, name, value, &err);
+	if (r == 0)
+		r = dao_params_validate(&p, &err);
+	if (r == 0) {
+		daemon_set_params(d, &p);
+		log_info("sink control: %s = %s", name, value);
+	}
+	return r;
+}
+
 static int open_sink(struct sink_runner *s, const struct fq_item *it)
 {
 	struct daemon *d = s->d;
@@ -429,7 +454,13 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 	if (now_ns() < s->next_open_ns)
 		return -EAGAIN;
 	int r = dao_sink_open(d->plugins, s->cfg->uri, &s->sink, &err);
+	if (r == -ENOTSUP) { /* this sink cannot work here: say so once, then leave it */
+		log_warn("sink %s (%s): %s; it stays off", s->cfg->name, s->cfg->uri, err.message);
+		s->disabled = 1;
+		return r;
+	}
 	if (r == 0) {
+		dao_sink_attach_host(s->sink, &d->host);
 		pthread_mutex_lock(&d->lock);
 		struct dao_source_info in = d->src_info;
 		pthread_mutex_unlock(&d->lock);
@@ -485,12 +516,22 @@ static void *sink_main(void *arg)
 			break;
 		}
 		struct dao_error err = {0};
-		if (!s->sink && open_sink(s, it) < 0) {
-			atomic_fetch_add(&s->dropped, 1);
+		if (s->disabled) {
 			fq_done(s->q, it);
 			continue;
 		}
-		if (dao_sink_write(s->sink, &it->frame, &err) < 0) {
+		if (!s->sink && open_sink(s, it) < 0) {
+			if (!s->disabled)
+				atomic_fetch_add(&s->dropped, 1);
+			fq_done(s->q, it);
+			continue;
+		}
+		int wr = dao_sink_write(s->sink, &it->frame, &err);
+		if (wr == -ECANCELED) { /* finished by the user (a closed window) */
+			log_info("sink %s: %s; it stays off", s->cfg->name, err.message);
+			close_sink(s);
+			s->disabled = 1;
+		} else if (wr < 0) {
 			atomic_fetch_add(&s->errors, 1);
 			atomic_fetch_add(&s->dropped, 1);
 			log_warn("sink %s: %s; reopening", s->cfg->name, err.message);
@@ -523,6 +564,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->cfg = *cfg;
 	d->plugins = plugins;
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
+	d->host = (struct dao_sink_host){d, host_get_param, host_set_param};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
@@ -740,6 +782,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)atomic_load(&s->written)));
 		json_object_object_add(o, "frames_dropped", json_object_new_int64((int64_t)atomic_load(&s->dropped)));
 		json_object_object_add(o, "errors", json_object_new_int64((int64_t)atomic_load(&s->errors)));
+		json_object_object_add(o, "disabled", json_object_new_boolean(atomic_load(&s->disabled)));
 		json_object_object_add(o, "queued", json_object_new_int((int)fq_length(s->q)));
 		json_object_object_add(o, "latency_ms_median",
 				       json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));

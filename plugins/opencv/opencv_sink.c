@@ -1,0 +1,236 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Sink plugin "opencv": a video file through cv::VideoWriter, or a window
+ * with the stream, an fps overlay and trackbars for radius, slices, steps,
+ * thickness and intensity that change the running pipeline (through the
+ * host the daemon attaches).
+ *
+ * URIs: "FILE.avi" (also .mkv, .mp4; "?fourcc=XVID" picks the codec, MJPG by
+ * default, which every OpenCV build writes), "window" or "window:TITLE".
+ * Without a display (no DISPLAY or WAYLAND_DISPLAY) the window is -ENOTSUP:
+ * the daemon then leaves it off instead of retrying.  Closing the window
+ * ends the sink (-ECANCELED).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include <depthao/params.h>
+#include <depthao/plugin.h>
+
+#include "common/plugin_util.h"
+#include "cv_shim.h"
+
+#define MAX_CONTROLS 5
+
+struct cv_sink {
+	int window;
+	char path[512], title[128];
+	char fourcc[4];
+	struct dao_sink_format fmt;
+	struct cvs_video *video;
+	struct cvs_window *win;
+	const struct dao_sink_host *host;
+	struct cvs_control controls[MAX_CONTROLS];
+	int ncontrols;
+	struct timespec last;
+	double fps;
+};
+
+static int ends_with(const char *s, const char *suffix)
+{
+	size_t n = strlen(s), k = strlen(suffix);
+	return n > k && !strcasecmp(s + n - k, suffix);
+}
+
+static int is_video_path(const char *uri)
+{
+	char path[512];
+	snprintf(path, sizeof path, "%s", uri);
+	char *q = strchr(path, '?');
+	if (q)
+		*q = '\0';
+	return ends_with(path, ".avi") || ends_with(path, ".mkv") || ends_with(path, ".mp4");
+}
+
+static int cv_probe(const char *uri)
+{
+	return is_video_path(uri) ? 40 : !strcmp(uri, "window") ? 10 : 0;
+}
+
+static int cv_open(const char *uri, void **state, struct dao_error *err)
+{
+	struct cv_sink *s = calloc(1, sizeof(*s));
+	if (!s)
+		return plugin_error(err, -ENOMEM, "out of memory");
+	if (!strcmp(uri, "window") || !strncmp(uri, "window:", 7)) {
+		const char *display = getenv("DISPLAY"), *wl = getenv("WAYLAND_DISPLAY");
+		if ((!display || !*display) && (!wl || !*wl)) {
+			free(s);
+			return plugin_error(err, -ENOTSUP,
+					    "opencv: no display (DISPLAY and WAYLAND_DISPLAY are unset), "
+					    "so there is no window");
+		}
+		s->window = 1;
+		snprintf(s->title, sizeof s->title, "%s", uri[6] == ':' ? uri + 7 : "depthao");
+	} else if (is_video_path(uri)) {
+		snprintf(s->path, sizeof s->path, "%s", uri);
+		char *q = strchr(s->path, '?');
+		memcpy(s->fourcc, "MJPG", 4);
+		if (q) {
+			*q = '\0';
+			if (strncmp(q + 1, "fourcc=", 7) != 0 || strlen(q + 8) != 4) {
+				free(s);
+				return plugin_error(err, -EINVAL,
+						    "opencv: '%s': the only option is ?fourcc=XXXX (four "
+						    "characters, e.g. MJPG, XVID, mp4v)",
+						    uri);
+			}
+			memcpy(s->fourcc, q + 8, 4);
+		}
+	} else {
+		free(s);
+		return plugin_error(err, -EINVAL,
+				    "opencv: '%s' is neither a video file (.avi, .mkv, .mp4) nor "
+				    "'window[:TITLE]'",
+				    uri);
+	}
+	*state = s;
+	return 0;
+}
+
+static void cv_attach_host(void *state, const struct dao_sink_host *host)
+{
+	((struct cv_sink *)state)->host = host;
+}
+
+/* Trackbars: the range of each parameter from the library's table, trimmed for a slider. */
+static void setup_controls(struct cv_sink *s)
+{
+	static const struct {
+		const char *name;
+		double max, step;
+	} want[MAX_CONTROLS] = {{"radius", 3.0, 0.05}, {"slices", 8, 1}, {"steps", 32, 1},
+				{"thickness", 4.0, 0.05}, {"intensity", 4.0, 0.05}};
+	s->ncontrols = 0;
+	for (int i = 0; i < MAX_CONTROLS; i++) {
+		const struct dao_param_info *pi = dao_param_find(want[i].name);
+		char v[64];
+		if (!pi || !s->host || !s->host->get_param ||
+		    s->host->get_param(s->host->user, want[i].name, v, sizeof v) < 0)
+			continue;
+		struct cvs_control *c = &s->controls[s->ncontrols++];
+		c->name = pi->name;
+		c->min = pi->min;
+		c->max = pi->max < want[i].max ? pi->max : want[i].max;
+		c->step = pi->type == DAO_PARAM_INT ? 1 : want[i].step;
+		c->value = atof(v);
+	}
+}
+
+static int cv_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
+{
+	struct cv_sink *s = state;
+	char msg[400];
+	if (fmt->format == DAO_PIXFMT_GRAY16) {
+		fmt->format = DAO_PIXFMT_GRAY8; /* 8-bit pictures only: subscribe to ao8 */
+		return 0;
+	}
+	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8)
+		return plugin_error(err, -ENOTSUP,
+				    "opencv: takes pictures (the shaded, overlay or ao8 stream), "
+				    "not %s frames",
+				    fmt->format == DAO_PIXFMT_DEPTH16 ? "depth" : "these");
+	s->fmt = *fmt;
+	if (s->window) {
+		setup_controls(s);
+		if (!(s->win = cvs_window_open(s->title, s->controls, s->ncontrols, msg, sizeof msg)))
+			return plugin_error(err, -ENOTSUP, "opencv: %s", msg);
+		return 0;
+	}
+	double fps = fmt->fps > 0 ? fmt->fps : 30.0;
+	if (!(s->video = cvs_video_open(s->path, s->fourcc, fps, (int)fmt->width, (int)fmt->height,
+					fmt->format == DAO_PIXFMT_RGB24, msg, sizeof msg)))
+		return plugin_error(err, -EIO, "opencv: %s", msg);
+	return 0;
+}
+
+static int cv_write(void *state, const struct dao_frame *f, struct dao_error *err)
+{
+	struct cv_sink *s = state;
+	char msg[400];
+	const int channels = f->format == DAO_PIXFMT_RGB24 ? 3 : 1;
+	if (s->video) {
+		if (cvs_video_write(s->video, f->data, f->stride, msg, sizeof msg) < 0)
+			return plugin_error(err, -EIO, "opencv: %s: %s", s->path, msg);
+		return 0;
+	}
+	struct timespec now;
+	clock_gettime(CLOCK_MONOTONIC, &now);
+	if (s->last.tv_sec) {
+		double dt = (double)(now.tv_sec - s->last.tv_sec) + (now.tv_nsec - s->last.tv_nsec) / 1e9;
+		if (dt > 0)
+			s->fps = s->fps ? 0.9 * s->fps + 0.1 / dt : 1 / dt;
+	}
+	s->last = now;
+	char overlay[96];
+	snprintf(overlay, sizeof overlay, "%.1f fps", s->fps);
+	int moved = cvs_window_show(s->win, f->data, (int)f->width, (int)f->height, f->stride,
+				    channels, overlay);
+	if (moved < 0)
+		return plugin_error(err, -ECANCELED, "opencv: the window was closed");
+	for (int i = 0; i < s->ncontrols; i++) {
+		if (!(moved & (1 << i)) || !s->host || !s->host->set_param)
+			continue;
+		char v[32];
+		snprintf(v, sizeof v, "%g", s->controls[i].value);
+		s->host->set_param(s->host->user, s->controls[i].name, v);
+	}
+	return 0;
+}
+
+static int cv_flush(void *state, struct dao_error *err)
+{
+	(void)state;
+	(void)err;
+	return 0;
+}
+
+static int cv_close(void *state, struct dao_error *err)
+{
+	struct cv_sink *s = state;
+	(void)err;
+	cvs_video_close(s->video);
+	cvs_window_close(s->win);
+	free(s);
+	return 0;
+}
+
+static const struct dao_sink_ops opencv_sink_ops = {
+	.probe = cv_probe,
+	.open = cv_open,
+	.negotiate = cv_negotiate,
+	.write = cv_write,
+	.flush = cv_flush,
+	.close = cv_close,
+	.attach_host = cv_attach_host,
+};
+
+static const struct dao_plugin opencv_plugin = {
+	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	.name = "opencv",
+	.description = "video files (cv::VideoWriter, MJPG .avi by default) and a window with "
+		       "fps and AO trackbars",
+	.sink = &opencv_sink_ops,
+};
+
+__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void);
+
+const struct dao_plugin *dao_plugin_entry(void)
+{
+	return &opencv_plugin;
+}
