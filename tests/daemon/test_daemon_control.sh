@@ -24,6 +24,18 @@ wait_for 10 test -S "$SOCK" || fail "no control socket: $(cat "$WORK/log")"
 [ "$(stat -c %a "$SOCK")" = 600 ] || fail "socket mode $(stat -c %a "$SOCK"), expected 600"
 wait_for 10 test -f "$WORK/out/000002.png" || fail "no frames"
 
+# another user cannot talk to it (the socket is 0600; the daemon also checks SO_PEERCRED)
+if [ "$(id -u)" -eq 0 ] && command -v setpriv >/dev/null; then
+	chmod 755 "$WORK"
+	if setpriv --reuid=65534 --regid=65534 --clear-groups "$DEPTHAO" ctl --socket "$SOCK" stats \
+		>"$WORK/other" 2>&1; then
+		fail "another user got an answer: $(cat "$WORK/other")"
+	fi
+	grep -q "cannot connect" "$WORK/other" || fail "other user: $(cat "$WORK/other")"
+else
+	echo "note: not root or no setpriv; the other-user check was skipped"
+fi
+
 # stats parse and add up
 in=$(stat_of "$SOCK" frames_in)
 done_=$(stat_of "$SOCK" frames_processed)

@@ -16,6 +16,17 @@ frames=$(grep -c FRAME "$WORK/out.y4m" || true)
 [ "$frames" -eq 16 ] || fail "y4m: $frames FRAME markers, expected 16"
 head -c 40 "$WORK/out.y4m" | grep -q "^YUV4MPEG2 W640 H480 F30:1" || fail "y4m header: $(head -c 40 "$WORK/out.y4m")"
 find "$WORK" -name '*.tmp-*' -o -name '*.oni.*' | grep -q . && fail "temporary files left"
+# the recorder stores the camera the pipeline used: configured intrinsics as its FOV
+"$DAEMON" --source "$REC" --playback manual --max-frames 2 --set source.fov=60,45 \
+	--sink rec=oni:"$WORK/fov.oni" --stream rec=depth 2>"$WORK/log-fov" || fail "fov run"
+"$DEPTHAO" process --input "$WORK/fov.oni" --ao-out "$WORK/fov-ao" 2>&1 |
+	grep -q "field of view from the source: 60.00 x 45.00 degrees" || fail "the recorder did not keep the configured FOV"
+
+# y4m to stdout, for '| ffplay -': header + 16 x (FRAME\n + 640x480 4:4:4)
+bytes=$("$DAEMON" --source "$REC" --playback manual --sink y4m:- 2>"$WORK/log-stdout" | wc -c)
+hdr=$(head -n 1 "$WORK/out.y4m" | wc -c)
+[ "$bytes" -eq $((hdr + 16 * (6 + 3 * 640 * 480))) ] || fail "y4m on stdout: $bytes bytes"
+
 # the recorder's file replays the same depth: AO from it equals AO from the original
 "$DEPTHAO" process --input "$WORK/depth.oni" --ao-out "$WORK/replay" --quiet ||
 	fail "the recorded .oni does not replay"

@@ -58,6 +58,8 @@ struct daemon {
 	struct dao_sink_host host;    /* what sinks may ask (window controls) */
 	struct dao_source_info src_info;
 	int have_src_info;
+	double cam_hfov, cam_vfov;    /* of the camera the pipeline uses (recorders store it) */
+	int have_cam;
 
 	char snapshot_path[512];
 	int snapshot_state;           /* 0 none, 1 requested, 2 done, -errno failed */
@@ -356,6 +358,10 @@ static void *process_main(void *arg)
 			}
 			log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
 				 dao_simd_name(dao_context_simd(ctx)));
+			pthread_mutex_lock(&d->lock);
+			dao_camera_fov(&cam, &d->cam_hfov, &d->cam_vfov);
+			d->have_cam = 1;
+			pthread_mutex_unlock(&d->lock);
 		}
 		pthread_mutex_lock(&d->lock);
 		if (d->params_pending) {
@@ -463,6 +469,11 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 		dao_sink_attach_host(s->sink, &d->host);
 		pthread_mutex_lock(&d->lock);
 		struct dao_source_info in = d->src_info;
+		if (d->have_cam) { /* the camera in use: configured intrinsics win over the source's */
+			in.has_fov = 1;
+			in.hfov = d->cam_hfov;
+			in.vfov = d->cam_vfov;
+		}
 		pthread_mutex_unlock(&d->lock);
 		struct dao_sink_format fmt = {
 			.format = it->frame.format, .width = it->frame.width, .height = it->frame.height,
