@@ -23,6 +23,7 @@ PACKAGES=(
 	libpng-dev libjson-c-dev libcmocka-dev
 	libopencv-dev libopencv-contrib-dev
 	libinih-dev libopenni2-dev
+	xvfb xauth
 )
 
 usage() {

@@ -52,6 +52,14 @@ if [ -n "${DAO_VIDEO_INFO:-}" ]; then
 	[ "$info" = "16 640 480" ] || fail "video: '$info', expected 16 frames of 640x480"
 	grep -q "sink win .*no display.*stays off" "$WORK/log-cv" || fail "window without display: $(cat "$WORK/log-cv")"
 	[ "$(ls "$WORK/v-png" | wc -l)" -eq 16 ] || fail "the PNG sink beside the window lost frames"
+	# with a display (Xvfb), the window shows every frame and closes cleanly at the end
+	if command -v xvfb-run >/dev/null; then
+		xvfb-run -a -s "-screen 0 800x600x24" "$DAEMON" --source "$REC" --playback manual \
+			--sink win=opencv:window:test 2>"$WORK/log-win" || fail "window run: $(cat "$WORK/log-win")"
+		grep -q "stats: sink win: 16 out, 0 dropped" "$WORK/log-win" || fail "window: $(cat "$WORK/log-win")"
+	else
+		echo "note: no xvfb-run; the window was not shown"
+	fi
 else
 	echo "note: the opencv plugin is not built; its part was skipped"
 fi
