@@ -1,0 +1,368 @@
+# SPDX-License-Identifier: MIT
+"""Camera and AO: struct dao_camera and struct dao_context."""
+
+import ctypes
+import math
+import numbers
+import threading
+import weakref
+
+import numpy as np
+
+from . import _frames, _lib, _params
+from ._lib import lib
+
+
+def _dimension(name, v):
+    if isinstance(v, bool) or not isinstance(v, numbers.Integral):
+        raise ValueError("%s must be an integer number of pixels, got %r" % (name, v))
+    v = int(v)
+    if v <= 0 or v > 0xFFFFFFFF:
+        raise ValueError("%s must be a positive number of pixels, got %d" % (name, v))
+    return v
+
+
+class Camera:
+    """A pinhole depth camera: Camera(fx, fy, cx, cy, width, height).
+
+    Intrinsics in pixels, pixel centres at integer coordinates (the optical
+    frame: x right, y down, z forward).  Camera.from_fov(width, height, hfov,
+    vfov) takes the field of view in radians, as .oni recordings store it.
+    Bad values raise ValueError with the library's message.
+    """
+
+    __slots__ = ("_c",)
+
+    def __init__(self, fx, fy, cx, cy, width, height):
+        c = _lib.dao_camera()
+        err = _lib.new_error()
+        _lib.check(lib.dao_camera_from_intrinsics(
+            ctypes.byref(c), _dimension("width", width), _dimension("height", height),
+            float(fx), float(fy), float(cx), float(cy), ctypes.byref(err)), err)
+        self._c = c
+
+    @classmethod
+    def from_fov(cls, width, height, hfov, vfov):
+        """A camera from its field of view (radians, in (0, pi)): fx = (w/2) / tan(hfov/2),
+        cx = (w-1)/2, and the same for y (dao_camera_from_fov)."""
+        self = cls.__new__(cls)
+        c = _lib.dao_camera()
+        err = _lib.new_error()
+        _lib.check(lib.dao_camera_from_fov(
+            ctypes.byref(c), _dimension("width", width), _dimension("height", height),
+            float(hfov), float(vfov), ctypes.byref(err)), err)
+        self._c = c
+        return self
+
+    width = property(lambda self: self._c.width, doc="image width, pixels")
+    height = property(lambda self: self._c.height, doc="image height, pixels")
+    fx = property(lambda self: self._c.fx)
+    fy = property(lambda self: self._c.fy)
+    cx = property(lambda self: self._c.cx)
+    cy = property(lambda self: self._c.cy)
+
+    @property
+    def shape(self):
+        """(height, width), as numpy arrays of this camera's frames have it."""
+        return (self._c.height, self._c.width)
+
+    @property
+    def fov(self):
+        """(hfov, vfov) in radians."""
+        h, v = ctypes.c_double(), ctypes.c_double()
+        lib.dao_camera_fov(ctypes.byref(self._c), ctypes.byref(h), ctypes.byref(v))
+        return (h.value, v.value)
+
+    def __eq__(self, other):
+        if not isinstance(other, Camera):
+            return NotImplemented
+        return (self.width, self.height, self.fx, self.fy, self.cx, self.cy) == \
+            (other.width, other.height, other.fx, other.fy, other.cx, other.cy)
+
+    def __hash__(self):
+        return hash((self.width, self.height, self.fx, self.fy, self.cx, self.cy))
+
+    def __repr__(self):
+        return "depthao.Camera(fx=%r, fy=%r, cx=%r, cy=%r, width=%d, height=%d)" % (
+            self.fx, self.fy, self.cx, self.cy, self.width, self.height)
+
+
+def _unknown_parameter_message(name):
+    """The library's message for a name it does not know."""
+    try:
+        _params.Params().set(name, "0")
+    except ValueError as e:
+        return str(e)
+    return "unknown parameter '%s'" % name
+
+
+class AO:
+    """Ambient occlusion for the frames of one camera (a dao_context).
+
+        ao = depthao.AO(camera, quality="default", threads=None, radius=0.4)
+        vis = ao.process(depth_mm)            # float32 (H, W), 1 = open
+        rgb = ao.shade()                      # uint8 (H, W, 3) of the same frame
+
+    quality: "low", "medium" (= "default"), "high" or "ultra", the preset the
+    parameters start from.  threads: worker threads of this context (None or
+    0: one per CPU).  Every other keyword is a parameter of the library's
+    table (depthao.PARAMETERS; dashes become underscores: depth_min).
+
+    Parameters are also attributes: ``ao.radius = 0.3`` changes them for the
+    next frame (an unknown name is AttributeError, a bad value ValueError,
+    both with the library's message); ``ao.update(a=..., b=...)`` changes
+    several at once (checked together), ``ao.params`` is a dict of all.  The
+    parameter ``shade`` (the shading mode) shares its name with the method
+    shade(): use ``ao.set("shade", "turbo")``, ``ao.update(shade="turbo")``
+    or the constructor keyword.
+
+    Threads: contexts share nothing (the library has no global state) and
+    the GIL is released while a frame is processed or shaded, so separate AO
+    objects run truly in parallel from several Python threads.  One AO
+    object is used by one thread at a time; calls on the same object from
+    several threads are serialised by a lock (safe, not parallel).
+    """
+
+    def __init__(self, camera, quality="default", threads=None, **params):
+        if not isinstance(camera, Camera):
+            raise ValueError("camera must be a depthao.Camera, got %s" % type(camera).__name__)
+        object.__setattr__(self, "_ctx", None)
+        object.__setattr__(self, "_lock", threading.Lock())
+        object.__setattr__(self, "_camera", camera)
+        p = _params.Params(quality)
+        if threads is not None:
+            p.set("threads", threads)
+        for k, v in params.items():
+            p.set(k, v)
+        ctx = ctypes.c_void_p()
+        err = _lib.new_error()
+        _lib.check(lib.dao_context_create(ctypes.byref(ctx), ctypes.byref(camera._c), p.buf,
+                                          ctypes.byref(err)), err)
+        object.__setattr__(self, "_ctx", ctx)
+        object.__setattr__(self, "_finalizer",
+                           weakref.finalize(self, lib.dao_context_destroy, ctx.value))
+
+    # --- lifetime ---------------------------------------------------------
+
+    def close(self):
+        """Frees the context and its worker threads now (else when collected)."""
+        with self._lock:
+            self._finalizer()
+            object.__setattr__(self, "_ctx", None)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _handle(self):
+        if self._ctx is None:
+            raise ValueError("this depthao.AO is closed")
+        return self._ctx
+
+    # --- parameters -------------------------------------------------------
+
+    @property
+    def camera(self):
+        return self._camera
+
+    @property
+    def shape(self):
+        """(height, width) of the frames this context takes."""
+        return self._camera.shape
+
+    def _current(self):
+        p = _params.Params.__new__(_params.Params)
+        p.buf = ctypes.create_string_buffer(_params.PARAMS_BUFFER_SIZE)
+        lib.dao_context_get_params(self._handle(), p.buf)
+        return p
+
+    @property
+    def params(self):
+        """Every parameter as a dict {python_name: value} (enums as names,
+        colours as 0xRRGGBB integers)."""
+        with self._lock:
+            return self._current().as_dict()
+
+    def get(self, name):
+        """One parameter's value; ValueError if there is none called `name`."""
+        with self._lock:
+            return self._current().get(name)
+
+    def update(self, mapping=(), **params):
+        """Sets several parameters at once: all are parsed, then the whole set
+        is validated and applied (or, on any error, none)."""
+        items = dict(mapping, **params)
+        with self._lock:
+            p = self._current()
+            for k, v in items.items():
+                p.set(k, v)
+            err = _lib.new_error()
+            _lib.check(lib.dao_context_set_params(self._handle(), p.buf, ctypes.byref(err)), err)
+
+    def set(self, name, value):
+        """Sets one parameter (by its library or Python name)."""
+        self.update({name: value})
+
+    def __getattr__(self, name):
+        # only reached when normal lookup fails
+        if not name.startswith("_") and _params.find(name) is not None:
+            return self.get(name)
+        raise AttributeError("'AO' object has no attribute '%s'" % name)
+
+    def __setattr__(self, name, value):
+        if name.startswith("_"):
+            object.__setattr__(self, name, value)
+            return
+        cls_attr = getattr(type(self), name, None)
+        if cls_attr is not None:
+            if hasattr(cls_attr, "__set__"):
+                object.__setattr__(self, name, value)
+                return
+            raise AttributeError(
+                "'%s' is a method of AO; set the parameter with ao.set('%s', value)" %
+                (name, name))
+        if _params.find(name) is None:
+            raise AttributeError(_unknown_parameter_message(name))
+        self.set(name, value)
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(_params.names()))
+
+    def __repr__(self):
+        state = "closed" if self._ctx is None else "%dx%d" % (self._camera.width,
+                                                             self._camera.height)
+        return "<depthao.AO %s, %r>" % (state, self._camera)
+
+    # --- frames -----------------------------------------------------------
+
+    def _check_image(self, what, arr, dtypes, comps):
+        """Checks type and shape; returns the array (not copied)."""
+        if not isinstance(arr, np.ndarray):
+            raise ValueError("%s must be a numpy array, got %s" % (what, type(arr).__name__))
+        h, w = self._camera.shape
+        want = (h, w) if comps == 1 else (h, w, comps)
+        if arr.dtype.kind + str(arr.dtype.itemsize) not in dtypes:
+            raise ValueError("%s must be %s, got %s" % (
+                what, " or ".join(dtypes.values()), arr.dtype))
+        if arr.shape != want:
+            raise ValueError("%s must have shape %s (the camera is %dx%d), got %s" % (
+                what, want, w, h, arr.shape))
+        return arr
+
+    def process(self, depth, unit=0.001, frame_index=0, out=None):
+        """Ambient occlusion of one depth frame: float32 visibility (H, W), 1 = open.
+
+        depth: numpy uint16 (H, W) counts of `unit` metres (0 = no data), or
+        float32 (H, W) metres (0, NaN, inf = no data; `unit` is ignored).  Any
+        strides: rows at a positive stride are passed as they are; other
+        layouts (transposed, reversed, unaligned) are copied first.
+        frame_index selects the noise pattern (the result is a pure function
+        of depth, parameters and frame_index).  out: a float32 (H, W) array to
+        write into (may be a strided view) instead of a new one.
+        The GIL is released while the library works.
+        """
+        depth = self._check_image("depth", depth, {"u2": "uint16 (with unit)",
+                                                   "f4": "float32 (metres)"}, 1)
+        fmt = _lib.PIXFMT_DEPTH16 if depth.dtype.kind == "u" else _lib.PIXFMT_DEPTH_F32
+        if fmt == _lib.PIXFMT_DEPTH16:
+            unit = float(unit)
+            if not (math.isfinite(unit) and unit > 0):
+                raise ValueError("unit must be a positive number of metres per count, got %r"
+                                 % unit)
+        else:
+            unit = 0.0
+        if isinstance(frame_index, bool) or not isinstance(frame_index, numbers.Integral) \
+                or not 0 <= int(frame_index) < 2**64:
+            raise ValueError("frame_index must be an integer in [0, 2^64), got %r"
+                             % (frame_index,))
+        stride = _frames.row_stride(depth, 1)
+        if stride is None:
+            depth = _frames.packed(depth, depth.dtype)
+            stride = depth.strides[0] if depth.shape[0] > 1 else depth.shape[1] * depth.itemsize
+        dframe = _frames.make_frame(depth, fmt, stride, unit)
+
+        if out is None:
+            result = target = np.empty(self._camera.shape, np.float32)
+            ostride = target.strides[0]
+        else:
+            result = self._check_image("out", out, {"f4": "float32"}, 1)
+            if not out.flags.writeable:
+                raise ValueError("out is read-only")
+            ostride = _frames.row_stride(out, 1)
+            if ostride is None or np.may_share_memory(out, depth):
+                target = np.empty(self._camera.shape, np.float32)
+                ostride = target.strides[0]
+            else:
+                target = out
+        aframe = _frames.make_frame(target, _lib.PIXFMT_GRAY_F32, ostride)
+        err = _lib.new_error()
+        with self._lock:
+            r = lib.dao_context_process(self._handle(), ctypes.byref(dframe), None,
+                                        int(frame_index), ctypes.byref(aframe),
+                                        ctypes.byref(err))
+        _lib.check(r, err)
+        if target is not result:
+            result[...] = target
+        return result
+
+    def shade(self, out=None):
+        """The occlusion-shaded image of the last processed frame: uint8 RGB
+        (H, W, 3) by default; `out` may be uint8 (H, W, 3) for RGB or (H, W)
+        for gray, also a strided view.  The shading mode and colours are the
+        parameters shade, near, far, shade_power, occlusion_color."""
+        h, w = self._camera.shape
+        if out is None:
+            result = target = np.empty((h, w, 3), np.uint8)
+        else:
+            if not isinstance(out, np.ndarray):
+                raise ValueError("out must be a numpy array, got %s" % type(out).__name__)
+            comps = 3 if out.ndim == 3 else 1
+            result = self._check_image("out", out, {"u1": "uint8"}, comps)
+            if not out.flags.writeable:
+                raise ValueError("out is read-only")
+            target = out if _frames.row_stride(out, comps) is not None else \
+                np.empty(out.shape, np.uint8)
+        comps = 3 if target.ndim == 3 else 1
+        fmt = _lib.PIXFMT_RGB24 if comps == 3 else _lib.PIXFMT_GRAY8
+        frame = _frames.make_frame(target, fmt, _frames.row_stride(target, comps))
+        err = _lib.new_error()
+        with self._lock:
+            r = lib.dao_context_shade(self._handle(), ctypes.byref(frame), ctypes.byref(err))
+        _lib.check(r, err)
+        if target is not result:
+            result[...] = target
+        return result
+
+    def _plane(self, fn, fmt, comps):
+        h, w = self._camera.shape
+        arr = np.empty((h, w) if comps == 1 else (h, w, comps), np.float32)
+        frame = _frames.make_frame(arr, fmt, arr.strides[0])
+        err = _lib.new_error()
+        with self._lock:
+            r = fn(self._handle(), ctypes.byref(frame), ctypes.byref(err))
+        _lib.check(r, err)
+        return arr
+
+    def filtered_depth(self):
+        """The last frame's depth after the prefilter: float32 (H, W) metres, 0 = no data."""
+        return self._plane(lib.dao_context_get_depth, _lib.PIXFMT_DEPTH_F32, 1)
+
+    def normals(self):
+        """The last frame's unit normals: float32 (H, W, 3), optical frame."""
+        return self._plane(lib.dao_context_get_normals, _lib.PIXFMT_NORMAL_F32, 3)
+
+    @property
+    def timings(self):
+        """Milliseconds per stage of the last frame (dao_context_timings)."""
+        t = _lib.dao_timings()
+        with self._lock:
+            lib.dao_context_timings(self._handle(), ctypes.byref(t))
+        return {name[:-3]: getattr(t, name) for name, _ in t._fields_}
+
+    @property
+    def simd(self):
+        """The kernel set this context runs ("avx2", "reference", ...)."""
+        with self._lock:
+            return _lib.text(lib.dao_simd_name(lib.dao_context_simd(self._handle())))

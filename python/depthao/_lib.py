@@ -1,0 +1,239 @@
+# SPDX-License-Identifier: MIT
+"""Loading libdepthao and declaring its C API for ctypes.
+
+The structures below mirror include/depthao/*.h field for field (the test
+suite compiles a C program that prints their sizes and offsets and compares
+them with these declarations).  struct dao_params is the exception: its
+layout is read at import from the library's own parameter table
+(dao_param_table), so parameters added to the library appear here without a
+change to this package.
+"""
+
+import ctypes
+import ctypes.util
+import errno as _errno
+import os
+
+__all__ = ["lib", "path", "build_root", "check", "error_from", "new_error", "text"]
+
+# --- locating the library ---------------------------------------------------
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+# python/depthao/ -> the project root (where build-py/ or build/ live)
+_SOURCE_ROOT = os.path.dirname(os.path.dirname(_HERE))
+_BUILD_DIRS = ("build-py", "build")
+
+
+def _candidates():
+    """(description, path or name, from_build_tree) in the order they are tried."""
+    env = os.environ.get("DEPTHAO_LIBRARY")
+    if env:
+        # An explicit choice is never second-guessed: it loads or it fails.
+        return [("$DEPTHAO_LIBRARY", env, None)]
+    out = []
+    for d in _BUILD_DIRS:
+        p = os.path.join(_SOURCE_ROOT, d, "src", "libdepthao.so")
+        if os.path.exists(p):
+            out.append(("build tree", p, os.path.join(_SOURCE_ROOT, d)))
+    name = ctypes.util.find_library("depthao")
+    if name:
+        out.append(("ctypes.util.find_library('depthao')", name, None))
+    return out
+
+
+def _load():
+    tried = []
+    cands = _candidates()
+    for what, where, build_root in cands:
+        try:
+            return ctypes.CDLL(where), where, build_root
+        except OSError as e:
+            tried.append("%s (%s): %s" % (where, what, e))
+            if what == "$DEPTHAO_LIBRARY":
+                break
+    if not tried:
+        tried.append("no DEPTHAO_LIBRARY, no %s under %s, and find_library('depthao') "
+                     "found nothing" % (" or ".join(d + "/src/libdepthao.so" for d in _BUILD_DIRS),
+                                        _SOURCE_ROOT))
+    raise ImportError(
+        "depthao: cannot load libdepthao: " + "; ".join(tried) +
+        ". Build it (meson setup build && ninja -C build), install it, or set "
+        "DEPTHAO_LIBRARY to the path of libdepthao.so")
+
+
+lib, path, build_root = _load()
+
+# --- structures -------------------------------------------------------------
+
+DAO_ERROR_MESSAGE_MAX = 256
+
+
+class dao_error(ctypes.Structure):
+    _fields_ = [("code", ctypes.c_int), ("message", ctypes.c_char * DAO_ERROR_MESSAGE_MAX)]
+
+
+class dao_camera(ctypes.Structure):
+    _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
+                ("fx", ctypes.c_double), ("fy", ctypes.c_double),
+                ("cx", ctypes.c_double), ("cy", ctypes.c_double),
+                ("ax", ctypes.c_float), ("ay", ctypes.c_float),
+                ("bx", ctypes.c_float), ("by", ctypes.c_float)]
+
+
+# enum dao_pixfmt
+PIXFMT_NONE = 0
+PIXFMT_DEPTH16 = 1
+PIXFMT_DEPTH_F32 = 2
+PIXFMT_GRAY8 = 3
+PIXFMT_GRAY16 = 4
+PIXFMT_GRAY_F32 = 5
+PIXFMT_RGB24 = 6
+PIXFMT_NORMAL_F32 = 7
+
+
+class dao_frame(ctypes.Structure):
+    _fields_ = [("format", ctypes.c_int),
+                ("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
+                ("stride", ctypes.c_int32),
+                ("data", ctypes.c_void_p),
+                ("depth_unit", ctypes.c_float),
+                ("timestamp_ns", ctypes.c_uint64),
+                ("sequence", ctypes.c_uint64)]
+
+
+# enum dao_param_type
+PARAM_FLOAT = 0
+PARAM_INT = 1
+PARAM_ENUM = 2
+PARAM_COLOR = 3
+PARAM_RUNTIME = 1 << 0
+PARAM_SHADING = 1 << 1
+
+
+class dao_param_info(ctypes.Structure):
+    _fields_ = [("name", ctypes.c_char_p), ("help", ctypes.c_char_p),
+                ("unit", ctypes.c_char_p),
+                ("type", ctypes.c_int),
+                ("offset", ctypes.c_size_t),
+                ("min", ctypes.c_double), ("max", ctypes.c_double),
+                ("enum_names", ctypes.POINTER(ctypes.c_char_p)),
+                ("flags", ctypes.c_uint)]
+
+
+class dao_timings(ctypes.Structure):
+    _fields_ = [(n, ctypes.c_double) for n in (
+        "decode_ms", "prefilter_ms", "normals_ms", "gtao_ms", "denoise_ms", "output_ms",
+        "process_ms", "shade_ms")]
+
+
+DAO_SOURCE_EOS = 1
+PLAYBACK_MANUAL = 0
+PLAYBACK_REALTIME = 1
+
+
+class dao_source_info(ctypes.Structure):
+    _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
+                ("format", ctypes.c_int),
+                ("depth_unit", ctypes.c_float),
+                ("has_fov", ctypes.c_int),
+                ("hfov", ctypes.c_double), ("vfov", ctypes.c_double),
+                ("fps", ctypes.c_double),
+                ("frame_count", ctypes.c_int64),
+                ("live", ctypes.c_int), ("mirrored", ctypes.c_int),
+                ("registered", ctypes.c_int), ("has_color", ctypes.c_int),
+                ("color_width", ctypes.c_uint32), ("color_height", ctypes.c_uint32),
+                ("description", ctypes.c_char * 160)]
+
+
+class dao_source_options(ctypes.Structure):
+    _fields_ = [("playback", ctypes.c_int), ("loop", ctypes.c_int),
+                ("start_frame", ctypes.c_uint32), ("step", ctypes.c_uint32),
+                ("want_color", ctypes.c_int), ("depth_unit", ctypes.c_float)]
+
+
+class dao_source_frame(ctypes.Structure):
+    _fields_ = [("depth", dao_frame), ("color", dao_frame), ("index", ctypes.c_uint64)]
+
+
+# --- functions --------------------------------------------------------------
+
+_E = ctypes.POINTER(dao_error)
+_int, _u32, _u64, _dbl, _flt = ctypes.c_int, ctypes.c_uint32, ctypes.c_uint64, ctypes.c_double, ctypes.c_float
+_vp, _cp = ctypes.c_void_p, ctypes.c_char_p
+_P = ctypes.POINTER
+
+_PROTOTYPES = {
+    "dao_version": (_cp, []),
+    "dao_strerror": (_cp, [_int]),
+    "dao_pixfmt_name": (_cp, [_int]),
+    "dao_camera_from_intrinsics": (_int, [_P(dao_camera), _u32, _u32, _dbl, _dbl, _dbl, _dbl, _E]),
+    "dao_camera_from_fov": (_int, [_P(dao_camera), _u32, _u32, _dbl, _dbl, _E]),
+    "dao_camera_fov": (None, [_P(dao_camera), _P(_dbl), _P(_dbl)]),
+    "dao_param_table": (_P(dao_param_info), [_P(ctypes.c_size_t)]),
+    "dao_quality_parse": (_int, [_cp, _P(_int), _E]),
+    "dao_quality_name": (_cp, [_int]),
+    "dao_params_init": (None, [_vp, _int]),
+    "dao_params_set": (_int, [_vp, _cp, _cp, _E]),
+    "dao_params_get": (_int, [_vp, _cp, _cp, ctypes.c_size_t, _E]),
+    "dao_params_validate": (_int, [_vp, _E]),
+    "dao_context_create": (_int, [_P(_vp), _P(dao_camera), _vp, _E]),
+    "dao_context_destroy": (None, [_vp]),
+    "dao_context_set_params": (_int, [_vp, _vp, _E]),
+    "dao_context_get_params": (None, [_vp, _vp]),
+    "dao_context_process": (_int, [_vp, _P(dao_frame), _P(dao_frame), _u64, _P(dao_frame), _E]),
+    "dao_context_shade": (_int, [_vp, _P(dao_frame), _E]),
+    "dao_context_get_depth": (_int, [_vp, _P(dao_frame), _E]),
+    "dao_context_get_normals": (_int, [_vp, _P(dao_frame), _E]),
+    "dao_context_timings": (None, [_vp, _P(dao_timings)]),
+    "dao_context_simd": (_int, [_vp]),
+    "dao_simd_name": (_cp, [_int]),
+    "dao_frame_free": (None, [_P(dao_frame)]),
+    "dao_png_read": (_int, [_cp, _P(dao_frame), _E]),
+    "dao_png_read_depth": (_int, [_cp, _flt, _P(dao_frame), _E]),
+    "dao_png_write": (_int, [_cp, _P(dao_frame), _E]),
+    "dao_plugins_load": (_int, [_P(_vp), _cp, _E]),
+    "dao_plugins_free": (None, [_vp]),
+    "dao_source_open": (_int, [_vp, _cp, _P(dao_source_options), _P(_vp), _E]),
+    "dao_source_get_info": (None, [_vp, _P(dao_source_info)]),
+    "dao_source_start": (_int, [_vp, _E]),
+    "dao_source_read": (_int, [_vp, _P(dao_source_frame), _int, _E]),
+    "dao_source_release": (None, [_vp, _P(dao_source_frame)]),
+    "dao_source_seek": (_int, [_vp, _u64, _E]),
+    "dao_source_close": (None, [_vp]),
+}
+
+for _name, (_res, _args) in _PROTOTYPES.items():
+    try:
+        _fn = getattr(lib, _name)
+    except AttributeError:
+        raise ImportError("depthao: %s does not export %s(): the library is older than this "
+                          "package or not libdepthao" % (path, _name)) from None
+    _fn.restype = _res
+    _fn.argtypes = _args
+
+# --- errors -----------------------------------------------------------------
+
+
+def new_error():
+    return dao_error()
+
+
+def error_from(code, err=None):
+    """The Python exception for a negative libdepthao code and its message."""
+    msg = err.message.decode("utf-8", "replace") if err is not None else ""
+    if not msg:
+        msg = lib.dao_strerror(code).decode()
+    if code == -_errno.EINVAL:
+        return ValueError(msg)
+    # OSError(errno, text) picks the subclass (FileNotFoundError for ENOENT, ...)
+    return OSError(-code, msg)
+
+
+def check(code, err):
+    if code < 0:
+        raise error_from(code, err)
+    return code
+
+
+def text(s):
+    return s.decode("utf-8", "replace") if s is not None else None
