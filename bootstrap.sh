@@ -22,7 +22,7 @@ PACKAGES=(
 	meson ninja-build pkg-config gcc g++
 	libpng-dev libjson-c-dev libcmocka-dev
 	libopencv-dev libopencv-contrib-dev
-	libinih-dev libopenni2-dev libv4l-dev
+	libinih-dev libopenni2-dev libv4l-dev libcamera-dev
 	xvfb xauth
 )
 

@@ -55,9 +55,17 @@ expect_usage_error "--frames on PNG input" -- "$DEPTHAO" process --input "$WORK/
 	--ao-out "$WORK/y.png"
 expect_usage_error "--frames 0" -- "$DEPTHAO" process --input "$REC" --frames 0 --ao-out "$WORK/x"
 
-# devices lists the built-in source and says where plugins come from
+# devices lists the built-in source and says where plugins come from; every plugin
+# that was built loads (an unresolved symbol in a module shows up here)
 expect_exit 0 "devices" -- "$DEPTHAO" devices
 grep -q "oni .*built-in" "$WORK/out" || fail "devices: $(cat "$WORK/out")"
+grep -q "not loaded" "$WORK/out" && fail "a plugin did not load: $(grep "not loaded" "$WORK/out")"
+# libcamera without a camera: a clear error
+if grep -q "^  libcamera " "$WORK/out" && ! grep -q "libcamera:" "$WORK/out"; then
+	expect_exit 1 "libcamera without a camera" -- "$DEPTHAO" process --input libcamera:any \
+		--frames 1 --ao-out "$WORK/lc"
+	grep -q "no cameras found" "$WORK/err" || fail "libcamera: $(cat "$WORK/err")"
+fi
 
 # from the build tree, the plugins built beside depthao are found without DEPTHAO_PLUGIN_PATH
 if env -u DEPTHAO_PLUGIN_PATH "$DEPTHAO" devices | grep -q "^  openni2 "; then
