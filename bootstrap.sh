@@ -24,6 +24,7 @@ PACKAGES=(
 	libopencv-dev libopencv-contrib-dev
 	libinih-dev libopenni2-dev libv4l-dev libcamera-dev
 	xvfb xauth
+	python3 python3-numpy python3-pytest
 )
 
 usage() {

@@ -30,6 +30,14 @@ enum dao_quality {
 	DAO_QUALITY_DEFAULT = DAO_QUALITY_MEDIUM,
 };
 
+/* The AO algorithm (seeds 000-004, DESIGN.md). */
+enum dao_algorithm {
+	DAO_ALGORITHM_GTAO = 0, /* ground-truth AO: horizons per slice, cosine-weighted integral */
+	DAO_ALGORITHM_HBAO,     /* horizon-based AO (Bavoil 2008): tangent bias, W(r) = 1 - r^2 */
+	DAO_ALGORITHM_SSAO,     /* Crytek-style hemisphere kernel with a depth range check */
+	DAO_ALGORITHM_EDL,      /* eye-dome lighting: depth-only shading, not AO */
+};
+
 enum dao_prefilter {
 	DAO_PREFILTER_NONE = 0,
 	DAO_PREFILTER_BILATERAL,  /* edge-preserving smoothing scaled to sensor noise */
@@ -81,7 +89,8 @@ struct dao_params {
 	int normals;              /* enum dao_normals */
 	int normal_radius;        /* px, for DAO_NORMALS_WIDE */
 
-	/* GTAO */
+	/* AO */
+	int algorithm;            /* enum dao_algorithm */
 	float radius;             /* world-space radius R, m */
 	float falloff;            /* fraction of R over which occluders fade out */
 	int slices;               /* slice directions per pixel */
@@ -94,6 +103,10 @@ struct dao_params {
 	float final_power;        /* visibility^power */
 	float albedo;             /* multi-bounce fit (Jimenez 2016), 0 = off */
 	float invalid_value;      /* visibility written for pixels without depth */
+	float strength;           /* HBAO, SSAO, EDL: visibility = 1 - strength * occlusion */
+	float hbao_bias;          /* HBAO tangent bias angle, degrees */
+	float ssao_min, ssao_max; /* SSAO: a sample counts when the surface is this far in front, m */
+	float edl_radius;         /* EDL neighbour distance, px */
 	int threads;              /* worker threads of a context, 0 = one per available CPU */
 	int simd;                 /* enum dao_simd */
 
@@ -141,6 +154,9 @@ DAO_API const char *dao_quality_name(enum dao_quality q);
 
 /* Parses "low|medium|high|ultra|default". Returns 0 or -EINVAL. */
 DAO_API int dao_quality_parse(const char *name, enum dao_quality *q, struct dao_error *err);
+
+/* sizeof(struct dao_params) of this library, for bindings that cannot see the header. */
+DAO_API size_t dao_params_size(void);
 
 /* Fills `p` with a quality preset. */
 DAO_API void dao_params_init(struct dao_params *p, enum dao_quality q);

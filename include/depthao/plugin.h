@@ -70,7 +70,8 @@ enum dao_playback {
 
 struct dao_source_options {
 	enum dao_playback playback;
-	int loop;                   /* at the end, start again instead of DAO_SOURCE_EOS */
+	int loop;                   /* at the end, start again (at start_frame) instead of
+				       DAO_SOURCE_EOS */
 	uint32_t start_frame;       /* first frame delivered, 0-based */
 	uint32_t step;              /* deliver every step-th frame (0 or 1 = all) */
 	int want_color;             /* also deliver colour when the source has it */
@@ -171,7 +172,8 @@ struct dao_plugins;
  * Loads the built-in plugins and every module found in `path` (a
  * colon-separated list of directories; NULL = $DEPTHAO_PLUGIN_PATH, then the
  * install directory).  Modules that fail to load (a missing library, a wrong
- * ABI version) are skipped and listed by dao_plugins_skipped().
+ * ABI version) are skipped and listed by dao_plugins_skipped().  An empty
+ * `path` ("") loads the built-in plugins only.
  */
 DAO_API int dao_plugins_load(struct dao_plugins **out, const char *path, struct dao_error *err);
 DAO_API void dao_plugins_free(struct dao_plugins *plugins);

@@ -19,7 +19,10 @@ arguments, -EINVAL) or OSError with its errno, with the library's message.
 from . import _lib
 from ._ao import AO, Camera
 from ._params import TABLE as PARAMETERS, ParamInfo
-from ._source import Source, open, read_png, read_png_depth, write_png
+from . import _source
+from ._source import Source, read_png, read_png_depth, write_png
+
+open = _source.open
 
 __version__ = "0.1.0"
 
@@ -28,5 +31,6 @@ library_version = _lib.text(_lib.lib.dao_version())
 #: Path (or name) of the loaded libdepthao.
 library_path = _lib.path
 
-__all__ = ["AO", "Camera", "PARAMETERS", "ParamInfo", "Source", "open", "read_png",
+# "open" is left out of __all__ so that "from depthao import *" does not hide the built-in open
+__all__ = ["AO", "Camera", "PARAMETERS", "ParamInfo", "Source", "read_png",
            "read_png_depth", "write_png", "library_version", "library_path"]

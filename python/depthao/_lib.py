@@ -25,28 +25,39 @@ _BUILD_DIRS = ("build-py", "build")
 
 
 def _candidates():
-    """(description, path or name, from_build_tree) in the order they are tried."""
+    """(description, path or name) in the order they are tried."""
     env = os.environ.get("DEPTHAO_LIBRARY")
     if env:
         # An explicit choice is never second-guessed: it loads or it fails.
-        return [("$DEPTHAO_LIBRARY", env, None)]
+        return [("$DEPTHAO_LIBRARY", env)]
     out = []
     for d in _BUILD_DIRS:
         p = os.path.join(_SOURCE_ROOT, d, "src", "libdepthao.so")
         if os.path.exists(p):
-            out.append(("build tree", p, os.path.join(_SOURCE_ROOT, d)))
+            out.append(("build tree", p))
     name = ctypes.util.find_library("depthao")
     if name:
-        out.append(("ctypes.util.find_library('depthao')", name, None))
+        out.append(("ctypes.util.find_library('depthao')", name))
     return out
+
+
+def _build_root_of(where):
+    """The meson build directory a BUILD/src/libdepthao.so* lives in, or None."""
+    if os.sep not in where:
+        return None  # a bare name from find_library: an installed library
+    src = os.path.dirname(os.path.abspath(where))
+    root = os.path.dirname(src)
+    if os.path.basename(src) == "src" and os.path.isdir(os.path.join(root, "meson-private")):
+        return root
+    return None
 
 
 def _load():
     tried = []
     cands = _candidates()
-    for what, where, build_root in cands:
+    for what, where in cands:
         try:
-            return ctypes.CDLL(where), where, build_root
+            return ctypes.CDLL(where), where, _build_root_of(where)
         except OSError as e:
             tried.append("%s (%s): %s" % (where, what, e))
             if what == "$DEPTHAO_LIBRARY":

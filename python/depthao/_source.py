@@ -237,8 +237,9 @@ def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout
     built-in sources do not take.
 
     playback: "manual" (every frame once, as fast as you read) or "realtime"
-    (paced by the timestamps); loop: start again at the end instead of
-    stopping; start: first frame (0-based); step: every step-th frame.
+    (paced by the timestamps); loop: at the end, start again (at `start`)
+    instead of stopping; start: first frame (0-based); step: every step-th
+    frame.
     plugin_path: directories (colon-separated) to load plugin modules from,
     instead of $DEPTHAO_PLUGIN_PATH / the install directory.
     """

@@ -78,7 +78,7 @@ def frame0(oni_frames):
 
 
 def test_library_loaded():
-    assert depthao.library_version == "0.1.0" or depthao.library_version
+    assert isinstance(depthao.library_version, str) and depthao.library_version.count(".") == 2
     if os.environ.get("DEPTHAO_LIBRARY"):
         assert depthao.library_path == os.environ["DEPTHAO_LIBRARY"]
 
@@ -200,10 +200,12 @@ def test_out_arrays(frame0, monkeypatch):
     rgb_t = np.zeros((w, h, 3), np.uint8).transpose(1, 0, 2)
     ao.shade(out=rgb_t)
     assert np.array_equal(rgb_t, rgb)
-    ao.set("shade", "ao")
+    ao.set("shade", "ao")  # AO alone, as gray (pixels without depth black)
     gray = ao.shade(out=np.zeros((h, w), np.uint8))
-    assert np.array_equal(gray, np.rint(ref * 255).astype(np.uint8)) or \
-        np.abs(gray.astype(int) - ref * 255).max() <= 1  # AO alone as gray
+    assert np.abs(gray[d > 0].astype(int) - ref[d > 0] * 255).max() <= 1
+    gray_t = np.zeros((w, h), np.uint8).T
+    ao.shade(out=gray_t)
+    assert np.array_equal(gray_t, gray)
 
     # aliasing input and output still gives the right answer
     f = d.astype(np.float32) * np.float32(0.001)
@@ -426,7 +428,7 @@ def test_oni_recording(oni_frames):
     assert [i for i, _, _ in depthao.open(ONI, start=10)] == list(range(10, 16))
     assert [i for i, _, _ in depthao.open("oni:" + ONI, step=5)] == [0, 5, 10, 15]
     looped = [i for i, _, _ in itertools.islice(depthao.open(ONI, loop=True, start=14), 5)]
-    assert looped == [14, 15, 0, 1, 2]
+    assert looped == [14, 15, 14, 15, 14]  # loops wrap to the start frame
     src = depthao.open(ONI)
     src.seek(3)
     i, d, _ = next(src)

@@ -16,6 +16,7 @@
 
 #define OFF(field) offsetof(struct dao_params, field)
 
+static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", NULL };
 static const char *const prefilter_names[] = { "none", "bilateral", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", NULL };
@@ -41,6 +42,8 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_ENUM, OFF(normals), 0, 0, normals_names, RT },
 	{ "normal-radius", "footprint of wide normals", "px",
 	  DAO_PARAM_INT, OFF(normal_radius), 1, 8, NULL, RT },
+	{ "algorithm", "gtao (ground-truth AO), hbao, ssao, or edl (eye-dome lighting, not AO)", NULL,
+	  DAO_PARAM_ENUM, OFF(algorithm), 0, 3, algorithm_names, RT },
 	{ "radius", "world-space AO radius", "m",
 	  DAO_PARAM_FLOAT, OFF(radius), 0.01, 100.0, NULL, RT },
 	{ "falloff", "fraction of the radius over which occluders fade out", NULL,
@@ -65,6 +68,16 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(albedo), 0.0, 0.95, NULL, RT },
 	{ "invalid-value", "visibility written where there is no depth", NULL,
 	  DAO_PARAM_FLOAT, OFF(invalid_value), 0.0, 1.0, NULL, RT },
+	{ "strength", "hbao, ssao, edl: visibility = 1 - strength x occlusion", NULL,
+	  DAO_PARAM_FLOAT, OFF(strength), 0.0, 10.0, NULL, RT },
+	{ "hbao-bias", "hbao: tangent bias angle; hides self-occlusion of flat surfaces", "deg",
+	  DAO_PARAM_FLOAT, OFF(hbao_bias), 0.0, 60.0, NULL, RT },
+	{ "ssao-min", "ssao: a sample is occluded when the surface is in front of it by more than this", "m",
+	  DAO_PARAM_FLOAT, OFF(ssao_min), 0.0, 1.0, NULL, RT },
+	{ "ssao-max", "ssao: ... and by less than this (farther surfaces are not its occluders)", "m",
+	  DAO_PARAM_FLOAT, OFF(ssao_max), 0.001, 100.0, NULL, RT },
+	{ "edl-radius", "edl: distance of the neighbours compared", "px",
+	  DAO_PARAM_FLOAT, OFF(edl_radius), 0.5, 16.0, NULL, RT },
 	{ "threads", "threads per context (0 = one per available CPU)", NULL,
 	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
 	{ "simd", "kernels: auto (best for this CPU), reference (scalar oracle) or an instruction set", NULL,
@@ -86,6 +99,11 @@ static const struct dao_param_info table[] = {
 	{ "occlusion-color", "colour of full occlusion, RRGGBB", NULL,
 	  DAO_PARAM_COLOR, OFF(occlusion_color), 0, 0xffffff, NULL, SH },
 };
+
+size_t dao_params_size(void)
+{
+	return sizeof(struct dao_params);
+}
 
 const struct dao_param_info *dao_param_table(size_t *count)
 {
@@ -320,5 +338,8 @@ int dao_params_validate(const struct dao_params *p, struct dao_error *err)
 		return dao_error_set(err, -EINVAL,
 				     "min-screen-radius %g must not exceed max-screen-radius %g",
 				     (double)p->min_screen_radius, (double)p->max_screen_radius);
+	if (p->ssao_min >= p->ssao_max)
+		return dao_error_set(err, -EINVAL, "ssao-min %g must be less than ssao-max %g",
+				     (double)p->ssao_min, (double)p->ssao_max);
 	return 0;
 }

@@ -17,6 +17,7 @@
 #include "denoise/denoise.h"
 #include "depth/decode.h"
 #include "depth/prefilter.h"
+#include "kernels/ao_variants.h"
 #include "kernels/gtao.h"
 #include "normals/normals.h"
 #include "pipeline/kernels.h"
@@ -274,6 +275,8 @@ struct frame_job {
 	struct dao_frame *ao_out;
 	int normal_radius;
 	struct dao_gtao_setup gtao;
+	struct dao_variant_setup variant; /* HBAO, SSAO, EDL */
+	int algorithm;
 	struct dao_denoise_setup denoise;
 	struct dao_prefilter_setup prefilter;
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
@@ -322,7 +325,12 @@ static void stage_gtao(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
-	j->k.gtao(&j->gtao, c->z, c->izp, c->n, c->ao_raw, y0, y1);
+	switch (j->algorithm) {
+	case DAO_ALGORITHM_HBAO: dao_hbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
+	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
+	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
+	default: j->k.gtao(&j->gtao, c->z, c->izp, c->n, c->ao_raw, y0, y1); break;
+	}
 }
 
 static void stage_denoise_plane(void *arg, int y0, int y1)
@@ -405,6 +413,9 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		},
 	};
 	dao_gtao_setup_init(&job.gtao, &ctx->cam, p, frame_index);
+	job.algorithm = p->algorithm;
+	if (p->algorithm != DAO_ALGORITHM_GTAO)
+		dao_variant_setup_init(&job.variant, &job.gtao, p);
 	dao_kernels_select(&job.k, dao_simd_resolve(p->simd));
 	if (p->noise == DAO_NOISE_R2) {
 		if (ctx->r2_frame != (frame_index & 63u)) {

@@ -22,9 +22,14 @@
 #define BAR_CLEAN_MAX_MAE 0.075
 #define BAR_NOISY_MAX_MAE 0.06
 
+#define EVAL_MAX_ALGORITHMS 4
+#define EVAL_MAX_COLUMNS (DAO_QUALITY_COUNT * EVAL_MAX_ALGORITHMS)
+
 struct eval_options {
 	enum dao_quality qualities[DAO_QUALITY_COUNT];
 	int nq;
+	int algorithms[EVAL_MAX_ALGORITHMS]; /* enum dao_algorithm */
+	int na;
 	const char *scenes[SYNTH_SUITE_MAX / 2 + 1];
 	int rays_sqrt;
 	int check;
@@ -44,6 +49,8 @@ static void usage(FILE *out)
 		"the visibility against the ground truth.\n"
 		"\n"
 		"  --quality LIST    comma-separated presets (default: low,medium,high)\n"
+		"  --algorithms LIST comma-separated algorithms: gtao (default), hbao, ssao, edl;\n"
+		"                    every algorithm runs every preset\n"
 		"  --scenes LIST     comma-separated scenes (default: all)\n"
 		"  --rays N          ground-truth rays per pixel, a square (default 256)\n"
 		"  --no-noise        skip the noisy variants\n"
@@ -76,6 +83,22 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 			o->check = 1;
 		} else if (strcmp(a, "--no-noise") == 0) {
 			o->noise = 0;
+		} else if (strcmp(a, "--algorithms") == 0) {
+			if (i + 1 >= argc)
+				return usage_error("eval", "%s needs a value", a);
+			const char *names[EVAL_MAX_ALGORITHMS + 1];
+			int n = parse_list(argv[++i], names, EVAL_MAX_ALGORITHMS);
+			if (n <= 0)
+				return usage_error("eval", "--algorithms needs one to four of gtao, hbao, ssao, edl");
+			for (int k = 0; k < n; k++) {
+				struct dao_params scratch;
+				struct dao_error err;
+				dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+				if (dao_params_set(&scratch, "algorithm", names[k], &err))
+					return usage_error("eval", "%s", err.message);
+				o->algorithms[k] = scratch.algorithm;
+			}
+			o->na = n;
 		} else if (strcmp(a, "--quality") == 0 || strcmp(a, "--scenes") == 0 ||
 			   strcmp(a, "--rays") == 0) {
 			if (i + 1 >= argc) {
@@ -134,6 +157,10 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 		o->qualities[2] = DAO_QUALITY_HIGH;
 		o->nq = 3;
 	}
+	if (o->na == 0) {
+		o->algorithms[0] = -1; /* whatever the presets and --algorithm say (GTAO) */
+		o->na = 1;
+	}
 	return 0;
 }
 
@@ -177,9 +204,19 @@ int cmd_eval(int argc, char **argv)
 		if (synth_scene_build(o.scenes[k], 0.0, &sc, &e))
 			return usage_error("eval", "%s", e.message);
 	}
+	/* one column per (algorithm, preset) */
+	struct eval_column {
+		enum dao_quality q;
+		int algorithm;
+	} cols[EVAL_MAX_COLUMNS];
+	int ncols = 0;
+	for (int a = 0; a < o.na; a++)
+		for (int q = 0; q < o.nq; q++)
+			cols[ncols++] = (struct eval_column){o.qualities[q], o.algorithms[a]};
 	int default_col = -1;
-	for (int k = 0; k < o.nq; k++)
-		if (o.qualities[k] == DAO_QUALITY_DEFAULT)
+	for (int k = 0; k < ncols; k++)
+		if (cols[k].q == DAO_QUALITY_DEFAULT && cols[k].algorithm <= DAO_ALGORITHM_GTAO &&
+		    default_col < 0)
 			default_col = k;
 	if (o.check && default_col < 0) {
 		return usage_error("eval", "--check needs the default preset in --quality");
@@ -196,8 +233,8 @@ int cmd_eval(int argc, char **argv)
 	}
 	const size_t np = (size_t)suite.cam.width * suite.cam.height;
 	float *ao = malloc(np * sizeof(float));
-	struct synth_metrics (*res)[DAO_QUALITY_COUNT] = calloc((size_t)suite.count, sizeof *res);
-	struct preset_summary sum[DAO_QUALITY_COUNT] = { 0 };
+	struct synth_metrics (*res)[EVAL_MAX_COLUMNS] = calloc((size_t)suite.count, sizeof *res);
+	struct preset_summary sum[EVAL_MAX_COLUMNS] = { 0 };
 	int status = 0;
 	if (!ao || !res) {
 		fprintf(stderr, "depthao: out of memory\n");
@@ -205,13 +242,15 @@ int cmd_eval(int argc, char **argv)
 		goto out;
 	}
 
-	for (int k = 0; k < o.nq; k++) {
+	for (int k = 0; k < ncols; k++) {
 		struct dao_params p;
 		struct dao_context *ctx;
-		if (params_for(&o, o.qualities[k], &p)) {
+		if (params_for(&o, cols[k].q, &p)) {
 			status = 2;
 			goto out;
 		}
+		if (cols[k].algorithm >= 0)
+			p.algorithm = cols[k].algorithm;
 		if (dao_context_create(&ctx, &suite.cam, &p, &err)) {
 			fprintf(stderr, "depthao: %s\n", err.message);
 			status = 1;
@@ -247,34 +286,43 @@ int cmd_eval(int argc, char **argv)
 	}
 
 	printf("| scene | input |");
-	for (int k = 0; k < o.nq; k++)
-		printf(" %s%s MAE | bias | p99 |", dao_quality_name(o.qualities[k]),
+	for (int k = 0; k < ncols; k++) {
+		char alg[32] = "";
+		if (o.na > 1 || cols[k].algorithm > 0) {
+			struct dao_params p;
+			dao_params_init(&p, DAO_QUALITY_DEFAULT);
+			p.algorithm = cols[k].algorithm < 0 ? 0 : cols[k].algorithm;
+			dao_params_get(&p, "algorithm", alg, sizeof alg - 1, NULL);
+			strcat(alg, " ");
+		}
+		printf(" %s%s%s MAE | bias | p99 |", alg, dao_quality_name(cols[k].q),
 		       k == default_col ? " (default)" : "");
+	}
 	printf("\n|---|---|");
-	for (int k = 0; k < o.nq; k++)
+	for (int k = 0; k < ncols; k++)
 		printf("---:|---:|---:|");
 	printf("\n");
 	for (int i = 0; i < suite.count; i++) {
 		printf("| %s | %s |", suite.cases[i].scene, suite.cases[i].noisy ? "noisy" : "clean");
-		for (int k = 0; k < o.nq; k++)
+		for (int k = 0; k < ncols; k++)
 			printf(" %.4f | %+.4f | %.3f |", res[i][k].mae, res[i][k].bias, res[i][k].p99);
 		printf("\n");
 	}
 	printf("| **clean scenes, mean MAE** | |");
-	for (int k = 0; k < o.nq; k++)
+	for (int k = 0; k < ncols; k++)
 		printf(" **%.4f** | | |", sum[k].clean_n ? sum[k].clean_sum / sum[k].clean_n : 0.0);
 	printf("\n| plane, mean occlusion | clean |");
-	for (int k = 0; k < o.nq; k++)
+	for (int k = 0; k < ncols; k++)
 		printf(" %.4f | | |", sum[k].plane_occ);
 	printf("\n| ms/frame (all threads) | |");
-	for (int k = 0; k < o.nq; k++)
+	for (int k = 0; k < ncols; k++)
 		printf(" %.0f | | |", sum[k].frames ? sum[k].ms / sum[k].frames : 0.0);
 	printf("\n");
 
-	for (int k = 0; k < o.nq; k++)
+	for (int k = 0; k < ncols; k++)
 		if (sum[k].nan || sum[k].invalid) {
 			fprintf(stderr, "depthao: %s: %ld NaN/out-of-range values, %ld no-data pixels not 1\n",
-				dao_quality_name(o.qualities[k]), sum[k].nan, sum[k].invalid);
+				dao_quality_name(cols[k].q), sum[k].nan, sum[k].invalid);
 			status = 1;
 		}
 	if (o.check) {

@@ -1,0 +1,241 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * HBAO, SSAO and eye-dome lighting (DESIGN.md "HBAO and SSAO"; seeds 003, 004).
+ */
+#include "kernels/ao_variants.h"
+
+#include <math.h>
+#include <stddef.h>
+
+#include "core/math_util.h"
+
+static inline float dot3(const float a[3], const float b[3])
+{
+	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void view_pos(const struct dao_gtao_setup *s, float u, float v, float z, float P[3])
+{
+	P[0] = (u * s->ax + s->bx) * z;
+	P[1] = (v * s->ay + s->by) * z;
+	P[2] = z;
+}
+
+/* Van der Corput radical inverse in base 2 (for the SSAO kernel's points). */
+static float radical_inverse2(unsigned i)
+{
+	float r = 0.0f, f = 0.5f;
+	for (; i; i >>= 1, f *= 0.5f)
+		if (i & 1)
+			r += f;
+	return r;
+}
+
+void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_setup *g,
+			    const struct dao_params *p)
+{
+	v->g = g;
+	v->strength = p->strength;
+	v->tan_bias = tanf(p->hbao_bias * DAO_PI_F / 180.0f);
+	v->ssao_min = p->ssao_min;
+	v->ssao_max = p->ssao_max;
+	v->edl_radius = p->edl_radius;
+	int n = 2 * p->slices * p->steps;
+	v->ssao_samples = n > DAO_SSAO_MAX_SAMPLES ? DAO_SSAO_MAX_SAMPLES : n;
+	/* Hammersley points on the hemisphere (z up), pushed inside it with the
+	 * classic scale lerp(0.1, 1, (i/N)^2) so most land near the centre (seed 004) */
+	for (int i = 0; i < v->ssao_samples; i++) {
+		float u = ((float)i + 0.5f) / (float)v->ssao_samples, w = radical_inverse2((unsigned)i);
+		float cz = u, sz = sqrtf(1.0f - cz * cz), phi = 2.0f * DAO_PI_F * w;
+		float t = (float)i / (float)v->ssao_samples;
+		float scale = 0.1f + 0.9f * t * t;
+		v->ssao_kernel[i][0] = cosf(phi) * sz * scale;
+		v->ssao_kernel[i][1] = sinf(phi) * sz * scale;
+		v->ssao_kernel[i][2] = cz * scale;
+	}
+}
+
+static float z_at(const struct dao_gtao_setup *s, const float *z, int x, int y)
+{
+	if (x < 0 || y < 0 || x >= s->width || y >= s->height)
+		return 0.0f;
+	return z[(size_t)y * s->width + x];
+}
+
+/* MinDiff tangent (seed 003): of the two one-sided differences, the shorter. */
+static void min_diff(const float P[3], const float Pl[3], const float Pr[3], int have_l,
+		     int have_r, float T[3])
+{
+	float dl[3] = {P[0] - Pl[0], P[1] - Pl[1], P[2] - Pl[2]};
+	float dr[3] = {Pr[0] - P[0], Pr[1] - P[1], Pr[2] - P[2]};
+	const float *d = !have_l ? dr : !have_r ? dl : dot3(dl, dl) < dot3(dr, dr) ? dl : dr;
+	T[0] = d[0], T[1] = d[1], T[2] = d[2];
+}
+
+/*
+ * HBAO (Bavoil, Sainz, Dimitrov 2008): per direction, the elevation above the
+ * image plane of the biased tangent starts the horizon; each sample above it
+ * adds W(r) (sin h - sin h_prev), W(r) = 1 - r^2, r = |S - P| / R.
+ */
+static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x, int y)
+{
+	const struct dao_gtao_setup *s = v->g;
+	const float zc = z[(size_t)y * s->width + x];
+	float P[3], Q[3], Pl[3], Pr[3], Pu[3], Pd[3];
+	view_pos(s, (float)x, (float)y, zc, P);
+	float zl = z_at(s, z, x - 1, y), zr = z_at(s, z, x + 1, y);
+	float zu = z_at(s, z, x, y - 1), zd = z_at(s, z, x, y + 1);
+	view_pos(s, (float)x - 1, (float)y, zl, Pl);
+	view_pos(s, (float)x + 1, (float)y, zr, Pr);
+	view_pos(s, (float)x, (float)y - 1, zu, Pu);
+	view_pos(s, (float)x, (float)y + 1, zd, Pd);
+	float dPdu[3], dPdv[3];
+	min_diff(P, Pl, Pr, zl > 0, zr > 0, dPdu);
+	min_diff(P, Pu, Pd, zu > 0, zd > 0, dPdv);
+
+	const float R = s->search_radius;
+	float r_px = R * s->focal / zc;
+	if (r_px < 1.0f)
+		return 1.0f;
+	r_px = fminf(r_px, s->max_r_px);
+	float n0, n1;
+	dao_gtao_noise(s, x, y, &n0, &n1);
+	const int dirs = 2 * s->slices; /* directions over the full circle */
+	float occ = 0.0f;
+	for (int d = 0; d < dirs; d++) {
+		float phi = 2.0f * DAO_PI_F * ((float)d + n0) / (float)dirs;
+		float dx = cosf(phi), dy = sinf(phi);
+		float T[3] = {dPdu[0] * dx + dPdv[0] * dy, dPdu[1] * dx + dPdv[1] * dy,
+			      dPdu[2] * dx + dPdv[2] * dy};
+		/* elevation towards the camera (-z): tan t = -T.z / |T.xy|, plus the bias */
+		float txy = sqrtf(T[0] * T[0] + T[1] * T[1]);
+		float tan_t = (txy > 0 ? -T[2] / txy : 0.0f) + v->tan_bias;
+		float sin_h = tan_t / sqrtf(1.0f + tan_t * tan_t);
+		float ao_d = 0.0f;
+		for (int i = 0; i < s->steps; i++) {
+			float dist = 1.0f + ((float)i + n1) / (float)s->steps * (r_px - 1.0f);
+			int sx = (int)lrintf((float)x + dx * dist), sy = (int)lrintf((float)y + dy * dist);
+			float zs = z_at(s, z, sx, sy);
+			if (!(zs > 0.0f))
+				continue;
+			view_pos(s, (float)sx, (float)sy, zs, Q);
+			float D[3] = {Q[0] - P[0], Q[1] - P[1], Q[2] - P[2]};
+			float len2 = dot3(D, D);
+			float r2 = len2 / (R * R);
+			if (r2 >= 1.0f || !(len2 > 0.0f))
+				continue;
+			float dxy = sqrtf(D[0] * D[0] + D[1] * D[1]);
+			float tan_s = dxy > 0 ? -D[2] / dxy : 0.0f;
+			float sin_s = tan_s / sqrtf(1.0f + tan_s * tan_s);
+			if (sin_s > sin_h) {
+				ao_d += (1.0f - r2) * (sin_s - sin_h);
+				sin_h = sin_s;
+			}
+		}
+		occ += ao_d;
+	}
+	return dao_saturate(1.0f - v->strength * occ / (float)dirs);
+}
+
+void dao_hbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1)
+{
+	(void)n; /* HBAO takes its tangents from the depth itself */
+	const struct dao_gtao_setup *s = v->g;
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++) {
+			size_t i = (size_t)y * s->width + x;
+			ao[i] = z[i] > 0 ? dao_gtao_finish(s, hbao_pixel(v, z, x, y)) : s->invalid_value;
+		}
+}
+
+/*
+ * SSAO (Crytek 2007, with the normal-oriented hemisphere of seed 004): kernel
+ * points around P in the hemisphere of N, rotated per pixel; a point is
+ * occluded when the surface seen at its pixel lies in front of it by more
+ * than ssao_min (noise) and less than ssao_max (far objects do not occlude).
+ */
+static float ssao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm, int x,
+			int y)
+{
+	const struct dao_gtao_setup *s = v->g;
+	const float zc = z[(size_t)y * s->width + x];
+	float P[3];
+	view_pos(s, (float)x, (float)y, zc, P);
+	const float *N = nrm + 3 * ((size_t)y * s->width + x);
+	float n0, n1;
+	dao_gtao_noise(s, x, y, &n0, &n1);
+	/* a tangent frame around N, rotated by the per-pixel noise */
+	float a = 2.0f * DAO_PI_F * n0, r[3] = {cosf(a), sinf(a), 0.0f};
+	float rn = dot3(r, N);
+	float T[3] = {r[0] - N[0] * rn, r[1] - N[1] * rn, r[2] - N[2] * rn};
+	float lt = sqrtf(dot3(T, T));
+	if (!(lt > 1e-6f)) { /* N along z: any perpendicular */
+		T[0] = 1, T[1] = 0, T[2] = 0;
+		lt = 1;
+	}
+	T[0] /= lt, T[1] /= lt, T[2] /= lt;
+	float B[3] = {N[1] * T[2] - N[2] * T[1], N[2] * T[0] - N[0] * T[2], N[0] * T[1] - N[1] * T[0]};
+	const float R = s->search_radius;
+	int occluded = 0, counted = 0;
+	for (int i = 0; i < v->ssao_samples; i++) {
+		const float *k = v->ssao_kernel[i];
+		float Q[3];
+		for (int c = 0; c < 3; c++)
+			Q[c] = P[c] + R * (T[c] * k[0] + B[c] * k[1] + N[c] * k[2]);
+		if (!(Q[2] > 0.0f))
+			continue;
+		float u = (Q[0] / Q[2] - s->bx) / s->ax, vv = (Q[1] / Q[2] - s->by) / s->ay;
+		float zs = z_at(s, z, (int)lrintf(u), (int)lrintf(vv));
+		counted++;
+		if (!(zs > 0.0f))
+			continue;
+		float in_front = Q[2] - zs;
+		occluded += in_front > v->ssao_min && in_front < v->ssao_max;
+	}
+	return counted ? dao_saturate(1.0f - v->strength * (float)occluded / (float)counted) : 1.0f;
+}
+
+void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1)
+{
+	const struct dao_gtao_setup *s = v->g;
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++) {
+			size_t i = (size_t)y * s->width + x;
+			ao[i] = z[i] > 0 ? dao_gtao_finish(s, ssao_pixel(v, z, n, x, y)) : s->invalid_value;
+		}
+}
+
+/*
+ * Eye-dome lighting (Boucheny 2009, as CloudCompare and Potree do it): how
+ * much the log-depth of the pixel lies behind its 8 neighbours at edl_radius
+ * px, shade = exp(-300 strength mean(max(0, log2 z - log2 z_n))).  A shading
+ * cue for depth edges, not ambient occlusion.
+ */
+void dao_edl_ref(const struct dao_variant_setup *v, const float *z, float *ao, int y0, int y1)
+{
+	const struct dao_gtao_setup *s = v->g;
+	static const float dirs[8][2] = {{1, 0}, {0.70710678f, 0.70710678f}, {0, 1},
+					 {-0.70710678f, 0.70710678f}, {-1, 0},
+					 {-0.70710678f, -0.70710678f}, {0, -1},
+					 {0.70710678f, -0.70710678f}};
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++) {
+			size_t i = (size_t)y * s->width + x;
+			if (!(z[i] > 0)) {
+				ao[i] = s->invalid_value;
+				continue;
+			}
+			float lz = log2f(z[i]), sum = 0.0f;
+			for (int k = 0; k < 8; k++) {
+				int nx = (int)lrintf((float)x + dirs[k][0] * v->edl_radius);
+				int ny = (int)lrintf((float)y + dirs[k][1] * v->edl_radius);
+				float zn = z_at(s, z, nx, ny);
+				/* no depth behind a neighbour: treat it as far away (an edge) */
+				float ln = zn > 0 ? log2f(zn) : lz + 1.0f;
+				sum += fmaxf(0.0f, lz - ln);
+			}
+			ao[i] = expf(-300.0f * v->strength * sum / 8.0f);
+		}
+}

@@ -1,0 +1,37 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The AO algorithms besides GTAO, for comparison (DESIGN.md, seeds 003 and
+ * 004).  Scalar, plain C: they are their own reference.  Same frame setup,
+ * per-pixel noise and row bands as GTAO; z in metres (0 = no data), n the
+ * view-space normals, ao the visibility out (1 = open).
+ */
+#ifndef DAO_KERNELS_AO_VARIANTS_H
+#define DAO_KERNELS_AO_VARIANTS_H
+
+#include <depthao/params.h>
+
+#include "kernels/gtao.h"
+
+#define DAO_SSAO_MAX_SAMPLES 128
+
+/* Per-frame constants of the variants (derived from the params once). */
+struct dao_variant_setup {
+	const struct dao_gtao_setup *g;
+	float strength;
+	float tan_bias;               /* HBAO: tan of the tangent bias angle */
+	float ssao_min, ssao_max;
+	int ssao_samples;             /* 2 x slices x steps (GTAO's sample budget) */
+	float ssao_kernel[DAO_SSAO_MAX_SAMPLES][3]; /* unit hemisphere (z up), denser at the centre */
+	float edl_radius;
+};
+
+void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_setup *g,
+			    const struct dao_params *p);
+
+void dao_hbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1);
+void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1);
+void dao_edl_ref(const struct dao_variant_setup *v, const float *z, float *ao, int y0, int y1);
+
+#endif

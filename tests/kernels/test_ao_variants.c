@@ -1,0 +1,172 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * HBAO, SSAO and eye-dome lighting through the public API: open surfaces
+ * stay open, occlusion grows towards a wall (floor-and-wall scene with its
+ * closed form, MAE printed), EDL darkens only the far side of a depth step,
+ * strength 0 switches them off, and results do not depend on the thread count.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "common/floor_wall.h"
+#include "common/test_common.h"
+
+#define W 128
+#define H 96
+
+static void run(const struct dao_params *p, const float *z, float *ao)
+{
+	struct dao_camera cam;
+	struct dao_context *ctx;
+	struct dao_error err;
+	assert_int_equal(dao_camera_from_intrinsics(&cam, W, H, 100, 100, 63.5, 47.5, &err), 0);
+	assert_int_equal(dao_context_create(&ctx, &cam, p, &err), 0);
+	struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, W, H, W * 4, (void *)z, 0, 0, 0};
+	struct dao_frame out = {DAO_PIXFMT_GRAY_F32, W, H, W * 4, ao, 0, 0, 0};
+	assert_int_equal(dao_context_process(ctx, &in, NULL, 0, &out, &err), 0);
+	dao_context_destroy(ctx);
+}
+
+static struct dao_params params_for(int algorithm)
+{
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.algorithm = algorithm;
+	p.prefilter = DAO_PREFILTER_NONE;
+	p.denoise = DAO_DENOISE_NONE;
+	p.slices = 8;
+	p.steps = 12;
+	return p;
+}
+
+static void test_open_plane(void **state)
+{
+	(void)state;
+	float *z = malloc(W * H * sizeof(float)), *ao = malloc(W * H * sizeof(float));
+	for (int i = 0; i < W * H; i++)
+		z[i] = 2.0f;
+	const int algos[] = {DAO_ALGORITHM_HBAO, DAO_ALGORITHM_SSAO, DAO_ALGORITHM_EDL};
+	for (int k = 0; k < 3; k++) {
+		struct dao_params p = params_for(algos[k]);
+		run(&p, z, ao);
+		double sum = 0;
+		for (int i = 0; i < W * H; i++)
+			sum += ao[i];
+		print_message("open plane, algorithm %d: mean visibility %.5f\n", algos[k], sum / (W * H));
+		assert_true(sum / (W * H) > 0.995);
+	}
+	free(z);
+	free(ao);
+}
+
+static void test_floor_and_wall(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	floor_wall_scene(&s);
+	struct dao_camera cam;
+	dao_camera_from_intrinsics(&cam, W, H, 100, 100, 63.5, 47.5, NULL);
+	struct synth_image img;
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	float *ao = malloc(W * H * sizeof(float));
+	const int algos[] = {DAO_ALGORITHM_GTAO, DAO_ALGORITHM_HBAO, DAO_ALGORITHM_SSAO};
+	const char *names[] = {"gtao", "hbao", "ssao"};
+	for (int k = 0; k < 3; k++) {
+		struct dao_params p = params_for(algos[k]);
+		run(&p, img.depth, ao);
+		double err = 0, near = 0, far = 0;
+		int n = 0, nn = 0, nf = 0;
+		for (int y = 40; y < 56; y++)
+			for (int x = 0; x < W; x++) {
+				double X = (x - 63.5) / 100.0 * 2.0;
+				if (X > 0.28)
+					break;
+				err += fabs(ao[y * W + x] - floor_wall_visibility(X, 0.5));
+				n++;
+				if (X > 0.15)
+					near += ao[y * W + x], nn++;
+				if (X < -0.3)
+					far += ao[y * W + x], nf++;
+			}
+		near /= nn;
+		far /= nf;
+		print_message("floor-wall %s: MAE %.4f vs the closed form; visibility %.3f near the "
+			      "wall, %.3f beyond R\n", names[k], err / n, near, far);
+		assert_true(near < far - 0.1); /* occluded at the wall ... */
+		assert_true(far > 0.97);        /* ... open beyond the radius */
+		assert_true(err / n < 0.12);
+	}
+	free(ao);
+	synth_image_free(&img);
+}
+
+static void test_edl_step(void **state)
+{
+	(void)state;
+	float *z = malloc(W * H * sizeof(float)), *ao = malloc(W * H * sizeof(float));
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++)
+			z[y * W + x] = x < W / 2 ? 1.0f : 2.0f; /* near left half, far right half */
+	struct dao_params p = params_for(DAO_ALGORITHM_EDL);
+	run(&p, z, ao);
+	const int y = H / 2;
+	assert_float_equal(ao[y * W + W / 2 - 3], 1.0f, 1e-6); /* near side: nothing in front */
+	assert_true(ao[y * W + W / 2] < 0.5f);                 /* far side at the step: dark */
+	assert_float_equal(ao[y * W + W - 10], 1.0f, 1e-6);    /* far side away from it: open */
+	free(z);
+	free(ao);
+}
+
+static void test_strength_zero_and_threads(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	floor_wall_scene(&s);
+	struct dao_camera cam;
+	dao_camera_from_intrinsics(&cam, W, H, 100, 100, 63.5, 47.5, NULL);
+	struct synth_image img;
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	float *a = malloc(W * H * sizeof(float)), *b = malloc(W * H * sizeof(float));
+	const int algos[] = {DAO_ALGORITHM_HBAO, DAO_ALGORITHM_SSAO, DAO_ALGORITHM_EDL};
+	for (int k = 0; k < 3; k++) {
+		struct dao_params p = params_for(algos[k]);
+		p.threads = 1;
+		run(&p, img.depth, a);
+		p.threads = 2;
+		run(&p, img.depth, b);
+		assert_memory_equal(a, b, W * H * sizeof(float));
+		p.strength = 0.0f;
+		run(&p, img.depth, a);
+		for (int i = 0; i < W * H; i++)
+			assert_float_equal(a[i], 1.0f, 1e-6);
+	}
+	struct dao_params p = params_for(DAO_ALGORITHM_SSAO);
+	struct dao_error err;
+	p.ssao_min = 0.6f; /* not below ssao-max 0.5 */
+	assert_int_equal(dao_params_validate(&p, &err), -22);
+	assert_non_null(strstr(err.message, "ssao-min"));
+	assert_int_equal(dao_params_set(&p, "algorithm", "vbao-typo", &err), -22);
+	assert_int_equal(dao_params_set(&p, "algorithm", "hbao", &err), 0);
+	assert_int_equal(p.algorithm, DAO_ALGORITHM_HBAO);
+	free(a);
+	free(b);
+	synth_image_free(&img);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_open_plane),
+		cmocka_unit_test(test_floor_and_wall),
+		cmocka_unit_test(test_edl_step),
+		cmocka_unit_test(test_strength_zero_and_threads),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
