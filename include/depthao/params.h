@@ -36,6 +36,7 @@ enum dao_algorithm {
 	DAO_ALGORITHM_HBAO,     /* horizon-based AO (Bavoil 2008): tangent bias, W(r) = 1 - r^2 */
 	DAO_ALGORITHM_SSAO,     /* Crytek-style hemisphere kernel with a depth range check */
 	DAO_ALGORITHM_EDL,      /* eye-dome lighting: depth-only shading, not AO */
+	DAO_ALGORITHM_VBAO,     /* visibility bitmask (Therrien et al. 2023): finite thickness */
 };
 
 enum dao_prefilter {
@@ -107,6 +108,7 @@ struct dao_params {
 	float hbao_bias;          /* HBAO tangent bias angle, degrees */
 	float ssao_min, ssao_max; /* SSAO: a sample counts when the surface is this far in front, m */
 	float edl_radius;         /* EDL neighbour distance, px */
+	float vbao_thickness;     /* VBAO: assumed thickness of what the depth image shows, m */
 	int threads;              /* worker threads of a context, 0 = one per available CPU */
 	int simd;                 /* enum dao_simd */
 

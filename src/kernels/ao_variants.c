@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "core/math_util.h"
+#include "kernels/gtao_sample.h"
 
 static inline float dot3(const float a[3], const float b[3])
 {
@@ -40,6 +41,7 @@ void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_s
 	v->ssao_min = p->ssao_min;
 	v->ssao_max = p->ssao_max;
 	v->edl_radius = p->edl_radius;
+	v->vbao_thickness = p->vbao_thickness;
 	int n = 2 * p->slices * p->steps;
 	v->ssao_samples = n > DAO_SSAO_MAX_SAMPLES ? DAO_SSAO_MAX_SAMPLES : n;
 	/* Hammersley points on the hemisphere (z up), pushed inside it with the
@@ -204,6 +206,145 @@ void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float
 		for (int x = 0; x < s->width; x++) {
 			size_t i = (size_t)y * s->width + x;
 			ao[i] = z[i] > 0 ? dao_gtao_finish(s, ssao_pixel(v, z, n, x, y)) : s->invalid_value;
+		}
+}
+
+static inline void cross3(const float a[3], const float b[3], float o[3])
+{
+	o[0] = a[1] * b[2] - a[2] * b[1];
+	o[1] = a[2] * b[0] - a[0] * b[2];
+	o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/*
+ * The slice measure up to angle t from the view vector, for projected-normal
+ * angle n: G(t) = -cos(2t - n)/4 + t sin(n)/2, the antiderivative of
+ * cos(t - n) sin t (Jimenez 2016 eq. 7 integrates the same); over negative t
+ * the |sin t| of the slice's solid angle flips its sign.
+ */
+static inline float slice_g(float t, float n)
+{
+	return -0.25f * cosf(2.0f * t - n) + 0.5f * t * sinf(n);
+}
+
+static float slice_measure(float a, float b, float n)
+{
+	if (a >= 0.0f)
+		return slice_g(b, n) - slice_g(a, n);
+	if (b <= 0.0f)
+		return slice_g(a, n) - slice_g(b, n);
+	return (slice_g(b, n) - slice_g(0.0f, n)) + (slice_g(a, n) - slice_g(0.0f, n));
+}
+
+/* Marks the sectors an occluder spanning angles [t0, t1] covers (angles from V). */
+static uint32_t sectors(float t0, float t1, float lo)
+{
+	float a = (fminf(t0, t1) - lo) / DAO_PI_F * DAO_VBAO_SECTORS;
+	float b = (fmaxf(t0, t1) - lo) / DAO_PI_F * DAO_VBAO_SECTORS;
+	/* rounded, so a sample exactly on the hemisphere's edge (a tilted plane) marks nothing */
+	int i0 = (int)lrintf(a), i1 = (int)lrintf(b);
+	if (i0 < 0)
+		i0 = 0;
+	if (i1 > DAO_VBAO_SECTORS)
+		i1 = DAO_VBAO_SECTORS;
+	if (i1 <= i0)
+		return 0;
+	uint64_t m = ((uint64_t)1 << (i1 - i0)) - 1;
+	return (uint32_t)(m << i0);
+}
+
+/* Part of GTAO's radius widening: sectors cover between samples, horizons do not. */
+#ifndef DAO_VBAO_RADIUS_REACH
+#define DAO_VBAO_RADIUS_REACH 0.6f
+#endif
+
+static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm, int x,
+			int y)
+{
+	const struct dao_gtao_setup *s = v->g;
+	const float zc = z[(size_t)y * s->width + x];
+	float P[3];
+	view_pos(s, (float)x, (float)y, zc, P);
+	const float lp = sqrtf(dot3(P, P));
+	const float V[3] = {-P[0] / lp, -P[1] / lp, -P[2] / lp};
+	const float *N = nrm + 3 * ((size_t)y * s->width + x);
+	float r_px = s->search_radius * s->focal / zc;
+	if (r_px < s->min_r_px || r_px < 1.0f)
+		return 1.0f;
+	r_px = fminf(r_px, s->max_r_px);
+	float n0, n1;
+	dao_gtao_noise(s, x, y, &n0, &n1);
+	/* samples reach GTAO's widened radius, but occlude only within the true one */
+	const float R = s->search_radius / (1.0f + DAO_GTAO_RADIUS_REACH / (float)s->steps) *
+			(1.0f + DAO_VBAO_RADIUS_REACH / (float)s->steps);
+	const float T = v->vbao_thickness;
+	float vis = 0.0f, norm = 0.0f;
+	for (int sl = 0; sl < s->slices; sl++) {
+		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
+		const float dx = cosf(phi), dy = sinf(phi);
+		/* the slice plane and the projected normal, as in GTAO */
+		const float dir[3] = {dx * s->ax, dy * s->ay, 0.0f};
+		float dv = dot3(dir, V);
+		float ortho[3] = {dir[0] - dv * V[0], dir[1] - dv * V[1], dir[2] - dv * V[2]};
+		float axis[3];
+		cross3(ortho, V, axis);
+		float la = sqrtf(dot3(axis, axis));
+		axis[0] /= la, axis[1] /= la, axis[2] /= la;
+		float na = dot3(N, axis);
+		float pn[3] = {N[0] - axis[0] * na, N[1] - axis[1] * na, N[2] - axis[2] * na};
+		float lpn = sqrtf(dot3(pn, pn));
+		if (!(lpn > 1e-6f))
+			continue;
+		float n = acosf(dao_clampf(dot3(pn, V) / lpn, -1.0f, 1.0f));
+		if (dot3(ortho, pn) < 0.0f)
+			n = -n;
+		const float lo = n - DAO_HALF_PI_F; /* sector 0 starts at the hemisphere's edge */
+		uint32_t mask = 0;
+		for (int side = 0; side < 2; side++) {
+			const float sx = side ? -dx : dx, sy = side ? -dy : dy, sign = side ? -1.0f : 1.0f;
+			for (int i = 0; i < s->steps; i++) {
+				float t = powf(((float)i + n1) / (float)s->steps, s->power);
+				float dist = 1.0f + t * (r_px - 1.0f), u, vv, zs;
+				if (!dao_gtao_sample(z, s->width, s->height, x, y, sx, sy, dist, &u, &vv, &zs))
+					continue;
+				float S[3];
+				view_pos(s, u, vv, zs, S);
+				float D[3] = {S[0] - P[0], S[1] - P[1], S[2] - P[2]};
+				float len = sqrtf(dot3(D, D));
+				if (!(len > 0.0f) || len > R)
+					continue;
+				/* the back of the sample: thickness T further along its camera ray
+				 * (which lies in the slice plane, through the camera centre) */
+				float ls = sqrtf(dot3(S, S)), k = T / ls;
+				float B[3] = {S[0] * (1 + k) - P[0], S[1] * (1 + k) - P[1], S[2] * (1 + k) - P[2]};
+				float lb = sqrtf(dot3(B, B));
+				float tf = sign * acosf(dao_clampf(dot3(D, V) / len, -1.0f, 1.0f));
+				float tb = sign * acosf(dao_clampf(dot3(B, V) / lb, -1.0f, 1.0f));
+				mask |= sectors(tf, tb, lo);
+			}
+		}
+		float open = 0.0f, all = 0.0f;
+		for (int k = 0; k < DAO_VBAO_SECTORS; k++) {
+			float a = lo + DAO_PI_F * (float)k / DAO_VBAO_SECTORS;
+			float w = slice_measure(a, a + DAO_PI_F / DAO_VBAO_SECTORS, n);
+			all += w;
+			if (!(mask & (1u << k)))
+				open += w;
+		}
+		vis += lpn * open;
+		norm += lpn * all;
+	}
+	return norm > 0.0f ? vis / norm : 1.0f;
+}
+
+void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1)
+{
+	const struct dao_gtao_setup *s = v->g;
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++) {
+			size_t i = (size_t)y * s->width + x;
+			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, x, y)) : s->invalid_value;
 		}
 }
 

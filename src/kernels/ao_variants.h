@@ -23,6 +23,7 @@ struct dao_variant_setup {
 	int ssao_samples;             /* 2 x slices x steps (GTAO's sample budget) */
 	float ssao_kernel[DAO_SSAO_MAX_SAMPLES][3]; /* unit hemisphere (z up), denser at the centre */
 	float edl_radius;
+	float vbao_thickness;
 };
 
 void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_setup *g,
@@ -31,6 +32,17 @@ void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_s
 void dao_hbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
 		  int y0, int y1);
 void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1);
+/*
+ * Visibility bitmask AO (Therrien, Levesque, Gilet 2023): per slice a mask
+ * of DAO_VBAO_SECTORS sectors over the normal's hemisphere; each sample
+ * occludes the sectors between the angle of its front and of its back,
+ * assumed vbao_thickness behind it, so light passes behind thin objects.
+ * The free sectors are weighted by the cosine-weighted slice measure (the
+ * paper counts them uniformly).
+ */
+#define DAO_VBAO_SECTORS 32
+void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
 		  int y0, int y1);
 void dao_edl_ref(const struct dao_variant_setup *v, const float *z, float *ao, int y0, int y1);
 

@@ -16,7 +16,7 @@
 
 #define OFF(field) offsetof(struct dao_params, field)
 
-static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", NULL };
+static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "vbao", NULL };
 static const char *const prefilter_names[] = { "none", "bilateral", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", NULL };
@@ -42,8 +42,8 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_ENUM, OFF(normals), 0, 0, normals_names, RT },
 	{ "normal-radius", "footprint of wide normals", "px",
 	  DAO_PARAM_INT, OFF(normal_radius), 1, 8, NULL, RT },
-	{ "algorithm", "gtao (ground-truth AO), hbao, ssao, or edl (eye-dome lighting, not AO)", NULL,
-	  DAO_PARAM_ENUM, OFF(algorithm), 0, 3, algorithm_names, RT },
+	{ "algorithm", "gtao (ground-truth AO), vbao (visibility bitmask: finite thickness), hbao, ssao, or edl (eye-dome lighting, not AO)", NULL,
+	  DAO_PARAM_ENUM, OFF(algorithm), 0, 4, algorithm_names, RT },
 	{ "radius", "world-space AO radius", "m",
 	  DAO_PARAM_FLOAT, OFF(radius), 0.01, 100.0, NULL, RT },
 	{ "falloff", "fraction of the radius over which occluders fade out", NULL,
@@ -78,6 +78,8 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(ssao_max), 0.001, 100.0, NULL, RT },
 	{ "edl-radius", "edl: distance of the neighbours compared", "px",
 	  DAO_PARAM_FLOAT, OFF(edl_radius), 0.5, 16.0, NULL, RT },
+	{ "vbao-thickness", "vbao: thickness assumed behind every visible surface", "m",
+	  DAO_PARAM_FLOAT, OFF(vbao_thickness), 0.001, 10.0, NULL, RT },
 	{ "threads", "threads per context (0 = one per available CPU)", NULL,
 	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
 	{ "simd", "kernels: auto (best for this CPU), reference (scalar oracle) or an instruction set", NULL,

@@ -32,6 +32,7 @@ static const struct dao_params common = {
 	.ssao_min = 0.02f,
 	.ssao_max = 0.5f,
 	.edl_radius = 1.5f,
+	.vbao_thickness = 0.2f,
 	.threads = 0,
 	.simd = DAO_SIMD_AUTO,
 	.denoise = DAO_DENOISE_PLANE,

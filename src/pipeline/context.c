@@ -329,6 +329,7 @@ static void stage_gtao(void *arg, int y0, int y1)
 	case DAO_ALGORITHM_HBAO: dao_hbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
+	case DAO_ALGORITHM_VBAO: dao_vbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	default: j->k.gtao(&j->gtao, c->z, c->izp, c->n, c->ao_raw, y0, y1); break;
 	}
 }
