@@ -109,6 +109,8 @@ struct dao_params {
 	float ssao_min, ssao_max; /* SSAO: a sample counts when the surface is this far in front, m */
 	float edl_radius;         /* EDL neighbour distance, px */
 	float vbao_thickness;     /* VBAO: assumed thickness of what the depth image shows, m */
+	float temporal;           /* share of the history in each output (0 = off), streams */
+	float temporal_reject;    /* history dropped where depth changed by more than this share */
 	int threads;              /* worker threads of a context, 0 = one per available CPU */
 	int simd;                 /* enum dao_simd */
 

@@ -38,6 +38,9 @@ struct dao_context {
 	float *ao;      /* after denoise (aliases ao_raw when none) */
 	float *ao_buf;  /* storage for the denoised plane */
 	float *tmp;     /* scratch of the separable denoise */
+	float *hist_ao; /* temporal accumulation: the last output ... */
+	float *hist_z;  /* ... and the depth it was computed for */
+	int hist_valid;
 	float *izp;     /* 1/z of the filtered depth with a 1-px border of zeros (optimised kernels) */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -124,8 +127,8 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->cam = checked;
 	ctx->params = p;
 	ctx->npix = (size_t)checked.width * checked.height;
-	/* 1 + 1 + 3 + 1 + 1 + 1 planes of floats */
-	float *mem = malloc(ctx->npix * 8 * sizeof(float));
+	/* 1 + 1 + 3 + 1 + 1 + 1 + 2 planes of floats */
+	float *mem = malloc(ctx->npix * 10 * sizeof(float));
 	if (!mem) {
 		free(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
@@ -137,6 +140,8 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->ao_raw = mem + 5 * ctx->npix;
 	ctx->ao_buf = mem + 6 * ctx->npix;
 	ctx->tmp = mem + 7 * ctx->npix;
+	ctx->hist_ao = mem + 8 * ctx->npix;
+	ctx->hist_z = mem + 9 * ctx->npix;
 	ctx->izp = calloc(((size_t)checked.width + 2) * (checked.height + 2), sizeof(float));
 	if (!ctx->izp) {
 		dao_context_destroy(ctx);
@@ -180,6 +185,7 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 			return r;
 	}
 	ctx->params = *params;
+	ctx->hist_valid = 0; /* new settings: the history no longer matches */
 	return 0;
 }
 
@@ -354,6 +360,31 @@ static void stage_denoise_v(void *arg, int y0, int y1)
 				y0, y1);
 }
 
+/*
+ * Temporal accumulation: an exponential history per pixel, out = (1 - a) cur
+ * + a hist, dropped where the depth moved by more than temporal_reject of it
+ * (something moved in or out: disocclusion).  The noise pattern changes with
+ * the frame index, so a still scene converges instead of flickering.
+ */
+static void stage_temporal(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	struct dao_context *c = j->ctx;
+	const float a = c->params.temporal, reject = c->params.temporal_reject;
+	const int w = (int)c->cam.width;
+	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++) {
+		float z = c->z[i], hz = c->hist_z[i];
+		if (!(z > 0.0f) && c->hist_valid)
+			continue; /* a hole this frame: the pixel's history waits for its return */
+		int keep = c->hist_valid && hz > 0.0f && fabsf(z - hz) <= reject * z;
+		float out = keep ? (1.0f - a) * c->ao[i] + a * c->hist_ao[i] : c->ao[i];
+		c->ao[i] = out;
+		c->hist_ao[i] = out;
+		/* the history's depth is averaged too: sensor noise alone then rarely trips it */
+		c->hist_z[i] = keep ? (1.0f - a) * z + a * hz : z;
+	}
+}
+
 /* Pixels without input depth are exactly invalid_value, whatever the filters did;
  * then the caller's output format. */
 static void stage_output(void *arg, int y0, int y1)
@@ -467,6 +498,12 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	default:
 		ctx->ao = ctx->ao_raw;
 		break;
+	}
+	if (p->temporal > 0.0f) {
+		dao_pool_run(ctx->pool, h, 8, stage_temporal, &job);
+		ctx->hist_valid = 1;
+	} else {
+		ctx->hist_valid = 0;
 	}
 	const double t5 = now_ms();
 	dao_pool_run(ctx->pool, h, 8, stage_output, &job);
