@@ -14,7 +14,8 @@
 #define DEG (3.14159265358979323846 / 180.0)
 
 static const char *const names[] = {
-	"plane", "room-corner", "spheres", "stairs", "boxes", "thin-pole", NULL,
+	"plane", "room-corner", "spheres", "stairs", "boxes", "thin-pole",
+	"thin-poles", "chair", "floating-plate", NULL,
 };
 
 const char *const *synth_scene_names(void)
@@ -156,10 +157,36 @@ int synth_scene_build(const char *name, double t, struct synth_scene *s, struct 
 		back_wall(s, 3.0);
 		cylinder(s, v3(0.0 + 0.3 * t, 2.72, 1.0), v3(0, 0, 1), 0.025, 1.0);
 		look_at(s, v3(0.3, 0.3, 1.2), v3(0, 3.0, 0.9));
+	} else if (strcmp(name, "thin-poles") == 0) {
+		/* thickness stress: what is behind a thin object is lit */
+		s->description = "a row of thin poles in front of a wall";
+		floor_plane(s);
+		back_wall(s, 3.0);
+		for (int i = 0; i < 5; i++)
+			cylinder(s, v3(-0.8 + 0.4 * i + 0.2 * t, 2.4 + 0.1 * (i % 2), 0.9), v3(0, 0, 1),
+				 0.02, 0.9);
+		look_at(s, v3(0.1, 0.0, 1.3), v3(0, 3.0, 0.8));
+	} else if (strcmp(name, "chair") == 0) {
+		s->description = "a chair-like frame: four thin legs, a seat and a back";
+		floor_plane(s);
+		back_wall(s, 3.2);
+		const double cx = 0.1 + 0.3 * t, cy = 2.0;
+		for (int i = 0; i < 4; i++)
+			box(s, v3(cx + (i & 1 ? 0.2 : -0.2), cy + (i & 2 ? 0.2 : -0.2), 0.225),
+			    v3(0.02, 0.02, 0.225), 0);
+		box(s, v3(cx, cy, 0.47), v3(0.24, 0.24, 0.025), 0);
+		box(s, v3(cx, cy + 0.22, 0.75), v3(0.24, 0.02, 0.26), 0);
+		look_at(s, v3(0.6, 0.2, 1.4), v3(0.1, 2.2, 0.3));
+	} else if (strcmp(name, "floating-plate") == 0) {
+		s->description = "a thin plate floating above the floor";
+		floor_plane(s);
+		back_wall(s, 3.4);
+		box(s, v3(0.0, 1.8, 0.35 + 0.2 * t), v3(0.4, 0.3, 0.01), 25);
+		look_at(s, v3(0.4, -0.2, 1.6), v3(0, 1.9, 0.2));
 	} else {
 		return dao_error_set(err, -EINVAL,
 				     "unknown scene '%s': use plane, room-corner, spheres, stairs, "
-				     "boxes or thin-pole", name);
+				     "boxes, thin-pole, thin-poles, chair or floating-plate", name);
 	}
 	s->name = name;
 	for (const char *const *n = names; *n; n++)

@@ -13,6 +13,12 @@ int synth_scene_is_structured(const char *scene)
 	return strcmp(scene, "plane") != 0;
 }
 
+int synth_scene_is_foundation(const char *scene)
+{
+	return strcmp(scene, "thin-poles") != 0 && strcmp(scene, "chair") != 0 &&
+	       strcmp(scene, "floating-plate") != 0;
+}
+
 int synth_case_make(struct synth_case *c, const char *scene, int noisy, const float *depth,
 		    float *gt, int width, int height, uint64_t seed, struct dao_error *err)
 {

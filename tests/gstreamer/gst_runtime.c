@@ -170,7 +170,10 @@ int main(int argc, char **argv)
 	g_object_get(ao, "radius", &radius, "depth-min", &dmin, "slices", &slices, NULL);
 	GValue v = G_VALUE_INIT;
 	g_object_get_property(G_OBJECT(ao), "quality", &v);
-	quality = g_enum_to_string(G_VALUE_TYPE(&v), g_value_get_enum(&v));
+	GEnumClass *ec = g_type_class_ref(G_VALUE_TYPE(&v));
+	GEnumValue *ev = g_enum_get_value(ec, g_value_get_enum(&v));
+	quality = g_strdup(ev ? ev->value_nick : "?");
+	g_type_class_unref(ec);
 	g_value_unset(&v);
 	CHECK(radius == 0.25, "radius reads back as %.17g", radius);
 	CHECK(dmin == 30.0, "depth-min reads back as %.17g", dmin);
