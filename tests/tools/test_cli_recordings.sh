@@ -43,6 +43,11 @@ expect_exit 0 "images source" -- "$DEPTHAO" process --input "images:$WORK/syn/bo
 	--ao-out "$WORK/img" --quiet
 cmp -s "$WORK/img/000001.png" "$WORK/png1.png" || fail "images:DIR frame 1 differs from the PNG path"
 
+# compare: the algorithms side by side (depth, ground truth, 5 algorithms at half size)
+expect_exit 0 "compare" -- "$DEPTHAO" compare --scene floating-plate --rays 1 --out "$WORK/cmp.png"
+png_is "$WORK/cmp.png" "1280 480 rgb24"
+expect_usage_error "compare without input" -- "$DEPTHAO" compare --out "$WORK/x.png"
+
 # errors a user can cause
 expect_exit 1 "--start past the end" -- "$DEPTHAO" process --input "$REC" --start 99 --ao-out "$WORK/x"
 grep -q "start frame 99 is past the end" "$WORK/err" || fail "start past end: $(cat "$WORK/err")"

@@ -17,6 +17,7 @@ static void usage(FILE *out)
 		"  process   depth PNGs, .oni recordings or devices -> AO and shaded PNGs\n"
 		"  synth     write synthetic scenes with ray-traced ground-truth AO\n"
 		"  eval      measure every quality preset against the ground truth\n"
+		"  compare   the algorithms side by side in one picture\n"
 		"  bench     time the pipeline and its stages per size, preset and thread count\n"
 		"  devices   list source/sink plugins and the devices they can open\n"
 		"  ctl       talk to a running depthaod (stats, get/set, pause, snapshot)\n"
@@ -58,6 +59,8 @@ int main(int argc, char **argv)
 		return cmd_synth(argc - 1, argv + 1);
 	if (strcmp(cmd, "eval") == 0)
 		return cmd_eval(argc - 1, argv + 1);
+	if (strcmp(cmd, "compare") == 0)
+		return cmd_compare(argc - 1, argv + 1);
 	if (strcmp(cmd, "ctl") == 0)
 		return cmd_ctl(argc - 1, argv + 1);
 	if (strcmp(cmd, "devices") == 0)
