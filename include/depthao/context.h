@@ -82,6 +82,16 @@ DAO_API int dao_context_get_normals(const struct dao_context *ctx, struct dao_fr
 DAO_API int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  struct dao_error *err);
 
+/*
+ * Bent normals of the last frame (DAO_PIXFMT_NORMAL_F32, unit vectors in the
+ * optical frame; 0 where there is no depth): the mean open direction of each
+ * pixel from GTAO's horizons (Jimenez 2016), for lighting with environment
+ * maps.  Computed on request by the reference kernel, so it costs about as
+ * much as a reference GTAO pass; -EAGAIN before the first frame.
+ */
+DAO_API int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
+					 struct dao_error *err);
+
 /* Wall-clock time of each stage of the last frame, milliseconds. */
 struct dao_timings {
 	double decode_ms;     /* depth input to metres */

@@ -50,6 +50,14 @@ void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 void dao_gtao_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *ao,
 		  int y0, int y1);
 
+/*
+ * Bent normals (unit, view space; 0 where there is no depth) from the same
+ * horizons as dao_gtao_ref: per slice the direction halfway between its two
+ * horizons, weighted like the slice integral.
+ */
+void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *bent,
+		       int y0, int y1);
+
 /* Fills tile[0..8191] with this frame's R2 noise pairs over a 64 x 64 tile. */
 void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index);
 

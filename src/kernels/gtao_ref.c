@@ -53,8 +53,33 @@ static float search_side(const struct dao_gtao_setup *s, const float *z, int x, 
 	return best;
 }
 
+/*
+ * Antiderivatives of cos t cos(t - n) sin t (towards V, which = 0) and of
+ * sin^2 t cos(t - n) (towards the slice direction, which = 1), expanding
+ * cos(t - n) = cos t cos n + sin t sin n.
+ */
+static float bent_f(float t, float n, int which)
+{
+	float c = cosf(t), s = sinf(t);
+	if (which == 0)
+		return (-cosf(n) * c * c * c + sinf(n) * s * s * s) / 3.0f;
+	return (cosf(n) * s * s * s + sinf(n) * (c * c * c - 3.0f * c)) / 3.0f;
+}
+
+/* The integral over [a, b] with |sin t| (the sign flips below t = 0). */
+static float bent_integral(float a, float b, float n, int which)
+{
+	if (a >= 0.0f)
+		return bent_f(b, n, which) - bent_f(a, n, which);
+	if (b <= 0.0f)
+		return bent_f(a, n, which) - bent_f(b, n, which);
+	float f0 = bent_f(0.0f, n, which);
+	return (bent_f(b, n, which) - f0) + (bent_f(a, n, which) - f0);
+}
+
+/* Visibility of one pixel; with `bent` != NULL also its bent normal (unit, view space). */
 static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const float *nrm, int x,
-			int y)
+			int y, float bent[3])
 {
 	const float zc = z[(size_t)y * s->width + x];
 	const float P[3] = { ((float)x * s->ax + s->bx) * zc, ((float)y * s->ay + s->by) * zc, zc };
@@ -63,8 +88,11 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 	const float *N = nrm + 3 * ((size_t)y * s->width + x);
 
 	float r_px = s->search_radius * s->focal / zc;
+	if (bent)
+		bent[0] = N[0], bent[1] = N[1], bent[2] = N[2];
 	if (r_px < s->min_r_px || r_px < 1.0f)
 		return 1.0f;
+	float bsum[3] = {0.0f, 0.0f, 0.0f};
 	r_px = fminf(r_px, s->max_r_px);
 
 	float n0, n1;
@@ -110,6 +138,19 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 		 * by it makes an open surface exactly 1 for any slice set (a ratio estimator
 		 * of the hemisphere average, with far less variance at few slices) */
 		norm += lpn * (cos_n + n * sin_n);
+		if (bent) {
+			/* the cosine-weighted mean of the open directions of the slice:
+			 * lpn * integral over [h0, h1] of (cos t V + sin t o) cos(t - n) |sin t| dt */
+			float av = bent_integral(h0, h1, n, 0), ao = bent_integral(h0, h1, n, 1);
+			float lo = sqrtf(dot3(ortho, ortho));
+			for (int k = 0; k < 3; k++)
+				bsum[k] += lpn * (av * V[k] + ao * ortho[k] / lo);
+		}
+	}
+	if (bent) {
+		float lb = sqrtf(dot3(bsum, bsum));
+		if (lb > 1e-6f)
+			bent[0] = bsum[0] / lb, bent[1] = bsum[1] / lb, bent[2] = bsum[2] / lb;
 	}
 	return norm > 0.0f ? vis / norm : 1.0f;
 }
@@ -120,7 +161,22 @@ void dao_gtao_ref(const struct dao_gtao_setup *s, const float *z, const float *n
 	for (int y = y0; y < y1; y++)
 		for (int x = 0; x < s->width; x++) {
 			size_t i = (size_t)y * s->width + x;
-			ao[i] = z[i] > 0.0f ? dao_gtao_finish(s, gtao_pixel(s, z, n, x, y))
+			ao[i] = z[i] > 0.0f ? dao_gtao_finish(s, gtao_pixel(s, z, n, x, y, NULL))
 					    : s->invalid_value;
+		}
+}
+
+void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *bent,
+		       int y0, int y1)
+{
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < s->width; x++) {
+			size_t i = (size_t)y * s->width + x;
+			if (z[i] > 0.0f) {
+				gtao_pixel(s, z, n, x, y, bent + 3 * i);
+			} else {
+				bent[3 * i] = bent[3 * i + 1] = 0.0f;
+				bent[3 * i + 2] = 0.0f;
+			}
 		}
 }

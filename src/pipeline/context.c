@@ -38,6 +38,8 @@ struct dao_context {
 	float *ao;      /* after denoise (aliases ao_raw when none) */
 	float *ao_buf;  /* storage for the denoised plane */
 	float *tmp;     /* scratch of the separable denoise */
+	float *bent;    /* bent normals, made on request (dao_context_get_bent_normals) */
+	uint64_t last_frame_index;
 	float *hist_ao; /* temporal accumulation: the last output ... */
 	float *hist_z;  /* ... and the depth it was computed for */
 	int hist_valid;
@@ -166,6 +168,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	dao_pool_destroy(ctx->pool);
 	free(ctx->z_raw);
 	free(ctx->izp);
+	free(ctx->bent);
 	free(ctx);
 }
 
@@ -516,6 +519,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	tm->output_ms = t6 - t5;
 	tm->process_ms = t6 - t0;
 	ctx->have_frame = 1;
+	ctx->last_frame_index = frame_index;
 	return 0;
 }
 
@@ -619,6 +623,40 @@ int dao_context_get_normals(const struct dao_context *ctx, struct dao_frame *out
 			    struct dao_error *err)
 {
 	return copy_plane(ctx, ctx ? ctx->n : NULL, 3, DAO_PIXFMT_NORMAL_F32, out, "normals output",
+			  err);
+}
+
+struct bent_job {
+	struct dao_context *ctx;
+	struct dao_gtao_setup gtao;
+};
+
+static void stage_bent(void *arg, int y0, int y1)
+{
+	struct bent_job *j = arg;
+	dao_gtao_bent_ref(&j->gtao, j->ctx->z, j->ctx->n, j->ctx->bent, y0, y1);
+}
+
+int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
+				 struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	if (!ctx->have_frame)
+		return dao_error_set(err, -EAGAIN, "bent normals: no frame processed yet");
+	if (!ctx->bent && !(ctx->bent = malloc(3 * ctx->npix * sizeof(float))))
+		return dao_error_set(err, -ENOMEM, "out of memory for bent normals");
+	struct bent_job job = {.ctx = ctx};
+	dao_gtao_setup_init(&job.gtao, &ctx->cam, &ctx->params, ctx->last_frame_index);
+	if (ctx->params.noise == DAO_NOISE_R2) {
+		if (ctx->r2_frame != (ctx->last_frame_index & 63u)) {
+			dao_gtao_fill_r2_tile(ctx->r2_tile, ctx->last_frame_index);
+			ctx->r2_frame = ctx->last_frame_index & 63u;
+		}
+		job.gtao.r2_tile = ctx->r2_tile;
+	}
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 2, stage_bent, &job);
+	return copy_plane(ctx, ctx->bent, 3, DAO_PIXFMT_NORMAL_F32, out, "bent normals output",
 			  err);
 }
 

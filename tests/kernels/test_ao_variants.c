@@ -5,6 +5,7 @@
  * closed form, MAE printed), EDL darkens only the far side of a depth step,
  * strength 0 switches them off, and results do not depend on the thread count.
  */
+#include <errno.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -140,6 +141,56 @@ static void test_vbao_thin_bar(void **state)
 	free(v);
 }
 
+/* Bent normals: the normal on open ground, tilted away from a wall beside it. */
+static void test_bent_normals(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	floor_wall_scene(&s);
+	struct dao_camera cam;
+	struct dao_error err;
+	dao_camera_from_intrinsics(&cam, W, H, 100, 100, 63.5, 47.5, NULL);
+	struct synth_image img;
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	struct dao_params p = params_for(DAO_ALGORITHM_GTAO);
+	struct dao_context *ctx;
+	assert_int_equal(dao_context_create(&ctx, &cam, &p, &err), 0);
+	float *bent = malloc(3 * W * H * sizeof(float)), *nrm = malloc(3 * W * H * sizeof(float));
+	struct dao_frame bf = {DAO_PIXFMT_NORMAL_F32, W, H, W * 12, bent, 0, 0, 0};
+	struct dao_frame nf = {DAO_PIXFMT_NORMAL_F32, W, H, W * 12, nrm, 0, 0, 0};
+	assert_int_equal(dao_context_get_bent_normals(ctx, &bf, &err), -EAGAIN);
+	struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, W, H, W * 4, img.depth, 0, 0, 0};
+	assert_int_equal(dao_context_process(ctx, &in, NULL, 0, NULL, &err), 0);
+	assert_int_equal(dao_context_get_bent_normals(ctx, &bf, &err), 0);
+	assert_int_equal(dao_context_get_normals(ctx, &nf, &err), 0);
+	double far_dev = 0, near_dx = 0;
+	int nfar = 0, nnear = 0;
+	for (int y = 40; y < 56; y++)
+		for (int x = 0; x < W; x++) {
+			double X = (x - 63.5) / 100.0 * 2.0;
+			const float *b = bent + 3 * (y * W + x), *nn = nrm + 3 * (y * W + x);
+			double len = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+			assert_true(fabs(len - 1.0) < 1e-4);
+			if (X < -0.3) { /* beyond R from the wall: open, bent = normal */
+				far_dev += acos(fmin(1.0, b[0] * nn[0] + b[1] * nn[1] + b[2] * nn[2]));
+				nfar++;
+			} else if (X > 0.15 && X < 0.28) { /* beside the wall at +x: bent towards -x */
+				near_dx += b[0] - nn[0];
+				nnear++;
+			}
+		}
+	far_dev /= nfar;
+	near_dx /= nnear;
+	print_message("bent normals: %.2f deg from the normal on open floor, x shift %.3f beside the wall\n",
+		      far_dev * 180 / 3.14159265, near_dx);
+	assert_true(far_dev < 2.0 * 3.14159265 / 180); /* within 2 degrees */
+	assert_true(near_dx < -0.1);
+	dao_context_destroy(ctx);
+	free(bent);
+	free(nrm);
+	synth_image_free(&img);
+}
+
 static void test_edl_step(void **state)
 {
 	(void)state;
@@ -199,6 +250,7 @@ int main(void)
 		cmocka_unit_test(test_open_plane),
 		cmocka_unit_test(test_floor_and_wall),
 		cmocka_unit_test(test_vbao_thin_bar),
+		cmocka_unit_test(test_bent_normals),
 		cmocka_unit_test(test_edl_step),
 		cmocka_unit_test(test_strength_zero_and_threads),
 	};
