@@ -112,16 +112,30 @@ int process_stream(const struct process_options *o)
 	struct run_state st = {0};
 	int status = 1;
 
-	if (cli_plugins_load(&plugins, &err)) {
-		fprintf(stderr, "depthao: %s\n", err.message);
-		return 1;
-	}
 	struct dao_source_options so = {
 		.playback = o->realtime ? DAO_PLAYBACK_REALTIME : DAO_PLAYBACK_MANUAL,
 		.start_frame = o->start,
 		.depth_unit = (float)o->depth_unit,
 	};
-	if (dao_source_open(plugins, o->input, &so, &src, &err)) {
+	/* the built-in sources first: a recording then costs no plugin modules (OpenCV and
+	 * OpenNI2 pull in tens of megabytes); the modules only when no built-in takes it */
+	if (dao_plugins_load(&plugins, "", &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	int r = dao_source_open(plugins, o->input, &so, &src, &err);
+	if (r == -ENOENT && !strncmp(err.message, "no source", 9)) {
+		/* no built-in source for this URI ("no source plugin ...", "no source
+		 * recognises ..."; not a missing file) */
+		dao_plugins_free(plugins);
+		plugins = NULL;
+		if (cli_plugins_load(&plugins, &err)) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			return 1;
+		}
+		r = dao_source_open(plugins, o->input, &so, &src, &err);
+	}
+	if (r) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		goto out;
 	}
