@@ -27,6 +27,13 @@ echo "processed $n1 -> $n2; fast sink $fast out ($fast_dropped dropped); slow si
 [ $((rss2 - rss1)) -le 4096 ] || fail "RSS grew by $((rss2 - rss1)) kB over $((n2 - n1)) frames"
 stop_daemon || fail "exit status"
 
+# a sink stuck in a write: SIGTERM still ends the daemon within a second (exit 1, logged)
+start_daemon "$WORK/log-stuck" --source "testsrc:fps=50" --sink stuck=slowsink:5000 --stats-interval 0
+sleep 1
+if stop_daemon; then fail "exit 0 with a stuck sink"; fi
+grep -q "sink stuck did not finish within the stop deadline" "$WORK/log-stuck" ||
+	fail "stuck sink not reported: $(cat "$WORK/log-stuck")"
+
 # the source is unplugged every 20 frames: reopened each time, the daemon stays up
 start_daemon "$WORK/log2" --source "testsrc:fps=200,fail_after=20" --sink fast=y4m:/dev/null \
 	--socket "$SOCK" --set source.retry_initial_ms=50

@@ -52,6 +52,7 @@ struct daemon {
 	pthread_mutex_t lock;         /* params, pause, snapshot, source info */
 	pthread_cond_t wake;
 	atomic_int stop, finished, paused;
+	int stragglers;               /* threads that missed the stop deadline */
 
 	struct dao_params params;
 	int params_pending;
@@ -632,10 +633,11 @@ int daemon_finished(struct daemon *d)
 	return atomic_load(&d->finished);
 }
 
-static void join_by(pthread_t t, int *running, uint64_t deadline, const char *what)
+/* Joins a thread by the deadline; 0 if it is still running then. */
+static int join_by(pthread_t t, int *running, uint64_t deadline, const char *what)
 {
 	if (!*running)
-		return;
+		return 1;
 	uint64_t n = now_ns();
 	uint64_t left = deadline > n ? deadline - n : 0;
 	struct timespec abs;
@@ -649,9 +651,10 @@ static void join_by(pthread_t t, int *running, uint64_t deadline, const char *wh
 	if (pthread_timedjoin_np(t, NULL, &abs) != 0) {
 		log_error("%s did not finish within the stop deadline; its output may be "
 			  "incomplete", what);
-		pthread_detach(t);
+		return 0; /* still running: it keeps its memory (*running stays set) */
 	}
 	*running = 0;
+	return 1;
 }
 
 void daemon_stop(struct daemon *d)
@@ -662,14 +665,20 @@ void daemon_stop(struct daemon *d)
 	pthread_mutex_unlock(&d->lock);
 	uint64_t deadline = now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u;
 	fq_close(d->input); /* capture stops pushing; processing drains or drops */
-	join_by(d->capture, &d->capture_running, deadline, "the source");
-	join_by(d->process, &d->process_running, deadline, "the processing thread");
+	int all = join_by(d->capture, &d->capture_running, deadline, "the source");
+	all &= join_by(d->process, &d->process_running, deadline, "the processing thread");
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		char what[96];
 		snprintf(what, sizeof what, "sink %s", d->sinks[i].cfg->name);
 		fq_close(d->sinks[i].q);
-		join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what);
+		all &= join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what);
 	}
+	d->stragglers = !all;
+}
+
+int daemon_stragglers(struct daemon *d)
+{
+	return d->stragglers;
 }
 
 void daemon_destroy(struct daemon *d)
@@ -678,9 +687,9 @@ void daemon_destroy(struct daemon *d)
 		return;
 	if (d->capture_running || d->process_running)
 		daemon_stop(d);
+	if (d->stragglers)
+		return; /* a thread still uses the daemon's memory: the process exit frees it */
 	for (unsigned i = 0; i < d->nsinks; i++) {
-		if (d->sinks[i].running) /* detached at the deadline: leave its memory */
-			return;
 		fq_destroy(d->sinks[i].q);
 		pthread_mutex_destroy(&d->sinks[i].lat_lock);
 	}

@@ -26,6 +26,8 @@ int daemon_start(struct daemon *d, char *msg, size_t len);
 int daemon_finished(struct daemon *d);
 /* Stops capture, drains or drops the queues as configured, finalises the sinks. */
 void daemon_stop(struct daemon *d);
+/* 1 if a thread missed daemon_stop's deadline (the process should exit now). */
+int daemon_stragglers(struct daemon *d);
 void daemon_destroy(struct daemon *d);
 
 /* AO parameters, applied between frames. */

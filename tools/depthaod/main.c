@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <depthao/depthao.h>
 
@@ -331,6 +332,11 @@ int main(int argc, char **argv)
 	ctl = NULL;
 	daemon_stop(d);
 	log_stats(d, cfg.stats_json);
+	if (daemon_stragglers(d)) {
+		/* within the promised second, even if a frame or a write is stuck */
+		log_error("exiting with work unfinished");
+		_exit(1);
+	}
 	status = 0;
 out:
 	control_stop(ctl);
