@@ -19,7 +19,7 @@
 #define DEFAULT_VFOV_DEG 45.6
 #define LATENCY_RING 512
 #define READ_TIMEOUT_MS 200
-#define STOP_DEADLINE_MS 900
+#define STOP_DEADLINE_MS 700
 
 struct sink_runner {
 	struct daemon *d;
