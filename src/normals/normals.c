@@ -40,39 +40,42 @@ static int axis_delta(const struct dao_camera *c, const float *z, int x, int y, 
 	return 0;
 }
 
+void dao_normal_pixel(const struct dao_camera *cam, const float *z, int r, int x, int y,
+		      float out[3])
+{
+	const int w = (int)cam->width;
+	const float zc = z[(size_t)y * w + x];
+	if (zc <= 0.0f) {
+		out[0] = 0.0f, out[1] = 0.0f, out[2] = -1.0f;
+		return;
+	}
+	float p[3], dx[3], dy[3];
+	view_pos(cam, x, y, zc, p);
+	float len_p = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+	if (!axis_delta(cam, z, x, y, 1, 0, r, p, dx) || !axis_delta(cam, z, x, y, 0, 1, r, p, dy)) {
+		out[0] = -p[0] / len_p, out[1] = -p[1] / len_p, out[2] = -p[2] / len_p;
+		return;
+	}
+	/* dPdx x dPdy points away from the camera in the optical frame
+	 * (x right, y down, z forward); flip so N faces the viewer */
+	float c0 = dx[1] * dy[2] - dx[2] * dy[1];
+	float c1 = dx[2] * dy[0] - dx[0] * dy[2];
+	float c2 = dx[0] * dy[1] - dx[1] * dy[0];
+	float len = sqrtf(c0 * c0 + c1 * c1 + c2 * c2);
+	if (!(len > 0.0f)) {
+		out[0] = -p[0] / len_p, out[1] = -p[1] / len_p, out[2] = -p[2] / len_p;
+		return;
+	}
+	if (c0 * p[0] + c1 * p[1] + c2 * p[2] > 0.0f)
+		len = -len;
+	out[0] = c0 / len, out[1] = c1 / len, out[2] = c2 / len;
+}
+
 void dao_normals_from_depth(const struct dao_camera *cam, const float *z, int r, float *n,
 			    int y0, int y1)
 {
 	const int w = (int)cam->width;
-	for (int y = y0; y < y1; y++) {
-		for (int x = 0; x < w; x++) {
-			float *out = n + 3 * ((size_t)y * w + x);
-			const float zc = z[(size_t)y * w + x];
-			if (zc <= 0.0f) {
-				out[0] = 0.0f, out[1] = 0.0f, out[2] = -1.0f;
-				continue;
-			}
-			float p[3], dx[3], dy[3];
-			view_pos(cam, x, y, zc, p);
-			float len_p = sqrtf(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-			if (!axis_delta(cam, z, x, y, 1, 0, r, p, dx) ||
-			    !axis_delta(cam, z, x, y, 0, 1, r, p, dy)) {
-				out[0] = -p[0] / len_p, out[1] = -p[1] / len_p, out[2] = -p[2] / len_p;
-				continue;
-			}
-			/* dPdx x dPdy points away from the camera in the optical frame
-			 * (x right, y down, z forward); flip so N faces the viewer */
-			float c0 = dx[1] * dy[2] - dx[2] * dy[1];
-			float c1 = dx[2] * dy[0] - dx[0] * dy[2];
-			float c2 = dx[0] * dy[1] - dx[1] * dy[0];
-			float len = sqrtf(c0 * c0 + c1 * c1 + c2 * c2);
-			if (!(len > 0.0f)) {
-				out[0] = -p[0] / len_p, out[1] = -p[1] / len_p, out[2] = -p[2] / len_p;
-				continue;
-			}
-			if (c0 * p[0] + c1 * p[1] + c2 * p[2] > 0.0f)
-				len = -len;
-			out[0] = c0 / len, out[1] = c1 / len, out[2] = c2 / len;
-		}
-	}
+	for (int y = y0; y < y1; y++)
+		for (int x = 0; x < w; x++)
+			dao_normal_pixel(cam, z, r, x, y, n + 3 * ((size_t)y * w + x));
 }

@@ -18,4 +18,16 @@
 void dao_normals_from_depth(const struct dao_camera *cam, const float *z, int r, float *n,
 			    int y0, int y1);
 
+/* One pixel of the same (the fallback of the optimised kernels). */
+void dao_normal_pixel(const struct dao_camera *cam, const float *z, int r, int x, int y,
+		      float out[3]);
+
+/* The same over SIMD lanes (normals_simd.inc.c, one build per instruction set). */
+void dao_normals_from_depth_generic(const struct dao_camera *cam, const float *z, int r, float *n,
+				    int y0, int y1);
+void dao_normals_from_depth_sse41(const struct dao_camera *cam, const float *z, int r, float *n,
+				  int y0, int y1);
+void dao_normals_from_depth_avx2(const struct dao_camera *cam, const float *z, int r, float *n,
+				 int y0, int y1);
+
 #endif

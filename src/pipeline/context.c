@@ -325,7 +325,7 @@ static void stage_prefilter_v(void *arg, int y0, int y1)
 static void stage_normals(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	dao_normals_from_depth(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
+	j->k.normals(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
 	if (j->k.simd != DAO_SIMD_REFERENCE)
 		fill_inverse_depth(j->ctx, y0, y1);
 }

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include "depth/prefilter.h"
 #include "kernels/gtao_simd.h"
+#include "normals/normals.h"
 #include "pipeline/kernels.h"
 
 static void gtao_reference(const struct dao_gtao_setup *s, const float *z, const float *izp,
@@ -15,6 +16,7 @@ static void gtao_reference(const struct dao_gtao_setup *s, const float *z, const
 	{                                                                                    \
 		.prefilter_h = dao_prefilter_h_##isa, .prefilter_v = dao_prefilter_v_##isa,  \
 		.gtao = dao_gtao_simd_##isa, .denoise_plane = dao_denoise_plane_##isa,       \
+		.normals = dao_normals_from_depth_##isa,                                     \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -37,6 +39,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.prefilter_v = dao_prefilter_v_ref,
 			.gtao = gtao_reference,
 			.denoise_plane = dao_denoise_plane,
+			.normals = dao_normals_from_depth,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

@@ -20,6 +20,8 @@ struct dao_kernels {
 		     const float *n, float *ao, int y0, int y1);
 	void (*denoise_plane)(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
 			      float *ao_out, int y0, int y1);
+	void (*normals)(const struct dao_camera *cam, const float *z, int r, float *n, int y0,
+			int y1);
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

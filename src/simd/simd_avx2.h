@@ -63,6 +63,7 @@ static inline vm m_and(vm a, vm b) { return _mm256_and_ps(a, b); }
 static inline vm m_or(vm a, vm b) { return _mm256_or_ps(a, b); }
 static inline vm m_andnot(vm a, vm b) { return _mm256_andnot_ps(b, a); } /* a & ~b */
 static inline int m_any(vm a) { return _mm256_movemask_ps(a) != 0; }
+static inline int m_all(vm a) { return _mm256_movemask_ps(a) == 0xff; }
 static inline vf v_sel(vm m, vf a, vf b) { return _mm256_blendv_ps(b, a, m); }
 
 static inline vi vi_set1(int32_t a) { return _mm256_set1_epi32(a); }

@@ -63,6 +63,7 @@ static inline vm m_and(vm a, vm b) { return a & b; }
 static inline vm m_or(vm a, vm b) { return a | b; }
 static inline vm m_andnot(vm a, vm b) { return a & ~b; }
 static inline int m_any(vm a) { return (a[0] | a[1] | a[2] | a[3]) != 0; }
+static inline int m_all(vm a) { return (a[0] & a[1] & a[2] & a[3]) != 0; }
 
 static inline vi vi_set1(int32_t a) { return (vi){ a, a, a, a }; }
 static inline vi vi_add(vi a, vi b) { return a + b; }

@@ -20,6 +20,7 @@
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
 #include "pipeline/kernels.h"
+#include "normals/normals.h"
 #include "simd/fastmath_check.h"
 #include "synth/synth.h"
 #include "common/test_common.h"
@@ -27,6 +28,7 @@
 /* bounds, optimised vs reference (measured on this project's machine in brackets) */
 #define PREFILTER_MAX_REL 2e-6    /* prefiltered depth, relative [6.7e-7] */
 #define DENOISE_MAX_ABS 1e-6      /* plane denoise output [2.4e-7] */
+#define NORMALS_MAX_ABS 1e-5      /* normal components (FMA contraction differs) */
 #define GTAO_MAE 2e-6             /* GTAO kernel on identical inputs [3.9e-7] */
 #define GTAO_P999 1e-4            /* 99.9th percentile of |difference| [2.7e-5] */
 #define GTAO_MAX 0.05             /* a sample snapping to the other pixel of a tie [0.012] */
@@ -230,6 +232,35 @@ static void test_prefilter(void **state)
 	}
 }
 
+static void test_normals(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	for (int i = 0; i < ninputs; i++) {
+		struct planes p;
+		make_planes(&inputs[i], &p);
+		const size_t np = (size_t)p.w * p.h;
+		float *ref = malloc(np * 12), *opt = malloc(np * 12);
+		for (int r = 1; r <= 4; r += 3) {
+			dao_normals_from_depth(&inputs[i].cam, p.z, r, ref, 0, p.h);
+			for (int k = 0; k < ns; k++) {
+				struct dao_kernels kr;
+				dao_kernels_select(&kr, sets[k]);
+				memset(opt, 0xff, np * 12);
+				kr.normals(&inputs[i].cam, p.z, r, opt, 0, p.h);
+				struct diff d = compare(ref, opt, 3 * np, 0);
+				print_message("normals r%d %-8s %-34s max %.2e\n", r, dao_simd_name(sets[k]),
+					      inputs[i].name, d.max);
+				assert_true(d.max <= NORMALS_MAX_ABS);
+			}
+		}
+		free(ref);
+		free(opt);
+		free_planes(&p);
+	}
+}
+
 static void test_denoise(void **state)
 {
 	(void)state;
@@ -418,6 +449,7 @@ int main(void)
 		cmocka_unit_test(test_fastmath),
 		cmocka_unit_test(test_prefilter),
 		cmocka_unit_test(test_denoise),
+		cmocka_unit_test(test_normals),
 		cmocka_unit_test(test_gtao),
 		cmocka_unit_test(test_pipeline),
 	};
