@@ -545,12 +545,13 @@ struct shade_job {
 	const struct dao_shade_setup *setup;
 	const struct dao_context *ctx;
 	const struct dao_frame *out;
+	struct dao_kernels k;
 };
 
 static void stage_shade(void *arg, int y0, int y1)
 {
 	const struct shade_job *j = arg;
-	dao_shade(j->setup, j->ctx->z_raw, j->ctx->n, j->ctx->ao, j->out, y0, y1);
+	j->k.shade(j->setup, j->ctx->z_raw, j->ctx->n, j->ctx->ao, j->out, y0, y1);
 }
 
 int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err)
@@ -594,6 +595,7 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 	};
 	const double t0 = now_ms();
 	struct shade_job sj = { .setup = &ss, .ctx = ctx, .out = out };
+	dao_kernels_select(&sj.k, dao_simd_resolve(p->simd));
 	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_shade, &sj);
 	ctx->times.shade_ms = now_ms() - t0;
 	return 0;

@@ -16,7 +16,7 @@ static void gtao_reference(const struct dao_gtao_setup *s, const float *z, const
 	{                                                                                    \
 		.prefilter_h = dao_prefilter_h_##isa, .prefilter_v = dao_prefilter_v_##isa,  \
 		.gtao = dao_gtao_simd_##isa, .denoise_plane = dao_denoise_plane_##isa,       \
-		.normals = dao_normals_from_depth_##isa,                                     \
+		.normals = dao_normals_from_depth_##isa, .shade = dao_shade_##isa,           \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -40,6 +40,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.gtao = gtao_reference,
 			.denoise_plane = dao_denoise_plane,
 			.normals = dao_normals_from_depth,
+			.shade = dao_shade,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

@@ -8,6 +8,7 @@
 #include "denoise/denoise.h"
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
+#include "shade/shade.h"
 
 struct dao_kernels {
 	enum dao_simd simd;
@@ -22,6 +23,8 @@ struct dao_kernels {
 			      float *ao_out, int y0, int y1);
 	void (*normals)(const struct dao_camera *cam, const float *z, int r, float *n, int y0,
 			int y1);
+	void (*shade)(const struct dao_shade_setup *s, const float *z, const float *n,
+		      const float *ao, const struct dao_frame *out, int y0, int y1);
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

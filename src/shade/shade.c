@@ -34,6 +34,20 @@ static void base_colour(const struct dao_shade_setup *s, int x, int y, float zc,
 	}
 }
 
+void dao_shade_pixel(const struct dao_shade_setup *s, const float *z, const float *n,
+		     const float *ao, int x, int y, float rgb[3])
+{
+	const size_t i = (size_t)y * s->width + x;
+	rgb[0] = rgb[1] = rgb[2] = 0.0f;
+	if (z[i] > 0.0f) {
+		base_colour(s, x, y, z[i], n + 3 * i, rgb);
+		float v = dao_saturate(ao[i]);
+		float k = s->power == 1.0f ? v : powf(v, s->power);
+		for (int c = 0; c < 3; c++)
+			rgb[c] = dao_lerpf(s->occ[c], rgb[c], k);
+	}
+}
+
 void dao_shade(const struct dao_shade_setup *s, const float *z, const float *n, const float *ao,
 	       const struct dao_frame *out, int y0, int y1)
 {
@@ -42,15 +56,8 @@ void dao_shade(const struct dao_shade_setup *s, const float *z, const float *n, 
 	for (int y = y0; y < y1; y++) {
 		uint8_t *row = (uint8_t *)out->data + (size_t)y * out->stride;
 		for (int x = 0; x < w; x++) {
-			const size_t i = (size_t)y * w + x;
-			float rgb[3] = { 0.0f, 0.0f, 0.0f };
-			if (z[i] > 0.0f) {
-				base_colour(s, x, y, z[i], n + 3 * i, rgb);
-				float v = dao_saturate(ao[i]);
-				float k = s->power == 1.0f ? v : powf(v, s->power);
-				for (int c = 0; c < 3; c++)
-					rgb[c] = dao_lerpf(s->occ[c], rgb[c], k);
-			}
+			float rgb[3];
+			dao_shade_pixel(s, z, n, ao, x, y, rgb);
 			if (gray) {
 				row[x] = (uint8_t)lrintf(
 					dao_clampf(0.299f * rgb[0] + 0.587f * rgb[1] + 0.114f * rgb[2], 0, 255));

@@ -28,4 +28,19 @@ struct dao_shade_setup {
 void dao_shade(const struct dao_shade_setup *s, const float *z, const float *n, const float *ao,
 	       const struct dao_frame *out, int y0, int y1);
 
+/* One pixel of the same, as floats 0..255 (the optimised kernels' fallback). */
+void dao_shade_pixel(const struct dao_shade_setup *s, const float *z, const float *n,
+		     const float *ao, int x, int y, float rgb[3]);
+
+/*
+ * The same over SIMD lanes (shade_simd.inc.c): the Lambert head light with
+ * AO^1 into RGB24 runs on lanes; other modes and outputs use dao_shade.
+ */
+void dao_shade_generic(const struct dao_shade_setup *s, const float *z, const float *n,
+		       const float *ao, const struct dao_frame *out, int y0, int y1);
+void dao_shade_sse41(const struct dao_shade_setup *s, const float *z, const float *n,
+		     const float *ao, const struct dao_frame *out, int y0, int y1);
+void dao_shade_avx2(const struct dao_shade_setup *s, const float *z, const float *n,
+		    const float *ao, const struct dao_frame *out, int y0, int y1);
+
 #endif

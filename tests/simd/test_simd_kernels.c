@@ -21,6 +21,7 @@
 #include "kernels/gtao.h"
 #include "pipeline/kernels.h"
 #include "normals/normals.h"
+#include "shade/shade.h"
 #include "simd/fastmath_check.h"
 #include "synth/synth.h"
 #include "common/test_common.h"
@@ -261,6 +262,44 @@ static void test_normals(void **state)
 	}
 }
 
+static void test_shade(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	for (int i = 0; i < ninputs; i++) {
+		struct planes p;
+		make_planes(&inputs[i], &p);
+		const size_t np = (size_t)p.w * p.h;
+		float *ao = malloc(np * 4);
+		unsigned seed = 9;
+		for (size_t k = 0; k < np; k++) {
+			seed = seed * 1103515245u + 12345u;
+			ao[k] = (float)((seed >> 8) & 0xffff) / 60000.0f - 0.02f; /* a little outside [0, 1] */
+		}
+		struct dao_frame ref, opt;
+		assert_int_equal(dao_frame_alloc(&ref, DAO_PIXFMT_RGB24, (uint32_t)p.w, (uint32_t)p.h, NULL), 0);
+		assert_int_equal(dao_frame_alloc(&opt, DAO_PIXFMT_RGB24, (uint32_t)p.w, (uint32_t)p.h, NULL), 0);
+		const struct dao_camera *c = &inputs[i].cam;
+		struct dao_shade_setup ss = {p.w, p.h, c->ax, c->ay, c->bx, c->by, DAO_SHADE_LAMBERT,
+					     0.5f, 5.0f, 1.0f, {30, 20, 10}, NULL};
+		dao_shade(&ss, p.z, p.n, ao, &ref, 0, p.h);
+		for (int k = 0; k < ns; k++) {
+			struct dao_kernels kr;
+			dao_kernels_select(&kr, sets[k]);
+			memset(opt.data, 0x55, np * 3);
+			kr.shade(&ss, p.z, p.n, ao, &opt, 0, p.h);
+			print_message("shade     %-8s %-34s %s\n", dao_simd_name(sets[k]), inputs[i].name,
+				      memcmp(ref.data, opt.data, np * 3) ? "DIFFERS" : "identical");
+			assert_memory_equal(ref.data, opt.data, np * 3);
+		}
+		dao_frame_free(&ref);
+		dao_frame_free(&opt);
+		free(ao);
+		free_planes(&p);
+	}
+}
+
 static void test_denoise(void **state)
 {
 	(void)state;
@@ -450,6 +489,7 @@ int main(void)
 		cmocka_unit_test(test_prefilter),
 		cmocka_unit_test(test_denoise),
 		cmocka_unit_test(test_normals),
+		cmocka_unit_test(test_shade),
 		cmocka_unit_test(test_gtao),
 		cmocka_unit_test(test_pipeline),
 	};
