@@ -25,6 +25,8 @@ PACKAGES=(
 	libinih-dev libopenni2-dev libv4l-dev libcamera-dev
 	xvfb xauth
 	python3 python3-numpy python3-pytest
+	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
+	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 )
 
 usage() {

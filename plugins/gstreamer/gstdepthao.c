@@ -615,7 +615,8 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 {
 	GstDepthao *self = GST_DEPTHAO(filter);
 	struct dao_error err = {0};
-	const uint32_t w = self->cam.width, h = self->cam.height;
+	const uint32_t w = (uint32_t)GST_VIDEO_FRAME_WIDTH(in);
+	const uint32_t h = (uint32_t)GST_VIDEO_FRAME_HEIGHT(in);
 	struct dao_params p;
 	float unit;
 
@@ -625,7 +626,7 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 	self->params_dirty = FALSE;
 	unit = (float)self->depth_unit;
 	GST_OBJECT_UNLOCK(self);
-	if (camera_dirty) { /* intrinsics changed while playing: a new context */
+	if (camera_dirty || !self->ctx) { /* intrinsics changed while playing: a new context */
 		if (!setup_context(self, w, h))
 			return GST_FLOW_ERROR;
 	} else if (params_dirty && dao_context_set_params(self->ctx, &p, &err) < 0) {

@@ -5,13 +5,20 @@
  * both in gstreamer1.0-plugins-good; no H.264 encoder needed).
  *
  * URIs: "PORT/MOUNT" (rtsp:8554/depthao), "HOST:PORT/MOUNT" to bind one
- * address, or "//HOST:PORT/MOUNT" (so rtsp://0.0.0.0:8554/depthao works as
- * written); "?quality=N" sets the JPEG quality (1..100, default 85).  The
- * server listens from open on; clients connect to rtsp://HOST:PORT/MOUNT.
+ * address (IPv6 in brackets: [::1]:8554/depthao), or "//HOST:PORT/MOUNT" (so rtsp://0.0.0.0:8554/depthao works as
+ * written), with options "?quality=N" (JPEG quality, 1..100, default 85) and
+ * "transport=tcp|udp" joined by '&'.  The server listens from open on;
+ * clients connect to rtsp://HOST:PORT/MOUNT.
  *
- * One shared media serves every client (one encoder, whatever the number of
- * clients; UDP or TCP-interleaved transport as each client asks).  The media
- * pipeline starts with the first client and stops when the last one leaves.
+ * RTP goes over one lower transport, TCP by default (interleaved in the RTSP
+ * connection: no loss of the many packets of a JPEG frame, through
+ * firewalls); clients that ask for UDP first fall back to it (RTSP 461).
+ * Mixing UDP and TCP clients on one shared media is what gst-rtsp-server
+ * 1.22 handles badly (see rtsp_negotiate), so it is one or the other.
+ *
+ * The JPEGs are full-range BT.601 (JFIF, colorimetry 1:4:0:0), as decoders
+ * read them.  One shared media serves every client (one encoder, whatever
+ * the number of clients).  The media pipeline starts with the first client and stops when the last one leaves.
  * write() never waits: without a client the frame is dropped, and with
  * clients it goes into a leaky appsrc (two frames deep, the oldest dropped),
  * so clients coming, going or stalling never hold up the daemon's pipeline.
@@ -50,6 +57,7 @@ struct shared {
 struct rtsp_sink {
 	char host[64], mount[128];
 	int port, quality;
+	GstRTSPLowerTrans transport; /* the one transport offered to clients */
 	struct shared *sh;
 	GstVideoInfo info;
 	GMainContext *mctx;
@@ -78,7 +86,26 @@ static int rtsp_probe(const char *uri)
 	return !strncmp(uri, "rtsp://", 7) ? 100 : 0;
 }
 
-/* "PORT/MOUNT", "HOST:PORT/MOUNT", "//HOST:PORT/MOUNT", each with "?quality=N" */
+/* "quality=N" or "transport=tcp|udp"; 0 or -EINVAL */
+static int parse_option(struct rtsp_sink *s, const char *opt)
+{
+	char *end;
+	if (!strncmp(opt, "quality=", 8)) {
+		long v = strtol(opt + 8, &end, 10);
+		if (end == opt + 8 || *end || v < 1 || v > 100)
+			return -EINVAL;
+		s->quality = (int)v;
+	} else if (!strcmp(opt, "transport=tcp")) {
+		s->transport = GST_RTSP_LOWER_TRANS_TCP;
+	} else if (!strcmp(opt, "transport=udp")) {
+		s->transport = GST_RTSP_LOWER_TRANS_UDP;
+	} else {
+		return -EINVAL;
+	}
+	return 0;
+}
+
+/* "PORT/MOUNT", "HOST:PORT/MOUNT", "//HOST:PORT/MOUNT", each with "?OPTION&OPTION" */
 static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err)
 {
 	char buf[512];
@@ -86,16 +113,16 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 		return plugin_error(err, -EINVAL, "rtsp: the URI is too long");
 	char *p = buf, *q = strchr(buf, '?');
 	s->quality = DEFAULT_QUALITY;
+	s->transport = GST_RTSP_LOWER_TRANS_TCP;
 	if (q) {
 		*q++ = '\0';
-		char *end;
-		long v = strncmp(q, "quality=", 8) ? -1 : strtol(q + 8, &end, 10);
-		if (v < 1 || v > 100 || *end)
-			return plugin_error(err, -EINVAL,
-					    "rtsp: '%s': the only option is ?quality=N (JPEG quality, "
-					    "1..100)",
-					    uri);
-		s->quality = (int)v;
+		char *save = NULL;
+		for (char *opt = strtok_r(q, "&", &save); opt; opt = strtok_r(NULL, "&", &save))
+			if (parse_option(s, opt) < 0)
+				return plugin_error(err, -EINVAL,
+						    "rtsp: '%s': bad option '%s' (options: quality=1..100, "
+						    "transport=tcp|udp)",
+						    uri, opt);
 	}
 	if (!strncmp(p, "//", 2))
 		p += 2;
@@ -109,6 +136,11 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 	g_strlcpy(s->host, "0.0.0.0", sizeof s->host);
 	if (colon) {
 		*colon = '\0';
+		size_t n = strlen(p);
+		if (n >= 2 && p[0] == '[' && p[n - 1] == ']') { /* [IPv6] */
+			p[n - 1] = '\0';
+			p++;
+		}
 		if (*p && g_strlcpy(s->host, p, sizeof s->host) >= sizeof s->host)
 			return plugin_error(err, -EINVAL, "rtsp: '%s': the address is too long", uri);
 		p = colon + 1;
@@ -273,13 +305,18 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 	gchar *launch = g_strdup_printf(
 		"( appsrc name=" APPSRC_NAME " is-live=true format=time do-timestamp=true "
 		"block=false max-buffers=2 leaky-type=downstream "
-		"! videoconvert ! video/x-raw,format=I420 ! jpegenc quality=%d "
+		"! videoconvert ! video/x-raw,format=I420,colorimetry=1:4:0:0,chroma-site=jpeg "
+		"! jpegenc quality=%d "
 		"! rtpjpegpay name=pay0 pt=26 )",
 		s->quality);
 	GstRTSPMediaFactory *factory = gst_rtsp_media_factory_new();
 	gst_rtsp_media_factory_set_launch(factory, launch);
 	g_free(launch);
 	gst_rtsp_media_factory_set_shared(factory, TRUE);
+	/* one lower transport only: gst-rtsp-server 1.22 can deadlock a shared media
+	   when a UDP and a TCP client start playing at the same moment (it relinks
+	   the sender part through an idle probe while the first sink prerolls) */
+	gst_rtsp_media_factory_set_protocols(factory, s->transport);
 	gst_rtsp_media_factory_set_suspend_mode(factory, GST_RTSP_SUSPEND_MODE_NONE);
 	g_signal_connect_data(factory, "media-configure", G_CALLBACK(on_media_configure),
 			      g_atomic_rc_box_acquire(s->sh), shared_release, 0);

@@ -5,6 +5,9 @@
  *   gst_test_util info IMAGE             "W H FORMAT" (gray8, gray16, rgb24)
  *   gst_test_util compare A B [TOL]      pixel comparison; exit 0 if every sample is
  *                                        within TOL (default 0), 1 if not, 2 on errors
+ *   gst_test_util match IMAGE... -- REF...
+ *                                        for each IMAGE the REF closest to it (smallest
+ *                                        mean absolute difference): "IMAGE REF MEAN"
  *   gst_test_util free-port              a TCP port free on 127.0.0.1 right now
  *
  * IMAGE is a PNG file or raw pixels "raw:FORMAT:WxH:PATH" with FORMAT gray8,
@@ -154,9 +157,83 @@ static int free_port(void)
 	return 0;
 }
 
+/* Mean absolute difference of two images of the same layout, < 0 if they differ in layout. */
+static double mean_diff(const struct image *a, const struct image *b, long *maxd, size_t *differ)
+{
+	if (a->w != b->w || a->h != b->h || a->ch != b->ch)
+		return -1;
+	size_t n = (size_t)a->w * a->h * a->ch;
+	double sum = 0;
+	*maxd = 0;
+	*differ = 0;
+	for (size_t i = 0; i < n; i++) {
+		long va = a->v[i], vb = b->v[i];
+		if (a->depth16 != b->depth16) { /* gray8 against gray16: 16-bit scaled to 8 */
+			if (a->depth16)
+				va = (va + 128) / 257;
+			else
+				vb = (vb + 128) / 257;
+		}
+		long d = labs(va - vb);
+		*differ += d != 0;
+		*maxd = d > *maxd ? d : *maxd;
+		sum += (double)d;
+	}
+	return sum / (double)n;
+}
+
+/* match IMAGE... -- REF...: one line "IMAGE REF MEAN" per image, REF the closest */
+static int match(int argc, char **argv)
+{
+	int sep = 0;
+	while (sep < argc && strcmp(argv[sep], "--") != 0)
+		sep++;
+	int nimg = sep, nref = argc - sep - 1;
+	if (nimg < 1 || nref < 1) {
+		fprintf(stderr, "usage: match IMAGE... -- REF...\n");
+		return 2;
+	}
+	struct image *refs = calloc((size_t)nref, sizeof(*refs));
+	int status = refs ? 0 : 2;
+	for (int i = 0; i < nref && status == 0; i++)
+		if (load(argv[sep + 1 + i], &refs[i]) < 0)
+			status = 2;
+	for (int k = 0; k < nimg && status == 0; k++) {
+		struct image a;
+		if (load(argv[k], &a) < 0) {
+			status = 2;
+			break;
+		}
+		int best = -1;
+		double best_mean = 1e30;
+		for (int i = 0; i < nref; i++) {
+			long maxd;
+			size_t differ;
+			double m = mean_diff(&a, &refs[i], &maxd, &differ);
+			if (m >= 0 && m < best_mean) {
+				best_mean = m;
+				best = i;
+			}
+		}
+		free(a.v);
+		if (best < 0) {
+			printf("%s: no reference of the same layout\n", argv[k]);
+			status = 1;
+		} else {
+			printf("%s %s %.3f\n", argv[k], argv[sep + 1 + best], best_mean);
+		}
+	}
+	for (int i = 0; refs && i < nref; i++)
+		free(refs[i].v);
+	free(refs);
+	return status;
+}
+
 int main(int argc, char **argv)
 {
 	struct image a, b;
+	if (argc >= 2 && !strcmp(argv[1], "match"))
+		return match(argc - 2, argv + 2);
 	if (argc == 2 && !strcmp(argv[1], "free-port"))
 		return free_port();
 	if (argc == 3 && !strcmp(argv[1], "info")) {
@@ -167,7 +244,8 @@ int main(int argc, char **argv)
 		return 0;
 	}
 	if ((argc != 4 && argc != 5) || strcmp(argv[1], "compare") != 0) {
-		fprintf(stderr, "usage: %s info IMAGE | compare A B [TOL] | free-port\n", argv[0]);
+		fprintf(stderr, "usage: %s info IMAGE | compare A B [TOL] | match IMAGE... -- REF... | "
+			"free-port\n", argv[0]);
 		return 2;
 	}
 	long tol = argc == 5 ? strtol(argv[4], NULL, 10) : 0;
@@ -183,21 +261,11 @@ int main(int argc, char **argv)
 		free(b.v);
 		return 1;
 	}
-	size_t n = (size_t)a.w * a.h * a.ch, differ = 0;
-	long maxd = 0;
-	for (size_t i = 0; i < n; i++) {
-		long va = a.v[i], vb = b.v[i];
-		if (a.depth16 != b.depth16) { /* gray8 against gray16: 16-bit scaled to 8 */
-			if (a.depth16)
-				va = (va + 128) / 257;
-			else
-				vb = (vb + 128) / 257;
-		}
-		long d = labs(va - vb);
-		differ += d != 0;
-		maxd = d > maxd ? d : maxd;
-	}
-	printf("%zu of %zu samples differ, largest difference %ld\n", differ, n, maxd);
+	size_t n = (size_t)a.w * a.h * a.ch, differ;
+	long maxd;
+	double mean = mean_diff(&a, &b, &maxd, &differ);
+	printf("%zu of %zu samples differ, largest difference %ld, mean %.3f\n", differ, n, maxd,
+	       mean);
 	free(a.v);
 	free(b.v);
 	return maxd <= tol ? 0 : 1;

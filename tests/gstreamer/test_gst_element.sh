@@ -15,8 +15,13 @@ if ! command -v gst-launch-1.0 >/dev/null || ! command -v gst-inspect-1.0 >/dev/
 fi
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/gst-element.XXXXXX")
 trap 'rm -rf "$WORK"' EXIT
+trap 'exit 1' INT TERM # a timeout (meson's SIGTERM) cleans up too
 export GST_REGISTRY="$WORK/registry.bin" # a fresh registry: no stale cache of the build dir
 failures=0
+# gst-launch-1.0 with a time limit (an error during preroll can leave it waiting)
+launch() {
+	timeout 60 gst-launch-1.0 "$@"
+}
 fail() {
 	echo "FAIL: $*"
 	failures=$((failures + 1))
@@ -57,7 +62,7 @@ gst() {
 	fmt=$2
 	shift 2
 	# shellcheck disable=SC2086 # word splitting of the property list is intended
-	gst-launch-1.0 -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! \
+	launch -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! \
 		video/x-raw,format=GRAY16_LE ! depthao "$@" ! video/x-raw,format="$fmt" ! \
 		filesink location="$WORK/$out" >"$WORK/log" 2>&1 || fail "pipeline to $fmt ($*): $(cat "$WORK/log")"
 }
@@ -73,7 +78,7 @@ gst ao.raw GRAY16_LE $CAM
 same "$(printf "$RAW" gray16le ao.raw)" "$WORK/ref-ao.png" 0 "AO GRAY16_LE vs depthao process"
 # the pipeline of the README: 16-bit PNG out through videoconvert and pngenc
 # shellcheck disable=SC2086
-gst-launch-1.0 -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! video/x-raw,format=GRAY16_LE ! \
+launch -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! video/x-raw,format=GRAY16_LE ! \
 	depthao $CAM ! video/x-raw,format=GRAY16_LE ! videoconvert ! video/x-raw,format=GRAY16_BE ! pngenc ! \
 	filesink location="$WORK/ao.png" >"$WORK/log" 2>&1 || fail "PNG pipeline: $(cat "$WORK/log")"
 "$UTIL" info "$WORK/ao.png" | grep -qx "640 480 gray16" || fail "ao.png: $("$UTIL" info "$WORK/ao.png")"
@@ -83,7 +88,7 @@ gst ao8.raw GRAY8 $CAM
 # shellcheck disable=SC2059
 same "$(printf "$RAW" gray8 ao8.raw)" "$WORK/ref-ao.png" 1 "AO GRAY8 vs 16-bit AO / 257"
 for f in RGB RGBA BGRx; do
-	lower=$(echo "$f" | tr 'A-Z' 'a-z')
+	lower=$(echo "$f" | tr '[:upper:]' '[:lower:]')
 	# shellcheck disable=SC2086
 	gst "shaded-$lower.raw" "$f" $CAM
 	# shellcheck disable=SC2059
@@ -91,7 +96,7 @@ for f in RGB RGBA BGRx; do
 done
 # unconstrained output: the shaded image
 # shellcheck disable=SC2086
-gst-launch-1.0 -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao $CAM ! videoconvert ! \
+launch -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao $CAM ! videoconvert ! \
 	pngenc ! filesink location="$WORK/default.png" >"$WORK/log" 2>&1 || fail "default output: $(cat "$WORK/log")"
 same "$WORK/default.png" "$WORK/ref-shaded.png" 0 "unconstrained output (shaded RGB)"
 
@@ -100,7 +105,7 @@ mkdir "$WORK/nocam"
 cp "$DEPTH" "$WORK/nocam/depth.png"
 "$DEPTHAO" process --input "$WORK/nocam/depth.png" --ao-out "$WORK/ref-nocam.png" --quiet 2>/dev/null ||
 	fail "depthao process without a camera"
-GST_DEBUG=depthao:2 gst-launch-1.0 -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao ! \
+GST_DEBUG=depthao:2 launch -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao ! \
 	video/x-raw,format=GRAY16_LE ! filesink location="$WORK/nocam.raw" >"$WORK/log" 2>&1 ||
 	fail "no-camera pipeline: $(cat "$WORK/log")"
 grep -q "assuming a 58.5 x 45.6 degree field of view" "$WORK/log" || fail "no warning without a camera: $(cat "$WORK/log")"
@@ -148,7 +153,7 @@ same "$(printf "$RAW" rgb turbo.raw)" "$WORK/ref-turbo.png" 0 "shade=turbo occlu
 
 # the frame counter picks the noise pattern: frame 2 of a stream = --frame-index 2
 # shellcheck disable=SC2086
-gst-launch-1.0 -q filesrc location="$DEPTH" ! pngdec ! imagefreeze num-buffers=3 ! videoconvert ! \
+launch -q filesrc location="$DEPTH" ! pngdec ! imagefreeze num-buffers=3 ! videoconvert ! \
 	video/x-raw,format=GRAY16_LE ! depthao $CAM ! video/x-raw,format=GRAY16_LE ! \
 	multifilesink location="$WORK/seq-%d.raw" >"$WORK/log" 2>&1 || fail "3 frames: $(cat "$WORK/log")"
 "$DEPTHAO" process --input "$DEPTH" --intrinsics $K --frame-index 2 --ao-out "$WORK/ref-f2.png" --quiet
@@ -172,25 +177,25 @@ done
 # --- negotiation failures ----------------------------------------------------------------
 # RGB into depthao: caps known only at run time (rawvideoparse) -> not-negotiated
 head -c $((4 * 4 * 3 * 2)) /dev/zero >"$WORK/rgb.raw"
-if gst-launch-1.0 filesrc location="$WORK/rgb.raw" ! rawvideoparse format=rgb width=4 height=4 ! \
-	depthao ! fakesink >"$WORK/log" 2>&1; then
+if launch filesrc location="$WORK/rgb.raw" ! rawvideoparse format=rgb width=4 height=4 ! \
+	depthao ! fakesink async=false >"$WORK/log" 2>&1; then
 	fail "RGB input was accepted"
 fi
 grep -q "not-negotiated" "$WORK/log" || fail "RGB input: no not-negotiated error: $(cat "$WORK/log")"
 # and at link time (caps known while building the pipeline)
-if gst-launch-1.0 videotestsrc num-buffers=1 ! video/x-raw,format=RGB ! depthao ! fakesink \
+if launch videotestsrc num-buffers=1 ! video/x-raw,format=RGB ! depthao ! fakesink \
 	>"$WORK/log" 2>&1; then
 	fail "RGB caps linked to depthao"
 fi
 grep -q "could not link .*depthao" "$WORK/log" || fail "RGB caps: $(cat "$WORK/log")"
 # output caps it cannot make
-if gst-launch-1.0 filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao ! \
-	video/x-raw,format=I420 ! fakesink >"$WORK/log" 2>&1; then
+if launch filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao ! \
+	video/x-raw,format=I420 ! fakesink async=false >"$WORK/log" 2>&1; then
 	fail "I420 output was accepted"
 fi
 # parameters the library rejects: an element error naming the reason, then not-negotiated
-if gst-launch-1.0 filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao depth-min=10 depth-max=5 ! \
-	fakesink >"$WORK/log" 2>&1; then
+if launch filesrc location="$DEPTH" ! pngdec ! videoconvert ! depthao depth-min=10 depth-max=5 ! \
+	fakesink async=false >"$WORK/log" 2>&1; then
 	fail "depth-min > depth-max was accepted"
 fi
 grep -q "ERROR: from element .*depthao.*depth-min 10 must be less than depth-max 5" "$WORK/log" ||
