@@ -10,6 +10,7 @@
 /* Everything the GTAO kernels need per frame, derived once from camera and params. */
 struct dao_gtao_setup {
 	int width, height;
+	int x_begin, x_end;        /* columns the optimised kernels compute (a strip; 0..width) */
 	float ax, ay, bx, by;      /* UvToViewParams */
 	float focal;               /* pixels per metre at z = 1 (mean of fx, fy) */
 	float search_radius;       /* where the falloff weight reaches 0, m */

@@ -17,6 +17,8 @@ void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,
 	const float decay = powf(1.0f - p->thickness, 8.0f / (float)p->steps);
 	*s = (struct dao_gtao_setup){
 		.width = (int)cam->width,
+		.x_begin = 0,
+		.x_end = (int)cam->width,
 		.height = (int)cam->height,
 		.ax = cam->ax, .ay = cam->ay, .bx = cam->bx, .by = cam->by,
 		.focal = (float)(0.5 * (cam->fx + cam->fy)),

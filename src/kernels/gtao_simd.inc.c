@@ -244,8 +244,8 @@ void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z, c
 	const int w = s->width, pw = w + 2;
 	const float *iz_origin = izp; /* pixel (-1, -1) */
 	for (int y = y0; y < y1; y++) {
-		for (int x0 = 0; x0 < w; x0 += VN) {
-			const int lanes = w - x0 < VN ? w - x0 : VN;
+		for (int x0 = s->x_begin; x0 < s->x_end; x0 += VN) {
+			const int lanes = s->x_end - x0 < VN ? s->x_end - x0 : VN;
 			const size_t i0 = (size_t)y * w + (size_t)x0;
 			float zl[VN], nl[3][VN], out[VN];
 			for (int k = 0; k < VN; k++) {

@@ -343,6 +343,30 @@ static void stage_gtao(void *arg, int y0, int y1)
 	}
 }
 
+/*
+ * Wide images: the optimised GTAO in vertical strips, all rows of one strip
+ * before the next, so the taps of neighbouring rows (up to max-screen-radius
+ * away) stay in the core's cache; items are strip * height + row.
+ */
+#define GTAO_STRIP 512 /* columns, a multiple of every lane count */
+
+static void stage_gtao_strips(void *arg, int i0, int i1)
+{
+	struct frame_job *j = arg;
+	struct dao_context *c = j->ctx;
+	const int h = (int)c->cam.height, w = (int)c->cam.width;
+	while (i0 < i1) {
+		int strip = i0 / h, y0 = i0 % h, y1 = y0 + (i1 - i0);
+		if (y1 > h)
+			y1 = h;
+		struct dao_gtao_setup g = j->gtao;
+		g.x_begin = strip * GTAO_STRIP;
+		g.x_end = g.x_begin + GTAO_STRIP < w ? g.x_begin + GTAO_STRIP : w;
+		j->k.gtao(&g, c->z, c->izp, c->n, c->ao_raw, y0, y1);
+		i0 += y1 - y0;
+	}
+}
+
 static void stage_denoise_plane(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
@@ -486,7 +510,11 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
 	}
 	const double t3 = now_ms();
-	dao_pool_run(ctx->pool, h, 2, stage_gtao, &job);
+	const int strips = ((int)ctx->cam.width + GTAO_STRIP - 1) / GTAO_STRIP;
+	if (strips > 1 && job.algorithm == DAO_ALGORITHM_GTAO && job.k.simd != DAO_SIMD_REFERENCE)
+		dao_pool_run(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
+	else
+		dao_pool_run(ctx->pool, h, 2, stage_gtao, &job);
 	const double t4 = now_ms();
 	switch (p->denoise) {
 	case DAO_DENOISE_PLANE:
