@@ -110,9 +110,11 @@ demo() {
 	rm -rf "$DEMO_OUT/shaded" "$DEMO_OUT/ao" "$DEMO_OUT/shaded.y4m"
 	mkdir -p "$DEMO_OUT"
 	demo_command
-	say "occlusion-shaded frames (RGB PNG): $(pwd)/$DEMO_OUT/shaded/"
-	say "ambient occlusion (16-bit PNG):    $(pwd)/$DEMO_OUT/ao/"
-	say "shaded video (YUV4MPEG2):          $(pwd)/$DEMO_OUT/shaded.y4m (e.g. ffplay $DEMO_OUT/shaded.y4m)"
+	local out
+	out=$(cd "$DEMO_OUT" && pwd)
+	say "occlusion-shaded frames (RGB PNG): $out/shaded/"
+	say "ambient occlusion (16-bit PNG):    $out/ao/"
+	say "shaded video (YUV4MPEG2):          $out/shaded.y4m (e.g. ffplay $out/shaded.y4m)"
 }
 
 # One closing line a CI reader understands: "meson: N passed, N failed, N skipped".
