@@ -9,11 +9,7 @@
 
 #include "core/math_util.h"
 #include "kernels/gtao_sample.h"
-
-static inline float dot3(const float a[3], const float b[3])
-{
-	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+#include "kernels/gtao_slice.h"
 
 static inline void view_pos(const struct dao_gtao_setup *s, float u, float v, float z, float P[3])
 {
@@ -70,7 +66,7 @@ static void min_diff(const float P[3], const float Pl[3], const float Pr[3], int
 {
 	float dl[3] = {P[0] - Pl[0], P[1] - Pl[1], P[2] - Pl[2]};
 	float dr[3] = {Pr[0] - P[0], Pr[1] - P[1], Pr[2] - P[2]};
-	const float *d = !have_l ? dr : !have_r ? dl : dot3(dl, dl) < dot3(dr, dr) ? dl : dr;
+	const float *d = !have_l ? dr : !have_r ? dl : dao_dot3(dl, dl) < dao_dot3(dr, dr) ? dl : dr;
 	T[0] = d[0], T[1] = d[1], T[2] = d[2];
 }
 
@@ -122,7 +118,7 @@ static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x
 				continue;
 			view_pos(s, (float)sx, (float)sy, zs, Q);
 			float D[3] = {Q[0] - P[0], Q[1] - P[1], Q[2] - P[2]};
-			float len2 = dot3(D, D);
+			float len2 = dao_dot3(D, D);
 			float r2 = len2 / (R * R);
 			if (r2 >= 1.0f || !(len2 > 0.0f))
 				continue;
@@ -169,9 +165,9 @@ static float ssao_pixel(const struct dao_variant_setup *v, const float *z, const
 	dao_gtao_noise(s, x, y, &n0, &n1);
 	/* a tangent frame around N, rotated by the per-pixel noise */
 	float a = 2.0f * DAO_PI_F * n0, r[3] = {cosf(a), sinf(a), 0.0f};
-	float rn = dot3(r, N);
+	float rn = dao_dot3(r, N);
 	float T[3] = {r[0] - N[0] * rn, r[1] - N[1] * rn, r[2] - N[2] * rn};
-	float lt = sqrtf(dot3(T, T));
+	float lt = sqrtf(dao_dot3(T, T));
 	if (!(lt > 1e-6f)) { /* N along z: any perpendicular */
 		T[0] = 1, T[1] = 0, T[2] = 0;
 		lt = 1;
@@ -207,13 +203,6 @@ void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float
 			size_t i = (size_t)y * s->width + x;
 			ao[i] = z[i] > 0 ? dao_gtao_finish(s, ssao_pixel(v, z, n, x, y)) : s->invalid_value;
 		}
-}
-
-static inline void cross3(const float a[3], const float b[3], float o[3])
-{
-	o[0] = a[1] * b[2] - a[2] * b[1];
-	o[1] = a[2] * b[0] - a[0] * b[2];
-	o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /*
@@ -265,7 +254,7 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	const float zc = z[(size_t)y * s->width + x];
 	float P[3];
 	view_pos(s, (float)x, (float)y, zc, P);
-	const float lp = sqrtf(dot3(P, P));
+	const float lp = sqrtf(dao_dot3(P, P));
 	const float V[3] = {-P[0] / lp, -P[1] / lp, -P[2] / lp};
 	const float *N = nrm + 3 * ((size_t)y * s->width + x);
 	float r_px = s->search_radius * s->focal / zc;
@@ -282,22 +271,10 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	for (int sl = 0; sl < s->slices; sl++) {
 		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
 		const float dx = cosf(phi), dy = sinf(phi);
-		/* the slice plane and the projected normal, as in GTAO */
-		const float dir[3] = {dx * s->ax, dy * s->ay, 0.0f};
-		float dv = dot3(dir, V);
-		float ortho[3] = {dir[0] - dv * V[0], dir[1] - dv * V[1], dir[2] - dv * V[2]};
-		float axis[3];
-		cross3(ortho, V, axis);
-		float la = sqrtf(dot3(axis, axis));
-		axis[0] /= la, axis[1] /= la, axis[2] /= la;
-		float na = dot3(N, axis);
-		float pn[3] = {N[0] - axis[0] * na, N[1] - axis[1] * na, N[2] - axis[2] * na};
-		float lpn = sqrtf(dot3(pn, pn));
-		if (!(lpn > 1e-6f))
+		struct dao_slice sf;
+		if (!dao_slice_frame(s, dx, dy, V, N, &sf))
 			continue;
-		float n = acosf(dao_clampf(dot3(pn, V) / lpn, -1.0f, 1.0f));
-		if (dot3(ortho, pn) < 0.0f)
-			n = -n;
+		const float lpn = sf.lpn, n = sf.n;
 		const float lo = n - DAO_HALF_PI_F; /* sector 0 starts at the hemisphere's edge */
 		uint32_t mask = 0;
 		for (int side = 0; side < 2; side++) {
@@ -310,16 +287,16 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 				float S[3];
 				view_pos(s, u, vv, zs, S);
 				float D[3] = {S[0] - P[0], S[1] - P[1], S[2] - P[2]};
-				float len = sqrtf(dot3(D, D));
+				float len = sqrtf(dao_dot3(D, D));
 				if (!(len > 0.0f) || len > R)
 					continue;
 				/* the back of the sample: thickness T further along its camera ray
 				 * (which lies in the slice plane, through the camera centre) */
-				float ls = sqrtf(dot3(S, S)), k = T / ls;
+				float ls = sqrtf(dao_dot3(S, S)), k = T / ls;
 				float B[3] = {S[0] * (1 + k) - P[0], S[1] * (1 + k) - P[1], S[2] * (1 + k) - P[2]};
-				float lb = sqrtf(dot3(B, B));
-				float tf = sign * acosf(dao_clampf(dot3(D, V) / len, -1.0f, 1.0f));
-				float tb = sign * acosf(dao_clampf(dot3(B, V) / lb, -1.0f, 1.0f));
+				float lb = sqrtf(dao_dot3(B, B));
+				float tf = sign * acosf(dao_clampf(dao_dot3(D, V) / len, -1.0f, 1.0f));
+				float tb = sign * acosf(dao_clampf(dao_dot3(B, V) / lb, -1.0f, 1.0f));
 				mask |= sectors(tf, tb, lo);
 			}
 		}

@@ -10,18 +10,7 @@
 #include "core/math_util.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_sample.h"
-
-static inline float dot3(const float a[3], const float b[3])
-{
-	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void cross3(const float a[3], const float b[3], float o[3])
-{
-	o[0] = a[1] * b[2] - a[2] * b[1];
-	o[1] = a[2] * b[0] - a[0] * b[2];
-	o[2] = a[0] * b[1] - a[1] * b[0];
-}
+#include "kernels/gtao_slice.h"
 
 /*
  * Largest horizon cosine along one side of a slice.  `low` is the cosine of
@@ -40,10 +29,10 @@ static float search_side(const struct dao_gtao_setup *s, const float *z, int x, 
 			continue;
 		float D[3] = { (u * s->ax + s->bx) * zs - P[0], (v * s->ay + s->by) * zs - P[1],
 			       zs - P[2] };
-		float len = sqrtf(dot3(D, D));
+		float len = sqrtf(dao_dot3(D, D));
 		if (!(len > 0.0f))
 			continue;
-		float c = dot3(D, V) / len;
+		float c = dao_dot3(D, V) / len;
 		float wgt = dao_saturate(len * s->falloff_mul + s->falloff_add);
 		c = dao_lerpf(low, c, wgt);
 		/* thickness heuristic (UE4): a lower sample after a higher one means we
@@ -83,7 +72,7 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 {
 	const float zc = z[(size_t)y * s->width + x];
 	const float P[3] = { ((float)x * s->ax + s->bx) * zc, ((float)y * s->ay + s->by) * zc, zc };
-	const float lp = sqrtf(dot3(P, P));
+	const float lp = sqrtf(dao_dot3(P, P));
 	const float V[3] = { -P[0] / lp, -P[1] / lp, -P[2] / lp };
 	const float *N = nrm + 3 * ((size_t)y * s->width + x);
 
@@ -102,24 +91,12 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 	for (int sl = 0; sl < s->slices; sl++) {
 		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
 		const float dx = cosf(phi), dy = sinf(phi);
-		/* the screen line through the pixel is the image of the plane through the
-		 * camera centre containing P and the view-space direction (dx/fx, dy/fy, 0) */
-		const float dir[3] = { dx * s->ax, dy * s->ay, 0.0f };
-		float dv = dot3(dir, V);
-		float ortho[3] = { dir[0] - dv * V[0], dir[1] - dv * V[1], dir[2] - dv * V[2] };
-		float axis[3];
-		cross3(ortho, V, axis);
-		float la = sqrtf(dot3(axis, axis));
-		axis[0] /= la, axis[1] /= la, axis[2] /= la;
-		float na = dot3(N, axis);
-		float pn[3] = { N[0] - axis[0] * na, N[1] - axis[1] * na, N[2] - axis[2] * na };
-		float lpn = sqrtf(dot3(pn, pn));
-		if (!(lpn > 1e-6f))
+		/* the screen line through the pixel is the image of the slice plane */
+		struct dao_slice sf;
+		if (!dao_slice_frame(s, dx, dy, V, N, &sf))
 			continue;
-		float cos_n = dao_clampf(dot3(pn, V) / lpn, -1.0f, 1.0f);
-		float n = acosf(cos_n);
-		if (dot3(ortho, pn) < 0.0f)
-			n = -n;
+		const float lpn = sf.lpn, cos_n = sf.cos_n, n = sf.n;
+		const float *ortho = sf.ortho;
 		float sin_n = sinf(n);
 
 		/* side + (towards dir) and side - */
@@ -142,13 +119,13 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 			/* the cosine-weighted mean of the open directions of the slice:
 			 * lpn * integral over [h0, h1] of (cos t V + sin t o) cos(t - n) |sin t| dt */
 			float av = bent_integral(h0, h1, n, 0), ao = bent_integral(h0, h1, n, 1);
-			float lo = sqrtf(dot3(ortho, ortho));
+			float lo = sqrtf(dao_dot3(ortho, ortho));
 			for (int k = 0; k < 3; k++)
 				bsum[k] += lpn * (av * V[k] + ao * ortho[k] / lo);
 		}
 	}
 	if (bent) {
-		float lb = sqrtf(dot3(bsum, bsum));
+		float lb = sqrtf(dao_dot3(bsum, bsum));
 		if (lb > 1e-6f)
 			bent[0] = bsum[0] / lb, bent[1] = bsum[1] / lb, bent[2] = bsum[2] / lb;
 	}
