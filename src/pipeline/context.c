@@ -277,6 +277,18 @@ static int check_ao_out(const struct dao_context *ctx, const struct dao_frame *a
 }
 
 
+/* R2 noise: this frame's 64 x 64 tile (it repeats every 64 frames; kept until then). */
+static void use_r2_tile(struct dao_context *ctx, struct dao_gtao_setup *g, uint64_t frame_index)
+{
+	if (ctx->params.noise != DAO_NOISE_R2)
+		return;
+	if (ctx->r2_frame != (frame_index & 63u)) {
+		dao_gtao_fill_r2_tile(ctx->r2_tile, frame_index);
+		ctx->r2_frame = frame_index & 63u;
+	}
+	g->r2_tile = ctx->r2_tile;
+}
+
 /* One frame's work, shared by the stage functions the pool runs on row bands. */
 struct frame_job {
 	struct dao_context *ctx;
@@ -476,13 +488,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (p->algorithm != DAO_ALGORITHM_GTAO)
 		dao_variant_setup_init(&job.variant, &job.gtao, p);
 	dao_kernels_select(&job.k, dao_simd_resolve(p->simd));
-	if (p->noise == DAO_NOISE_R2) {
-		if (ctx->r2_frame != (frame_index & 63u)) {
-			dao_gtao_fill_r2_tile(ctx->r2_tile, frame_index);
-			ctx->r2_frame = frame_index & 63u;
-		}
-		job.gtao.r2_tile = ctx->r2_tile;
-	}
+	use_r2_tile(ctx, &job.gtao, frame_index);
 	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
 	dao_prefilter_setup_init(&job.prefilter, (int)ctx->cam.width, h, p->prefilter_radius,
 				 p->depth_noise, ctx->depth_unit);
@@ -678,13 +684,7 @@ int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
 		return dao_error_set(err, -ENOMEM, "out of memory for bent normals");
 	struct bent_job job = {.ctx = ctx};
 	dao_gtao_setup_init(&job.gtao, &ctx->cam, &ctx->params, ctx->last_frame_index);
-	if (ctx->params.noise == DAO_NOISE_R2) {
-		if (ctx->r2_frame != (ctx->last_frame_index & 63u)) {
-			dao_gtao_fill_r2_tile(ctx->r2_tile, ctx->last_frame_index);
-			ctx->r2_frame = ctx->last_frame_index & 63u;
-		}
-		job.gtao.r2_tile = ctx->r2_tile;
-	}
+	use_r2_tile(ctx, &job.gtao, ctx->last_frame_index);
 	dao_pool_run(ctx->pool, (int)ctx->cam.height, 2, stage_bent, &job);
 	return copy_plane(ctx, ctx->bent, 3, DAO_PIXFMT_NORMAL_F32, out, "bent normals output",
 			  err);

@@ -15,6 +15,7 @@
 #include "cli_plugins.h"
 #include "commands.h"
 #include "file_list.h"
+#include "plugin/uri.h"
 #include "process.h"
 #include "progress.h"
 
@@ -22,25 +23,16 @@
 #define READ_TIMEOUT_MS 2000
 #define MAX_EMPTY_READS 5
 
-/* Length of a "name:" source prefix (as dao_source_open reads it), 0 if none. */
-static size_t prefix_len(const char *input)
-{
-	size_t i = 0;
-	while ((input[i] >= 'a' && input[i] <= 'z') || (input[i] >= '0' && input[i] <= '9') ||
-	       input[i] == '-' || input[i] == '_')
-		i++;
-	return i > 1 && input[i] == ':' ? i + 1 : 0;
-}
-
 int process_input_is_stream(const char *input)
 {
 	size_t n = strlen(input);
-	return (n > 4 && !strcasecmp(input + n - 4, ".oni")) || prefix_len(input) > 0;
+	return (n > 4 && !strcasecmp(input + n - 4, ".oni")) || dao_uri_prefix_len(input) > 0;
 }
 
 const char *process_input_path(const char *input)
 {
-	return input + prefix_len(input);
+	size_t n = dao_uri_prefix_len(input);
+	return input + (n ? n + 1 : 0);
 }
 
 static char *numbered(const char *dir, uint64_t index)
