@@ -64,6 +64,21 @@ has_frames() {
 PORT=$("$UTIL" free-port)
 URL="rtsp://127.0.0.1:$PORT/depthao"
 
+# client_wait PID NAME: the client's exit; an error only in its own teardown after it got
+# its frames (rtspsrc sending PAUSE/TEARDOWN on a connection the server already closed,
+# "Received end-of-file") is gst-launch's shutdown, not a failure of the server
+client_wait() {
+	wait "$1" && return 0
+	st=$?
+	if grep -q "Could not send message. (Received end-of-file)" "$WORK/$2.log" &&
+		! grep -v "Received end-of-file\|Could not write to resource\|Additional debug info\|gstrtspsrc.c" \
+			"$WORK/$2.log" | grep -q "ERROR"; then
+		echo "note: client $2 ended with a teardown error after its frames (exit $st)"
+		return 0
+	fi
+	fail "client $2: exit $st: $(cat "$WORK/$2.log")"
+}
+
 # client NAME FRAMES [rtspsrc properties...]: receives FRAMES frames (0 = until killed)
 # as NAME/NNN.png, in the background ($! is its pid)
 client() {
@@ -129,8 +144,8 @@ client auto1 15
 a=$!
 client tcp1 15 protocols=tcp
 b=$!
-wait "$a" || fail "client auto1: exit $?: $(cat "$WORK/auto1.log")"
-wait "$b" || fail "client tcp1: exit $?: $(cat "$WORK/tcp1.log")"
+client_wait "$a" auto1
+client_wait "$b" tcp1
 check_frames auto1 15
 check_frames tcp1 15
 
@@ -154,11 +169,11 @@ echo "after two clients were killed: $before -> $after frames processed in 1.5 s
 # reconnecting: one client, then another
 client again1 10
 a=$!
-wait "$a" || fail "client again1: exit $?: $(cat "$WORK/again1.log")"
+client_wait "$a" again1
 check_frames again1 10
 client again2 10 protocols=tcp
 a=$!
-wait "$a" || fail "client again2: exit $?: $(cat "$WORK/again2.log")"
+client_wait "$a" again2
 check_frames again2 10
 # a client that insists on UDP gets an error, not a hang
 if timeout 30 gst-launch-1.0 rtspsrc location="$URL" protocols=udp ! fakesink >"$WORK/udp-only.log" 2>&1; then
@@ -211,13 +226,13 @@ client udp1 10 protocols=udp
 a=$!
 client udpgone 0 protocols=udp
 b=$!
-wait "$a" || fail "client udp1: exit $?: $(cat "$WORK/udp1.log")"
+client_wait "$a" udp1
 wait_for 20 has_frames udpgone 3 || fail "client udpgone got no frames: $(cat "$WORK/udpgone.log")"
 kill -KILL "$b"
 wait "$b" 2>/dev/null || true
 client udp2 10 protocols=udp
 a=$!
-wait "$a" || fail "client udp2: exit $?: $(cat "$WORK/udp2.log")"
+client_wait "$a" udp2
 check_frames udp1 10
 check_frames udp2 10
 kill -TERM "$UPID"
