@@ -53,6 +53,8 @@ enum dao_noise {
 	DAO_NOISE_IGN = 0,  /* interleaved gradient noise (Jimenez 2014) */
 	DAO_NOISE_R2,       /* R2 low-discrepancy sequence (Roberts 2018) */
 	DAO_NOISE_NONE,     /* same directions at every pixel */
+	DAO_NOISE_TILE,     /* a 4x4 tile of stratified values: the fast path of the
+			     * optimised GTAO (pixels of a tile phase share directions) */
 };
 
 enum dao_denoise {

@@ -59,6 +59,28 @@ void dao_gtao_ref(const struct dao_gtao_setup *s, const float *z, const float *n
 void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const float *n, float *bent,
 		       int y0, int y1);
 
+/*
+ * With tile noise the pixels of one tile phase along a row form blocks of
+ * DAO_GTAO_BLOCK (columns 32 b + a + 4 k, k = 0..7) that search with one
+ * radius in pixels, the block's largest (its nearest depth): their samples
+ * then lie at the same offsets, which the optimised kernel reads with
+ * contiguous loads instead of gathers.  Farther pixels of a block place some
+ * samples beyond their own radius, where the falloff weight is 0.
+ */
+#define DAO_GTAO_BLOCK 8
+#define DAO_GTAO_BLOCK_SPAN (4 * DAO_GTAO_BLOCK) /* columns a block spans */
+
+/* The search radius in pixels (before max_r_px) of the block of pixel (x, y);
+ * z: metres (0 = no data). */
+float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y);
+
+/*
+ * A block radius rounded up to the grid 2^(k/16) (at most 4.4 % larger, 2.2 %
+ * on average), so that neighbouring blocks of a row mostly share one radius
+ * and with it the table of sample taps the optimised kernel makes per radius.
+ */
+float dao_gtao_quantize_radius(float r);
+
 /* Fills tile[0..8191] with this frame's R2 noise pairs over a 64 x 64 tile. */
 void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index);
 

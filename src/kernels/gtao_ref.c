@@ -82,6 +82,8 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 	if (r_px < s->min_r_px || r_px < 1.0f)
 		return 1.0f;
 	float bsum[3] = {0.0f, 0.0f, 0.0f};
+	if (s->noise == DAO_NOISE_TILE)
+		r_px = dao_gtao_block_radius(s, z, x, y);
 	r_px = fminf(r_px, s->max_r_px);
 
 	float n0, n1;

@@ -28,16 +28,18 @@ static inline int dao_gtao_sample(const float *z, int w, int h, int x, int y, fl
 	int cmaj = major_x ? x : y, cmin = major_x ? y : x;
 	int nmaj = major_x ? w : h, nmin = major_x ? h : w;
 
-	int m = (int)lrintf((float)cmaj + dmaj * t);
-	if (m == cmaj)
-		m += dmaj > 0.0f ? 1 : -1;
+	/* offsets from the pixel first (an integer pixel plus an offset is exact, so
+	 * kernels that share one offset between pixels round the same way) */
+	int mo = (int)lrintf(dmaj * t);
+	if (mo == 0)
+		mo = dmaj > 0.0f ? 1 : -1;
+	const int m = cmaj + mo;
 	if (m < 0 || m >= nmaj)
 		return 0;
-	float tt = (float)(m - cmaj) / dmaj;
-	float fm = (float)cmin + dmin * tt;
-	float fl = floorf(fm);
-	int i0 = (int)fl;
-	float f = fm - fl;
+	const float off = (float)mo * (dmin / dmaj);
+	const float fo = floorf(off);
+	const int i0 = cmin + (int)fo;
+	const float f = off - fo, fm = (float)cmin + off;
 	if (i0 < -1 || i0 >= nmin)
 		return 0;
 

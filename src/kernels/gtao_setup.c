@@ -1,5 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 #include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "core/math_util.h"
 #include "kernels/gtao.h"
@@ -52,6 +55,51 @@ void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index)
 			dao_r2(x, y, (uint32_t)frame_index, &tile[y * 64 + x], &tile[4096 + y * 64 + x]);
 }
 
+float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y)
+{
+	const int x0 = (x & ~(DAO_GTAO_BLOCK_SPAN - 1)) + (x & 3);
+	float izmax = 0.0f;
+	for (int k = 0; k < DAO_GTAO_BLOCK; k++) {
+		const int xx = x0 + 4 * k;
+		if (xx >= s->width)
+			break;
+		const float zz = z[(size_t)y * s->width + xx];
+		/* 1/z as the optimised kernels store it, so both round alike */
+		if (zz > 0.0f && 1.0f / zz > izmax)
+			izmax = 1.0f / zz;
+	}
+	return dao_gtao_quantize_radius(s->search_radius * s->focal * izmax);
+}
+
+float dao_gtao_quantize_radius(float r)
+{
+	/* 2^(k/16), k = 0..16 */
+	static const float grid[17] = {
+		1.000000000e+00f, 1.044273782e+00f, 1.090507733e+00f, 1.138788635e+00f,
+		1.189207115e+00f, 1.241857812e+00f, 1.296839555e+00f, 1.354255547e+00f,
+		1.414213562e+00f, 1.476826146e+00f, 1.542210825e+00f, 1.610490332e+00f,
+		1.681792831e+00f, 1.756252160e+00f, 1.834008086e+00f, 1.915206561e+00f,
+		2.000000000e+00f,
+	};
+	if (!(r >= 1.1754944e-38f) || r > 1e30f)
+		return r; /* 0, subnormal or huge: left alone (no such radius is searched) */
+	/* r = m 2^e with m in [1, 2): the grid point at or above m, times 2^e */
+	uint32_t bits, gb;
+	memcpy(&bits, &r, sizeof bits);
+	const uint32_t e = bits & 0x7f800000u;
+	const uint32_t mb = (bits & 0x007fffffu) | 0x3f800000u;
+	float m;
+	memcpy(&m, &mb, sizeof m);
+	int k = 0;
+	while (grid[k] < m)
+		k++;
+	memcpy(&gb, &grid[k], sizeof gb);
+	gb += e - 0x3f800000u;
+	float out;
+	memcpy(&out, &gb, sizeof out);
+	return out;
+}
+
 void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, float *n1)
 {
 	switch (s->noise) {
@@ -62,6 +110,9 @@ void dao_gtao_noise(const struct dao_gtao_setup *s, int x, int y, float *n0, flo
 		break;
 	case DAO_NOISE_R2:
 		dao_r2(x, y, s->frame, n0, n1);
+		break;
+	case DAO_NOISE_TILE:
+		dao_tile_noise(x, y, s->frame, n0, n1);
 		break;
 	default:
 		*n0 = 0.5f;

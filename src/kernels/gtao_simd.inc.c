@@ -4,7 +4,9 @@
  * one pixel per lane along a row.  Included by gtao_<isa>.c after the SIMD
  * vocabulary header; DAO_ISA_FN(name) gives the ISA-suffixed name.
  *
- * Differences from the reference, all measured by tests/kernels/test_gtao_simd.c:
+ * With tile noise it runs the block kernel of gtao_tile.inc.c instead.
+ *
+ * Differences from the reference, all measured by tests/simd/test_simd_kernels.c:
  *  - depth is read from a plane of 1/z with a one-pixel border of zeros, so
  *    the two taps of a sample are one masked gather each and the 1/z
  *    interpolation needs no division;
@@ -16,13 +18,14 @@
 
 #include "core/math_util.h"
 #include "kernels/gtao.h"
+#include "kernels/gtao_planes.h"
 #include "kernels/gtao_simd.h"
 #include "kernels/noise.h"
 #include "simd/fastmath.h"
 
 /* Per-lane state of one slice side's horizon search. */
 struct side {
-	vf dmaj, dmin, inv_dmaj; /* direction on the major / minor axis, 1 / dmaj */
+	vf dmaj, dmin, slope;    /* direction on the major / minor axis, dmin / dmaj */
 	vf low;                  /* cosine of "no occluder" on this side */
 };
 
@@ -83,7 +86,7 @@ static inline vf step_t(const struct dao_gtao_setup *s, int i, vf jitter)
 /* Where step i of a side samples: the snapped major coordinate m, the minor
  * coordinate fm on the line, and whether the taps are on the image. */
 struct pos {
-	vf m, fm, fl;
+	vf m, fm, fl, f;
 	vm ok;
 };
 
@@ -94,12 +97,16 @@ static inline struct pos sample_pos(const struct dao_gtao_setup *s, const struct
 	const vf one = v_set1(1.0f), zero = v_zero();
 	struct pos o;
 	vf dist = v_add(one, v_mul(step_t(s, i, p->jitter), v_sub(p->r_px, one)));
-	/* snap the major axis to a pixel (never the centre pixel) */
-	vf m = v_round(v_add(cmaj, v_mul(sd->dmaj, dist)));
-	o.m = v_sel(v_eq(m, cmaj), v_add(m, step_sign), m);
+	/* snap the major-axis offset to a pixel (never the centre pixel) */
+	vf mo = v_round(v_mul(sd->dmaj, dist));
+	mo = v_sel(v_eq(mo, zero), step_sign, mo);
+	o.m = v_add(cmaj, mo);
 	o.ok = m_and(p->active, m_and(v_ge(o.m, zero), v_lt(o.m, nmaj)));
-	o.fm = v_add(cmin, v_mul(sd->dmin, v_mul(v_sub(o.m, cmaj), sd->inv_dmaj)));
-	o.fl = v_floor(o.fm);
+	vf off = v_mul(mo, sd->slope);
+	vf fo = v_floor(off);
+	o.fl = v_add(cmin, fo);
+	o.f = v_sub(off, fo);
+	o.fm = v_add(cmin, off);
 	o.ok = m_and(o.ok, m_and(v_ge(o.fl, v_set1(-1.0f)), v_lt(o.fl, nmin)));
 	return o;
 }
@@ -131,7 +138,7 @@ static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
 		vi row = vi_sel(major_x, li, mi), col = vi_sel(major_x, mi, li);
 		vi idx = vi_add(vi_mul(row, vi_set1(pw)), col);
 		vf iz0 = v_gather(izp, idx, ok), iz1 = v_gather(izp, vi_add(idx, second), ok);
-		vf f = v_sub(o.fm, o.fl);
+		vf f = o.f;
 		vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
 		vm both = m_and(has0, has1);
 		vm edge = v_gt(v_abs(v_sub(iz0, iz1)), v_mul(v_set1(0.1f), v_min(iz0, iz1)));
@@ -171,78 +178,140 @@ static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
 	return best;
 }
 
-/* cos(2h - n) and the slice-side integral 0.25 (-cos(2h - n) + cos n + 2 h sin n) */
-static inline vf side_integral(vf h, vf n, vf cos_n, vf sin_n)
+/* One slice's frame at every lane: the projected normal's angle n from V, its
+ * cosine and sine, the length lpn, and where the slice is usable. */
+struct slice_v {
+	vf n, cos_n, sin_n, lpn;
+	vm ok;
+};
+
+static inline struct slice_v slice_geometry(const struct dao_gtao_setup *s, const struct px *p,
+					    vf dx, vf dy, const vf N[3])
 {
-	vf sv, cv;
-	v_sincos(v_sub(v_add(h, h), n), &sv, &cv);
-	(void)sv;
-	return v_mul(v_set1(0.25f), v_add(v_sub(cos_n, cv), v_mul(v_add(h, h), sin_n)));
+	const vf one = v_set1(1.0f), zero = v_zero();
+	struct slice_v g;
+	/* slice plane axis: ortho x V with ortho = dir - (dir.V) V, dir = (dx ax, dy ay, 0);
+	 * as V x V = 0 that is dir x V */
+	const vf dirx = v_mul(dx, v_set1(s->ax)), diry = v_mul(dy, v_set1(s->ay));
+	vf axx = v_mul(diry, p->Vz), axy = v_neg(v_mul(dirx, p->Vz));
+	vf axz = v_fnma(diry, p->Vx, v_mul(dirx, p->Vy));
+	const vf ila = v_rsqrt(v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz))));
+	axx = v_mul(axx, ila), axy = v_mul(axy, ila), axz = v_mul(axz, ila);
+	/* N projected into the slice plane */
+	const vf na = v_fma(N[0], axx, v_fma(N[1], axy, v_mul(N[2], axz)));
+	const vf pnx = v_fnma(axx, na, N[0]), pny = v_fnma(axy, na, N[1]);
+	const vf pnz = v_fnma(axz, na, N[2]);
+	const vf l2 = v_fma(pnx, pnx, v_fma(pny, pny, v_mul(pnz, pnz)));
+	g.ok = m_and(p->active, v_gt(l2, v_set1(1e-12f)));
+	const vf rl = v_rsqrt(v_sel(g.ok, l2, one));
+	g.lpn = v_mul(l2, rl);
+	const vf pv = v_fma(pnx, p->Vx, v_fma(pny, p->Vy, v_mul(pnz, p->Vz)));
+	g.cos_n = v_min(v_max(v_mul(pv, rl), v_set1(-1.0f)), one);
+	/* n is positive towards ortho: ortho.pn = dir.pn - (dir.V)(V.pn) */
+	const vf dv = v_fma(dirx, p->Vx, v_mul(diry, p->Vy));
+	const vm neg = v_lt(v_fnma(dv, pv, v_fma(dirx, pnx, v_mul(diry, pny))), zero);
+	const vf n = v_acos(g.cos_n);
+	const vf sin_n = v_sqrt(v_max(v_fnma(g.cos_n, g.cos_n, one), zero));
+	g.n = v_sel(neg, v_neg(n), n);
+	g.sin_n = v_sel(neg, v_neg(sin_n), sin_n);
+	return g;
+}
+
+/*
+ * Adds one slice's cosine-weighted integral (Jimenez 2016 eq. 7),
+ * sum over both sides of 0.25 (cos n - cos(2h - n) + 2 h sin n), between the
+ * horizons whose cosines are hc_pos / hc_neg, and its unoccluded value.
+ * h1 = acos(hc_pos) and h0 = -acos(hc_neg), each clamped to n +- pi/2; then
+ * cos(2h - n) = cos 2h cos n + sin 2h sin n with cos 2h = 2 cos^2 h - 1 and
+ * sin 2h = 2 cos h sin h (sin h = +-sqrt(1 - cos^2 h)), or -cos n where the
+ * clamp applies (2h - n = n +- pi): no trigonometric call.
+ */
+static inline void slice_accumulate(const struct slice_v *g, vf hc_pos, vf hc_neg, vf *vis,
+				    vf *norm)
+{
+	const vf one = v_set1(1.0f), zero = v_zero(), half_pi = v_set1(DAO_HALF_PI_F);
+	const vf two = v_set1(2.0f);
+	const vf c1 = v_min(v_max(hc_pos, v_set1(-1.0f)), one);
+	const vf c0 = v_min(v_max(hc_neg, v_set1(-1.0f)), one);
+	vf h1 = v_acos(c1), h0 = v_neg(v_acos(c0));
+	const vm cl1 = v_gt(v_sub(h1, g->n), half_pi), cl0 = v_lt(v_sub(h0, g->n), v_neg(half_pi));
+	h1 = v_sel(cl1, v_add(g->n, half_pi), h1);
+	h0 = v_sel(cl0, v_sub(g->n, half_pi), h0);
+	const vf s1 = v_sqrt(v_max(v_fnma(c1, c1, one), zero));
+	const vf s0 = v_neg(v_sqrt(v_max(v_fnma(c0, c0, one), zero)));
+	const vf k1 = v_fma(v_fma(v_mul(two, c1), c1, v_neg(one)), g->cos_n,
+			    v_mul(v_mul(v_mul(two, c1), s1), g->sin_n));
+	const vf k0 = v_fma(v_fma(v_mul(two, c0), c0, v_neg(one)), g->cos_n,
+			    v_mul(v_mul(v_mul(two, c0), s0), g->sin_n));
+	const vf ncos = v_neg(g->cos_n);
+	const vf cos1 = v_sel(cl1, ncos, k1), cos0 = v_sel(cl0, ncos, k0);
+	/* both sides: 0.25 (2 cos n - cos0 - cos1 + 2 (h0 + h1) sin n) */
+	const vf a = v_mul(v_set1(0.25f), v_fma(v_add(h0, h1), v_add(g->sin_n, g->sin_n),
+					       v_sub(v_sub(v_add(g->cos_n, g->cos_n), cos0), cos1)));
+	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, a), zero));
+	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, v_fma(g->n, g->sin_n, g->cos_n)), zero));
+}
+
+/* dao_gtao_finish over lanes: saturate, final power, multi-bounce fit. */
+static inline vf finish_lanes(const struct dao_gtao_setup *s, vf vis)
+{
+	const vf zero = v_zero(), one = v_set1(1.0f);
+	vis = v_min(v_max(vis, zero), one);
+	if (s->final_power != 1.0f) {
+		float l[VN];
+		v_store(l, vis);
+		for (int k = 0; k < VN; k++)
+			l[k] = powf(l[k], s->final_power);
+		vis = v_load(l);
+	}
+	if (s->albedo > 0.0f) {
+		const float rho = s->albedo;
+		const vf a = v_set1(2.0404f * rho - 0.3324f), b = v_set1(-4.7951f * rho + 0.6417f);
+		const vf c = v_set1(2.7552f * rho + 0.6903f);
+		vis = v_max(vis, v_mul(v_fma(v_fma(a, vis, b), vis, c), vis));
+	}
+	return v_min(v_max(vis, zero), one);
 }
 
 static vf gtao_lanes(const struct dao_gtao_setup *s, const float *izp, int pw, const struct px *p,
 		     vf n0, const vf N[3])
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
-	const vf half_pi = v_set1(DAO_HALF_PI_F);
 	vf vis = zero, norm = zero;
 	for (int sl = 0; sl < s->slices; sl++) {
 		vf phi = v_div(v_mul(v_add(v_set1((float)sl), n0), v_set1(DAO_PI_F)),
 			       v_set1((float)s->slices));
 		vf dx, dy;
 		v_sincos(phi, &dy, &dx);
-		/* slice plane axis: (dir - (dir.V) V) x V, dir = (dx ax, dy ay, 0) */
-		vf dirx = v_mul(dx, v_set1(s->ax)), diry = v_mul(dy, v_set1(s->ay));
-		vf dv = v_fma(dirx, p->Vx, v_mul(diry, p->Vy));
-		vf ox = v_sub(dirx, v_mul(dv, p->Vx)), oy = v_sub(diry, v_mul(dv, p->Vy));
-		vf oz = v_neg(v_mul(dv, p->Vz));
-		vf axx = v_sub(v_mul(oy, p->Vz), v_mul(oz, p->Vy));
-		vf axy = v_sub(v_mul(oz, p->Vx), v_mul(ox, p->Vz));
-		vf axz = v_sub(v_mul(ox, p->Vy), v_mul(oy, p->Vx));
-		vf la = v_sqrt(v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz))));
-		vf ila = v_div(one, la);
-		axx = v_mul(axx, ila), axy = v_mul(axy, ila), axz = v_mul(axz, ila);
-		vf na = v_fma(N[0], axx, v_fma(N[1], axy, v_mul(N[2], axz)));
-		vf pnx = v_sub(N[0], v_mul(axx, na)), pny = v_sub(N[1], v_mul(axy, na));
-		vf pnz = v_sub(N[2], v_mul(axz, na));
-		vf lpn = v_sqrt(v_fma(pnx, pnx, v_fma(pny, pny, v_mul(pnz, pnz))));
-		vm slice_ok = m_and(p->active, v_gt(lpn, v_set1(1e-6f)));
-		if (!m_any(slice_ok))
+		struct slice_v g = slice_geometry(s, p, dx, dy, N);
+		if (!m_any(g.ok))
 			continue;
-		vf cos_n = v_div(v_fma(pnx, p->Vx, v_fma(pny, p->Vy, v_mul(pnz, p->Vz))),
-				 v_sel(slice_ok, lpn, one));
-		cos_n = v_min(v_max(cos_n, v_set1(-1.0f)), one);
-		vm neg = v_lt(v_fma(ox, pnx, v_fma(oy, pny, v_mul(oz, pnz))), zero);
-		vf n = v_acos(cos_n);
-		vf sin_n = v_sqrt(v_max(v_sub(one, v_mul(cos_n, cos_n)), zero));
-		n = v_sel(neg, v_neg(n), n);
-		sin_n = v_sel(neg, v_neg(sin_n), sin_n);
-
 		vm major_x = v_ge(v_abs(dx), v_abs(dy));
 		vf dmaj = v_sel(major_x, dx, dy), dmin = v_sel(major_x, dy, dx);
-		struct side pos = { dmaj, dmin, v_div(one, dmaj), v_neg(sin_n) };
-		struct side negs = { v_neg(dmaj), v_neg(dmin), v_neg(pos.inv_dmaj), sin_n };
+		struct side pos = { dmaj, dmin, v_div(dmin, dmaj), v_neg(g.sin_n) };
+		struct side negs = { v_neg(dmaj), v_neg(dmin), pos.slope, g.sin_n };
 		struct px pa = *p;
-		pa.active = slice_ok;
+		pa.active = g.ok;
 		vf hc_pos = search_side(s, izp, pw, &pa, &pos, major_x);
 		vf hc_neg = search_side(s, izp, pw, &pa, &negs, major_x);
-		vf h1 = v_acos(v_min(v_max(hc_pos, v_set1(-1.0f)), one));
-		vf h0 = v_neg(v_acos(v_min(v_max(hc_neg, v_set1(-1.0f)), one)));
-		h0 = v_add(n, v_max(v_sub(h0, n), v_neg(half_pi)));
-		h1 = v_add(n, v_min(v_sub(h1, n), half_pi));
-		vf a = v_add(side_integral(h0, n, cos_n, sin_n), side_integral(h1, n, cos_n, sin_n));
-		vis = v_add(vis, v_sel(slice_ok, v_mul(lpn, a), zero));
-		norm = v_add(norm, v_sel(slice_ok, v_mul(lpn, v_fma(n, sin_n, cos_n)), zero));
+		slice_accumulate(&g, hc_pos, hc_neg, &vis, &norm);
 	}
 	vm has = v_gt(norm, zero);
 	return v_sel(has, v_div(vis, v_sel(has, norm, one)), one);
 }
 
-void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z, const float *izp,
-			       const float *n, float *ao, int y0, int y1)
+#include "kernels/gtao_tile.inc.c"
+
+void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z,
+			       const struct dao_gtao_planes *pl, const float *n, float *ao, int y0,
+			       int y1)
 {
+	if (s->noise == DAO_NOISE_TILE) {
+		gtao_tile(s, z, pl, n, ao, y0, y1);
+		return;
+	}
 	const int w = s->width, pw = w + 2;
-	const float *iz_origin = izp; /* pixel (-1, -1) */
+	const float *iz_origin = pl->izp; /* pixel (-1, -1) */
 	for (int y = y0; y < y1; y++) {
 		for (int x0 = s->x_begin; x0 < s->x_end; x0 += VN) {
 			const int lanes = s->x_end - x0 < VN ? s->x_end - x0 : VN;
@@ -276,9 +345,9 @@ void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z, c
 				const vf N[3] = { v_load(nl[0]), v_load(nl[1]), v_load(nl[2]) };
 				vis = gtao_lanes(s, iz_origin, pw, &p, n0, N);
 			}
-			v_store(out, vis);
+			v_store(out, finish_lanes(s, vis));
 			for (int k = 0; k < lanes; k++)
-				ao[i0 + k] = zl[k] > 0.0f ? dao_gtao_finish(s, out[k]) : s->invalid_value;
+				ao[i0 + k] = zl[k] > 0.0f ? out[k] : s->invalid_value;
 		}
 	}
 }

@@ -54,4 +54,29 @@ static inline void dao_r2(int x, int y, uint32_t frame, float *n0, float *n1)
 	*n1 = (float)(b - floor(b));
 }
 
+/* Bayer's 4 x 4 ordered-dither index: neighbours are as far apart in value as possible. */
+static inline uint32_t dao_bayer4(uint32_t x, uint32_t y)
+{
+	static const uint8_t m[16] = { 0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5 };
+	return m[(y & 3u) * 4u + (x & 3u)];
+}
+
+/*
+ * The 4 x 4 tile noise: the slice rotation n0 is stratified, (i + 1/2) / 16
+ * with i the Bayer index (so every 4 x 4 block sees 16 evenly spaced
+ * rotations, neighbours far apart), and the step jitter n1 is the golden
+ * ratio sequence over i (well spread and unrelated to n0's order).  Each
+ * frame shifts both by the R2 offsets, so temporal accumulation sees new
+ * values.  Only (x mod 4, y mod 4) matters: the optimised GTAO gives every
+ * pixel of one tile phase along a row the same directions and steps.
+ */
+static inline void dao_tile_noise(int x, int y, uint32_t frame, float *n0, float *n1)
+{
+	uint32_t i = dao_bayer4((uint32_t)x, (uint32_t)y), f = frame & 63u;
+	double a = ((double)i + 0.5) / 16.0 + 0.7548776662466927 * (double)f;
+	double b = 0.5 + 0.6180339887498949 * (double)i + 0.5698402909980532 * (double)f;
+	*n0 = (float)(a - floor(a));
+	*n1 = (float)(b - floor(b));
+}
+
 #endif

@@ -19,7 +19,7 @@
 static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "vbao", NULL };
 static const char *const prefilter_names[] = { "none", "bilateral", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
-static const char *const noise_names[] = { "ign", "r2", "none", NULL };
+static const char *const noise_names[] = { "ign", "r2", "none", "tile", NULL };
 static const char *const denoise_names[] = { "none", "plane", "bilateral", NULL };
 static const char *const simd_names[] = { "auto", "reference", "generic", "sse4.1", "avx2", NULL };
 static const char *const shade_names[] = { "lambert", "turbo", "jet", "gray", "ao", NULL };

@@ -19,6 +19,7 @@
 #include "depth/prefilter.h"
 #include "kernels/ao_variants.h"
 #include "kernels/gtao.h"
+#include "kernels/gtao_planes.h"
 #include "normals/normals.h"
 #include "pipeline/kernels.h"
 #include "pipeline/threadpool.h"
@@ -43,7 +44,7 @@ struct dao_context {
 	float *hist_ao; /* temporal accumulation: the last output ... */
 	float *hist_z;  /* ... and the depth it was computed for */
 	int hist_valid;
-	float *izp;     /* 1/z of the filtered depth with a 1-px border of zeros (optimised kernels) */
+	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
 	int have_frame;
@@ -144,8 +145,8 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->tmp = mem + 7 * ctx->npix;
 	ctx->hist_ao = mem + 8 * ctx->npix;
 	ctx->hist_z = mem + 9 * ctx->npix;
-	ctx->izp = calloc(((size_t)checked.width + 2) * (checked.height + 2), sizeof(float));
-	if (!ctx->izp) {
+	if (dao_gtao_planes_init(&ctx->planes, (int)checked.width, (int)checked.height,
+				 p.max_screen_radius)) {
 		dao_context_destroy(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
 				     checked.width, checked.height);
@@ -167,7 +168,7 @@ void dao_context_destroy(struct dao_context *ctx)
 		return;
 	dao_pool_destroy(ctx->pool);
 	free(ctx->z_raw);
-	free(ctx->izp);
+	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
 	free(ctx);
 }
@@ -182,6 +183,16 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 		r = check_simd(params->simd, err);
 	if (r)
 		return r;
+	if (!dao_gtao_planes_fit(&ctx->planes, params->max_screen_radius)) {
+		/* a larger max-screen-radius needs wider padding of the phase plane */
+		struct dao_gtao_planes pl;
+		if (dao_gtao_planes_init(&pl, (int)ctx->cam.width, (int)ctx->cam.height,
+					 params->max_screen_radius))
+			return dao_error_set(err, -ENOMEM, "out of memory for max-screen-radius %g",
+					     (double)params->max_screen_radius);
+		dao_gtao_planes_free(&ctx->planes);
+		ctx->planes = pl;
+	}
 	if (params->threads != ctx->pool_threads) {
 		r = make_pool(ctx, params->threads, err);
 		if (r)
@@ -303,16 +314,10 @@ struct frame_job {
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
 
-/* 1/z rows of the filtered depth into the bordered plane the optimised GTAO reads */
+/* 1/z rows of the filtered depth into the plane the optimised GTAO reads */
 static void fill_inverse_depth(struct dao_context *c, int y0, int y1)
 {
-	const int w = (int)c->cam.width;
-	for (int y = y0; y < y1; y++) {
-		const float *zr = c->z + (size_t)y * w;
-		float *o = c->izp + (size_t)(y + 1) * (w + 2) + 1;
-		for (int x = 0; x < w; x++)
-			o[x] = zr[x] > 0.0f ? 1.0f / zr[x] : 0.0f;
-	}
+	dao_gtao_planes_fill(&c->planes, c->z, c->params.noise == DAO_NOISE_TILE, y0, y1);
 }
 
 static void stage_decode(void *arg, int y0, int y1)
@@ -351,7 +356,7 @@ static void stage_gtao(void *arg, int y0, int y1)
 	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_VBAO: dao_vbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
-	default: j->k.gtao(&j->gtao, c->z, c->izp, c->n, c->ao_raw, y0, y1); break;
+	default: j->k.gtao(&j->gtao, c->z, &c->planes, c->n, c->ao_raw, y0, y1); break;
 	}
 }
 
@@ -374,7 +379,7 @@ static void stage_gtao_strips(void *arg, int i0, int i1)
 		struct dao_gtao_setup g = j->gtao;
 		g.x_begin = strip * GTAO_STRIP;
 		g.x_end = g.x_begin + GTAO_STRIP < w ? g.x_begin + GTAO_STRIP : w;
-		j->k.gtao(&g, c->z, c->izp, c->n, c->ao_raw, y0, y1);
+		j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1);
 		i0 += y1 - y0;
 	}
 }

@@ -4,10 +4,10 @@
 #include "normals/normals.h"
 #include "pipeline/kernels.h"
 
-static void gtao_reference(const struct dao_gtao_setup *s, const float *z, const float *izp,
-			   const float *n, float *ao, int y0, int y1)
+static void gtao_reference(const struct dao_gtao_setup *s, const float *z,
+			   const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1)
 {
-	(void)izp;
+	(void)pl;
 	dao_gtao_ref(s, z, n, ao, y0, y1);
 }
 

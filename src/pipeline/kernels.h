@@ -8,6 +8,7 @@
 #include "denoise/denoise.h"
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
+#include "kernels/gtao_planes.h"
 #include "shade/shade.h"
 
 struct dao_kernels {
@@ -16,9 +17,9 @@ struct dao_kernels {
 			    int y1);
 	void (*prefilter_v)(const struct dao_prefilter_setup *s, const float *tmp, float *out,
 			    int y0, int y1);
-	/* izp: bordered 1/z plane, used by the optimised kernels only */
-	void (*gtao)(const struct dao_gtao_setup *s, const float *z, const float *izp,
-		     const float *n, float *ao, int y0, int y1);
+	/* pl: the 1/z planes of gtao_planes.h, used by the optimised kernels only */
+	void (*gtao)(const struct dao_gtao_setup *s, const float *z,
+		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1);
 	void (*denoise_plane)(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
 			      float *ao_out, int y0, int y1);
 	void (*normals)(const struct dao_camera *cam, const float *z, int r, float *n, int y0,

@@ -27,6 +27,7 @@ static inline vf v_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
 static inline vf v_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
 static inline vf v_div(vf a, vf b) { return _mm256_div_ps(a, b); }
 static inline vf v_fma(vf a, vf b, vf c) { return _mm256_fmadd_ps(a, b, c); }
+static inline vf v_fnma(vf a, vf b, vf c) { return _mm256_fnmadd_ps(a, b, c); } /* c - a b */
 static inline vf v_min(vf a, vf b) { return _mm256_min_ps(a, b); }
 static inline vf v_max(vf a, vf b) { return _mm256_max_ps(a, b); }
 static inline vf v_sqrt(vf a) { return _mm256_sqrt_ps(a); }
@@ -46,6 +47,10 @@ static inline vf v_rcp(vf a)
 	vf r = _mm256_rcp_ps(a);
 	return _mm256_mul_ps(r, _mm256_fnmadd_ps(a, r, _mm256_set1_ps(2.0f)));
 }
+/* 1/a, hardware estimate only (relative error < 3.7e-4); 1/0 = inf */
+static inline vf v_rcp_fast(vf a) { return _mm256_rcp_ps(a); }
+/* 1/sqrt(a), hardware estimate only (relative error < 3.7e-4) */
+static inline vf v_rsqrt_fast(vf a) { return _mm256_rsqrt_ps(a); }
 static inline vf v_rsqrt(vf a)
 {
 	vf r = _mm256_rsqrt_ps(a);

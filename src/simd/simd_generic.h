@@ -28,6 +28,7 @@ static inline vf v_sub(vf a, vf b) { return a - b; }
 static inline vf v_mul(vf a, vf b) { return a * b; }
 static inline vf v_div(vf a, vf b) { return a / b; }
 static inline vf v_fma(vf a, vf b, vf c) { return a * b + c; }
+static inline vf v_fnma(vf a, vf b, vf c) { return c - a * b; } /* c - a b */
 static inline vf v_sel(vm m, vf a, vf b) { return (vf)((m & (vi)a) | (~m & (vi)b)); }
 static inline vf v_min(vf a, vf b) { return v_sel(a < b, a, b); }
 static inline vf v_max(vf a, vf b) { return v_sel(a > b, a, b); }
@@ -52,6 +53,10 @@ static inline vf v_floor(vf a)
 
 /* no estimate instructions to rely on: exact */
 static inline vf v_rcp(vf a) { return v_set1(1.0f) / a; }
+/* 1/a (exact here; the other sets use a hardware estimate); 1/0 = inf */
+static inline vf v_rcp_fast(vf a) { return v_set1(1.0f) / a; }
+/* 1/sqrt(a) (exact here; the other sets use a hardware estimate) */
+static inline vf v_rsqrt_fast(vf a) { return v_set1(1.0f) / v_sqrt(a); }
 static inline vf v_rsqrt(vf a) { return v_set1(1.0f) / v_sqrt(a); }
 
 static inline vm v_lt(vf a, vf b) { return a < b; }

@@ -29,10 +29,18 @@ export GST_REGISTRY="$WORK/registry.bin"
 DPID=
 UPID=
 CLIENTS=
+# kills a process and its children (a `timeout` and the client it runs)
+kill_tree() {
+	for c in $(cat "/proc/$1/task/$1/children" 2>/dev/null); do
+		kill -KILL "$c" 2>/dev/null || true
+	done
+	kill -KILL "$1" 2>/dev/null || true
+}
 cleanup() {
 	for p in $CLIENTS $DPID $UPID; do
-		kill -KILL "$p" 2>/dev/null || true
+		kill_tree "$p"
 	done
+	wait 2>/dev/null
 	rm -rf "$WORK"
 }
 trap cleanup EXIT
@@ -86,10 +94,18 @@ client() {
 	frames=$2
 	shift 2
 	mkdir -p "$WORK/$name"
+	# a client that ends by itself gets 60 s; one that runs until killed is started
+	# directly, so that $! is gst-launch itself and SIGKILL really ends it (killing
+	# `timeout` would leave its child writing frames)
+	lim="timeout 60"
 	eos=
-	[ "$frames" -gt 0 ] && eos="eos-after=$((frames + 1))"
-	# shellcheck disable=SC2086 # $eos is one word or none
-	timeout 60 gst-launch-1.0 -q rtspsrc location="$URL" latency=100 "$@" ! rtpjpegdepay ! \
+	if [ "$frames" -gt 0 ]; then
+		eos="eos-after=$((frames + 1))"
+	else
+		lim=
+	fi
+	# shellcheck disable=SC2086 # $lim and $eos are words or nothing
+	$lim gst-launch-1.0 -q rtspsrc location="$URL" latency=100 "$@" ! rtpjpegdepay ! \
 		jpegdec ! videoconvert ! video/x-raw,format=RGB ! identity $eos ! pngenc ! \
 		multifilesink location="$WORK/$name/%03d.png" >"$WORK/$name.log" 2>&1 &
 	CLIENTS="$CLIENTS $!"

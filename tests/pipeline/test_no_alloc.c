@@ -140,7 +140,8 @@ int main(void)
 {
 	int r = 0;
 	for (int q = 0; q < DAO_QUALITY_COUNT; q++)
-		r |= run((enum dao_quality)q, DAO_NOISE_IGN);
+		r |= run((enum dao_quality)q, DAO_NOISE_TILE);
+	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_IGN);
 	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_R2);
 	return r;
 }

@@ -1,0 +1,66 @@
+/* SPDX-License-Identifier: MIT */
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "kernels/gtao.h"
+#include "kernels/gtao_planes.h"
+
+/* Offsets beyond the image width land off the image whatever the pixel: no
+ * padding is needed past w + 4 (the kernel skips such taps). */
+static int offset_cover(int w, float max_r_px)
+{
+	float r = ceilf(max_r_px);
+	return r < (float)(w + 4) ? (int)r : w + 4;
+}
+
+int dao_gtao_planes_init(struct dao_gtao_planes *pl, int w, int h, float max_r_px)
+{
+	const int blocks = (w + DAO_GTAO_BLOCK_SPAN - 1) / DAO_GTAO_BLOCK_SPAN;
+	*pl = (struct dao_gtao_planes){ .width = w, .height = h };
+	/* +2: the second tap and the phase carry; +2 more entries of slack */
+	pl->pad4 = (offset_cover(w, max_r_px) + 2 + 3) / 4 + 2;
+	pl->max_offset = 4 * (pl->pad4 - 2);
+	pl->stride4 = 2 * pl->pad4 + DAO_GTAO_BLOCK * blocks;
+	if (((size_t)h + 2) * 4 * (size_t)pl->stride4 > INT32_MAX)
+		return -EOVERFLOW; /* the tile kernel keeps tap offsets in 32 bits */
+	pl->izp = calloc(((size_t)w + 2) * ((size_t)h + 2), sizeof(float));
+	pl->phase = calloc(((size_t)h + 2) * 4 * (size_t)pl->stride4, sizeof(float));
+	if (!pl->izp || !pl->phase) {
+		dao_gtao_planes_free(pl);
+		return -ENOMEM;
+	}
+	return 0;
+}
+
+void dao_gtao_planes_free(struct dao_gtao_planes *pl)
+{
+	free(pl->izp);
+	free(pl->phase);
+	pl->izp = pl->phase = NULL;
+}
+
+int dao_gtao_planes_fit(const struct dao_gtao_planes *pl, float max_r_px)
+{
+	return offset_cover(pl->width, max_r_px) + 2 <= pl->max_offset;
+}
+
+void dao_gtao_planes_fill(struct dao_gtao_planes *pl, const float *z, int phase, int y0, int y1)
+{
+	const int w = pl->width;
+	for (int y = y0; y < y1; y++) {
+		const float *zr = z + (size_t)y * w;
+		if (!phase) {
+			float *o = pl->izp + (size_t)(y + 1) * (w + 2) + 1;
+			for (int x = 0; x < w; x++)
+				o[x] = zr[x] > 0.0f ? 1.0f / zr[x] : 0.0f;
+			continue;
+		}
+		for (int q = 0; q < 4; q++) {
+			float *o = (float *)dao_gtao_phase_row(pl, y, q);
+			for (int x = q, j = 0; x < w; x += 4, j++)
+				o[j] = zr[x] > 0.0f ? 1.0f / zr[x] : 0.0f;
+		}
+	}
+}

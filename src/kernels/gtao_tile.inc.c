@@ -1,0 +1,374 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * GTAO with tile noise, the fast path (included by gtao_simd.inc.c).
+ *
+ * With DAO_NOISE_TILE the pixels of one tile phase along a row, grouped in
+ * blocks (dao_gtao_block_radius), share the slice directions, the step
+ * jitter and the radius in pixels, so all of a block's samples sit at the
+ * same offset from their pixels.  The taps of every step are worked out once
+ * per block radius in scalar code (the arithmetic of dao_gtao_sample, so the
+ * very same taps) into a table, which neighbouring blocks of the same radius
+ * reuse; the lanes read their two taps with one load each from the phase
+ * plane (entries of one phase are 4 columns apart, as the block's pixels
+ * are).  What stays per lane: the depth-edge rule, the horizon cosine, the
+ * falloff and the thickness update.
+ */
+
+/* floor(a / 4) for any sign */
+static inline int floor_div4(int a)
+{
+	return a >= 0 ? a / 4 : -((3 - a) / 4);
+}
+
+enum {
+	TAP_USE1 = 1,  /* at a depth edge the second tap is the one closer to the line */
+	TAP_ONLY0 = 2, /* the sample is on the first tap: it alone will do */
+	TAP_ONLY1 = 4, /* ... on the second tap */
+};
+
+/* One step of a side, the same for every pixel of a block. */
+struct tile_step {
+	int32_t o0, o1;   /* the taps: entries from the phase plane's origin, before the
+			   * block's first entry is added (the plane has < 2^31 entries) */
+	int32_t oe;       /* the tap an edge takes (the one closer to the line) */
+	float f;          /* fraction between the taps */
+	float ux_s, ux_e; /* (u_sample - u_pixel) ax, smooth (s) and at an edge (e) */
+	float uy_s, uy_e; /* v_sample ay + by, smooth and at an edge */
+	int flags;
+};
+
+/* The steps of every slice side for one row, tile phase and block radius. */
+#define TILE_TABLE_MAX 256 /* entries: slices x 2 x steps of every preset fit */
+struct tile_table {
+	float rp;       /* the block radius it was made for (-1: none) */
+	struct tile_step st[TILE_TABLE_MAX];
+};
+
+/* Tables of the last two radii of a row and phase (block radii often alternate
+ * between neighbouring grid points). */
+struct tile_cache {
+	struct tile_table t[2];
+	int older; /* the one to replace next */
+};
+
+/* The per-row constants of one tile phase: slice directions and step positions. */
+struct tile_phase {
+	int a, y;
+	float dx[32], dy[32]; /* per slice (slices <= 32) */
+	float t[64];          /* per step, before scaling by the radius (steps <= 64) */
+};
+
+static void tile_phase_init(const struct dao_gtao_setup *s, int a, int y, struct tile_phase *ph)
+{
+	float n0, n1;
+	dao_tile_noise(a, y, s->frame, &n0, &n1);
+	ph->a = a;
+	ph->y = y;
+	/* the reference's expressions, so the very same directions and steps */
+	for (int sl = 0; sl < s->slices; sl++) {
+		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
+		ph->dx[sl] = cosf(phi);
+		ph->dy[sl] = sinf(phi);
+	}
+	for (int i = 0; i < s->steps; i++)
+		ph->t[i] = powf(((float)i + n1) / (float)s->steps, s->power);
+}
+
+/* A step that samples nothing: both taps read row -1 of the phase plane, all
+ * zeros ("no data") for any block. */
+static void tile_step_null(const struct dao_gtao_planes *pl, struct tile_step *o)
+{
+	*o = (struct tile_step){ 0 };
+	o->o0 = o->o1 = o->oe = (int32_t)(dao_gtao_phase_row(pl, -1, 0) - pl->phase);
+}
+
+/* dao_gtao_sample for a block at step distance dist; 0 when it samples nothing
+ * for any pixel of the block. */
+static int tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+			  const struct tile_phase *ph, float dmaj, float slope, int major_x,
+			  float dist, struct tile_step *o)
+{
+	const int y = ph->y, a = ph->a;
+	int mo = (int)lrintf(dmaj * dist);
+	if (mo == 0)
+		mo = dmaj > 0.0f ? 1 : -1;
+	const float off = (float)mo * slope;
+	const float fo = floorf(off);
+	const int c0 = (int)fo;
+	o->f = off - fo;
+	o->flags = (o->f >= 0.5f ? TAP_USE1 : 0) | (o->f < 1e-3f ? TAP_ONLY0 : 0) |
+		   (o->f > 1.0f - 1e-3f ? TAP_ONLY1 : 0);
+	const int use1 = o->flags & TAP_USE1;
+	if (major_x) {
+		/* columns x + mo (off the image: zero padding), rows y + c0 and y + c0 + 1 */
+		const int i0 = y + c0;
+		if (mo < -pl->max_offset || mo > pl->max_offset || i0 < -1 || i0 >= s->height)
+			return 0;
+		const int q = (a + mo) & 3, j = floor_div4(a + mo);
+		o->o0 = (int32_t)((dao_gtao_phase_row(pl, i0, q) - pl->phase) + j);
+		o->o1 = (int32_t)((dao_gtao_phase_row(pl, i0 + 1, q) - pl->phase) + j);
+		o->ux_s = o->ux_e = (float)mo * s->ax;
+		o->uy_s = ((float)y + off) * s->ay + s->by;
+		o->uy_e = (float)(i0 + use1) * s->ay + s->by;
+	} else {
+		/* row y + mo, columns x + c0 and x + c0 + 1 */
+		const int m = y + mo;
+		if (m < 0 || m >= s->height || c0 < -pl->max_offset || c0 + 1 > pl->max_offset)
+			return 0;
+		o->o0 = (int32_t)((dao_gtao_phase_row(pl, m, (a + c0) & 3) - pl->phase) +
+				  floor_div4(a + c0));
+		o->o1 = (int32_t)((dao_gtao_phase_row(pl, m, (a + c0 + 1) & 3) - pl->phase) +
+				  floor_div4(a + c0 + 1));
+		o->ux_s = off * s->ax;
+		o->ux_e = (float)(c0 + use1) * s->ax;
+		o->uy_s = o->uy_e = (float)m * s->ay + s->by;
+	}
+	o->oe = use1 ? o->o1 : o->o0;
+	return 1;
+}
+
+/* The steps of slice sl's two sides for block radius rp: st[0..steps) for the
+ * positive side, st[steps..2 steps) for the negative one (null steps where
+ * nothing is sampled, so both sides run in one loop). */
+static void tile_slice_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+			    const struct tile_phase *ph, float rp, int sl, struct tile_step *st)
+{
+	const float dx = ph->dx[sl], dy = ph->dy[sl];
+	const int major_x = fabsf(dx) >= fabsf(dy);
+	for (int side = 0; side < 2; side++) {
+		const float sg = side ? -1.0f : 1.0f;
+		const float dmaj = sg * (major_x ? dx : dy), dmin = sg * (major_x ? dy : dx);
+		const float slope = dmin / dmaj;
+		struct tile_step *o = st + (size_t)side * (size_t)s->steps;
+		for (int i = 0; i < s->steps; i++) {
+			/* the reference's step distance, bit for bit */
+			const float dist = 1.0f + ph->t[i] * (rp - 1.0f);
+			if (!tile_step_make(s, pl, ph, dmaj, slope, major_x, dist, &o[i]))
+				tile_step_null(pl, &o[i]);
+		}
+	}
+}
+
+/* Whether one table holds every slice of this configuration (else each block
+ * makes its slices' steps as it goes). */
+static inline int tile_table_fits(const struct dao_gtao_setup *s)
+{
+	return s->slices * 2 * s->steps <= TILE_TABLE_MAX;
+}
+
+static void tile_table_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+			    const struct tile_phase *ph, float rp, struct tile_table *tb)
+{
+	tb->rp = rp;
+	for (int sl = 0; sl < s->slices; sl++)
+		tile_slice_make(s, pl, ph, rp, sl, tb->st + (size_t)sl * 2 * (size_t)s->steps);
+}
+
+/* Per-lane constants of the VN pixels of a block being processed. */
+struct tile_px {
+	struct px p;
+	vf X0; /* x ax + bx of the pixel */
+};
+
+/* One step of one side: the sample's horizon cosine (weighted towards `low` by
+ * the falloff) and whether there is a sample. */
+static inline __attribute__((always_inline)) vf
+tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
+	    const struct tile_step *st, vf low, vm *okp)
+{
+	const vf one = v_set1(1.0f), zero = v_zero();
+	const struct px *p = &t->p;
+	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
+	const vf izmin = v_min(iz0, iz1);
+	vm ok = v_gt(izmin, zero); /* both taps have data */
+	const vf d01 = v_sub(iz1, iz0);
+	/* |z0 - z1| > 0.1 min(z0, z1), in 1/z: the tap closer to the line, at its place */
+	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
+	vf iz = v_sel(edge, v_load(base + st->oe), v_fma(v_set1(st->f), d01, iz0));
+	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
+		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
+		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
+		iz = v_sel(only, (st->flags & TAP_ONLY0) ? iz0 : iz1, iz);
+		ok = m_or(ok, only);
+	}
+	iz = v_sel(ok, iz, zero);
+	/* D = S - P = z_s G with G = U - P / z_s and U = (u ax + bx, v ay + by, 1):
+	 * the direction of G is that of D, and |D| = |G| / iz */
+	const vf Ux = v_add(t->X0, v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s)));
+	const vf Uy = v_sel(edge, v_set1(st->uy_e), v_set1(st->uy_s));
+	const vf Gx = v_fnma(p->Px, iz, Ux);
+	const vf Gy = v_fnma(p->Py, iz, Uy);
+	const vf Gz = v_fnma(p->Pz, iz, one);
+	const vf g2 = v_fma(Gx, Gx, v_fma(Gy, Gy, v_mul(Gz, Gz)));
+	const vf rg = v_rsqrt_fast(g2); /* G is never 0: the sample is off the pixel's ray */
+	const vf c = v_mul(v_fma(Gx, p->Vx, v_fma(Gy, p->Vy, v_mul(Gz, p->Vz))), rg);
+	/* |D| for the falloff weight: the estimate of 1/iz is plenty there.  Lanes
+	 * without a sample have iz = 0, so |D| = inf and weight 0, which leaves c
+	 * at `low` */
+	const vf len = v_mul(v_mul(g2, rg), v_rcp_fast(iz));
+	const vf wgt = v_min(v_max(v_fma(len, v_set1(s->falloff_mul), v_set1(s->falloff_add)),
+				   zero), one);
+	*okp = ok;
+	return v_fma(v_sub(c, low), wgt, low);
+}
+
+/*
+ * The largest horizon cosines of both sides of a slice (search_side of the
+ * reference), the two sides' steps interleaved for instruction-level
+ * parallelism; base: the phase plane at the lanes' first entry.  use_max: no
+ * thickness heuristic (decay 1), so a step without a sample, weighing 0,
+ * cannot change the horizon; with it, such lanes keep theirs explicitly.
+ */
+static inline __attribute__((always_inline)) void
+tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
+	   const struct tile_step *st, vf low_pos, vf low_neg, vf *hc_pos, vf *hc_neg,
+	   const int use_max)
+{
+	const vf decay = v_set1(s->decay);
+	const struct tile_step *sn = st + s->steps;
+	vf bp = low_pos, bn = low_neg;
+	for (int i = 0; i < s->steps; i++) {
+		vm okp, okn;
+		const vf cp = tile_sample(s, base, t, &st[i], low_pos, &okp);
+		const vf cn = tile_sample(s, base, t, &sn[i], low_neg, &okn);
+		if (use_max) {
+			bp = v_max(bp, cp);
+			bn = v_max(bn, cn);
+		} else {
+			/* thickness heuristic (UE4): a lower sample after a higher one pulls
+			 * the horizon towards it */
+			bp = v_sel(okp, v_sel(v_gt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)), bp);
+			bn = v_sel(okn, v_sel(v_gt(cn, bn), cn, v_fma(v_sub(bn, cn), decay, cn)), bn);
+		}
+	}
+	*hc_pos = bp;
+	*hc_neg = bn;
+}
+
+static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
+			   const struct tile_px *t, const struct tile_step *st, vf low_pos,
+			   vf low_neg, vf *hc_pos, vf *hc_neg)
+{
+	if (s->decay == 1.0f)
+		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 1);
+	else
+		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0);
+}
+
+/* VN lanes of a block: columns x0, x0 + 4, ... (entries jb, jb + 1, ... of the phase). */
+static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		       const float *z, const float *n, float *ao, const struct tile_phase *ph,
+		       const struct tile_table *tb, int jb, int x0)
+{
+	const int w = s->width, y = ph->y;
+	float zl[VN], nl[3][VN], out[VN];
+	int lanes = 0;
+	for (int k = 0; k < VN; k++) {
+		const int x = x0 + 4 * k;
+		const int in = x < s->x_end;
+		const size_t i = (size_t)y * w + (size_t)(in ? x : x0);
+		zl[k] = in ? z[i] : 0.0f;
+		for (int c = 0; c < 3; c++)
+			nl[c][k] = n[3 * i + c];
+		lanes += in;
+	}
+	struct tile_px t;
+	struct px *p = &t.p;
+	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
+	p->y = v_set1((float)y);
+	p->Pz = v_load(zl);
+	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
+	p->Px = v_mul(t.X0, p->Pz);
+	p->Py = v_mul(v_set1((float)y * s->ay + s->by), p->Pz);
+	const vm has_z = v_gt(p->Pz, v_zero());
+	const vf zsafe = v_sel(has_z, p->Pz, v_set1(1.0f));
+	const vf lp = v_sqrt(v_fma(p->Px, p->Px, v_fma(p->Py, p->Py, v_mul(p->Pz, p->Pz))));
+	const vf ilp = v_div(v_set1(-1.0f), v_sel(has_z, lp, v_set1(1.0f)));
+	p->Vx = v_mul(p->Px, ilp), p->Vy = v_mul(p->Py, ilp), p->Vz = v_mul(p->Pz, ilp);
+	/* the pixel's own radius decides whether it is searched at all */
+	const vf r = v_div(v_set1(s->search_radius * s->focal), zsafe);
+	p->active = m_and(has_z, m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, v_set1(1.0f))));
+	vf vis = v_set1(1.0f);
+	if (m_any(p->active)) {
+		const vf N[3] = { v_load(nl[0]), v_load(nl[1]), v_load(nl[2]) };
+		const float *base = pl->phase + jb;
+		vf sum = v_zero(), norm = v_zero();
+		for (int sl = 0; sl < s->slices; sl++) {
+			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
+							  N);
+			if (!m_any(g.ok))
+				continue;
+			const struct tile_step *st;
+			struct tile_step local[2 * 64];
+			if (tile_table_fits(s)) {
+				st = tb->st + (size_t)sl * 2 * (size_t)s->steps;
+			} else {
+				tile_slice_make(s, pl, ph, tb->rp, sl, local);
+				st = local;
+			}
+			vf hc_pos, hc_neg;
+			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg);
+			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm);
+		}
+		const vm has = v_gt(norm, v_zero());
+		vis = v_sel(has, v_div(sum, v_sel(has, norm, v_set1(1.0f))), v_set1(1.0f));
+	}
+	v_store(out, finish_lanes(s, vis));
+	for (int k = 0; k < lanes; k++)
+		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] =
+			zl[k] > 0.0f ? out[k] : s->invalid_value;
+}
+
+/* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block span). */
+static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
+		      const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1)
+{
+	const float rf = s->search_radius * s->focal;
+	/* the tables of every preset fit on the stack; more slices x steps than that
+	 * are made per block and slice (tile_lanes) */
+	struct tile_cache cache;
+	for (int y = y0; y < y1; y++) {
+		for (int a = 0; a < 4; a++) {
+			struct tile_phase ph;
+			tile_phase_init(s, a, y, &ph);
+			cache.t[0].rp = cache.t[1].rp = -1.0f;
+			cache.older = 0;
+			const float *izrow = dao_gtao_phase_row(pl, y, a);
+			for (int xb = s->x_begin; xb + a < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
+				const int jb = xb / 4;
+				/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
+				float izmax = 0.0f;
+				for (int k = 0; k < DAO_GTAO_BLOCK; k++)
+					izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
+				if (izmax <= 0.0f) {
+					for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end;
+					     x += 4)
+						ao[(size_t)y * s->width + x] = s->invalid_value;
+					continue;
+				}
+				const float rp =
+					fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
+				struct tile_table *tb;
+				if (cache.t[0].rp == rp) {
+					tb = &cache.t[0];
+					cache.older = 1;
+				} else if (cache.t[1].rp == rp) {
+					tb = &cache.t[1];
+					cache.older = 0;
+				} else {
+					tb = &cache.t[cache.older];
+					cache.older ^= 1;
+					if (tile_table_fits(s))
+						tile_table_make(s, pl, &ph, rp, tb);
+					else
+						tb->rp = rp;
+				}
+				for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
+					const int x0 = xb + a + 4 * h;
+					if (x0 < s->x_end)
+						tile_lanes(s, pl, z, n, ao, &ph, tb, jb + h, x0);
+				}
+			}
+		}
+	}
+}
