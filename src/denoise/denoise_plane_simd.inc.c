@@ -51,17 +51,19 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 			vf sig = v_mul(v_mul(v_set1(s->noise_k), zc), zc);
 			vf tol = v_mul(v_set1(s->sharpness), v_max(sig, v_mul(v_set1(0.002f), zc)));
 			vf inv_tol = v_div(one, v_sel(has, tol, one));
+			/* zc + k gx for the five columns, then + j gy per row */
+			const vf ak[5] = { v_fnma(v_set1(2.0f), gx, zc), v_sub(zc, gx), zc,
+					   v_add(zc, gx), v_fma(v_set1(2.0f), gx, zc) };
 			vf sum = zero, wsum = zero;
 			for (int j = -2; j <= 2; j++) {
 				const float *zt = zr + (ptrdiff_t)j * w;
 				const float *at = ao_in + (size_t)(y + j) * w + x;
+				const vf jg = v_mul(v_set1((float)j), gy);
 				for (int k = -2; k <= 2; k++) {
-					vf t = v_load(zt + k);
-					/* zc + k gx + j gy, in the reference's order of roundings */
-					vf plane = v_add(v_add(zc, v_mul(v_set1((float)k), gx)),
-							 v_mul(v_set1((float)j), gy));
-					vf wt = v_sub(one, v_min(v_max(v_mul(v_abs(v_sub(plane, t)), inv_tol),
-								       zero), one));
+					const vf t = v_load(zt + k);
+					const vf plane = v_add(ak[k + 2], jg);
+					/* 1 - saturate(|plane - t| / tol) = max(1 - |plane - t| / tol, 0) */
+					vf wt = v_max(v_fnma(v_abs(v_sub(plane, t)), inv_tol, one), zero);
 					wt = v_sel(v_gt(t, zero), wt, zero);
 					sum = v_fma(wt, v_load(at + k), sum);
 					wsum = v_add(wsum, wt);

@@ -18,37 +18,59 @@ static inline vf inv_2rr(const struct dao_prefilter_setup *s, vf wc)
 	return v_div(v_set1(1.0f), v_mul(v_mul(v_set1(2.0f), sw), sw));
 }
 
+/* Columns per chunk of the horizontal pass: 1/z of the chunk and its borders
+ * is made once into a buffer (zeros off the image, which weigh 0 as holes). */
+#define PF_CHUNK 512
+#define PF_MAX_RADIUS 8
+
 void DAO_ISA_FN(dao_prefilter_h)(const struct dao_prefilter_setup *s, const float *z, float *tmp,
 				 int y0, int y1)
 {
-	const int w = s->width, r = s->radius;
+	const int w = s->width, r = s->radius > PF_MAX_RADIUS ? PF_MAX_RADIUS : s->radius;
 	const vf one = v_set1(1.0f), zero = v_zero();
+	float wb[PF_CHUNK + 2 * PF_MAX_RADIUS + VN];
+	float spatial[2 * PF_MAX_RADIUS + 1];
+	for (int i = -r; i <= r; i++)
+		spatial[i + r] = -(float)(i * i) * s->inv_2ss;
 	for (int y = y0; y < y1; y++) {
 		const float *row = z + (size_t)y * w;
 		float *o = tmp + (size_t)y * w;
-		int x = 0;
-		for (; x < r && x < w; x++)
-			o[x] = dao_prefilter_h_pixel(s, z, x, y);
-		for (; x + VN + r <= w; x += VN) {
-			vf zc = v_load(row + x);
-			vm has = v_gt(zc, zero);
-			vf wc = v_div(one, v_sel(has, zc, one));
-			vf k = inv_2rr(s, wc);
-			vf sum = zero, wsum = zero;
-			for (int i = -r; i <= r; i++) {
-				vf zs = v_load(row + x + i);
-				vm ok = v_gt(zs, zero);
-				vf ws = v_div(one, v_sel(ok, zs, one));
-				vf d = v_sub(ws, wc);
-				vf e = v_sub(v_set1(-(float)(i * i) * s->inv_2ss), v_mul(v_mul(d, d), k));
-				vf wt = v_sel(ok, v_exp_neg(e), zero);
-				sum = v_fma(wt, ws, sum);
-				wsum = v_add(wsum, wt);
+		for (int x0 = 0; x0 < w; x0 += PF_CHUNK) {
+			const int n = w - x0 < PF_CHUNK ? w - x0 : PF_CHUNK;
+			/* wb[i + r] is column x0 + i, for i in [-r, n + r + VN) */
+			for (int i = -r; i < n + r + VN; i++) {
+				const int x = x0 + i;
+				const float zz = x >= 0 && x < w ? row[x] : 0.0f;
+				wb[i + r] = zz > 0.0f ? 1.0f / zz : 0.0f;
 			}
-			v_store(o + x, v_sel(has, v_div(sum, v_sel(has, wsum, one)), zero));
+			for (int i = 0; i < n; i += VN) {
+				const float *c = wb + r + i;
+				const vf wc = v_load(c);
+				const vm has = v_gt(wc, zero);
+				const vf k = inv_2rr(s, v_sel(has, wc, one));
+				vf sum = wc, wsum = v_sel(has, one, zero); /* the centre weighs 1 */
+				for (int t = -r; t <= r; t++) {
+					if (t == 0)
+						continue;
+					const vf ws = v_load(c + t);
+					const vm ok = v_gt(ws, zero);
+					const vf d = v_sub(ws, wc);
+					const vf e = v_fnma(v_mul(d, d), k, v_set1(spatial[t + r]));
+					const vf wt = v_sel(ok, v_exp_neg(e), zero);
+					sum = v_fma(wt, ws, sum);
+					wsum = v_add(wsum, wt);
+				}
+				const vf res = v_sel(has, v_div(sum, v_sel(has, wsum, one)), zero);
+				if (i + VN <= n) {
+					v_store(o + x0 + i, res);
+				} else {
+					float l[VN];
+					v_store(l, res);
+					for (int k2 = 0; i + k2 < n; k2++)
+						o[x0 + i + k2] = l[k2];
+				}
+			}
 		}
-		for (; x < w; x++)
-			o[x] = dao_prefilter_h_pixel(s, z, x, y);
 	}
 }
 

@@ -185,31 +185,32 @@ struct slice_v {
 	vm ok;
 };
 
+/*
+ * N is a unit normal and NV = N.V.  The slice plane's axis a = ortho x V, with
+ * ortho = dir - (dir.V) V and dir = (dx ax, dy ay, 0), is dir x V (V x V = 0)
+ * and is perpendicular to V.  N projected into the plane, pn = N - (N.a) a,
+ * then has |pn|^2 = 1 - (N.a)^2 and pn.V = N.V, and the side of n is the sign
+ * of ortho.pn = dir.N - (dir.V) N.V (dir.a = 0): no projection is formed.
+ */
 static inline struct slice_v slice_geometry(const struct dao_gtao_setup *s, const struct px *p,
-					    vf dx, vf dy, const vf N[3])
+					    vf dx, vf dy, const vf N[3], vf NV)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	struct slice_v g;
-	/* slice plane axis: ortho x V with ortho = dir - (dir.V) V, dir = (dx ax, dy ay, 0);
-	 * as V x V = 0 that is dir x V */
 	const vf dirx = v_mul(dx, v_set1(s->ax)), diry = v_mul(dy, v_set1(s->ay));
-	vf axx = v_mul(diry, p->Vz), axy = v_neg(v_mul(dirx, p->Vz));
-	vf axz = v_fnma(diry, p->Vx, v_mul(dirx, p->Vy));
-	const vf ila = v_rsqrt(v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz))));
-	axx = v_mul(axx, ila), axy = v_mul(axy, ila), axz = v_mul(axz, ila);
-	/* N projected into the slice plane */
+	const vf axx = v_mul(diry, p->Vz), axy = v_neg(v_mul(dirx, p->Vz));
+	const vf axz = v_fnma(diry, p->Vx, v_mul(dirx, p->Vy));
+	const vf a2 = v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz)));
 	const vf na = v_fma(N[0], axx, v_fma(N[1], axy, v_mul(N[2], axz)));
-	const vf pnx = v_fnma(axx, na, N[0]), pny = v_fnma(axy, na, N[1]);
-	const vf pnz = v_fnma(axz, na, N[2]);
-	const vf l2 = v_fma(pnx, pnx, v_fma(pny, pny, v_mul(pnz, pnz)));
+	/* |pn|^2 = 1 - (N.a)^2 / |a|^2 */
+	const vf l2 = v_fnma(v_mul(na, na), v_rcp(a2), one);
 	g.ok = m_and(p->active, v_gt(l2, v_set1(1e-12f)));
 	const vf rl = v_rsqrt(v_sel(g.ok, l2, one));
 	g.lpn = v_mul(l2, rl);
-	const vf pv = v_fma(pnx, p->Vx, v_fma(pny, p->Vy, v_mul(pnz, p->Vz)));
-	g.cos_n = v_min(v_max(v_mul(pv, rl), v_set1(-1.0f)), one);
-	/* n is positive towards ortho: ortho.pn = dir.pn - (dir.V)(V.pn) */
+	g.cos_n = v_min(v_max(v_mul(NV, rl), v_set1(-1.0f)), one);
 	const vf dv = v_fma(dirx, p->Vx, v_mul(diry, p->Vy));
-	const vm neg = v_lt(v_fnma(dv, pv, v_fma(dirx, pnx, v_mul(diry, pny))), zero);
+	const vf dn = v_fma(dirx, N[0], v_mul(diry, N[1]));
+	const vm neg = v_lt(v_fnma(dv, NV, dn), zero);
 	const vf n = v_acos(g.cos_n);
 	const vf sin_n = v_sqrt(v_max(v_fnma(g.cos_n, g.cos_n, one), zero));
 	g.n = v_sel(neg, v_neg(n), n);
@@ -277,13 +278,14 @@ static vf gtao_lanes(const struct dao_gtao_setup *s, const float *izp, int pw, c
 		     vf n0, const vf N[3])
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
+	const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 	vf vis = zero, norm = zero;
 	for (int sl = 0; sl < s->slices; sl++) {
 		vf phi = v_div(v_mul(v_add(v_set1((float)sl), n0), v_set1(DAO_PI_F)),
 			       v_set1((float)s->slices));
 		vf dx, dy;
 		v_sincos(phi, &dy, &dx);
-		struct slice_v g = slice_geometry(s, p, dx, dy, N);
+		struct slice_v g = slice_geometry(s, p, dx, dy, N, NV);
 		if (!m_any(g.ok))
 			continue;
 		vm major_x = v_ge(v_abs(dx), v_abs(dy));

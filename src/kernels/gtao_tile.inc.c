@@ -255,28 +255,51 @@ static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0);
 }
 
-/* VN lanes of a block: columns x0, x0 + 4, ... (entries jb, jb + 1, ... of the phase). */
-static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		       const float *z, const float *n, float *ao, const struct tile_phase *ph,
-		       const struct tile_table *tb, int jb, int x0)
+/* Depth and normals of a row's chunk of columns split by tile phase, so the
+ * lanes of a block load them contiguously. */
+#define TILE_CHUNK 512 /* columns, a multiple of the block span */
+struct tile_cols {
+	float z[4][TILE_CHUNK / 4];
+	float n[4][3][TILE_CHUNK / 4];
+};
+
+/* Columns [cx0, cx1) of row y (cx0 a multiple of the block span); the rest of
+ * the chunk's last block is "no data". */
+static void tile_cols_fill(const struct dao_gtao_setup *s, const float *z, const float *n, int y,
+			   int cx0, int cx1, struct tile_cols *tc)
 {
-	const int w = s->width, y = ph->y;
-	float zl[VN], nl[3][VN], out[VN];
-	int lanes = 0;
-	for (int k = 0; k < VN; k++) {
-		const int x = x0 + 4 * k;
-		const int in = x < s->x_end;
-		const size_t i = (size_t)y * w + (size_t)(in ? x : x0);
-		zl[k] = in ? z[i] : 0.0f;
+	const size_t r = (size_t)y * (size_t)s->width;
+	int x = cx0;
+	for (; x < cx1; x++) {
+		const int q = (x - cx0) & 3, j = (x - cx0) >> 2;
+		tc->z[q][j] = z[r + (size_t)x];
 		for (int c = 0; c < 3; c++)
-			nl[c][k] = n[3 * i + c];
-		lanes += in;
+			tc->n[q][c][j] = n[3 * (r + (size_t)x) + (size_t)c];
 	}
+	for (; (x - cx0) % DAO_GTAO_BLOCK_SPAN; x++) {
+		const int q = (x - cx0) & 3, j = (x - cx0) >> 2;
+		tc->z[q][j] = 0.0f;
+		for (int c = 0; c < 3; c++)
+			tc->n[q][c][j] = 0.0f;
+	}
+}
+
+/* VN lanes of a block: columns x0, x0 + 4, ... (entries jb, jb + 1, ... of the
+ * phase plane, jl, jl + 1, ... of the chunk's columns). */
+static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		       const struct tile_cols *tc, float *ao, const struct tile_phase *ph,
+		       const struct tile_table *tb, int jb, int jl, int x0)
+{
+	const int w = s->width, y = ph->y, a = ph->a;
+	float out[VN];
+	int lanes = 0;
+	while (lanes < VN && x0 + 4 * lanes < s->x_end)
+		lanes++;
 	struct tile_px t;
 	struct px *p = &t.p;
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
 	p->y = v_set1((float)y);
-	p->Pz = v_load(zl);
+	p->Pz = v_load(&tc->z[a][jl]);
 	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
 	p->Px = v_mul(t.X0, p->Pz);
 	p->Py = v_mul(v_set1((float)y * s->ay + s->by), p->Pz);
@@ -290,12 +313,14 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	p->active = m_and(has_z, m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, v_set1(1.0f))));
 	vf vis = v_set1(1.0f);
 	if (m_any(p->active)) {
-		const vf N[3] = { v_load(nl[0]), v_load(nl[1]), v_load(nl[2]) };
+		const vf N[3] = { v_load(&tc->n[a][0][jl]), v_load(&tc->n[a][1][jl]),
+				  v_load(&tc->n[a][2][jl]) };
+		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 		const float *base = pl->phase + jb;
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
 			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
-							  N);
+							  N, NV);
 			if (!m_any(g.ok))
 				continue;
 			const struct tile_step *st;
@@ -316,7 +341,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	v_store(out, finish_lanes(s, vis));
 	for (int k = 0; k < lanes; k++)
 		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] =
-			zl[k] > 0.0f ? out[k] : s->invalid_value;
+			tc->z[a][jl + k] > 0.0f ? out[k] : s->invalid_value;
 }
 
 /* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block span). */
@@ -327,46 +352,53 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 	/* the tables of every preset fit on the stack; more slices x steps than that
 	 * are made per block and slice (tile_lanes) */
 	struct tile_cache cache;
+	struct tile_cols tc;
 	for (int y = y0; y < y1; y++) {
-		for (int a = 0; a < 4; a++) {
-			struct tile_phase ph;
-			tile_phase_init(s, a, y, &ph);
-			cache.t[0].rp = cache.t[1].rp = -1.0f;
-			cache.older = 0;
-			const float *izrow = dao_gtao_phase_row(pl, y, a);
-			for (int xb = s->x_begin; xb + a < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
-				const int jb = xb / 4;
-				/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
-				float izmax = 0.0f;
-				for (int k = 0; k < DAO_GTAO_BLOCK; k++)
-					izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
-				if (izmax <= 0.0f) {
-					for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end;
-					     x += 4)
-						ao[(size_t)y * s->width + x] = s->invalid_value;
-					continue;
-				}
-				const float rp =
-					fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
-				struct tile_table *tb;
-				if (cache.t[0].rp == rp) {
-					tb = &cache.t[0];
-					cache.older = 1;
-				} else if (cache.t[1].rp == rp) {
-					tb = &cache.t[1];
-					cache.older = 0;
-				} else {
-					tb = &cache.t[cache.older];
-					cache.older ^= 1;
-					if (tile_table_fits(s))
-						tile_table_make(s, pl, &ph, rp, tb);
-					else
-						tb->rp = rp;
-				}
-				for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
-					const int x0 = xb + a + 4 * h;
-					if (x0 < s->x_end)
-						tile_lanes(s, pl, z, n, ao, &ph, tb, jb + h, x0);
+		for (int cx0 = s->x_begin; cx0 < s->x_end; cx0 += TILE_CHUNK) {
+			const int cx1 = cx0 + TILE_CHUNK < s->x_end ? cx0 + TILE_CHUNK : s->x_end;
+			tile_cols_fill(s, z, n, y, cx0, cx1, &tc);
+			for (int a = 0; a < 4; a++) {
+				struct tile_phase ph;
+				tile_phase_init(s, a, y, &ph);
+				cache.t[0].rp = cache.t[1].rp = -1.0f;
+				cache.older = 0;
+				const float *izrow = dao_gtao_phase_row(pl, y, a);
+				for (int xb = cx0; xb + a < cx1; xb += DAO_GTAO_BLOCK_SPAN) {
+					const int jb = xb / 4;
+					/* the block's radius, from its largest 1/z
+					 * (dao_gtao_block_radius) */
+					float izmax = 0.0f;
+					for (int k = 0; k < DAO_GTAO_BLOCK; k++)
+						izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
+					if (izmax <= 0.0f) {
+						for (int x = xb + a;
+						     x < xb + DAO_GTAO_BLOCK_SPAN && x < cx1; x += 4)
+							ao[(size_t)y * s->width + x] = s->invalid_value;
+						continue;
+					}
+					const float rp = fminf(dao_gtao_quantize_radius(rf * izmax),
+							       s->max_r_px);
+					struct tile_table *tb;
+					if (cache.t[0].rp == rp) {
+						tb = &cache.t[0];
+						cache.older = 1;
+					} else if (cache.t[1].rp == rp) {
+						tb = &cache.t[1];
+						cache.older = 0;
+					} else {
+						tb = &cache.t[cache.older];
+						cache.older ^= 1;
+						if (tile_table_fits(s))
+							tile_table_make(s, pl, &ph, rp, tb);
+						else
+							tb->rp = rp;
+					}
+					for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
+						const int x0 = xb + a + 4 * h;
+						if (x0 < cx1)
+							tile_lanes(s, pl, &tc, ao, &ph, tb, jb + h,
+								   (xb - cx0) / 4 + h, x0);
+					}
 				}
 			}
 		}

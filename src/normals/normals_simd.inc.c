@@ -10,6 +10,33 @@
 
 #include "normals/normals.h"
 
+/*
+ * One axis's one-sided difference at every lane (axis_delta of normals.c):
+ * the largest k <= r with a neighbour at +-k, of those the side with the
+ * smaller |dz|.  c: the centre's depths, at: the row/column step between taps
+ * (1 or the width), zc the centre depth.  Returns the found lanes; *zq the
+ * neighbour's depth and *off its signed offset in pixels.
+ */
+static inline vm pick_side(const float *c, ptrdiff_t at, int r, vf zc, vf *zq, vf *off)
+{
+	const vf zero = v_zero();
+	vm found = v_gt(zero, zero); /* no lane yet */
+	*zq = zero;
+	*off = zero;
+	for (int k = r; k >= 1; k--) {
+		const vf zm = v_load(c - k * at), zp = v_load(c + k * at);
+		const vm hm = v_gt(zm, zero), hp = v_gt(zp, zero);
+		const vm take = m_andnot(m_or(hm, hp), found);
+		/* +k when it has data and -k has none or a larger |dz| */
+		const vm nearer = v_lt(v_abs(v_sub(zp, zc)), v_abs(v_sub(zc, zm)));
+		const vm plus = m_andnot(hp, m_andnot(hm, nearer));
+		*zq = v_sel(take, v_sel(plus, zp, zm), *zq);
+		*off = v_sel(take, v_sel(plus, v_set1((float)k), v_set1(-(float)k)), *off);
+		found = m_or(found, take);
+	}
+	return found;
+}
+
 void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const float *z, int r,
 					float *n, int y0, int y1)
 {
@@ -26,48 +53,68 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 			for (; x + VN + r <= w; x += VN) {
 				vf zc = v_load(row + x), zl = v_load(row + x - r), zr = v_load(row + x + r);
 				vf zu = v_load(row + x - (size_t)r * w), zd = v_load(row + x + (size_t)r * w);
-				vm ok = m_and(m_and(v_gt(zc, zero), m_and(v_gt(zl, zero), v_gt(zr, zero))),
-					      m_and(v_gt(zu, zero), v_gt(zd, zero)));
-				if (!m_all(ok)) {
-					for (int k = 0; k < VN; k++)
-						dao_normal_pixel(cam, z, r, x + k, y, out + 3 * (x + k));
+				const vm has = v_gt(zc, zero);
+				if (!m_any(has)) {
+					for (int k = 0; k < VN; k++) {
+						out[3 * (x + k)] = out[3 * (x + k) + 1] = 0.0f;
+						out[3 * (x + k) + 2] = -1.0f;
+					}
 					continue;
+				}
+				vm ok = m_and(m_and(has, m_and(v_gt(zl, zero), v_gt(zr, zero))),
+					      m_and(v_gt(zu, zero), v_gt(zd, zero)));
+				vf zqx, offx, zqy, offy;
+				vm found = has;
+				if (m_all(ok)) {
+					/* the common case: every tap at distance r has data */
+					vm right = v_lt(v_abs(v_sub(zr, zc)), v_abs(v_sub(zc, zl)));
+					zqx = v_sel(right, zr, zl);
+					offx = v_sel(right, fr, v_neg(fr));
+					vm down = v_lt(v_abs(v_sub(zd, zc)), v_abs(v_sub(zc, zu)));
+					zqy = v_sel(down, zd, zu);
+					offy = v_sel(down, fr, v_neg(fr));
+				} else {
+					/* holes: nearer taps, or none on an axis (then -V) */
+					found = m_and(found, pick_side(row + x, 1, r, zc, &zqx, &offx));
+					found = m_and(found,
+						      pick_side(row + x, (ptrdiff_t)w, r, zc, &zqy, &offy));
 				}
 				vf u = v_add(v_iota(), v_set1((float)x)), v = v_set1((float)y);
 				vf px = v_mul(v_add(v_mul(u, ax), bx), zc), py = v_mul(v_add(v_mul(v, ay), by), zc);
-				/* x axis: the side with the smaller |dz| (the right one on a tie, as normals.c) */
-				vm right = v_lt(v_abs(v_sub(zr, zc)), v_abs(v_sub(zc, zl)));
-				vf uq = v_sel(right, v_add(u, fr), v_sub(u, fr)), zq = v_sel(right, zr, zl);
-				vf qx = v_mul(v_add(v_mul(uq, ax), bx), zq), qy = v_mul(v_add(v_mul(v, ay), by), zq);
-				vf sgn = v_sel(right, v_set1(1.0f), v_set1(-1.0f));
+				/* d = Q - P towards +k, P - Q towards -k */
+				vf uq = v_add(u, offx);
+				vf qx = v_mul(v_add(v_mul(uq, ax), bx), zqx), qy = v_mul(v_add(v_mul(v, ay), by), zqx);
+				vf sgn = v_sel(v_gt(offx, zero), v_set1(1.0f), v_set1(-1.0f));
 				vf dx0 = v_mul(sgn, v_sub(qx, px)), dx1 = v_mul(sgn, v_sub(qy, py)),
-				   dx2 = v_mul(sgn, v_sub(zq, zc));
-				/* y axis */
-				vm down = v_lt(v_abs(v_sub(zd, zc)), v_abs(v_sub(zc, zu)));
-				vf vq = v_sel(down, v_add(v, fr), v_sub(v, fr));
-				zq = v_sel(down, zd, zu);
-				qx = v_mul(v_add(v_mul(u, ax), bx), zq);
-				qy = v_mul(v_add(v_mul(vq, ay), by), zq);
-				sgn = v_sel(down, v_set1(1.0f), v_set1(-1.0f));
+				   dx2 = v_mul(sgn, v_sub(zqx, zc));
+				vf vq = v_add(v, offy);
+				qx = v_mul(v_add(v_mul(u, ax), bx), zqy);
+				qy = v_mul(v_add(v_mul(vq, ay), by), zqy);
+				sgn = v_sel(v_gt(offy, zero), v_set1(1.0f), v_set1(-1.0f));
 				vf dy0 = v_mul(sgn, v_sub(qx, px)), dy1 = v_mul(sgn, v_sub(qy, py)),
-				   dy2 = v_mul(sgn, v_sub(zq, zc));
+				   dy2 = v_mul(sgn, v_sub(zqy, zc));
 				vf c0 = v_sub(v_mul(dx1, dy2), v_mul(dx2, dy1));
 				vf c1 = v_sub(v_mul(dx2, dy0), v_mul(dx0, dy2));
 				vf c2 = v_sub(v_mul(dx0, dy1), v_mul(dx1, dy0));
 				vf len = v_sqrt(v_add(v_add(v_mul(c0, c0), v_mul(c1, c1)), v_mul(c2, c2)));
-				vm degenerate = m_andnot(v_ge(len, zero), v_gt(len, zero)); /* len == 0 */
-				if (m_any(degenerate)) {
-					for (int k = 0; k < VN; k++)
-						dao_normal_pixel(cam, z, r, x + k, y, out + 3 * (x + k));
-					continue;
+				/* no neighbour on an axis, or a degenerate cross product: -P / |P| */
+				const vm cross_ok = m_and(found, v_gt(len, zero));
+				if (!m_all(m_or(cross_ok, m_andnot(v_ge(zc, zc), has)))) {
+					const vf lp = v_sqrt(v_add(v_add(v_mul(px, px), v_mul(py, py)),
+								   v_mul(zc, zc)));
+					c0 = v_sel(cross_ok, c0, v_neg(px));
+					c1 = v_sel(cross_ok, c1, v_neg(py));
+					c2 = v_sel(cross_ok, c2, v_neg(zc));
+					len = v_sel(cross_ok, len, v_sel(has, lp, v_set1(1.0f)));
 				}
-				/* face the viewer: flip when N . P > 0 */
+				/* face the viewer: flip when N . P > 0 (-P faces it already) */
 				vf dot = v_add(v_add(v_mul(c0, px), v_mul(c1, py)), v_mul(c2, zc));
-				len = v_sel(v_gt(dot, zero), v_neg(len), len);
+				len = v_sel(m_and(cross_ok, v_gt(dot, zero)), v_neg(len), len);
 				float a[VN], b[VN], c[VN];
-				v_store(a, v_div(c0, len));
-				v_store(b, v_div(c1, len));
-				v_store(c, v_div(c2, len));
+				/* no depth: (0, 0, -1) */
+				v_store(a, v_sel(has, v_div(c0, len), zero));
+				v_store(b, v_sel(has, v_div(c1, len), zero));
+				v_store(c, v_sel(has, v_div(c2, len), v_set1(-1.0f)));
 				float *o = out + 3 * x;
 				for (int k = 0; k < VN; k++)
 					o[3 * k] = a[k], o[3 * k + 1] = b[k], o[3 * k + 2] = c[k];

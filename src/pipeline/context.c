@@ -40,6 +40,7 @@ struct dao_context {
 	float *ao_buf;  /* storage for the denoised plane */
 	float *tmp;     /* scratch of the separable denoise */
 	float *bent;    /* bent normals, made on request (dao_context_get_bent_normals) */
+	float *row_range; /* per row: nearest and farthest depth (shading's automatic range) */
 	uint64_t last_frame_index;
 	float *hist_ao; /* temporal accumulation: the last output ... */
 	float *hist_z;  /* ... and the depth it was computed for */
@@ -145,7 +146,9 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->tmp = mem + 7 * ctx->npix;
 	ctx->hist_ao = mem + 8 * ctx->npix;
 	ctx->hist_z = mem + 9 * ctx->npix;
-	if (dao_gtao_planes_init(&ctx->planes, (int)checked.width, (int)checked.height,
+	ctx->row_range = malloc(2 * (size_t)checked.height * sizeof(float));
+	if (!ctx->row_range ||
+	    dao_gtao_planes_init(&ctx->planes, (int)checked.width, (int)checked.height,
 				 p.max_screen_radius)) {
 		dao_context_destroy(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
@@ -170,6 +173,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx->z_raw);
 	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
+	free(ctx->row_range);
 	free(ctx);
 }
 
@@ -429,6 +433,13 @@ static void stage_temporal(void *arg, int y0, int y1)
 	}
 }
 
+/* v rounded to the nearest integer, ties to even (as lrintf), for 0 <= v < 2^22:
+ * adding 1.5 * 2^23 leaves no fraction bits; vectorises, unlike lrintf */
+static inline int32_t round_even(float v)
+{
+	return (int32_t)((v + 12582912.0f) - 12582912.0f);
+}
+
 /* Pixels without input depth are exactly invalid_value, whatever the filters did;
  * then the caller's output format. */
 static void stage_output(void *arg, int y0, int y1)
@@ -446,16 +457,29 @@ static void stage_output(void *arg, int y0, int y1)
 	for (int y = y0; y < y1; y++) {
 		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
 		const float *src = c->ao + (size_t)y * w;
-		for (int x = 0; x < w; x++) {
-			float v = dao_saturate(src[x]);
-			if (out->format == DAO_PIXFMT_GRAY_F32) {
+		/* one loop per format, simple enough for the compiler to vectorise;
+		 * rounding to nearest-even like lrintf */
+		switch (out->format) {
+		case DAO_PIXFMT_GRAY_F32:
+			for (int x = 0; x < w; x++) {
+				const float v = dao_saturate(src[x]);
 				memcpy(row + 4 * (size_t)x, &v, 4);
-			} else if (out->format == DAO_PIXFMT_GRAY16) {
-				uint16_t q = (uint16_t)lrintf(v * 65535.0f);
-				memcpy(row + 2 * (size_t)x, &q, 2);
-			} else {
-				row[x] = (uint8_t)lrintf(v * 255.0f);
 			}
+			break;
+		case DAO_PIXFMT_GRAY16:
+			/* in chunks through an aligned buffer: the caller's rows need not be */
+			for (int x0 = 0; x0 < w; x0 += 256) {
+				uint16_t q[256];
+				const int n = w - x0 < 256 ? w - x0 : 256;
+				for (int x = 0; x < n; x++)
+					q[x] = (uint16_t)round_even(dao_saturate(src[x0 + x]) * 65535.0f);
+				memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
+			}
+			break;
+		default:
+			for (int x = 0; x < w; x++)
+				row[x] = (uint8_t)round_even(dao_saturate(src[x]) * 255.0f);
+			break;
 		}
 	}
 }
@@ -562,15 +586,35 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	return 0;
 }
 
-static void depth_range(const struct dao_context *ctx, float *lo, float *hi)
+/* Per row, the nearest and farthest depth of the last frame (0 and 0 when the
+ * row has none); rows in parallel. */
+static void stage_row_range(void *arg, int y0, int y1)
 {
-	float a = INFINITY, b = 0.0f;
-	for (size_t i = 0; i < ctx->npix; i++) {
-		float z = ctx->z_raw[i];
-		if (z > 0.0f) {
-			a = fminf(a, z);
-			b = fmaxf(b, z);
+	struct dao_context *ctx = arg;
+	const int w = (int)ctx->cam.width;
+	for (int y = y0; y < y1; y++) {
+		const float *zr = ctx->z_raw + (size_t)y * w;
+		float a = INFINITY, b = 0.0f;
+		for (int x = 0; x < w; x++) {
+			/* no data is 0: it never raises b, and is kept out of a */
+			const float z = zr[x], za = z > 0.0f ? z : INFINITY;
+			a = za < a ? za : a;
+			b = z > b ? z : b;
 		}
+		ctx->row_range[2 * y] = b > 0.0f ? a : 0.0f;
+		ctx->row_range[2 * y + 1] = b;
+	}
+}
+
+static void depth_range(struct dao_context *ctx, float *lo, float *hi)
+{
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 16, stage_row_range, ctx);
+	float a = INFINITY, b = 0.0f;
+	for (uint32_t y = 0; y < ctx->cam.height; y++) {
+		if (ctx->row_range[2 * y + 1] > 0.0f && ctx->row_range[2 * y] < a)
+			a = ctx->row_range[2 * y];
+		if (ctx->row_range[2 * y + 1] > b)
+			b = ctx->row_range[2 * y + 1];
 	}
 	if (!(b > a)) {
 		a = b > 0.0f ? b * 0.5f : 0.5f;
