@@ -75,8 +75,8 @@ void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const flo
 float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y);
 
 /*
- * A block radius rounded up to the grid 2^(k/16) (at most 4.4 % larger, 2.2 %
- * on average), so that neighbouring blocks of a row mostly share one radius
+ * A block radius rounded up to the grid 2^(k/8) (at most 9 % larger, 4.5 % on
+ * average), so that neighbouring blocks of a row mostly share one radius
  * and with it the table of sample taps the optimised kernel makes per radius.
  */
 float dao_gtao_quantize_radius(float r);

@@ -37,18 +37,19 @@ struct tile_step {
 	int flags;
 };
 
-/* The steps of every slice side for one row, tile phase and block radius. */
-#define TILE_TABLE_MAX 256 /* entries: slices x 2 x steps of every preset fit */
-struct tile_table {
-	float rp;       /* the block radius it was made for (-1: none) */
-	struct tile_step st[TILE_TABLE_MAX];
-};
-
-/* Tables of the last two radii of a row and phase (block radii often alternate
- * between neighbouring grid points). */
+/*
+ * Tables of steps for one row and tile phase, one per block radius seen
+ * (radii repeat along a row, though not always in a row): as many as fit in
+ * TILE_STEPS_MAX entries, up to TILE_TABLES, replaced oldest first.
+ */
+#define TILE_STEPS_MAX 512 /* the steps of every preset fit (ultra: 192) */
+#define TILE_TABLES 8
 struct tile_cache {
-	struct tile_table t[2];
-	int older; /* the one to replace next */
+	int per;    /* entries per table: slices x 2 x steps */
+	int count;  /* tables that fit */
+	int next;   /* the one to replace next */
+	float rp[TILE_TABLES]; /* the radius each table was made for (-1: none) */
+	struct tile_step st[TILE_STEPS_MAX];
 };
 
 /* The per-row constants of one tile phase: slice directions and step positions. */
@@ -153,15 +154,39 @@ static void tile_slice_make(const struct dao_gtao_setup *s, const struct dao_gta
  * makes its slices' steps as it goes). */
 static inline int tile_table_fits(const struct dao_gtao_setup *s)
 {
-	return s->slices * 2 * s->steps <= TILE_TABLE_MAX;
+	return s->slices * 2 * s->steps <= TILE_STEPS_MAX;
 }
 
-static void tile_table_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-			    const struct tile_phase *ph, float rp, struct tile_table *tb)
+static void tile_cache_reset(const struct dao_gtao_setup *s, struct tile_cache *c)
 {
-	tb->rp = rp;
+	c->per = s->slices * 2 * s->steps;
+	c->count = tile_table_fits(s) ? TILE_STEPS_MAX / c->per : 0;
+	if (c->count > TILE_TABLES)
+		c->count = TILE_TABLES;
+	c->next = 0;
+	for (int i = 0; i < TILE_TABLES; i++)
+		c->rp[i] = -1.0f;
+}
+
+/* The steps of every slice for block radius rp (NULL when they do not fit:
+ * tile_lanes then makes them per slice). */
+static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
+					      const struct dao_gtao_planes *pl,
+					      const struct tile_phase *ph, float rp,
+					      struct tile_cache *c)
+{
+	if (!c->count)
+		return NULL;
+	for (int i = 0; i < c->count; i++)
+		if (c->rp[i] == rp)
+			return c->st + (size_t)i * (size_t)c->per;
+	const int i = c->next;
+	c->next = (c->next + 1) % c->count;
+	c->rp[i] = rp;
+	struct tile_step *st = c->st + (size_t)i * (size_t)c->per;
 	for (int sl = 0; sl < s->slices; sl++)
-		tile_slice_make(s, pl, ph, rp, sl, tb->st + (size_t)sl * 2 * (size_t)s->steps);
+		tile_slice_make(s, pl, ph, rp, sl, st + (size_t)sl * 2 * (size_t)s->steps);
+	return st;
 }
 
 /* Per-lane constants of the VN pixels of a block being processed. */
@@ -288,7 +313,7 @@ static void tile_cols_fill(const struct dao_gtao_setup *s, const float *z, const
  * phase plane, jl, jl + 1, ... of the chunk's columns). */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		       const struct tile_cols *tc, float *ao, const struct tile_phase *ph,
-		       const struct tile_table *tb, int jb, int jl, int x0)
+		       const struct tile_step *tsteps, float rp, int jb, int jl, int x0)
 {
 	const int w = s->width, y = ph->y, a = ph->a;
 	float out[VN];
@@ -325,10 +350,10 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 				continue;
 			const struct tile_step *st;
 			struct tile_step local[2 * 64];
-			if (tile_table_fits(s)) {
-				st = tb->st + (size_t)sl * 2 * (size_t)s->steps;
+			if (tsteps) {
+				st = tsteps + (size_t)sl * 2 * (size_t)s->steps;
 			} else {
-				tile_slice_make(s, pl, ph, tb->rp, sl, local);
+				tile_slice_make(s, pl, ph, rp, sl, local);
 				st = local;
 			}
 			vf hc_pos, hc_neg;
@@ -360,8 +385,7 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 			for (int a = 0; a < 4; a++) {
 				struct tile_phase ph;
 				tile_phase_init(s, a, y, &ph);
-				cache.t[0].rp = cache.t[1].rp = -1.0f;
-				cache.older = 0;
+				tile_cache_reset(s, &cache);
 				const float *izrow = dao_gtao_phase_row(pl, y, a);
 				for (int xb = cx0; xb + a < cx1; xb += DAO_GTAO_BLOCK_SPAN) {
 					const int jb = xb / 4;
@@ -378,26 +402,12 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 					}
 					const float rp = fminf(dao_gtao_quantize_radius(rf * izmax),
 							       s->max_r_px);
-					struct tile_table *tb;
-					if (cache.t[0].rp == rp) {
-						tb = &cache.t[0];
-						cache.older = 1;
-					} else if (cache.t[1].rp == rp) {
-						tb = &cache.t[1];
-						cache.older = 0;
-					} else {
-						tb = &cache.t[cache.older];
-						cache.older ^= 1;
-						if (tile_table_fits(s))
-							tile_table_make(s, pl, &ph, rp, tb);
-						else
-							tb->rp = rp;
-					}
+					const struct tile_step *tsteps = tile_cache_get(s, pl, &ph, rp, &cache);
 					for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
 						const int x0 = xb + a + 4 * h;
 						if (x0 < cx1)
-							tile_lanes(s, pl, &tc, ao, &ph, tb, jb + h,
-								   (xb - cx0) / 4 + h, x0);
+							tile_lanes(s, pl, &tc, ao, &ph, tsteps, rp,
+								   jb + h, (xb - cx0) / 4 + h, x0);
 					}
 				}
 			}

@@ -26,38 +26,40 @@ void DAO_ISA_FN(dao_shade)(const struct dao_shade_setup *s, const float *z, cons
 		int x = 0;
 		for (; x + VN <= w; x += VN) {
 			vf zc = v_load(zr + x);
-			float rgb[3][VN];
 			if (!m_all(v_gt(zc, zero))) {
 				for (int k = 0; k < VN; k++) {
 					float c[3];
 					dao_shade_pixel(s, z, n, ao, x + k, y, c);
-					rgb[0][k] = c[0], rgb[1][k] = c[1], rgb[2][k] = c[2];
+					for (int ch = 0; ch < 3; ch++)
+						row[3 * (x + k) + ch] = (uint8_t)lrintf(
+							c[ch] < 0.0f ? 0.0f : c[ch] > 255.0f ? 255.0f : c[ch]);
 				}
-			} else {
-				float nx[VN], ny[VN], nz[VN];
-				const float *N = n + 3 * ((size_t)y * w + x);
-				for (int k = 0; k < VN; k++)
-					nx[k] = N[3 * k], ny[k] = N[3 * k + 1], nz[k] = N[3 * k + 2];
-				vf u = v_add(v_iota(), v_set1((float)x));
-				vf p0 = v_mul(v_add(v_mul(u, ax), bx), zc), p1 = v_mul(py0, zc), p2 = zc;
-				vf lp = v_sqrt(v_add(v_add(v_mul(p0, p0), v_mul(p1, p1)), v_mul(p2, p2)));
-				vf dot = v_add(v_add(v_mul(v_load(nx), p0), v_mul(v_load(ny), p1)),
-					       v_mul(v_load(nz), p2));
-				vf ndl = v_div(v_neg(dot), lp);
-				ndl = v_min(v_max(ndl, zero), one);
-				vf g = v_mul(v_set1(255.0f), v_add(v_set1(0.12f), v_mul(v_set1(0.88f), ndl)));
-				vf kv = v_min(v_max(v_load(ar + x), zero), one);
-				for (int c = 0; c < 3; c++) {
-					vf occ = v_set1(s->occ[c]);
-					v_store(rgb[c], v_add(occ, v_mul(v_sub(g, occ), kv)));
-				}
+				continue;
+			}
+			float nx[VN], ny[VN], nz[VN];
+			const float *N = n + 3 * ((size_t)y * w + x);
+			for (int k = 0; k < VN; k++)
+				nx[k] = N[3 * k], ny[k] = N[3 * k + 1], nz[k] = N[3 * k + 2];
+			vf u = v_add(v_iota(), v_set1((float)x));
+			vf p0 = v_mul(v_add(v_mul(u, ax), bx), zc), p1 = v_mul(py0, zc), p2 = zc;
+			vf lp = v_sqrt(v_add(v_add(v_mul(p0, p0), v_mul(p1, p1)), v_mul(p2, p2)));
+			vf dot = v_add(v_add(v_mul(v_load(nx), p0), v_mul(v_load(ny), p1)),
+				       v_mul(v_load(nz), p2));
+			vf ndl = v_div(v_neg(dot), lp);
+			ndl = v_min(v_max(ndl, zero), one);
+			vf g = v_mul(v_set1(255.0f), v_add(v_set1(0.12f), v_mul(v_set1(0.88f), ndl)));
+			vf kv = v_min(v_max(v_load(ar + x), zero), one);
+			/* clamp and round (ties to even, as lrintf) in the lanes */
+			int32_t q[3][VN];
+			for (int c = 0; c < 3; c++) {
+				vf occ = v_set1(s->occ[c]);
+				vf v = v_add(occ, v_mul(v_sub(g, occ), kv));
+				v = v_min(v_max(v, zero), v_set1(255.0f));
+				vi_store(q[c], vi_from_whole(v_round(v)));
 			}
 			for (int k = 0; k < VN; k++)
-				for (int c = 0; c < 3; c++) {
-					float v = rgb[c][k];
-					v = v < 0.0f ? 0.0f : v > 255.0f ? 255.0f : v;
-					row[3 * (x + k) + c] = (uint8_t)lrintf(v);
-				}
+				for (int c = 0; c < 3; c++)
+					row[3 * (x + k) + c] = (uint8_t)q[c][k];
 		}
 		for (; x < w; x++) {
 			float c[3];

@@ -59,8 +59,8 @@ static inline void v_sincos(vf x, vf *s, vf *c)
 
 /*
  * exp(x) for x <= 0 (0 below -80, where e^x < 2e-35): x = n ln2 + r with |r| <= ln2/2 (ln2 in
- * two parts), e^r by its Taylor series to r^7 (truncation below 4e-9
- * relative), then scaled by 2^n.
+ * two parts), e^r by a degree-5 polynomial fitted for least maximum relative
+ * error on that interval (1.4e-7 with float coefficients), then scaled by 2^n.
  */
 static inline vf v_exp_neg(vf x)
 {
@@ -69,14 +69,12 @@ static inline vf v_exp_neg(vf x)
 	vf n = v_round(v_mul(x, v_set1(1.44269504088896f)));
 	vf r = v_fma(n, v_set1(-0.693145751953125f), x);
 	r = v_fma(n, v_set1(-1.428606820309417e-6f), r);
-	vf p = v_set1(1.0f / 5040.0f);
-	p = v_fma(p, r, v_set1(1.0f / 720.0f));
-	p = v_fma(p, r, v_set1(1.0f / 120.0f));
-	p = v_fma(p, r, v_set1(1.0f / 24.0f));
-	p = v_fma(p, r, v_set1(1.0f / 6.0f));
-	p = v_fma(p, r, v_set1(0.5f));
-	p = v_fma(p, r, v_set1(1.0f));
-	p = v_fma(p, r, v_set1(1.0f));
+	vf p = v_set1(8.297644556e-03f);
+	p = v_fma(p, r, v_set1(4.191537946e-02f));
+	p = v_fma(p, r, v_set1(1.666757464e-01f));
+	p = v_fma(p, r, v_set1(4.999889433e-01f));
+	p = v_fma(p, r, v_set1(9.999997020e-01f));
+	p = v_fma(p, r, v_set1(1.000000119e+00f));
 	return v_sel(under, v_zero(), v_ldexp(p, n));
 }
 

@@ -70,6 +70,7 @@ static inline vm m_andnot(vm a, vm b) { return a & ~b; }
 static inline int m_any(vm a) { return (a[0] | a[1] | a[2] | a[3]) != 0; }
 static inline int m_all(vm a) { return (a[0] & a[1] & a[2] & a[3]) != 0; }
 
+static inline void vi_store(int32_t *p, vi a) { memcpy(p, &a, sizeof a); }
 static inline vi vi_set1(int32_t a) { return (vi){ a, a, a, a }; }
 static inline vi vi_add(vi a, vi b) { return a + b; }
 static inline vi vi_mul(vi a, vi b) { return a * b; }

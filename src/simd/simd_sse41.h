@@ -61,6 +61,7 @@ static inline int m_any(vm a) { return _mm_movemask_ps(a) != 0; }
 static inline int m_all(vm a) { return _mm_movemask_ps(a) == 0xf; }
 static inline vf v_sel(vm m, vf a, vf b) { return _mm_blendv_ps(b, a, m); }
 
+static inline void vi_store(int32_t *p, vi a) { _mm_storeu_si128((__m128i *)(void *)p, a); }
 static inline vi vi_set1(int32_t a) { return _mm_set1_epi32(a); }
 static inline vi vi_add(vi a, vi b) { return _mm_add_epi32(a, b); }
 static inline vi vi_mul(vi a, vi b) { return _mm_mullo_epi32(a, b); }
