@@ -71,6 +71,7 @@ enum dao_simd {
 	DAO_SIMD_GENERIC,    /* portable vector code (compiler vector extensions) */
 	DAO_SIMD_SSE41,
 	DAO_SIMD_AVX2,       /* AVX2 + FMA */
+	DAO_SIMD_AVX512,     /* AVX-512 F/VL/DQ/BW at 8 lanes: masks, 32 registers */
 	DAO_SIMD_COUNT,
 };
 

@@ -44,6 +44,7 @@ float dao_denoise_plane_pixel(const struct dao_denoise_setup *s, const float *z,
 DAO_DENOISE_SIMD_PROTO(generic);
 DAO_DENOISE_SIMD_PROTO(sse41);
 DAO_DENOISE_SIMD_PROTO(avx2);
+DAO_DENOISE_SIMD_PROTO(avx512);
 
 /*
  * Seed 004's separable cross-bilateral blur: Gaussian in pixels times a

@@ -61,5 +61,6 @@ float dao_prefilter_v_pixel(const struct dao_prefilter_setup *s, const float *tm
 DAO_PREFILTER_SIMD_PROTO(generic);
 DAO_PREFILTER_SIMD_PROTO(sse41);
 DAO_PREFILTER_SIMD_PROTO(avx2);
+DAO_PREFILTER_SIMD_PROTO(avx512);
 
 #endif

@@ -29,5 +29,7 @@ void dao_normals_from_depth_sse41(const struct dao_camera *cam, const float *z, 
 				  int y0, int y1);
 void dao_normals_from_depth_avx2(const struct dao_camera *cam, const float *z, int r, float *n,
 				 int y0, int y1);
+void dao_normals_from_depth_avx512(const struct dao_camera *cam, const float *z, int r, float *n,
+				   int y0, int y1);
 
 #endif

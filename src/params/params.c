@@ -21,7 +21,7 @@ static const char *const prefilter_names[] = { "none", "bilateral", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", "tile", NULL };
 static const char *const denoise_names[] = { "none", "plane", "bilateral", NULL };
-static const char *const simd_names[] = { "auto", "reference", "generic", "sse4.1", "avx2", NULL };
+static const char *const simd_names[] = { "auto", "reference", "generic", "sse4.1", "avx2", "avx512", NULL };
 static const char *const shade_names[] = { "lambert", "turbo", "jet", "gray", "ao", NULL };
 
 #define RT DAO_PARAM_RUNTIME

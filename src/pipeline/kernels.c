@@ -23,6 +23,9 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 {
 	switch (simd) {
 #if DAO_HAVE_X86_KERNELS
+	case DAO_SIMD_AVX512:
+		*k = KERNELS(avx512);
+		break;
 	case DAO_SIMD_AVX2:
 		*k = KERNELS(avx2);
 		break;

@@ -42,5 +42,7 @@ void dao_shade_sse41(const struct dao_shade_setup *s, const float *z, const floa
 		     const float *ao, const struct dao_frame *out, int y0, int y1);
 void dao_shade_avx2(const struct dao_shade_setup *s, const float *z, const float *n,
 		    const float *ao, const struct dao_frame *out, int y0, int y1);
+void dao_shade_avx512(const struct dao_shade_setup *s, const float *z, const float *n,
+		      const float *ao, const struct dao_frame *out, int y0, int y1);
 
 #endif

@@ -21,6 +21,7 @@ static const char *const names[DAO_SIMD_COUNT] = {
 	[DAO_SIMD_GENERIC] = "generic",
 	[DAO_SIMD_SSE41] = "sse4.1",
 	[DAO_SIMD_AVX2] = "avx2",
+	[DAO_SIMD_AVX512] = "avx512",
 };
 
 const char *dao_simd_name(enum dao_simd simd)
@@ -41,6 +42,10 @@ int dao_simd_supported(enum dao_simd simd)
 		return __builtin_cpu_supports("sse4.1");
 	case DAO_SIMD_AVX2:
 		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+	case DAO_SIMD_AVX512:
+		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+		       __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+		       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
 #endif
 	default:
 		return 0;
@@ -50,7 +55,7 @@ int dao_simd_supported(enum dao_simd simd)
 enum dao_simd dao_simd_best(void)
 {
 	/* measured order on the machines we have (README, Performance) */
-	static const enum dao_simd order[] = { DAO_SIMD_AVX2, DAO_SIMD_SSE41 };
+	static const enum dao_simd order[] = { DAO_SIMD_AVX512, DAO_SIMD_AVX2, DAO_SIMD_SSE41 };
 	for (size_t i = 0; i < sizeof order / sizeof order[0]; i++)
 		if (dao_simd_supported(order[i]))
 			return order[i];

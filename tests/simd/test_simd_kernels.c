@@ -450,6 +450,7 @@ static void test_fastmath(void **state)
 #if DAO_HAVE_X86_KERNELS
 		{ DAO_SIMD_SSE41, dao_fastmath_eval_sse41 },
 		{ DAO_SIMD_AVX2, dao_fastmath_eval_avx2 },
+		{ DAO_SIMD_AVX512, dao_fastmath_eval_avx512 },
 #endif
 	};
 	/* function, domain, libm, absolute or relative bound */
