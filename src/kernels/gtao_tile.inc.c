@@ -280,24 +280,6 @@ static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0);
 }
 
-/* Two slices at once without the thickness heuristic: four independent
- * horizon searches in one loop. */
-static void tile_sides_pair(const struct dao_gtao_setup *s, const float *base,
-			    const struct tile_px *t, const struct tile_step *sa,
-			    const struct tile_step *sb, const vf low[4], vf hc[4])
-{
-	const struct tile_step *sa_n = sa + s->steps, *sb_n = sb + s->steps;
-	vf b0 = low[0], b1 = low[1], b2 = low[2], b3 = low[3];
-	for (int i = 0; i < s->steps; i++) {
-		vm ok;
-		b0 = v_max(b0, tile_sample(s, base, t, &sa[i], low[0], &ok));
-		b1 = v_max(b1, tile_sample(s, base, t, &sa_n[i], low[1], &ok));
-		b2 = v_max(b2, tile_sample(s, base, t, &sb[i], low[2], &ok));
-		b3 = v_max(b3, tile_sample(s, base, t, &sb_n[i], low[3], &ok));
-	}
-	hc[0] = b0, hc[1] = b1, hc[2] = b2, hc[3] = b3;
-}
-
 /* Depth and normals of a row's chunk of columns split by tile phase, so the
  * lanes of a block load them contiguously. */
 #define TILE_CHUNK 512 /* columns, a multiple of the block span */
@@ -361,23 +343,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 		const float *base = pl->phase + jb;
 		vf sum = v_zero(), norm = v_zero();
-		int sl = 0;
-		if (tsteps && s->decay == 1.0f) {
-			/* pairs of slices: four searches interleaved */
-			for (; sl + 1 < s->slices; sl += 2) {
-				struct slice_v g0 = slice_geometry(s, p, v_set1(ph->dx[sl]),
-								   v_set1(ph->dy[sl]), N, NV);
-				struct slice_v g1 = slice_geometry(s, p, v_set1(ph->dx[sl + 1]),
-								   v_set1(ph->dy[sl + 1]), N, NV);
-				const vf low[4] = { v_neg(g0.sin_n), g0.sin_n, v_neg(g1.sin_n), g1.sin_n };
-				vf hc[4];
-				const struct tile_step *st0 = tsteps + (size_t)sl * 2 * (size_t)s->steps;
-				tile_sides_pair(s, base, &t, st0, st0 + 2 * s->steps, low, hc);
-				slice_accumulate(&g0, hc[0], hc[1], &sum, &norm);
-				slice_accumulate(&g1, hc[2], hc[3], &sum, &norm);
-			}
-		}
-		for (; sl < s->slices; sl++) {
+		for (int sl = 0; sl < s->slices; sl++) {
 			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
 							  N, NV);
 			if (!m_any(g.ok))
