@@ -192,8 +192,9 @@ struct slice_v {
  * then has |pn|^2 = 1 - (N.a)^2 and pn.V = N.V, and the side of n is the sign
  * of ortho.pn = dir.N - (dir.V) N.V (dir.a = 0): no projection is formed.
  */
-static inline struct slice_v slice_geometry(const struct dao_gtao_setup *s, const struct px *p,
-					    vf dx, vf dy, const vf N[3], vf NV)
+static inline __attribute__((always_inline)) struct slice_v
+slice_geometry(const struct dao_gtao_setup *s, const struct px *p, vf dx, vf dy, const vf N[3],
+	       vf NV, const int fast)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	struct slice_v g;
@@ -211,7 +212,7 @@ static inline struct slice_v slice_geometry(const struct dao_gtao_setup *s, cons
 	const vf dv = v_fma(dirx, p->Vx, v_mul(diry, p->Vy));
 	const vf dn = v_fma(dirx, N[0], v_mul(diry, N[1]));
 	const vm neg = v_lt(v_fnma(dv, NV, dn), zero);
-	const vf n = v_acos(g.cos_n);
+	const vf n = fast ? v_acos_fast(g.cos_n) : v_acos(g.cos_n);
 	const vf sin_n = v_sqrt(v_max(v_fnma(g.cos_n, g.cos_n, one), zero));
 	g.n = v_sel(neg, v_neg(n), n);
 	g.sin_n = v_sel(neg, v_neg(sin_n), sin_n);
@@ -227,14 +228,15 @@ static inline struct slice_v slice_geometry(const struct dao_gtao_setup *s, cons
  * sin 2h = 2 cos h sin h (sin h = +-sqrt(1 - cos^2 h)), or -cos n where the
  * clamp applies (2h - n = n +- pi): no trigonometric call.
  */
-static inline void slice_accumulate(const struct slice_v *g, vf hc_pos, vf hc_neg, vf *vis,
-				    vf *norm)
+static inline __attribute__((always_inline)) void
+slice_accumulate(const struct slice_v *g, vf hc_pos, vf hc_neg, vf *vis, vf *norm, const int fast)
 {
 	const vf one = v_set1(1.0f), zero = v_zero(), half_pi = v_set1(DAO_HALF_PI_F);
 	const vf two = v_set1(2.0f);
 	const vf c1 = v_min(v_max(hc_pos, v_set1(-1.0f)), one);
 	const vf c0 = v_min(v_max(hc_neg, v_set1(-1.0f)), one);
-	vf h1 = v_acos(c1), h0 = v_neg(v_acos(c0));
+	vf h1 = fast ? v_acos_fast(c1) : v_acos(c1);
+	vf h0 = v_neg(fast ? v_acos_fast(c0) : v_acos(c0));
 	const vm cl1 = v_gt(v_sub(h1, g->n), half_pi), cl0 = v_lt(v_sub(h0, g->n), v_neg(half_pi));
 	h1 = v_sel(cl1, v_add(g->n, half_pi), h1);
 	h0 = v_sel(cl0, v_sub(g->n, half_pi), h0);
@@ -285,7 +287,7 @@ static vf gtao_lanes(const struct dao_gtao_setup *s, const float *izp, int pw, c
 			       v_set1((float)s->slices));
 		vf dx, dy;
 		v_sincos(phi, &dy, &dx);
-		struct slice_v g = slice_geometry(s, p, dx, dy, N, NV);
+		struct slice_v g = slice_geometry(s, p, dx, dy, N, NV, 0);
 		if (!m_any(g.ok))
 			continue;
 		vm major_x = v_ge(v_abs(dx), v_abs(dy));
@@ -296,7 +298,7 @@ static vf gtao_lanes(const struct dao_gtao_setup *s, const float *izp, int pw, c
 		pa.active = g.ok;
 		vf hc_pos = search_side(s, izp, pw, &pa, &pos, major_x);
 		vf hc_neg = search_side(s, izp, pw, &pa, &negs, major_x);
-		slice_accumulate(&g, hc_pos, hc_neg, &vis, &norm);
+		slice_accumulate(&g, hc_pos, hc_neg, &vis, &norm, 0);
 	}
 	vm has = v_gt(norm, zero);
 	return v_sel(has, v_div(vis, v_sel(has, norm, one)), one);

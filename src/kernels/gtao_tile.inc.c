@@ -345,7 +345,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
 			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
-							  N, NV);
+							  N, NV, 1);
 			if (!m_any(g.ok))
 				continue;
 			const struct tile_step *st;
@@ -358,7 +358,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			}
 			vf hc_pos, hc_neg;
 			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg);
-			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm);
+			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		const vm has = v_gt(norm, v_zero());
 		vis = v_sel(has, v_div(sum, v_sel(has, norm, v_set1(1.0f))), v_set1(1.0f));

@@ -28,6 +28,23 @@ static inline vf v_acos(vf x)
 }
 
 /*
+ * acos(x), x in [-1, 1], to 6.8e-5 absolute: Abramowitz & Stegun 4.4.45,
+ * sqrt(1 - x) (a0 + a1 x + a2 x^2 + a3 x^3) for 0 <= x <= 1, and
+ * acos(-x) = pi - acos(x).  Half the polynomial of v_acos, for the GTAO tile
+ * kernel's horizon and normal angles (its oracle bound in tests/simd).
+ */
+static inline vf v_acos_fast(vf x)
+{
+	vf ax = v_min(v_abs(x), v_set1(1.0f));
+	vf p = v_set1(-0.0187293f);
+	p = v_fma(p, ax, v_set1(0.0742610f));
+	p = v_fma(p, ax, v_set1(-0.2121144f));
+	p = v_fma(p, ax, v_set1(1.5707288f));
+	vf r = v_mul(v_sqrt(v_sub(v_set1(1.0f), ax)), p);
+	return v_sel(v_lt(x, v_zero()), v_sub(v_set1(3.14159265358979f), r), r);
+}
+
+/*
  * sin and cos of x, |x| <= ~1e4: quadrant reduction r = x - k pi/2 with pi/2
  * split in two parts (Cody & Waite), then Taylor series on |r| <= pi/4
  * (truncation below 2e-9).

@@ -11,6 +11,9 @@ void DAO_ISA_FN(dao_fastmath_eval)(enum dao_fastmath_fn fn, const float *in, flo
 		case DAO_FM_ACOS:
 			v_store(out + i, v_acos(x));
 			break;
+		case DAO_FM_ACOS_FAST:
+			v_store(out + i, v_acos_fast(x));
+			break;
 		case DAO_FM_SIN:
 			v_sincos(x, &a, &b);
 			v_store(out + i, a);
