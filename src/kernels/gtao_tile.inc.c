@@ -294,18 +294,23 @@ static void tile_cols_fill(const struct dao_gtao_setup *s, const float *z, const
 			   int cx0, int cx1, struct tile_cols *tc)
 {
 	const size_t r = (size_t)y * (size_t)s->width;
-	int x = cx0;
-	for (; x < cx1; x++) {
+	const float *zr = z + r + cx0, *nr = n + 3 * (r + (size_t)cx0);
+	const int n4 = (cx1 - cx0) / 4;
+	/* whole groups of 4 columns: one of each phase, no index arithmetic */
+	for (int j = 0; j < n4; j++, zr += 4, nr += 12)
+		for (int q = 0; q < 4; q++) {
+			tc->z[q][j] = zr[q];
+			tc->n[q][0][j] = nr[3 * q];
+			tc->n[q][1][j] = nr[3 * q + 1];
+			tc->n[q][2][j] = nr[3 * q + 2];
+		}
+	/* the rest of the chunk's last block: columns left over, then no data */
+	for (int x = cx0 + 4 * n4; (x - cx0) % DAO_GTAO_BLOCK_SPAN || x < cx1; x++) {
 		const int q = (x - cx0) & 3, j = (x - cx0) >> 2;
-		tc->z[q][j] = z[r + (size_t)x];
+		const int in = x < cx1;
+		tc->z[q][j] = in ? z[r + (size_t)x] : 0.0f;
 		for (int c = 0; c < 3; c++)
-			tc->n[q][c][j] = n[3 * (r + (size_t)x) + (size_t)c];
-	}
-	for (; (x - cx0) % DAO_GTAO_BLOCK_SPAN; x++) {
-		const int q = (x - cx0) & 3, j = (x - cx0) >> 2;
-		tc->z[q][j] = 0.0f;
-		for (int c = 0; c < 3; c++)
-			tc->n[q][c][j] = 0.0f;
+			tc->n[q][c][j] = in ? n[3 * (r + (size_t)x) + (size_t)c] : 0.0f;
 	}
 }
 

@@ -449,8 +449,7 @@ static void stage_output(void *arg, int y0, int y1)
 	const int w = (int)c->cam.width;
 	const float invalid = c->params.invalid_value;
 	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
-		if (c->z_raw[i] <= 0.0f)
-			c->ao[i] = invalid;
+		c->ao[i] = c->z_raw[i] > 0.0f ? c->ao[i] : invalid; /* a select: vectorises */
 	struct dao_frame *out = j->ao_out;
 	if (!out)
 		return;
