@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Depth prefilter built for AVX-512 at 16 lanes (simd/simd_avx512w.h;
+ * Depth prefilter built for AVX-512 at 16 lanes (simd/simd_avx512.h;
  * compiler flags in src/meson.build).
  */
-#include "simd/simd_avx512w.h"
+#include "simd/simd_avx512.h"
 #define DAO_ISA_FN(name) name##_avx512
 #include "depth/prefilter_simd.inc.c"

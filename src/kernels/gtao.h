@@ -61,13 +61,13 @@ void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const flo
 
 /*
  * With tile noise the pixels of one tile phase along a row form blocks of
- * DAO_GTAO_BLOCK (columns 32 b + a + 4 k, k = 0..7) that search with one
+ * DAO_GTAO_BLOCK (columns 64 b + a + 4 k, k = 0..15) that search with one
  * radius in pixels, the block's largest (its nearest depth): their samples
  * then lie at the same offsets, which the optimised kernel reads with
  * contiguous loads instead of gathers.  Farther pixels of a block place some
  * samples beyond their own radius, where the falloff weight is 0.
  */
-#define DAO_GTAO_BLOCK 8
+#define DAO_GTAO_BLOCK 16
 #define DAO_GTAO_BLOCK_SPAN (4 * DAO_GTAO_BLOCK) /* columns a block spans */
 
 /* The search radius in pixels (before max_r_px) of the block of pixel (x, y);

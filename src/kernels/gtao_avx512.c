@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * GTAO kernel built for AVX-512 at 8 lanes (simd/simd_avx512.h;
+ * GTAO kernel built for AVX-512 at 16 lanes (simd/simd_avx512.h;
  * compiler flags in src/meson.build).
  */
 #include "simd/simd_avx512.h"

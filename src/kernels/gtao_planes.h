@@ -21,7 +21,7 @@ struct dao_gtao_planes {
 	float *izp;     /* pixel (-1, -1) of the bordered plane */
 	float *phase;   /* row -1, phase 0, entry -pad4 */
 	int pad4;       /* zero entries before and after each phase row */
-	int stride4;    /* entries per phase row: pad4 + 8 * blocks + pad4 */
+	int stride4;    /* entries per phase row: pad4 + DAO_GTAO_BLOCK x blocks + pad4 */
 	int max_offset; /* largest |column offset| of a tap the padding covers */
 };
 

@@ -12,6 +12,5 @@ DAO_FASTMATH_PROTO(generic);
 DAO_FASTMATH_PROTO(sse41);
 DAO_FASTMATH_PROTO(avx2);
 DAO_FASTMATH_PROTO(avx512);
-DAO_FASTMATH_PROTO(avx512w); /* the 16-lane vocabulary of the same set */
 
 #endif

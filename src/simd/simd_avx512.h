@@ -1,11 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * SIMD vocabulary for AVX-512 (F, VL, DQ, BW) at 256 bits: 8 float lanes as
- * in simd_avx2.h, but lane masks live in mask registers (compares write
- * them, selects and masked operations read them), and the hardware estimates
- * of 1/x and 1/sqrt(x) have 14 bits instead of 12.  256 bits, not 512: the
- * GTAO tile kernel's blocks are 8 pixels, and Zen 4 runs 512-bit operations
- * at the same rate per lane.  See simd/README.md.
+ * SIMD vocabulary for AVX-512 (F, VL, DQ, BW): 16 float lanes; lane masks
+ * live in mask registers (compares write them, selects read them), and the
+ * hardware estimates of 1/x and 1/sqrt(x) have 14 bits instead of 12.  See
+ * simd/README.md.
  */
 #ifndef DAO_SIMD_AVX512_H
 #define DAO_SIMD_AVX512_H
@@ -13,84 +11,84 @@
 #include <immintrin.h>
 #include <stdint.h>
 
-#define VN 8
+#define VN 16
 #define DAO_SIMD_NAME "avx512"
 
-typedef __m256 vf;
-typedef __m256i vi;
-typedef __mmask8 vm; /* one bit per lane */
+typedef __m512 vf;
+typedef __m512i vi;
+typedef __mmask16 vm; /* one bit per lane */
 
-static inline vf v_set1(float a) { return _mm256_set1_ps(a); }
-static inline vf v_zero(void) { return _mm256_setzero_ps(); }
-static inline vf v_iota(void) { return _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7); }
-static inline vf v_load(const float *p) { return _mm256_loadu_ps(p); }
-static inline void v_store(float *p, vf a) { _mm256_storeu_ps(p, a); }
-static inline vf v_add(vf a, vf b) { return _mm256_add_ps(a, b); }
-static inline vf v_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
-static inline vf v_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
-static inline vf v_div(vf a, vf b) { return _mm256_div_ps(a, b); }
-static inline vf v_fma(vf a, vf b, vf c) { return _mm256_fmadd_ps(a, b, c); }
-static inline vf v_fnma(vf a, vf b, vf c) { return _mm256_fnmadd_ps(a, b, c); } /* c - a b */
-static inline vf v_min(vf a, vf b) { return _mm256_min_ps(a, b); }
-static inline vf v_max(vf a, vf b) { return _mm256_max_ps(a, b); }
-static inline vf v_sqrt(vf a) { return _mm256_sqrt_ps(a); }
-static inline vf v_abs(vf a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
-static inline vf v_neg(vf a) { return _mm256_xor_ps(_mm256_set1_ps(-0.0f), a); }
-static inline vf v_floor(vf a) { return _mm256_floor_ps(a); }
+static inline vf v_set1(float a) { return _mm512_set1_ps(a); }
+static inline vf v_zero(void) { return _mm512_setzero_ps(); }
+static inline vf v_iota(void) { return _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15); }
+static inline vf v_load(const float *p) { return _mm512_loadu_ps(p); }
+static inline void v_store(float *p, vf a) { _mm512_storeu_ps(p, a); }
+static inline vf v_add(vf a, vf b) { return _mm512_add_ps(a, b); }
+static inline vf v_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }
+static inline vf v_mul(vf a, vf b) { return _mm512_mul_ps(a, b); }
+static inline vf v_div(vf a, vf b) { return _mm512_div_ps(a, b); }
+static inline vf v_fma(vf a, vf b, vf c) { return _mm512_fmadd_ps(a, b, c); }
+static inline vf v_fnma(vf a, vf b, vf c) { return _mm512_fnmadd_ps(a, b, c); } /* c - a b */
+static inline vf v_min(vf a, vf b) { return _mm512_min_ps(a, b); }
+static inline vf v_max(vf a, vf b) { return _mm512_max_ps(a, b); }
+static inline vf v_sqrt(vf a) { return _mm512_sqrt_ps(a); }
+static inline vf v_abs(vf a) { return _mm512_abs_ps(a); }
+static inline vf v_neg(vf a) { return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32((int)0x80000000))); }
+static inline vf v_floor(vf a) { return _mm512_roundscale_ps(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
 /* nearest, ties to even (as lrintf in the default rounding mode) */
 static inline vf v_round(vf a)
 {
-	return _mm256_round_ps(a, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+	return _mm512_roundscale_ps(a, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
 }
 
 /* 1/a and 1/sqrt(a): hardware estimate (14 bits) + one Newton step, relative
  * error below 3e-7; for a > 0 (finite) only */
 static inline vf v_rcp(vf a)
 {
-	vf r = _mm256_rcp14_ps(a);
-	return _mm256_mul_ps(r, _mm256_fnmadd_ps(a, r, _mm256_set1_ps(2.0f)));
+	vf r = _mm512_rcp14_ps(a);
+	return _mm512_mul_ps(r, _mm512_fnmadd_ps(a, r, _mm512_set1_ps(2.0f)));
 }
 /* 1/a, hardware estimate only (relative error < 6.2e-5); 1/0 = inf */
-static inline vf v_rcp_fast(vf a) { return _mm256_rcp14_ps(a); }
+static inline vf v_rcp_fast(vf a) { return _mm512_rcp14_ps(a); }
 /* 1/sqrt(a), hardware estimate only (relative error < 6.2e-5) */
-static inline vf v_rsqrt_fast(vf a) { return _mm256_rsqrt14_ps(a); }
+static inline vf v_rsqrt_fast(vf a) { return _mm512_rsqrt14_ps(a); }
 static inline vf v_rsqrt(vf a)
 {
-	vf r = _mm256_rsqrt14_ps(a);
-	vf ar2 = _mm256_mul_ps(_mm256_mul_ps(a, r), r);
-	return _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), r),
-			     _mm256_sub_ps(_mm256_set1_ps(3.0f), ar2));
+	vf r = _mm512_rsqrt14_ps(a);
+	vf ar2 = _mm512_mul_ps(_mm512_mul_ps(a, r), r);
+	return _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(0.5f), r),
+			     _mm512_sub_ps(_mm512_set1_ps(3.0f), ar2));
 }
 
-static inline vm v_lt(vf a, vf b) { return _mm256_cmp_ps_mask(a, b, _CMP_LT_OQ); }
-static inline vm v_le(vf a, vf b) { return _mm256_cmp_ps_mask(a, b, _CMP_LE_OQ); }
-static inline vm v_gt(vf a, vf b) { return _mm256_cmp_ps_mask(a, b, _CMP_GT_OQ); }
-static inline vm v_ge(vf a, vf b) { return _mm256_cmp_ps_mask(a, b, _CMP_GE_OQ); }
-static inline vm v_eq(vf a, vf b) { return _mm256_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
+static inline vm v_lt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+static inline vm v_le(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
+static inline vm v_gt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
+static inline vm v_ge(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
+static inline vm v_eq(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
 static inline vm m_and(vm a, vm b) { return (vm)(a & b); }
 static inline vm m_or(vm a, vm b) { return (vm)(a | b); }
 static inline vm m_andnot(vm a, vm b) { return (vm)(a & ~b); } /* a & ~b */
 static inline int m_any(vm a) { return a != 0; }
-static inline int m_all(vm a) { return a == 0xff; }
-static inline vf v_sel(vm m, vf a, vf b) { return _mm256_mask_blend_ps(m, b, a); }
+static inline int m_all(vm a) { return a == 0xffff; }
+static inline vf v_sel(vm m, vf a, vf b) { return _mm512_mask_blend_ps(m, b, a); }
 
-static inline void vi_store(int32_t *p, vi a) { _mm256_storeu_si256((__m256i *)(void *)p, a); }
-static inline vi vi_set1(int32_t a) { return _mm256_set1_epi32(a); }
-static inline vi vi_add(vi a, vi b) { return _mm256_add_epi32(a, b); }
-static inline vi vi_mul(vi a, vi b) { return _mm256_mullo_epi32(a, b); }
+static inline void vi_store(int32_t *p, vi a) { _mm512_storeu_si512((void *)p, a); }
+static inline vi vi_set1(int32_t a) { return _mm512_set1_epi32(a); }
+static inline vi vi_add(vi a, vi b) { return _mm512_add_epi32(a, b); }
+static inline vi vi_mul(vi a, vi b) { return _mm512_mullo_epi32(a, b); }
 /* float lanes holding whole numbers -> int32 */
-static inline vi vi_from_whole(vf a) { return _mm256_cvtps_epi32(a); }
-static inline vi vi_sel(vm m, vi a, vi b) { return _mm256_mask_blend_epi32(m, b, a); }
+static inline vi vi_from_whole(vf a) { return _mm512_cvtps_epi32(a); }
+static inline vi vi_sel(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, b, a); }
 /* a * 2^n for whole n in [-126, 127] (adds n to the exponent field) */
 static inline vf v_ldexp(vf a, vf n)
 {
-	return _mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(a),
-						    _mm256_slli_epi32(_mm256_cvtps_epi32(n), 23)));
+	return _mm512_castsi512_ps(_mm512_add_epi32(_mm512_castps_si512(a),
+						    _mm512_slli_epi32(_mm512_cvtps_epi32(n), 23)));
 }
 /* base[idx] where m is set, 0 elsewhere (masked lanes are not read) */
 static inline vf v_gather(const float *base, vi idx, vm m)
 {
-	return _mm256_mmask_i32gather_ps(_mm256_setzero_ps(), m, idx, base, 4);
+	return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m, idx, base, 4);
 }
 
 #endif

@@ -452,7 +452,6 @@ static void test_fastmath(void **state)
 		{ DAO_SIMD_SSE41, dao_fastmath_eval_sse41 },
 		{ DAO_SIMD_AVX2, dao_fastmath_eval_avx2 },
 		{ DAO_SIMD_AVX512, dao_fastmath_eval_avx512 },
-		{ DAO_SIMD_AVX512, dao_fastmath_eval_avx512w }, /* its 16-lane vocabulary */
 #endif
 	};
 	/* function, domain, libm, absolute or relative bound */

@@ -1,8 +1,0 @@
-/* SPDX-License-Identifier: MIT */
-/*
- * fastmath check entry built for AVX-512 at 16 lanes (simd/simd_avx512w.h;
- * compiler flags in src/meson.build).
- */
-#include "simd/simd_avx512w.h"
-#define DAO_ISA_FN(name) name##_avx512w
-#include "simd/fastmath_check.inc.c"
