@@ -13,17 +13,35 @@ struct dao_pool {
 	int nworkers;
 	pthread_t *workers;
 	pthread_mutex_t lock;
-	pthread_cond_t wake;     /* workers wait for a new generation */
-	pthread_cond_t done;     /* the caller waits for the workers to finish */
-	unsigned generation;     /* bumped for every job */
-	int busy;                /* workers still inside the current job */
-	int quit;
+	pthread_cond_t wake;     /* sleeping workers wait for a new generation */
+	pthread_cond_t done;     /* a sleeping caller waits for the workers to finish */
+	atomic_uint generation;  /* bumped for every job (release: publishes the job) */
+	atomic_int busy;         /* workers still inside the current job */
+	atomic_int quit;
+	int sleepers;            /* workers blocked on `wake` (under lock) */
 	/* the current job */
 	dao_pool_fn fn;
 	void *arg;
 	int rows, band;
 	atomic_int next_band;
 };
+
+/*
+ * Hand-offs spin this many rounds before sleeping.  The stages of a frame
+ * follow each other within microseconds, and waking a sleeping thread costs
+ * tens of microseconds (more in a VM) per stage; between frames the spin ends
+ * after ~50 us and the threads sleep.
+ */
+#define SPIN_ROUNDS 4000
+
+static inline void cpu_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+	__builtin_ia32_pause();
+#elif defined(__aarch64__)
+	__asm__ volatile("yield");
+#endif
+}
 
 /* Takes bands until none is left. */
 static void drain(struct dao_pool *p)
@@ -42,20 +60,34 @@ static void *worker_main(void *arg)
 {
 	struct dao_pool *p = arg;
 	unsigned seen = 0;
-	pthread_mutex_lock(&p->lock);
 	for (;;) {
-		while (!p->quit && p->generation == seen)
-			pthread_cond_wait(&p->wake, &p->lock);
-		if (p->quit)
+		/* wait for a new job: spin a little, then sleep */
+		unsigned g = atomic_load_explicit(&p->generation, memory_order_acquire);
+		for (int i = 0; i < SPIN_ROUNDS && g == seen &&
+				!atomic_load_explicit(&p->quit, memory_order_relaxed); i++) {
+			cpu_relax();
+			g = atomic_load_explicit(&p->generation, memory_order_acquire);
+		}
+		if (g == seen) {
+			pthread_mutex_lock(&p->lock);
+			p->sleepers++;
+			while (!atomic_load(&p->quit) &&
+			       (g = atomic_load_explicit(&p->generation, memory_order_acquire)) == seen)
+				pthread_cond_wait(&p->wake, &p->lock);
+			p->sleepers--;
+			pthread_mutex_unlock(&p->lock);
+		}
+		if (atomic_load(&p->quit))
 			break;
-		seen = p->generation;
-		pthread_mutex_unlock(&p->lock);
+		seen = g;
 		drain(p);
-		pthread_mutex_lock(&p->lock);
-		if (--p->busy == 0)
+		if (atomic_fetch_sub_explicit(&p->busy, 1, memory_order_acq_rel) == 1) {
+			/* the last one out: wake the caller if it went to sleep */
+			pthread_mutex_lock(&p->lock);
 			pthread_cond_signal(&p->done);
+			pthread_mutex_unlock(&p->lock);
+		}
 	}
-	pthread_mutex_unlock(&p->lock);
 	return NULL;
 }
 
@@ -107,7 +139,7 @@ void dao_pool_destroy(struct dao_pool *p)
 	if (!p)
 		return;
 	pthread_mutex_lock(&p->lock);
-	p->quit = 1;
+	atomic_store(&p->quit, 1);
 	pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 	for (int i = 0; i < p->nworkers; i++)
@@ -138,21 +170,30 @@ void dao_pool_run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn, vo
 		fn(arg, 0, rows);
 		return;
 	}
-	pthread_mutex_lock(&p->lock);
 	p->fn = fn;
 	p->arg = arg;
 	p->rows = rows;
 	p->band = band;
 	atomic_store_explicit(&p->next_band, 0, memory_order_relaxed);
-	p->busy = p->nworkers;
-	p->generation++;
-	pthread_cond_broadcast(&p->wake);
+	atomic_store_explicit(&p->busy, p->nworkers, memory_order_relaxed);
+	/* publishes the job to spinning workers; sleeping ones need the signal */
+	atomic_fetch_add_explicit(&p->generation, 1, memory_order_release);
+	pthread_mutex_lock(&p->lock);
+	if (p->sleepers)
+		pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 
 	drain(p);
 
-	pthread_mutex_lock(&p->lock);
-	while (p->busy > 0)
-		pthread_cond_wait(&p->done, &p->lock);
-	pthread_mutex_unlock(&p->lock);
+	for (int i = 0; atomic_load_explicit(&p->busy, memory_order_acquire) > 0; i++) {
+		if (i < SPIN_ROUNDS) {
+			cpu_relax();
+			continue;
+		}
+		pthread_mutex_lock(&p->lock);
+		while (atomic_load_explicit(&p->busy, memory_order_acquire) > 0)
+			pthread_cond_wait(&p->done, &p->lock);
+		pthread_mutex_unlock(&p->lock);
+		break;
+	}
 }
