@@ -7,11 +7,12 @@
  * jitter and the radius in pixels, so all of a block's samples sit at the
  * same offset from their pixels.  The taps of every step are worked out once
  * per block radius in scalar code (the arithmetic of dao_gtao_sample, so the
- * very same taps) into a table, which neighbouring blocks of the same radius
- * reuse; the lanes read their two taps with one load each from the phase
- * plane (entries of one phase are 4 columns apart, as the block's pixels
- * are).  What stays per lane: the depth-edge rule, the horizon cosine, the
- * falloff and the thickness update.
+ * very same taps) into a table of offsets relative to the block's row, which
+ * every block of that radius reuses in all rows of the same tile row (y mod
+ * 4: same noise); the lanes read their two taps with one load each from the
+ * phase plane (entries of one phase are 4 columns apart, as the block's
+ * pixels are).  What stays per lane: the depth-edge rule, the horizon
+ * cosine, the falloff and the thickness update.
  */
 
 /* floor(a / 4) for any sign */
@@ -26,23 +27,26 @@ enum {
 	TAP_ONLY1 = 4, /* ... on the second tap */
 };
 
-/* One step of a side, the same for every pixel of a block. */
+/* One step of a side, the same for every pixel of a block, relative to its row. */
 struct tile_step {
-	int32_t o0, o1;   /* the taps: entries from the phase plane's origin, before the
-			   * block's first entry is added (the plane has < 2^31 entries) */
-	int32_t oe;       /* the tap an edge takes (the one closer to the line) */
-	float f;          /* fraction between the taps */
-	float ux_s, ux_e; /* (u_sample - u_pixel) ax, smooth (s) and at an edge (e) */
-	float uy_s, uy_e; /* v_sample ay + by, smooth and at an edge */
+	int32_t o0, o1;     /* the taps: entries from the row's first entry of phase 0,
+			     * before the block's first entry is added */
+	int32_t oe;         /* the tap an edge takes (the one closer to the line) */
+	int32_t dr_lo, dr_hi; /* rows of the taps relative to the row: the step reads
+			       * the plane only where y + dr_lo >= -1, y + dr_hi <= height
+			       * (rows -1 and height are zeros: "no sample") */
+	float f;            /* fraction between the taps */
+	float ux_s, ux_e;   /* (u_sample - u_pixel) ax, smooth (s) and at an edge (e) */
+	float vy_s, vy_e;   /* (v_sample - v_pixel) ay, smooth and at an edge */
 	int flags;
 };
 
 /*
- * Tables of steps for one row and tile phase, one per block radius seen
- * (radii repeat along a row, though not always in a row): as many as fit in
- * TILE_STEPS_MAX entries, up to TILE_TABLES, replaced oldest first.
+ * Tables of steps for one tile phase and tile row (y mod 4), one per block
+ * radius seen: as many as fit in TILE_STEPS_MAX entries, up to TILE_TABLES,
+ * replaced oldest first.
  */
-#define TILE_STEPS_MAX 512 /* the steps of every preset fit (ultra: 192) */
+#define TILE_STEPS_MAX 256 /* the steps of every preset fit (ultra: 192) */
 #define TILE_TABLES 8
 struct tile_cache {
 	int per;    /* entries per table: slices x 2 x steps */
@@ -52,9 +56,9 @@ struct tile_cache {
 	struct tile_step st[TILE_STEPS_MAX];
 };
 
-/* The per-row constants of one tile phase: slice directions and step positions. */
+/* The constants of one tile phase and tile row: slice directions and step positions. */
 struct tile_phase {
-	int a, y;
+	int a;
 	float dx[32], dy[32]; /* per slice (slices <= 32) */
 	float t[64];          /* per step, before scaling by the radius (steps <= 64) */
 };
@@ -64,7 +68,6 @@ static void tile_phase_init(const struct dao_gtao_setup *s, int a, int y, struct
 	float n0, n1;
 	dao_tile_noise(a, y, s->frame, &n0, &n1);
 	ph->a = a;
-	ph->y = y;
 	/* the reference's expressions, so the very same directions and steps */
 	for (int sl = 0; sl < s->slices; sl++) {
 		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
@@ -75,21 +78,19 @@ static void tile_phase_init(const struct dao_gtao_setup *s, int a, int y, struct
 		ph->t[i] = powf(((float)i + n1) / (float)s->steps, s->power);
 }
 
-/* A step that samples nothing: both taps read row -1 of the phase plane, all
- * zeros ("no data") for any block. */
-static void tile_step_null(const struct dao_gtao_planes *pl, struct tile_step *o)
+/* Entries from the first entry of phase 0 of a row to (row + dr, phase q, entry j). */
+static inline int32_t tile_offset(const struct dao_gtao_planes *pl, int dr, int q, int j)
 {
-	*o = (struct tile_step){ 0 };
-	o->o0 = o->o1 = o->oe = (int32_t)(dao_gtao_phase_row(pl, -1, 0) - pl->phase);
+	return (int32_t)(((ptrdiff_t)dr * 4 + q) * pl->stride4 + j);
 }
 
-/* dao_gtao_sample for a block at step distance dist; 0 when it samples nothing
- * for any pixel of the block. */
-static int tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-			  const struct tile_phase *ph, float dmaj, float slope, int major_x,
-			  float dist, struct tile_step *o)
+/* dao_gtao_sample for a block at step distance dist, relative to the block's
+ * row; a step whose columns lie beyond the padding samples nothing in any
+ * row (dr_hi is then out of reach). */
+static void tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+			   int a, float dmaj, float slope, int major_x, float dist,
+			   struct tile_step *o)
 {
-	const int y = ph->y, a = ph->a;
 	int mo = (int)lrintf(dmaj * dist);
 	if (mo == 0)
 		mo = dmaj > 0.0f ? 1 : -1;
@@ -100,37 +101,38 @@ static int tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao_
 	o->flags = (o->f >= 0.5f ? TAP_USE1 : 0) | (o->f < 1e-3f ? TAP_ONLY0 : 0) |
 		   (o->f > 1.0f - 1e-3f ? TAP_ONLY1 : 0);
 	const int use1 = o->flags & TAP_USE1;
+	int out; /* columns beyond the padding: off the image for every pixel */
 	if (major_x) {
 		/* columns x + mo (off the image: zero padding), rows y + c0 and y + c0 + 1 */
-		const int i0 = y + c0;
-		if (mo < -pl->max_offset || mo > pl->max_offset || i0 < -1 || i0 >= s->height)
-			return 0;
+		out = mo < -pl->max_offset || mo > pl->max_offset;
 		const int q = (a + mo) & 3, j = floor_div4(a + mo);
-		o->o0 = (int32_t)((dao_gtao_phase_row(pl, i0, q) - pl->phase) + j);
-		o->o1 = (int32_t)((dao_gtao_phase_row(pl, i0 + 1, q) - pl->phase) + j);
+		o->o0 = tile_offset(pl, c0, q, j);
+		o->o1 = tile_offset(pl, c0 + 1, q, j);
+		o->dr_lo = c0;
+		o->dr_hi = c0 + 1;
 		o->ux_s = o->ux_e = (float)mo * s->ax;
-		o->uy_s = ((float)y + off) * s->ay + s->by;
-		o->uy_e = (float)(i0 + use1) * s->ay + s->by;
+		o->vy_s = off * s->ay;
+		o->vy_e = (float)(c0 + use1) * s->ay;
 	} else {
 		/* row y + mo, columns x + c0 and x + c0 + 1 */
-		const int m = y + mo;
-		if (m < 0 || m >= s->height || c0 < -pl->max_offset || c0 + 1 > pl->max_offset)
-			return 0;
-		o->o0 = (int32_t)((dao_gtao_phase_row(pl, m, (a + c0) & 3) - pl->phase) +
-				  floor_div4(a + c0));
-		o->o1 = (int32_t)((dao_gtao_phase_row(pl, m, (a + c0 + 1) & 3) - pl->phase) +
-				  floor_div4(a + c0 + 1));
+		out = c0 < -pl->max_offset || c0 + 1 > pl->max_offset;
+		o->o0 = tile_offset(pl, mo, (a + c0) & 3, floor_div4(a + c0));
+		o->o1 = tile_offset(pl, mo, (a + c0 + 1) & 3, floor_div4(a + c0 + 1));
+		o->dr_lo = o->dr_hi = mo;
 		o->ux_s = off * s->ax;
 		o->ux_e = (float)(c0 + use1) * s->ax;
-		o->uy_s = o->uy_e = (float)m * s->ay + s->by;
+		o->vy_s = o->vy_e = (float)mo * s->ay;
 	}
 	o->oe = use1 ? o->o1 : o->o0;
-	return 1;
+	if (out) {
+		o->o0 = o->o1 = o->oe = 0;
+		o->dr_lo = 0;
+		o->dr_hi = INT32_MAX / 2;
+	}
 }
 
 /* The steps of slice sl's two sides for block radius rp: st[0..steps) for the
- * positive side, st[steps..2 steps) for the negative one (null steps where
- * nothing is sampled, so both sides run in one loop). */
+ * positive side, st[steps..2 steps) for the negative one. */
 static void tile_slice_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 			    const struct tile_phase *ph, float rp, int sl, struct tile_step *st)
 {
@@ -144,8 +146,7 @@ static void tile_slice_make(const struct dao_gtao_setup *s, const struct dao_gta
 		for (int i = 0; i < s->steps; i++) {
 			/* the reference's step distance, bit for bit */
 			const float dist = 1.0f + ph->t[i] * (rp - 1.0f);
-			if (!tile_step_make(s, pl, ph, dmaj, slope, major_x, dist, &o[i]))
-				tile_step_null(pl, &o[i]);
+			tile_step_make(s, pl, ph->a, dmaj, slope, major_x, dist, &o[i]);
 		}
 	}
 }
@@ -192,7 +193,10 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 /* Per-lane constants of the VN pixels of a block being processed. */
 struct tile_px {
 	struct px p;
-	vf X0; /* x ax + bx of the pixel */
+	vf X0;      /* x ax + bx of the pixel */
+	float Y0;   /* y ay + by of the row */
+	int y, h;   /* the row, the image height */
+	const float *zero; /* entries of row -1 (zeros) at the block's columns */
 };
 
 /* One step of one side: the sample's horizon cosine (weighted towards `low` by
@@ -203,13 +207,17 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
-	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
+	/* taps in rows beyond -1 .. height (no sample) read zeros instead */
+	const int in = t->y + st->dr_lo >= -1 && t->y + st->dr_hi <= t->h;
+	const float *b = in ? base : t->zero;
+	const int32_t o0 = in ? st->o0 : 0, o1 = in ? st->o1 : 0, oe = in ? st->oe : 0;
+	const vf iz0 = v_load(b + o0), iz1 = v_load(b + o1);
 	const vf izmin = v_min(iz0, iz1);
 	vm ok = v_gt(izmin, zero); /* both taps have data */
 	const vf d01 = v_sub(iz1, iz0);
 	/* |z0 - z1| > 0.1 min(z0, z1), in 1/z: the tap closer to the line, at its place */
 	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
-	vf iz = v_sel(edge, v_load(base + st->oe), v_fma(v_set1(st->f), d01, iz0));
+	vf iz = v_sel(edge, v_load(b + oe), v_fma(v_set1(st->f), d01, iz0));
 	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
 		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
 		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
@@ -220,7 +228,7 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 	/* D = S - P = z_s G with G = U - P / z_s and U = (u ax + bx, v ay + by, 1):
 	 * the direction of G is that of D, and |D| = |G| / iz */
 	const vf Ux = v_add(t->X0, v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s)));
-	const vf Uy = v_sel(edge, v_set1(st->uy_e), v_set1(st->uy_s));
+	const vf Uy = v_sel(edge, v_set1(t->Y0 + st->vy_e), v_set1(t->Y0 + st->vy_s));
 	const vf Gx = v_fnma(p->Px, iz, Ux);
 	const vf Gy = v_fnma(p->Py, iz, Uy);
 	const vf Gz = v_fnma(p->Pz, iz, one);
@@ -318,21 +326,25 @@ static void tile_cols_fill(const struct dao_gtao_setup *s, const float *z, const
  * phase plane, jl, jl + 1, ... of the chunk's columns). */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		       const struct tile_cols *tc, float *ao, const struct tile_phase *ph,
-		       const struct tile_step *tsteps, float rp, int jb, int jl, int x0)
+		       const struct tile_step *tsteps, float rp, int y, int jb, int jl, int x0)
 {
-	const int w = s->width, y = ph->y, a = ph->a;
+	const int w = s->width, a = ph->a;
 	float out[VN];
 	int lanes = 0;
 	while (lanes < VN && x0 + 4 * lanes < s->x_end)
 		lanes++;
 	struct tile_px t;
 	struct px *p = &t.p;
+	t.Y0 = (float)y * s->ay + s->by;
+	t.y = y;
+	t.h = s->height;
+	t.zero = dao_gtao_phase_row(pl, -1, 0) + jb;
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
 	p->y = v_set1((float)y);
 	p->Pz = v_load(&tc->z[a][jl]);
 	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
 	p->Px = v_mul(t.X0, p->Pz);
-	p->Py = v_mul(v_set1((float)y * s->ay + s->by), p->Pz);
+	p->Py = v_mul(v_set1(t.Y0), p->Pz);
 	const vm has_z = v_gt(p->Pz, v_zero());
 	const vf zsafe = v_sel(has_z, p->Pz, v_set1(1.0f));
 	const vf lp = v_sqrt(v_fma(p->Px, p->Px, v_fma(p->Py, p->Py, v_mul(p->Pz, p->Pz))));
@@ -346,7 +358,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const vf N[3] = { v_load(&tc->n[a][0][jl]), v_load(&tc->n[a][1][jl]),
 				  v_load(&tc->n[a][2][jl]) };
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
-		const float *base = pl->phase + jb;
+		const float *base = dao_gtao_phase_row(pl, y, 0) + jb;
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
 			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
@@ -374,47 +386,61 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			tc->z[a][jl + k] > 0.0f ? out[k] : s->invalid_value;
 }
 
+/* The blocks of tile phase a in columns [cx0, cx1) of row y. */
+static void tile_chunk_phase(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+			     const struct tile_cols *tc, float *ao, const struct tile_phase *ph,
+			     struct tile_cache *cache, int y, int cx0, int cx1)
+{
+	const float rf = s->search_radius * s->focal;
+	const int a = ph->a;
+	const float *izrow = dao_gtao_phase_row(pl, y, a);
+	for (int xb = cx0; xb + a < cx1; xb += DAO_GTAO_BLOCK_SPAN) {
+		const int jb = xb / 4;
+		/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
+		float izmax = 0.0f;
+		for (int k = 0; k < DAO_GTAO_BLOCK; k++)
+			izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
+		if (izmax <= 0.0f) {
+			for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < cx1; x += 4)
+				ao[(size_t)y * s->width + x] = s->invalid_value;
+			continue;
+		}
+		const float rp = fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
+		const struct tile_step *tsteps = tile_cache_get(s, pl, ph, rp, cache);
+		for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
+			const int x0 = xb + a + 4 * h;
+			if (x0 < cx1)
+				tile_lanes(s, pl, tc, ao, ph, tsteps, rp, y, jb + h,
+					   (xb - cx0) / 4 + h, x0);
+		}
+	}
+}
+
 /* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block span). */
 static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 		      const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1)
 {
-	const float rf = s->search_radius * s->focal;
-	/* the tables of every preset fit on the stack; more slices x steps than that
-	 * are made per block and slice (tile_lanes) */
-	struct tile_cache cache;
+	/* Rows by tile row (y mod 4), so that the tables of a tile phase serve every
+	 * row of the band with that noise.  The tables of every preset fit on the
+	 * stack; more slices x steps than that are made per block and slice
+	 * (tile_lanes). */
+	struct tile_cache cache[4];
+	struct tile_phase ph[4];
 	struct tile_cols tc;
-	for (int y = y0; y < y1; y++) {
-		for (int cx0 = s->x_begin; cx0 < s->x_end; cx0 += TILE_CHUNK) {
-			const int cx1 = cx0 + TILE_CHUNK < s->x_end ? cx0 + TILE_CHUNK : s->x_end;
-			tile_cols_fill(s, z, n, y, cx0, cx1, &tc);
-			for (int a = 0; a < 4; a++) {
-				struct tile_phase ph;
-				tile_phase_init(s, a, y, &ph);
-				tile_cache_reset(s, &cache);
-				const float *izrow = dao_gtao_phase_row(pl, y, a);
-				for (int xb = cx0; xb + a < cx1; xb += DAO_GTAO_BLOCK_SPAN) {
-					const int jb = xb / 4;
-					/* the block's radius, from its largest 1/z
-					 * (dao_gtao_block_radius) */
-					float izmax = 0.0f;
-					for (int k = 0; k < DAO_GTAO_BLOCK; k++)
-						izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
-					if (izmax <= 0.0f) {
-						for (int x = xb + a;
-						     x < xb + DAO_GTAO_BLOCK_SPAN && x < cx1; x += 4)
-							ao[(size_t)y * s->width + x] = s->invalid_value;
-						continue;
-					}
-					const float rp = fminf(dao_gtao_quantize_radius(rf * izmax),
-							       s->max_r_px);
-					const struct tile_step *tsteps = tile_cache_get(s, pl, &ph, rp, &cache);
-					for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
-						const int x0 = xb + a + 4 * h;
-						if (x0 < cx1)
-							tile_lanes(s, pl, &tc, ao, &ph, tsteps, rp,
-								   jb + h, (xb - cx0) / 4 + h, x0);
-					}
-				}
+	for (int cls = 0; cls < 4; cls++) {
+		int yc = y0 + ((cls - y0) & 3); /* the first row of the band in this tile row */
+		if (yc >= y1)
+			continue;
+		for (int a = 0; a < 4; a++) {
+			tile_phase_init(s, a, yc, &ph[a]);
+			tile_cache_reset(s, &cache[a]);
+		}
+		for (int y = yc; y < y1; y += 4) {
+			for (int cx0 = s->x_begin; cx0 < s->x_end; cx0 += TILE_CHUNK) {
+				const int cx1 = cx0 + TILE_CHUNK < s->x_end ? cx0 + TILE_CHUNK : s->x_end;
+				tile_cols_fill(s, z, n, y, cx0, cx1, &tc);
+				for (int a = 0; a < 4; a++)
+					tile_chunk_phase(s, pl, &tc, ao, &ph[a], &cache[a], y, cx0, cx1);
 			}
 		}
 	}

@@ -393,6 +393,9 @@ static void test_gtao(void **state)
 		gtao_case(&p, &inputs[i], 2, 6, 0.0f, DAO_NOISE_TILE);
 		if (i % 3 == 0) { /* the other code paths on a few inputs */
 			gtao_case(&p, &inputs[i], 4, 8, 0.3f, DAO_NOISE_TILE);
+			/* more steps than the kernel's step tables hold: made per block */
+			if (i == 0)
+				gtao_case(&p, &inputs[i], 12, 12, 0.0f, DAO_NOISE_TILE);
 			gtao_case(&p, &inputs[i], 4, 8, 0.0f, DAO_NOISE_R2);
 			gtao_case(&p, &inputs[i], 3, 5, 0.05f, DAO_NOISE_NONE);
 		}
