@@ -41,7 +41,10 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 		}
 		for (; x < 2 && x < w; x++)
 			o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
-		for (; x + VN + 2 <= w; x += VN) {
+		/* the last vector ends at the border, overlapping the one before: each
+		 * output depends only on the inputs, so recomputing pixels is harmless */
+		const int xlast = w - 2 - VN;
+		for (; x <= xlast; x = (x < xlast && x + VN > xlast) ? xlast : x + VN) {
 			const float *zr = z + (size_t)y * w + x;
 			vf zc = v_load(zr);
 			vm has = v_gt(zc, zero);

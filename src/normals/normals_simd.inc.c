@@ -50,7 +50,10 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 			for (x = 0; x < r && x < w; x++)
 				dao_normal_pixel(cam, z, r, x, y, out + 3 * x);
 			const float *row = z + (size_t)y * w;
-			for (; x + VN + r <= w; x += VN) {
+			/* the last vector ends r before the border, overlapping the one
+			 * before (outputs depend only on the inputs) */
+			const int xlast = w - r - VN;
+			for (; x <= xlast; x = (x < xlast && x + VN > xlast) ? xlast : x + VN) {
 				vf zc = v_load(row + x), zl = v_load(row + x - r), zr = v_load(row + x + r);
 				vf zu = v_load(row + x - (size_t)r * w), zd = v_load(row + x + (size_t)r * w);
 				const vm has = v_gt(zc, zero);

@@ -2,9 +2,11 @@
 /*
  * The occlusion-shaded image (shade.c) over SIMD lanes: the Lambert head
  * light with AO^1 into RGB24, the CLI's and daemon's default.  Other modes,
- * AO powers and GRAY8 output go to the reference code; so do lane groups
- * with a pixel without depth.  Included by shade_<isa>.c.
+ * AO powers and GRAY8 output go to the reference code.  Pixels without depth
+ * are black.  Included by shade_<isa>.c.
  */
+#include <string.h>
+
 #include <depthao/params.h>
 
 #include "shade/shade.h"
@@ -25,17 +27,13 @@ void DAO_ISA_FN(dao_shade)(const struct dao_shade_setup *s, const float *z, cons
 		const vf py0 = v_add(v_mul(v_set1((float)y), ay), by);
 		int x = 0;
 		for (; x + VN <= w; x += VN) {
-			vf zc = v_load(zr + x);
-			if (!m_all(v_gt(zc, zero))) {
-				for (int k = 0; k < VN; k++) {
-					float c[3];
-					dao_shade_pixel(s, z, n, ao, x + k, y, c);
-					for (int ch = 0; ch < 3; ch++)
-						row[3 * (x + k) + ch] = (uint8_t)lrintf(
-							c[ch] < 0.0f ? 0.0f : c[ch] > 255.0f ? 255.0f : c[ch]);
-				}
+			const vf zraw = v_load(zr + x);
+			const vm has = v_gt(zraw, zero);
+			if (!m_any(has)) {
+				memset(row + 3 * (size_t)x, 0, 3 * VN); /* no depth: black */
 				continue;
 			}
+			const vf zc = v_sel(has, zraw, one); /* lanes without depth: any finite value */
 			float nx[VN], ny[VN], nz[VN];
 			const float *N = n + 3 * ((size_t)y * w + x);
 			for (int k = 0; k < VN; k++)
@@ -54,7 +52,7 @@ void DAO_ISA_FN(dao_shade)(const struct dao_shade_setup *s, const float *z, cons
 			for (int c = 0; c < 3; c++) {
 				vf occ = v_set1(s->occ[c]);
 				vf v = v_add(occ, v_mul(v_sub(g, occ), kv));
-				v = v_min(v_max(v, zero), v_set1(255.0f));
+				v = v_sel(has, v_min(v_max(v, zero), v_set1(255.0f)), zero);
 				vi_store(q[c], vi_from_whole(v_round(v)));
 			}
 			for (int k = 0; k < VN; k++)
