@@ -2,8 +2,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/multiversion.h"
 #include "depth/decode.h"
 
+DAO_MULTIVERSION
 void dao_decode_depth(const struct dao_frame *in, float zmin, float zmax, float *z, int y0,
 		      int y1)
 {

@@ -4,6 +4,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "core/multiversion.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 
@@ -46,6 +47,7 @@ int dao_gtao_planes_fit(const struct dao_gtao_planes *pl, float max_r_px)
 	return offset_cover(pl->width, max_r_px) + 2 <= pl->max_offset;
 }
 
+DAO_MULTIVERSION
 void dao_gtao_planes_fill(struct dao_gtao_planes *pl, const float *z, int phase, int y0, int y1)
 {
 	const int w = pl->width;

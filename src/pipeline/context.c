@@ -13,6 +13,7 @@
 #include <depthao/context.h>
 
 #include "core/error_internal.h"
+#include "core/multiversion.h"
 #include "core/math_util.h"
 #include "denoise/denoise.h"
 #include "depth/decode.h"
@@ -442,6 +443,7 @@ static inline int32_t round_even(float v)
 
 /* Pixels without input depth are exactly invalid_value, whatever the filters did;
  * then the caller's output format. */
+DAO_MULTIVERSION
 static void stage_output(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
@@ -587,6 +589,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 
 /* Per row, the nearest and farthest depth of the last frame (0 and 0 when the
  * row has none); rows in parallel. */
+DAO_MULTIVERSION
 static void stage_row_range(void *arg, int y0, int y1)
 {
 	struct dao_context *ctx = arg;
