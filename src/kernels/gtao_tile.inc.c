@@ -203,7 +203,7 @@ struct tile_px {
  * the falloff) and whether there is a sample. */
 static inline __attribute__((always_inline)) vf
 tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
-	    const struct tile_step *st, vf low, vm *okp)
+	    const struct tile_step *st, vf low, vm *okp, const int major_x)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -227,8 +227,11 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 	iz = v_sel(ok, iz, zero);
 	/* D = S - P = z_s G with G = U - P / z_s and U = (u ax + bx, v ay + by, 1):
 	 * the direction of G is that of D, and |D| = |G| / iz */
-	const vf Ux = v_add(t->X0, v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s)));
-	const vf Uy = v_sel(edge, v_set1(t->Y0 + st->vy_e), v_set1(t->Y0 + st->vy_s));
+	/* an edge moves the sample on the minor axis only */
+	const vf Ux = major_x ? v_add(t->X0, v_set1(st->ux_s))
+			      : v_add(t->X0, v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s)));
+	const vf Uy = major_x ? v_sel(edge, v_set1(t->Y0 + st->vy_e), v_set1(t->Y0 + st->vy_s))
+			      : v_set1(t->Y0 + st->vy_s);
 	const vf Gx = v_fnma(p->Px, iz, Ux);
 	const vf Gy = v_fnma(p->Py, iz, Uy);
 	const vf Gz = v_fnma(p->Pz, iz, one);
@@ -255,15 +258,15 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 static inline __attribute__((always_inline)) void
 tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
 	   const struct tile_step *st, vf low_pos, vf low_neg, vf *hc_pos, vf *hc_neg,
-	   const int use_max)
+	   const int use_max, const int major_x)
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
 	vf bp = low_pos, bn = low_neg;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
-		const vf cp = tile_sample(s, base, t, &st[i], low_pos, &okp);
-		const vf cn = tile_sample(s, base, t, &sn[i], low_neg, &okn);
+		const vf cp = tile_sample(s, base, t, &st[i], low_pos, &okp, major_x);
+		const vf cn = tile_sample(s, base, t, &sn[i], low_neg, &okn, major_x);
 		if (use_max) {
 			bp = v_max(bp, cp);
 			bn = v_max(bn, cn);
@@ -280,12 +283,19 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 			   const struct tile_px *t, const struct tile_step *st, vf low_pos,
-			   vf low_neg, vf *hc_pos, vf *hc_neg)
+			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x)
 {
-	if (s->decay == 1.0f)
-		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 1);
-	else
-		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0);
+	if (s->decay == 1.0f) {
+		if (major_x)
+			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 1, 1);
+		else
+			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 1, 0);
+	} else {
+		if (major_x)
+			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0, 1);
+		else
+			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0, 0);
+	}
 }
 
 /* Depth and normals of a row's chunk of columns split by tile phase, so the
@@ -374,7 +384,8 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 				st = local;
 			}
 			vf hc_pos, hc_neg;
-			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg);
+			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg,
+				       fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]));
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		const vm has = v_gt(norm, v_zero());
