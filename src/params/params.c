@@ -60,7 +60,7 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(min_screen_radius), 0.0, 64.0, NULL, RT },
 	{ "distribution-power", "sample spacing t^power; > 1 packs samples near the pixel", NULL,
 	  DAO_PARAM_FLOAT, OFF(distribution_power), 1.0, 4.0, NULL, RT },
-	{ "noise", "per-pixel rotation of slices and jitter of steps", NULL,
+	{ "noise", "rotation of slices and jitter of steps: tile (4x4, the fast kernel), or per pixel ign, r2; none", NULL,
 	  DAO_PARAM_ENUM, OFF(noise), 0, 0, noise_names, RT },
 	{ "final-power", "visibility is raised to this power", NULL,
 	  DAO_PARAM_FLOAT, OFF(final_power), 0.1, 8.0, NULL, RT },
