@@ -54,12 +54,14 @@ DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ct
  *          of the camera's size.
  * normals: NULL to derive normals from depth, or DAO_PIXFMT_NORMAL_F32 unit
  *          normals in the optical frame (facing the camera).
- * frame_index: selects the per-pixel noise pattern; the result is a pure
- *          function of (depth, normals, params, frame_index).
+ * frame_index: selects the noise pattern; the result is a pure function of
+ *          (depth, normals, params, frame_index).
  * ao:      NULL, or DAO_PIXFMT_GRAY_F32 / GRAY16 / GRAY8 visibility
  *          (1 = open); pixels without depth get params.invalid_value.
  *
  * The frame's depth, normals and AO stay in the context for dao_context_shade().
+ * The calling thread takes part in the work and needs about 64 KB of stack
+ * (the optimised GTAO keeps its step tables there).
  */
 DAO_API int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 			const struct dao_frame *normals, uint64_t frame_index,
