@@ -32,9 +32,10 @@ struct tile_step {
 	int32_t o0, o1;     /* the taps: entries from the row's first entry of phase 0,
 			     * before the block's first entry is added */
 	int32_t oe;         /* the tap an edge takes (the one closer to the line) */
-	int32_t dr_lo, dr_hi; /* rows of the taps relative to the row: the step reads
-			       * the plane only where y + dr_lo >= -1, y + dr_hi <= height
-			       * (rows -1 and height are zeros: "no sample") */
+	int32_t dr_lo, dr_hi; /* rows of the taps relative to the pixel's */
+	int32_t dc_lo, dc_hi; /* columns of the taps relative to the pixel's: a step
+			       * whose taps are all off the image for every lane of a
+			       * block is skipped (it would sample nothing) */
 	float f;            /* fraction between the taps */
 	float ux_s, ux_e;   /* (u_sample - u_pixel) ax, smooth (s) and at an edge (e) */
 	float vy_s, vy_e;   /* (v_sample - v_pixel) ay, smooth and at an edge */
@@ -85,8 +86,8 @@ static inline int32_t tile_offset(const struct dao_gtao_planes *pl, int dr, int 
 }
 
 /* dao_gtao_sample for a block at step distance dist, relative to the block's
- * row; a step whose columns lie beyond the padding samples nothing in any
- * row (dr_hi is then out of reach). */
+ * pixels; a step whose columns lie beyond the padding samples nothing (its
+ * columns are then out of reach). */
 static void tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 			   int a, float dmaj, float slope, int major_x, float dist,
 			   struct tile_step *o)
@@ -110,6 +111,7 @@ static void tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao
 		o->o1 = tile_offset(pl, c0 + 1, q, j);
 		o->dr_lo = c0;
 		o->dr_hi = c0 + 1;
+		o->dc_lo = o->dc_hi = mo;
 		o->ux_s = o->ux_e = (float)mo * s->ax;
 		o->vy_s = off * s->ay;
 		o->vy_e = (float)(c0 + use1) * s->ay;
@@ -119,15 +121,16 @@ static void tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao
 		o->o0 = tile_offset(pl, mo, (a + c0) & 3, floor_div4(a + c0));
 		o->o1 = tile_offset(pl, mo, (a + c0 + 1) & 3, floor_div4(a + c0 + 1));
 		o->dr_lo = o->dr_hi = mo;
+		o->dc_lo = c0;
+		o->dc_hi = c0 + 1;
 		o->ux_s = off * s->ax;
 		o->ux_e = (float)(c0 + use1) * s->ax;
 		o->vy_s = o->vy_e = (float)mo * s->ay;
 	}
 	o->oe = use1 ? o->o1 : o->o0;
-	if (out) {
+	if (out) { /* beyond the padding, so beyond the image: never sampled */
 		o->o0 = o->o1 = o->oe = 0;
-		o->dr_lo = 0;
-		o->dr_hi = INT32_MAX / 2;
+		o->dc_lo = o->dc_hi = INT32_MAX / 2;
 	}
 }
 
@@ -195,9 +198,18 @@ struct tile_px {
 	struct px p;
 	vf X0;      /* x ax + bx of the pixel */
 	float Y0;   /* y ay + by of the row */
-	int y, h;   /* the row, the image height */
-	const float *zero; /* entries of row -1 (zeros) at the block's columns */
+	int y, h, w;         /* the row, the image size */
+	int x_first, x_last; /* columns of the first and the last lane */
 };
+
+/* Whether a step's taps are off the image for every lane (no sample anywhere:
+ * skipping it changes nothing).  Otherwise its rows lie in -1 .. height, which
+ * the phase plane has (rows -1 and height are zeros). */
+static inline int tile_skip(const struct tile_px *t, const struct tile_step *st)
+{
+	return t->y + st->dr_hi < 0 || t->y + st->dr_lo >= t->h || t->x_last + st->dc_hi < 0 ||
+	       t->x_first + st->dc_lo >= t->w;
+}
 
 /* One step of one side: the sample's horizon cosine (weighted towards `low` by
  * the falloff) and whether there is a sample. */
@@ -207,17 +219,13 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
-	/* taps in rows beyond -1 .. height (no sample) read zeros instead */
-	const int in = t->y + st->dr_lo >= -1 && t->y + st->dr_hi <= t->h;
-	const float *b = in ? base : t->zero;
-	const int32_t o0 = in ? st->o0 : 0, o1 = in ? st->o1 : 0, oe = in ? st->oe : 0;
-	const vf iz0 = v_load(b + o0), iz1 = v_load(b + o1);
+	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
 	const vf izmin = v_min(iz0, iz1);
 	vm ok = v_gt(izmin, zero); /* both taps have data */
 	const vf d01 = v_sub(iz1, iz0);
 	/* |z0 - z1| > 0.1 min(z0, z1), in 1/z: the tap closer to the line, at its place */
 	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
-	vf iz = v_sel(edge, v_load(b + oe), v_fma(v_set1(st->f), d01, iz0));
+	vf iz = v_sel(edge, v_load(base + st->oe), v_fma(v_set1(st->f), d01, iz0));
 	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
 		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
 		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
@@ -265,16 +273,22 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	vf bp = low_pos, bn = low_neg;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
-		const vf cp = tile_sample(s, base, t, &st[i], low_pos, &okp, major_x);
-		const vf cn = tile_sample(s, base, t, &sn[i], low_neg, &okn, major_x);
-		if (use_max) {
-			bp = v_max(bp, cp);
-			bn = v_max(bn, cn);
-		} else {
-			/* thickness heuristic (UE4): a lower sample after a higher one pulls
-			 * the horizon towards it */
-			bp = v_sel(okp, v_sel(v_gt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)), bp);
-			bn = v_sel(okn, v_sel(v_gt(cn, bn), cn, v_fma(v_sub(bn, cn), decay, cn)), bn);
+		if (!tile_skip(t, &st[i])) {
+			const vf cp = tile_sample(s, base, t, &st[i], low_pos, &okp, major_x);
+			if (use_max)
+				bp = v_max(bp, cp);
+			else /* thickness heuristic (UE4): a lower sample after a higher one
+			      * pulls the horizon towards it */
+				bp = v_sel(okp, v_sel(v_gt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
+					   bp);
+		}
+		if (!tile_skip(t, &sn[i])) {
+			const vf cn = tile_sample(s, base, t, &sn[i], low_neg, &okn, major_x);
+			if (use_max)
+				bn = v_max(bn, cn);
+			else
+				bn = v_sel(okn, v_sel(v_gt(cn, bn), cn, v_fma(v_sub(bn, cn), decay, cn)),
+					   bn);
 		}
 	}
 	*hc_pos = bp;
@@ -348,7 +362,9 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	t.Y0 = (float)y * s->ay + s->by;
 	t.y = y;
 	t.h = s->height;
-	t.zero = dao_gtao_phase_row(pl, -1, 0) + jb;
+	t.w = s->width;
+	t.x_first = x0;
+	t.x_last = x0 + 4 * (VN - 1);
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
 	p->y = v_set1((float)y);
 	p->Pz = v_load(&tc->z[a][jl]);
