@@ -272,6 +272,63 @@ static void test_determinism_and_params(void **state)
 	dao_context_destroy(ctx1);
 }
 
+/*
+ * Parameters changed on a running context give what a fresh context with the
+ * scalar reference kernels gives: a larger max-screen-radius (the 1/z phase
+ * plane is re-made with wider padding), a radius whose samples reach far
+ * beyond the image, another noise (another GTAO kernel) and back.
+ */
+static void test_params_change_kernels(void **state)
+{
+	(void)state;
+	struct dao_camera cam = camera();
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	struct dao_context *ctx;
+	assert_int_equal(dao_context_create(&ctx, &cam, &p, NULL), 0);
+	uint16_t mm[W * H];
+	fill_depth(mm);
+	float a[W * H], b[W * H], first[W * H];
+	static const struct {
+		float radius, max_r;
+		int noise;
+	} cases[] = {
+		{ 0.5f, 160.0f, DAO_NOISE_TILE },
+		{ 6.0f, 4096.0f, DAO_NOISE_TILE }, /* ~180 px: beyond the 64 x 48 image */
+		{ 6.0f, 4096.0f, DAO_NOISE_IGN },
+		{ 0.5f, 20.0f, DAO_NOISE_TILE },
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		p.radius = cases[k].radius;
+		p.max_screen_radius = cases[k].max_r;
+		p.noise = cases[k].noise;
+		assert_int_equal(dao_context_set_params(ctx, &p, NULL), 0);
+		process_f32(ctx, mm, 2, a);
+		struct dao_params pr = p;
+		pr.simd = DAO_SIMD_REFERENCE;
+		struct dao_context *ref;
+		assert_int_equal(dao_context_create(&ref, &cam, &pr, NULL), 0);
+		process_f32(ref, mm, 2, b);
+		dao_context_destroy(ref);
+		double mae = 0, occ = 0;
+		for (int i = 0; i < W * H; i++) {
+			mae += fabs(a[i] - b[i]);
+			occ += 1.0 - b[i];
+		}
+		mae /= W * H;
+		print_message("radius %.1f max %4.0f noise %d: MAE %.2e against the reference, "
+			      "mean occlusion %.3f\n", (double)cases[k].radius, (double)cases[k].max_r,
+			      cases[k].noise, mae, occ / (W * H));
+		assert_true(mae < 1e-4);
+		assert_true(occ / (W * H) > 0.005); /* the box occludes the floor */
+		if (k == 0)
+			memcpy(first, a, sizeof a);
+		if (k == 1)
+			assert_memory_not_equal(first, a, sizeof a); /* the new radius took effect */
+	}
+	dao_context_destroy(ctx);
+}
+
 /* Float depth and caller normals give the same kind of answer as mm depth. */
 static void test_float_depth_and_normals(void **state)
 {
@@ -313,6 +370,7 @@ int main(void)
 		cmocka_unit_test(test_bounds_and_formats),
 		cmocka_unit_test(test_determinism_and_params),
 		cmocka_unit_test(test_float_depth_and_normals),
+		cmocka_unit_test(test_params_change_kernels),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
