@@ -312,47 +312,13 @@ static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 	}
 }
 
-/* Depth and normals of a row's chunk of columns split by tile phase, so the
- * lanes of a block load them contiguously. */
-#define TILE_CHUNK 512 /* columns, a multiple of the block span */
-struct tile_cols {
-	float z[4][TILE_CHUNK / 4];
-	float n[4][3][TILE_CHUNK / 4];
-};
-
-/* Columns [cx0, cx1) of row y (cx0 a multiple of the block span); the rest of
- * the chunk's last block is "no data". */
-static void tile_cols_fill(const struct dao_gtao_setup *s, const float *z, const float *n, int y,
-			   int cx0, int cx1, struct tile_cols *tc)
-{
-	const size_t r = (size_t)y * (size_t)s->width;
-	const float *zr = z + r + cx0, *nr = n + 3 * (r + (size_t)cx0);
-	const int n4 = (cx1 - cx0) / 4;
-	/* whole groups of 4 columns: one of each phase, no index arithmetic */
-	for (int j = 0; j < n4; j++, zr += 4, nr += 12)
-		for (int q = 0; q < 4; q++) {
-			tc->z[q][j] = zr[q];
-			tc->n[q][0][j] = nr[3 * q];
-			tc->n[q][1][j] = nr[3 * q + 1];
-			tc->n[q][2][j] = nr[3 * q + 2];
-		}
-	/* the rest of the chunk's last block: columns left over, then no data */
-	for (int x = cx0 + 4 * n4; (x - cx0) % DAO_GTAO_BLOCK_SPAN || x < cx1; x++) {
-		const int q = (x - cx0) & 3, j = (x - cx0) >> 2;
-		const int in = x < cx1;
-		tc->z[q][j] = in ? z[r + (size_t)x] : 0.0f;
-		for (int c = 0; c < 3; c++)
-			tc->n[q][c][j] = in ? n[3 * (r + (size_t)x) + (size_t)c] : 0.0f;
-	}
-}
-
 /* VN lanes of a block: columns x0, x0 + 4, ... (entries jb, jb + 1, ... of the
- * phase plane, jl, jl + 1, ... of the chunk's columns). */
+ * phase plane).  Depth and normals of the lanes, 4 columns apart, are gathered. */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		       const struct tile_cols *tc, float *ao, const struct tile_phase *ph,
-		       const struct tile_step *tsteps, float rp, int y, int jb, int jl, int x0)
+		       const float *z, const float *n, float *ao, const struct tile_phase *ph,
+		       const struct tile_step *tsteps, float rp, int y, int jb, int x0)
 {
-	const int w = s->width, a = ph->a;
+	const int w = s->width;
 	float out[VN];
 	int lanes = 0;
 	while (lanes < VN && x0 + 4 * lanes < s->x_end)
@@ -367,7 +333,10 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	t.x_last = x0 + 4 * (VN - 1);
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
 	p->y = v_set1((float)y);
-	p->Pz = v_load(&tc->z[a][jl]);
+	/* lanes past x_end are not read (0: no depth) */
+	const vm in = v_lt(p->x, v_set1((float)s->x_end));
+	const vi pix = vi_add(vi_from_whole(p->x), vi_set1(y * w));
+	p->Pz = v_gather(z, pix, in);
 	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
 	p->Px = v_mul(t.X0, p->Pz);
 	p->Py = v_mul(v_set1(t.Y0), p->Pz);
@@ -381,8 +350,9 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	p->active = m_and(has_z, m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, v_set1(1.0f))));
 	vf vis = v_set1(1.0f);
 	if (m_any(p->active)) {
-		const vf N[3] = { v_load(&tc->n[a][0][jl]), v_load(&tc->n[a][1][jl]),
-				  v_load(&tc->n[a][2][jl]) };
+		const vi n3 = vi_mul(pix, vi_set1(3));
+		const vf N[3] = { v_gather(n, n3, in), v_gather(n, vi_add(n3, vi_set1(1)), in),
+				  v_gather(n, vi_add(n3, vi_set1(2)), in) };
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 		const float *base = dao_gtao_phase_row(pl, y, 0) + jb;
 		vf sum = v_zero(), norm = v_zero();
@@ -407,15 +377,14 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const vm has = v_gt(norm, v_zero());
 		vis = v_sel(has, v_div(sum, v_sel(has, norm, v_set1(1.0f))), v_set1(1.0f));
 	}
-	v_store(out, finish_lanes(s, vis));
+	v_store(out, v_sel(has_z, finish_lanes(s, vis), v_set1(s->invalid_value)));
 	for (int k = 0; k < lanes; k++)
-		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] =
-			tc->z[a][jl + k] > 0.0f ? out[k] : s->invalid_value;
+		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] = out[k];
 }
 
-/* The blocks of tile phase a in columns [cx0, cx1) of row y. */
+/* The blocks of tile phase a in columns [cx0, cx1) of row y (cx0 a multiple of the block span). */
 static void tile_chunk_phase(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-			     const struct tile_cols *tc, float *ao, const struct tile_phase *ph,
+			     const float *z, const float *n, float *ao, const struct tile_phase *ph,
 			     struct tile_cache *cache, int y, int cx0, int cx1)
 {
 	const float rf = s->search_radius * s->focal;
@@ -437,8 +406,7 @@ static void tile_chunk_phase(const struct dao_gtao_setup *s, const struct dao_gt
 		for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
 			const int x0 = xb + a + 4 * h;
 			if (x0 < cx1)
-				tile_lanes(s, pl, tc, ao, ph, tsteps, rp, y, jb + h,
-					   (xb - cx0) / 4 + h, x0);
+				tile_lanes(s, pl, z, n, ao, ph, tsteps, rp, y, jb + h, x0);
 		}
 	}
 }
@@ -453,7 +421,6 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 	 * (tile_lanes). */
 	struct tile_cache cache[4];
 	struct tile_phase ph[4];
-	struct tile_cols tc;
 	for (int cls = 0; cls < 4; cls++) {
 		int yc = y0 + ((cls - y0) & 3); /* the first row of the band in this tile row */
 		if (yc >= y1)
@@ -463,12 +430,9 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 			tile_cache_reset(s, &cache[a]);
 		}
 		for (int y = yc; y < y1; y += 4) {
-			for (int cx0 = s->x_begin; cx0 < s->x_end; cx0 += TILE_CHUNK) {
-				const int cx1 = cx0 + TILE_CHUNK < s->x_end ? cx0 + TILE_CHUNK : s->x_end;
-				tile_cols_fill(s, z, n, y, cx0, cx1, &tc);
-				for (int a = 0; a < 4; a++)
-					tile_chunk_phase(s, pl, &tc, ao, &ph[a], &cache[a], y, cx0, cx1);
-			}
+			for (int a = 0; a < 4; a++)
+				tile_chunk_phase(s, pl, z, n, ao, &ph[a], &cache[a], y, s->x_begin,
+						 s->x_end);
 		}
 	}
 }
