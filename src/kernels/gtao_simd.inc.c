@@ -213,7 +213,8 @@ slice_geometry(const struct dao_gtao_setup *s, const struct px *p, vf dx, vf dy,
 	const vf dn = v_fma(dirx, N[0], v_mul(diry, N[1]));
 	const vm neg = v_lt(v_fnma(dv, NV, dn), zero);
 	const vf n = fast ? v_acos_fast(g.cos_n) : v_acos(g.cos_n);
-	const vf sin_n = v_sqrt(v_max(v_fnma(g.cos_n, g.cos_n, one), zero));
+	const vf sin_n = fast ? v_sqrt_fast(v_max(v_fnma(g.cos_n, g.cos_n, one), zero))
+			      : v_sqrt(v_max(v_fnma(g.cos_n, g.cos_n, one), zero));
 	g.n = v_sel(neg, v_neg(n), n);
 	g.sin_n = v_sel(neg, v_neg(sin_n), sin_n);
 	return g;
@@ -240,8 +241,10 @@ slice_accumulate(const struct slice_v *g, vf hc_pos, vf hc_neg, vf *vis, vf *nor
 	const vm cl1 = v_gt(v_sub(h1, g->n), half_pi), cl0 = v_lt(v_sub(h0, g->n), v_neg(half_pi));
 	h1 = v_sel(cl1, v_add(g->n, half_pi), h1);
 	h0 = v_sel(cl0, v_sub(g->n, half_pi), h0);
-	const vf s1 = v_sqrt(v_max(v_fnma(c1, c1, one), zero));
-	const vf s0 = v_neg(v_sqrt(v_max(v_fnma(c0, c0, one), zero)));
+	const vf s1 = fast ? v_sqrt_fast(v_max(v_fnma(c1, c1, one), zero))
+			   : v_sqrt(v_max(v_fnma(c1, c1, one), zero));
+	const vf s0 = v_neg(fast ? v_sqrt_fast(v_max(v_fnma(c0, c0, one), zero))
+				 : v_sqrt(v_max(v_fnma(c0, c0, one), zero)));
 	const vf k1 = v_fma(v_fma(v_mul(two, c1), c1, v_neg(one)), g->cos_n,
 			    v_mul(v_mul(v_mul(two, c1), s1), g->sin_n));
 	const vf k0 = v_fma(v_fma(v_mul(two, c0), c0, v_neg(one)), g->cos_n,

@@ -33,12 +33,12 @@
 #define GTAO_MAE 2e-6             /* GTAO kernel on identical inputs [3.9e-7] */
 #define GTAO_P999 1e-4            /* 99.9th percentile of |difference| [2.7e-5] */
 #define GTAO_MAX 0.05             /* a sample snapping to the other pixel of a tie [0.012] */
-/* the tile kernel uses the hardware estimates of 1/sqrt (horizon cosine) and
- * 1/z (falloff distance), relative error < 3.7e-4 each, and the 4-term acos
- * (6.8e-5 absolute) */
-#define GTAO_TILE_MAE 1e-4        /* [2.4e-5] */
+/* the tile kernel uses the hardware estimates of 1/sqrt (horizon cosine, and
+ * sqrt(x) = x / sqrt(x) for the sines) and 1/z (falloff distance), relative
+ * error < 3.7e-4 each, and the 4-term acos (4.2e-4 absolute with them) */
+#define GTAO_TILE_MAE 1e-4        /* [3.4e-5] */
 #define GTAO_TILE_P999 3e-3       /* [6.7e-4] */
-#define PIPELINE_MAE 5e-5         /* whole dao_context_process, default (tile) [1.4e-5] */
+#define PIPELINE_MAE 5e-5         /* whole dao_context_process, default (tile) [1.6e-5] */
 
 struct input {
 	char name[64];
@@ -465,7 +465,8 @@ static void test_fastmath(void **state)
 		int relative;
 	} fns[] = {
 		{ DAO_FM_ACOS, "acos", -1.0, 1.0, 1e-6, 0 },
-		{ DAO_FM_ACOS_FAST, "acos4", -1.0, 1.0, 7e-5, 0 },
+		/* 6.8e-5 of the polynomial plus the 1/sqrt estimate (12 bits; 14 on avx512) */
+		{ DAO_FM_ACOS_FAST, "acos4", -1.0, 1.0, 5e-4, 0 },
 		{ DAO_FM_SIN, "sin", -7.0, 7.0, 5e-7, 0 },
 		{ DAO_FM_COS, "cos", -7.0, 7.0, 5e-7, 0 },
 		{ DAO_FM_EXP, "exp", -80.0, 0.0, 5e-7, 1 },
