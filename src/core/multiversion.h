@@ -10,8 +10,10 @@
 #ifndef DAO_CORE_MULTIVERSION_H
 #define DAO_CORE_MULTIVERSION_H
 
-#if defined(__x86_64__) && defined(__GNUC__) && defined(__gnu_linux__) && \
-	!defined(DAO_NO_MULTIVERSION)
+/* GCC only: Clang (14) emits the dispatcher only where every declaration
+ * carries the attribute, so calls from other files do not link */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+	defined(__gnu_linux__) && !defined(DAO_NO_MULTIVERSION)
 #define DAO_MULTIVERSION __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
 #define DAO_MULTIVERSION
