@@ -269,8 +269,8 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	const float T = v->vbao_thickness;
 	float vis = 0.0f, norm = 0.0f;
 	for (int sl = 0; sl < s->slices; sl++) {
-		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
-		const float dx = cosf(phi), dy = sinf(phi);
+		float dx, dy;
+		dao_gtao_slice_dir(s, sl, n0, &dx, &dy);
 		struct dao_slice sf;
 		if (!dao_slice_frame(s, dx, dy, V, N, &sf))
 			continue;
@@ -280,7 +280,7 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 		for (int side = 0; side < 2; side++) {
 			const float sx = side ? -dx : dx, sy = side ? -dy : dy, sign = side ? -1.0f : 1.0f;
 			for (int i = 0; i < s->steps; i++) {
-				float t = powf(((float)i + n1) / (float)s->steps, s->power);
+				float t = dao_gtao_step_t(s, i, n1);
 				float dist = 1.0f + t * (r_px - 1.0f), u, vv, zs;
 				if (!dao_gtao_sample(z, s->width, s->height, x, y, sx, sy, dist, &u, &vv, &zs))
 					continue;

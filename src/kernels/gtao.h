@@ -2,10 +2,13 @@
 #ifndef DAO_KERNELS_GTAO_H
 #define DAO_KERNELS_GTAO_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include <depthao/camera.h>
 #include <depthao/params.h>
+
+#include "core/math_util.h"
 
 /* Everything the GTAO kernels need per frame, derived once from camera and params. */
 struct dao_gtao_setup {
@@ -38,6 +41,22 @@ struct dao_gtao_setup {
 static inline float dao_gtao_effective_radius(float R, int steps)
 {
 	return R * (1.0f + DAO_GTAO_RADIUS_REACH / (float)steps);
+}
+
+/* Screen direction of slice sl for the rotation noise n0 (every GTAO-style
+ * kernel computes it with this very expression, so all agree bit for bit). */
+static inline void dao_gtao_slice_dir(const struct dao_gtao_setup *s, int sl, float n0,
+				      float *dx, float *dy)
+{
+	const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
+	*dx = cosf(phi);
+	*dy = sinf(phi);
+}
+
+/* Position of step i along a side, in [0, 1) of the radius, for the jitter n1. */
+static inline float dao_gtao_step_t(const struct dao_gtao_setup *s, int i, float n1)
+{
+	return powf(((float)i + n1) / (float)s->steps, s->power);
 }
 
 void dao_gtao_setup_init(struct dao_gtao_setup *s, const struct dao_camera *cam,

@@ -22,7 +22,7 @@ static float search_side(const struct dao_gtao_setup *s, const float *z, int x, 
 {
 	float best = low;
 	for (int i = 0; i < s->steps; i++) {
-		float t = powf(((float)i + jitter) / (float)s->steps, s->power);
+		float t = dao_gtao_step_t(s, i, jitter);
 		float dist = 1.0f + t * (r_px - 1.0f);
 		float u, v, zs;
 		if (!dao_gtao_sample(z, s->width, s->height, x, y, dx, dy, dist, &u, &v, &zs))
@@ -91,8 +91,8 @@ static float gtao_pixel(const struct dao_gtao_setup *s, const float *z, const fl
 
 	float vis = 0.0f, norm = 0.0f;
 	for (int sl = 0; sl < s->slices; sl++) {
-		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
-		const float dx = cosf(phi), dy = sinf(phi);
+		float dx, dy;
+		dao_gtao_slice_dir(s, sl, n0, &dx, &dy);
 		/* the screen line through the pixel is the image of the slice plane */
 		struct dao_slice sf;
 		if (!dao_slice_frame(s, dx, dy, V, N, &sf))

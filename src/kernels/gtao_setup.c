@@ -65,8 +65,8 @@ float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int 
 			break;
 		const float zz = z[(size_t)y * s->width + xx];
 		/* 1/z as the optimised kernels store it, so both round alike */
-		if (zz > 0.0f && 1.0f / zz > izmax)
-			izmax = 1.0f / zz;
+		const float iz = zz > 0.0f ? 1.0f / zz : 0.0f;
+		izmax = iz > izmax ? iz : izmax;
 	}
 	return dao_gtao_quantize_radius(s->search_radius * s->focal * izmax);
 }

@@ -178,6 +178,19 @@ static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
 	return best;
 }
 
+/* acos, and sin t from cos t (t in [0, pi]): the precise polynomials, or with
+ * `fast` the short acos and square roots from the hardware 1/sqrt estimate */
+static inline vf acos_lanes(vf c, const int fast)
+{
+	return fast ? v_acos_fast(c) : v_acos(c);
+}
+
+static inline vf sin_of_cos(vf c, const int fast)
+{
+	const vf s2 = v_max(v_fnma(c, c, v_set1(1.0f)), v_zero());
+	return fast ? v_sqrt_fast(s2) : v_sqrt(s2);
+}
+
 /* One slice's frame at every lane: the projected normal's angle n from V, its
  * cosine and sine, the length lpn, and where the slice is usable. */
 struct slice_v {
@@ -212,9 +225,8 @@ slice_geometry(const struct dao_gtao_setup *s, const struct px *p, vf dx, vf dy,
 	const vf dv = v_fma(dirx, p->Vx, v_mul(diry, p->Vy));
 	const vf dn = v_fma(dirx, N[0], v_mul(diry, N[1]));
 	const vm neg = v_lt(v_fnma(dv, NV, dn), zero);
-	const vf n = fast ? v_acos_fast(g.cos_n) : v_acos(g.cos_n);
-	const vf sin_n = fast ? v_sqrt_fast(v_max(v_fnma(g.cos_n, g.cos_n, one), zero))
-			      : v_sqrt(v_max(v_fnma(g.cos_n, g.cos_n, one), zero));
+	const vf n = acos_lanes(g.cos_n, fast);
+	const vf sin_n = sin_of_cos(g.cos_n, fast);
 	g.n = v_sel(neg, v_neg(n), n);
 	g.sin_n = v_sel(neg, v_neg(sin_n), sin_n);
 	return g;
@@ -236,15 +248,11 @@ slice_accumulate(const struct slice_v *g, vf hc_pos, vf hc_neg, vf *vis, vf *nor
 	const vf two = v_set1(2.0f);
 	const vf c1 = v_min(v_max(hc_pos, v_set1(-1.0f)), one);
 	const vf c0 = v_min(v_max(hc_neg, v_set1(-1.0f)), one);
-	vf h1 = fast ? v_acos_fast(c1) : v_acos(c1);
-	vf h0 = v_neg(fast ? v_acos_fast(c0) : v_acos(c0));
+	vf h1 = acos_lanes(c1, fast), h0 = v_neg(acos_lanes(c0, fast));
 	const vm cl1 = v_gt(v_sub(h1, g->n), half_pi), cl0 = v_lt(v_sub(h0, g->n), v_neg(half_pi));
 	h1 = v_sel(cl1, v_add(g->n, half_pi), h1);
 	h0 = v_sel(cl0, v_sub(g->n, half_pi), h0);
-	const vf s1 = fast ? v_sqrt_fast(v_max(v_fnma(c1, c1, one), zero))
-			   : v_sqrt(v_max(v_fnma(c1, c1, one), zero));
-	const vf s0 = v_neg(fast ? v_sqrt_fast(v_max(v_fnma(c0, c0, one), zero))
-				 : v_sqrt(v_max(v_fnma(c0, c0, one), zero)));
+	const vf s1 = sin_of_cos(c1, fast), s0 = v_neg(sin_of_cos(c0, fast));
 	const vf k1 = v_fma(v_fma(v_mul(two, c1), c1, v_neg(one)), g->cos_n,
 			    v_mul(v_mul(v_mul(two, c1), s1), g->sin_n));
 	const vf k0 = v_fma(v_fma(v_mul(two, c0), c0, v_neg(one)), g->cos_n,

@@ -69,14 +69,11 @@ static void tile_phase_init(const struct dao_gtao_setup *s, int a, int y, struct
 	float n0, n1;
 	dao_tile_noise(a, y, s->frame, &n0, &n1);
 	ph->a = a;
-	/* the reference's expressions, so the very same directions and steps */
-	for (int sl = 0; sl < s->slices; sl++) {
-		const float phi = ((float)sl + n0) * DAO_PI_F / (float)s->slices;
-		ph->dx[sl] = cosf(phi);
-		ph->dy[sl] = sinf(phi);
-	}
+	/* the reference's directions and steps, bit for bit */
+	for (int sl = 0; sl < s->slices; sl++)
+		dao_gtao_slice_dir(s, sl, n0, &ph->dx[sl], &ph->dy[sl]);
 	for (int i = 0; i < s->steps; i++)
-		ph->t[i] = powf(((float)i + n1) / (float)s->steps, s->power);
+		ph->t[i] = dao_gtao_step_t(s, i, n1);
 }
 
 /* Entries from the first entry of phase 0 of a row to (row + dr, phase q, entry j). */

@@ -102,7 +102,7 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 				vf len = v_sqrt(v_add(v_add(v_mul(c0, c0), v_mul(c1, c1)), v_mul(c2, c2)));
 				/* no neighbour on an axis, or a degenerate cross product: -P / |P| */
 				const vm cross_ok = m_and(found, v_gt(len, zero));
-				if (!m_all(m_or(cross_ok, m_andnot(v_ge(zc, zc), has)))) {
+				if (m_any(m_andnot(has, cross_ok))) { /* a lane with depth needs it */
 					const vf lp = v_sqrt(v_add(v_add(v_mul(px, px), v_mul(py, py)),
 								   v_mul(zc, zc)));
 					c0 = v_sel(cross_ok, c0, v_neg(px));
