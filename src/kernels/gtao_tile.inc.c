@@ -379,22 +379,22 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] = out[k];
 }
 
-/* The blocks of tile phase a in columns [cx0, cx1) of row y (cx0 a multiple of the block span). */
-static void tile_chunk_phase(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-			     const float *z, const float *n, float *ao, const struct tile_phase *ph,
-			     struct tile_cache *cache, int y, int cx0, int cx1)
+/* The blocks of tile phase a in columns [x_begin, x_end) of row y. */
+static void tile_row_phase(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+			   const float *z, const float *n, float *ao, const struct tile_phase *ph,
+			   struct tile_cache *cache, int y)
 {
 	const float rf = s->search_radius * s->focal;
 	const int a = ph->a;
 	const float *izrow = dao_gtao_phase_row(pl, y, a);
-	for (int xb = cx0; xb + a < cx1; xb += DAO_GTAO_BLOCK_SPAN) {
+	for (int xb = s->x_begin; xb + a < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
 		const int jb = xb / 4;
 		/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
 		float izmax = 0.0f;
 		for (int k = 0; k < DAO_GTAO_BLOCK; k++)
 			izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
 		if (izmax <= 0.0f) {
-			for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < cx1; x += 4)
+			for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end; x += 4)
 				ao[(size_t)y * s->width + x] = s->invalid_value;
 			continue;
 		}
@@ -402,7 +402,7 @@ static void tile_chunk_phase(const struct dao_gtao_setup *s, const struct dao_gt
 		const struct tile_step *tsteps = tile_cache_get(s, pl, ph, rp, cache);
 		for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
 			const int x0 = xb + a + 4 * h;
-			if (x0 < cx1)
+			if (x0 < s->x_end)
 				tile_lanes(s, pl, z, n, ao, ph, tsteps, rp, y, jb + h, x0);
 		}
 	}
@@ -428,8 +428,7 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 		}
 		for (int y = yc; y < y1; y += 4) {
 			for (int a = 0; a < 4; a++)
-				tile_chunk_phase(s, pl, z, n, ao, &ph[a], &cache[a], y, s->x_begin,
-						 s->x_end);
+				tile_row_phase(s, pl, z, n, ao, &ph[a], &cache[a], y);
 		}
 	}
 }
