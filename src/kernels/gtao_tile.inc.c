@@ -39,6 +39,7 @@ struct tile_step {
 	float f;            /* fraction between the taps */
 	float ux_s, ux_e;   /* (u_sample - u_pixel) ax, smooth (s) and at an edge (e) */
 	float vy_s, vy_e;   /* (v_sample - v_pixel) ay, smooth and at an edge */
+	float c_s, c_e;     /* ux^2 + vy^2, smooth and at an edge */
 	int flags;
 };
 
@@ -125,6 +126,8 @@ static void tile_step_make(const struct dao_gtao_setup *s, const struct dao_gtao
 		o->vy_s = o->vy_e = (float)mo * s->ay;
 	}
 	o->oe = use1 ? o->o1 : o->o0;
+	o->c_s = o->ux_s * o->ux_s + o->vy_s * o->vy_s;
+	o->c_e = o->ux_e * o->ux_e + o->vy_e * o->vy_e;
 	if (out) { /* beyond the padding, so beyond the image: never sampled */
 		o->o0 = o->o1 = o->oe = 0;
 		o->dc_lo = o->dc_hi = INT32_MAX / 2;
@@ -193,8 +196,8 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 /* Per-lane constants of the VN pixels of a block being processed. */
 struct tile_px {
 	struct px p;
-	vf X0;      /* x ax + bx of the pixel */
-	float Y0;   /* y ay + by of the row */
+	vf X0, Y0;  /* x ax + bx of the pixel, y ay + by of the row */
+	vf Q, U0len; /* X0^2 + Y0^2 + 1 and its square root */
 	int y, h, w;         /* the row, the image size */
 	int x_first, x_last; /* columns of the first and the last lane */
 };
@@ -208,11 +211,23 @@ static inline int tile_skip(const struct tile_px *t, const struct tile_step *st)
 	       t->x_first + st->dc_lo >= t->w;
 }
 
-/* One step of one side: the sample's horizon cosine (weighted towards `low` by
- * the falloff) and whether there is a sample. */
+/*
+ * One step of one side: the sample's horizon cosine, weighted towards `low` by
+ * the falloff, and whether there is a sample; all in units of -1 / |U0| (see
+ * below), where the largest cosine is the smallest value.
+ *
+ * D = S - P = z_s G with G = U - P iz, iz = 1 / z_s, U = (u ax + bx, v ay + by,
+ * 1): G has the direction of D and |D| = |G| / iz.  With P = z U0, U0 = (X0,
+ * Y0, 1), G = Gz U0 + (du, dv, 0) where Gz = 1 - z iz and (du, dv) is the
+ * sample's offset in U.  With B = X0 du + Y0 dv and Q = |U0|^2:
+ *   G.U0 = Gz Q + B,   |G|^2 = Gz (Gz Q + 2 B) + du^2 + dv^2,
+ * and as V = -U0 / |U0| the cosine is c = (G.U0 / |G|) (-1 / |U0|): the factor
+ * is left to the end of the search (tile_sides), which then takes the minimum.
+ * Lanes without a sample have iz = 0, so |D| = inf and weight 0.
+ */
 static inline __attribute__((always_inline)) vf
 tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
-	    const struct tile_step *st, vf low, vm *okp, const int major_x)
+	    const struct tile_step *st, vf lowk, vm *okp, const int major_x)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -230,35 +245,30 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 		ok = m_or(ok, only);
 	}
 	iz = v_sel(ok, iz, zero);
-	/* D = S - P = z_s G with G = U - P / z_s and U = (u ax + bx, v ay + by, 1):
-	 * the direction of G is that of D, and |D| = |G| / iz */
-	/* an edge moves the sample on the minor axis only */
-	const vf Ux = major_x ? v_add(t->X0, v_set1(st->ux_s))
-			      : v_add(t->X0, v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s)));
-	const vf Uy = major_x ? v_sel(edge, v_set1(t->Y0 + st->vy_e), v_set1(t->Y0 + st->vy_s))
-			      : v_set1(t->Y0 + st->vy_s);
-	const vf Gx = v_fnma(p->Px, iz, Ux);
-	const vf Gy = v_fnma(p->Py, iz, Uy);
 	const vf Gz = v_fnma(p->Pz, iz, one);
-	const vf g2 = v_fma(Gx, Gx, v_fma(Gy, Gy, v_mul(Gz, Gz)));
+	/* an edge moves the sample on the minor axis only */
+	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
+	const vf dv = major_x ? v_sel(edge, v_set1(st->vy_e), v_set1(st->vy_s)) : v_set1(st->vy_s);
+	const vf B = v_fma(t->X0, du, v_mul(t->Y0, dv));
+	const vf GU = v_fma(Gz, t->Q, B);
+	const vf g2 = v_fma(Gz, v_add(GU, B), v_sel(edge, v_set1(st->c_e), v_set1(st->c_s)));
 	const vf rg = v_rsqrt_fast(g2); /* G is never 0: the sample is off the pixel's ray */
-	const vf c = v_mul(v_fma(Gx, p->Vx, v_fma(Gy, p->Vy, v_mul(Gz, p->Vz))), rg);
-	/* |D| for the falloff weight: the estimate of 1/iz is plenty there.  Lanes
-	 * without a sample have iz = 0, so |D| = inf and weight 0, which leaves c
-	 * at `low` */
+	/* |D| for the falloff weight: the estimate of 1/iz is plenty there */
 	const vf len = v_mul(v_mul(g2, rg), v_rcp_fast(iz));
 	const vf wgt = v_min(v_max(v_fma(len, v_set1(s->falloff_mul), v_set1(s->falloff_add)),
 				   zero), one);
 	*okp = ok;
-	return v_fma(v_sub(c, low), wgt, low);
+	return v_fma(v_sub(v_mul(GU, rg), lowk), wgt, lowk);
 }
 
 /*
  * The largest horizon cosines of both sides of a slice (search_side of the
  * reference), the two sides' steps interleaved for instruction-level
- * parallelism; base: the phase plane at the lanes' first entry.  use_max: no
- * thickness heuristic (decay 1), so a step without a sample, weighing 0,
- * cannot change the horizon; with it, such lanes keep theirs explicitly.
+ * parallelism; base: the phase plane at the lanes' first entry.  The search
+ * runs in the units of tile_sample (a cosine c is c |U0|, negated), so the
+ * highest horizon is the smallest value.  use_max: no thickness heuristic
+ * (decay 1), so a step without a sample, weighing 0, cannot change the
+ * horizon; with it, such lanes keep theirs explicitly.
  */
 static inline __attribute__((always_inline)) void
 tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
@@ -267,29 +277,31 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
-	vf bp = low_pos, bn = low_neg;
+	const vf nu = v_neg(t->U0len), inu = v_div(v_set1(1.0f), nu);
+	const vf lp = v_mul(low_pos, nu), ln = v_mul(low_neg, nu);
+	vf bp = lp, bn = ln;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
 		if (!tile_skip(t, &st[i])) {
-			const vf cp = tile_sample(s, base, t, &st[i], low_pos, &okp, major_x);
+			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x);
 			if (use_max)
-				bp = v_max(bp, cp);
+				bp = v_min(bp, cp);
 			else /* thickness heuristic (UE4): a lower sample after a higher one
 			      * pulls the horizon towards it */
-				bp = v_sel(okp, v_sel(v_gt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
+				bp = v_sel(okp, v_sel(v_lt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
 					   bp);
 		}
 		if (!tile_skip(t, &sn[i])) {
-			const vf cn = tile_sample(s, base, t, &sn[i], low_neg, &okn, major_x);
+			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x);
 			if (use_max)
-				bn = v_max(bn, cn);
+				bn = v_min(bn, cn);
 			else
-				bn = v_sel(okn, v_sel(v_gt(cn, bn), cn, v_fma(v_sub(bn, cn), decay, cn)),
+				bn = v_sel(okn, v_sel(v_lt(cn, bn), cn, v_fma(v_sub(bn, cn), decay, cn)),
 					   bn);
 		}
 	}
-	*hc_pos = bp;
-	*hc_neg = bn;
+	*hc_pos = v_mul(bp, inu);
+	*hc_neg = v_mul(bn, inu);
 }
 
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
@@ -322,7 +334,8 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		lanes++;
 	struct tile_px t;
 	struct px *p = &t.p;
-	t.Y0 = (float)y * s->ay + s->by;
+	const float Y0 = (float)y * s->ay + s->by;
+	t.Y0 = v_set1(Y0);
 	t.y = y;
 	t.h = s->height;
 	t.w = s->width;
@@ -335,8 +348,10 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	const vi pix = vi_add(vi_from_whole(p->x), vi_set1(y * w));
 	p->Pz = v_gather(z, pix, in);
 	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
+	t.Q = v_fma(t.X0, t.X0, v_fma(t.Y0, t.Y0, v_set1(1.0f)));
+	t.U0len = v_sqrt(t.Q);
 	p->Px = v_mul(t.X0, p->Pz);
-	p->Py = v_mul(v_set1(t.Y0), p->Pz);
+	p->Py = v_mul(t.Y0, p->Pz);
 	const vm has_z = v_gt(p->Pz, v_zero());
 	const vf zsafe = v_sel(has_z, p->Pz, v_set1(1.0f));
 	const vf lp = v_sqrt(v_fma(p->Px, p->Px, v_fma(p->Py, p->Py, v_mul(p->Pz, p->Pz))));
