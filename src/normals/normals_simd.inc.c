@@ -113,14 +113,10 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 				/* face the viewer: flip when N . P > 0 (-P faces it already) */
 				vf dot = v_add(v_add(v_mul(c0, px), v_mul(c1, py)), v_mul(c2, zc));
 				len = v_sel(m_and(cross_ok, v_gt(dot, zero)), v_neg(len), len);
-				float a[VN], b[VN], c[VN];
 				/* no depth: (0, 0, -1) */
-				v_store(a, v_sel(has, v_div(c0, len), zero));
-				v_store(b, v_sel(has, v_div(c1, len), zero));
-				v_store(c, v_sel(has, v_div(c2, len), v_set1(-1.0f)));
-				float *o = out + 3 * x;
-				for (int k = 0; k < VN; k++)
-					o[3 * k] = a[k], o[3 * k + 1] = b[k], o[3 * k + 2] = c[k];
+				v_store3(out + 3 * x, v_sel(has, v_div(c0, len), zero),
+					 v_sel(has, v_div(c1, len), zero),
+					 v_sel(has, v_div(c2, len), v_set1(-1.0f)));
 			}
 		}
 		for (; x < w; x++)

@@ -34,30 +34,29 @@ void DAO_ISA_FN(dao_shade)(const struct dao_shade_setup *s, const float *z, cons
 				continue;
 			}
 			const vf zc = v_sel(has, zraw, one); /* lanes without depth: any finite value */
-			float nx[VN], ny[VN], nz[VN];
-			const float *N = n + 3 * ((size_t)y * w + x);
-			for (int k = 0; k < VN; k++)
-				nx[k] = N[3 * k], ny[k] = N[3 * k + 1], nz[k] = N[3 * k + 2];
+			vf nx, ny, nz;
+			v_load3(n + 3 * ((size_t)y * w + x), &nx, &ny, &nz);
 			vf u = v_add(v_iota(), v_set1((float)x));
 			vf p0 = v_mul(v_add(v_mul(u, ax), bx), zc), p1 = v_mul(py0, zc), p2 = zc;
 			vf lp = v_sqrt(v_add(v_add(v_mul(p0, p0), v_mul(p1, p1)), v_mul(p2, p2)));
-			vf dot = v_add(v_add(v_mul(v_load(nx), p0), v_mul(v_load(ny), p1)),
-				       v_mul(v_load(nz), p2));
+			vf dot = v_add(v_add(v_mul(nx, p0), v_mul(ny, p1)), v_mul(nz, p2));
 			vf ndl = v_div(v_neg(dot), lp);
 			ndl = v_min(v_max(ndl, zero), one);
 			vf g = v_mul(v_set1(255.0f), v_add(v_set1(0.12f), v_mul(v_set1(0.88f), ndl)));
 			vf kv = v_min(v_max(v_load(ar + x), zero), one);
 			/* clamp and round (ties to even, as lrintf) in the lanes */
-			int32_t q[3][VN];
+			vf ch[3];
 			for (int c = 0; c < 3; c++) {
 				vf occ = v_set1(s->occ[c]);
 				vf v = v_add(occ, v_mul(v_sub(g, occ), kv));
-				v = v_sel(has, v_min(v_max(v, zero), v_set1(255.0f)), zero);
-				vi_store(q[c], vi_from_whole(v_round(v)));
+				ch[c] = v_round(v_sel(has, v_min(v_max(v, zero), v_set1(255.0f)), zero));
 			}
-			for (int k = 0; k < VN; k++)
-				for (int c = 0; c < 3; c++)
-					row[3 * (x + k) + c] = (uint8_t)q[c][k];
+			/* RGB triples of the lanes, then bytes */
+			float rgb[3 * VN];
+			v_store3(rgb, ch[0], ch[1], ch[2]);
+			for (int k = 0; k < 3; k++)
+				vi_store_u8(row + 3 * (size_t)x + (size_t)k * VN,
+					    vi_from_whole(v_load(rgb + k * VN)));
 		}
 		for (; x < w; x++) {
 			float c[3];

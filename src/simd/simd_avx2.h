@@ -94,4 +94,36 @@ static inline vf v_gather(const float *base, vi idx, vm m)
 	return _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, idx, m, 4);
 }
 
+/*
+ * Three-way (de)interleave: p holds VN triples (x y z x y z ...).  The 8
+ * elements of one component sit at distinct positions mod 8 of the three
+ * input vectors, so two blends gather them into one vector and one permute
+ * puts them in order (store3: the reverse).
+ */
+static inline void v_load3(const float *p, vf *a, vf *b, vf *c)
+{
+	const vf m0 = _mm256_loadu_ps(p), m1 = _mm256_loadu_ps(p + 8), m2 = _mm256_loadu_ps(p + 16);
+	*a = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(m0, m1, 0x92), m2, 0x24),
+				      _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+	*b = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(m0, m1, 0x24), m2, 0x49),
+				      _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+	*c = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(m0, m1, 0x49), m2, 0x92),
+				      _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+static inline void v_store3(float *p, vf a, vf b, vf c)
+{
+	a = _mm256_permutevar8x32_ps(a, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+	b = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(5, 0, 3, 6, 1, 4, 7, 2));
+	c = _mm256_permutevar8x32_ps(c, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+	_mm256_storeu_ps(p, _mm256_blend_ps(_mm256_blend_ps(a, b, 0x92), c, 0x24));
+	_mm256_storeu_ps(p + 8, _mm256_blend_ps(_mm256_blend_ps(a, b, 0x24), c, 0x49));
+	_mm256_storeu_ps(p + 16, _mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92));
+}
+/* VN bytes from lanes holding 0 .. 255 */
+static inline void vi_store_u8(uint8_t *p, vi a)
+{
+	const __m128i w = _mm_packus_epi32(_mm256_castsi256_si128(a), _mm256_extracti128_si256(a, 1));
+	_mm_storel_epi64((__m128i *)(void *)p, _mm_packus_epi16(w, w));
+}
+
 #endif

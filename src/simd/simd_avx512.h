@@ -91,4 +91,41 @@ static inline vf v_gather(const float *base, vi idx, vm m)
 	return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), m, idx, base, 4);
 }
 
+/*
+ * Three-way (de)interleave: p holds VN triples (x y z x y z ...).  Lane i of
+ * component k is p[3 i + k]: one two-source permute takes the lanes found in
+ * p[0..31], a second one the rest from p[32..47] (store3: the reverse, the
+ * second permute adding the third component).
+ */
+static inline void v_load3(const float *p, vf *a, vf *b, vf *c)
+{
+	const vf m0 = _mm512_loadu_ps(p), m1 = _mm512_loadu_ps(p + 16), m2 = _mm512_loadu_ps(p + 32);
+	const __m512i a1 = _mm512_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21, 24, 27, 30, 0, 0, 0, 0, 0);
+	const __m512i a2 = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 20, 23, 26, 29);
+	const __m512i b1 = _mm512_setr_epi32(1, 4, 7, 10, 13, 16, 19, 22, 25, 28, 31, 0, 0, 0, 0, 0);
+	const __m512i b2 = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 18, 21, 24, 27, 30);
+	const __m512i c1 = _mm512_setr_epi32(2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0);
+	const __m512i c2 = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31);
+	*a = _mm512_permutex2var_ps(_mm512_permutex2var_ps(m0, a1, m1), a2, m2);
+	*b = _mm512_permutex2var_ps(_mm512_permutex2var_ps(m0, b1, m1), b2, m2);
+	*c = _mm512_permutex2var_ps(_mm512_permutex2var_ps(m0, c1, m1), c2, m2);
+}
+static inline void v_store3(float *p, vf a, vf b, vf c)
+{
+	const __m512i o01 = _mm512_setr_epi32(0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, 4, 20, 0, 5);
+	const __m512i o02 = _mm512_setr_epi32(0, 1, 16, 3, 4, 17, 6, 7, 18, 9, 10, 19, 12, 13, 20, 15);
+	const __m512i o11 = _mm512_setr_epi32(21, 0, 6, 22, 0, 7, 23, 0, 8, 24, 0, 9, 25, 0, 10, 26);
+	const __m512i o12 = _mm512_setr_epi32(0, 21, 2, 3, 22, 5, 6, 23, 8, 9, 24, 11, 12, 25, 14, 15);
+	const __m512i o21 = _mm512_setr_epi32(0, 11, 27, 0, 12, 28, 0, 13, 29, 0, 14, 30, 0, 15, 31, 0);
+	const __m512i o22 = _mm512_setr_epi32(26, 1, 2, 27, 4, 5, 28, 7, 8, 29, 10, 11, 30, 13, 14, 31);
+	_mm512_storeu_ps(p, _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, o01, b), o02, c));
+	_mm512_storeu_ps(p + 16, _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, o11, b), o12, c));
+	_mm512_storeu_ps(p + 32, _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, o21, b), o22, c));
+}
+/* VN bytes from lanes holding 0 .. 255 */
+static inline void vi_store_u8(uint8_t *p, vi a)
+{
+	_mm_storeu_si128((__m128i *)(void *)p, _mm512_cvtepi32_epi8(a));
+}
+
 #endif

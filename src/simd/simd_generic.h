@@ -88,4 +88,22 @@ static inline vf v_gather(const float *base, vi idx, vm m)
 	return o;
 }
 
+/* Three-way (de)interleave: p holds VN triples (x y z x y z ...). */
+static inline void v_load3(const float *p, vf *a, vf *b, vf *c)
+{
+	for (int k = 0; k < VN; k++)
+		(*a)[k] = p[3 * k], (*b)[k] = p[3 * k + 1], (*c)[k] = p[3 * k + 2];
+}
+static inline void v_store3(float *p, vf a, vf b, vf c)
+{
+	for (int k = 0; k < VN; k++)
+		p[3 * k] = a[k], p[3 * k + 1] = b[k], p[3 * k + 2] = c[k];
+}
+/* VN bytes from lanes holding 0 .. 255 */
+static inline void vi_store_u8(uint8_t *p, vi a)
+{
+	for (int k = 0; k < VN; k++)
+		p[k] = (uint8_t)a[k];
+}
+
 #endif

@@ -5,6 +5,7 @@
 
 #include <smmintrin.h>
 #include <stdint.h>
+#include <string.h>
 
 #define VN 4
 #define DAO_SIMD_NAME "sse4.1"
@@ -83,6 +84,35 @@ static inline vf v_gather(const float *base, vi idx, vm m)
 	for (int k = 0; k < 4; k++)
 		o[k] = (bits >> k) & 1 ? base[i[k]] : 0.0f;
 	return _mm_loadu_ps(o);
+}
+
+/* Three-way (de)interleave: p holds VN triples (x y z x y z ...); as in the
+ * AVX2 set, two blends and one shuffle per component. */
+static inline void v_load3(const float *p, vf *a, vf *b, vf *c)
+{
+	const vf m0 = _mm_loadu_ps(p), m1 = _mm_loadu_ps(p + 4), m2 = _mm_loadu_ps(p + 8);
+	const vf ta = _mm_blend_ps(_mm_blend_ps(m0, m1, 0x4), m2, 0x2); /* a0 a3 a2 a1 */
+	const vf tb = _mm_blend_ps(_mm_blend_ps(m0, m1, 0x9), m2, 0x4); /* b1 b0 b3 b2 */
+	const vf tc = _mm_blend_ps(_mm_blend_ps(m0, m1, 0x2), m2, 0x9); /* c2 c1 c0 c3 */
+	*a = _mm_shuffle_ps(ta, ta, _MM_SHUFFLE(1, 2, 3, 0));
+	*b = _mm_shuffle_ps(tb, tb, _MM_SHUFFLE(2, 3, 0, 1));
+	*c = _mm_shuffle_ps(tc, tc, _MM_SHUFFLE(3, 0, 1, 2));
+}
+static inline void v_store3(float *p, vf a, vf b, vf c)
+{
+	a = _mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 2, 3, 0)); /* a0 a3 a2 a1 */
+	b = _mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1)); /* b1 b0 b3 b2 */
+	c = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 0, 1, 2)); /* c2 c1 c0 c3 */
+	_mm_storeu_ps(p, _mm_blend_ps(_mm_blend_ps(a, b, 0x2), c, 0x4));
+	_mm_storeu_ps(p + 4, _mm_blend_ps(_mm_blend_ps(a, b, 0x9), c, 0x2));
+	_mm_storeu_ps(p + 8, _mm_blend_ps(_mm_blend_ps(a, b, 0x4), c, 0x9));
+}
+/* VN bytes from lanes holding 0 .. 255 */
+static inline void vi_store_u8(uint8_t *p, vi a)
+{
+	const __m128i w = _mm_packus_epi32(a, a);
+	const int32_t v = _mm_cvtsi128_si32(_mm_packus_epi16(w, w));
+	memcpy(p, &v, sizeof v);
 }
 
 #endif
