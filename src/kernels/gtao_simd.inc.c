@@ -322,7 +322,7 @@ void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z,
 			       int y1)
 {
 	if (s->noise == DAO_NOISE_TILE) {
-		gtao_tile(s, z, pl, n, ao, y0, y1);
+		gtao_tile(s, pl, n, ao, y0, y1);
 		return;
 	}
 	const int w = s->width, pw = w + 2;

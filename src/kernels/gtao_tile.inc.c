@@ -321,13 +321,44 @@ static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 	}
 }
 
-/* VN lanes of a block: columns x0, x0 + 4, ... (entries jb, jb + 1, ... of the
- * phase plane).  Depth and normals of the lanes, 4 columns apart, are gathered. */
-static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		       const float *z, const float *n, float *ao, const struct tile_phase *ph,
-		       const struct tile_step *tsteps, float rp, int y, int jb, int x0)
+/* The normals of columns x0 .. x0 + DAO_GTAO_BLOCK_SPAN - 1 of row y split by
+ * tile phase, as the blocks use them: nb[q][c][e] is component c of column
+ * x0 + 4 e + q (0 past the row's end). */
+static void tile_group_normals(const float *n, int w, int y, int x0,
+			       float nb[4][3][DAO_GTAO_BLOCK])
 {
-	const int w = s->width;
+	const float *row = n + 3 * (size_t)y * (size_t)w;
+	for (int g = 0; g < DAO_GTAO_BLOCK_SPAN; g += 4 * VN) {
+		const int xg = x0 + g;
+		if (xg + 4 * VN <= w) {
+			vf comp[3][4];
+			for (int m = 0; m < 4; m++)
+				v_load3(row + 3 * (size_t)(xg + m * VN), &comp[0][m], &comp[1][m],
+					&comp[2][m]);
+			for (int c = 0; c < 3; c++) {
+				vf q[4];
+				v_deinterleave4(comp[c], q);
+				for (int k = 0; k < 4; k++)
+					v_store(&nb[k][c][g / 4], q[k]);
+			}
+			continue;
+		}
+		for (int e = g / 4; e < (g + 4 * VN) / 4; e++)
+			for (int k = 0; k < 4; k++) {
+				const int x = x0 + 4 * e + k;
+				for (int c = 0; c < 3; c++)
+					nb[k][c][e] = x < w ? row[3 * (size_t)x + (size_t)c] : 0.0f;
+			}
+	}
+}
+
+/* VN lanes of a block of phase a: columns x0, x0 + 4, ... (entries jb, jb + 1,
+ * ... of the phase plane; nq: their normals, from tile_group_normals). */
+static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		       const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
+		       const struct tile_step *tsteps, float rp, int y, int jb, int h)
+{
+	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
 	int lanes = 0;
 	while (lanes < VN && x0 + 4 * lanes < s->x_end)
@@ -343,30 +374,29 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	t.x_last = x0 + 4 * (VN - 1);
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
 	p->y = v_set1((float)y);
-	/* lanes past x_end are not read (0: no depth) */
+	/* lanes past x_end have no depth here (they are another strip's) */
 	const vm in = v_lt(p->x, v_set1((float)s->x_end));
-	const vi pix = vi_add(vi_from_whole(p->x), vi_set1(y * w));
-	p->Pz = v_gather(z, pix, in);
+	const vf one = v_set1(1.0f);
+	/* depth from the phase plane: 1 / (1 / z), within an ulp of z */
+	const vf iz = v_sel(in, v_load(dao_gtao_phase_row(pl, y, ph->a) + jb + h), v_zero());
+	const vm has_z = v_gt(iz, v_zero());
+	p->Pz = v_sel(has_z, v_div(one, v_sel(has_z, iz, one)), v_zero());
 	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
-	t.Q = v_fma(t.X0, t.X0, v_fma(t.Y0, t.Y0, v_set1(1.0f)));
+	t.Q = v_fma(t.X0, t.X0, v_fma(t.Y0, t.Y0, one));
 	t.U0len = v_sqrt(t.Q);
 	p->Px = v_mul(t.X0, p->Pz);
 	p->Py = v_mul(t.Y0, p->Pz);
-	const vm has_z = v_gt(p->Pz, v_zero());
-	const vf zsafe = v_sel(has_z, p->Pz, v_set1(1.0f));
 	const vf lp = v_sqrt(v_fma(p->Px, p->Px, v_fma(p->Py, p->Py, v_mul(p->Pz, p->Pz))));
-	const vf ilp = v_div(v_set1(-1.0f), v_sel(has_z, lp, v_set1(1.0f)));
+	const vf ilp = v_div(v_set1(-1.0f), v_sel(has_z, lp, one));
 	p->Vx = v_mul(p->Px, ilp), p->Vy = v_mul(p->Py, ilp), p->Vz = v_mul(p->Pz, ilp);
 	/* the pixel's own radius decides whether it is searched at all */
-	const vf r = v_div(v_set1(s->search_radius * s->focal), zsafe);
-	p->active = m_and(has_z, m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, v_set1(1.0f))));
-	vf vis = v_set1(1.0f);
+	const vf r = v_mul(v_set1(s->search_radius * s->focal), iz);
+	p->active = m_and(has_z, m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, one)));
+	vf vis = one;
 	if (m_any(p->active)) {
-		const vi n3 = vi_mul(pix, vi_set1(3));
-		const vf N[3] = { v_gather(n, n3, in), v_gather(n, vi_add(n3, vi_set1(1)), in),
-				  v_gather(n, vi_add(n3, vi_set1(2)), in) };
+		const vf N[3] = { v_load(nq[0] + h), v_load(nq[1] + h), v_load(nq[2] + h) };
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
-		const float *base = dao_gtao_phase_row(pl, y, 0) + jb;
+		const float *base = dao_gtao_phase_row(pl, y, 0) + jb + h;
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
 			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
@@ -387,45 +417,52 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		const vm has = v_gt(norm, v_zero());
-		vis = v_sel(has, v_div(sum, v_sel(has, norm, v_set1(1.0f))), v_set1(1.0f));
+		vis = v_sel(has, v_div(sum, v_sel(has, norm, one)), one);
 	}
 	v_store(out, v_sel(has_z, finish_lanes(s, vis), v_set1(s->invalid_value)));
 	for (int k = 0; k < lanes; k++)
 		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] = out[k];
 }
 
-/* The blocks of tile phase a in columns [x_begin, x_end) of row y. */
-static void tile_row_phase(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-			   const float *z, const float *n, float *ao, const struct tile_phase *ph,
-			   struct tile_cache *cache, int y)
+/* Columns [x_begin, x_end) of row y, block by block: the four tile phases of
+ * DAO_GTAO_BLOCK_SPAN columns share one split of their normals. */
+static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		     const float *n, float *ao, const struct tile_phase ph[4],
+		     struct tile_cache cache[4], int y)
 {
 	const float rf = s->search_radius * s->focal;
-	const int a = ph->a;
-	const float *izrow = dao_gtao_phase_row(pl, y, a);
-	for (int xb = s->x_begin; xb + a < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
+	float nb[4][3][DAO_GTAO_BLOCK];
+	for (int xb = s->x_begin; xb < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
 		const int jb = xb / 4;
-		/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
-		float izmax = 0.0f;
-		for (int k = 0; k < DAO_GTAO_BLOCK; k++)
-			izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
-		if (izmax <= 0.0f) {
-			for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end; x += 4)
-				ao[(size_t)y * s->width + x] = s->invalid_value;
-			continue;
-		}
-		const float rp = fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
-		const struct tile_step *tsteps = tile_cache_get(s, pl, ph, rp, cache);
-		for (int h = 0; h < DAO_GTAO_BLOCK; h += VN) {
-			const int x0 = xb + a + 4 * h;
-			if (x0 < s->x_end)
-				tile_lanes(s, pl, z, n, ao, ph, tsteps, rp, y, jb + h, x0);
+		int split = 0;
+		for (int a = 0; a < 4 && xb + a < s->x_end; a++) {
+			const float *izrow = dao_gtao_phase_row(pl, y, a);
+			/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
+			float izmax = 0.0f;
+			for (int k = 0; k < DAO_GTAO_BLOCK; k++)
+				izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
+			if (izmax <= 0.0f) {
+				for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end; x += 4)
+					ao[(size_t)y * s->width + x] = s->invalid_value;
+				continue;
+			}
+			const float rp = fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
+			const struct tile_step *tsteps = tile_cache_get(s, pl, &ph[a], rp, &cache[a]);
+			if (!split) {
+				tile_group_normals(n, s->width, y, xb, nb);
+				split = 1;
+			}
+			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
+				if (4 * (jb + h) + a < s->x_end)
+					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
+						   tsteps, rp, y, jb, h);
 		}
 	}
 }
 
 /* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block span). */
-static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
-		      const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1)
+static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		      const float *n, float *ao, int y0, int y1)
 {
 	/* Rows by tile row (y mod 4), so that the tables of a tile phase serve every
 	 * row of the band with that noise.  The tables of every preset fit on the
@@ -441,9 +478,7 @@ static void gtao_tile(const struct dao_gtao_setup *s, const float *z,
 			tile_phase_init(s, a, yc, &ph[a]);
 			tile_cache_reset(s, &cache[a]);
 		}
-		for (int y = yc; y < y1; y += 4) {
-			for (int a = 0; a < 4; a++)
-				tile_row_phase(s, pl, z, n, ao, &ph[a], &cache[a], y);
-		}
+		for (int y = yc; y < y1; y += 4)
+			tile_row(s, pl, n, ao, ph, cache, y);
 	}
 }

@@ -126,4 +126,21 @@ static inline void vi_store_u8(uint8_t *p, vi a)
 	_mm_storel_epi64((__m128i *)(void *)p, _mm_packus_epi16(w, w));
 }
 
+/*
+ * Four-way deinterleave: v[0..3] hold 4 VN consecutive values p; q[k] gets
+ * p[k], p[k + 4], p[k + 8], ...  A 4 x 4 transpose within each 128-bit half
+ * leaves q[k] as p[k], p[k + 8], p[k + 16], p[k + 24] | p[k + 4], ...; one
+ * permute restores the order.
+ */
+static inline void v_deinterleave4(const vf v[4], vf q[4])
+{
+	const vf t0 = _mm256_unpacklo_ps(v[0], v[1]), t1 = _mm256_unpackhi_ps(v[0], v[1]);
+	const vf t2 = _mm256_unpacklo_ps(v[2], v[3]), t3 = _mm256_unpackhi_ps(v[2], v[3]);
+	const __m256i ord = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+	q[0] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0)), ord);
+	q[1] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2)), ord);
+	q[2] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0)), ord);
+	q[3] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2)), ord);
+}
+
 #endif

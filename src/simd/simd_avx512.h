@@ -128,4 +128,22 @@ static inline void vi_store_u8(uint8_t *p, vi a)
 	_mm_storeu_si128((__m128i *)(void *)p, _mm512_cvtepi32_epi8(a));
 }
 
+/*
+ * Four-way deinterleave: v[0..3] hold 4 VN consecutive values p; q[k] gets
+ * p[k], p[k + 4], p[k + 8], ... (two rounds of two-source permutes).
+ */
+static inline void v_deinterleave4(const vf v[4], vf q[4])
+{
+	const __m512i e01 = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 1, 5, 9, 13, 17, 21, 25, 29);
+	const __m512i e23 = _mm512_setr_epi32(2, 6, 10, 14, 18, 22, 26, 30, 3, 7, 11, 15, 19, 23, 27, 31);
+	const __m512i lo = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
+	const __m512i hi = _mm512_setr_epi32(8, 9, 10, 11, 12, 13, 14, 15, 24, 25, 26, 27, 28, 29, 30, 31);
+	const vf u01 = _mm512_permutex2var_ps(v[0], e01, v[1]), u23 = _mm512_permutex2var_ps(v[0], e23, v[1]);
+	const vf w01 = _mm512_permutex2var_ps(v[2], e01, v[3]), w23 = _mm512_permutex2var_ps(v[2], e23, v[3]);
+	q[0] = _mm512_permutex2var_ps(u01, lo, w01);
+	q[1] = _mm512_permutex2var_ps(u01, hi, w01);
+	q[2] = _mm512_permutex2var_ps(u23, lo, w23);
+	q[3] = _mm512_permutex2var_ps(u23, hi, w23);
+}
+
 #endif

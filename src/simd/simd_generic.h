@@ -106,4 +106,18 @@ static inline void vi_store_u8(uint8_t *p, vi a)
 		p[k] = (uint8_t)a[k];
 }
 
+/* Four-way deinterleave: v[0..3] hold 4 VN consecutive values p; q[k] gets
+ * p[k], p[k + 4], p[k + 8], ... */
+static inline void v_deinterleave4(const vf v[4], vf q[4])
+{
+	for (int k = 0; k < 4; k++) {
+		float t[VN];
+		for (int e = 0; e < VN; e++) {
+			const int i = 4 * e + k;
+			t[e] = v[i / VN][i % VN];
+		}
+		memcpy(&q[k], t, sizeof t);
+	}
+}
+
 #endif

@@ -115,4 +115,16 @@ static inline void vi_store_u8(uint8_t *p, vi a)
 	memcpy(p, &v, sizeof v);
 }
 
+/* Four-way deinterleave: v[0..3] hold 4 VN consecutive values p; q[k] gets
+ * p[k], p[k + 4], p[k + 8], p[k + 12] (a 4 x 4 transpose). */
+static inline void v_deinterleave4(const vf v[4], vf q[4])
+{
+	const vf t0 = _mm_unpacklo_ps(v[0], v[1]), t1 = _mm_unpackhi_ps(v[0], v[1]);
+	const vf t2 = _mm_unpacklo_ps(v[2], v[3]), t3 = _mm_unpackhi_ps(v[2], v[3]);
+	q[0] = _mm_movelh_ps(t0, t2);
+	q[1] = _mm_movehl_ps(t2, t0);
+	q[2] = _mm_movelh_ps(t1, t3);
+	q[3] = _mm_movehl_ps(t3, t1);
+}
+
 #endif
