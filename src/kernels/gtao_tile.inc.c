@@ -197,7 +197,8 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 struct tile_px {
 	struct px p;
 	vf X0, Y0;  /* x ax + bx of the pixel, y ay + by of the row */
-	vf Q, U0len; /* X0^2 + Y0^2 + 1 and its square root */
+	vf Q;       /* |U0|^2 = X0^2 + Y0^2 + 1 */
+	vf nu, inu; /* -|U0| and its inverse: a cosine c is c nu in tile_sample's units */
 	int y, h, w;         /* the row, the image size */
 	int x_first, x_last; /* columns of the first and the last lane */
 };
@@ -277,8 +278,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
-	const vf nu = v_neg(t->U0len), inu = v_div(v_set1(1.0f), nu);
-	const vf lp = v_mul(low_pos, nu), ln = v_mul(low_neg, nu);
+	const vf lp = v_mul(low_pos, t->nu), ln = v_mul(low_neg, t->nu);
 	vf bp = lp, bn = ln;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
@@ -300,8 +300,8 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 					   bn);
 		}
 	}
-	*hc_pos = v_mul(bp, inu);
-	*hc_neg = v_mul(bn, inu);
+	*hc_pos = v_mul(bp, t->inu);
+	*hc_neg = v_mul(bn, t->inu);
 }
 
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
@@ -382,13 +382,12 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	const vm has_z = v_gt(iz, v_zero());
 	p->Pz = v_sel(has_z, v_div(one, v_sel(has_z, iz, one)), v_zero());
 	t.X0 = v_add(v_mul(p->x, v_set1(s->ax)), v_set1(s->bx));
+	/* V = -P / |P| = -U0 / |U0| with U0 = P / z = (X0, Y0, 1) */
 	t.Q = v_fma(t.X0, t.X0, v_fma(t.Y0, t.Y0, one));
-	t.U0len = v_sqrt(t.Q);
-	p->Px = v_mul(t.X0, p->Pz);
-	p->Py = v_mul(t.Y0, p->Pz);
-	const vf lp = v_sqrt(v_fma(p->Px, p->Px, v_fma(p->Py, p->Py, v_mul(p->Pz, p->Pz))));
-	const vf ilp = v_div(v_set1(-1.0f), v_sel(has_z, lp, one));
-	p->Vx = v_mul(p->Px, ilp), p->Vy = v_mul(p->Py, ilp), p->Vz = v_mul(p->Pz, ilp);
+	const vf iu = v_rsqrt(t.Q);
+	t.nu = v_neg(v_mul(t.Q, iu));
+	t.inu = v_neg(iu);
+	p->Vx = v_mul(t.X0, t.inu), p->Vy = v_mul(t.Y0, t.inu), p->Vz = t.inu;
 	/* the pixel's own radius decides whether it is searched at all */
 	const vf r = v_mul(v_set1(s->search_radius * s->focal), iz);
 	p->active = m_and(has_z, m_and(v_ge(r, v_set1(s->min_r_px)), v_ge(r, one)));

@@ -666,7 +666,11 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 		ctx->cmap_mode = p->shade;
 	}
 	float lo = p->near_m, hi = p->far_m;
-	if (lo <= 0.0f || hi <= 0.0f) {
+	/* only the depth colormaps use the range: the automatic one is a pass
+	 * over the depth, skipped for the others */
+	const int colormap = p->shade == DAO_SHADE_TURBO || p->shade == DAO_SHADE_JET ||
+			     p->shade == DAO_SHADE_GRAY;
+	if (colormap && (lo <= 0.0f || hi <= 0.0f)) {
 		float a, b;
 		depth_range(ctx, &a, &b);
 		if (lo <= 0.0f)
