@@ -2,21 +2,25 @@
 /*
  * The prefilter passes of prefilter.c over SIMD lanes (pixels along a row);
  * included by prefilter_<isa>.c after the SIMD vocabulary.  Same maths, with
- * the weights' exp from simd/fastmath.h (7.5e-5 relative: a weight's error
- * moves the filtered depth by that times the spread of the window, ~1e-7).
+ * the weights' exp from simd/fastmath.h (v_exp2_neg_fast, 7.5e-5 relative: a
+ * weight's error moves the filtered depth by that times the spread of the
+ * window, ~1e-7).
  */
 #include <stddef.h>
 
 #include "depth/prefilter.h"
 #include "simd/fastmath.h"
 
-/* 1 / (2 sigma_range^2) per lane, as dao_prefilter_inv_2rr */
+/* The weights are 2^x with log2 e folded into the range and spatial terms. */
+#define PF_LOG2E 1.44269504088896f
+
+/* log2 e / (2 sigma_range^2) per lane (dao_prefilter_inv_2rr times log2 e) */
 static inline vf inv_2rr(const struct dao_prefilter_setup *s, vf wc)
 {
 	vf sw = v_mul(v_max(v_set1(s->noise_k), v_mul(v_mul(v_set1(s->unit), wc), wc)),
 		      v_set1(DAO_PREFILTER_RANGE_SIGMAS));
 	sw = v_max(sw, v_mul(v_set1(1e-6f), wc));
-	return v_div(v_set1(1.0f), v_mul(v_mul(v_set1(2.0f), sw), sw));
+	return v_div(v_set1(PF_LOG2E), v_mul(v_mul(v_set1(2.0f), sw), sw));
 }
 
 /* Columns per chunk of the horizontal pass: 1/z of the chunk and its borders
@@ -32,7 +36,7 @@ void DAO_ISA_FN(dao_prefilter_h)(const struct dao_prefilter_setup *s, const floa
 	float wb[PF_CHUNK + 2 * PF_MAX_RADIUS + VN];
 	float spatial[2 * PF_MAX_RADIUS + 1];
 	for (int i = -r; i <= r; i++)
-		spatial[i + r] = -(float)(i * i) * s->inv_2ss;
+		spatial[i + r] = -(float)(i * i) * s->inv_2ss * PF_LOG2E;
 	for (int y = y0; y < y1; y++) {
 		const float *row = z + (size_t)y * w;
 		float *o = tmp + (size_t)y * w;
@@ -57,7 +61,7 @@ void DAO_ISA_FN(dao_prefilter_h)(const struct dao_prefilter_setup *s, const floa
 					const vm ok = v_gt(ws, zero);
 					const vf d = v_sub(ws, wc);
 					const vf e = v_fnma(v_mul(d, d), k, v_set1(spatial[t + r]));
-					const vf wt = v_sel(ok, v_exp_neg_fast(e), zero);
+					const vf wt = v_sel(ok, v_exp2_neg_fast(e), zero);
 					sum = v_fma(wt, ws, sum);
 					wsum = v_add(wsum, wt);
 				}
@@ -93,9 +97,9 @@ void DAO_ISA_FN(dao_prefilter_v)(const struct dao_prefilter_setup *s, const floa
 				vf ws = v_load(tmp + (size_t)j * w + x);
 				vm ok = v_gt(ws, zero);
 				vf d = v_sub(ws, wc);
-				vf e = v_sub(v_set1(-(float)((j - y) * (j - y)) * s->inv_2ss),
-					     v_mul(v_mul(d, d), k));
-				vf wt = v_sel(ok, v_exp_neg_fast(e), zero);
+				vf e = v_fnma(v_mul(d, d), k,
+					      v_set1(-(float)((j - y) * (j - y)) * s->inv_2ss * PF_LOG2E));
+				vf wt = v_sel(ok, v_exp2_neg_fast(e), zero);
 				sum = v_fma(wt, ws, sum);
 				wsum = v_add(wsum, wt);
 			}

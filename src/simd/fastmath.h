@@ -104,19 +104,19 @@ static inline vf v_exp_neg(vf x)
 }
 
 /*
- * exp(x) for x <= 0 to 7.5e-5 relative, for weights: the range reduction of
- * v_exp_neg, a degree-3 polynomial (least maximum relative error), and no
- * exact 0 below -80 (e^-80 = 1.8e-35 there, as good as 0 for a weight).
+ * 2^x for x <= 0 to 7.5e-5 relative, for weights (callers fold log2 e into
+ * their constants): x = n + r with n = round(x), |r| <= 1/2, and 2^r from the
+ * degree-3 polynomial of least maximum relative error for e^y on |y| <=
+ * ln 2 / 2, rescaled (coefficient k times ln 2^k); no exact 0 below -115
+ * (2^-115 = 2.4e-35 there, as good as 0 for a weight).
  */
-static inline vf v_exp_neg_fast(vf x)
+static inline vf v_exp2_neg_fast(vf x)
 {
-	x = v_max(x, v_set1(-80.0f));
-	vf n = v_round(v_mul(x, v_set1(1.44269504088896f)));
-	vf r = v_fma(n, v_set1(-0.693145751953125f), x);
-	r = v_fma(n, v_set1(-1.428606820309417e-6f), r);
-	vf p = v_set1(1.656677276e-01f);
-	p = v_fma(p, r, v_set1(5.049626231e-01f));
-	p = v_fma(p, r, v_set1(1.000164151e+00f));
+	x = v_max(x, v_set1(-115.0f));
+	const vf n = v_round(x), r = v_sub(x, n);
+	vf p = v_set1(5.517143733e-02f);
+	p = v_fma(p, r, v_set1(2.426108142e-01f));
+	p = v_fma(p, r, v_set1(6.932609614e-01f));
 	p = v_fma(p, r, v_set1(9.999281168e-01f));
 	return v_ldexp(p, n);
 }

@@ -25,8 +25,8 @@ void DAO_ISA_FN(dao_fastmath_eval)(enum dao_fastmath_fn fn, const float *in, flo
 		case DAO_FM_EXP:
 			v_store(out + i, v_exp_neg(x));
 			break;
-		case DAO_FM_EXP_FAST:
-			v_store(out + i, v_exp_neg_fast(x));
+		case DAO_FM_EXP2_FAST:
+			v_store(out + i, v_exp2_neg_fast(x));
 			break;
 		case DAO_FM_RCP:
 			v_store(out + i, v_rcp(x));

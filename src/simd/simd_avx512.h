@@ -79,12 +79,8 @@ static inline vi vi_mul(vi a, vi b) { return _mm512_mullo_epi32(a, b); }
 /* float lanes holding whole numbers -> int32 */
 static inline vi vi_from_whole(vf a) { return _mm512_cvtps_epi32(a); }
 static inline vi vi_sel(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, b, a); }
-/* a * 2^n for whole n in [-126, 127] (adds n to the exponent field) */
-static inline vf v_ldexp(vf a, vf n)
-{
-	return _mm512_castsi512_ps(_mm512_add_epi32(_mm512_castps_si512(a),
-						    _mm512_slli_epi32(_mm512_cvtps_epi32(n), 23)));
-}
+/* a * 2^n for whole n in [-126, 127] (vscalefps) */
+static inline vf v_ldexp(vf a, vf n) { return _mm512_scalef_ps(a, n); }
 /* base[idx] where m is set, 0 elsewhere (masked lanes are not read) */
 static inline vf v_gather(const float *base, vi idx, vm m)
 {
