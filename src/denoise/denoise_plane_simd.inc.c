@@ -26,6 +26,33 @@ static inline vf gradient(vf m1, vf m2, vf p1, vf p2, vf zc)
 	return v_sel(v_lt(cm, cp), v_sub(m1, m2), g);
 }
 
+/* The 25 taps' sums of weights and weighted AO; holes: whether a tap
+ * without depth must be tested for (else it weighs 0 by itself). */
+static inline __attribute__((always_inline)) void
+plane_taps(const float *zr, const float *ar, int w, const vf ak[5], vf gy, vf inv_tol,
+	   const int holes, vf *sum_out, vf *wsum_out)
+{
+	const vf zero = v_zero(), one = v_set1(1.0f);
+	vf sum = zero, wsum = zero;
+	for (int j = -2; j <= 2; j++) {
+		const float *zt = zr + (ptrdiff_t)j * w;
+		const float *at = ar + (ptrdiff_t)j * w;
+		const vf jg = v_mul(v_set1((float)j), gy);
+		for (int k = -2; k <= 2; k++) {
+			const vf t = v_load(zt + k);
+			const vf plane = v_add(ak[k + 2], jg);
+			/* 1 - saturate(|plane - t| / tol) = max(1 - |plane - t| / tol, 0) */
+			vf wt = v_max(v_fnma(v_abs(v_sub(plane, t)), inv_tol, one), zero);
+			if (holes)
+				wt = v_sel(v_gt(t, zero), wt, zero);
+			sum = v_fma(wt, v_load(at + k), sum);
+			wsum = v_add(wsum, wt);
+		}
+	}
+	*sum_out = sum;
+	*wsum_out = wsum;
+}
+
 void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const float *z,
 				   const float *ao_in, float *ao_out, int y0, int y1)
 {
@@ -57,21 +84,17 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 			/* zc + k gx for the five columns, then + j gy per row */
 			const vf ak[5] = { v_fnma(v_set1(2.0f), gx, zc), v_sub(zc, gx), zc,
 					   v_add(zc, gx), v_fma(v_set1(2.0f), gx, zc) };
-			vf sum = zero, wsum = zero;
-			for (int j = -2; j <= 2; j++) {
-				const float *zt = zr + (ptrdiff_t)j * w;
-				const float *at = ao_in + (size_t)(y + j) * w + x;
-				const vf jg = v_mul(v_set1((float)j), gy);
-				for (int k = -2; k <= 2; k++) {
-					const vf t = v_load(zt + k);
-					const vf plane = v_add(ak[k + 2], jg);
-					/* 1 - saturate(|plane - t| / tol) = max(1 - |plane - t| / tol, 0) */
-					vf wt = v_max(v_fnma(v_abs(v_sub(plane, t)), inv_tol, one), zero);
-					wt = v_sel(v_gt(t, zero), wt, zero);
-					sum = v_fma(wt, v_load(at + k), sum);
-					wsum = v_add(wsum, wt);
-				}
-			}
+			/* A hole (t = 0) weighs 1 - |plane| / tol, which is already 0 where
+			 * |plane| >= tol; |zc + k gx + j gy| >= zc - 2 |gx| - 2 |gy|, so when
+			 * that bound clears tol (with a margin for rounding) at every lane
+			 * with depth, the taps need no hole test. */
+			const vf low = v_fnma(v_set1(2.0f), v_add(v_abs(gx), v_abs(gy)), zc);
+			const vm clear = v_ge(v_mul(low, inv_tol), v_set1(1.01f));
+			vf sum, wsum;
+			if (m_any(m_andnot(has, clear)))
+				plane_taps(zr, ao_in + (size_t)y * w + x, w, ak, gy, inv_tol, 1, &sum, &wsum);
+			else
+				plane_taps(zr, ao_in + (size_t)y * w + x, w, ak, gy, inv_tol, 0, &sum, &wsum);
 			vf r = v_sel(has, v_div(sum, v_sel(has, wsum, one)), v_set1(s->invalid_value));
 			v_store(o + x, r);
 		}
