@@ -368,22 +368,32 @@ static void stage_gtao(void *arg, int y0, int y1)
 /*
  * Wide images: the optimised GTAO in vertical strips, all rows of one strip
  * before the next, so the taps of neighbouring rows (up to max-screen-radius
- * away) stay in the core's cache; items are strip * height + row.
+ * away) stay in the core's cache; items are strip * height + row.  Strips are
+ * at most GTAO_STRIP_MAX columns and of (nearly) equal width, whole blocks
+ * each, so that the pool's bands cost about the same and no thread waits long
+ * for the last one.
  */
-#define GTAO_STRIP 512 /* columns, a multiple of every lane count */
+#define GTAO_STRIP_MAX 512
+
+static int gtao_strip_width(int w)
+{
+	const int strips = (w + GTAO_STRIP_MAX - 1) / GTAO_STRIP_MAX;
+	const int groups = (w + DAO_GTAO_BLOCK_SPAN - 1) / DAO_GTAO_BLOCK_SPAN;
+	return (groups + strips - 1) / strips * DAO_GTAO_BLOCK_SPAN;
+}
 
 static void stage_gtao_strips(void *arg, int i0, int i1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
-	const int h = (int)c->cam.height, w = (int)c->cam.width;
+	const int h = (int)c->cam.height, w = (int)c->cam.width, sw = gtao_strip_width(w);
 	while (i0 < i1) {
 		int strip = i0 / h, y0 = i0 % h, y1 = y0 + (i1 - i0);
 		if (y1 > h)
 			y1 = h;
 		struct dao_gtao_setup g = j->gtao;
-		g.x_begin = strip * GTAO_STRIP;
-		g.x_end = g.x_begin + GTAO_STRIP < w ? g.x_begin + GTAO_STRIP : w;
+		g.x_begin = strip * sw;
+		g.x_end = g.x_begin + sw < w ? g.x_begin + sw : w;
 		j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1);
 		i0 += y1 - y0;
 	}
@@ -554,7 +564,8 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
 	}
 	const double t3 = now_ms();
-	const int strips = ((int)ctx->cam.width + GTAO_STRIP - 1) / GTAO_STRIP;
+	const int sw = gtao_strip_width((int)ctx->cam.width);
+	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
 	if (strips > 1 && job.algorithm == DAO_ALGORITHM_GTAO && job.k.simd != DAO_SIMD_REFERENCE)
 		dao_pool_run(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
 	else
