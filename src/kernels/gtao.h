@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <depthao/camera.h>
 #include <depthao/params.h>
@@ -98,7 +99,32 @@ float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int 
  * average), so that neighbouring blocks of a row mostly share one radius
  * and with it the table of sample taps the optimised kernel makes per radius.
  */
-float dao_gtao_quantize_radius(float r);
+static inline float dao_gtao_quantize_radius(float r)
+{
+	/* 2^(k/8), k = 0..8 */
+	static const float grid[9] = {
+		1.000000000e+00f, 1.090507733e+00f, 1.189207115e+00f, 1.296839555e+00f,
+		1.414213562e+00f, 1.542210825e+00f, 1.681792831e+00f, 1.834008086e+00f,
+		2.000000000e+00f,
+	};
+	if (!(r >= 1.1754944e-38f) || r > 1e30f)
+		return r; /* 0, subnormal or huge: left alone (no such radius is searched) */
+	/* r = m 2^e with m in [1, 2): the grid point at or above m, times 2^e */
+	uint32_t bits, gb;
+	memcpy(&bits, &r, sizeof bits);
+	const uint32_t e = bits & 0x7f800000u;
+	const uint32_t mb = (bits & 0x007fffffu) | 0x3f800000u;
+	float m;
+	memcpy(&m, &mb, sizeof m);
+	int k = 0; /* counted, not searched: no branch on the data */
+	for (int i = 0; i < 8; i++)
+		k += grid[i] < m;
+	memcpy(&gb, &grid[k], sizeof gb);
+	gb += e - 0x3f800000u;
+	float out;
+	memcpy(&out, &gb, sizeof out);
+	return out;
+}
 
 /* Fills tile[0..8191] with this frame's R2 noise pairs over a 64 x 64 tile. */
 void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index);

@@ -206,16 +206,12 @@ struct slice_v {
  * of ortho.pn = dir.N - (dir.V) N.V (dir.a = 0): no projection is formed.
  */
 static inline __attribute__((always_inline)) struct slice_v
-slice_geometry(const struct dao_gtao_setup *s, const struct px *p, vf dx, vf dy, const vf N[3],
-	       vf NV, const int fast)
+slice_from_axis(const struct px *p, vf dirx, vf diry, vf ax, vf ay, vf az, vf a2, const vf N[3],
+		vf NV, const int fast)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	struct slice_v g;
-	const vf dirx = v_mul(dx, v_set1(s->ax)), diry = v_mul(dy, v_set1(s->ay));
-	const vf axx = v_mul(diry, p->Vz), axy = v_neg(v_mul(dirx, p->Vz));
-	const vf axz = v_fnma(diry, p->Vx, v_mul(dirx, p->Vy));
-	const vf a2 = v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz)));
-	const vf na = v_fma(N[0], axx, v_fma(N[1], axy, v_mul(N[2], axz)));
+	const vf na = v_fma(N[0], ax, v_fma(N[1], ay, v_mul(N[2], az)));
 	/* |pn|^2 = 1 - (N.a)^2 / |a|^2 */
 	const vf l2 = v_fnma(v_mul(na, na), v_rcp(a2), one);
 	g.ok = m_and(p->active, v_gt(l2, v_set1(1e-12f)));
@@ -230,6 +226,18 @@ slice_geometry(const struct dao_gtao_setup *s, const struct px *p, vf dx, vf dy,
 	g.n = v_sel(neg, v_neg(n), n);
 	g.sin_n = v_sel(neg, v_neg(sin_n), sin_n);
 	return g;
+}
+
+/* The slice frame with the axis a = dir x V; any multiple of it does. */
+static inline __attribute__((always_inline)) struct slice_v
+slice_geometry(const struct dao_gtao_setup *s, const struct px *p, vf dx, vf dy, const vf N[3],
+	       vf NV, const int fast)
+{
+	const vf dirx = v_mul(dx, v_set1(s->ax)), diry = v_mul(dy, v_set1(s->ay));
+	const vf axx = v_mul(diry, p->Vz), axy = v_neg(v_mul(dirx, p->Vz));
+	const vf axz = v_fnma(diry, p->Vx, v_mul(dirx, p->Vy));
+	const vf a2 = v_fma(axx, axx, v_fma(axy, axy, v_mul(axz, axz)));
+	return slice_from_axis(p, dirx, diry, axx, axy, axz, a2, N, NV, fast);
 }
 
 /*

@@ -398,8 +398,13 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const float *base = dao_gtao_phase_row(pl, y, 0) + jb + h;
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
-			struct slice_v g = slice_geometry(s, p, v_set1(ph->dx[sl]), v_set1(ph->dy[sl]),
-							  N, NV, 1);
+			/* the axis dir x V is -(dir x U0) / |U0|, and dir x U0 = (diry,
+			 * -dirx, dirx Y0 - diry X0) with dir = (dx ax, dy ay, 0) */
+			const float dirx = ph->dx[sl] * s->ax, diry = ph->dy[sl] * s->ay;
+			const vf az = v_fnma(v_set1(diry), t.X0, v_mul(v_set1(dirx), t.Y0));
+			const vf a2 = v_fma(az, az, v_set1(dirx * dirx + diry * diry));
+			struct slice_v g = slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
+							   v_set1(-dirx), az, a2, N, NV, 1);
 			if (!m_any(g.ok))
 				continue;
 			const struct tile_step *st;

@@ -198,6 +198,33 @@ static void test_invalid_and_noise(void **state)
 	free(a1);
 }
 
+/* The block radius grid: 2^(k/8) times a power of two, at or above r. */
+static void test_quantize_radius(void **state)
+{
+	(void)state;
+	/* powers of two and grid points are kept */
+	assert_true(dao_gtao_quantize_radius(1.0f) == 1.0f);
+	assert_true(dao_gtao_quantize_radius(64.0f) == 64.0f);
+	assert_true(dao_gtao_quantize_radius(2.0f * 1.414213562f) == 2.0f * 1.414213562f);
+	/* just above a grid point: the next one */
+	assert_true(dao_gtao_quantize_radius(1.0001f) == 1.090507733f);
+	assert_true(dao_gtao_quantize_radius(1.95f * 32.0f) == 64.0f);
+	/* 0 and non-finite values are left alone */
+	assert_true(dao_gtao_quantize_radius(0.0f) == 0.0f);
+	assert_true(isinf(dao_gtao_quantize_radius(INFINITY)));
+	float prev = 0.0f;
+	for (float r = 0.5f; r < 4096.0f; r *= 1.0137f) {
+		const float q = dao_gtao_quantize_radius(r);
+		assert_true(q >= r);
+		assert_true(q <= r * 1.0906f); /* one grid step: 2^(1/8) */
+		assert_true(q >= prev);        /* monotonic */
+		/* on the grid: q / 2^floor(log2 q) is 2^(k/8) */
+		const double k = 8.0 * (log2((double)q) - floor(log2((double)q)));
+		assert_true(fabs(k - round(k)) < 1e-4);
+		prev = q;
+	}
+}
+
 static void test_finish(void **state)
 {
 	(void)state;
@@ -230,6 +257,7 @@ int main(void)
 		cmocka_unit_test(test_open_plane),
 		cmocka_unit_test(test_floor_and_wall),
 		cmocka_unit_test(test_invalid_and_noise),
+		cmocka_unit_test(test_quantize_radius),
 		cmocka_unit_test(test_finish),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
