@@ -2,7 +2,8 @@
 /*
  * The 5x5 plane denoise of denoise_plane.c over SIMD lanes (pixels along a
  * row); included by denoise_plane_<isa>.c.  Same arithmetic; the two border
- * pixels of each side use the reference per-pixel code.
+ * columns of each side use the reference per-pixel code, rows near the top
+ * and bottom leave out the rows off the image as it does.
  */
 #include <math.h>
 #include <stddef.h>
@@ -26,15 +27,16 @@ static inline vf gradient(vf m1, vf m2, vf p1, vf p2, vf zc)
 	return v_sel(v_lt(cm, cp), v_sub(m1, m2), g);
 }
 
-/* The 25 taps' sums of weights and weighted AO; holes: whether a tap
- * without depth must be tested for (else it weighs 0 by itself). */
+/* The taps' sums of weights and weighted AO, rows j0 .. j1 of -2 .. 2 (the
+ * others are off the image); holes: whether a tap without depth must be
+ * tested for (else it weighs 0 by itself). */
 static inline __attribute__((always_inline)) void
-plane_taps(const float *zr, const float *ar, int w, const vf ak[5], vf gy, vf inv_tol,
-	   const int holes, vf *sum_out, vf *wsum_out)
+plane_taps(const float *zr, const float *ar, int w, int j0, int j1, const vf ak[5], vf gy,
+	   vf inv_tol, const int holes, vf *sum_out, vf *wsum_out)
 {
 	const vf zero = v_zero(), one = v_set1(1.0f);
 	vf sum = zero, wsum = zero;
-	for (int j = -2; j <= 2; j++) {
+	for (int j = j0; j <= j1; j++) {
 		const float *zt = zr + (ptrdiff_t)j * w;
 		const float *at = ar + (ptrdiff_t)j * w;
 		const vf jg = v_mul(v_set1((float)j), gy);
@@ -60,12 +62,9 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 	const vf zero = v_zero(), one = v_set1(1.0f);
 	for (int y = y0; y < y1; y++) {
 		float *o = ao_out + (size_t)y * w;
+		/* rows off the image have no depth (0), as in the reference */
+		const int j0 = y < 2 ? -y : -2, j1 = y + 2 >= h ? h - 1 - y : 2;
 		int x = 0;
-		if (y < 2 || y >= h - 2) {
-			for (; x < w; x++)
-				o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
-			continue;
-		}
 		for (; x < 2 && x < w; x++)
 			o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
 		/* the last vector ends at the border, overlapping the one before: each
@@ -76,8 +75,9 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 			vf zc = v_load(zr);
 			vm has = v_gt(zc, zero);
 			vf gx = gradient(v_load(zr - 1), v_load(zr - 2), v_load(zr + 1), v_load(zr + 2), zc);
-			vf gy = gradient(v_load(zr - w), v_load(zr - 2 * w), v_load(zr + w),
-					 v_load(zr + 2 * w), zc);
+			vf gy = gradient(j0 <= -1 ? v_load(zr - w) : zero, j0 <= -2 ? v_load(zr - 2 * w) : zero,
+					 j1 >= 1 ? v_load(zr + w) : zero, j1 >= 2 ? v_load(zr + 2 * w) : zero,
+					 zc);
 			vf sig = v_mul(v_mul(v_set1(s->noise_k), zc), zc);
 			vf tol = v_mul(v_set1(s->sharpness), v_max(sig, v_mul(v_set1(0.002f), zc)));
 			vf inv_tol = v_div(one, v_sel(has, tol, one));
@@ -92,9 +92,11 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 			const vm clear = v_ge(v_mul(low, inv_tol), v_set1(1.01f));
 			vf sum, wsum;
 			if (m_any(m_andnot(has, clear)))
-				plane_taps(zr, ao_in + (size_t)y * w + x, w, ak, gy, inv_tol, 1, &sum, &wsum);
+				plane_taps(zr, ao_in + (size_t)y * w + x, w, j0, j1, ak, gy, inv_tol, 1,
+					   &sum, &wsum);
 			else
-				plane_taps(zr, ao_in + (size_t)y * w + x, w, ak, gy, inv_tol, 0, &sum, &wsum);
+				plane_taps(zr, ao_in + (size_t)y * w + x, w, j0, j1, ak, gy, inv_tol, 0,
+					   &sum, &wsum);
 			vf r = v_sel(has, v_div(sum, v_sel(has, wsum, one)), v_set1(s->invalid_value));
 			v_store(o + x, r);
 		}

@@ -14,17 +14,21 @@
  * One axis's one-sided difference at every lane (axis_delta of normals.c):
  * the largest k <= r with a neighbour at +-k, of those the side with the
  * smaller |dz|.  c: the centre's depths, at: the row/column step between taps
- * (1 or the width), zc the centre depth.  Returns the found lanes; *zq the
- * neighbour's depth and *off its signed offset in pixels.
+ * (1 or the width), zc the centre depth; taps beyond r_minus before and
+ * r_plus after the centre are off the image.  Returns the found lanes; *zq
+ * the neighbour's depth and *off its signed offset in pixels.
  */
-static inline vm pick_side(const float *c, ptrdiff_t at, int r, vf zc, vf *zq, vf *off)
+static inline vm pick_side(const float *c, ptrdiff_t at, int r, int r_minus, int r_plus, vf zc,
+			   vf *zq, vf *off)
 {
 	const vf zero = v_zero();
 	vm found = v_gt(zero, zero); /* no lane yet */
 	*zq = zero;
 	*off = zero;
 	for (int k = r; k >= 1; k--) {
-		const vf zm = v_load(c - k * at), zp = v_load(c + k * at);
+		/* off the image (k beyond r_minus / r_plus): no data */
+		const vf zm = k <= r_minus ? v_load(c - k * at) : zero;
+		const vf zp = k <= r_plus ? v_load(c + k * at) : zero;
 		const vm hm = v_gt(zm, zero), hp = v_gt(zp, zero);
 		const vm take = m_andnot(m_or(hm, hp), found);
 		/* +k when it has data and -k has none or a larger |dz| */
@@ -45,9 +49,13 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 		 by = v_set1(cam->by), fr = v_set1((float)r);
 	for (int y = y0; y < y1; y++) {
 		float *out = n + 3 * (size_t)y * w;
+		/* rows within r of the top or bottom: the taps off the image have no
+		 * data, as in the reference */
+		const int up = y < r ? y : r, down = y + r >= h ? h - 1 - y : r;
+		const int inner = up == r && down == r;
 		int x = 0;
-		if (y >= r && y + r < h) {
-			for (x = 0; x < r && x < w; x++)
+		if (w >= 2 * r + VN) {
+			for (x = 0; x < r; x++)
 				dao_normal_pixel(cam, z, r, x, y, out + 3 * x);
 			const float *row = z + (size_t)y * w;
 			/* the last vector ends r before the border, overlapping the one
@@ -55,7 +63,6 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 			const int xlast = w - r - VN;
 			for (; x <= xlast; x = (x < xlast && x + VN > xlast) ? xlast : x + VN) {
 				vf zc = v_load(row + x), zl = v_load(row + x - r), zr = v_load(row + x + r);
-				vf zu = v_load(row + x - (size_t)r * w), zd = v_load(row + x + (size_t)r * w);
 				const vm has = v_gt(zc, zero);
 				if (!m_any(has)) {
 					for (int k = 0; k < VN; k++) {
@@ -64,23 +71,28 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 					}
 					continue;
 				}
-				vm ok = m_and(m_and(has, m_and(v_gt(zl, zero), v_gt(zr, zero))),
-					      m_and(v_gt(zu, zero), v_gt(zd, zero)));
+				vm ok = m_and(has, m_and(v_gt(zl, zero), v_gt(zr, zero)));
+				vf zu = zero, zd = zero;
+				if (inner) {
+					zu = v_load(row + x - (size_t)r * w);
+					zd = v_load(row + x + (size_t)r * w);
+					ok = m_and(ok, m_and(v_gt(zu, zero), v_gt(zd, zero)));
+				}
 				vf zqx, offx, zqy, offy;
 				vm found = has;
-				if (m_all(ok)) {
+				if (inner && m_all(ok)) {
 					/* the common case: every tap at distance r has data */
 					vm right = v_lt(v_abs(v_sub(zr, zc)), v_abs(v_sub(zc, zl)));
 					zqx = v_sel(right, zr, zl);
 					offx = v_sel(right, fr, v_neg(fr));
-					vm down = v_lt(v_abs(v_sub(zd, zc)), v_abs(v_sub(zc, zu)));
-					zqy = v_sel(down, zd, zu);
-					offy = v_sel(down, fr, v_neg(fr));
+					vm down_m = v_lt(v_abs(v_sub(zd, zc)), v_abs(v_sub(zc, zu)));
+					zqy = v_sel(down_m, zd, zu);
+					offy = v_sel(down_m, fr, v_neg(fr));
 				} else {
-					/* holes: nearer taps, or none on an axis (then -V) */
-					found = m_and(found, pick_side(row + x, 1, r, zc, &zqx, &offx));
-					found = m_and(found,
-						      pick_side(row + x, (ptrdiff_t)w, r, zc, &zqy, &offy));
+					/* holes or the border: nearer taps, or none on an axis (then -V) */
+					found = m_and(found, pick_side(row + x, 1, r, r, r, zc, &zqx, &offx));
+					found = m_and(found, pick_side(row + x, (ptrdiff_t)w, r, up, down, zc,
+								       &zqy, &offy));
 				}
 				vf u = v_add(v_iota(), v_set1((float)x)), v = v_set1((float)y);
 				vf px = v_mul(v_add(v_mul(u, ax), bx), zc), py = v_mul(v_add(v_mul(v, ay), by), zc);
