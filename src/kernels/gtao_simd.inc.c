@@ -15,6 +15,7 @@
  *  - divisions by the slice direction are multiplications by its reciprocal.
  */
 #include <stddef.h>
+#include <stdlib.h>
 
 #include "core/math_util.h"
 #include "kernels/gtao.h"

@@ -55,6 +55,7 @@ struct tile_cache {
 	int count;  /* tables that fit */
 	int next;   /* the one to replace next */
 	float rp[TILE_TABLES]; /* the radius each table was made for (-1: none) */
+	int reach_r[TILE_TABLES], reach_c[TILE_TABLES]; /* largest |row|, |column| offset of a tap */
 	struct tile_step st[TILE_STEPS_MAX];
 };
 
@@ -173,23 +174,36 @@ static void tile_cache_reset(const struct dao_gtao_setup *s, struct tile_cache *
 }
 
 /* The steps of every slice for block radius rp (NULL when they do not fit:
- * tile_lanes then makes them per slice). */
+ * tile_lanes then makes them per slice), and how far their taps reach from
+ * the pixel in rows and columns (*reach_r, *reach_c). */
 static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 					      const struct dao_gtao_planes *pl,
 					      const struct tile_phase *ph, float rp,
-					      struct tile_cache *c)
+					      struct tile_cache *c, int *reach_r, int *reach_c)
 {
 	if (!c->count)
 		return NULL;
 	for (int i = 0; i < c->count; i++)
-		if (c->rp[i] == rp)
+		if (c->rp[i] == rp) {
+			*reach_r = c->reach_r[i];
+			*reach_c = c->reach_c[i];
 			return c->st + (size_t)i * (size_t)c->per;
+		}
 	const int i = c->next;
 	c->next = (c->next + 1) % c->count;
 	c->rp[i] = rp;
 	struct tile_step *st = c->st + (size_t)i * (size_t)c->per;
 	for (int sl = 0; sl < s->slices; sl++)
 		tile_slice_make(s, pl, ph, rp, sl, st + (size_t)sl * 2 * (size_t)s->steps);
+	int rr = 0, rc = 0;
+	for (int k = 0; k < c->per; k++) {
+		const int r = abs(st[k].dr_lo) > abs(st[k].dr_hi) ? abs(st[k].dr_lo) : abs(st[k].dr_hi);
+		const int q = abs(st[k].dc_lo) > abs(st[k].dc_hi) ? abs(st[k].dc_lo) : abs(st[k].dc_hi);
+		rr = r > rr ? r : rr;
+		rc = q > rc ? q : rc;
+	}
+	*reach_r = c->reach_r[i] = rr;
+	*reach_c = c->reach_c[i] = rc;
 	return st;
 }
 
@@ -274,7 +288,7 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 static inline __attribute__((always_inline)) void
 tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
 	   const struct tile_step *st, vf low_pos, vf low_neg, vf *hc_pos, vf *hc_neg,
-	   const int use_max, const int major_x)
+	   const int use_max, const int major_x, const int check)
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
@@ -282,7 +296,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	vf bp = lp, bn = ln;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
-		if (!tile_skip(t, &st[i])) {
+		if (!check || !tile_skip(t, &st[i])) {
 			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x);
 			if (use_max)
 				bp = v_min(bp, cp);
@@ -291,7 +305,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 				bp = v_sel(okp, v_sel(v_lt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
 					   bp);
 		}
-		if (!tile_skip(t, &sn[i])) {
+		if (!check || !tile_skip(t, &sn[i])) {
 			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x);
 			if (use_max)
 				bn = v_min(bn, cn);
@@ -304,21 +318,26 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	*hc_neg = v_mul(bn, t->inu);
 }
 
+/* tile_sides specialised on the heuristic, the major axis and whether any
+ * step may have to be skipped (inner: the block's taps are all on the image). */
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 			   const struct tile_px *t, const struct tile_step *st, vf low_pos,
-			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x)
+			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int inner)
 {
-	if (s->decay == 1.0f) {
-		if (major_x)
-			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 1, 1);
-		else
-			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 1, 0);
-	} else {
-		if (major_x)
-			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0, 1);
-		else
-			tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, 0, 0);
+#define TILE_SIDES(use_max, mx, check) \
+	tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, use_max, mx, check)
+	const int use_max = s->decay == 1.0f;
+	switch (use_max * 4 + major_x * 2 + inner) {
+	case 0: TILE_SIDES(0, 0, 1); break;
+	case 1: TILE_SIDES(0, 0, 0); break;
+	case 2: TILE_SIDES(0, 1, 1); break;
+	case 3: TILE_SIDES(0, 1, 0); break;
+	case 4: TILE_SIDES(1, 0, 1); break;
+	case 5: TILE_SIDES(1, 0, 0); break;
+	case 6: TILE_SIDES(1, 1, 1); break;
+	default: TILE_SIDES(1, 1, 0); break;
 	}
+#undef TILE_SIDES
 }
 
 /* The normals of columns x0 .. x0 + DAO_GTAO_BLOCK_SPAN - 1 of row y split by
@@ -356,7 +375,8 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
  * ... of the phase plane; nq: their normals, from tile_group_normals). */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		       const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
-		       const struct tile_step *tsteps, float rp, int y, int jb, int h)
+		       const struct tile_step *tsteps, int reach_r, int reach_c, float rp, int y,
+		       int jb, int h)
 {
 	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
@@ -372,6 +392,9 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	t.w = s->width;
 	t.x_first = x0;
 	t.x_last = x0 + 4 * (VN - 1);
+	/* every tap of the table on the image for every lane: no step is skipped */
+	const int inner = tsteps && y - reach_r >= 0 && y + reach_r < t.h && x0 - reach_c >= 0 &&
+			  t.x_last + reach_c < t.w;
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
 	p->y = v_set1((float)y);
 	/* lanes past x_end have no depth here (they are another strip's) */
@@ -417,7 +440,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			}
 			vf hc_pos, hc_neg;
 			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg,
-				       fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]));
+				       fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]), inner);
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		const vm has = v_gt(norm, v_zero());
@@ -451,7 +474,9 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 				continue;
 			}
 			const float rp = fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
-			const struct tile_step *tsteps = tile_cache_get(s, pl, &ph[a], rp, &cache[a]);
+			int reach_r = 0, reach_c = 0;
+			const struct tile_step *tsteps =
+				tile_cache_get(s, pl, &ph[a], rp, &cache[a], &reach_r, &reach_c);
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
@@ -459,7 +484,7 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
 					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
-						   tsteps, rp, y, jb, h);
+						   tsteps, reach_r, reach_c, rp, y, jb, h);
 		}
 	}
 }
