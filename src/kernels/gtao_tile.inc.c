@@ -465,9 +465,10 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 		for (int a = 0; a < 4 && xb + a < s->x_end; a++) {
 			const float *izrow = dao_gtao_phase_row(pl, y, a);
 			/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
-			float izmax = 0.0f;
-			for (int k = 0; k < DAO_GTAO_BLOCK; k++)
-				izmax = izrow[jb + k] > izmax ? izrow[jb + k] : izmax;
+			vf m = v_load(izrow + jb);
+			for (int k = VN; k < DAO_GTAO_BLOCK; k += VN)
+				m = v_max(m, v_load(izrow + jb + k));
+			const float izmax = v_hmax(m);
 			if (izmax <= 0.0f) {
 				for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end; x += 4)
 					ao[(size_t)y * s->width + x] = s->invalid_value;

@@ -142,4 +142,7 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	q[3] = _mm512_permutex2var_ps(u23, hi, w23);
 }
 
+/* the largest lane */
+static inline float v_hmax(vf a) { return _mm512_reduce_max_ps(a); }
+
 #endif

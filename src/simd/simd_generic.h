@@ -120,4 +120,13 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	}
 }
 
+/* the largest lane */
+static inline float v_hmax(vf a)
+{
+	float m = a[0];
+	for (int k = 1; k < VN; k++)
+		m = a[k] > m ? a[k] : m;
+	return m;
+}
+
 #endif

@@ -127,4 +127,11 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	q[3] = _mm_movehl_ps(t3, t1);
 }
 
+/* the largest lane */
+static inline float v_hmax(vf a)
+{
+	__m128 m = _mm_max_ps(a, _mm_movehl_ps(a, a));
+	return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+
 #endif
