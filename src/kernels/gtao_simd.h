@@ -16,9 +16,18 @@
 				 const struct dao_gtao_planes *pl, const float *n, float *ao,    \
 				 int y0, int y1)
 
+/* dao_gtao_planes_fill over SIMD lanes (the same values) */
+#define DAO_GTAO_PLANES_FILL_PROTO(isa)                                                   \
+	void dao_gtao_planes_fill_##isa(struct dao_gtao_planes *pl, const float *z, int phase, \
+					int y0, int y1)
+
 DAO_GTAO_SIMD_PROTO(generic);
 DAO_GTAO_SIMD_PROTO(sse41);
 DAO_GTAO_SIMD_PROTO(avx2);
 DAO_GTAO_SIMD_PROTO(avx512);
+DAO_GTAO_PLANES_FILL_PROTO(generic);
+DAO_GTAO_PLANES_FILL_PROTO(sse41);
+DAO_GTAO_PLANES_FILL_PROTO(avx2);
+DAO_GTAO_PLANES_FILL_PROTO(avx512);
 
 #endif

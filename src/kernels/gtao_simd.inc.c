@@ -375,3 +375,35 @@ void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z,
 		}
 	}
 }
+
+void DAO_ISA_FN(dao_gtao_planes_fill)(struct dao_gtao_planes *pl, const float *z, int phase,
+				      int y0, int y1)
+{
+	if (!phase) {
+		dao_gtao_planes_fill(pl, z, 0, y0, y1);
+		return;
+	}
+	const int w = pl->width;
+	const vf zero = v_zero(), one = v_set1(1.0f);
+	for (int y = y0; y < y1; y++) {
+		const float *zr = z + (size_t)y * w;
+		float *o[4];
+		for (int q = 0; q < 4; q++)
+			o[q] = (float *)dao_gtao_phase_row(pl, y, q);
+		int x = 0;
+		/* 4 VN columns: 1/z (exact division, as the scalar fill), then split by phase */
+		for (; x + 4 * VN <= w; x += 4 * VN) {
+			vf v[4], q[4];
+			for (int m = 0; m < 4; m++) {
+				const vf zz = v_load(zr + x + m * VN);
+				const vm has = v_gt(zz, zero);
+				v[m] = v_sel(has, v_div(one, v_sel(has, zz, one)), zero);
+			}
+			v_deinterleave4(v, q);
+			for (int k = 0; k < 4; k++)
+				v_store(o[k] + x / 4, q[k]);
+		}
+		for (; x < w; x++)
+			o[x & 3][x >> 2] = zr[x] > 0.0f ? 1.0f / zr[x] : 0.0f;
+	}
+}

@@ -320,9 +320,9 @@ struct frame_job {
 };
 
 /* 1/z rows of the filtered depth into the plane the optimised GTAO reads */
-static void fill_inverse_depth(struct dao_context *c, int y0, int y1)
+static void fill_inverse_depth(struct dao_context *c, const struct dao_kernels *k, int y0, int y1)
 {
-	dao_gtao_planes_fill(&c->planes, c->z, c->params.noise == DAO_NOISE_TILE, y0, y1);
+	k->planes_fill(&c->planes, c->z, c->params.noise == DAO_NOISE_TILE, y0, y1);
 }
 
 static void stage_decode(void *arg, int y0, int y1)
@@ -349,7 +349,7 @@ static void stage_normals(void *arg, int y0, int y1)
 	struct frame_job *j = arg;
 	j->k.normals(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
 	if (j->k.simd != DAO_SIMD_REFERENCE)
-		fill_inverse_depth(j->ctx, y0, y1);
+		fill_inverse_depth(j->ctx, &j->k, y0, y1);
 }
 
 static void stage_gtao(void *arg, int y0, int y1)
@@ -559,7 +559,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		if (r)
 			return r;
 		if (job.k.simd != DAO_SIMD_REFERENCE)
-			fill_inverse_depth(ctx, 0, h);
+			fill_inverse_depth(ctx, &job.k, 0, h);
 	} else {
 		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
 	}

@@ -20,6 +20,8 @@ struct dao_kernels {
 	/* pl: the 1/z planes of gtao_planes.h, used by the optimised kernels only */
 	void (*gtao)(const struct dao_gtao_setup *s, const float *z,
 		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1);
+	/* fills the planes (dao_gtao_planes_fill) */
+	void (*planes_fill)(struct dao_gtao_planes *pl, const float *z, int phase, int y0, int y1);
 	void (*denoise_plane)(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
 			      float *ao_out, int y0, int y1);
 	void (*normals)(const struct dao_camera *cam, const float *z, int r, float *n, int y0,

@@ -265,6 +265,34 @@ static void test_normals(void **state)
 	}
 }
 
+/* The phase plane of every kernel set equals the scalar fill's, bit for bit
+ * (make_planes filled p.gp with the scalar code). */
+static void test_planes_fill(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	for (int i = 0; i < ninputs; i++) {
+		struct planes p;
+		make_planes(&inputs[i], &p);
+		const size_t n = ((size_t)p.h + 2) * 4 * (size_t)p.gp.stride4;
+		const float *want = dao_gtao_phase_row(&p.gp, -1, 0) - p.gp.pad4;
+		for (int k = 0; k < ns; k++) {
+			struct dao_gtao_planes got;
+			assert_int_equal(dao_gtao_planes_init(&got, p.w, p.h, 160.0f), 0);
+			struct dao_kernels kr;
+			dao_kernels_select(&kr, sets[k]);
+			kr.planes_fill(&got, p.z, 1, 0, p.h);
+			const float *g = dao_gtao_phase_row(&got, -1, 0) - got.pad4;
+			print_message("planes %-8s %-34s %s\n", dao_simd_name(sets[k]), inputs[i].name,
+				      memcmp(want, g, n * sizeof(float)) ? "DIFFERS" : "identical");
+			assert_memory_equal(want, g, n * sizeof(float));
+			dao_gtao_planes_free(&got);
+		}
+		free_planes(&p);
+	}
+}
+
 static void test_shade(void **state)
 {
 	(void)state;
@@ -514,6 +542,7 @@ int main(void)
 		cmocka_unit_test(test_prefilter),
 		cmocka_unit_test(test_denoise),
 		cmocka_unit_test(test_normals),
+		cmocka_unit_test(test_planes_fill),
 		cmocka_unit_test(test_shade),
 		cmocka_unit_test(test_gtao),
 		cmocka_unit_test(test_pipeline),
