@@ -60,7 +60,7 @@ DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ct
  *          (1 = open); pixels without depth get params.invalid_value.
  *
  * The frame's depth, normals and AO stay in the context for dao_context_shade().
- * The calling thread takes part in the work and needs about 64 KB of stack
+ * The calling thread takes part in the work and needs about 80 KB of stack
  * (the optimised GTAO keeps its step tables there).
  */
 DAO_API int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
