@@ -252,14 +252,14 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 	const vf d01 = v_sub(iz1, iz0);
 	/* |z0 - z1| > 0.1 min(z0, z1), in 1/z: the tap closer to the line, at its place */
 	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
-	vf iz = v_sel(edge, v_load(base + st->oe), v_fma(v_set1(st->f), d01, iz0));
+	/* no sample (a tap without data): iz = 0 */
+	vf iz = v_sel(edge, v_load(base + st->oe), v_sel(ok, v_fma(v_set1(st->f), d01, iz0), zero));
 	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
 		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
 		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
 		iz = v_sel(only, (st->flags & TAP_ONLY0) ? iz0 : iz1, iz);
 		ok = m_or(ok, only);
 	}
-	iz = v_sel(ok, iz, zero);
 	const vf Gz = v_fnma(p->Pz, iz, one);
 	/* an edge moves the sample on the minor axis only */
 	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
@@ -474,7 +474,8 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 					ao[(size_t)y * s->width + x] = s->invalid_value;
 				continue;
 			}
-			const float rp = fminf(dao_gtao_quantize_radius(rf * izmax), s->max_r_px);
+			const float rq = dao_gtao_quantize_radius(rf * izmax);
+			const float rp = rq < s->max_r_px ? rq : s->max_r_px; /* fminf: a libm call */
 			int reach_r = 0, reach_c = 0;
 			const struct tile_step *tsteps =
 				tile_cache_get(s, pl, &ph[a], rp, &cache[a], &reach_r, &reach_c);
