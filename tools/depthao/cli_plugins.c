@@ -28,7 +28,7 @@ static int running_from_build_tree(void)
 int cli_plugins_load(struct dao_plugins **out, struct dao_error *err)
 {
 	const char *env = getenv(DAO_PLUGIN_PATH_ENV);
-	if ((!env || !*env) && DAO_BUILD_PLUGIN_PATH[0] && running_from_build_tree())
+	if ((!env || !*env) && DAO_BUILD_PLUGIN_PATH[0] != '\0' && running_from_build_tree())
 		return dao_plugins_load(out, DAO_BUILD_PLUGIN_PATH, err);
 	return dao_plugins_load(out, NULL, err);
 }
