@@ -384,9 +384,8 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	while (lanes < VN && x0 + 4 * lanes < s->x_end)
 		lanes++;
 	struct tile_px t;
-	struct px *p = &t.p;
-	const float Y0 = (float)y * s->ay + s->by;
-	t.Y0 = v_set1(Y0);
+	struct px *p = &t.p; /* the tile kernel sets x, Pz, V and active */
+	t.Y0 = v_set1((float)y * s->ay + s->by);
 	t.y = y;
 	t.h = s->height;
 	t.w = s->width;
@@ -396,7 +395,6 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 	const int inner = tsteps && y - reach_r >= 0 && y + reach_r < t.h && x0 - reach_c >= 0 &&
 			  t.x_last + reach_c < t.w;
 	p->x = v_fma(v_iota(), v_set1(4.0f), v_set1((float)x0));
-	p->y = v_set1((float)y);
 	/* lanes past x_end have no depth here (they are another strip's) */
 	const vm in = v_lt(p->x, v_set1((float)s->x_end));
 	const vf one = v_set1(1.0f);

@@ -64,11 +64,8 @@ void DAO_ISA_FN(dao_normals_from_depth)(const struct dao_camera *cam, const floa
 			for (; x <= xlast; x = (x < xlast && x + VN > xlast) ? xlast : x + VN) {
 				vf zc = v_load(row + x), zl = v_load(row + x - r), zr = v_load(row + x + r);
 				const vm has = v_gt(zc, zero);
-				if (!m_any(has)) {
-					for (int k = 0; k < VN; k++) {
-						out[3 * (x + k)] = out[3 * (x + k) + 1] = 0.0f;
-						out[3 * (x + k) + 2] = -1.0f;
-					}
+				if (!m_any(has)) { /* no depth: (0, 0, -1) */
+					v_store3(out + 3 * x, zero, zero, v_set1(-1.0f));
 					continue;
 				}
 				vm ok = m_and(has, m_and(v_gt(zl, zero), v_gt(zr, zero)));
