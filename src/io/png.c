@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * PNG reading and writing through libpng, with errors a user can act on and
- * atomic writes (temporary file + rename).
+ * atomic writes (temporary file + rename; FIFOs and character devices are
+ * written straight into, see io/output_file.h).
  */
 #include <errno.h>
 #include <setjmp.h>
@@ -16,7 +17,7 @@
 #include <depthao/png.h>
 
 #include "core/error_internal.h"
-#include "core/file_mode.h"
+#include "io/output_file.h"
 
 struct png_err_ctx {
 	char message[160];
@@ -189,20 +190,20 @@ struct write_state {
 	png_structp png;
 	png_infop info;
 	png_bytep *rows;
-	char *tmp;               /* the temporary file, renamed into place at the end */
+	struct dao_output_file out; /* a temporary file renamed into place, or a stream */
 	struct png_err_ctx pe;
 };
 
-/* Releases everything in `st` (removing the temporary file unless `keep`), and `st`. */
-static void write_cleanup(struct write_state *st, int keep)
+/* Releases everything in `st` (removing the temporary file unless committed), and `st`. */
+static void write_cleanup(struct write_state *st)
 {
 	if (st->png)
 		png_destroy_write_struct(&st->png, st->info ? &st->info : NULL);
 	if (st->fp)
 		fclose(st->fp);
-	if (st->tmp && !keep)
-		unlink(st->tmp);
-	free(st->tmp);
+	else if (st->out.fd >= 0)
+		close(st->out.fd);
+	dao_output_file_discard(&st->out);
 	free(st->rows);
 	free(st);
 }
@@ -231,36 +232,38 @@ int dao_png_write(const char *path, const struct dao_frame *f, struct dao_error 
 				     dao_pixfmt_name(f->format), path);
 
 	struct write_state *const st = calloc(1, sizeof *st);
-	size_t plen = strlen(path) + 16;
-	if (!st || !(st->tmp = malloc(plen)) || !(st->rows = malloc(f->height * sizeof *st->rows))) {
+	if (st)
+		st->out.fd = -1;
+	if (!st || !(st->rows = malloc(f->height * sizeof *st->rows))) {
 		if (st)
-			write_cleanup(st, 1);
+			write_cleanup(st);
 		return dao_error_set(err, -ENOMEM, "out of memory writing '%s'", path);
 	}
-	snprintf(st->tmp, plen, "%s.tmp-XXXXXX", path); /* mkstemp's template */
-	int fd = mkstemp(st->tmp);
-	if (fd < 0) {
-		r = dao_error_set(err, -errno, "cannot create '%s': %s", path, strerror(errno));
-		write_cleanup(st, 1);
+	if ((r = dao_output_file_open(&st->out, path, err)) < 0) {
+		write_cleanup(st);
 		return r;
 	}
-	if (!(st->fp = fdopen(fd, "wb"))) {
+	if (!(st->fp = fdopen(st->out.fd, "wb"))) {
 		r = dao_error_set(err, -errno, "cannot write '%s': %s", path, strerror(errno));
-		close(fd);
-		write_cleanup(st, 0);
+		write_cleanup(st);
 		return r;
 	}
 	st->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &st->pe, on_png_error, on_png_warning);
 	if (st->png)
 		st->info = png_create_info_struct(st->png);
 	if (!st->png || !st->info) {
-		write_cleanup(st, 0);
+		write_cleanup(st);
 		return dao_error_set(err, -ENOMEM, "out of memory writing '%s'", path);
 	}
 	if (setjmp(png_jmpbuf(st->png))) {
-		r = dao_error_set(err, -EIO, "cannot write '%s': %s", path,
-				  st->pe.message[0] ? st->pe.message : "libpng error");
-		write_cleanup(st, 0);
+		/* a failed fwrite (a full disk) left its errno; libpng only says "Write Error" */
+		int e = st->fp && ferror(st->fp) && errno ? errno : EIO;
+		if (e != EIO)
+			r = dao_error_set(err, -e, "cannot write '%s': %s", path, strerror(e));
+		else
+			r = dao_error_set(err, -EIO, "cannot write '%s': %s", path,
+					  st->pe.message[0] ? st->pe.message : "libpng error");
+		write_cleanup(st);
 		return r;
 	}
 	png_init_io(st->png, st->fp);
@@ -282,21 +285,18 @@ int dao_png_write(const char *path, const struct dao_frame *f, struct dao_error 
 	if (fflush(fp) != 0 || ferror(fp)) {
 		int e = errno ? errno : EIO;
 		fclose(fp);
-		write_cleanup(st, 0);
+		st->out.fd = -1;
+		write_cleanup(st);
 		return dao_error_set(err, -e, "cannot write '%s': %s", path, strerror(e));
 	}
-	if (fclose(fp) != 0) {
-		int e = errno;
-		write_cleanup(st, 0);
+	int closed = fclose(fp);
+	int e = errno;
+	st->out.fd = -1;
+	if (closed != 0) {
+		write_cleanup(st);
 		return dao_error_set(err, -e, "cannot write '%s': %s", path, strerror(e));
 	}
-	dao_file_mode_default(st->tmp);
-	if (rename(st->tmp, path) != 0) {
-		int e = errno;
-		write_cleanup(st, 0);
-		return dao_error_set(err, -e, "cannot move the written PNG into place as '%s': %s",
-				     path, strerror(e));
-	}
-	write_cleanup(st, 1);
-	return 0;
+	r = dao_output_file_commit(&st->out, path, err);
+	write_cleanup(st);
+	return r;
 }

@@ -1,29 +1,23 @@
 /* SPDX-License-Identifier: MIT */
 #include <errno.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
+#include <depthao/error.h>
+
 #include "atomic_file.h"
+#include "io/output_file.h"
 
 int atomic_write_text(const char *path, const char *text, char *msg, size_t len)
 {
-	size_t n = strlen(path) + 16;
-	char *tmp = malloc(n);
-	if (!tmp) {
-		snprintf(msg, len, "out of memory writing '%s'", path);
+	struct dao_output_file out;
+	struct dao_error err = {0};
+	if (dao_output_file_open(&out, path, &err) < 0) {
+		snprintf(msg, len, "%s", err.message);
 		return -1;
 	}
-	snprintf(tmp, n, "%s.tmp-XXXXXX", path);
-	int fd = mkstemp(tmp);
-	if (fd < 0) {
-		snprintf(msg, len, "cannot create '%s': %s", path, strerror(errno));
-		free(tmp);
-		return -1;
-	}
-	FILE *f = fdopen(fd, "w");
+	FILE *f = fdopen(out.fd, "w");
 	int ok = f && fputs(text, f) >= 0 && fputc('\n', f) != EOF;
 	int e = errno;
 	if (f) {
@@ -32,21 +26,16 @@ int atomic_write_text(const char *path, const char *text, char *msg, size_t len)
 			e = errno;
 		}
 	} else {
-		close(fd);
-	}
-	if (ok) {
-		mode_t mask = umask(0);
-		umask(mask);
-		chmod(tmp, 0666 & ~mask);
-		if (rename(tmp, path) != 0) {
-			ok = 0;
-			e = errno;
-		}
+		close(out.fd);
 	}
 	if (!ok) {
 		snprintf(msg, len, "cannot write '%s': %s", path, strerror(e));
-		unlink(tmp);
+		dao_output_file_discard(&out);
+		return -1;
 	}
-	free(tmp);
-	return ok ? 0 : -1;
+	if (dao_output_file_commit(&out, path, &err) < 0) {
+		snprintf(msg, len, "%s", err.message);
+		return -1;
+	}
+	return 0;
 }

@@ -1,0 +1,36 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Opening a path for a file written whole (a PNG, a small text file); what
+ * the path already is decides how:
+ *   - nothing, or a regular file: a temporary file beside it, renamed into
+ *     place once complete, so readers never see half a file and a failed
+ *     write leaves the old one;
+ *   - a symlink to a regular file: the same at the file it points to (the
+ *     link stays a link);
+ *   - a FIFO or a character device (/dev/stdout on a pipe or a terminal,
+ *     /dev/null, a serial line): written straight into, opened without
+ *     O_CREAT or O_TRUNC, never replaced; a FIFO without a reader is -ENXIO
+ *     at once instead of a hang;
+ *   - a directory: -EISDIR; a block device or a socket: -EINVAL.
+ */
+#ifndef DAO_IO_OUTPUT_FILE_H
+#define DAO_IO_OUTPUT_FILE_H
+
+#include <depthao/error.h>
+
+struct dao_output_file {
+	int fd;         /* write here; the caller closes it before commit/discard */
+	char *tmp;      /* the temporary file, NULL when written straight into the target */
+	char *target;   /* what tmp is renamed onto (a symlink resolved) */
+};
+
+/* Opens `path` for writing as above; messages name `path`. */
+int dao_output_file_open(struct dao_output_file *o, const char *path, struct dao_error *err);
+
+/* After the last byte was written and fd closed: renames into place (if temporary). */
+int dao_output_file_commit(struct dao_output_file *o, const char *path, struct dao_error *err);
+
+/* After a failure (fd closed): removes the temporary file; the target is untouched. */
+void dao_output_file_discard(struct dao_output_file *o);
+
+#endif

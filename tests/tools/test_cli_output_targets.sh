@@ -1,0 +1,76 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# What an output path of `depthao process` is: a regular file or a new path is written
+# through a temporary file renamed into place; a FIFO or a character device is written
+# straight into and stays what it was; a directory is refused with a message.  The
+# devices are made with mknod inside the test directory (as root), never the system's.
+. "$(dirname "$0")/cli_lib.sh"
+
+S=$WORK/synth
+"$DEPTHAO" synth --scene plane --out "$S" --rays 1 >/dev/null
+D=$S/plane/depth.png
+CAM="--intrinsics 525,525,319.5,239.5"
+"$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/ref.png" --quiet
+png_is "$WORK/ref.png" "640 480 gray16"
+
+# a regular file is replaced atomically (a new inode), nothing left behind
+echo old >"$WORK/reg.png"
+ino0=$(stat -c %i "$WORK/reg.png")
+"$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/reg.png" --quiet || fail "regular file"
+cmp -s "$WORK/reg.png" "$WORK/ref.png" || fail "regular file: not the PNG"
+[ "$(stat -c %i "$WORK/reg.png")" != "$ino0" ] || fail "regular file written in place, not renamed"
+no_temp_files "$WORK"
+
+# a symlink to a regular file: the target is replaced, the link stays a link
+echo old >"$WORK/target.png"
+ln -s target.png "$WORK/link.png"
+"$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/link.png" --quiet || fail "symlink"
+[ -L "$WORK/link.png" ] || fail "the symlink was replaced by a file"
+cmp -s "$WORK/target.png" "$WORK/ref.png" || fail "symlink: the target is not the PNG"
+no_temp_files "$WORK"
+
+# a FIFO: written straight into, read by a background reader; it stays a FIFO
+mkfifo "$WORK/fifo"
+timeout 20 cat "$WORK/fifo" >"$WORK/from-fifo.png" & # a reader that never gets a writer gives up
+reader=$!
+sleep 0.2 # the reader opens the FIFO
+"$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/fifo" --quiet 2>"$WORK/err" ||
+	fail "FIFO: $(cat "$WORK/err")"
+wait "$reader" || true
+[ -p "$WORK/fifo" ] || fail "the FIFO was replaced: $(ls -l "$WORK/fifo")"
+cmp -s "$WORK/from-fifo.png" "$WORK/ref.png" || fail "FIFO: the reader did not get the PNG"
+no_temp_files "$WORK"
+# a FIFO nobody reads: an error at once, not a hang
+if expect_exit 1 "FIFO without a reader" -- timeout 10 "$DEPTHAO" process --input "$D" $CAM \
+	--ao-out "$WORK/fifo"; then
+	grep -q "no reader" "$WORK/err" || fail "FIFO without a reader: $(cat "$WORK/err")"
+fi
+[ -p "$WORK/fifo" ] || fail "the FIFO was replaced after a failed write"
+
+# a directory: refused, untouched
+mkdir "$WORK/adir"
+if expect_exit 1 "directory" -- "$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/adir"; then
+	grep -q "is a directory" "$WORK/err" || fail "directory: $(cat "$WORK/err")"
+fi
+[ -d "$WORK/adir" ] && [ -z "$(ls "$WORK/adir")" ] || fail "the directory was changed"
+no_temp_files "$WORK"
+
+# character devices: null and full, made here (root), or the system's /dev/null
+# (not root: the old code could not replace it, and the new one must write into it)
+if [ "$(id -u)" -eq 0 ]; then
+	mknod "$WORK/null" c 1 3
+	mknod "$WORK/full" c 1 7
+	NULLDEV=$WORK/null
+	"$DEPTHAO" process --input "$D" $CAM --ao-out "$WORK/full" 2>"$WORK/err" &&
+		fail "a full device took the PNG"
+	grep -q "No space left" "$WORK/err" || fail "full device: $(cat "$WORK/err")"
+	[ -c "$WORK/full" ] || fail "the full device was replaced: $(ls -l "$WORK/full")"
+else
+	NULLDEV=/dev/null
+	echo "note: not root; the character device part uses /dev/null, no full device"
+fi
+"$DEPTHAO" process --input "$D" $CAM --ao-out "$NULLDEV" --quiet 2>"$WORK/err" ||
+	fail "null device: $(cat "$WORK/err")"
+[ -c "$NULLDEV" ] || fail "$NULLDEV was replaced: $(ls -l "$NULLDEV")"
+no_temp_files "$WORK"
+finish
