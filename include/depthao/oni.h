@@ -11,8 +11,10 @@
  *
  * Files this writer makes play in OpenNI2's own file driver frame-exactly;
  * the reader decodes real recordings pixel-identically to OpenNI2 and turns
- * every inconsistency (truncation, wrong magic, frames larger than declared,
- * corrupt 16z streams) into -EINVAL or -EIO with a message, never a crash.
+ * every inconsistency (wrong magic, frames larger than declared, corrupt 16z
+ * streams) into -EINVAL or -EIO with a message, never a crash.  A recording
+ * that was never finished (a crash, kill -9, power loss, a full disk) is
+ * recovered up to its last complete frame, with a warning.
  */
 #ifndef DEPTHAO_ONI_H
 #define DEPTHAO_ONI_H
@@ -71,12 +73,23 @@ struct dao_oni_reader;
 
 /*
  * Opens a recording and indexes it (one pass over the record headers; frame
- * data is read on demand).  Errors: -ENOENT/-EACCES (cannot open), -EINVAL
- * (not an .oni file, unsupported version, corrupt structure), -ENOMEM.
+ * data is read on demand).  The frame count, seek table and end record are
+ * not needed: a file that ends without an end record, in a record cut short
+ * or in zeros (an unfinished recording) opens with the frames before that
+ * and a warning (dao_oni_reader_warning).  Errors: -ENOENT/-EACCES (cannot
+ * open), -EINVAL (not an .oni file, unsupported version, corrupt structure,
+ * an unfinished file without one complete frame), -ENOMEM.
  */
 DAO_API int dao_oni_reader_open(const char *path, struct dao_oni_reader **out,
 				struct dao_error *err);
 DAO_API void dao_oni_reader_close(struct dao_oni_reader *reader);
+
+/*
+ * NULL for a finished recording; for an unfinished one that was recovered, a
+ * one-line message naming the file, the frames recovered and what was left
+ * out, for the caller to show as a warning.
+ */
+DAO_API const char *dao_oni_reader_warning(const struct dao_oni_reader *reader);
 
 DAO_API uint32_t dao_oni_reader_stream_count(const struct dao_oni_reader *reader);
 DAO_API const struct dao_oni_stream_info *
@@ -108,15 +121,25 @@ struct dao_oni_writer_options {
 	uint32_t max_depth;         /* xnDeviceMaxDepth in counts; 0 = 10 m in the unit */
 	double hfov, vfov;          /* radians, in (0, pi) */
 	int mirrored;               /* recorded as xnMirror */
+	int overwrite;              /* replace a file already at path (else -EEXIST) */
 };
 
 struct dao_oni_writer;
 
+/* Frames reach the disk (fdatasync) at most this long after they were written. */
+#define DAO_ONI_SYNC_INTERVAL_MS 1000
+
 /*
- * Starts a recording with one depth node.  The file is written under a
- * temporary name beside `path` and renamed into place by
- * dao_oni_writer_finish(), so an interrupted recording never leaves a
- * half-written file under the final name.
+ * Starts a recording with one depth node, at `path` itself: the file grows
+ * there frame by frame (no temporary name), so whatever happens to the
+ * process, the file holds every frame write_depth accepted, and
+ * dao_oni_reader_open recovers it up to the last complete frame.  The file
+ * is synced (fdatasync) when a frame is written DAO_ONI_SYNC_INTERVAL_MS or
+ * more after the last sync (dao_oni_writer_sync for idle times), and the
+ * synced frame count and timestamps are then written into the header, so
+ * that OpenNI2 too plays an unfinished file up to its last sync.
+ * A file already at `path` is left alone (-EEXIST) unless opts->overwrite;
+ * only regular files are written (-EINVAL for devices, FIFOs, directories).
  */
 DAO_API int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *opts,
 				struct dao_oni_writer **out, struct dao_error *err);
@@ -126,20 +149,46 @@ DAO_API int dao_oni_writer_open(const char *path, const struct dao_oni_writer_op
  * converted when its depth_unit differs from the file's) with a timestamp in
  * microseconds, which must not go backwards.  Counts above max_depth are
  * -ERANGE; so are values the chosen codec cannot represent (16z: >= 32768;
- * 16zT: more than 32768 distinct values in one frame).
+ * 16zT: more than 32768 distinct values in one frame).  0 means the frame
+ * is in the file (handed to the kernel).  A failed write (-ENOSPC on a full
+ * disk, also for a short write; -EDQUOT, -EFBIG, -EIO, ...) or sync ends
+ * the recording: the partial record is cut off again where possible, the
+ * frames before it stay, and every later write returns the same error.
  */
 DAO_API int dao_oni_writer_write_depth(struct dao_oni_writer *writer,
 				       const struct dao_frame *depth, uint64_t timestamp_us,
 				       struct dao_error *err);
 
+/* Syncs now (fdatasync, then the synced frame count into the header). */
+DAO_API int dao_oni_writer_sync(struct dao_oni_writer *writer, struct dao_error *err);
+
+struct dao_oni_writer_status {
+	uint32_t frames;            /* in the file: write_depth returned 0 */
+	uint32_t synced_frames;     /* of those, synced and counted in the header */
+	uint32_t syncs;             /* fdatasync calls so far */
+	uint64_t bytes;             /* up to the end of the last complete record */
+	int error;                  /* the error that ended the recording, 0 if none */
+};
+
+DAO_API void dao_oni_writer_get_status(const struct dao_oni_writer *writer,
+				       struct dao_oni_writer_status *status);
+
 /*
- * Writes the seek table and end record, patches the header and node record
- * with the frame count and timestamps, and renames the file into place.
- * Frees the writer whatever the outcome.
+ * Finalises the file: seek table and end record after the last complete
+ * frame, frame count and timestamps in the header, synced.  After a failed
+ * write too (the frames before the failure are finalised; that is 0 when it
+ * worked).  If even the end record does not fit (the disk is still full),
+ * the file keeps its frames unfinalised, with the header counting all of
+ * them, and the error says so.  A recording without frames is removed
+ * (-EINVAL).  Frees the writer whatever the outcome.
  */
 DAO_API int dao_oni_writer_finish(struct dao_oni_writer *writer, struct dao_error *err);
 
-/* Abandons a recording: removes the temporary file and frees the writer. */
+/*
+ * Stops without finalising and frees the writer: the frames written stay in
+ * an unfinished file (the reader recovers it); a file without frames is
+ * removed.
+ */
 DAO_API void dao_oni_writer_abort(struct dao_oni_writer *writer);
 
 /* "none", "16z", "16zt", ... and back (case-insensitive); -EINVAL if unknown. */

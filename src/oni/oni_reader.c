@@ -1,10 +1,17 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * .oni reader: one pass over the record headers builds a per-node frame
- * index (the file's own seek table is not trusted; files without one, or
- * with a stale one, read the same); frames are then decoded on demand with
- * pread, so any frame can be read in any order and from any thread holding
- * the reader exclusively.
+ * index (the file's own seek table and frame counts are not trusted; files
+ * without them, or with stale ones, read the same); frames are then decoded
+ * on demand with pread, so any frame can be read in any order and from any
+ * thread holding the reader exclusively.
+ *
+ * Recovery: a recording that was never finished (the writer crashed, was
+ * killed, lost power or ran out of disk) ends without an end record, maybe
+ * in a record cut short, maybe in zeros (blocks allocated whose data never
+ * reached the disk).  Such a tail ends the index at the last complete record
+ * and is reported by dao_oni_reader_warning(); anything else that is not a
+ * record (bad magic followed by non-zero bytes) is corruption, as before.
  */
 #include <depthao/oni.h>
 
@@ -41,8 +48,17 @@ struct node {
 	uint32_t nframes, cap;
 };
 
+/* How an unfinished file ends (the tail the index stops before). */
+enum tail_kind {
+	TAIL_END_RECORD = 0, /* finished: the end record */
+	TAIL_NO_END,         /* the last record is complete, no end record follows */
+	TAIL_CUT,            /* a record cut short */
+	TAIL_ZEROS,          /* zeros instead of a record */
+};
+
 struct dao_oni_reader {
 	int fd;
+	char warning[DAO_ERROR_MESSAGE_MAX + 256]; /* empty unless recovered */
 	uint64_t file_size;
 	int old32;
 	uint32_t max_node_id;
@@ -112,6 +128,8 @@ struct scan {
 	uint64_t pos;  /* of the current record */
 	uint32_t index;
 	struct dao_error *err;
+	enum tail_kind tail;
+	uint64_t tail_need; /* TAIL_CUT: bytes the cut record needs */
 };
 
 #define CORRUPT(sc, ...)                                                                       \
@@ -236,6 +254,23 @@ static int add_frame(struct dao_oni_reader *r, struct scan *sc, uint32_t id, con
 	return 0;
 }
 
+/* 1 if every byte from `pos` to the end of the file is zero, 0 if not, < 0 on errors. */
+static int zeros_to_end(struct dao_oni_reader *r, uint64_t pos)
+{
+	uint8_t buf[4096];
+	while (pos < r->file_size) {
+		size_t n = r->file_size - pos < sizeof(buf) ? (size_t)(r->file_size - pos) : sizeof(buf);
+		int ret = read_at(r, buf, n, pos);
+		if (ret < 0)
+			return ret;
+		for (size_t i = 0; i < n; i++)
+			if (buf[i])
+				return 0;
+		pos += n;
+	}
+	return 1;
+}
+
 static int scan_records(struct dao_oni_reader *r, struct scan *sc)
 {
 	const size_t hsize = r->old32 ? ONI_RECORD_HEADER_SIZE_OLD32 : ONI_RECORD_HEADER_SIZE;
@@ -246,18 +281,14 @@ static int scan_records(struct dao_oni_reader *r, struct scan *sc)
 
 	sc->pos = ONI_FILE_HEADER_SIZE;
 	for (sc->index = 0; !ended; sc->index++) {
+		/* an unfinished recording: stop at the last complete record */
 		if (sc->pos == r->file_size) {
-			ret = dao_error_set(sc->err, -EINVAL,
-					    "%s: truncated .oni file: it ends after %u records "
-					    "without an end record (an interrupted recording?)",
-					    sc->path, sc->index);
+			sc->tail = TAIL_NO_END;
 			break;
 		}
 		if (r->file_size - sc->pos < hsize) {
-			ret = dao_error_set(sc->err, -EINVAL,
-					    "%s: truncated .oni file: it ends inside the header "
-					    "of record %u at byte %llu",
-					    AT(sc));
+			sc->tail = TAIL_CUT;
+			sc->tail_need = hsize;
 			break;
 		}
 		if ((ret = read_at(r, h, hsize, sc->pos)) < 0) {
@@ -268,7 +299,14 @@ static int scan_records(struct dao_oni_reader *r, struct scan *sc)
 		uint32_t magic = oni_rd32(h), type = oni_rd32(h + 4), id = oni_rd32(h + 8);
 		uint32_t fsize = oni_rd32(h + 12), psize = oni_rd32(h + 16);
 		if (magic != ONI_RECORD_MAGIC) {
-			ret = CORRUPT(sc, "bad record magic 0x%08x", AT(sc), magic);
+			int z = zeros_to_end(r, sc->pos);
+			if (z == 1) {
+				sc->tail = TAIL_ZEROS;
+				break;
+			}
+			ret = z < 0 ? dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
+						    strerror(z == -ENODATA ? EIO : -z))
+				    : CORRUPT(sc, "bad record magic 0x%08x", AT(sc), magic);
 			break;
 		}
 		if (fsize < hsize || fsize > ONI_MAX_FIELDS_SIZE) {
@@ -276,11 +314,8 @@ static int scan_records(struct dao_oni_reader *r, struct scan *sc)
 			break;
 		}
 		if ((uint64_t)fsize + psize > r->file_size - sc->pos) {
-			ret = dao_error_set(sc->err, -EINVAL,
-					    "%s: truncated .oni file: record %u at byte %llu needs "
-					    "%llu bytes, the file has %llu left",
-					    AT(sc), (unsigned long long)fsize + psize,
-					    (unsigned long long)(r->file_size - sc->pos));
+			sc->tail = TAIL_CUT;
+			sc->tail_need = (uint64_t)fsize + psize;
 			break;
 		}
 		if (type != ONI_REC_END && id > r->max_node_id) {
@@ -387,6 +422,42 @@ static int check_depth_node(struct dao_oni_reader *r, struct node *n, const char
 	return 0;
 }
 
+static const char *plural(uint64_t n)
+{
+	return n == 1 ? "" : "s";
+}
+
+/* An unfinished file: the warning, or an error when not one frame is complete. */
+static int recovered(struct dao_oni_reader *r, const struct scan *sc)
+{
+	uint64_t frames = 0;
+	for (uint32_t i = 0; i < r->nnodes; i++)
+		frames += r->nodes[i].nframes;
+	const unsigned long long at = (unsigned long long)sc->pos;
+	const unsigned long long left = (unsigned long long)(r->file_size - sc->pos);
+	if (frames == 0)
+		return dao_error_set(sc->err, -EINVAL,
+				     "%s: truncated .oni file: it ends at byte %llu before its first "
+				     "complete frame (an interrupted recording with nothing to "
+				     "recover)",
+				     sc->path, at + (sc->tail == TAIL_ZEROS ? 0 : left));
+	char detail[160];
+	if (sc->tail == TAIL_NO_END)
+		snprintf(detail, sizeof(detail), "it ends without an end record after %llu bytes",
+			 at);
+	else if (sc->tail == TAIL_CUT)
+		snprintf(detail, sizeof(detail),
+			 "a record cut short at byte %llu (%llu of %llu bytes) was left out", at,
+			 left, (unsigned long long)sc->tail_need);
+	else
+		snprintf(detail, sizeof(detail), "%llu zero bytes at its end were left out", left);
+	snprintf(r->warning, sizeof(r->warning),
+		 "%s: the recording was not finalised (interrupted by a crash, kill or power "
+		 "cut?); recovered %llu frame%s up to byte %llu: %s",
+		 sc->path, (unsigned long long)frames, plural(frames), at, detail);
+	return 0;
+}
+
 int dao_oni_reader_open(const char *path, struct dao_oni_reader **out, struct dao_error *err)
 {
 	struct dao_oni_reader *r;
@@ -439,8 +510,10 @@ int dao_oni_reader_open(const char *path, struct dao_oni_reader **out, struct da
 	r->old32 = ver < v1010;
 	r->max_node_id = oni_rd32(h + 20);
 
-	struct scan sc = {path, 0, 0, err};
+	struct scan sc = {path, 0, 0, err, TAIL_END_RECORD, 0};
 	if ((ret = scan_records(r, &sc)) < 0)
+		goto fail;
+	if (sc.tail != TAIL_END_RECORD && (ret = recovered(r, &sc)) < 0)
 		goto fail;
 	for (uint32_t i = 0; i < r->nnodes; i++) {
 		struct node *n = &r->nodes[i];
@@ -490,6 +563,11 @@ void dao_oni_reader_close(struct dao_oni_reader *r)
 	free(r->payload);
 	free(r->pixels);
 	free(r);
+}
+
+const char *dao_oni_reader_warning(const struct dao_oni_reader *r)
+{
+	return r && r->warning[0] ? r->warning : NULL;
 }
 
 uint32_t dao_oni_reader_stream_count(const struct dao_oni_reader *r)

@@ -2,21 +2,37 @@
 /*
  * .oni writer: one depth node, laid out as OpenNI2's recorder lays it out
  * (node added, properties, state ready, data begin, frames, node removed,
- * seek table, end), with the node record, data-begin record and file header
- * patched on finish so that frame count, timestamps and the seek table
- * position are right.  File format version 1.0.1.0 (64-bit positions).
+ * seek table, end).  File format version 1.0.1.0 (64-bit positions).
+ *
+ * The file is written at its own name from the start and only ever grows by
+ * whole records (a record that fails part-way is cut off again), so it can
+ * be recovered up to its last complete frame at any moment.  Frames are
+ * written with pwritev straight to the kernel (nothing waits in a user-space
+ * buffer, so kill -9 loses nothing already accepted).  When a frame comes
+ * DAO_ONI_SYNC_INTERVAL_MS or more after the last sync, the file is synced
+ * (fdatasync), then the synced frame count and timestamps are written into
+ * the node record, the data-begin record and the file header (those become
+ * durable with the next sync): what they count is always on disk, so
+ * OpenNI2, which trusts them, plays an unfinished file up to its last sync.
+ * finish appends node-removed, seek table and end records and syncs twice
+ * (tail, then header), so a power cut never leaves a header pointing at a
+ * seek table that is not there.
  */
+#define _DEFAULT_SOURCE /* pwritev */
 #include <depthao/oni.h>
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/uio.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/error_internal.h"
-#include "core/file_mode.h"
 #include "core/math_util.h"
 #include "oni/codec_16z.h"
 #include "oni/oni_format.h"
@@ -29,12 +45,12 @@ struct seek_entry {
 };
 
 struct dao_oni_writer {
-	FILE *f;
-	char *path, *tmp_path;
+	int fd;
+	char *path;
 	struct dao_oni_writer_options o;
 	float unit;
 	uint32_t fourcc;
-	uint64_t pos;               /* bytes written so far */
+	uint64_t pos;               /* end of the last complete record */
 	uint64_t node_added_pos, data_begin_pos, last_data_pos;
 	uint16_t *pixels;           /* w*h, the frame in the file's unit */
 	uint8_t *payload;
@@ -42,16 +58,65 @@ struct dao_oni_writer {
 	uint16_t *table_scratch;    /* 65536 entries, 16zT */
 	struct seek_entry *seek;
 	uint32_t nframes, seek_cap;
+	uint32_t synced, syncs;     /* frames counted in the header; fdatasync calls */
 	uint64_t first_ts, last_ts;
-	int failed;                 /* a write failed: the file is unusable */
+	struct timespec last_sync;
+	int failed;                 /* the error that ended the recording */
 };
 
+/* Writes all of iov at `at`: short writes continue, EINTR retries; -errno. */
+static int write_fully(int fd, struct iovec *iov, int n, uint64_t at)
+{
+	for (;;) {
+		while (n > 0 && iov->iov_len == 0) {
+			iov++;
+			n--;
+		}
+		if (n == 0)
+			return 0;
+		ssize_t k = pwritev(fd, iov, n, (off_t)at);
+		if (k < 0 && errno == EINTR)
+			continue;
+		if (k < 0)
+			return -errno;
+		if (k == 0)
+			return -EIO; /* a regular file takes something or says why not */
+		at += (uint64_t)k;
+		while (n > 0 && (size_t)k >= iov->iov_len) {
+			k -= (ssize_t)iov->iov_len;
+			iov++;
+			n--;
+		}
+		if (n > 0) {
+			iov->iov_base = (uint8_t *)iov->iov_base + k;
+			iov->iov_len -= (size_t)k;
+		}
+	}
+}
+
+/* Appends p[0..n) at w->pos (the preamble, record by record). */
 static int put(struct dao_oni_writer *w, const void *p, size_t n)
 {
-	if (n && fwrite(p, 1, n, w->f) != n)
-		return -(errno ? errno : EIO);
+	struct iovec v = {(void *)p, n};
+	int r = write_fully(w->fd, &v, 1, w->pos);
+	if (r < 0)
+		return r;
 	w->pos += n;
 	return 0;
+}
+
+static int patch(struct dao_oni_writer *w, uint64_t at, const uint8_t *p, size_t n)
+{
+	struct iovec v = {(void *)p, n};
+	return write_fully(w->fd, &v, 1, at);
+}
+
+/* Cuts off whatever a failed write left after the last complete record (best effort:
+ * if this fails too, the reader drops the partial record). */
+static void cut_partial(struct dao_oni_writer *w)
+{
+	int r = ftruncate(w->fd, (off_t)w->pos);
+	(void)r;
 }
 
 static void record_header(uint8_t *h, uint32_t type, uint32_t node, uint32_t fields,
@@ -153,17 +218,38 @@ static int check_options(const struct dao_oni_writer_options *o, struct dao_erro
 	return 0;
 }
 
+/*
+ * The frame count and timestamps in the node record, the data-begin record
+ * and the file header (max timestamp); seek_pos 0 = no seek table.
+ */
+static int write_counts(struct dao_oni_writer *w, uint32_t frames, uint64_t seek_pos)
+{
+	uint8_t f[128], h[ONI_FILE_HEADER_SIZE];
+	uint64_t first = frames ? w->first_ts : 0, last = frames ? w->last_ts : 0;
+	size_t n = node_added_fields(w, f, frames, first, last, seek_pos);
+	int r = patch(w, w->node_added_pos + ONI_RECORD_HEADER_SIZE, f, n);
+	oni_wr32(f, frames);
+	oni_wr64(f + 4, last);
+	if (r == 0)
+		r = patch(w, w->data_begin_pos + ONI_RECORD_HEADER_SIZE, f, 12);
+	file_header(h, last);
+	if (r == 0)
+		r = patch(w, 0, h, ONI_FILE_HEADER_SIZE);
+	return r;
+}
+
 static int write_preamble(struct dao_oni_writer *w)
 {
 	const struct dao_oni_writer_options *o = &w->o;
 	uint8_t hdr[ONI_FILE_HEADER_SIZE], f[128], b[16];
 	int r;
 
-	file_header(hdr, UINT64_MAX);
+	/* counts and timestamps say "nothing synced yet" until the first sync */
+	file_header(hdr, 0);
 	if ((r = put(w, hdr, sizeof(hdr))) < 0)
 		return r;
 	w->node_added_pos = w->pos;
-	size_t n = node_added_fields(w, f, UINT32_MAX, 0, UINT64_MAX, 0);
+	size_t n = node_added_fields(w, f, 0, 0, 0, 0);
 	if ((r = put_record(w, ONI_REC_NODE_ADDED, NODE_ID, f, n)) < 0)
 		return r;
 	/* the properties OpenNI2's player needs (map mode, cropping, max depth for 16zT) */
@@ -192,22 +278,71 @@ static int write_preamble(struct dao_oni_writer *w)
 	if ((r = put_record(w, ONI_REC_NODE_STATE_READY, NODE_ID, NULL, 0)) < 0)
 		return r;
 	w->data_begin_pos = w->pos;
-	oni_wr32(f, UINT32_MAX);
-	oni_wr64(f + 4, UINT64_MAX);
+	oni_wr32(f, 0);
+	oni_wr64(f + 4, 0);
 	return put_record(w, ONI_REC_NODE_DATA_BEGIN, NODE_ID, f, 12);
 }
 
 static void writer_free(struct dao_oni_writer *w)
 {
-	if (w->f)
-		fclose(w->f);
+	if (w->fd >= 0)
+		close(w->fd);
 	free(w->path);
-	free(w->tmp_path);
 	free(w->pixels);
 	free(w->payload);
 	free(w->table_scratch);
 	free(w->seek);
 	free(w);
+}
+
+/* A new file's name must survive a power cut too: sync the directory it is in. */
+static void sync_parent_dir(const char *path)
+{
+	const char *slash = strrchr(path, '/');
+	char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+	int fd = dir ? open(dir, O_RDONLY | O_CLOEXEC) : -1;
+	if (fd >= 0) {
+		fsync(fd); /* best effort: some file systems refuse to sync directories */
+		close(fd);
+	}
+	free(dir);
+}
+
+/* Creates the file (or truncates it with overwrite); regular files only. */
+static int create_file(struct dao_oni_writer *w, const char *path, struct dao_error *err)
+{
+	struct stat st;
+	if (stat(path, &st) == 0) {
+		if (S_ISDIR(st.st_mode))
+			return dao_error_set(err, -EISDIR,
+					     "oni writer: %s is a directory; give the path of the .oni "
+					     "file to write",
+					     path);
+		if (!S_ISREG(st.st_mode))
+			return dao_error_set(err, -EINVAL,
+					     "oni writer: %s is not a regular file (a device, FIFO or "
+					     "socket); recordings are written to files",
+					     path);
+		if (!w->o.overwrite)
+			return dao_error_set(err, -EEXIST,
+					     "oni writer: %s exists; a recording never replaces a file "
+					     "(pick another name, remove it, or ask to overwrite)",
+					     path);
+	}
+	int flags = O_WRONLY | O_CREAT | O_CLOEXEC | (w->o.overwrite ? O_TRUNC : O_EXCL);
+	w->fd = open(path, flags, 0666);
+	if (w->fd < 0 && errno == EEXIST)
+		return dao_error_set(err, -EEXIST,
+				     "oni writer: %s exists; a recording never replaces a file (pick "
+				     "another name, remove it, or ask to overwrite)",
+				     path);
+	if (w->fd < 0)
+		return dao_error_set(err, -errno, "oni writer: cannot create %s: %s", path,
+				     strerror(errno));
+	if (fstat(w->fd, &st) != 0 || !S_ISREG(st.st_mode))
+		return dao_error_set(err, -EINVAL, "oni writer: %s is not a regular file", path);
+	sync_parent_dir(path);
+	return 0;
 }
 
 int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *opts,
@@ -224,6 +359,7 @@ int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *o
 	w = calloc(1, sizeof(*w));
 	if (!w)
 		return dao_error_set(err, -ENOMEM, "out of memory");
+	w->fd = -1;
 	w->o = *opts;
 	if (w->o.max_depth == 0)
 		w->o.max_depth = opts->pixel_format == DAO_ONI_PIXEL_DEPTH_1_MM ? 10000 : 65535;
@@ -236,39 +372,29 @@ int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *o
 				 ? 2 * npix
 				 : dao_16z_bound(npix, opts->codec == DAO_ONI_CODEC_16ZT);
 	w->path = strdup(path);
-	w->tmp_path = malloc(strlen(path) + 8);
 	w->pixels = malloc(npix * sizeof(uint16_t));
 	w->payload = malloc(w->payload_cap);
 	if (opts->codec == DAO_ONI_CODEC_16ZT)
 		w->table_scratch = malloc(65536 * sizeof(uint16_t));
-	if (!w->path || !w->tmp_path || !w->pixels || !w->payload ||
+	if (!w->path || !w->pixels || !w->payload ||
 	    (opts->codec == DAO_ONI_CODEC_16ZT && !w->table_scratch)) {
 		writer_free(w);
 		return dao_error_set(err, -ENOMEM, "out of memory for a %ux%u recording",
 				     opts->width, opts->height);
 	}
-	sprintf(w->tmp_path, "%s.XXXXXX", path);
-	int fd = mkstemp(w->tmp_path);
-	if (fd < 0) {
-		r = dao_error_set(err, -errno, "cannot create a file beside %s: %s", path,
-				  strerror(errno));
-		free(w->tmp_path);
-		w->tmp_path = NULL;
+	if ((r = create_file(w, path, err)) < 0) {
 		writer_free(w);
 		return r;
 	}
-	w->f = fdopen(fd, "wb");
-	if (!w->f) {
-		close(fd);
-		r = -errno;
-	} else {
-		r = write_preamble(w);
-	}
-	if (r < 0) {
-		dao_error_set(err, r, "cannot write %s: %s", w->tmp_path, strerror(-r));
-		dao_oni_writer_abort(w);
+	if ((r = write_preamble(w)) < 0) {
+		dao_error_set(err, r, "oni writer: cannot write %s: %s", path, strerror(-r));
+		close(w->fd);
+		w->fd = -1;
+		unlink(path);
+		writer_free(w);
 		return r;
 	}
+	clock_gettime(CLOCK_MONOTONIC, &w->last_sync);
 	*out = w;
 	return 0;
 }
@@ -305,6 +431,46 @@ static int take_frame(struct dao_oni_writer *w, const struct dao_frame *d, struc
 	return 0;
 }
 
+/* fdatasync, then the frames it covers into the header (durable with the next sync). */
+static int writer_sync(struct dao_oni_writer *w)
+{
+	if (fdatasync(w->fd) != 0)
+		return -errno;
+	w->syncs++;
+	clock_gettime(CLOCK_MONOTONIC, &w->last_sync);
+	if (w->synced == w->nframes)
+		return 0;
+	int r = write_counts(w, w->nframes, 0);
+	if (r == 0)
+		w->synced = w->nframes;
+	return r;
+}
+
+static int sync_due(const struct dao_oni_writer *w)
+{
+	struct timespec now;
+	clock_gettime(CLOCK_MONOTONIC, &now);
+	int64_t ms = (int64_t)(now.tv_sec - w->last_sync.tv_sec) * 1000 +
+		     (now.tv_nsec - w->last_sync.tv_nsec) / 1000000;
+	return ms >= DAO_ONI_SYNC_INTERVAL_MS;
+}
+
+static const char *plural(uint32_t n)
+{
+	return n == 1 ? "" : "s";
+}
+
+/* Ends the recording after a failed write or sync: no more frames, the file keeps its own. */
+static int fail(struct dao_oni_writer *w, int r, const char *what, struct dao_error *err)
+{
+	w->failed = r;
+	cut_partial(w);
+	return dao_error_set(err, r,
+			     "oni writer: cannot %s %s: %s; the recording stops and keeps its first "
+			     "%u frame%s",
+			     what, w->path, strerror(-r), w->nframes, plural(w->nframes));
+}
+
 int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame *depth,
 			       uint64_t timestamp_us, struct dao_error *err)
 {
@@ -314,8 +480,8 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 	if (w->failed)
 		return dao_error_set(err, w->failed,
 				     "oni writer: an earlier write to %s failed (%s); the recording "
-				     "cannot continue",
-				     w->tmp_path, strerror(-w->failed));
+				     "stopped at %u frame%s",
+				     w->path, strerror(-w->failed), w->nframes, plural(w->nframes));
 	if ((r = dao_frame_check(depth, "oni writer input", w->o.width, w->o.height, err)) < 0)
 		return r;
 	if (depth->format != DAO_PIXFMT_DEPTH16)
@@ -362,74 +528,95 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 		w->seek_cap = cap;
 	}
 	uint8_t h[ONI_RECORD_HEADER_SIZE + 12];
-	uint64_t pos = w->pos;
 	record_header(h, ONI_REC_NEW_DATA, NODE_ID, ONI_RECORD_HEADER_SIZE + 12, (uint32_t)size,
 		      w->last_data_pos);
 	oni_wr64(h + ONI_RECORD_HEADER_SIZE, timestamp_us);
 	oni_wr32(h + ONI_RECORD_HEADER_SIZE + 8, w->nframes + 1); /* frame numbers start at 1 */
-	if ((r = put(w, h, sizeof(h))) < 0 || (r = put(w, w->payload, (size_t)size)) < 0) {
-		w->failed = r; /* a partial record is in the file: no more frames, no finish */
-		return dao_error_set(err, r, "cannot write %s: %s", w->tmp_path, strerror(-r));
-	}
+	struct iovec v[2] = {{h, sizeof(h)}, {w->payload, (size_t)size}};
+	if ((r = write_fully(w->fd, v, 2, w->pos)) < 0)
+		return fail(w, r, "write a frame to", err);
 	w->seek[w->nframes].timestamp_us = timestamp_us;
-	w->seek[w->nframes].pos = pos;
-	w->last_data_pos = pos;
+	w->seek[w->nframes].pos = w->pos;
+	w->last_data_pos = w->pos;
+	w->pos += sizeof(h) + (size_t)size;
 	if (w->nframes == 0)
 		w->first_ts = timestamp_us;
 	w->last_ts = timestamp_us;
 	w->nframes++;
+	if (sync_due(w) && (r = writer_sync(w)) < 0)
+		return fail(w, r, "sync", err);
 	return 0;
 }
 
-static int patch(struct dao_oni_writer *w, uint64_t at, const uint8_t *p, size_t n)
+int dao_oni_writer_sync(struct dao_oni_writer *w, struct dao_error *err)
 {
-	if (fseeko(w->f, (off_t)at, SEEK_SET) < 0 || fwrite(p, 1, n, w->f) != n)
-		return -(errno ? errno : EIO);
-	return 0;
+	if (!w)
+		return dao_error_set(err, -EINVAL, "oni writer: NULL writer");
+	if (w->failed)
+		return dao_error_set(err, w->failed, "oni writer: the recording to %s stopped (%s)",
+				     w->path, strerror(-w->failed));
+	int r = writer_sync(w);
+	return r < 0 ? fail(w, r, "sync", err) : 0;
 }
 
-static int write_tail(struct dao_oni_writer *w)
+void dao_oni_writer_get_status(const struct dao_oni_writer *w, struct dao_oni_writer_status *st)
 {
-	uint8_t h[ONI_RECORD_HEADER_SIZE], f[128], e[ONI_SEEK_ENTRY_SIZE];
-	int r;
+	memset(st, 0, sizeof(*st));
+	if (!w)
+		return;
+	st->frames = w->nframes;
+	st->synced_frames = w->synced;
+	st->syncs = w->syncs;
+	st->bytes = w->pos;
+	st->error = w->failed;
+}
 
-	record_header(h, ONI_REC_NODE_REMOVED, NODE_ID, ONI_RECORD_HEADER_SIZE, 0,
+/*
+ * Node removed, seek table and end record after the last frame; `with_table`
+ * 0 writes only the end record (less room needed).  Returns the seek table's
+ * position through *seek_pos (0 without one).
+ */
+static int write_tail(struct dao_oni_writer *w, int with_table, uint64_t *seek_pos)
+{
+	size_t n = 2 * ONI_RECORD_HEADER_SIZE +
+		   (with_table ? ONI_RECORD_HEADER_SIZE + (w->nframes + 1) * ONI_SEEK_ENTRY_SIZE : 0);
+	uint8_t *t = calloc(1, n), *p = t;
+	if (!t)
+		return -ENOMEM;
+	*seek_pos = 0;
+	record_header(p, ONI_REC_NODE_REMOVED, NODE_ID, ONI_RECORD_HEADER_SIZE, 0,
 		      w->node_added_pos);
-	if ((r = put(w, h, sizeof(h))) < 0)
-		return r;
-	uint64_t seek_pos = w->pos;
-	record_header(h, ONI_REC_SEEK_TABLE, NODE_ID, ONI_RECORD_HEADER_SIZE,
-		      (w->nframes + 1) * ONI_SEEK_ENTRY_SIZE, 0);
-	if ((r = put(w, h, sizeof(h))) < 0)
-		return r;
-	memset(e, 0, sizeof(e)); /* entry 0: frame numbers start at 1 */
-	if ((r = put(w, e, sizeof(e))) < 0)
-		return r;
-	for (uint32_t i = 0; i < w->nframes; i++) {
-		oni_wr64(e, w->seek[i].timestamp_us);
-		oni_wr32(e + 8, 0); /* configuration id */
-		oni_wr64(e + 12, w->seek[i].pos);
-		if ((r = put(w, e, sizeof(e))) < 0)
-			return r;
+	p += ONI_RECORD_HEADER_SIZE;
+	if (with_table) {
+		*seek_pos = w->pos + ONI_RECORD_HEADER_SIZE;
+		record_header(p, ONI_REC_SEEK_TABLE, NODE_ID, ONI_RECORD_HEADER_SIZE,
+			      (w->nframes + 1) * ONI_SEEK_ENTRY_SIZE, 0);
+		p += ONI_RECORD_HEADER_SIZE + ONI_SEEK_ENTRY_SIZE; /* entry 0: frames start at 1 */
+		for (uint32_t i = 0; i < w->nframes; i++, p += ONI_SEEK_ENTRY_SIZE) {
+			oni_wr64(p, w->seek[i].timestamp_us);
+			oni_wr32(p + 8, 0); /* configuration id */
+			oni_wr64(p + 12, w->seek[i].pos);
+		}
 	}
-	record_header(h, ONI_REC_END, UINT32_MAX, ONI_RECORD_HEADER_SIZE, 0, 0);
-	if ((r = put(w, h, sizeof(h))) < 0)
-		return r;
+	record_header(p, ONI_REC_END, UINT32_MAX, ONI_RECORD_HEADER_SIZE, 0, 0);
+	struct iovec v = {t, n};
+	int r = write_fully(w->fd, &v, 1, w->pos);
+	free(t);
+	if (r < 0)
+		cut_partial(w);
+	return r;
+}
 
-	/* patch the node record, data-begin record and header now that all is known */
-	size_t n = node_added_fields(w, f, w->nframes, w->first_ts, w->last_ts, seek_pos);
-	if ((r = patch(w, w->node_added_pos + ONI_RECORD_HEADER_SIZE, f, n)) < 0)
-		return r;
-	oni_wr32(f, w->nframes);
-	oni_wr64(f + 4, w->last_ts);
-	if ((r = patch(w, w->data_begin_pos + ONI_RECORD_HEADER_SIZE, f, 12)) < 0)
-		return r;
-	file_header(h, w->last_ts);
-	if ((r = patch(w, 0, h, ONI_FILE_HEADER_SIZE)) < 0)
-		return r;
-	if (fflush(w->f) != 0 || fsync(fileno(w->f)) != 0)
-		return -(errno ? errno : EIO);
-	return 0;
+/* Closes the file and frees the writer; a file without frames is removed. */
+static void writer_close(struct dao_oni_writer *w)
+{
+	if (w->fd >= 0) {
+		close(w->fd);
+		w->fd = -1;
+		if (w->nframes == 0)
+			unlink(w->path);
+	}
+	writer_free(w);
 }
 
 int dao_oni_writer_finish(struct dao_oni_writer *w, struct dao_error *err)
@@ -437,55 +624,55 @@ int dao_oni_writer_finish(struct dao_oni_writer *w, struct dao_error *err)
 	int r;
 	if (!w)
 		return dao_error_set(err, -EINVAL, "oni writer: NULL writer");
-	if (w->failed) {
-		r = dao_error_set(err, w->failed,
-				  "oni writer: an earlier write failed (%s); %s was not saved",
-				  strerror(-w->failed), w->path);
-		dao_oni_writer_abort(w);
-		return r;
-	}
 	if (w->nframes == 0) {
-		r = dao_error_set(err, -EINVAL,
-				  "oni writer: no frames were written to %s; nothing to save",
-				  w->path);
-		dao_oni_writer_abort(w);
+		r = w->failed ? dao_error_set(err, w->failed,
+					      "oni writer: writing %s failed (%s); nothing was recorded",
+					      w->path, strerror(-w->failed))
+			      : dao_error_set(err, -EINVAL,
+					      "oni writer: no frames were written to %s; nothing to save",
+					      w->path);
+		writer_close(w);
 		return r;
 	}
-	if ((r = write_tail(w)) < 0) {
-		dao_error_set(err, r, "cannot write %s: %s", w->tmp_path, strerror(-r));
-		dao_oni_writer_abort(w);
-		return r;
-	}
-	if (fclose(w->f) != 0) {
-		w->f = NULL;
-		r = dao_error_set(err, -(errno ? errno : EIO), "cannot write %s: %s", w->tmp_path,
-				  strerror(errno));
-		dao_oni_writer_abort(w);
-		return r;
-	}
-	w->f = NULL;
-	dao_file_mode_default(w->tmp_path);
-	if (rename(w->tmp_path, w->path) != 0) {
-		r = dao_error_set(err, -errno, "cannot rename %s to %s: %s", w->tmp_path, w->path,
-				  strerror(errno));
-		dao_oni_writer_abort(w);
-		return r;
-	}
-	free(w->tmp_path);
-	w->tmp_path = NULL;
+	if (w->failed)
+		cut_partial(w);
+	/* the tail, synced before the header points at it; a full disk may have room for
+	 * the end record alone, else the file stays unfinished with every frame counted */
+	uint64_t seek_pos = 0;
+	int tail = write_tail(w, 1, &seek_pos);
+	if (tail < 0)
+		tail = write_tail(w, 0, &seek_pos);
+	if (tail == 0 && fdatasync(w->fd) != 0)
+		tail = -errno;
+	r = write_counts(w, w->nframes, tail == 0 ? seek_pos : 0);
+	if (r == 0 && fdatasync(w->fd) != 0)
+		r = -errno;
+	if (close(w->fd) != 0 && r == 0 && errno != EINTR)
+		r = -errno;
+	w->fd = -1;
+	if (tail < 0)
+		r = dao_error_set(err, tail,
+				  "oni writer: %s keeps %u frame%s but is not finalised: its end "
+				  "could not be written (%s); depthao recovers it, OpenNI2 plays %s",
+				  w->path, w->nframes, plural(w->nframes), strerror(-tail),
+				  r == 0 ? "every frame" : "the frames synced before");
+	else if (r < 0)
+		r = dao_error_set(err, r, "oni writer: finishing %s failed: %s", w->path,
+				  strerror(-r));
 	writer_free(w);
-	return 0;
+	return r;
 }
 
 void dao_oni_writer_abort(struct dao_oni_writer *w)
 {
 	if (!w)
 		return;
-	if (w->f) {
-		fclose(w->f);
-		w->f = NULL;
+	if (w->fd >= 0 && w->nframes) {
+		/* unfinished but whole: no partial record, every frame counted */
+		if (w->failed)
+			cut_partial(w);
+		if (write_counts(w, w->nframes, 0) == 0 && fdatasync(w->fd) != 0)
+			w->failed = -errno; /* nothing to report it to: abort has no result */
 	}
-	if (w->tmp_path)
-		unlink(w->tmp_path);
-	writer_free(w);
+	writer_close(w);
 }

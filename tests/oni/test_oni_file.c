@@ -17,6 +17,8 @@
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "common/cmocka_all.h"
@@ -168,6 +170,7 @@ static struct dao_oni_writer_options default_options(enum dao_oni_codec codec, i
 	o.hfov = 1.0123456789012345;
 	o.vfov = 0.7654321098765432;
 	o.mirrored = 1;
+	o.overwrite = 1; /* the tests write the same names again */
 	return o;
 }
 
@@ -269,6 +272,52 @@ static void free_frames(uint16_t **frames)
 {
 	for (int k = 0; k < NF; k++)
 		free(frames[k]);
+}
+
+static void expect_open_error(const char *path, int code, const char *needle, const char *ctx)
+{
+	static char dummy;
+	struct dao_oni_reader *r = (struct dao_oni_reader *)(void *)&dummy; /* must be reset */
+	struct dao_error err = {0};
+	int ret = dao_oni_reader_open(path, &r, &err);
+	if (ret != code)
+		fail_msg("%s: open returned %d (%s), expected %d", ctx, ret, err.message, code);
+	assert_null(r);
+	assert_int_equal(err.code, code);
+	expect_message(&err, needle, ctx);
+}
+
+/*
+ * `path` opens with `n` frames equal to frames[0..n) and, when `needle` is
+ * not NULL, a warning that names the file and contains `needle` (NULL: a
+ * finished file, no warning).
+ */
+static void expect_recovered(const char *path, uint16_t *const *frames, uint32_t n,
+			     const char *needle, const char *ctx)
+{
+	struct dao_oni_reader *r = NULL;
+	struct dao_error err = {0};
+	int ret = dao_oni_reader_open(path, &r, &err);
+	if (ret != 0)
+		fail_msg("%s: open returned %d (%s), expected %u recovered frames", ctx, ret,
+			 err.message, n);
+	const char *w = dao_oni_reader_warning(r);
+	if (needle && (!w || !strstr(w, needle) || !strstr(w, path)))
+		fail_msg("%s: warning '%s' lacks '%s' or the path", ctx, w ? w : "(none)", needle);
+	if (!needle && w)
+		fail_msg("%s: unexpected warning '%s'", ctx, w);
+	const struct dao_oni_stream_info *in = dao_oni_reader_stream(r, 0);
+	if (!in || in->frame_count != n)
+		fail_msg("%s: %u frames, expected %u", ctx, in ? in->frame_count : 0, n);
+	struct dao_frame f = new_depth(in->width, in->height);
+	for (uint32_t k = 0; k < n; k++) {
+		if (dao_oni_reader_read_depth(r, 0, k, &f, &err) != 0)
+			fail_msg("%s: frame %u: %s", ctx, k, err.message);
+		assert_frame_equals(&f, frames[k], ctx);
+		assert_int_equal(f.sequence, k + 1);
+	}
+	dao_frame_free(&f);
+	dao_oni_reader_close(r);
 }
 
 /* --- (b) writer and reader round trips ------------------------------------ */
@@ -541,8 +590,9 @@ static void test_writer_rules(void **state)
 	px[7] = 32768;
 	assert_int_equal(dao_oni_writer_write_depth(w, &f, 1, &err), -ERANGE);
 	expect_message(&err, "16z", "16z value >= 32768");
-	dao_oni_writer_abort(w);
-	assert_int_equal(count_entries(sub), 0);
+	dao_oni_writer_abort(w); /* the first frame stays, unfinished */
+	assert_int_equal(count_entries(sub), 1);
+	unlink(path);
 
 	{
 		/* 16zT: more than 32768 distinct values in one frame */
@@ -574,14 +624,19 @@ static void test_writer_rules(void **state)
 	/* finishing without frames is an error and leaves nothing */
 	o = default_options(DAO_ONI_CODEC_16ZT, DAO_ONI_PIXEL_DEPTH_1_MM);
 	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
-	assert_int_equal(count_entries(sub), 1); /* the temporary file */
+	assert_int_equal(count_entries(sub), 1); /* the file itself, from the start */
 	err.message[0] = 0;
 	assert_int_equal(dao_oni_writer_finish(w, &err), -EINVAL);
 	expect_message(&err, "no frames", "finish without frames");
 	assert_int_equal(count_entries(sub), 0);
 	assert_int_equal(access(path, F_OK), -1);
+	/* nor does an abort without frames */
+	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
+	dao_oni_writer_abort(w);
+	assert_int_equal(count_entries(sub), 0);
+	dao_oni_writer_abort(NULL);
 
-	/* abort after some frames leaves nothing */
+	/* abort after some frames keeps them: an unfinished file, recovered */
 	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
 	f.depth_unit = 0.001f;
 	for (size_t i = 0; i < SW * SH; i++)
@@ -589,15 +644,44 @@ static void test_writer_rules(void **state)
 	assert_int_equal(dao_oni_writer_write_depth(w, &f, 0, &err), 0);
 	assert_int_equal(dao_oni_writer_write_depth(w, &f, 33, &err), 0);
 	dao_oni_writer_abort(w);
-	assert_int_equal(count_entries(sub), 0);
-	dao_oni_writer_abort(NULL);
+	{
+		uint16_t *same[2] = {px, px};
+		expect_recovered(path, same, 2, "not finalised", "aborted recording");
+	}
 
-	/* the final name appears only on finish */
+	/* the file is at its name while it grows; an existing file is never replaced
+	 * unless asked (overwrite), and nothing is touched when it is not */
+	o.overwrite = 0;
+	struct dao_oni_writer *w2 = NULL;
+	struct stat st0, st1;
+	assert_int_equal(stat(path, &st0), 0);
+	err.message[0] = 0;
+	assert_int_equal(dao_oni_writer_open(path, &o, &w2, &err), -EEXIST);
+	assert_null(w2);
+	expect_message(&err, path, "existing file");
+	expect_message(&err, "exists", "existing file");
+	assert_int_equal(stat(path, &st1), 0);
+	assert_int_equal(st1.st_size, st0.st_size);
+	o.overwrite = 1;
 	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
 	assert_int_equal(dao_oni_writer_write_depth(w, &f, 0, &err), 0);
-	assert_int_equal(access(path, F_OK), -1);
+	assert_int_equal(access(path, F_OK), 0);
+	assert_int_equal(count_entries(sub), 1);
 	assert_int_equal(dao_oni_writer_finish(w, &err), 0);
 	assert_int_equal(access(path, F_OK), 0);
+	/* only regular files: a directory, a FIFO */
+	char other[PLEN];
+	fmt(other, "%s/d.oni", sub);
+	assert_int_equal(mkdir(other, 0700), 0);
+	assert_int_equal(dao_oni_writer_open(other, &o, &w2, &err), -EISDIR);
+	assert_null(w2);
+	expect_message(&err, "directory", "a directory");
+	rmdir(other);
+	assert_int_equal(mkfifo(other, 0600), 0);
+	assert_int_equal(dao_oni_writer_open(other, &o, &w2, &err), -EINVAL);
+	assert_null(w2);
+	expect_message(&err, "not a regular file", "a FIFO");
+	unlink(other);
 	assert_int_equal(count_entries(sub), 1);
 	unlink(path);
 
@@ -639,7 +723,27 @@ static void test_writer_rules(void **state)
 	rmdir(sub);
 }
 
-/* A write that fails (the file size limit here) ends the recording cleanly. */
+/* Frame count of the node record and of the data-begin record, and the file's max timestamp. */
+static void header_counts(const char *path, uint32_t *node, uint32_t *data_begin, uint64_t *max_ts)
+{
+	struct bytes b = load(path);
+	size_t f = FILE_HEADER + REC_HEADER;
+	assert_true(b.n > f + 4);
+	size_t counts = f + 4 + rd32(b.p + f) + 8; /* name, then node type and codec */
+	*node = rd32(b.p + counts);
+	size_t db = find_record(&b, 0x08, 0); /* NODE_DATA_BEGIN: u32 frames, u64 max ts */
+	assert_true(db > 0);
+	*data_begin = rd32(b.p + db + REC_HEADER);
+	*max_ts = (uint64_t)rd32(b.p + 12) | ((uint64_t)rd32(b.p + 16) << 32);
+	free(b.p);
+}
+
+/*
+ * A write that fails (the file size limit here, -EFBIG; a full disk is the
+ * same path with -ENOSPC) ends the recording; the frames before it stay and
+ * are finalised by finish, or, when not even the end record fits, stay in an
+ * unfinished file whose header counts them all.
+ */
 static void test_write_failure(void **state)
 {
 	(void)state;
@@ -647,35 +751,216 @@ static void test_write_failure(void **state)
 	fresh_subdir(sub, "full");
 	snprintf(path, sizeof path, "%s/x.oni", sub);
 	struct dao_oni_writer_options o = {200, 200, 30, DAO_ONI_CODEC_NONE,
-					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.8, 0};
-	struct dao_oni_writer *w;
-	struct dao_error err = {0};
-	struct dao_frame f = new_depth(200, 200);
-	f.depth_unit = 0.001f;
-	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
+					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.8, 0, 0};
+	uint16_t *want[1] = {malloc(200 * 200 * 2)};
+	assert_non_null(want[0]);
+	for (int i = 0; i < 200 * 200; i++)
+		want[0][i] = (uint16_t)(500 + i % 3000);
+	struct dao_frame f = {DAO_PIXFMT_DEPTH16, 200, 200, 400, want[0], 0.001f, 0, 0};
 	struct rlimit old, lim;
 	assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
 	void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
-	lim.rlim_cur = 100000; /* room for one 80 KB frame, not two */
-	lim.rlim_max = old.rlim_max;
-	assert_int_equal(setrlimit(RLIMIT_FSIZE, &lim), 0);
-	int r0 = dao_oni_writer_write_depth(w, &f, 0, &err);
-	int r1 = dao_oni_writer_write_depth(w, &f, 1, &err);
-	struct dao_error err1 = err;
-	int r2 = dao_oni_writer_write_depth(w, &f, 2, &err);
-	struct dao_error err2 = err;
-	int r3 = dao_oni_writer_finish(w, &err);
-	assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+	/* room after the first frame: none, less than an end record, enough for the tail */
+	static const uint64_t room[] = {20, 60, 20000};
+	for (int i = 0; i < 3; i++) {
+		struct dao_oni_writer *w;
+		struct dao_error err = {0};
+		struct dao_oni_writer_status st;
+		unlink(path);
+		assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
+		int r0 = dao_oni_writer_write_depth(w, &f, 0, &err);
+		dao_oni_writer_get_status(w, &st);
+		lim.rlim_cur = st.bytes + room[i];
+		lim.rlim_max = old.rlim_max;
+		assert_int_equal(setrlimit(RLIMIT_FSIZE, &lim), 0);
+		int r1 = dao_oni_writer_write_depth(w, &f, 1, &err);
+		struct dao_error err1 = err;
+		int r2 = dao_oni_writer_write_depth(w, &f, 2, &err);
+		struct dao_error err2 = err;
+		struct dao_oni_writer_status st2;
+		dao_oni_writer_get_status(w, &st2);
+		err.message[0] = 0;
+		int r3 = dao_oni_writer_finish(w, &err);
+		assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+		assert_int_equal(r0, 0);
+		assert_int_equal(r1, -EFBIG);
+		expect_message(&err1, "cannot write", "failed write");
+		expect_message(&err1, "keeps its first 1 frame", "failed write");
+		assert_int_equal(r2, -EFBIG);
+		expect_message(&err2, "earlier write", "write after a failure");
+		assert_int_equal(st2.frames, 1);
+		assert_int_equal(st2.error, -EFBIG);
+		assert_int_equal(count_entries(sub), 1);
+		uint32_t node, db;
+		uint64_t max_ts;
+		header_counts(path, &node, &db, &max_ts);
+		assert_int_equal(node, 1);
+		assert_int_equal(db, 1);
+		if (i == 0) { /* the end record does not fit: kept unfinished, and said so */
+			assert_int_equal(r3, -EFBIG);
+			expect_message(&err, "1 frame", "finish without room");
+			expect_message(&err, "not finalised", "finish without room");
+			expect_recovered(path, want, 1, "not finalised", "no room for the end");
+		} else { /* finalised (without a seek table when only the end record fits) */
+			if (r3)
+				fail_msg("room %llu: finish: %s", (unsigned long long)room[i], err.message);
+			expect_recovered(path, want, 1, NULL, "finished after a failure");
+		}
+	}
 	signal(SIGXFSZ, prev);
-	dao_frame_free(&f);
-	assert_int_equal(r0, 0);
-	assert_int_equal(r1, -EFBIG);
-	expect_message(&err1, "cannot write", "failed write");
-	assert_int_equal(r2, -EFBIG);
-	expect_message(&err2, "earlier write", "write after a failure");
-	assert_int_equal(r3, -EFBIG);
-	expect_message(&err, "not saved", "finish after a failure");
-	assert_int_equal(count_entries(sub), 0); /* neither the file nor its temporary */
+	free(want[0]);
+}
+
+static double now_s(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* A 37x23 frame for frame k through the writer (packed rows). */
+static int write_one(struct dao_oni_writer *w, uint16_t *px, uint64_t ts)
+{
+	struct dao_frame f = {DAO_PIXFMT_DEPTH16, SW, SH, SW * 2, px, 0.001f, 0, 0};
+	struct dao_error err = {0};
+	int r = dao_oni_writer_write_depth(w, &f, ts, &err);
+	if (r)
+		fprintf(stderr, "write: %s\n", err.message);
+	return r;
+}
+
+/*
+ * Syncs: none per frame, one when a frame comes a second or more after the
+ * last one (or the start); the header then counts the synced frames.
+ */
+static void test_sync_interval(void **state)
+{
+	(void)state;
+	enum { N = 40 };
+	char path[PLEN];
+	pathof(path, "sync.oni");
+	unlink(path);
+	struct dao_oni_writer_options o = default_options(DAO_ONI_CODEC_16ZT, DAO_ONI_PIXEL_DEPTH_1_MM);
+	o.overwrite = 0;
+	uint16_t *frames[N + 1];
+	for (int k = 0; k <= N; k++) {
+		frames[k] = malloc(SW * SH * sizeof(uint16_t));
+		assert_non_null(frames[k]);
+		gen_frame(frames[k], SW, SH, k, max_count(&o));
+	}
+	struct dao_oni_writer *w;
+	struct dao_error err = {0};
+	struct dao_oni_writer_status st;
+	double t0 = now_s();
+	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
+	for (int k = 0; k < N; k++)
+		assert_int_equal(write_one(w, frames[k], 1000 + 33333 * (uint64_t)k), 0);
+	double elapsed = now_s() - t0;
+	dao_oni_writer_get_status(w, &st);
+	assert_int_equal(st.frames, N);
+	assert_int_equal(st.error, 0);
+	/* at most one sync per second since the start, not one per frame */
+	if (st.syncs > (uint32_t)elapsed)
+		fail_msg("%u syncs in %.2f s", st.syncs, elapsed);
+	if (st.syncs == 0)
+		assert_int_equal(st.synced_frames, 0);
+	uint32_t node, db;
+	uint64_t max_ts;
+	header_counts(path, &node, &db, &max_ts);
+	assert_int_equal(node, st.synced_frames);
+	assert_int_equal(db, st.synced_frames);
+	/* a frame a second later is synced with all before it, and counted in the header */
+	struct timespec pause = {1, 50000000};
+	nanosleep(&pause, NULL);
+	assert_int_equal(write_one(w, frames[N], 1000 + 33333 * (uint64_t)N), 0);
+	dao_oni_writer_get_status(w, &st);
+	assert_int_equal(st.frames, N + 1);
+	assert_int_equal(st.synced_frames, N + 1);
+	assert_true(st.syncs >= 1);
+	header_counts(path, &node, &db, &max_ts);
+	assert_int_equal(node, N + 1);
+	assert_int_equal(db, N + 1);
+	assert_int_equal(max_ts, 1000 + 33333 * (uint64_t)N);
+	/* unfinished, it reads back whole, with a warning */
+	expect_recovered(path, frames, N + 1, "not finalised", "synced, not finished");
+	assert_int_equal(dao_oni_writer_sync(w, &err), 0);
+	assert_int_equal(dao_oni_writer_finish(w, &err), 0);
+	expect_recovered(path, frames, N + 1, NULL, "finished");
+	for (int k = 0; k <= N; k++)
+		free(frames[k]);
+	unlink(path);
+}
+
+/*
+ * kill -9 while recording: the file is at its name with every frame written,
+ * the header counts those synced (what OpenNI2 plays), and a write cut short
+ * at the end (a power cut) is dropped.
+ */
+static void test_killed_writer(void **state)
+{
+	(void)state;
+	enum { N = 8, SYNC_AT = 5 };
+	char sub[PLEN], path[PLEN + 16];
+	fresh_subdir(sub, "kill");
+	snprintf(path, sizeof path, "%s/k.oni", sub);
+	struct dao_oni_writer_options o = default_options(DAO_ONI_CODEC_16Z, DAO_ONI_PIXEL_DEPTH_1_MM);
+	uint16_t *frames[N];
+	for (int k = 0; k < N; k++) {
+		frames[k] = malloc(SW * SH * sizeof(uint16_t));
+		assert_non_null(frames[k]);
+		gen_frame(frames[k], SW, SH, k, max_count(&o));
+	}
+	int fds[2];
+	assert_int_equal(pipe(fds), 0);
+	fflush(NULL);
+	pid_t pid = fork();
+	assert_true(pid >= 0);
+	if (pid == 0) {
+		struct dao_oni_writer *w;
+		struct dao_error err;
+		struct dao_oni_writer_status st;
+		struct timespec pause = {1, 50000000};
+		if (dao_oni_writer_open(path, &o, &w, &err))
+			_exit(2);
+		for (int k = 0; k < N; k++) {
+			if (k == SYNC_AT)
+				nanosleep(&pause, NULL); /* this frame is synced, with all before */
+			if (write_one(w, frames[k], 1000 + 33333 * (uint64_t)k))
+				_exit(3);
+		}
+		dao_oni_writer_get_status(w, &st);
+		if (write(fds[1], &st.synced_frames, sizeof st.synced_frames) != sizeof st.synced_frames)
+			_exit(4);
+		raise(SIGKILL);
+		_exit(5);
+	}
+	close(fds[1]);
+	uint32_t synced = 0;
+	assert_int_equal(read(fds[0], &synced, sizeof synced), sizeof synced);
+	close(fds[0]);
+	int ws;
+	assert_int_equal(waitpid(pid, &ws, 0), pid);
+	assert_true(WIFSIGNALED(ws) && WTERMSIG(ws) == SIGKILL);
+	assert_true(synced >= SYNC_AT + 1);
+	assert_int_equal(count_entries(sub), 1);
+	expect_recovered(path, frames, N, "not finalised", "killed writer");
+	uint32_t node, db;
+	uint64_t max_ts;
+	header_counts(path, &node, &db, &max_ts);
+	assert_int_equal(node, synced);
+	assert_int_equal(db, synced);
+	assert_int_equal(max_ts, 1000 + 33333 * (uint64_t)(synced - 1));
+	/* half a record more at the end: dropped */
+	struct bytes b = load(path);
+	size_t at = find_record(&b, REC_NEW_DATA, 1);
+	FILE *f = fopen(path, "ab");
+	assert_non_null(f);
+	assert_int_equal(fwrite(b.p + at, 1, 60, f), 60);
+	assert_int_equal(fclose(f), 0);
+	expect_recovered(path, frames, N, "cut short", "killed writer, cut record");
+	free(b.p);
+	for (int k = 0; k < N; k++)
+		free(frames[k]);
 }
 
 static void test_codec_names(void **state)
@@ -700,19 +985,6 @@ static void test_codec_names(void **state)
 }
 
 /* --- (c) bad input ------------------------------------------------------- */
-
-static void expect_open_error(const char *path, int code, const char *needle, const char *ctx)
-{
-	static char dummy;
-	struct dao_oni_reader *r = (struct dao_oni_reader *)(void *)&dummy; /* must be reset */
-	struct dao_error err = {0};
-	int ret = dao_oni_reader_open(path, &r, &err);
-	if (ret != code)
-		fail_msg("%s: open returned %d (%s), expected %d", ctx, ret, err.message, code);
-	assert_null(r);
-	assert_int_equal(err.code, code);
-	expect_message(&err, needle, ctx);
-}
 
 static void test_bad_files(void **state)
 {
@@ -764,30 +1036,60 @@ static void test_bad_files(void **state)
 	assert_true(first_data > FILE_HEADER);
 	assert_true(second_data > first_data);
 	assert_int_equal(end + REC_HEADER, b.n); /* the end record is last */
+	/* cut before the first complete frame: nothing to recover */
 	save(path, b.p, 10);
 	expect_open_error(path, -EINVAL, "header", "cut inside the file header");
 	save(path, b.p, FILE_HEADER);
 	expect_open_error(path, -EINVAL, "truncated", "cut after the file header");
 	save(path, b.p, FILE_HEADER + 10);
-	expect_open_error(path, -EINVAL, "inside the header of record", "cut in a record header");
-	save(path, b.p, second_data + 5);
-	expect_open_error(path, -EINVAL, "inside the header of record", "cut in a frame header");
+	expect_open_error(path, -EINVAL, "before its first complete frame", "cut in a record header");
 	size_t payload = first_data + REC_HEADER + 12;
 	save(path, b.p, payload + 5);
-	expect_open_error(path, -EINVAL, "truncated", "cut inside a payload");
+	expect_open_error(path, -EINVAL, "before its first complete frame", "cut inside a payload");
+	save(path, b.p, first_data);
+	expect_open_error(path, -EINVAL, "nothing to recover", "cut before the first frame");
+	/* cut after complete frames: an unfinished recording, recovered with a warning */
+	save(path, b.p, second_data + 5);
+	expect_recovered(path, frames, 1, "cut short", "cut in a frame header");
+	save(path, b.p, second_data + REC_HEADER + 12 + 3);
+	expect_recovered(path, frames, 1, "cut short", "cut in a frame's payload");
 	save(path, b.p, second_data);
-	expect_open_error(path, -EINVAL, "without an end record", "cut between records");
+	expect_recovered(path, frames, 1, "without an end record", "cut between records");
 	save(path, b.p, end);
-	expect_open_error(path, -EINVAL, "without an end record", "cut before the end record");
-	/* every other cut fails cleanly too */
-	for (size_t cut = 0; cut < b.n; cut++) {
-		save(path, b.p, cut);
-		struct dao_oni_reader *r = NULL;
-		struct dao_error err = {0};
-		int ret = dao_oni_reader_open(path, &r, &err);
-		if (ret != -EINVAL || r || !err.message[0])
-			fail_msg("cut at %zu of %zu: open returned %d (%s)", cut, b.n, ret, err.message);
+	expect_recovered(path, frames, NF, "without an end record", "cut before the end record");
+	/* every cut: the complete frames before it, pixel for pixel, or a clean error */
+	size_t frame_end[NF];
+	for (int k = 0; k < NF; k++) {
+		size_t at = find_record(&b, REC_NEW_DATA, k);
+		frame_end[k] = at + rd32(b.p + at + 12) + rd32(b.p + at + 16);
 	}
+	for (size_t cut = 0; cut < b.n; cut++) {
+		uint32_t complete = 0;
+		while (complete < NF && frame_end[complete] <= cut)
+			complete++;
+		save(path, b.p, cut);
+		char ctx[64];
+		snprintf(ctx, sizeof ctx, "cut at %zu of %zu", cut, b.n);
+		if (complete)
+			expect_recovered(path, frames, complete, "not finalised", ctx);
+		else
+			expect_open_error(path, -EINVAL, cut < FILE_HEADER ? "header" : "truncated", ctx);
+	}
+	/* zeros after the last record (space allocated, data lost in a power cut) */
+	memcpy(p, b.p, second_data);
+	memset(p + second_data, 0, b.n - second_data);
+	save(path, p, b.n);
+	expect_recovered(path, frames, 1, "zero", "zeros at the end");
+	/* but not garbage: that is corruption */
+	memset(p + second_data + 200, 0x5A, 1);
+	save(path, p, b.n);
+	expect_open_error(path, -EINVAL, "bad record magic", "zeros, then garbage");
+	/* a frame count in the header that is too small does not matter (the reader counts) */
+	memcpy(p, b.p, b.n);
+	size_t counts = FILE_HEADER + REC_HEADER + 4 + rd32(b.p + FILE_HEADER + REC_HEADER) + 8;
+	wr32(p + counts, 1);
+	save(path, p, b.n);
+	expect_recovered(path, frames, NF, NULL, "stale frame count");
 
 	/* a NONE frame whose payload is larger than the frame: size patched, bytes inserted */
 	{
@@ -1230,7 +1532,8 @@ int main(int argc, char **argv)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_round_trips),   cmocka_unit_test(test_old_layout),
 		cmocka_unit_test(test_unit_conversion), cmocka_unit_test(test_writer_rules),
-		cmocka_unit_test(test_write_failure),
+		cmocka_unit_test(test_write_failure), cmocka_unit_test(test_sync_interval),
+		cmocka_unit_test(test_killed_writer),
 		cmocka_unit_test(test_codec_names),   cmocka_unit_test(test_bad_files),
 		cmocka_unit_test(test_corrupt_payload), cmocka_unit_test(test_file_shrinks),
 		cmocka_unit_test(test_regressions),

@@ -24,7 +24,7 @@ static inline uint16_t test_depth(uint32_t f, uint32_t x, uint32_t y)
 static inline int test_write_oni(const char *path, uint32_t frames, enum dao_oni_codec codec)
 {
 	struct dao_oni_writer_options o = {TEST_W, TEST_H, TEST_FPS, codec,
-					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.75, 0};
+					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.75, 0, 1};
 	struct dao_oni_writer *w;
 	struct dao_frame d;
 	struct dao_error err;

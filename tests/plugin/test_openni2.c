@@ -111,7 +111,7 @@ static void test_synth_scene_round_trip(void **state)
 		char uri[600];
 		snprintf(uri, sizeof uri, "openni2:%s/spheres-%s.oni", g_dir, dao_oni_codec_name(codecs[c]));
 		struct dao_oni_writer_options o = {640, 480, 30, codecs[c], DAO_ONI_PIXEL_DEPTH_1_MM, 0,
-						   0, 0, 0};
+						   0, 0, 0, 0};
 		dao_camera_fov(&cam, &o.hfov, &o.vfov);
 		struct dao_oni_writer *w;
 		assert_int_equal(dao_oni_writer_open(uri + 8, &o, &w, &err), 0);

@@ -230,6 +230,7 @@ static int write_sequence(const struct synth_options *o)
 		struct dao_oni_writer_options wo = {
 			.width = cam.width, .height = cam.height, .fps = SYNTH_ONI_FPS,
 			.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
+			.overwrite = 1, /* made again, like the PNGs beside it */
 		};
 		dao_camera_fov(&cam, &wo.hfov, &wo.vfov);
 		if (!(oni_path = malloc(n + 5)))
