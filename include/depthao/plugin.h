@@ -60,6 +60,8 @@ struct dao_source_info {
 	int has_color;              /* read() also delivers colour (RGB24) */
 	uint32_t color_width, color_height;
 	char description[160];      /* one line for logs: device or file, format, codec */
+	char warning[256];          /* empty, or a line to show as a warning (e.g. a
+				       recording recovered after its writer crashed) */
 };
 
 /* How a recording is played; live sources ignore what does not apply. */
@@ -122,6 +124,9 @@ struct dao_sink_format {
 	int mirrored;               /* the images are mirrored left-right (recorders store it) */
 };
 
+/* Levels of the messages a sink logs through its host. */
+enum dao_log_level { DAO_LOG_ERROR = 0, DAO_LOG_WARN, DAO_LOG_INFO };
+
 /* What a sink may ask of the program running it (the daemon); all optional. */
 struct dao_sink_host {
 	void *user;
@@ -129,6 +134,9 @@ struct dao_sink_host {
 	int (*get_param)(void *user, const char *name, char *value, size_t len);
 	/* changes one for the next frames (dao_params_set rules); 0 or < 0 */
 	int (*set_param)(void *user, const char *name, const char *value);
+	/* one line for the log (e.g. the file a recorder chose because the one named
+	 * existed); `level` is an enum dao_log_level */
+	void (*log)(void *user, int level, const char *message);
 };
 
 struct dao_sink_ops {
@@ -144,11 +152,18 @@ struct dao_sink_ops {
 	int (*negotiate)(void *state, struct dao_sink_format *fmt, struct dao_error *err);
 	/*
 	 * frame->sequence numbers the output where a sink names files by frame.
+	 * 0: the frame is in the output (handed to the kernel, for files).
 	 * -ECANCELED: the sink is finished for good (e.g. its window was closed).
+	 * -ENOSPC (also for a short write on a full disk), -EDQUOT, -EFBIG,
+	 * -EROFS, -EPIPE (the reader went away): the output cannot take more;
+	 * everything written before stays (a recorder's file keeps its complete
+	 * frames), and later writes fail the same way.
 	 */
 	int (*write)(void *state, const struct dao_frame *frame, struct dao_error *err);
+	/* hands on anything buffered; recorders also sync their file to disk */
 	int (*flush)(void *state, struct dao_error *err);
-	/* finalises (headers, seek tables, renames) and frees; errors say what was lost */
+	/* finalises (headers, seek tables, renames) and frees; errors say what was lost;
+	 * never removes what was written */
 	int (*close)(void *state, struct dao_error *err);
 	/* optional: the host, before negotiate; valid until close (e.g. window controls) */
 	void (*attach_host)(void *state, const struct dao_sink_host *host);

@@ -153,7 +153,8 @@ class dao_source_info(ctypes.Structure):
                 ("live", ctypes.c_int), ("mirrored", ctypes.c_int),
                 ("registered", ctypes.c_int), ("has_color", ctypes.c_int),
                 ("color_width", ctypes.c_uint32), ("color_height", ctypes.c_uint32),
-                ("description", ctypes.c_char * 160)]
+                ("description", ctypes.c_char * 160),
+                ("warning", ctypes.c_char * 256)]
 
 
 class dao_source_options(ctypes.Structure):

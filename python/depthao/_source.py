@@ -9,6 +9,7 @@ import numbers
 import os
 import threading
 import time
+import warnings
 
 import numpy as np
 
@@ -135,7 +136,11 @@ class Source:
             "mirrored": bool(info.mirrored),
             "registered": bool(info.registered),
             "description": _lib.text(info.description),
+            "warning": _lib.text(info.warning) or None,
         }
+        if self.info["warning"]:
+            # e.g. a recording whose writer crashed, recovered up to its last frame
+            warnings.warn(self.info["warning"], RuntimeWarning, stacklevel=3)
         try:
             _lib.check(lib.dao_source_start(src, ctypes.byref(err)), err)
         except BaseException:

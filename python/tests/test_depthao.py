@@ -438,6 +438,25 @@ def test_oni_recording(oni_frames):
         next(src)
 
 
+def test_unfinished_recording(tmp_path, oni_frames):
+    """A recording whose writer died (no end record, the last frame cut short)
+    plays up to its last complete frame, with a RuntimeWarning."""
+    _, frames = oni_frames
+    data = open(ONI, "rb").read()
+    cut = tmp_path / "cut.oni"
+    cut.write_bytes(data[:len(data) * 2 // 3])
+    with pytest.warns(RuntimeWarning, match="not finalised"):
+        src = depthao.open(str(cut))
+    with src:
+        assert "cut.oni" in src.info["warning"]
+        got = [(i, d) for i, d, _ in src]
+    assert 0 < len(got) < 16
+    for i, d in got:
+        assert np.array_equal(d, frames[i][1])
+    with depthao.open(ONI) as src:
+        assert src.info["warning"] is None
+
+
 def test_realtime_playback():
     t0 = time.monotonic()
     n = sum(1 for _ in depthao.open(ONI, playback="realtime", start=12))

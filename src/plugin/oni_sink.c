@@ -2,12 +2,19 @@
 /*
  * Built-in sink "oni": records the depth stream as an .oni file through
  * depthao's own writer.  URI: "PATH" optionally followed by
- * "?codec=none|16z|16zt" (default 16zt, what OpenNI2 records; a '?' that
- * is not followed by key=value is part of the file name).
+ * "?codec=none|16z|16zt" (default 16zt, what OpenNI2 records) and
+ * "&overwrite=true" (a '?' that is not followed by key=value is part of the
+ * file name).
  *
  * Nothing is created before the format is known: the writer is opened by
- * negotiate, writes under a temporary name beside PATH and renames it into
- * place at close.  A recording without frames leaves no file at all.
+ * negotiate and the file grows at its name (see dao_oni_writer_open: synced
+ * every second, recoverable after a crash); close finalises it.  A
+ * recording is never written over another: when PATH exists (an earlier
+ * run, a daemon restarted after a crash, a reopen after an error), it goes
+ * to PATH-1.oni, PATH-2.oni, ... instead, said in the host's log, unless
+ * overwrite=true.  After a write error (a full disk) the file keeps the
+ * frames before it and close still finalises them; flush syncs the file.
+ * A recording without frames leaves no file at all.
  *
  * What goes into the file:
  *   - depth unit 0.0001 m -> pixel format "100 um", anything else "1 mm"
@@ -26,6 +33,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,35 +44,32 @@
 #include "core/error_internal.h"
 #include "core/math_util.h"
 #include "plugin/builtin.h"
+#include "plugin/output_path.h"
 
 #define ONI_SINK_DEFAULT_FPS 30
 #define ONI_SINK_DEFAULT_HFOV_DEG 58.5
 #define ONI_SINK_DEFAULT_VFOV_DEG 45.6
-#define ONI_SINK_OPTIONS_HELP "?codec=none|16z|16zt"
+#define ONI_SINK_OPTIONS_HELP "?codec=none|16z|16zt&overwrite=true|false"
 
 struct oni_sink {
-	char *path;
+	char *path;                    /* as given */
+	char *file;                    /* the file being written (path or path-N.oni) */
 	enum dao_oni_codec codec;
+	int overwrite;
 	struct dao_oni_writer *writer; /* from negotiate on */
+	struct dao_sink_host host;
 	uint32_t fps;
 	uint64_t nframes;
 	uint64_t last_ts_us;
 };
 
-/* Length of the path part of a URI: up to the last '?' if options ("k=v") follow. */
-static size_t path_len(const char *uri)
-{
-	const char *q = strrchr(uri, '?');
-	return q && strchr(q, '=') ? (size_t)(q - uri) : strlen(uri);
-}
-
 static int oni_sink_probe(const char *uri)
 {
-	size_t n = path_len(uri);
+	size_t n = dao_output_uri_path_len(uri);
 	return n > 4 && !strncasecmp(uri + n - 4, ".oni", 4) ? 50 : 0;
 }
 
-/* "codec=X[&...]" after the '?'. */
+/* "codec=X&overwrite=B" after the '?'. */
 static int parse_options(struct oni_sink *s, const char *uri, const char *opts,
 			 struct dao_error *err)
 {
@@ -76,7 +81,9 @@ static int parse_options(struct oni_sink *s, const char *uri, const char *opts,
 		char *v = strchr(kv, '=');
 		if (v)
 			*v++ = '\0';
-		if (strcmp(kv, "codec") != 0) {
+		if (!strcmp(kv, "overwrite")) {
+			r = dao_output_parse_overwrite("oni", uri, v, &s->overwrite, err);
+		} else if (strcmp(kv, "codec") != 0) {
 			r = dao_error_set(err, -EINVAL,
 					  "oni: unknown option '%s' in '%s'; the recorder takes "
 					  ONI_SINK_OPTIONS_HELP,
@@ -94,7 +101,7 @@ static int parse_options(struct oni_sink *s, const char *uri, const char *opts,
 	return r;
 }
 
-/* The directory a file would go to must exist and be writable. */
+/* A file, or nothing, at `path`, in a directory that exists and is writable. */
 static int check_dir(const char *path, struct dao_error *err)
 {
 	struct stat st;
@@ -102,6 +109,11 @@ static int check_dir(const char *path, struct dao_error *err)
 		return dao_error_set(err, -EISDIR,
 				     "oni: %s is a directory; give the path of the .oni file "
 				     "to write",
+				     path);
+	if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+		return dao_error_set(err, -EINVAL,
+				     "oni: %s is not a regular file (a device, FIFO or socket); "
+				     "the recorder writes .oni files",
 				     path);
 	const char *slash = strrchr(path, '/');
 	char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
@@ -118,7 +130,7 @@ static int check_dir(const char *path, struct dao_error *err)
 static int oni_sink_open(const char *uri, void **state, struct dao_error *err)
 {
 	int r;
-	size_t n = path_len(uri);
+	size_t n = dao_output_uri_path_len(uri);
 	if (n == 0)
 		return dao_error_set(err, -EINVAL,
 				     "oni: no output file given; use oni:PATH.oni" ONI_SINK_OPTIONS_HELP);
@@ -140,13 +152,73 @@ fail:
 	return r;
 }
 
+static void oni_sink_attach_host(void *state, const struct dao_sink_host *host)
+{
+	struct oni_sink *s = state;
+	s->host = *host;
+}
+
+static void note(struct oni_sink *s, int level, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+static void note(struct oni_sink *s, int level, const char *fmt, ...)
+{
+	char msg[DAO_ERROR_MESSAGE_MAX + 256];
+	va_list ap;
+	if (!s->host.log)
+		return;
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	s->host.log(s->host.user, level, msg);
+}
+
+/* Opens the writer at the path, or at the first free numbered name beside it. */
+static int open_writer(struct oni_sink *s, struct dao_oni_writer_options *o,
+		       struct dao_error *err)
+{
+	char *name = s->path;
+	o->overwrite = s->overwrite;
+	int r = dao_oni_writer_open(name, o, &s->writer, err);
+	o->overwrite = 0;
+	for (unsigned k = 1; r == -EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
+		struct stat st;
+		if (!(name = dao_output_numbered(s->path, k)))
+			return dao_error_set(err, -ENOMEM, "out of memory");
+		r = lstat(name, &st) == 0 ? -EEXIST : dao_oni_writer_open(name, o, &s->writer, err);
+		if (r == 0)
+			break;
+		free(name);
+		name = s->path;
+	}
+	if (r == -EEXIST)
+		return dao_error_set(err, r,
+				     "oni: %s and its numbered names up to -%u exist; a recording "
+				     "never replaces a file (add ?overwrite=true to replace it)",
+				     s->path, DAO_OUTPUT_NUMBERED_MAX);
+	if (r < 0) {
+		s->writer = NULL;
+		return r;
+	}
+	if (name != s->path) {
+		note(s, DAO_LOG_INFO,
+		     "oni: %s exists; recording to %s instead (a recording never replaces a "
+		     "file; add ?overwrite=true to replace it)",
+		     s->path, name);
+		free(s->file);
+		s->file = name;
+	}
+	return 0;
+}
+
 static int oni_sink_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
 {
 	struct oni_sink *s = state;
 	if (s->writer) { /* negotiated again before the first frame: start over */
-		dao_oni_writer_abort(s->writer);
+		dao_oni_writer_abort(s->writer); /* no frames: the file goes */
 		s->writer = NULL;
 		s->nframes = 0;
+		free(s->file);
+		s->file = NULL;
 	}
 	if (fmt->format != DAO_PIXFMT_DEPTH16)
 		return dao_error_set(err, -ENOTSUP,
@@ -171,11 +243,9 @@ static int oni_sink_negotiate(void *state, struct dao_sink_format *fmt, struct d
 		o.hfov = ONI_SINK_DEFAULT_HFOV_DEG * DAO_PI / 180;
 		o.vfov = ONI_SINK_DEFAULT_VFOV_DEG * DAO_PI / 180;
 	}
-	int r = dao_oni_writer_open(s->path, &o, &s->writer, err);
-	if (r < 0) {
-		s->writer = NULL;
+	int r = open_writer(s, &o, err);
+	if (r < 0)
 		return r;
-	}
 	s->fps = o.fps;
 	return 0;
 }
@@ -195,7 +265,8 @@ static int oni_sink_write(void *state, const struct dao_frame *frame, struct dao
 	if (r < 0) {
 		if (e.code != r) /* the writer returned without a message */
 			dao_error_set(&e, r, "oni: writing frame %llu to %s failed: %s",
-				      (unsigned long long)s->nframes, s->path, strerror(-r));
+				      (unsigned long long)s->nframes, s->file ? s->file : s->path,
+				      strerror(-r));
 		if (err)
 			*err = e;
 		return r;
@@ -207,9 +278,9 @@ static int oni_sink_write(void *state, const struct dao_frame *frame, struct dao
 
 static int oni_sink_flush(void *state, struct dao_error *err)
 {
-	(void)state;
-	(void)err;
-	return 0; /* the writer flushes (and syncs) every frame */
+	struct oni_sink *s = state;
+	/* frames are in the file as they are written; this puts them on the disk */
+	return s->writer && s->nframes ? dao_oni_writer_sync(s->writer, err) : 0;
 }
 
 static int oni_sink_close(void *state, struct dao_error *err)
@@ -219,7 +290,8 @@ static int oni_sink_close(void *state, struct dao_error *err)
 	if (s->writer && s->nframes == 0)
 		dao_oni_writer_abort(s->writer); /* nothing to save: no file */
 	else if (s->writer)
-		r = dao_oni_writer_finish(s->writer, err);
+		r = dao_oni_writer_finish(s->writer, err); /* also after a failed write */
+	free(s->file);
 	free(s->path);
 	free(s);
 	return r;
@@ -232,4 +304,5 @@ const struct dao_sink_ops dao_oni_sink_ops = {
 	.write = oni_sink_write,
 	.flush = oni_sink_flush,
 	.close = oni_sink_close,
+	.attach_host = oni_sink_attach_host,
 };

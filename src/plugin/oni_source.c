@@ -4,6 +4,8 @@
  * OpenNI needed.  Manual playback hands out every frame once; real-time
  * playback sleeps until each frame's recorded time has come (relative to
  * the first frame delivered); loop wraps to the first frame (or start_frame).
+ * A recording that was never finished (its writer crashed) plays up to its
+ * last complete frame; the reader's warning says so (info.warning).
  */
 #include <depthao/oni.h>
 #include <depthao/plugin.h>
@@ -105,6 +107,9 @@ static void oni_get_info(void *state, struct dao_source_info *in)
 	snprintf(in->description, sizeof(in->description), "%.60s: %.40s %ux%u@%u %s, %u frames",
 		 s->path_tail, s->info.name, s->info.width, s->info.height, s->info.fps,
 		 s->info.codec_fourcc, s->info.frame_count);
+	const char *w = dao_oni_reader_warning(s->reader); /* an unfinished recording */
+	if (w)
+		snprintf(in->warning, sizeof(in->warning), "%s", w);
 }
 
 static int oni_start(void *state, struct dao_error *err)

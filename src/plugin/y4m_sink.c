@@ -1,8 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Built-in sink "y4m": a YUV4MPEG2 stream (what ffmpeg, ffplay and mpv read
- * from a pipe) to stdout ("-"), a regular file (created or truncated) or an
- * existing FIFO.
+ * from a pipe) to stdout ("-"), a file, an existing FIFO or a character
+ * device.  URI: "PATH" or "PATH?overwrite=true".
+ *
+ * Files: a y4m file cannot be continued after a new header, so a file that
+ * exists is never truncated: the stream goes to the first free one of
+ * NAME-1.y4m, NAME-2.y4m, ... (said in the host's log), unless
+ * overwrite=true.  Written frames are synced (fdatasync) at least once a
+ * second while frames come, and at close.  A write that fails (a full disk:
+ * -ENOSPC, also after a short write) cuts the partial frame off again, so
+ * the file holds the header and whole frames; the stream then stops.
+ * FIFOs, character devices and stdout are streams: opened without O_CREAT
+ * or O_TRUNC, never replaced.  Directories are refused.
  *
  * The stream header is written at the first write after negotiate:
  *     YUV4MPEG2 W<w> H<h> F<num>:<den> Ip A1:1 C<colorspace>\n
@@ -28,31 +38,40 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/output_path.h"
 
 #define Y4M_FRAME_MAGIC "FRAME\n"
 #define Y4M_DEFAULT_FPS 30
+#define Y4M_SYNC_INTERVAL_MS 1000
 
 struct y4m_sink {
 	int fd;
 	int is_stdout;
-	char *name;                 /* for messages: the path or "stdout" */
+	int regular;                /* a regular file: synced, cut back after a failure */
+	char *name;                 /* for messages: the path written or "stdout" */
+	char *note;                 /* for the host's log, once it is attached */
+	struct dao_sink_host host;
 	struct dao_sink_format fmt;
 	int negotiated;
 	int header_done;
 	int failed;                 /* a write failed part-way: the stream is cut */
 	uint8_t *buf;               /* "FRAME\n" + planes of one frame */
 	size_t buf_len;
+	uint64_t good;              /* bytes of header and whole frames in a regular file */
+	uint64_t frames;
+	struct timespec last_sync;
 };
 
 static int y4m_probe(const char *uri)
 {
-	size_t n = strlen(uri);
+	size_t n = dao_output_uri_path_len(uri);
 	struct stat st;
-	if (n > 4 && !strcasecmp(uri + n - 4, ".y4m"))
+	if (n > 4 && !strncasecmp(uri + n - 4, ".y4m", 4))
 		return 50;
 	if (stat(uri, &st) == 0 && S_ISFIFO(st.st_mode))
 		return 30; /* a FIFO wants a stream */
@@ -61,9 +80,90 @@ static int y4m_probe(const char *uri)
 	return 0;
 }
 
+/* "overwrite=B" after the '?'. */
+static int parse_options(const char *uri, const char *opts, int *overwrite,
+			 struct dao_error *err)
+{
+	char *copy = strdup(opts), *save = NULL;
+	int r = 0;
+	if (!copy)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	for (char *kv = strtok_r(copy, "&", &save); kv && r == 0; kv = strtok_r(NULL, "&", &save)) {
+		char *v = strchr(kv, '=');
+		if (v)
+			*v++ = '\0';
+		if (!strcmp(kv, "overwrite"))
+			r = dao_output_parse_overwrite("y4m", uri, v, overwrite, err);
+		else
+			r = dao_error_set(err, -EINVAL,
+					  "y4m: unknown option '%s' in '%s'; y4m takes "
+					  "?overwrite=true|false",
+					  kv, uri);
+	}
+	free(copy);
+	return r;
+}
+
+/* FIFOs and character devices: straight into them, never created or truncated. */
+static int open_stream(struct y4m_sink *s, const char *path, int fifo, struct dao_error *err)
+{
+	/* O_NONBLOCK first: a FIFO without reader is ENXIO instead of a hang */
+	s->fd = open(path, O_WRONLY | O_CLOEXEC | (fifo ? O_NONBLOCK : 0));
+	if (s->fd < 0) {
+		int r = -errno;
+		if (r == -ENXIO && fifo)
+			return dao_error_set(err, r,
+					     "y4m: no reader on FIFO %s; start the reader (e.g. "
+					     "ffplay %s) first",
+					     path, path);
+		return dao_error_set(err, r, "y4m: cannot open %s for writing: %s", path,
+				     strerror(-r));
+	}
+	int fl = fcntl(s->fd, F_GETFL);
+	if (fl < 0 || fcntl(s->fd, F_SETFL, fl & ~O_NONBLOCK) < 0)
+		return dao_error_set(err, -errno, "y4m: cannot make %s blocking: %s", path,
+				     strerror(errno));
+	return 0;
+}
+
+/* A regular file: new, replaced (overwrite), or the first free numbered name. */
+static int open_file(struct y4m_sink *s, const char *path, int overwrite, struct dao_error *err)
+{
+	const int flags = O_WRONLY | O_CREAT | O_CLOEXEC;
+	s->regular = 1;
+	s->fd = open(path, flags | (overwrite ? O_TRUNC : O_EXCL), 0666);
+	for (unsigned k = 1; s->fd < 0 && errno == EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
+		char *name = dao_output_numbered(path, k);
+		if (!name)
+			return dao_error_set(err, -ENOMEM, "out of memory");
+		s->fd = open(name, flags | O_EXCL, 0666);
+		if (s->fd >= 0) {
+			size_t n = strlen(path) + strlen(name) + 160;
+			if ((s->note = malloc(n)))
+				snprintf(s->note, n,
+					 "y4m: %s exists; writing the stream to %s instead (a y4m "
+					 "file is never replaced; add ?overwrite=true to replace it)",
+					 path, name);
+			free(s->name);
+			s->name = name;
+			return 0;
+		}
+		free(name);
+	}
+	if (s->fd < 0 && errno == EEXIST)
+		return dao_error_set(err, -EEXIST,
+				     "y4m: %s and its numbered names up to -%u exist; add "
+				     "?overwrite=true to replace it",
+				     path, DAO_OUTPUT_NUMBERED_MAX);
+	if (s->fd < 0)
+		return dao_error_set(err, -errno, "y4m: cannot open %s for writing: %s", path,
+				     strerror(errno));
+	return 0;
+}
+
 static int y4m_open(const char *uri, void **state, struct dao_error *err)
 {
-	int r;
+	int r, overwrite = 0;
 	if (!*uri)
 		return dao_error_set(err, -EINVAL,
 				     "y4m: no output given; use y4m:- (stdout), y4m:FILE or "
@@ -73,7 +173,8 @@ static int y4m_open(const char *uri, void **state, struct dao_error *err)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->fd = -1;
 	s->is_stdout = !strcmp(uri, "-");
-	if (!(s->name = strdup(s->is_stdout ? "stdout" : uri))) {
+	size_t n = dao_output_uri_path_len(uri);
+	if (!(s->name = s->is_stdout ? strdup("stdout") : strndup(uri, n))) {
 		r = dao_error_set(err, -ENOMEM, "out of memory");
 		goto fail;
 	}
@@ -82,34 +183,48 @@ static int y4m_open(const char *uri, void **state, struct dao_error *err)
 		*state = s;
 		return 0;
 	}
-	/* O_TRUNC is ignored for FIFOs; O_NONBLOCK makes a FIFO without reader ENXIO */
-	s->fd = open(uri, O_WRONLY | O_CREAT | O_TRUNC | O_NONBLOCK | O_CLOEXEC, 0666);
-	if (s->fd < 0) {
-		r = -errno;
-		if (r == -ENXIO)
-			dao_error_set(err, r,
-				      "y4m: no reader on FIFO %s; start the reader (e.g. ffplay "
-				      "%s) first",
-				      uri, uri);
-		else
-			dao_error_set(err, r, "y4m: cannot open %s for writing: %s", uri,
-				      strerror(-r));
+	if (uri[n] == '?' && (r = parse_options(uri, uri + n + 1, &overwrite, err)) < 0)
+		goto fail;
+	char *path = strdup(s->name);
+	if (!path) {
+		r = dao_error_set(err, -ENOMEM, "out of memory");
 		goto fail;
 	}
-	int fl = fcntl(s->fd, F_GETFL);
-	if (fl < 0 || fcntl(s->fd, F_SETFL, fl & ~O_NONBLOCK) < 0) {
-		r = dao_error_set(err, -errno, "y4m: cannot make %s blocking: %s", uri,
-				  strerror(errno));
+	struct stat st;
+	int exists = stat(path, &st) == 0;
+	if (exists && S_ISDIR(st.st_mode))
+		r = dao_error_set(err, -EISDIR,
+				  "y4m: %s is a directory; give a file, a FIFO or - (stdout)", path);
+	else if (exists && (S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode)))
+		r = open_stream(s, path, S_ISFIFO(st.st_mode), err);
+	else if (exists && !S_ISREG(st.st_mode))
+		r = dao_error_set(err, -EINVAL,
+				  "y4m: %s is neither a file, a FIFO nor a character device", path);
+	else
+		r = open_file(s, path, overwrite, err);
+	free(path);
+	if (r < 0)
 		goto fail;
-	}
+	clock_gettime(CLOCK_MONOTONIC, &s->last_sync);
 	*state = s;
 	return 0;
 fail:
 	if (s->fd >= 0)
 		close(s->fd);
+	free(s->note);
 	free(s->name);
 	free(s);
 	return r;
+}
+
+static void y4m_attach_host(void *state, const struct dao_sink_host *host)
+{
+	struct y4m_sink *s = state;
+	s->host = *host;
+	if (s->note && host->log)
+		host->log(host->user, DAO_LOG_INFO, s->note);
+	free(s->note);
+	s->note = NULL;
 }
 
 static int y4m_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
@@ -177,8 +292,30 @@ static int write_all(struct y4m_sink *s, const uint8_t *buf, size_t len, struct 
 					     "y4m: the reader of %s went away (broken pipe); "
 					     "nothing more can be written",
 					     s->name);
-		return dao_error_set(err, r, "y4m: cannot write %s: %s", s->name, strerror(-r));
+		return dao_error_set(err, r,
+				     "y4m: cannot write %s: %s; the stream stops after %llu "
+				     "frame%s",
+				     s->name, strerror(-r), (unsigned long long)s->frames,
+				     s->frames == 1 ? "" : "s");
 	}
+	return 0;
+}
+
+static int sync_due(const struct y4m_sink *s)
+{
+	struct timespec now;
+	clock_gettime(CLOCK_MONOTONIC, &now);
+	int64_t ms = (int64_t)(now.tv_sec - s->last_sync.tv_sec) * 1000 +
+		     (now.tv_nsec - s->last_sync.tv_nsec) / 1000000;
+	return ms >= Y4M_SYNC_INTERVAL_MS;
+}
+
+static int sync_file(struct y4m_sink *s, struct dao_error *err)
+{
+	clock_gettime(CLOCK_MONOTONIC, &s->last_sync);
+	if (fdatasync(s->fd) != 0)
+		return dao_error_set(err, -errno, "y4m: cannot sync %s: %s", s->name,
+				     strerror(errno));
 	return 0;
 }
 
@@ -286,27 +423,37 @@ static int y4m_write(void *state, const struct dao_frame *frame, struct dao_erro
 	convert(s, frame);
 	if ((r = write_all(s, s->buf, s->buf_len, err)) < 0)
 		goto fail;
+	s->frames++;
+	if (s->regular) {
+		s->good = (uint64_t)lseek(s->fd, 0, SEEK_CUR);
+		if (sync_due(s) && (r = sync_file(s, err)) < 0)
+			goto fail;
+	}
 	return 0;
 fail:
 	s->failed = r;
+	/* keep the header and whole frames: cut off what a failed write left */
+	if (s->regular && ftruncate(s->fd, (off_t)s->good) == 0)
+		lseek(s->fd, (off_t)s->good, SEEK_SET);
 	return r;
 }
 
 static int y4m_flush(void *state, struct dao_error *err)
 {
-	(void)state;
-	(void)err;
-	return 0; /* nothing is buffered: every write hands whole frames to the kernel */
+	struct y4m_sink *s = state;
+	/* nothing is buffered (every write hands whole frames to the kernel); files are synced */
+	return s->regular && !s->failed ? sync_file(s, err) : 0;
 }
 
 static int y4m_close(void *state, struct dao_error *err)
 {
 	struct y4m_sink *s = state;
-	int r = 0;
-	if (!s->is_stdout && s->fd >= 0 && close(s->fd) != 0 && errno != EINTR)
+	int r = s->regular && !s->failed ? sync_file(s, err) : 0;
+	if (!s->is_stdout && s->fd >= 0 && close(s->fd) != 0 && errno != EINTR && r == 0)
 		r = dao_error_set(err, -errno, "y4m: closing %s failed: %s", s->name,
 				  strerror(errno));
 	free(s->buf);
+	free(s->note);
 	free(s->name);
 	free(s);
 	return r;
@@ -319,6 +466,7 @@ static const struct dao_sink_ops y4m_sink_ops = {
 	.write = y4m_write,
 	.flush = y4m_flush,
 	.close = y4m_close,
+	.attach_host = y4m_attach_host,
 };
 
 const struct dao_plugin dao_builtin_y4m_plugin = {

@@ -3,6 +3,9 @@
  * The sink wrapper and the built-in sinks: "images" (PNG files), "y4m"
  * (YUV4MPEG2 to a file or FIFO, checked byte by byte: ffprobe is not
  * assumed) and "oni" (the recorder, read back with depthao's own reader).
+ * What they do with files that exist and with a full disk; run as
+ * `test-sinks enospc` under LD_PRELOAD=dao-enospc-preload.so (meson test
+ * sinks-enospc), the full-disk tests also fill a regular file.
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -22,6 +25,7 @@
 #include <unistd.h>
 
 #include <dirent.h>
+#include <dlfcn.h>
 
 #include <cmocka.h>
 
@@ -406,8 +410,11 @@ static void test_y4m_gray8(void **state)
 	for (uint32_t k = 0; k < 3; k++)
 		free(f[k].data);
 
-	/* an existing file is truncated; no frame -> not even a header */
-	s = open_sink(path);
+	/* an existing file is left alone (test_y4m_keeps_existing); with overwrite it is
+	 * replaced, and no frame -> not even a header */
+	char uri[700];
+	snprintf(uri, sizeof uri, "y4m:%s?overwrite=true", path);
+	s = open_sink(uri);
 	close_ok(s);
 	buf = slurp(path, &len);
 	assert_int_equal(len, 0);
@@ -509,6 +516,7 @@ static void check_fps(const char *dir, double fps, const char *want)
 	char path[600];
 	struct dao_error err;
 	snprintf(path, sizeof path, "%s/fps.y4m", dir);
+	unlink(path); /* an existing file is not replaced */
 	struct dao_sink *s = open_sink(path);
 	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 2, 2, fps, &err), 0);
 	struct dao_frame f;
@@ -978,7 +986,300 @@ static void test_oni_nothing_to_save(void **state)
 	assert_int_equal(count_entries(dir), 0);
 }
 
-int main(void)
+/* --- existing files, device targets, full disks ---------------------------- */
+
+/* What sinks log through their host. */
+struct log_capture {
+	char text[2048];
+};
+
+static void capture_log(void *user, int level, const char *message)
+{
+	struct log_capture *c = user;
+	size_t n = strlen(c->text);
+	snprintf(c->text + n, sizeof c->text - n, "%d %s\n", level, message);
+}
+
+/* Opens `uri` with a host that captures the log, negotiates w x h of `f`. */
+static struct dao_sink *open_logged(const char *uri, struct log_capture *cap,
+				    struct dao_sink_host *host, enum dao_pixfmt f, uint32_t w,
+				    uint32_t h)
+{
+	struct dao_error err;
+	struct dao_sink *s = open_sink(uri);
+	memset(cap, 0, sizeof *cap);
+	*host = (struct dao_sink_host){.user = cap, .log = capture_log};
+	dao_sink_attach_host(s, host);
+	int r = negotiate(s, f, w, h, 30, &err);
+	if (r)
+		fprintf(stderr, "negotiate %s: %s\n", uri, err.message);
+	assert_int_equal(r, 0);
+	return s;
+}
+
+/* Writes frames k0..k1-1 of a w x h pattern; all must succeed. */
+static void write_frames(struct dao_sink *s, enum dao_pixfmt f, uint32_t w, uint32_t h,
+			 uint32_t k0, uint32_t k1)
+{
+	struct dao_error err;
+	for (uint32_t k = k0; k < k1; k++) {
+		struct dao_frame fr;
+		make_frame(&fr, f, w, h, k);
+		if (f == DAO_PIXFMT_DEPTH16)
+			fill_depth(&fr, k);
+		fr.timestamp_ns = (1000 + 33333 * (uint64_t)k) * 1000;
+		int r = dao_sink_write(s, &fr, &err);
+		if (r)
+			fprintf(stderr, "write %u: %s\n", k, err.message);
+		assert_int_equal(r, 0);
+		free(fr.data);
+	}
+}
+
+/* A second recording to the same name goes to NAME-1.EXT, then NAME-2.EXT; the first stays. */
+static void test_y4m_keeps_existing(void **state)
+{
+	(void)state;
+	char dir[512], path[600], uri[700], next[600];
+	struct log_capture cap;
+	struct dao_sink_host host;
+	struct dao_error err;
+	tmpdir("sink-y4m-keep", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/out.y4m", dir);
+	struct dao_sink *s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 4, 30, &err), 0);
+	write_frames(s, DAO_PIXFMT_GRAY8, 8, 4, 0, 2);
+	close_ok(s);
+	size_t len0, len;
+	uint8_t *first = slurp(path, &len0);
+
+	for (int i = 1; i <= 2; i++) {
+		s = open_logged(path, &cap, &host, DAO_PIXFMT_GRAY8, 8, 4);
+		write_frames(s, DAO_PIXFMT_GRAY8, 8, 4, 5, 6);
+		close_ok(s);
+		uint8_t *now = slurp(path, &len);
+		assert_int_equal(len, len0);
+		assert_memory_equal(now, first, len0); /* untouched */
+		free(now);
+		snprintf(next, sizeof next, "%s/out-%d.y4m", dir, i);
+		uint8_t *buf = slurp(next, &len);
+		struct y4m y;
+		assert_int_equal(parse_y4m(buf, len, 32, &y), 0);
+		assert_int_equal(y.nframes, 1);
+		free(buf);
+		if (!strstr(cap.text, next) || !strstr(cap.text, "exists"))
+			fail_msg("the log does not say where the stream went: '%s'", cap.text);
+	}
+	assert_int_equal(count_entries(dir), 3);
+	/* overwrite=true replaces it */
+	snprintf(uri, sizeof uri, "y4m:%s?overwrite=true", path);
+	s = open_sink(uri);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 4, 30, &err), 0);
+	write_frames(s, DAO_PIXFMT_GRAY8, 8, 4, 0, 1);
+	close_ok(s);
+	uint8_t *buf = slurp(path, &len);
+	assert_true(len < len0);
+	free(buf);
+	free(first);
+	/* unknown options are errors */
+	snprintf(uri, sizeof uri, "y4m:%s?overwrite=maybe", path);
+	s = NULL;
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "overwrite"));
+	snprintf(uri, sizeof uri, "y4m:%s?fps=3", path);
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "unknown option"));
+	assert_int_equal(count_entries(dir), 3);
+}
+
+/* Character devices are streams (never created, truncated or replaced); directories are refused. */
+static void test_y4m_stream_targets(void **state)
+{
+	(void)state;
+	char dir[512], uri[700];
+	struct dao_error err;
+	struct dao_sink *s = NULL;
+	tmpdir("sink-y4m-dev", dir, sizeof dir);
+	s = open_sink("y4m:/dev/null");
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 4, 30, &err), 0);
+	write_frames(s, DAO_PIXFMT_GRAY8, 8, 4, 0, 3);
+	close_ok(s);
+	struct stat st;
+	assert_int_equal(stat("/dev/null", &st), 0);
+	assert_true(S_ISCHR(st.st_mode));
+	snprintf(uri, sizeof uri, "y4m:%s", dir);
+	assert_int_equal(dao_sink_open(g_plugins, uri, &s, &err), -EISDIR);
+	assert_non_null(strstr(err.message, "directory"));
+	assert_non_null(strstr(err.message, dir));
+	assert_int_equal(count_entries(dir), 0);
+}
+
+/* The recorder never replaces a recording: the next one goes to NAME-1.oni. */
+static void test_oni_keeps_existing(void **state)
+{
+	(void)state;
+	char dir[512], path[600], next[600], uri[700];
+	struct log_capture cap;
+	struct dao_sink_host host;
+	struct dao_error err;
+	tmpdir("sink-oni-keep", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/rec.oni", dir);
+	record(path, 3, 0.001f, 1, TS_REAL);
+	size_t len0, len;
+	uint8_t *first = slurp(path, &len0);
+	struct dao_sink *s = open_logged(path, &cap, &host, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H);
+	write_frames(s, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, 0, 2);
+	close_ok(s);
+	uint8_t *now = slurp(path, &len);
+	assert_int_equal(len, len0);
+	assert_memory_equal(now, first, len0);
+	free(now);
+	free(first);
+	snprintf(next, sizeof next, "%s/rec-1.oni", dir);
+	if (!strstr(cap.text, next) || !strstr(cap.text, "exists"))
+		fail_msg("the log does not say where the recording went: '%s'", cap.text);
+	const struct dao_oni_stream_info *in;
+	struct dao_oni_reader *rd = open_reader(next, &in);
+	assert_int_equal(in->frame_count, 2);
+	assert_null(dao_oni_reader_warning(rd));
+	dao_oni_reader_close(rd);
+	rd = open_reader(path, &in);
+	assert_int_equal(in->frame_count, 3);
+	dao_oni_reader_close(rd);
+	/* overwrite=true: replaced */
+	snprintf(uri, sizeof uri, "oni:%s?overwrite=true", path);
+	record(uri, 1, 0.001f, 1, TS_REAL);
+	rd = open_reader(path, &in);
+	assert_int_equal(in->frame_count, 1);
+	dao_oni_reader_close(rd);
+	assert_int_equal(count_entries(dir), 2);
+	/* not a file at all: refused at open */
+	s = NULL;
+	assert_int_equal(dao_sink_open(g_plugins, "oni:/dev/null", &s, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "not a regular file"));
+	assert_null(s);
+}
+
+/* dao_enospc_set of the preloaded full-disk module, or NULL. */
+typedef void (*enospc_set_fn)(const char *path_contains, long long bytes);
+static enospc_set_fn enospc_set(void)
+{
+	void *self = dlopen(NULL, RTLD_NOW);
+	enospc_set_fn fn = NULL;
+	if (self) {
+		void *sym = dlsym(self, "dao_enospc_set");
+		memcpy(&fn, &sym, sizeof fn);
+		dlclose(self);
+	}
+	return fn;
+}
+
+/*
+ * A full disk: the write that does not fit is -ENOSPC (a short write too),
+ * the frames before it stay whole (the partial frame is cut off), every
+ * later write fails the same way, and closing keeps the file.
+ */
+static void test_y4m_full_disk(void **state)
+{
+	(void)state;
+	char dir[512], path[600];
+	struct dao_error err;
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_GRAY8, 16, 8, 0);
+	/* /dev/full: every write is ENOSPC; it stays a device */
+	struct dao_sink *s = open_sink("y4m:/dev/full");
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 16, 8, 30, &err), 0);
+	assert_int_equal(dao_sink_write(s, &f, &err), -ENOSPC);
+	assert_non_null(strstr(err.message, "/dev/full"));
+	assert_int_equal(dao_sink_write(s, &f, &err), -ENOSPC);
+	close_ok(s);
+	struct stat st;
+	assert_int_equal(stat("/dev/full", &st), 0);
+	assert_true(S_ISCHR(st.st_mode));
+
+	enospc_set_fn set = enospc_set();
+	if (!set) {
+		fprintf(stderr, "note: not preloaded; the regular-file part runs in sinks-enospc\n");
+		free(f.data);
+		return;
+	}
+	tmpdir("sink-y4m-full", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/full.y4m", dir);
+	const size_t hdr = strlen("YUV4MPEG2 W16 H8 F30:1 Ip A1:1 Cmono\n"), fb = 6 + 16 * 8;
+	set(path, (long long)(hdr + 2 * fb + fb / 2)); /* room for 2.5 frames */
+	s = open_sink(path);
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 16, 8, 30, &err), 0);
+	int r[4];
+	for (int k = 0; k < 4; k++)
+		r[k] = dao_sink_write(s, &f, &err);
+	set("", 0);
+	assert_int_equal(r[0], 0);
+	assert_int_equal(r[1], 0);
+	assert_int_equal(r[2], -ENOSPC);
+	assert_int_equal(r[3], -ENOSPC);
+	assert_non_null(strstr(err.message, path));
+	close_ok(s);
+	size_t len;
+	uint8_t *buf = slurp(path, &len);
+	assert_int_equal(len, hdr + 2 * fb); /* the half frame was cut off */
+	struct y4m y;
+	assert_int_equal(parse_y4m(buf, len, 16 * 8, &y), 0);
+	assert_int_equal(y.nframes, 2);
+	assert_memory_equal(y.frames[1], f.data, 16); /* first row (stride 19) */
+	free(buf);
+	free(f.data);
+}
+
+static void test_oni_full_disk(void **state)
+{
+	(void)state;
+	enospc_set_fn set = enospc_set();
+	if (!set) {
+		fprintf(stderr, "note: not preloaded; the recorder's full disk runs in sinks-enospc\n");
+		return;
+	}
+	char dir[512], path[600], uri[700];
+	struct log_capture cap;
+	struct dao_sink_host host;
+	struct dao_error err;
+	tmpdir("sink-oni-full", dir, sizeof dir);
+	snprintf(path, sizeof path, "%s/full.oni", dir);
+	snprintf(uri, sizeof uri, "oni:%s?codec=none", path);
+	const long long frame = 40 + 2 * TEST_W * TEST_H;
+	set(path, 2000 + 5 * frame / 2); /* the preamble (< 1 KB) and 2.5 frames */
+	struct dao_sink *s = open_logged(uri, &cap, &host, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H);
+	int r = 0, written = 0;
+	struct dao_frame d;
+	make_frame(&d, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, 0);
+	for (uint32_t k = 0; k < 8 && r == 0; k++) {
+		fill_depth(&d, k);
+		d.timestamp_ns = (1000 + 33333 * (uint64_t)k) * 1000;
+		r = dao_sink_write(s, &d, &err);
+		written += r == 0;
+	}
+	assert_int_equal(r, -ENOSPC);
+	assert_non_null(strstr(err.message, path));
+	assert_int_equal(dao_sink_write(s, &d, &err), -ENOSPC); /* and stays so */
+	free(d.data);
+	assert_true(written >= 2);
+	close_ok(s); /* the frames that fit, finalised */
+	set("", 0);
+	const struct dao_oni_stream_info *in;
+	struct dao_oni_reader *rd = open_reader(path, &in);
+	assert_int_equal(in->frame_count, (uint32_t)written);
+	assert_null(dao_oni_reader_warning(rd));
+	struct dao_frame back;
+	assert_int_equal(dao_frame_alloc(&back, DAO_PIXFMT_DEPTH16, TEST_W, TEST_H, &err), 0);
+	for (int k = 0; k < written; k++) {
+		assert_int_equal(dao_oni_reader_read_depth(rd, 0, (uint32_t)k, &back, &err), 0);
+		assert_true(test_is_frame(&back, (uint32_t)k));
+	}
+	dao_frame_free(&back);
+	dao_oni_reader_close(rd);
+	assert_int_equal(count_entries(dir), 1);
+}
+
+int main(int argc, char **argv)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_wrapper_open_errors),
@@ -998,6 +1299,22 @@ int main(void)
 		cmocka_unit_test(test_oni_codecs),
 		cmocka_unit_test(test_oni_timestamps_units_fov),
 		cmocka_unit_test(test_oni_nothing_to_save),
+		cmocka_unit_test(test_y4m_keeps_existing),
+		cmocka_unit_test(test_y4m_stream_targets),
+		cmocka_unit_test(test_oni_keeps_existing),
+		cmocka_unit_test(test_y4m_full_disk),
+		cmocka_unit_test(test_oni_full_disk),
 	};
+	const struct CMUnitTest full_disk[] = {
+		cmocka_unit_test(test_y4m_full_disk),
+		cmocka_unit_test(test_oni_full_disk),
+	};
+	if (argc > 1 && !strcmp(argv[1], "enospc")) {
+		if (!enospc_set()) {
+			fprintf(stderr, "SKIP: not run under LD_PRELOAD=dao-enospc-preload.so\n");
+			return 77;
+		}
+		return cmocka_run_group_tests(full_disk, setup, teardown);
+	}
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

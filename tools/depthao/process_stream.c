@@ -146,6 +146,8 @@ int process_stream(const struct process_options *o)
 	}
 	if (!o->quiet)
 		fprintf(stderr, "depthao: %s\n", si.description);
+	if (si.warning[0])
+		fprintf(stderr, "depthao: warning: %s\n", si.warning);
 	struct dao_camera cam;
 	if ((status = process_resolve_camera(o, 0, si.width, si.height, &si, &cam)))
 		goto out;

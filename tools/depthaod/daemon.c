@@ -139,6 +139,8 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
 	pthread_mutex_unlock(&d->lock);
 	atomic_fetch_add(&d->source_opens, 1);
 	log_info("source: %s", in.description);
+	if (in.warning[0])
+		log_warn("source: %s", in.warning);
 	return src;
 }
 
@@ -454,6 +456,14 @@ static int host_set_param(void *user, const char *name, const char *value)
 	return r;
 }
 
+/* A sink's log line (e.g. the file a recorder chose) at its level. */
+static void host_log(void *user, int level, const char *message)
+{
+	(void)user;
+	log_msg(level == DAO_LOG_ERROR ? LOG_ERROR : level == DAO_LOG_WARN ? LOG_WARN : LOG_INFO,
+		"%s", message);
+}
+
 static int open_sink(struct sink_runner *s, const struct fq_item *it)
 {
 	struct daemon *d = s->d;
@@ -576,7 +586,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->cfg = *cfg;
 	d->plugins = plugins;
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
-	d->host = (struct dao_sink_host){d, host_get_param, host_set_param};
+	d->host = (struct dao_sink_host){d, host_get_param, host_set_param, host_log};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
