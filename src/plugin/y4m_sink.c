@@ -448,7 +448,11 @@ static int y4m_flush(void *state, struct dao_error *err)
 static int y4m_close(void *state, struct dao_error *err)
 {
 	struct y4m_sink *s = state;
-	int r = s->regular && !s->failed ? sync_file(s, err) : 0;
+	struct dao_error ignored;
+	/* what the file keeps goes to the disk, also after a failure (already reported) */
+	int r = s->regular ? sync_file(s, s->failed ? &ignored : err) : 0;
+	if (s->failed)
+		r = 0;
 	if (!s->is_stdout && s->fd >= 0 && close(s->fd) != 0 && errno != EINTR && r == 0)
 		r = dao_error_set(err, -errno, "y4m: closing %s failed: %s", s->name,
 				  strerror(errno));

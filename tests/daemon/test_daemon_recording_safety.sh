@@ -10,6 +10,8 @@
 export DEPTHAO_PLUGIN_PATH="$TEST_PLUGINS"
 ONI_CHECK="$TEST_PLUGINS/oni_check"
 PRELOAD="${DAO_ENOSPC_PRELOAD:?the path of dao-enospc-preload.so}"
+# under AddressSanitizer (bootstrap's build-asan) a preloaded module comes before its runtime
+ASAN_PRELOAD="${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0"
 SOCK="$WORK/ctl.sock"
 # OpenNI2 (when its plugin is built) is looked for beside depthao, not among the test plugins
 NI="env -u DEPTHAO_PLUGIN_PATH $DEPTHAO"
@@ -37,7 +39,7 @@ same_ao() {
 
 # ---- 1. kill -9 while recording a live camera --------------------------------------
 # The preload module only logs the syncs of the recording here (nothing fails).
-env LD_PRELOAD="$PRELOAD" DAO_ENOSPC_PATH="$WORK/session" DAO_ENOSPC_AFTER=1000000000000 \
+env LD_PRELOAD="$PRELOAD" ASAN_OPTIONS="$ASAN_PRELOAD" DAO_ENOSPC_PATH="$WORK/session" DAO_ENOSPC_AFTER=1000000000000 \
 	DAO_SYNC_LOG="$WORK/syncs" "$DAEMON" --source "testsrc:fps=30,w=160,h=120" \
 	--socket "$SOCK" --stats-interval 0 --sink rec=oni:"$WORK/session.oni" --stream rec=depth \
 	2>"$WORK/log-kill" &
@@ -103,7 +105,7 @@ out=$("$ONI_CHECK" "$WORK/session-1.oni" 100) || fail "session-1.oni: $out"
 # ---- 3. a full disk, without root: writes to the recording fail after a byte budget ----
 # 640x480 NONE frames are 614440 bytes; the preamble is under 1 KB: room for 5.5 frames
 mkdir -p "$WORK/full"
-env LD_PRELOAD="$PRELOAD" DAO_ENOSPC_PATH="$WORK/full/" DAO_ENOSPC_AFTER=3380000 \
+env LD_PRELOAD="$PRELOAD" ASAN_OPTIONS="$ASAN_PRELOAD" DAO_ENOSPC_PATH="$WORK/full/" DAO_ENOSPC_AFTER=3380000 \
 	"$DAEMON" --source "$REC" --playback manual --stats-json "$WORK/full.jsonl" \
 	--sink rec=oni:"$WORK/full/rec.oni?codec=none" --stream rec=depth \
 	--sink other=y4m:/dev/null 2>"$WORK/log-full" || echo "note: exit status $? (see the log)"
@@ -136,7 +138,7 @@ fi
 mkdir -p "$WORK/full-y4m"
 hdr=$(printf 'YUV4MPEG2 W640 H480 F30:1 Ip A1:1 C444\n' | wc -c)
 frame=$((6 + 3 * 640 * 480))
-env LD_PRELOAD="$PRELOAD" DAO_ENOSPC_PATH="$WORK/full-y4m/" \
+env LD_PRELOAD="$PRELOAD" ASAN_OPTIONS="$ASAN_PRELOAD" DAO_ENOSPC_PATH="$WORK/full-y4m/" \
 	DAO_ENOSPC_AFTER=$((hdr + 4 * frame + frame / 2)) \
 	"$DAEMON" --source "$REC" --playback manual --stats-json "$WORK/y4m.jsonl" \
 	--sink vid=y4m:"$WORK/full-y4m/out.y4m" 2>"$WORK/log-y4m" || echo "note: exit status $?"
