@@ -89,6 +89,45 @@ static void test_info_and_auto_pick(void **state)
 	assert_float_equal(in.vfov, 0.75, 1e-12);
 	assert_float_equal(in.fps, TEST_FPS, 0);
 	assert_non_null(strstr(in.description, "six.oni"));
+	assert_string_equal(in.warning, ""); /* a finished recording */
+	dao_source_close(s);
+}
+
+/* A recording whose writer died: every frame it wrote plays, with a warning. */
+static void test_unfinished_recording(void **state)
+{
+	(void)state;
+	char path[600];
+	snprintf(path, sizeof path, "%s/cut.oni", dao_test_tmpdir("source-oni-cut"));
+	struct bytes_of_file {
+		char *p;
+		long n;
+	} b = {NULL, 0};
+	FILE *f = fopen(g_path, "rb");
+	assert_non_null(f);
+	assert_int_equal(fseek(f, 0, SEEK_END), 0);
+	b.n = ftell(f);
+	rewind(f);
+	b.p = malloc((size_t)b.n);
+	assert_non_null(b.p);
+	assert_int_equal(fread(b.p, 1, (size_t)b.n, f), (size_t)b.n);
+	fclose(f);
+	/* the end record, seek table and the last frame's second half are gone */
+	long keep = b.n - 28 - 28 - 28 - (FRAMES + 1) * 20 - 40;
+	f = fopen(path, "wb");
+	assert_non_null(f);
+	assert_int_equal(fwrite(b.p, 1, (size_t)keep, f), (size_t)keep);
+	fclose(f);
+	free(b.p);
+	struct dao_source *s = open_src(path, NULL);
+	struct dao_source_info in;
+	dao_source_get_info(s, &in);
+	assert_int_equal(in.frame_count, FRAMES - 1);
+	assert_non_null(strstr(in.warning, "cut.oni"));
+	assert_non_null(strstr(in.warning, "not finalised"));
+	for (long long i = 0; i < FRAMES - 1; i++)
+		assert_int_equal(read_index(s), i);
+	assert_int_equal(read_index(s), -1000 + DAO_SOURCE_EOS);
 	dao_source_close(s);
 }
 
@@ -308,6 +347,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_builtins_listed),
 		cmocka_unit_test(test_info_and_auto_pick),
+		cmocka_unit_test(test_unfinished_recording),
 		cmocka_unit_test(test_manual_every_frame_once),
 		cmocka_unit_test(test_loop_wraps),
 		cmocka_unit_test(test_start_step_seek),
