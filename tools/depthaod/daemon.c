@@ -19,7 +19,17 @@
 #define DEFAULT_VFOV_DEG 45.6
 #define LATENCY_RING 512
 #define READ_TIMEOUT_MS 200
-#define STOP_DEADLINE_MS 700
+/*
+ * A signal stops the pipeline in one second (counted from the signal): the
+ * processing thread may finish frames already queued for STOP_PROCESS_MS, then
+ * the sink queues close whatever it is doing; each sink writes what it has
+ * queued until STOP_DRAIN_MS, drops the rest (counted) and finalises its
+ * output, which must be done by STOP_DEADLINE_MS.  The natural end of a run
+ * (end of a recording, max_frames) has no deadline: every queue drains.
+ */
+#define STOP_PROCESS_MS 250
+#define STOP_DRAIN_MS 450
+#define STOP_DEADLINE_MS 850
 
 struct sink_runner {
 	struct daemon *d;
@@ -27,6 +37,7 @@ struct sink_runner {
 	struct frame_queue *q;
 	pthread_t thread;
 	int running;
+	atomic_int done;              /* the thread has finished (its output is final) */
 	struct dao_sink *sink;
 	uint64_t next_open_ns;
 	unsigned backoff_ms;
@@ -49,10 +60,16 @@ struct daemon {
 
 	pthread_t capture, process;
 	int capture_running, process_running;
+	atomic_int capture_done, process_done;
 	pthread_mutex_t lock;         /* params, pause, snapshot, source info */
 	pthread_cond_t wake;
-	atomic_int stop, finished, paused;
+	atomic_int stop;              /* a signal: stop within the deadlines */
+	atomic_int end_capture;       /* the capture thread stops reading */
+	atomic_int failed;            /* a fatal error ended the pipeline */
+	atomic_int paused;
+	atomic_ullong process_deadline_ns, drain_deadline_ns; /* of a signal stop */
 	int stragglers;               /* threads that missed the stop deadline */
+	int sinks_unfinished;         /* ... of them sinks (their output may be incomplete) */
 
 	struct dao_params params;
 	int params_pending;
@@ -148,7 +165,7 @@ static void *capture_main(void *arg)
 	struct dao_source *src = NULL;
 	unsigned backoff = d->cfg.retry_initial_ms;
 	int live = 0;
-	while (!atomic_load(&d->stop)) {
+	while (!atomic_load(&d->stop) && !atomic_load(&d->end_capture)) {
 		if (!src) {
 			if (!(src = open_source(d, &backoff)))
 				continue;
@@ -201,6 +218,7 @@ static void *capture_main(void *arg)
 	}
 	dao_source_close(src);
 	fq_close(d->input);
+	atomic_store(&d->capture_done, 1);
 	return NULL;
 }
 
@@ -284,8 +302,10 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 		uint64_t dropped = 0;
 		struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
 		atomic_fetch_add(&s->dropped, dropped);
-		if (!it)
+		if (!it) { /* its queue closed at the stop deadline: this frame never reaches it */
+			atomic_fetch_add(&s->dropped, 1);
 			continue;
+		}
 		if (fq_frame_copy(&it->frame, f) < 0) {
 			fq_cancel_push(s->q, it);
 			continue;
@@ -329,9 +349,10 @@ static void *process_main(void *arg)
 				break;
 			continue;
 		}
-		if (atomic_load(&d->stop) && !d->cfg.drain_on_stop) {
+		if (atomic_load(&d->stop) && now_ns() >= atomic_load(&d->process_deadline_ns)) {
+			/* a signal, and no time left for queued input (or drain_on_stop = false) */
 			fq_done(d->input, in);
-			fq_clear(d->input);
+			atomic_fetch_add(&d->input_dropped, fq_clear(d->input) + 1);
 			break;
 		}
 		struct dao_error err = {0};
@@ -401,7 +422,7 @@ static void *process_main(void *arg)
 		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
 		if (d->cfg.max_frames && n >= d->cfg.max_frames) {
 			log_info("processed %llu frames (max_frames); stopping", n);
-			atomic_store(&d->finished, 1);
+			atomic_store(&d->end_capture, 1);
 			break;
 		}
 	}
@@ -412,9 +433,10 @@ static void *process_main(void *arg)
 		fq_close(d->sinks[i].q);
 	dao_context_destroy(ctx);
 	free_outputs(&o);
-	atomic_store(&d->finished, 1);
 	/* the capture thread may be blocked on a full input queue: unblock it */
+	atomic_store(&d->end_capture, 1);
 	fq_close(d->input);
+	atomic_store(&d->process_done, 1);
 	return NULL;
 }
 
@@ -522,9 +544,13 @@ static void *sink_main(void *arg)
 	struct sink_runner *s = arg;
 	struct fq_item *it;
 	while ((it = fq_pop(s->q, -1))) {
-		if (atomic_load(&s->d->stop) && !s->d->cfg.drain_on_stop) {
+		if (atomic_load(&s->d->stop) && now_ns() >= atomic_load(&s->d->drain_deadline_ns)) {
+			/* a signal, and the time for queued frames is over: finalise now */
+			unsigned left = fq_clear(s->q) + 1;
 			fq_done(s->q, it);
-			atomic_fetch_add(&s->dropped, fq_clear(s->q) + 1);
+			atomic_fetch_add(&s->dropped, left);
+			log_warn("sink %s: %u queued frame%s dropped at the stop deadline",
+				 s->cfg->name, left, left == 1 ? "" : "s");
 			break;
 		}
 		struct dao_error err = {0};
@@ -560,6 +586,7 @@ static void *sink_main(void *arg)
 			log_warn("sink %s: flush: %s", s->cfg->name, err.message);
 	}
 	close_sink(s);
+	atomic_store(&s->done, 1);
 	return NULL;
 }
 
@@ -630,10 +657,20 @@ int daemon_start(struct daemon *d, char *msg, size_t len)
 
 int daemon_finished(struct daemon *d)
 {
-	return atomic_load(&d->finished);
+	if (!atomic_load(&d->capture_done) || !atomic_load(&d->process_done))
+		return 0;
+	for (unsigned i = 0; i < d->nsinks; i++)
+		if (!atomic_load(&d->sinks[i].done))
+			return 0;
+	return 1;
 }
 
-/* Joins a thread by the deadline; 0 if it is still running then. */
+int daemon_failed(struct daemon *d)
+{
+	return atomic_load(&d->failed);
+}
+
+/* Joins a thread by the deadline; 0 if it is still running then (logged if `what`). */
 static int join_by(pthread_t t, int *running, uint64_t deadline, const char *what)
 {
 	if (!*running)
@@ -649,29 +686,71 @@ static int join_by(pthread_t t, int *running, uint64_t deadline, const char *wha
 		abs.tv_nsec -= 1000000000;
 	}
 	if (pthread_timedjoin_np(t, NULL, &abs) != 0) {
-		log_error("%s did not finish within the stop deadline; its output may be "
-			  "incomplete", what);
+		if (what)
+			log_error("%s did not finish within the stop deadline; its output may be "
+				  "incomplete", what);
 		return 0; /* still running: it keeps its memory (*running stays set) */
 	}
 	*running = 0;
 	return 1;
 }
 
+static void join(pthread_t t, int *running)
+{
+	if (*running)
+		pthread_join(t, NULL);
+	*running = 0;
+}
+
 void daemon_stop(struct daemon *d)
 {
+	if (daemon_finished(d)) { /* the natural end: everything has drained already */
+		join(d->capture, &d->capture_running);
+		join(d->process, &d->process_running);
+		for (unsigned i = 0; i < d->nsinks; i++)
+			join(d->sinks[i].thread, &d->sinks[i].running);
+		return;
+	}
+	uint64_t t0 = now_ns();
+	int drain = d->cfg.drain_on_stop;
+	atomic_store(&d->process_deadline_ns, drain ? t0 + (uint64_t)STOP_PROCESS_MS * 1000000u : t0);
+	atomic_store(&d->drain_deadline_ns, drain ? t0 + (uint64_t)STOP_DRAIN_MS * 1000000u : t0);
 	atomic_store(&d->stop, 1);
+	atomic_store(&d->end_capture, 1);
 	pthread_mutex_lock(&d->lock);
 	pthread_cond_broadcast(&d->wake);
 	pthread_mutex_unlock(&d->lock);
-	uint64_t deadline = now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u;
-	fq_close(d->input); /* capture stops pushing; processing drains or drops */
-	int all = join_by(d->capture, &d->capture_running, deadline, "the source");
-	all &= join_by(d->process, &d->process_running, deadline, "the processing thread");
+	fq_close(d->input); /* capture stops pushing */
+	if (!drain) {
+		atomic_fetch_add(&d->input_dropped, fq_clear(d->input));
+		for (unsigned i = 0; i < d->nsinks; i++)
+			atomic_fetch_add(&d->sinks[i].dropped, fq_clear(d->sinks[i].q));
+	}
+	/* the processing thread's time for queued input; then the sinks get theirs, whatever
+	 * it is doing (a frame may take longer than the whole second) */
+	join_by(d->process, &d->process_running, t0 + (uint64_t)STOP_PROCESS_MS * 1000000u, NULL);
+	for (unsigned i = 0; i < d->nsinks; i++)
+		fq_close(d->sinks[i].q);
+	uint64_t deadline = t0 + (uint64_t)STOP_DEADLINE_MS * 1000000u;
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		char what[96];
 		snprintf(what, sizeof what, "sink %s", d->sinks[i].cfg->name);
-		fq_close(d->sinks[i].q);
-		all &= join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what);
+		if (!join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what))
+			d->sinks_unfinished++;
+	}
+	/* a frame or a read still going on now is not worth more waiting: nothing of it
+	 * would reach a sink */
+	int all = d->sinks_unfinished == 0;
+	deadline = t0 + (uint64_t)STOP_DRAIN_MS * 1000000u;
+	if (!join_by(d->process, &d->process_running, deadline, NULL)) {
+		log_warn("the processing thread was still inside a frame at the stop deadline; "
+			 "that frame is dropped (the sinks have finalised what they had)");
+		all = 0;
+	}
+	if (!join_by(d->capture, &d->capture_running, deadline, NULL)) {
+		log_warn("the source did not return from a read by the stop deadline; it is "
+			 "abandoned");
+		all = 0;
 	}
 	d->stragglers = !all;
 }
@@ -679,6 +758,11 @@ void daemon_stop(struct daemon *d)
 int daemon_stragglers(struct daemon *d)
 {
 	return d->stragglers;
+}
+
+int daemon_sinks_unfinished(struct daemon *d)
+{
+	return d->sinks_unfinished;
 }
 
 void daemon_destroy(struct daemon *d)

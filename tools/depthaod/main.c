@@ -305,7 +305,7 @@ int main(int argc, char **argv)
 	log_info("depthaod %s: %s -> %u sink%s%s%s", dao_version(), cfg.source_uri, cfg.nsinks,
 		 cfg.nsinks == 1 ? "" : "s", ctl ? ", control socket " : "",
 		 ctl ? cfg.socket_path : "");
-	struct timespec tick = {0, 200 * 1000 * 1000};
+	struct timespec tick = {0, 100 * 1000 * 1000};
 	struct timespec last_stats;
 	clock_gettime(CLOCK_MONOTONIC, &last_stats);
 	for (;;) {
@@ -332,12 +332,13 @@ int main(int argc, char **argv)
 	ctl = NULL;
 	daemon_stop(d);
 	log_stats(d, cfg.stats_json);
+	status = daemon_failed(d) || daemon_sinks_unfinished(d) ? 1 : 0;
 	if (daemon_stragglers(d)) {
 		/* within the promised second, even if a frame or a write is stuck */
-		log_error("exiting with work unfinished");
-		_exit(1);
+		if (daemon_sinks_unfinished(d))
+			log_error("exiting with a sink's output unfinished");
+		_exit(status);
 	}
-	status = 0;
 out:
 	control_stop(ctl);
 	daemon_destroy(d);
