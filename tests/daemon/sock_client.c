@@ -4,6 +4,8 @@
  * for the daemon tests.
  *   sock_client ask SOCK TIMEOUT_MS LINE   send LINE, print the reply line;
  *                                          exit 0, 2 = no reply in time, 1 = refused/closed
+ *   sock_client many SOCK N LINE           send LINE N times, read the N replies; print how
+ *                                          many said "ok":true
  *   sock_client idle SOCK N SECONDS        hold N connections that say nothing
  *   sock_client flood SOCK SECONDS         send requests and never read a reply; hold on
  *   sock_client hold SOCK LINE SECONDS     send LINE, then hold without reading
@@ -89,6 +91,45 @@ static int ask(const char *path, int timeout_ms, const char *line)
 	}
 }
 
+static int many(const char *path, int n, const char *line)
+{
+	int fd = connect_to(path);
+	int sent = 0, replies = 0, ok = 0;
+	char buf[1 << 16];
+	size_t len = 0;
+	while (replies < n) {
+		struct pollfd p = {fd, (short)(POLLIN | (sent < n ? POLLOUT : 0)), 0};
+		if (poll(&p, 1, 10000) <= 0) {
+			fprintf(stderr, "sock_client: many: stuck after %d replies\n", replies);
+			return 2;
+		}
+		if ((p.revents & POLLOUT) && sent < n) {
+			send_line(fd, line);
+			sent++;
+		}
+		if (p.revents & (POLLIN | POLLHUP)) {
+			ssize_t k = recv(fd, buf + len, sizeof buf - 1 - len, 0);
+			if (k <= 0) {
+				fprintf(stderr, "sock_client: many: closed after %d replies\n", replies);
+				return 1;
+			}
+			len += (size_t)k;
+			buf[len] = '\0';
+			char *nl;
+			while ((nl = memchr(buf, '\n', len))) {
+				*nl = '\0';
+				replies++;
+				ok += strstr(buf, "\"ok\":true") != NULL;
+				len -= (size_t)(nl + 1 - buf);
+				memmove(buf, nl + 1, len);
+				buf[len] = '\0';
+			}
+		}
+	}
+	printf("%d\n", ok);
+	return 0;
+}
+
 static int flood(const char *path, int seconds)
 {
 	int fd = connect_to(path);
@@ -132,6 +173,8 @@ int main(int argc, char **argv)
 {
 	if (argc >= 5 && !strcmp(argv[1], "ask"))
 		return ask(argv[2], atoi(argv[3]), argv[4]);
+	if (argc >= 5 && !strcmp(argv[1], "many"))
+		return many(argv[2], atoi(argv[3]), argv[4]);
 	if (argc >= 5 && !strcmp(argv[1], "idle")) {
 		int n = atoi(argv[3]);
 		for (int i = 0; i < n; i++)
@@ -148,6 +191,6 @@ int main(int argc, char **argv)
 	}
 	if (argc >= 4 && !strcmp(argv[1], "listen"))
 		return listen_only(argv[2], atoi(argv[3]));
-	fprintf(stderr, "usage: sock_client ask|idle|flood|hold|listen SOCK ... (see the source)\n");
+	fprintf(stderr, "usage: sock_client ask|many|idle|flood|hold|listen SOCK ... (see the source)\n");
 	return 64;
 }

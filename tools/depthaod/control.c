@@ -32,6 +32,7 @@ struct control {
 	int listen_fd, wake[2];
 	pthread_t thread;
 	struct client clients[MAX_CLIENTS];
+	struct log_limit set_log;
 };
 
 static void reply(int fd, struct json_object *j)
@@ -128,7 +129,7 @@ static struct json_object *handle(struct control *c, const char *line)
 			res = error_reply("%s", err.message);
 		} else {
 			daemon_set_params(c->d, &p);
-			log_info("control: %s = %s", key, value);
+			log_limited(&c->set_log, LOG_INFO, "control: %s = %s", key, value);
 			res = ok_reply();
 			json_object_object_add(res, "key", json_object_new_string(key));
 			json_object_object_add(res, "value", json_object_new_string(value));
@@ -256,6 +257,7 @@ int control_start(struct control **out, const char *path, struct daemon *d, char
 		return -ENOMEM;
 	}
 	c->d = d;
+	c->set_log = (struct log_limit)LOG_LIMIT_INIT(10000, 5);
 	snprintf(c->path, sizeof c->path, "%s", path);
 	for (int i = 0; i < MAX_CLIENTS; i++)
 		c->clients[i].fd = -1;
@@ -303,6 +305,7 @@ void control_stop(struct control *c)
 	ssize_t w = write(c->wake[1], "x", 1);
 	(void)w;
 	pthread_join(c->thread, NULL);
+	log_limit_flush(&c->set_log, LOG_INFO, "control: settings");
 	for (int i = 0; i < MAX_CLIENTS; i++)
 		if (c->clients[i].fd >= 0)
 			close(c->clients[i].fd);

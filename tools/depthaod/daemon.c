@@ -28,8 +28,23 @@
  * (end of a recording, max_frames) has no deadline: every queue drains.
  */
 #define STOP_PROCESS_MS 250
+/* a sink that fails is closed and reopened after a backoff doubling from ... to ... */
+#define SINK_RETRY_INITIAL_MS 500
+#define SINK_RETRY_MAX_MS 30000
+/* its warnings: at most this many per interval, the rest counted */
+#define SINK_LOG_BURST 3
+#define SINK_LOG_INTERVAL_MS 60000
 #define STOP_DRAIN_MS 450
 #define STOP_DEADLINE_MS 850
+
+enum sink_state {
+	SINK_WAITING = 0,             /* not opened yet (no frame so far) */
+	SINK_RUNNING,
+	SINK_RETRYING,                /* failed; reopened after a backoff */
+	SINK_STOPPED,                 /* for good: see stop_reason */
+};
+
+static const char *const sink_state_names[] = {"waiting", "running", "retrying", "stopped"};
 
 struct sink_runner {
 	struct daemon *d;
@@ -39,9 +54,16 @@ struct sink_runner {
 	int running;
 	atomic_int done;              /* the thread has finished (its output is final) */
 	struct dao_sink *sink;
+	enum dao_pixfmt fmt;          /* what the open sink was negotiated for */
+	uint32_t fmt_w, fmt_h;
 	uint64_t next_open_ns;
 	unsigned backoff_ms;
-	atomic_int disabled;          /* open said -ENOTSUP: never retried */
+	uint64_t last_failure_ns;
+	unsigned long long failures;  /* in a row, since the last good write */
+	struct log_limit warn_limit;
+	atomic_int state;             /* enum sink_state */
+	char stop_reason[320];        /* written before state becomes SINK_STOPPED */
+	const char *stop_code;        /* ... and the error's name: "ENOSPC", "ECANCELED", ... */
 	/* counters (atomics: read by the stats thread) */
 	atomic_ullong written, dropped, errors, opens;
 	pthread_mutex_t lat_lock;
@@ -297,7 +319,7 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 		case STREAM_OVERLAY: f = have_overlay ? &o->overlay : NULL; break;
 		default: f = NULL;
 		}
-		if (!f)
+		if (!f || atomic_load(&s->state) == SINK_STOPPED)
 			continue;
 		uint64_t dropped = 0;
 		struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
@@ -476,18 +498,102 @@ static int host_set_param(void *user, const char *name, const char *value)
 	return r;
 }
 
+/* Errors after which a sink cannot go on: retrying would not help, and reopening a
+ * file could truncate what it already holds. */
+static int permanent_error(int r)
+{
+	return r == -ENOSPC || r == -EDQUOT || r == -EFBIG || r == -EROFS || r == -EPIPE;
+}
+
+static const char *error_name(int r)
+{
+	switch (r) {
+	case -ENOSPC: return "ENOSPC";
+	case -EDQUOT: return "EDQUOT";
+	case -EFBIG: return "EFBIG";
+	case -EROFS: return "EROFS";
+	case -EPIPE: return "EPIPE";
+	case -ENOTSUP: return "ENOTSUP";
+	case -ECANCELED: return "ECANCELED";
+	default: return "error";
+	}
+}
+
+static const char *remedy(int r)
+{
+	switch (r) {
+	case -ENOSPC:
+		return "free space on that filesystem or point the sink at another one, then restart "
+		       "depthaod";
+	case -EDQUOT:
+		return "raise the disk quota of depthaod's user or point the sink elsewhere, then "
+		       "restart depthaod";
+	case -EFBIG:
+		return "the file reached the largest size the filesystem allows; point the sink at "
+		       "another filesystem, then restart depthaod";
+	case -EROFS:
+		return "the filesystem is read-only; remount it read-write or point the sink "
+		       "elsewhere, then restart depthaod";
+	case -EPIPE:
+		return "its reader went away (a closed pipe or stdout); restart depthaod to write "
+		       "there again";
+	default:
+		return "see the message; restart depthaod once it is fixed";
+	}
+}
+
+static void close_sink(struct sink_runner *s)
+{
+	struct dao_error err = {0};
+	if (s->sink && dao_sink_close(s->sink, &err) < 0)
+		log_error("sink %s: closing %s: %s", s->cfg->name, s->cfg->uri, err.message);
+	s->sink = NULL;
+}
+
+/* Stops the sink for good: what it wrote is finalised, it is never reopened. */
+static void stop_sink(struct sink_runner *s, int r, enum log_level level, const char *why,
+		      const char *advice)
+{
+	close_sink(s);
+	snprintf(s->stop_reason, sizeof s->stop_reason, "%s", why);
+	s->stop_code = error_name(r);
+	atomic_store(&s->state, SINK_STOPPED);
+	log_msg(level, "sink %s (%s) stopped: %s%s%s; the daemon and the other sinks keep running",
+		s->cfg->name, s->cfg->uri, why, advice ? ": " : "", advice ? advice : "");
+}
+
+/* An open, negotiate or write failed with r: stop the sink, or retry after a backoff. */
+static void sink_failed(struct sink_runner *s, int r, const char *msg)
+{
+	atomic_fetch_add(&s->errors, 1);
+	if (r == -ENOTSUP) { /* this sink cannot work here */
+		close_sink(s);
+		snprintf(s->stop_reason, sizeof s->stop_reason, "%s", msg);
+		s->stop_code = error_name(r);
+		atomic_store(&s->state, SINK_STOPPED);
+		log_warn("sink %s (%s): %s; it stays off", s->cfg->name, s->cfg->uri, msg);
+		return;
+	}
+	if (permanent_error(r)) {
+		stop_sink(s, r, LOG_ERROR, msg, remedy(r));
+		return;
+	}
+	close_sink(s);
+	s->failures++;
+	s->last_failure_ns = now_ns();
+	s->next_open_ns = s->last_failure_ns + (uint64_t)s->backoff_ms * 1000000u;
+	log_limited(&s->warn_limit, LOG_WARN, "sink %s (%s): %s; retrying in %.1f s (failure %llu)",
+		    s->cfg->name, s->cfg->uri, msg, s->backoff_ms / 1000.0, s->failures);
+	s->backoff_ms = s->backoff_ms * 2 > SINK_RETRY_MAX_MS ? SINK_RETRY_MAX_MS : s->backoff_ms * 2;
+	atomic_store(&s->state, SINK_RETRYING);
+}
+
+/* Opens and negotiates the sink for the frames of `it`; 0, or the failure handled. */
 static int open_sink(struct sink_runner *s, const struct fq_item *it)
 {
 	struct daemon *d = s->d;
 	struct dao_error err = {0};
-	if (now_ns() < s->next_open_ns)
-		return -EAGAIN;
 	int r = dao_sink_open(d->plugins, s->cfg->uri, &s->sink, &err);
-	if (r == -ENOTSUP) { /* this sink cannot work here: say so once, then leave it */
-		log_warn("sink %s (%s): %s; it stays off", s->cfg->name, s->cfg->uri, err.message);
-		s->disabled = 1;
-		return r;
-	}
 	if (r == 0) {
 		dao_sink_attach_host(s->sink, &d->host);
 		pthread_mutex_lock(&d->lock);
@@ -510,33 +616,44 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 				 "it takes %s, not the %s stream (set [sink.%s] stream)",
 				 dao_pixfmt_name(fmt.format), stream_name(s->cfg->stream), s->cfg->name);
 		}
-		if (r < 0) {
-			struct dao_error e2;
-			dao_sink_close(s->sink, &e2);
-			s->sink = NULL;
-		}
 	}
 	if (r < 0) {
-		atomic_fetch_add(&s->errors, 1);
-		log_warn("sink %s (%s): %s; retrying in %u ms", s->cfg->name, s->cfg->uri,
-			 err.message, s->backoff_ms);
-		s->next_open_ns = now_ns() + (uint64_t)s->backoff_ms * 1000000u;
-		s->backoff_ms = s->backoff_ms * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms
-								      : s->backoff_ms * 2;
+		sink_failed(s, r, err.message[0] ? err.message : strerror(-r));
 		return r;
 	}
-	s->backoff_ms = d->cfg.retry_initial_ms;
-	atomic_fetch_add(&s->opens, 1);
-	log_info("sink %s: %s (%s stream)", s->cfg->name, s->cfg->uri, stream_name(s->cfg->stream));
+	s->fmt = it->frame.format;
+	s->fmt_w = it->frame.width;
+	s->fmt_h = it->frame.height;
+	if (atomic_fetch_add(&s->opens, 1) == 0)
+		log_info("sink %s: %s (%s stream)", s->cfg->name, s->cfg->uri,
+			 stream_name(s->cfg->stream));
+	atomic_store(&s->state, SINK_RUNNING);
 	return 0;
 }
 
-static void close_sink(struct sink_runner *s)
+static void write_frame(struct sink_runner *s, const struct fq_item *it)
 {
 	struct dao_error err = {0};
-	if (s->sink && dao_sink_close(s->sink, &err) < 0)
-		log_error("sink %s: closing %s: %s", s->cfg->name, s->cfg->uri, err.message);
-	s->sink = NULL;
+	int r = dao_sink_write(s->sink, &it->frame, &err);
+	if (r == -ECANCELED) { /* finished by the user (a closed window) */
+		char why[300];
+		snprintf(why, sizeof why, "%s", err.message);
+		stop_sink(s, r, LOG_INFO, why, NULL);
+	} else if (r < 0) {
+		atomic_fetch_add(&s->dropped, 1);
+		sink_failed(s, r, err.message[0] ? err.message : strerror(-r));
+	} else {
+		atomic_fetch_add(&s->written, 1);
+		record_latency(s, it->t_capture_ns);
+		if (s->failures)
+			log_limited(&s->warn_limit, LOG_INFO, "sink %s: writing again after %llu "
+				    "failure%s", s->cfg->name, s->failures, s->failures == 1 ? "" : "s");
+		s->failures = 0;
+		/* the backoff starts afresh once the sink has worked for a while: one that
+		 * fails after every few frames keeps backing off */
+		if (now_ns() - s->last_failure_ns >= (uint64_t)SINK_RETRY_MAX_MS * 1000000u)
+			s->backoff_ms = SINK_RETRY_INITIAL_MS;
+	}
 }
 
 static void *sink_main(void *arg)
@@ -553,39 +670,36 @@ static void *sink_main(void *arg)
 				 s->cfg->name, left, left == 1 ? "" : "s");
 			break;
 		}
-		struct dao_error err = {0};
-		if (s->disabled) {
+		if (atomic_load(&s->state) == SINK_STOPPED) {
 			fq_done(s->q, it);
 			continue;
 		}
-		if (!s->sink && open_sink(s, it) < 0) {
-			if (!s->disabled)
-				atomic_fetch_add(&s->dropped, 1);
+		if (s->sink && (it->frame.format != s->fmt || it->frame.width != s->fmt_w ||
+				it->frame.height != s->fmt_h)) {
+			log_info("sink %s: the stream is now %ux%u; reopening", s->cfg->name,
+				 it->frame.width, it->frame.height);
+			close_sink(s);
+		}
+		if (!s->sink && (now_ns() < s->next_open_ns || open_sink(s, it) < 0)) {
+			if (atomic_load(&s->state) != SINK_STOPPED)
+				atomic_fetch_add(&s->dropped, 1); /* waiting out the backoff */
 			fq_done(s->q, it);
 			continue;
 		}
-		int wr = dao_sink_write(s->sink, &it->frame, &err);
-		if (wr == -ECANCELED) { /* finished by the user (a closed window) */
-			log_info("sink %s: %s; it stays off", s->cfg->name, err.message);
-			close_sink(s);
-			s->disabled = 1;
-		} else if (wr < 0) {
-			atomic_fetch_add(&s->errors, 1);
-			atomic_fetch_add(&s->dropped, 1);
-			log_warn("sink %s: %s; reopening", s->cfg->name, err.message);
-			close_sink(s);
-		} else {
-			atomic_fetch_add(&s->written, 1);
-			record_latency(s, it->t_capture_ns);
-		}
+		write_frame(s, it);
 		fq_done(s->q, it);
 	}
 	if (s->sink) {
 		struct dao_error err = {0};
-		if (dao_sink_flush(s->sink, &err) < 0)
-			log_warn("sink %s: flush: %s", s->cfg->name, err.message);
+		int r = dao_sink_flush(s->sink, &err);
+		if (r < 0)
+			log_error("sink %s (%s): flushing at the end: %s", s->cfg->name, s->cfg->uri,
+				  err.message[0] ? err.message : strerror(-r));
 	}
 	close_sink(s);
+	char what[96];
+	snprintf(what, sizeof what, "sink %s", s->cfg->name);
+	log_limit_flush(&s->warn_limit, LOG_WARN, what);
 	atomic_store(&s->done, 1);
 	return NULL;
 }
@@ -618,7 +732,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		struct sink_runner *s = &d->sinks[i];
 		s->d = d;
 		s->cfg = &d->cfg.sinks[i];
-		s->backoff_ms = cfg->retry_initial_ms;
+		s->backoff_ms = SINK_RETRY_INITIAL_MS;
+		s->warn_limit = (struct log_limit)LOG_LIMIT_INIT(SINK_LOG_INTERVAL_MS, SINK_LOG_BURST);
 		pthread_mutex_init(&s->lat_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
 			snprintf(msg, len, "out of memory");
@@ -886,7 +1001,14 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)atomic_load(&s->written)));
 		json_object_object_add(o, "frames_dropped", json_object_new_int64((int64_t)atomic_load(&s->dropped)));
 		json_object_object_add(o, "errors", json_object_new_int64((int64_t)atomic_load(&s->errors)));
-		json_object_object_add(o, "disabled", json_object_new_boolean(atomic_load(&s->disabled)));
+		int state = atomic_load(&s->state);
+		json_object_object_add(o, "state", json_object_new_string(sink_state_names[state]));
+		if (state == SINK_STOPPED) {
+			json_object_object_add(o, "stop_reason", json_object_new_string(s->stop_reason));
+			json_object_object_add(o, "stop_code", json_object_new_string(s->stop_code));
+		}
+		json_object_object_add(o, "disabled", json_object_new_boolean(state == SINK_STOPPED));
+		json_object_object_add(o, "opens", json_object_new_int64((int64_t)atomic_load(&s->opens)));
 		json_object_object_add(o, "queued", json_object_new_int((int)fq_length(s->q)));
 		json_object_object_add(o, "latency_ms_median",
 				       json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));

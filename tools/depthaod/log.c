@@ -100,7 +100,7 @@ int log_limited(struct log_limit *l, enum log_level level, const char *fmt, ...)
 	}
 	char suffix[96] = "";
 	if (l->suppressed)
-		snprintf(suffix, sizeof suffix, " (%llu more like this were not logged)",
+		snprintf(suffix, sizeof suffix, " (%llu more like this not logged)",
 			 l->suppressed);
 	l->suppressed = 0;
 	va_list ap;
@@ -113,6 +113,6 @@ int log_limited(struct log_limit *l, enum log_level level, const char *fmt, ...)
 void log_limit_flush(struct log_limit *l, enum log_level level, const char *what)
 {
 	if (l->suppressed)
-		log_msg(level, "%s: %llu more like this were not logged", what, l->suppressed);
+		log_msg(level, "%s: %llu more like this not logged", what, l->suppressed);
 	l->suppressed = 0;
 }

@@ -211,8 +211,14 @@ static void log_stats(struct daemon *d, const char *json_path)
 			long long sd = json_object_object_get_ex(s, "frames_dropped", &f) ? json_object_get_int64(f) : 0;
 			double med = json_object_object_get_ex(s, "latency_ms_median", &f) ? json_object_get_double(f) : 0;
 			double p99 = json_object_object_get_ex(s, "latency_ms_p99", &f) ? json_object_get_double(f) : 0;
-			log_info("stats: sink %s: %lld out, %lld dropped, latency %.1f ms median, %.1f ms p99",
-				 name, out, sd, med, p99);
+			const char *state = json_object_object_get_ex(s, "state", &f) ? json_object_get_string(f) : "";
+			const char *code = json_object_object_get_ex(s, "stop_code", &f) ? json_object_get_string(f) : NULL;
+			char st[48] = "";
+			if (strcmp(state, "running") && strcmp(state, "waiting"))
+				snprintf(st, sizeof st, ", %s%s%s%s", state, code ? " (" : "", code ? code : "",
+					 code ? ")" : "");
+			log_info("stats: sink %s: %lld out, %lld dropped%s, latency %.1f ms median, %.1f ms p99",
+				 name, out, sd, st, med, p99);
 		}
 	}
 	if (json_path && *json_path) {
