@@ -6,7 +6,8 @@
  *                                          exit 0, 2 = no reply in time, 1 = refused/closed
  *   sock_client many SOCK N LINE           send LINE N times, read the N replies; print how
  *                                          many said "ok":true
- *   sock_client idle SOCK N SECONDS        hold N connections that say nothing
+ *   sock_client idle SOCK N SECONDS        hold N connections that say nothing; print
+ *                                          "all closed" once the daemon closed them all
  *   sock_client flood SOCK SECONDS         send requests and never read a reply; hold on
  *   sock_client hold SOCK LINE SECONDS     send LINE, then hold without reading
  *   sock_client listen SOCK SECONDS        a socket that takes connections and never answers
@@ -130,6 +131,34 @@ static int many(const char *path, int n, const char *line)
 	return 0;
 }
 
+static int idle(const char *path, int n, int seconds)
+{
+	struct pollfd p[64];
+	if (n > 64)
+		n = 64;
+	for (int i = 0; i < n; i++)
+		p[i] = (struct pollfd){connect_to(path), POLLIN, 0};
+	printf("ready\n");
+	fflush(stdout);
+	long long end = now_ms() + seconds * 1000LL;
+	int open = n;
+	while (open && now_ms() < end) {
+		if (poll(p, (nfds_t)n, 100) <= 0)
+			continue;
+		for (int i = 0; i < n; i++) {
+			char b[256];
+			if (p[i].fd >= 0 && p[i].revents && recv(p[i].fd, b, sizeof b, MSG_DONTWAIT) <= 0) {
+				close(p[i].fd);
+				p[i].fd = -1;
+				open--;
+			}
+		}
+	}
+	if (!open)
+		printf("all closed\n");
+	return 0;
+}
+
 static int flood(const char *path, int seconds)
 {
 	int fd = connect_to(path);
@@ -175,13 +204,8 @@ int main(int argc, char **argv)
 		return ask(argv[2], atoi(argv[3]), argv[4]);
 	if (argc >= 5 && !strcmp(argv[1], "many"))
 		return many(argv[2], atoi(argv[3]), argv[4]);
-	if (argc >= 5 && !strcmp(argv[1], "idle")) {
-		int n = atoi(argv[3]);
-		for (int i = 0; i < n; i++)
-			connect_to(argv[2]);
-		ready_then_sleep(atoi(argv[4]));
-		return 0;
-	}
+	if (argc >= 5 && !strcmp(argv[1], "idle"))
+		return idle(argv[2], atoi(argv[3]), atoi(argv[4]));
 	if (argc >= 4 && !strcmp(argv[1], "flood"))
 		return flood(argv[2], atoi(argv[3]));
 	if (argc >= 5 && !strcmp(argv[1], "hold")) {

@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "frame_queue.h"
 #include "log.h"
@@ -71,6 +72,8 @@ struct sink_runner {
 	unsigned lat_n, lat_pos;
 };
 
+enum { SNAP_NONE = 0, SNAP_REQUESTED, SNAP_WRITING, SNAP_DONE };
+
 struct daemon {
 	struct daemon_config cfg;
 	const struct dao_plugins *plugins;
@@ -102,7 +105,9 @@ struct daemon {
 	int have_cam;
 
 	char snapshot_path[512];
-	int snapshot_state;           /* 0 none, 1 requested, 2 done, -errno failed */
+	int snapshot_state;           /* SNAP_* or -errno (failed) */
+	int snapshot_abandoned;       /* cancelled while being written */
+	int snapshot_notify_fd;       /* told (one byte) when it is done, -1 = nobody */
 	char snapshot_msg[256];
 
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
@@ -341,15 +346,31 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 	}
 }
 
+/* Writes a requested snapshot (without holding the lock: the control thread stays free). */
 static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
 {
+	char path[sizeof d->snapshot_path];
 	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state == 1) {
-		struct dao_error err = {0};
-		int r = dao_png_write(d->snapshot_path, rgb, &err);
-		d->snapshot_state = r < 0 ? r : 2;
+	if (d->snapshot_state != SNAP_REQUESTED) {
+		pthread_mutex_unlock(&d->lock);
+		return;
+	}
+	memcpy(path, d->snapshot_path, sizeof path);
+	d->snapshot_state = SNAP_WRITING;
+	pthread_mutex_unlock(&d->lock);
+	struct dao_error err = {0};
+	int r = dao_png_write(path, rgb, &err);
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_abandoned) {
+		d->snapshot_state = SNAP_NONE;
+		d->snapshot_abandoned = 0;
+	} else {
+		d->snapshot_state = r < 0 ? r : SNAP_DONE;
 		snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? err.message : "");
-		pthread_cond_broadcast(&d->wake);
+		if (d->snapshot_notify_fd >= 0) {
+			ssize_t w = write(d->snapshot_notify_fd, "s", 1); /* non-blocking pipe */
+			(void)w;
+		}
 	}
 	pthread_mutex_unlock(&d->lock);
 }
@@ -413,7 +434,7 @@ static void *process_main(void *arg)
 				log_error("new AO parameters refused: %s", err.message);
 			d->params_pending = 0;
 		}
-		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == 1;
+		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == SNAP_REQUESTED;
 		pthread_mutex_unlock(&d->lock);
 
 		uint64_t c0 = thread_cpu_ns();
@@ -717,6 +738,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->cfg = *cfg;
 	d->plugins = plugins;
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
+	d->snapshot_notify_fd = -1;
 	d->host = (struct dao_sink_host){d, host_get_param, host_set_param};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
@@ -918,41 +940,55 @@ void daemon_set_paused(struct daemon *d, int paused)
 	atomic_store(&d->paused, paused);
 }
 
-int daemon_snapshot(struct daemon *d, const char *path, int timeout_ms, char *msg, size_t len)
+int daemon_snapshot_request(struct daemon *d, const char *path, int notify_fd, char *msg,
+			    size_t len)
 {
-	struct timespec until;
-	clock_gettime(CLOCK_MONOTONIC, &until);
-	until.tv_sec += timeout_ms / 1000;
-	until.tv_nsec += (long)(timeout_ms % 1000) * 1000000;
-	if (until.tv_nsec >= 1000000000) {
-		until.tv_sec++;
-		until.tv_nsec -= 1000000000;
+	if (atomic_load(&d->paused)) {
+		snprintf(msg, len, "the pipeline is paused: resume it, then take the snapshot");
+		return -EAGAIN;
+	}
+	if (strlen(path) >= sizeof d->snapshot_path) {
+		snprintf(msg, len, "the path is longer than %zu bytes", sizeof d->snapshot_path - 1);
+		return -ENAMETOOLONG;
 	}
 	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state == 1) {
+	if (d->snapshot_state == SNAP_REQUESTED || d->snapshot_state == SNAP_WRITING) {
 		pthread_mutex_unlock(&d->lock);
 		snprintf(msg, len, "another snapshot is in progress");
 		return -EBUSY;
 	}
 	snprintf(d->snapshot_path, sizeof d->snapshot_path, "%s", path);
-	d->snapshot_state = 1;
-	int r = 0;
-	while (d->snapshot_state == 1) {
-		if (pthread_cond_timedwait(&d->wake, &d->lock, &until) == ETIMEDOUT) {
-			d->snapshot_state = 0;
-			snprintf(msg, len, "no frame within %d ms (paused, or the source is idle)",
-				 timeout_ms);
-			r = -ETIMEDOUT;
-			break;
-		}
-	}
-	if (d->snapshot_state < 0) {
-		r = d->snapshot_state;
-		snprintf(msg, len, "%s", d->snapshot_msg);
-	}
-	d->snapshot_state = 0;
+	d->snapshot_state = SNAP_REQUESTED;
+	d->snapshot_abandoned = 0;
+	d->snapshot_notify_fd = notify_fd;
 	pthread_mutex_unlock(&d->lock);
-	return r;
+	return 0;
+}
+
+int daemon_snapshot_result(struct daemon *d, char *msg, size_t len)
+{
+	pthread_mutex_lock(&d->lock);
+	int r = d->snapshot_state;
+	if (r == SNAP_REQUESTED || r == SNAP_WRITING) {
+		pthread_mutex_unlock(&d->lock);
+		return 1;
+	}
+	if (r < 0)
+		snprintf(msg, len, "%s", d->snapshot_msg);
+	d->snapshot_state = SNAP_NONE;
+	pthread_mutex_unlock(&d->lock);
+	return r < 0 ? r : 0;
+}
+
+void daemon_snapshot_cancel(struct daemon *d)
+{
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_state == SNAP_WRITING)
+		d->snapshot_abandoned = 1;
+	else
+		d->snapshot_state = SNAP_NONE;
+	d->snapshot_notify_fd = -1;
+	pthread_mutex_unlock(&d->lock);
 }
 
 static int cmp_u32(const void *a, const void *b)

@@ -45,8 +45,17 @@ void daemon_destroy(struct daemon *d);
 void daemon_set_params(struct daemon *d, const struct dao_params *p);
 void daemon_get_params(struct daemon *d, struct dao_params *p);
 void daemon_set_paused(struct daemon *d, int paused);
-/* Writes the next shaded frame to `path` (PNG); waits up to timeout_ms. */
-int daemon_snapshot(struct daemon *d, const char *path, int timeout_ms, char *msg, size_t len);
+/*
+ * Asks for the next shaded frame to be written to `path` (PNG) without
+ * waiting: 0, -EAGAIN (paused), -EBUSY (one is in progress), with msg.  When
+ * it is done, a byte is written to notify_fd (-1: none; make it non-blocking).
+ */
+int daemon_snapshot_request(struct daemon *d, const char *path, int notify_fd, char *msg,
+			    size_t len);
+/* 1 while pending, 0 once written, -errno with msg if writing failed. */
+int daemon_snapshot_result(struct daemon *d, char *msg, size_t len);
+/* Gives the request up (a frame already being written is finished, unreported). */
+void daemon_snapshot_cancel(struct daemon *d);
 
 /* Counters since start and over the last interval (the interval restarts). */
 struct json_object *daemon_stats(struct daemon *d, int reset_interval);

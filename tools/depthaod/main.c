@@ -51,7 +51,8 @@ static void usage(FILE *out)
 		"  --stream NAME=STREAM    what sink NAME gets: shaded (default), ao, ao8, depth, overlay\n"
 		"  --set SECTION.KEY=VALUE any config key, e.g. --set sink.rec.queue=16\n"
 		"  --PARAM VALUE           any AO parameter, e.g. --radius 0.3 (see depthao process --help)\n"
-		"  --socket PATH           control socket (mode 0600; 'depthao ctl' talks to it)\n"
+		"  --socket PATH           control socket for 'depthao ctl' (its user, root and\n"
+		"                          [daemon] socket_group may connect)\n"
 		"  --stats-interval S      log statistics every S seconds (0 = never; default 10)\n"
 		"  --stats-json FILE       append one JSON line of statistics per interval\n"
 		"  --log-level LEVEL       error, warn, info (default) or debug\n"
@@ -300,7 +301,8 @@ int main(int argc, char **argv)
 		log_error("%s", msg);
 		goto out;
 	}
-	if (cfg.socket_path[0] && control_start(&ctl, cfg.socket_path, d, msg, sizeof msg) < 0) {
+	struct control_options co = {cfg.socket_path, cfg.socket_group, cfg.socket_idle_timeout_s};
+	if (cfg.socket_path[0] && control_start(&ctl, &co, d, msg, sizeof msg) < 0) {
 		log_error("%s", msg);
 		goto out;
 	}
