@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -111,7 +112,8 @@ struct daemon {
 	char snapshot_msg[256];
 
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
-		source_failures;
+		source_failures, source_bad_frames;
+	struct log_limit source_log;  /* the capture thread's repeated warnings */
 	atomic_ullong cpu_ns_total;
 	uint64_t start_ns;
 	uint64_t interval_start_ns, interval_processed;
@@ -151,7 +153,30 @@ static void nap(struct daemon *d, unsigned ms)
 
 /* ---- capture ------------------------------------------------------------ */
 
-static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
+/*
+ * 1 if the source URI names something on disk (a recording, a depth PNG, a
+ * directory of them) rather than a device: "oni:" and "images:" URIs, any URI
+ * whose path ends in .oni or .png, and paths outside /dev without a plugin
+ * prefix.  Such a source must open at start; a device may be plugged in later.
+ */
+static int source_names_file(const char *uri)
+{
+	size_t p = 0;
+	while ((uri[p] >= 'a' && uri[p] <= 'z') || (uri[p] >= '0' && uri[p] <= '9') ||
+	       uri[p] == '-' || uri[p] == '_')
+		p++;
+	int prefixed = p > 1 && uri[p] == ':'; /* as the plugin registry reads a prefix */
+	if (prefixed && ((p == 3 && !strncmp(uri, "oni", 3)) || (p == 6 && !strncmp(uri, "images", 6))))
+		return 1;
+	const char *rest = prefixed ? uri + p + 1 : uri;
+	size_t n = strcspn(rest, "?");
+	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".png", 4)))
+		return 1;
+	return !prefixed && memchr(rest, '/', n) && strncmp(rest, "/dev/", 5) != 0;
+}
+
+/* The source opened and started; NULL after a failure (waited out, or fatal: d->failed). */
+static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int first)
 {
 	struct dao_source_options so = {
 		.playback = d->cfg.playback,
@@ -167,9 +192,17 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
 		dao_source_close(src);
 		src = NULL;
 	}
+	if (r < 0 && first && source_names_file(d->cfg.source_uri)) {
+		log_error("source %s: %s; a recording or image path must be there when depthaod "
+			  "starts (only devices are waited for): check [source] uri", d->cfg.source_uri,
+			  err.message[0] ? err.message : strerror(-r));
+		atomic_store(&d->failed, 1);
+		return NULL;
+	}
 	if (r < 0) {
 		atomic_fetch_add(&d->source_failures, 1);
-		log_warn("source %s: %s; retrying in %u ms", d->cfg.source_uri, err.message, *backoff);
+		log_limited(&d->source_log, LOG_WARN, "source %s: %s; retrying in %u ms",
+			    d->cfg.source_uri, err.message[0] ? err.message : strerror(-r), *backoff);
 		nap(d, *backoff);
 		*backoff = *backoff * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms : *backoff * 2;
 		return NULL;
@@ -191,12 +224,19 @@ static void *capture_main(void *arg)
 	struct daemon *d = arg;
 	struct dao_source *src = NULL;
 	unsigned backoff = d->cfg.retry_initial_ms;
-	int live = 0;
+	int live = 0, opened = 0;
+	int64_t frame_count = 0, bad_in_a_row = 0;
 	while (!atomic_load(&d->stop) && !atomic_load(&d->end_capture)) {
 		if (!src) {
-			if (!(src = open_source(d, &backoff)))
+			if (!(src = open_source(d, &backoff, !opened))) {
+				if (atomic_load(&d->failed))
+					break;
 				continue;
+			}
+			opened = 1;
 			live = d->src_info.live;
+			frame_count = d->src_info.frame_count;
+			bad_in_a_row = 0;
 		}
 		if (atomic_load(&d->paused) && !live) {
 			nap(d, 50); /* a paused recording simply waits */
@@ -211,13 +251,28 @@ static void *capture_main(void *arg)
 			log_info("source %s: end of the recording", d->cfg.source_uri);
 			break;
 		}
+		const char *why = err.message[0] ? err.message : strerror(-r);
+		if (r < 0 && !live && r != -ENODEV &&
+		    ++bad_in_a_row <= (frame_count > 0 ? frame_count : 1)) {
+			/* a recording's frame that cannot be decoded: the source skips it */
+			atomic_fetch_add(&d->source_bad_frames, 1);
+			log_limited(&d->source_log, LOG_WARN, "source %s: a frame cannot be read and is "
+				    "skipped: %s", d->cfg.source_uri, why);
+			continue;
+		}
 		if (r < 0) {
-			log_warn("source %s lost: %s; reopening", d->cfg.source_uri,
-				 err.message[0] ? err.message : strerror(-r));
+			if (!live && r != -ENODEV)
+				log_limited(&d->source_log, LOG_WARN, "source %s: no frame can be read "
+					    "(%lld failures in a row, the last: %s); reopening",
+					    d->cfg.source_uri, (long long)bad_in_a_row, why);
+			else
+				log_limited(&d->source_log, LOG_WARN, "source %s lost: %s; reopening",
+					    d->cfg.source_uri, why);
 			dao_source_close(src);
 			src = NULL;
 			continue;
 		}
+		bad_in_a_row = 0;
 		if (atomic_load(&d->paused)) { /* live: keep the device flowing, drop */
 			dao_source_release(src, &f);
 			continue;
@@ -244,6 +299,7 @@ static void *capture_main(void *arg)
 			fq_cancel_push(d->input, it);
 	}
 	dao_source_close(src);
+	log_limit_flush(&d->source_log, LOG_WARN, "source");
 	fq_close(d->input);
 	atomic_store(&d->capture_done, 1);
 	return NULL;
@@ -739,6 +795,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->plugins = plugins;
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
 	d->snapshot_notify_fd = -1;
+	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
 	d->host = (struct dao_sink_host){d, host_get_param, host_set_param};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
@@ -1014,6 +1071,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	json_object_object_add(j, "paused", json_object_new_boolean(atomic_load(&d->paused)));
 	json_object_object_add(j, "source_opens", json_object_new_int64((int64_t)atomic_load(&d->source_opens)));
 	json_object_object_add(j, "source_failures", json_object_new_int64((int64_t)atomic_load(&d->source_failures)));
+	json_object_object_add(j, "source_bad_frames", json_object_new_int64((int64_t)atomic_load(&d->source_bad_frames)));
 	json_object_object_add(j, "frames_in", json_object_new_int64((int64_t)atomic_load(&d->captured)));
 	json_object_object_add(j, "frames_dropped_in", json_object_new_int64((int64_t)atomic_load(&d->input_dropped)));
 	json_object_object_add(j, "frames_processed", json_object_new_int64((int64_t)processed));
