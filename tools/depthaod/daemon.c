@@ -29,15 +29,19 @@
  * output, which must be done by STOP_DEADLINE_MS.  The natural end of a run
  * (end of a recording, max_frames) has no deadline: every queue drains.
  */
-#define STOP_PROCESS_MS 250
-/* a sink that fails is closed and reopened after a backoff doubling from ... to ... */
+#define STOP_PROCESS_MS 200
+#define STOP_DRAIN_MS 350
+#define STOP_DEADLINE_MS 850
+/*
+ * A sink that fails with a permanent error (permanent_error()) is stopped for
+ * good; after any other error it is closed and reopened after a backoff
+ * doubling from SINK_RETRY_INITIAL_MS to SINK_RETRY_MAX_MS.  Its warnings: at
+ * most SINK_LOG_BURST per SINK_LOG_INTERVAL_MS, the rest counted.
+ */
 #define SINK_RETRY_INITIAL_MS 500
 #define SINK_RETRY_MAX_MS 30000
-/* its warnings: at most this many per interval, the rest counted */
 #define SINK_LOG_BURST 3
 #define SINK_LOG_INTERVAL_MS 60000
-#define STOP_DRAIN_MS 450
-#define STOP_DEADLINE_MS 850
 
 enum sink_state {
 	SINK_WAITING = 0,             /* not opened yet (no frame so far) */
@@ -437,7 +441,7 @@ static void *process_main(void *arg)
 	struct dao_context *ctx = NULL;
 	struct outputs o = {0};
 	struct fq_item *in;
-	uint64_t error_log_after = 0;
+	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
 	for (;;) {
 		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
 			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
@@ -507,10 +511,8 @@ static void *process_main(void *arg)
 		atomic_fetch_add(&d->cpu_ns_total, thread_cpu_ns() - c0);
 		if (r < 0) {
 			atomic_fetch_add(&d->process_errors, 1);
-			if (now_ns() >= error_log_after) { /* at most one message a second */
-				log_error("frame %llu: %s", (unsigned long long)in->index, err.message);
-				error_log_after = now_ns() + 1000000000u;
-			}
+			log_limited(&error_log, LOG_ERROR, "frame %llu: %s", (unsigned long long)in->index,
+				    err.message);
 			fq_done(d->input, in);
 			continue;
 		}
@@ -532,6 +534,7 @@ static void *process_main(void *arg)
 		fq_close(d->sinks[i].q);
 	dao_context_destroy(ctx);
 	free_outputs(&o);
+	log_limit_flush(&error_log, LOG_ERROR, "frame errors");
 	/* the capture thread may be blocked on a full input queue: unblock it */
 	atomic_store(&d->end_capture, 1);
 	fq_close(d->input);
@@ -963,7 +966,10 @@ void daemon_destroy(struct daemon *d)
 {
 	if (!d)
 		return;
-	if (d->capture_running || d->process_running)
+	int running = d->capture_running || d->process_running;
+	for (unsigned i = 0; i < d->nsinks; i++)
+		running |= d->sinks[i].running;
+	if (running)
 		daemon_stop(d);
 	if (d->stragglers)
 		return; /* a thread still uses the daemon's memory: the process exit frees it */
