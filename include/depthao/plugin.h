@@ -19,7 +19,9 @@
  * (probe) and taking the best.  All calls return 0 or a negative errno code:
  *   read:  0 = a frame, -EAGAIN = no frame within the timeout,
  *          -ENODEV = the device is gone (unplugged), DAO_SOURCE_EOS (> 0)
- *          = the end of a recording (not an error), other < 0 = errors.
+ *          = the end of a recording (not an error), other < 0 = errors;
+ *          a recording's frame that cannot be decoded is skipped (the next
+ *          read delivers the one after it).
  * Frames from read stay valid until release (or the next read); sources own
  * their buffers.  One thread at a time per source; separate sources are
  * independent.

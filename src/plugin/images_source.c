@@ -212,8 +212,10 @@ static int images_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		}
 	}
 	int r = read_frame(s, (uint32_t)s->next, err);
-	if (r < 0)
+	if (r < 0) {
+		s->next += s->opts.step; /* a bad image is skipped: the next read goes on */
 		return r;
+	}
 	clock_gettime(CLOCK_MONOTONIC, &s->last_delivery);
 	s->delivered = 1;
 	f->depth = s->frame;

@@ -159,8 +159,10 @@ static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
 	}
 	int r = dao_oni_reader_read_depth(s->reader, (uint32_t)s->stream, (uint32_t)s->next,
 					  &s->depth, err);
-	if (r < 0)
+	if (r < 0) {
+		s->next += s->opts.step; /* a corrupt frame is skipped: the next read goes on */
 		return r;
+	}
 	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
 	    (r = pace(s, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
 		return r; /* the frame is read again next time */

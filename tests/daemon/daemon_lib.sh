@@ -11,8 +11,10 @@ ROOT=${DAO_SOURCE_ROOT:?}
 REC="$ROOT/recordings/spheres-rolling.oni"
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/daod-test.XXXXXX")
 PID=
+BUSY=
 cleanup() {
 	[ -n "$PID" ] && kill -KILL "$PID" 2>/dev/null || true
+	[ -n "$BUSY" ] && kill $BUSY 2>/dev/null || true
 	rm -rf "$WORK"
 }
 trap cleanup EXIT
@@ -29,6 +31,23 @@ start_daemon() {
 	shift
 	"$DAEMON" "$@" 2>"$log" &
 	PID=$!
+}
+
+# busy_loops N [CPU]: N busy loops (pinned to CPU if given) until stop_busy_loops
+busy_loops() {
+	for _ in $(seq "$1"); do
+		if [ -n "${2:-}" ]; then
+			taskset -c "$2" timeout 600 sh -c 'while :; do :; done' &
+		else
+			timeout 600 sh -c 'while :; do :; done' &
+		fi
+		BUSY="$BUSY $!"
+	done
+}
+
+stop_busy_loops() {
+	[ -n "$BUSY" ] && kill $BUSY 2>/dev/null || true
+	BUSY=
 }
 
 # wait_for SECONDS COMMAND...: polls until the command succeeds

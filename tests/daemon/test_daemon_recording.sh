@@ -91,7 +91,9 @@ grep -v '^<[0-7]>' "$WORK/log-j" | grep -q . && fail "lines without a priority: 
 # SIGTERM while running (looping, real time): stops within a second, files finalised
 start_daemon "$WORK/log2" --source "$REC" --loop --sink rec=oni:"$WORK/live.oni" --stream rec=depth \
 	--sink png=images:"$WORK/live"
-wait_for 10 test -f "$WORK/live/000003.png" || fail "no output while running: $(cat "$WORK/log2")"
+# (frames are named by their index in the loop; on a busy host some are dropped)
+wait_for 20 sh -c "[ \$(ls '$WORK/live' 2>/dev/null | wc -l) -ge 3 ]" ||
+	fail "no output while running: $(cat "$WORK/log2")"
 stop_daemon || fail "exit status after SIGTERM"
 "$DEPTHAO" process --input "$WORK/live.oni" --ao-out "$WORK/live-replay" --quiet ||
 	fail "the .oni recorded until SIGTERM is not readable: $(cat "$WORK/log2")"

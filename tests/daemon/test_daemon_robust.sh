@@ -1,7 +1,9 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 # A slow sink does not hold the others back (drops counted, memory flat); a source that
-# goes away (-ENODEV) is reopened and the daemon keeps running.
+# goes away (-ENODEV) is reopened and the daemon keeps running; a device that cannot be
+# opened is waited for, a missing file is an error at once; a corrupt frame of a looping
+# recording is skipped.
 . "$(dirname "$0")/daemon_lib.sh"
 export DEPTHAO_PLUGIN_PATH="$TEST_PLUGINS"
 
@@ -45,11 +47,49 @@ grep -q "lost: testsrc: unplugged after 20 frames; reopening" "$WORK/log2" || fa
 [ "$(stat_of "$SOCK" frames_processed)" -ge 40 ] || fail "frames did not keep flowing"
 stop_daemon || fail "exit status"
 
-# a source that cannot be opened: retried with backoff, logged, sinks stay up
-start_daemon "$WORK/log3" --source "oni:$WORK/missing.oni" --sink fast=y4m:/dev/null \
+# a device that cannot be opened: retried with backoff, logged (a few lines), sinks stay up
+start_daemon "$WORK/log3" --source "testsrc:fps=0" --sink fast=y4m:/dev/null \
 	--set source.retry_initial_ms=50 --set source.retry_max_ms=200 --socket "$SOCK"
-wait_for 10 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stats.source_failures) -ge 4 ]" ||
+wait_for 10 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stats.source_failures) -ge 8 ]" ||
 	fail "no retries: $(cat "$WORK/log3")"
-grep -q "missing.oni.*retrying in" "$WORK/log3" || fail "retry not logged"
+grep -q "testsrc: bad options.*retrying in" "$WORK/log3" || fail "retry not logged"
+[ "$(grep -c "retrying in" "$WORK/log3")" -le 5 ] || fail "every retry logged: $(cat "$WORK/log3")"
 stop_daemon || fail "exit status"
+grep -q "source: [0-9]* more like this not logged" "$WORK/log3" || fail "held-back retries not counted: $(cat "$WORK/log3")"
+
+# a source file that is not there: an error at once, not retried forever
+for uri in "$WORK/missing.oni" "oni:$WORK/missing" "images:$WORK/no-such-dir" "$WORK/no-such-dir/"; do
+	t0=$(date +%s%N)
+	status=0
+	timeout 10 "$DAEMON" --source "$uri" --sink fast=y4m:/dev/null --stats-interval 0 \
+		2>"$WORK/log-missing" || status=$?
+	ms=$((($(date +%s%N) - t0) / 1000000))
+	echo "missing source $uri: exit $status in $ms ms"
+	[ "$status" -ne 0 ] && [ "$status" -ne 124 ] || fail "missing source $uri: exit $status"
+	[ "$ms" -le 1000 ] || fail "missing source $uri: $ms ms to exit"
+	grep -q "must be there when depthaod starts" "$WORK/log-missing" ||
+		fail "missing source $uri: $(cat "$WORK/log-missing")"
+done
+
+# a looping directory of depth PNGs with a corrupt one: it is skipped (with a warning that
+# does not repeat per frame), the frames after it keep coming, the source is not reopened
+"$DEPTHAO" synth --scene spheres --out "$WORK/synth" --frames 4 --rays 1 >/dev/null 2>&1 ||
+	fail "synth"
+truncate -s 60 "$WORK/synth/spheres/depth/0001.png"
+start_daemon "$WORK/log4" --source "images:$WORK/synth/spheres/depth" --loop --playback manual \
+	--sink png=images:"$WORK/corrupt-out" --sink null=y4m:/dev/null --socket "$SOCK" --stats-interval 0
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log4")"
+wait_for 30 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stats.source_bad_frames) -ge 5 ]" ||
+	fail "the bad frame was not skipped repeatedly: $(cat "$WORK/log4")"
+[ "$(stat_of "$SOCK" source_opens)" -eq 1 ] || fail "the source was reopened $(stat_of "$SOCK" source_opens) times"
+b=$(stat_of "$SOCK" source_bad_frames)
+n=$(stat_of "$SOCK" frames_in)
+[ "$n" -ge $((3 * b - 3)) ] || fail "$n frames read for $b bad ones (3 good per loop)"
+stop_daemon || fail "exit status"
+for f in 000000 000002 000003; do
+	[ -f "$WORK/corrupt-out/$f.png" ] || fail "frame $f missing: $(ls "$WORK/corrupt-out")"
+done
+[ -e "$WORK/corrupt-out/000001.png" ] && fail "a frame for the corrupt PNG"
+grep -q "a frame cannot be read and is skipped: .*0001.png" "$WORK/log4" || fail "no warning: $(cat "$WORK/log4")"
+[ "$(grep -c "is skipped" "$WORK/log4")" -le 5 ] || fail "the skip is logged per frame"
 finish

@@ -4,7 +4,12 @@
  *   1: source "testsrc" - a live synthetic camera: "testsrc:fps=200,fail_after=20,w=64,h=48"
  *      delivers a moving box at `fps` and, after `fail_after` frames, reports the
  *      device as gone (-ENODEV) once per open, as an unplugged sensor would.
- *   2: sink "slowsink" - "slowsink:MS" takes MS milliseconds per frame.
+ *   2: sink "slowsink" - "slowsink:MS[,fail=E][,after=N][,open_fail=E][,out=FILE]" takes
+ *      MS milliseconds per frame; its writes fail with errno E (a number or a name:
+ *      ENOSPC, EIO, EPIPE, ...) after N good ones of each open; open_fail=E makes every
+ *      open fail; out=FILE appends "OPEN" at each open and the sequence number of each
+ *      frame it reports written, so a test can compare the daemon's counters with
+ *      what the sink took.
  */
 #include <errno.h>
 #include <stdio.h>
@@ -135,15 +140,62 @@ static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "testsrc", "tes
 #else
 struct sink {
 	long ms;
+	int fail, open_fail;
+	unsigned after, written;
+	char out[400];
 };
+
+static int errno_of(const char *v)
+{
+	static const struct {
+		const char *name;
+		int code;
+	} names[] = {{"ENOSPC", ENOSPC}, {"EDQUOT", EDQUOT}, {"EFBIG", EFBIG}, {"EROFS", EROFS},
+		     {"EPIPE", EPIPE},   {"EIO", EIO},       {"EACCES", EACCES}, {"ENOENT", ENOENT}};
+	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+		if (!strcmp(v, names[i].name))
+			return names[i].code;
+	return atoi(v);
+}
+
+static void note(const struct sink *s, const char *fmt, unsigned long long v)
+{
+	if (!s->out[0])
+		return;
+	FILE *f = fopen(s->out, "a");
+	if (f) {
+		fprintf(f, fmt, v);
+		fclose(f);
+	}
+}
 
 static int sink_open(const char *uri, void **state, struct dao_error *err)
 {
-	(void)err;
 	struct sink *s = calloc(1, sizeof(*s));
 	if (!s)
 		return -ENOMEM;
-	s->ms = atol(uri);
+	char buf[512];
+	snprintf(buf, sizeof buf, "%s", uri);
+	s->ms = atol(buf);
+	for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+		if (!strncmp(tok, "fail=", 5))
+			s->fail = errno_of(tok + 5);
+		else if (!strncmp(tok, "open_fail=", 10))
+			s->open_fail = errno_of(tok + 10);
+		else if (!strncmp(tok, "after=", 6))
+			s->after = (unsigned)atoi(tok + 6);
+		else if (!strncmp(tok, "out=", 4))
+			snprintf(s->out, sizeof s->out, "%s", tok + 4);
+	}
+	if (s->open_fail) {
+		int e = s->open_fail;
+		if (err)
+			snprintf(err->message, sizeof err->message, "slowsink: cannot open: %s",
+				 strerror(e));
+		free(s);
+		return -e;
+	}
+	note(s, "OPEN\n", 0);
 	*state = s;
 	return 0;
 }
@@ -158,9 +210,16 @@ static int sink_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 
 static int sink_write(void *state, const struct dao_frame *frame, struct dao_error *err)
 {
-	(void)frame;
-	(void)err;
-	sleep_ms(((struct sink *)state)->ms);
+	struct sink *s = state;
+	sleep_ms(s->ms);
+	if (s->fail && s->written >= s->after) {
+		if (err)
+			snprintf(err->message, sizeof err->message, "slowsink: write failed: %s",
+				 strerror(s->fail));
+		return -s->fail;
+	}
+	s->written++;
+	note(s, "%llu\n", (unsigned long long)frame->sequence);
 	return 0;
 }
 

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -267,6 +268,87 @@ static void test_images_source(void **state)
 	assert_non_null(strstr(err.message, "no *.png files"));
 }
 
+static uint32_t rd32(const uint8_t *p)
+{
+	return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+
+/*
+ * A copy of the six-frame 16zT recording whose frame `bad` has a corrupt
+ * payload: its 16zT table claims more entries than the payload holds.  Records of
+ * a 1.0.1.0 file: 24-byte file header, then records with the type at +4, the size
+ * of the header fields at +12 and of the payload at +16; NEW_DATA = 0x0A.
+ */
+static void write_corrupt_oni(const char *path, int bad)
+{
+	FILE *f = fopen(g_path, "rb");
+	assert_non_null(f);
+	static uint8_t b[1 << 20];
+	size_t n = fread(b, 1, sizeof b, f);
+	fclose(f);
+	assert_true(n > 24 && n < sizeof b);
+	size_t pos = 24;
+	int seen = 0;
+	while (pos + 28 <= n) {
+		if (rd32(b + pos + 4) == 0x0Au && seen++ == bad)
+			break;
+		pos += (size_t)rd32(b + pos + 12) + rd32(b + pos + 16);
+	}
+	assert_true(pos + 28 <= n);
+	size_t payload = pos + rd32(b + pos + 12);
+	b[payload] = 0xFF;
+	b[payload + 1] = 0x7F;
+	f = fopen(path, "wb");
+	assert_non_null(f);
+	assert_int_equal(fwrite(b, 1, n, f), n);
+	fclose(f);
+}
+
+/*
+ * A frame that cannot be decoded fails its read and is skipped: the next read
+ * delivers the frame after it, so a looping recording plays every good frame
+ * instead of starting over before the bad one forever.
+ */
+static void test_bad_frame_skipped(void **state)
+{
+	(void)state;
+	char path[600];
+	snprintf(path, sizeof path, "%s/corrupt.oni", dao_test_tmpdir("source-oni-corrupt"));
+	write_corrupt_oni(path, 2);
+	struct dao_source_options o = {.loop = 1};
+	struct dao_source *s = open_src(path, &o);
+	long long expect[] = {0, 1, -1000 - EINVAL, 3, 4, 5, 0, 1, -1000 - EINVAL, 3};
+	for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++)
+		assert_int_equal(read_index(s), expect[i]);
+	dao_source_close(s);
+
+	/* a truncated PNG in a directory: the same */
+	const char *dir = write_pngs("images-corrupt", 4, 99);
+	char png[700];
+	snprintf(png, sizeof png, "%s/01.png", dir);
+	assert_int_equal(truncate(png, 40), 0);
+	char uri[700];
+	snprintf(uri, sizeof uri, "images:%s", dir);
+	s = open_src(uri, &o);
+	struct dao_error err;
+	struct dao_source_frame f;
+	long long want[] = {0, -1, 2, 3, 0, -1, 2, 3}; /* -1: an error naming the file */
+	for (int i = 0; i < 8; i++) {
+		int r = dao_source_read(s, &f, 1000, &err);
+		if (want[i] < 0) {
+			if (r >= 0)
+				fail_msg("images read %d: %d, expected an error", i, r);
+			assert_non_null(strstr(err.message, "01.png"));
+			continue;
+		}
+		assert_int_equal(r, 0);
+		assert_int_equal(f.index, want[i]);
+		assert_true(test_is_frame(&f.depth, (uint32_t)f.index));
+		dao_source_release(s, &f);
+	}
+	dao_source_close(s);
+}
+
 /* AO of the whole Kinect recording: its camera from the recorded FOV, sane, deterministic. */
 static void test_kinect_recording_ao(void **state)
 {
@@ -354,6 +436,7 @@ int main(void)
 		cmocka_unit_test(test_realtime_delivers_all),
 		cmocka_unit_test(test_open_errors),
 		cmocka_unit_test(test_images_source),
+		cmocka_unit_test(test_bad_frame_skipped),
 		cmocka_unit_test(test_kinect_recording_ao),
 		cmocka_unit_test(test_modules_skipped_with_reason),
 	};

@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* depthao ctl: one command to a running depthaod over its control socket. */
 #include <errno.h>
+#include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <json-c/json.h>
@@ -15,7 +17,7 @@
 static void usage(FILE *out)
 {
 	fprintf(out,
-		"usage: depthao ctl --socket PATH COMMAND [ARGS]\n"
+		"usage: depthao ctl --socket PATH [--timeout S] COMMAND [ARGS]\n"
 		"\n"
 		"Talks to a running depthaod (its [daemon] socket or --socket).  Commands:\n"
 		"  stats               counters, fps, latency per sink (JSON)\n"
@@ -23,21 +25,66 @@ static void usage(FILE *out)
 		"  set PARAM VALUE     change an AO parameter of the running pipeline\n"
 		"  pause | resume      stop / restart processing (live sources keep streaming)\n"
 		"  snapshot FILE.png   write the next shaded frame\n"
-		"Prints the daemon's JSON reply; exits 0 if it says ok, 1 if not or unreachable.\n");
+		"Prints the daemon's JSON reply; exits 0 if it says ok, 1 if not, if the daemon\n"
+		"cannot be reached or gives no reply within --timeout seconds (default 5).\n");
+}
+
+static long long now_ms(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (long long)t.tv_sec * 1000 + t.tv_nsec / 1000000;
+}
+
+/* Waits for `events` on fd until the deadline; 1 ready, 0 timed out, -1 error. */
+static int wait_fd(int fd, short events, long long deadline)
+{
+	for (;;) {
+		long long left = deadline - now_ms();
+		if (left <= 0)
+			return 0;
+		struct pollfd p = {fd, events, 0};
+		int r = poll(&p, 1, left > 1000000 ? 1000000 : (int)left);
+		if (r < 0 && errno == EINTR)
+			continue;
+		return r < 0 ? -1 : r > 0;
+	}
+}
+
+/* Connects (retrying while the daemon's backlog is full) by the deadline. */
+static int connect_by(int fd, const struct sockaddr_un *addr, long long deadline)
+{
+	for (;;) {
+		if (connect(fd, (const struct sockaddr *)addr, sizeof *addr) == 0)
+			return 0;
+		if (errno != EAGAIN && errno != EINTR)
+			return -errno;
+		if (now_ms() >= deadline)
+			return -ETIMEDOUT;
+		struct timespec d = {0, 10 * 1000 * 1000};
+		nanosleep(&d, NULL);
+	}
 }
 
 int cmd_ctl(int argc, char **argv)
 {
 	const char *sock = NULL;
+	double timeout_s = 5;
 	int i = 1;
 	for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
 		if (!strcmp(argv[i], "--help")) {
 			usage(stdout);
 			return 0;
 		}
-		if (!strcmp(argv[i], "--socket") && i + 1 < argc)
+		if (!strcmp(argv[i], "--socket") && i + 1 < argc) {
 			sock = argv[++i];
-		else
+		} else if (!strcmp(argv[i], "--timeout") && i + 1 < argc) {
+			char *end;
+			timeout_s = strtod(argv[++i], &end);
+			if (*end || !(timeout_s >= 0.01 && timeout_s <= 86400))
+				return usage_error("ctl", "--timeout '%s' must be seconds in 0.01..86400",
+						   argv[i]);
+		} else
 			return usage_error("ctl", "unknown option '%s'", argv[i]);
 	}
 	if (!sock)
@@ -69,30 +116,61 @@ int cmd_ctl(int argc, char **argv)
 		return usage_error("ctl", "socket path '%s' is too long", sock);
 	}
 	memcpy(addr.sun_path, sock, strlen(sock) + 1);
-	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-	if (fd < 0 || connect(fd, (struct sockaddr *)&addr, sizeof addr) < 0) {
+	long long deadline = now_ms() + (long long)(timeout_s * 1000);
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+	int r = fd < 0 ? -errno : connect_by(fd, &addr, deadline);
+	if (r < 0) {
 		fprintf(stderr, "depthao: cannot connect to %s: %s (is depthaod running with this "
-			"socket?)\n", sock, strerror(errno));
+			"socket?)\n", sock, strerror(-r));
 		json_object_put(req);
 		if (fd >= 0)
 			close(fd);
 		return 1;
 	}
-	const char *line = json_object_to_json_string_ext(req, JSON_C_TO_STRING_PLAIN);
+	const char *text = json_object_to_json_string_ext(req, JSON_C_TO_STRING_PLAIN);
 	int status = 1;
-	if (dprintf(fd, "%s\n", line) < 0) {
-		fprintf(stderr, "depthao: cannot send to %s: %s\n", sock, strerror(errno));
+	char line[8192];
+	size_t n = (size_t)snprintf(line, sizeof line, "%s\n", text), off = 0;
+	if (n >= sizeof line) {
+		fprintf(stderr, "depthao: the request is too long\n");
+		goto out;
+	}
+	while (off < n) {
+		ssize_t w = send(fd, line + off, n - off, MSG_NOSIGNAL);
+		if (w > 0) {
+			off += (size_t)w;
+		} else if (w < 0 && (errno == EAGAIN || errno == EINTR)) {
+			if (wait_fd(fd, POLLOUT, deadline) <= 0)
+				break;
+		} else {
+			break;
+		}
+	}
+	if (off < n) {
+		fprintf(stderr, "depthao: cannot send to %s: %s\n", sock,
+			now_ms() >= deadline ? "timed out" : strerror(errno));
 		goto out;
 	}
 	char buf[65536];
 	size_t len = 0;
-	while (len < sizeof buf - 1) {
-		ssize_t n = read(fd, buf + len, sizeof buf - 1 - len);
-		if (n <= 0)
+	int timed_out = 0;
+	while (len < sizeof buf - 1 && !memchr(buf, '\n', len)) {
+		int ready = wait_fd(fd, POLLIN, deadline);
+		if (ready <= 0) {
+			timed_out = ready == 0;
 			break;
-		len += (size_t)n;
-		if (memchr(buf, '\n', len))
+		}
+		ssize_t k = read(fd, buf + len, sizeof buf - 1 - len);
+		if (k < 0 && (errno == EAGAIN || errno == EINTR))
+			continue;
+		if (k <= 0)
 			break;
+		len += (size_t)k;
+	}
+	if (timed_out) {
+		fprintf(stderr, "depthao: no reply from %s within %g s (is the daemon stuck? "
+			"--timeout sets the wait)\n", sock, timeout_s);
+		goto out;
 	}
 	buf[len] = '\0';
 	struct json_object *res = json_tokener_parse(buf);

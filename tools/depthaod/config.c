@@ -28,6 +28,7 @@ void config_defaults(struct daemon_config *c)
 	c->input_queue = 4;
 	c->quality = DAO_QUALITY_DEFAULT;
 	c->stats_interval_s = 10;
+	c->socket_idle_timeout_s = 30;
 	c->log_level = LOG_INFO;
 	c->drain_on_stop = 1;
 }
@@ -244,6 +245,16 @@ static int set_daemon(struct daemon_config *c, const char *section, const char *
 		return copy_str(c->socket_path, sizeof c->socket_path, value)
 			       ? BAD("is empty or longer than 107 bytes")
 			       : 0;
+	if (!strcmp(key, "socket_group"))
+		return copy_str(c->socket_group, sizeof c->socket_group, value)
+			       ? BAD("is empty or longer than 63 bytes")
+			       : 0;
+	if (!strcmp(key, "socket_idle_timeout")) {
+		if (parse_uint(value, 1, 86400, &n))
+			return BAD("must be seconds in 1..86400");
+		c->socket_idle_timeout_s = (unsigned)n;
+		return 0;
+	}
 	if (!strcmp(key, "stats_interval")) {
 		if (parse_uint(value, 0, 86400, &n))
 			return BAD("must be seconds in 0..86400 (0 = off)");
@@ -268,8 +279,9 @@ static int set_daemon(struct daemon_config *c, const char *section, const char *
 		c->max_frames = n;
 		return 0;
 	}
-	return fail(msg, len, "[%s] %s: unknown key (keys: socket, stats_interval, stats_json, "
-		    "log_level, drain_on_stop, max_frames)", section, key);
+	return fail(msg, len, "[%s] %s: unknown key (keys: socket, socket_group, "
+		    "socket_idle_timeout, stats_interval, stats_json, log_level, drain_on_stop, "
+		    "max_frames)", section, key);
 }
 
 int config_set(struct daemon_config *c, const char *section, const char *key, const char *value,

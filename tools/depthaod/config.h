@@ -65,6 +65,8 @@ struct daemon_config {
 
 	/* [daemon] */
 	char socket_path[108];
+	char socket_group[64];   /* who else may use the socket ("" = "depthao" if it exists) */
+	unsigned socket_idle_timeout_s; /* a control connection idle this long is closed */
 	unsigned stats_interval_s;
 	char stats_json[512];
 	int log_level;           /* enum log_level */

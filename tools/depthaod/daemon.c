@@ -9,7 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "frame_queue.h"
 #include "log.h"
@@ -19,7 +21,36 @@
 #define DEFAULT_VFOV_DEG 45.6
 #define LATENCY_RING 512
 #define READ_TIMEOUT_MS 200
-#define STOP_DEADLINE_MS 700
+/*
+ * A signal stops the pipeline in one second (counted from the signal): the
+ * processing thread may finish frames already queued for STOP_PROCESS_MS, then
+ * the sink queues close whatever it is doing; each sink writes what it has
+ * queued until STOP_DRAIN_MS, drops the rest (counted) and finalises its
+ * output, which must be done by STOP_DEADLINE_MS.  The natural end of a run
+ * (end of a recording, max_frames) has no deadline: every queue drains.
+ */
+#define STOP_PROCESS_MS 200
+#define STOP_DRAIN_MS 350
+#define STOP_DEADLINE_MS 850
+/*
+ * A sink that fails with a permanent error (permanent_error()) is stopped for
+ * good; after any other error it is closed and reopened after a backoff
+ * doubling from SINK_RETRY_INITIAL_MS to SINK_RETRY_MAX_MS.  Its warnings: at
+ * most SINK_LOG_BURST per SINK_LOG_INTERVAL_MS, the rest counted.
+ */
+#define SINK_RETRY_INITIAL_MS 500
+#define SINK_RETRY_MAX_MS 30000
+#define SINK_LOG_BURST 3
+#define SINK_LOG_INTERVAL_MS 60000
+
+enum sink_state {
+	SINK_WAITING = 0,             /* not opened yet (no frame so far) */
+	SINK_RUNNING,
+	SINK_RETRYING,                /* failed; reopened after a backoff */
+	SINK_STOPPED,                 /* for good: see stop_reason */
+};
+
+static const char *const sink_state_names[] = {"waiting", "running", "retrying", "stopped"};
 
 struct sink_runner {
 	struct daemon *d;
@@ -27,16 +58,26 @@ struct sink_runner {
 	struct frame_queue *q;
 	pthread_t thread;
 	int running;
+	atomic_int done;              /* the thread has finished (its output is final) */
 	struct dao_sink *sink;
+	enum dao_pixfmt fmt;          /* what the open sink was negotiated for */
+	uint32_t fmt_w, fmt_h;
 	uint64_t next_open_ns;
 	unsigned backoff_ms;
-	atomic_int disabled;          /* open said -ENOTSUP: never retried */
+	uint64_t last_failure_ns;
+	unsigned long long failures;  /* in a row, since the last good write */
+	struct log_limit warn_limit;
+	atomic_int state;             /* enum sink_state */
+	char stop_reason[320];        /* written before state becomes SINK_STOPPED */
+	const char *stop_code;        /* ... and the error's name: "ENOSPC", "ECANCELED", ... */
 	/* counters (atomics: read by the stats thread) */
 	atomic_ullong written, dropped, errors, opens;
 	pthread_mutex_t lat_lock;
 	uint32_t lat_us[LATENCY_RING];
 	unsigned lat_n, lat_pos;
 };
+
+enum { SNAP_NONE = 0, SNAP_REQUESTED, SNAP_WRITING, SNAP_DONE };
 
 struct daemon {
 	struct daemon_config cfg;
@@ -49,10 +90,16 @@ struct daemon {
 
 	pthread_t capture, process;
 	int capture_running, process_running;
+	atomic_int capture_done, process_done;
 	pthread_mutex_t lock;         /* params, pause, snapshot, source info */
 	pthread_cond_t wake;
-	atomic_int stop, finished, paused;
+	atomic_int stop;              /* a signal: stop within the deadlines */
+	atomic_int end_capture;       /* the capture thread stops reading */
+	atomic_int failed;            /* a fatal error ended the pipeline */
+	atomic_int paused;
+	atomic_ullong process_deadline_ns, drain_deadline_ns; /* of a signal stop */
 	int stragglers;               /* threads that missed the stop deadline */
+	int sinks_unfinished;         /* ... of them sinks (their output may be incomplete) */
 
 	struct dao_params params;
 	int params_pending;
@@ -63,11 +110,14 @@ struct daemon {
 	int have_cam;
 
 	char snapshot_path[512];
-	int snapshot_state;           /* 0 none, 1 requested, 2 done, -errno failed */
+	int snapshot_state;           /* SNAP_* or -errno (failed) */
+	int snapshot_abandoned;       /* cancelled while being written */
+	int snapshot_notify_fd;       /* told (one byte) when it is done, -1 = nobody */
 	char snapshot_msg[256];
 
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
-		source_failures;
+		source_failures, source_bad_frames;
+	struct log_limit source_log;  /* the capture thread's repeated warnings */
 	atomic_ullong cpu_ns_total;
 	uint64_t start_ns;
 	uint64_t interval_start_ns, interval_processed;
@@ -107,7 +157,30 @@ static void nap(struct daemon *d, unsigned ms)
 
 /* ---- capture ------------------------------------------------------------ */
 
-static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
+/*
+ * 1 if the source URI names something on disk (a recording, a depth PNG, a
+ * directory of them) rather than a device: "oni:" and "images:" URIs, any URI
+ * whose path ends in .oni or .png, and paths outside /dev without a plugin
+ * prefix.  Such a source must open at start; a device may be plugged in later.
+ */
+static int source_names_file(const char *uri)
+{
+	size_t p = 0;
+	while ((uri[p] >= 'a' && uri[p] <= 'z') || (uri[p] >= '0' && uri[p] <= '9') ||
+	       uri[p] == '-' || uri[p] == '_')
+		p++;
+	int prefixed = p > 1 && uri[p] == ':'; /* as the plugin registry reads a prefix */
+	if (prefixed && ((p == 3 && !strncmp(uri, "oni", 3)) || (p == 6 && !strncmp(uri, "images", 6))))
+		return 1;
+	const char *rest = prefixed ? uri + p + 1 : uri;
+	size_t n = strcspn(rest, "?");
+	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".png", 4)))
+		return 1;
+	return !prefixed && memchr(rest, '/', n) && strncmp(rest, "/dev/", 5) != 0;
+}
+
+/* The source opened and started; NULL after a failure (waited out, or fatal: d->failed). */
+static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int first)
 {
 	struct dao_source_options so = {
 		.playback = d->cfg.playback,
@@ -123,9 +196,17 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
 		dao_source_close(src);
 		src = NULL;
 	}
+	if (r < 0 && first && source_names_file(d->cfg.source_uri)) {
+		log_error("source %s: %s; a recording or image path must be there when depthaod "
+			  "starts (only devices are waited for): check [source] uri", d->cfg.source_uri,
+			  err.message[0] ? err.message : strerror(-r));
+		atomic_store(&d->failed, 1);
+		return NULL;
+	}
 	if (r < 0) {
 		atomic_fetch_add(&d->source_failures, 1);
-		log_warn("source %s: %s; retrying in %u ms", d->cfg.source_uri, err.message, *backoff);
+		log_limited(&d->source_log, LOG_WARN, "source %s: %s; retrying in %u ms",
+			    d->cfg.source_uri, err.message[0] ? err.message : strerror(-r), *backoff);
 		nap(d, *backoff);
 		*backoff = *backoff * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms : *backoff * 2;
 		return NULL;
@@ -149,12 +230,19 @@ static void *capture_main(void *arg)
 	struct daemon *d = arg;
 	struct dao_source *src = NULL;
 	unsigned backoff = d->cfg.retry_initial_ms;
-	int live = 0;
-	while (!atomic_load(&d->stop)) {
+	int live = 0, opened = 0;
+	int64_t frame_count = 0, bad_in_a_row = 0;
+	while (!atomic_load(&d->stop) && !atomic_load(&d->end_capture)) {
 		if (!src) {
-			if (!(src = open_source(d, &backoff)))
+			if (!(src = open_source(d, &backoff, !opened))) {
+				if (atomic_load(&d->failed))
+					break;
 				continue;
+			}
+			opened = 1;
 			live = d->src_info.live;
+			frame_count = d->src_info.frame_count;
+			bad_in_a_row = 0;
 		}
 		if (atomic_load(&d->paused) && !live) {
 			nap(d, 50); /* a paused recording simply waits */
@@ -169,13 +257,28 @@ static void *capture_main(void *arg)
 			log_info("source %s: end of the recording", d->cfg.source_uri);
 			break;
 		}
+		const char *why = err.message[0] ? err.message : strerror(-r);
+		if (r < 0 && !live && r != -ENODEV &&
+		    ++bad_in_a_row <= (frame_count > 0 ? frame_count : 1)) {
+			/* a recording's frame that cannot be decoded: the source skips it */
+			atomic_fetch_add(&d->source_bad_frames, 1);
+			log_limited(&d->source_log, LOG_WARN, "source %s: a frame cannot be read and is "
+				    "skipped: %s", d->cfg.source_uri, why);
+			continue;
+		}
 		if (r < 0) {
-			log_warn("source %s lost: %s; reopening", d->cfg.source_uri,
-				 err.message[0] ? err.message : strerror(-r));
+			if (!live && r != -ENODEV)
+				log_limited(&d->source_log, LOG_WARN, "source %s: no frame can be read "
+					    "(%lld failures in a row, the last: %s); reopening",
+					    d->cfg.source_uri, (long long)bad_in_a_row, why);
+			else
+				log_limited(&d->source_log, LOG_WARN, "source %s lost: %s; reopening",
+					    d->cfg.source_uri, why);
 			dao_source_close(src);
 			src = NULL;
 			continue;
 		}
+		bad_in_a_row = 0;
 		if (atomic_load(&d->paused)) { /* live: keep the device flowing, drop */
 			dao_source_release(src, &f);
 			continue;
@@ -202,7 +305,9 @@ static void *capture_main(void *arg)
 			fq_cancel_push(d->input, it);
 	}
 	dao_source_close(src);
+	log_limit_flush(&d->source_log, LOG_WARN, "source");
 	fq_close(d->input);
+	atomic_store(&d->capture_done, 1);
 	return NULL;
 }
 
@@ -281,13 +386,15 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 		case STREAM_OVERLAY: f = have_overlay ? &o->overlay : NULL; break;
 		default: f = NULL;
 		}
-		if (!f)
+		if (!f || atomic_load(&s->state) == SINK_STOPPED)
 			continue;
 		uint64_t dropped = 0;
 		struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
 		atomic_fetch_add(&s->dropped, dropped);
-		if (!it)
+		if (!it) { /* its queue closed at the stop deadline: this frame never reaches it */
+			atomic_fetch_add(&s->dropped, 1);
 			continue;
+		}
 		if (fq_frame_copy(&it->frame, f) < 0) {
 			fq_cancel_push(s->q, it);
 			continue;
@@ -301,15 +408,31 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 	}
 }
 
+/* Writes a requested snapshot (without holding the lock: the control thread stays free). */
 static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
 {
+	char path[sizeof d->snapshot_path];
 	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state == 1) {
-		struct dao_error err = {0};
-		int r = dao_png_write(d->snapshot_path, rgb, &err);
-		d->snapshot_state = r < 0 ? r : 2;
+	if (d->snapshot_state != SNAP_REQUESTED) {
+		pthread_mutex_unlock(&d->lock);
+		return;
+	}
+	memcpy(path, d->snapshot_path, sizeof path);
+	d->snapshot_state = SNAP_WRITING;
+	pthread_mutex_unlock(&d->lock);
+	struct dao_error err = {0};
+	int r = dao_png_write(path, rgb, &err);
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_abandoned) {
+		d->snapshot_state = SNAP_NONE;
+		d->snapshot_abandoned = 0;
+	} else {
+		d->snapshot_state = r < 0 ? r : SNAP_DONE;
 		snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? err.message : "");
-		pthread_cond_broadcast(&d->wake);
+		if (d->snapshot_notify_fd >= 0) {
+			ssize_t w = write(d->snapshot_notify_fd, "s", 1); /* non-blocking pipe */
+			(void)w;
+		}
 	}
 	pthread_mutex_unlock(&d->lock);
 }
@@ -320,7 +443,7 @@ static void *process_main(void *arg)
 	struct dao_context *ctx = NULL;
 	struct outputs o = {0};
 	struct fq_item *in;
-	uint64_t error_log_after = 0;
+	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
 	for (;;) {
 		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
 			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
@@ -331,9 +454,10 @@ static void *process_main(void *arg)
 				break;
 			continue;
 		}
-		if (atomic_load(&d->stop) && !d->cfg.drain_on_stop) {
+		if (atomic_load(&d->stop) && now_ns() >= atomic_load(&d->process_deadline_ns)) {
+			/* a signal, and no time left for queued input (or drain_on_stop = false) */
 			fq_done(d->input, in);
-			fq_clear(d->input);
+			atomic_fetch_add(&d->input_dropped, fq_clear(d->input) + 1);
 			break;
 		}
 		struct dao_error err = {0};
@@ -372,7 +496,7 @@ static void *process_main(void *arg)
 				log_error("new AO parameters refused: %s", err.message);
 			d->params_pending = 0;
 		}
-		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == 1;
+		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == SNAP_REQUESTED;
 		pthread_mutex_unlock(&d->lock);
 
 		uint64_t c0 = thread_cpu_ns();
@@ -389,10 +513,8 @@ static void *process_main(void *arg)
 		atomic_fetch_add(&d->cpu_ns_total, thread_cpu_ns() - c0);
 		if (r < 0) {
 			atomic_fetch_add(&d->process_errors, 1);
-			if (now_ns() >= error_log_after) { /* at most one message a second */
-				log_error("frame %llu: %s", (unsigned long long)in->index, err.message);
-				error_log_after = now_ns() + 1000000000u;
-			}
+			log_limited(&error_log, LOG_ERROR, "frame %llu: %s", (unsigned long long)in->index,
+				    err.message);
 			fq_done(d->input, in);
 			continue;
 		}
@@ -403,7 +525,7 @@ static void *process_main(void *arg)
 		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
 		if (d->cfg.max_frames && n >= d->cfg.max_frames) {
 			log_info("processed %llu frames (max_frames); stopping", n);
-			atomic_store(&d->finished, 1);
+			atomic_store(&d->end_capture, 1);
 			break;
 		}
 	}
@@ -414,9 +536,11 @@ static void *process_main(void *arg)
 		fq_close(d->sinks[i].q);
 	dao_context_destroy(ctx);
 	free_outputs(&o);
-	atomic_store(&d->finished, 1);
+	log_limit_flush(&error_log, LOG_ERROR, "frame errors");
 	/* the capture thread may be blocked on a full input queue: unblock it */
+	atomic_store(&d->end_capture, 1);
 	fq_close(d->input);
+	atomic_store(&d->process_done, 1);
 	return NULL;
 }
 
@@ -464,18 +588,102 @@ static void host_log(void *user, int level, const char *message)
 		"%s", message);
 }
 
+/* Errors after which a sink cannot go on: retrying would not help, and reopening a
+ * file could truncate what it already holds. */
+static int permanent_error(int r)
+{
+	return r == -ENOSPC || r == -EDQUOT || r == -EFBIG || r == -EROFS || r == -EPIPE;
+}
+
+static const char *error_name(int r)
+{
+	switch (r) {
+	case -ENOSPC: return "ENOSPC";
+	case -EDQUOT: return "EDQUOT";
+	case -EFBIG: return "EFBIG";
+	case -EROFS: return "EROFS";
+	case -EPIPE: return "EPIPE";
+	case -ENOTSUP: return "ENOTSUP";
+	case -ECANCELED: return "ECANCELED";
+	default: return "error";
+	}
+}
+
+static const char *remedy(int r)
+{
+	switch (r) {
+	case -ENOSPC:
+		return "free space on that filesystem or point the sink at another one, then restart "
+		       "depthaod";
+	case -EDQUOT:
+		return "raise the disk quota of depthaod's user or point the sink elsewhere, then "
+		       "restart depthaod";
+	case -EFBIG:
+		return "the file reached the largest size the filesystem allows; point the sink at "
+		       "another filesystem, then restart depthaod";
+	case -EROFS:
+		return "the filesystem is read-only; remount it read-write or point the sink "
+		       "elsewhere, then restart depthaod";
+	case -EPIPE:
+		return "its reader went away (a closed pipe or stdout); restart depthaod to write "
+		       "there again";
+	default:
+		return "see the message; restart depthaod once it is fixed";
+	}
+}
+
+static void close_sink(struct sink_runner *s)
+{
+	struct dao_error err = {0};
+	if (s->sink && dao_sink_close(s->sink, &err) < 0)
+		log_error("sink %s: closing %s: %s", s->cfg->name, s->cfg->uri, err.message);
+	s->sink = NULL;
+}
+
+/* Stops the sink for good: what it wrote is finalised, it is never reopened. */
+static void stop_sink(struct sink_runner *s, int r, enum log_level level, const char *why,
+		      const char *advice)
+{
+	close_sink(s);
+	snprintf(s->stop_reason, sizeof s->stop_reason, "%s", why);
+	s->stop_code = error_name(r);
+	atomic_store(&s->state, SINK_STOPPED);
+	log_msg(level, "sink %s (%s) stopped: %s%s%s; the daemon and the other sinks keep running",
+		s->cfg->name, s->cfg->uri, why, advice ? ": " : "", advice ? advice : "");
+}
+
+/* An open, negotiate or write failed with r: stop the sink, or retry after a backoff. */
+static void sink_failed(struct sink_runner *s, int r, const char *msg)
+{
+	atomic_fetch_add(&s->errors, 1);
+	if (r == -ENOTSUP) { /* this sink cannot work here */
+		close_sink(s);
+		snprintf(s->stop_reason, sizeof s->stop_reason, "%s", msg);
+		s->stop_code = error_name(r);
+		atomic_store(&s->state, SINK_STOPPED);
+		log_warn("sink %s (%s): %s; it stays off", s->cfg->name, s->cfg->uri, msg);
+		return;
+	}
+	if (permanent_error(r)) {
+		stop_sink(s, r, LOG_ERROR, msg, remedy(r));
+		return;
+	}
+	close_sink(s);
+	s->failures++;
+	s->last_failure_ns = now_ns();
+	s->next_open_ns = s->last_failure_ns + (uint64_t)s->backoff_ms * 1000000u;
+	log_limited(&s->warn_limit, LOG_WARN, "sink %s (%s): %s; retrying in %.1f s (failure %llu)",
+		    s->cfg->name, s->cfg->uri, msg, s->backoff_ms / 1000.0, s->failures);
+	s->backoff_ms = s->backoff_ms * 2 > SINK_RETRY_MAX_MS ? SINK_RETRY_MAX_MS : s->backoff_ms * 2;
+	atomic_store(&s->state, SINK_RETRYING);
+}
+
+/* Opens and negotiates the sink for the frames of `it`; 0, or the failure handled. */
 static int open_sink(struct sink_runner *s, const struct fq_item *it)
 {
 	struct daemon *d = s->d;
 	struct dao_error err = {0};
-	if (now_ns() < s->next_open_ns)
-		return -EAGAIN;
 	int r = dao_sink_open(d->plugins, s->cfg->uri, &s->sink, &err);
-	if (r == -ENOTSUP) { /* this sink cannot work here: say so once, then leave it */
-		log_warn("sink %s (%s): %s; it stays off", s->cfg->name, s->cfg->uri, err.message);
-		s->disabled = 1;
-		return r;
-	}
 	if (r == 0) {
 		dao_sink_attach_host(s->sink, &d->host);
 		pthread_mutex_lock(&d->lock);
@@ -498,33 +706,44 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 				 "it takes %s, not the %s stream (set [sink.%s] stream)",
 				 dao_pixfmt_name(fmt.format), stream_name(s->cfg->stream), s->cfg->name);
 		}
-		if (r < 0) {
-			struct dao_error e2;
-			dao_sink_close(s->sink, &e2);
-			s->sink = NULL;
-		}
 	}
 	if (r < 0) {
-		atomic_fetch_add(&s->errors, 1);
-		log_warn("sink %s (%s): %s; retrying in %u ms", s->cfg->name, s->cfg->uri,
-			 err.message, s->backoff_ms);
-		s->next_open_ns = now_ns() + (uint64_t)s->backoff_ms * 1000000u;
-		s->backoff_ms = s->backoff_ms * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms
-								      : s->backoff_ms * 2;
+		sink_failed(s, r, err.message[0] ? err.message : strerror(-r));
 		return r;
 	}
-	s->backoff_ms = d->cfg.retry_initial_ms;
-	atomic_fetch_add(&s->opens, 1);
-	log_info("sink %s: %s (%s stream)", s->cfg->name, s->cfg->uri, stream_name(s->cfg->stream));
+	s->fmt = it->frame.format;
+	s->fmt_w = it->frame.width;
+	s->fmt_h = it->frame.height;
+	if (atomic_fetch_add(&s->opens, 1) == 0)
+		log_info("sink %s: %s (%s stream)", s->cfg->name, s->cfg->uri,
+			 stream_name(s->cfg->stream));
+	atomic_store(&s->state, SINK_RUNNING);
 	return 0;
 }
 
-static void close_sink(struct sink_runner *s)
+static void write_frame(struct sink_runner *s, const struct fq_item *it)
 {
 	struct dao_error err = {0};
-	if (s->sink && dao_sink_close(s->sink, &err) < 0)
-		log_error("sink %s: closing %s: %s", s->cfg->name, s->cfg->uri, err.message);
-	s->sink = NULL;
+	int r = dao_sink_write(s->sink, &it->frame, &err);
+	if (r == -ECANCELED) { /* finished by the user (a closed window) */
+		char why[300];
+		snprintf(why, sizeof why, "%s", err.message);
+		stop_sink(s, r, LOG_INFO, why, NULL);
+	} else if (r < 0) {
+		atomic_fetch_add(&s->dropped, 1);
+		sink_failed(s, r, err.message[0] ? err.message : strerror(-r));
+	} else {
+		atomic_fetch_add(&s->written, 1);
+		record_latency(s, it->t_capture_ns);
+		if (s->failures)
+			log_limited(&s->warn_limit, LOG_INFO, "sink %s: writing again after %llu "
+				    "failure%s", s->cfg->name, s->failures, s->failures == 1 ? "" : "s");
+		s->failures = 0;
+		/* the backoff starts afresh once the sink has worked for a while: one that
+		 * fails after every few frames keeps backing off */
+		if (now_ns() - s->last_failure_ns >= (uint64_t)SINK_RETRY_MAX_MS * 1000000u)
+			s->backoff_ms = SINK_RETRY_INITIAL_MS;
+	}
 }
 
 static void *sink_main(void *arg)
@@ -532,44 +751,46 @@ static void *sink_main(void *arg)
 	struct sink_runner *s = arg;
 	struct fq_item *it;
 	while ((it = fq_pop(s->q, -1))) {
-		if (atomic_load(&s->d->stop) && !s->d->cfg.drain_on_stop) {
+		if (atomic_load(&s->d->stop) && now_ns() >= atomic_load(&s->d->drain_deadline_ns)) {
+			/* a signal, and the time for queued frames is over: finalise now */
+			unsigned left = fq_clear(s->q) + 1;
 			fq_done(s->q, it);
-			atomic_fetch_add(&s->dropped, fq_clear(s->q) + 1);
+			atomic_fetch_add(&s->dropped, left);
+			log_warn("sink %s: %u queued frame%s dropped at the stop deadline",
+				 s->cfg->name, left, left == 1 ? "" : "s");
 			break;
 		}
-		struct dao_error err = {0};
-		if (s->disabled) {
+		if (atomic_load(&s->state) == SINK_STOPPED) {
 			fq_done(s->q, it);
 			continue;
 		}
-		if (!s->sink && open_sink(s, it) < 0) {
-			if (!s->disabled)
-				atomic_fetch_add(&s->dropped, 1);
+		if (s->sink && (it->frame.format != s->fmt || it->frame.width != s->fmt_w ||
+				it->frame.height != s->fmt_h)) {
+			log_info("sink %s: the stream is now %ux%u; reopening", s->cfg->name,
+				 it->frame.width, it->frame.height);
+			close_sink(s);
+		}
+		if (!s->sink && (now_ns() < s->next_open_ns || open_sink(s, it) < 0)) {
+			if (atomic_load(&s->state) != SINK_STOPPED)
+				atomic_fetch_add(&s->dropped, 1); /* waiting out the backoff */
 			fq_done(s->q, it);
 			continue;
 		}
-		int wr = dao_sink_write(s->sink, &it->frame, &err);
-		if (wr == -ECANCELED) { /* finished by the user (a closed window) */
-			log_info("sink %s: %s; it stays off", s->cfg->name, err.message);
-			close_sink(s);
-			s->disabled = 1;
-		} else if (wr < 0) {
-			atomic_fetch_add(&s->errors, 1);
-			atomic_fetch_add(&s->dropped, 1);
-			log_warn("sink %s: %s; reopening", s->cfg->name, err.message);
-			close_sink(s);
-		} else {
-			atomic_fetch_add(&s->written, 1);
-			record_latency(s, it->t_capture_ns);
-		}
+		write_frame(s, it);
 		fq_done(s->q, it);
 	}
 	if (s->sink) {
 		struct dao_error err = {0};
-		if (dao_sink_flush(s->sink, &err) < 0)
-			log_warn("sink %s: flush: %s", s->cfg->name, err.message);
+		int r = dao_sink_flush(s->sink, &err);
+		if (r < 0)
+			log_error("sink %s (%s): flushing at the end: %s", s->cfg->name, s->cfg->uri,
+				  err.message[0] ? err.message : strerror(-r));
 	}
 	close_sink(s);
+	char what[96];
+	snprintf(what, sizeof what, "sink %s", s->cfg->name);
+	log_limit_flush(&s->warn_limit, LOG_WARN, what);
+	atomic_store(&s->done, 1);
 	return NULL;
 }
 
@@ -586,6 +807,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->cfg = *cfg;
 	d->plugins = plugins;
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
+	d->snapshot_notify_fd = -1;
+	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
 	d->host = (struct dao_sink_host){d, host_get_param, host_set_param, host_log};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
@@ -601,7 +824,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		struct sink_runner *s = &d->sinks[i];
 		s->d = d;
 		s->cfg = &d->cfg.sinks[i];
-		s->backoff_ms = cfg->retry_initial_ms;
+		s->backoff_ms = SINK_RETRY_INITIAL_MS;
+		s->warn_limit = (struct log_limit)LOG_LIMIT_INIT(SINK_LOG_INTERVAL_MS, SINK_LOG_BURST);
 		pthread_mutex_init(&s->lat_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
 			snprintf(msg, len, "out of memory");
@@ -640,10 +864,20 @@ int daemon_start(struct daemon *d, char *msg, size_t len)
 
 int daemon_finished(struct daemon *d)
 {
-	return atomic_load(&d->finished);
+	if (!atomic_load(&d->capture_done) || !atomic_load(&d->process_done))
+		return 0;
+	for (unsigned i = 0; i < d->nsinks; i++)
+		if (!atomic_load(&d->sinks[i].done))
+			return 0;
+	return 1;
 }
 
-/* Joins a thread by the deadline; 0 if it is still running then. */
+int daemon_failed(struct daemon *d)
+{
+	return atomic_load(&d->failed);
+}
+
+/* Joins a thread by the deadline; 0 if it is still running then (logged if `what`). */
 static int join_by(pthread_t t, int *running, uint64_t deadline, const char *what)
 {
 	if (!*running)
@@ -659,29 +893,71 @@ static int join_by(pthread_t t, int *running, uint64_t deadline, const char *wha
 		abs.tv_nsec -= 1000000000;
 	}
 	if (pthread_timedjoin_np(t, NULL, &abs) != 0) {
-		log_error("%s did not finish within the stop deadline; its output may be "
-			  "incomplete", what);
+		if (what)
+			log_error("%s did not finish within the stop deadline; its output may be "
+				  "incomplete", what);
 		return 0; /* still running: it keeps its memory (*running stays set) */
 	}
 	*running = 0;
 	return 1;
 }
 
+static void join(pthread_t t, int *running)
+{
+	if (*running)
+		pthread_join(t, NULL);
+	*running = 0;
+}
+
 void daemon_stop(struct daemon *d)
 {
+	if (daemon_finished(d)) { /* the natural end: everything has drained already */
+		join(d->capture, &d->capture_running);
+		join(d->process, &d->process_running);
+		for (unsigned i = 0; i < d->nsinks; i++)
+			join(d->sinks[i].thread, &d->sinks[i].running);
+		return;
+	}
+	uint64_t t0 = now_ns();
+	int drain = d->cfg.drain_on_stop;
+	atomic_store(&d->process_deadline_ns, drain ? t0 + (uint64_t)STOP_PROCESS_MS * 1000000u : t0);
+	atomic_store(&d->drain_deadline_ns, drain ? t0 + (uint64_t)STOP_DRAIN_MS * 1000000u : t0);
 	atomic_store(&d->stop, 1);
+	atomic_store(&d->end_capture, 1);
 	pthread_mutex_lock(&d->lock);
 	pthread_cond_broadcast(&d->wake);
 	pthread_mutex_unlock(&d->lock);
-	uint64_t deadline = now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u;
-	fq_close(d->input); /* capture stops pushing; processing drains or drops */
-	int all = join_by(d->capture, &d->capture_running, deadline, "the source");
-	all &= join_by(d->process, &d->process_running, deadline, "the processing thread");
+	fq_close(d->input); /* capture stops pushing */
+	if (!drain) {
+		atomic_fetch_add(&d->input_dropped, fq_clear(d->input));
+		for (unsigned i = 0; i < d->nsinks; i++)
+			atomic_fetch_add(&d->sinks[i].dropped, fq_clear(d->sinks[i].q));
+	}
+	/* the processing thread's time for queued input; then the sinks get theirs, whatever
+	 * it is doing (a frame may take longer than the whole second) */
+	join_by(d->process, &d->process_running, t0 + (uint64_t)STOP_PROCESS_MS * 1000000u, NULL);
+	for (unsigned i = 0; i < d->nsinks; i++)
+		fq_close(d->sinks[i].q);
+	uint64_t deadline = t0 + (uint64_t)STOP_DEADLINE_MS * 1000000u;
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		char what[96];
 		snprintf(what, sizeof what, "sink %s", d->sinks[i].cfg->name);
-		fq_close(d->sinks[i].q);
-		all &= join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what);
+		if (!join_by(d->sinks[i].thread, &d->sinks[i].running, deadline, what))
+			d->sinks_unfinished++;
+	}
+	/* a frame or a read still going on now is not worth more waiting: nothing of it
+	 * would reach a sink */
+	int all = d->sinks_unfinished == 0;
+	deadline = t0 + (uint64_t)STOP_DRAIN_MS * 1000000u;
+	if (!join_by(d->process, &d->process_running, deadline, NULL)) {
+		log_warn("the processing thread was still inside a frame at the stop deadline; "
+			 "that frame is dropped (the sinks have finalised what they had)");
+		all = 0;
+	}
+	if (!join_by(d->capture, &d->capture_running, deadline, NULL)) {
+		log_warn("the source did not return from a read by the stop deadline; it is "
+			 "abandoned");
+		all = 0;
 	}
 	d->stragglers = !all;
 }
@@ -691,11 +967,19 @@ int daemon_stragglers(struct daemon *d)
 	return d->stragglers;
 }
 
+int daemon_sinks_unfinished(struct daemon *d)
+{
+	return d->sinks_unfinished;
+}
+
 void daemon_destroy(struct daemon *d)
 {
 	if (!d)
 		return;
-	if (d->capture_running || d->process_running)
+	int running = d->capture_running || d->process_running;
+	for (unsigned i = 0; i < d->nsinks; i++)
+		running |= d->sinks[i].running;
+	if (running)
 		daemon_stop(d);
 	if (d->stragglers)
 		return; /* a thread still uses the daemon's memory: the process exit frees it */
@@ -729,41 +1013,55 @@ void daemon_set_paused(struct daemon *d, int paused)
 	atomic_store(&d->paused, paused);
 }
 
-int daemon_snapshot(struct daemon *d, const char *path, int timeout_ms, char *msg, size_t len)
+int daemon_snapshot_request(struct daemon *d, const char *path, int notify_fd, char *msg,
+			    size_t len)
 {
-	struct timespec until;
-	clock_gettime(CLOCK_MONOTONIC, &until);
-	until.tv_sec += timeout_ms / 1000;
-	until.tv_nsec += (long)(timeout_ms % 1000) * 1000000;
-	if (until.tv_nsec >= 1000000000) {
-		until.tv_sec++;
-		until.tv_nsec -= 1000000000;
+	if (atomic_load(&d->paused)) {
+		snprintf(msg, len, "the pipeline is paused: resume it, then take the snapshot");
+		return -EAGAIN;
+	}
+	if (strlen(path) >= sizeof d->snapshot_path) {
+		snprintf(msg, len, "the path is longer than %zu bytes", sizeof d->snapshot_path - 1);
+		return -ENAMETOOLONG;
 	}
 	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state == 1) {
+	if (d->snapshot_state == SNAP_REQUESTED || d->snapshot_state == SNAP_WRITING) {
 		pthread_mutex_unlock(&d->lock);
 		snprintf(msg, len, "another snapshot is in progress");
 		return -EBUSY;
 	}
 	snprintf(d->snapshot_path, sizeof d->snapshot_path, "%s", path);
-	d->snapshot_state = 1;
-	int r = 0;
-	while (d->snapshot_state == 1) {
-		if (pthread_cond_timedwait(&d->wake, &d->lock, &until) == ETIMEDOUT) {
-			d->snapshot_state = 0;
-			snprintf(msg, len, "no frame within %d ms (paused, or the source is idle)",
-				 timeout_ms);
-			r = -ETIMEDOUT;
-			break;
-		}
-	}
-	if (d->snapshot_state < 0) {
-		r = d->snapshot_state;
-		snprintf(msg, len, "%s", d->snapshot_msg);
-	}
-	d->snapshot_state = 0;
+	d->snapshot_state = SNAP_REQUESTED;
+	d->snapshot_abandoned = 0;
+	d->snapshot_notify_fd = notify_fd;
 	pthread_mutex_unlock(&d->lock);
-	return r;
+	return 0;
+}
+
+int daemon_snapshot_result(struct daemon *d, char *msg, size_t len)
+{
+	pthread_mutex_lock(&d->lock);
+	int r = d->snapshot_state;
+	if (r == SNAP_REQUESTED || r == SNAP_WRITING) {
+		pthread_mutex_unlock(&d->lock);
+		return 1;
+	}
+	if (r < 0)
+		snprintf(msg, len, "%s", d->snapshot_msg);
+	d->snapshot_state = SNAP_NONE;
+	pthread_mutex_unlock(&d->lock);
+	return r < 0 ? r : 0;
+}
+
+void daemon_snapshot_cancel(struct daemon *d)
+{
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_state == SNAP_WRITING)
+		d->snapshot_abandoned = 1;
+	else
+		d->snapshot_state = SNAP_NONE;
+	d->snapshot_notify_fd = -1;
+	pthread_mutex_unlock(&d->lock);
 }
 
 static int cmp_u32(const void *a, const void *b)
@@ -789,6 +1087,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	json_object_object_add(j, "paused", json_object_new_boolean(atomic_load(&d->paused)));
 	json_object_object_add(j, "source_opens", json_object_new_int64((int64_t)atomic_load(&d->source_opens)));
 	json_object_object_add(j, "source_failures", json_object_new_int64((int64_t)atomic_load(&d->source_failures)));
+	json_object_object_add(j, "source_bad_frames", json_object_new_int64((int64_t)atomic_load(&d->source_bad_frames)));
 	json_object_object_add(j, "frames_in", json_object_new_int64((int64_t)atomic_load(&d->captured)));
 	json_object_object_add(j, "frames_dropped_in", json_object_new_int64((int64_t)atomic_load(&d->input_dropped)));
 	json_object_object_add(j, "frames_processed", json_object_new_int64((int64_t)processed));
@@ -812,7 +1111,14 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)atomic_load(&s->written)));
 		json_object_object_add(o, "frames_dropped", json_object_new_int64((int64_t)atomic_load(&s->dropped)));
 		json_object_object_add(o, "errors", json_object_new_int64((int64_t)atomic_load(&s->errors)));
-		json_object_object_add(o, "disabled", json_object_new_boolean(atomic_load(&s->disabled)));
+		int state = atomic_load(&s->state);
+		json_object_object_add(o, "state", json_object_new_string(sink_state_names[state]));
+		if (state == SINK_STOPPED) {
+			json_object_object_add(o, "stop_reason", json_object_new_string(s->stop_reason));
+			json_object_object_add(o, "stop_code", json_object_new_string(s->stop_code));
+		}
+		json_object_object_add(o, "disabled", json_object_new_boolean(state == SINK_STOPPED));
+		json_object_object_add(o, "opens", json_object_new_int64((int64_t)atomic_load(&s->opens)));
 		json_object_object_add(o, "queued", json_object_new_int((int)fq_length(s->q)));
 		json_object_object_add(o, "latency_ms_median",
 				       json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));

@@ -22,20 +22,40 @@ struct daemon;
 int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		  const struct dao_plugins *plugins, char *msg, size_t len);
 int daemon_start(struct daemon *d, char *msg, size_t len);
-/* 1 once the pipeline has ended by itself (end of a recording, max_frames). */
+/*
+ * 1 once every thread has finished: the pipeline ended by itself (end of a
+ * recording, max_frames, a fatal error) and every queue has drained.
+ */
 int daemon_finished(struct daemon *d);
-/* Stops capture, drains or drops the queues as configured, finalises the sinks. */
+/* 1 if a fatal error ended the pipeline (the process should exit non-zero). */
+int daemon_failed(struct daemon *d);
+/*
+ * After daemon_finished: joins the threads.  Before (a signal): stops within a
+ * second; queued frames are written while the deadlines allow (drain_on_stop)
+ * or dropped, counted either way, and every sink finalises its output.
+ */
 void daemon_stop(struct daemon *d);
 /* 1 if a thread missed daemon_stop's deadline (the process should exit now). */
 int daemon_stragglers(struct daemon *d);
+/* How many of them are sinks (whose output may then be incomplete). */
+int daemon_sinks_unfinished(struct daemon *d);
 void daemon_destroy(struct daemon *d);
 
 /* AO parameters, applied between frames. */
 void daemon_set_params(struct daemon *d, const struct dao_params *p);
 void daemon_get_params(struct daemon *d, struct dao_params *p);
 void daemon_set_paused(struct daemon *d, int paused);
-/* Writes the next shaded frame to `path` (PNG); waits up to timeout_ms. */
-int daemon_snapshot(struct daemon *d, const char *path, int timeout_ms, char *msg, size_t len);
+/*
+ * Asks for the next shaded frame to be written to `path` (PNG) without
+ * waiting: 0, -EAGAIN (paused), -EBUSY (one is in progress), with msg.  When
+ * it is done, a byte is written to notify_fd (-1: none; make it non-blocking).
+ */
+int daemon_snapshot_request(struct daemon *d, const char *path, int notify_fd, char *msg,
+			    size_t len);
+/* 1 while pending, 0 once written, -errno with msg if writing failed. */
+int daemon_snapshot_result(struct daemon *d, char *msg, size_t len);
+/* Gives the request up (a frame already being written is finished, unreported). */
+void daemon_snapshot_cancel(struct daemon *d);
 
 /* Counters since start and over the last interval (the interval restarts). */
 struct json_object *daemon_stats(struct daemon *d, int reset_interval);

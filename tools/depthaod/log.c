@@ -35,10 +35,8 @@ int log_level_parse(const char *name)
 	return -1;
 }
 
-void log_msg(enum log_level level, const char *fmt, ...)
+static void vlog(enum log_level level, const char *suffix, const char *fmt, va_list ap)
 {
-	if ((int)level > atomic_load(&g_level))
-		return;
 	char line[1024];
 	size_t n;
 	if (g_journal) {
@@ -52,14 +50,69 @@ void log_msg(enum log_level level, const char *fmt, ...)
 		n += (size_t)snprintf(line + n, sizeof line - n, ".%03ld %-5s ", ts.tv_nsec / 1000000,
 				      names[level]);
 	}
-	va_list ap;
-	va_start(ap, fmt);
 	int k = vsnprintf(line + n, sizeof line - n - 1, fmt, ap);
-	va_end(ap);
 	n = k < 0 ? n : n + (size_t)k;
 	if (n > sizeof line - 2)
 		n = sizeof line - 2;
+	if (suffix && *suffix) {
+		k = snprintf(line + n, sizeof line - n - 1, "%s", suffix);
+		n = k < 0 ? n : n + (size_t)k;
+		if (n > sizeof line - 2)
+			n = sizeof line - 2;
+	}
 	line[n++] = '\n';
 	ssize_t w = write(STDERR_FILENO, line, n);
 	(void)w;
+}
+
+void log_msg(enum log_level level, const char *fmt, ...)
+{
+	if ((int)level > atomic_load(&g_level))
+		return;
+	va_list ap;
+	va_start(ap, fmt);
+	vlog(level, NULL, fmt, ap);
+	va_end(ap);
+}
+
+static uint64_t mono_ns(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
+}
+
+int log_limited(struct log_limit *l, enum log_level level, const char *fmt, ...)
+{
+	uint64_t now = mono_ns();
+	if (!l->window_start_ns || now - l->window_start_ns >= (uint64_t)l->interval_ms * 1000000u) {
+		l->window_start_ns = now;
+		l->in_window = 0;
+	}
+	if (l->in_window >= l->burst) {
+		l->suppressed++;
+		return 0;
+	}
+	l->in_window++;
+	if ((int)level > atomic_load(&g_level)) {
+		l->suppressed = 0;
+		return 0;
+	}
+	char suffix[96] = "";
+	if (l->suppressed)
+		snprintf(suffix, sizeof suffix, " (%llu more like this not logged)",
+			 l->suppressed);
+	l->suppressed = 0;
+	va_list ap;
+	va_start(ap, fmt);
+	vlog(level, suffix, fmt, ap);
+	va_end(ap);
+	return 1;
+}
+
+void log_limit_flush(struct log_limit *l, enum log_level level, const char *what)
+{
+	if (l->suppressed)
+		log_msg(level, "%s: %llu more like this not logged", what, l->suppressed);
+	l->suppressed = 0;
 }

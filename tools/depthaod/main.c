@@ -51,7 +51,8 @@ static void usage(FILE *out)
 		"  --stream NAME=STREAM    what sink NAME gets: shaded (default), ao, ao8, depth, overlay\n"
 		"  --set SECTION.KEY=VALUE any config key, e.g. --set sink.rec.queue=16\n"
 		"  --PARAM VALUE           any AO parameter, e.g. --radius 0.3 (see depthao process --help)\n"
-		"  --socket PATH           control socket (mode 0600; 'depthao ctl' talks to it)\n"
+		"  --socket PATH           control socket for 'depthao ctl' (its user, root and\n"
+		"                          [daemon] socket_group may connect)\n"
 		"  --stats-interval S      log statistics every S seconds (0 = never; default 10)\n"
 		"  --stats-json FILE       append one JSON line of statistics per interval\n"
 		"  --log-level LEVEL       error, warn, info (default) or debug\n"
@@ -211,8 +212,14 @@ static void log_stats(struct daemon *d, const char *json_path)
 			long long sd = json_object_object_get_ex(s, "frames_dropped", &f) ? json_object_get_int64(f) : 0;
 			double med = json_object_object_get_ex(s, "latency_ms_median", &f) ? json_object_get_double(f) : 0;
 			double p99 = json_object_object_get_ex(s, "latency_ms_p99", &f) ? json_object_get_double(f) : 0;
-			log_info("stats: sink %s: %lld out, %lld dropped, latency %.1f ms median, %.1f ms p99",
-				 name, out, sd, med, p99);
+			const char *state = json_object_object_get_ex(s, "state", &f) ? json_object_get_string(f) : "";
+			const char *code = json_object_object_get_ex(s, "stop_code", &f) ? json_object_get_string(f) : NULL;
+			char st[48] = "";
+			if (strcmp(state, "running") && strcmp(state, "waiting"))
+				snprintf(st, sizeof st, ", %s%s%s%s", state, code ? " (" : "", code ? code : "",
+					 code ? ")" : "");
+			log_info("stats: sink %s: %lld out, %lld dropped%s, latency %.1f ms median, %.1f ms p99",
+				 name, out, sd, st, med, p99);
 		}
 	}
 	if (json_path && *json_path) {
@@ -294,7 +301,8 @@ int main(int argc, char **argv)
 		log_error("%s", msg);
 		goto out;
 	}
-	if (cfg.socket_path[0] && control_start(&ctl, cfg.socket_path, d, msg, sizeof msg) < 0) {
+	struct control_options co = {cfg.socket_path, cfg.socket_group, cfg.socket_idle_timeout_s};
+	if (cfg.socket_path[0] && control_start(&ctl, &co, d, msg, sizeof msg) < 0) {
 		log_error("%s", msg);
 		goto out;
 	}
@@ -305,7 +313,7 @@ int main(int argc, char **argv)
 	log_info("depthaod %s: %s -> %u sink%s%s%s", dao_version(), cfg.source_uri, cfg.nsinks,
 		 cfg.nsinks == 1 ? "" : "s", ctl ? ", control socket " : "",
 		 ctl ? cfg.socket_path : "");
-	struct timespec tick = {0, 200 * 1000 * 1000};
+	struct timespec tick = {0, 100 * 1000 * 1000};
 	struct timespec last_stats;
 	clock_gettime(CLOCK_MONOTONIC, &last_stats);
 	for (;;) {
@@ -332,12 +340,13 @@ int main(int argc, char **argv)
 	ctl = NULL;
 	daemon_stop(d);
 	log_stats(d, cfg.stats_json);
+	status = daemon_failed(d) || daemon_sinks_unfinished(d) ? 1 : 0;
 	if (daemon_stragglers(d)) {
 		/* within the promised second, even if a frame or a write is stuck */
-		log_error("exiting with work unfinished");
-		_exit(1);
+		if (daemon_sinks_unfinished(d))
+			log_error("exiting with a sink's output unfinished");
+		_exit(status);
 	}
-	status = 0;
 out:
 	control_stop(ctl);
 	daemon_destroy(d);
