@@ -90,6 +90,27 @@ else
 	fi
 fi
 
+# ---- 1b. the camera stops sending (no error): its last frames are synced within ~1 s ----
+# The sink syncs when a frame comes a second after the last sync, and when it has been idle
+# for a second; the 20 frames of a 0.6 s burst are counted in the header (synced) before the kill.
+env LD_PRELOAD="$PRELOAD" ASAN_OPTIONS="$ASAN_PRELOAD" DAO_ENOSPC_PATH="$WORK/stall" DAO_ENOSPC_AFTER=1000000000000 \
+	DAO_SYNC_LOG="$WORK/syncs-stall" "$DAEMON" --source "testsrc:fps=30,w=160,h=120,stall_after=20" \
+	--socket "$SOCK" --stats-interval 0 --sink rec=oni:"$WORK/stall.oni" --stream rec=depth \
+	2>"$WORK/log-stall" &
+PID=$!
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-stall")"
+recorder_wrote() { [ "$(stat_of "$SOCK" sinks.0.frames_out 2>/dev/null)" = "$1" ]; }
+wait_for 20 recorder_wrote 20 || fail "the recorder did not take 20 frames"
+sleep 2.5 # the idle flush comes 1 s after the last frame
+kill -KILL "$PID"
+wait "$PID" 2>/dev/null || true
+PID=
+out=$("$ONI_CHECK" "$WORK/stall.oni" 30) || fail "the stalled recording does not read back: $out"
+echo "camera stalled after 20 frames, kill -9 2.5 s later: $out"
+[ "$(field frames "$out")" -eq 20 ] || fail "$(field frames "$out") frames in the stalled recording, 20 written"
+[ "$(field header "$out")" -eq 20 ] || fail "the header counts $(field header "$out") synced frames of 20: the last frames were not synced while the camera was silent"
+rm -f "$SOCK"
+
 # ---- 2. started again (systemd after the crash): the next recording goes beside it ----
 cp "$WORK/session.oni" "$WORK/session.copy" 2>/dev/null || true
 "$DAEMON" --source "testsrc:fps=100,w=160,h=120" --max-frames 20 --stats-interval 0 \

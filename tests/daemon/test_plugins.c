@@ -3,7 +3,9 @@
  * Plugins for the daemon tests, built from this file with -DTEST_PLUGIN=n:
  *   1: source "testsrc" - a live synthetic camera: "testsrc:fps=200,fail_after=20,w=64,h=48"
  *      delivers a moving box at `fps` and, after `fail_after` frames, reports the
- *      device as gone (-ENODEV) once per open, as an unplugged sensor would.
+ *      device as gone (-ENODEV) once per open, as an unplugged sensor would;
+ *      "stall_after=N" delivers N frames, then none (-EAGAIN after each timeout),
+ *      as a camera whose stream stops without an error.
  *   2: sink "slowsink" - "slowsink:MS[,fail=E][,after=N][,open_fail=E][,out=FILE]" takes
  *      MS milliseconds per frame; its writes fail with errno E (a number or a name:
  *      ENOSPC, EIO, EPIPE, ...) after N good ones of each open; open_fail=E makes every
@@ -36,7 +38,7 @@ static int no_probe(const char *uri)
 
 #if TEST_PLUGIN == 1
 struct src {
-	unsigned w, h, fps, fail_after, delivered;
+	unsigned w, h, fps, fail_after, stall_after, delivered;
 	uint16_t *pixels;
 };
 
@@ -58,6 +60,8 @@ static int src_open(const char *uri, const struct dao_source_options *o, void **
 			s->fps = v;
 		else if (sscanf(tok, "fail_after=%u", &v) == 1)
 			s->fail_after = v;
+		else if (sscanf(tok, "stall_after=%u", &v) == 1)
+			s->stall_after = v;
 		else if (sscanf(tok, "w=%u", &v) == 1)
 			s->w = v;
 		else if (sscanf(tok, "h=%u", &v) == 1)
@@ -101,12 +105,15 @@ static int src_start(void *state, struct dao_error *err)
 static int src_read(void *state, struct dao_source_frame *f, int timeout_ms, struct dao_error *err)
 {
 	struct src *s = state;
-	(void)timeout_ms;
 	if (s->fail_after && s->delivered >= s->fail_after) {
 		if (err)
 			snprintf(err->message, sizeof err->message, "testsrc: unplugged after %u frames",
 				 s->delivered);
 		return -ENODEV;
+	}
+	if (s->stall_after && s->delivered >= s->stall_after) {
+		sleep_ms(timeout_ms > 0 ? timeout_ms : 10);
+		return -EAGAIN;
 	}
 	sleep_ms(1000 / s->fps);
 	unsigned bx = s->delivered % (s->w / 2);

@@ -42,6 +42,10 @@
 #define SINK_RETRY_MAX_MS 30000
 #define SINK_LOG_BURST 3
 #define SINK_LOG_INTERVAL_MS 60000
+/* A sink that has written frames and then waited this long for the next one is
+ * flushed (file sinks sync to disk), so a stalled source's last frames are
+ * durable within about a second, as frames arriving are. */
+#define SINK_IDLE_FLUSH_MS 1000
 
 enum sink_state {
 	SINK_WAITING = 0,             /* not opened yet (no frame so far) */
@@ -65,6 +69,7 @@ struct sink_runner {
 	uint64_t next_open_ns;
 	unsigned backoff_ms;
 	uint64_t last_failure_ns;
+	int unflushed;                /* frames written since the last flush */
 	unsigned long long failures;  /* in a row, since the last good write */
 	struct log_limit warn_limit;
 	atomic_int state;             /* enum sink_state */
@@ -746,11 +751,30 @@ static void write_frame(struct sink_runner *s, const struct fq_item *it)
 	}
 }
 
+/* The sink has been idle with unflushed frames: flush them (a failure is handled
+ * like a failed write). */
+static void flush_idle_sink(struct sink_runner *s)
+{
+	struct dao_error err = {0};
+	s->unflushed = 0;
+	int r = dao_sink_flush(s->sink, &err);
+	if (r < 0)
+		sink_failed(s, r, err.message[0] ? err.message : strerror(-r));
+}
+
 static void *sink_main(void *arg)
 {
 	struct sink_runner *s = arg;
 	struct fq_item *it;
-	while ((it = fq_pop(s->q, -1))) {
+	for (;;) {
+		it = fq_pop(s->q, s->unflushed ? SINK_IDLE_FLUSH_MS : -1);
+		if (!it) {
+			if (fq_closed_and_empty(s->q))
+				break;
+			if (s->sink && s->unflushed)
+				flush_idle_sink(s);
+			continue;
+		}
 		if (atomic_load(&s->d->stop) && now_ns() >= atomic_load(&s->d->drain_deadline_ns)) {
 			/* a signal, and the time for queued frames is over: finalise now */
 			unsigned left = fq_clear(s->q) + 1;
@@ -777,6 +801,7 @@ static void *sink_main(void *arg)
 			continue;
 		}
 		write_frame(s, it);
+		s->unflushed = s->sink != NULL;
 		fq_done(s->q, it);
 	}
 	if (s->sink) {
