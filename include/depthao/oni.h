@@ -71,11 +71,17 @@ struct dao_oni_reader;
 
 /*
  * Opens a recording and indexes it (one pass over the record headers; frame
- * data is read on demand).  Errors: -ENOENT/-EACCES (cannot open), -EINVAL
- * (not an .oni file, unsupported version, corrupt structure), -ENOMEM.
+ * data is read on demand).  Depth streams with frames larger than
+ * DAO_DEFAULT_MAX_PIXELS (width x height) are refused before their decode
+ * buffers are allocated.  Errors: -ENOENT/-EACCES (cannot open), -EINVAL
+ * (not an .oni file, unsupported version, corrupt structure), -EFBIG (over
+ * the pixel limit), -ENOMEM.
  */
 DAO_API int dao_oni_reader_open(const char *path, struct dao_oni_reader **out,
 				struct dao_error *err);
+/* dao_oni_reader_open() with another pixel limit (0 = DAO_DEFAULT_MAX_PIXELS). */
+DAO_API int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
+					struct dao_oni_reader **out, struct dao_error *err);
 DAO_API void dao_oni_reader_close(struct dao_oni_reader *reader);
 
 DAO_API uint32_t dao_oni_reader_stream_count(const struct dao_oni_reader *reader);

@@ -7,6 +7,8 @@
 #ifndef DEPTHAO_PNG_H
 #define DEPTHAO_PNG_H
 
+#include <stdint.h>
+
 #include <depthao/error.h>
 #include <depthao/frame.h>
 
@@ -20,18 +22,34 @@ extern "C" {
  * Reads a PNG into a newly allocated frame (free with dao_frame_free()).
  * Gray 8-bit -> GRAY8, gray 16-bit -> GRAY16, RGB 8-bit -> RGB24; other
  * layouts (palette, alpha, 16-bit RGB) are converted to RGB24 when 8-bit
- * and rejected otherwise.  Errors: -ENOENT/-EACCES (cannot open), -EINVAL
- * (not a PNG, truncated or corrupt, unsupported layout), -ENOMEM.
+ * and rejected otherwise.  Images larger than DAO_DEFAULT_MAX_PIXELS are
+ * refused (dao_png_read_limited() takes another limit).  Errors:
+ * -ENOENT/-EACCES (cannot open), -EINVAL (not a PNG, truncated or corrupt,
+ * unsupported layout), -EFBIG (over the pixel limit), -ENOMEM.
  */
 DAO_API int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err);
 
 /*
+ * dao_png_read() with a limit on width x height (0 = DAO_DEFAULT_MAX_PIXELS):
+ * the size the file declares is checked before any pixel memory is
+ * allocated, so a small file that claims a huge image costs nothing.
+ * -EFBIG with a message giving the size and the limit when it is over.
+ */
+DAO_API int dao_png_read_limited(const char *path, uint64_t max_pixels, struct dao_frame *out,
+				 struct dao_error *err);
+
+/*
  * Reads a depth image: a single-channel 16-bit PNG, returned as
  * DAO_PIXFMT_DEPTH16 with the given unit (metres per count).  Any other
- * layout is -EINVAL with a message saying what the file is.
+ * layout is -EINVAL with a message saying what the file is.  The pixel
+ * limit is DAO_DEFAULT_MAX_PIXELS, as in dao_png_read().
  */
 DAO_API int dao_png_read_depth(const char *path, float depth_unit, struct dao_frame *out,
 		       struct dao_error *err);
+
+/* dao_png_read_depth() with a pixel limit, as dao_png_read_limited(). */
+DAO_API int dao_png_read_depth_limited(const char *path, float depth_unit, uint64_t max_pixels,
+				       struct dao_frame *out, struct dao_error *err);
 
 /*
  * Writes GRAY8, GRAY16, DEPTH16 (as 16-bit gray) or RGB24 frames.

@@ -53,6 +53,7 @@ struct read_state {
 	png_infop info;
 	png_bytep *rows;
 	struct dao_frame frame;
+	uint64_t max_pixels;
 	struct png_err_ctx pe;
 };
 
@@ -98,7 +99,8 @@ static int choose_format(png_structp png, int depth, int color, enum dao_pixfmt 
 	return -1;
 }
 
-int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err)
+int dao_png_read_limited(const char *path, uint64_t max_pixels, struct dao_frame *out,
+			 struct dao_error *err)
 {
 	if (!path || !out)
 		return dao_error_set(err, -EINVAL, "PNG read: path or output frame is NULL");
@@ -106,6 +108,7 @@ int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err)
 	struct read_state *const st = calloc(1, sizeof *st);
 	if (!st)
 		return dao_error_set(err, -ENOMEM, "out of memory reading '%s'", path);
+	st->max_pixels = max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS;
 	st->fp = fopen(path, "rb");
 	if (!st->fp) {
 		free(st);
@@ -137,6 +140,15 @@ int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err)
 	png_uint_32 w, h;
 	int depth, color;
 	png_get_IHDR(st->png, st->info, &w, &h, &depth, &color, NULL, NULL, NULL);
+	if ((uint64_t)w * h > st->max_pixels) { /* before anything of the image's size exists */
+		int r = dao_error_set(err, -EFBIG,
+				      "'%s' is %ux%u (%llu pixels), more than the limit of %llu "
+				      "pixels for decoded images",
+				      path, (unsigned)w, (unsigned)h, (unsigned long long)w * h,
+				      (unsigned long long)st->max_pixels);
+		read_cleanup(st);
+		return r;
+	}
 	enum dao_pixfmt fmt;
 	if (choose_format(st->png, depth, color, &fmt)) {
 		read_cleanup(st);
@@ -162,14 +174,19 @@ int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err)
 	return 0;
 }
 
-int dao_png_read_depth(const char *path, float depth_unit, struct dao_frame *out,
-		       struct dao_error *err)
+int dao_png_read(const char *path, struct dao_frame *out, struct dao_error *err)
+{
+	return dao_png_read_limited(path, DAO_DEFAULT_MAX_PIXELS, out, err);
+}
+
+int dao_png_read_depth_limited(const char *path, float depth_unit, uint64_t max_pixels,
+			       struct dao_frame *out, struct dao_error *err)
 {
 	if (!(depth_unit > 0.0f) || depth_unit > 1.0f)
 		return dao_error_set(err, -EINVAL,
 				     "depth unit %g must be in (0, 1] metres per count",
 				     (double)depth_unit);
-	int r = dao_png_read(path, out, err);
+	int r = dao_png_read_limited(path, max_pixels, out, err);
 	if (r)
 		return r;
 	if (out->format != DAO_PIXFMT_GRAY16) {
@@ -182,6 +199,12 @@ int dao_png_read_depth(const char *path, float depth_unit, struct dao_frame *out
 	out->format = DAO_PIXFMT_DEPTH16;
 	out->depth_unit = depth_unit;
 	return 0;
+}
+
+int dao_png_read_depth(const char *path, float depth_unit, struct dao_frame *out,
+		       struct dao_error *err)
+{
+	return dao_png_read_depth_limited(path, depth_unit, DAO_DEFAULT_MAX_PIXELS, out, err);
 }
 
 struct write_state {

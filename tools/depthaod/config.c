@@ -10,6 +10,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "../depthao/pixel_limit.h"
 #include "log.h"
 
 static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay"};
@@ -156,8 +157,13 @@ static int set_source(struct daemon_config *c, const char *section, const char *
 		c->input_queue = (unsigned)n;
 		return 0;
 	}
+	if (!strcmp(key, "max_pixels"))
+		return pixel_limit_parse(value, &c->max_pixels)
+			       ? BAD("must be a pixel count or WxH, at most 16384x16384")
+			       : 0;
 	return fail(msg, len, "[%s] %s: unknown key (keys: uri, playback, loop, start, depth_unit, "
-		    "intrinsics, fov, retry_initial_ms, retry_max_ms, queue)", section, key);
+		    "intrinsics, fov, retry_initial_ms, retry_max_ms, queue, max_pixels)", section,
+		    key);
 }
 
 static int set_ao(struct daemon_config *c, const char *section, const char *key,

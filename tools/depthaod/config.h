@@ -53,6 +53,7 @@ struct daemon_config {
 	double fov_deg[2];
 	unsigned retry_initial_ms, retry_max_ms;
 	unsigned input_queue;
+	uint64_t max_pixels;     /* largest depth image decoded from files (0 = the default) */
 
 	/* [ao]: applied in order over the preset (quality first, wherever it is) */
 	enum dao_quality quality;

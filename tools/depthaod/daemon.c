@@ -118,7 +118,8 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff)
 	};
 	struct dao_source *src = NULL;
 	struct dao_error err = {0};
-	int r = dao_source_open(d->plugins, d->cfg.source_uri, &so, &src, &err);
+	int r = dao_source_open_limited(d->plugins, d->cfg.source_uri, &so, d->cfg.max_pixels, &src,
+					&err);
 	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
 		dao_source_close(src);
 		src = NULL;
