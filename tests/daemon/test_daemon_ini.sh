@@ -7,7 +7,7 @@
 
 # pad N: N 'a's
 pad() {
-	python3 -c "import sys; sys.stdout.write('a' * int(sys.argv[1]))" "$1"
+	printf "%${1}s" | tr ' ' a
 }
 
 # check_ok NAME: --check-config $WORK/NAME.ini must pass; its output in $WORK/out
