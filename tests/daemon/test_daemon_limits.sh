@@ -3,6 +3,7 @@
 # [source] max_pixels (issue #16, item 9): a source larger than the limit is refused at
 # open, before its frames are allocated, with a message naming the size and the limit;
 # the daemon keeps retrying it (the file may be replaced) and processes nothing.
+# images:DIR?keep=N (item 11): the disk holds at most N frames of the sink, across runs.
 . "$(dirname "$0")/daemon_lib.sh"
 SOCK="$WORK/ctl.sock"
 
@@ -32,6 +33,18 @@ stop_daemon || fail "exit status"
 	--sink a=images:"$WORK/c" --stream a=ao8 --stats-interval 0 --max-frames 5 2>"$WORK/log3" ||
 	fail "run at the limit: $(cat "$WORK/log3")"
 [ "$(ls "$WORK/c" | wc -l)" -eq 5 ] || fail "expected 5 frames at the limit: $(ls "$WORK/c")"
+
+# keep=4 over 10 frames: the last 4; a second run numbers from 0 again and replaces them
+# (an earlier run's files go first), foreign files stay
+mkdir -p "$WORK/keep"
+echo notes >"$WORK/keep/notes.txt"
+for run in 1 2; do
+	"$DAEMON" --source "$REC" --playback manual --sink "k=images:$WORK/keep?keep=4&compression=3" \
+		--stream k=ao8 --stats-interval 0 --max-frames $((8 + 2 * run)) 2>"$WORK/log-keep" ||
+		fail "keep run $run: $(cat "$WORK/log-keep")"
+done
+[ "$(ls "$WORK/keep" | tr '\n' ' ')" = "000008.png 000009.png 000010.png 000011.png notes.txt " ] ||
+	fail "keep=4: $(ls "$WORK/keep" | tr '\n' ' ')"
 
 # the key is checked like every other
 printf '[source]\nuri = %s\nmax_pixels = 0\n[sink.a]\nuri = images:%s\n' "$REC" "$WORK/d" >"$WORK/bad.ini"
