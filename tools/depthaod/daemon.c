@@ -13,6 +13,7 @@
 
 #include "frame_queue.h"
 #include "log.h"
+#include "notify.h"
 
 #define DEG2RAD (3.14159265358979323846 / 180.0)
 #define DEFAULT_HFOV_DEG 58.5
@@ -321,6 +322,7 @@ static void *process_main(void *arg)
 	struct fq_item *in;
 	uint64_t error_log_after = 0;
 	for (;;) {
+		notify_watchdog(); /* each round: per frame, or every 100 ms while idle */
 		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
 			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
 			continue;
