@@ -169,7 +169,8 @@ static int scan_files(struct images_sink *s, struct dao_error *err)
 	}
 	closedir(d);
 	if (r == 0) {
-		qsort(list, n, sizeof(*list), by_age);
+		if (n)
+			qsort(list, n, sizeof(*list), by_age);
 		for (size_t i = 0; i < n && r == 0; i++)
 			if (keep_list_touch(&s->files, list[i].num) < 0)
 				r = dao_error_set(err, -ENOMEM, "out of memory");
