@@ -22,7 +22,8 @@ PACKAGES=(
 	meson ninja-build pkg-config gcc g++
 	libpng-dev libjson-c-dev libcmocka-dev
 	libopencv-dev libopencv-contrib-dev
-	libinih-dev libopenni2-dev libv4l-dev libcamera-dev
+	libopenni2-dev libv4l-dev libcamera-dev
+	libsystemd-dev systemd groff-base man-db
 	xvfb xauth
 	python3 python3-numpy python3-pytest
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev

@@ -21,6 +21,14 @@ extern "C" {
 /* Largest accepted width or height (keeps width * height * 16 far from overflow). */
 #define DAO_MAX_DIMENSION 16384
 
+/*
+ * Default limit on width x height of images decoded from files (PNG, .oni):
+ * 4096 x 4096, far above what depth sensors deliver (about 1 MP), far below
+ * DAO_MAX_DIMENSION squared.  A small file can declare a huge image; readers
+ * check the declared size against the limit before they allocate anything.
+ */
+#define DAO_DEFAULT_MAX_PIXELS (4096ull * 4096ull)
+
 enum dao_pixfmt {
 	DAO_PIXFMT_NONE = 0,
 	DAO_PIXFMT_DEPTH16,    /* uint16 depth counts; metres = count * depth_unit; 0 = no data */

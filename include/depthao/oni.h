@@ -76,12 +76,18 @@ struct dao_oni_reader;
  * data is read on demand).  The frame count, seek table and end record are
  * not needed: a file that ends without an end record, in a record cut short
  * or in zeros (an unfinished recording) opens with the frames before that
- * and a warning (dao_oni_reader_warning).  Errors: -ENOENT/-EACCES (cannot
- * open), -EINVAL (not an .oni file, unsupported version, corrupt structure,
- * an unfinished file without one complete frame), -ENOMEM.
+ * and a warning (dao_oni_reader_warning).  Depth streams with frames larger
+ * than DAO_DEFAULT_MAX_PIXELS (width x height) are refused before their
+ * decode buffers are allocated.  Errors: -ENOENT/-EACCES (cannot open),
+ * -EINVAL (not an .oni file, unsupported version, corrupt structure, an
+ * unfinished file without one complete frame), -EFBIG (over the pixel
+ * limit), -ENOMEM.
  */
 DAO_API int dao_oni_reader_open(const char *path, struct dao_oni_reader **out,
 				struct dao_error *err);
+/* dao_oni_reader_open() with another pixel limit (0 = DAO_DEFAULT_MAX_PIXELS). */
+DAO_API int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
+					struct dao_oni_reader **out, struct dao_error *err);
 DAO_API void dao_oni_reader_close(struct dao_oni_reader *reader);
 
 /*

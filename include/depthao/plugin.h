@@ -218,6 +218,16 @@ struct dao_source;
 DAO_API int dao_source_open(const struct dao_plugins *plugins, const char *uri,
 			    const struct dao_source_options *opts, struct dao_source **out,
 			    struct dao_error *err);
+/*
+ * dao_source_open() with a limit on the size of the depth images,
+ * width x height (0 = DAO_DEFAULT_MAX_PIXELS, what dao_source_open() uses).
+ * The built-in sources check what a file declares before they allocate
+ * anything of its size; for plugin sources the size they report after
+ * open is checked.  -EFBIG with a message when the source is larger.
+ */
+DAO_API int dao_source_open_limited(const struct dao_plugins *plugins, const char *uri,
+				    const struct dao_source_options *opts, uint64_t max_pixels,
+				    struct dao_source **out, struct dao_error *err);
 DAO_API const struct dao_plugin *dao_source_plugin(const struct dao_source *src);
 DAO_API void dao_source_get_info(const struct dao_source *src, struct dao_source_info *info);
 DAO_API int dao_source_start(struct dao_source *src, struct dao_error *err);

@@ -68,6 +68,7 @@ struct dao_oni_reader {
 	size_t payload_cap;
 	uint16_t *pixels; /* largest depth frame, contiguous */
 	size_t pixels_cap;
+	uint64_t max_pixels; /* depth nodes with frames may not be larger */
 };
 
 static int read_at(struct dao_oni_reader *r, void *buf, size_t n, uint64_t pos)
@@ -386,6 +387,12 @@ static int check_depth_node(struct dao_oni_reader *r, struct node *n, const char
 				     "%ux%u)",
 				     path, in->name, in->width, in->height);
 	size_t npix = (size_t)in->width * in->height;
+	if (n->nframes && npix > r->max_pixels)
+		return dao_error_set(err, -EFBIG,
+				     "%s: depth node '%s' is %ux%u (%zu pixels), more than the "
+				     "limit of %llu pixels for decoded images",
+				     path, in->name, in->width, in->height, npix,
+				     (unsigned long long)r->max_pixels);
 	size_t bound;
 	switch (in->codec) {
 	case DAO_ONI_CODEC_NONE: bound = 2 * npix; break;
@@ -460,6 +467,12 @@ static int recovered(struct dao_oni_reader *r, const struct scan *sc)
 
 int dao_oni_reader_open(const char *path, struct dao_oni_reader **out, struct dao_error *err)
 {
+	return dao_oni_reader_open_limited(path, DAO_DEFAULT_MAX_PIXELS, out, err);
+}
+
+int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
+				struct dao_oni_reader **out, struct dao_error *err)
+{
 	struct dao_oni_reader *r;
 	struct stat st;
 	uint8_t h[ONI_FILE_HEADER_SIZE];
@@ -471,6 +484,7 @@ int dao_oni_reader_open(const char *path, struct dao_oni_reader **out, struct da
 	r = calloc(1, sizeof(*r));
 	if (!r)
 		return dao_error_set(err, -ENOMEM, "out of memory opening %s", path);
+	r->max_pixels = max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS;
 	r->fd = open(path, O_RDONLY | O_CLOEXEC);
 	if (r->fd < 0) {
 		ret = dao_error_set(err, -errno, "cannot open %s: %s", path, strerror(errno));

@@ -7,24 +7,177 @@
  * directory is created, with missing parents, when the sink is opened.
  * dao_png_write() writes a temporary file and renames it, so a reader of the
  * directory never sees a half-written image.
+ *
+ * Options after the directory, "DIR?compression=N&keep=N" (a '?' not
+ * followed by key=value is part of the name):
+ *   compression=0..9  zlib level (default DAO_PNG_COMPRESSION_DEFAULT, 1)
+ *   keep=N            at most N of the sink's files in DIR: once a new one
+ *                     is written the oldest are removed.  The sink's files
+ *                     are the regular files whose name is exactly what it
+ *                     would write ("%06llu.png" of a number); nothing else
+ *                     in DIR is touched.  Those already there when the sink
+ *                     opens (an earlier run) count, oldest by modification
+ *                     time, and go first.
  */
 #include <depthao/plugin.h>
 #include <depthao/png.h>
 
+#include <dirent.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/keep_list.h"
+
+#define IMAGES_SINK_OPTIONS_HELP "?compression=0..9&keep=N"
+#define IMAGES_SINK_MAX_KEEP 10000000
 
 struct images_sink {
 	char *dir;
 	char *path; /* dir + "/" + name, reused for every frame */
+	char *old;  /* the same for the file being removed */
 	size_t path_cap;
+	int compression;
+	uint32_t keep;           /* 0 = keep everything */
+	struct keep_list files;  /* with keep: the sink's files in DIR, oldest first */
 };
+
+/* Length of the directory part of a URI: up to the last '?' if options ("k=v") follow. */
+static size_t dir_len(const char *uri)
+{
+	const char *q = strrchr(uri, '?');
+	return q && strchr(q, '=') ? (size_t)(q - uri) : strlen(uri);
+}
+
+/* "compression=N&keep=N" in any order; 0 or -EINVAL with a message. */
+static int parse_options(struct images_sink *s, const char *uri, const char *opts,
+			 struct dao_error *err)
+{
+	while (*opts) {
+		size_t n = strcspn(opts, "&");
+		char key[16];
+		const char *eq = memchr(opts, '=', n);
+		size_t klen = eq ? (size_t)(eq - opts) : n;
+		snprintf(key, sizeof key, "%.*s", (int)(klen < sizeof key ? klen : sizeof key - 1), opts);
+		char *end = NULL;
+		unsigned long long v = 0;
+		if (eq && eq + 1 < opts + n && eq[1] >= '0' && eq[1] <= '9')
+			v = strtoull(eq + 1, &end, 10);
+		int ok = end == opts + n;
+		if (!strcmp(key, "compression") && klen == 11) {
+			if (!ok || v > 9)
+				return dao_error_set(err, -EINVAL,
+						     "images: '%s': compression must be 0..9 (0 = none, "
+						     "1 = fastest, the default; 9 = smallest)", uri);
+			s->compression = (int)v;
+		} else if (!strcmp(key, "keep") && klen == 4) {
+			if (!ok || v < 1 || v > IMAGES_SINK_MAX_KEEP)
+				return dao_error_set(err, -EINVAL,
+						     "images: '%s': keep must be a file count in 1..%d",
+						     uri, IMAGES_SINK_MAX_KEEP);
+			s->keep = (uint32_t)v;
+		} else {
+			return dao_error_set(err, -EINVAL,
+					     "images: '%s': unknown option '%.*s' (options: "
+					     IMAGES_SINK_OPTIONS_HELP ")", uri, (int)n, opts);
+		}
+		opts += n + (opts[n] == '&');
+	}
+	return 0;
+}
+
+/* The number of a name the sink writes ("%06llu.png"), or -1 for any other name. */
+static int own_number(const char *name, uint64_t *num)
+{
+	size_t digits = strspn(name, "0123456789");
+	if (digits < 6 || digits > 20 || strcmp(name + digits, ".png"))
+		return -1;
+	char *end;
+	errno = 0;
+	unsigned long long n = strtoull(name, &end, 10);
+	char again[32];
+	snprintf(again, sizeof again, "%06llu.png", n);
+	if (errno || strcmp(again, name))
+		return -1; /* "0000012.png", or out of range */
+	*num = n;
+	return 0;
+}
+
+struct found {
+	uint64_t num;
+	int64_t mtime_ns;
+};
+
+static int by_age(const void *a, const void *b)
+{
+	const struct found *x = a, *y = b;
+	if (x->mtime_ns != y->mtime_ns)
+		return x->mtime_ns < y->mtime_ns ? -1 : 1;
+	return x->num < y->num ? -1 : x->num > y->num;
+}
+
+/* Removes the oldest of the sink's files until at most `keep` are left. */
+static int trim_files(struct images_sink *s, struct dao_error *err)
+{
+	uint64_t num;
+	while (keep_list_count(&s->files) > s->keep && keep_list_pop_oldest(&s->files, &num)) {
+		snprintf(s->old, s->path_cap, "%s/%06llu.png", s->dir, (unsigned long long)num);
+		if (unlink(s->old) < 0 && errno != ENOENT)
+			return dao_error_set(err, -errno,
+					     "images: cannot remove %s to keep %u files: %s", s->old,
+					     s->keep, strerror(errno));
+	}
+	return 0;
+}
+
+/* The sink's files already in DIR, oldest first, then trimmed to `keep`. */
+static int scan_files(struct images_sink *s, struct dao_error *err)
+{
+	DIR *d = opendir(s->dir);
+	if (!d)
+		return dao_error_set(err, -errno, "images: cannot list %s: %s", s->dir,
+				     strerror(errno));
+	struct found *list = NULL;
+	size_t n = 0, cap = 0;
+	struct dirent *e;
+	int r = 0;
+	while ((e = readdir(d))) {
+		struct stat st;
+		uint64_t num;
+		if (own_number(e->d_name, &num) < 0)
+			continue;
+		snprintf(s->old, s->path_cap, "%s/%s", s->dir, e->d_name);
+		if (lstat(s->old, &st) < 0 || !S_ISREG(st.st_mode))
+			continue; /* gone meanwhile, or a link or directory: not the sink's */
+		if (n == cap) {
+			cap = cap ? 2 * cap : 256;
+			struct found *l = realloc(list, cap * sizeof(*l));
+			if (!l) {
+				r = dao_error_set(err, -ENOMEM, "out of memory");
+				break;
+			}
+			list = l;
+		}
+		list[n].num = num;
+		list[n].mtime_ns = (int64_t)st.st_mtim.tv_sec * 1000000000 + st.st_mtim.tv_nsec;
+		n++;
+	}
+	closedir(d);
+	if (r == 0) {
+		if (n)
+			qsort(list, n, sizeof(*list), by_age);
+		for (size_t i = 0; i < n && r == 0; i++)
+			if (keep_list_touch(&s->files, list[i].num) < 0)
+				r = dao_error_set(err, -ENOMEM, "out of memory");
+	}
+	free(list);
+	return r < 0 ? r : trim_files(s, err);
+}
 
 static int is_dir(const char *path)
 {
@@ -59,19 +212,33 @@ static int make_dirs(char *path, struct dao_error *err)
 	}
 }
 
+static void free_sink(struct images_sink *s)
+{
+	keep_list_free(&s->files);
+	free(s->path);
+	free(s->old);
+	free(s->dir);
+	free(s);
+}
+
 static int images_sink_open(const char *uri, void **state, struct dao_error *err)
 {
 	struct stat st;
 	int r;
-	if (!*uri)
+	size_t n = dir_len(uri);
+	if (n == 0)
 		return dao_error_set(err, -EINVAL,
-				     "images: no output directory given; use images:DIR");
+				     "images: no output directory given; use images:DIR"
+				     IMAGES_SINK_OPTIONS_HELP);
 	struct images_sink *s = calloc(1, sizeof(*s));
-	if (!s || !(s->dir = strdup(uri))) {
+	if (!s || !(s->dir = strndup(uri, n))) {
 		free(s);
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	}
-	size_t n = strlen(s->dir);
+	s->compression = DAO_PNG_COMPRESSION_DEFAULT;
+	keep_list_init(&s->files);
+	if (uri[n] == '?' && (r = parse_options(s, uri, uri + n + 1, err)) < 0)
+		goto fail;
 	while (n > 1 && s->dir[n - 1] == '/') /* "out/" -> "out", "/" stays */
 		s->dir[--n] = '\0';
 	if (stat(s->dir, &st) == 0) {
@@ -85,16 +252,17 @@ static int images_sink_open(const char *uri, void **state, struct dao_error *err
 	} else if ((r = make_dirs(s->dir, err)) < 0) {
 		goto fail;
 	}
-	s->path_cap = n + 32; /* "/" + up to 20 digits + ".png" */
-	if (!(s->path = malloc(s->path_cap))) {
+	s->path_cap = n + 300; /* "/" + a file name (up to 255 bytes when scanning) */
+	if (!(s->path = malloc(s->path_cap)) || !(s->old = malloc(s->path_cap))) {
 		r = dao_error_set(err, -ENOMEM, "out of memory");
 		goto fail;
 	}
+	if (s->keep && (r = scan_files(s, err)) < 0)
+		goto fail;
 	*state = s;
 	return 0;
 fail:
-	free(s->dir);
-	free(s);
+	free_sink(s);
 	return r;
 }
 
@@ -130,7 +298,12 @@ static int images_sink_write(void *state, const struct dao_frame *frame, struct 
 	struct images_sink *s = state;
 	snprintf(s->path, s->path_cap, "%s/%06llu.png", s->dir,
 		 (unsigned long long)frame->sequence);
-	return dao_png_write(s->path, frame, err);
+	int r = dao_png_write_compressed(s->path, frame, s->compression, err);
+	if (r < 0 || !s->keep)
+		return r;
+	if (keep_list_touch(&s->files, frame->sequence) < 0)
+		return dao_error_set(err, -ENOMEM, "images: out of memory tracking the files to keep");
+	return trim_files(s, err);
 }
 
 static int images_sink_flush(void *state, struct dao_error *err)
@@ -142,11 +315,8 @@ static int images_sink_flush(void *state, struct dao_error *err)
 
 static int images_sink_close(void *state, struct dao_error *err)
 {
-	struct images_sink *s = state;
 	(void)err;
-	free(s->path);
-	free(s->dir);
-	free(s);
+	free_sink(state);
 	return 0;
 }
 

@@ -28,6 +28,7 @@ struct images_source {
 	uint32_t count;
 	struct dao_source_options opts;
 	float unit;
+	uint64_t max_pixels;
 	uint32_t width, height;
 	struct dao_frame frame; /* the last frame read (owned) */
 	uint64_t next;
@@ -106,7 +107,7 @@ static int list_dir(struct images_source *s, const char *dir, struct dao_error *
 static int read_frame(struct images_source *s, uint32_t i, struct dao_error *err)
 {
 	dao_frame_free(&s->frame);
-	int r = dao_png_read_depth(s->paths[i], s->unit, &s->frame, err);
+	int r = dao_png_read_depth_limited(s->paths[i], s->unit, s->max_pixels, &s->frame, err);
 	if (r < 0)
 		return r;
 	if (s->width && (s->frame.width != s->width || s->frame.height != s->height))
@@ -118,14 +119,15 @@ static int read_frame(struct images_source *s, uint32_t i, struct dao_error *err
 	return 0;
 }
 
-static int images_open(const char *uri, const struct dao_source_options *opts, void **state,
-		       struct dao_error *err)
+int dao_images_source_open(const char *uri, const struct dao_source_options *opts,
+			   uint64_t max_pixels, void **state, struct dao_error *err)
 {
 	struct images_source *s = calloc(1, sizeof(*s));
 	int r;
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->opts = *opts;
+	s->max_pixels = max_pixels;
 	if (s->opts.step == 0)
 		s->opts.step = 1;
 	s->unit = opts->depth_unit > 0 ? opts->depth_unit : 0.001f;
@@ -164,6 +166,12 @@ fail:
 	dao_frame_free(&s->frame);
 	free(s);
 	return r;
+}
+
+static int images_open(const char *uri, const struct dao_source_options *opts, void **state,
+		       struct dao_error *err)
+{
+	return dao_images_source_open(uri, opts, DAO_DEFAULT_MAX_PIXELS, state, err);
 }
 
 static void images_get_info(void *state, struct dao_source_info *in)

@@ -39,8 +39,8 @@ static int oni_probe(const char *uri)
 	return n > 4 && !strcasecmp(uri + n - 4, ".oni") ? 60 : 0;
 }
 
-static int oni_open(const char *uri, const struct dao_source_options *opts, void **state,
-		    struct dao_error *err)
+int dao_oni_source_open(const char *uri, const struct dao_source_options *opts,
+			uint64_t max_pixels, void **state, struct dao_error *err)
 {
 	struct oni_source *s = calloc(1, sizeof(*s));
 	int r;
@@ -49,7 +49,7 @@ static int oni_open(const char *uri, const struct dao_source_options *opts, void
 	s->opts = *opts;
 	if (s->opts.step == 0)
 		s->opts.step = 1;
-	if ((r = dao_oni_reader_open(uri, &s->reader, err)) < 0)
+	if ((r = dao_oni_reader_open_limited(uri, max_pixels, &s->reader, err)) < 0)
 		goto fail;
 	if ((r = dao_oni_reader_depth_stream(s->reader, err)) < 0) {
 		r = dao_error_set(err, -EINVAL, "%s: the recording has no depth stream", uri);
@@ -86,6 +86,12 @@ fail:
 	dao_oni_reader_close(s->reader);
 	free(s);
 	return r;
+}
+
+static int oni_open(const char *uri, const struct dao_source_options *opts, void **state,
+		    struct dao_error *err)
+{
+	return dao_oni_source_open(uri, opts, DAO_DEFAULT_MAX_PIXELS, state, err);
 }
 
 static void oni_get_info(void *state, struct dao_source_info *in)

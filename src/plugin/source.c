@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/error_internal.h"
+#include "plugin/builtin.h"
 #include "plugin/uri.h"
 
 struct dao_source {
@@ -37,9 +38,44 @@ static void list_sources(const struct dao_plugins *p, char *buf, size_t cap)
 }
 
 
+/* The plugin's open; the built-in file sources check the limit themselves, before allocating. */
+static int open_state(const struct dao_plugin *pl, const char *rest,
+		      const struct dao_source_options *opts, uint64_t max_pixels, void **state,
+		      struct dao_error *err)
+{
+	if (pl == &dao_builtin_images_plugin)
+		return dao_images_source_open(rest, opts, max_pixels, state, err);
+	if (pl == &dao_builtin_oni_plugin)
+		return dao_oni_source_open(rest, opts, max_pixels, state, err);
+	int r = pl->source->open(rest, opts, state, err);
+	if (r < 0)
+		return r;
+	struct dao_source_info in;
+	memset(&in, 0, sizeof(in));
+	pl->source->get_info(*state, &in);
+	if ((uint64_t)in.width * in.height > max_pixels) {
+		r = dao_error_set(err, -EFBIG,
+				  "source '%s' delivers %ux%u depth images (%llu pixels), more than "
+				  "the limit of %llu pixels",
+				  pl->name, in.width, in.height,
+				  (unsigned long long)in.width * in.height,
+				  (unsigned long long)max_pixels);
+		pl->source->close(*state);
+		*state = NULL;
+	}
+	return r;
+}
+
 int dao_source_open(const struct dao_plugins *p, const char *uri,
 		    const struct dao_source_options *opts, struct dao_source **out,
 		    struct dao_error *err)
+{
+	return dao_source_open_limited(p, uri, opts, DAO_DEFAULT_MAX_PIXELS, out, err);
+}
+
+int dao_source_open_limited(const struct dao_plugins *p, const char *uri,
+			    const struct dao_source_options *opts, uint64_t max_pixels,
+			    struct dao_source **out, struct dao_error *err)
 {
 	static const struct dao_source_options defaults = {0};
 	const struct dao_plugin *pl = NULL;
@@ -85,7 +121,8 @@ int dao_source_open(const struct dao_plugins *p, const char *uri,
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->plugin = pl;
-	int r = pl->source->open(rest, opts, &s->state, err);
+	int r = open_state(pl, rest, opts, max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS,
+			   &s->state, err);
 	if (r < 0) {
 		free(s);
 		return r;

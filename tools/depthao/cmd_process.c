@@ -18,6 +18,7 @@
 #include "cli_params.h"
 #include "commands.h"
 #include "file_list.h"
+#include "pixel_limit.h"
 #include "process.h"
 #include "progress.h"
 
@@ -46,6 +47,9 @@ static void usage(FILE *out)
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
 		"  --depth-unit M            PNG input: metres per count (default 0.001; TUM: 0.0002);\n"
 		"                            recordings carry their own unit\n"
+		"  --max-pixels N|WxH        largest depth image decoded from a file, in pixels\n"
+		"                            (default 4096x4096); larger PNGs and recordings are\n"
+		"                            refused before any memory is allocated for them\n"
 		"  --intrinsics FX,FY,CX,CY  pinhole intrinsics in pixels\n"
 		"  --fov H,V                 field of view in degrees (OpenNI style)\n"
 		"  --intrinsics-file FILE    Open3D camera JSON (width, height, intrinsic_matrix)\n"
@@ -60,6 +64,12 @@ static void usage(FILE *out)
 		"AO parameters (override the preset; defaults are the medium preset):\n",
 		DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
 	cli_print_param_help(out, &def);
+}
+
+void process_print_error(const struct dao_error *err)
+{
+	fprintf(stderr, "depthao: %s%s\n", err->message,
+		err->code == -EFBIG ? " (--max-pixels raises the limit)" : "");
 }
 
 static int parse_double(const char *s, double *out)
@@ -166,6 +176,14 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 				return usage_error("process",
 						   "--depth-unit '%s' must be a number in (0, 1] metres per count",
 						   v);
+			i = j;
+			continue;
+		}
+		if ((v = option_value(argc, argv, &j, "--max-pixels"))) {
+			if (pixel_limit_parse(v, &o->max_pixels))
+				return usage_error("process",
+						   "--max-pixels '%s' must be a pixel count or WxH, "
+						   "at most 16384x16384", v);
 			i = j;
 			continue;
 		}
@@ -351,8 +369,8 @@ static int process_one(const struct process_options *o, struct run_state *st, co
 {
 	struct dao_error err;
 	struct dao_frame depth;
-	if (dao_png_read_depth(in, (float)o->depth_unit, &depth, &err)) {
-		fprintf(stderr, "depthao: %s\n", err.message);
+	if (dao_png_read_depth_limited(in, (float)o->depth_unit, o->max_pixels, &depth, &err)) {
+		process_print_error(&err);
 		return 1;
 	}
 	int r = process_depth(o, st, &depth, ao_path, shaded_path, index);
@@ -361,12 +379,12 @@ static int process_one(const struct process_options *o, struct run_state *st, co
 }
 
 /* Size of the first image, to set up the camera. */
-static int probe_size(const char *path, uint32_t *w, uint32_t *h)
+static int probe_size(const char *path, uint64_t max_pixels, uint32_t *w, uint32_t *h)
 {
 	struct dao_frame f;
 	struct dao_error err;
-	if (dao_png_read(path, &f, &err)) {
-		fprintf(stderr, "depthao: %s\n", err.message);
+	if (dao_png_read_limited(path, max_pixels, &f, &err)) {
+		process_print_error(&err);
 		return 1;
 	}
 	*w = f.width;
@@ -414,7 +432,7 @@ int cmd_process(int argc, char **argv)
 	struct dao_camera cam;
 	struct run_state st = { 0 };
 	struct dao_error err;
-	status = !first ? 1 : probe_size(first, &w, &h);
+	status = !first ? 1 : probe_size(first, o.max_pixels, &w, &h);
 	free(first);
 	if (!status)
 		status = process_resolve_camera(&o, is_dir, w, h, NULL, &cam);

@@ -24,6 +24,7 @@ struct process_options {
 	uint32_t max_frames;   /* --frames: 0 = all */
 	int realtime;          /* --realtime: pace a recording by its timestamps */
 	int quiet;
+	uint64_t max_pixels;   /* --max-pixels: largest decoded depth image (0 = the default) */
 	struct dao_params params;
 };
 
@@ -35,6 +36,8 @@ struct run_state {
 };
 
 double process_now_ms(void);
+/* "depthao: MESSAGE" on stderr, with what to do when it was the pixel limit. */
+void process_print_error(const struct dao_error *err);
 int process_ensure_dir(const char *path);
 
 /*

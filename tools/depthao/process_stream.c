@@ -73,7 +73,7 @@ static int run(const struct process_options *o, struct dao_source *src,
 			break;
 		}
 		if (r < 0) {
-			fprintf(stderr, "depthao: %s\n", err.message);
+			process_print_error(&err);
 			status = 1;
 			break;
 		}
@@ -115,7 +115,7 @@ int process_stream(const struct process_options *o)
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	int r = dao_source_open(plugins, o->input, &so, &src, &err);
+	int r = dao_source_open_limited(plugins, o->input, &so, o->max_pixels, &src, &err);
 	if (r == -ENOENT && !strncmp(err.message, "no source", 9)) {
 		/* no built-in source for this URI ("no source plugin ...", "no source
 		 * recognises ..."; not a missing file) */
@@ -125,10 +125,10 @@ int process_stream(const struct process_options *o)
 			fprintf(stderr, "depthao: %s\n", err.message);
 			return 1;
 		}
-		r = dao_source_open(plugins, o->input, &so, &src, &err);
+		r = dao_source_open_limited(plugins, o->input, &so, o->max_pixels, &src, &err);
 	}
 	if (r) {
-		fprintf(stderr, "depthao: %s\n", err.message);
+		process_print_error(&err);
 		goto out;
 	}
 	struct dao_source_info si;

@@ -2,7 +2,6 @@
 #include "config.h"
 
 #include <errno.h>
-#include <ini.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -10,6 +9,8 @@
 #include <string.h>
 #include <strings.h>
 
+#include "../depthao/pixel_limit.h"
+#include "ini_file.h"
 #include "log.h"
 
 static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay"};
@@ -157,8 +158,13 @@ static int set_source(struct daemon_config *c, const char *section, const char *
 		c->input_queue = (unsigned)n;
 		return 0;
 	}
+	if (!strcmp(key, "max_pixels"))
+		return pixel_limit_parse(value, &c->max_pixels)
+			       ? BAD("must be a pixel count or WxH, at most 16384x16384")
+			       : 0;
 	return fail(msg, len, "[%s] %s: unknown key (keys: uri, playback, loop, start, depth_unit, "
-		    "intrinsics, fov, retry_initial_ms, retry_max_ms, queue)", section, key);
+		    "intrinsics, fov, retry_initial_ms, retry_max_ms, queue, max_pixels)", section,
+		    key);
 }
 
 static int set_ao(struct daemon_config *c, const char *section, const char *key,
@@ -302,40 +308,29 @@ int config_set(struct daemon_config *c, const char *section, const char *key, co
 		    "[daemon])", section);
 }
 
-struct load_state {
-	struct daemon_config *c;
-	char msg[512];
-	int failed;
-};
-
-static int on_ini(void *user, const char *section, const char *key, const char *value)
+static int on_pair(void *user, const char *section, const char *key, const char *value,
+		   char *msg, size_t len)
 {
-	struct load_state *st = user;
-	char m[512];
-	if (config_set(st->c, section, key, value, m, sizeof m) == 0)
-		return 1;
-	if (!st->failed) {
-		snprintf(st->msg, sizeof st->msg, "%s", m);
-		st->failed = 1;
-	}
-	return 0; /* inih reports this line */
+	return config_set(user, section, key, value, msg, len);
 }
 
 int config_load(struct daemon_config *c, const char *path, char *msg, size_t len)
 {
-	struct load_state st = {c, "", 0};
 	if (strlen(path) >= sizeof c->path)
 		return fail(msg, len, "%s: path too long", path);
 	snprintf(c->path, sizeof c->path, "%s", path);
-	int line = ini_parse(path, on_ini, &st);
-	if (line == -1)
+	FILE *f = fopen(path, "r");
+	if (!f)
 		return fail(msg, len, "%s: cannot open: %s", path, strerror(errno));
-	if (line == -2)
-		return fail(msg, len, "%s: out of memory", path);
-	if (line > 0 && st.failed)
-		return fail(msg, len, "%s:%d: %s", path, line, st.msg);
-	if (line > 0)
-		return fail(msg, len, "%s:%d: not 'key = value' or '[section]'", path, line);
+	unsigned line;
+	char m[600];
+	int r = ini_file_parse(f, on_pair, c, &line, m, sizeof m);
+	int e = errno;
+	fclose(f);
+	if (r == -2)
+		return fail(msg, len, "%s:%u: cannot read: %s", path, line, strerror(e));
+	if (r < 0)
+		return fail(msg, len, "%s:%u: %s", path, line, m);
 	return 0;
 }
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * depthaod configuration: an INI file (libinih) with [source], [ao],
+ * depthaod configuration: an INI file (ini_file.h) with [source], [ao],
  * [sink.NAME]... and [daemon]; command-line options override it.  Every key
  * is checked: unknown keys and bad values are errors naming file:line and key.
  */
@@ -13,6 +13,7 @@
 #include <depthao/depthao.h>
 
 #define DAOD_MAX_SINKS 16
+#define DAOD_MAX_URI 4096        /* a path of PATH_MAX and a plugin prefix fit */
 #define DAOD_MAX_AO_KEYS 64
 
 /* What a sink receives. */
@@ -29,7 +30,7 @@ const char *stream_name(enum stream_kind k);
 
 struct sink_config {
 	char name[64];
-	char uri[512];
+	char uri[DAOD_MAX_URI];
 	enum stream_kind stream;
 	unsigned queue;          /* frames buffered for this sink (1..64) */
 };
@@ -42,7 +43,7 @@ struct daemon_config {
 	char path[512];          /* the config file ("" if none), for messages and reload */
 
 	/* [source] */
-	char source_uri[512];
+	char source_uri[DAOD_MAX_URI];
 	enum dao_playback playback;
 	int loop;
 	uint32_t start;
@@ -53,6 +54,7 @@ struct daemon_config {
 	double fov_deg[2];
 	unsigned retry_initial_ms, retry_max_ms;
 	unsigned input_queue;
+	uint64_t max_pixels;     /* largest depth image decoded from files (0 = the default) */
 
 	/* [ao]: applied in order over the preset (quality first, wherever it is) */
 	enum dao_quality quality;
@@ -68,7 +70,7 @@ struct daemon_config {
 	char socket_group[64];   /* who else may use the socket ("" = "depthao" if it exists) */
 	unsigned socket_idle_timeout_s; /* a control connection idle this long is closed */
 	unsigned stats_interval_s;
-	char stats_json[512];
+	char stats_json[DAOD_MAX_URI];
 	int log_level;           /* enum log_level */
 	int drain_on_stop;
 	uint64_t max_frames;     /* stop after this many processed frames (0 = never) */

@@ -15,6 +15,7 @@
 
 #include "frame_queue.h"
 #include "log.h"
+#include "notify.h"
 
 #define DEG2RAD (3.14159265358979323846 / 180.0)
 #define DEFAULT_HFOV_DEG 58.5
@@ -196,7 +197,8 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	};
 	struct dao_source *src = NULL;
 	struct dao_error err = {0};
-	int r = dao_source_open(d->plugins, d->cfg.source_uri, &so, &src, &err);
+	int r = dao_source_open_limited(d->plugins, d->cfg.source_uri, &so, d->cfg.max_pixels, &src,
+					&err);
 	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
 		dao_source_close(src);
 		src = NULL;
@@ -450,6 +452,7 @@ static void *process_main(void *arg)
 	struct fq_item *in;
 	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
 	for (;;) {
+		notify_watchdog(); /* each round: per frame, or every 100 ms while idle */
 		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
 			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
 			continue;

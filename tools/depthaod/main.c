@@ -20,6 +20,7 @@
 #include "control.h"
 #include "daemon.h"
 #include "log.h"
+#include "notify.h"
 
 #define MAX_OVERRIDES 128
 
@@ -109,7 +110,7 @@ static int parse_args(int argc, char **argv, struct options *o)
 			exit(0);
 		}
 		if (!strcmp(a, "--version")) {
-			printf("depthaod %s\n", dao_version());
+			printf("depthaod %s\n%s\n", dao_version(), notify_describe());
 			exit(0);
 		}
 		if (!strcmp(a, "--loop")) {
@@ -278,6 +279,7 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	log_init((enum log_level)cfg.log_level);
+	notify_init();
 
 	/* signals are taken by the main thread only (sigtimedwait); threads inherit the mask */
 	sigset_t set;
@@ -321,14 +323,20 @@ int main(int argc, char **argv)
 		int sig = sigtimedwait(&set, &si, &tick);
 		if (sig == SIGTERM || sig == SIGINT) {
 			log_info("%s: stopping", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+			notify_stopping(sig == SIGTERM ? "SIGTERM" : "SIGINT");
 			break;
 		}
 		if (sig == SIGHUP) {
+			notify_reloading();
 			reload(&o, d);
+			notify_reloaded();
 			continue;
 		}
-		if (daemon_finished(d))
+		if (daemon_finished(d)) {
+			notify_stopping("the pipeline ended");
 			break;
+		}
+		notify_tick(d);
 		struct timespec now;
 		clock_gettime(CLOCK_MONOTONIC, &now);
 		if (cfg.stats_interval_s && now.tv_sec - last_stats.tv_sec >= (time_t)cfg.stats_interval_s) {

@@ -1,0 +1,57 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# [source] max_pixels (issue #16, item 9): a source larger than the limit is refused at
+# open, before its frames are allocated, with a message naming the size and the limit;
+# the daemon keeps retrying it (the file may be replaced) and processes nothing.
+# images:DIR?keep=N (item 11): the disk holds at most N frames of the sink, across runs.
+. "$(dirname "$0")/daemon_lib.sh"
+SOCK="$WORK/ctl.sock"
+
+# a recording (640x480) over a limit of 300000 pixels
+start_daemon "$WORK/log" --source "$REC" --set source.max_pixels=300000 \
+	--set source.retry_initial_ms=50 --set source.retry_max_ms=100 \
+	--sink a=images:"$WORK/a" --socket "$SOCK" --stats-interval 0
+wait_for 10 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stats.source_failures) -ge 2 ]" ||
+	fail "no refused opens: $(cat "$WORK/log")"
+grep -q "is 640x480 (307200 pixels), more than the limit of 300000 pixels" "$WORK/log" ||
+	fail "limit not logged: $(cat "$WORK/log")"
+[ "$(stat_of "$SOCK" frames_processed)" -eq 0 ] || fail "frames processed from a refused source"
+stop_daemon || fail "exit status"
+
+# a directory of depth PNGs whose first image is over the limit (given as WxH)
+mkdir "$WORK/pngs"
+"$DEPTHAO" synth --scene plane --out "$WORK/s" --rays 1 >/dev/null
+cp "$WORK/s/plane/depth.png" "$WORK/pngs/0001.png"
+start_daemon "$WORK/log2" --source "images:$WORK/pngs" --set source.max_pixels=320x240 \
+	--set source.retry_initial_ms=50 --sink a=images:"$WORK/b" --stats-interval 0
+wait_for 10 grep -q "0001.png' is 640x480 (307200 pixels), more than the limit of 76800 pixels" "$WORK/log2" ||
+	fail "PNG limit not logged: $(cat "$WORK/log2")"
+stop_daemon || fail "exit status"
+
+# the limit at the size: every frame of the recording goes through
+"$DAEMON" --source "$REC" --playback manual --set source.max_pixels=640x480 \
+	--sink a=images:"$WORK/c" --stream a=ao8 --stats-interval 0 --max-frames 5 2>"$WORK/log3" ||
+	fail "run at the limit: $(cat "$WORK/log3")"
+[ "$(ls "$WORK/c" | wc -l)" -eq 5 ] || fail "expected 5 frames at the limit: $(ls "$WORK/c")"
+
+# keep=4 over 10 frames: the last 4; a second run numbers from 0 again and replaces them
+# (an earlier run's files go first), foreign files stay
+mkdir -p "$WORK/keep"
+echo notes >"$WORK/keep/notes.txt"
+for run in 1 2; do
+	"$DAEMON" --source "$REC" --playback manual --sink "k=images:$WORK/keep?keep=4&compression=3" \
+		--stream k=ao8 --stats-interval 0 --max-frames $((8 + 2 * run)) 2>"$WORK/log-keep" ||
+		fail "keep run $run: $(cat "$WORK/log-keep")"
+done
+[ "$(ls "$WORK/keep" | tr '\n' ' ')" = "000008.png 000009.png 000010.png 000011.png notes.txt " ] ||
+	fail "keep=4: $(ls "$WORK/keep" | tr '\n' ' ')"
+
+# the key is checked like every other
+printf '[source]\nuri = %s\nmax_pixels = 0\n[sink.a]\nuri = images:%s\n' "$REC" "$WORK/d" >"$WORK/bad.ini"
+set +e
+"$DAEMON" --check-config "$WORK/bad.ini" >"$WORK/out" 2>&1
+st=$?
+set -e
+[ "$st" -eq 2 ] && grep -q "bad.ini:3: \[source\] max_pixels: '0' must be a pixel count or WxH" "$WORK/out" ||
+	fail "bad max_pixels: $st $(cat "$WORK/out")"
+finish
