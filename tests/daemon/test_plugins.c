@@ -5,7 +5,8 @@
  *      delivers a moving box at `fps` and, after `fail_after` frames, reports the
  *      device as gone (-ENODEV) once per open, as an unplugged sensor would;
  *      "stall_after=N" delivers N frames, then none (-EAGAIN after each timeout),
- *      as a camera whose stream stops without an error.
+ *      as a camera whose stream stops without an error; "absent=1" fails every open
+ *      with -ENODEV, as a camera that is not plugged in.
  *   2: sink "slowsink" - "slowsink:MS[,fail=E][,after=N][,open_fail=E][,out=FILE]" takes
  *      MS milliseconds per frame; its writes fail with errno E (a number or a name:
  *      ENOSPC, EIO, EPIPE, ...) after N good ones of each open; open_fail=E makes every
@@ -60,7 +61,12 @@ static int src_open(const char *uri, const struct dao_source_options *o, void **
 			s->fps = v;
 		else if (sscanf(tok, "fail_after=%u", &v) == 1)
 			s->fail_after = v;
-		else if (sscanf(tok, "stall_after=%u", &v) == 1)
+		else if (sscanf(tok, "absent=%u", &v) == 1 && v) {
+			if (err)
+				snprintf(err->message, sizeof err->message, "testsrc: no camera plugged in");
+			free(s);
+			return -ENODEV;
+		} else if (sscanf(tok, "stall_after=%u", &v) == 1)
 			s->stall_after = v;
 		else if (sscanf(tok, "w=%u", &v) == 1)
 			s->w = v;

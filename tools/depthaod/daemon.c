@@ -205,7 +205,8 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	}
 	if (r < 0 && first && source_names_file(d->cfg.source_uri)) {
 		log_error("source %s: %s; a recording or image path must be there when depthaod "
-			  "starts (only devices are waited for): check [source] uri", d->cfg.source_uri,
+			  "starts and open (only devices are waited for and retried): check [source] "
+			  "uri and start depthaod again", d->cfg.source_uri,
 			  err.message[0] ? err.message : strerror(-r));
 		atomic_store(&d->failed, 1);
 		return NULL;
