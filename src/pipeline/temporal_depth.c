@@ -25,8 +25,9 @@ static void pixel(const struct dao_temporal_depth_setup *s, float *z, float *his
 	const float w = fmaxf(1.0f / n1, 1.0f - s->alpha);
 	const float h1 = keep ? h + w * d : inv;
 	if (zi > 0.0f) {
-		/* a new history is the sample itself, bit for bit (not 1/(1/z)) */
-		z[i] = n1 == 1.0f ? zi : 1.0f / h1;
+		/* a new history, or one equal to the sample's 1/z (a still, clean
+		 * scene), gives the sample itself, bit for bit (not 1/(1/z)) */
+		z[i] = n1 == 1.0f || h1 == inv ? zi : 1.0f / h1;
 		hist[i] = h1;
 		count[i] = (uint8_t)n1;
 		age[i] = 0;

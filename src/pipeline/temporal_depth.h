@@ -43,7 +43,8 @@ struct dao_temporal_depth_setup {
  * own variance in units of sigma^2 (1/count, at least (1 - alpha) /
  * (1 + alpha)) -- starts the history over (and the output is that sample,
  * unchanged); otherwise history += w (1/z - history) with w =
- * max(1/count, 1 - alpha), and the output is 1 / history.  Where it has none,
+ * max(1/count, 1 - alpha), and the output is 1 / history (the sample itself
+ * where the history equals its 1/z: a still, clean scene passes unchanged).  Where it has none,
  * the history waits for it (the test decides when it returns) and the output
  * is the history for the first `persist` frames, then no data.
  * The scalar reference (the oracle); pixels [i0, i1) for the tails of the

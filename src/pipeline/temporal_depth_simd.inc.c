@@ -43,7 +43,8 @@ void DAO_ISA_FN(dao_temporal_depth)(const struct dao_temporal_depth_setup *s, fl
 		const vf n1 = v_sel(keep, v_min(v_add(n, one), top), one);
 		const vf w = v_max(v_div(one, n1), wmin);
 		const vf h1 = v_sel(keep, v_add(h, v_mul(w, d)), inv);
-		const vf zk = v_sel(v_eq(n1, one), zi, v_div(one, v_sel(has, h1, one)));
+		const vf zk = v_sel(m_or(v_eq(n1, one), v_eq(h1, inv)), zi,
+				    v_div(one, v_sel(has, h1, one)));
 		const vm hold = m_and(v_gt(n, zero), v_lt(a, persist));
 		const vf zh = v_sel(hold, v_div(one, v_sel(hold, h, one)), zero);
 		v_store(z + i, v_sel(has, zk, zh));

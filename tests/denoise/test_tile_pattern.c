@@ -85,10 +85,13 @@ static void check_frame(const char *what, const struct dao_camera *cam, const ui
 		dao_context_destroy(ctx);
 		struct synth_pattern pt;
 		synth_pattern_measure(ao, z, w, h, &pt);
-		printf("%-28s %-10s windows %4d  peak/neighbours %8.2f at (%5.2f, %5.2f)  amplitude %.5f |",
-		       what, variants[v].name, pt.windows, pt.max_ratio,
+		double amp = 0.0;
+		for (int f = 0; f < SYNTH_PATTERN_FREQS; f++)
+			amp = pt.amplitude[f] > amp ? pt.amplitude[f] : amp;
+		printf("%-30s %-10s windows %4d  peak/neighbours %8.2f at (%5.2f, %5.2f)  largest "
+		       "amplitude %.5f |", what, variants[v].name, pt.windows, pt.max_ratio,
 		       (double)synth_pattern_freq[pt.max_index][0],
-		       (double)synth_pattern_freq[pt.max_index][1], pt.amplitude[pt.max_index]);
+		       (double)synth_pattern_freq[pt.max_index][1], amp);
 		for (int f = 0; f < SYNTH_PATTERN_FREQS; f++)
 			printf(" %.1f", pt.ratio[f]);
 		printf("\n");
