@@ -16,13 +16,18 @@ static void pixel(const struct dao_temporal_depth_setup *s, float *z, float *his
 	const float n = s->fresh ? 0.0f : (float)count[i];
 	const float a = s->fresh ? 255.0f : (float)age[i];
 	const float d = inv - h;
+	/* 1/m and 1/(m + 1) from one division (the kernels' cost is in their
+	 * divisions; m (m + 1) <= 65280 is exact) */
+	const float m = fmaxf(n, 1.0f), q = 1.0f / (m * (m + 1.0f));
 	/* d is the difference of the sample and the history: its variance is
 	 * var (1 + that of the history, in units of var: 1/n while it is a
 	 * plain mean, (1 - alpha)/(1 + alpha) once exponential) */
-	const float vh = fmaxf(1.0f / fmaxf(n, 1.0f), (1.0f - s->alpha) / (1.0f + s->alpha));
+	const float vh = fmaxf((m + 1.0f) * q, (1.0f - s->alpha) / (1.0f + s->alpha));
 	const int keep = n > 0.0f && d * d <= s->reject * s->reject * (var * (1.0f + vh));
 	const float n1 = keep ? fminf(n + 1.0f, (float)DAO_TEMPORAL_DEPTH_MAX_COUNT) : 1.0f;
-	const float w = fmaxf(1.0f / n1, 1.0f - s->alpha);
+	/* the new sample's weight, 1/(n + 1) (used where keep: n >= 1; at the
+	 * count's cap 1/256 is below any 1 - alpha as 1/255 is) */
+	const float w = fmaxf(m * q, 1.0f - s->alpha);
 	const float h1 = keep ? h + w * d : inv;
 	if (zi > 0.0f) {
 		/* a new history, or one equal to the sample's 1/z (a still, clean

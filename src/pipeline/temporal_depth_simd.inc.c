@@ -2,7 +2,8 @@
 /*
  * The temporal depth filter of temporal_depth.c over SIMD lanes (pixels in
  * a row band, in order); included by temporal_depth_<isa>.c.  The same
- * operations in the same order as the reference (no FMA, true divisions),
+ * operations in the same order as the reference (no FMA, true divisions:
+ * three per vector, they are most of its cost),
  * so the result is identical; the pixels after the last whole vector go to
  * the reference (the filter works in place: an overlapping vector would run
  * a pixel twice).
@@ -37,16 +38,19 @@ void DAO_ISA_FN(dao_temporal_depth)(const struct dao_temporal_depth_setup *s, fl
 			var = v_add(k2, v_mul(v_mul(q2, inv2), inv2));
 		}
 		const vf d = v_sub(inv, h);
-		const vf vh = v_max(v_div(one, v_max(n, one)), ema);
+		const vf m = v_max(n, one), m1 = v_add(m, one);
+		const vf q = v_div(one, v_mul(m, m1));
+		const vf vh = v_max(v_mul(m1, q), ema);
 		const vm keep = m_and(v_gt(n, zero),
 				      v_le(v_mul(d, d), v_mul(r2, v_mul(var, v_add(one, vh)))));
 		const vf n1 = v_sel(keep, v_min(v_add(n, one), top), one);
-		const vf w = v_max(v_div(one, n1), wmin);
+		const vf w = v_max(v_mul(m, q), wmin);
 		const vf h1 = v_sel(keep, v_add(h, v_mul(w, d)), inv);
 		const vf zk = v_sel(m_or(v_eq(n1, one), v_eq(h1, inv)), zi,
 				    v_div(one, v_sel(has, h1, one)));
+		/* (no pixel is held without persistence: no division then) */
 		const vm hold = m_and(v_gt(n, zero), v_lt(a, persist));
-		const vf zh = v_sel(hold, v_div(one, v_sel(hold, h, one)), zero);
+		const vf zh = s->persist > 0 ? v_sel(hold, v_div(one, v_sel(hold, h, one)), zero) : zero;
 		v_store(z + i, v_sel(has, zk, zh));
 		v_store(hist + i, v_sel(has, h1, h));
 		vi_store_u8(count + i, vi_from_whole(v_sel(has, n1, n)));
