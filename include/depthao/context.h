@@ -54,8 +54,14 @@ DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ct
  *          of the camera's size.
  * normals: NULL to derive normals from depth, or DAO_PIXFMT_NORMAL_F32 unit
  *          normals in the optical frame (facing the camera).
- * frame_index: selects the noise pattern; the result is a pure function of
- *          (depth, normals, params, frame_index).
+ * frame_index: selects the noise pattern, and tells the temporal filters
+ *          (params `depth-temporal`, `temporal`) whether this frame follows
+ *          the last one: an index 1 to DAO_TEMPORAL_MAX_GAP past the last
+ *          processed frame continues their histories (a few dropped frames
+ *          do not matter); the same index, an earlier one (a seek, a loop)
+ *          or a larger jump starts them over.  With both filters off (the
+ *          presets) the result is a pure function of (depth, normals,
+ *          params, frame_index); on the first frame of a history it is too.
  * ao:      NULL, or DAO_PIXFMT_GRAY_F32 / GRAY16 / GRAY8 visibility
  *          (1 = open); pixels without depth get params.invalid_value.
  *
@@ -66,6 +72,17 @@ DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ct
 DAO_API int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 			const struct dao_frame *normals, uint64_t frame_index,
 			struct dao_frame *ao, struct dao_error *err);
+
+/* Frames a stream may skip (frame_index steps) without restarting the
+ * temporal filters' histories. */
+#define DAO_TEMPORAL_MAX_GAP 4
+
+/*
+ * Starts the temporal filters' histories over, as a gap in frame_index
+ * does: for a cut the indices do not show (the camera moved to another
+ * scene, a different camera feeds the same context).  NULL-safe.
+ */
+DAO_API void dao_context_reset(struct dao_context *ctx);
 
 /*
  * Renders the occlusion-shaded image of the last processed frame into `out`

@@ -112,8 +112,11 @@ struct dao_params {
 	float ssao_min, ssao_max; /* SSAO: a sample counts when the surface is this far in front, m */
 	float edl_radius;         /* EDL neighbour distance, px */
 	float vbao_thickness;     /* VBAO: assumed thickness of what the depth image shows, m */
-	float temporal;           /* share of the history in each output (0 = off), streams */
-	float temporal_reject;    /* history dropped where depth changed by more than this share */
+	float temporal;           /* AO: share of the history in each output (0 = off), streams */
+	float temporal_reject;    /* AO history dropped where depth changed by more than this share */
+	float depth_temporal;     /* depth: share of the 1/z history in each frame (0 = off), streams */
+	float depth_temporal_reject; /* depth history restarts beyond this many sigma of the noise */
+	int depth_temporal_persist;  /* frames a pixel without data keeps its filtered depth */
 	int threads;              /* worker threads of a context, 0 = one per available CPU */
 	int simd;                 /* enum dao_simd */
 
@@ -167,6 +170,15 @@ DAO_API size_t dao_params_size(void);
 
 /* Fills `p` with a quality preset. */
 DAO_API void dao_params_init(struct dao_params *p, enum dao_quality q);
+
+/*
+ * Turns on what suits a stream of consecutive frames from one camera (a
+ * recording, a device): the temporal depth filter (depth-temporal 0.8).
+ * The presets leave it off: a library user decides whether frames follow
+ * each other.  depthaod and `depthao process` on a recording or device call
+ * this before applying the user's settings.
+ */
+DAO_API void dao_params_stream_defaults(struct dao_params *p);
 
 /*
  * Sets one parameter from text, checking type and range.  On error nothing

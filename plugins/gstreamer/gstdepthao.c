@@ -17,6 +17,12 @@
  * only ever used by one thread.  The noise pattern's frame_index counts the
  * frames since the element started (the first frame is 0, as in
  * `depthao process`).
+ *
+ * Buffers are a stream of consecutive frames, so the temporal depth filter is
+ * on by default (dao_params_stream_defaults: depth-temporal 0.8; the
+ * property depth-temporal=0 turns it off, as a preset loaded by quality=
+ * does not); its history starts over after a flush (a seek) and at a buffer
+ * marked DISCONT, as after a new context (new caps or intrinsics).
  */
 #include <math.h>
 #include <string.h>
@@ -63,6 +69,7 @@ struct _GstDepthao {
 	guint8 *explicit_set;     /* per table entry: set by the user (survives a preset) */
 	gboolean params_dirty;    /* params changed since the context last got them */
 	gboolean camera_dirty;    /* an intrinsics property changed */
+	gboolean reset_pending;   /* a flush: the temporal histories start over */
 
 	/* streaming thread */
 	struct dao_context *ctx;
@@ -323,6 +330,7 @@ static void gst_depthao_set_property(GObject *object, guint id, const GValue *va
 		struct dao_params p;
 		self->quality = (enum dao_quality)g_value_get_enum(value);
 		dao_params_init(&p, self->quality);
+		dao_params_stream_defaults(&p);
 		for (size_t i = 0; i < param_count; i++)
 			if (self->explicit_set[i]) {
 				memcpy(param_field(&p, &param_table[i]),
@@ -622,8 +630,10 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 
 	GST_OBJECT_LOCK(self);
 	gboolean camera_dirty = self->camera_dirty, params_dirty = self->params_dirty;
+	gboolean reset = self->reset_pending || GST_BUFFER_FLAG_IS_SET(in->buffer, GST_BUFFER_FLAG_DISCONT);
 	p = self->params;
 	self->params_dirty = FALSE;
+	self->reset_pending = FALSE;
 	unit = (float)self->depth_unit;
 	GST_OBJECT_UNLOCK(self);
 	if (camera_dirty || !self->ctx) { /* intrinsics changed while playing: a new context */
@@ -634,6 +644,8 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 				    ("depthao kept its previous AO parameters: %s", err.message),
 				    (NULL));
 	}
+	if (reset)
+		dao_context_reset(self->ctx);
 
 	struct dao_frame depth = {
 		.format = DAO_PIXFMT_DEPTH16,
@@ -703,6 +715,18 @@ static gboolean gst_depthao_start(GstBaseTransform *bt)
 	return TRUE;
 }
 
+/* A flush (a seek): the next frame does not follow the last one. */
+static gboolean gst_depthao_sink_event(GstBaseTransform *bt, GstEvent *event)
+{
+	if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP) {
+		GstDepthao *self = GST_DEPTHAO(bt);
+		GST_OBJECT_LOCK(self);
+		self->reset_pending = TRUE;
+		GST_OBJECT_UNLOCK(self);
+	}
+	return GST_BASE_TRANSFORM_CLASS(gst_depthao_parent_class)->sink_event(bt, event);
+}
+
 static void release_stream(GstDepthao *self)
 {
 	dao_context_destroy(self->ctx);
@@ -739,6 +763,7 @@ static void gst_depthao_init(GstDepthao *self)
 	self->cx = self->cy = -1;
 	self->quality = DAO_QUALITY_DEFAULT;
 	dao_params_init(&self->params, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&self->params);
 	self->explicit_set = g_new0(guint8, param_count ? param_count : 1);
 }
 
@@ -792,6 +817,7 @@ static void gst_depthao_class_init(GstDepthaoClass *klass)
 	/* every AO parameter of the library, from its table */
 	struct dao_params defaults;
 	dao_params_init(&defaults, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&defaults);
 	param_table = dao_param_table(&param_count);
 	param_enum_types = g_new0(GType, param_count ? param_count : 1);
 	for (size_t i = 0; i < param_count; i++) {
@@ -821,6 +847,7 @@ static void gst_depthao_class_init(GstDepthaoClass *klass)
 	bc->fixate_caps = gst_depthao_fixate_caps;
 	bc->before_transform = gst_depthao_before_transform;
 	bc->start = gst_depthao_start;
+	bc->sink_event = gst_depthao_sink_event;
 	bc->stop = gst_depthao_stop;
 	bc->passthrough_on_same_caps = FALSE;
 	vc->set_info = gst_depthao_set_info;

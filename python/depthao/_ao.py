@@ -104,9 +104,13 @@ class AO:
         rgb = ao.shade()                      # uint8 (H, W, 3) of the same frame
 
     quality: "low", "medium" (= "default"), "high" or "ultra", the preset the
-    parameters start from.  threads: worker threads of this context (None or
-    0: one per CPU).  Every other keyword is a parameter of the library's
-    table (depthao.PARAMETERS; dashes become underscores: depth_min).
+    parameters start from.  stream: True for consecutive frames of one camera
+    (a recording, a device): the temporal depth filter is on, as in
+    `depthao process` on a recording and in depthaod (the preset leaves it
+    off; the keyword depth_temporal=0 turns it off again).  threads: worker
+    threads of this context (None or 0: one per CPU).  Every other keyword is
+    a parameter of the library's table (depthao.PARAMETERS; dashes become
+    underscores: depth_min).
 
     Parameters are also attributes: ``ao.radius = 0.3`` changes them for the
     next frame (an unknown name is AttributeError, a bad value ValueError,
@@ -123,13 +127,15 @@ class AO:
     several threads are serialised by a lock (safe, not parallel).
     """
 
-    def __init__(self, camera, quality="default", threads=None, **params):
+    def __init__(self, camera, quality="default", threads=None, stream=False, **params):
         if not isinstance(camera, Camera):
             raise ValueError("camera must be a depthao.Camera, got %s" % type(camera).__name__)
         object.__setattr__(self, "_ctx", None)
         object.__setattr__(self, "_lock", threading.Lock())
         object.__setattr__(self, "_camera", camera)
         p = _params.Params(quality)
+        if stream:
+            lib.dao_params_stream_defaults(p.buf)
         if threads is not None:
             p.set("threads", threads)
         for k, v in params.items():
@@ -258,9 +264,12 @@ class AO:
         float32 (H, W) metres (0, NaN, inf = no data; `unit` is ignored).  Any
         strides: rows at a positive stride are passed as they are; other
         layouts (transposed, reversed, unaligned) are copied first.
-        frame_index selects the noise pattern (the result is a pure function
-        of depth, parameters and frame_index).  out: a float32 (H, W) array to
-        write into (may be a strided view) instead of a new one.
+        frame_index selects the noise pattern and tells the temporal filters
+        (depth_temporal, temporal) whether this frame follows the last one: 1
+        to 4 past it continues their histories, anything else starts them
+        over (with both off the result is a pure function of depth,
+        parameters and frame_index).  out: a float32 (H, W) array to write
+        into (may be a strided view) instead of a new one.
         The GIL is released while the library works.
         """
         depth = self._check_image("depth", depth, {"u2": "uint16 (with unit)",
@@ -306,6 +315,12 @@ class AO:
         if target is not result:
             result[...] = target
         return result
+
+    def reset(self):
+        """Starts the temporal filters' histories over (a cut the frame
+        indices do not show: another scene, another camera)."""
+        with self._lock:
+            lib.dao_context_reset(self._handle())
 
     def shade(self, out=None):
         """The occlusion-shaded image of the last processed frame: uint8 RGB

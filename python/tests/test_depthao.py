@@ -89,7 +89,7 @@ def test_bit_exact_with_cli_on_recording(tmp_path, oni_frames):
     cam, frames = oni_frames
     run_cli("process", "--input", ONI, "--frames", str(len(frames)), "--quiet",
             "--ao-out", str(tmp_path / "ao"), "--shaded-out", str(tmp_path / "shaded"))
-    ao = depthao.AO(cam)
+    ao = depthao.AO(cam, stream=True)  # a recording: the temporal depth filter on
     for i, depth, info in frames:
         vis = ao.process(depth, unit=info["depth_unit"], frame_index=i)
         ref = depthao.read_png_depth(str(tmp_path / "ao" / ("%06d.png" % i)), 0.001)
@@ -113,6 +113,28 @@ def test_bit_exact_with_cli_options(tmp_path):
     ao = depthao.AO(cam, quality="high", radius=0.3, denoise="bilateral")
     vis = ao.process(depthao.read_png_depth(png, 0.001), unit=0.001, frame_index=7)
     assert np.array_equal(ao16(vis), depthao.read_png_depth(str(out)))
+
+
+def test_stream_and_reset():
+    """stream=True turns on the temporal depth filter; reset() and a gap in the
+    frame indices start its history over (the result equals the filter off)."""
+    cam = depthao.Camera(525, 525, 319.5, 239.5, 640, 480)
+    assert depthao.AO(cam).depth_temporal == 0
+    assert depthao.AO(cam, stream=True).depth_temporal > 0
+    assert depthao.AO(cam, stream=True, depth_temporal=0).depth_temporal == 0
+    frames = [depthao.read_png_depth(os.path.join(IMAGES, "%04d.png" % i), 0.001)
+              for i in range(3)]
+    on, off = depthao.AO(cam, stream=True), depthao.AO(cam)
+    for i in range(2):
+        on.process(frames[i], frame_index=i)
+        off.process(frames[i], frame_index=i)
+    assert not np.array_equal(on.filtered_depth(), off.filtered_depth())
+    on.reset()
+    a = on.process(frames[2], frame_index=2)
+    assert np.array_equal(a, off.process(frames[2], frame_index=2))
+    on.process(frames[0], frame_index=3)
+    b = on.process(frames[2], frame_index=20)  # a jump: starts over too
+    assert np.array_equal(b, off.process(frames[2], frame_index=20))
 
 
 def test_float_depth_equals_counts(frame0):

@@ -26,9 +26,24 @@ static inline float dao_denoise_tolerance(const struct dao_denoise_setup *s, flo
 }
 
 /*
+ * Spatial weight of the plane denoise's taps along one axis, offset -2 .. 2:
+ * 1/2, 1, 1, 1, 1/2.  Any pattern of period 4 (the GTAO noise tile) or 2
+ * sums to its mean under it -- the two end taps are the same tile phase and
+ * share one tap's weight -- so on a smooth surface the tile leaves no grid,
+ * which a plain 5-tap box does not achieve (its response at 1/4 and 1/2
+ * cycles per pixel is -1/5 and 1/5).  The weights are powers of two: the
+ * optimised kernels scale by them exactly.
+ */
+static inline float dao_denoise_plane_tap_weight(int offset)
+{
+	return offset == -2 || offset == 2 ? 0.5f : 1.0f;
+}
+
+/*
  * Seed 002's 5x5 spatial filter (UE4 mobile GTAO): per axis the depth
  * gradient of the smoother side is extrapolated to a plane, and each tap is
- * weighted by 1 - saturate(|plane z - tap z| / tolerance).  Rows [y0, y1).
+ * weighted by 1 - saturate(|plane z - tap z| / tolerance), times the tile-
+ * cancelling spatial weights above.  Rows [y0, y1).
  */
 void dao_denoise_plane(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
 		       float *ao_out, int y0, int y1);
@@ -47,7 +62,8 @@ DAO_DENOISE_SIMD_PROTO(avx2);
 DAO_DENOISE_SIMD_PROTO(avx512);
 
 /*
- * Seed 004's separable cross-bilateral blur: Gaussian in pixels times a
+ * Seed 004's separable cross-bilateral blur: Gaussian in pixels (its taps
+ * equalised over the noise tile's period, denoise_bilateral.c) times a
  * depth test; the test compares each tap with the plane of the centre pixel
  * (from its normal), so slopes are not cut.  The horizontal pass writes
  * `tmp`; the vertical pass reads it.  Rows [y0, y1) of each pass.

@@ -16,12 +16,38 @@ static inline float plane_depth(const struct dao_denoise_setup *s, const float *
 	return fabsf(den) > 1e-6f ? npd / den : -1.0f;
 }
 
+#define MAX_RADIUS 16
+
+/*
+ * The spatial weights of offsets -r .. r: a Gaussian (sigma (r + 1) / 2),
+ * each residue class of the offset mod 4 scaled to the same total, so that a
+ * pattern of period 4 or 2 (the GTAO noise tile) sums to its mean and leaves
+ * no grid on smooth surfaces (a truncated Gaussian passes 10-20 % of the
+ * 1/2 cycle/px component).  From r = 2 on every class has a tap.
+ */
+static void spatial_weights(int r, float g[2 * MAX_RADIUS + 1])
+{
+	const float sigma = 0.5f * (float)(r + 1);
+	const float falloff = 1.0f / (2.0f * sigma * sigma);
+	double cls[4] = { 0 };
+	for (int k = -r; k <= r; k++) {
+		g[k + r] = expf(-(float)(k * k) * falloff);
+		cls[k & 3] += g[k + r];
+	}
+	if (r < 2)
+		return;
+	const double mean = 0.25 * (cls[0] + cls[1] + cls[2] + cls[3]);
+	for (int k = -r; k <= r; k++)
+		g[k + r] = (float)(g[k + r] * mean / cls[k & 3]);
+}
+
 static void blur_pass(const struct dao_denoise_setup *s, const float *z, const float *n,
 		      const float *in, float *out, int y0, int y1, int horizontal)
 {
-	const int w = s->width, h = s->height, r = s->radius;
-	const float sigma = 0.5f * (float)(r + 1);
-	const float falloff = 1.0f / (2.0f * sigma * sigma);
+	const int w = s->width, h = s->height;
+	const int r = s->radius < MAX_RADIUS ? s->radius : MAX_RADIUS;
+	float g[2 * MAX_RADIUS + 1];
+	spatial_weights(r, g);
 	for (int y = y0; y < y1; y++) {
 		for (int x = 0; x < w; x++) {
 			const size_t i = (size_t)y * w + x;
@@ -46,7 +72,7 @@ static void blur_pass(const struct dao_denoise_setup *s, const float *z, const f
 				float pz = plane_depth(s, N, npd, xx, yy);
 				if (!(fabsf(z[t] - pz) < tol) && k != 0)
 					continue;
-				float wt = expf(-(float)(k * k) * falloff);
+				const float wt = g[k + r];
 				sum += wt * in[t];
 				wsum += wt;
 			}

@@ -59,7 +59,8 @@ float dao_denoise_plane_pixel(const struct dao_denoise_setup *s, const float *z,
 			if (z[t] <= 0.0f)
 				continue;
 			const float plane_z = zc + (float)k * gx + (float)j * gy;
-			const float wt = 1.0f - dao_saturate(fabsf(plane_z - z[t]) * inv_tol);
+			const float wt = dao_denoise_plane_tap_weight(j) * dao_denoise_plane_tap_weight(k) *
+					 (1.0f - dao_saturate(fabsf(plane_z - z[t]) * inv_tol));
 			sum += wt * ao_in[t];
 			wsum += wt;
 		}

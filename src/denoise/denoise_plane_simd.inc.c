@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The 5x5 plane denoise of denoise_plane.c over SIMD lanes (pixels along a
- * row); included by denoise_plane_<isa>.c.  Same arithmetic; the two border
+ * row), with its tile-cancelling spatial weights; included by
+ * denoise_plane_<isa>.c.  Same arithmetic; the two border
  * columns of each side use the reference per-pixel code, rows near the top
  * and bottom leave out the rows off the image as it does.
  */
@@ -29,22 +30,32 @@ static inline vf gradient(vf m1, vf m2, vf p1, vf p2, vf zc)
 
 /* The taps' sums of weights and weighted AO, rows j0 .. j1 of -2 .. 2 (the
  * others are off the image); holes: whether a tap without depth must be
- * tested for (else it weighs 0 by itself). */
+ * tested for (else it weighs 0 by itself).  The rows are unrolled, so that
+ * each tap's spatial weight (denoise.h: 1 inside, 1/2 on the border rows and
+ * columns, 1/4 at the corners) is a constant folded into its tap weight:
+ * c (1 - saturate(|plane - t| / tol)) = max(c - |plane - t| (c / tol), 0),
+ * the same operations as without it (c is a power of two: exact). */
 static inline __attribute__((always_inline)) void
 plane_taps(const float *zr, const float *ar, int w, int j0, int j1, const vf ak[5], vf gy,
 	   vf inv_tol, const int holes, vf *sum_out, vf *wsum_out)
 {
-	const vf zero = v_zero(), one = v_set1(1.0f);
+	const vf zero = v_zero();
+	const vf c[3] = { v_set1(1.0f), v_set1(0.5f), v_set1(0.25f) };
+	const vf inv_tol_c[3] = { inv_tol, v_mul(inv_tol, c[1]), v_mul(inv_tol, c[2]) };
 	vf sum = zero, wsum = zero;
-	for (int j = j0; j <= j1; j++) {
+#pragma GCC unroll 5
+	for (int j = -2; j <= 2; j++) {
+		if (j < j0 || j > j1)
+			continue;
 		const float *zt = zr + (ptrdiff_t)j * w;
 		const float *at = ar + (ptrdiff_t)j * w;
 		const vf jg = v_mul(v_set1((float)j), gy);
+#pragma GCC unroll 5
 		for (int k = -2; k <= 2; k++) {
 			const vf t = v_load(zt + k);
 			const vf plane = v_add(ak[k + 2], jg);
-			/* 1 - saturate(|plane - t| / tol) = max(1 - |plane - t| / tol, 0) */
-			vf wt = v_max(v_fnma(v_abs(v_sub(plane, t)), inv_tol, one), zero);
+			const int cls = (j == -2 || j == 2) + (k == -2 || k == 2);
+			vf wt = v_max(v_fnma(v_abs(v_sub(plane, t)), inv_tol_c[cls], c[cls]), zero);
 			if (holes)
 				wt = v_sel(v_gt(t, zero), wt, zero);
 			sum = v_fma(wt, v_load(at + k), sum);

@@ -35,6 +35,9 @@ static const struct dao_params common = {
 	.vbao_thickness = 0.2f,
 	.temporal = 0.0f,
 	.temporal_reject = 0.02f,
+	.depth_temporal = 0.0f,
+	.depth_temporal_reject = 3.0f,
+	.depth_temporal_persist = 0,
 	.threads = 0,
 	.simd = DAO_SIMD_AUTO,
 	.denoise = DAO_DENOISE_PLANE,
@@ -67,4 +70,15 @@ void dao_preset_fill(struct dao_params *p, enum dao_quality q)
 		p->denoise = DAO_DENOISE_BILATERAL;
 		break;
 	}
+}
+
+/*
+ * Streams: the temporal depth filter with a history share of 0.8 (the noise
+ * of 1/z falls to a third once settled, sqrt((1 - a) / (1 + a)); the first
+ * five frames are a plain mean).  Chosen on the boxes and spheres sequences
+ * of tests/pipeline/test_temporal_depth.c; README.md has the measurements.
+ */
+void dao_params_stream_defaults(struct dao_params *p)
+{
+	p->depth_temporal = 0.8f;
 }

@@ -1,8 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The AO context: owns the working planes and runs the per-frame pipeline
- *   decode -> prefilter -> normals -> GTAO -> denoise -> output / shade.
+ *   decode (+ temporal depth filter) -> prefilter -> normals -> GTAO ->
+ *   denoise (+ temporal AO accumulation) -> output / shade.
  * Every stage works on row bands [y0, y1) of float planes.
+ *
+ * Two histories serve streams, both per pixel and exponential: the depth's
+ * (depth-temporal, pipeline/temporal_depth.h: 1/z before the prefilter, so
+ * the still parts of a scene converge to a smooth surface) and the AO's
+ * (temporal: the output, so the noise pattern, which turns with the frame
+ * index, averages out).  Both continue only while frames follow each other:
+ * frame_index one to DAO_TEMPORAL_MAX_GAP past the last one; the same index,
+ * a step back (a seek, a loop), a larger jump, new parameters they depend on
+ * or dao_context_reset() start them over.
  */
 #include <errno.h>
 #include <math.h>
@@ -23,6 +33,7 @@
 #include "kernels/gtao_planes.h"
 #include "normals/normals.h"
 #include "pipeline/kernels.h"
+#include "pipeline/temporal_depth.h"
 #include "pipeline/threadpool.h"
 #include "shade/colormap.h"
 #include "shade/shade.h"
@@ -43,9 +54,14 @@ struct dao_context {
 	float *bent;    /* bent normals, made on request (dao_context_get_bent_normals) */
 	float *row_range; /* per row: nearest and farthest depth (shading's automatic range) */
 	uint64_t last_frame_index;
+	int have_index;     /* last_frame_index is that of a frame processed to the end */
 	float *hist_ao; /* temporal accumulation: the last output ... */
 	float *hist_z;  /* ... and the depth it was computed for */
 	int hist_valid;
+	float *depth_hist;      /* temporal depth filter: filtered 1/z ... */
+	uint8_t *depth_count;   /* ... samples in it, frames since the pixel had data */
+	uint8_t *depth_age;
+	int depth_hist_valid;
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -132,8 +148,8 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->cam = checked;
 	ctx->params = p;
 	ctx->npix = (size_t)checked.width * checked.height;
-	/* 1 + 1 + 3 + 1 + 1 + 1 + 2 planes of floats */
-	float *mem = malloc(ctx->npix * 10 * sizeof(float));
+	/* 1 + 1 + 3 + 1 + 1 + 1 + 2 + 1 planes of floats, then two of bytes */
+	float *mem = malloc(ctx->npix * (11 * sizeof(float) + 2));
 	if (!mem) {
 		free(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
@@ -147,6 +163,9 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->tmp = mem + 7 * ctx->npix;
 	ctx->hist_ao = mem + 8 * ctx->npix;
 	ctx->hist_z = mem + 9 * ctx->npix;
+	ctx->depth_hist = mem + 10 * ctx->npix;
+	ctx->depth_count = (uint8_t *)(mem + 11 * ctx->npix);
+	ctx->depth_age = ctx->depth_count + ctx->npix;
 	ctx->row_range = malloc(2 * (size_t)checked.height * sizeof(float));
 	if (!ctx->row_range ||
 	    dao_gtao_planes_init(&ctx->planes, (int)checked.width, (int)checked.height,
@@ -203,9 +222,22 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 		if (r)
 			return r;
 	}
+	/* new settings: the AO history no longer matches; the depth history
+	 * only depends on the depth range and its own switch */
+	if (params->depth_min != ctx->params.depth_min || params->depth_max != ctx->params.depth_max ||
+	    (params->depth_temporal > 0.0f) != (ctx->params.depth_temporal > 0.0f))
+		ctx->depth_hist_valid = 0;
 	ctx->params = *params;
-	ctx->hist_valid = 0; /* new settings: the history no longer matches */
+	ctx->hist_valid = 0;
 	return 0;
+}
+
+void dao_context_reset(struct dao_context *ctx)
+{
+	if (!ctx)
+		return;
+	ctx->hist_valid = 0;
+	ctx->depth_hist_valid = 0;
 }
 
 void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out)
@@ -316,6 +348,8 @@ struct frame_job {
 	int algorithm;
 	struct dao_denoise_setup denoise;
 	struct dao_prefilter_setup prefilter;
+	int depth_temporal;  /* run the temporal depth filter */
+	struct dao_temporal_depth_setup depth_temporal_setup;
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
 
@@ -325,11 +359,15 @@ static void fill_inverse_depth(struct dao_context *c, const struct dao_kernels *
 	k->planes_fill(&c->planes, c->z, c->params.noise == DAO_NOISE_TILE, y0, y1);
 }
 
+/* decoding, and on the same rows while they are in cache the temporal depth filter */
 static void stage_decode(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	dao_decode_depth(j->depth, j->ctx->params.depth_min, j->ctx->params.depth_max,
-			 j->ctx->z_raw, y0, y1);
+	struct dao_context *c = j->ctx;
+	dao_decode_depth(j->depth, c->params.depth_min, c->params.depth_max, c->z_raw, y0, y1);
+	if (j->depth_temporal)
+		j->k.temporal_depth(&j->depth_temporal_setup, c->z_raw, c->depth_hist, c->depth_count,
+				    c->depth_age, y0, y1);
 }
 
 static void stage_prefilter_h(void *arg, int y0, int y1)
@@ -540,11 +578,30 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
 	dao_prefilter_setup_init(&job.prefilter, (int)ctx->cam.width, h, p->prefilter_radius,
 				 p->depth_noise, ctx->depth_unit);
+	/* the histories go on only from one frame to one of the next few */
+	const int consecutive = ctx->have_index && frame_index - ctx->last_frame_index >= 1u &&
+				frame_index - ctx->last_frame_index <= DAO_TEMPORAL_MAX_GAP;
+	if (!consecutive) {
+		ctx->hist_valid = 0;
+		ctx->depth_hist_valid = 0;
+	}
+	job.depth_temporal = p->depth_temporal > 0.0f;
+	job.depth_temporal_setup = (struct dao_temporal_depth_setup){
+		.width = (int)ctx->cam.width,
+		.alpha = p->depth_temporal,
+		.reject = p->depth_temporal_reject,
+		.noise_k = p->depth_noise,
+		.quantum = ctx->depth_unit,
+		.persist = p->depth_temporal_persist,
+		.fresh = !ctx->depth_hist_valid,
+	};
 	ctx->have_frame = 0;
+	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
 
 	struct dao_timings *tm = &ctx->times;
 	const double t0 = now_ms();
 	dao_pool_run(ctx->pool, h, 8, stage_decode, &job);
+	ctx->depth_hist_valid = job.depth_temporal;
 	const double t1 = now_ms();
 	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
 		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, &job);
@@ -602,6 +659,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	tm->output_ms = t6 - t5;
 	tm->process_ms = t6 - t0;
 	ctx->have_frame = 1;
+	ctx->have_index = 1;
 	ctx->last_frame_index = frame_index;
 	return 0;
 }

@@ -18,6 +18,7 @@ static void gtao_reference(const struct dao_gtao_setup *s, const float *z,
 		.gtao = dao_gtao_simd_##isa, .planes_fill = dao_gtao_planes_fill_##isa,      \
 		.denoise_plane = dao_denoise_plane_##isa,                                    \
 		.normals = dao_normals_from_depth_##isa, .shade = dao_shade_##isa,           \
+		.temporal_depth = dao_temporal_depth_##isa,                                  \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -46,6 +47,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.denoise_plane = dao_denoise_plane,
 			.normals = dao_normals_from_depth,
 			.shade = dao_shade,
+			.temporal_depth = dao_temporal_depth_ref,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

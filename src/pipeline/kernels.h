@@ -9,6 +9,7 @@
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
+#include "pipeline/temporal_depth.h"
 #include "shade/shade.h"
 
 struct dao_kernels {
@@ -28,6 +29,8 @@ struct dao_kernels {
 			int y1);
 	void (*shade)(const struct dao_shade_setup *s, const float *z, const float *n,
 		      const float *ao, const struct dao_frame *out, int y0, int y1);
+	void (*temporal_depth)(const struct dao_temporal_depth_setup *s, float *z, float *hist,
+			       uint8_t *count, uint8_t *age, int y0, int y1);
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

@@ -119,6 +119,11 @@ static inline void v_store3(float *p, vf a, vf b, vf c)
 	_mm256_storeu_ps(p + 8, _mm256_blend_ps(_mm256_blend_ps(a, b, 0x24), c, 0x49));
 	_mm256_storeu_ps(p + 16, _mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92));
 }
+/* VN bytes (0 .. 255) as float lanes */
+static inline vf v_load_u8(const uint8_t *p)
+{
+	return _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)p)));
+}
 /* VN bytes from lanes holding 0 .. 255 */
 static inline void vi_store_u8(uint8_t *p, vi a)
 {

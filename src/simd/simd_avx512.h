@@ -118,6 +118,11 @@ static inline void v_store3(float *p, vf a, vf b, vf c)
 	_mm512_storeu_ps(p + 16, _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, o11, b), o12, c));
 	_mm512_storeu_ps(p + 32, _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, o21, b), o22, c));
 }
+/* VN bytes (0 .. 255) as float lanes */
+static inline vf v_load_u8(const uint8_t *p)
+{
+	return _mm512_cvtepi32_ps(_mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(const void *)p)));
+}
 /* VN bytes from lanes holding 0 .. 255 */
 static inline void vi_store_u8(uint8_t *p, vi a)
 {

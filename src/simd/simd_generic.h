@@ -99,6 +99,14 @@ static inline void v_store3(float *p, vf a, vf b, vf c)
 	for (int k = 0; k < VN; k++)
 		p[3 * k] = a[k], p[3 * k + 1] = b[k], p[3 * k + 2] = c[k];
 }
+/* VN bytes (0 .. 255) as float lanes */
+static inline vf v_load_u8(const uint8_t *p)
+{
+	vf r;
+	for (int k = 0; k < VN; k++)
+		r[k] = (float)p[k];
+	return r;
+}
 /* VN bytes from lanes holding 0 .. 255 */
 static inline void vi_store_u8(uint8_t *p, vi a)
 {

@@ -107,6 +107,13 @@ static inline void v_store3(float *p, vf a, vf b, vf c)
 	_mm_storeu_ps(p + 4, _mm_blend_ps(_mm_blend_ps(a, b, 0x9), c, 0x2));
 	_mm_storeu_ps(p + 8, _mm_blend_ps(_mm_blend_ps(a, b, 0x4), c, 0x9));
 }
+/* VN bytes (0 .. 255) as float lanes */
+static inline vf v_load_u8(const uint8_t *p)
+{
+	int32_t v;
+	memcpy(&v, p, sizeof v);
+	return _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(v)));
+}
 /* VN bytes from lanes holding 0 .. 255 */
 static inline void vi_store_u8(uint8_t *p, vi a)
 {

@@ -52,6 +52,13 @@ out=$(stat_of "$SOCK" sinks.0.frames_out)
 [ "$out" -ge 1 ] || fail "sink wrote nothing"
 stat_of "$SOCK" sinks.0.latency_ms_p99 >/dev/null || fail "no latency in stats"
 
+# a source is a stream: the temporal depth filter is on (0.8), and can be turned off
+"$DEPTHAO" ctl --socket "$SOCK" get depth-temporal | "$JSON_GET" params.depth-temporal | grep -qx 0.8 ||
+	fail "the temporal depth filter is not on by default in the daemon"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal 0 >/dev/null || fail "set depth-temporal 0"
+"$DEPTHAO" ctl --socket "$SOCK" get depth-temporal | "$JSON_GET" params.depth-temporal | grep -qx 0 ||
+	fail "depth-temporal 0 did not stick"
+
 # set/get round trip; a bad value and a bad command are errors, and the daemon carries on
 "$DEPTHAO" ctl --socket "$SOCK" set radius 0.25 >/dev/null || fail "set radius"
 "$DEPTHAO" ctl --socket "$SOCK" get radius | "$JSON_GET" params.radius | grep -qx 0.25 || fail "get radius"

@@ -118,12 +118,44 @@ static void test_slope(void **state)
 	}
 }
 
+/*
+ * A pattern of period 4 (the GTAO noise tile: 16 arbitrary values repeated)
+ * on a plane leaves the denoise as its mean, with no trace of the grid
+ * (a 5 x 5 box passes a fifth of the 1/4 and 1/2 cycle/px components).
+ */
+static void test_tile_pattern_cancelled(void **state)
+{
+	(void)state;
+	static const float tile[16] = { 0.31f, 0.92f, 0.55f, 0.12f, 0.77f, 0.40f, 0.66f, 0.05f,
+					0.88f, 0.23f, 0.49f, 0.71f, 0.18f, 0.60f, 0.95f, 0.35f };
+	double mean = 0.0;
+	for (int i = 0; i < 16; i++)
+		mean += tile[i] / 16.0;
+	for (int b = 0; b < 2; b++) {
+		struct scene *sc = make_scene();
+		for (int i = 0; i < W * H; i++)
+			sc->z[i] = 2.0f;
+		for (int y = 0; y < H; y++)
+			for (int x = 0; x < W; x++)
+				sc->ao[y * W + x] = tile[(y & 3) * 4 + (x & 3)];
+		run(sc, b);
+		const int m = b ? sc->s.radius : 2;
+		for (int y = m; y < H - m; y++)
+			for (int x = m; x < W - m; x++)
+				if (fabs(sc->out[y * W + x] - mean) > 1e-5)
+					fail_msg("%s: (%d, %d) = %f, the tile's mean is %f",
+						 b ? "bilateral" : "plane", x, y, sc->out[y * W + x], mean);
+		free(sc);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_constant_and_edges),
 		cmocka_unit_test(test_variance_and_invalid),
 		cmocka_unit_test(test_slope),
+		cmocka_unit_test(test_tile_pattern_cancelled),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

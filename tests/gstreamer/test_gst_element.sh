@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 # The GStreamer element: gst-inspect-1.0 sees it with its generated properties;
 # gst-launch-1.0 pipelines give the same pixels as `depthao process` (AO 16-bit, AO 8-bit,
-# shaded RGB/RGBA/BGRx, the default camera, the frame counter); property changes change
-# the output, also on a playing pipeline; wrong caps are not-negotiated errors.
+# shaded RGB/RGBA/BGRx, the default camera, the frame counter, the temporal depth filter on
+# a stream); property changes change the output, also on a playing pipeline; wrong caps
+# are not-negotiated errors.
 # usage: test_gst_element.sh GST_TEST_UTIL GST_RUNTIME DEPTHAO   (GST_PLUGIN_PATH set)
 set -eu
 UTIL=$1
@@ -43,6 +44,8 @@ done
 grep -A1 "^  radius *:" "$WORK/inspect" | grep -q "controllable" || fail "radius is not controllable"
 grep -A2 "^  radius *:" "$WORK/inspect" | grep -q "Double. Range: *0.01 - *100 Default: *0.5" ||
 	fail "radius range/default: $(grep -A2 "^  radius *:" "$WORK/inspect")"
+grep -A2 "^  depth-temporal *:" "$WORK/inspect" | grep -q "Default: *0.8" ||
+	fail "the temporal depth filter is not on by default: $(grep -A2 "^  depth-temporal *:" "$WORK/inspect")"
 grep -q 'Enum "GstDepthaoShade"' "$WORK/inspect" || fail "shade is not a registered enum"
 grep -q "(1): turbo" "$WORK/inspect" || fail "the shade enum lacks its values"
 echo "gst-inspect-1.0: element and $(grep -c "controllable" "$WORK/inspect") controllable properties"
@@ -160,6 +163,32 @@ launch -q filesrc location="$DEPTH" ! pngdec ! imagefreeze num-buffers=3 ! video
 cmp -s "$WORK/seq-0.raw" "$WORK/ao.raw" || fail "frame 0 of a stream differs from the single frame"
 # shellcheck disable=SC2059
 same "$(printf "$RAW" gray16le seq-2.raw)" "$WORK/ref-f2.png" 0 "stream frame 2 vs depthao process --frame-index 2"
+
+# a stream of noisy frames: the temporal depth filter (on by default) gives what depthao
+# process gives with it on the same frames; depth-temporal=0 what it gives without
+NOISY="${DAO_SOURCE_ROOT:?}/recordings/spheres-noisy"
+for dt in default 0; do
+	prop=""
+	[ "$dt" = default ] || prop="depth-temporal=$dt"
+	# shellcheck disable=SC2086
+	launch -q multifilesrc location="$NOISY/%04d.png" index=0 stop-index=3 \
+		caps=image/png,framerate=30/1 ! pngdec ! videoconvert ! video/x-raw,format=GRAY16_LE ! \
+		depthao $CAM $prop ! video/x-raw,format=GRAY16_LE ! \
+		multifilesink location="$WORK/noisy-$dt-%d.raw" >"$WORK/log" 2>&1 ||
+		fail "noisy stream ($dt): $(cat "$WORK/log")"
+done
+"$DEPTHAO" process --input "images:$NOISY" --intrinsics $K --depth-temporal 0.8 \
+	--ao-out "$WORK/noisy-on" --quiet || fail "depthao process images: --depth-temporal 0.8"
+"$DEPTHAO" process --input "$NOISY" --intrinsics $K --ao-out "$WORK/noisy-off" --quiet ||
+	fail "depthao process on the PNG directory"
+# shellcheck disable=SC2059
+same "$(printf "$RAW" gray16le noisy-default-3.raw)" "$WORK/noisy-on/000003.png" 0 \
+	"stream frame 3, depth-temporal on vs depthao process --depth-temporal 0.8"
+# shellcheck disable=SC2059
+same "$(printf "$RAW" gray16le noisy-0-3.raw)" "$WORK/noisy-off/0003.png" 0 \
+	"stream frame 3, depth-temporal=0 vs depthao process on PNGs (off)"
+cmp -s "$WORK/noisy-default-3.raw" "$WORK/noisy-0-3.raw" &&
+	fail "the temporal depth filter changed nothing on noisy frames"
 
 # properties changed on a playing pipeline reach the next frame (gst_runtime writes f0..f3)
 mkdir "$WORK/rt"

@@ -3,7 +3,7 @@
  * Steady state allocates nothing: the test interposes the C allocator
  * (glibc) and counts every malloc/calloc/realloc/aligned allocation made by
  * any code in the process while 100 frames are processed and shaded, with
- * worker threads and for each preset.  Creating a context must be seen to
+ * worker threads and for each preset, both temporal filters on.  Creating a context must be seen to
  * allocate, or the counter is not working and the test fails.
  */
 #define _GNU_SOURCE
@@ -87,6 +87,9 @@ static int run(enum dao_quality q, int noise)
 		return 1;
 	}
 	dao_params_init(&p, q);
+	dao_params_stream_defaults(&p); /* both temporal filters too */
+	p.temporal = 0.8f;
+	p.depth_temporal_persist = 2;
 	p.threads = 2;
 	p.noise = noise;
 	atomic_store(&allocations, 0);
@@ -119,6 +122,8 @@ static int run(enum dao_quality q, int noise)
 		    dao_context_shade(ctx, &sh, &err);
 		if (i == 50) /* a run-time parameter change, as the daemon makes */
 			r = r || dao_context_set_params(ctx, &p, &err);
+		if (i == 70) /* a cut: the histories start over */
+			dao_context_reset(ctx);
 	}
 	atomic_store(&counting, 0);
 	long steady = atomic_load(&allocations);

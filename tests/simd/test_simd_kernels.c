@@ -20,6 +20,7 @@
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
 #include "pipeline/kernels.h"
+#include "pipeline/temporal_depth.h"
 #include "normals/normals.h"
 #include "shade/shade.h"
 #include "simd/fastmath_check.h"
@@ -535,12 +536,111 @@ static void test_fastmath(void **state)
 	}
 }
 
+/* The temporal depth filter's state, one per kernel set. */
+struct tdepth {
+	float *z, *hist;
+	uint8_t *count, *age;
+};
+
+static void tdepth_alloc(struct tdepth *t, size_t np)
+{
+	t->z = malloc(np * 4);
+	t->hist = calloc(np, 4);
+	t->count = calloc(np, 1);
+	t->age = calloc(np, 1);
+	assert_true(t->z && t->hist && t->count && t->age);
+}
+
+static void tdepth_free(struct tdepth *t)
+{
+	free(t->z);
+	free(t->hist);
+	free(t->count);
+	free(t->age);
+}
+
+/*
+ * Frame f of a sequence made from `depth`: noise of a few sigma redrawn per
+ * pixel and frame, a square that moves by 3 px a frame 0.4 m in front, and
+ * holes that come and go.
+ */
+static void tdepth_frame(const float *depth, int w, int h, int f, float *z)
+{
+	unsigned seed = 977u * (unsigned)f + 13u;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			const size_t i = (size_t)y * w + x;
+			seed = seed * 1103515245u + 12345u;
+			const float u = (float)((seed >> 8) & 0xffff) / 65535.0f - 0.5f;
+			float v = depth[i];
+			if (v > 0.0f)
+				v += 0.008f * u * v * v;
+			if (x >= 3 * f + w / 4 && x < 3 * f + w / 4 + w / 5 && y > h / 3 && y < h / 2 && v > 0.5f)
+				v -= 0.4f;
+			if (((seed >> 4) & 63u) == 0u)
+				v = 0.0f;
+			z[i] = v;
+		}
+}
+
+static void test_temporal_depth(void **state)
+{
+	(void)state;
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	int ns = optimised_sets(sets);
+	/* the inputs, and a narrow one whose rows end between vectors */
+	float narrow[37 * 5];
+	for (int k = 0; k < 37 * 5; k++)
+		narrow[k] = 1.0f + 0.01f * (float)(k % 37);
+	for (int i = 0; i <= ninputs; i++) {
+		const int w = i < ninputs ? (int)inputs[i].cam.width : 37;
+		const int h = i < ninputs ? (int)inputs[i].cam.height : 5;
+		const float *depth = i < ninputs ? inputs[i].depth : narrow;
+		const size_t np = (size_t)w * h;
+		struct tdepth ref, opt[DAO_SIMD_COUNT];
+		tdepth_alloc(&ref, np);
+		for (int k = 0; k < ns; k++)
+			tdepth_alloc(&opt[k], np);
+		float *sigma = malloc(np * 4);
+		for (size_t k = 0; k < np; k++)
+			sigma[k] = 0.001f + 0.002f * (float)(k % 7);
+		for (int f = 0; f < 8; f++) {
+			struct dao_temporal_depth_setup s = {
+				.width = w, .alpha = 0.8f, .reject = 3.0f, .noise_k = 0.0012f,
+				.quantum = 0.001f, .persist = 2, .fresh = f == 0 || f == 5,
+				.sigma = f >= 6 ? sigma : NULL,
+			};
+			tdepth_frame(depth, w, h, f, ref.z);
+			dao_temporal_depth_ref(&s, ref.z, ref.hist, ref.count, ref.age, 0, h);
+			for (int k = 0; k < ns; k++) {
+				struct dao_kernels kr;
+				dao_kernels_select(&kr, sets[k]);
+				tdepth_frame(depth, w, h, f, opt[k].z);
+				/* in two bands, the first ending mid-image */
+				kr.temporal_depth(&s, opt[k].z, opt[k].hist, opt[k].count, opt[k].age, 0, h / 3);
+				kr.temporal_depth(&s, opt[k].z, opt[k].hist, opt[k].count, opt[k].age, h / 3, h);
+				assert_memory_equal(ref.z, opt[k].z, np * 4);
+				assert_memory_equal(ref.hist, opt[k].hist, np * 4);
+				assert_memory_equal(ref.count, opt[k].count, np);
+				assert_memory_equal(ref.age, opt[k].age, np);
+			}
+		}
+		print_message("temporal depth: %-34s identical in %d sets over 8 frames\n",
+			      i < ninputs ? inputs[i].name : "37 x 5", ns);
+		tdepth_free(&ref);
+		for (int k = 0; k < ns; k++)
+			tdepth_free(&opt[k]);
+		free(sigma);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_fastmath),
 		cmocka_unit_test(test_prefilter),
 		cmocka_unit_test(test_denoise),
+		cmocka_unit_test(test_temporal_depth),
 		cmocka_unit_test(test_normals),
 		cmocka_unit_test(test_planes_fill),
 		cmocka_unit_test(test_shade),

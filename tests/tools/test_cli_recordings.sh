@@ -19,12 +19,37 @@ no_temp_files "$WORK/all"
 # consecutive frames differ (the sphere rolls), so playback is animated
 cmp -s "$WORK/all/ao/000000.png" "$WORK/all/ao/000015.png" && fail "first and last frames are identical"
 
-# --start/--frames pick frames by index, and give the same pixels as the full run
+# --start/--frames pick frames by index; without the temporal depth filter (whose
+# history depends on the frames before) they give the same pixels as a full run
 expect_exit 0 "start/frames" -- "$DEPTHAO" process --input "oni:$REC" --start 5 --frames 3 \
 	--ao-out "$WORK/part" --quiet
 [ "$(ls "$WORK/part" | tr '\n' ' ')" = "000005.png 000006.png 000007.png " ] ||
 	fail "start/frames wrote: $(ls "$WORK/part" | tr '\n' ' ')"
-cmp -s "$WORK/part/000006.png" "$WORK/all/ao/000006.png" || fail "frame 6 differs from the full run"
+expect_exit 0 "start/frames, filter off" -- "$DEPTHAO" process --input "oni:$REC" --start 5 \
+	--frames 3 --depth-temporal 0 --ao-out "$WORK/part-off" --quiet
+expect_exit 0 "first frames, filter off" -- "$DEPTHAO" process --input "$REC" --frames 7 \
+	--depth-temporal 0 --ao-out "$WORK/head-off" --quiet
+cmp -s "$WORK/part-off/000006.png" "$WORK/head-off/000006.png" || fail "frame 6 differs from the full run"
+# a recording is a stream: the temporal depth filter is on (0.8) unless turned off; the
+# first frame of a run has no history yet
+expect_exit 0 "start/frames, filter 0.8" -- "$DEPTHAO" process --input "oni:$REC" --start 5 \
+	--frames 3 --depth-temporal 0.8 --ao-out "$WORK/part-on" --quiet
+for f in 5 6 7; do
+	cmp -s "$WORK/part/00000$f.png" "$WORK/part-on/00000$f.png" ||
+		fail "frame $f: the default is not --depth-temporal 0.8"
+done
+cmp -s "$WORK/part/000005.png" "$WORK/part-off/000005.png" || fail "frame 5: the first frame was filtered"
+cmp -s "$WORK/part/000007.png" "$WORK/part-off/000007.png" &&
+	fail "frame 7: the temporal depth filter changed nothing where the sphere rolls"
+# PNG input is not: a directory's files need not follow each other
+NOISY="$ROOT/recordings/spheres-noisy"
+expect_exit 0 "PNG directory" -- "$DEPTHAO" process --input "$NOISY" --ao-out "$WORK/png-dir" --quiet
+expect_exit 0 "PNG directory, filter off" -- "$DEPTHAO" process --input "$NOISY" --depth-temporal 0 \
+	--ao-out "$WORK/png-off" --quiet
+expect_exit 0 "PNG directory, filter on" -- "$DEPTHAO" process --input "$NOISY" --depth-temporal 0.8 \
+	--ao-out "$WORK/png-on" --quiet
+cmp -s "$WORK/png-dir/0003.png" "$WORK/png-off/0003.png" || fail "PNG input: the filter was on by default"
+cmp -s "$WORK/png-dir/0003.png" "$WORK/png-on/0003.png" && fail "PNG input: --depth-temporal 0.8 changed nothing"
 
 # synth writes a recording that process reads back
 expect_exit 0 "synth --oni" -- "$DEPTHAO" synth --scene boxes --frames 3 --rays 1 --oni 16z \
@@ -33,7 +58,8 @@ expect_exit 0 "synth --oni" -- "$DEPTHAO" synth --scene boxes --frames 3 --rays 
 expect_exit 0 "synth recording" -- "$DEPTHAO" process --input "$WORK/syn/boxes.oni" \
 	--ao-out "$WORK/syn-ao" --quiet
 [ "$(ls "$WORK/syn-ao" | wc -l)" -eq 3 ] || fail "synth recording: not 3 frames"
-# the depth PNG frame 1 and the recording's frame 1 shade identically (same camera)
+# the depth PNG frame 1 and the recording's frame 1 shade identically (same camera; the
+# boxes stand still and the depth is clean: the temporal depth filter passes it unchanged)
 expect_exit 0 "png frame" -- "$DEPTHAO" process --input "$WORK/syn/boxes/depth/0001.png" \
 	--ao-out "$WORK/png1.png" --frame-index 1 --quiet
 cmp -s "$WORK/png1.png" "$WORK/syn-ao/000001.png" || fail ".oni and PNG frame 1 give different AO"

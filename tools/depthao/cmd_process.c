@@ -26,8 +26,10 @@
 
 static void usage(FILE *out)
 {
-	struct dao_params def;
+	struct dao_params def, stream;
 	dao_params_init(&def, DAO_QUALITY_DEFAULT);
+	stream = def;
+	dao_params_stream_defaults(&stream);
 	fprintf(out,
 		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH] [options]\n"
 		"\n"
@@ -36,6 +38,11 @@ static void usage(FILE *out)
 		"names, created if missing), or for every frame of a recording or device (the\n"
 		"outputs are directories of 000000.png, 000001.png, ... numbered by frame).\n"
 		"At least one output is required.\n"
+		"\n"
+		"Recordings and devices are streams of consecutive frames: they also run the\n"
+		"temporal depth filter (--depth-temporal %.1f; --depth-temporal 0 turns it off).\n"
+		"PNG input does not (its files need not follow each other; give --depth-temporal\n"
+		"to have it).\n"
 		"\n"
 		"  --input PATH|URI          depth PNG, directory of depth PNGs, .oni recording, or\n"
 		"                            a source URI NAME:ARG (oni:FILE, openni2:any,\n"
@@ -62,7 +69,7 @@ static void usage(FILE *out)
 		"  --help                    this text\n"
 		"\n"
 		"AO parameters (override the preset; defaults are the medium preset):\n",
-		DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
+		(double)stream.depth_temporal, DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
 	cli_print_param_help(out, &def);
 }
 
@@ -132,6 +139,14 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 			return usage_error("process", "%s", err.message);
 	}
 	dao_params_init(&o->params, q);
+	/* a recording or device is a stream of consecutive frames: the temporal
+	 * depth filter too (a directory of images may be anything: not there);
+	 * before the parameter options, so that --depth-temporal 0 turns it off */
+	for (int i = 1; i < argc; i++) {
+		const char *v = option_value(argc, argv, &i, "--input");
+		if (v && *v && process_input_is_stream(v) && strncmp(v, "images:", 7) != 0)
+			dao_params_stream_defaults(&o->params);
+	}
 
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i], *v;

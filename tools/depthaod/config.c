@@ -338,6 +338,9 @@ int config_params(const struct daemon_config *c, struct dao_params *out, char *m
 {
 	struct dao_error err;
 	dao_params_init(out, c->quality);
+	/* a source is a stream of consecutive frames: the temporal depth filter
+	 * on unless [ao] depth-temporal = 0 */
+	dao_params_stream_defaults(out);
 	for (unsigned i = 0; i < c->nao; i++)
 		if (dao_params_set(out, c->ao[i].key, c->ao[i].value, &err))
 			return fail(msg, len, "[ao] %s: %s", c->ao[i].key, err.message);
