@@ -141,6 +141,7 @@ struct finder {
 	int32_t *seeds;     /* pool pixels (hypothesis seeds) */
 	long nseeds;
 	uint64_t rng;
+	double tol_w;       /* hypothesis tolerance: the options', or less on quiet frames */
 };
 
 static int hypothesis(struct finder *f, struct synth_plane *p)
@@ -192,7 +193,7 @@ static int hypothesis(struct finder *f, struct synth_plane *p)
 static long score(const struct finder *f, const struct synth_plane *p)
 {
 	const float a = (float)p->a, b = (float)p->b, c = (float)p->c;
-	const float tol = (float)f->o->tolerance_w;
+	const float tol = (float)f->tol_w;
 	long n = 0;
 	for (long k = 0; k < f->ngrid; k++) {
 		const float *g = f->grid + 4 * k;
@@ -272,6 +273,48 @@ static long keep_components(struct finder *f, int32_t *labels, int32_t label, lo
 }
 
 /*
+ * A plane slanting across several surfaces (the nosings of a noisy stair)
+ * collects stripes of each; the blocks of SPARSE_BLOCK px where the region
+ * holds less than SPARSE_MIN of the pixels with depth are given back to the
+ * pool (a plane's interior fills its blocks; its border blocks are lost too,
+ * which only makes the regions more conservative).  Returns the pixels left.
+ */
+#define SPARSE_BLOCK 16
+#define SPARSE_MIN 0.7
+
+static long prune_sparse(struct finder *f, int32_t *labels, int32_t label)
+{
+	const int B = SPARSE_BLOCK;
+	long left = 0;
+	for (int by = 0; by < f->h; by += B)
+		for (int bx = 0; bx < f->w; bx += B) {
+			const int ex = bx + B < f->w ? bx + B : f->w, ey = by + B < f->h ? by + B : f->h;
+			long in = 0, valid = 0;
+			for (int y = by; y < ey; y++)
+				for (int x = bx; x < ex; x++) {
+					size_t i = (size_t)y * f->w + x;
+					valid += f->z[i] > 0.0f;
+					in += labels[i] == label;
+				}
+			if (in == 0)
+				continue;
+			if ((double)in >= SPARSE_MIN * (double)valid) {
+				left += in;
+				continue;
+			}
+			for (int y = by; y < ey; y++)
+				for (int x = bx; x < ex; x++) {
+					size_t i = (size_t)y * f->w + x;
+					if (labels[i] == label) {
+						labels[i] = -1;
+						f->pool[i] = 1;
+					}
+				}
+		}
+	return left;
+}
+
+/*
  * A band of a curved surface passes the tolerance too (a seat, a sofa): the
  * blocks of the region whose own least-squares plane turns more than
  * CURVE_MAX_DEG from the region's plane are given back to the pool.  Far
@@ -337,6 +380,53 @@ static long prune_curved(struct finder *f, int32_t *labels, int32_t label,
 				}
 		}
 	return left;
+}
+
+/*
+ * The frame's own noise in 1/z: the least-squares residual of 9x9 blocks
+ * (grid-aligned, complete), the 25th percentile of their RMS (blocks across
+ * edges and curved surfaces lie above it).  On clean renders it is the depth
+ * unit's rounding; then the hypotheses use a tolerance of NOISE_SIGMAS of it
+ * instead of the options', so that a plane slanting across parallel surfaces
+ * (the nosings of a stair) cannot collect more inliers than each of them.
+ */
+#define NOISE_BLOCK 9
+#define NOISE_SIGMAS 5.0
+
+static double frame_noise_w(struct finder *f)
+{
+	const int B = NOISE_BLOCK;
+	size_t n = 0;
+	for (int by = 0; by + B <= f->h; by += B)
+		for (int bx = 0; bx + B <= f->w; bx += B) {
+			double m[3][3] = { { 0 } }, t[3] = { 0 }, s[3];
+			int full = 1;
+			for (int y = by; y < by + B && full; y++)
+				for (int x = bx; x < bx + B; x++) {
+					float z = f->z[(size_t)y * f->w + x];
+					if (!(z > 0.0f)) {
+						full = 0;
+						break;
+					}
+					double r[3] = { 1.0, xn(f->cam, x), yn(f->cam, y) }, wv = 1.0 / z;
+					for (int a = 0; a < 3; a++) {
+						t[a] += r[a] * wv;
+						for (int b = 0; b < 3; b++)
+							m[a][b] += r[a] * r[b];
+					}
+				}
+			if (!full || solve3(m, t, s))
+				continue;
+			double e2 = 0;
+			for (int y = by; y < by + B; y++)
+				for (int x = bx; x < bx + B; x++) {
+					double r = 1.0 / f->z[(size_t)y * f->w + x] -
+						   (s[0] + s[1] * xn(f->cam, x) + s[2] * yn(f->cam, y));
+					e2 += r * r;
+				}
+			f->scratch[n++] = (float)sqrt(e2 / (B * B));
+		}
+	return n ? synth_select(f->scratch, n, n / 4) : 0.0;
 }
 
 static void collect_pool(struct finder *f)
@@ -406,6 +496,7 @@ int synth_planes_find(const float *z, const struct dao_camera *cam,
 		f.pool[i] = z[i] > 0.0f && isfinite(z[i]);
 		labels[i] = -1;
 	}
+	f.tol_w = fmin(o->tolerance_w, fmax(NOISE_SIGMAS * frame_noise_w(&f), 1e-6));
 	int failures = 0;
 	while (*count < o->max_planes && failures < 4) {
 		collect_pool(&f);
@@ -425,7 +516,7 @@ int synth_planes_find(const float *z, const struct dao_camera *cam,
 			continue;
 		}
 		/* refine: least squares on the inliers, tolerance from their robust sigma */
-		double tol = o->tolerance_w;
+		double tol = f.tol_w;
 		long n = mark_inliers(&f, &best, tol);
 		for (int pass = 0; pass < REFINE_PASSES && n >= 3; pass++) {
 			struct synth_plane fit = best;
@@ -433,12 +524,14 @@ int synth_planes_find(const float *z, const struct dao_camera *cam,
 				break;
 			best = fit;
 			double sigma = residual_sigma(&f, &best);
-			tol = fmin(o->tolerance_w, o->sigmas * sigma);
+			tol = fmin(f.tol_w, o->sigmas * sigma);
 			if (!(tol > 0))
 				tol = 1e-9;
 			n = mark_inliers(&f, &best, tol);
 		}
 		long kept = keep_components(&f, labels, *count, o->min_pixels / 4);
+		if (kept >= o->min_pixels)
+			kept = prune_sparse(&f, labels, *count);
 		if (kept >= o->min_pixels)
 			kept = prune_curved(&f, labels, *count, &best, tol / o->sigmas);
 		if (kept < o->min_pixels) {

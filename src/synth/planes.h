@@ -35,7 +35,8 @@ struct synth_plane_options {
 	int min_pixels;          /* smallest plane region kept */
 	int iterations;          /* RANSAC hypotheses per plane */
 	int neighbourhood;       /* the 2nd and 3rd sample lie within this many px of the 1st */
-	double tolerance_w;      /* inlier tolerance of the hypotheses, 1/m */
+	double tolerance_w;      /* inlier tolerance of the hypotheses, 1/m (lower on frames
+				    whose own noise is lower: 5 x the RMS of 9x9 block fits) */
 	double sigmas;           /* refined tolerance: this many robust sigmas of the residual */
 	double depth_unit;       /* m per count of the source (0: float depth); 1.5 units are
 				    always tolerated, whatever the sigma */

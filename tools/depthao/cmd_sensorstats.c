@@ -19,6 +19,7 @@
 #include "camera_file.h"
 #include "commands.h"
 #include "sensor_compare.h"
+#include "synth/open_planes.h"
 #include "synth/planes.h"
 #include "synth/real_frames.h"
 #include "synth/sensor.h"
@@ -97,15 +98,6 @@ int sensorstats_measure(const float *z, const struct dao_camera *cam, double uni
 			struct synth_sensor_stats *s, struct synth_plane *planes, int *nplanes,
 			int32_t *labels, struct dao_error *err)
 {
-	struct synth_plane_options po;
-	synth_plane_options_default(&po);
-	po.depth_unit = unit;
-	double band_c = 0;
-	if (synth_band_constant(z, (int)cam->width, (int)cam->height, unit, &band_c)) {
-		snprintf(err->message, sizeof err->message, "out of memory");
-		return err->code = -ENOMEM;
-	}
-	po.step_w = band_c > 0 ? 1.0 / band_c : 0.0;
 	struct synth_plane local[SYNTH_PLANES_MAX];
 	int n = 0;
 	int32_t *lab = labels ? labels : malloc((size_t)cam->width * cam->height * sizeof(int32_t));
@@ -115,7 +107,7 @@ int sensorstats_measure(const float *z, const struct dao_camera *cam, double uni
 	}
 	if (!planes)
 		planes = local;
-	int r = synth_planes_find(z, cam, &po, planes, &n, lab, err);
+	int r = synth_planes_find_frame(z, cam, unit, planes, &n, lab, err);
 	if (!r)
 		r = synth_sensor_stats(z, cam, unit, planes, n, lab, s, err);
 	if (nplanes)

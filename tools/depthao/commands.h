@@ -12,6 +12,7 @@ int cmd_devices(int argc, char **argv);
 int cmd_ctl(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_sensorstats(int argc, char **argv);
+int cmd_realcheck(int argc, char **argv);
 
 /* Prints "depthao: <reason> (see 'depthao <cmd> --help')" and returns 2. */
 int usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
