@@ -26,18 +26,25 @@
 #define THICKNESS 0.3        /* m: what the camera cannot see behind an occluder's surface */
 #define MAX_CELLS (1 << 22)
 
-int synth_planes_find_frame(const float *z, const struct dao_camera *cam, double depth_unit,
-			    struct synth_plane *planes, int *count, int32_t *labels,
-			    struct dao_error *err)
+static int find_planes(const float *z, const struct dao_camera *cam, double depth_unit, int tight,
+		       struct synth_plane *planes, int *count, int32_t *labels, struct dao_error *err)
 {
 	struct synth_plane_options po;
 	synth_plane_options_default(&po);
 	po.depth_unit = depth_unit;
+	po.tight = tight;
 	double band_c = 0;
 	if (synth_band_constant(z, (int)cam->width, (int)cam->height, depth_unit, &band_c))
 		return dao_error_set(err, -ENOMEM, "out of memory finding planes");
 	po.step_w = band_c > 0 ? 1.0 / band_c : 0.0;
 	return synth_planes_find(z, cam, &po, planes, count, labels, err);
+}
+
+int synth_planes_find_frame(const float *z, const struct dao_camera *cam, double depth_unit,
+			    struct synth_plane *planes, int *count, int32_t *labels,
+			    struct dao_error *err)
+{
+	return find_planes(z, cam, depth_unit, 0, planes, count, labels, err);
 }
 
 #define SAMPLES 3            /* along each occluder's depth */
@@ -47,8 +54,9 @@ int synth_planes_find_frame(const float *z, const struct dao_camera *cam, double
 struct grid {
 	double x0, y0, z0, cell;
 	int nx, ny, nz;
-	int32_t *start;    /* nx ny nz + 1 offsets into idx */
-	int32_t *idx;      /* occluder samples (pixel * SAMPLES + k), by cell */
+	int32_t *start;    /* nx ny nz + 1 offsets into pts */
+	float *pts;        /* occluder samples (x, y, z), ordered by cell */
+	int32_t *queue;    /* scratch */
 	float *samples;    /* SAMPLES points per pixel: its point, then deeper along its ray */
 };
 
@@ -61,34 +69,43 @@ static long cell_of(const struct grid *g, const float *P)
 	return ((long)iz * g->ny + iy) * g->nx + ix;
 }
 
-/* Counting sort of the occluders' samples into their cells. */
-static int grid_build(struct grid *g, const uint8_t *cand, size_t np)
+/*
+ * Counting sort of the occluders' samples into their cells, copied in cell
+ * order.  Occluders are taken on every other row and column: a surface is
+ * still covered to a pixel's footprint, far below the radius.
+ */
+static void grid_build(struct grid *g, const uint8_t *cand, int w, int h)
 {
 	const long ncell = (long)g->nx * g->ny * g->nz;
 	memset(g->start, 0, (size_t)(ncell + 1) * sizeof(int32_t));
-	for (size_t i = 0; i < np * SAMPLES; i++)
-		if (cand[i / SAMPLES]) {
-			long c = cell_of(g, g->samples + 3 * i);
-			if (c >= 0)
-				g->start[c + 1]++;
+	for (int pass = 0; pass < 2; pass++) {
+		for (int y = 0; y < h; y += 2)
+			for (int x = 0; x < w; x += 2) {
+				size_t i = (size_t)y * w + x;
+				if (!cand[i])
+					continue;
+				for (int k = 0; k < SAMPLES; k++) {
+					const float *P = g->samples + 3 * (i * SAMPLES + (size_t)k);
+					long c = cell_of(g, P);
+					if (c < 0)
+						continue;
+					if (pass == 0) {
+						g->start[c + 1]++;
+					} else {
+						float *q = g->pts + 3 * (size_t)g->queue[c]++;
+						q[0] = P[0], q[1] = P[1], q[2] = P[2];
+					}
+				}
+			}
+		if (pass == 0) {
+			for (long c = 0; c < ncell; c++)
+				g->start[c + 1] += g->start[c];
+			memcpy(g->queue, g->start, (size_t)ncell * sizeof(int32_t));
 		}
-	for (long c = 0; c < ncell; c++)
-		g->start[c + 1] += g->start[c];
-	int32_t *fill = malloc((size_t)ncell * sizeof(int32_t));
-	if (!fill)
-		return -ENOMEM;
-	memcpy(fill, g->start, (size_t)ncell * sizeof(int32_t));
-	for (size_t i = 0; i < np * SAMPLES; i++)
-		if (cand[i / SAMPLES]) {
-			long c = cell_of(g, g->samples + 3 * i);
-			if (c >= 0)
-				g->idx[fill[c]++] = (int32_t)i;
-		}
-	free(fill);
-	return 0;
+	}
 }
 
-/* 1 if an occluder sample lies within r of C. */
+/* 1 if an occluder sample lies within r of C (cells farther than r skipped). */
 static int any_within(const struct grid *g, const double *C, double r)
 {
 	int lo[3], hi[3];
@@ -104,17 +121,26 @@ static int any_within(const struct grid *g, const double *C, double r)
 		if (lo[a] > hi[a])
 			return 0;
 	}
-	for (int iz = lo[2]; iz <= hi[2]; iz++)
-		for (int iy = lo[1]; iy <= hi[1]; iy++)
+	const double r2 = r * r;
+	for (int iz = lo[2]; iz <= hi[2]; iz++) {
+		double dz = fmax(0.0, fmax(o[2] + iz * g->cell - C[2], C[2] - (o[2] + (iz + 1) * g->cell)));
+		for (int iy = lo[1]; iy <= hi[1]; iy++) {
+			double dy = fmax(0.0, fmax(o[1] + iy * g->cell - C[1], C[1] - (o[1] + (iy + 1) * g->cell)));
 			for (int ix = lo[0]; ix <= hi[0]; ix++) {
+				double dx = fmax(0.0, fmax(o[0] + ix * g->cell - C[0],
+							   C[0] - (o[0] + (ix + 1) * g->cell)));
+				if (dx * dx + dy * dy + dz * dz >= r2)
+					continue; /* the cell lies outside the ball */
 				long c = ((long)iz * g->ny + iy) * g->nx + ix;
-				for (int32_t k = g->start[c]; k < g->start[c + 1]; k++) {
-					const float *P = g->samples + 3 * (size_t)g->idx[k];
-					double dx = P[0] - C[0], dy = P[1] - C[1], dz = P[2] - C[2];
-					if (dx * dx + dy * dy + dz * dz < r * r)
+				const float *P = g->pts + 3 * (size_t)g->start[c], *end = g->pts + 3 * (size_t)g->start[c + 1];
+				for (; P < end; P += 3) {
+					double ex = P[0] - C[0], ey = P[1] - C[1], ez = P[2] - C[2];
+					if (ex * ex + ey * ey + ez * ez < r2)
 						return 1;
 				}
 			}
+		}
+	}
 	return 0;
 }
 
@@ -129,15 +155,16 @@ int synth_open_planes(const float *z, const struct dao_camera *cam, double depth
 	int32_t *lab = malloc(np * sizeof(int32_t));
 	float *pts = malloc(3 * np * sizeof(float));
 	uint8_t *cand = malloc(np);
-	g.idx = malloc(np * SAMPLES * sizeof(int32_t));
+	g.pts = malloc(np * SAMPLES * 3 * sizeof(float));
 	g.samples = malloc(np * SAMPLES * 3 * sizeof(float));
 	memset(mask, 0, np);
 	*count = 0;
-	if (!lab || !pts || !cand || !g.idx || !g.samples) {
+	if (!lab || !pts || !cand || !g.pts || !g.samples) {
 		ret = dao_error_set(err, -ENOMEM, "out of memory finding open planes");
 		goto out;
 	}
-	if ((ret = synth_planes_find_frame(z, cam, depth_unit, planes, &nplanes, lab, err)))
+	/* tight planes: a pixel wrongly taken as open would count against the AO */
+	if ((ret = find_planes(z, cam, depth_unit, 1, planes, &nplanes, lab, err)))
 		goto out;
 	if (synth_labels_erode(lab, w, h, SYNTH_STATS_ERODE)) {
 		ret = dao_error_set(err, -ENOMEM, "out of memory finding open planes");
@@ -181,7 +208,8 @@ int synth_open_planes(const float *z, const struct dao_camera *cam, double depth
 	}
 	g.x0 = lo[0], g.y0 = lo[1], g.z0 = lo[2];
 	g.start = malloc(((size_t)g.nx * g.ny * g.nz + 1) * sizeof(int32_t));
-	if (!g.start) {
+	g.queue = malloc(((size_t)g.nx * g.ny * g.nz + 1) * sizeof(int32_t));
+	if (!g.start || !g.queue) {
 		ret = dao_error_set(err, -ENOMEM, "out of memory finding open planes");
 		goto out;
 	}
@@ -227,10 +255,7 @@ int synth_open_planes(const float *z, const struct dao_camera *cam, double depth
 			}
 		for (size_t i = 0; i < np; i++)
 			cand[i] = (cand[i] & 4) != 0;
-		if (grid_build(&g, cand, np)) {
-			ret = dao_error_set(err, -ENOMEM, "out of memory finding open planes");
-			goto out;
-		}
+		grid_build(&g, cand, w, h);
 		for (int by = 0; by < h; by += BLOCK)
 			for (int bx = 0; bx < w; bx += BLOCK) {
 				/* the block's pixels of this plane: their centre and extent */
@@ -277,7 +302,7 @@ int synth_open_planes(const float *z, const struct dao_camera *cam, double depth
 		if (mask[s0] != 1)
 			continue;
 		long head = 0, tail = 0;
-		int32_t *queue = g.idx; /* free by now: np * SAMPLES entries */
+		int32_t *queue = (int32_t *)g.samples; /* free by now: 9 np floats */
 		queue[tail++] = (int32_t)s0;
 		mask[s0] = 2;
 		while (head < tail) {
@@ -304,8 +329,9 @@ out:
 	free(lab);
 	free(pts);
 	free(cand);
-	free(g.idx);
+	free(g.pts);
 	free(g.samples);
 	free(g.start);
+	free(g.queue);
 	return ret;
 }

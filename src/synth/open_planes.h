@@ -28,7 +28,8 @@ int synth_planes_find_frame(const float *z, const struct dao_camera *cam, double
 
 /*
  * Sets mask[i] = 1 for the open planar pixels of `z` (metres, 0 = no data):
- * pixels of the planes' regions (eroded by 2 px) no point of the frame lies
+ * pixels of the planes' regions (found as by synth_planes_find_frame, but
+ * with tight regions; eroded by 2 px) no point of the frame lies
  * within `radius` of and more than a tolerance in front of their plane (the
  * larger of 2 cm and 3 robust sigmas of the plane's residual at that depth).
  * *count gets their number.  Deterministic.  0 or -ENOMEM with a message.

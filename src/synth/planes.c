@@ -389,6 +389,9 @@ static long prune_curved(struct finder *f, int32_t *labels, int32_t label,
  * unit's rounding; then the hypotheses use a tolerance of NOISE_SIGMAS of it
  * instead of the options', so that a plane slanting across parallel surfaces
  * (the nosings of a stair) cannot collect more inliers than each of them.
+ * The refinement then widens the tolerance to o->sigmas robust sigmas of the
+ * chosen plane's own residual (at most the options', unless o->tight), so
+ * that the slow deviations of real planes (wavy walls) stay in their regions.
  */
 #define NOISE_BLOCK 9
 #define NOISE_SIGMAS 5.0
@@ -524,7 +527,7 @@ int synth_planes_find(const float *z, const struct dao_camera *cam,
 				break;
 			best = fit;
 			double sigma = residual_sigma(&f, &best);
-			tol = fmin(f.tol_w, o->sigmas * sigma);
+			tol = fmin(o->tight ? f.tol_w : o->tolerance_w, o->sigmas * sigma);
 			if (!(tol > 0))
 				tol = 1e-9;
 			n = mark_inliers(&f, &best, tol);

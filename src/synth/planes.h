@@ -42,6 +42,9 @@ struct synth_plane_options {
 				    always tolerated, whatever the sigma */
 	double step_w;           /* 1/z between adjacent depth levels of a banded source
 				    (1 / synth_sensor_stats' band_c), 0 if not banded */
+	int tight;               /* 1: the refinement keeps within the hypothesis tolerance
+				    (fewer slow deviations in the regions, fewer planes
+				    slanting across stairs); 0: up to tolerance_w */
 	uint64_t seed;
 };
 

@@ -12,6 +12,7 @@
 #define MAX_SHADOW_RUN 48   /* px; longer hole runs are missing surfaces, not shadows */
 #define FLY_JUMP 0.10       /* flying pixels: triples spanning a > 10 % jump ... */
 #define FLY_MARGIN 0.15     /* ... whose middle lies > 15 % of the jump inside both sides */
+#define FLY_FLAT 0.02       /* ... and whose sides are flat (2 %) for another pixel */
 #define LEVEL_MIN_GAP 8     /* units: finer level steps are distorted by rounding */
 #define SHADOW_B_MIN 0.02   /* m: hole runs implying a baseline in this range are shadows */
 #define SHADOW_B_MAX 0.15
@@ -169,12 +170,18 @@ static void holes(const float *z, int w, int h, double f, struct synth_sensor_st
 	for (int y = 0; y < h; y++) {
 		const float *row = z + (size_t)y * w;
 		for (int x = 1; x < w - 1; x++) {
-			/* flying pixels */
+			/*
+			 * Flying pixels: a pixel between the two sides of a step, each
+			 * side flat for two pixels (a slanted surface is a ramp instead)
+			 */
 			float a = row[x - 1], m = row[x], b = row[x + 1];
-			if (a > 0 && m > 0 && b > 0 && fabsf(a - b) > FLY_JUMP * m) {
-				s->edge_pixels++;
-				float lo = fminf(a, b), hi = fmaxf(a, b), margin = FLY_MARGIN * (hi - lo);
-				s->flying_pixels += m > lo + margin && m < hi - margin;
+			if (x >= 2 && x < w - 2 && a > 0 && m > 0 && b > 0 && fabsf(a - b) > FLY_JUMP * m) {
+				float a2 = row[x - 2], b2 = row[x + 2];
+				if (a2 > 0 && b2 > 0 && fabsf(a2 - a) < FLY_FLAT * a && fabsf(b2 - b) < FLY_FLAT * b) {
+					s->edge_pixels++;
+					float lo = fminf(a, b), hi = fmaxf(a, b), margin = FLY_MARGIN * (hi - lo);
+					s->flying_pixels += m > lo + margin && m < hi - margin;
+				}
 			}
 			/* a hole run starting at x */
 			if (row[x] > 0.0f || row[x - 1] <= 0.0f)

@@ -59,7 +59,8 @@ struct synth_sensor_stats {
 	long shadow_right;          /* ... on their left */
 	double shadow_width;        /* median length of the shadow runs, px */
 	double shadow_baseline;     /* median baseline they imply, m */
-	long edge_pixels;           /* row triples spanning a depth jump of > 10 % */
+	long edge_pixels;           /* row triples spanning a depth step of > 10 % between sides
+				       flat for another pixel (not a slanted surface's ramp) */
 	long flying_pixels;         /* ... whose middle pixel lies between the two sides */
 };
 
