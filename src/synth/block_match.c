@@ -23,9 +23,7 @@ struct job {
 	const struct synth_match_options *o;
 	struct synth_match *m;
 	const float *mean_l, *inv_l, *mean_r, *inv_r;
-	/* per band: the right-to-left best score, merged after */
-	float *rbest_score;
-	int failed;
+	int failed[64];          /* per band: out of memory */
 };
 
 int synth_window_stats(const float *img, int w, int h, int win, float *mean, float *inv,
@@ -77,7 +75,6 @@ int synth_window_stats(const float *img, int w, int h, int win, float *mean, flo
 
 static void match_band(void *ctx, int band, int y0, int y1)
 {
-	(void)band;
 	struct job *j = ctx;
 	const struct synth_match_options *o = j->o;
 	const int w = j->w, h = j->h, r = o->window / 2, wr = o->right_width;
@@ -89,7 +86,7 @@ static void match_band(void *ctx, int band, int y0, int y1)
 	float *rbest = o->left_right ? malloc((size_t)(y1 - y0) * wr * sizeof(float) * 2) : NULL;
 	if (!hs || !vs || !best || (o->left_right && !rbest)) {
 		free(hs), free(vs), free(best), free(rbest);
-		j->failed = 1;
+		j->failed[band] = 1;
 		return;
 	}
 	const size_t np = (size_t)(y1 - y0) * w;
@@ -214,9 +211,12 @@ int synth_block_match(const float *left, const float *right, int w, int h,
 	if (ml && il && mr && ir &&
 	    !synth_window_stats(left, w, h, o->window, ml, il, m->texture) &&
 	    !synth_window_stats(right, o->right_width, h, o->window, mr, ir, NULL)) {
-		struct job j = { left, right, w, h, o, m, ml, il, mr, ir, NULL, 0 };
+		struct job j = { left, right, w, h, o, m, ml, il, mr, ir, { 0 } };
 		synth_parallel_rows(h, threads, VSUM_BLOCK, match_band, &j);
-		ret = j.failed ? -ENOMEM : 0;
+		ret = 0;
+		for (int k = 0; k < 64; k++)
+			if (j.failed[k])
+				ret = -ENOMEM;
 	}
 	free(ml), free(il), free(mr), free(ir);
 	return ret;

@@ -11,20 +11,20 @@
 
 #define KINECT "Kinect v1 (OpenNI 1.5 recording)"
 #define ONI(n) { "kinect-oni-" #n, "oni/3DJ_test.oni", KINECT, SYNTH_SENSOR_STRUCTURED_LIGHT, \
-		 0.001, 0, 0, 0, 0, n, 0.5 }
+		 0.001, 0, 0, 0, 0, n }
 
 /* ../shared/data/README.md */
 static const struct synth_real_frame frames[] = {
 	ONI(0), ONI(1), ONI(2), ONI(3), ONI(4), ONI(5),
 	ONI(6), ONI(7), ONI(8), ONI(9), ONI(10), ONI(11),
 	{ "redwood-0", "redwood_open3d/depth_00000.png", "PrimeSense (Redwood)",
-	  SYNTH_SENSOR_STRUCTURED_LIGHT, 0.001, 525, 525, 319.5, 239.5, -1, 0.5 },
+	  SYNTH_SENSOR_STRUCTURED_LIGHT, 0.001, 525, 525, 319.5, 239.5, -1 },
 	{ "redwood-1", "redwood_open3d/depth_00001.png", "PrimeSense (Redwood)",
-	  SYNTH_SENSOR_STRUCTURED_LIGHT, 0.001, 525, 525, 319.5, 239.5, -1, 0.5 },
+	  SYNTH_SENSOR_STRUCTURED_LIGHT, 0.001, 525, 525, 319.5, 239.5, -1 },
 	{ "tum", "tum_open3d/TUM_depth.png", "Kinect v1 (TUM RGB-D)",
-	  SYNTH_SENSOR_STRUCTURED_LIGHT, 0.0002, 525, 525, 319.5, 239.5, -1, 0.5 },
+	  SYNTH_SENSOR_STRUCTURED_LIGHT, 0.0002, 525, 525, 319.5, 239.5, -1 },
 	{ "realsense", "realsense_6dpose/depth.png", "RealSense (librealsense 1.x)",
-	  SYNTH_SENSOR_ACTIVE_STEREO, 0.001, 622.439, 622.439, 315.746, 250.804, -1, 0.5 },
+	  SYNTH_SENSOR_ACTIVE_STEREO, 0.001, 622.439, 622.439, 315.746, 250.804, -1 },
 };
 
 const struct synth_real_frame *synth_real_frames(int *count)

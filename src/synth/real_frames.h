@@ -20,7 +20,6 @@ struct synth_real_frame {
 	double unit;               /* m per count of a PNG (a recording has its own) */
 	double fx, fy, cx, cy;     /* 0: from the recording's field of view */
 	int frame;                 /* frame of a recording, -1 for a PNG */
-	double radius;             /* AO radius for the real-frame metric, m */
 };
 
 /* The frames of ../shared/data/README.md, in a fixed order; *count gets their number. */

@@ -316,7 +316,6 @@ static int run_scene(const struct options *o)
 	synth_stats_acc_begin(&acc);
 	struct dao_camera cam;
 	synth_default_camera(&cam);
-	const size_t np = (size_t)cam.width * cam.height;
 	struct synth_scene sc;
 	struct synth_image img;
 	struct dao_error err;
@@ -325,28 +324,23 @@ static int run_scene(const struct options *o)
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	float *z = malloc(np * sizeof(float));
 	int status = 0;
 	for (int k = 0; k < o->frames && !status; k++) {
 		struct synth_case c = { 0 };
 		struct synth_sensor_stats s;
-		int r = !z ? -ENOMEM : synth_sensor_simulate(o->sensor, &sc, &cam, &img, o->seed + k, 2, z, &err);
-		if (!r)
-			r = synth_case_make(&c, sc.name, SYNTH_SENSOR_CLEAN, z, img.gt, (int)cam.width,
-					    (int)cam.height, 0, &err);
+		int r = synth_case_simulate(&c, &sc, 0, &cam, &img, o->sensor, o->seed + (uint64_t)k, 2, &err);
 		if (!r)
 			r = sensorstats_measure(c.depth_m, &cam, 0.001, &s, NULL, NULL, NULL, &err);
 		if (!r && o->residual_out && k == 0)
 			r = write_residual(o->residual_out, c.depth_m, &cam, 0.001, &err);
 		synth_case_free(&c);
 		if (r) {
-			fprintf(stderr, "depthao: %s\n", r == -ENOMEM && !z ? "out of memory" : err.message);
+			fprintf(stderr, "depthao: %s\n", err.message);
 			status = 1;
 		} else {
 			synth_stats_acc_add(&acc, &s);
 		}
 	}
-	free(z);
 	synth_image_free(&img);
 	if (status)
 		return status;
