@@ -41,6 +41,38 @@ static int trace(const struct synth_scene *s, vec3 o, vec3 d, double tmax, int s
 	return hit;
 }
 
+int synth_trace(const struct synth_scene *s, vec3 o, vec3 d, double tmin, double tmax, double *t,
+		vec3 *n)
+{
+	int hit = -1;
+	double best = tmax;
+	vec3 nn = { 0, 0, 0 };
+	for (int i = 0; i < s->count; i++) {
+		double tt;
+		vec3 ni;
+		if (synth_prim_intersect(&s->prims[i], o, d, tmin, best, &tt, &ni)) {
+			best = tt;
+			nn = ni;
+			hit = i;
+		}
+	}
+	*t = best;
+	if (n)
+		*n = nn;
+	return hit;
+}
+
+int synth_occluded(const struct synth_scene *s, vec3 o, vec3 d, double tmin, double tmax)
+{
+	for (int i = 0; i < s->count; i++) {
+		double tt;
+		vec3 ni;
+		if (synth_prim_intersect(&s->prims[i], o, d, tmin, tmax, &tt, &ni))
+			return 1;
+	}
+	return 0;
+}
+
 /* Orthonormal basis around unit n (Duff et al. 2017, branchless ONB). */
 static void basis(vec3 n, vec3 *b1, vec3 *b2)
 {

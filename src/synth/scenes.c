@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/error_internal.h"
+#include "synth/rng.h"
 #include "synth/synth.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -65,6 +66,18 @@ static void box(struct synth_scene *s, vec3 c, vec3 half, double yaw_deg)
 	p->axis[2] = v3(0, 0, 1);
 }
 
+/* A sphere of radius r resting on the floor at (c.x, c.y). */
+static void sphere_on_floor(struct synth_scene *s, vec3 c, double r)
+{
+	sphere(s, v3(c.x, c.y, r), r);
+}
+
+/* A box with half extents `half` standing on the floor at (c.x, c.y). */
+static void box_on_floor(struct synth_scene *s, vec3 c, vec3 half, double yaw_deg)
+{
+	box(s, v3(c.x, c.y, half.z), half, yaw_deg);
+}
+
 /* Box spanning [lo, hi] on each world axis. */
 static void box_span(struct synth_scene *s, vec3 lo, vec3 hi)
 {
@@ -103,9 +116,69 @@ static void back_wall(struct synth_scene *s, double d)
 	halfspace(s, v3(0, d, 0), v3(0, -1, 0));
 }
 
+/*
+ * Perturbations of a scene variant: variant 0 is the scene as written; any
+ * other variant draws, deterministically from the scene's name and the
+ * variant number, a camera moved by up to 15 cm (and its target by 10 cm),
+ * objects moved by up to 8 cm on the floor, sizes scaled by 0.85..1.15 and
+ * walls moved by up to 20 cm.
+ */
+struct jitter {
+	int on;
+	uint64_t rng;
+};
+
+static double jit_uniform(struct jitter *j)
+{
+	return j->on ? 2.0 * synth_rng_uniform(&j->rng) - 1.0 : 0.0;
+}
+
+/* A position moved by up to `a` m along each of x and y (z kept: objects stay on the floor). */
+static vec3 J(struct jitter *j, vec3 p, double a)
+{
+	double dx = jit_uniform(j) * a, dy = jit_uniform(j) * a;
+	return v3(p.x + dx, p.y + dy, p.z);
+}
+
+/* A length scaled by up to +-15 %. */
+static double S(struct jitter *j, double x)
+{
+	return x * (1.0 + 0.15 * jit_uniform(j));
+}
+
+static vec3 S3(struct jitter *j, vec3 h)
+{
+	double k = 1.0 + 0.15 * jit_uniform(j);
+	return v3_scale(h, k);
+}
+
+/* A distance moved by up to `a` m. */
+static double D(struct jitter *j, double x, double a)
+{
+	return x + a * jit_uniform(j);
+}
+
+/* The camera: eye by up to 15 cm in every axis, target by 10 cm. */
+static void look_at_j(struct synth_scene *s, struct jitter *j, vec3 eye, vec3 target)
+{
+	eye = v3(D(j, eye.x, 0.15), D(j, eye.y, 0.15), D(j, eye.z, 0.15));
+	target = v3(D(j, target.x, 0.1), D(j, target.y, 0.1), D(j, target.z, 0.1));
+	look_at(s, eye, target);
+}
+
 int synth_scene_build(const char *name, double t, struct synth_scene *s, struct dao_error *err)
 {
+	return synth_scene_build_variant(name, t, 0, s, err);
+}
+
+int synth_scene_build_variant(const char *name, double t, int variant, struct synth_scene *s,
+			      struct dao_error *err)
+{
 	memset(s, 0, sizeof *s);
+	struct jitter jj = { variant != 0, 0x7363656e65ull + (uint64_t)variant * 0x9e3779b97f4a7c15ull };
+	struct jitter *j = &jj;
+	for (const char *c = name ? name : ""; *c; c++)
+		jj.rng = (jj.rng ^ (uint8_t)*c) * 0x100000001b3ull;
 	if (!name)
 		name = "";
 	if (!(t >= 0.0 && t <= 1.0))
@@ -113,76 +186,82 @@ int synth_scene_build(const char *name, double t, struct synth_scene *s, struct 
 	if (strcmp(name, "plane") == 0) {
 		s->description = "a tilted plane (ground truth 1 everywhere)";
 		floor_plane(s);
-		look_at(s, v3(0, 0, 2.0), v3(0.8, 1.0, 0.0));
+		look_at_j(s, j, v3(0, 0, 2.0), v3(0.8, 1.0, 0.0));
 	} else if (strcmp(name, "room-corner") == 0) {
 		s->description = "the inside corner of a room: floor, two walls, ceiling";
 		floor_plane(s);
 		halfspace(s, v3(0, 0, 0), v3(1, 0, 0));
 		halfspace(s, v3(0, 0, 0), v3(0, 1, 0));
-		halfspace(s, v3(0, 0, 2.6), v3(0, 0, -1));
-		look_at(s, v3(2.1, 2.3, 1.5), v3(0, 0, 0.7));
+		halfspace(s, v3(0, 0, D(j, 2.6, 0.2)), v3(0, 0, -1));
+		look_at_j(s, j, v3(2.1, 2.3, 1.5), v3(0, 0, 0.7));
 	} else if (strcmp(name, "spheres") == 0) {
 		s->description = "spheres resting on a floor in front of a wall";
 		floor_plane(s);
-		back_wall(s, 3.2);
-		sphere(s, v3(-0.5, 1.6, 0.3), 0.3);
-		sphere(s, v3(0.35 + 0.4 * t, 1.3, 0.18), 0.18);
-		sphere(s, v3(0.6, 2.1, 0.4), 0.4);
-		sphere(s, v3(-0.15, 1.0, 0.1), 0.1);
-		sphere(s, v3(-0.9, 2.5, 0.25), 0.25);
-		look_at(s, v3(0, -0.3, 1.3), v3(0, 1.8, 0.2));
+		back_wall(s, D(j, 3.2, 0.2));
+		sphere_on_floor(s, J(j, v3(-0.5, 1.6, 0), 0.08), S(j, 0.3));
+		sphere_on_floor(s, J(j, v3(0.35 + 0.4 * t, 1.3, 0), 0.08), S(j, 0.18));
+		sphere_on_floor(s, J(j, v3(0.6, 2.1, 0), 0.08), S(j, 0.4));
+		sphere_on_floor(s, J(j, v3(-0.15, 1.0, 0), 0.08), S(j, 0.1));
+		sphere_on_floor(s, J(j, v3(-0.9, 2.5, 0), 0.08), S(j, 0.25));
+		look_at_j(s, j, v3(0, -0.3, 1.3), v3(0, 1.8, 0.2));
 	} else if (strcmp(name, "stairs") == 0) {
 		s->description = "a flight of six stairs beside a wall";
 		floor_plane(s);
+		const double rise = S(j, 0.18), run = S(j, 0.3), y0 = D(j, 1.0, 0.1);
+		const double width = S(j, 1.6);
 		back_wall(s, 3.5);
 		halfspace(s, v3(-0.9, 0, 0), v3(1, 0, 0));
 		for (int i = 0; i < 6; i++)
-			box_span(s, v3(-0.9, 1.0 + 0.3 * i, 0), v3(0.7, 3.5, 0.18 * (i + 1)));
-		look_at(s, v3(1.2, -0.6, 1.7), v3(-0.1, 1.9, 0.5));
+			box_span(s, v3(-0.9, y0 + run * i, 0), v3(-0.9 + width, 3.5, rise * (i + 1)));
+		look_at_j(s, j, v3(1.2, -0.6, 1.7), v3(-0.1, 1.9, 0.5));
 	} else if (strcmp(name, "boxes") == 0) {
 		s->description = "cluttered boxes with depth discontinuities";
 		floor_plane(s);
-		back_wall(s, 3.0);
-		box(s, v3(-0.6, 1.5, 0.25), v3(0.25, 0.2, 0.25), 20);
-		box(s, v3(0.2, 1.2, 0.15), v3(0.15, 0.3, 0.15), -35);
-		box(s, v3(0.7, 2.0, 0.4), v3(0.3, 0.3, 0.4), 10);
-		box(s, v3(0.65, 2.0, 0.95), v3(0.15, 0.15, 0.15), 40);
-		box(s, v3(-0.2, 2.4, 0.2), v3(0.4, 0.15, 0.2), 0);
-		box(s, v3(0.0, 0.8, 0.06), v3(0.08, 0.08, 0.06), 30);
-		box(s, v3(-1.0, 2.6, 0.5), v3(0.2, 0.2, 0.5), 15);
-		look_at(s, v3(0, -0.6, 1.5), v3(0, 1.6, 0.3));
+		back_wall(s, D(j, 3.0, 0.2));
+		box_on_floor(s, J(j, v3(-0.6, 1.5, 0), 0.08), S3(j, v3(0.25, 0.2, 0.25)), 20);
+		box_on_floor(s, J(j, v3(0.2, 1.2, 0), 0.08), S3(j, v3(0.15, 0.3, 0.15)), -35);
+		{
+			/* a box and the one on top of it */
+			vec3 c = J(j, v3(0.7, 2.0, 0), 0.08), hb = S3(j, v3(0.3, 0.3, 0.4));
+			box_on_floor(s, c, hb, 10);
+			box(s, v3(c.x - 0.05, c.y, 2.0 * hb.z + 0.15), v3(0.15, 0.15, 0.15), 40);
+		}
+		box_on_floor(s, J(j, v3(-0.2, 2.4, 0), 0.08), S3(j, v3(0.4, 0.15, 0.2)), 0);
+		box_on_floor(s, J(j, v3(0.0, 0.8, 0), 0.08), S3(j, v3(0.08, 0.08, 0.06)), 30);
+		box_on_floor(s, J(j, v3(-1.0, 2.6, 0), 0.08), S3(j, v3(0.2, 0.2, 0.5)), 15);
+		look_at_j(s, j, v3(0, -0.6, 1.5), v3(0, 1.6, 0.3));
 	} else if (strcmp(name, "thin-pole") == 0) {
 		s->description = "a thin pole in front of a wall";
 		floor_plane(s);
-		back_wall(s, 3.0);
-		cylinder(s, v3(0.0 + 0.3 * t, 2.72, 1.0), v3(0, 0, 1), 0.025, 1.0);
-		look_at(s, v3(0.3, 0.3, 1.2), v3(0, 3.0, 0.9));
+		back_wall(s, D(j, 3.0, 0.15));
+		cylinder(s, J(j, v3(0.0 + 0.3 * t, 2.72, 1.0), 0.06), v3(0, 0, 1), S(j, 0.025), 1.0);
+		look_at_j(s, j, v3(0.3, 0.3, 1.2), v3(0, 3.0, 0.9));
 	} else if (strcmp(name, "thin-poles") == 0) {
 		/* thickness stress: what is behind a thin object is lit */
 		s->description = "a row of thin poles in front of a wall";
 		floor_plane(s);
-		back_wall(s, 3.0);
+		back_wall(s, D(j, 3.0, 0.15));
 		for (int i = 0; i < 5; i++)
-			cylinder(s, v3(-0.8 + 0.4 * i + 0.2 * t, 2.4 + 0.1 * (i % 2), 0.9), v3(0, 0, 1),
-				 0.02, 0.9);
-		look_at(s, v3(0.1, 0.0, 1.3), v3(0, 3.0, 0.8));
+			cylinder(s, J(j, v3(-0.8 + 0.4 * i + 0.2 * t, 2.4 + 0.1 * (i % 2), 0.9), 0.05),
+				 v3(0, 0, 1), S(j, 0.02), 0.9);
+		look_at_j(s, j, v3(0.1, 0.0, 1.3), v3(0, 3.0, 0.8));
 	} else if (strcmp(name, "chair") == 0) {
 		s->description = "a chair-like frame: four thin legs, a seat and a back";
 		floor_plane(s);
-		back_wall(s, 3.2);
-		const double cx = 0.1 + 0.3 * t, cy = 2.0;
+		back_wall(s, D(j, 3.2, 0.15));
+		const double cx = D(j, 0.1, 0.08) + 0.3 * t, cy = D(j, 2.0, 0.08);
 		for (int i = 0; i < 4; i++)
 			box(s, v3(cx + (i & 1 ? 0.2 : -0.2), cy + (i & 2 ? 0.2 : -0.2), 0.225),
 			    v3(0.02, 0.02, 0.225), 0);
 		box(s, v3(cx, cy, 0.47), v3(0.24, 0.24, 0.025), 0);
 		box(s, v3(cx, cy + 0.22, 0.75), v3(0.24, 0.02, 0.26), 0);
-		look_at(s, v3(0.6, 0.2, 1.4), v3(0.1, 2.2, 0.3));
+		look_at_j(s, j, v3(0.6, 0.2, 1.4), v3(0.1, 2.2, 0.3));
 	} else if (strcmp(name, "floating-plate") == 0) {
 		s->description = "a thin plate floating above the floor";
 		floor_plane(s);
-		back_wall(s, 3.4);
-		box(s, v3(0.0, 1.8, 0.35 + 0.2 * t), v3(0.4, 0.3, 0.01), 25);
-		look_at(s, v3(0.4, -0.2, 1.6), v3(0, 1.9, 0.2));
+		back_wall(s, D(j, 3.4, 0.15));
+		box(s, v3(0.0, 1.8, D(j, 0.35, 0.05) + 0.2 * t), S3(j, v3(0.4, 0.3, 0.01)), 25);
+		look_at_j(s, j, v3(0.4, -0.2, 1.6), v3(0, 1.9, 0.2));
 	} else {
 		return dao_error_set(err, -EINVAL,
 				     "unknown scene '%s': use plane, room-corner, spheres, stairs, "

@@ -32,6 +32,14 @@ const char *const *synth_scene_names(void);
 int synth_scene_build(const char *name, double time, struct synth_scene *out,
 		      struct dao_error *err);
 
+/*
+ * A variant of scene `name`: 0 is the scene itself; every other number a
+ * deterministic perturbation of it (camera pose, object positions and sizes,
+ * wall distances), for held-out evaluation (suite.h).
+ */
+int synth_scene_build_variant(const char *name, double time, int variant,
+			      struct synth_scene *out, struct dao_error *err);
+
 /* The camera of all synthetic scenes: 640x480, fx = fy = 525, cx = 319.5, cy = 239.5. */
 void synth_default_camera(struct dao_camera *cam);
 
@@ -52,6 +60,16 @@ int synth_render(const struct synth_scene *scene, const struct dao_camera *cam, 
 		 int rays_sqrt, int threads, struct synth_image *out, struct dao_error *err);
 
 void synth_image_free(struct synth_image *img);
+
+/*
+ * Nearest hit of the ray o + t d with t in (tmin, tmax): the primitive's
+ * index (-1 if none), *t and the outward unit normal *n (n may be NULL).
+ */
+int synth_trace(const struct synth_scene *s, vec3 o, vec3 d, double tmin, double tmax, double *t,
+		vec3 *n);
+
+/* 1 if anything lies on the ray o + t d for t in (tmin, tmax). */
+int synth_occluded(const struct synth_scene *s, vec3 o, vec3 d, double tmin, double tmax);
 
 /*
  * Kinect-like sensor noise on a depth plane (m): Gaussian with

@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * depthao eval: renders the synthetic suite with ray-traced ground truth,
- * runs the library with each quality preset, and prints scene x preset
- * (MAE, bias, p99).  With --check it also enforces the accuracy bars of the
+ * feeds each scene to the library as each simulated sensor delivers it
+ * (clean, Gaussian noise, structured light, ...), runs each quality preset,
+ * and prints scene x preset (MAE, bias, p99) for the tune or the held-out
+ * family of scenes.  With --check it also enforces the accuracy bars of the
  * default preset (used by the test suite).
  */
 #include <math.h>
@@ -22,6 +24,11 @@
 #define BAR_CLEAN_MAX_MAE 0.075
 #define BAR_NOISY_MAX_MAE 0.06
 
+/* Targets of issue #15 (reported, not enforced: the tuning that reaches them comes later). */
+#define TARGET_SL_MEAN_MAE 0.035
+#define TARGET_SL_PLANE_OCCLUSION 0.005
+#define TARGET_CLEAN_MEAN_MAE 0.0275
+
 #define EVAL_MAX_ALGORITHMS 4
 #define EVAL_MAX_COLUMNS (DAO_QUALITY_COUNT * EVAL_MAX_ALGORITHMS)
 
@@ -30,10 +37,13 @@ struct eval_options {
 	int nq;
 	int algorithms[EVAL_MAX_ALGORITHMS]; /* enum dao_algorithm */
 	int na;
-	const char *scenes[SYNTH_SUITE_MAX / 2 + 1];
+	const char *scenes[SYNTH_SUITE_MAX_IMAGES + 1];
 	int rays_sqrt;
 	int check;
-	int noise;
+	enum synth_sensor sensors[SYNTH_SENSOR_COUNT];
+	int nsensors;
+	enum synth_set set;
+	int variants;
 	struct dao_params overrides_base;   /* the defaults, to detect overridden fields */
 	char *override_args[64];
 	int n_override;
@@ -44,9 +54,10 @@ static void usage(FILE *out)
 	fprintf(out,
 		"usage: depthao eval [options] [parameter options]\n"
 		"\n"
-		"Renders the synthetic scenes (640x480, ray-traced ground truth), runs each quality\n"
-		"preset on them clean and with Kinect-like noise, and prints MAE, bias and p99 of\n"
-		"the visibility against the ground truth.\n"
+		"Renders the synthetic scenes (640x480, ray-traced ground truth), feeds them to the\n"
+		"library as each sensor delivers them, runs each quality preset, and prints MAE,\n"
+		"bias and p99 of the visibility against the ground truth of the clean geometry,\n"
+		"over the pixels where the sensor delivered depth.\n"
 		"\n"
 		"  --quality LIST    comma-separated presets (default: low,medium,high)\n"
 		"  --algorithms LIST comma-separated algorithms: gtao (default), hbao, ssao, edl;\n"
@@ -55,7 +66,14 @@ static void usage(FILE *out)
 		"                    bars count the first six, the thickness scenes thin-poles,\n"
 		"                    chair and floating-plate get their own mean)\n"
 		"  --rays N          ground-truth rays per pixel, a square (default 256)\n"
-		"  --no-noise        skip the noisy variants\n"
+		"  --sensors LIST    comma-separated inputs: clean, gaussian (sigma = 0.0012 z^2,\n"
+		"                    mm, 2%% holes), structured-light, active-stereo, tof\n"
+		"                    (default: clean,gaussian,structured-light; see 'depthao synth')\n"
+		"  --no-noise        only clean input (the same as --sensors clean)\n"
+		"  --set tune|heldout  the scene family: tune (the scenes as written, default) or\n"
+		"                    heldout (perturbed camera, objects and walls, other noise\n"
+		"                    seeds) to report defaults tuned on the other\n"
+		"  --variants N      scene variants per scene from the family (default 1)\n"
 		"  --check           exit 1 unless the default preset meets the accuracy bars\n"
 		"  --help            this text\n"
 		"Parameter options (e.g. --radius 0.5) override every preset.\n");
@@ -75,7 +93,12 @@ static int parse_list(char *arg, const char **out, int max)
 static int parse_args(int argc, char **argv, struct eval_options *o)
 {
 	o->rays_sqrt = 16;
-	o->noise = 1;
+	o->sensors[0] = SYNTH_SENSOR_CLEAN;
+	o->sensors[1] = SYNTH_SENSOR_GAUSSIAN;
+	o->sensors[2] = SYNTH_SENSOR_STRUCTURED_LIGHT;
+	o->nsensors = 3;
+	o->set = SYNTH_SET_TUNE;
+	o->variants = 1;
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -84,7 +107,40 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 		} else if (strcmp(a, "--check") == 0) {
 			o->check = 1;
 		} else if (strcmp(a, "--no-noise") == 0) {
-			o->noise = 0;
+			o->sensors[0] = SYNTH_SENSOR_CLEAN;
+			o->nsensors = 1;
+		} else if (strcmp(a, "--sensors") == 0) {
+			if (i + 1 >= argc)
+				return usage_error("eval", "%s needs a value", a);
+			const char *names[SYNTH_SENSOR_COUNT + 1];
+			int n = parse_list(argv[++i], names, SYNTH_SENSOR_COUNT);
+			if (n <= 0)
+				return usage_error("eval", "--sensors needs one to %d of clean, gaussian, "
+						   "structured-light, active-stereo, tof", SYNTH_SENSOR_COUNT);
+			for (int k = 0; k < n; k++) {
+				struct dao_error err;
+				if (synth_sensor_parse(names[k], &o->sensors[k], &err))
+					return usage_error("eval", "%s", err.message);
+				for (int m = 0; m < k; m++)
+					if (o->sensors[m] == o->sensors[k])
+						return usage_error("eval", "--sensors names %s twice", names[k]);
+			}
+			o->nsensors = n;
+		} else if (strcmp(a, "--set") == 0) {
+			struct dao_error err;
+			if (i + 1 >= argc)
+				return usage_error("eval", "%s needs a value", a);
+			if (synth_set_parse(argv[++i], &o->set, &err))
+				return usage_error("eval", "%s", err.message);
+		} else if (strcmp(a, "--variants") == 0) {
+			if (i + 1 >= argc)
+				return usage_error("eval", "%s needs a value", a);
+			char *end;
+			const char *v = argv[++i];
+			long n = strtol(v, &end, 10);
+			if (*end || !*v || n < 1 || n > 16)
+				return usage_error("eval", "--variants '%s' must be an integer in 1..16", v);
+			o->variants = (int)n;
 		} else if (strcmp(a, "--algorithms") == 0) {
 			if (i + 1 >= argc)
 				return usage_error("eval", "%s needs a value", a);
@@ -116,7 +172,7 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 				}
 				o->rays_sqrt = (int)r;
 			} else if (strcmp(a, "--scenes") == 0) {
-				int n = parse_list(v, o->scenes, SYNTH_SUITE_MAX / 2);
+				int n = parse_list(v, o->scenes, SYNTH_SUITE_MAX_IMAGES);
 				if (n < 0) {
 					return usage_error("eval", "too many scenes in --scenes");
 				}
@@ -189,10 +245,20 @@ static int params_for(const struct eval_options *o, enum dao_quality q, struct d
 }
 
 struct preset_summary {
-	double clean_sum, clean_max, noisy_max, plane_occ, ms, thick_sum;
-	int clean_n, frames, thick_n;
+	/* per sensor: the structured scenes (all but the plane) of the foundation set */
+	double mae_sum[SYNTH_SENSOR_COUNT], mae_max[SYNTH_SENSOR_COUNT];
+	int mae_n[SYNTH_SENSOR_COUNT];
+	double plane_occ[SYNTH_SENSOR_COUNT];
+	int plane_n[SYNTH_SENSOR_COUNT];
+	double ms, thick_sum;
+	int frames, thick_n;
 	long nan, invalid;
 };
+
+static double mean_or_zero(double sum, int n)
+{
+	return n ? sum / n : 0.0;
+}
 
 int cmd_eval(int argc, char **argv)
 {
@@ -224,12 +290,23 @@ int cmd_eval(int argc, char **argv)
 		return usage_error("eval", "--check needs the default preset in --quality");
 	}
 
+	/* the bars of --check are about clean and Gaussian input */
+	int have[SYNTH_SENSOR_COUNT] = { 0 };
+	for (int k = 0; k < o.nsensors; k++)
+		have[o.sensors[k]] = 1;
+	if (o.check && !have[SYNTH_SENSOR_CLEAN])
+		return usage_error("eval", "--check needs clean in --sensors");
+
 	struct synth_suite suite;
 	struct dao_error err;
-	fprintf(stderr, "depthao: rendering ground truth (%d rays per pixel)...\n",
-		o.rays_sqrt * o.rays_sqrt);
-	if (synth_suite_load(&suite, o.scenes[0] ? o.scenes : NULL, 0.5, o.rays_sqrt, o.noise, 1,
-			     2, &err)) {
+	fprintf(stderr, "depthao: rendering ground truth (%d rays per pixel), %s set...\n",
+		o.rays_sqrt * o.rays_sqrt, synth_set_name(o.set));
+	struct synth_suite_spec spec = {
+		.scenes = o.scenes[0] ? o.scenes : NULL, .radius = 0.5, .rays_sqrt = o.rays_sqrt,
+		.sensors = o.sensors, .nsensors = o.nsensors, .seed = 1, .threads = 2,
+	};
+	synth_suite_spec_set(&spec, o.set, o.variants);
+	if (synth_suite_load_spec(&suite, &spec, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
@@ -273,21 +350,20 @@ int cmd_eval(int argc, char **argv)
 			s->frames++;
 			s->nan += m->nan_count;
 			s->invalid += m->invalid_not_one;
+			const enum synth_sensor sn = c->sensor;
 			if (!synth_scene_is_foundation(c->scene)) {
-				if (!c->noisy) {
+				if (sn == SYNTH_SENSOR_CLEAN) {
 					s->thick_sum += m->mae;
 					s->thick_n++;
 				}
 			} else if (!synth_scene_is_structured(c->scene)) {
-				if (!c->noisy)
-					s->plane_occ = m->mean_occlusion;
-			} else if (!c->noisy) {
-				s->clean_sum += m->mae;
-				s->clean_n++;
-				s->clean_max = fmax(s->clean_max, m->mae);
+				s->plane_occ[sn] += m->mean_occlusion;
+				s->plane_n[sn]++;
+			} else {
+				s->mae_sum[sn] += m->mae;
+				s->mae_n[sn]++;
+				s->mae_max[sn] = fmax(s->mae_max[sn], m->mae);
 			}
-			if (c->noisy && synth_scene_is_foundation(c->scene))
-				s->noisy_max = fmax(s->noisy_max, m->mae);
 		}
 		dao_context_destroy(ctx);
 	}
@@ -310,29 +386,73 @@ int cmd_eval(int argc, char **argv)
 		printf("---:|---:|---:|");
 	printf("\n");
 	for (int i = 0; i < suite.count; i++) {
-		printf("| %s | %s |", suite.cases[i].scene, suite.cases[i].noisy ? "noisy" : "clean");
+		const struct synth_case *c = &suite.cases[i];
+		if (c->variant)
+			printf("| %s #%d | %s |", c->scene, c->variant, synth_sensor_name(c->sensor));
+		else
+			printf("| %s | %s |", c->scene, synth_sensor_name(c->sensor));
 		for (int k = 0; k < ncols; k++)
 			printf(" %.4f | %+.4f | %.3f |", res[i][k].mae, res[i][k].bias, res[i][k].p99);
 		printf("\n");
 	}
-	printf("| **clean scenes, mean MAE** | |");
-	for (int k = 0; k < ncols; k++)
-		printf(" **%.4f** | | |", sum[k].clean_n ? sum[k].clean_sum / sum[k].clean_n : 0.0);
+	for (int k2 = 0; k2 < o.nsensors; k2++) {
+		const enum synth_sensor sn = o.sensors[k2];
+		printf("| **%s scenes, mean MAE** | |", sn == SYNTH_SENSOR_CLEAN ? "clean" : synth_sensor_name(sn));
+		for (int k = 0; k < ncols; k++)
+			printf(" **%.4f** | | |", mean_or_zero(sum[k].mae_sum[sn], sum[k].mae_n[sn]));
+		printf("\n");
+		if (sn != SYNTH_SENSOR_CLEAN) {
+			printf("| %s scenes, largest MAE | |", synth_sensor_name(sn));
+			for (int k = 0; k < ncols; k++)
+				printf(" %.4f | | |", sum[k].mae_max[sn]);
+			printf("\n");
+		}
+	}
 	int any_thick = 0;
 	for (int k = 0; k < ncols; k++)
 		any_thick |= sum[k].thick_n > 0;
 	if (any_thick) {
-		printf("\n| **thickness scenes, mean MAE** | |");
+		printf("| **thickness scenes, mean MAE** | clean |");
 		for (int k = 0; k < ncols; k++)
-			printf(" **%.4f** | | |", sum[k].thick_n ? sum[k].thick_sum / sum[k].thick_n : 0.0);
+			printf(" **%.4f** | | |", mean_or_zero(sum[k].thick_sum, sum[k].thick_n));
+		printf("\n");
 	}
-	printf("\n| plane, mean occlusion | clean |");
-	for (int k = 0; k < ncols; k++)
-		printf(" %.4f | | |", sum[k].plane_occ);
-	printf("\n| ms/frame (all threads) | |");
+	for (int k2 = 0; k2 < o.nsensors; k2++) {
+		const enum synth_sensor sn = o.sensors[k2];
+		if (!sum[0].plane_n[sn])
+			continue;
+		printf("| plane, mean occlusion | %s |", synth_sensor_name(sn));
+		for (int k = 0; k < ncols; k++)
+			printf(" %.4f | | |", mean_or_zero(sum[k].plane_occ[sn], sum[k].plane_n[sn]));
+		printf("\n");
+	}
+	printf("| ms/frame (all threads) | |");
 	for (int k = 0; k < ncols; k++)
 		printf(" %.0f | | |", sum[k].frames ? sum[k].ms / sum[k].frames : 0.0);
 	printf("\n");
+	/* issue #15's targets for the default preset, measured here, enforced by nothing yet */
+	if (default_col >= 0) {
+		const struct preset_summary *d = &sum[default_col];
+		const enum synth_sensor sl = SYNTH_SENSOR_STRUCTURED_LIGHT;
+		const char *sep = "";
+		printf("\nTargets (issue #15, default preset, %s set):", synth_set_name(o.set));
+		if (have[sl] && d->mae_n[sl]) {
+			printf("%s structured-light mean MAE %.4f (target <= %.3f)", sep,
+			       mean_or_zero(d->mae_sum[sl], d->mae_n[sl]), TARGET_SL_MEAN_MAE);
+			sep = ";";
+		}
+		if (have[sl] && d->plane_n[sl]) {
+			printf("%s tilted plane under structured light, mean occlusion %.4f (target <= %.3f)",
+			       sep, mean_or_zero(d->plane_occ[sl], d->plane_n[sl]), TARGET_SL_PLANE_OCCLUSION);
+			sep = ";";
+		}
+		if (have[SYNTH_SENSOR_CLEAN] && d->mae_n[SYNTH_SENSOR_CLEAN])
+			printf("%s clean mean MAE %.4f (target <= %.4f)", sep,
+			       mean_or_zero(d->mae_sum[SYNTH_SENSOR_CLEAN], d->mae_n[SYNTH_SENSOR_CLEAN]),
+			       TARGET_CLEAN_MEAN_MAE);
+		printf("\n");
+	}
+
 
 	for (int k = 0; k < ncols; k++)
 		if (sum[k].nan || sum[k].invalid) {
@@ -342,17 +462,22 @@ int cmd_eval(int argc, char **argv)
 		}
 	if (o.check) {
 		const struct preset_summary *s = &sum[default_col];
-		double clean_mean = s->clean_n ? s->clean_sum / s->clean_n : 0.0;
+		const enum synth_sensor c = SYNTH_SENSOR_CLEAN, g = SYNTH_SENSOR_GAUSSIAN;
 		struct {
 			const char *what;
 			double value, bar;
+			int present;
 		} bars[] = {
-			{ "tilted plane, mean occlusion", s->plane_occ, BAR_PLANE_OCCLUSION },
-			{ "clean scenes, mean MAE", clean_mean, BAR_CLEAN_MEAN_MAE },
-			{ "clean scenes, largest MAE", s->clean_max, BAR_CLEAN_MAX_MAE },
-			{ "noisy scenes, largest MAE", s->noisy_max, BAR_NOISY_MAX_MAE },
+			{ "tilted plane, mean occlusion", mean_or_zero(s->plane_occ[c], s->plane_n[c]),
+			  BAR_PLANE_OCCLUSION, 1 },
+			{ "clean scenes, mean MAE", mean_or_zero(s->mae_sum[c], s->mae_n[c]),
+			  BAR_CLEAN_MEAN_MAE, 1 },
+			{ "clean scenes, largest MAE", s->mae_max[c], BAR_CLEAN_MAX_MAE, 1 },
+			{ "noisy scenes, largest MAE", s->mae_max[g], BAR_NOISY_MAX_MAE, have[g] },
 		};
 		for (size_t b = 0; b < sizeof bars / sizeof bars[0]; b++) {
+			if (!bars[b].present)
+				continue;
 			int ok = bars[b].value <= bars[b].bar;
 			fprintf(stderr, "depthao: %-30s %.4f (bar %.3f) %s\n", bars[b].what, bars[b].value,
 				bars[b].bar, ok ? "ok" : "FAILED");

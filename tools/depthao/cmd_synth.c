@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * depthao synth: analytic scenes rendered exactly, with ground-truth AO.
- * For each scene it writes DIR/NAME/ (and DIR/NAME-noisy/ for the variant
- * with Kinect-like noise): depth.png (16-bit millimetres), ao_gt.png (16-bit
- * visibility, round(v x 65535)) and camera.json (Open3D intrinsics format).
+ * For each scene it writes DIR/NAME/ (DIR/NAME-noisy/ with Gaussian noise,
+ * DIR/NAME-SENSOR/ as another simulated sensor delivers it): depth.png
+ * (16-bit millimetres), ao_gt.png (16-bit visibility, round(v x 65535)) and
+ * camera.json (Open3D intrinsics format).
  */
 #include <errno.h>
 #include <math.h>
@@ -34,7 +35,8 @@ static int set_oom(struct dao_error *err)
 
 struct synth_options {
 	const char *scene, *out;
-	int noise, rays_sqrt, frames;
+	enum synth_sensor sensor;
+	int sensor_given, variant, rays_sqrt, frames;
 	int oni;                 /* also write NAME.oni */
 	enum dao_oni_codec codec;
 	double radius;
@@ -57,9 +59,17 @@ static void usage(FILE *out)
 	fprintf(out,
 		", or all (every scene, clean and noisy)\n"
 		"  --out DIR      output directory (created if missing)\n"
-		"  --noise        Kinect-like noise: sigma = 0.0012 z^2 m, mm steps, ~2%% holes\n"
-		"                 (written to DIR/NAME-noisy; the ground truth stays exact)\n"
-		"  --seed N       noise seed (default 1)\n"
+		"  --sensor MODEL what a sensor delivers (the ground truth stays exact):\n"
+		"                 clean (default), gaussian (sigma = 0.0012 z^2 m, mm steps, ~2%%\n"
+		"                 holes; to DIR/NAME-noisy), structured-light (Kinect v1 /\n"
+		"                 PrimeSense: dot pattern, 9x9 block matching, 1/8-px disparity,\n"
+		"                 projector shadows), active-stereo (RealSense D4xx: two IR\n"
+		"                 cameras, 5 cm apart), tof (time of flight: flying pixels,\n"
+		"                 multipath, amplitude noise); to DIR/NAME-MODEL\n"
+		"  --noise        the same as --sensor gaussian\n"
+		"  --seed N       noise seed (default 1); frame i of a sequence uses N + i\n"
+		"  --variant N    a perturbed variant of the scene (camera, objects, walls; 0 = the\n"
+		"                 scene itself; eval's held-out family uses the odd ones)\n"
 		"  --rays N       ground-truth rays per pixel, a perfect square (default 256)\n"
 		"  --radius R     AO radius in metres (default 0.5)\n"
 		"  --frames N     a sequence of N frames with the scene's object moving, written as\n"
@@ -79,15 +89,16 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			exit(0);
 		}
 		if (strcmp(a, "--noise") == 0) {
-			o->noise = 1;
+			o->sensor = SYNTH_SENSOR_GAUSSIAN;
+			o->sensor_given = 1;
 			continue;
 		}
 		const char *names[] = { "--scene", "--out", "--seed", "--rays", "--radius", "--frames",
-					 "--oni" };
+					 "--oni", "--sensor", "--variant" };
 		size_t k;
-		for (k = 0; k < 7 && strcmp(a, names[k]) != 0; k++)
+		for (k = 0; k < 9 && strcmp(a, names[k]) != 0; k++)
 			;
-		if (k == 7)
+		if (k == 9)
 			return usage_error("synth", "unknown option '%s'", a);
 		if (i + 1 >= argc)
 			return usage_error("synth", "%s needs a value", a);
@@ -127,6 +138,20 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 				return usage_error("synth", "--oni '%s' must be none, 16z or 16zt", v);
 			o->oni = 1;
 			break;
+		case 7: {
+			struct dao_error err;
+			if (synth_sensor_parse(v, &o->sensor, &err))
+				return usage_error("synth", "%s", err.message);
+			o->sensor_given = 1;
+			break;
+		}
+		case 8: {
+			long n = strtol(v, &end, 10);
+			if (*end || !*v || n < 0 || n > 1000000)
+				return usage_error("synth", "--variant '%s' must be an integer in 0..1000000", v);
+			o->variant = (int)n;
+			break;
+		}
 		}
 	}
 	if (!o->scene)
@@ -138,7 +163,7 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 	if (strcmp(o->scene, "all") != 0) {
 		struct synth_scene s;
 		struct dao_error err;
-		if (synth_scene_build(o->scene, 0.0, &s, &err))
+		if (synth_scene_build_variant(o->scene, 0.0, o->variant, &s, &err))
 			return usage_error("synth", "%s", err.message);
 	}
 	return 0;
@@ -156,11 +181,22 @@ static int make_dir(const char *path)
 	return 1;
 }
 
+/* DIR/NAME, DIR/NAME-noisy (Gaussian) or DIR/NAME-SENSOR. */
+static void case_dir_name(char *name, size_t len, const char *scene, enum synth_sensor sensor)
+{
+	if (sensor == SYNTH_SENSOR_CLEAN)
+		snprintf(name, len, "%s", scene);
+	else if (sensor == SYNTH_SENSOR_GAUSSIAN)
+		snprintf(name, len, "%s-noisy", scene);
+	else
+		snprintf(name, len, "%s-%s", scene, synth_sensor_name(sensor));
+}
+
 static int write_case(const struct synth_options *o, const struct synth_suite *suite,
 		      const struct synth_case *c)
 {
 	char name[128];
-	snprintf(name, sizeof name, "%s%s", c->scene, c->noisy ? "-noisy" : "");
+	case_dir_name(name, sizeof name, c->scene, c->sensor);
 	char *dir = path_join(o->out, name);
 	char *depth_path = dir ? path_join(dir, "depth.png") : NULL;
 	char *gt_path = dir ? path_join(dir, "ao_gt.png") : NULL;
@@ -185,6 +221,9 @@ static int write_case(const struct synth_options *o, const struct synth_suite *s
 	struct json_object *extra = json_object_new_object();
 	json_object_object_add(extra, "depth_unit", json_object_new_double(0.001));
 	json_object_object_add(extra, "scene", json_object_new_string(c->scene));
+	json_object_object_add(extra, "variant", json_object_new_int(c->variant));
+	json_object_object_add(extra, "sensor", json_object_new_string(synth_sensor_name(c->sensor)));
+	json_object_object_add(extra, "seed", json_object_new_uint64(o->seed));
 	json_object_object_add(extra, "noise", json_object_new_boolean(c->noisy));
 	json_object_object_add(extra, "radius", json_object_new_double(o->radius));
 	json_object_object_add(extra, "rays", json_object_new_int(o->rays_sqrt * o->rays_sqrt));
@@ -194,7 +233,7 @@ static int write_case(const struct synth_options *o, const struct synth_suite *s
 		fprintf(stderr, "depthao: %s\n", msg);
 		goto out;
 	}
-	printf("%s: %s\n", dir, c->noisy ? "noisy" : "clean");
+	printf("%s: %s\n", dir, c->sensor == SYNTH_SENSOR_GAUSSIAN ? "noisy" : synth_sensor_name(c->sensor));
 	status = 0;
 	goto out;
 fail:
@@ -214,7 +253,7 @@ static int write_sequence(const struct synth_options *o)
 	struct dao_camera cam;
 	synth_default_camera(&cam);
 	char name[128], file[32], msg[512];
-	snprintf(name, sizeof name, "%s%s", o->scene, o->noise ? "-noisy" : "");
+	case_dir_name(name, sizeof name, o->scene, o->sensor);
 	char *base = path_join(o->out, name);
 	char *ddir = base ? path_join(base, "depth") : NULL;
 	char *gdir = base ? path_join(base, "ao_gt") : NULL;
@@ -249,15 +288,15 @@ static int write_sequence(const struct synth_options *o)
 		struct dao_frame gt = { 0 };
 		struct dao_error err;
 		double t = o->frames > 1 ? (double)i / (double)(o->frames - 1) : 0.0;
-		int r = synth_scene_build(o->scene, t, &scene, &err);
+		int r = synth_scene_build_variant(o->scene, t, o->variant, &scene, &err);
 		if (!r)
 			r = synth_render(&scene, &cam, o->radius, o->rays_sqrt, 2, &img, &err);
 		if (r) {
 			fprintf(stderr, "depthao: %s\n", err.message);
 			goto out;
 		}
-		r = synth_case_make(&c, scene.name, o->noise, img.depth, img.gt, (int)cam.width,
-				    (int)cam.height, o->seed + (uint64_t)i, &err);
+		r = synth_case_simulate(&c, &scene, o->variant, &cam, &img, o->sensor,
+					o->seed + (uint64_t)i, 2, &err);
 		if (!r)
 			r = dao_frame_alloc(&gt, DAO_PIXFMT_GRAY16, cam.width, cam.height, &err);
 		if (!r) {
@@ -289,7 +328,10 @@ static int write_sequence(const struct synth_options *o)
 	struct json_object *extra = json_object_new_object();
 	json_object_object_add(extra, "depth_unit", json_object_new_double(0.001));
 	json_object_object_add(extra, "scene", json_object_new_string(o->scene));
-	json_object_object_add(extra, "noise", json_object_new_boolean(o->noise));
+	json_object_object_add(extra, "variant", json_object_new_int(o->variant));
+	json_object_object_add(extra, "sensor", json_object_new_string(synth_sensor_name(o->sensor)));
+	json_object_object_add(extra, "seed", json_object_new_uint64(o->seed));
+	json_object_object_add(extra, "noise", json_object_new_boolean(o->sensor != SYNTH_SENSOR_CLEAN));
 	json_object_object_add(extra, "frames", json_object_new_int(o->frames));
 	int r = camera_file_write(cam_path, &cam, extra, msg, sizeof msg);
 	json_object_put(extra);
@@ -307,7 +349,8 @@ static int write_sequence(const struct synth_options *o)
 		}
 		printf("%s: %d frames, codec %s\n", oni_path, o->frames, dao_oni_codec_name(o->codec));
 	}
-	printf("%s: %d frames (%s)\n", base, o->frames, o->noise ? "noisy" : "clean");
+	printf("%s: %d frames (%s)\n", base, o->frames,
+	       o->sensor == SYNTH_SENSOR_GAUSSIAN ? "noisy" : synth_sensor_name(o->sensor));
 	status = 0;
 out:
 	dao_oni_writer_abort(oni);
@@ -331,16 +374,26 @@ int cmd_synth(int argc, char **argv)
 		return write_sequence(&o);
 	int all = strcmp(o.scene, "all") == 0;
 	const char *one[2] = { o.scene, NULL };
+	/* every scene: clean and Gaussian unless a sensor is named; one scene: that sensor */
+	enum synth_sensor sensors[2] = { SYNTH_SENSOR_CLEAN, SYNTH_SENSOR_GAUSSIAN };
+	int nsensors = 2;
+	if (o.sensor_given || !all) {
+		sensors[0] = o.sensor;
+		nsensors = 1;
+	}
+	const struct synth_suite_spec spec = {
+		.scenes = all ? NULL : one, .radius = o.radius, .rays_sqrt = o.rays_sqrt,
+		.sensors = sensors, .nsensors = nsensors, .variant_first = o.variant,
+		.variant_step = 1, .variants = 1, .seed = o.seed, .threads = 2,
+	};
 	struct synth_suite suite;
 	struct dao_error err;
-	if (synth_suite_load(&suite, all ? NULL : one, o.radius, o.rays_sqrt, all || o.noise,
-			     o.seed, 2, &err)) {
+	if (synth_suite_load_spec(&suite, &spec, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
 	for (int i = 0; i < suite.count && !status; i++)
-		if (all || suite.cases[i].noisy == o.noise)
-			status = write_case(&o, &suite, &suite.cases[i]);
+		status = write_case(&o, &suite, &suite.cases[i]);
 	synth_suite_free(&suite);
 	return status;
 }

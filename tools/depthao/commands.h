@@ -11,6 +11,8 @@ int cmd_bench(int argc, char **argv);
 int cmd_devices(int argc, char **argv);
 int cmd_ctl(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_sensorstats(int argc, char **argv);
+int cmd_realcheck(int argc, char **argv);
 
 /* Prints "depthao: <reason> (see 'depthao <cmd> --help')" and returns 2. */
 int usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

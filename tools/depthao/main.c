@@ -18,6 +18,8 @@ static void usage(FILE *out)
 		"  synth     write synthetic scenes with ray-traced ground-truth AO\n"
 		"  eval      measure every quality preset against the ground truth\n"
 		"  compare   the algorithms side by side in one picture\n"
+		"  sensorstats  plane residuals, depth bands and holes of real or simulated sensors\n"
+		"  realcheck false occlusion on the open planar regions of real sensor frames\n"
 		"  bench     time the pipeline and its stages per size, preset and thread count\n"
 		"  devices   list source/sink plugins and the devices they can open\n"
 		"  ctl       talk to a running depthaod (stats, get/set, pause, snapshot)\n"
@@ -59,6 +61,10 @@ int main(int argc, char **argv)
 		return cmd_synth(argc - 1, argv + 1);
 	if (strcmp(cmd, "eval") == 0)
 		return cmd_eval(argc - 1, argv + 1);
+	if (strcmp(cmd, "realcheck") == 0)
+		return cmd_realcheck(argc - 1, argv + 1);
+	if (strcmp(cmd, "sensorstats") == 0)
+		return cmd_sensorstats(argc - 1, argv + 1);
 	if (strcmp(cmd, "compare") == 0)
 		return cmd_compare(argc - 1, argv + 1);
 	if (strcmp(cmd, "ctl") == 0)
