@@ -47,7 +47,7 @@ options() {
 }
 
 "$depthao" --help >"$work/help"
-for cmd in process synth eval compare bench devices ctl; do
+for cmd in process synth eval compare sensorstats realcheck bench devices ctl; do
 	"$depthao" "$cmd" --help >>"$work/help" 2>&1 || true
 done
 n=0
