@@ -60,6 +60,7 @@ struct rtsp_sink {
 	GstRTSPLowerTrans transport; /* the one transport offered to clients */
 	struct shared *sh;
 	GstVideoInfo info;
+	GstBufferPool *pool;    /* frames for appsrc, reused: no 1 MB allocation per frame */
 	GMainContext *mctx;
 	GMainLoop *loop;
 	GThread *thread;
@@ -297,6 +298,20 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 		return plugin_error(err, -EINVAL, "rtsp: bad frame size %ux%u", fmt->width,
 				    fmt->height);
 	}
+	if (s->pool) {
+		gst_buffer_pool_set_active(s->pool, FALSE);
+		gst_clear_object(&s->pool);
+	}
+	/* no upper bound: acquiring never waits; frames come back when the encoder is done */
+	s->pool = gst_buffer_pool_new();
+	GstStructure *conf = gst_buffer_pool_get_config(s->pool);
+	gst_buffer_pool_config_set_params(conf, caps, (guint)GST_VIDEO_INFO_SIZE(&s->info), 2, 0);
+	if (!gst_buffer_pool_set_config(s->pool, conf) || !gst_buffer_pool_set_active(s->pool, TRUE)) {
+		gst_caps_unref(caps);
+		gst_clear_object(&s->pool);
+		return plugin_error(err, -ENOMEM, "rtsp: cannot set up frame buffers of %ux%u",
+				    fmt->width, fmt->height);
+	}
 	g_mutex_lock(&s->sh->lock);
 	gst_caps_replace(&s->sh->caps, caps);
 	g_mutex_unlock(&s->sh->lock);
@@ -337,7 +352,9 @@ static int rtsp_write(void *state, const struct dao_frame *f, struct dao_error *
 		return 0; /* nobody is watching */
 	const gsize row = (gsize)f->width * (f->format == DAO_PIXFMT_RGB24 ? 3 : 1);
 	const gsize stride = (gsize)GST_VIDEO_INFO_PLANE_STRIDE(&s->info, 0);
-	GstBuffer *buf = gst_buffer_new_allocate(NULL, GST_VIDEO_INFO_SIZE(&s->info), NULL);
+	GstBuffer *buf = NULL;
+	if (gst_buffer_pool_acquire_buffer(s->pool, &buf, NULL) != GST_FLOW_OK)
+		buf = NULL;
 	GstMapInfo map;
 	if (buf && gst_buffer_map(buf, &map, GST_MAP_WRITE)) {
 		for (uint32_t y = 0; y < f->height; y++)
@@ -416,6 +433,10 @@ static int rtsp_close(void *state, struct dao_error *err)
 	g_main_loop_unref(s->loop);
 	g_main_context_unref(s->mctx);
 	g_atomic_rc_box_release_full(s->sh, shared_clear);
+	if (s->pool) { /* frames still in a media are freed when it lets them go */
+		gst_buffer_pool_set_active(s->pool, FALSE);
+		gst_object_unref(s->pool);
+	}
 	free(s);
 	return 0;
 }
