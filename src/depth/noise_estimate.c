@@ -258,20 +258,26 @@ void dao_noise_cells(struct dao_noise_grid *g)
 
 /*
  * One line of a map: knots v[0..n) at positions (k + 1/2) * span - 1/2,
- * linear between them, constant beyond the outer ones; len samples.
+ * linear between them, constant beyond the outer ones; len samples.  Each
+ * segment is a plain loop over its range (vectorised).
  */
 DAO_MULTIVERSION
 static void map_line(const float *v, int n, int span, float *out, int len)
 {
 	const float c0 = 0.5f * (float)span - 0.5f;
+	/* samples x < first are before the first knot; segment k covers
+	 * [first + k span, first + (k + 1) span) */
+	const int first = (int)floorf(c0) + 1;
 	int x = 0;
-	for (; x < len && (float)x <= c0; x++)
+	for (; x < len && x < first; x++)
 		out[x] = v[0];
-	for (int k = 0; k + 1 < n; k++) {
+	for (int k = 0; k + 1 < n && x < len; k++) {
 		const float a = c0 + (float)(k * span), slope = (v[k + 1] - v[k]) / (float)span;
-		const int end = (int)(a + (float)span); /* the last x at or before knot k + 1 */
-		for (; x <= end && x < len; x++)
-			out[x] = v[k] + slope * ((float)x - a);
+		const float base = v[k] - slope * a;
+		const int end = first + (k + 1) * span < len ? first + (k + 1) * span : len;
+		for (int i = x; i < end; i++)
+			out[i] = base + slope * (float)i;
+		x = end;
 	}
 	for (; x < len; x++)
 		out[x] = v[n - 1];
