@@ -51,8 +51,7 @@ static float link_exponent(const struct dao_domain_pass *p, const float w[4], si
 	const float dp = wp1 > 0.0f ? wp1 - w0 : 0.0f;
 	const float e = d - med3(dm, d, dp);
 	float sigma = p->noise_map ? p->noise_map[at] : p->noise;
-	sigma = fmaxf(sigma, p->unit * w0 * w0);
-	sigma = fmaxf(sigma, 1e-6f * w0);
+	sigma = fmaxf(fmaxf(sigma, p->unit * w0 * w0), DAO_DOMAIN_MIN_NOISE);
 	const float r = e / sigma;
 	const float inv_scale = p->inv_scale_map ? p->inv_scale_map[at] : p->inv_scale;
 	return p->spatial * inv_scale + p->range_coef * r * r;
@@ -62,8 +61,9 @@ void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int la
 {
 	const int len = p->len;
 	for (int lane = lane0; lane < lane1; lane++) {
-		/* causal sweep: moments about sample n of the samples 0..n, the data
-		 * centred on w_n (shifted by w_n-1 - w_n at each step) */
+		/* causal sweep: moments of the samples 0..n about sample n, at
+		 * distances n - k, the data centred on w_n; each step moves the
+		 * samples so far one further away and the centre by w_n-1 - w_n */
 		float s0 = 0.0f, s1 = 0.0f, s2 = 0.0f, t0 = 0.0f, t1 = 0.0f;
 		float w[4] = { 0.0f, 0.0f, 0.0f, len > 0 ? load_w(p, 0, lane) : 0.0f };
 		for (int n = 0; n < len; n++) {
@@ -74,31 +74,31 @@ void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int la
 			const float l = x < DAO_DOMAIN_MAX_EXPONENT ? expf(-x) : 0.0f;
 			const float valid = w[2] > 0.0f ? 1.0f : 0.0f;
 			const float dw = w[1] - w[2];
-			/* the samples so far move one step further away: offsets k - n */
-			t1 = l * (t1 - t0 + dw * (s1 - s0));
-			t0 = l * (t0 + dw * s0);
-			s2 = l * (s2 - 2.0f * s1 + s0);
-			s1 = l * (s1 - s0);
-			s0 = valid + l * s0;
+			const float ls0 = l * s0, ls1 = l * s1;
+			t1 = l * t1 + (dw * (ls1 + ls0) + l * t0);
+			t0 = l * t0 + dw * ls0;
+			s2 = l * s2 + (2.0f * ls1 + ls0);
+			s1 = l * s1 + ls0;
+			s0 = l * s0 + valid;
 			float *sc = scratch + (size_t)n * DAO_DOMAIN_SCRATCH;
 			sc[0] = s0, sc[1] = s1, sc[2] = s2, sc[3] = t0, sc[4] = t1, sc[5] = l;
 			sc[6] = w[2];
 		}
-		/* anticausal sweep: the samples after n, then the fit */
+		/* anticausal sweep: the samples after n at distances k - n, added to
+		 * the causal ones (whose first moments change sign), then the fit */
 		float r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, u0 = 0.0f, u1 = 0.0f, lnext = 0.0f;
 		float wnext = 0.0f;
 		for (int n = len - 1; n >= 0; n--) {
 			const float *sc = scratch + (size_t)n * DAO_DOMAIN_SCRATCH;
-			const float wn = sc[6], dw = wnext - wn;
-			/* samples n+1.. seen from n: weighted by the link, offsets k - n */
-			const float y1 = lnext * (u1 + u0 + dw * (r1 + r0));
-			const float y0 = lnext * (u0 + dw * r0);
-			const float x2 = lnext * (r2 + 2.0f * r1 + r0);
-			const float x1 = lnext * (r1 + r0);
-			const float x0 = lnext * r0;
-			const float S0 = sc[0] + x0, S1 = sc[1] + x1, S2 = sc[2] + x2;
-			const float T0 = sc[3] + y0, T1 = sc[4] + y1;
-			r0 = x0 + (wn > 0.0f ? 1.0f : 0.0f), r1 = x1, r2 = x2;
+			const float wn = sc[6], dw = wnext - wn, valid = wn > 0.0f ? 1.0f : 0.0f;
+			/* samples n+1.. seen from n: weighted by the link */
+			const float x0 = lnext * r0, x1 = lnext * r1 + x0;
+			const float x2 = lnext * r2 + (2.0f * lnext * r1 + x0);
+			const float y0 = lnext * u0 + dw * x0;
+			const float y1 = lnext * u1 + (dw * (lnext * r1 + x0) + lnext * u0);
+			const float S0 = sc[0] + x0, S1 = x1 - sc[1], S2 = sc[2] + x2;
+			const float T0 = sc[3] + y0, T1 = y1 - sc[4];
+			r0 = x0 + valid, r1 = x1, r2 = x2;
 			u0 = y0, u1 = y1; /* the sample itself is 0 about itself */
 			lnext = sc[5];
 			wnext = wn;

@@ -37,11 +37,12 @@
  *   filter is a weighted mean; where the weights are one-sided (near holes,
  *   edges and the border) the mean of a tilted plane lags by the slope times
  *   the scale (0.017 in 1/z at 8 px: centimetres at 2 m).  Each pass sums the
- *   weights' moments S0, S1, S2 and the data's T0, T1 about the output sample
- *   (the sweeps shift them by one sample per step) and returns the line fitted
- *   by weighted least squares at the sample:
+ *   weights' moments S0, S1, S2 about the output sample n and the data's T0,
+ *   T1 with the data centred on w_n (precision: the sums are of differences;
+ *   the sweeps shift distances and centre by one sample per step) and
+ *   returns the line fitted by weighted least squares at the sample:
  *
- *     w' = (S2 T0 - S1 T1 + lambda T0) / (S0 S2 - S1^2 + lambda S0),
+ *     w' = w_n + (S2 T0 - S1 T1 + lambda T0) / (S0 S2 - S1^2 + lambda S0),
  *
  *   exact for any w affine along the line, whatever the weights: a plane
  *   (1/z is affine in the pixel on any plane) stays where it is up to float
@@ -49,9 +50,9 @@
  *   the weighted mean.  lambda (px^2) only keeps a lone sample's 0/0 finite.
  *
  * Range scale: sigma_r = range x sigma with sigma = max(noise, unit w^2,
- * 1e-6 w) at the sample (sensor noise in 1/z, from the model or the noise
- * map; the depth quantum; a float floor).  Holes neither contribute nor are
- * filled.
+ * DAO_DOMAIN_MIN_NOISE) at the sample (sensor noise in 1/z, from the model
+ * or the noise map; the depth quantum; a floor for exact float input).
+ * Holes neither contribute nor are filled.
  */
 
 /* A pass reads `len` rows of `lanes` floats and writes `lanes` rows of `len`
@@ -76,6 +77,8 @@ struct dao_domain_pass {
 #define DAO_DOMAIN_SCRATCH 7
 /* a link whose exponent exceeds this is 0 (e^-17 = 4e-8: below float's step at 1) */
 #define DAO_DOMAIN_MAX_EXPONENT 17.0f
+/* the least noise sigma in 1/z, 1/m (4 um at 2 m) */
+#define DAO_DOMAIN_MIN_NOISE 1e-6f
 /* lambda of the local linear fit, px^2 */
 #define DAO_DOMAIN_RIDGE 1e-6f
 

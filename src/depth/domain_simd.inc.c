@@ -52,6 +52,8 @@ static inline vf dt_load_w(const struct dt_ctx *c, size_t at)
 	const vf v = v_load(c->in + at);
 	if (!c->in_depth)
 		return v;
+	/* a division, once per pixel and frame: the refined estimate's 3e-7
+	 * would reach the output as is, and where the depth is ragged amplified */
 	const vm has = v_gt(v, v_zero());
 	return v_sel(has, v_div(v_set1(1.0f), v_sel(has, v, v_set1(1.0f))), v_zero());
 }
@@ -65,12 +67,10 @@ static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, 
 	const vf dp = v_sel(v_gt(wp1, zero), v_sub(wp1, w0), zero);
 	const vf e = v_sub(d, dt_med3(dm, d, dp));
 	vf sigma = c->noise_map ? v_load(c->noise_map + at) : c->noise;
-	sigma = v_max(sigma, v_mul(v_mul(c->unit, w0), w0));
-	sigma = v_max(sigma, v_mul(v_set1(1e-6f), w0));
-	/* (e / sigma)^2 by a division, as the reference: the exponent reaches
-	 * DAO_DOMAIN_MAX_EXPONENT, where a refined reciprocal's 3e-7 would move a
-	 * link by 5e-6 */
-	const vf r = v_div(e, sigma);
+	sigma = v_max(v_max(sigma, v_mul(v_mul(c->unit, w0), w0)), v_set1(DAO_DOMAIN_MIN_NOISE));
+	/* (e / sigma)^2 with the refined reciprocal (3e-7 relative; a division
+	 * costs more than the rest of the link on AVX-512) */
+	const vf r = v_mul(e, v_rcp(sigma));
 	const vf r2 = v_mul(r, r);
 	const vf sp = c->scale_map ? v_mul(c->spatial, v_load(c->scale_map + at)) : c->spatial_term;
 	const vf x = v_fma(c->range, r2, sp);
@@ -85,11 +85,12 @@ static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, 
  * output below lane0 + skip are left alone (the last strip overlaps the one
  * before it).
  */
-/* The causal sweep, built once per combination of the flags (constants at
- * the call) so that the loop tests none of them. */
+/* The links of a strip (its first loop: no recursion, so the steps overlap
+ * freely), built once per combination of the flags (constants at the call)
+ * so that the loop tests none of them; stores each link and 1/z. */
 static inline __attribute__((always_inline)) void
-dt_causal(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const int noise_map,
-	  const int scale_map)
+dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const int noise_map,
+	 const int scale_map)
 {
 	struct dt_ctx c = *cp;
 	c.in_depth = in_depth;
@@ -97,41 +98,28 @@ dt_causal(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const
 		c.noise_map = NULL;
 	if (!scale_map)
 		c.scale_map = NULL;
-	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
-	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero;
+	const vf zero = v_zero();
 	vf wm2 = zero, wm1 = zero, w0 = zero, wp1 = dt_load_w(&c, 0);
 	for (int n = 0; n < len; n++) {
 		const size_t at = (size_t)n * c.stride;
 		wm2 = wm1, wm1 = w0, w0 = wp1;
 		wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
-		const vf d = v_sub(w0, wm1);
-		const vf l = n > 0 ? dt_link(&c, wm2, wm1, w0, wp1, d, at) : zero;
-		const vf valid = v_sel(v_gt(w0, zero), one, zero);
-		/* the samples so far move one step away, the data's centre from
-		 * w_n-1 to w_n (domain.c) */
-		const vf s10 = v_sub(s1, s0);
-		t1 = v_mul(l, v_fnma(d, s10, v_sub(t1, t0)));
-		t0 = v_mul(l, v_fnma(d, s0, t0));
-		s2 = v_mul(l, v_add(v_fnma(two, s1, s2), s0));
-		s1 = v_mul(l, s10);
-		s0 = v_fma(l, s0, valid);
+		const vf l = n > 0 ? dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), at) : zero;
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
-		v_store(o, s0);
-		v_store(o + VN, s1);
-		v_store(o + 2 * VN, s2);
-		v_store(o + 3 * VN, t0);
-		v_store(o + 4 * VN, t1);
 		v_store(o + 5 * VN, l);
 		v_store(o + 6 * VN, w0);
 	}
 }
 
 /*
- * VN lines from lane0.  The causal sweep stores its moments, link and 1/z
- * per sample; the anticausal sweep overwrites the first of them with the
- * result, which then goes out VN x VN at a time, transposed.  Rows of the
- * output below lane0 + skip are left alone (the last strip overlaps the one
- * before it).
+ * VN lines from lane0.  The links first, then the causal sweep stores its
+ * moments per sample and the anticausal sweep overwrites the first of them
+ * with the result, which then goes out VN x VN at a time, transposed.  Rows
+ * of the output below lane0 + skip are left alone (the last strip overlaps
+ * the one before it).  The recursions are written as fused multiply-adds
+ * onto the previous moment (m' = l m + terms of the previous state), so each
+ * moment depends on its predecessor through one operation (domain.c has the
+ * same sums).
  */
 static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int skip)
 {
@@ -148,17 +136,38 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int 
 	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
 	if (c.noise_map && c.scale_map) {
 		if (c.in_depth)
-			dt_causal(&c, sc, len, 1, 1, 1);
+			dt_links(&c, sc, len, 1, 1, 1);
 		else
-			dt_causal(&c, sc, len, 0, 1, 1);
+			dt_links(&c, sc, len, 0, 1, 1);
 	} else if (!c.noise_map && !c.scale_map) {
 		if (c.in_depth)
-			dt_causal(&c, sc, len, 1, 0, 0);
+			dt_links(&c, sc, len, 1, 0, 0);
 		else
-			dt_causal(&c, sc, len, 0, 0, 0);
+			dt_links(&c, sc, len, 0, 0, 0);
 	} else {
-		dt_causal(&c, sc, len, c.in_depth, c.noise_map != NULL, c.scale_map != NULL);
+		dt_links(&c, sc, len, c.in_depth, c.noise_map != NULL, c.scale_map != NULL);
 	}
+	/* causal: moments about sample n at distances n - k, data centred on w_n */
+	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, wprev = zero;
+	for (int n = 0; n < len; n++) {
+		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
+		const vf l = v_load(o + 5 * VN), w0 = v_load(o + 6 * VN);
+		const vf dw = v_sub(wprev, w0), valid = v_sel(v_gt(w0, zero), one, zero);
+		const vf ls0 = v_mul(l, s0), ls1 = v_mul(l, s1);
+		t1 = v_fma(l, t1, v_fma(dw, v_add(ls1, ls0), v_mul(l, t0)));
+		t0 = v_fma(l, t0, v_mul(dw, ls0));
+		s2 = v_fma(l, s2, v_fma(two, ls1, ls0));
+		s1 = v_fma(l, s1, ls0);
+		s0 = v_fma(l, s0, valid);
+		wprev = w0;
+		v_store(o, s0);
+		v_store(o + VN, s1);
+		v_store(o + 2 * VN, s2);
+		v_store(o + 3 * VN, t0);
+		v_store(o + 4 * VN, t1);
+	}
+	/* anticausal: distances k - n, added to the causal moments (whose first
+	 * moments change sign), then the fit */
 	vf r0 = zero, r1 = zero, r2 = zero, u0 = zero, u1 = zero, lnext = zero, wnext = zero;
 	const vf ridge = v_set1(DAO_DOMAIN_RIDGE);
 	const int out_depth = p->out_depth;
@@ -166,15 +175,15 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int 
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
 		const vf wn = v_load(o + 6 * VN), dw = v_sub(wnext, wn);
 		const vm has = v_gt(wn, zero);
-		const vf y1 = v_mul(lnext, v_fma(dw, v_add(r1, r0), v_add(u1, u0)));
-		const vf y0 = v_mul(lnext, v_fma(dw, r0, u0));
-		const vf x2 = v_mul(lnext, v_add(v_fma(two, r1, r2), r0));
-		const vf x1 = v_mul(lnext, v_add(r1, r0));
-		const vf x0 = v_mul(lnext, r0);
-		const vf S0 = v_add(v_load(o), x0), S1 = v_add(v_load(o + VN), x1);
+		const vf x0 = v_mul(lnext, r0), lr1 = v_mul(lnext, r1), lu0 = v_mul(lnext, u0);
+		const vf x1 = v_fma(lnext, r1, x0);
+		const vf x2 = v_fma(lnext, r2, v_fma(two, lr1, x0));
+		const vf y0 = v_fma(lnext, u0, v_mul(dw, x0));
+		const vf y1 = v_fma(lnext, u1, v_fma(dw, v_add(lr1, x0), lu0));
+		const vf S0 = v_add(v_load(o), x0), S1 = v_sub(x1, v_load(o + VN));
 		const vf S2 = v_add(v_add(v_load(o + 2 * VN), x2), ridge);
-		const vf T0 = v_add(v_load(o + 3 * VN), y0), T1 = v_add(v_load(o + 4 * VN), y1);
-		r0 = v_add(x0, v_sel(has, one, zero)), r1 = x1, r2 = x2;
+		const vf T0 = v_add(v_load(o + 3 * VN), y0), T1 = v_sub(y1, v_load(o + 4 * VN));
+		r0 = v_fma(lnext, r0, v_sel(has, one, zero)), r1 = x1, r2 = x2;
 		u0 = y0, u1 = y1;
 		lnext = v_load(o + 5 * VN);
 		wnext = wn;
@@ -183,7 +192,7 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int 
 		const vf den = v_fnma(S1, S1, v_mul(S2, S0));
 		vf v = v_fma(num, v_rcp(den), wn);
 		v = v_sel(v_gt(v, zero), v, wn);
-		if (out_depth)
+		if (out_depth) /* a division: once per pixel and frame */
 			v = v_div(one, v);
 		v_store(o, v_sel(has, v, zero));
 	}

@@ -35,7 +35,7 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(depth_max), 0.001, 1000.0, NULL, RT },
 	{ "prefilter", "depth prefilter before normals and AO", NULL,
 	  DAO_PARAM_ENUM, OFF(prefilter), 0, 0, prefilter_names, RT },
-	{ "depth-noise", "sensor noise model sigma(z) = k z^2; k in 1/m (Kinect v1 ~0.0012)", "1/m",
+	{ "depth-noise", "sensor noise model sigma(z) = k z^2 with noise-model=fixed; k in 1/m (Kinect v1 ~0.0012)", "1/m",
 	  DAO_PARAM_FLOAT, OFF(depth_noise), 0.0, 0.1, NULL, RT },
 	{ "prefilter-radius", "footprint of the bilateral prefilter", "px",
 	  DAO_PARAM_INT, OFF(prefilter_radius), 1, 8, NULL, RT },
