@@ -22,10 +22,12 @@ static inline vf dt_med3(vf a, vf b, vf c)
 	return v_max(v_min(a, b), v_min(v_max(a, b), c));
 }
 
-/* e^-x for 0 <= x <= DAO_DOMAIN_MAX_EXPONENT (v_exp_neg without its range
- * clamp: the caller zeroes the links beyond) */
+/* e^-x for 0 <= x (v_exp_neg with the range of links: beyond
+ * DAO_DOMAIN_MAX_EXPONENT the caller zeroes the link, and the clamp keeps the
+ * exponent in range for v_ldexp, whose generic build adds it to the bits) */
 static inline vf dt_exp_neg(vf x)
 {
+	x = v_min(x, v_set1(DAO_DOMAIN_MAX_EXPONENT));
 	const vf n = v_round(v_mul(x, v_set1(-1.44269504088896f)));
 	vf r = v_fma(n, v_set1(0.693145751953125f), x);
 	r = v_neg(v_fma(n, v_set1(1.428606820309417e-6f), r));
