@@ -121,9 +121,29 @@ struct dao_timings {
 	double output_ms;     /* AO to the caller's format */
 	double process_ms;    /* all of the last dao_context_process() */
 	double shade_ms;      /* the last dao_context_shade() */
+	double noise_ms;      /* noise-model=auto: the frame's noise estimate and maps */
 };
 
 DAO_API void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out);
+
+/*
+ * The noise the last frame was filtered for (noise-model=auto: measured in
+ * the frame; fixed: the depth-noise parameter), as standard deviations of
+ * inverse depth 1/z in 1/m (sigma(z) = value x z^2 m), and the settings it
+ * gave.
+ */
+struct dao_noise_info {
+	int measured;           /* 1: estimated from the frame; 0: the model (fixed, or
+				 * nothing measurable: no 8x8 block without holes) */
+	float sigma_area;       /* median over the frame: RMS about local planes (8x8 px) */
+	float sigma_link;       /* median: what neighbouring pixels differ by (independent-noise
+				 * equivalent; the domain filter's range unit) */
+	float prefilter_scale;  /* domain prefilter: sigma_s at the frame's median, px */
+	int normal_radius;      /* footprint of the normals, px */
+	float denoise_noise;    /* the denoise's noise k, 1/m */
+};
+
+DAO_API void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out);
 
 /* The kernel set the context runs (its "simd" parameter with AUTO resolved). */
 DAO_API enum dao_simd dao_context_simd(const struct dao_context *ctx);

@@ -42,6 +42,16 @@ enum dao_algorithm {
 enum dao_prefilter {
 	DAO_PREFILTER_NONE = 0,
 	DAO_PREFILTER_BILATERAL,  /* edge-preserving smoothing scaled to sensor noise */
+	DAO_PREFILTER_DOMAIN,     /* recursive edge-preserving filter (domain transform,
+				   * Gastal & Oliveira 2011): cost independent of its scale */
+};
+
+/* Where the depth noise the filters are scaled to comes from. */
+enum dao_noise_model {
+	DAO_NOISE_MODEL_FIXED = 0,      /* depth_noise: sigma(z) = depth_noise z^2 */
+	DAO_NOISE_MODEL_AUTO,           /* measured in every frame, per region; drives the
+					 * prefilter, the normals' footprint and the denoise */
+	DAO_NOISE_MODEL_AUTO_PREFILTER, /* measured, drives the prefilter only */
 };
 
 enum dao_normals {
@@ -89,7 +99,11 @@ struct dao_params {
 	float depth_max;          /* m; farther = no data */
 	int prefilter;            /* enum dao_prefilter */
 	float depth_noise;        /* sensor noise model: sigma(z) = depth_noise * z^2 (1/m) */
-	int prefilter_radius;     /* px */
+	int prefilter_radius;     /* px, bilateral */
+	float prefilter_scale;    /* domain: spatial scale sigma_s, px */
+	float prefilter_range;    /* domain: range scale in units of the local noise */
+	int prefilter_iterations; /* domain: vertical + horizontal passes */
+	int noise_model;          /* enum dao_noise_model */
 	int normals;              /* enum dao_normals */
 	int normal_radius;        /* px, for DAO_NORMALS_WIDE */
 

@@ -377,6 +377,17 @@ class AO:
         return {name[:-3]: getattr(t, name) for name, _ in t._fields_}
 
     @property
+    def noise_info(self):
+        """The noise the last frame was filtered for (dao_context_noise): a dict with
+        measured (bool), sigma_area and sigma_link (1/z, 1/m), prefilter_scale (px),
+        normal_radius (px) and denoise_noise (1/m)."""
+        n = _lib.dao_noise_info()
+        with self._lock:
+            lib.dao_context_noise(self._handle(), ctypes.byref(n))
+        return {name: (bool(getattr(n, name)) if name == "measured" else getattr(n, name))
+                for name, _ in n._fields_}
+
+    @property
     def simd(self):
         """The kernel set this context runs ("avx2", "reference", ...)."""
         with self._lock:

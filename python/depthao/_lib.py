@@ -134,7 +134,13 @@ class dao_param_info(ctypes.Structure):
 class dao_timings(ctypes.Structure):
     _fields_ = [(n, ctypes.c_double) for n in (
         "decode_ms", "prefilter_ms", "normals_ms", "gtao_ms", "denoise_ms", "output_ms",
-        "process_ms", "shade_ms")]
+        "process_ms", "shade_ms", "noise_ms")]
+
+
+class dao_noise_info(ctypes.Structure):
+    _fields_ = [("measured", ctypes.c_int), ("sigma_area", ctypes.c_float),
+                ("sigma_link", ctypes.c_float), ("prefilter_scale", ctypes.c_float),
+                ("normal_radius", ctypes.c_int), ("denoise_noise", ctypes.c_float)]
 
 
 DAO_SOURCE_EOS = 1
@@ -199,6 +205,7 @@ _PROTOTYPES = {
     "dao_context_get_depth": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_get_normals": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_timings": (None, [_vp, _P(dao_timings)]),
+    "dao_context_noise": (None, [_vp, _P(dao_noise_info)]),
     "dao_context_simd": (_int, [_vp]),
     "dao_simd_name": (_cp, [_int]),
     "dao_frame_free": (None, [_P(dao_frame)]),

@@ -402,6 +402,20 @@ def test_parameters_change_results(frame0):
     assert ao.simd in ("avx512", "avx2", "sse4.1", "generic", "reference")
 
 
+def test_noise_model(frame0):
+    """noise-model=auto measures the recording's noise; fixed reports the parameter."""
+    cam, d = frame0
+    ao = depthao.AO(cam, prefilter="domain", noise_model="auto")
+    ao.process(d)
+    n = ao.noise_info
+    assert n["measured"] and 0 < n["sigma_area"] < 0.01 and 1 <= n["normal_radius"] <= 8
+    assert n["denoise_noise"] == n["sigma_area"]
+    ao.noise_model = "fixed"
+    ao.process(d)
+    n = ao.noise_info
+    assert not n["measured"] and n["sigma_area"] == pytest.approx(ao.depth_noise)
+
+
 # --- real data and recordings ------------------------------------------------
 
 
@@ -579,6 +593,7 @@ def test_gil_released(frame0):
 _STRUCTS = {
     "dao_error": _lib.dao_error, "dao_camera": _lib.dao_camera, "dao_frame": _lib.dao_frame,
     "dao_param_info": _lib.dao_param_info, "dao_timings": _lib.dao_timings,
+    "dao_noise_info": _lib.dao_noise_info,
     "dao_source_info": _lib.dao_source_info, "dao_source_options": _lib.dao_source_options,
     "dao_source_frame": _lib.dao_source_frame,
 }

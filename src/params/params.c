@@ -17,7 +17,8 @@
 #define OFF(field) offsetof(struct dao_params, field)
 
 static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "vbao", NULL };
-static const char *const prefilter_names[] = { "none", "bilateral", NULL };
+static const char *const prefilter_names[] = { "none", "bilateral", "domain", NULL };
+static const char *const noise_model_names[] = { "fixed", "auto", "auto-prefilter", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", "tile", NULL };
 static const char *const denoise_names[] = { "none", "plane", "bilateral", NULL };
@@ -34,10 +35,18 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(depth_max), 0.001, 1000.0, NULL, RT },
 	{ "prefilter", "depth prefilter before normals and AO", NULL,
 	  DAO_PARAM_ENUM, OFF(prefilter), 0, 0, prefilter_names, RT },
-	{ "depth-noise", "sensor noise model sigma(z) = k z^2; k in 1/m (Kinect v1 ~0.0012)", "1/m",
+	{ "depth-noise", "sensor noise model sigma(z) = k z^2 with noise-model=fixed; k in 1/m (Kinect v1 ~0.0012)", "1/m",
 	  DAO_PARAM_FLOAT, OFF(depth_noise), 0.0, 0.1, NULL, RT },
-	{ "prefilter-radius", "footprint of the depth prefilter", "px",
+	{ "prefilter-radius", "footprint of the bilateral prefilter", "px",
 	  DAO_PARAM_INT, OFF(prefilter_radius), 1, 8, NULL, RT },
+	{ "prefilter-scale", "domain prefilter: spatial scale sigma_s (its cost does not depend on it)", "px",
+	  DAO_PARAM_FLOAT, OFF(prefilter_scale), 0.5, 64.0, NULL, RT },
+	{ "prefilter-range", "domain prefilter: neighbours differing by more than about this many noise sigmas are not averaged", NULL,
+	  DAO_PARAM_FLOAT, OFF(prefilter_range), 0.5, 20.0, NULL, RT },
+	{ "prefilter-iterations", "domain prefilter: iterations of a vertical and a horizontal pass", NULL,
+	  DAO_PARAM_INT, OFF(prefilter_iterations), 1, 5, NULL, RT },
+	{ "noise-model", "depth noise: fixed (depth-noise), auto (measured per frame and region; drives prefilter, normals and denoise), auto-prefilter (drives the prefilter only)", NULL,
+	  DAO_PARAM_ENUM, OFF(noise_model), 0, 0, noise_model_names, RT },
 	{ "normals", "how normals are derived from depth", NULL,
 	  DAO_PARAM_ENUM, OFF(normals), 0, 0, normals_names, RT },
 	{ "normal-radius", "footprint of wide normals", "px",

@@ -27,6 +27,8 @@
 #include "core/math_util.h"
 #include "denoise/denoise.h"
 #include "depth/decode.h"
+#include "depth/domain.h"
+#include "depth/noise_estimate.h"
 #include "depth/prefilter.h"
 #include "kernels/ao_variants.h"
 #include "kernels/gtao.h"
@@ -72,6 +74,17 @@ struct dao_context {
 	struct dao_pool *pool;
 	int pool_threads;  /* params.threads the pool was made for */
 	struct dao_timings times;
+	/* prefilter=domain: one scratch per slot; a pass hands every slot a share
+	 * of its strips, and the pool runs the slots */
+	float *dt_scratch;
+	int dt_slots;
+	size_t dt_slot_floats;
+	/* noise-model=auto */
+	struct dao_noise_grid noise;
+	int have_noise_grid;
+	float *noise_cells; /* per cell: the range noise, 1 / sigma_s */
+	float *noise_maps;  /* 4 planes: range noise, its transpose, 1 / sigma_s, its transpose */
+	struct dao_noise_info noise_info;
 };
 
 static double now_ms(void)
@@ -112,6 +125,48 @@ static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err
 	dao_pool_destroy(ctx->pool);
 	ctx->pool = pool;
 	ctx->pool_threads = threads;
+	return 0;
+}
+
+/* slots of the domain filter's passes: a few bands per thread */
+static int domain_slots(const struct dao_context *ctx)
+{
+	const int n = 4 * dao_pool_threads(ctx->pool);
+	return n < 64 ? n : 64;
+}
+
+/* The buffers `p` needs beyond the planes every context has (allocated here,
+ * never per frame; what is there already is kept). */
+static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
+			  struct dao_error *err)
+{
+	const int w = (int)ctx->cam.width, h = (int)ctx->cam.height;
+	if (p->prefilter == DAO_PREFILTER_DOMAIN && ctx->dt_slots < domain_slots(ctx)) {
+		const size_t per = dao_domain_scratch_floats(w, h);
+		float *s = malloc((size_t)domain_slots(ctx) * per * sizeof(float));
+		if (!s)
+			return dao_error_set(err, -ENOMEM, "out of memory for the domain prefilter");
+		free(ctx->dt_scratch);
+		ctx->dt_scratch = s;
+		ctx->dt_slots = domain_slots(ctx);
+		ctx->dt_slot_floats = per;
+	}
+	if (p->noise_model != DAO_NOISE_MODEL_FIXED && !ctx->have_noise_grid) {
+		if (dao_noise_grid_init(&ctx->noise, w, h))
+			return dao_error_set(err, -ENOMEM, "out of memory for the noise estimate");
+		ctx->noise_cells = malloc(2 * (size_t)ctx->noise.cw * ctx->noise.ch * sizeof(float));
+		if (!ctx->noise_cells) {
+			dao_noise_grid_free(&ctx->noise);
+			return dao_error_set(err, -ENOMEM, "out of memory for the noise estimate");
+		}
+		ctx->have_noise_grid = 1;
+	}
+	if (p->noise_model != DAO_NOISE_MODEL_FIXED && p->prefilter == DAO_PREFILTER_DOMAIN &&
+	    !ctx->noise_maps) {
+		ctx->noise_maps = malloc(4 * ctx->npix * sizeof(float));
+		if (!ctx->noise_maps)
+			return dao_error_set(err, -ENOMEM, "out of memory for the noise maps");
+	}
 	return 0;
 }
 
@@ -177,6 +232,8 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->r2_frame = UINT64_MAX;
 	ctx->cmap_mode = -1;
 	r = make_pool(ctx, p.threads, err);
+	if (!r)
+		r = ensure_buffers(ctx, &p, err);
 	if (r) {
 		dao_context_destroy(ctx);
 		return r;
@@ -194,6 +251,11 @@ void dao_context_destroy(struct dao_context *ctx)
 	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
 	free(ctx->row_range);
+	free(ctx->dt_scratch);
+	if (ctx->have_noise_grid)
+		dao_noise_grid_free(&ctx->noise);
+	free(ctx->noise_cells);
+	free(ctx->noise_maps);
 	free(ctx);
 }
 
@@ -227,6 +289,9 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 	if (params->depth_min != ctx->params.depth_min || params->depth_max != ctx->params.depth_max ||
 	    (params->depth_temporal > 0.0f) != (ctx->params.depth_temporal > 0.0f))
 		ctx->depth_hist_valid = 0;
+	r = ensure_buffers(ctx, params, err);
+	if (r)
+		return r;
 	ctx->params = *params;
 	ctx->hist_valid = 0;
 	return 0;
@@ -350,6 +415,8 @@ struct frame_job {
 	struct dao_prefilter_setup prefilter;
 	int depth_temporal;  /* run the temporal depth filter */
 	struct dao_temporal_depth_setup depth_temporal_setup;
+	struct dao_domain_pass dt_pass; /* the domain filter's pass being run */
+	int dt_slots;                   /* slots that pass is spread over */
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
 
@@ -380,6 +447,47 @@ static void stage_prefilter_v(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	j->k.prefilter_v(&j->prefilter, j->ctx->tmp, j->ctx->z_buf, y0, y1);
+}
+
+/* Slots [s0, s1) of a domain pass, each a share of its strips of lanes, in
+ * slot s0's scratch (bands are run one at a time by a thread, so s0 is this
+ * call's alone). */
+static void stage_domain(void *arg, int s0, int s1)
+{
+	struct frame_job *j = arg;
+	const struct dao_domain_pass *p = &j->dt_pass;
+	const int strips = (p->lanes + DAO_DOMAIN_STRIP - 1) / DAO_DOMAIN_STRIP;
+	const int a = (int)((long)strips * s0 / j->dt_slots);
+	const int b = (int)((long)strips * s1 / j->dt_slots);
+	const int lane1 = b * DAO_DOMAIN_STRIP < p->lanes ? b * DAO_DOMAIN_STRIP : p->lanes;
+	if (a < b)
+		j->k.domain_pass(p, j->ctx->dt_scratch + (size_t)s0 * j->ctx->dt_slot_floats,
+				 a * DAO_DOMAIN_STRIP, lane1);
+}
+
+static void stage_noise_blocks(void *arg, int by0, int by1)
+{
+	struct frame_job *j = arg;
+	dao_noise_blocks(&j->ctx->noise, j->ctx->z_raw, by0, by1);
+}
+
+/* items [0, h): rows of the maps; [h, h + w): rows of their transposes */
+static void stage_noise_maps(void *arg, int i0, int i1)
+{
+	struct frame_job *j = arg;
+	struct dao_context *c = j->ctx;
+	const int h = (int)c->cam.height, nc = c->noise.cw * c->noise.ch;
+	const int ya = i0 < h ? i0 : h, yb = i1 < h ? i1 : h;
+	const int xa = (i0 > h ? i0 : h) - h, xb = (i1 > h ? i1 : h) - h;
+	float *m = c->noise_maps;
+	if (ya < yb) {
+		dao_noise_map_rows(&c->noise, c->noise_cells, m, ya, yb);
+		dao_noise_map_rows(&c->noise, c->noise_cells + nc, m + 2 * c->npix, ya, yb);
+	}
+	if (xa < xb) {
+		dao_noise_map_cols(&c->noise, c->noise_cells, m + c->npix, xa, xb);
+		dao_noise_map_cols(&c->noise, c->noise_cells + nc, m + 3 * c->npix, xa, xb);
+	}
 }
 
 static void stage_normals(void *arg, int y0, int y1)
@@ -541,6 +649,62 @@ static void stage_output(void *arg, int y0, int y1)
 	}
 }
 
+/*
+ * noise-model=auto: the frame's noise per region, and what it drives
+ * (noise_estimate.h).  Without a measurable block, the model's settings stay.
+ */
+static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
+			   struct dao_domain_setup *dt)
+{
+	const struct dao_params *p = &ctx->params;
+	struct dao_noise_grid *g = &ctx->noise;
+	const float f = (float)(0.5 * (ctx->cam.fx + ctx->cam.fy));
+	dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
+	dao_noise_cells(g);
+	if (!g->usable_cells)
+		return;
+	struct dao_noise_info *ni = &ctx->noise_info;
+	ni->measured = 1;
+	ni->sigma_area = g->frame_area;
+	ni->sigma_link = g->frame_link;
+	ni->prefilter_scale = dao_auto_scale(g->frame_area, f, g->frame_w);
+	job->prefilter.noise_k = g->frame_area;
+	if (p->noise_model == DAO_NOISE_MODEL_AUTO) {
+		job->denoise.noise_k = g->frame_area;
+		if (p->normals == DAO_NORMALS_WIDE)
+			job->normal_radius = dao_clampi((int)lrintf(ni->prefilter_scale *
+								     DAO_AUTO_NORMAL_SHARE), 1, 8);
+		ni->normal_radius = job->normal_radius;
+		ni->denoise_noise = job->denoise.noise_k;
+	}
+	if (p->prefilter != DAO_PREFILTER_DOMAIN)
+		return;
+	const int nc = g->cw * g->ch;
+	const float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	for (int i = 0; i < nc; i++) {
+		ctx->noise_cells[i] = link[i];
+		ctx->noise_cells[nc + i] = 1.0f / dao_auto_scale(area[i], f, wm[i]);
+	}
+	dao_pool_run(ctx->pool, (int)(ctx->cam.width + ctx->cam.height), 16, stage_noise_maps, job);
+	dt->noise_map = ctx->noise_maps;
+	dt->noise_map_t = ctx->noise_maps + ctx->npix;
+	dt->inv_scale_map = ctx->noise_maps + 2 * ctx->npix;
+	dt->inv_scale_map_t = ctx->noise_maps + 3 * ctx->npix;
+}
+
+/* prefilter=domain: z_raw -> z_buf, the passes alternating through tmp */
+static void run_domain(struct dao_context *ctx, struct frame_job *job,
+		       const struct dao_domain_setup *dt)
+{
+	for (int k = 0; k < 2 * dt->iterations; k++) {
+		const float *in = k == 0 ? ctx->z_raw : (k & 1) ? ctx->tmp : ctx->z_buf;
+		dao_domain_pass_init(&job->dt_pass, dt, k, in, (k & 1) ? ctx->z_buf : ctx->tmp);
+		const int strips = (job->dt_pass.lanes + DAO_DOMAIN_STRIP - 1) / DAO_DOMAIN_STRIP;
+		job->dt_slots = strips < ctx->dt_slots ? strips : ctx->dt_slots;
+		dao_pool_run(ctx->pool, job->dt_slots, 1, stage_domain, job);
+	}
+}
+
 int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 			const struct dao_frame *normals, uint64_t frame_index,
 			struct dao_frame *ao, struct dao_error *err)
@@ -595,6 +759,17 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		.persist = p->depth_temporal_persist,
 		.fresh = !ctx->depth_hist_valid,
 	};
+	struct dao_domain_setup dt = {
+		.width = (int)ctx->cam.width, .height = h, .iterations = p->prefilter_iterations,
+		.inv_scale = 1.0f / p->prefilter_scale,
+		.range_coef = dao_domain_range_coef(p->prefilter_range),
+		.noise = p->depth_noise, .unit = ctx->depth_unit,
+	};
+	ctx->noise_info = (struct dao_noise_info){
+		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
+		.prefilter_scale = p->prefilter_scale, .normal_radius = job.normal_radius,
+		.denoise_noise = p->depth_noise,
+	};
 	ctx->have_frame = 0;
 	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
 
@@ -603,9 +778,15 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	dao_pool_run(ctx->pool, h, 8, stage_decode, &job);
 	ctx->depth_hist_valid = job.depth_temporal;
 	const double t1 = now_ms();
+	if (p->noise_model != DAO_NOISE_MODEL_FIXED)
+		estimate_noise(ctx, &job, &dt);
+	const double t1n = now_ms();
 	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
 		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, &job);
 		dao_pool_run(ctx->pool, h, 4, stage_prefilter_v, &job);
+		ctx->z = ctx->z_buf;
+	} else if (p->prefilter == DAO_PREFILTER_DOMAIN) {
+		run_domain(ctx, &job, &dt);
 		ctx->z = ctx->z_buf;
 	} else {
 		ctx->z = ctx->z_raw;
@@ -652,7 +833,8 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	dao_pool_run(ctx->pool, h, 8, stage_output, &job);
 	const double t6 = now_ms();
 	tm->decode_ms = t1 - t0;
-	tm->prefilter_ms = t2 - t1;
+	tm->noise_ms = t1n - t1;
+	tm->prefilter_ms = t2 - t1n;
 	tm->normals_ms = t3 - t2;
 	tm->gtao_ms = t4 - t3;
 	tm->denoise_ms = t5 - t4;
@@ -827,6 +1009,11 @@ int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 {
 	return copy_plane(ctx, ctx ? ctx->z : NULL, 1, DAO_PIXFMT_DEPTH_F32, out, "depth output",
 			  err);
+}
+
+void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out)
+{
+	*out = ctx->noise_info;
 }
 
 void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out)

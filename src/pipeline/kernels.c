@@ -15,6 +15,7 @@ static void gtao_reference(const struct dao_gtao_setup *s, const float *z,
 	(struct dao_kernels)                                                                 \
 	{                                                                                    \
 		.prefilter_h = dao_prefilter_h_##isa, .prefilter_v = dao_prefilter_v_##isa,  \
+		.domain_pass = dao_domain_pass_##isa,                                        \
 		.gtao = dao_gtao_simd_##isa, .planes_fill = dao_gtao_planes_fill_##isa,      \
 		.denoise_plane = dao_denoise_plane_##isa,                                    \
 		.normals = dao_normals_from_depth_##isa, .shade = dao_shade_##isa,           \
@@ -42,6 +43,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 		*k = (struct dao_kernels){
 			.prefilter_h = dao_prefilter_h_ref,
 			.prefilter_v = dao_prefilter_v_ref,
+			.domain_pass = dao_domain_pass_ref,
 			.gtao = gtao_reference,
 			.planes_fill = dao_gtao_planes_fill,
 			.denoise_plane = dao_denoise_plane,

@@ -6,6 +6,7 @@
 #include <depthao/params.h>
 
 #include "denoise/denoise.h"
+#include "depth/domain.h"
 #include "depth/prefilter.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
@@ -18,6 +19,8 @@ struct dao_kernels {
 			    int y1);
 	void (*prefilter_v)(const struct dao_prefilter_setup *s, const float *tmp, float *out,
 			    int y0, int y1);
+	/* prefilter=domain: one pass over lanes [lane0, lane1) (domain.h) */
+	void (*domain_pass)(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1);
 	/* pl: the 1/z planes of gtao_planes.h, used by the optimised kernels only */
 	void (*gtao)(const struct dao_gtao_setup *s, const float *z,
 		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1);

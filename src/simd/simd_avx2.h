@@ -148,6 +148,29 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	q[3] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2)), ord);
 }
 
+/*
+ * VN x VN transpose in registers: lane j of r[i] <-> lane i of r[j]
+ * (unpack by 32 bits, shuffle by 64, then swap 128-bit halves: 24 shuffles).
+ */
+static inline void v_transpose(vf r[8])
+{
+	__m256 t[8], s[8];
+	for (int i = 0; i < 8; i += 2) {
+		t[i] = _mm256_unpacklo_ps(r[i], r[i + 1]);
+		t[i + 1] = _mm256_unpackhi_ps(r[i], r[i + 1]);
+	}
+	for (int g = 0; g < 8; g += 4) {
+		s[g] = _mm256_shuffle_ps(t[g], t[g + 2], _MM_SHUFFLE(1, 0, 1, 0));     /* columns 0 4 */
+		s[g + 1] = _mm256_shuffle_ps(t[g], t[g + 2], _MM_SHUFFLE(3, 2, 3, 2)); /* 1 5 */
+		s[g + 2] = _mm256_shuffle_ps(t[g + 1], t[g + 3], _MM_SHUFFLE(1, 0, 1, 0)); /* 2 6 */
+		s[g + 3] = _mm256_shuffle_ps(t[g + 1], t[g + 3], _MM_SHUFFLE(3, 2, 3, 2)); /* 3 7 */
+	}
+	for (int k = 0; k < 4; k++) {
+		r[k] = _mm256_permute2f128_ps(s[k], s[4 + k], 0x20);
+		r[4 + k] = _mm256_permute2f128_ps(s[k], s[4 + k], 0x31);
+	}
+}
+
 /* the largest lane */
 static inline float v_hmax(vf a)
 {

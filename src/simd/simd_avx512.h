@@ -147,6 +147,39 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	q[3] = _mm512_permutex2var_ps(u23, hi, w23);
 }
 
+/*
+ * VN x VN transpose in registers: lane j of r[i] <-> lane i of r[j].  Pairs
+ * of rows interleave by 32 then 64 bits (each 128-bit lane then holds one
+ * column of four rows), and two rounds of 128-bit shuffles gather a column's
+ * four pieces (64 shuffles).
+ */
+static inline void v_transpose(vf r[16])
+{
+	__m512 t[16], u[16];
+	for (int i = 0; i < 16; i += 2) {
+		t[i] = _mm512_unpacklo_ps(r[i], r[i + 1]);
+		t[i + 1] = _mm512_unpackhi_ps(r[i], r[i + 1]);
+	}
+	for (int g = 0; g < 16; g += 4) {
+		const __m512d a = _mm512_castps_pd(t[g]), b = _mm512_castps_pd(t[g + 1]);
+		const __m512d c = _mm512_castps_pd(t[g + 2]), d = _mm512_castps_pd(t[g + 3]);
+		u[g] = _mm512_castpd_ps(_mm512_unpacklo_pd(a, c));     /* columns 0 4 8 12 */
+		u[g + 1] = _mm512_castpd_ps(_mm512_unpackhi_pd(a, c)); /* 1 5 9 13 */
+		u[g + 2] = _mm512_castpd_ps(_mm512_unpacklo_pd(b, d)); /* 2 6 10 14 */
+		u[g + 3] = _mm512_castpd_ps(_mm512_unpackhi_pd(b, d)); /* 3 7 11 15 */
+	}
+	for (int k = 0; k < 4; k++) {
+		const __m512 v0 = _mm512_shuffle_f32x4(u[k], u[4 + k], 0x44);
+		const __m512 v1 = _mm512_shuffle_f32x4(u[k], u[4 + k], 0xee);
+		const __m512 v2 = _mm512_shuffle_f32x4(u[8 + k], u[12 + k], 0x44);
+		const __m512 v3 = _mm512_shuffle_f32x4(u[8 + k], u[12 + k], 0xee);
+		r[k] = _mm512_shuffle_f32x4(v0, v2, 0x88);
+		r[4 + k] = _mm512_shuffle_f32x4(v0, v2, 0xdd);
+		r[8 + k] = _mm512_shuffle_f32x4(v1, v3, 0x88);
+		r[12 + k] = _mm512_shuffle_f32x4(v1, v3, 0xdd);
+	}
+}
+
 /* the largest lane */
 static inline float v_hmax(vf a) { return _mm512_reduce_max_ps(a); }
 

@@ -128,6 +128,17 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	}
 }
 
+/* VN x VN transpose: lane j of r[i] <-> lane i of r[j] */
+static inline void v_transpose(vf r[4])
+{
+	float t[4][4];
+	for (int i = 0; i < 4; i++)
+		memcpy(t[i], &r[i], sizeof t[i]);
+	for (int i = 0; i < 4; i++)
+		for (int j = 0; j < 4; j++)
+			r[i][j] = t[j][i];
+}
+
 /* the largest lane */
 static inline float v_hmax(vf a)
 {

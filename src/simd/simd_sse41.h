@@ -134,6 +134,12 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	q[3] = _mm_movehl_ps(t3, t1);
 }
 
+/* VN x VN transpose in registers: lane j of r[i] <-> lane i of r[j] */
+static inline void v_transpose(vf r[4])
+{
+	_MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+}
+
 /* the largest lane */
 static inline float v_hmax(vf a)
 {

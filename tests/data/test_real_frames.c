@@ -3,6 +3,8 @@
  * Real sensor frames from ../shared/data through the default pipeline:
  * decoding matches the documented ranges, outputs are sane and deterministic,
  * and large flat regions (found automatically) come out open, not banded.
+ * The same flat regions through prefilter=domain with noise-model=auto
+ * (the noise measured in the frame) must come out at least as open.
  */
 #include <math.h>
 #include <stdio.h>
@@ -103,6 +105,19 @@ static int nothing_above(const float *z, int w, int h, const struct dao_camera *
 	return 1;
 }
 
+/* mean and RMS about it of v where mask is set (1 and 0 without any) */
+static void masked_stats(const float *v, const unsigned char *mask, size_t n, double *mean,
+			 double *rms)
+{
+	double s = 0, s2 = 0;
+	long k = 0;
+	for (size_t i = 0; i < n; i++)
+		if (mask[i])
+			s += v[i], s2 += (double)v[i] * v[i], k++;
+	*mean = k ? s / k : 1.0;
+	*rms = k ? sqrt(fmax(s2 / k - *mean * *mean, 0.0)) : 0.0;
+}
+
 static int check_frame(const struct real_frame *rf)
 {
 	char path[512];
@@ -171,9 +186,8 @@ static int check_frame(const struct real_frame *rf)
 		valid++;
 	}
 	mean /= valid;
-	/* open flat regions */
-	double flat_sum = 0;
-	long flat_px = 0;
+	/* open flat regions: 1 in `flat` for their pixels */
+	unsigned char *flat = calloc((size_t)w * h, 1);
 	int blocks = 0, rejected_rough = 0, rejected_occluded = 0;
 	for (int by = 0; by + BLOCK <= h; by += BLOCK)
 		for (int bx = 0; bx + BLOCK <= w; bx += BLOCK) {
@@ -190,11 +204,11 @@ static int check_frame(const struct real_frame *rf)
 				continue;
 			}
 			for (int y = by; y < by + BLOCK; y++)
-				for (int x = bx; x < bx + BLOCK; x++)
-					flat_sum += a[y * w + x], flat_px++;
+				memset(flat + (size_t)y * w + bx, 1, BLOCK);
 			blocks++;
 		}
-	double flat_mean = flat_px ? flat_sum / flat_px : 1.0;
+	double flat_mean, flat_rms;
+	masked_stats(a, flat, (size_t)w * h, &flat_mean, &flat_rms);
 	printf("%-32s depth %4.0f..%4.0f mm  mean visibility %.3f  open flat blocks %d (%d rough, "
 	       "%d with occluders): mean %.4f  NaN %ld  no-data not 1: %ld\n", rf->file, lo, hi, mean,
 	       blocks, rejected_rough, rejected_occluded, flat_mean, nan, invalid_bad);
@@ -212,6 +226,27 @@ static int check_frame(const struct real_frame *rf)
 		       blocks, flat_mean);
 		status = 1;
 	}
+	/* the same blocks with the measured noise driving the domain filter */
+	p.prefilter = DAO_PREFILTER_DOMAIN;
+	p.noise_model = DAO_NOISE_MODEL_AUTO;
+	if (dao_context_set_params(ctx, &p, &err) || dao_context_process(ctx, &depth, NULL, 0, &ao2, &err)) {
+		printf("FAIL: %s\n", err.message);
+		return 1;
+	}
+	struct dao_noise_info ni;
+	dao_context_noise(ctx, &ni);
+	double auto_mean, auto_rms;
+	masked_stats(b, flat, (size_t)w * h, &auto_mean, &auto_rms);
+	printf("%-32s noise-model=auto, prefilter=domain: noise %.2e (link %.2e) 1/m, scale %.1f px, "
+	       "normal radius %d: flat blocks mean %.4f (default %.4f), AO RMS about it %.4f (default "
+	       "%.4f)\n", rf->file, (double)ni.sigma_area, (double)ni.sigma_link,
+	       (double)ni.prefilter_scale, ni.normal_radius, auto_mean, flat_mean, auto_rms, flat_rms);
+	if (!ni.measured || auto_mean < flat_mean || auto_mean < 0.99) {
+		printf("FAIL: %s: with the measured noise the flat regions average %.4f (default %.4f), "
+		       "expected >= both 0.99 and the default\n", rf->file, auto_mean, flat_mean);
+		status = 1;
+	}
+	free(flat);
 	free(a);
 	free(b);
 	free(z);

@@ -68,16 +68,19 @@ void free(void *p)
 	__libc_free(p);
 }
 
-static int run(enum dao_quality q, int noise)
+/* frames of W x H (at most 640 x 480: the noise estimate's cells are then
+ * more than a small sort keeps on the stack) */
+static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, int noise_model)
 {
-	enum { W = 160, H = 120 };
-	static uint16_t depth[W * H];
-	static uint8_t rgb[W * H * 3];
-	static uint16_t ao16[W * H];
+	static uint16_t depth[640 * 480];
+	static uint8_t rgb[640 * 480 * 3];
+	static uint16_t ao16[640 * 480];
+	const int s = W / 160;
 	for (int y = 0; y < H; y++)
-		for (int x = 0; x < W; x++) /* a floor meeting a wall, with a box */
-			depth[y * W + x] = (uint16_t)(y > 75 ? 1500 + (H - y) * 16 : 2500) -
-					   ((x > 50 && x < 90 && y > 45 && y < 85) ? 600 : 0);
+		for (int x = 0; x < W; x++) /* a floor meeting a wall, with a box, and noise */
+			depth[y * W + x] = (uint16_t)((y > 75 * s ? 1500 + (H - y) * 16 / s : 2500) -
+					   ((x > 50 * s && x < 90 * s && y > 45 * s && y < 85 * s) ? 600 : 0) +
+					   (int)((unsigned)(x * 7919 + y * 104729) % 5u) - 2);
 	struct dao_camera cam;
 	struct dao_params p;
 	struct dao_context *ctx;
@@ -92,6 +95,8 @@ static int run(enum dao_quality q, int noise)
 	p.depth_temporal_persist = 2;
 	p.threads = 2;
 	p.noise = noise;
+	p.prefilter = prefilter;
+	p.noise_model = noise_model;
 	atomic_store(&allocations, 0);
 	atomic_store(&counting, 1);
 	if (dao_context_create(&ctx, &cam, &p, &err)) {
@@ -132,8 +137,9 @@ static int run(enum dao_quality q, int noise)
 		fprintf(stderr, "FAIL: processing: %s\n", err.message);
 		return 1;
 	}
-	printf("%-6s noise %d: %ld allocations creating the context, %ld in 100 frames\n",
-	       dao_quality_name(q), noise, at_create, steady);
+	printf("%dx%d %-6s noise %d prefilter %d noise model %d: %ld allocations creating the "
+	       "context, %ld in 100 frames\n", W, H, dao_quality_name(q), noise, prefilter,
+	       noise_model, at_create, steady);
 	if (steady != 0) {
 		fprintf(stderr, "FAIL: %ld heap allocations in steady state\n", steady);
 		return 1;
@@ -141,16 +147,33 @@ static int run(enum dao_quality q, int noise)
 	return 0;
 }
 
+static int run(enum dao_quality q, int noise, int prefilter, int noise_model)
+{
+	return run_size(160, 120, q, noise, prefilter, noise_model);
+}
+
 int main(void)
 {
 	int r = 0;
 	for (int q = 0; q < DAO_QUALITY_COUNT; q++)
-		r |= run((enum dao_quality)q, DAO_NOISE_TILE);
-	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_IGN);
-	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_R2);
+		r |= run((enum dao_quality)q, DAO_NOISE_TILE, DAO_PREFILTER_BILATERAL,
+			 DAO_NOISE_MODEL_FIXED);
+	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_IGN, DAO_PREFILTER_BILATERAL, DAO_NOISE_MODEL_FIXED);
+	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_R2, DAO_PREFILTER_BILATERAL, DAO_NOISE_MODEL_FIXED);
+	/* the domain prefilter, with the fixed and the measured noise */
+	for (int m = DAO_NOISE_MODEL_FIXED; m <= DAO_NOISE_MODEL_AUTO_PREFILTER; m++)
+		r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_DOMAIN, m);
+	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_BILATERAL, DAO_NOISE_MODEL_AUTO);
+	r |= run_size(640, 480, DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_DOMAIN,
+		      DAO_NOISE_MODEL_AUTO);
 	return r;
 }
 #else
+static int run(enum dao_quality q, int noise, int prefilter, int noise_model)
+{
+	return run_size(160, 120, q, noise, prefilter, noise_model);
+}
+
 int main(void)
 {
 	printf("SKIP: the allocation counter interposes glibc's allocator; this is not glibc\n");

@@ -22,8 +22,8 @@ assert (o["width"], o["height"], o["quality"], o["threads"]) == (96, 64, "low", 
 assert (o["slices"], o["steps"]) == (1, 6), o
 assert 0 < o["median_ms"] <= o["p95_ms"], o
 assert o["iterations"] >= 3, o
-assert set(o["stage_median_ms"]) == {"decode", "prefilter", "normals", "gtao", "denoise",
-                                     "output", "shade"}, o
+assert set(o["stage_median_ms"]) == {"decode", "noise", "prefilter", "normals", "gtao",
+                                     "denoise", "output", "shade"}, o
 PY
 fi
 

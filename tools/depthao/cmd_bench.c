@@ -35,13 +35,13 @@ struct config {
 
 struct stats {
 	double median, p95;
-	double stage[8]; /* medians: decode prefilter normals gtao denoise output shade */
+	double stage[8]; /* medians: decode noise prefilter normals gtao denoise output shade */
 	int iterations;
 };
 
-static const char *const stage_names[] = { "decode", "prefilter", "normals", "gtao",
+static const char *const stage_names[] = { "decode", "noise", "prefilter", "normals", "gtao",
 					    "denoise", "output", "shade" };
-#define NSTAGES 7
+#define NSTAGES 8
 
 static void usage(FILE *out)
 {
@@ -169,8 +169,8 @@ static int run(const struct config *c, const struct dao_camera *cam, const uint1
 		struct dao_timings tm;
 		dao_context_timings(ctx, &tm);
 		t[n] = (t1 - t0) * 1e3;
-		double s[NSTAGES] = { tm.decode_ms, tm.prefilter_ms, tm.normals_ms, tm.gtao_ms,
-				      tm.denoise_ms, tm.output_ms, tm.shade_ms };
+		double s[NSTAGES] = { tm.decode_ms, tm.noise_ms, tm.prefilter_ms, tm.normals_ms,
+				      tm.gtao_ms, tm.denoise_ms, tm.output_ms, tm.shade_ms };
 		memcpy(stage + (size_t)n * NSTAGES, s, sizeof s);
 		n++;
 		if (n >= min_iter && t1 - start >= min_time)

@@ -1,0 +1,153 @@
+/* SPDX-License-Identifier: MIT */
+/* The domain-transform depth filter: schedule and the reference pass (see domain.h). */
+#include <math.h>
+#include <stddef.h>
+
+#include "depth/domain.h"
+
+float dao_domain_schedule(int iteration, int iterations)
+{
+	return (float)(sqrt(3.0) * ldexp(1.0, iterations - iteration) /
+		       sqrt(ldexp(1.0, 2 * iterations) - 1.0));
+}
+
+float dao_domain_spatial(int iteration, int iterations)
+{
+	return 1.41421356237f / dao_domain_schedule(iteration, iterations);
+}
+
+float dao_domain_range_coef(float range)
+{
+	return 1.0f / (2.0f * range * range);
+}
+
+static float med3(float a, float b, float c)
+{
+	return fmaxf(fminf(a, b), fminf(fmaxf(a, b), c));
+}
+
+/* 1/z of a sample as the pass reads it */
+static float load_w(const struct dao_domain_pass *p, int n, int lane)
+{
+	const float v = p->in[(size_t)n * p->lanes + lane];
+	if (!p->in_depth)
+		return v;
+	return v > 0.0f ? 1.0f / v : 0.0f;
+}
+
+/*
+ * The exponent of the link between samples n-1 and n of a lane (w: 1/z
+ * at n-2 .. n+1, 0 outside the line or without data), or a value above
+ * DAO_DOMAIN_MAX_EXPONENT when there is no link.
+ */
+static float link_exponent(const struct dao_domain_pass *p, const float w[4], size_t at)
+{
+	const float wm2 = w[0], wm1 = w[1], w0 = w[2], wp1 = w[3];
+	if (!(wm1 > 0.0f && w0 > 0.0f))
+		return INFINITY;
+	const float d = w0 - wm1;
+	/* a neighbouring difference without data counts as 0 */
+	const float dm = wm2 > 0.0f ? wm1 - wm2 : 0.0f;
+	const float dp = wp1 > 0.0f ? wp1 - w0 : 0.0f;
+	const float e = d - med3(dm, d, dp);
+	float sigma = p->noise_map ? p->noise_map[at] : p->noise;
+	sigma = fmaxf(fmaxf(sigma, p->unit * w0 * w0), DAO_DOMAIN_MIN_NOISE);
+	const float r = e / sigma;
+	const float inv_scale = p->inv_scale_map ? p->inv_scale_map[at] : p->inv_scale;
+	return p->spatial * inv_scale + p->range_coef * r * r;
+}
+
+void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1)
+{
+	const int len = p->len;
+	for (int lane = lane0; lane < lane1; lane++) {
+		/* causal sweep: moments of the samples 0..n about sample n, at
+		 * distances n - k, the data centred on w_n; each step moves the
+		 * samples so far one further away and the centre by w_n-1 - w_n */
+		float s0 = 0.0f, s1 = 0.0f, s2 = 0.0f, t0 = 0.0f, t1 = 0.0f;
+		float w[4] = { 0.0f, 0.0f, 0.0f, len > 0 ? load_w(p, 0, lane) : 0.0f };
+		for (int n = 0; n < len; n++) {
+			w[0] = w[1], w[1] = w[2], w[2] = w[3];
+			w[3] = n + 1 < len ? load_w(p, n + 1, lane) : 0.0f;
+			const size_t at = (size_t)n * p->lanes + lane;
+			const float x = n > 0 ? link_exponent(p, w, at) : INFINITY;
+			const float l = x < DAO_DOMAIN_MAX_EXPONENT ? expf(-x) : 0.0f;
+			const float valid = w[2] > 0.0f ? 1.0f : 0.0f;
+			const float dw = w[1] - w[2];
+			const float ls0 = l * s0, ls1 = l * s1;
+			t1 = l * t1 + (dw * (ls1 + ls0) + l * t0);
+			t0 = l * t0 + dw * ls0;
+			s2 = l * s2 + (2.0f * ls1 + ls0);
+			s1 = l * s1 + ls0;
+			s0 = l * s0 + valid;
+			float *sc = scratch + (size_t)n * DAO_DOMAIN_SCRATCH;
+			sc[0] = s0, sc[1] = s1, sc[2] = s2, sc[3] = t0, sc[4] = t1, sc[5] = l;
+			sc[6] = w[2];
+		}
+		/* anticausal sweep: the samples after n at distances k - n, added to
+		 * the causal ones (whose first moments change sign), then the fit */
+		float r0 = 0.0f, r1 = 0.0f, r2 = 0.0f, u0 = 0.0f, u1 = 0.0f, lnext = 0.0f;
+		float wnext = 0.0f;
+		for (int n = len - 1; n >= 0; n--) {
+			const float *sc = scratch + (size_t)n * DAO_DOMAIN_SCRATCH;
+			const float wn = sc[6], dw = wnext - wn, valid = wn > 0.0f ? 1.0f : 0.0f;
+			/* samples n+1.. seen from n: weighted by the link */
+			const float x0 = lnext * r0, x1 = lnext * r1 + x0;
+			const float x2 = lnext * r2 + (2.0f * lnext * r1 + x0);
+			const float y0 = lnext * u0 + dw * x0;
+			const float y1 = lnext * u1 + (dw * (lnext * r1 + x0) + lnext * u0);
+			const float S0 = sc[0] + x0, S1 = x1 - sc[1], S2 = sc[2] + x2;
+			const float T0 = sc[3] + y0, T1 = y1 - sc[4];
+			r0 = x0 + valid, r1 = x1, r2 = x2;
+			u0 = y0, u1 = y1; /* the sample itself is 0 about itself */
+			lnext = sc[5];
+			wnext = wn;
+			float v = 0.0f;
+			if (wn > 0.0f) {
+				const float num = (S2 + DAO_DOMAIN_RIDGE) * T0 - S1 * T1;
+				const float den = (S2 + DAO_DOMAIN_RIDGE) * S0 - S1 * S1;
+				v = wn + num / den;
+				if (!(v > 0.0f)) /* cannot happen with data this side of infinity */
+					v = wn;
+				if (p->out_depth)
+					v = 1.0f / v;
+			}
+			p->out[(size_t)lane * len + n] = v;
+		}
+	}
+}
+
+void dao_domain_pass_init(struct dao_domain_pass *p, const struct dao_domain_setup *s, int k,
+			  const float *in, float *out)
+{
+	const int vertical = !(k & 1), it = k / 2 + 1;
+	*p = (struct dao_domain_pass){
+		.len = vertical ? s->height : s->width,
+		.lanes = vertical ? s->width : s->height,
+		.in = in, .out = out,
+		.in_depth = k == 0,
+		.out_depth = k == 2 * s->iterations - 1,
+		.spatial = dao_domain_spatial(it, s->iterations),
+		.inv_scale = s->inv_scale,
+		.inv_scale_map = vertical ? s->inv_scale_map : s->inv_scale_map_t,
+		.range_coef = s->range_coef,
+		.noise = s->noise,
+		.noise_map = vertical ? s->noise_map : s->noise_map_t,
+		.unit = s->unit,
+	};
+}
+
+size_t dao_domain_scratch_floats(int width, int height)
+{
+	return (size_t)DAO_DOMAIN_SCRATCH * DAO_DOMAIN_STRIP * (size_t)(width > height ? width : height);
+}
+
+void dao_domain_filter(const struct dao_domain_setup *s, dao_domain_pass_fn pass, const float *z,
+		       float *tmp, float *out, float *scratch)
+{
+	for (int k = 0; k < 2 * s->iterations; k++) {
+		struct dao_domain_pass p;
+		dao_domain_pass_init(&p, s, k, k == 0 ? z : (k & 1) ? tmp : out, (k & 1) ? out : tmp);
+		pass(&p, scratch, 0, p.lanes);
+	}
+}

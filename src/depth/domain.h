@@ -1,0 +1,143 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_DEPTH_DOMAIN_H
+#define DAO_DEPTH_DOMAIN_H
+
+/*
+ * prefilter=domain: a wide edge-preserving filter of inverse depth w = 1/z
+ * whose cost does not depend on its scale, after the recursive filter of the
+ * domain transform (Gastal & Oliveira 2011, "Domain Transform for
+ * Edge-Aware Image and Video Processing"; librealsense's spatial filter is a
+ * variant of it).
+ *
+ * Iterations i = 1..N of a vertical then a horizontal 1D pass, the spatial
+ * scale of iteration i being sigma_s * sqrt(3) 2^(N-i) / sqrt(4^N - 1) (the
+ * paper's schedule: the variances add up to sigma_s^2).  A 1D pass gives the
+ * neighbours n-1, n of a line a link weight
+ *
+ *   l_n = a^1 * exp(-e_n^2 / (2 sigma_r^2)),   a = exp(-sqrt(2) / sigma_H),
+ *
+ * and sample k weighs prod(l) over the links between it and the output
+ * sample: a^|k| on open ground, (nearly) nothing across a depth edge, nothing
+ * across a hole.  A causal and an anticausal sweep sum these weights, so a
+ * pass costs the same at any scale.  Three choices differ from the paper's
+ * filter, each measured (README.md):
+ *
+ * - The range term.  The transform's distance 1 + (sigma_s/sigma_r)|w_n -
+ *   w_n-1| adds up the noise of every link crossed, which on noisy depth caps
+ *   the reach at ~sigma_r/sigma_noise pixels whatever sigma_s (in a
+ *   prototype of both: independent noise reduced 3.4x at sigma_s = 8 px,
+ *   against 20x with the term below).  A Gaussian of the link's difference
+ *   in units of the local noise does not accumulate.
+ * - The difference tested is slope-corrected: e_n = d_n - med3(d_n-1, d_n,
+ *   d_n+1) with d_n = w_n - w_n-1 (0 where a sample has no data).  A plane's
+ *   constant slope drops out (it is no reason to stop), a step between n-1
+ *   and n does not (the median of the three differences is a neighbouring
+ *   one).
+ * - Local linear regression instead of the weighted mean.  The recursive
+ *   filter is a weighted mean; where the weights are one-sided (near holes,
+ *   edges and the border) the mean of a tilted plane lags by the slope times
+ *   the scale (0.017 in 1/z at 8 px: centimetres at 2 m).  Each pass sums the
+ *   weights' moments S0, S1, S2 about the output sample n and the data's T0,
+ *   T1 with the data centred on w_n (precision: the sums are of differences;
+ *   the sweeps shift distances and centre by one sample per step) and
+ *   returns the line fitted by weighted least squares at the sample:
+ *
+ *     w' = w_n + (S2 T0 - S1 T1 + lambda T0) / (S0 S2 - S1^2 + lambda S0),
+ *
+ *   exact for any w affine along the line, whatever the weights: a plane
+ *   (1/z is affine in the pixel on any plane) stays where it is up to float
+ *   rounding, next to edges and holes too.  On open ground S1 = 0 and it is
+ *   the weighted mean.  lambda (px^2) only keeps a lone sample's 0/0 finite.
+ *
+ * Range scale: sigma_r = range x sigma with sigma = max(noise, unit w^2,
+ * DAO_DOMAIN_MIN_NOISE) at the sample (sensor noise in 1/z, from the model
+ * or the noise map; the depth quantum; a floor for exact float input).
+ * Holes neither contribute nor are filled.
+ */
+
+/* A pass reads `len` rows of `lanes` floats and writes `lanes` rows of `len`
+ * floats (transposed), so that the next pass again runs down the columns. */
+struct dao_domain_pass {
+	int len, lanes;
+	const float *in;          /* 1/z, or z when in_depth; 0 = no data */
+	float *out;               /* transposed; 1/z, or z when out_depth */
+	int in_depth, out_depth;
+	/* a link is exp(-(spatial x inv_scale + range_coef x (e / sigma)^2)) */
+	float spatial;            /* sqrt(2) / (schedule factor of the iteration) */
+	float inv_scale;          /* 1 / sigma_s (1/px) */
+	const float *inv_scale_map; /* per sample 1 / sigma_s, laid out as `in`, or NULL */
+	float range_coef;         /* 1 / (2 range^2) */
+	float noise;              /* sigma of 1/z, 1/m */
+	const float *noise_map;   /* per sample, laid out as `in`, or NULL */
+	float unit;               /* depth quantum, m (0 for float input) */
+};
+
+#define DAO_DOMAIN_MAX_ITERATIONS 5
+/* floats of scratch per sample and lane: the causal moments, the link, 1/z */
+#define DAO_DOMAIN_SCRATCH 7
+/* a link whose exponent exceeds this is 0 (e^-17 = 4e-8: below float's step at 1) */
+#define DAO_DOMAIN_MAX_EXPONENT 17.0f
+/* the least noise sigma in 1/z, 1/m (4 um at 2 m) */
+#define DAO_DOMAIN_MIN_NOISE 1e-6f
+/* lambda of the local linear fit, px^2 */
+#define DAO_DOMAIN_RIDGE 1e-6f
+
+/* sqrt(3) 2^(N-i) / sqrt(4^N - 1): iteration i's share of sigma_s (i = 1..n) */
+float dao_domain_schedule(int iteration, int iterations);
+
+/* pass->spatial for iteration i of n */
+float dao_domain_spatial(int iteration, int iterations);
+
+/* pass->range_coef for a range scale in units of the noise: 1 / (2 range^2) */
+float dao_domain_range_coef(float range);
+
+/*
+ * Reference pass (scalar, libm exp) over lanes [lane0, lane1).  scratch:
+ * DAO_DOMAIN_SCRATCH * len floats.
+ */
+void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1);
+
+/* Lanes the optimised passes process together: a scratch of
+ * DAO_DOMAIN_SCRATCH * DAO_DOMAIN_STRIP * len floats serves every set. */
+#define DAO_DOMAIN_STRIP 16
+
+/* The whole filter of a w x h frame. */
+struct dao_domain_setup {
+	int width, height, iterations;
+	float inv_scale;          /* 1 / sigma_s, 1/px */
+	float range_coef;         /* dao_domain_range_coef(range) */
+	float noise, unit;        /* as in struct dao_domain_pass */
+	/* per-pixel maps (NULL: the scalars), in the frame's layout and transposed */
+	const float *noise_map, *noise_map_t;
+	const float *inv_scale_map, *inv_scale_map_t;
+};
+
+/*
+ * Pass k = 0 .. 2 iterations - 1: even passes run down the columns of the
+ * frame (in: w x h, the depth z for k = 0, else 1/z) and write 1/z
+ * transposed; odd passes run down the columns of that (the rows of the frame)
+ * and write the frame's layout again, z after the last pass.
+ */
+void dao_domain_pass_init(struct dao_domain_pass *p, const struct dao_domain_setup *s, int k,
+			  const float *in, float *out);
+
+typedef void (*dao_domain_pass_fn)(const struct dao_domain_pass *p, float *scratch, int lane0,
+				   int lane1);
+
+/* Scratch floats of the filter for a frame (one strip of the longer side). */
+size_t dao_domain_scratch_floats(int width, int height);
+
+/* The filter on one thread: z (w x h, m) -> out (m); tmp: w x h floats. */
+void dao_domain_filter(const struct dao_domain_setup *s, dao_domain_pass_fn pass, const float *z,
+		       float *tmp, float *out, float *scratch);
+
+#define DAO_DOMAIN_SIMD_PROTO(isa)                                                          \
+	void dao_domain_pass_##isa(const struct dao_domain_pass *p, float *scratch, int lane0, \
+				   int lane1)
+
+DAO_DOMAIN_SIMD_PROTO(generic);
+DAO_DOMAIN_SIMD_PROTO(sse41);
+DAO_DOMAIN_SIMD_PROTO(avx2);
+DAO_DOMAIN_SIMD_PROTO(avx512);
+
+#endif

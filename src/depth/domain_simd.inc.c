@@ -1,0 +1,233 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The domain-transform pass of domain.c over SIMD lanes: VN neighbouring
+ * lines (columns of the pass's input) go down together, each lane a line, so
+ * the loads are contiguous and the recursion runs in every lane at once.  The
+ * causal sweep keeps its moments in the scratch, the anticausal sweep fits
+ * and collects VN samples of VN lines in registers, transposes them
+ * (v_transpose) and stores them as rows of the transposed output.  Same
+ * maths as the reference, with the link weight's exp from simd/fastmath.h
+ * (v_exp_neg, 1.4e-7 relative: a sample's weight is a product of the links
+ * on the way to it, so their errors add up).  Included by domain_<isa>.c after the
+ * SIMD vocabulary.
+ */
+#include <stddef.h>
+#include <string.h>
+
+#include "depth/domain.h"
+#include "simd/fastmath.h"
+
+static inline vf dt_med3(vf a, vf b, vf c)
+{
+	return v_max(v_min(a, b), v_min(v_max(a, b), c));
+}
+
+/* e^-x for 0 <= x (v_exp_neg with the range of links: beyond
+ * DAO_DOMAIN_MAX_EXPONENT the caller zeroes the link, and the clamp keeps the
+ * exponent in range for v_ldexp, whose generic build adds it to the bits) */
+static inline vf dt_exp_neg(vf x)
+{
+	x = v_min(x, v_set1(DAO_DOMAIN_MAX_EXPONENT));
+	const vf n = v_round(v_mul(x, v_set1(-1.44269504088896f)));
+	vf r = v_fma(n, v_set1(0.693145751953125f), x);
+	r = v_neg(v_fma(n, v_set1(1.428606820309417e-6f), r));
+	vf q = v_set1(8.297644556e-03f);
+	q = v_fma(q, r, v_set1(4.191537946e-02f));
+	q = v_fma(q, r, v_set1(1.666757464e-01f));
+	q = v_fma(q, r, v_set1(4.999889433e-01f));
+	q = v_fma(q, r, v_set1(9.999997020e-01f));
+	q = v_fma(q, r, v_set1(1.000000119e+00f));
+	return v_ldexp(q, n);
+}
+
+/* What a strip's sweeps read, in registers and locals (the stores to the
+ * scratch could otherwise alias the pass's fields). */
+struct dt_ctx {
+	const float *in, *noise_map, *scale_map;
+	size_t stride;
+	int in_depth;
+	vf noise, unit, spatial, spatial_term, range;
+};
+
+static inline vf dt_load_w(const struct dt_ctx *c, size_t at)
+{
+	const vf v = v_load(c->in + at);
+	if (!c->in_depth)
+		return v;
+	/* a division, once per pixel and frame: the refined estimate's 3e-7
+	 * would reach the output as is, and where the depth is ragged amplified */
+	const vm has = v_gt(v, v_zero());
+	return v_sel(has, v_div(v_set1(1.0f), v_sel(has, v, v_set1(1.0f))), v_zero());
+}
+
+/* the link between samples n-1 and n (link_exponent in domain.c) */
+static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, vf d, size_t at)
+{
+	const vf zero = v_zero();
+	const vm ok = m_and(v_gt(wm1, zero), v_gt(w0, zero));
+	const vf dm = v_sel(v_gt(wm2, zero), v_sub(wm1, wm2), zero);
+	const vf dp = v_sel(v_gt(wp1, zero), v_sub(wp1, w0), zero);
+	const vf e = v_sub(d, dt_med3(dm, d, dp));
+	vf sigma = c->noise_map ? v_load(c->noise_map + at) : c->noise;
+	sigma = v_max(v_max(sigma, v_mul(v_mul(c->unit, w0), w0)), v_set1(DAO_DOMAIN_MIN_NOISE));
+	/* (e / sigma)^2 with the refined reciprocal (3e-7 relative; a division
+	 * costs more than the rest of the link on AVX-512) */
+	const vf r = v_mul(e, v_rcp(sigma));
+	const vf r2 = v_mul(r, r);
+	const vf sp = c->scale_map ? v_mul(c->spatial, v_load(c->scale_map + at)) : c->spatial_term;
+	const vf x = v_fma(c->range, r2, sp);
+	const vm on = m_and(ok, v_lt(x, v_set1(DAO_DOMAIN_MAX_EXPONENT)));
+	return v_sel(on, dt_exp_neg(x), zero);
+}
+
+/*
+ * VN lines from lane0.  The causal sweep stores its moments, link and 1/z
+ * per sample; the anticausal sweep overwrites the first of them with the
+ * result, which then goes out VN x VN at a time, transposed.  Rows of the
+ * output below lane0 + skip are left alone (the last strip overlaps the one
+ * before it).
+ */
+/* The links of a strip (its first loop: no recursion, so the steps overlap
+ * freely), built once per combination of the flags (constants at the call)
+ * so that the loop tests none of them; stores each link and 1/z. */
+static inline __attribute__((always_inline)) void
+dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const int noise_map,
+	 const int scale_map)
+{
+	struct dt_ctx c = *cp;
+	c.in_depth = in_depth;
+	if (!noise_map)
+		c.noise_map = NULL;
+	if (!scale_map)
+		c.scale_map = NULL;
+	const vf zero = v_zero();
+	vf wm2 = zero, wm1 = zero, w0 = zero, wp1 = dt_load_w(&c, 0);
+	for (int n = 0; n < len; n++) {
+		const size_t at = (size_t)n * c.stride;
+		wm2 = wm1, wm1 = w0, w0 = wp1;
+		wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
+		const vf l = n > 0 ? dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), at) : zero;
+		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
+		v_store(o + 5 * VN, l);
+		v_store(o + 6 * VN, w0);
+	}
+}
+
+/*
+ * VN lines from lane0.  The links first, then the causal sweep stores its
+ * moments per sample and the anticausal sweep overwrites the first of them
+ * with the result, which then goes out VN x VN at a time, transposed.  Rows
+ * of the output below lane0 + skip are left alone (the last strip overlaps
+ * the one before it).  The recursions are written as fused multiply-adds
+ * onto the previous moment (m' = l m + terms of the previous state), so each
+ * moment depends on its predecessor through one operation (domain.c has the
+ * same sums).
+ */
+static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int skip)
+{
+	const int len = p->len;
+	const struct dt_ctx c = {
+		.in = p->in + lane0,
+		.noise_map = p->noise_map ? p->noise_map + lane0 : NULL,
+		.scale_map = p->inv_scale_map ? p->inv_scale_map + lane0 : NULL,
+		.stride = (size_t)p->lanes,
+		.in_depth = p->in_depth,
+		.noise = v_set1(p->noise), .unit = v_set1(p->unit), .spatial = v_set1(p->spatial),
+		.spatial_term = v_set1(p->spatial * p->inv_scale), .range = v_set1(p->range_coef),
+	};
+	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
+	if (c.noise_map && c.scale_map) {
+		if (c.in_depth)
+			dt_links(&c, sc, len, 1, 1, 1);
+		else
+			dt_links(&c, sc, len, 0, 1, 1);
+	} else if (!c.noise_map && !c.scale_map) {
+		if (c.in_depth)
+			dt_links(&c, sc, len, 1, 0, 0);
+		else
+			dt_links(&c, sc, len, 0, 0, 0);
+	} else {
+		dt_links(&c, sc, len, c.in_depth, c.noise_map != NULL, c.scale_map != NULL);
+	}
+	/* causal: moments about sample n at distances n - k, data centred on w_n */
+	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, wprev = zero;
+	for (int n = 0; n < len; n++) {
+		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
+		const vf l = v_load(o + 5 * VN), w0 = v_load(o + 6 * VN);
+		const vf dw = v_sub(wprev, w0), valid = v_sel(v_gt(w0, zero), one, zero);
+		const vf ls0 = v_mul(l, s0), ls1 = v_mul(l, s1);
+		t1 = v_fma(l, t1, v_fma(dw, v_add(ls1, ls0), v_mul(l, t0)));
+		t0 = v_fma(l, t0, v_mul(dw, ls0));
+		s2 = v_fma(l, s2, v_fma(two, ls1, ls0));
+		s1 = v_fma(l, s1, ls0);
+		s0 = v_fma(l, s0, valid);
+		wprev = w0;
+		v_store(o, s0);
+		v_store(o + VN, s1);
+		v_store(o + 2 * VN, s2);
+		v_store(o + 3 * VN, t0);
+		v_store(o + 4 * VN, t1);
+	}
+	/* anticausal: distances k - n, added to the causal moments (whose first
+	 * moments change sign), then the fit */
+	vf r0 = zero, r1 = zero, r2 = zero, u0 = zero, u1 = zero, lnext = zero, wnext = zero;
+	const vf ridge = v_set1(DAO_DOMAIN_RIDGE);
+	const int out_depth = p->out_depth;
+	for (int n = len - 1; n >= 0; n--) {
+		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
+		const vf wn = v_load(o + 6 * VN), dw = v_sub(wnext, wn);
+		const vm has = v_gt(wn, zero);
+		const vf x0 = v_mul(lnext, r0), lr1 = v_mul(lnext, r1), lu0 = v_mul(lnext, u0);
+		const vf x1 = v_fma(lnext, r1, x0);
+		const vf x2 = v_fma(lnext, r2, v_fma(two, lr1, x0));
+		const vf y0 = v_fma(lnext, u0, v_mul(dw, x0));
+		const vf y1 = v_fma(lnext, u1, v_fma(dw, v_add(lr1, x0), lu0));
+		const vf S0 = v_add(v_load(o), x0), S1 = v_sub(x1, v_load(o + VN));
+		const vf S2 = v_add(v_add(v_load(o + 2 * VN), x2), ridge);
+		const vf T0 = v_add(v_load(o + 3 * VN), y0), T1 = v_sub(y1, v_load(o + 4 * VN));
+		r0 = v_fma(lnext, r0, v_sel(has, one, zero)), r1 = x1, r2 = x2;
+		u0 = y0, u1 = y1;
+		lnext = v_load(o + 5 * VN);
+		wnext = wn;
+		/* holes: den = 0, a NaN here, zeroed below */
+		const vf num = v_fnma(S1, T1, v_mul(S2, T0));
+		const vf den = v_fnma(S1, S1, v_mul(S2, S0));
+		vf v = v_fma(num, v_rcp(den), wn);
+		v = v_sel(v_gt(v, zero), v, wn);
+		if (out_depth) /* a division: once per pixel and frame */
+			v = v_div(one, v);
+		v_store(o, v_sel(has, v, zero));
+	}
+	/* out: rows lane0 + skip .. lane0 + VN - 1, samples n .. n + VN - 1 per tile */
+	for (int n = 0; n < len; n += VN) {
+		const int count = len - n < VN ? len - n : VN;
+		vf tile[VN];
+		for (int k = 0; k < VN; k++)
+			tile[k] = k < count ? v_load(sc + (size_t)(n + k) * DAO_DOMAIN_SCRATCH * VN) : zero;
+		v_transpose(tile);
+		for (int j = skip; j < VN; j++) {
+			float *out = p->out + (size_t)(lane0 + j) * len + n;
+			if (count == VN) {
+				v_store(out, tile[j]);
+			} else {
+				float row[VN];
+				v_store(row, tile[j]);
+				memcpy(out, row, (size_t)count * sizeof(float));
+			}
+		}
+	}
+}
+
+void DAO_ISA_FN(dao_domain_pass)(const struct dao_domain_pass *p, float *scratch, int lane0,
+				 int lane1)
+{
+	int l0 = lane0;
+	for (; l0 + VN <= lane1; l0 += VN)
+		dt_strip(p, scratch, l0, 0);
+	if (l0 >= lane1)
+		return;
+	if (lane1 == p->lanes && p->lanes >= VN) /* overlap the strip before */
+		dt_strip(p, scratch, p->lanes - VN, l0 - (p->lanes - VN));
+	else
+		dao_domain_pass_ref(p, scratch, l0, lane1);
+}

@@ -1,0 +1,325 @@
+/* SPDX-License-Identifier: MIT */
+/* The noise of a depth frame from the frame itself (see noise_estimate.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/multiversion.h"
+#include "depth/noise_estimate.h"
+
+#define B DAO_NOISE_BLOCK
+/* columns per chunk of a block row: the chunk's rows and sums live on the stack */
+#define CHUNK 256
+
+int dao_noise_grid_init(struct dao_noise_grid *g, int width, int height)
+{
+	*g = (struct dao_noise_grid){ .width = width, .height = height };
+	g->bw = width / B, g->bh = height / B;
+	g->cw = (g->bw + DAO_NOISE_CELL - 1) / DAO_NOISE_CELL;
+	g->ch = (g->bh + DAO_NOISE_CELL - 1) / DAO_NOISE_CELL;
+	if (g->cw < 1)
+		g->cw = 1;
+	if (g->ch < 1)
+		g->ch = 1;
+	const size_t nb = (size_t)g->bw * g->bh, nc = (size_t)g->cw * g->ch;
+	g->block = malloc((3 * nb + 1) * sizeof(float));
+	g->cell = malloc(3 * nc * sizeof(float));
+	g->scratch = malloc(nc * sizeof(float));
+	if (!g->block || !g->cell || !g->scratch) {
+		dao_noise_grid_free(g);
+		return -ENOMEM;
+	}
+	return 0;
+}
+
+void dao_noise_grid_free(struct dao_noise_grid *g)
+{
+	free(g->block);
+	free(g->cell);
+	free(g->scratch);
+	g->block = g->cell = g->scratch = NULL;
+}
+
+static inline float med3(float a, float b, float c)
+{
+	const float lo = a < b ? a : b, hi = a < b ? b : a;
+	const float m = hi < c ? hi : c;
+	return lo > m ? lo : m;
+}
+
+/*
+ * One chunk of a block row: 8 rows of `n` columns (whole blocks) from x0.
+ * Per column the sums over the 8 rows, then per block over its 8 columns.
+ * Simple loops over the columns, so that the compiler vectorises them.
+ */
+DAO_MULTIVERSION
+static void chunk_stats(const float *z, int stride, int x0, int n, float *out)
+{
+	float w[B][CHUNK];
+	float valid[CHUNK], e2[CHUNK], nz[CHUNK];
+	double c0[CHUNK], cv[CHUNK], c2[CHUNK];
+	for (int r = 0; r < B; r++) {
+		const float *zr = z + (size_t)r * stride + x0;
+		for (int x = 0; x < n; x++) {
+			/* 1/z or 0, without a branch (a conditional division is not vectorised) */
+			const float v = zr[x], has = (float)(v > 0.0f);
+			w[r][x] = has / (v + (1.0f - has));
+		}
+	}
+	for (int x = 0; x < n; x++) {
+		valid[x] = 0.0f, e2[x] = 0.0f, nz[x] = 0.0f;
+		c0[x] = 0.0, cv[x] = 0.0, c2[x] = 0.0;
+	}
+	for (int r = 0; r < B; r++) {
+		const double v = r - 3.5;
+		for (int x = 0; x < n; x++) {
+			const double c = w[r][x];
+			valid[x] += w[r][x] > 0.0f ? 1.0f : 0.0f;
+			c0[x] += c;
+			cv[x] += v * c;
+			c2[x] += c * c;
+		}
+	}
+	/* links down the columns between rows r and r + 1, rows r - 1 .. r + 2 in the block */
+	for (int r = 1; r <= B - 3; r++)
+		for (int x = 0; x < n; x++) {
+			const float dm = w[r][x] - w[r - 1][x], d = w[r + 1][x] - w[r][x];
+			const float dp = w[r + 2][x] - w[r + 1][x];
+			const float e = d - med3(dm, d, dp);
+			e2[x] += e * e;
+			nz[x] += e != 0.0f ? 1.0f : 0.0f;
+		}
+	/* links along the rows between x and x + 1, x - 1 .. x + 2 in the block
+	 * (the others weigh 0: a table, as a test of x keeps the loop scalar) */
+	float inside[CHUNK];
+	for (int x = 0; x < n; x++)
+		inside[x] = (x & (B - 1)) >= 1 && (x & (B - 1)) <= B - 3 ? 1.0f : 0.0f;
+	for (int r = 0; r < B; r++)
+		for (int x = 1; x + 2 < n; x++) {
+			const float dm = w[r][x] - w[r][x - 1], d = w[r][x + 1] - w[r][x];
+			const float dp = w[r][x + 2] - w[r][x + 1];
+			const float e = inside[x] * (d - med3(dm, d, dp));
+			e2[x] += e * e;
+			nz[x] += e != 0.0f ? 1.0f : 0.0f;
+		}
+	for (int b = 0; b < n / B; b++) {
+		double s0 = 0.0, su = 0.0, sv = 0.0, s2 = 0.0;
+		float nv = 0.0f, se = 0.0f, sn = 0.0f;
+		for (int k = 0; k < B; k++) {
+			const int x = b * B + k;
+			s0 += c0[x], su += (k - 3.5) * c0[x], sv += cv[x], s2 += c2[x];
+			nv += valid[x], se += e2[x], sn += nz[x];
+		}
+		float *o = out + 3 * b;
+		if (nv < (float)(B * B)) {
+			o[0] = o[1] = o[2] = NAN;
+			continue;
+		}
+		/* residual of the least-squares plane: sum u^2 = sum v^2 = 8 * 42 */
+		const double ss = s2 - s0 * s0 / 64.0 - su * su / 336.0 - sv * sv / 336.0;
+		o[0] = (float)sqrt((ss > 0.0 ? ss : 0.0) / 61.0);
+		o[1] = sn > 0.0f ? sqrtf(se / sn) / DAO_NOISE_LINK_IID : 0.0f;
+		o[2] = (float)(s0 / 64.0);
+	}
+}
+
+void dao_noise_blocks(struct dao_noise_grid *g, const float *z, int by0, int by1)
+{
+	for (int by = by0; by < by1; by++)
+		for (int bx0 = 0; bx0 < g->bw; bx0 += CHUNK / B) {
+			const int nb = g->bw - bx0 < CHUNK / B ? g->bw - bx0 : CHUNK / B;
+			chunk_stats(z + (size_t)by * B * g->width, g->width, bx0 * B, nb * B,
+				    g->block + 3 * ((size_t)by * g->bw + bx0));
+		}
+}
+
+/* the k-th smallest of n values (reordered in place; quickselect, no
+ * allocation: glibc's qsort takes memory from the heap for more than 1 KB) */
+static float select_kth(float *v, int n, int k)
+{
+	int lo = 0, hi = n - 1;
+	while (hi > lo) {
+		const float pivot = v[lo + (hi - lo) / 2];
+		int i = lo, j = hi;
+		while (i <= j) {
+			while (v[i] < pivot)
+				i++;
+			while (v[j] > pivot)
+				j--;
+			if (i <= j) {
+				const float t = v[i];
+				v[i] = v[j], v[j] = t;
+				i++, j--;
+			}
+		}
+		if (k <= j)
+			hi = j;
+		else if (k >= i)
+			lo = i;
+		else
+			break;
+	}
+	return v[k];
+}
+
+/* median of n values (reordered in place) */
+static float median(float *v, int n)
+{
+	const float hi = select_kth(v, n, n / 2);
+	if (n & 1)
+		return hi;
+	float lo = v[0]; /* the largest of the lower half */
+	for (int i = 1; i < n / 2; i++)
+		lo = v[i] > lo ? v[i] : lo;
+	return 0.5f * (lo + hi);
+}
+
+/* Cells without a value (NAN) take the mean of their neighbours that have
+ * one, round after round; what is still empty then takes `fallback`. */
+static void fill_empty(struct dao_noise_grid *g, float *v, float fallback)
+{
+	const int cw = g->cw, ch = g->ch;
+	for (int round = 0; round < cw + ch; round++) {
+		int empty = 0;
+		memcpy(g->scratch, v, (size_t)cw * ch * sizeof(float));
+		for (int cy = 0; cy < ch; cy++)
+			for (int cx = 0; cx < cw; cx++) {
+				if (!isnan(g->scratch[cy * cw + cx]))
+					continue;
+				float s = 0.0f;
+				int n = 0;
+				for (int dy = -1; dy <= 1; dy++)
+					for (int dx = -1; dx <= 1; dx++) {
+						const int x = cx + dx, y = cy + dy;
+						if (x < 0 || y < 0 || x >= cw || y >= ch)
+							continue;
+						const float t = g->scratch[y * cw + x];
+						if (!isnan(t))
+							s += t, n++;
+					}
+				if (n)
+					v[cy * cw + cx] = s / (float)n;
+				else
+					empty++;
+			}
+		if (!empty)
+			return;
+	}
+	for (int i = 0; i < cw * ch; i++)
+		if (isnan(v[i]))
+			v[i] = fallback;
+}
+
+void dao_noise_cells(struct dao_noise_grid *g)
+{
+	const int cw = g->cw, ch = g->ch, nc = cw * ch;
+	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	float va[DAO_NOISE_CELL * DAO_NOISE_CELL], vl[DAO_NOISE_CELL * DAO_NOISE_CELL];
+	float vw[DAO_NOISE_CELL * DAO_NOISE_CELL];
+	g->usable_cells = 0;
+	for (int cy = 0; cy < ch; cy++)
+		for (int cx = 0; cx < cw; cx++) {
+			int n = 0;
+			for (int by = cy * DAO_NOISE_CELL; by < (cy + 1) * DAO_NOISE_CELL && by < g->bh; by++)
+				for (int bx = cx * DAO_NOISE_CELL;
+				     bx < (cx + 1) * DAO_NOISE_CELL && bx < g->bw; bx++) {
+					const float *b = g->block + 3 * ((size_t)by * g->bw + bx);
+					if (isnan(b[0]))
+						continue;
+					va[n] = b[0], vl[n] = b[1], vw[n] = b[2];
+					n++;
+				}
+			const int i = cy * cw + cx;
+			if (n < DAO_NOISE_MIN_BLOCKS) {
+				area[i] = link[i] = wm[i] = NAN;
+				continue;
+			}
+			area[i] = median(va, n);
+			link[i] = median(vl, n);
+			wm[i] = median(vw, n);
+			g->usable_cells++;
+		}
+	/* the frame: medians over the usable cells (the scratch holds a copy) */
+	float *tmp = g->scratch;
+	float *planes[3] = { area, link, wm }, *frame[3] = { &g->frame_area, &g->frame_link, &g->frame_w };
+	for (int k = 0; k < 3; k++) {
+		int n = 0;
+		for (int i = 0; i < nc; i++)
+			if (!isnan(planes[k][i]))
+				tmp[n++] = planes[k][i];
+		*frame[k] = n ? median(tmp, n) : NAN;
+	}
+	if (!g->usable_cells)
+		return;
+	for (int k = 0; k < 3; k++)
+		fill_empty(g, planes[k], *frame[k]);
+}
+
+/*
+ * One line of a map: knots v[0..n) at positions (k + 1/2) * span - 1/2,
+ * linear between them, constant beyond the outer ones; len samples.  Each
+ * segment is a plain loop over its range (vectorised).
+ */
+DAO_MULTIVERSION
+static void map_line(const float *v, int n, int span, float *out, int len)
+{
+	const float c0 = 0.5f * (float)span - 0.5f;
+	/* samples x < first are before the first knot; segment k covers
+	 * [first + k span, first + (k + 1) span) */
+	const int first = (int)floorf(c0) + 1;
+	int x = 0;
+	for (; x < len && x < first; x++)
+		out[x] = v[0];
+	for (int k = 0; k + 1 < n && x < len; k++) {
+		const float a = c0 + (float)(k * span), slope = (v[k + 1] - v[k]) / (float)span;
+		const float base = v[k] - slope * a;
+		const int end = first + (k + 1) * span < len ? first + (k + 1) * span : len;
+		for (int i = x; i < end; i++)
+			out[i] = base + slope * (float)i;
+		x = end;
+	}
+	for (; x < len; x++)
+		out[x] = v[n - 1];
+}
+
+/* the cell values interpolated to position p along the other axis (t: per cell column) */
+static void knots_at(const float *cv, int stride_a, int stride_b, int nb, int na, int span,
+		     int p, float *t)
+{
+	const float c0 = 0.5f * (float)span - 0.5f;
+	float f = ((float)p - c0) / (float)span;
+	int k = (int)floorf(f);
+	if (k < 0)
+		k = 0, f = 0.0f;
+	if (k >= na - 1)
+		k = na - 1, f = 0.0f;
+	const float u = f - (float)k;
+	for (int j = 0; j < nb; j++) {
+		const float a = cv[k * stride_a + j * stride_b];
+		const float b = k + 1 < na ? cv[(k + 1) * stride_a + j * stride_b] : a;
+		t[j] = a + (b - a) * u;
+	}
+}
+
+void dao_noise_map_rows(const struct dao_noise_grid *g, const float *cell_values, float *map,
+			int y0, int y1)
+{
+	float t[16384 / (DAO_NOISE_BLOCK * DAO_NOISE_CELL) + 1];
+	const int span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
+	for (int y = y0; y < y1; y++) {
+		knots_at(cell_values, g->cw, 1, g->cw, g->ch, span, y, t);
+		map_line(t, g->cw, span, map + (size_t)y * g->width, g->width);
+	}
+}
+
+void dao_noise_map_cols(const struct dao_noise_grid *g, const float *cell_values, float *map_t,
+			int x0, int x1)
+{
+	float t[16384 / (DAO_NOISE_BLOCK * DAO_NOISE_CELL) + 1];
+	const int span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
+	for (int x = x0; x < x1; x++) {
+		knots_at(cell_values, 1, g->cw, g->ch, g->cw, span, x, t);
+		map_line(t, g->ch, span, map_t + (size_t)x * g->height, g->height);
+	}
+}

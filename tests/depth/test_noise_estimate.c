@@ -1,0 +1,251 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The noise estimate of src/depth/noise_estimate.c against noise of known
+ * statistics: independent Gaussian noise on tilted planes is recovered,
+ * depth edges and holes do not move it, two halves of different noise are
+ * told apart, spatially correlated noise reads as documented, a clean render
+ * reads its depth quantum, and the per-pixel maps interpolate the cells.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/cmocka_all.h"
+#include "common/noise_fields.h"
+#include "common/test_common.h"
+#include "depth/noise_estimate.h"
+#include "synth/synth.h"
+
+enum { W = 640, H = 480 };
+
+/* 1/z of a tilted plane at pixel (x, y): 1.3 m to 3.6 m over the frame */
+static double plane_w(int x, int y)
+{
+	return 0.5 + 0.0006 * (x - 320) + 0.0004 * (y - 240);
+}
+
+/* z from the plane plus noise in 1/z (n: W x H, NULL for none) */
+static void plane_depth(float *z, const float *n)
+{
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++)
+			z[y * W + x] = (float)(1.0 / (plane_w(x, y) + (n ? n[y * W + x] : 0.0f)));
+}
+
+static struct dao_noise_grid estimate(const float *z)
+{
+	struct dao_noise_grid g;
+	assert_int_equal(dao_noise_grid_init(&g, W, H), 0);
+	dao_noise_blocks(&g, z, 0, g.bh);
+	dao_noise_cells(&g);
+	return g;
+}
+
+/* RMS over the cells of (cell / sigma - 1) */
+static double cell_spread(const struct dao_noise_grid *g, const float *cells, double sigma)
+{
+	double s = 0;
+	for (int i = 0; i < g->cw * g->ch; i++)
+		s += (cells[i] / sigma - 1) * (cells[i] / sigma - 1);
+	return sqrt(s / (g->cw * g->ch));
+}
+
+/* Independent Gaussian noise: both statistics read sigma. */
+static void test_iid(void **state)
+{
+	(void)state;
+	float *z = malloc(W * H * sizeof(float)), *n = malloc(W * H * sizeof(float));
+	static const double sigmas[] = { 0.0002, 0.0012, 0.005 };
+	for (int k = 0; k < 3; k++) {
+		dao_test_correlated_noise(n, W, H, sigmas[k], 0.0, 100 + k);
+		plane_depth(z, n);
+		struct dao_noise_grid g = estimate(z);
+		const int nc = g.cw * g.ch;
+		const double ea = g.frame_area / sigmas[k], el = g.frame_link / sigmas[k];
+		const double sa = cell_spread(&g, g.cell, sigmas[k]);
+		const double sl = cell_spread(&g, g.cell + nc, sigmas[k]);
+		print_message("iid sigma %.4f: area %.3f sigma (cells %.3f RMS), link %.3f sigma (cells %.3f)\n",
+			      sigmas[k], ea, sa, el, sl);
+		assert_int_equal(g.usable_cells, nc);
+		/* measured: within 1 %; cells 3 % and 9 % */
+		assert_true(fabs(ea - 1) < 0.03 && fabs(el - 1) < 0.03);
+		assert_true(sa < 0.06 && sl < 0.15);
+		dao_noise_grid_free(&g);
+	}
+	free(z);
+	free(n);
+}
+
+/* Depth edges and holes: blocks on them are outvoted within their cell. */
+static void test_edges_and_holes(void **state)
+{
+	(void)state;
+	float *z = malloc(W * H * sizeof(float)), *n = malloc(W * H * sizeof(float));
+	const double sigma = 0.0012;
+	dao_test_correlated_noise(n, W, H, sigma, 0.0, 7);
+	plane_depth(z, n);
+	/* a box 0.8 m in front, steps every 40 px, holes in clumps */
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			float *p = &z[y * W + x];
+			if (x > 200 && x < 440 && y > 100 && y < 380)
+				*p -= 0.8f;
+			if ((x / 40) & 1)
+				*p += 0.05f;
+			if ((x * 31 + y * 17) % 97 == 0)
+				*p = 0.0f;
+		}
+	struct dao_noise_grid g = estimate(z);
+	print_message("edges and holes: area %.3f sigma, link %.3f sigma, %d of %d cells usable\n",
+		      g.frame_area / sigma, g.frame_link / sigma, g.usable_cells, g.cw * g.ch);
+	assert_true(fabs(g.frame_area / sigma - 1) < 0.1 && fabs(g.frame_link / sigma - 1) < 0.1);
+	dao_noise_grid_free(&g);
+	/* everything a hole: nothing measured */
+	memset(z, 0, W * H * sizeof(float));
+	g = estimate(z);
+	assert_int_equal(g.usable_cells, 0);
+	assert_true(isnan(g.frame_area));
+	dao_noise_grid_free(&g);
+	free(z);
+	free(n);
+}
+
+/* Two halves: the cells follow the noise of their half. */
+static void test_regions(void **state)
+{
+	(void)state;
+	float *z = malloc(W * H * sizeof(float)), *n = malloc(W * H * sizeof(float));
+	dao_test_correlated_noise(n, W, H, 1.0, 0.0, 9);
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++)
+			n[y * W + x] *= x < W / 2 ? 0.0005f : 0.003f;
+	plane_depth(z, n);
+	struct dao_noise_grid g = estimate(z);
+	for (int cy = 0; cy < g.ch; cy++)
+		for (int cx = 0; cx < g.cw; cx++) {
+			const double want = cx < g.cw / 2 ? 0.0005 : 0.003;
+			const float a = g.cell[cy * g.cw + cx];
+			if (fabs(a / want - 1) > 0.15)
+				fail_msg("cell %d,%d: area %g, the noise there is %g", cx, cy, (double)a, want);
+		}
+	dao_noise_grid_free(&g);
+	free(z);
+	free(n);
+}
+
+/*
+ * Spatially correlated noise (white noise blurred by blur px, standard
+ * deviation sigma): `area` reads the part an 8x8 plane cannot absorb,
+ * `link` what neighbours differ by.  Bounds: measured values with margin.
+ */
+static void test_correlated(void **state)
+{
+	(void)state;
+	float *z = malloc(W * H * sizeof(float)), *n = malloc(W * H * sizeof(float));
+	const double sigma = 0.0012;
+	static const struct {
+		double blur, area_lo, area_hi, link_lo, link_hi;
+	} cases[] = {
+		{ 0.5, 0.90, 1.00, 0.68, 0.90 },   /* measured 0.965, 0.785 */
+		{ 1.0, 0.72, 0.88, 0.15, 0.23 },   /* 0.799, 0.189 */
+		{ 2.0, 0.43, 0.55, 0.020, 0.040 }, /* 0.487, 0.029 */
+		{ 4.0, 0.15, 0.22, 0.002, 0.007 }, /* 0.181, 0.004 */
+	};
+	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+		dao_test_correlated_noise(n, W, H, sigma, cases[k].blur, 20 + k);
+		plane_depth(z, n);
+		struct dao_noise_grid g = estimate(z);
+		const double a = g.frame_area / sigma, l = g.frame_link / sigma;
+		print_message("correlated, blur %.1f px: area %.3f sigma, link %.3f sigma\n",
+			      cases[k].blur, a, l);
+		assert_true(a > cases[k].area_lo && a < cases[k].area_hi);
+		assert_true(l > cases[k].link_lo && l < cases[k].link_hi);
+		dao_noise_grid_free(&g);
+	}
+	free(z);
+	free(n);
+}
+
+/* A clean render in millimetres: the estimate is the depth quantum only. */
+static void test_clean_render(void **state)
+{
+	(void)state;
+	static const char *const scenes[] = { "plane", "room-corner", "spheres", "boxes" };
+	for (int k = 0; k < 4; k++) {
+		struct synth_scene sc;
+		struct synth_image img;
+		struct dao_camera cam;
+		assert_int_equal(synth_scene_build(scenes[k], 0.0, &sc, NULL), 0);
+		synth_default_camera(&cam);
+		assert_int_equal(synth_render(&sc, &cam, 0.5, 0, 2, &img, NULL), 0);
+		double q = 0;
+		int nq = 0;
+		for (int i = 0; i < W * H; i++) {
+			img.depth[i] = roundf(img.depth[i] * 1000.0f) / 1000.0f;
+			if (img.depth[i] > 0)
+				q += 0.001 / (img.depth[i] * img.depth[i]) / sqrt(12.0), nq++;
+		}
+		q /= nq; /* the quantum's standard deviation in 1/z, on average */
+		struct dao_noise_grid g = estimate(img.depth);
+		print_message("clean %-12s area %.2e link %.2e, quantum sigma %.2e (1/z)\n", scenes[k],
+			      (double)g.frame_area, (double)g.frame_link, q);
+		assert_true(g.frame_area > 0.5 * q && g.frame_area < 1.5 * q);
+		assert_true(g.frame_link > 0.5 * q && g.frame_link < 1.5 * q);
+		dao_noise_grid_free(&g);
+		synth_image_free(&img);
+	}
+}
+
+/* The maps: the cell's value at its centre, linear between centres,
+ * constant beyond, and the transposed map the same numbers. */
+static void test_maps(void **state)
+{
+	(void)state;
+	struct dao_noise_grid g;
+	assert_int_equal(dao_noise_grid_init(&g, W, H), 0);
+	const int nc = g.cw * g.ch;
+	float *cells = malloc(nc * sizeof(float));
+	for (int cy = 0; cy < g.ch; cy++)
+		for (int cx = 0; cx < g.cw; cx++)
+			cells[cy * g.cw + cx] = (float)(cx * 10 + cy * 1000 + (cx * cy) % 7);
+	float *m = malloc(W * H * sizeof(float)), *mt = malloc(W * H * sizeof(float));
+	dao_noise_map_rows(&g, cells, m, 0, H);
+	dao_noise_map_cols(&g, cells, mt, 0, W);
+	const int span = DAO_NOISE_BLOCK * DAO_NOISE_CELL; /* cell centres at span k + 15.5 */
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			/* bilinear by hand, in double */
+			double fx = (x - 15.5) / span, fy = (y - 15.5) / span;
+			fx = fx < 0 ? 0 : fx > g.cw - 1 ? g.cw - 1 : fx;
+			fy = fy < 0 ? 0 : fy > g.ch - 1 ? g.ch - 1 : fy;
+			int ix = (int)fx, iy = (int)fy;
+			ix = ix > g.cw - 2 ? g.cw - 2 : ix;
+			iy = iy > g.ch - 2 ? g.ch - 2 : iy;
+			const double ux = fx - ix, uy = fy - iy;
+			const double c00 = cells[iy * g.cw + ix], c01 = cells[iy * g.cw + ix + 1];
+			const double c10 = cells[(iy + 1) * g.cw + ix], c11 = cells[(iy + 1) * g.cw + ix + 1];
+			const double want = (1 - uy) * ((1 - ux) * c00 + ux * c01) +
+					    uy * ((1 - ux) * c10 + ux * c11);
+			const float a = m[y * W + x], b = mt[x * H + y];
+			if (fabs(a - want) > 1e-3 || fabs(b - want) > 1e-3)
+				fail_msg("map at %d,%d: %g, transposed %g, bilinear %g", x, y, (double)a,
+					 (double)b, want);
+		}
+	free(cells);
+	free(m);
+	free(mt);
+	dao_noise_grid_free(&g);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_iid),
+		cmocka_unit_test(test_edges_and_holes),
+		cmocka_unit_test(test_regions),
+		cmocka_unit_test(test_correlated),
+		cmocka_unit_test(test_clean_render),
+		cmocka_unit_test(test_maps),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
