@@ -52,6 +52,7 @@ struct shared {
 	GstCaps *caps;          /* of the frames written */
 	GstElement *appsrc;     /* of the prepared shared media (a ref), NULL without clients */
 	GstRTSPMedia *media;    /* the media that appsrc belongs to (not a ref) */
+	GstClockTime last_pts;  /* of the last frame pushed into appsrc */
 };
 
 struct rtsp_sink {
@@ -263,6 +264,7 @@ static void on_media_configure(GstRTSPMediaFactory *factory, GstRTSPMedia *media
 	g_object_set(src, "caps", sh->caps, NULL);
 	gst_object_replace((GstObject **)&sh->appsrc, GST_OBJECT(src));
 	sh->media = media;
+	sh->last_pts = 0;
 	g_mutex_unlock(&sh->lock);
 	gst_object_unref(src);
 	g_signal_connect_data(media, "unprepared", G_CALLBACK(on_media_unprepared),
@@ -318,7 +320,7 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 	gst_caps_unref(caps);
 
 	gchar *launch = g_strdup_printf(
-		"( appsrc name=" APPSRC_NAME " is-live=true format=time do-timestamp=true "
+		"( appsrc name=" APPSRC_NAME " is-live=true format=time "
 		"block=false max-buffers=2 leaky-type=downstream "
 		"! videoconvert ! video/x-raw,format=I420,colorimetry=1:4:0:0,chroma-site=jpeg "
 		"! jpegenc quality=%d "
@@ -339,6 +341,37 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 	gst_rtsp_mount_points_add_factory(mounts, s->mount, factory); /* takes the factory */
 	g_object_unref(mounts);
 	return 0;
+}
+
+/*
+ * The frame's timestamp: the media pipeline's running time now, once it plays.
+ * (appsrc's do-timestamp reads the clock while the pipeline may not have its
+ * base time yet; a frame then carried the clock's absolute time, hours ahead,
+ * and the RTP sink waited that long on it: a client that got no frame at all,
+ * about once in 50 connections.)  Before PLAYING, and should the clock step
+ * back, the last timestamp again: frames never go back in time.
+ */
+static GstClockTime frame_time(struct shared *sh, GstElement *src)
+{
+	GstClockTime pts = GST_CLOCK_TIME_NONE;
+	GstState state = GST_STATE_NULL;
+	if (gst_element_get_state(src, &state, NULL, 0) != GST_STATE_CHANGE_FAILURE &&
+	    state == GST_STATE_PLAYING) {
+		GstClock *clock = gst_element_get_clock(src);
+		if (clock) {
+			const GstClockTime now = gst_clock_get_time(clock);
+			const GstClockTime base = gst_element_get_base_time(src);
+			if (GST_CLOCK_TIME_IS_VALID(now) && GST_CLOCK_TIME_IS_VALID(base) && now >= base)
+				pts = now - base;
+			gst_object_unref(clock);
+		}
+	}
+	g_mutex_lock(&sh->lock);
+	if (!GST_CLOCK_TIME_IS_VALID(pts) || pts < sh->last_pts)
+		pts = sh->last_pts;
+	sh->last_pts = pts;
+	g_mutex_unlock(&sh->lock);
+	return pts;
 }
 
 static int rtsp_write(void *state, const struct dao_frame *f, struct dao_error *err)
@@ -362,6 +395,7 @@ static int rtsp_write(void *state, const struct dao_frame *f, struct dao_error *
 			       (const guint8 *)f->data + (gsize)y * (gsize)f->stride, row);
 		gst_buffer_unmap(buf, &map);
 		GST_BUFFER_OFFSET(buf) = f->sequence;
+		GST_BUFFER_PTS(buf) = frame_time(s->sh, src);
 		/* never blocks: a full queue drops its oldest frame; a media that is
 		   shutting down answers FLUSHING, which is no error of this sink */
 		gst_app_src_push_buffer(GST_APP_SRC(src), buf);
