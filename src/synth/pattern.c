@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/math_util.h"
+#include "synth/linalg.h"
 #include "synth/pattern.h"
 
 #define WIN SYNTH_PATTERN_WIN
@@ -89,22 +90,11 @@ static int window_qualifies(const float *ao, const float *depth, int w, int x0, 
 	return 1;
 }
 
-/* Solves the 3 x 3 system m x = t (Cramer's rule); 0 where it is singular. */
+/* Solves the 3 x 3 system m x = t; 0 where it is singular. */
 static void solve3(const double m[3][3], const double t[3], double x[3])
 {
-	const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-			   m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-			   m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-	for (int k = 0; k < 3; k++) {
-		double a[3][3];
-		memcpy(a, m, sizeof a);
-		for (int i = 0; i < 3; i++)
-			a[i][k] = t[i];
-		x[k] = det != 0.0 ? (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-				     a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-				     a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])) / det
-				  : 0.0;
-	}
+	if (synth_solve3(m, t, x, 0.0))
+		x[0] = x[1] = x[2] = 0.0;
 }
 
 int synth_pattern_measure(const float *ao, const float *depth, int w, int h,

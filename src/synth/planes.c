@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "core/error_internal.h"
+#include "synth/linalg.h"
 #include "synth/planes.h"
 #include "synth/rng.h"
 #include "synth/robust.h"
@@ -54,25 +55,10 @@ double synth_plane_w(const struct synth_plane *p, const struct dao_camera *cam, 
 	return p->a + p->b * xn(cam, u) + p->c * yn(cam, v);
 }
 
-/* Solves the symmetric 3x3 system m s = t (Cramer); -1 if singular relative to its scale. */
+/* The symmetric 3x3 system m s = t; -1 if singular relative to its scale. */
 static int solve3(const double m[3][3], const double t[3], double s[3])
 {
-	double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-		     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-		     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-	double scale = fabs(m[0][0] * m[1][1] * m[2][2]) + 1e-300;
-	if (!(fabs(det) > 1e-12 * scale))
-		return -1;
-	for (int k = 0; k < 3; k++) {
-		double a[3][3];
-		memcpy(a, m, sizeof a);
-		for (int i = 0; i < 3; i++)
-			a[i][k] = t[i];
-		s[k] = (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-			a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-			a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])) / det;
-	}
-	return 0;
+	return synth_solve3(m, t, s, 1e-12);
 }
 
 static void finish_plane(struct synth_plane *p)
@@ -171,21 +157,9 @@ static int hypothesis(struct finder *f, struct synth_plane *p)
 		m[k][0] = 1.0, m[k][1] = xn(f->cam, x), m[k][2] = yn(f->cam, y);
 		t[k] = 1.0 / f->z[idx[k]];
 	}
-	/* not symmetric: plain Cramer on the rows */
-	double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-		     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-		     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-	if (!(fabs(det) > 1e-9))
+	/* not symmetric: Cramer on the rows, singular below an absolute 1e-9 */
+	if (!(fabs(synth_det3(m)) > 1e-9) || synth_solve3(m, t, s, 0.0))
 		return -1;
-	for (int k = 0; k < 3; k++) {
-		double a[3][3];
-		memcpy(a, m, sizeof a);
-		for (int i = 0; i < 3; i++)
-			a[i][k] = t[i];
-		s[k] = (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-			a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-			a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])) / det;
-	}
 	p->a = s[0], p->b = s[1], p->c = s[2];
 	return 0;
 }
