@@ -36,4 +36,32 @@ fi
 grep -q "stdout was closed" "$WORK/log-no-stdout" ||
 	fail "the log does not say that stdout was closed: $(cat "$WORK/log-no-stdout")"
 
+# ---- 2. ?overwrite=true and a sink reopened in the same run ------------------------------
+# overwrite replaces a file that is there when the sink first opens; a reopen (the frame
+# size changed here; also after an error) truncated what this run had recorded.
+echo "an old file" >"$WORK/ow.oni"
+echo "an old file" >"$WORK/ow.y4m"
+"$DAEMON" --source "testsrc:fps=100,w=160,h=120,resize_after=20,w2=80,h2=60" --playback manual \
+	--max-frames 50 --stats-interval 0 \
+	--sink rec=oni:"$WORK/ow.oni?overwrite=true" --stream rec=depth \
+	--sink vid=y4m:"$WORK/ow.y4m?overwrite=true" --stream vid=ao8 2>"$WORK/log-ow" ||
+	fail "overwrite: exit status $?: $(cat "$WORK/log-ow")"
+out=$("$ONI_CHECK" "$WORK/ow.oni" 100 2>&1) || fail "overwrite: ow.oni: $out"
+echo "overwrite, resized after 20 frames: ow.oni: $out"
+[ "$(field frames "$out")" = 20 ] && [ "$(field first "$out")" = 0 ] ||
+	fail "ow.oni should keep the first 20 frames (160x120): $out"
+out=$("$ONI_CHECK" "$WORK/ow-1.oni" 100 2>&1) || fail "overwrite: ow-1.oni: $out"
+echo "ow-1.oni: $out"
+[ "$(field frames "$out")" = 30 ] && [ "$(field first "$out")" = 20 ] ||
+	fail "ow-1.oni should hold frames 20..49 (80x60): $out"
+[ "$(grep -c "sink rec: opened again after 20 frames: overwrite applies to its first open only" "$WORK/log-ow")" = 1 ] ||
+	fail "overwrite: the log does not say why the reopen did not overwrite: $(cat "$WORK/log-ow")"
+y4m_size() { # header + N frames of W x H mono
+	echo $(($(printf 'YUV4MPEG2 W%s H%s F100:1 Ip A1:1 Cmono\n' "$1" "$2" | wc -c) + $3 * (6 + $1 * $2)))
+}
+[ "$(stat -c %s "$WORK/ow.y4m")" = "$(y4m_size 160 120 20)" ] ||
+	fail "ow.y4m is $(stat -c %s "$WORK/ow.y4m") bytes, 20 frames of 160x120 are $(y4m_size 160 120 20): $(head -c 40 "$WORK/ow.y4m")"
+[ "$(stat -c %s "$WORK/ow-1.y4m" 2>/dev/null)" = "$(y4m_size 80 60 30)" ] ||
+	fail "ow-1.y4m: $(stat -c %s "$WORK/ow-1.y4m" 2>&1), 30 frames of 80x60 are $(y4m_size 80 60 30)"
+
 finish

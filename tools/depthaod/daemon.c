@@ -73,6 +73,8 @@ struct sink_runner {
 	int unflushed;                /* frames written since the last flush */
 	unsigned long long failures;  /* in a row, since the last good write */
 	struct log_limit warn_limit;
+	char reopen_uri[DAOD_MAX_URI + 8]; /* the URI with overwrite=true turned off ("" = same) */
+	int reopen_noted;             /* the log said so */
 	atomic_int state;             /* enum sink_state */
 	char stop_reason[320];        /* written before state becomes SINK_STOPPED */
 	const char *stop_code;        /* ... and the error's name: "ENOSPC", "ECANCELED", ... */
@@ -687,12 +689,63 @@ static void sink_failed(struct sink_runner *s, int r, const char *msg)
 	atomic_store(&s->state, SINK_RETRYING);
 }
 
+/*
+ * The URI for opening the sink again, after it wrote frames in this run: an
+ * "overwrite=true" (or =1) among the options after the last '?' becomes
+ * "overwrite=false", so that a reopen (after an error, or for a new frame size)
+ * never replaces what this run recorded; "" when there is none.  overwrite
+ * replaces a file that is there when the sink first opens, nothing after.
+ */
+static void make_reopen_uri(const char *uri, char *out, size_t cap)
+{
+	const char *q = strrchr(uri, '?');
+	out[0] = '\0';
+	if (!q || !strchr(q, '='))
+		return;
+	size_t n = (size_t)(q - uri) + 1, len = 0;
+	int changed = 0;
+	if (n >= cap)
+		return;
+	memcpy(out, uri, n);
+	len = n;
+	for (const char *kv = q + 1; *kv;) {
+		size_t k = strcspn(kv, "&");
+		const char *opt = kv;
+		size_t optlen = k;
+		if ((k == 14 && !strncmp(kv, "overwrite=true", 14)) ||
+		    (k == 11 && !strncmp(kv, "overwrite=1", 11))) {
+			opt = "overwrite=false";
+			optlen = 15;
+			changed = 1;
+		}
+		if (len + optlen + 2 > cap) {
+			out[0] = '\0';
+			return;
+		}
+		memcpy(out + len, opt, optlen);
+		len += optlen;
+		kv += k;
+		if (*kv == '&')
+			out[len++] = *kv++;
+	}
+	out[changed ? len : 0] = '\0';
+}
+
 /* Opens and negotiates the sink for the frames of `it`; 0, or the failure handled. */
 static int open_sink(struct sink_runner *s, const struct fq_item *it)
 {
 	struct daemon *d = s->d;
 	struct dao_error err = {0};
-	int r = dao_sink_open(d->plugins, s->cfg->uri, &s->sink, &err);
+	const char *uri = s->cfg->uri;
+	unsigned long long wrote = atomic_load(&s->written);
+	if (wrote && s->reopen_uri[0]) {
+		uri = s->reopen_uri;
+		if (!s->reopen_noted++)
+			log_info("sink %s: opened again after %llu frame%s: overwrite applies to its first "
+				 "open only, what this run wrote is kept", s->cfg->name, wrote,
+				 wrote == 1 ? "" : "s");
+	}
+	int r = dao_sink_open(d->plugins, uri, &s->sink, &err);
 	if (r == 0) {
 		dao_sink_attach_host(s->sink, &d->host);
 		pthread_mutex_lock(&d->lock);
@@ -855,6 +908,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		s->cfg = &d->cfg.sinks[i];
 		s->backoff_ms = SINK_RETRY_INITIAL_MS;
 		s->warn_limit = (struct log_limit)LOG_LIMIT_INIT(SINK_LOG_INTERVAL_MS, SINK_LOG_BURST);
+		make_reopen_uri(s->cfg->uri, s->reopen_uri, sizeof s->reopen_uri);
 		pthread_mutex_init(&s->lat_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
 			snprintf(msg, len, "out of memory");
