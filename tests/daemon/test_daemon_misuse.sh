@@ -6,6 +6,8 @@
 export DEPTHAO_PLUGIN_PATH="$TEST_PLUGINS"
 ONI_CHECK="$TEST_PLUGINS/oni_check"
 SOCK="$WORK/ctl.sock"
+DAEMON=$(realpath "$DAEMON") # part 4 runs it from another directory
+DEPTHAO=$(realpath "$DEPTHAO")
 
 # field NAME "LINE": the number after NAME in oni_check's output
 field() {
@@ -92,5 +94,26 @@ if [ -n "${DAO_VIDEO_INFO:-}" ]; then
 else
 	echo "note: the opencv plugin is not built; its part was skipped"
 fi
+
+# ---- 4. ctl snapshot with a relative path --------------------------------------------
+# It was written relative to the daemon's working directory (/ under systemd) and the
+# reply said ok with the relative name: the user found no file where they asked.
+mkdir -p "$WORK/daemon-cwd" "$WORK/user-cwd"
+(cd "$WORK/daemon-cwd" && exec "$DAEMON" --source "testsrc:fps=30" --socket "$SOCK" \
+	--stats-interval 0 --sink null=y4m:/dev/null 2>"$WORK/log-rel") &
+PID=$!
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-rel")"
+(cd "$WORK/user-cwd" && "$DEPTHAO" ctl --socket "$SOCK" snapshot rel.png) >"$WORK/ctl-rel" 2>&1 ||
+	fail "ctl snapshot rel.png: $(cat "$WORK/ctl-rel")"
+[ -f "$WORK/user-cwd/rel.png" ] || fail "the snapshot is not in the user's directory: $(find "$WORK" -name rel.png)"
+[ -e "$WORK/daemon-cwd/rel.png" ] && fail "the snapshot went to the daemon's working directory"
+grep -q "\"path\":\"$WORK/user-cwd/rel.png\"" "$WORK/ctl-rel" ||
+	fail "the reply does not name the file written: $(cat "$WORK/ctl-rel")"
+# a client of the raw protocol is told that the path must be absolute
+"$TEST_PLUGINS/sock_client" ask "$SOCK" 5000 '{"cmd":"snapshot","path":"raw.png"}' >"$WORK/raw-rel" 2>&1 || true
+grep -q '"ok":false' "$WORK/raw-rel" && grep -q "absolute" "$WORK/raw-rel" ||
+	fail "a relative path in the protocol: $(cat "$WORK/raw-rel")"
+[ -e "$WORK/daemon-cwd/raw.png" ] && fail "a relative snapshot went to the daemon's working directory"
+stop_daemon || fail "exit status $?"
 
 finish

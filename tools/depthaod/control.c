@@ -234,6 +234,10 @@ static struct json_object *handle(struct control *c, struct client *cl, const ch
 		char m[256];
 		if (!path || !*path) {
 			res = error_reply("%s", "snapshot needs \"path\" (a .png file to write)");
+		} else if (path[0] != '/') {
+			res = error_reply("snapshot: '%s' is relative; the path must be absolute (the "
+					  "daemon's working directory is not the client's; depthao ctl "
+					  "makes a relative path absolute)", path);
 		} else if (strlen(path) >= sizeof cl->snapshot_path) {
 			res = error_reply("%s", "snapshot: the path is too long");
 		} else if (daemon_snapshot_request(c->d, path, c->wake[1], m, sizeof m) < 0) {
