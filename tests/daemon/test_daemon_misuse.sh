@@ -116,4 +116,21 @@ grep -q '"ok":false' "$WORK/raw-rel" && grep -q "absolute" "$WORK/raw-rel" ||
 [ -e "$WORK/daemon-cwd/raw.png" ] && fail "a relative snapshot went to the daemon's working directory"
 stop_daemon || fail "exit status $?"
 
+# ---- 5. a client that sends its requests and hangs up at once -------------------------
+# (echo '{"cmd":"pause"}' | nc -U -q0 SOCK): its requests were dropped unread when the
+# hang-up came with them, or all but the first when the first reply found no reader.
+start_daemon "$WORK/log-fire" --source "testsrc:fps=30" --socket "$SOCK" --stats-interval 0 \
+	--sink null=y4m:/dev/null
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-fire")"
+"$TEST_PLUGINS/sock_client" fire "$SOCK" '{"cmd":"pause"}' \
+	'{"cmd":"set","key":"radius","value":"0.33"}' '{"cmd":"set","key":"steps","value":"9"}' ||
+	fail "sock_client fire"
+sleep 0.5
+[ "$(stat_of "$SOCK" paused)" = true ] || fail "a pause sent before hanging up was not done"
+"$DEPTHAO" ctl --socket "$SOCK" get radius | grep -q '"radius":"0.33"' ||
+	fail "a set sent before hanging up was not done: $("$DEPTHAO" ctl --socket "$SOCK" get radius)"
+"$DEPTHAO" ctl --socket "$SOCK" get steps | grep -q '"steps":"9"' ||
+	fail "the third request before hanging up was not done: $("$DEPTHAO" ctl --socket "$SOCK" get steps)"
+stop_daemon || fail "exit status $?"
+
 finish
