@@ -133,4 +133,34 @@ sleep 0.5
 	fail "the third request before hanging up was not done: $("$DEPTHAO" ctl --socket "$SOCK" get steps)"
 stop_daemon || fail "exit status $?"
 
+# ---- 6. ctl snapshot into a FIFO whose reader does not read ---------------------------
+# The processing thread wrote the PNG itself and blocked in write(): no frame reached any
+# sink while the reader slept (and no watchdog ping went out).
+mkfifo "$WORK/stuck.fifo"
+python3 -c '
+import fcntl, os, sys, time
+fd = os.open(sys.argv[1], os.O_RDWR)       # a reader that never reads
+fcntl.fcntl(fd, 1031, 4096)                # F_SETPIPE_SZ: the 16 KB PNG does not fit
+print("ready", flush=True)
+time.sleep(30)' "$WORK/stuck.fifo" >"$WORK/fifo-reader.out" &
+READER=$!
+wait_for 10 grep -q ready "$WORK/fifo-reader.out" || fail "the FIFO reader did not start"
+start_daemon "$WORK/log-fifo" --source "testsrc:fps=30,w=320,h=240" --socket "$SOCK" \
+	--stats-interval 0 --sink rec=oni:"$WORK/fifo-run.oni" --stream rec=depth
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-fifo")"
+"$DEPTHAO" ctl --socket "$SOCK" --timeout 10 snapshot "$WORK/stuck.fifo" >"$WORK/ctl-fifo" 2>&1 || true
+echo "snapshot into a FIFO nobody reads: $(tr -d '\n' <"$WORK/ctl-fifo")"
+grep -q '"ok":false' "$WORK/ctl-fifo" && grep -q "still being written" "$WORK/ctl-fifo" ||
+	fail "the snapshot into the stuck FIFO: $(cat "$WORK/ctl-fifo")"
+p1=$(stat_of "$SOCK" sinks.0.frames_out)
+sleep 1
+p2=$(stat_of "$SOCK" sinks.0.frames_out)
+echo "frames recorded in the second after: $((p2 - p1))"
+[ "$((p2 - p1))" -ge 10 ] || fail "the pipeline stood still while a snapshot waited for a FIFO: $p1 -> $p2 frames recorded"
+"$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/busy.png" >"$WORK/ctl-busy" 2>&1 || true
+grep -q "in progress" "$WORK/ctl-busy" || fail "a second snapshot: $(cat "$WORK/ctl-busy")"
+stop_daemon || true
+out=$("$ONI_CHECK" "$WORK/fifo-run.oni" 30 2>&1) || fail "the recording beside the stuck snapshot: $out"
+kill "$READER" 2>/dev/null || true
+
 finish

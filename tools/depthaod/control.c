@@ -74,7 +74,7 @@ static uint64_t now_ns(void)
 
 static struct json_object *error_reply(const char *fmt, const char *a)
 {
-	char m[512];
+	char m[1024];
 	snprintf(m, sizeof m, fmt, a);
 	struct json_object *j = json_object_new_object();
 	json_object_object_add(j, "ok", json_object_new_boolean(0));
@@ -315,12 +315,16 @@ static void on_readable(struct control *c, struct client *cl)
 static void finish_snapshot(struct control *c, int timed_out)
 {
 	struct client *cl = &c->clients[c->snapshot_owner];
-	char m[256] = "";
+	char m[768] = "";
 	int r = 1;
 	if (timed_out) {
-		daemon_snapshot_cancel(c->d);
-		snprintf(m, sizeof m, "no frame within %d ms (the source is idle or slow)",
-			 SNAPSHOT_TIMEOUT_MS);
+		if (daemon_snapshot_cancel(c->d))
+			snprintf(m, sizeof m, "%s is still being written after %d ms (a FIFO whose "
+				 "reader does not read, or a slow file system); the pipeline goes on",
+				 cl->snapshot_path, SNAPSHOT_TIMEOUT_MS);
+		else
+			snprintf(m, sizeof m, "no frame within %d ms (the source is idle or slow)",
+				 SNAPSHOT_TIMEOUT_MS);
 	} else if ((r = daemon_snapshot_result(c->d, m, sizeof m)) == 1) {
 		return; /* not yet */
 	}

@@ -117,6 +117,11 @@ struct daemon {
 	double cam_hfov, cam_vfov;    /* of the camera the pipeline uses (recorders store it) */
 	int have_cam;
 
+	pthread_t snapshot_writer;    /* writes snapshots: a slow or stuck file holds up only it */
+	int snapshot_writer_running;
+	pthread_cond_t snapshot_cond; /* (lock) a frame to write, or snapshot_quit */
+	int snapshot_quit;
+	struct dao_frame snapshot_frame; /* the frame being written (SNAP_WRITING) */
 	char snapshot_path[512];
 	int snapshot_state;           /* SNAP_* or -errno (failed) */
 	int snapshot_abandoned;       /* cancelled while being written */
@@ -418,33 +423,61 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 	}
 }
 
-/* Writes a requested snapshot (without holding the lock: the control thread stays free). */
-static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
+/* The snapshot's result (a frame written, or not): told to whoever waits for it. */
+static void snapshot_done(struct daemon *d, int r, const char *msg)
 {
-	char path[sizeof d->snapshot_path];
-	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state != SNAP_REQUESTED) {
-		pthread_mutex_unlock(&d->lock);
-		return;
-	}
-	memcpy(path, d->snapshot_path, sizeof path);
-	d->snapshot_state = SNAP_WRITING;
-	pthread_mutex_unlock(&d->lock);
-	struct dao_error err = {0};
-	int r = dao_png_write(path, rgb, &err);
-	pthread_mutex_lock(&d->lock);
 	if (d->snapshot_abandoned) {
 		d->snapshot_state = SNAP_NONE;
 		d->snapshot_abandoned = 0;
-	} else {
-		d->snapshot_state = r < 0 ? r : SNAP_DONE;
-		snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? err.message : "");
-		if (d->snapshot_notify_fd >= 0) {
-			ssize_t w = write(d->snapshot_notify_fd, "s", 1); /* non-blocking pipe */
-			(void)w;
+		return;
+	}
+	d->snapshot_state = r < 0 ? r : SNAP_DONE;
+	snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? msg : "");
+	if (d->snapshot_notify_fd >= 0) {
+		ssize_t w = write(d->snapshot_notify_fd, "s", 1); /* non-blocking pipe */
+		(void)w;
+	}
+}
+
+/*
+ * A requested snapshot: the processing thread copies the frame and goes on;
+ * the snapshot thread writes it.  Written here, a FIFO whose reader did not
+ * read (or a hung network file system) stopped every sink.
+ */
+static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
+{
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_state == SNAP_REQUESTED) {
+		if (fq_frame_copy(&d->snapshot_frame, rgb) < 0) {
+			snapshot_done(d, -ENOMEM, "out of memory for the snapshot");
+		} else {
+			d->snapshot_state = SNAP_WRITING;
+			pthread_cond_signal(&d->snapshot_cond);
 		}
 	}
 	pthread_mutex_unlock(&d->lock);
+}
+
+static void *snapshot_main(void *arg)
+{
+	struct daemon *d = arg;
+	char path[sizeof d->snapshot_path];
+	pthread_mutex_lock(&d->lock);
+	for (;;) {
+		while (d->snapshot_state != SNAP_WRITING && !d->snapshot_quit)
+			pthread_cond_wait(&d->snapshot_cond, &d->lock);
+		if (d->snapshot_state != SNAP_WRITING)
+			break;
+		memcpy(path, d->snapshot_path, sizeof path);
+		pthread_mutex_unlock(&d->lock);
+		/* the frame is this thread's while the state is SNAP_WRITING */
+		struct dao_error err = {0};
+		int r = dao_png_write(path, &d->snapshot_frame, &err);
+		pthread_mutex_lock(&d->lock);
+		snapshot_done(d, r, err.message);
+	}
+	pthread_mutex_unlock(&d->lock);
+	return NULL;
 }
 
 static void *process_main(void *arg)
@@ -898,6 +931,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
 	pthread_cond_init(&d->wake, &ca);
 	pthread_condattr_destroy(&ca);
+	pthread_cond_init(&d->snapshot_cond, NULL);
 	if (config_params(cfg, &d->params, msg, len) < 0 || fq_create(&d->input, cfg->input_queue) < 0) {
 		daemon_destroy(d);
 		return -EINVAL;
@@ -932,6 +966,11 @@ int daemon_start(struct daemon *d, char *msg, size_t len)
 		}
 		d->sinks[i].running = 1;
 	}
+	if (pthread_create(&d->snapshot_writer, NULL, snapshot_main, d) != 0) {
+		snprintf(msg, len, "cannot start a thread");
+		return -EAGAIN;
+	}
+	d->snapshot_writer_running = 1;
 	if (pthread_create(&d->process, NULL, process_main, d) != 0) {
 		snprintf(msg, len, "cannot start a thread");
 		return -EAGAIN;
@@ -992,6 +1031,20 @@ static void join(pthread_t t, int *running)
 	*running = 0;
 }
 
+/* Ends the snapshot thread by the deadline; 0 if it is still writing then (a stuck file). */
+static int stop_snapshot_writer(struct daemon *d, uint64_t deadline)
+{
+	pthread_mutex_lock(&d->lock);
+	d->snapshot_quit = 1;
+	pthread_cond_broadcast(&d->snapshot_cond);
+	pthread_mutex_unlock(&d->lock);
+	if (join_by(d->snapshot_writer, &d->snapshot_writer_running, deadline, NULL))
+		return 1;
+	log_warn("a snapshot was still being written at the stop deadline (a FIFO nobody "
+		 "reads?); it is abandoned");
+	return 0;
+}
+
 void daemon_stop(struct daemon *d)
 {
 	if (daemon_finished(d)) { /* the natural end: everything has drained already */
@@ -999,6 +1052,8 @@ void daemon_stop(struct daemon *d)
 		join(d->process, &d->process_running);
 		for (unsigned i = 0; i < d->nsinks; i++)
 			join(d->sinks[i].thread, &d->sinks[i].running);
+		if (!stop_snapshot_writer(d, now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u))
+			d->stragglers = 1;
 		return;
 	}
 	uint64_t t0 = now_ns();
@@ -1042,6 +1097,8 @@ void daemon_stop(struct daemon *d)
 			 "abandoned");
 		all = 0;
 	}
+	if (!stop_snapshot_writer(d, deadline))
+		all = 0;
 	d->stragglers = !all;
 }
 
@@ -1059,7 +1116,7 @@ void daemon_destroy(struct daemon *d)
 {
 	if (!d)
 		return;
-	int running = d->capture_running || d->process_running;
+	int running = d->capture_running || d->process_running || d->snapshot_writer_running;
 	for (unsigned i = 0; i < d->nsinks; i++)
 		running |= d->sinks[i].running;
 	if (running)
@@ -1071,8 +1128,10 @@ void daemon_destroy(struct daemon *d)
 		pthread_mutex_destroy(&d->sinks[i].lat_lock);
 	}
 	fq_destroy(d->input);
+	dao_frame_free(&d->snapshot_frame);
 	pthread_mutex_destroy(&d->lock);
 	pthread_cond_destroy(&d->wake);
+	pthread_cond_destroy(&d->snapshot_cond);
 	free(d);
 }
 
@@ -1136,15 +1195,17 @@ int daemon_snapshot_result(struct daemon *d, char *msg, size_t len)
 	return r < 0 ? r : 0;
 }
 
-void daemon_snapshot_cancel(struct daemon *d)
+int daemon_snapshot_cancel(struct daemon *d)
 {
 	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state == SNAP_WRITING)
+	int writing = d->snapshot_state == SNAP_WRITING;
+	if (writing)
 		d->snapshot_abandoned = 1;
 	else
 		d->snapshot_state = SNAP_NONE;
 	d->snapshot_notify_fd = -1;
 	pthread_mutex_unlock(&d->lock);
+	return writing;
 }
 
 static int cmp_u32(const void *a, const void *b)
