@@ -131,6 +131,8 @@ struct daemon {
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
 		source_failures, source_bad_frames;
 	struct log_limit source_log;  /* the capture thread's repeated warnings */
+	atomic_ullong source_call_ns; /* when the capture thread entered a source call, 0 = none */
+	int watchdog_withheld;        /* (processing thread) pings stopped for a hung source */
 	atomic_ullong cpu_ns_total;
 	uint64_t start_ns;
 	uint64_t interval_start_ns, interval_processed;
@@ -204,12 +206,14 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	};
 	struct dao_source *src = NULL;
 	struct dao_error err = {0};
+	atomic_store(&d->source_call_ns, now_ns());
 	int r = dao_source_open_limited(d->plugins, d->cfg.source_uri, &so, d->cfg.max_pixels, &src,
 					&err);
 	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
 		dao_source_close(src);
 		src = NULL;
 	}
+	atomic_store(&d->source_call_ns, 0);
 	if (r < 0 && first && source_names_file(d->cfg.source_uri)) {
 		log_error("source %s: %s; a recording or image path must be there when depthaod "
 			  "starts and open (only devices are waited for and retried): check [source] "
@@ -265,7 +269,9 @@ static void *capture_main(void *arg)
 		}
 		struct dao_source_frame f;
 		struct dao_error err = {0};
+		atomic_store(&d->source_call_ns, now_ns());
 		int r = dao_source_read(src, &f, READ_TIMEOUT_MS, &err);
+		atomic_store(&d->source_call_ns, 0);
 		if (r == -EAGAIN)
 			continue;
 		if (r == DAO_SOURCE_EOS) {
@@ -289,7 +295,9 @@ static void *capture_main(void *arg)
 			else
 				log_limited(&d->source_log, LOG_WARN, "source %s lost: %s; reopening",
 					    d->cfg.source_uri, why);
+			atomic_store(&d->source_call_ns, now_ns());
 			dao_source_close(src);
+			atomic_store(&d->source_call_ns, 0);
 			src = NULL;
 			continue;
 		}
@@ -480,6 +488,33 @@ static void *snapshot_main(void *arg)
 	return NULL;
 }
 
+/*
+ * The systemd watchdog ping, from the processing loop: it comes round at
+ * least every 100 ms unless a frame is stuck.  The capture thread must be
+ * alive too: a source call (read, open, close) that has not returned for half
+ * the watchdog interval is a hung driver, and the pings stop so that systemd
+ * restarts the service (the processing loop alone would idle and ping on).
+ */
+static void watchdog_ping(struct daemon *d)
+{
+	uint64_t usec = notify_watchdog_usec();
+	if (!usec)
+		return;
+	uint64_t since = atomic_load(&d->source_call_ns), t = now_ns();
+	if (since && t > since && t - since > usec * 1000u / 2) {
+		if (!d->watchdog_withheld)
+			log_error("source %s: a call into the source has not returned for %.1f s (a "
+				  "hung driver?); watchdog pings stop so that systemd restarts depthaod",
+				  d->cfg.source_uri, (double)(t - since) / 1e9);
+		d->watchdog_withheld = 1;
+		return;
+	}
+	if (d->watchdog_withheld)
+		log_info("source %s: it returned; watchdog pings go on", d->cfg.source_uri);
+	d->watchdog_withheld = 0;
+	notify_watchdog();
+}
+
 static void *process_main(void *arg)
 {
 	struct daemon *d = arg;
@@ -488,7 +523,7 @@ static void *process_main(void *arg)
 	struct fq_item *in;
 	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
 	for (;;) {
-		notify_watchdog(); /* each round: per frame, or every 100 ms while idle */
+		watchdog_ping(d); /* each round: per frame, or every 100 ms while idle */
 		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
 			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
 			continue;
