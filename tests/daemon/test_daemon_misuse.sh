@@ -163,4 +163,31 @@ stop_daemon || true
 out=$("$ONI_CHECK" "$WORK/fifo-run.oni" 30 2>&1) || fail "the recording beside the stuck snapshot: $out"
 kill "$READER" 2>/dev/null || true
 
+# ---- 7. ctl snapshot with the name of a recording -------------------------------------
+# The snapshot replaced whatever regular file was there: a typo, or a member of the socket
+# group (who writes as depthaod's user), replaced the running recording with a picture
+# while the recorder went on writing into the unlinked file.
+start_daemon "$WORK/log-snaprec" --source "testsrc:fps=30,w=160,h=120" --socket "$SOCK" \
+	--stats-interval 0 --sink rec=oni:"$WORK/precious.oni" --stream rec=depth
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-snaprec")"
+wait_for 10 test -s "$WORK/precious.oni" || fail "no recording"
+"$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/precious.oni" >"$WORK/ctl-snaprec" 2>&1 &&
+	fail "a snapshot replaced the recording: $(cat "$WORK/ctl-snaprec")"
+grep -q "not a PNG" "$WORK/ctl-snaprec" || fail "snapshot over a recording: $(cat "$WORK/ctl-snaprec")"
+echo "x" >"$WORK/notes.txt"
+"$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/notes.txt" >/dev/null 2>&1 &&
+	fail "a snapshot replaced a text file"
+[ "$(cat "$WORK/notes.txt")" = x ] || fail "the text file was changed"
+# a PNG (an earlier snapshot) and an empty file may be replaced
+: >"$WORK/empty.png"
+for f in pic.png pic.png empty.png; do
+	"$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/$f" >"$WORK/ctl-snappng" 2>&1 ||
+		fail "snapshot $f: $(cat "$WORK/ctl-snappng")"
+done
+"$PNG_INFO" "$WORK/empty.png" | grep -q "160 120 rgb24" || fail "the empty file did not get the snapshot"
+stop_daemon || fail "exit status $?"
+out=$("$ONI_CHECK" "$WORK/precious.oni" 30 2>&1) || fail "the recording after the snapshots: $out"
+[ "$(field warning "$out")" = 0 ] || fail "the recording was not finalised: $out"
+echo "recording beside the refused snapshots: $out"
+
 finish

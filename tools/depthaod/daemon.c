@@ -3,6 +3,7 @@
 #include "daemon.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -10,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -126,7 +128,7 @@ struct daemon {
 	int snapshot_state;           /* SNAP_* or -errno (failed) */
 	int snapshot_abandoned;       /* cancelled while being written */
 	int snapshot_notify_fd;       /* told (one byte) when it is done, -1 = nobody */
-	char snapshot_msg[256];
+	char snapshot_msg[768];
 
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
 		source_failures, source_bad_frames;
@@ -466,6 +468,31 @@ static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
 	pthread_mutex_unlock(&d->lock);
 }
 
+/*
+ * 0 if a snapshot may be written at `path`: a new name, a FIFO or device
+ * (dao_png_write decides), an empty file or a PNG.  Any other regular file is
+ * refused: `ctl snapshot` with the name of a recording (a typo, or a member of
+ * the socket group, who writes as depthaod's user) replaced the running
+ * recording with a picture while the recorder went on into the unlinked file.
+ */
+static int snapshot_may_replace(const char *path, char *msg, size_t len)
+{
+	static const unsigned char png_sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+	struct stat st;
+	if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0)
+		return 0;
+	unsigned char b[sizeof png_sig];
+	int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+	ssize_t n = fd >= 0 ? read(fd, b, sizeof b) : -1;
+	if (fd >= 0)
+		close(fd);
+	if (n == (ssize_t)sizeof b && !memcmp(b, png_sig, sizeof b))
+		return 0;
+	snprintf(msg, len, "%s exists and is not a PNG; a snapshot replaces only PNG files "
+		 "(remove it or pick another name)", path);
+	return -EEXIST;
+}
+
 static void *snapshot_main(void *arg)
 {
 	struct daemon *d = arg;
@@ -480,7 +507,9 @@ static void *snapshot_main(void *arg)
 		pthread_mutex_unlock(&d->lock);
 		/* the frame is this thread's while the state is SNAP_WRITING */
 		struct dao_error err = {0};
-		int r = dao_png_write(path, &d->snapshot_frame, &err);
+		int r = snapshot_may_replace(path, err.message, sizeof err.message);
+		if (r == 0)
+			r = dao_png_write(path, &d->snapshot_frame, &err);
 		pthread_mutex_lock(&d->lock);
 		snapshot_done(d, r, err.message);
 	}
