@@ -190,4 +190,20 @@ out=$("$ONI_CHECK" "$WORK/precious.oni" 30 2>&1) || fail "the recording after th
 [ "$(field warning "$out")" = 0 ] || fail "the recording was not finalised: $out"
 echo "recording beside the refused snapshots: $out"
 
+# ---- 8. two images sinks in one directory ------------------------------------------------
+# Their files have the same names (the frame number): the shaded frames replaced the AO
+# frames (or the other way round) and keep=N of one removed the other's.
+set +e
+"$DAEMON" --source "testsrc:fps=100" --max-frames 5 --stats-interval 0 \
+	--sink a=images:"$WORK/same" --sink b=images:"$WORK/same/?keep=3" --stream b=ao \
+	2>"$WORK/log-same"
+status=$?
+set -e
+[ "$status" = 2 ] || fail "two images sinks in one directory: exit status $status"
+grep -q "\[sink.a\] and \[sink.b\] both write" "$WORK/log-same" ||
+	fail "two images sinks in one directory: $(cat "$WORK/log-same")"
+"$DAEMON" --check-config /dev/null --source "testsrc:fps=100" --sink a=images:"$WORK/d1" \
+	--sink b=images:"$WORK/d2" --sink c=y4m:/dev/null --sink d=y4m:/dev/null >/dev/null 2>&1 ||
+	fail "sinks in different directories (and two y4m:/dev/null) were refused"
+
 finish
