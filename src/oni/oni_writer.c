@@ -431,16 +431,30 @@ static int take_frame(struct dao_oni_writer *w, const struct dao_frame *d, struc
 	return 0;
 }
 
-/* fdatasync, then the frames it covers into the header (durable with the next sync). */
+/* -ENOENT if the file has no name any more: removed (or its directory) while written. */
+static int check_linked(int fd)
+{
+	struct stat st;
+	return fstat(fd, &st) == 0 && st.st_nlink == 0 ? -ENOENT : 0;
+}
+
+/*
+ * fdatasync, then the frames it covers into the header (durable with the next
+ * sync).  A file removed meanwhile is an error (-ENOENT): what is written into
+ * it is lost with it, however well synced.
+ */
 static int writer_sync(struct dao_oni_writer *w)
 {
 	if (fdatasync(w->fd) != 0)
 		return -errno;
+	int r = check_linked(w->fd);
+	if (r < 0)
+		return r;
 	w->syncs++;
 	clock_gettime(CLOCK_MONOTONIC, &w->last_sync);
 	if (w->synced == w->nframes)
 		return 0;
-	int r = write_counts(w, w->nframes, 0);
+	r = write_counts(w, w->nframes, 0);
 	if (r == 0)
 		w->synced = w->nframes;
 	return r;
@@ -465,6 +479,11 @@ static int fail(struct dao_oni_writer *w, int r, const char *what, struct dao_er
 {
 	w->failed = r;
 	cut_partial(w);
+	if (r == -ENOENT)
+		return dao_error_set(err, r,
+				     "oni writer: %s was removed while being written (or its "
+				     "directory): its %u frame%s went with it; the recording stops",
+				     w->path, w->nframes, plural(w->nframes));
 	return dao_error_set(err, r,
 			     "oni writer: cannot %s %s: %s; the recording stops and keeps its first "
 			     "%u frame%s",

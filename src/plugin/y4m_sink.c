@@ -310,12 +310,19 @@ static int sync_due(const struct y4m_sink *s)
 	return ms >= Y4M_SYNC_INTERVAL_MS;
 }
 
+/* fdatasync; a file removed meanwhile (it has no name) is an error: its frames are lost. */
 static int sync_file(struct y4m_sink *s, struct dao_error *err)
 {
+	struct stat st;
 	clock_gettime(CLOCK_MONOTONIC, &s->last_sync);
 	if (fdatasync(s->fd) != 0)
 		return dao_error_set(err, -errno, "y4m: cannot sync %s: %s", s->name,
 				     strerror(errno));
+	if (fstat(s->fd, &st) == 0 && st.st_nlink == 0)
+		return dao_error_set(err, -ENOENT,
+				     "y4m: %s was removed while being written (or its directory): "
+				     "its %llu frame%s went with it; the stream stops",
+				     s->name, (unsigned long long)s->frames, s->frames == 1 ? "" : "s");
 	return 0;
 }
 

@@ -206,4 +206,28 @@ grep -q "\[sink.a\] and \[sink.b\] both write" "$WORK/log-same" ||
 	--sink b=images:"$WORK/d2" --sink c=y4m:/dev/null --sink d=y4m:/dev/null >/dev/null 2>&1 ||
 	fail "sinks in different directories (and two y4m:/dev/null) were refused"
 
+# ---- 9. the directory of a running recording removed (a clean-up job, rm -r) ----------
+# The recorders went on writing into the unlinked files and said nothing: every frame
+# counted as written went with them.  Now the next sync notices, says so, and the sink is
+# reopened, at its name again once the directory is back.
+mkdir -p "$WORK/gone"
+start_daemon "$WORK/log-gone" --source "testsrc:fps=30,w=160,h=120" --socket "$SOCK" \
+	--stats-interval 0 --sink rec=oni:"$WORK/gone/rec.oni" --stream rec=depth \
+	--sink vid=y4m:"$WORK/gone/v.y4m" --stream vid=ao8
+wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-gone")"
+wait_for 10 test -s "$WORK/gone/rec.oni" || fail "no recording: $(cat "$WORK/log-gone")"
+sleep 0.5
+rm -r "$WORK/gone"
+wait_for 10 grep -q "sink rec .*rec.oni was removed" "$WORK/log-gone" ||
+	fail "the removed recording was not noticed: $(cat "$WORK/log-gone")"
+wait_for 10 grep -q "sink vid .*v.y4m was removed" "$WORK/log-gone" ||
+	fail "the removed y4m file was not noticed: $(cat "$WORK/log-gone")"
+mkdir "$WORK/gone"
+wait_for 40 test -s "$WORK/gone/rec.oni" || fail "no new recording once the directory was back: $(cat "$WORK/log-gone")"
+wait_for 10 test -s "$WORK/gone/v.y4m" || fail "no new y4m file once the directory was back"
+sleep 0.5
+stop_daemon || fail "exit status $?"
+out=$("$ONI_CHECK" "$WORK/gone/rec.oni" 30 2>&1) || fail "the new recording: $out"
+echo "recording directory removed and made again: $(grep -c "was removed" "$WORK/log-gone") lines; new file: $out"
+
 finish
