@@ -62,6 +62,7 @@ struct dao_oni_writer {
 	uint64_t first_ts, last_ts;
 	struct timespec last_sync;
 	int failed;                 /* the error that ended the recording */
+	char fail_msg[DAO_ERROR_MESSAGE_MAX]; /* ... and what was said about it */
 };
 
 /* Writes all of iov at `at`: short writes continue, EINTR retries; -errno. */
@@ -480,14 +481,22 @@ static int fail(struct dao_oni_writer *w, int r, const char *what, struct dao_er
 	w->failed = r;
 	cut_partial(w);
 	if (r == -ENOENT)
-		return dao_error_set(err, r,
-				     "oni writer: %s was removed while being written (or its "
-				     "directory): its %u frame%s went with it; the recording stops",
-				     w->path, w->nframes, plural(w->nframes));
-	return dao_error_set(err, r,
-			     "oni writer: cannot %s %s: %s; the recording stops and keeps its first "
-			     "%u frame%s",
-			     what, w->path, strerror(-r), w->nframes, plural(w->nframes));
+		snprintf(w->fail_msg, sizeof w->fail_msg,
+			 "%s was removed while being written (or its directory): its %u frame%s "
+			 "went with it; the recording stops",
+			 w->path, w->nframes, plural(w->nframes));
+	else
+		snprintf(w->fail_msg, sizeof w->fail_msg,
+			 "cannot %s %s: %s; the recording stops and keeps its first %u frame%s",
+			 what, w->path, strerror(-r), w->nframes, plural(w->nframes));
+	return dao_error_set(err, r, "oni writer: %s", w->fail_msg);
+}
+
+/* What a call after the failure says. */
+static int failed_before(const struct dao_oni_writer *w, struct dao_error *err)
+{
+	return dao_error_set(err, w->failed, "oni writer: an earlier write or sync failed: %s",
+			     w->fail_msg);
 }
 
 int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame *depth,
@@ -497,10 +506,7 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 	if (!w || !depth)
 		return dao_error_set(err, -EINVAL, "oni writer: writer and frame are required");
 	if (w->failed)
-		return dao_error_set(err, w->failed,
-				     "oni writer: an earlier write to %s failed (%s); the recording "
-				     "stopped at %u frame%s",
-				     w->path, strerror(-w->failed), w->nframes, plural(w->nframes));
+		return failed_before(w, err);
 	if ((r = dao_frame_check(depth, "oni writer input", w->o.width, w->o.height, err)) < 0)
 		return r;
 	if (depth->format != DAO_PIXFMT_DEPTH16)
@@ -562,8 +568,10 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 		w->first_ts = timestamp_us;
 	w->last_ts = timestamp_us;
 	w->nframes++;
+	/* a failed sync ends the recording, but this frame is in the file (handed to the
+	 * kernel, as every frame before it): this write succeeded, the next call reports it */
 	if (sync_due(w) && (r = writer_sync(w)) < 0)
-		return fail(w, r, "sync", err);
+		fail(w, r, "sync", NULL);
 	return 0;
 }
 
@@ -572,8 +580,7 @@ int dao_oni_writer_sync(struct dao_oni_writer *w, struct dao_error *err)
 	if (!w)
 		return dao_error_set(err, -EINVAL, "oni writer: NULL writer");
 	if (w->failed)
-		return dao_error_set(err, w->failed, "oni writer: the recording to %s stopped (%s)",
-				     w->path, strerror(-w->failed));
+		return failed_before(w, err);
 	int r = writer_sync(w);
 	return r < 0 ? fail(w, r, "sync", err) : 0;
 }
