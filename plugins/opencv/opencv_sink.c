@@ -6,18 +6,28 @@
  * host the daemon attaches).
  *
  * URIs: "FILE.avi" (also .mkv, .mp4; "?fourcc=XVID" picks the codec, MJPG by
- * default, which every OpenCV build writes), "window" or "window:TITLE".
+ * default, which every OpenCV build writes; "&overwrite=true" see below),
+ * "window" or "window:TITLE".
+ *
+ * A video never replaces a file (cv::VideoWriter would): when FILE exists
+ * (an earlier run, the daemon restarted after a crash, a sink reopened) the
+ * video goes to the first free NAME-1.EXT, NAME-2.EXT, ... (claimed with
+ * O_EXCL before OpenCV opens it; said in the host's log), unless
+ * overwrite=true.
  * Without a display (no DISPLAY or WAYLAND_DISPLAY) the window is -ENOTSUP:
  * the daemon then leaves it off instead of retrying.  Closing the window
  * ends the sink (-ECANCELED).
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <depthao/params.h>
 #include <depthao/plugin.h>
@@ -26,10 +36,14 @@
 #include "cv_shim.h"
 
 #define MAX_CONTROLS 5
+#define NUMBERED_MAX 9999
 
 struct cv_sink {
 	int window;
 	char path[512], title[128];
+	char file[540];               /* the video being written: path, or NAME-k.EXT */
+	int overwrite;
+	int claimed;                  /* file was created empty by us (O_EXCL) */
 	char fourcc[4];
 	struct dao_sink_format fmt;
 	struct cvs_video *video;
@@ -39,6 +53,7 @@ struct cv_sink {
 	int ncontrols;
 	struct timespec last;
 	double fps;
+	unsigned long long frames;    /* written to the video */
 };
 
 static int ends_with(const char *s, const char *suffix)
@@ -78,19 +93,40 @@ static int cv_open(const char *uri, void **state, struct dao_error *err)
 		s->window = 1;
 		snprintf(s->title, sizeof s->title, "%s", uri[6] == ':' ? uri + 7 : "depthao");
 	} else if (is_video_path(uri)) {
+		if (strlen(uri) >= sizeof s->path) {
+			free(s);
+			return plugin_error(err, -ENAMETOOLONG, "opencv: '%s' is longer than %zu bytes",
+					    uri, sizeof s->path - 1);
+		}
 		snprintf(s->path, sizeof s->path, "%s", uri);
 		char *q = strchr(s->path, '?');
 		memcpy(s->fourcc, "MJPG", 4);
 		if (q) {
 			*q = '\0';
-			if (strncmp(q + 1, "fourcc=", 7) != 0 || strlen(q + 8) != 4) {
-				free(s);
-				return plugin_error(err, -EINVAL,
-						    "opencv: '%s': the only option is ?fourcc=XXXX (four "
-						    "characters, e.g. MJPG, XVID, mp4v)",
-						    uri);
+			for (char *kv = q + 1; *kv;) {
+				size_t n = strcspn(kv, "&");
+				int ok = 0;
+				if (n == 11 && !strncmp(kv, "fourcc=", 7)) {
+					memcpy(s->fourcc, kv + 7, 4);
+					ok = 1;
+				} else if ((n == 14 && !strncmp(kv, "overwrite=true", 14)) ||
+					   (n == 11 && !strncmp(kv, "overwrite=1", 11))) {
+					s->overwrite = ok = 1;
+				} else if ((n == 15 && !strncmp(kv, "overwrite=false", 15)) ||
+					   (n == 11 && !strncmp(kv, "overwrite=0", 11))) {
+					s->overwrite = 0;
+					ok = 1;
+				}
+				if (!ok) {
+					free(s);
+					return plugin_error(err, -EINVAL,
+							    "opencv: '%s': the options are fourcc=XXXX "
+							    "(four characters, e.g. MJPG, XVID, mp4v) and "
+							    "overwrite=true|false",
+							    uri);
+				}
+				kv += n + (kv[n] == '&');
 			}
-			memcpy(s->fourcc, q + 8, 4);
 		}
 	} else {
 		free(s);
@@ -132,6 +168,60 @@ static void setup_controls(struct cv_sink *s)
 	}
 }
 
+/* NAME-k.EXT of the path: k before the extension of the file name. */
+static void numbered(const char *path, unsigned k, char *out, size_t cap)
+{
+	const char *slash = strrchr(path, '/');
+	const char *base = slash ? slash + 1 : path;
+	const char *dot = strrchr(base, '.');
+	int stem = (int)(dot && dot != base ? (size_t)(dot - path) : strlen(path));
+	snprintf(out, cap, "%.*s-%u%s", stem, path, k, path + stem);
+}
+
+/* Picks the file for the video: the path with overwrite, else the first free one of the
+ * path and its numbered names, created empty with O_EXCL (OpenCV then opens it). */
+static int claim_file(struct cv_sink *s, struct dao_error *err)
+{
+	snprintf(s->file, sizeof s->file, "%s", s->path);
+	if (s->overwrite)
+		return 0;
+	for (unsigned k = 0; k <= NUMBERED_MAX; k++) {
+		if (k)
+			numbered(s->path, k, s->file, sizeof s->file);
+		int fd = open(s->file, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+		if (fd >= 0) {
+			close(fd);
+			s->claimed = 1;
+			if (k && s->host && s->host->log) {
+				char m[1200];
+				snprintf(m, sizeof m,
+					 "opencv: %s exists; recording to %s instead (a video never "
+					 "replaces a file; add ?overwrite=true to replace it)",
+					 s->path, s->file);
+				s->host->log(s->host->user, DAO_LOG_INFO, m);
+			}
+			return 0;
+		}
+		if (errno != EEXIST)
+			return plugin_error(err, -errno, "opencv: cannot create %s: %s", s->file,
+					    strerror(errno));
+	}
+	return plugin_error(err, -EEXIST,
+			    "opencv: %s and its numbered names up to -%d exist; a video never "
+			    "replaces a file (add ?overwrite=true to replace it)",
+			    s->path, NUMBERED_MAX);
+}
+
+/* Closes the video; a file we created that got no frame goes again. */
+static void close_video(struct cv_sink *s, int frames)
+{
+	cvs_video_close(s->video);
+	s->video = NULL;
+	if (s->claimed && !frames)
+		unlink(s->file);
+	s->claimed = 0;
+}
+
 static int cv_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
 {
 	struct cv_sink *s = state;
@@ -153,9 +243,18 @@ static int cv_negotiate(void *state, struct dao_sink_format *fmt, struct dao_err
 		return 0;
 	}
 	double fps = fmt->fps > 0 ? fmt->fps : 30.0;
-	if (!(s->video = cvs_video_open(s->path, s->fourcc, fps, (int)fmt->width, (int)fmt->height,
-					fmt->format == DAO_PIXFMT_RGB24, msg, sizeof msg)))
+	if (s->video) /* negotiated again before the first frame */
+		close_video(s, 0);
+	int r = claim_file(s, err);
+	if (r < 0)
+		return r;
+	if (!(s->video = cvs_video_open(s->file, s->fourcc, fps, (int)fmt->width, (int)fmt->height,
+					fmt->format == DAO_PIXFMT_RGB24, msg, sizeof msg))) {
+		if (s->claimed)
+			unlink(s->file);
+		s->claimed = 0;
 		return plugin_error(err, -EIO, "opencv: %s", msg);
+	}
 	return 0;
 }
 
@@ -166,7 +265,8 @@ static int cv_write(void *state, const struct dao_frame *f, struct dao_error *er
 	const int channels = f->format == DAO_PIXFMT_RGB24 ? 3 : 1;
 	if (s->video) {
 		if (cvs_video_write(s->video, f->data, f->stride, msg, sizeof msg) < 0)
-			return plugin_error(err, -EIO, "opencv: %s: %s", s->path, msg);
+			return plugin_error(err, -EIO, "opencv: %s: %s", s->file, msg);
+		s->frames++;
 		return 0;
 	}
 	struct timespec now;
@@ -204,7 +304,8 @@ static int cv_close(void *state, struct dao_error *err)
 {
 	struct cv_sink *s = state;
 	(void)err;
-	cvs_video_close(s->video);
+	if (s->video)
+		close_video(s, s->frames != 0);
 	cvs_window_close(s->win);
 	free(s);
 	return 0;

@@ -62,6 +62,7 @@ struct dao_oni_writer {
 	uint64_t first_ts, last_ts;
 	struct timespec last_sync;
 	int failed;                 /* the error that ended the recording */
+	char fail_msg[DAO_ERROR_MESSAGE_MAX]; /* ... and what was said about it */
 };
 
 /* Writes all of iov at `at`: short writes continue, EINTR retries; -errno. */
@@ -431,16 +432,30 @@ static int take_frame(struct dao_oni_writer *w, const struct dao_frame *d, struc
 	return 0;
 }
 
-/* fdatasync, then the frames it covers into the header (durable with the next sync). */
+/* -ENOENT if the file has no name any more: removed (or its directory) while written. */
+static int check_linked(int fd)
+{
+	struct stat st;
+	return fstat(fd, &st) == 0 && st.st_nlink == 0 ? -ENOENT : 0;
+}
+
+/*
+ * fdatasync, then the frames it covers into the header (durable with the next
+ * sync).  A file removed meanwhile is an error (-ENOENT): what is written into
+ * it is lost with it, however well synced.
+ */
 static int writer_sync(struct dao_oni_writer *w)
 {
 	if (fdatasync(w->fd) != 0)
 		return -errno;
+	int r = check_linked(w->fd);
+	if (r < 0)
+		return r;
 	w->syncs++;
 	clock_gettime(CLOCK_MONOTONIC, &w->last_sync);
 	if (w->synced == w->nframes)
 		return 0;
-	int r = write_counts(w, w->nframes, 0);
+	r = write_counts(w, w->nframes, 0);
 	if (r == 0)
 		w->synced = w->nframes;
 	return r;
@@ -465,10 +480,23 @@ static int fail(struct dao_oni_writer *w, int r, const char *what, struct dao_er
 {
 	w->failed = r;
 	cut_partial(w);
-	return dao_error_set(err, r,
-			     "oni writer: cannot %s %s: %s; the recording stops and keeps its first "
-			     "%u frame%s",
-			     what, w->path, strerror(-r), w->nframes, plural(w->nframes));
+	if (r == -ENOENT)
+		snprintf(w->fail_msg, sizeof w->fail_msg,
+			 "%s was removed while being written (or its directory): its %u frame%s "
+			 "went with it; the recording stops",
+			 w->path, w->nframes, plural(w->nframes));
+	else
+		snprintf(w->fail_msg, sizeof w->fail_msg,
+			 "cannot %s %s: %s; the recording stops and keeps its first %u frame%s",
+			 what, w->path, strerror(-r), w->nframes, plural(w->nframes));
+	return dao_error_set(err, r, "oni writer: %s", w->fail_msg);
+}
+
+/* What a call after the failure says. */
+static int failed_before(const struct dao_oni_writer *w, struct dao_error *err)
+{
+	return dao_error_set(err, w->failed, "oni writer: an earlier write or sync failed: %s",
+			     w->fail_msg);
 }
 
 int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame *depth,
@@ -478,10 +506,7 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 	if (!w || !depth)
 		return dao_error_set(err, -EINVAL, "oni writer: writer and frame are required");
 	if (w->failed)
-		return dao_error_set(err, w->failed,
-				     "oni writer: an earlier write to %s failed (%s); the recording "
-				     "stopped at %u frame%s",
-				     w->path, strerror(-w->failed), w->nframes, plural(w->nframes));
+		return failed_before(w, err);
 	if ((r = dao_frame_check(depth, "oni writer input", w->o.width, w->o.height, err)) < 0)
 		return r;
 	if (depth->format != DAO_PIXFMT_DEPTH16)
@@ -543,8 +568,10 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 		w->first_ts = timestamp_us;
 	w->last_ts = timestamp_us;
 	w->nframes++;
+	/* a failed sync ends the recording, but this frame is in the file (handed to the
+	 * kernel, as every frame before it): this write succeeded, the next call reports it */
 	if (sync_due(w) && (r = writer_sync(w)) < 0)
-		return fail(w, r, "sync", err);
+		fail(w, r, "sync", NULL);
 	return 0;
 }
 
@@ -553,8 +580,7 @@ int dao_oni_writer_sync(struct dao_oni_writer *w, struct dao_error *err)
 	if (!w)
 		return dao_error_set(err, -EINVAL, "oni writer: NULL writer");
 	if (w->failed)
-		return dao_error_set(err, w->failed, "oni writer: the recording to %s stopped (%s)",
-				     w->path, strerror(-w->failed));
+		return failed_before(w, err);
 	int r = writer_sync(w);
 	return r < 0 ? fail(w, r, "sync", err) : 0;
 }

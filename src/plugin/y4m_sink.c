@@ -60,6 +60,7 @@ struct y4m_sink {
 	int negotiated;
 	int header_done;
 	int failed;                 /* a write failed part-way: the stream is cut */
+	char fail_msg[DAO_ERROR_MESSAGE_MAX]; /* what was said about it */
 	uint8_t *buf;               /* "FRAME\n" + planes of one frame */
 	size_t buf_len;
 	uint64_t good;              /* bytes of header and whole frames in a regular file */
@@ -310,12 +311,19 @@ static int sync_due(const struct y4m_sink *s)
 	return ms >= Y4M_SYNC_INTERVAL_MS;
 }
 
+/* fdatasync; a file removed meanwhile (it has no name) is an error: its frames are lost. */
 static int sync_file(struct y4m_sink *s, struct dao_error *err)
 {
+	struct stat st;
 	clock_gettime(CLOCK_MONOTONIC, &s->last_sync);
 	if (fdatasync(s->fd) != 0)
 		return dao_error_set(err, -errno, "y4m: cannot sync %s: %s", s->name,
 				     strerror(errno));
+	if (fstat(s->fd, &st) == 0 && st.st_nlink == 0)
+		return dao_error_set(err, -ENOENT,
+				     "y4m: %s was removed while being written (or its directory): "
+				     "its %llu frame%s went with it; the stream stops",
+				     s->name, (unsigned long long)s->frames, s->frames == 1 ? "" : "s");
 	return 0;
 }
 
@@ -404,6 +412,14 @@ static void convert(struct y4m_sink *s, const struct dao_frame *f)
 	}
 }
 
+/* What a call after a failure says (its message without the "y4m: " it began with). */
+static int failed_before(const struct y4m_sink *s, struct dao_error *err)
+{
+	const char *m = strncmp(s->fail_msg, "y4m: ", 5) ? s->fail_msg : s->fail_msg + 5;
+	return dao_error_set(err, s->failed, "y4m: an earlier write or sync failed: %s; the "
+			     "stream is cut, open the sink again", m);
+}
+
 static int y4m_write(void *state, const struct dao_frame *frame, struct dao_error *err)
 {
 	struct y4m_sink *s = state;
@@ -411,10 +427,7 @@ static int y4m_write(void *state, const struct dao_frame *frame, struct dao_erro
 	if (!s->negotiated)
 		return dao_error_set(err, -EINVAL, "y4m: write before negotiate");
 	if (s->failed)
-		return dao_error_set(err, s->failed,
-				     "y4m: an earlier write to %s failed (%s); the stream is cut, "
-				     "open the sink again",
-				     s->name, strerror(-s->failed));
+		return failed_before(s, err);
 	if (!s->header_done) {
 		if ((r = write_header(s, err)) < 0)
 			goto fail;
@@ -426,12 +439,18 @@ static int y4m_write(void *state, const struct dao_frame *frame, struct dao_erro
 	s->frames++;
 	if (s->regular) {
 		s->good = (uint64_t)lseek(s->fd, 0, SEEK_CUR);
-		if (sync_due(s) && (r = sync_file(s, err)) < 0)
-			goto fail;
+		struct dao_error e;
+		/* a failed sync cuts the stream, but this frame is in the file: this write
+		 * succeeded, the next call reports the failure */
+		if (sync_due(s) && (r = sync_file(s, &e)) < 0) {
+			s->failed = r;
+			snprintf(s->fail_msg, sizeof s->fail_msg, "%s", e.message);
+		}
 	}
 	return 0;
 fail:
 	s->failed = r;
+	snprintf(s->fail_msg, sizeof s->fail_msg, "%s", err ? err->message : strerror(-r));
 	/* keep the header and whole frames: cut off what a failed write left */
 	if (s->regular && ftruncate(s->fd, (off_t)s->good) == 0)
 		lseek(s->fd, (off_t)s->good, SEEK_SET);
@@ -442,7 +461,9 @@ static int y4m_flush(void *state, struct dao_error *err)
 {
 	struct y4m_sink *s = state;
 	/* nothing is buffered (every write hands whole frames to the kernel); files are synced */
-	return s->regular && !s->failed ? sync_file(s, err) : 0;
+	if (s->failed)
+		return failed_before(s, err);
+	return s->regular ? sync_file(s, err) : 0;
 }
 
 static int y4m_close(void *state, struct dao_error *err)

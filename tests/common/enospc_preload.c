@@ -13,7 +13,9 @@
  *   DAO_ENOSPC_AFTER  bytes that fit, over all matching files (default 0)
  *   DAO_SYNC_LOG      append "<monotonic ms> fdatasync|fsync <path>" per sync here
  * or at run time through dao_enospc_set() (a test finds it with dlsym; it
- * resets the byte count).
+ * resets the byte count).  dao_sync_fail_set(text, errnum) makes fsync() and
+ * fdatasync() on files whose path contains `text` fail with errnum (0: no
+ * longer), as a disk that reports a write-back error does.
  */
 #undef _FILE_OFFSET_BITS /* define pwrite and pwrite64 as the two symbols they are */
 #define _GNU_SOURCE /* RTLD_NEXT, off64_t */
@@ -38,6 +40,8 @@ static int configured;
 static char match[PATH_MAX];
 static long long budget, used;
 static char sync_log[PATH_MAX];
+static char sync_fail_match[PATH_MAX];
+static int sync_fail_errno;
 
 static void configure_locked(void)
 {
@@ -59,6 +63,15 @@ void dao_enospc_set(const char *path_contains, long long bytes)
 	snprintf(match, sizeof match, "%s", path_contains ? path_contains : "");
 	budget = bytes;
 	used = 0;
+	pthread_mutex_unlock(&lock);
+}
+
+EXPORT void dao_sync_fail_set(const char *path_contains, int errnum);
+void dao_sync_fail_set(const char *path_contains, int errnum)
+{
+	pthread_mutex_lock(&lock);
+	snprintf(sync_fail_match, sizeof sync_fail_match, "%s", path_contains ? path_contains : "");
+	sync_fail_errno = errnum;
 	pthread_mutex_unlock(&lock);
 }
 
@@ -242,10 +255,28 @@ EXPORT int ftruncate64(int fd, off64_t length)
 	return real_ftruncate64(fd, length);
 }
 
+/* The errno a sync of fd fails with (dao_sync_fail_set), or 0. */
+static int sync_failure(int fd)
+{
+	char path[PATH_MAX];
+	pthread_mutex_lock(&lock);
+	int e = sync_fail_errno && sync_fail_match[0] && fd_path(fd, path, sizeof path) &&
+			strstr(path, sync_fail_match)
+		? sync_fail_errno
+		: 0;
+	pthread_mutex_unlock(&lock);
+	return e;
+}
+
 EXPORT int fdatasync(int fd)
 {
 	REAL(fdatasync, int, int);
 	log_sync(fd, "fdatasync");
+	int e = sync_failure(fd);
+	if (e) {
+		errno = e;
+		return -1;
+	}
 	return real_fdatasync(fd);
 }
 
@@ -253,5 +284,10 @@ EXPORT int fsync(int fd)
 {
 	REAL(fsync, int, int);
 	log_sync(fd, "fsync");
+	int e = sync_failure(fd);
+	if (e) {
+		errno = e;
+		return -1;
+	}
 	return real_fsync(fd);
 }

@@ -11,6 +11,8 @@
  *   sock_client flood SOCK SECONDS         send requests and never read a reply; hold on
  *   sock_client hold SOCK LINE SECONDS     send LINE, then hold without reading
  *   sock_client listen SOCK SECONDS        a socket that takes connections and never answers
+ *   sock_client fire SOCK LINE...          send the LINEs in one go and close at once, without
+ *                                          waiting for replies
  * The holding modes print "ready" on stdout once their connections are made (and, for
  * flood, once the daemon stopped taking requests), then sleep.
  */
@@ -198,6 +200,21 @@ static int listen_only(const char *path, int seconds)
 	return 0;
 }
 
+static int fire(const char *path, int n, char **lines)
+{
+	char buf[8192];
+	size_t len = 0;
+	for (int i = 0; i < n; i++)
+		len += (size_t)snprintf(buf + len, sizeof buf - len, "%s\n", lines[i]);
+	int fd = connect_to(path);
+	if (send(fd, buf, len, MSG_NOSIGNAL) != (ssize_t)len) {
+		fprintf(stderr, "sock_client: fire: send: %s\n", strerror(errno));
+		return 1;
+	}
+	close(fd);
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	if (argc >= 5 && !strcmp(argv[1], "ask"))
@@ -213,8 +230,10 @@ int main(int argc, char **argv)
 		ready_then_sleep(atoi(argv[4]));
 		return 0;
 	}
+	if (argc >= 4 && !strcmp(argv[1], "fire"))
+		return fire(argv[2], argc - 3, argv + 3);
 	if (argc >= 4 && !strcmp(argv[1], "listen"))
 		return listen_only(argv[2], atoi(argv[3]));
-	fprintf(stderr, "usage: sock_client ask|many|idle|flood|hold|listen SOCK ... (see the source)\n");
+	fprintf(stderr, "usage: sock_client ask|many|idle|flood|hold|listen|fire SOCK ... (see the source)\n");
 	return 64;
 }

@@ -10,6 +10,7 @@ runs depthaod with $WATCHDOG_USEC (and $WATCHDOG_PID = its own pid, through exec
   - a source that cannot be opened: READY=1 with a status saying so, pings go on;
   - a pipeline stuck inside a frame (manual playback into a sink that blocks): the pings
     stop, so systemd would restart the service;
+  - a source whose read never returns (a hung driver): the pings stop too;
   - $WATCHDOG_PID naming another process: no pings.
 usage: test_daemon_notify.py DEPTHAOD DEPTHAO JSON_GET PNG_INFO TEST_PLUGIN_DIR
 """
@@ -220,6 +221,35 @@ def stuck(work):
     lis.close()
 
 
+def hung_source(work):
+    """A camera whose read never returns (a hung driver): the processing thread idles
+    and would go on pinging; the pings stop, so systemd restarts the service."""
+    lis = Listener(os.path.join(work, "notify-hung"))
+    proc = start(work, lis, ["--source", "testsrc:fps=30,hang_after=10", "--sink", "y4m:/dev/null",
+                             "--stats-interval", "0"], 1000000)
+    if lis.wait_for("READY", "1") is None:
+        fail("hung source: no READY=1: %s" % lis.msgs)
+    end = time.monotonic() + 20
+    quiet = 0.0
+    while time.monotonic() < end:
+        lis.pump(0.25)
+        pings = lis.times("WATCHDOG")
+        quiet = time.monotonic() - (pings[-1] if pings else 0)
+        if pings and quiet >= 3.0:
+            break
+    pings = lis.times("WATCHDOG")
+    print("hung source: %d pings, then none for %.1f s" % (len(pings), quiet))
+    if not pings:
+        fail("hung source: no pings at all before the source hung")
+    elif quiet < 3.0:
+        fail("hung source: pings go on (last %.1f s ago) while the source's read hangs" % quiet)
+    stop(proc, lis)  # the read is abandoned at the stop deadline
+    with open(os.path.join(work, "log")) as f:
+        if "watchdog pings stop so that systemd restarts" not in f.read():
+            fail("hung source: the log does not say why the pings stopped")
+    lis.close()
+
+
 def other_pid(work):
     """WATCHDOG_PID names another process: the watchdog is not ours, no pings."""
     lis = Listener(os.path.join(work, "notify-otherpid"))
@@ -247,6 +277,7 @@ def main():
         healthy(work)
         missing_source(work)
         stuck(work)
+        hung_source(work)
         other_pid(work)
         if failures:
             with open(os.path.join(work, "log")) as f:

@@ -6,7 +6,9 @@
  *      device as gone (-ENODEV) once per open, as an unplugged sensor would;
  *      "stall_after=N" delivers N frames, then none (-EAGAIN after each timeout),
  *      as a camera whose stream stops without an error; "absent=1" fails every open
- *      with -ENODEV, as a camera that is not plugged in.
+ *      with -ENODEV, as a camera that is not plugged in; "resize_after=N,w2=W,h2=H"
+ *      switches to W x H frames after N (a camera whose mode changed); "hang_after=N"
+ *      delivers N frames, then its read never returns (a hung driver).
  *   2: sink "slowsink" - "slowsink:MS[,fail=E][,after=N][,open_fail=E][,out=FILE]" takes
  *      MS milliseconds per frame; its writes fail with errno E (a number or a name:
  *      ENOSPC, EIO, EPIPE, ...) after N good ones of each open; open_fail=E makes every
@@ -40,6 +42,7 @@ static int no_probe(const char *uri)
 #if TEST_PLUGIN == 1
 struct src {
 	unsigned w, h, fps, fail_after, stall_after, delivered;
+	unsigned resize_after, w2, h2, hang_after;
 	uint16_t *pixels;
 };
 
@@ -72,8 +75,21 @@ static int src_open(const char *uri, const struct dao_source_options *o, void **
 			s->w = v;
 		else if (sscanf(tok, "h=%u", &v) == 1)
 			s->h = v;
+		else if (sscanf(tok, "resize_after=%u", &v) == 1)
+			s->resize_after = v;
+		else if (sscanf(tok, "hang_after=%u", &v) == 1)
+			s->hang_after = v;
+		else if (sscanf(tok, "w2=%u", &v) == 1)
+			s->w2 = v;
+		else if (sscanf(tok, "h2=%u", &v) == 1)
+			s->h2 = v;
 	}
-	s->pixels = malloc((size_t)s->w * s->h * 2);
+	if (!s->w2 || !s->h2) {
+		s->w2 = s->w;
+		s->h2 = s->h;
+	}
+	size_t big = (size_t)(s->w > s->w2 ? s->w : s->w2) * (s->h > s->h2 ? s->h : s->h2);
+	s->pixels = malloc(big * 2);
 	if (!s->pixels || !s->fps) {
 		if (err)
 			snprintf(err->message, sizeof err->message, "testsrc: bad options '%s'", uri);
@@ -117,11 +133,17 @@ static int src_read(void *state, struct dao_source_frame *f, int timeout_ms, str
 				 s->delivered);
 		return -ENODEV;
 	}
+	if (s->hang_after && s->delivered >= s->hang_after)
+		sleep_ms(3600000); /* whatever the timeout: the daemon abandons it at stop */
 	if (s->stall_after && s->delivered >= s->stall_after) {
 		sleep_ms(timeout_ms > 0 ? timeout_ms : 10);
 		return -EAGAIN;
 	}
 	sleep_ms(1000 / s->fps);
+	if (s->resize_after && s->delivered == s->resize_after) {
+		s->w = s->w2;
+		s->h = s->h2;
+	}
 	unsigned bx = s->delivered % (s->w / 2);
 	for (unsigned y = 0; y < s->h; y++)
 		for (unsigned x = 0; x < s->w; x++)

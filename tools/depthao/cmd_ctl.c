@@ -24,7 +24,8 @@ static void usage(FILE *out)
 		"  get [PARAM]         AO parameters (all, or one)\n"
 		"  set PARAM VALUE     change an AO parameter of the running pipeline\n"
 		"  pause | resume      stop / restart processing (live sources keep streaming)\n"
-		"  snapshot FILE.png   write the next shaded frame\n"
+		"  snapshot FILE.png   write the next shaded frame (a relative FILE is taken\n"
+		"                      from the current directory)\n"
 		"Prints the daemon's JSON reply; exits 0 if it says ok, 1 if not, if the daemon\n"
 		"cannot be reached or gives no reply within --timeout seconds (default 5).\n");
 }
@@ -102,7 +103,20 @@ int cmd_ctl(int argc, char **argv)
 		json_object_object_add(req, "key", json_object_new_string(argv[i]));
 		json_object_object_add(req, "value", json_object_new_string(argv[i + 1]));
 	} else if (!strcmp(cmd, "snapshot") && nargs == 1) {
-		json_object_object_add(req, "path", json_object_new_string(argv[i]));
+		/* the daemon writes it: a relative path is made absolute here, where it was meant */
+		char cwd[4096], abs[8192];
+		const char *path = argv[i];
+		if (path[0] != '/') {
+			if (!getcwd(cwd, sizeof cwd)) {
+				fprintf(stderr, "depthao: ctl snapshot %s: cannot tell the current "
+					"directory (%s); give an absolute path\n", path, strerror(errno));
+				json_object_put(req);
+				return 1;
+			}
+			snprintf(abs, sizeof abs, "%s/%s", strcmp(cwd, "/") ? cwd : "", path);
+			path = abs;
+		}
+		json_object_object_add(req, "path", json_object_new_string(path));
 	} else if ((!strcmp(cmd, "stats") || !strcmp(cmd, "pause") || !strcmp(cmd, "resume")) &&
 		   nargs == 0) {
 		/* no arguments */
@@ -179,7 +193,8 @@ int cmd_ctl(int argc, char **argv)
 		fprintf(stderr, "depthao: no reply from %s\n", sock);
 		goto out;
 	}
-	printf("%s\n", json_object_to_json_string_ext(res, JSON_C_TO_STRING_PRETTY));
+	printf("%s\n", json_object_to_json_string_ext(res, JSON_C_TO_STRING_PRETTY |
+							     JSON_C_TO_STRING_NOSLASHESCAPE));
 	status = json_object_object_get_ex(res, "ok", &ok) && json_object_get_boolean(ok) ? 0 : 1;
 	json_object_put(res);
 out:

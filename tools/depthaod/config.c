@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "../depthao/pixel_limit.h"
 #include "ini_file.h"
@@ -349,6 +350,30 @@ int config_params(const struct daemon_config *c, struct dao_params *out, char *m
 	return 0;
 }
 
+/*
+ * The directory an images sink writes into, without trailing slashes, in dir
+ * (cap bytes): "images:DIR[?k=v...]", or a bare URI naming an existing
+ * directory (what the sink's probe takes); 0, or -1 for other sinks.
+ */
+static int images_dir(const char *uri, char *dir, size_t cap)
+{
+	struct stat st;
+	const char *p = uri;
+	if (!strncmp(uri, "images:", 7))
+		p = uri + 7;
+	else if (stat(uri, &st) != 0 || !S_ISDIR(st.st_mode))
+		return -1;
+	const char *q = strrchr(p, '?');
+	size_t n = q && strchr(q, '=') ? (size_t)(q - p) : strlen(p);
+	while (n > 1 && p[n - 1] == '/')
+		n--;
+	if (n == 0 || n >= cap)
+		return -1;
+	memcpy(dir, p, n);
+	dir[n] = '\0';
+	return 0;
+}
+
 int config_check(const struct daemon_config *c, char *msg, size_t len)
 {
 	const char *where = c->path[0] ? c->path : "command line";
@@ -362,6 +387,19 @@ int config_check(const struct daemon_config *c, char *msg, size_t len)
 	for (unsigned i = 0; i < c->nsinks; i++)
 		if (!c->sinks[i].uri[0])
 			return fail(msg, len, "%s: [sink.%s] uri is required", where, c->sinks[i].name);
+	/* two images sinks in one directory: the same file names, one's frames replace the
+	 * other's and keep= of one removes the other's */
+	for (unsigned i = 0; i < c->nsinks; i++) {
+		char a[DAOD_MAX_URI], b[DAOD_MAX_URI];
+		if (images_dir(c->sinks[i].uri, a, sizeof a) < 0)
+			continue;
+		for (unsigned k = i + 1; k < c->nsinks; k++)
+			if (images_dir(c->sinks[k].uri, b, sizeof b) == 0 && !strcmp(a, b))
+				return fail(msg, len, "%s: [sink.%s] and [sink.%s] both write PNGs into "
+					    "%s: their files have the same names (the frame number), so "
+					    "one's frames would replace the other's; give each images sink "
+					    "its own directory", where, c->sinks[i].name, c->sinks[k].name, a);
+	}
 	if (c->has_intrinsics && c->has_fov)
 		return fail(msg, len, "%s: [source] give intrinsics or fov, not both", where);
 	if (c->retry_initial_ms > c->retry_max_ms)

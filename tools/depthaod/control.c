@@ -41,6 +41,7 @@ struct client {
 	uint64_t last_request_ns;     /* for the idle timeout and eviction */
 	uint64_t stalled_since_ns;    /* output waiting and none taken since (0 = not stalled) */
 	int eof;                      /* the client has sent all it will */
+	int out_gone;                 /* it reads no more replies (they are dropped) */
 	int closing;                  /* drop once the output is sent */
 	int snapshot;                 /* waiting for a snapshot: its later requests wait too */
 	uint64_t snapshot_deadline_ns;
@@ -73,7 +74,7 @@ static uint64_t now_ns(void)
 
 static struct json_object *error_reply(const char *fmt, const char *a)
 {
-	char m[512];
+	char m[1024];
 	snprintf(m, sizeof m, fmt, a);
 	struct json_object *j = json_object_new_object();
 	json_object_object_add(j, "ok", json_object_new_boolean(0));
@@ -113,6 +114,11 @@ static int flush_out(struct control *c, struct client *cl)
 				cl->stalled_since_ns = now_ns();
 			return 0;
 		}
+		if (w < 0 && (errno == EPIPE || errno == ECONNRESET)) {
+			/* it hung up: what it asked before is still done, the replies go nowhere */
+			cl->out_gone = 1;
+			break;
+		}
 		if (w <= 0) {
 			drop_client(c, cl);
 			return -1;
@@ -132,6 +138,14 @@ static int flush_out(struct control *c, struct client *cl)
 /* Queues one reply line (and frees j); sends what it can. */
 static int reply(struct control *c, struct client *cl, struct json_object *j)
 {
+	if (cl->out_gone) {
+		json_object_put(j);
+		if (cl->closing) {
+			drop_client(c, cl);
+			return -1;
+		}
+		return 0;
+	}
 	const char *s = json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN);
 	size_t n = strlen(s);
 	if (cl->out_off) { /* what was sent makes room */
@@ -234,6 +248,10 @@ static struct json_object *handle(struct control *c, struct client *cl, const ch
 		char m[256];
 		if (!path || !*path) {
 			res = error_reply("%s", "snapshot needs \"path\" (a .png file to write)");
+		} else if (path[0] != '/') {
+			res = error_reply("snapshot: '%s' is relative; the path must be absolute (the "
+					  "daemon's working directory is not the client's; depthao ctl "
+					  "makes a relative path absolute)", path);
 		} else if (strlen(path) >= sizeof cl->snapshot_path) {
 			res = error_reply("%s", "snapshot: the path is too long");
 		} else if (daemon_snapshot_request(c->d, path, c->wake[1], m, sizeof m) < 0) {
@@ -297,12 +315,16 @@ static void on_readable(struct control *c, struct client *cl)
 static void finish_snapshot(struct control *c, int timed_out)
 {
 	struct client *cl = &c->clients[c->snapshot_owner];
-	char m[256] = "";
+	char m[768] = "";
 	int r = 1;
 	if (timed_out) {
-		daemon_snapshot_cancel(c->d);
-		snprintf(m, sizeof m, "no frame within %d ms (the source is idle or slow)",
-			 SNAPSHOT_TIMEOUT_MS);
+		if (daemon_snapshot_cancel(c->d))
+			snprintf(m, sizeof m, "%s is still being written after %d ms (a FIFO whose "
+				 "reader does not read, or a slow file system); the pipeline goes on",
+				 cl->snapshot_path, SNAPSHOT_TIMEOUT_MS);
+		else
+			snprintf(m, sizeof m, "no frame within %d ms (the source is idle or slow)",
+				 SNAPSHOT_TIMEOUT_MS);
 	} else if ((r = daemon_snapshot_result(c->d, m, sizeof m)) == 1) {
 		return; /* not yet */
 	}
@@ -479,10 +501,12 @@ static void *control_main(void *arg)
 				continue; /* dropped (or replaced) meanwhile */
 			if ((p[k].revents & POLLOUT) && flush_out(c, cl) == 0 && cl->out_off == cl->out_len)
 				serve_lines(c, cl); /* requests held back by the output */
-			if (cl->fd == p[k].fd && (p[k].revents & (POLLHUP | POLLERR)))
-				drop_client(c, cl); /* gone both ways: it can read no reply */
-			else if (cl->fd == p[k].fd && (p[k].revents & POLLIN))
+			/* what a client sent before hanging up is read and done first (POLLIN comes
+			 * with POLLHUP then); a hang-up with nothing left to read drops it */
+			if (cl->fd == p[k].fd && (p[k].revents & POLLIN))
 				on_readable(c, cl);
+			else if (cl->fd == p[k].fd && (p[k].revents & (POLLHUP | POLLERR)))
+				drop_client(c, cl);
 		}
 	}
 	return NULL;

@@ -3,6 +3,7 @@
 #include "daemon.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -10,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -73,6 +75,8 @@ struct sink_runner {
 	int unflushed;                /* frames written since the last flush */
 	unsigned long long failures;  /* in a row, since the last good write */
 	struct log_limit warn_limit;
+	char reopen_uri[DAOD_MAX_URI + 8]; /* the URI with overwrite=true turned off ("" = same) */
+	int reopen_noted;             /* the log said so */
 	atomic_int state;             /* enum sink_state */
 	char stop_reason[320];        /* written before state becomes SINK_STOPPED */
 	const char *stop_code;        /* ... and the error's name: "ENOSPC", "ECANCELED", ... */
@@ -115,15 +119,22 @@ struct daemon {
 	double cam_hfov, cam_vfov;    /* of the camera the pipeline uses (recorders store it) */
 	int have_cam;
 
+	pthread_t snapshot_writer;    /* writes snapshots: a slow or stuck file holds up only it */
+	int snapshot_writer_running;
+	pthread_cond_t snapshot_cond; /* (lock) a frame to write, or snapshot_quit */
+	int snapshot_quit;
+	struct dao_frame snapshot_frame; /* the frame being written (SNAP_WRITING) */
 	char snapshot_path[512];
 	int snapshot_state;           /* SNAP_* or -errno (failed) */
 	int snapshot_abandoned;       /* cancelled while being written */
 	int snapshot_notify_fd;       /* told (one byte) when it is done, -1 = nobody */
-	char snapshot_msg[256];
+	char snapshot_msg[768];
 
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
 		source_failures, source_bad_frames;
 	struct log_limit source_log;  /* the capture thread's repeated warnings */
+	atomic_ullong source_call_ns; /* when the capture thread entered a source call, 0 = none */
+	int watchdog_withheld;        /* (processing thread) pings stopped for a hung source */
 	atomic_ullong cpu_ns_total;
 	uint64_t start_ns;
 	uint64_t interval_start_ns, interval_processed;
@@ -197,12 +208,14 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	};
 	struct dao_source *src = NULL;
 	struct dao_error err = {0};
+	atomic_store(&d->source_call_ns, now_ns());
 	int r = dao_source_open_limited(d->plugins, d->cfg.source_uri, &so, d->cfg.max_pixels, &src,
 					&err);
 	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
 		dao_source_close(src);
 		src = NULL;
 	}
+	atomic_store(&d->source_call_ns, 0);
 	if (r < 0 && first && source_names_file(d->cfg.source_uri)) {
 		log_error("source %s: %s; a recording or image path must be there when depthaod "
 			  "starts and open (only devices are waited for and retried): check [source] "
@@ -258,7 +271,9 @@ static void *capture_main(void *arg)
 		}
 		struct dao_source_frame f;
 		struct dao_error err = {0};
+		atomic_store(&d->source_call_ns, now_ns());
 		int r = dao_source_read(src, &f, READ_TIMEOUT_MS, &err);
+		atomic_store(&d->source_call_ns, 0);
 		if (r == -EAGAIN)
 			continue;
 		if (r == DAO_SOURCE_EOS) {
@@ -282,7 +297,9 @@ static void *capture_main(void *arg)
 			else
 				log_limited(&d->source_log, LOG_WARN, "source %s lost: %s; reopening",
 					    d->cfg.source_uri, why);
+			atomic_store(&d->source_call_ns, now_ns());
 			dao_source_close(src);
+			atomic_store(&d->source_call_ns, 0);
 			src = NULL;
 			continue;
 		}
@@ -416,33 +433,115 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 	}
 }
 
-/* Writes a requested snapshot (without holding the lock: the control thread stays free). */
-static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
+/* The snapshot's result (a frame written, or not): told to whoever waits for it. */
+static void snapshot_done(struct daemon *d, int r, const char *msg)
 {
-	char path[sizeof d->snapshot_path];
-	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state != SNAP_REQUESTED) {
-		pthread_mutex_unlock(&d->lock);
-		return;
-	}
-	memcpy(path, d->snapshot_path, sizeof path);
-	d->snapshot_state = SNAP_WRITING;
-	pthread_mutex_unlock(&d->lock);
-	struct dao_error err = {0};
-	int r = dao_png_write(path, rgb, &err);
-	pthread_mutex_lock(&d->lock);
 	if (d->snapshot_abandoned) {
 		d->snapshot_state = SNAP_NONE;
 		d->snapshot_abandoned = 0;
-	} else {
-		d->snapshot_state = r < 0 ? r : SNAP_DONE;
-		snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? err.message : "");
-		if (d->snapshot_notify_fd >= 0) {
-			ssize_t w = write(d->snapshot_notify_fd, "s", 1); /* non-blocking pipe */
-			(void)w;
+		return;
+	}
+	d->snapshot_state = r < 0 ? r : SNAP_DONE;
+	snprintf(d->snapshot_msg, sizeof d->snapshot_msg, "%s", r < 0 ? msg : "");
+	if (d->snapshot_notify_fd >= 0) {
+		ssize_t w = write(d->snapshot_notify_fd, "s", 1); /* non-blocking pipe */
+		(void)w;
+	}
+}
+
+/*
+ * A requested snapshot: the processing thread copies the frame and goes on;
+ * the snapshot thread writes it.  Written here, a FIFO whose reader did not
+ * read (or a hung network file system) stopped every sink.
+ */
+static void take_snapshot(struct daemon *d, const struct dao_frame *rgb)
+{
+	pthread_mutex_lock(&d->lock);
+	if (d->snapshot_state == SNAP_REQUESTED) {
+		if (fq_frame_copy(&d->snapshot_frame, rgb) < 0) {
+			snapshot_done(d, -ENOMEM, "out of memory for the snapshot");
+		} else {
+			d->snapshot_state = SNAP_WRITING;
+			pthread_cond_signal(&d->snapshot_cond);
 		}
 	}
 	pthread_mutex_unlock(&d->lock);
+}
+
+/*
+ * 0 if a snapshot may be written at `path`: a new name, a FIFO or device
+ * (dao_png_write decides), an empty file or a PNG.  Any other regular file is
+ * refused: `ctl snapshot` with the name of a recording (a typo, or a member of
+ * the socket group, who writes as depthaod's user) replaced the running
+ * recording with a picture while the recorder went on into the unlinked file.
+ */
+static int snapshot_may_replace(const char *path, char *msg, size_t len)
+{
+	static const unsigned char png_sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+	struct stat st;
+	if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0)
+		return 0;
+	unsigned char b[sizeof png_sig];
+	int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+	ssize_t n = fd >= 0 ? read(fd, b, sizeof b) : -1;
+	if (fd >= 0)
+		close(fd);
+	if (n == (ssize_t)sizeof b && !memcmp(b, png_sig, sizeof b))
+		return 0;
+	snprintf(msg, len, "%s exists and is not a PNG; a snapshot replaces only PNG files "
+		 "(remove it or pick another name)", path);
+	return -EEXIST;
+}
+
+static void *snapshot_main(void *arg)
+{
+	struct daemon *d = arg;
+	char path[sizeof d->snapshot_path];
+	pthread_mutex_lock(&d->lock);
+	for (;;) {
+		while (d->snapshot_state != SNAP_WRITING && !d->snapshot_quit)
+			pthread_cond_wait(&d->snapshot_cond, &d->lock);
+		if (d->snapshot_state != SNAP_WRITING)
+			break;
+		memcpy(path, d->snapshot_path, sizeof path);
+		pthread_mutex_unlock(&d->lock);
+		/* the frame is this thread's while the state is SNAP_WRITING */
+		struct dao_error err = {0};
+		int r = snapshot_may_replace(path, err.message, sizeof err.message);
+		if (r == 0)
+			r = dao_png_write(path, &d->snapshot_frame, &err);
+		pthread_mutex_lock(&d->lock);
+		snapshot_done(d, r, err.message);
+	}
+	pthread_mutex_unlock(&d->lock);
+	return NULL;
+}
+
+/*
+ * The systemd watchdog ping, from the processing loop: it comes round at
+ * least every 100 ms unless a frame is stuck.  The capture thread must be
+ * alive too: a source call (read, open, close) that has not returned for half
+ * the watchdog interval is a hung driver, and the pings stop so that systemd
+ * restarts the service (the processing loop alone would idle and ping on).
+ */
+static void watchdog_ping(struct daemon *d)
+{
+	uint64_t usec = notify_watchdog_usec();
+	if (!usec)
+		return;
+	uint64_t since = atomic_load(&d->source_call_ns), t = now_ns();
+	if (since && t > since && t - since > usec * 1000u / 2) {
+		if (!d->watchdog_withheld)
+			log_error("source %s: a call into the source has not returned for %.1f s (a "
+				  "hung driver?); watchdog pings stop so that systemd restarts depthaod",
+				  d->cfg.source_uri, (double)(t - since) / 1e9);
+		d->watchdog_withheld = 1;
+		return;
+	}
+	if (d->watchdog_withheld)
+		log_info("source %s: it returned; watchdog pings go on", d->cfg.source_uri);
+	d->watchdog_withheld = 0;
+	notify_watchdog();
 }
 
 static void *process_main(void *arg)
@@ -453,7 +552,7 @@ static void *process_main(void *arg)
 	struct fq_item *in;
 	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
 	for (;;) {
-		notify_watchdog(); /* each round: per frame, or every 100 ms while idle */
+		watchdog_ping(d); /* each round: per frame, or every 100 ms while idle */
 		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
 			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
 			continue;
@@ -687,12 +786,63 @@ static void sink_failed(struct sink_runner *s, int r, const char *msg)
 	atomic_store(&s->state, SINK_RETRYING);
 }
 
+/*
+ * The URI for opening the sink again, after it wrote frames in this run: an
+ * "overwrite=true" (or =1) among the options after the last '?' becomes
+ * "overwrite=false", so that a reopen (after an error, or for a new frame size)
+ * never replaces what this run recorded; "" when there is none.  overwrite
+ * replaces a file that is there when the sink first opens, nothing after.
+ */
+static void make_reopen_uri(const char *uri, char *out, size_t cap)
+{
+	const char *q = strrchr(uri, '?');
+	out[0] = '\0';
+	if (!q || !strchr(q, '='))
+		return;
+	size_t n = (size_t)(q - uri) + 1, len = 0;
+	int changed = 0;
+	if (n >= cap)
+		return;
+	memcpy(out, uri, n);
+	len = n;
+	for (const char *kv = q + 1; *kv;) {
+		size_t k = strcspn(kv, "&");
+		const char *opt = kv;
+		size_t optlen = k;
+		if ((k == 14 && !strncmp(kv, "overwrite=true", 14)) ||
+		    (k == 11 && !strncmp(kv, "overwrite=1", 11))) {
+			opt = "overwrite=false";
+			optlen = 15;
+			changed = 1;
+		}
+		if (len + optlen + 2 > cap) {
+			out[0] = '\0';
+			return;
+		}
+		memcpy(out + len, opt, optlen);
+		len += optlen;
+		kv += k;
+		if (*kv == '&')
+			out[len++] = *kv++;
+	}
+	out[changed ? len : 0] = '\0';
+}
+
 /* Opens and negotiates the sink for the frames of `it`; 0, or the failure handled. */
 static int open_sink(struct sink_runner *s, const struct fq_item *it)
 {
 	struct daemon *d = s->d;
 	struct dao_error err = {0};
-	int r = dao_sink_open(d->plugins, s->cfg->uri, &s->sink, &err);
+	const char *uri = s->cfg->uri;
+	unsigned long long wrote = atomic_load(&s->written);
+	if (wrote && s->reopen_uri[0]) {
+		uri = s->reopen_uri;
+		if (!s->reopen_noted++)
+			log_info("sink %s: opened again after %llu frame%s: overwrite applies to its first "
+				 "open only, what this run wrote is kept", s->cfg->name, wrote,
+				 wrote == 1 ? "" : "s");
+	}
+	int r = dao_sink_open(d->plugins, uri, &s->sink, &err);
 	if (r == 0) {
 		dao_sink_attach_host(s->sink, &d->host);
 		pthread_mutex_lock(&d->lock);
@@ -845,6 +995,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
 	pthread_cond_init(&d->wake, &ca);
 	pthread_condattr_destroy(&ca);
+	pthread_cond_init(&d->snapshot_cond, NULL);
 	if (config_params(cfg, &d->params, msg, len) < 0 || fq_create(&d->input, cfg->input_queue) < 0) {
 		daemon_destroy(d);
 		return -EINVAL;
@@ -855,6 +1006,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		s->cfg = &d->cfg.sinks[i];
 		s->backoff_ms = SINK_RETRY_INITIAL_MS;
 		s->warn_limit = (struct log_limit)LOG_LIMIT_INIT(SINK_LOG_INTERVAL_MS, SINK_LOG_BURST);
+		make_reopen_uri(s->cfg->uri, s->reopen_uri, sizeof s->reopen_uri);
 		pthread_mutex_init(&s->lat_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
 			snprintf(msg, len, "out of memory");
@@ -878,6 +1030,11 @@ int daemon_start(struct daemon *d, char *msg, size_t len)
 		}
 		d->sinks[i].running = 1;
 	}
+	if (pthread_create(&d->snapshot_writer, NULL, snapshot_main, d) != 0) {
+		snprintf(msg, len, "cannot start a thread");
+		return -EAGAIN;
+	}
+	d->snapshot_writer_running = 1;
 	if (pthread_create(&d->process, NULL, process_main, d) != 0) {
 		snprintf(msg, len, "cannot start a thread");
 		return -EAGAIN;
@@ -938,6 +1095,20 @@ static void join(pthread_t t, int *running)
 	*running = 0;
 }
 
+/* Ends the snapshot thread by the deadline; 0 if it is still writing then (a stuck file). */
+static int stop_snapshot_writer(struct daemon *d, uint64_t deadline)
+{
+	pthread_mutex_lock(&d->lock);
+	d->snapshot_quit = 1;
+	pthread_cond_broadcast(&d->snapshot_cond);
+	pthread_mutex_unlock(&d->lock);
+	if (join_by(d->snapshot_writer, &d->snapshot_writer_running, deadline, NULL))
+		return 1;
+	log_warn("a snapshot was still being written at the stop deadline (a FIFO nobody "
+		 "reads?); it is abandoned");
+	return 0;
+}
+
 void daemon_stop(struct daemon *d)
 {
 	if (daemon_finished(d)) { /* the natural end: everything has drained already */
@@ -945,6 +1116,8 @@ void daemon_stop(struct daemon *d)
 		join(d->process, &d->process_running);
 		for (unsigned i = 0; i < d->nsinks; i++)
 			join(d->sinks[i].thread, &d->sinks[i].running);
+		if (!stop_snapshot_writer(d, now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u))
+			d->stragglers = 1;
 		return;
 	}
 	uint64_t t0 = now_ns();
@@ -988,6 +1161,8 @@ void daemon_stop(struct daemon *d)
 			 "abandoned");
 		all = 0;
 	}
+	if (!stop_snapshot_writer(d, deadline))
+		all = 0;
 	d->stragglers = !all;
 }
 
@@ -1005,7 +1180,7 @@ void daemon_destroy(struct daemon *d)
 {
 	if (!d)
 		return;
-	int running = d->capture_running || d->process_running;
+	int running = d->capture_running || d->process_running || d->snapshot_writer_running;
 	for (unsigned i = 0; i < d->nsinks; i++)
 		running |= d->sinks[i].running;
 	if (running)
@@ -1017,8 +1192,10 @@ void daemon_destroy(struct daemon *d)
 		pthread_mutex_destroy(&d->sinks[i].lat_lock);
 	}
 	fq_destroy(d->input);
+	dao_frame_free(&d->snapshot_frame);
 	pthread_mutex_destroy(&d->lock);
 	pthread_cond_destroy(&d->wake);
+	pthread_cond_destroy(&d->snapshot_cond);
 	free(d);
 }
 
@@ -1082,15 +1259,17 @@ int daemon_snapshot_result(struct daemon *d, char *msg, size_t len)
 	return r < 0 ? r : 0;
 }
 
-void daemon_snapshot_cancel(struct daemon *d)
+int daemon_snapshot_cancel(struct daemon *d)
 {
 	pthread_mutex_lock(&d->lock);
-	if (d->snapshot_state == SNAP_WRITING)
+	int writing = d->snapshot_state == SNAP_WRITING;
+	if (writing)
 		d->snapshot_abandoned = 1;
 	else
 		d->snapshot_state = SNAP_NONE;
 	d->snapshot_notify_fd = -1;
 	pthread_mutex_unlock(&d->lock);
+	return writing;
 }
 
 static int cmp_u32(const void *a, const void *b)

@@ -54,8 +54,11 @@ int daemon_snapshot_request(struct daemon *d, const char *path, int notify_fd, c
 			    size_t len);
 /* 1 while pending, 0 once written, -errno with msg if writing failed. */
 int daemon_snapshot_result(struct daemon *d, char *msg, size_t len);
-/* Gives the request up (a frame already being written is finished, unreported). */
-void daemon_snapshot_cancel(struct daemon *d);
+/*
+ * Gives the request up (a frame already being written is finished, by the
+ * snapshot thread, unreported); 1 if it was being written, 0 if no frame came.
+ */
+int daemon_snapshot_cancel(struct daemon *d);
 
 /* Counters since start and over the last interval (the interval restarts). */
 struct json_object *daemon_stats(struct daemon *d, int reset_interval);

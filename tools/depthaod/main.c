@@ -6,6 +6,7 @@
  */
 #define _GNU_SOURCE /* sigtimedwait */
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -238,6 +239,29 @@ static void log_stats(struct daemon *d, const char *json_path)
 	json_object_put(j);
 }
 
+/*
+ * Opens /dev/null on whichever of stdin, stdout and stderr is closed, before
+ * anything else opens a file; returns a bit per fd that was.  Started with one
+ * closed (depthaod 2>&-, or a careless supervisor), the first file the daemon
+ * opened took its number: log lines were written into a recording at offset
+ * 0, and y4m:- wrote its stream into the recording or the control socket.
+ */
+static unsigned open_closed_std_fds(void)
+{
+	unsigned closed = 0;
+	for (int fd = 0; fd < 3; fd++) {
+		if (fcntl(fd, F_GETFD) >= 0 || errno != EBADF)
+			continue;
+		closed |= 1u << fd;
+		int n = open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY); /* the lowest free: fd */
+		if (n > fd) {
+			dup2(n, fd);
+			close(n);
+		}
+	}
+	return closed;
+}
+
 static void reload(const struct options *o, struct daemon *d)
 {
 	struct daemon_config c;
@@ -262,6 +286,7 @@ int main(int argc, char **argv)
 	struct options o;
 	struct daemon_config cfg;
 	char msg[700];
+	unsigned closed_fds = open_closed_std_fds();
 	int r = parse_args(argc, argv, &o);
 	if (r)
 		return r;
@@ -279,6 +304,9 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	log_init((enum log_level)cfg.log_level);
+	if (closed_fds & 2u)
+		log_warn("stdout was closed when depthaod started; it is /dev/null now (a y4m:- "
+			 "sink writes nowhere)");
 	notify_init();
 
 	/* signals are taken by the main thread only (sigtimedwait); threads inherit the mask */
