@@ -1,4 +1,6 @@
 /* SPDX-License-Identifier: MIT */
+#define _XOPEN_SOURCE 700
+#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +18,29 @@ int dao_test_data_path(const char *rel, char *buf, size_t len)
 	return access(buf, R_OK) == 0 ? 0 : -1;
 }
 
+/* the directories made by dao_test_tmpdir, removed when the test exits */
+#define MAX_TMPDIRS 64
+static char tmpdirs[MAX_TMPDIRS][512];
+static int n_tmpdirs;
+static pid_t tmpdir_owner;
+
+static int remove_entry(const char *path, const struct stat *st, int type, struct FTW *ftw)
+{
+	(void)st, (void)type, (void)ftw;
+	if (remove(path) != 0)
+		fprintf(stderr, "test clean-up: cannot remove %s\n", path);
+	return 0;
+}
+
+static void remove_tmpdirs(void)
+{
+	/* a forked child that exits must not take its parent's directories with it */
+	if (getpid() != tmpdir_owner || getenv("DAO_TEST_KEEP_TMP"))
+		return;
+	for (int i = 0; i < n_tmpdirs; i++)
+		nftw(tmpdirs[i], remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+}
+
 const char *dao_test_tmpdir(const char *tag)
 {
 	static char path[512];
@@ -27,5 +52,11 @@ const char *dao_test_tmpdir(const char *tag)
 		perror("mkdtemp");
 		exit(1);
 	}
+	if (n_tmpdirs == 0) {
+		tmpdir_owner = getpid();
+		atexit(remove_tmpdirs);
+	}
+	if (n_tmpdirs < MAX_TMPDIRS)
+		snprintf(tmpdirs[n_tmpdirs++], sizeof tmpdirs[0], "%s", path);
 	return path;
 }

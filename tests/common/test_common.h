@@ -16,7 +16,11 @@
  */
 int dao_test_data_path(const char *rel, char *buf, size_t len);
 
-/* A fresh empty directory under the build tree's temp area; returns its path (static). */
+/*
+ * A fresh empty directory under $TMPDIR (or /tmp); returns its path (static).
+ * It and what it holds are removed when the test exits (exit or return from
+ * main), unless DAO_TEST_KEEP_TMP is set (to look at what a test wrote).
+ */
 const char *dao_test_tmpdir(const char *tag);
 
 #endif
