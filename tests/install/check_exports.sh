@@ -1,7 +1,9 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 # Every function the public headers declare must be exported by libdepthao.so
-# (marked DAO_API), and the library must export nothing else.
+# (marked DAO_API) in the version node DEPTHAO_0 (src/libdepthao.ver), and the
+# library must export nothing else: no symbol of any kind (functions, ifuncs,
+# weak symbols, data) that the headers do not declare.
 # usage: check_exports.sh LIBDEPTHAO_SO INCLUDE_DIR GENERATED_INCLUDE_DIR
 set -eu
 [ $# -eq 3 ] || { echo "usage: $0 LIBDEPTHAO_SO INCLUDE_DIR GENERATED_INCLUDE_DIR" >&2; exit 2; }
@@ -11,17 +13,25 @@ trap 'rm -rf "$tmp"' EXIT
 echo '#include <depthao/depthao.h>' |
 	${CC:-cc} -std=c11 -E -P -I"$2" -I"$3" -x c - |
 	grep -o 'dao_[a-z0-9_]*[[:space:]]*(' | tr -d ' \t(' | sort -u >"$tmp/declared"
-nm -D --defined-only "$1" | awk '$2 == "T" { print $3 }' | grep '^dao_' | sort -u >"$tmp/exported"
-nm -D --defined-only "$1" | awk 'NF == 3 && $3 !~ /^dao_/ { print $3 }' >"$tmp/foreign"
+# name@@VERSION type, for every defined dynamic symbol but the version node itself
+nm -D --defined-only --with-symbol-versions "$1" |
+	awk 'NF == 3 && $2 != "A" { print $3, $2 }' | sort -u >"$tmp/symbols"
+sed 's/@.*//' "$tmp/symbols" | awk '{ print $1 }' | sort -u >"$tmp/exported"
 
 status=0
 for f in $(comm -23 "$tmp/declared" "$tmp/exported"); do
 	echo "FAIL: $f is declared in include/depthao/ but not exported (add DAO_API to its declaration)"
 	status=1
 done
-for f in $(comm -13 "$tmp/declared" "$tmp/exported") $(cat "$tmp/foreign"); do
-	echo "FAIL: $f is exported but not declared in the public headers"
+for f in $(comm -13 "$tmp/declared" "$tmp/exported"); do
+	echo "FAIL: $f ($(grep "^$f[@ ]" "$tmp/symbols" | awk '{ print "type " $2 }' | head -n 1)) is exported but not declared in the public headers (make it static or hidden; a target_clones function goes into local: of src/libdepthao.ver)"
 	status=1
 done
-[ "$status" -ne 0 ] || echo "$(wc -l <"$tmp/declared") public functions, all exported, nothing else"
+while read -r sym type; do
+	case "$sym" in
+	*@@DEPTHAO_0) ;;
+	*) echo "FAIL: $sym (type $type) is not in the version node DEPTHAO_0 (src/libdepthao.ver)"; status=1 ;;
+	esac
+done <"$tmp/symbols"
+[ "$status" -ne 0 ] || echo "$(wc -l <"$tmp/declared") public functions, all exported at DEPTHAO_0, nothing else"
 exit "$status"
