@@ -12,22 +12,33 @@ static uint8_t to8(float v)
 }
 
 /*
- * Turbo (Mikhailov 2019, "Turbo, An Improved Rainbow Colormap"): the
- * published degree-5 polynomial fit of each channel in t.
+ * Turbo (Mikhailov 2019, "Turbo, An Improved Rainbow Colormap for
+ * Visualization", Google AI blog; the colormap is Apache-2.0): the published
+ * 256-entry sRGB table at every 8th entry (0, 8, ..., 248) and entry 255,
+ * linear between them: within 3/255 of every published entry
+ * (tests/shade/test_shade.c checks it).  The degree-5 polynomial used before
+ * was 32/255 off at places (entry 0 came out (35, 23, 27), not (48, 18, 59)).
  */
-static void turbo(float t, float rgb[3])
+static const uint8_t turbo_knots[33][3] = {
+	{  48,  18,  59 }, {  57,  42, 115 }, {  64,  64, 162 }, {  68,  86, 199 },
+	{  70, 107, 227 }, {  70, 128, 246 }, {  66, 148, 255 }, {  55, 168, 250 },
+	{  40, 188, 235 }, {  28, 205, 216 }, {  24, 221, 194 }, {  31, 233, 175 },
+	{  50, 242, 152 }, {  78, 249, 125 }, { 109, 254,  98 }, { 139, 255,  75 },
+	{ 164, 252,  60 }, { 185, 246,  53 }, { 205, 236,  52 }, { 223, 223,  55 },
+	{ 238, 207,  58 }, { 248, 190,  57 }, { 253, 172,  52 }, { 254, 150,  43 },
+	{ 251, 126,  33 }, { 244, 102,  23 }, { 235,  80,  14 }, { 223,  63,   8 },
+	{ 208,  47,   5 }, { 190,  33,   2 }, { 169,  22,   1 }, { 146,  11,   1 },
+	{ 122,   4,   3 },
+};
+
+/* entry i (0..255) of the table: knot k sits at entry 8k, the last at 255 */
+static void turbo(int i, float rgb[3])
 {
-	static const float c[3][6] = {
-		{ 0.13572138f, 4.61539260f, -42.66032258f, 132.13108234f, -152.94239396f, 59.28637943f },
-		{ 0.09140261f, 2.19418839f, 4.84296658f, -14.18503333f, 4.27729857f, 2.82956604f },
-		{ 0.10667330f, 12.64194608f, -60.58204836f, 110.36276771f, -89.90310912f, 27.34824973f },
-	};
-	for (int k = 0; k < 3; k++) {
-		float v = c[k][5];
-		for (int d = 4; d >= 0; d--)
-			v = v * t + c[k][d];
-		rgb[k] = v;
-	}
+	int k = i / 8 < 31 ? i / 8 : 31;
+	const float k0 = 8.0f * (float)k, k1 = k == 31 ? 255.0f : k0 + 8.0f;
+	const float f = ((float)i - k0) / (k1 - k0);
+	for (int c = 0; c < 3; c++)
+		rgb[c] = ((1.0f - f) * turbo_knots[k][c] + f * turbo_knots[k + 1][c]) / 255.0f;
 }
 
 /* Jet: piecewise-linear blue-cyan-yellow-red ramps centred at t = 1/4, 1/2, 3/4. */
@@ -43,7 +54,7 @@ void dao_colormap_fill(struct dao_colormap *map, int mode)
 	for (int i = 0; i < 256; i++) {
 		float t = (float)i / 255.0f, rgb[3] = { t, t, t };
 		if (mode == DAO_SHADE_TURBO)
-			turbo(t, rgb);
+			turbo(i, rgb);
 		else if (mode == DAO_SHADE_JET)
 			jet(t, rgb);
 		for (int k = 0; k < 3; k++)

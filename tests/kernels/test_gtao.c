@@ -62,12 +62,17 @@ static void test_sample_on_plane(void **state)
 		double n[3] = { planes[p][0], planes[p][1], planes[p][2] };
 		normalize(n);
 		render_plane(&cam, n, planes[p][3], z, nrm);
+		/* every sample is inside the image, where the plane has depth: all
+		 * must be taken (a sampler that refused them would pass unchecked) */
+		int tried = 0, taken = 0;
 		for (int k = 0; k < 64; k++) {
 			float phi = (float)k * 0.0981f, dx = cosf(phi), dy = sinf(phi);
 			for (float t = 1.0f; t < 50.0f; t += 3.7f) {
 				float u, v, zs;
+				tried++;
 				if (!dao_gtao_sample(z, 160, 120, 80, 60, dx, dy, t, &u, &v, &zs))
 					continue;
+				taken++;
 				/* on the line through (80, 60) */
 				assert_true(fabsf((u - 80.0f) * dy - (v - 60.0f) * dx) < 1e-3f);
 				double X[3];
@@ -76,6 +81,9 @@ static void test_sample_on_plane(void **state)
 				assert_true(fabs(d) < 2e-6 * fabs(planes[p][3]) + 1e-6);
 			}
 		}
+		assert_int_equal(tried, 64 * 14);
+		if (taken != tried)
+			fail_msg("plane %zu: %d of %d samples taken", p, taken, tried);
 	}
 	free(z);
 	free(nrm);

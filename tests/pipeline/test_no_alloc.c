@@ -125,7 +125,16 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	for (int i = 3; i < 103 && !r; i++) {
 		r = dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
 		    dao_context_shade(ctx, &sh, &err);
-		if (i == 50) /* a run-time parameter change, as the daemon makes */
+		if (i == 50) { /* run-time parameter changes, as the daemon's `set` makes */
+			struct dao_params changed = p;
+			changed.radius = 1.5f * p.radius;
+			changed.slices = p.slices + 2;
+			changed.steps = p.steps + 4;
+			changed.thickness = 0.3f;
+			changed.shade_power = 2.0f;
+			r = r || dao_context_set_params(ctx, &changed, &err);
+		}
+		if (i == 60) /* and back */
 			r = r || dao_context_set_params(ctx, &p, &err);
 		if (i == 70) /* a cut: the histories start over */
 			dao_context_reset(ctx);

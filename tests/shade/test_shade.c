@@ -95,7 +95,18 @@ static void test_colormaps(void **state)
 	dao_colormap_fill(&t, DAO_SHADE_TURBO);
 	assert_true(g.rgb[0][0] == 0 && g.rgb[255][0] == 255 && g.rgb[100][1] == 100);
 	assert_true(j.rgb[0][2] > 100 && j.rgb[0][0] == 0 && j.rgb[255][0] > 100 && j.rgb[255][2] == 0);
-	assert_true(t.rgb[0][0] < 80 && t.rgb[255][0] > 100 && t.rgb[255][2] < 20);
+	/* Turbo: entries of the published 256-entry sRGB table (Mikhailov 2019) */
+	static const struct { int i; uint8_t rgb[3]; } published[] = {
+		{ 0, { 48, 18, 59 } },     { 20, { 66, 75, 181 } },   { 52, { 61, 158, 254 } },
+		{ 81, { 24, 222, 192 } },  { 100, { 63, 246, 138 } }, { 128, { 164, 252, 60 } },
+		{ 150, { 219, 226, 54 } }, { 181, { 254, 158, 47 } }, { 203, { 241, 93, 19 } },
+		{ 230, { 195, 37, 3 } },   { 250, { 139, 9, 2 } },   { 255, { 122, 4, 3 } },
+	};
+	for (size_t k = 0; k < sizeof published / sizeof published[0]; k++)
+		for (int c = 0; c < 3; c++)
+			if (abs(t.rgb[published[k].i][c] - published[k].rgb[c]) > 3)
+				fail_msg("turbo entry %d channel %d: %d, published %d", published[k].i, c,
+					 t.rgb[published[k].i][c], published[k].rgb[c]);
 }
 
 int main(void)
