@@ -3,9 +3,10 @@
  * Parameters of the AO pipeline, and a table that describes them.
  *
  * `struct dao_params` holds every setting of a context.  The table returned
- * by dao_param_table() names each field with its type, range, default and
- * help text, so command-line flags, config keys, run-time `set` commands and
- * help output are all generated from one place (as FFmpeg's AVOption tables).
+ * by dao_param_table() names each field with its type, unit, range and help
+ * text, so command-line flags, config keys, run-time `set` commands and help
+ * output are all generated from one place (as FFmpeg's AVOption tables).  The
+ * defaults are those of the presets: dao_params_init().
  */
 #ifndef DEPTHAO_PARAMS_H
 #define DEPTHAO_PARAMS_H
@@ -30,7 +31,7 @@ enum dao_quality {
 	DAO_QUALITY_DEFAULT = DAO_QUALITY_MEDIUM,
 };
 
-/* The AO algorithm (seeds 000-004, DESIGN.md). */
+/* The AO algorithm (README.md, "Algorithms"). */
 enum dao_algorithm {
 	DAO_ALGORITHM_GTAO = 0, /* ground-truth AO: horizons per slice, cosine-weighted integral */
 	DAO_ALGORITHM_HBAO,     /* horizon-based AO (Bavoil 2008): tangent bias, W(r) = 1 - r^2 */
@@ -81,7 +82,7 @@ enum dao_simd {
 	DAO_SIMD_GENERIC,    /* portable vector code (compiler vector extensions) */
 	DAO_SIMD_SSE41,
 	DAO_SIMD_AVX2,       /* AVX2 + FMA */
-	DAO_SIMD_AVX512,     /* AVX-512 F/VL/DQ/BW at 8 lanes: masks, 32 registers */
+	DAO_SIMD_AVX512,     /* AVX-512 F/VL/DQ/BW at 16 lanes: masks, 32 registers */
 	DAO_SIMD_COUNT,
 };
 

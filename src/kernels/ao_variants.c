@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * HBAO, SSAO and eye-dome lighting (DESIGN.md "HBAO and SSAO"; seeds 003, 004).
+ * HBAO, SSAO and eye-dome lighting (README.md, "Algorithms").
  */
 #include "kernels/ao_variants.h"
 

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The AO algorithms besides GTAO, for comparison (DESIGN.md, seeds 003 and
- * 004).  Scalar, plain C: they are their own reference.  Same frame setup,
- * per-pixel noise and row bands as GTAO; z in metres (0 = no data), n the
+ * The AO algorithms besides GTAO, for comparison (README.md, "Algorithms").
+ * Scalar, plain C: they are their own reference.  Same frame setup, per-pixel
+ * noise and row bands as GTAO; z in metres (0 = no data), n the
  * view-space normals, ao the visibility out (1 = open).
  */
 #ifndef DAO_KERNELS_AO_VARIANTS_H

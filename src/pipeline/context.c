@@ -16,6 +16,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -204,7 +205,15 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->params = p;
 	ctx->npix = (size_t)checked.width * checked.height;
 	/* 1 + 1 + 3 + 1 + 1 + 1 + 2 + 1 planes of floats, then two of bytes */
-	float *mem = malloc(ctx->npix * (11 * sizeof(float) + 2));
+	const size_t per_pixel = 11 * sizeof(float) + 2;
+	if (ctx->npix > SIZE_MAX / per_pixel) { /* a 32-bit size_t */
+		free(ctx);
+		return dao_error_set(err, -EOVERFLOW,
+				     "%ux%u is too large for this build's address space "
+				     "(%zu bytes per pixel); use a smaller frame",
+				     checked.width, checked.height, per_pixel);
+	}
+	float *mem = malloc(ctx->npix * per_pixel);
 	if (!mem) {
 		free(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",

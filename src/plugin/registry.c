@@ -5,7 +5,7 @@
  * library a plugin pulls in (OpenNI2 starts threads and registers handlers)
  * is never unmapped under its own feet when the registry is freed.
  */
-#define _GNU_SOURCE /* RTLD_NODELETE */
+#define _GNU_SOURCE /* RTLD_NODELETE, secure_getenv */
 #include <depthao/plugin.h>
 
 #include <dirent.h>
@@ -163,11 +163,11 @@ static int scan_path(struct dao_plugins *p, const char *path)
 
 int dao_plugins_load(struct dao_plugins **out, const char *path, struct dao_error *err)
 {
-	struct dao_plugins *p = calloc(1, sizeof(*p));
-	int ret = 0;
 	if (!out)
 		return dao_error_set(err, -EINVAL, "dao_plugins_load: out is required");
 	*out = NULL;
+	struct dao_plugins *p = calloc(1, sizeof(*p));
+	int ret = 0;
 	if (!p)
 		return dao_error_set(err, -ENOMEM, "out of memory loading plugins");
 	for (const struct dao_plugin *const *b = dao_builtin_plugins; *b && ret == 0; b++)
@@ -176,7 +176,9 @@ int dao_plugins_load(struct dao_plugins **out, const char *path, struct dao_erro
 		if (path) {
 			ret = scan_path(p, path);
 		} else {
-			const char *env = getenv(DAO_PLUGIN_PATH_ENV);
+			/* not in a set-user-ID or set-group-ID program: the caller's
+			 * environment must not choose code that runs with its rights */
+			const char *env = secure_getenv(DAO_PLUGIN_PATH_ENV);
 			if (env && *env)
 				ret = scan_path(p, env);
 			if (ret == 0)
