@@ -13,6 +13,7 @@
 
 #include "core/error_internal.h"
 #include "params/presets.h"
+#include "simd/cpu_internal.h"
 
 #define OFF(field) offsetof(struct dao_params, field)
 
@@ -22,7 +23,6 @@ static const char *const noise_model_names[] = { "fixed", "auto", "auto-prefilte
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", "tile", NULL };
 static const char *const denoise_names[] = { "none", "plane", "bilateral", NULL };
-static const char *const simd_names[] = { "auto", "reference", "generic", "sse4.1", "avx2", "avx512", NULL };
 static const char *const shade_names[] = { "lambert", "turbo", "jet", "gray", "ao", NULL };
 
 #define RT DAO_PARAM_RUNTIME
@@ -102,7 +102,7 @@ static const struct dao_param_info table[] = {
 	{ "threads", "threads per context (0 = one per available CPU)", NULL,
 	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
 	{ "simd", "kernels: auto (best for this CPU), reference (scalar oracle) or an instruction set", NULL,
-	  DAO_PARAM_ENUM, OFF(simd), 0, 0, simd_names, RT },
+	  DAO_PARAM_ENUM, OFF(simd), 0, 0, dao_simd_names, RT },
 	{ "denoise", "spatial filter of the AO", NULL,
 	  DAO_PARAM_ENUM, OFF(denoise), 0, 0, denoise_names, RT },
 	{ "denoise-radius", "radius of the bilateral denoise", "px",

@@ -74,6 +74,8 @@ struct dao_context {
 	int cmap_mode;
 	struct dao_pool *pool;
 	int pool_threads;  /* params.threads the pool was made for */
+	enum dao_simd simd;        /* params.simd resolved (AUTO: this CPU's best) ... */
+	struct dao_kernels kernels; /* ... and its kernels, chosen when the parameters change */
 	struct dao_timings times;
 	/* prefilter=domain: one scratch per slot; a pass hands every slot a share
 	 * of its strips, and the pool runs the slots */
@@ -88,6 +90,13 @@ struct dao_context {
 	struct dao_noise_info noise_info;
 };
 
+/* The kernel set of ctx->params, resolved once per parameter change (not per frame). */
+static void use_kernels(struct dao_context *ctx)
+{
+	ctx->simd = dao_simd_resolve(ctx->params.simd);
+	dao_kernels_select(&ctx->kernels, ctx->simd);
+}
+
 static double now_ms(void)
 {
 	struct timespec ts;
@@ -98,7 +107,7 @@ static double now_ms(void)
 /* Worker threads for a `threads` parameter (0 = every available CPU). */
 static int resolve_threads(int threads)
 {
-	return threads > 0 ? threads : dao_pool_online_cpus();
+	return threads > 0 ? threads : dao_cpu_count();
 }
 
 /* Rejects a kernel set this CPU or build cannot run. */
@@ -203,6 +212,7 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 		return dao_error_set(err, -ENOMEM, "out of memory for the context");
 	ctx->cam = checked;
 	ctx->params = p;
+	use_kernels(ctx);
 	ctx->npix = (size_t)checked.width * checked.height;
 	/* 1 + 1 + 3 + 1 + 1 + 1 + 2 + 1 planes of floats, then two of bytes */
 	const size_t per_pixel = 11 * sizeof(float) + 2;
@@ -302,6 +312,7 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *par
 	if (r)
 		return r;
 	ctx->params = *params;
+	use_kernels(ctx);
 	ctx->hist_valid = 0;
 	return 0;
 }
@@ -746,7 +757,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	job.algorithm = p->algorithm;
 	if (p->algorithm != DAO_ALGORITHM_GTAO)
 		dao_variant_setup_init(&job.variant, &job.gtao, p);
-	dao_kernels_select(&job.k, dao_simd_resolve(p->simd));
+	job.k = ctx->kernels;
 	use_r2_tile(ctx, &job.gtao, frame_index);
 	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
 	dao_prefilter_setup_init(&job.prefilter, (int)ctx->cam.width, h, p->prefilter_radius,
@@ -952,7 +963,7 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 	};
 	const double t0 = now_ms();
 	struct shade_job sj = { .setup = &ss, .ctx = ctx, .out = out };
-	dao_kernels_select(&sj.k, dao_simd_resolve(p->simd));
+	sj.k = ctx->kernels;
 	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_shade, &sj);
 	ctx->times.shade_ms = now_ms() - t0;
 	return 0;
@@ -1032,5 +1043,5 @@ void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out)
 
 enum dao_simd dao_context_simd(const struct dao_context *ctx)
 {
-	return dao_simd_resolve(ctx->params.simd);
+	return ctx->simd;
 }

@@ -28,7 +28,4 @@ int dao_pool_threads(const struct dao_pool *pool);
  */
 void dao_pool_run(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg);
 
-/* Number of CPUs this process may run on (at least 1). */
-int dao_pool_online_cpus(void);
-
 #endif

@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
-/* CPU feature detection and the names of the kernel sets. */
+/* CPU feature detection, the CPU count and the names of the kernel sets. */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
+#include <sched.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <depthao/cpu.h>
 
-#include "pipeline/threadpool.h"
 #include "simd/cpu_internal.h"
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -15,18 +17,19 @@
 #define DAO_X86 0
 #endif
 
-static const char *const names[DAO_SIMD_COUNT] = {
+const char *const dao_simd_names[DAO_SIMD_COUNT + 1] = {
 	[DAO_SIMD_AUTO] = "auto",
 	[DAO_SIMD_REFERENCE] = "reference",
 	[DAO_SIMD_GENERIC] = "generic",
 	[DAO_SIMD_SSE41] = "sse4.1",
 	[DAO_SIMD_AVX2] = "avx2",
 	[DAO_SIMD_AVX512] = "avx512",
+	[DAO_SIMD_COUNT] = NULL,
 };
 
 const char *dao_simd_name(enum dao_simd simd)
 {
-	return (unsigned)simd < DAO_SIMD_COUNT ? names[simd] : "invalid";
+	return (unsigned)simd < DAO_SIMD_COUNT ? dao_simd_names[simd] : "invalid";
 }
 
 int dao_simd_supported(enum dao_simd simd)
@@ -116,5 +119,12 @@ void dao_cpu_model(char *buf, size_t len)
 
 int dao_cpu_count(void)
 {
-	return dao_pool_online_cpus();
+	cpu_set_t set;
+	if (sched_getaffinity(0, sizeof set, &set) == 0) {
+		int n = CPU_COUNT(&set);
+		if (n > 0)
+			return n;
+	}
+	long n = sysconf(_SC_NPROCESSORS_ONLN);
+	return n > 0 ? (int)n : 1;
 }
