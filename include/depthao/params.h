@@ -22,6 +22,11 @@
 extern "C" {
 #endif
 
+/* The largest `slices` and `steps` (the parameter table's limits; the
+ * kernels' per-slice and per-step arrays are sized by them). */
+#define DAO_MAX_SLICES 32
+#define DAO_MAX_STEPS 64
+
 enum dao_quality {
 	DAO_QUALITY_LOW = 0,
 	DAO_QUALITY_MEDIUM,   /* the default: meets the accuracy bars in README.md */

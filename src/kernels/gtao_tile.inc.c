@@ -62,8 +62,8 @@ struct tile_cache {
 /* The constants of one tile phase and tile row: slice directions and step positions. */
 struct tile_phase {
 	int a;
-	float dx[32], dy[32]; /* per slice (slices <= 32) */
-	float t[64];          /* per step, before scaling by the radius (steps <= 64) */
+	float dx[DAO_MAX_SLICES], dy[DAO_MAX_SLICES]; /* per slice */
+	float t[DAO_MAX_STEPS]; /* per step, before scaling by the radius */
 };
 
 static void tile_phase_init(const struct dao_gtao_setup *s, int a, int y, struct tile_phase *ph)
@@ -429,7 +429,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			if (!m_any(g.ok))
 				continue;
 			const struct tile_step *st;
-			struct tile_step local[2 * 64];
+			struct tile_step local[2 * DAO_MAX_STEPS];
 			if (tsteps) {
 				st = tsteps + (size_t)sl * 2 * (size_t)s->steps;
 			} else {
