@@ -27,6 +27,16 @@ for h in depthao api version error frame camera params context png; do
 	[ -n "$(find "$stage" -path "*/include/depthao/$h.h")" ] || fail "include/depthao/$h.h was not installed"
 done
 
+# No path of the build tree in what is installed (reproducible builds; the tools
+# find the plugins built beside them through a file that is not installed)
+real_build=$(cd "$build" && pwd -P)
+for f in $(find "$stage" -type f \( -name 'depthao' -o -name 'depthaod' -o -name 'libdepthao.so*' -o -name '*.so' \)); do
+	if grep -qF "$real_build" "$f"; then
+		fail "$f contains the build directory $real_build"
+	fi
+done
+[ -z "$(find "$stage" -name dao-build-plugin-path)" ] || fail "dao-build-plugin-path was installed"
+
 # The .pc file names the real prefix (/usr/local): redefine it to the staged one
 # (libdir and includedir are derived from it; libpng's own flags stay as they are).
 prefix=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --variable=prefix depthao)
