@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The capture thread: opens the source (again after failures, with a backoff)
+ * and queues its frames for the processing thread.
+ */
+
+#include <errno.h>
+#include <string.h>
+#include <strings.h>
+
+#include "daemon_internal.h"
+
+/*
+ * 1 if the source URI names something on disk (a recording, a depth PNG, a
+ * directory of them) rather than a device: "oni:" and "images:" URIs, any URI
+ * whose path ends in .oni or .png, and paths outside /dev without a plugin
+ * prefix.  Such a source must open at start; a device may be plugged in later.
+ */
+static int source_names_file(const char *uri)
+{
+	size_t p = 0;
+	while ((uri[p] >= 'a' && uri[p] <= 'z') || (uri[p] >= '0' && uri[p] <= '9') ||
+	       uri[p] == '-' || uri[p] == '_')
+		p++;
+	int prefixed = p > 1 && uri[p] == ':'; /* as the plugin registry reads a prefix */
+	if (prefixed && ((p == 3 && !strncmp(uri, "oni", 3)) || (p == 6 && !strncmp(uri, "images", 6))))
+		return 1;
+	const char *rest = prefixed ? uri + p + 1 : uri;
+	size_t n = strcspn(rest, "?");
+	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".png", 4)))
+		return 1;
+	return !prefixed && memchr(rest, '/', n) && strncmp(rest, "/dev/", 5) != 0;
+}
+
+/* The source opened and started; NULL after a failure (waited out, or fatal: d->failed). */
+static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int first)
+{
+	struct dao_source_options so = {
+		.playback = d->cfg.playback,
+		.loop = d->cfg.loop,
+		.start_frame = d->cfg.start,
+		.want_color = d->wants[STREAM_OVERLAY],
+		.depth_unit = d->cfg.depth_unit,
+	};
+	struct dao_source *src = NULL;
+	struct dao_error err = {0};
+	atomic_store(&d->source_call_ns, now_ns());
+	int r = dao_source_open_limited(d->plugins, d->cfg.source_uri, &so, d->cfg.max_pixels, &src,
+					&err);
+	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
+		dao_source_close(src);
+		src = NULL;
+	}
+	atomic_store(&d->source_call_ns, 0);
+	if (r < 0 && first && source_names_file(d->cfg.source_uri)) {
+		log_error("source %s: %s; a recording or image path must be there when depthaod "
+			  "starts and open (only devices are waited for and retried): check [source] "
+			  "uri and start depthaod again", d->cfg.source_uri,
+			  err.message[0] ? err.message : strerror(-r));
+		atomic_store(&d->failed, 1);
+		return NULL;
+	}
+	if (r < 0) {
+		atomic_fetch_add(&d->source_failures, 1);
+		log_limited(&d->source_log, LOG_WARN, "source %s: %s; retrying in %u ms",
+			    d->cfg.source_uri, err.message[0] ? err.message : strerror(-r), *backoff);
+		nap(d, *backoff);
+		*backoff = *backoff * 2 > d->cfg.retry_max_ms ? d->cfg.retry_max_ms : *backoff * 2;
+		return NULL;
+	}
+	*backoff = d->cfg.retry_initial_ms;
+	struct dao_source_info in;
+	dao_source_get_info(src, &in);
+	pthread_mutex_lock(&d->lock);
+	d->src_info = in;
+	d->have_src_info = 1;
+	pthread_mutex_unlock(&d->lock);
+	atomic_fetch_add(&d->source_opens, 1);
+	log_info("source: %s", in.description);
+	if (in.warning[0])
+		log_warn("source: %s", in.warning);
+	return src;
+}
+
+void *capture_main(void *arg)
+{
+	struct daemon *d = arg;
+	struct dao_source *src = NULL;
+	unsigned backoff = d->cfg.retry_initial_ms;
+	int live = 0, opened = 0;
+	int64_t frame_count = 0, bad_in_a_row = 0;
+	while (!atomic_load(&d->stop) && !atomic_load(&d->end_capture)) {
+		if (!src) {
+			if (!(src = open_source(d, &backoff, !opened))) {
+				if (atomic_load(&d->failed))
+					break;
+				continue;
+			}
+			opened = 1;
+			live = d->src_info.live;
+			frame_count = d->src_info.frame_count;
+			bad_in_a_row = 0;
+		}
+		if (atomic_load(&d->paused) && !live) {
+			nap(d, 50); /* a paused recording simply waits */
+			continue;
+		}
+		struct dao_source_frame f;
+		struct dao_error err = {0};
+		atomic_store(&d->source_call_ns, now_ns());
+		int r = dao_source_read(src, &f, READ_TIMEOUT_MS, &err);
+		atomic_store(&d->source_call_ns, 0);
+		if (r == -EAGAIN)
+			continue;
+		if (r == DAO_SOURCE_EOS) {
+			log_info("source %s: end of the recording", d->cfg.source_uri);
+			break;
+		}
+		const char *why = err.message[0] ? err.message : strerror(-r);
+		if (r < 0 && !live && r != -ENODEV &&
+		    ++bad_in_a_row <= (frame_count > 0 ? frame_count : 1)) {
+			/* a recording's frame that cannot be decoded: the source skips it */
+			atomic_fetch_add(&d->source_bad_frames, 1);
+			log_limited(&d->source_log, LOG_WARN, "source %s: a frame cannot be read and is "
+				    "skipped: %s", d->cfg.source_uri, why);
+			continue;
+		}
+		if (r < 0) {
+			if (!live && r != -ENODEV)
+				log_limited(&d->source_log, LOG_WARN, "source %s: no frame can be read "
+					    "(%lld failures in a row, the last: %s); reopening",
+					    d->cfg.source_uri, (long long)bad_in_a_row, why);
+			else
+				log_limited(&d->source_log, LOG_WARN, "source %s lost: %s; reopening",
+					    d->cfg.source_uri, why);
+			atomic_store(&d->source_call_ns, now_ns());
+			dao_source_close(src);
+			atomic_store(&d->source_call_ns, 0);
+			src = NULL;
+			continue;
+		}
+		bad_in_a_row = 0;
+		if (atomic_load(&d->paused)) { /* live: keep the device flowing, drop */
+			dao_source_release(src, &f);
+			continue;
+		}
+		atomic_fetch_add(&d->captured, 1);
+		uint64_t dropped = 0;
+		struct fq_item *it = fq_begin_push(d->input, !d->lossless, &dropped);
+		atomic_fetch_add(&d->input_dropped, dropped);
+		if (!it) {
+			dao_source_release(src, &f);
+			break;
+		}
+		int ok = fq_frame_copy(&it->frame, &f.depth) == 0;
+		if (ok && f.color.format == DAO_PIXFMT_RGB24)
+			ok = fq_frame_copy(&it->color, &f.color) == 0;
+		else
+			it->color.format = DAO_PIXFMT_NONE;
+		it->index = f.index;
+		it->t_capture_ns = now_ns();
+		dao_source_release(src, &f);
+		if (ok)
+			fq_end_push(d->input, it);
+		else
+			fq_cancel_push(d->input, it);
+	}
+	dao_source_close(src);
+	log_limit_flush(&d->source_log, LOG_WARN, "source");
+	fq_close(d->input);
+	atomic_store(&d->capture_done, 1);
+	return NULL;
+}

@@ -1,0 +1,238 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The processing thread: AO and shading of each captured frame, fanned out to
+ * every sink's queue; it pings the systemd watchdog.
+ */
+
+#include "notify.h"
+#include "daemon_internal.h"
+
+static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_camera *cam)
+{
+	struct dao_error err;
+	const struct daemon_config *c = &d->cfg;
+	if (c->has_intrinsics)
+		return dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
+						  c->intrinsics[2], c->intrinsics[3], &err);
+	if (c->has_fov)
+		return dao_camera_from_fov(cam, w, h, c->fov_deg[0] * DEG2RAD, c->fov_deg[1] * DEG2RAD,
+					   &err);
+	pthread_mutex_lock(&d->lock);
+	struct dao_source_info in = d->src_info;
+	pthread_mutex_unlock(&d->lock);
+	if (in.has_fov)
+		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, &err);
+	log_warn("no intrinsics: the source has no field of view and the config gives none; "
+		 "assuming %.1f x %.1f degrees ([source] intrinsics or fov)",
+		 DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
+	return dao_camera_from_fov(cam, w, h, DEFAULT_HFOV_DEG * DEG2RAD, DEFAULT_VFOV_DEG * DEG2RAD,
+				   &err);
+}
+
+struct outputs {
+	struct dao_frame ao16, ao8, rgb, overlay;
+};
+
+static void free_outputs(struct outputs *o)
+{
+	dao_frame_free(&o->ao16);
+	dao_frame_free(&o->ao8);
+	dao_frame_free(&o->rgb);
+	dao_frame_free(&o->overlay);
+}
+
+static void ao_to_8bit(const struct dao_frame *a, struct dao_frame *b)
+{
+	for (uint32_t y = 0; y < a->height; y++) {
+		const uint16_t *s = (const uint16_t *)((const uint8_t *)a->data + (size_t)y * (size_t)a->stride);
+		uint8_t *t = (uint8_t *)b->data + (size_t)y * (size_t)b->stride;
+		for (uint32_t x = 0; x < a->width; x++)
+			t[x] = (uint8_t)(((uint32_t)s[x] * 255u + 32767u) / 65535u);
+	}
+}
+
+/* The source's colour darkened by the AO (same size only). */
+static int overlay(const struct dao_frame *color, const struct dao_frame *ao, struct dao_frame *out)
+{
+	if (color->format != DAO_PIXFMT_RGB24 || color->width != ao->width ||
+	    color->height != ao->height)
+		return -1;
+	for (uint32_t y = 0; y < ao->height; y++) {
+		const uint8_t *c = (const uint8_t *)color->data + (size_t)y * (size_t)color->stride;
+		const uint16_t *a = (const uint16_t *)((const uint8_t *)ao->data + (size_t)y * (size_t)ao->stride);
+		uint8_t *o = (uint8_t *)out->data + (size_t)y * (size_t)out->stride;
+		for (uint32_t x = 0; x < 3 * ao->width; x++)
+			o[x] = (uint8_t)(((uint32_t)c[x] * a[x / 3] + 32767u) / 65535u);
+	}
+	return 0;
+}
+
+static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *o, int have_overlay)
+{
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		struct sink_runner *s = &d->sinks[i];
+		const struct dao_frame *f;
+		switch (s->cfg->stream) {
+		case STREAM_SHADED: f = &o->rgb; break;
+		case STREAM_AO: f = &o->ao16; break;
+		case STREAM_AO8: f = &o->ao8; break;
+		case STREAM_DEPTH: f = &in->frame; break;
+		case STREAM_OVERLAY: f = have_overlay ? &o->overlay : NULL; break;
+		default: f = NULL;
+		}
+		if (!f || atomic_load(&s->state) == SINK_STOPPED)
+			continue;
+		uint64_t dropped = 0;
+		struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
+		atomic_fetch_add(&s->dropped, dropped);
+		if (!it) { /* its queue closed at the stop deadline: this frame never reaches it */
+			atomic_fetch_add(&s->dropped, 1);
+			continue;
+		}
+		if (fq_frame_copy(&it->frame, f) < 0) {
+			fq_cancel_push(s->q, it);
+			continue;
+		}
+		it->frame.sequence = in->index;
+		it->frame.timestamp_ns = in->frame.timestamp_ns;
+		it->frame.depth_unit = in->frame.depth_unit;
+		it->index = in->index;
+		it->t_capture_ns = in->t_capture_ns;
+		fq_end_push(s->q, it);
+	}
+}
+
+/*
+ * The systemd watchdog ping, from the processing loop: it comes round at
+ * least every 100 ms unless a frame is stuck.  The capture thread must be
+ * alive too: a source call (read, open, close) that has not returned for half
+ * the watchdog interval is a hung driver, and the pings stop so that systemd
+ * restarts the service (the processing loop alone would idle and ping on).
+ */
+static void watchdog_ping(struct daemon *d)
+{
+	uint64_t usec = notify_watchdog_usec();
+	if (!usec)
+		return;
+	uint64_t since = atomic_load(&d->source_call_ns), t = now_ns();
+	if (since && t > since && t - since > usec * 1000u / 2) {
+		if (!d->watchdog_withheld)
+			log_error("source %s: a call into the source has not returned for %.1f s (a "
+				  "hung driver?); watchdog pings stop so that systemd restarts depthaod",
+				  d->cfg.source_uri, (double)(t - since) / 1e9);
+		d->watchdog_withheld = 1;
+		return;
+	}
+	if (d->watchdog_withheld)
+		log_info("source %s: it returned; watchdog pings go on", d->cfg.source_uri);
+	d->watchdog_withheld = 0;
+	notify_watchdog();
+}
+
+void *process_main(void *arg)
+{
+	struct daemon *d = arg;
+	struct dao_context *ctx = NULL;
+	struct outputs o = {0};
+	struct fq_item *in;
+	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
+	for (;;) {
+		watchdog_ping(d); /* each round: per frame, or every 100 ms while idle */
+		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
+			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
+			continue;
+		}
+		if (!(in = fq_pop(d->input, 100))) {
+			if (fq_closed_and_empty(d->input))
+				break;
+			continue;
+		}
+		if (atomic_load(&d->stop) && now_ns() >= atomic_load(&d->process_deadline_ns)) {
+			/* a signal, and no time left for queued input (or drain_on_stop = false) */
+			fq_done(d->input, in);
+			atomic_fetch_add(&d->input_dropped, fq_clear(d->input) + 1);
+			break;
+		}
+		struct dao_error err = {0};
+		const uint32_t w = in->frame.width, h = in->frame.height;
+		if (!ctx || dao_context_camera(ctx)->width != w || dao_context_camera(ctx)->height != h) {
+			struct dao_camera cam;
+			dao_context_destroy(ctx);
+			ctx = NULL;
+			pthread_mutex_lock(&d->lock);
+			struct dao_params p = d->params;
+			d->params_pending = 0;
+			pthread_mutex_unlock(&d->lock);
+			if (make_camera(d, w, h, &cam) < 0 || dao_context_create(&ctx, &cam, &p, &err) < 0 ||
+			    fq_frame_reserve(&o.ao16, DAO_PIXFMT_GRAY16, w, h) < 0 ||
+			    fq_frame_reserve(&o.ao8, DAO_PIXFMT_GRAY8, w, h) < 0 ||
+			    fq_frame_reserve(&o.rgb, DAO_PIXFMT_RGB24, w, h) < 0 ||
+			    fq_frame_reserve(&o.overlay, DAO_PIXFMT_RGB24, w, h) < 0) {
+				log_error("cannot set up the pipeline for %ux%u frames: %s", w, h,
+					  err.message[0] ? err.message : "bad camera or out of memory");
+				dao_context_destroy(ctx);
+				ctx = NULL;
+				atomic_fetch_add(&d->process_errors, 1);
+				fq_done(d->input, in);
+				continue;
+			}
+			log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
+				 dao_simd_name(dao_context_simd(ctx)));
+			pthread_mutex_lock(&d->lock);
+			dao_camera_fov(&cam, &d->cam_hfov, &d->cam_vfov);
+			d->have_cam = 1;
+			pthread_mutex_unlock(&d->lock);
+		}
+		pthread_mutex_lock(&d->lock);
+		if (d->params_pending) {
+			if (dao_context_set_params(ctx, &d->params, &err) < 0)
+				log_error("new AO parameters refused: %s", err.message);
+			d->params_pending = 0;
+		}
+		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == SNAP_REQUESTED;
+		pthread_mutex_unlock(&d->lock);
+
+		uint64_t c0 = thread_cpu_ns();
+		int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o.ao16, &err);
+		if (r == 0 && want_rgb)
+			r = dao_context_shade(ctx, &o.rgb, &err);
+		int have_overlay = 0;
+		if (r == 0) {
+			if (d->wants[STREAM_AO8])
+				ao_to_8bit(&o.ao16, &o.ao8);
+			if (d->wants[STREAM_OVERLAY] && in->color.format == DAO_PIXFMT_RGB24)
+				have_overlay = overlay(&in->color, &o.ao16, &o.overlay) == 0;
+		}
+		atomic_fetch_add(&d->cpu_ns_total, thread_cpu_ns() - c0);
+		if (r < 0) {
+			atomic_fetch_add(&d->process_errors, 1);
+			log_limited(&error_log, LOG_ERROR, "frame %llu: %s", (unsigned long long)in->index,
+				    err.message);
+			fq_done(d->input, in);
+			continue;
+		}
+		if (want_rgb)
+			take_snapshot(d, &o.rgb);
+		fan_out(d, in, &o, have_overlay);
+		fq_done(d->input, in);
+		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
+		if (d->cfg.max_frames && n >= d->cfg.max_frames) {
+			log_info("processed %llu frames (max_frames); stopping", n);
+			atomic_store(&d->end_capture, 1);
+			break;
+		}
+	}
+	if (atomic_load(&d->stop) && !d->cfg.drain_on_stop)
+		for (unsigned i = 0; i < d->nsinks; i++)
+			atomic_fetch_add(&d->sinks[i].dropped, fq_clear(d->sinks[i].q));
+	for (unsigned i = 0; i < d->nsinks; i++)
+		fq_close(d->sinks[i].q);
+	dao_context_destroy(ctx);
+	free_outputs(&o);
+	log_limit_flush(&error_log, LOG_ERROR, "frame errors");
+	/* the capture thread may be blocked on a full input queue: unblock it */
+	atomic_store(&d->end_capture, 1);
+	fq_close(d->input);
+	atomic_store(&d->process_done, 1);
+	return NULL;
+}

@@ -1,0 +1,77 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The daemon's statistics as JSON (`ctl stats`, stats_json).
+ */
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "daemon_internal.h"
+
+static const char *const sink_state_names[] = {"waiting", "running", "retrying", "stopped"};
+
+static int cmp_u32(const void *a, const void *b)
+{
+	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+	return x < y ? -1 : x > y;
+}
+
+struct json_object *daemon_stats(struct daemon *d, int reset_interval)
+{
+	uint64_t t = now_ns();
+	unsigned long long processed = atomic_load(&d->processed);
+	pthread_mutex_lock(&d->lock);
+	double secs = (double)(t - d->interval_start_ns) / 1e9;
+	double fps = secs > 0 ? (double)(processed - d->interval_processed) / secs : 0;
+	if (reset_interval) {
+		d->interval_start_ns = t;
+		d->interval_processed = processed;
+	}
+	pthread_mutex_unlock(&d->lock);
+	struct json_object *j = json_object_new_object();
+	json_object_object_add(j, "uptime_s", json_object_new_double((double)(t - d->start_ns) / 1e9));
+	json_object_object_add(j, "paused", json_object_new_boolean(atomic_load(&d->paused)));
+	json_object_object_add(j, "source_opens", json_object_new_int64((int64_t)atomic_load(&d->source_opens)));
+	json_object_object_add(j, "source_failures", json_object_new_int64((int64_t)atomic_load(&d->source_failures)));
+	json_object_object_add(j, "source_bad_frames", json_object_new_int64((int64_t)atomic_load(&d->source_bad_frames)));
+	json_object_object_add(j, "frames_in", json_object_new_int64((int64_t)atomic_load(&d->captured)));
+	json_object_object_add(j, "frames_dropped_in", json_object_new_int64((int64_t)atomic_load(&d->input_dropped)));
+	json_object_object_add(j, "frames_processed", json_object_new_int64((int64_t)processed));
+	json_object_object_add(j, "process_errors", json_object_new_int64((int64_t)atomic_load(&d->process_errors)));
+	json_object_object_add(j, "fps", json_object_new_double(fps));
+	json_object_object_add(j, "cpu_ms_per_frame",
+			       json_object_new_double(processed ? (double)atomic_load(&d->cpu_ns_total) / 1e6 / (double)processed : 0));
+	struct json_object *sinks = json_object_new_array();
+	for (unsigned i = 0; i < d->nsinks; i++) {
+		struct sink_runner *s = &d->sinks[i];
+		struct json_object *o = json_object_new_object();
+		uint32_t lat[LATENCY_RING];
+		pthread_mutex_lock(&s->lat_lock);
+		unsigned n = s->lat_n;
+		memcpy(lat, s->lat_us, n * sizeof(uint32_t));
+		pthread_mutex_unlock(&s->lat_lock);
+		qsort(lat, n, sizeof(uint32_t), cmp_u32);
+		json_object_object_add(o, "name", json_object_new_string(s->cfg->name));
+		json_object_object_add(o, "uri", json_object_new_string(s->cfg->uri));
+		json_object_object_add(o, "stream", json_object_new_string(stream_name(s->cfg->stream)));
+		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)atomic_load(&s->written)));
+		json_object_object_add(o, "frames_dropped", json_object_new_int64((int64_t)atomic_load(&s->dropped)));
+		json_object_object_add(o, "errors", json_object_new_int64((int64_t)atomic_load(&s->errors)));
+		int state = atomic_load(&s->state);
+		json_object_object_add(o, "state", json_object_new_string(sink_state_names[state]));
+		if (state == SINK_STOPPED) {
+			json_object_object_add(o, "stop_reason", json_object_new_string(s->stop_reason));
+			json_object_object_add(o, "stop_code", json_object_new_string(s->stop_code));
+		}
+		json_object_object_add(o, "disabled", json_object_new_boolean(state == SINK_STOPPED));
+		json_object_object_add(o, "opens", json_object_new_int64((int64_t)atomic_load(&s->opens)));
+		json_object_object_add(o, "queued", json_object_new_int((int)fq_length(s->q)));
+		json_object_object_add(o, "latency_ms_median",
+				       json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
+		json_object_object_add(o, "latency_ms_p99",
+				       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
+		json_object_array_add(sinks, o);
+	}
+	json_object_object_add(j, "sinks", sinks);
+	return j;
+}
