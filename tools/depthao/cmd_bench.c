@@ -5,6 +5,7 @@
  * compare with the scalar reference kernels at the same settings.
  */
 #include <errno.h>
+#include <getopt.h>
 #include <json-c/json.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +22,7 @@
 #define MAX_SIZES 8
 #define MAX_QUALITIES 8
 #define MAX_THREADS 4
+#define MAX_PARAM_OPTIONS 32
 
 struct size {
 	int w, h;
@@ -253,178 +255,277 @@ static void print_row(const struct config *c, const struct stats *st, const stru
 	fflush(stdout);
 }
 
-int cmd_bench(int argc, char **argv)
-{
-	struct size sizes[MAX_SIZES] = { { 320, 240 }, { 640, 480 }, { 1280, 720 } };
-	int nsizes = 3, size_given = 0;
+/* What the command line asked for. */
+struct bench_options {
+	struct size sizes[MAX_SIZES];
+	int nsizes;
 	const char *qnames[MAX_QUALITIES];
-	int nq = 0;
-	int threads[MAX_THREADS], nthreads = 0;
-	int json = 0, no_ref = 0, min_iter = 30;
-	double min_time = 0.5;
-	struct dao_params over; /* parameter options are recorded against a sentinel */
-	dao_params_init(&over, DAO_QUALITY_DEFAULT);
-	const char *param_args[64];
-	int nparam = 0;
-	int slices = 0, steps = 0, simd = DAO_SIMD_AUTO;
-	struct dao_error err = { 0 };
+	int nq;
+	int threads[MAX_THREADS], nthreads;
+	int json, no_ref, min_iter;
+	double min_time;
+	int slices, steps, simd; /* 0 / AUTO: the preset's */
+	/* the parameter options, replayed on top of each preset */
+	const char *param_args[2 * MAX_PARAM_OPTIONS];
+	int nparam;
+};
 
-	for (int i = 1; i < argc; i++) {
-		const char *a = argv[i];
-		const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-		if (!strcmp(a, "--help")) {
+enum { OPT_SIZE = 1000, OPT_QUALITY, OPT_THREADS, OPT_MIN_TIME, OPT_MIN_ITER, OPT_NO_REF,
+       OPT_JSON, OPT_HELP, OPT_PARAM /* + index in the parameter table */ };
+
+static const struct option bench_long_options[] = {
+	{ "size", required_argument, NULL, OPT_SIZE },
+	{ "quality", required_argument, NULL, OPT_QUALITY },
+	{ "threads", required_argument, NULL, OPT_THREADS },
+	{ "min-time", required_argument, NULL, OPT_MIN_TIME },
+	{ "min-iterations", required_argument, NULL, OPT_MIN_ITER },
+	{ "no-reference", no_argument, NULL, OPT_NO_REF },
+	{ "json", no_argument, NULL, OPT_JSON },
+	{ "help", no_argument, NULL, OPT_HELP },
+};
+#define N_BENCH_OPTIONS (int)(sizeof bench_long_options / sizeof bench_long_options[0])
+
+/*
+ * bench's own options, then every AO parameter by its name and with
+ * underscores (as the parameter table accepts both); `names` holds the
+ * underscore spellings.  Returns the table (NULL-terminated) in `opts`.
+ */
+static void long_options(struct option *opts, char (*names)[64])
+{
+	size_t n;
+	const struct dao_param_info *t = dao_param_table(&n);
+	int k = 0;
+	for (int i = 0; i < N_BENCH_OPTIONS; i++)
+		opts[k++] = bench_long_options[i];
+	for (size_t i = 0; i < n; i++) {
+		/* --threads is bench's own (a list of counts to time) */
+		if (!strcmp(t[i].name, "threads"))
+			continue;
+		opts[k++] = (struct option){ t[i].name, required_argument, NULL, OPT_PARAM + (int)i };
+		snprintf(names[i], sizeof names[i], "%s", t[i].name);
+		for (char *c = names[i]; *c; c++)
+			if (*c == '-')
+				*c = '_';
+		if (strcmp(names[i], t[i].name))
+			opts[k++] = (struct option){ names[i], required_argument, NULL,
+						     OPT_PARAM + (int)i };
+	}
+	opts[k] = (struct option){ NULL, 0, NULL, 0 };
+}
+
+/* One of bench's own options with its value; 0, or a usage error's exit status. */
+static int bench_option(struct bench_options *o, int opt, const char *v, int *size_given)
+{
+	struct dao_error err = { 0 };
+	switch (opt) {
+	case OPT_SIZE:
+		if (!*size_given)
+			o->nsizes = 0;
+		if (o->nsizes == MAX_SIZES)
+			return usage_error("bench", "at most %d --size options", MAX_SIZES);
+		if (parse_size(v, &o->sizes[o->nsizes]))
+			return usage_error("bench", "--size needs WxH, e.g. 640x480 (16..16384)");
+		o->nsizes++;
+		*size_given = 1;
+		return 0;
+	case OPT_QUALITY: {
+		enum dao_quality q;
+		if (strcmp(v, "all") && dao_quality_parse(v, &q, &err))
+			return usage_error("bench", "%s", err.message);
+		if (o->nq == MAX_QUALITIES)
+			return usage_error("bench", "too many --quality options");
+		o->qnames[o->nq++] = v;
+		return 0;
+	}
+	case OPT_THREADS: {
+		char *end;
+		long n = strtol(v, &end, 10);
+		if (*end || end == v || n < 1 || n > 256)
+			return usage_error("bench", "--threads needs a count from 1 to 256");
+		if (o->nthreads == MAX_THREADS)
+			return usage_error("bench", "at most %d --threads options", MAX_THREADS);
+		o->threads[o->nthreads++] = (int)n;
+		return 0;
+	}
+	case OPT_MIN_TIME:
+	case OPT_MIN_ITER: {
+		char *end;
+		double n = strtod(v, &end);
+		if (*end || end == v || !(n >= 0 && n <= 3600))
+			return usage_error("bench", "--%s needs a number from 0 to 3600",
+					   opt == OPT_MIN_TIME ? "min-time" : "min-iterations");
+		if (opt == OPT_MIN_TIME)
+			o->min_time = n;
+		else
+			o->min_iter = n < 1 ? 1 : (int)n;
+		return 0;
+	}
+	case OPT_NO_REF:
+		o->no_ref = 1;
+		return 0;
+	case OPT_JSON:
+		o->json = 1;
+		return 0;
+	}
+	return usage_error("bench", "internal: option %d", opt);
+}
+
+/*
+ * The command line into `o`; 0, -1 after --help, or a usage error's exit
+ * status.  AO parameters are checked against a copy of the defaults and kept
+ * to be applied on top of each preset.
+ */
+static int parse_options(int argc, char **argv, struct bench_options *o)
+{
+	static char names[256][64];
+	struct option opts[N_BENCH_OPTIONS + 2 * 256 + 1];
+	size_t nparams;
+	dao_param_table(&nparams);
+	if (nparams > 256)
+		return usage_error("bench", "internal: %zu parameters", nparams);
+	long_options(opts, names);
+
+	*o = (struct bench_options){ .sizes = { { 320, 240 }, { 640, 480 }, { 1280, 720 } },
+				     .nsizes = 3, .min_iter = 30, .min_time = 0.5,
+				     .simd = DAO_SIMD_AUTO };
+	struct dao_params over; /* the parameter options, to check them and read slices ... */
+	dao_params_init(&over, DAO_QUALITY_DEFAULT);
+	const struct dao_param_info *table = dao_param_table(&nparams);
+	int size_given = 0, opt, r;
+	optind = 1;
+	opterr = 0;
+	while ((opt = getopt_long(argc, argv, ":", opts, NULL)) != -1) {
+		const char *given = argv[optind - 1];
+		if (opt == OPT_HELP) {
 			usage(stdout);
-			return 0;
-		} else if (!strcmp(a, "--json")) {
-			json = 1;
-		} else if (!strcmp(a, "--no-reference")) {
-			no_ref = 1;
-		} else if (!strcmp(a, "--size")) {
-			if (!v || parse_size(v, &sizes[0]))
-				return usage_error("bench", "--size needs WxH, e.g. 640x480 (16..16384)");
-			if (!size_given)
-				nsizes = 0;
-			if (nsizes == MAX_SIZES)
-				return usage_error("bench", "at most %d --size options", MAX_SIZES);
-			parse_size(v, &sizes[nsizes++]);
-			size_given = 1;
-			i++;
-		} else if (!strcmp(a, "--quality")) {
-			enum dao_quality q;
-			if (!v)
-				return usage_error("bench", "--quality needs a value");
-			if (strcmp(v, "all") && dao_quality_parse(v, &q, &err))
+			return -1;
+		} else if (opt == '?') {
+			return usage_error("bench", "unknown option '%s'", given);
+		} else if (opt == ':') {
+			return usage_error("bench", "%s needs a value", given);
+		} else if (opt >= OPT_PARAM) {
+			const struct dao_param_info *pi = &table[opt - OPT_PARAM];
+			struct dao_error err;
+			if (dao_params_set(&over, pi->name, optarg, &err))
 				return usage_error("bench", "%s", err.message);
-			if (nq == MAX_QUALITIES)
-				return usage_error("bench", "too many --quality options");
-			qnames[nq++] = v;
-			i++;
-		} else if (!strcmp(a, "--threads")) {
-			char *end;
-			long n = v ? strtol(v, &end, 10) : -1;
-			if (!v || *end || n < 1 || n > 256)
-				return usage_error("bench", "--threads needs a count from 1 to 256");
-			if (nthreads == MAX_THREADS)
-				return usage_error("bench", "at most %d --threads options", MAX_THREADS);
-			threads[nthreads++] = (int)n;
-			i++;
-		} else if (!strcmp(a, "--min-time") || !strcmp(a, "--min-iterations")) {
-			char *end;
-			double n = v ? strtod(v, &end) : -1;
-			if (!v || *end || n < 0 || n > 3600)
-				return usage_error("bench", "%s needs a number from 0 to 3600", a);
-			if (a[6] == 't')
-				min_time = n;
-			else
-				min_iter = n < 1 ? 1 : (int)n;
-			i++;
-		} else {
-			char msg[256];
-			int j = i;
-			int r = cli_apply_param_option(&over, argc, argv, &j, msg, sizeof msg);
-			if (r < 0)
-				return usage_error("bench", "%s", msg);
-			if (r == 0)
-				return usage_error("bench", "unknown option '%s'", a);
-			if (nparam + (j - i + 1) > 64)
+			if (o->nparam + 2 > 2 * MAX_PARAM_OPTIONS)
 				return usage_error("bench", "too many parameter options");
-			for (int k = i; k <= j; k++)
-				param_args[nparam++] = argv[k];
-			i = j;
+			o->param_args[o->nparam++] = pi->name;
+			o->param_args[o->nparam++] = optarg;
+		} else if ((r = bench_option(o, opt, optarg, &size_given))) {
+			return r;
 		}
 	}
-	/* --slices, --steps, --threads and --simd given as parameter options */
+	if (optind < argc)
+		return usage_error("bench", "unexpected argument '%s'", argv[optind]);
+
+	/* --slices, --steps and --simd given as parameter options */
 	struct dao_params def;
 	dao_params_init(&def, DAO_QUALITY_DEFAULT);
 	if (over.slices != def.slices)
-		slices = over.slices;
+		o->slices = over.slices;
 	if (over.steps != def.steps)
-		steps = over.steps;
-	if (over.threads != def.threads && nthreads < MAX_THREADS)
-		threads[nthreads++] = over.threads;
-	simd = over.simd;
-	if (simd == DAO_SIMD_REFERENCE)
+		o->steps = over.steps;
+	o->simd = over.simd;
+	if (o->simd == DAO_SIMD_REFERENCE)
 		return usage_error("bench", "--simd reference is what the speedup compares with; "
-				   "pick auto, generic, sse4.1 or avx2");
-	if (!dao_simd_supported((enum dao_simd)simd))
+				   "pick auto, generic, sse4.1, avx2 or avx512");
+	if (!dao_simd_supported((enum dao_simd)o->simd))
 		return usage_error("bench", "--simd %s: this CPU or build cannot run it",
-				   dao_simd_name((enum dao_simd)simd));
-	int resolved = simd == DAO_SIMD_AUTO ? (int)dao_simd_best() : simd;
-	if (nq == 0 || (nq == 1 && !strcmp(qnames[0], "all"))) {
-		nq = 0;
+				   dao_simd_name((enum dao_simd)o->simd));
+	if (o->nq == 0 || (o->nq == 1 && !strcmp(o->qnames[0], "all"))) {
+		o->nq = 0;
 		for (int q = 0; q < DAO_QUALITY_COUNT; q++)
-			qnames[nq++] = dao_quality_name((enum dao_quality)q);
+			o->qnames[o->nq++] = dao_quality_name((enum dao_quality)q);
 	}
-	const int ncpu = dao_cpu_count();
-	if (nthreads == 0) {
-		threads[nthreads++] = 1;
-		if (ncpu > 1)
-			threads[nthreads++] = ncpu;
+	if (o->nthreads == 0) {
+		o->threads[o->nthreads++] = 1;
+		if (dao_cpu_count() > 1)
+			o->threads[o->nthreads++] = dao_cpu_count();
 	}
+	return 0;
+}
 
+static void print_header(int resolved, int simd)
+{
 	char model[128];
 	dao_cpu_model(model, sizeof model);
-	if (!json) {
-		printf("depthao %s bench: %s, %d CPUs, kernels %s%s\n", dao_version(), model, ncpu,
-		       dao_simd_name((enum dao_simd)resolved), simd == DAO_SIMD_AUTO ? " (auto)" : "");
-		printf("frame = dao_context_process (depth16 in, gray16 AO out) + dao_context_shade "
-		       "(RGB); synthetic \"boxes\" scene with sensor noise\n");
-		printf("times in ms per frame; ref = scalar reference kernels (simd=reference), same "
-		       "settings\n\n");
-		printf("%-10s %-15s %2s %8s %8s %8s %8s %7s |", "size", "quality", "th", "median",
-		       "p95", "Mpix/s", "ref", "speedup");
-		for (int k = 0; k < NSTAGES; k++)
-			printf(" %6.6s", stage_names[k]);
-		putchar('\n');
-	}
+	printf("depthao %s bench: %s, %d CPUs, kernels %s%s\n", dao_version(), model,
+	       dao_cpu_count(), dao_simd_name((enum dao_simd)resolved),
+	       simd == DAO_SIMD_AUTO ? " (auto)" : "");
+	printf("frame = dao_context_process (depth16 in, gray16 AO out) + dao_context_shade "
+	       "(RGB); synthetic \"boxes\" scene with sensor noise\n");
+	printf("times in ms per frame; ref = scalar reference kernels (simd=reference), same "
+	       "settings\n\n");
+	printf("%-10s %-15s %2s %8s %8s %8s %8s %7s |", "size", "quality", "th", "median", "p95",
+	       "Mpix/s", "ref", "speedup");
+	for (int k = 0; k < NSTAGES; k++)
+		printf(" %6.6s", stage_names[k]);
+	putchar('\n');
+}
 
-	for (int si = 0; si < nsizes; si++) {
+/* The parameters of preset `qname` with the user's parameter options on top. */
+static int preset_config(const struct bench_options *o, const char *qname, struct config *c,
+			 struct dao_error *err)
+{
+	enum dao_quality q;
+	dao_quality_parse(qname, &q, NULL);
+	dao_params_init(&c->params, q);
+	c->quality = !strcmp(qname, "default") ? "default" : dao_quality_name(q);
+	for (int k = 0; k < o->nparam; k += 2)
+		dao_params_set(&c->params, o->param_args[k], o->param_args[k + 1], NULL);
+	if (o->slices || o->steps)
+		c->quality = "custom";
+	return dao_params_validate(&c->params, err);
+}
+
+/* Every size x preset x thread count: timed, then the reference at the same settings. */
+static int run_all(const struct bench_options *o, int resolved, struct dao_error *err)
+{
+	for (int si = 0; si < o->nsizes; si++) {
 		struct dao_camera cam;
 		uint16_t *depth = NULL;
-		int r = make_frame(sizes[si], &cam, &depth, &err);
-		if (r) {
-			fprintf(stderr, "depthao bench: %s\n", err.message);
-			return 1;
-		}
-		for (int qi = 0; qi < nq; qi++) {
-			struct config c = { .size = sizes[si] };
-			enum dao_quality q;
-			dao_quality_parse(qnames[qi], &q, NULL);
-			dao_params_init(&c.params, q);
-			c.quality = dao_quality_name(q);
-			if (!strcmp(qnames[qi], "default"))
-				c.quality = "default";
-			/* the user's parameter options on top of the preset */
-			for (int k = 0; k < nparam;) {
-				char msg[256];
-				int j = k;
-				cli_apply_param_option(&c.params, nparam, (char **)param_args, &j, msg,
-						       sizeof msg);
-				k = j + 1;
-			}
-			if (slices || steps)
-				c.quality = "custom";
-			r = dao_params_validate(&c.params, &err);
-			for (int ti = 0; !r && ti < nthreads; ti++) {
-				c.threads = threads[ti];
-				struct stats st, ref;
-				r = run(&c, &cam, depth, simd, min_iter, min_time, 100000, &st, &err);
-				if (!r && !no_ref)
-					r = run(&c, &cam, depth, DAO_SIMD_REFERENCE, 3, 0.0, 3, &ref, &err);
+		int r = make_frame(o->sizes[si], &cam, &depth, err);
+		if (r)
+			return r;
+		for (int qi = 0; !r && qi < o->nq; qi++) {
+			struct config c = { .size = o->sizes[si] };
+			r = preset_config(o, o->qnames[qi], &c, err);
+			for (int ti = 0; !r && ti < o->nthreads; ti++) {
+				c.threads = o->threads[ti];
+				struct stats st = { 0 }, ref = { 0 };
+				r = run(&c, &cam, depth, o->simd, o->min_iter, o->min_time, 100000, &st,
+					err);
+				if (!r && !o->no_ref)
+					r = run(&c, &cam, depth, DAO_SIMD_REFERENCE, 3, 0.0, 3, &ref, err);
 				if (r)
 					break;
-				if (json)
-					print_json(&c, resolved, &st, no_ref ? NULL : &ref);
+				if (o->json)
+					print_json(&c, resolved, &st, o->no_ref ? NULL : &ref);
 				else
-					print_row(&c, &st, no_ref ? NULL : &ref);
-			}
-			if (r) {
-				free(depth);
-				fprintf(stderr, "depthao bench: %s\n", err.message);
-				return 1;
+					print_row(&c, &st, o->no_ref ? NULL : &ref);
 			}
 		}
 		free(depth);
+		if (r)
+			return r;
+	}
+	return 0;
+}
+
+int cmd_bench(int argc, char **argv)
+{
+	struct bench_options o;
+	int r = parse_options(argc, argv, &o);
+	if (r)
+		return r < 0 ? 0 : r;
+	const int resolved = o.simd == DAO_SIMD_AUTO ? (int)dao_simd_best() : o.simd;
+	if (!o.json)
+		print_header(resolved, o.simd);
+	struct dao_error err = { 0 };
+	if (run_all(&o, resolved, &err)) {
+		fprintf(stderr, "depthao bench: %s\n", err.message);
+		return 1;
 	}
 	return 0;
 }
