@@ -162,7 +162,8 @@ struct dao_sink_ops {
 	 * frames), and later writes fail the same way.
 	 */
 	int (*write)(void *state, const struct dao_frame *frame, struct dao_error *err);
-	/* hands on anything buffered; recorders also sync their file to disk */
+	/* optional (NULL: nothing buffered): hands on anything buffered; recorders
+	 * also sync their file to disk */
 	int (*flush)(void *state, struct dao_error *err);
 	/* finalises (headers, seek tables, renames) and frees; errors say what was lost;
 	 * never removes what was written */

@@ -293,13 +293,6 @@ static int cv_write(void *state, const struct dao_frame *f, struct dao_error *er
 	return 0;
 }
 
-static int cv_flush(void *state, struct dao_error *err)
-{
-	(void)state;
-	(void)err;
-	return 0;
-}
-
 static int cv_close(void *state, struct dao_error *err)
 {
 	struct cv_sink *s = state;
@@ -316,7 +309,6 @@ static const struct dao_sink_ops opencv_sink_ops = {
 	.open = cv_open,
 	.negotiate = cv_negotiate,
 	.write = cv_write,
-	.flush = cv_flush,
 	.close = cv_close,
 	.attach_host = cv_attach_host,
 };

@@ -406,13 +406,6 @@ static int rtsp_write(void *state, const struct dao_frame *f, struct dao_error *
 	return 0;
 }
 
-static int rtsp_flush(void *state, struct dao_error *err)
-{
-	(void)state;
-	(void)err;
-	return 0;
-}
-
 static GstRTSPFilterResult remove_client(GstRTSPServer *server, GstRTSPClient *client,
 					 gpointer data)
 {
@@ -480,7 +473,6 @@ static const struct dao_sink_ops rtsp_sink_ops = {
 	.open = rtsp_open,
 	.negotiate = rtsp_negotiate,
 	.write = rtsp_write,
-	.flush = rtsp_flush,
 	.close = rtsp_close,
 };
 

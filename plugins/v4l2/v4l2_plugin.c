@@ -76,13 +76,6 @@ static int sink_write(void *state, const struct dao_frame *f, struct dao_error *
 	return v4l2out_write(state, f, err);
 }
 
-static int sink_flush(void *state, struct dao_error *err)
-{
-	(void)state;
-	(void)err;
-	return 0;
-}
-
 static int sink_close(void *state, struct dao_error *err)
 {
 	(void)err;
@@ -106,7 +99,6 @@ static const struct dao_sink_ops v4l2_sink_ops = {
 	.open = sink_open,
 	.negotiate = sink_negotiate,
 	.write = sink_write,
-	.flush = sink_flush,
 	.close = sink_close,
 };
 

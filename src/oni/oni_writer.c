@@ -32,6 +32,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/clock.h"
 #include "core/error_internal.h"
 #include "core/math_util.h"
 #include "oni/codec_16z.h"
@@ -60,7 +61,7 @@ struct dao_oni_writer {
 	uint32_t nframes, seek_cap;
 	uint32_t synced, syncs;     /* frames counted in the header; fdatasync calls */
 	uint64_t first_ts, last_ts;
-	struct timespec last_sync;
+	uint64_t last_sync_ns;
 	int failed;                 /* the error that ended the recording */
 	char fail_msg[DAO_ERROR_MESSAGE_MAX]; /* ... and what was said about it */
 };
@@ -395,7 +396,7 @@ int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *o
 		writer_free(w);
 		return r;
 	}
-	clock_gettime(CLOCK_MONOTONIC, &w->last_sync);
+	w->last_sync_ns = dao_mono_ns();
 	*out = w;
 	return 0;
 }
@@ -452,7 +453,7 @@ static int writer_sync(struct dao_oni_writer *w)
 	if (r < 0)
 		return r;
 	w->syncs++;
-	clock_gettime(CLOCK_MONOTONIC, &w->last_sync);
+	w->last_sync_ns = dao_mono_ns();
 	if (w->synced == w->nframes)
 		return 0;
 	r = write_counts(w, w->nframes, 0);
@@ -463,11 +464,7 @@ static int writer_sync(struct dao_oni_writer *w)
 
 static int sync_due(const struct dao_oni_writer *w)
 {
-	struct timespec now;
-	clock_gettime(CLOCK_MONOTONIC, &now);
-	int64_t ms = (int64_t)(now.tv_sec - w->last_sync.tv_sec) * 1000 +
-		     (now.tv_nsec - w->last_sync.tv_nsec) / 1000000;
-	return ms >= DAO_ONI_SYNC_INTERVAL_MS;
+	return dao_mono_us_since(w->last_sync_ns) >= (int64_t)DAO_ONI_SYNC_INTERVAL_MS * 1000;
 }
 
 static const char *plural(uint32_t n)

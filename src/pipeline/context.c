@@ -23,6 +23,7 @@
 
 #include <depthao/context.h>
 
+#include "core/clock.h"
 #include "core/error_internal.h"
 #include "core/multiversion.h"
 #include "core/math_util.h"
@@ -99,9 +100,7 @@ static void use_kernels(struct dao_context *ctx)
 
 static double now_ms(void)
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+	return (double)dao_mono_ns() * 1e-6;
 }
 
 /* Worker threads for a `threads` parameter (0 = every available CPU). */

@@ -18,6 +18,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 
@@ -32,7 +33,7 @@ struct images_source {
 	uint32_t width, height;
 	struct dao_frame frame; /* the last frame read (owned) */
 	uint64_t next;
-	struct timespec last_delivery;
+	uint64_t last_delivery_ns;
 	int delivered;
 	char description[160];
 };
@@ -203,18 +204,12 @@ static int images_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		s->next = s->opts.start_frame;
 	}
 	if (s->opts.playback == DAO_PLAYBACK_REALTIME && s->delivered) {
-		struct timespec now;
-		clock_gettime(CLOCK_MONOTONIC, &now);
-		int64_t since = (int64_t)(now.tv_sec - s->last_delivery.tv_sec) * 1000000 +
-				(now.tv_nsec - s->last_delivery.tv_nsec) / 1000;
-		int64_t due = 1000000 / IMAGES_REALTIME_FPS - since;
+		int64_t due = 1000000 / IMAGES_REALTIME_FPS - dao_mono_us_since(s->last_delivery_ns);
 		if (due > 0) {
 			int64_t wait = timeout_ms >= 0 && due > (int64_t)timeout_ms * 1000
 					       ? (int64_t)timeout_ms * 1000
 					       : due;
-			struct timespec d = {(time_t)(wait / 1000000), (long)(wait % 1000000) * 1000};
-			while (nanosleep(&d, &d) < 0 && errno == EINTR)
-				;
+			dao_sleep_us(wait);
 			if (wait < due)
 				return -EAGAIN;
 		}
@@ -224,7 +219,7 @@ static int images_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		s->next += s->opts.step; /* a bad image is skipped: the next read goes on */
 		return r;
 	}
-	clock_gettime(CLOCK_MONOTONIC, &s->last_delivery);
+	s->last_delivery_ns = dao_mono_ns();
 	s->delivered = 1;
 	f->depth = s->frame;
 	f->color.format = DAO_PIXFMT_NONE;

@@ -17,6 +17,7 @@
 #include <strings.h>
 #include <time.h>
 
+#include "core/clock.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 
@@ -29,7 +30,7 @@ struct oni_source {
 	struct dao_frame depth;
 	uint64_t next;
 	int paced;                 /* clock_start/ts_start are set */
-	struct timespec clock_start;
+	uint64_t clock_start_ns;
 	uint64_t ts_start_us;
 };
 
@@ -125,31 +126,22 @@ static int oni_start(void *state, struct dao_error *err)
 	return 0;
 }
 
-static int64_t elapsed_us(const struct timespec *a)
-{
-	struct timespec now;
-	clock_gettime(CLOCK_MONOTONIC, &now);
-	return (int64_t)(now.tv_sec - a->tv_sec) * 1000000 + (now.tv_nsec - a->tv_nsec) / 1000;
-}
-
 /* Real time: wait for the frame's moment; -EAGAIN if it is beyond the timeout. */
 static int pace(struct oni_source *s, uint64_t ts_us, int timeout_ms)
 {
 	if (!s->paced || ts_us < s->ts_start_us) {
-		clock_gettime(CLOCK_MONOTONIC, &s->clock_start);
+		s->clock_start_ns = dao_mono_ns();
 		s->ts_start_us = ts_us;
 		s->paced = 1;
 		return 0;
 	}
-	int64_t due = (int64_t)(ts_us - s->ts_start_us) - elapsed_us(&s->clock_start);
+	int64_t due = (int64_t)(ts_us - s->ts_start_us) - dao_mono_us_since(s->clock_start_ns);
 	if (due <= 0)
 		return 0;
 	int64_t wait = due;
 	if (timeout_ms >= 0 && wait > (int64_t)timeout_ms * 1000)
 		wait = (int64_t)timeout_ms * 1000;
-	struct timespec d = {(time_t)(wait / 1000000), (long)(wait % 1000000) * 1000};
-	while (nanosleep(&d, &d) < 0 && errno == EINTR)
-		;
+	dao_sleep_us(wait);
 	return wait < due ? -EAGAIN : 0;
 }
 

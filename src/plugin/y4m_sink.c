@@ -41,6 +41,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/clock.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 #include "plugin/output_path.h"
@@ -65,7 +66,7 @@ struct y4m_sink {
 	size_t buf_len;
 	uint64_t good;              /* bytes of header and whole frames in a regular file */
 	uint64_t frames;
-	struct timespec last_sync;
+	uint64_t last_sync_ns;
 };
 
 static int y4m_probe(const char *uri)
@@ -206,7 +207,7 @@ static int y4m_open(const char *uri, void **state, struct dao_error *err)
 	free(path);
 	if (r < 0)
 		goto fail;
-	clock_gettime(CLOCK_MONOTONIC, &s->last_sync);
+	s->last_sync_ns = dao_mono_ns();
 	*state = s;
 	return 0;
 fail:
@@ -304,18 +305,14 @@ static int write_all(struct y4m_sink *s, const uint8_t *buf, size_t len, struct 
 
 static int sync_due(const struct y4m_sink *s)
 {
-	struct timespec now;
-	clock_gettime(CLOCK_MONOTONIC, &now);
-	int64_t ms = (int64_t)(now.tv_sec - s->last_sync.tv_sec) * 1000 +
-		     (now.tv_nsec - s->last_sync.tv_nsec) / 1000000;
-	return ms >= Y4M_SYNC_INTERVAL_MS;
+	return dao_mono_us_since(s->last_sync_ns) >= (int64_t)Y4M_SYNC_INTERVAL_MS * 1000;
 }
 
 /* fdatasync; a file removed meanwhile (it has no name) is an error: its frames are lost. */
 static int sync_file(struct y4m_sink *s, struct dao_error *err)
 {
 	struct stat st;
-	clock_gettime(CLOCK_MONOTONIC, &s->last_sync);
+	s->last_sync_ns = dao_mono_ns();
 	if (fdatasync(s->fd) != 0)
 		return dao_error_set(err, -errno, "y4m: cannot sync %s: %s", s->name,
 				     strerror(errno));

@@ -14,6 +14,7 @@
 
 #include <depthao/depthao.h>
 
+#include "tool_clock.h"
 #include "cli_params.h"
 #include "commands.h"
 #include "core/error_internal.h"
@@ -76,9 +77,7 @@ static void usage(FILE *out)
 
 static double now_s(void)
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+	return (double)tool_mono_ns() * 1e-9;
 }
 
 static int cmp_double(const void *a, const void *b)

@@ -12,6 +12,7 @@
 
 #include <json-c/json.h>
 
+#include "tool_clock.h"
 #include "commands.h"
 
 static void usage(FILE *out)
@@ -32,9 +33,7 @@ static void usage(FILE *out)
 
 static long long now_ms(void)
 {
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (long long)t.tv_sec * 1000 + t.tv_nsec / 1000000;
+	return (long long)(tool_mono_ns() / 1000000u);
 }
 
 /* Waits for `events` on fd until the deadline; 1 ready, 0 timed out, -1 error. */

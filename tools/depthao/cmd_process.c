@@ -14,6 +14,7 @@
 
 #include <depthao/depthao.h>
 
+#include "tool_clock.h"
 #include "camera_file.h"
 #include "cli_params.h"
 #include "commands.h"
@@ -343,9 +344,7 @@ int process_ensure_dir(const char *path)
 
 double process_now_ms(void)
 {
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+	return (double)tool_mono_ns() * 1e-6;
 }
 
 

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #define _GNU_SOURCE /* struct ucred, accept4, pipe2 */
+#include "../depthao/tool_clock.h"
 #include "control.h"
 
 #include <errno.h>
@@ -63,13 +64,6 @@ struct control {
 	struct log_limit set_log, refused_log, evict_log, stall_log;
 };
 
-static uint64_t now_ns(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
-}
-
 /* ---- replies ------------------------------------------------------------ */
 
 static struct json_object *error_reply(const char *fmt, const char *a)
@@ -111,7 +105,7 @@ static int flush_out(struct control *c, struct client *cl)
 			continue;
 		if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
 			if (!cl->stalled_since_ns)
-				cl->stalled_since_ns = now_ns();
+				cl->stalled_since_ns = tool_mono_ns();
 			return 0;
 		}
 		if (w < 0 && (errno == EPIPE || errno == ECONNRESET)) {
@@ -258,7 +252,7 @@ static struct json_object *handle(struct control *c, struct client *cl, const ch
 			res = error_reply("snapshot: %s", m);
 		} else {
 			cl->snapshot = 1;
-			cl->snapshot_deadline_ns = now_ns() + (uint64_t)SNAPSHOT_TIMEOUT_MS * 1000000u;
+			cl->snapshot_deadline_ns = tool_mono_ns() + (uint64_t)SNAPSHOT_TIMEOUT_MS * 1000000u;
 			snprintf(cl->snapshot_path, sizeof cl->snapshot_path, "%s", path);
 			c->snapshot_owner = (int)(cl - c->clients);
 			res = NULL;
@@ -302,7 +296,7 @@ static void on_readable(struct control *c, struct client *cl)
 		cl->eof = 1;
 	} else {
 		cl->in_len += (size_t)n;
-		cl->last_request_ns = now_ns();
+		cl->last_request_ns = tool_mono_ns();
 	}
 	serve_lines(c, cl);
 	if (cl->fd >= 0 && cl->in_len == sizeof cl->in && !memchr(cl->in, '\n', cl->in_len)) {
@@ -413,13 +407,13 @@ static void on_accept(struct control *c)
 	cl->fd = fd;
 	cl->pid = cr.pid;
 	cl->uid = cr.uid;
-	cl->last_request_ns = now_ns();
+	cl->last_request_ns = tool_mono_ns();
 }
 
 /* Drops idle and stalled clients, times snapshots out; the poll timeout until the next such event. */
 static int expire(struct control *c)
 {
-	uint64_t now = now_ns(), next = now + 1000000000u;
+	uint64_t now = tool_mono_ns(), next = now + 1000000000u;
 	for (int i = 0; i < MAX_CLIENTS; i++) {
 		struct client *cl = &c->clients[i];
 		if (cl->fd < 0)

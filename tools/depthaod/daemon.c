@@ -76,7 +76,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 
 int daemon_start(struct daemon *d, char *msg, size_t len)
 {
-	d->start_ns = d->interval_start_ns = now_ns();
+	d->start_ns = d->interval_start_ns = tool_mono_ns();
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		if (pthread_create(&d->sinks[i].thread, NULL, sink_main, &d->sinks[i]) != 0) {
 			snprintf(msg, len, "cannot start a thread");
@@ -122,7 +122,7 @@ int join_by(pthread_t t, int *running, uint64_t deadline, const char *what)
 {
 	if (!*running)
 		return 1;
-	uint64_t n = now_ns();
+	uint64_t n = tool_mono_ns();
 	uint64_t left = deadline > n ? deadline - n : 0;
 	struct timespec abs;
 	clock_gettime(CLOCK_REALTIME, &abs); /* pthread_timedjoin_np uses CLOCK_REALTIME */
@@ -156,11 +156,11 @@ void daemon_stop(struct daemon *d)
 		join(d->process, &d->process_running);
 		for (unsigned i = 0; i < d->nsinks; i++)
 			join(d->sinks[i].thread, &d->sinks[i].running);
-		if (!stop_snapshot_writer(d, now_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u))
+		if (!stop_snapshot_writer(d, tool_mono_ns() + (uint64_t)STOP_DEADLINE_MS * 1000000u))
 			d->stragglers = 1;
 		return;
 	}
-	uint64_t t0 = now_ns();
+	uint64_t t0 = tool_mono_ns();
 	int drain = d->cfg.drain_on_stop;
 	atomic_store(&d->process_deadline_ns, drain ? t0 + (uint64_t)STOP_PROCESS_MS * 1000000u : t0);
 	atomic_store(&d->drain_deadline_ns, drain ? t0 + (uint64_t)STOP_DRAIN_MS * 1000000u : t0);

@@ -44,7 +44,7 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	};
 	struct dao_source *src = NULL;
 	struct dao_error err = {0};
-	atomic_store(&d->source_call_ns, now_ns());
+	atomic_store(&d->source_call_ns, tool_mono_ns());
 	int r = dao_source_open_limited(d->plugins, d->cfg.source_uri, &so, d->cfg.max_pixels, &src,
 					&err);
 	if (r == 0 && (r = dao_source_start(src, &err)) < 0) {
@@ -107,7 +107,7 @@ void *capture_main(void *arg)
 		}
 		struct dao_source_frame f;
 		struct dao_error err = {0};
-		atomic_store(&d->source_call_ns, now_ns());
+		atomic_store(&d->source_call_ns, tool_mono_ns());
 		int r = dao_source_read(src, &f, READ_TIMEOUT_MS, &err);
 		atomic_store(&d->source_call_ns, 0);
 		if (r == -EAGAIN)
@@ -133,7 +133,7 @@ void *capture_main(void *arg)
 			else
 				log_limited(&d->source_log, LOG_WARN, "source %s lost: %s; reopening",
 					    d->cfg.source_uri, why);
-			atomic_store(&d->source_call_ns, now_ns());
+			atomic_store(&d->source_call_ns, tool_mono_ns());
 			dao_source_close(src);
 			atomic_store(&d->source_call_ns, 0);
 			src = NULL;
@@ -158,7 +158,7 @@ void *capture_main(void *arg)
 		else
 			it->color.format = DAO_PIXFMT_NONE;
 		it->index = f.index;
-		it->t_capture_ns = now_ns();
+		it->t_capture_ns = tool_mono_ns();
 		dao_source_release(src, &f);
 		if (ok)
 			fq_end_push(d->input, it);

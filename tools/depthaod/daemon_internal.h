@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <time.h>
 
+#include "../depthao/tool_clock.h"
 #include "daemon.h"
 #include "frame_queue.h"
 #include "log.h"
@@ -134,20 +135,6 @@ struct daemon {
 	uint64_t start_ns;
 	uint64_t interval_start_ns, interval_processed;
 };
-
-static inline uint64_t now_ns(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
-}
-
-static inline uint64_t thread_cpu_ns(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
-}
 
 /* daemon.c: sleeps up to ms, returning early when the daemon stops */
 void nap(struct daemon *d, unsigned ms);

@@ -114,7 +114,7 @@ static void watchdog_ping(struct daemon *d)
 	uint64_t usec = notify_watchdog_usec();
 	if (!usec)
 		return;
-	uint64_t since = atomic_load(&d->source_call_ns), t = now_ns();
+	uint64_t since = atomic_load(&d->source_call_ns), t = tool_mono_ns();
 	if (since && t > since && t - since > usec * 1000u / 2) {
 		if (!d->watchdog_withheld)
 			log_error("source %s: a call into the source has not returned for %.1f s (a "
@@ -147,7 +147,7 @@ void *process_main(void *arg)
 				break;
 			continue;
 		}
-		if (atomic_load(&d->stop) && now_ns() >= atomic_load(&d->process_deadline_ns)) {
+		if (atomic_load(&d->stop) && tool_mono_ns() >= atomic_load(&d->process_deadline_ns)) {
 			/* a signal, and no time left for queued input (or drain_on_stop = false) */
 			fq_done(d->input, in);
 			atomic_fetch_add(&d->input_dropped, fq_clear(d->input) + 1);
@@ -192,7 +192,7 @@ void *process_main(void *arg)
 		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == SNAP_REQUESTED;
 		pthread_mutex_unlock(&d->lock);
 
-		uint64_t c0 = thread_cpu_ns();
+		uint64_t c0 = tool_thread_cpu_ns();
 		int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o.ao16, &err);
 		if (r == 0 && want_rgb)
 			r = dao_context_shade(ctx, &o.rgb, &err);
@@ -203,7 +203,7 @@ void *process_main(void *arg)
 			if (d->wants[STREAM_OVERLAY] && in->color.format == DAO_PIXFMT_RGB24)
 				have_overlay = overlay(&in->color, &o.ao16, &o.overlay) == 0;
 		}
-		atomic_fetch_add(&d->cpu_ns_total, thread_cpu_ns() - c0);
+		atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);
 		if (r < 0) {
 			atomic_fetch_add(&d->process_errors, 1);
 			log_limited(&error_log, LOG_ERROR, "frame %llu: %s", (unsigned long long)in->index,

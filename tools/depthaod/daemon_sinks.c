@@ -12,7 +12,7 @@
 
 static void record_latency(struct sink_runner *s, uint64_t t_capture)
 {
-	uint64_t us = (now_ns() - t_capture) / 1000u;
+	uint64_t us = (tool_mono_ns() - t_capture) / 1000u;
 	pthread_mutex_lock(&s->lat_lock);
 	s->lat_us[s->lat_pos] = us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
 	s->lat_pos = (s->lat_pos + 1) % LATENCY_RING;
@@ -134,7 +134,7 @@ static void sink_failed(struct sink_runner *s, int r, const char *msg)
 	}
 	close_sink(s);
 	s->failures++;
-	s->last_failure_ns = now_ns();
+	s->last_failure_ns = tool_mono_ns();
 	s->next_open_ns = s->last_failure_ns + (uint64_t)s->backoff_ms * 1000000u;
 	log_limited(&s->warn_limit, LOG_WARN, "sink %s (%s): %s; retrying in %.1f s (failure %llu)",
 		    s->cfg->name, s->cfg->uri, msg, s->backoff_ms / 1000.0, s->failures);
@@ -256,7 +256,7 @@ static void write_frame(struct sink_runner *s, const struct fq_item *it)
 		s->failures = 0;
 		/* the backoff starts afresh once the sink has worked for a while: one that
 		 * fails after every few frames keeps backing off */
-		if (now_ns() - s->last_failure_ns >= (uint64_t)SINK_RETRY_MAX_MS * 1000000u)
+		if (tool_mono_ns() - s->last_failure_ns >= (uint64_t)SINK_RETRY_MAX_MS * 1000000u)
 			s->backoff_ms = SINK_RETRY_INITIAL_MS;
 	}
 }
@@ -285,7 +285,7 @@ void *sink_main(void *arg)
 				flush_idle_sink(s);
 			continue;
 		}
-		if (atomic_load(&s->d->stop) && now_ns() >= atomic_load(&s->d->drain_deadline_ns)) {
+		if (atomic_load(&s->d->stop) && tool_mono_ns() >= atomic_load(&s->d->drain_deadline_ns)) {
 			/* a signal, and the time for queued frames is over: finalise now */
 			unsigned left = fq_clear(s->q) + 1;
 			fq_done(s->q, it);
@@ -304,7 +304,7 @@ void *sink_main(void *arg)
 				 it->frame.width, it->frame.height);
 			close_sink(s);
 		}
-		if (!s->sink && (now_ns() < s->next_open_ns || open_sink(s, it) < 0)) {
+		if (!s->sink && (tool_mono_ns() < s->next_open_ns || open_sink(s, it) < 0)) {
 			if (atomic_load(&s->state) != SINK_STOPPED)
 				atomic_fetch_add(&s->dropped, 1); /* waiting out the backoff */
 			fq_done(s->q, it);

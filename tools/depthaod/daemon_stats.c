@@ -18,7 +18,7 @@ static int cmp_u32(const void *a, const void *b)
 
 struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 {
-	uint64_t t = now_ns();
+	uint64_t t = tool_mono_ns();
 	unsigned long long processed = atomic_load(&d->processed);
 	pthread_mutex_lock(&d->lock);
 	double secs = (double)(t - d->interval_start_ns) / 1e9;

@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+#include "../depthao/tool_clock.h"
 #include "log.h"
 
 #include <stdarg.h>
@@ -75,16 +76,9 @@ void log_msg(enum log_level level, const char *fmt, ...)
 	va_end(ap);
 }
 
-static uint64_t mono_ns(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
-}
-
 int log_limited(struct log_limit *l, enum log_level level, const char *fmt, ...)
 {
-	uint64_t now = mono_ns();
+	uint64_t now = tool_mono_ns();
 	if (!l->window_start_ns || now - l->window_start_ns >= (uint64_t)l->interval_ms * 1000000u) {
 		l->window_start_ns = now;
 		l->in_window = 0;

@@ -16,6 +16,7 @@
 
 #include <depthao/depthao.h>
 
+#include "../depthao/tool_clock.h"
 #include "../depthao/cli_plugins.h"
 #include "config.h"
 #include "control.h"
@@ -344,8 +345,7 @@ int main(int argc, char **argv)
 		 cfg.nsinks == 1 ? "" : "s", ctl ? ", control socket " : "",
 		 ctl ? cfg.socket_path : "");
 	struct timespec tick = {0, 100 * 1000 * 1000};
-	struct timespec last_stats;
-	clock_gettime(CLOCK_MONOTONIC, &last_stats);
+	uint64_t last_stats_ns = tool_mono_ns();
 	for (;;) {
 		siginfo_t si;
 		int sig = sigtimedwait(&set, &si, &tick);
@@ -365,11 +365,11 @@ int main(int argc, char **argv)
 			break;
 		}
 		notify_tick(d);
-		struct timespec now;
-		clock_gettime(CLOCK_MONOTONIC, &now);
-		if (cfg.stats_interval_s && now.tv_sec - last_stats.tv_sec >= (time_t)cfg.stats_interval_s) {
+		const uint64_t now_ns = tool_mono_ns();
+		if (cfg.stats_interval_s &&
+		    now_ns - last_stats_ns >= (uint64_t)cfg.stats_interval_s * 1000000000u) {
 			log_stats(d, cfg.stats_json);
-			last_stats = now;
+			last_stats_ns = now_ns;
 		}
 	}
 	control_stop(ctl);

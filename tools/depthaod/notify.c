@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+#include "../depthao/tool_clock.h"
 #include "notify.h"
 
 #include <stdatomic.h>
@@ -22,13 +23,6 @@ static uint64_t g_watchdog_usec;      /* 0 = no watchdog */
 static atomic_ullong g_last_ping_ns;
 static int g_ready;
 static uint64_t g_last_status_ns, g_last_processed, g_last_failures;
-
-static uint64_t now_ns(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (uint64_t)t.tv_sec * 1000000000u + (uint64_t)t.tv_nsec;
-}
 
 #if DAOD_HAVE_SYSTEMD
 static void notify_send(const char *text)
@@ -84,7 +78,7 @@ void notify_watchdog(void)
 {
 	if (!g_watchdog_usec)
 		return;
-	uint64_t t = now_ns();
+	uint64_t t = tool_mono_ns();
 	if (t - atomic_load(&g_last_ping_ns) < g_watchdog_usec * 1000u / 4)
 		return;
 	atomic_store(&g_last_ping_ns, t);
@@ -136,7 +130,7 @@ void notify_tick(struct daemon *d)
 {
 	if (!g_active)
 		return;
-	uint64_t t = now_ns();
+	uint64_t t = tool_mono_ns();
 	if (!g_ready) {
 		struct json_object *j = daemon_stats(d, 0);
 		int tried = stat_int(j, "source_opens") + stat_int(j, "source_failures") > 0;
@@ -155,7 +149,7 @@ void notify_reloading(void)
 {
 	char text[96];
 	snprintf(text, sizeof text, "RELOADING=1\nSTATUS=reloading [ao]\nMONOTONIC_USEC=%llu",
-		 (unsigned long long)(now_ns() / 1000u));
+		 (unsigned long long)(tool_mono_ns() / 1000u));
 	notify_send(text);
 }
 
