@@ -667,23 +667,23 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 	ni->measured = 1;
 	ni->sigma_area = g->frame_area;
 	ni->sigma_link = g->frame_link;
-	ni->prefilter_scale = dao_auto_scale(g->frame_area, f, g->frame_w);
+	ni->sigma_slope = g->frame_slope;
+	ni->prefilter_scale = dao_auto_scale(g->frame_slope, f, g->frame_w);
 	job->prefilter.noise_k = g->frame_area;
 	if (p->noise_model == DAO_NOISE_MODEL_AUTO) {
 		job->denoise.noise_k = g->frame_area;
 		if (p->normals == DAO_NORMALS_WIDE)
-			job->normal_radius = dao_clampi((int)lrintf(ni->prefilter_scale *
-								     DAO_AUTO_NORMAL_SHARE), 1, 8);
+			job->normal_radius = dao_auto_normal_radius(g->frame_slope, f, g->frame_w);
 		ni->normal_radius = job->normal_radius;
 		ni->denoise_noise = job->denoise.noise_k;
 	}
 	if (p->prefilter != DAO_PREFILTER_DOMAIN)
 		return;
 	const int nc = g->cw * g->ch;
-	const float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	const float *link = g->cell + nc, *wm = g->cell + 2 * nc;
 	for (int i = 0; i < nc; i++) {
 		ctx->noise_cells[i] = link[i];
-		ctx->noise_cells[nc + i] = 1.0f / dao_auto_scale(area[i], f, wm[i]);
+		ctx->noise_cells[nc + i] = 1.0f / dao_auto_scale(g->frame_slope, f, wm[i]);
 	}
 	dao_pool_run(ctx->pool, (int)(ctx->cam.width + ctx->cam.height), 16, stage_noise_maps, job);
 	dt->noise_map = ctx->noise_maps;
@@ -767,6 +767,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	};
 	ctx->noise_info = (struct dao_noise_info){
 		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
+		.sigma_slope = p->depth_noise,
 		.prefilter_scale = p->prefilter_scale, .normal_radius = job.normal_radius,
 		.denoise_noise = p->depth_noise,
 	};
