@@ -141,6 +141,8 @@ struct dao_noise_info {
 	float prefilter_scale;  /* domain prefilter: sigma_s at the frame's median, px */
 	int normal_radius;      /* footprint of the normals, px */
 	float denoise_noise;    /* the denoise's noise k, 1/m */
+	float sigma_slope;      /* median: how the slopes of neighbouring 8x8 planes differ
+				 * (independent-noise equivalent; drives the prefilter's scale) */
 };
 
 DAO_API void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out);

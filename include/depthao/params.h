@@ -103,15 +103,19 @@ struct dao_params {
 	/* depth input */
 	float depth_min;          /* m; nearer = no data */
 	float depth_max;          /* m; farther = no data */
-	int prefilter;            /* enum dao_prefilter */
-	float depth_noise;        /* sensor noise model: sigma(z) = depth_noise * z^2 (1/m) */
+	int prefilter;            /* enum dao_prefilter (default: DOMAIN) */
+	float depth_noise;        /* sensor noise model: sigma(z) = depth_noise * z^2 (1/m),
+				   * with noise_model FIXED */
 	int prefilter_radius;     /* px, bilateral */
 	float prefilter_scale;    /* domain: spatial scale sigma_s, px */
 	float prefilter_range;    /* domain: range scale in units of the local noise */
 	int prefilter_iterations; /* domain: vertical + horizontal passes */
-	int noise_model;          /* enum dao_noise_model */
+	int noise_model;          /* enum dao_noise_model (default: AUTO, the noise measured in
+				   * every frame; FIXED: depth_noise, prefilter_scale and
+				   * normal_radius as given) */
 	int normals;              /* enum dao_normals */
-	int normal_radius;        /* px, for DAO_NORMALS_WIDE */
+	int normal_radius;        /* px, for DAO_NORMALS_WIDE with noise_model FIXED or
+				   * AUTO_PREFILTER (AUTO: from the measured noise) */
 
 	/* AO */
 	int algorithm;            /* enum dao_algorithm */

@@ -379,8 +379,8 @@ class AO:
     @property
     def noise_info(self):
         """The noise the last frame was filtered for (dao_context_noise): a dict with
-        measured (bool), sigma_area and sigma_link (1/z, 1/m), prefilter_scale (px),
-        normal_radius (px) and denoise_noise (1/m)."""
+        measured (bool), sigma_area, sigma_link and sigma_slope (1/z, 1/m),
+        prefilter_scale (px), normal_radius (px) and denoise_noise (1/m)."""
         n = _lib.dao_noise_info()
         with self._lock:
             lib.dao_context_noise(self._handle(), ctypes.byref(n))

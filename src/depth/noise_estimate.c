@@ -23,8 +23,8 @@ int dao_noise_grid_init(struct dao_noise_grid *g, int width, int height)
 	if (g->ch < 1)
 		g->ch = 1;
 	const size_t nb = (size_t)g->bw * g->bh, nc = (size_t)g->cw * g->ch;
-	g->block = malloc((3 * nb + 1) * sizeof(float));
-	g->cell = malloc(3 * nc * sizeof(float));
+	g->block = malloc((DAO_NOISE_BLOCK_STATS * nb + 1) * sizeof(float));
+	g->cell = malloc(DAO_NOISE_CELL_STATS * nc * sizeof(float));
 	g->scratch = malloc(nc * sizeof(float));
 	if (!g->block || !g->cell || !g->scratch) {
 		dao_noise_grid_free(g);
@@ -111,9 +111,9 @@ static void chunk_stats(const float *z, int stride, int x0, int n, float *out)
 			s0 += c0[x], su += (k - 3.5) * c0[x], sv += cv[x], s2 += c2[x];
 			nv += valid[x], se += e2[x], sn += nz[x];
 		}
-		float *o = out + 3 * b;
+		float *o = out + DAO_NOISE_BLOCK_STATS * b;
 		if (nv < (float)(B * B)) {
-			o[0] = o[1] = o[2] = NAN;
+			o[0] = o[1] = o[2] = o[3] = o[4] = NAN;
 			continue;
 		}
 		/* residual of the least-squares plane: sum u^2 = sum v^2 = 8 * 42 */
@@ -121,6 +121,9 @@ static void chunk_stats(const float *z, int stride, int x0, int n, float *out)
 		o[0] = (float)sqrt((ss > 0.0 ? ss : 0.0) / 61.0);
 		o[1] = sn > 0.0f ? sqrtf(se / sn) / DAO_NOISE_LINK_IID : 0.0f;
 		o[2] = (float)(s0 / 64.0);
+		/* the plane's slopes along x and y, 1/m per px */
+		o[3] = (float)(su / 336.0);
+		o[4] = (float)(sv / 336.0);
 	}
 }
 
@@ -130,7 +133,7 @@ void dao_noise_blocks(struct dao_noise_grid *g, const float *z, int by0, int by1
 		for (int bx0 = 0; bx0 < g->bw; bx0 += CHUNK / B) {
 			const int nb = g->bw - bx0 < CHUNK / B ? g->bw - bx0 : CHUNK / B;
 			chunk_stats(z + (size_t)by * B * g->width, g->width, bx0 * B, nb * B,
-				    g->block + 3 * ((size_t)by * g->bw + bx0));
+				    g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx0));
 		}
 }
 
@@ -211,28 +214,53 @@ static void fill_empty(struct dao_noise_grid *g, float *v, float fallback)
 			v[i] = fallback;
 }
 
+/*
+ * The slope differences of block (bx, by) with its right and lower
+ * neighbours, where both are usable: both slopes each way (4 values), into v.
+ */
+static int slope_pairs(const struct dao_noise_grid *g, int bx, int by, float *v)
+{
+	const float *b = g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx);
+	int n = 0;
+	if (isnan(b[0]))
+		return 0;
+	const float *nb[2] = {
+		bx + 1 < g->bw ? b + DAO_NOISE_BLOCK_STATS : NULL,
+		by + 1 < g->bh ? b + DAO_NOISE_BLOCK_STATS * (size_t)g->bw : NULL,
+	};
+	for (int k = 0; k < 2; k++)
+		if (nb[k] && !isnan(nb[k][0])) {
+			v[n++] = fabsf(b[3] - nb[k][3]);
+			v[n++] = fabsf(b[4] - nb[k][4]);
+		}
+	return n;
+}
+
 void dao_noise_cells(struct dao_noise_grid *g)
 {
 	const int cw = g->cw, ch = g->ch, nc = cw * ch;
 	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	float *slope = g->cell + 3 * nc;
 	float va[DAO_NOISE_CELL * DAO_NOISE_CELL], vl[DAO_NOISE_CELL * DAO_NOISE_CELL];
-	float vw[DAO_NOISE_CELL * DAO_NOISE_CELL];
+	float vw[DAO_NOISE_CELL * DAO_NOISE_CELL], vs[4 * DAO_NOISE_CELL * DAO_NOISE_CELL];
 	g->usable_cells = 0;
 	for (int cy = 0; cy < ch; cy++)
 		for (int cx = 0; cx < cw; cx++) {
-			int n = 0;
+			int n = 0, ns = 0;
 			for (int by = cy * DAO_NOISE_CELL; by < (cy + 1) * DAO_NOISE_CELL && by < g->bh; by++)
 				for (int bx = cx * DAO_NOISE_CELL;
 				     bx < (cx + 1) * DAO_NOISE_CELL && bx < g->bw; bx++) {
-					const float *b = g->block + 3 * ((size_t)by * g->bw + bx);
+					const float *b = g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx);
 					if (isnan(b[0]))
 						continue;
 					va[n] = b[0], vl[n] = b[1], vw[n] = b[2];
 					n++;
+					ns += slope_pairs(g, bx, by, vs + ns);
 				}
 			const int i = cy * cw + cx;
+			slope[i] = ns >= DAO_NOISE_MIN_BLOCKS ? median(vs, ns) / DAO_NOISE_SLOPE_IID : NAN;
 			if (n < DAO_NOISE_MIN_BLOCKS) {
-				area[i] = link[i] = wm[i] = NAN;
+				area[i] = link[i] = wm[i] = slope[i] = NAN;
 				continue;
 			}
 			area[i] = median(va, n);
@@ -242,8 +270,9 @@ void dao_noise_cells(struct dao_noise_grid *g)
 		}
 	/* the frame: medians over the usable cells (the scratch holds a copy) */
 	float *tmp = g->scratch;
-	float *planes[3] = { area, link, wm }, *frame[3] = { &g->frame_area, &g->frame_link, &g->frame_w };
-	for (int k = 0; k < 3; k++) {
+	float *planes[4] = { area, link, wm, slope };
+	float *frame[4] = { &g->frame_area, &g->frame_link, &g->frame_w, &g->frame_slope };
+	for (int k = 0; k < 4; k++) {
 		int n = 0;
 		for (int i = 0; i < nc; i++)
 			if (!isnan(planes[k][i]))
@@ -252,7 +281,10 @@ void dao_noise_cells(struct dao_noise_grid *g)
 	}
 	if (!g->usable_cells)
 		return;
-	for (int k = 0; k < 3; k++)
+	/* usable blocks but no two side by side: the slopes' noise as the residual's */
+	if (isnan(g->frame_slope))
+		g->frame_slope = g->frame_area;
+	for (int k = 0; k < 4; k++)
 		fill_empty(g, planes[k], *frame[k]);
 }
 

@@ -19,18 +19,28 @@
  *   with (domain.h), divided by its value for independent Gaussian noise
  *   of sigma 1 (DAO_NOISE_LINK_IID) so that both read sigma on such noise.
  *   Counting only non-zero differences makes it the size of a step where
- *   depth comes in quantised bands (Kinect disparity, millimetre counts).
+ *   depth comes in quantised bands (Kinect disparity, millimetre counts);
+ * - the plane's slopes in w along x and y, per px, for `slope`: per pair of
+ *   usable blocks side by side (right, below) the |differences| of their
+ *   slopes, divided by their median for independent noise of sigma 1
+ *   (DAO_NOISE_SLOPE_IID).  Noise correlated over blobs and bands tilts
+ *   whole blocks, which their residual does not see and their slopes do.
  * Per cell of 4 x 4 blocks (32 x 32 px): the median over the cell's blocks
  * (robust to the few blocks a depth edge, a crease or a hole boundary runs
  * through); cells with fewer than DAO_NOISE_MIN_BLOCKS blocks take the mean
  * of their neighbours, repeatedly, and the frame's median when none has any.
  * Per pixel: bilinear between cell centres (dao_noise_map_*).
  *
- * On independent Gaussian noise both read sigma (within 1 %; a cell 3 % / 9 %
- * RMS).  On spatially correlated noise `area` reads less (a plane absorbs
- * part of an 8 px blob) and `link` much less (neighbouring samples move
- * together): they measure the noise as a filter sees it at its two scales,
- * see README.md.  On clean renders they read the depth quantum.
+ * (`slope`: the median over the cell's pairs).
+ *
+ * On independent Gaussian noise all three read sigma (within 1 %, `slope`
+ * 2.3 %; a cell 3 % / 9 % / 19 % RMS).  On spatially correlated noise `area`
+ * reads less (a plane absorbs part of an 8 px blob), `link` much less
+ * (neighbouring samples move together) and `slope` more (1.4 - 3.4 sigma
+ * for blobs of 0.5 - 4 px): they measure the noise as a filter sees it at
+ * its scales, see README.md.  On clean renders they read the depth quantum
+ * (`slope` at most that, often 0).  Creases and steps inflate `slope` (pairs
+ * across them differ by the geometry): a step every 40 px reads 1.22 sigma.
  */
 #include <math.h>
 #include <stddef.h>
@@ -41,14 +51,22 @@
 /* link statistic of independent Gaussian noise of sigma 1 (measured; with it
  * tests/depth/test_noise_estimate.c reads 0.996 - 1.004 sigma) */
 #define DAO_NOISE_LINK_IID 1.98f
+/* the median |difference| of the slopes of two 8 x 8 least-squares planes in
+ * independent Gaussian noise of sigma 1: 0.6745 sqrt(2 / 336) (336 = the sum
+ * of the squared pixel offsets along one axis of a block) */
+#define DAO_NOISE_SLOPE_IID 0.05204f
+/* floats per block: area, link, mean 1/z, slope along x, slope along y */
+#define DAO_NOISE_BLOCK_STATS 5
+/* floats per cell: area, link, mean 1/z, slope (planes of cw x ch) */
+#define DAO_NOISE_CELL_STATS 4
 
 struct dao_noise_grid {
 	int width, height;
 	int bw, bh, cw, ch;       /* blocks and cells across and down */
-	float *block;             /* per block: area, link, mean 1/z (NAN: not usable) */
-	float *cell;              /* per cell: area, link, mean 1/z */
+	float *block;             /* per block: DAO_NOISE_BLOCK_STATS (NAN: not usable) */
+	float *cell;              /* per cell: DAO_NOISE_CELL_STATS planes */
 	float *scratch;           /* cw * ch floats for the filling of empty cells */
-	float frame_area, frame_link, frame_w; /* medians over the usable cells */
+	float frame_area, frame_link, frame_w, frame_slope; /* medians over the usable cells */
 	int usable_cells;         /* cells with enough blocks; 0: nothing measured */
 };
 
@@ -74,33 +92,57 @@ void dao_noise_map_cols(const struct dao_noise_grid *g, const float *cell_values
 			int x0, int x1);
 
 /*
- * noise-model=auto: from the estimate to the filters' settings.  First
- * choices with the right shape, not tuned (tuning is to be done on
- * structured-light scenes with ground truth, held-out frames aside):
+ * noise-model=auto: from the estimate to the filters' settings (the gain,
+ * exponent and share fitted on `depthao eval --set tune`, the Kinect .oni
+ * frames 0-5 and Redwood 00000; held-out scenes and frames only reported):
  *
  * - range of the domain prefilter: prefilter-range x `link` (per pixel);
  *   the bilateral prefilter and the denoise take the frame's `area` as
  *   their depth-noise;
  * - spatial scale of the domain prefilter (per pixel):
- *     sigma_s = DAO_AUTO_SCALE_GAIN sqrt(area f / w) px, clamped,
- *   area f / w being the depth noise in units of the pixel's footprint
- *   (sigma_z / (z / f)); it grows with the square root of that: a filter
- *   of scale s averages ~s^2 samples, and the slopes that noise puts on the
- *   surface fall as sigma / s^2 (so s ~ sqrt);
- * - footprint of the normals: the frame's sigma_s x DAO_AUTO_NORMAL_SHARE.
+ *     sigma_s = DAO_AUTO_SCALE_GAIN (slope f / w)^DAO_AUTO_SCALE_POWER px,
+ *   clamped, with the frame's `slope` and the cell's mean 1/z w: the noise
+ *   in units of the pixel's footprint (sigma_z / (z / f)).  `slope` rather
+ *   than `area`: noise correlated over blobs and bands (structured light)
+ *   tilts whole 8 x 8 planes, which the residual about them cannot see
+ *   (Kinect walls: `slope` 5.3 `area`, independent noise: 1.0).  The
+ *   frame's value, not the cell's: across a crease neighbouring planes
+ *   differ by the crease, and cells of stairs read several times their
+ *   noise (Gaussian stairs 0.0526 -> 0.0497 MAE at exponent 1/2);
+ * - footprint of the normals (the frame's):
+ *     r = DAO_AUTO_NORMAL_GAIN (slope f / w)^DAO_AUTO_NORMAL_POWER px,
+ *   rounded, 1-8.  The normals' noise goes as sigma / (sigma_s r): with the
+ *   two exponents summing to 1 it stays the same as the noise changes, so
+ *   less noise (a temporally filtered stream) buys sharper geometry and is
+ *   never worse, up to the clamps; with a square root here (sum 1.25) the
+ *   temporally filtered boxes of tests/pipeline/test_temporal_depth.c
+ *   came out worse than without the temporal filter (AO MAE 0.0356 against
+ *   0.0346; 0.0335 now).  2 px for independent noise at 320 x 240 and
+ *   640 x 480 (a share of sigma_s gave 1 px at 320 x 240, where a
+ *   Gaussian-noisy plane reads 0.017 mean occlusion, test_noise_model.c;
+ *   0.007 at 2 px), 4 px on the Kinect frames.
  */
-#define DAO_AUTO_SCALE_GAIN 3.0f
+#define DAO_AUTO_SCALE_GAIN 1.87f
+#define DAO_AUTO_SCALE_POWER 0.75f
 #define DAO_AUTO_SCALE_MIN 1.0f    /* px */
 #define DAO_AUTO_SCALE_MAX 16.0f   /* px */
-#define DAO_AUTO_NORMAL_SHARE 1.0f
+#define DAO_AUTO_NORMAL_GAIN 2.0f
+#define DAO_AUTO_NORMAL_POWER 0.25f
 
-/* sigma_s of the domain prefilter for noise `area` (1/m) at inverse depth w
+/* sigma_s of the domain prefilter for noise `slope` (1/m) at inverse depth w
  * (1/m) seen with focal length f (px) */
-static inline float dao_auto_scale(float area, float f, float w)
+static inline float dao_auto_scale(float slope, float f, float w)
 {
-	float s = DAO_AUTO_SCALE_GAIN * sqrtf(area * f / w);
+	float s = DAO_AUTO_SCALE_GAIN * powf(slope * f / w, DAO_AUTO_SCALE_POWER);
 	s = s > DAO_AUTO_SCALE_MIN ? s : DAO_AUTO_SCALE_MIN;
 	return s < DAO_AUTO_SCALE_MAX ? s : DAO_AUTO_SCALE_MAX;
+}
+
+/* the normals' footprint for the same */
+static inline int dao_auto_normal_radius(float slope, float f, float w)
+{
+	const int r = (int)lrintf(DAO_AUTO_NORMAL_GAIN * powf(slope * f / w, DAO_AUTO_NORMAL_POWER));
+	return r < 1 ? 1 : r > 8 ? 8 : r;
 }
 
 #endif

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The noise estimate of src/depth/noise_estimate.c against noise of known
- * statistics: independent Gaussian noise on tilted planes is recovered,
+ * statistics: independent Gaussian noise on tilted planes is recovered (by
+ * all three statistics),
  * depth edges and holes do not move it, two halves of different noise are
  * told apart, spatially correlated noise reads as documented, a clean render
  * reads its depth quantum, and the per-pixel maps interpolate the cells.
@@ -50,7 +51,7 @@ static double cell_spread(const struct dao_noise_grid *g, const float *cells, do
 	return sqrt(s / (g->cw * g->ch));
 }
 
-/* Independent Gaussian noise: both statistics read sigma. */
+/* Independent Gaussian noise: all three statistics read sigma. */
 static void test_iid(void **state)
 {
 	(void)state;
@@ -62,14 +63,16 @@ static void test_iid(void **state)
 		struct dao_noise_grid g = estimate(z);
 		const int nc = g.cw * g.ch;
 		const double ea = g.frame_area / sigmas[k], el = g.frame_link / sigmas[k];
+		const double es = g.frame_slope / sigmas[k];
 		const double sa = cell_spread(&g, g.cell, sigmas[k]);
 		const double sl = cell_spread(&g, g.cell + nc, sigmas[k]);
-		print_message("iid sigma %.4f: area %.3f sigma (cells %.3f RMS), link %.3f sigma (cells %.3f)\n",
-			      sigmas[k], ea, sa, el, sl);
+		const double ss = cell_spread(&g, g.cell + 3 * nc, sigmas[k]);
+		print_message("iid sigma %.4f: area %.3f sigma (cells %.3f RMS), link %.3f sigma (cells %.3f), "
+			      "slope %.3f sigma (cells %.3f)\n", sigmas[k], ea, sa, el, sl, es, ss);
 		assert_int_equal(g.usable_cells, nc);
-		/* measured: within 1 %; cells 3 % and 9 % */
-		assert_true(fabs(ea - 1) < 0.03 && fabs(el - 1) < 0.03);
-		assert_true(sa < 0.06 && sl < 0.15);
+		/* measured: within 1 %, slope 2.3 %; cells 3 %, 9 % and 19 % */
+		assert_true(fabs(ea - 1) < 0.03 && fabs(el - 1) < 0.03 && fabs(es - 1) < 0.05);
+		assert_true(sa < 0.06 && sl < 0.15 && ss < 0.25);
 		dao_noise_grid_free(&g);
 	}
 	free(z);
@@ -96,9 +99,13 @@ static void test_edges_and_holes(void **state)
 				*p = 0.0f;
 		}
 	struct dao_noise_grid g = estimate(z);
-	print_message("edges and holes: area %.3f sigma, link %.3f sigma, %d of %d cells usable\n",
-		      g.frame_area / sigma, g.frame_link / sigma, g.usable_cells, g.cw * g.ch);
+	print_message("edges and holes: area %.3f sigma, link %.3f sigma, slope %.3f sigma, "
+		      "%d of %d cells usable\n", g.frame_area / sigma, g.frame_link / sigma,
+		      g.frame_slope / sigma, g.usable_cells, g.cw * g.ch);
 	assert_true(fabs(g.frame_area / sigma - 1) < 0.1 && fabs(g.frame_link / sigma - 1) < 0.1);
+	/* a pair of planes across a step differs by the step: with one every
+	 * 40 px (a fifth of the pairs across x) slope reads 1.22 sigma */
+	assert_true(g.frame_slope / sigma > 0.95 && g.frame_slope / sigma < 1.35);
 	dao_noise_grid_free(&g);
 	/* everything a hole: nothing measured */
 	memset(z, 0, W * H * sizeof(float));
@@ -136,7 +143,9 @@ static void test_regions(void **state)
 /*
  * Spatially correlated noise (white noise blurred by blur px, standard
  * deviation sigma): `area` reads the part an 8x8 plane cannot absorb,
- * `link` what neighbours differ by.  Bounds: measured values with margin.
+ * `link` what neighbours differ by, `slope` how much blobs tilt the 8x8
+ * planes (more than independent noise of the same sigma would, up to blobs
+ * of about a block).  Bounds: measured values with margin.
  */
 static void test_correlated(void **state)
 {
@@ -144,22 +153,24 @@ static void test_correlated(void **state)
 	float *z = malloc(W * H * sizeof(float)), *n = malloc(W * H * sizeof(float));
 	const double sigma = 0.0012;
 	static const struct {
-		double blur, area_lo, area_hi, link_lo, link_hi;
+		double blur, area_lo, area_hi, link_lo, link_hi, slope_lo, slope_hi;
 	} cases[] = {
-		{ 0.5, 0.90, 1.00, 0.68, 0.90 },   /* measured 0.965, 0.785 */
-		{ 1.0, 0.72, 0.88, 0.15, 0.23 },   /* 0.799, 0.189 */
-		{ 2.0, 0.43, 0.55, 0.020, 0.040 }, /* 0.487, 0.029 */
-		{ 4.0, 0.15, 0.22, 0.002, 0.007 }, /* 0.181, 0.004 */
+		{ 0.5, 0.90, 1.00, 0.68, 0.90, 1.30, 1.56 },   /* measured 0.965, 0.785, 1.433 */
+		{ 1.0, 0.72, 0.88, 0.15, 0.23, 2.35, 2.85 },   /* 0.799, 0.189, 2.596 */
+		{ 2.0, 0.43, 0.55, 0.020, 0.040, 3.05, 3.70 }, /* 0.487, 0.029, 3.366 */
+		{ 4.0, 0.15, 0.22, 0.002, 0.007, 2.15, 2.62 }, /* 0.181, 0.004, 2.377 */
 	};
 	for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
 		dao_test_correlated_noise(n, W, H, sigma, cases[k].blur, 20 + k);
 		plane_depth(z, n);
 		struct dao_noise_grid g = estimate(z);
 		const double a = g.frame_area / sigma, l = g.frame_link / sigma;
-		print_message("correlated, blur %.1f px: area %.3f sigma, link %.3f sigma\n",
-			      cases[k].blur, a, l);
+		const double sl = g.frame_slope / sigma;
+		print_message("correlated, blur %.1f px: area %.3f sigma, link %.3f sigma, slope %.3f sigma\n",
+			      cases[k].blur, a, l, sl);
 		assert_true(a > cases[k].area_lo && a < cases[k].area_hi);
 		assert_true(l > cases[k].link_lo && l < cases[k].link_hi);
+		assert_true(sl > cases[k].slope_lo && sl < cases[k].slope_hi);
 		dao_noise_grid_free(&g);
 	}
 	free(z);
@@ -187,10 +198,13 @@ static void test_clean_render(void **state)
 		}
 		q /= nq; /* the quantum's standard deviation in 1/z, on average */
 		struct dao_noise_grid g = estimate(img.depth);
-		print_message("clean %-12s area %.2e link %.2e, quantum sigma %.2e (1/z)\n", scenes[k],
-			      (double)g.frame_area, (double)g.frame_link, q);
+		print_message("clean %-12s area %.2e link %.2e slope %.2e, quantum sigma %.2e (1/z)\n",
+			      scenes[k], (double)g.frame_area, (double)g.frame_link,
+			      (double)g.frame_slope, q);
 		assert_true(g.frame_area > 0.5 * q && g.frame_area < 1.5 * q);
 		assert_true(g.frame_link > 0.5 * q && g.frame_link < 1.5 * q);
+		/* the quantum tilts no plane much: often exactly 0 */
+		assert_true(g.frame_slope < 1.5 * q);
 		dao_noise_grid_free(&g);
 		synth_image_free(&img);
 	}

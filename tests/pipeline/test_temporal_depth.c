@@ -235,8 +235,19 @@ static double rms_mm(const float *z, const float *clean, int n)
  * that in a second context without prefilter).  reject_scale scales the
  * rejection threshold of the AFTER order.
  */
+/*
+ * The prefilter's noise: the fixed model the filter's gains were measured
+ * with (bilateral, depth-noise), or the measured noise driving the domain
+ * filter (noise-model=auto), measured before the temporal filter.
+ */
+static void noise_model(struct dao_params *p, int auto_noise)
+{
+	p->prefilter = auto_noise ? DAO_PREFILTER_DOMAIN : DAO_PREFILTER_BILATERAL;
+	p->noise_model = auto_noise ? DAO_NOISE_MODEL_AUTO : DAO_NOISE_MODEL_FIXED;
+}
+
 static void run_still(const char *scene, enum order order, float alpha, float reject_scale,
-		      struct series *res)
+		      int auto_noise, struct series *res)
 {
 	struct dao_camera cam;
 	struct dao_error err;
@@ -247,6 +258,7 @@ static void run_still(const char *scene, enum order order, float alpha, float re
 	assert_int_equal(synth_render(&sc, &cam, 0.5, 8, 2, &img, &err), 0);
 	struct dao_params p;
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	noise_model(&p, auto_noise);
 	p.threads = 2;
 	if (order == BEFORE)
 		p.depth_temporal = alpha;
@@ -346,13 +358,13 @@ static void test_still_converges(void **state)
 	const char *scenes[] = { "boxes", "spheres", "room-corner", "stairs" };
 	for (int k = 0; k < 4; k++) {
 		struct series off, on;
-		run_still(scenes[k], OFF, ALPHA, 1.0f, &off);
-		run_still(scenes[k], BEFORE, ALPHA, 1.0f, &on);
+		run_still(scenes[k], OFF, ALPHA, 1.0f, 0, &off);
+		run_still(scenes[k], BEFORE, ALPHA, 1.0f, 0, &on);
 		struct series after, after_scaled;
-		run_still(scenes[k], AFTER, ALPHA, 1.0f, &after);
+		run_still(scenes[k], AFTER, ALPHA, 1.0f, 0, &after);
 		/* the prefilter cut the noise to pre_rms / depth_rms: a threshold
 		 * scaled alike */
-		run_still(scenes[k], AFTER, ALPHA, (float)(off.pre_rms[0] / off.depth_rms[0]),
+		run_still(scenes[k], AFTER, ALPHA, (float)(off.pre_rms[0] / off.depth_rms[0]), 0,
 			  &after_scaled);
 		print_series(scenes[k], order_name[OFF], &off);
 		print_series(scenes[k], order_name[BEFORE], &on);
@@ -378,6 +390,19 @@ static void test_still_converges(void **state)
 		 * less than with the filter after it */
 		assert_true(on.pre_rms[FRAMES - 1] < after.pre_rms[FRAMES - 1]);
 		assert_true(fl_on < fl_after);
+		/* with noise-model=auto (measured before the temporal
+		 * filter): MAE -0.0004..-0.0058, flicker 0.34-0.69 times (measured
+		 * after it, the prefilter backed off: spheres MAE +0.0001) */
+		struct series aoff, aon;
+		run_still(scenes[k], OFF, ALPHA, 1.0f, 1, &aoff);
+		run_still(scenes[k], BEFORE, ALPHA, 1.0f, 1, &aon);
+		const double amae_off = mean_from(aoff.mae, FRAMES / 2);
+		const double amae_on = mean_from(aon.mae, FRAMES / 2);
+		const double afl_off = mean_from(aoff.flicker, FRAMES / 2);
+		const double afl_on = mean_from(aon.flicker, FRAMES / 2);
+		print_message("%-12s noise-model=auto, settled: AO MAE off %.4f, on %.4f; flicker off "
+			      "%.5f, on %.5f\n", scenes[k], amae_off, amae_on, afl_off, afl_on);
+		assert_true(amae_on <= amae_off && afl_on <= 0.85 * afl_off);
 	}
 }
 
@@ -439,13 +464,14 @@ static int recently_changed(const struct moving *m, int f, int i)
 
 /* Frames MOVE_LOOKBACK .. end of the sequence, filter at `alpha` (0 = off). */
 static struct moved run_moving(const char *scene, const struct moving *m, float alpha,
-			       float reject)
+			       float reject, int auto_noise)
 {
 	struct dao_camera cam;
 	struct dao_error err;
 	camera(&cam);
 	struct dao_params p;
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	noise_model(&p, auto_noise);
 	p.threads = 2;
 	p.depth_temporal = alpha;
 	p.depth_temporal_reject = reject;
@@ -499,8 +525,8 @@ static void test_moving_no_trails(void **state)
 	for (int k = 0; k < 4; k++) {
 		struct moving m;
 		moving_render(scenes[k], &m);
-		struct moved off = run_moving(scenes[k], &m, 0.0f, 3.0f);
-		struct moved on = run_moving(scenes[k], &m, ALPHA, 3.0f);
+		struct moved off = run_moving(scenes[k], &m, 0.0f, 3.0f, 0);
+		struct moved on = run_moving(scenes[k], &m, ALPHA, 3.0f, 0);
 		print_message("%-15s moved pixels %6ld: > 5 sigma off %.4f -> %.4f, depth error %.2f -> "
 			      "%.2f mm, AO MAE there %.4f -> %.4f, whole frame %.4f -> %.4f\n",
 			      scenes[k], off.pixels, off.trail, on.trail, off.depth_mae, on.depth_mae,
@@ -517,11 +543,22 @@ static void test_moving_no_trails(void **state)
 		if (k == 0) {
 			/* the measure sees trails: without the disocclusion test (the
 			 * largest threshold) the history smears the moving sphere */
-			struct moved blind = run_moving(scenes[k], &m, ALPHA, 100.0f);
+			struct moved blind = run_moving(scenes[k], &m, ALPHA, 100.0f, 0);
 			print_message("%-15s without the disocclusion test: > 5 sigma off %.4f, depth "
 				      "error %.2f mm\n", scenes[k], blind.trail, blind.depth_mae);
 			assert_true(blind.trail >= off.trail + 0.02);
 		}
+		/* noise-model=auto: no trails either, AO where things
+		 * moved -0.0016..+0.0019, the frames gain (noise measured after the
+		 * temporal filter: thin poles +0.0084 where they moved) */
+		struct moved aoff = run_moving(scenes[k], &m, 0.0f, 3.0f, 1);
+		struct moved aon = run_moving(scenes[k], &m, ALPHA, 3.0f, 1);
+		print_message("%-15s noise-model=auto: > 5 sigma off %.4f -> %.4f, AO MAE there %.4f "
+			      "-> %.4f, whole frame %.4f -> %.4f\n", scenes[k], aoff.trail, aon.trail,
+			      aoff.ao_mae, aon.ao_mae, aoff.ao_all, aon.ao_all);
+		assert_true(aon.trail <= aoff.trail + 0.002);
+		assert_true(aon.ao_mae <= aoff.ao_mae + 0.004);
+		assert_true(aon.ao_all <= aoff.ao_all);
 		moving_free(&m);
 	}
 }
@@ -597,29 +634,40 @@ static int test_real_kinect(void)
 	const int w = (int)si->width, h = (int)si->height, n = w * h;
 	struct dao_camera cam;
 	dao_camera_from_fov(&cam, si->width, si->height, si->hfov, si->vfov, NULL);
-	struct dao_params p;
+	/* the filter's gain with the fixed noise model it was measured with;
+	 * the stream defaults with noise-model=auto beside them */
+	struct dao_params p, d;
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
 	p.threads = 2;
-	struct dao_context *off, *on;
+	d = p;
+	noise_model(&d, 1);
+	dao_params_stream_defaults(&d);
+	noise_model(&p, 0);
+	struct dao_context *off, *on, *dflt;
 	dao_context_create(&off, &cam, &p, NULL);
 	dao_params_stream_defaults(&p);
 	dao_context_create(&on, &cam, &p, NULL);
+	dao_context_create(&dflt, &cam, &d, NULL);
 	uint16_t *mm = malloc((size_t)n * 2);
 	float *raw0 = malloc((size_t)n * 4), *raw = malloc((size_t)n * 4), *zt = malloc((size_t)n * 4);
 	float *zoff = malloc((size_t)n * 4), *zon = malloc((size_t)n * 4), *hist = calloc(n, 4);
+	float *zd = malloc((size_t)n * 4);
 	uint8_t *count = calloc(n, 1), *age = calloc(n, 1);
 	struct dao_temporal_depth_setup ts = { .width = w, .alpha = p.depth_temporal,
 					       .reject = p.depth_temporal_reject,
 					       .noise_k = p.depth_noise, .quantum = si->depth_unit };
-	double sum_raw = 0, sum_t = 0, sum_off = 0, sum_on = 0, first_t = 0;
+	double sum_raw = 0, sum_t = 0, sum_off = 0, sum_on = 0, sum_d = 0, first_t = 0;
 	for (int f = 0; f < REAL_FRAMES; f++) {
 		struct dao_frame in = { DAO_PIXFMT_DEPTH16, si->width, si->height, w * 2, mm, 0, 0, 0 };
 		struct dao_frame z1 = { DAO_PIXFMT_DEPTH_F32, si->width, si->height, w * 4, zoff, 0, 0, 0 };
 		struct dao_frame z2 = { DAO_PIXFMT_DEPTH_F32, si->width, si->height, w * 4, zon, 0, 0, 0 };
+		struct dao_frame z3 = { DAO_PIXFMT_DEPTH_F32, si->width, si->height, w * 4, zd, 0, 0, 0 };
 		if (dao_oni_reader_read_depth(rd, (uint32_t)s, (uint32_t)f, &in, &err) ||
 		    dao_context_process(off, &in, NULL, (uint64_t)f, NULL, &err) ||
 		    dao_context_process(on, &in, NULL, (uint64_t)f, NULL, &err) ||
-		    dao_context_get_depth(off, &z1, &err) || dao_context_get_depth(on, &z2, &err)) {
+		    dao_context_process(dflt, &in, NULL, (uint64_t)f, NULL, &err) ||
+		    dao_context_get_depth(off, &z1, &err) || dao_context_get_depth(on, &z2, &err) ||
+		    dao_context_get_depth(dflt, &z3, &err)) {
 			printf("FAIL: frame %d: %s\n", f, err.message);
 			return 1;
 		}
@@ -630,7 +678,7 @@ static int test_real_kinect(void)
 		memcpy(zt, raw, (size_t)n * 4);
 		ts.fresh = f == 0;
 		dao_temporal_depth_ref(&ts, zt, hist, count, age, 0, h);
-		double res[4] = { 0 };
+		double res[5] = { 0 };
 		int blocks = 0;
 		for (int y0 = 0; y0 + BLOCK <= h; y0 += BLOCK)
 			for (int x0 = 0; x0 + BLOCK <= w; x0 += BLOCK) {
@@ -638,21 +686,22 @@ static int test_real_kinect(void)
 				const float zc = raw0[(y0 + BLOCK / 2) * w + x0 + BLOCK / 2];
 				if (r0 < 0 || zc < 2.0f || r0 > 0.01 * zc)
 					continue;
-				const double r[4] = { block_residual(raw, w, x0, y0),
+				const double r[5] = { block_residual(raw, w, x0, y0),
 						      block_residual(zt, w, x0, y0),
 						      block_residual(zoff, w, x0, y0),
-						      block_residual(zon, w, x0, y0) };
-				if (r[0] < 0 || r[1] < 0 || r[2] < 0 || r[3] < 0)
+						      block_residual(zon, w, x0, y0),
+						      block_residual(zd, w, x0, y0) };
+				if (r[0] < 0 || r[1] < 0 || r[2] < 0 || r[3] < 0 || r[4] < 0)
 					continue;
-				for (int k = 0; k < 4; k++)
+				for (int k = 0; k < 5; k++)
 					res[k] += r[k];
 				blocks++;
 			}
-		for (int k = 0; k < 4; k++)
+		for (int k = 0; k < 5; k++)
 			res[k] *= 1000.0 / blocks;
 		printf("frame %2d: %d wall blocks, residual from their planes: raw %.2f mm, filtered "
-		       "%.2f mm; after the prefilter: filter off %.2f mm, on %.2f mm\n", f, blocks,
-		       res[0], res[1], res[2], res[3]);
+		       "%.2f mm; after the prefilter: filter off %.2f mm, on %.2f mm; stream defaults "
+		       "%.2f mm\n", f, blocks, res[0], res[1], res[2], res[3], res[4]);
 		if (f == 0)
 			first_t = res[1];
 		if (f >= REAL_FRAMES - 4) { /* settled */
@@ -660,11 +709,14 @@ static int test_real_kinect(void)
 			sum_t += res[1];
 			sum_off += res[2];
 			sum_on += res[3];
+			sum_d += res[4];
 		}
 	}
 	dao_oni_reader_close(rd);
 	dao_context_destroy(off);
 	dao_context_destroy(on);
+	dao_context_destroy(dflt);
+	free(zd);
 	free(mm);
 	free(raw0);
 	free(raw);
@@ -674,8 +726,16 @@ static int test_real_kinect(void)
 	free(hist);
 	free(count);
 	free(age);
-	printf("last 4 frames: filtered / raw %.3f, pipeline on / off %.3f; first frame %.2f mm\n",
-	       sum_t / sum_raw, sum_on / sum_off, first_t);
+	printf("last 4 frames: filtered / raw %.3f, pipeline on / off %.3f; stream defaults / "
+	       "fixed model with the filter %.3f; first frame %.2f mm\n", sum_t / sum_raw,
+	       sum_on / sum_off, sum_d / sum_on, first_t);
+	/* the measured noise's domain filter takes the walls much further
+	 * (measured 0.24) */
+	if (sum_d > 0.4 * sum_on) {
+		printf("FAIL: with the stream defaults the wall residual is %.3f of the fixed "
+		       "model's\n", sum_d / sum_on);
+		return 1;
+	}
 	/* measured 0.82 and 0.885 (a plain mean of all frames reaches 0.77) */
 	if (sum_t > 0.87 * sum_raw || sum_on > 0.93 * sum_off) {
 		printf("FAIL: the wall residual did not drop enough over the frames\n");
