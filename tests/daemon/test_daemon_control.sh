@@ -43,10 +43,11 @@ else
 	echo "note: not root or no setpriv; the other-user check was skipped"
 fi
 
-# stats parse and add up
-in=$(stat_of "$SOCK" frames_in)
-done_=$(stat_of "$SOCK" frames_processed)
-out=$(stat_of "$SOCK" sinks.0.frames_out)
+# stats parse and add up, within one reply (three requests would each see other counts)
+"$DEPTHAO" ctl --socket "$SOCK" stats >"$WORK/stats.json" || fail "ctl stats"
+in=$("$JSON_GET" stats.frames_in <"$WORK/stats.json")
+done_=$("$JSON_GET" stats.frames_processed <"$WORK/stats.json")
+out=$("$JSON_GET" stats.sinks.0.frames_out <"$WORK/stats.json")
 [ "$done_" -le "$in" ] || fail "processed $done_ > captured $in"
 [ "$out" -le "$done_" ] || fail "sink wrote $out > processed $done_"
 [ "$out" -ge 1 ] || fail "sink wrote nothing"

@@ -213,9 +213,10 @@ void *process_main(void *arg)
 		}
 		if (want_rgb)
 			take_snapshot(d, &o.rgb);
+		/* counted before a sink can have it: the stats never show a sink ahead */
+		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
 		fan_out(d, in, &o, have_overlay);
 		fq_done(d->input, in);
-		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
 		if (d->cfg.max_frames && n >= d->cfg.max_frames) {
 			log_info("processed %llu frames (max_frames); stopping", n);
 			atomic_store(&d->end_capture, 1);

@@ -19,7 +19,14 @@ static int cmp_u32(const void *a, const void *b)
 struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 {
 	uint64_t t = tool_mono_ns();
+	/* the counters downstream first (every frame is counted upstream before it
+	 * goes on), so that one reply has sink frames_out <= frames_processed <=
+	 * frames_in however the threads run meanwhile */
+	unsigned long long written[DAOD_MAX_SINKS];
+	for (unsigned i = 0; i < d->nsinks; i++)
+		written[i] = atomic_load(&d->sinks[i].written);
 	unsigned long long processed = atomic_load(&d->processed);
+	const unsigned long long captured = atomic_load(&d->captured);
 	pthread_mutex_lock(&d->lock);
 	double secs = (double)(t - d->interval_start_ns) / 1e9;
 	double fps = secs > 0 ? (double)(processed - d->interval_processed) / secs : 0;
@@ -34,7 +41,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	json_object_object_add(j, "source_opens", json_object_new_int64((int64_t)atomic_load(&d->source_opens)));
 	json_object_object_add(j, "source_failures", json_object_new_int64((int64_t)atomic_load(&d->source_failures)));
 	json_object_object_add(j, "source_bad_frames", json_object_new_int64((int64_t)atomic_load(&d->source_bad_frames)));
-	json_object_object_add(j, "frames_in", json_object_new_int64((int64_t)atomic_load(&d->captured)));
+	json_object_object_add(j, "frames_in", json_object_new_int64((int64_t)captured));
 	json_object_object_add(j, "frames_dropped_in", json_object_new_int64((int64_t)atomic_load(&d->input_dropped)));
 	json_object_object_add(j, "frames_processed", json_object_new_int64((int64_t)processed));
 	json_object_object_add(j, "process_errors", json_object_new_int64((int64_t)atomic_load(&d->process_errors)));
@@ -54,7 +61,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 		json_object_object_add(o, "name", json_object_new_string(s->cfg->name));
 		json_object_object_add(o, "uri", json_object_new_string(s->cfg->uri));
 		json_object_object_add(o, "stream", json_object_new_string(stream_name(s->cfg->stream)));
-		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)atomic_load(&s->written)));
+		json_object_object_add(o, "frames_out", json_object_new_int64((int64_t)written[i]));
 		json_object_object_add(o, "frames_dropped", json_object_new_int64((int64_t)atomic_load(&s->dropped)));
 		json_object_object_add(o, "errors", json_object_new_int64((int64_t)atomic_load(&s->errors)));
 		int state = atomic_load(&s->state);
