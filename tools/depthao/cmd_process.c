@@ -272,6 +272,14 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 		dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, NULL);
 		return 0;
 	}
+	if (src && src->has_intrinsics && !o->intrinsics_file) {
+		if (dao_camera_from_intrinsics(cam, w, h, src->fx, src->fy, src->cx, src->cy, &err))
+			return usage_error("process", "the source's intrinsics: %s", err.message);
+		if (!o->quiet)
+			fprintf(stderr, "depthao: intrinsics from the source: fx %.2f fy %.2f cx %.2f "
+				"cy %.2f\n", src->fx, src->fy, src->cx, src->cy);
+		return 0;
+	}
 	if (src && src->has_fov && !o->intrinsics_file) {
 		if (dao_camera_from_fov(cam, w, h, src->hfov, src->vfov, &err))
 			return usage_error("process", "the source's field of view: %s", err.message);

@@ -176,8 +176,8 @@ static void nap(struct daemon *d, unsigned ms)
 
 /*
  * 1 if the source URI names something on disk (a recording, a depth PNG, a
- * directory of them) rather than a device: "oni:" and "images:" URIs, any URI
- * whose path ends in .oni or .png, and paths outside /dev without a plugin
+ * directory of them) rather than a device: "oni:", "bag:" and "images:" URIs, any
+ * URI whose path ends in .oni, .bag or .png, and paths outside /dev without a plugin
  * prefix.  Such a source must open at start; a device may be plugged in later.
  */
 static int source_names_file(const char *uri)
@@ -187,11 +187,13 @@ static int source_names_file(const char *uri)
 	       uri[p] == '-' || uri[p] == '_')
 		p++;
 	int prefixed = p > 1 && uri[p] == ':'; /* as the plugin registry reads a prefix */
-	if (prefixed && ((p == 3 && !strncmp(uri, "oni", 3)) || (p == 6 && !strncmp(uri, "images", 6))))
+	if (prefixed && ((p == 3 && (!strncmp(uri, "oni", 3) || !strncmp(uri, "bag", 3))) ||
+			 (p == 6 && !strncmp(uri, "images", 6))))
 		return 1;
 	const char *rest = prefixed ? uri + p + 1 : uri;
 	size_t n = strcspn(rest, "?");
-	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".png", 4)))
+	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".bag", 4) ||
+		      !strncasecmp(rest + n - 4, ".png", 4)))
 		return 1;
 	return !prefixed && memchr(rest, '/', n) && strncmp(rest, "/dev/", 5) != 0;
 }
@@ -351,6 +353,8 @@ static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_came
 	pthread_mutex_lock(&d->lock);
 	struct dao_source_info in = d->src_info;
 	pthread_mutex_unlock(&d->lock);
+	if (in.has_intrinsics)
+		return dao_camera_from_intrinsics(cam, w, h, in.fx, in.fy, in.cx, in.cy, &err);
 	if (in.has_fov)
 		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, &err);
 	log_warn("no intrinsics: the source has no field of view and the config gives none; "
