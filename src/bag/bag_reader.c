@@ -90,6 +90,7 @@ struct dao_bag {
 	uint8_t *buf;      /* uncompressed data of the cached chunk */
 	size_t buf_cap;
 	int64_t cached;    /* chunk in buf, -1 for none */
+	LZ4F_dctx *lz4;    /* made at the first lz4 chunk, reset for each next one */
 };
 
 /* One parsed record header: the fields this reader uses. */
@@ -611,6 +612,8 @@ void dao_bag_close(struct dao_bag *b)
 	free(b->chunks);
 	free(b->raw);
 	free(b->buf);
+	if (b->lz4)
+		LZ4F_freeDecompressionContext(b->lz4);
 	free(b->path);
 	free(b);
 }
@@ -650,11 +653,15 @@ static int grow(uint8_t **p, size_t *cap, size_t n)
 	return 0;
 }
 
-static int lz4_decompress(const uint8_t *src, size_t n, uint8_t *dst, size_t size)
+static int lz4_decompress(struct dao_bag *b, const uint8_t *src, size_t n, uint8_t *dst,
+			  size_t size)
 {
-	LZ4F_dctx *dc;
-	if (LZ4F_isError(LZ4F_createDecompressionContext(&dc, LZ4F_VERSION)))
+	if (!b->lz4 && LZ4F_isError(LZ4F_createDecompressionContext(&b->lz4, LZ4F_VERSION))) {
+		b->lz4 = NULL;
 		return -ENOMEM;
+	}
+	LZ4F_dctx *dc = b->lz4;
+	LZ4F_resetDecompressionContext(dc); /* after an error, or a frame left unfinished */
 	size_t in_at = 0, out_at = 0, hint = 1;
 	int ret = 0;
 	while (hint != 0) {
@@ -675,7 +682,6 @@ static int lz4_decompress(const uint8_t *src, size_t n, uint8_t *dst, size_t siz
 			break;
 		}
 	}
-	LZ4F_freeDecompressionContext(dc);
 	return ret == 0 && out_at == size ? 0 : -EINVAL;
 }
 
@@ -719,7 +725,7 @@ static int load_chunk(struct dao_bag *b, uint32_t ci, struct dao_error *err)
 					     "%s: byte %llu: the bz2 chunk does not decompress to its "
 					     "%u bytes (bzip2 error %d)",
 					     b->path, (unsigned long long)c->pos, c->size, bz);
-	} else if ((ret = lz4_decompress(b->raw, c->data_len, b->buf, c->size)) < 0) {
+	} else if ((ret = lz4_decompress(b, b->raw, c->data_len, b->buf, c->size)) < 0) {
 		if (ret == -ENOMEM)
 			return dao_error_set(err, -ENOMEM, "out of memory decompressing %s", b->path);
 		return dao_error_set(err, -EINVAL,

@@ -3,6 +3,8 @@
 """Writes the test bags with rosbag's own Python writer (python3-rosbag).
 
 usage: make_bags.py OUTDIR
+       make_bags.py --seeds OUTDIR   the fuzzer's seed corpus (fuzz/corpus/bag): 8x6
+                                     images, 2 frames, the .bag files only
 Exits 77 (skip) when rosbag or sensor_msgs cannot be imported.
 
 The depth of frame i at pixel (x, y) is depth_count(x, y, i) (test_source_bag.c
@@ -134,15 +136,23 @@ def write_png(path, counts):
 
 
 def main():
-    if len(sys.argv) != 2:
+    global W, H, FRAMES, CHUNK
+    seeds = len(sys.argv) == 3 and sys.argv[1] == "--seeds"
+    if len(sys.argv) != 2 and not seeds:
         sys.exit(__doc__)
-    out = sys.argv[1]
-    os.makedirs(os.path.join(out, "png"), exist_ok=True)
+    out = sys.argv[-1]
+    if seeds:
+        W, H, FRAMES, CHUNK = 8, 6, 2, 300
+    os.makedirs(out, exist_ok=True)
     for comp in ("none", "bz2", "lz4"):
         write_d16(os.path.join(out, "d16_%s.bag" % comp), comp)
     write_f32_be(os.path.join(out, "f32_be.bag"))
-    write_two(os.path.join(out, "two.bag"))
+    if not seeds:
+        write_two(os.path.join(out, "two.bag"))
     write_realsense(os.path.join(out, "realsense.bag"))
+    if seeds:
+        return
+    os.makedirs(os.path.join(out, "png"), exist_ok=True)
     for i in range(FRAMES):
         write_png(os.path.join(out, "png", "%06d.png" % i), pixels(i))
     # Open3D's camera JSON: the intrinsic matrix column-major

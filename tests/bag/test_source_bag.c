@@ -19,6 +19,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <dirent.h>
+
 #include <cmocka.h>
 
 #include "common/test_common.h"
@@ -403,6 +405,19 @@ static void test_corrupt_chunk(void **state)
 	assert_non_null(strstr(err.message, "byte "));
 	assert_non_null(strstr(err.message, "bz2"));
 
+	/* a damaged lz4 frame (its magic number) */
+	b = slurp(bag("d16_lz4.bag"), &n);
+	z = find(b, n, "\x04\x22\x4d\x18", 0);
+	assert_true(z > 0);
+	b[z] ^= 0xff;
+	spill(bad, b, n);
+	free(b);
+	r = dao_source_open(g_plugins, bad, NULL, &s, &err);
+	fprintf(stderr, "damaged lz4 chunk: %s\n", err.message);
+	assert_int_equal(r, -EINVAL);
+	assert_non_null(strstr(err.message, "byte "));
+	assert_non_null(strstr(err.message, "the lz4 chunk does not decompress"));
+
 	/* an index entry pointing outside its chunk */
 	b = slurp(bag("d16_none.bag"), &n);
 	long ix = find(b, n, "op=\x04", 0);
@@ -432,6 +447,43 @@ static void test_not_a_bag(void **state)
 	spill(p, (const unsigned char *)"a shopping bag, not a ROS one", 29);
 	expect_open_error(p, -EINVAL, "not a ROS bag", NULL);
 	expect_open_error("/nonexistent/x.bag", -ENOENT, "/nonexistent/x.bag", NULL);
+}
+
+/* The fuzzer's seed corpus (fuzz/corpus/bag, make_bags.py --seeds) reads without an error. */
+static void test_fuzz_corpus(void **state)
+{
+	(void)state;
+	const char *dir = getenv("DAO_BAG_CORPUS");
+	assert_non_null(dir);
+	DIR *d = opendir(dir);
+	assert_non_null(d);
+	int files = 0;
+	for (struct dirent *e; (e = readdir(d));) {
+		size_t n = strlen(e->d_name);
+		if (n < 5 || strcmp(e->d_name + n - 4, ".bag"))
+			continue;
+		char p[1024];
+		snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+		struct dao_source *s = open_bag(p, NULL);
+		struct dao_source_info in;
+		struct dao_source_frame f;
+		struct dao_error err;
+		dao_source_get_info(s, &in);
+		assert_int_equal(in.width, 8);
+		assert_int_equal(in.height, 6);
+		assert_true(in.has_intrinsics);
+		int64_t k = 0;
+		for (int r; (r = dao_source_read(s, &f, 1000, &err)) != DAO_SOURCE_EOS; k++) {
+			if (r)
+				fprintf(stderr, "%s: %s\n", p, err.message);
+			assert_int_equal(r, 0);
+		}
+		assert_int_equal(k, in.frame_count);
+		dao_source_close(s);
+		files++;
+	}
+	closedir(d);
+	assert_true(files >= 5);
 }
 
 int main(void)
@@ -467,6 +519,7 @@ int main(void)
 		cmocka_unit_test(test_truncated),
 		cmocka_unit_test(test_corrupt_chunk),
 		cmocka_unit_test(test_not_a_bag),
+		cmocka_unit_test(test_fuzz_corpus),
 	};
 	int r = cmocka_run_group_tests(tests, NULL, NULL);
 	dao_plugins_free(g_plugins);
