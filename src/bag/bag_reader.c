@@ -554,7 +554,8 @@ static int load_index(struct dao_bag *b, struct dao_error *err)
 				     want_chunks);
 	for (uint32_t t = 0; t < b->ntopics; t++) {
 		struct topic *tp = &b->topics[t];
-		qsort(tp->entries, tp->count, sizeof(*tp->entries), cmp_entry);
+		if (tp->count > 1) /* a topic without messages has no array: qsort(NULL) is UB */
+			qsort(tp->entries, tp->count, sizeof(*tp->entries), cmp_entry);
 		tp->pub = (struct dao_bag_topic){tp->name, tp->type, tp->count};
 	}
 	return 0;
