@@ -91,6 +91,7 @@ struct dao_bag {
 	size_t buf_cap;
 	int64_t cached;    /* chunk in buf, -1 for none */
 	LZ4F_dctx *lz4;    /* made at the first lz4 chunk, reset for each next one */
+	char warning[256]; /* an unindexed bag: how far it was read */
 };
 
 /* One parsed record header: the fields this reader uses. */
@@ -294,7 +295,31 @@ static struct conn *find_conn(struct dao_bag *b, uint32_t id)
 	return NULL;
 }
 
-/* Finds the "type=" field of a connection record's data (a header). */
+/*
+ * The "type=" field of a connection record's data d[0..len) (a header);
+ * `where` is the file position of the data, for messages.
+ */
+static int conn_type_of(struct dao_bag *b, const uint8_t *d, uint32_t len, uint64_t where,
+			char **type, struct dao_error *err)
+{
+	for (uint32_t at = 0; len - at >= 4;) {
+		uint32_t flen = rd32(d + at);
+		at += 4;
+		if (flen > len - at)
+			return dao_error_set(err, -EINVAL,
+					     "%s: byte %llu: a connection header field runs past its "
+					     "record", b->path, (unsigned long long)(where + at - 4));
+		if (flen > 5 && !memcmp(d + at, "type=", 5) && !memchr(d + at + 5, 0, flen - 5)) {
+			*type = strndup((const char *)d + at + 5, flen - 5);
+			return *type ? 0 : dao_error_set(err, -ENOMEM, "out of memory");
+		}
+		at += flen;
+	}
+	return dao_error_set(err, -EINVAL, "%s: byte %llu: a connection record without a type",
+			     b->path, (unsigned long long)where);
+}
+
+/* The same for a connection record in the file. */
 static int conn_type(struct dao_bag *b, const struct rec *r, char **type, struct dao_error *err)
 {
 	if (r->data_len > BAG_MAX_CONN_DATA)
@@ -304,45 +329,16 @@ static int conn_type(struct dao_bag *b, const struct rec *r, char **type, struct
 	int ret;
 	if (!d)
 		return dao_error_set(err, -ENOMEM, "out of memory reading %s", b->path);
-	if ((ret = read_at(b, r->data_pos, d, r->data_len, err)) < 0)
-		goto out;
-	ret = dao_error_set(err, -EINVAL, "%s: byte %llu: a connection record without a type",
-			    b->path, (unsigned long long)r->pos);
-	for (uint32_t at = 0; r->data_len - at >= 4;) {
-		uint32_t flen = rd32(d + at);
-		at += 4;
-		if (flen > r->data_len - at) {
-			ret = dao_error_set(err, -EINVAL,
-					    "%s: byte %llu: a connection header field runs past its "
-					    "record",
-					    b->path, (unsigned long long)(r->data_pos + at - 4));
-			break;
-		}
-		if (flen > 5 && !memcmp(d + at, "type=", 5) && !memchr(d + at + 5, 0, flen - 5)) {
-			*type = strndup((const char *)d + at + 5, flen - 5);
-			ret = *type ? 0 : dao_error_set(err, -ENOMEM, "out of memory");
-			break;
-		}
-		at += flen;
-	}
-out:
+	if ((ret = read_at(b, r->data_pos, d, r->data_len, err)) == 0)
+		ret = conn_type_of(b, d, r->data_len, r->data_pos, type, err);
 	free(d);
 	return ret;
 }
 
-static int add_connection(struct dao_bag *b, const struct rec *r, struct dao_error *err)
+/* Adds connection r->conn of topic r->topic and `type` (taken over, freed on failure). */
+static int add_conn_typed(struct dao_bag *b, const struct rec *r, char *type,
+			  struct dao_error *err)
 {
-	char *type = NULL;
-	int ret;
-	if (!r->has_conn)
-		return missing(b, r, "conn", err);
-	if (!r->has_topic)
-		return missing(b, r, "topic", err);
-	if (find_conn(b, r->conn))
-		return dao_error_set(err, -EINVAL, "%s: byte %llu: connection %u is defined twice",
-				     b->path, (unsigned long long)r->pos, r->conn);
-	if ((ret = conn_type(b, r, &type, err)) < 0)
-		return ret;
 	uint32_t t;
 	for (t = 0; t < b->ntopics; t++)
 		if (!strcmp(b->topics[t].name, r->topic) && !strcmp(b->topics[t].type, type))
@@ -373,6 +369,86 @@ oom:
 	return dao_error_set(err, -ENOMEM, "out of memory reading %s", b->path);
 }
 
+static int check_conn(struct dao_bag *b, const struct rec *r, struct dao_error *err)
+{
+	if (!r->has_conn)
+		return missing(b, r, "conn", err);
+	if (!r->has_topic)
+		return missing(b, r, "topic", err);
+	return 0;
+}
+
+/* A connection record of the index (each is defined once there). */
+static int add_connection(struct dao_bag *b, const struct rec *r, struct dao_error *err)
+{
+	char *type = NULL;
+	int ret;
+	if ((ret = check_conn(b, r, err)) < 0)
+		return ret;
+	if (find_conn(b, r->conn))
+		return dao_error_set(err, -EINVAL, "%s: byte %llu: connection %u is defined twice",
+				     b->path, (unsigned long long)r->pos, r->conn);
+	if ((ret = conn_type(b, r, &type, err)) < 0)
+		return ret;
+	return add_conn_typed(b, r, type, err);
+}
+
+/* Appends an entry to the topic of connection `conn`. */
+static int add_entry(struct dao_bag *b, uint32_t conn, uint64_t time_ns, uint32_t chunk,
+		     uint32_t offset, uint64_t where, struct dao_error *err)
+{
+	struct conn *cn = find_conn(b, conn);
+	if (!cn)
+		return dao_error_set(err, -EINVAL,
+				     "%s: byte %llu: a message of connection %u, which the bag does "
+				     "not define (before it)", b->path, (unsigned long long)where, conn);
+	struct topic *t = &b->topics[cn->topic];
+	if (t->count == UINT32_MAX)
+		return dao_error_set(err, -EINVAL, "%s: too many messages", b->path);
+	if (t->count == t->cap) {
+		uint32_t cap = t->cap ? (t->cap > UINT32_MAX / 2 ? UINT32_MAX : t->cap * 2) : 64;
+		struct entry *ne = realloc(t->entries, (size_t)cap * sizeof(*ne));
+		if (!ne)
+			return dao_error_set(err, -ENOMEM, "out of memory reading %s", b->path);
+		t->entries = ne;
+		t->cap = cap;
+	}
+	t->entries[t->count++] = (struct entry){time_ns, chunk, offset, conn};
+	return 0;
+}
+
+/* The chunk record r, checked, appended to b->chunks (its index in *ci). */
+static int add_chunk_record(struct dao_bag *b, const struct rec *r, uint32_t *ci,
+			    struct dao_error *err)
+{
+	if (!r->has_size)
+		return missing(b, r, "size", err);
+	struct chunk c = {r->pos, r->data_pos, r->data_len, r->size, COMP_NONE};
+	if (!strcmp(r->compression, "none"))
+		c.comp = COMP_NONE;
+	else if (!strcmp(r->compression, "bz2"))
+		c.comp = COMP_BZ2;
+	else if (!strcmp(r->compression, "lz4"))
+		c.comp = COMP_LZ4;
+	else
+		return dao_error_set(err, -EINVAL,
+				     "%s: byte %llu: chunk compression '%s' (known: none, bz2, lz4)",
+				     b->path, (unsigned long long)r->pos, r->compression);
+	if (c.comp == COMP_NONE && c.size != c.data_len)
+		return dao_error_set(err, -EINVAL,
+				     "%s: byte %llu: an uncompressed chunk of %u bytes says its size "
+				     "is %u", b->path, (unsigned long long)r->pos, c.data_len, c.size);
+	if (b->nchunks == UINT32_MAX)
+		return dao_error_set(err, -EINVAL, "%s: too many chunks", b->path);
+	struct chunk *nc = realloc(b->chunks, (b->nchunks + 1) * sizeof(*nc));
+	if (!nc)
+		return dao_error_set(err, -ENOMEM, "out of memory reading %s", b->path);
+	b->chunks = nc;
+	*ci = b->nchunks++;
+	nc[*ci] = c;
+	return 0;
+}
+
 static int add_chunk(struct dao_bag *b, const struct rec *info, struct dao_error *err)
 {
 	struct rec r;
@@ -390,31 +466,10 @@ static int add_chunk(struct dao_bag *b, const struct rec *info, struct dao_error
 				     "of op 0x%02x, not a chunk",
 				     b->path, (unsigned long long)r.pos,
 				     (unsigned long long)info->pos, r.op);
-	if (!r.has_size)
-		return missing(b, &r, "size", err);
-	struct chunk c = {r.pos, r.data_pos, r.data_len, r.size, COMP_NONE};
-	if (!strcmp(r.compression, "none"))
-		c.comp = COMP_NONE;
-	else if (!strcmp(r.compression, "bz2"))
-		c.comp = COMP_BZ2;
-	else if (!strcmp(r.compression, "lz4"))
-		c.comp = COMP_LZ4;
-	else
-		return dao_error_set(err, -EINVAL,
-				     "%s: byte %llu: chunk compression '%s' (known: none, bz2, lz4)",
-				     b->path, (unsigned long long)r.pos, r.compression);
-	if (c.comp == COMP_NONE && c.size != c.data_len)
-		return dao_error_set(err, -EINVAL,
-				     "%s: byte %llu: an uncompressed chunk of %u bytes says its size "
-				     "is %u", b->path, (unsigned long long)r.pos, c.data_len, c.size);
-	if (b->nchunks == UINT32_MAX)
-		return dao_error_set(err, -EINVAL, "%s: too many chunks", b->path);
-	struct chunk *nc = realloc(b->chunks, (b->nchunks + 1) * sizeof(*nc));
-	if (!nc)
-		return dao_error_set(err, -ENOMEM, "out of memory reading %s", b->path);
-	b->chunks = nc;
-	uint32_t ci = b->nchunks++;
-	nc[ci] = c;
+	uint32_t ci = 0;
+	if ((ret = add_chunk_record(b, &r, &ci, err)) < 0)
+		return ret;
+	const struct chunk c = b->chunks[ci];
 
 	/* the index data records that follow the chunk */
 	uint64_t pos = r.data_pos + r.data_len;
@@ -489,6 +544,118 @@ static int cmp_entry(const void *pa, const void *pb)
 	return a->offset < b->offset ? -1 : a->offset > b->offset;
 }
 
+static int load_chunk(struct dao_bag *b, uint32_t ci, struct dao_error *err);
+
+/*
+ * The connection and message records of chunk `ci` (decompressed): what an
+ * unindexed bag has instead of its index.  Connections may repeat (a chunk
+ * defines those it uses), with the same topic.
+ */
+static int scan_chunk(struct dao_bag *b, uint32_t ci, struct dao_error *err)
+{
+	int ret = load_chunk(b, ci, err);
+	if (ret < 0)
+		return ret;
+	const struct chunk *c = &b->chunks[ci];
+	const uint8_t *p = b->buf;
+	for (uint32_t at = 0; at < c->size;) {
+		struct rec r;
+		memset(&r, 0, sizeof(r));
+		r.op = -1;
+		r.pos = c->pos;
+		if (c->size - at < 8 || rd32(p + at) > c->size - at - 8)
+			return dao_error_set(err, -EINVAL,
+					     "%s: byte %llu: the record at offset %u of the chunk runs "
+					     "past it", b->path, (unsigned long long)c->pos, at);
+		uint32_t hlen = rd32(p + at);
+		if ((ret = parse_header(b, p + at + 4, hlen, c->pos, &r, err)) < 0)
+			return ret;
+		uint32_t dlen = rd32(p + at + 4 + hlen), dpos = at + 8 + hlen;
+		if (dlen > c->size - dpos)
+			return dao_error_set(err, -EINVAL,
+					     "%s: byte %llu: the record at offset %u of the chunk has %u "
+					     "bytes of data, more than the chunk holds",
+					     b->path, (unsigned long long)c->pos, at, dlen);
+		if (r.op == OP_CONNECTION) {
+			char *type = NULL;
+			if ((ret = check_conn(b, &r, err)) < 0)
+				return ret;
+			if (!find_conn(b, r.conn)) {
+				if ((ret = conn_type_of(b, p + dpos, dlen, c->pos, &type, err)) < 0 ||
+				    (ret = add_conn_typed(b, &r, type, err)) < 0)
+					return ret;
+			}
+		} else if (r.op == OP_MSG_DATA) {
+			if (!r.has_conn || !r.has_time)
+				return missing(b, &r, r.has_conn ? "time" : "conn", err);
+			if ((ret = add_entry(b, r.conn, r.time_ns, ci, at, c->pos, err)) < 0)
+				return ret;
+		} else {
+			return dao_error_set(err, -EINVAL,
+					     "%s: byte %llu: a record of op 0x%02x inside a chunk",
+					     b->path, (unsigned long long)c->pos, r.op);
+		}
+		at = dpos + dlen;
+	}
+	return 0;
+}
+
+/*
+ * A bag without an index (its recording was not finished: the header's
+ * index_pos is still 0): its chunks are read one after the other, up to the
+ * end or to the first that is cut short or damaged; a warning says how far.
+ */
+static int scan_unindexed(struct dao_bag *b, uint64_t pos, struct dao_error *err)
+{
+	struct dao_error why = {0};
+	while (pos < b->size) {
+		struct rec r;
+		uint32_t ci;
+		if (read_record(b, pos, &r, &why) < 0)
+			break;
+		if (r.op == OP_CHUNK) {
+			uint32_t before = b->nchunks;
+			if (add_chunk_record(b, &r, &ci, &why) < 0)
+				break;
+			if (scan_chunk(b, ci, &why) < 0) {
+				/* drop what the damaged chunk added */
+				for (uint32_t t = 0; t < b->ntopics; t++)
+					while (b->topics[t].count &&
+					       b->topics[t].entries[b->topics[t].count - 1].chunk == ci)
+						b->topics[t].count--;
+				b->nchunks = before;
+				b->cached = -1;
+				break;
+			}
+		} else if (r.op == OP_CONNECTION) {
+			char *type = NULL;
+			if (check_conn(b, &r, &why) < 0)
+				break;
+			if (!find_conn(b, r.conn) && (conn_type(b, &r, &type, &why) < 0 ||
+						      add_conn_typed(b, &r, type, &why) < 0))
+				break;
+		} else if (r.op != OP_INDEX_DATA && r.op != OP_CHUNK_INFO) {
+			dao_error_set(&why, -EINVAL, "%s: byte %llu: a record of op 0x%02x", b->path,
+				      (unsigned long long)r.pos, r.op);
+			break;
+		}
+		pos = r.data_pos + r.data_len;
+	}
+	if (why.code == -ENOMEM)
+		return dao_error_set(err, -ENOMEM, "%s", why.message);
+	const char *base = strrchr(b->path, '/'), *stop = strstr(why.message, "byte ");
+	if (b->nchunks == 0)
+		return dao_error_set(err, -EINVAL,
+				     "%s: the bag is not indexed (its recording was not finished) and "
+				     "has no complete chunk%s%s", b->path, why.message[0] ? "; " : "",
+				     stop ? stop : why.message);
+	snprintf(b->warning, sizeof(b->warning),
+		 "%.60s is not indexed (its recording was not finished): read %u chunks%s%.90s",
+		 base ? base + 1 : b->path, b->nchunks, why.message[0] ? ", up to " : "",
+		 stop ? stop : why.message);
+	return 0;
+}
+
 static int load_index(struct dao_bag *b, struct dao_error *err)
 {
 	uint8_t magic[BAG_MAGIC_LEN];
@@ -516,10 +683,11 @@ static int load_index(struct dao_bag *b, struct dao_error *err)
 		return missing(b, &r, "index_pos", err);
 	uint32_t want_conns = r.conn_count, want_chunks = r.chunk_count;
 	uint64_t first = r.data_pos + r.data_len;
-	if (r.index_pos == 0)
-		return dao_error_set(err, -EINVAL,
-				     "%s: the bag is not indexed (its recording was not finished); "
-				     "'rosbag reindex' repairs it", b->path);
+	if (r.index_pos == 0) {
+		if ((ret = scan_unindexed(b, first, err)) < 0)
+			return ret;
+		goto sort;
+	}
 	if (r.index_pos < first || r.index_pos >= b->size)
 		return dao_error_set(err, -EINVAL,
 				     "%s: byte %llu: the index position %llu is outside the file's "
@@ -552,6 +720,7 @@ static int load_index(struct dao_bag *b, struct dao_error *err)
 				     "%s: the index holds %u connections and %u chunks, the bag header "
 				     "says %u and %u", b->path, b->nconns, b->nchunks, want_conns,
 				     want_chunks);
+sort:
 	for (uint32_t t = 0; t < b->ntopics; t++) {
 		struct topic *tp = &b->topics[t];
 		if (tp->count > 1) /* a topic without messages has no array: qsort(NULL) is UB */
@@ -622,6 +791,11 @@ void dao_bag_close(struct dao_bag *b)
 const char *dao_bag_path(const struct dao_bag *b)
 {
 	return b->path;
+}
+
+const char *dao_bag_warning(const struct dao_bag *b)
+{
+	return b->warning[0] ? b->warning : NULL;
 }
 
 uint32_t dao_bag_topic_count(const struct dao_bag *b)

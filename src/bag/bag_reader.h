@@ -7,7 +7,7 @@
  * chunks stored uncompressed, bz2 or lz4 (the LZ4 frame format of roslz4).
  * Opening reads the bag header, the connection and chunk info records at
  * its index position and the index data records after every chunk, never
- * the chunks themselves: a topic's messages are then read in time order, by
+ * the chunks themselves (a bag without an index is scanned instead): a topic's messages are then read in time order, by
  * position, each from its (decompressed, cached) chunk.  Every length and
  * offset is checked against its record and the file; errors name the file
  * and the byte offset.  One thread at a time per reader.
@@ -27,13 +27,19 @@ struct dao_bag_topic {
 /*
  * Opens `path`.  A chunk larger than `max_chunk` bytes (uncompressed) is
  * refused when it is read.  -ENOENT/-EACCES (cannot open), -EINVAL (not a
- * bag, corrupt, not indexed), -EIO, -ENOMEM.
+ * bag, corrupt, unindexed without a complete chunk), -EIO, -ENOMEM.
  */
 int dao_bag_open(const char *path, uint64_t max_chunk, struct dao_bag **out,
 		 struct dao_error *err);
 void dao_bag_close(struct dao_bag *bag);
 
 const char *dao_bag_path(const struct dao_bag *bag);
+/*
+ * NULL, or a line saying the bag had no index (its recording was not
+ * finished) and how far its chunks could be read: such a bag is read by
+ * scanning its chunks, up to the first one cut short or damaged.
+ */
+const char *dao_bag_warning(const struct dao_bag *bag);
 uint32_t dao_bag_topic_count(const struct dao_bag *bag);
 /* NULL if i >= count. */
 const struct dao_bag_topic *dao_bag_topic(const struct dao_bag *bag, uint32_t i);

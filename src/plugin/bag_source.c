@@ -15,6 +15,8 @@
  * "/device_0/sensor_N/Depth_0/image/data", whose unit is the std_msgs/
  * Float32 "/device_0/sensor_N/option/Depth Units/value".
  *
+ * A bag without an index (a recording that was not finished) is read up
+ * to its last complete chunk, with the reader's warning (info.warning).
  * Frames are the topic's messages in time order; a frame's time is its
  * header stamp, or the time it was recorded when the stamp is 0; real-time
  * playback waits for it (relative to the first frame delivered).
@@ -335,6 +337,8 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	s->info.height = img.height;
 	if ((r = find_camera(s, &u, err)) < 0)
 		goto fail;
+	if (dao_bag_warning(s->bag)) /* an unfinished recording, read as far as it goes */
+		snprintf(s->info.warning, sizeof(s->info.warning), "%s", dao_bag_warning(s->bag));
 	if (opts->start_frame >= s->count) {
 		r = dao_error_set(err, -EINVAL,
 				  "%s: start frame %u is past the end (topic '%s' has %u frames)",

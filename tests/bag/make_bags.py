@@ -16,6 +16,8 @@ computes the same); 0 on the diagonal x == y (no data).  Files written:
                  NaN on the diagonal, lz4 chunks
   two.bag        two 16UC1 topics /cam1/depth/image_raw, /cam2/depth/image_raw
   realsense.bag  the realsense-viewer layout, Depth Units 0.0001, bz2 chunks
+  unindexed.bag  d16_lz4.bag as a crash after frame 2 leaves it: 3 frames (--seeds: 1), chunks
+                 closed, no index (the header's index_pos still 0)
   png/NNNNNN.png and png/camera.json  the frames of d16_*.bag as 16-bit PNGs
 """
 import json
@@ -94,6 +96,21 @@ def write_d16(path, compression):
             b.write("/camera/depth/image_raw", d16(i, stamp(i)), t)
 
 
+def write_unindexed(path, crash_copy):
+    with rosbag.Bag(path, "w", compression="lz4", chunk_threshold=CHUNK) as b:
+        b.write("/camera/depth/camera_info", camera_info(), stamp(0))
+        for i in range(FRAMES):
+            t = stamp(i) + genpy.Duration(0, 3000000)
+            b.write("/camera/color/image_raw", rgb(i, stamp(i)), t)
+            b.write("/camera/depth/image_raw", d16(i, stamp(i)), t)
+            if i == min(2, FRAMES - 2):  # what the disk holds if the writer dies now
+                b.flush()
+                b._file.flush()
+                with open(path, "rb") as f, open(crash_copy, "wb") as out:
+                    out.write(f.read())
+    os.unlink(path)
+
+
 def write_f32_be(path):
     with rosbag.Bag(path, "w", compression="lz4", chunk_threshold=CHUNK) as b:
         b.write("/cam/depth/camera_info", camera_info(), genpy.Time(50, 0))
@@ -150,6 +167,7 @@ def main():
     if not seeds:
         write_two(os.path.join(out, "two.bag"))
     write_realsense(os.path.join(out, "realsense.bag"))
+    write_unindexed(os.path.join(out, "finished.bag"), os.path.join(out, "unindexed.bag"))
     if seeds:
         return
     os.makedirs(os.path.join(out, "png"), exist_ok=True)

@@ -437,6 +437,60 @@ static void test_corrupt_chunk(void **state)
 	assert_non_null(strstr(err.message, "byte "));
 }
 
+/*
+ * A recording that was not finished (no index): its complete chunks are read,
+ * with a warning; cut inside a chunk, the chunks before it.
+ */
+static void test_unindexed(void **state)
+{
+	(void)state;
+	struct dao_source *s = open_bag(bag("unindexed.bag"), NULL);
+	struct dao_source_info in;
+	struct dao_source_frame f;
+	struct dao_error err;
+	dao_source_get_info(s, &in);
+	fprintf(stderr, "unindexed: %s\n", in.warning);
+	assert_non_null(strstr(in.warning, "unindexed.bag is not indexed"));
+	assert_int_equal(in.frame_count, 3);
+	check_camera(&in);
+	for (uint32_t i = 0; i < 3; i++) {
+		assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+		check_d16(&f.depth, i);
+		assert_int_equal(f.depth.timestamp_ns, (100 + (uint64_t)i) * 1000000000u + i * 1000000u);
+	}
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), DAO_SOURCE_EOS);
+	assert_int_equal(dao_source_seek(s, 1, &err), 0);
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+	check_d16(&f.depth, 1);
+	dao_source_close(s);
+
+	/* cut 100 bytes before its end: inside the last chunk (or its index data) */
+	long n;
+	unsigned char *b = slurp(bag("unindexed.bag"), &n);
+	char cut[700];
+	snprintf(cut, sizeof cut, "%s/unindexed-cut.bag", g_dir);
+	spill(cut, b, n - 100);
+	s = open_bag(cut, NULL);
+	dao_source_get_info(s, &in);
+	fprintf(stderr, "unindexed, cut: %s\n", in.warning);
+	assert_non_null(strstr(in.warning, "up to byte "));
+	assert_true(in.frame_count >= 1 && in.frame_count <= 3);
+	for (uint32_t i = 0; i < in.frame_count; i++) {
+		assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+		check_d16(&f.depth, i);
+	}
+	dao_source_close(s);
+	/* cut inside the first chunk: nothing to read */
+	spill(cut, b, 4200);
+	expect_open_error(cut, -EINVAL, "not indexed", "no complete chunk", "byte ", NULL);
+	free(b);
+	/* the indexed bags say nothing */
+	s = open_bag(bag("d16_lz4.bag"), NULL);
+	dao_source_get_info(s, &in);
+	assert_string_equal(in.warning, "");
+	dao_source_close(s);
+}
+
 static void test_not_a_bag(void **state)
 {
 	(void)state;
@@ -556,6 +610,7 @@ int main(void)
 		cmocka_unit_test(test_pixel_limit),
 		cmocka_unit_test(test_truncated),
 		cmocka_unit_test(test_corrupt_chunk),
+		cmocka_unit_test(test_unindexed),
 		cmocka_unit_test(test_not_a_bag),
 		cmocka_unit_test(test_fuzz_corpus),
 		cmocka_unit_test(test_fuzz_regressions),
