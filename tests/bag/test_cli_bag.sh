@@ -44,6 +44,13 @@ for f in 000000 000004; do
 	cmp -s "$WORK/rs-ao/$f.png" "$WORK/png-rs/$f.png" || fail "RealSense: AO $f differs from 0.1 mm PNGs"
 done
 cmp -s "$WORK/rs-ao/000000.png" "$WORK/png-ao/000000.png" && fail "RealSense: the 0.1 mm unit changed nothing"
+# a plain ROS bag's 16UC1 counts take --depth-unit (and ?unit=) like PNGs
+expect_exit 0 "--depth-unit on a bag" -- "$DEPTHAO" process --input "$BAGS/d16_bz2.bag" \
+	--depth-unit 0.0001 --depth-temporal 0 --frames 1 --ao-out "$WORK/unit-opt" --quiet
+expect_exit 0 "?unit= on a bag" -- "$DEPTHAO" process --input "$BAGS/d16_bz2.bag?unit=0.0001" \
+	--depth-temporal 0 --frames 1 --ao-out "$WORK/unit-uri" --quiet
+cmp -s "$WORK/unit-opt/000000.png" "$WORK/png-rs/000000.png" || fail "--depth-unit 0.0001 on a bag"
+cmp -s "$WORK/unit-uri/000000.png" "$WORK/png-rs/000000.png" || fail "?unit=0.0001 on a bag"
 
 # two depth topics: refused with the candidates; ?topic= picks one (--start/--frames by index)
 expect_exit 1 "two topics" -- "$DEPTHAO" process --input "$BAGS/two.bag" --ao-out "$WORK/two" --quiet
