@@ -35,6 +35,8 @@
 /* Record headers are a few fields; a connection's data carries the message definition. */
 #define BAG_MAX_HEADER (1u << 20)
 #define BAG_MAX_CONN_DATA (4u << 20)
+/* Recorders make one connection per topic and publisher: a few hundred at most. */
+#define BAG_MAX_CONNS 4096
 
 enum {
 	OP_MSG_DATA = 0x02,
@@ -79,8 +81,9 @@ struct dao_bag {
 	int fd;
 	uint64_t size;
 	uint64_t max_chunk;
-	struct conn *conns;
+	struct conn *conns; /* sorted by id */
 	uint32_t nconns;
+	uint64_t index_pos;  /* 0 for an unindexed bag */
 	struct topic *topics;
 	uint32_t ntopics;
 	struct chunk *chunks;
@@ -287,12 +290,24 @@ static int missing(const struct dao_bag *b, const struct rec *r, const char *wha
 			     b->path, (unsigned long long)r->pos, r->op, what);
 }
 
+/* The first of b->conns whose id is >= id (binary search). */
+static uint32_t conn_slot(const struct dao_bag *b, uint32_t id)
+{
+	uint32_t lo = 0, hi = b->nconns;
+	while (lo < hi) {
+		uint32_t mid = lo + (hi - lo) / 2;
+		if (b->conns[mid].id < id)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	return lo;
+}
+
 static struct conn *find_conn(struct dao_bag *b, uint32_t id)
 {
-	for (uint32_t i = 0; i < b->nconns; i++)
-		if (b->conns[i].id == id)
-			return &b->conns[i];
-	return NULL;
+	uint32_t i = conn_slot(b, id);
+	return i < b->nconns && b->conns[i].id == id ? &b->conns[i] : NULL;
 }
 
 /*
@@ -340,6 +355,11 @@ static int add_conn_typed(struct dao_bag *b, const struct rec *r, char *type,
 			  struct dao_error *err)
 {
 	uint32_t t;
+	if (b->nconns >= BAG_MAX_CONNS) {
+		free(type);
+		return dao_error_set(err, -EINVAL, "%s: byte %llu: more than %u connections",
+				     b->path, (unsigned long long)r->pos, BAG_MAX_CONNS);
+	}
 	for (t = 0; t < b->ntopics; t++)
 		if (!strcmp(b->topics[t].name, r->topic) && !strcmp(b->topics[t].type, type))
 			break;
@@ -360,8 +380,10 @@ static int add_conn_typed(struct dao_bag *b, const struct rec *r, char *type,
 	if (!nc)
 		return dao_error_set(err, -ENOMEM, "out of memory reading %s", b->path);
 	b->conns = nc;
-	nc[b->nconns].id = r->conn;
-	nc[b->nconns].topic = t;
+	uint32_t at = conn_slot(b, r->conn);
+	memmove(&nc[at + 1], &nc[at], (b->nconns - at) * sizeof(*nc));
+	nc[at].id = r->conn;
+	nc[at].topic = t;
 	b->nconns++;
 	return 0;
 oom:
@@ -466,6 +488,16 @@ static int add_chunk(struct dao_bag *b, const struct rec *info, struct dao_error
 				     "of op 0x%02x, not a chunk",
 				     b->path, (unsigned long long)r.pos,
 				     (unsigned long long)info->pos, r.op);
+	/* chunks in file order, apart, before the index: each index entry is read once */
+	uint64_t after = b->nchunks ? b->chunks[b->nchunks - 1].data_pos +
+					      b->chunks[b->nchunks - 1].data_len
+				    : 0;
+	if (r.pos < after || r.data_pos + r.data_len > b->index_pos)
+		return dao_error_set(err, -EINVAL,
+				     "%s: byte %llu: the chunk info at byte %llu points to a chunk "
+				     "that overlaps another one or the index",
+				     b->path, (unsigned long long)r.pos,
+				     (unsigned long long)info->pos);
 	uint32_t ci = 0;
 	if ((ret = add_chunk_record(b, &r, &ci, err)) < 0)
 		return ret;
@@ -683,6 +715,7 @@ static int load_index(struct dao_bag *b, struct dao_error *err)
 		return missing(b, &r, "index_pos", err);
 	uint32_t want_conns = r.conn_count, want_chunks = r.chunk_count;
 	uint64_t first = r.data_pos + r.data_len;
+	b->index_pos = r.index_pos;
 	if (r.index_pos == 0) {
 		if ((ret = scan_unindexed(b, first, err)) < 0)
 			return ret;

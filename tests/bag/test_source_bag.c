@@ -418,6 +418,21 @@ static void test_corrupt_chunk(void **state)
 	assert_non_null(strstr(err.message, "byte "));
 	assert_non_null(strstr(err.message, "the lz4 chunk does not decompress"));
 
+	/*
+	 * two chunk infos naming the same chunk: its index entries would be read
+	 * twice (a file of N such infos makes N x M entries of M)
+	 */
+	b = slurp(bag("d16_none.bag"), &n);
+	long c1 = find(b, n, "chunk_pos=", 0), c2 = c1 < 0 ? -1 : find(b, n, "chunk_pos=", c1 + 1);
+	assert_true(c1 > 0 && c2 > c1);
+	memcpy(b + c2 + 10, b + c1 + 10, 8);
+	spill(bad, b, n);
+	free(b);
+	r = dao_source_open(g_plugins, bad, NULL, &s, &err);
+	fprintf(stderr, "chunk named twice: %s\n", err.message);
+	assert_int_equal(r, -EINVAL);
+	assert_non_null(strstr(err.message, "overlaps another one"));
+
 	/* an index entry pointing outside its chunk */
 	b = slurp(bag("d16_none.bag"), &n);
 	long ix = find(b, n, "op=\x04", 0);
