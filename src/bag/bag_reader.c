@@ -84,6 +84,7 @@ struct dao_bag {
 	struct conn *conns; /* sorted by id */
 	uint32_t nconns;
 	uint64_t index_pos;  /* 0 for an unindexed bag */
+	uint64_t scanned;    /* messages found by scanning chunks */
 	struct topic *topics;
 	uint32_t ntopics;
 	struct chunk *chunks;
@@ -415,10 +416,20 @@ static int add_connection(struct dao_bag *b, const struct rec *r, struct dao_err
 	return add_conn_typed(b, r, type, err);
 }
 
-/* Appends an entry to the topic of connection `conn`. */
+/*
+ * Appends an entry to the topic of connection `conn` (scanning a chunk).  An
+ * index costs 12 bytes of file per message; scanned chunks, decompressed,
+ * could name far more: at most a message per 4 bytes of file (or 2^20).
+ */
 static int add_entry(struct dao_bag *b, uint32_t conn, uint64_t time_ns, uint32_t chunk,
 		     uint32_t offset, uint64_t where, struct dao_error *err)
 {
+	uint64_t cap_msgs = b->size / 4 > (1u << 20) ? b->size / 4 : (1u << 20);
+	if (++b->scanned > cap_msgs)
+		return dao_error_set(err, -EINVAL,
+				     "%s: byte %llu: more than %llu messages in the chunks of a %llu "
+				     "byte file", b->path, (unsigned long long)where,
+				     (unsigned long long)cap_msgs, (unsigned long long)b->size);
 	struct conn *cn = find_conn(b, conn);
 	if (!cn)
 		return dao_error_set(err, -EINVAL,
