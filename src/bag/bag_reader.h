@@ -7,8 +7,9 @@
  * chunks stored uncompressed, bz2 or lz4 (the LZ4 frame format of roslz4).
  * Opening reads the bag header, the connection and chunk info records at
  * its index position and the index data records after every chunk, never
- * the chunks themselves (a bag without an index is scanned instead): a topic's messages are then read in time order, by
- * position, each from its (decompressed, cached) chunk.  Every length and
+ * the chunks themselves (a bag without an index is scanned instead): a
+ * topic's messages are then read in time order, by position, each from its
+ * (decompressed, cached) chunk.  Every length and
  * offset is checked against its record and the file; errors name the file
  * and the byte offset.  One thread at a time per reader.
  */

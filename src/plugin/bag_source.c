@@ -54,7 +54,10 @@ struct bag_source {
 	uint64_t ts_start_us;
 };
 
-/* Splits "FILE.bag?topic=T&unit=M" into its parts; the query starts at the last "?topic=" or "?unit=". */
+/*
+ * "FILE.bag?topic=T&unit=M" in parts; the options start at the last "?topic="
+ * or "?unit=" (a file name may hold a '?').
+ */
 struct bag_uri {
 	char *path;
 	char topic[256];
@@ -229,7 +232,7 @@ static int first_message(struct dao_bag *bag, const char *topic, const char *typ
 	return dao_bag_read_message(bag, (uint32_t)t, 0, d, n, NULL, err);
 }
 
-/* Intrinsics from the CameraInfo beside the depth topic, if there is one; and the RealSense unit. */
+/* Intrinsics from the CameraInfo beside the depth topic, if there is one; the unit. */
 static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao_error *err)
 {
 	const char *topic = dao_bag_topic(s->bag, s->topic)->name;

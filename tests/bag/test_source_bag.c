@@ -81,7 +81,8 @@ static void check_d16(const struct dao_frame *d, uint32_t i)
 	assert_int_equal(d->width, W);
 	assert_int_equal(d->height, H);
 	for (uint32_t y = 0; y < H; y++) {
-		const uint16_t *row = (const uint16_t *)((const uint8_t *)d->data + (size_t)y * (size_t)d->stride);
+		const uint16_t *row = (const uint16_t *)((const uint8_t *)d->data +
+							 (size_t)y * (size_t)d->stride);
 		for (uint32_t x = 0; x < W; x++)
 			if (row[x] != depth_count(x, y, i)) {
 				fprintf(stderr, "frame %u (%u, %u): %u, want %u\n", i, x, y, row[x],
@@ -345,7 +346,7 @@ static void spill(const char *path, const unsigned char *b, long n)
 	assert_int_equal(fclose(f), 0);
 }
 
-/* Truncated anywhere, a bag is an error naming the file (and the byte when it is about a record). */
+/* Truncated anywhere, a bag is an error naming the file (and the byte, for a record). */
 static void test_truncated(void **state)
 {
 	(void)state;
