@@ -612,7 +612,8 @@ int main(void)
 		return 77; /* python3-rosbag is not installed: the script said so */
 	if (WEXITSTATUS(st) != 0)
 		return 1;
-	if (dao_plugins_load(&g_plugins, "", &err) < 0)
+	/* the bags' directory as the module path: no modules there, the built-ins only */
+	if (dao_plugins_load(&g_plugins, g_dir, &err) < 0)
 		return 1;
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_uncompressed),
