@@ -20,12 +20,12 @@ DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
 PACKAGES=(
 	meson ninja-build pkg-config gcc g++
-	libpng-dev libjson-c-dev libcmocka-dev
+	libpng-dev libjson-c-dev libcmocka-dev liblz4-dev libbz2-dev
 	libopencv-dev libopencv-contrib-dev
 	libopenni2-dev libv4l-dev libcamera-dev
 	libsystemd-dev systemd groff-base man-db
 	xvfb xauth
-	python3 python3-numpy python3-pytest
+	python3 python3-numpy python3-pytest python3-rosbag python3-sensor-msgs
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 )
@@ -154,10 +154,10 @@ sanitized_tests() {
 			-Db_lundef=false -Dwerror=true >/dev/null
 	fi
 	ninja -C "$dir" >/dev/null
-	say "sanitizers: the oni, plugin and daemon suites under ASan + UBSan"
+	say "sanitizers: the oni, plugin, bag and daemon suites under ASan + UBSan"
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
 		LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" \
-		meson test -C "$dir" --suite oni --suite plugin --suite daemon --print-errorlogs
+		meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --print-errorlogs
 }
 
 case "${1:-}" in

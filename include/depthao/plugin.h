@@ -9,7 +9,8 @@
  * directories of $DEPTHAO_PLUGIN_PATH (colon-separated; for tests and
  * development), then in the install directory; the first module with a
  * given name wins.  Sources that need no extra dependency are built into
- * the library: sources "oni" (.oni recordings through depthao's own reader)
+ * the library: sources "oni" (.oni recordings through depthao's own reader),
+ * "bag" (ROS 1 bags and RealSense .bag recordings, FILE.bag[?topic=T][&unit=M])
  * and "images" (a 16-bit depth PNG or a directory of them, in name order);
  * sinks "images" (numbered PNGs), "y4m" (YUV4MPEG2 to a file, FIFO or
  * stdout) and "oni" (the .oni recorder).
@@ -64,6 +65,9 @@ struct dao_source_info {
 	char description[160];      /* one line for logs: device or file, format, codec */
 	char warning[256];          /* empty, or a line to show as a warning (e.g. a
 				       recording recovered after its writer crashed) */
+	int has_intrinsics;         /* fx, fy, cx, cy are known (a ROS CameraInfo); they
+				       describe the camera better than hfov/vfov */
+	double fx, fy, cx, cy;      /* pixels */
 };
 
 /* How a recording is played; live sources ignore what does not apply. */
@@ -213,7 +217,8 @@ struct dao_source;
 
 /*
  * Opens a source.  `uri` is "NAME:REST" for plugin NAME, or anything else to
- * pick the source that probes best (a path ending in .oni -> "oni").
+ * pick the source that probes best (a path ending in .oni -> "oni", .bag ->
+ * "bag").
  * Unknown plugin names are -ENOENT with the list of available sources.
  */
 DAO_API int dao_source_open(const struct dao_plugins *plugins, const char *uri,

@@ -161,7 +161,10 @@ class dao_source_info(ctypes.Structure):
                 ("registered", ctypes.c_int), ("has_color", ctypes.c_int),
                 ("color_width", ctypes.c_uint32), ("color_height", ctypes.c_uint32),
                 ("description", ctypes.c_char * 160),
-                ("warning", ctypes.c_char * 256)]
+                ("warning", ctypes.c_char * 256),
+                ("has_intrinsics", ctypes.c_int),
+                ("fx", ctypes.c_double), ("fy", ctypes.c_double),
+                ("cx", ctypes.c_double), ("cy", ctypes.c_double)]
 
 
 class dao_source_options(ctypes.Structure):

@@ -137,6 +137,9 @@ class Source:
             "registered": bool(info.registered),
             "description": _lib.text(info.description),
             "warning": _lib.text(info.warning) or None,
+            # (fx, fy, cx, cy) in pixels when the source knows them (a bag's CameraInfo)
+            "intrinsics": ((info.fx, info.fy, info.cx, info.cy) if info.has_intrinsics
+                           else None),
         }
         if self.info["warning"]:
             # e.g. a recording whose writer crashed, recovered up to its last frame
@@ -148,8 +151,13 @@ class Source:
             raise
 
     def camera(self, hfov=None, vfov=None):
-        """The Camera of this stream from its field of view (or the one given,
-        radians); ValueError if the source does not know it (PNG images)."""
+        """The Camera of this stream: its intrinsics when the source has them
+        (a bag's CameraInfo) and no field of view is given, else from its field
+        of view (or the one given, radians); ValueError if the source knows
+        neither (PNG images)."""
+        k = self.info["intrinsics"]
+        if k is not None and hfov is None and vfov is None:
+            return Camera(k[0], k[1], k[2], k[3], self.info["width"], self.info["height"])
         hfov = self.info["hfov"] if hfov is None else hfov
         vfov = self.info["vfov"] if vfov is None else vfov
         if hfov is None or vfov is None:

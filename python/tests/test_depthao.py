@@ -496,6 +496,29 @@ def test_unfinished_recording(tmp_path, oni_frames):
         assert src.info["warning"] is None
 
 
+def test_ros_bag(tmp_path):
+    """A ROS bag written by rosbag's own writer (tests/bag/make_bags.py): frames,
+    and the camera from its CameraInfo."""
+    script = os.path.join(SOURCE_ROOT, "tests", "bag", "make_bags.py")
+    r = subprocess.run(["/usr/bin/python3", script, str(tmp_path)], capture_output=True,
+                       text=True)
+    if r.returncode == 77:
+        pytest.skip(r.stdout.strip())
+    assert r.returncode == 0, r.stderr
+    ys, xs = np.mgrid[0:48, 0:64]
+    with depthao.open(str(tmp_path / "d16_lz4.bag")) as src:
+        assert src.frame_count == 5
+        assert src.info["intrinsics"] == (60.0, 61.0, 31.5, 23.25)
+        cam = src.camera()
+        assert (cam.fx, cam.fy, cam.cx, cam.cy) == (60.0, 61.0, 31.5, 23.25)
+        for i, d, info in src:
+            want = np.where(xs == ys, 0, 500 + 7 * xs + 13 * ys + 100 * i).astype(np.uint16)
+            assert np.array_equal(d, want)
+            assert info["timestamp_ns"] == (100 + i) * 10**9 + i * 10**6
+    with pytest.raises(Exception, match="choose one with"):
+        depthao.open(str(tmp_path / "two.bag"))
+
+
 def test_realtime_playback():
     t0 = time.monotonic()
     n = sum(1 for _ in depthao.open(ONI, playback="realtime", start=12))

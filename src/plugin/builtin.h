@@ -10,6 +10,7 @@ extern const struct dao_plugin *const dao_builtin_plugins[];
 extern const struct dao_plugin dao_builtin_oni_plugin;
 extern const struct dao_plugin dao_builtin_images_plugin;
 extern const struct dao_plugin dao_builtin_y4m_plugin;
+extern const struct dao_plugin dao_builtin_bag_plugin;
 
 /*
  * The built-in file sources' open with a pixel limit (width x height of the
@@ -19,6 +20,8 @@ extern const struct dao_plugin dao_builtin_y4m_plugin;
 int dao_images_source_open(const char *uri, const struct dao_source_options *opts,
 			   uint64_t max_pixels, void **state, struct dao_error *err);
 int dao_oni_source_open(const char *uri, const struct dao_source_options *opts,
+			uint64_t max_pixels, void **state, struct dao_error *err);
+int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			uint64_t max_pixels, void **state, struct dao_error *err);
 
 /* Sinks of the plugins above whose source lives in another file. */

@@ -138,7 +138,8 @@ static int scan_dir(struct dao_plugins *p, const char *dir)
 		sprintf(names[n++], "%s/%s", dir, e->d_name);
 	}
 	closedir(d);
-	qsort(names, n, sizeof(*names), cmp_str); /* deterministic order */
+	if (n > 1) /* a directory without modules leaves names NULL: qsort(NULL) is UB */
+		qsort(names, n, sizeof(*names), cmp_str); /* deterministic order */
 	for (size_t i = 0; i < n; i++) {
 		if (ret == 0)
 			ret = load_module(p, names[i]);

@@ -21,7 +21,8 @@ denoise: core simd
 shade: core simd
 io: core
 oni: core io
-plugin: core io oni
+bag: core
+plugin: core io oni bag
 pipeline: core simd camera params depth normals kernels denoise shade
 synth: core
 '

@@ -53,7 +53,8 @@ static void usage(FILE *out)
 		"  --realtime                recordings: pace frames by their timestamps\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
-		"  --depth-unit M            PNG input: metres per count (default 0.001; TUM: 0.0002);\n"
+		"  --depth-unit M            PNG input and 16-bit bag topics: metres per count\n"
+		"                            (default 0.001; TUM: 0.0002); .oni and RealSense\n"
 		"                            recordings carry their own unit\n"
 		"  --max-pixels N|WxH        largest depth image decoded from a file, in pixels\n"
 		"                            (default 4096x4096); larger PNGs and recordings are\n"
@@ -61,7 +62,8 @@ static void usage(FILE *out)
 		"  --intrinsics FX,FY,CX,CY  pinhole intrinsics in pixels\n"
 		"  --fov H,V                 field of view in degrees (OpenNI style)\n"
 		"  --intrinsics-file FILE    Open3D camera JSON (width, height, intrinsic_matrix)\n"
-		"                            without any of these: the recording's field of view,\n"
+		"                            without any of these: the recording's intrinsics (a\n"
+		"                            bag's CameraInfo) or field of view,\n"
 		"                            or camera.json beside PNG input, else a %.1f x %.1f\n"
 		"                            degree field of view\n"
 		"  --quality Q               preset: low, medium, high, ultra, default (= medium)\n"
@@ -271,6 +273,14 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 	}
 	if (o->fov) {
 		dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, NULL);
+		return 0;
+	}
+	if (src && src->has_intrinsics && !o->intrinsics_file) {
+		if (dao_camera_from_intrinsics(cam, w, h, src->fx, src->fy, src->cx, src->cy, &err))
+			return usage_error("process", "the source's intrinsics: %s", err.message);
+		if (!o->quiet)
+			fprintf(stderr, "depthao: intrinsics from the source: fx %.2f fy %.2f cx %.2f "
+				"cy %.2f\n", src->fx, src->fy, src->cx, src->cy);
 		return 0;
 	}
 	if (src && src->has_fov && !o->intrinsics_file) {

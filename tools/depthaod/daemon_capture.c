@@ -12,8 +12,8 @@
 
 /*
  * 1 if the source URI names something on disk (a recording, a depth PNG, a
- * directory of them) rather than a device: "oni:" and "images:" URIs, any URI
- * whose path ends in .oni or .png, and paths outside /dev without a plugin
+ * directory of them) rather than a device: "oni:", "bag:" and "images:" URIs, any
+ * URI whose path ends in .oni, .bag or .png, and paths outside /dev without a plugin
  * prefix.  Such a source must open at start; a device may be plugged in later.
  */
 static int source_names_file(const char *uri)
@@ -23,11 +23,13 @@ static int source_names_file(const char *uri)
 	       uri[p] == '-' || uri[p] == '_')
 		p++;
 	int prefixed = p > 1 && uri[p] == ':'; /* as the plugin registry reads a prefix */
-	if (prefixed && ((p == 3 && !strncmp(uri, "oni", 3)) || (p == 6 && !strncmp(uri, "images", 6))))
+	if (prefixed && ((p == 3 && (!strncmp(uri, "oni", 3) || !strncmp(uri, "bag", 3))) ||
+			 (p == 6 && !strncmp(uri, "images", 6))))
 		return 1;
 	const char *rest = prefixed ? uri + p + 1 : uri;
 	size_t n = strcspn(rest, "?");
-	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".png", 4)))
+	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".bag", 4) ||
+		      !strncasecmp(rest + n - 4, ".png", 4)))
 		return 1;
 	return !prefixed && memchr(rest, '/', n) && strncmp(rest, "/dev/", 5) != 0;
 }

@@ -20,6 +20,8 @@ static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_came
 	pthread_mutex_lock(&d->lock);
 	struct dao_source_info in = d->src_info;
 	pthread_mutex_unlock(&d->lock);
+	if (in.has_intrinsics)
+		return dao_camera_from_intrinsics(cam, w, h, in.fx, in.fy, in.cx, in.cy, &err);
 	if (in.has_fov)
 		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, &err);
 	log_warn("no intrinsics: the source has no field of view and the config gives none; "

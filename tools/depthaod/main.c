@@ -47,7 +47,7 @@ static void usage(FILE *out)
 		"\n"
 		"  -c, --config FILE       INI file: [source], [ao], [sink.NAME]..., [daemon]\n"
 		"  --check-config FILE     validate FILE (and the options) and exit: 0 ok, 2 errors\n"
-		"  --source URI            [source] uri: FILE.oni, images:DIR, openni2:any, ...\n"
+		"  --source URI            [source] uri: FILE.oni, FILE.bag, images:DIR, openni2:any, ...\n"
 		"  --playback MODE         [source] playback: realtime (default) or manual\n"
 		"  --loop                  [source] loop = true\n"
 		"  --sink [NAME=]URI       a sink: images:DIR, y4m:- (stdout), y4m:FIFO, oni:FILE.oni\n"

@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: MIT */
+/* Deserializing sensor_msgs/Image, sensor_msgs/CameraInfo and std_msgs/Float32. */
+#include "bag/ros_msg.h"
+
+#include <errno.h>
+#include <string.h>
+
+struct cursor {
+	const uint8_t *p;
+	uint32_t left;
+	int bad;
+};
+
+static const uint8_t *take(struct cursor *c, uint32_t n)
+{
+	if (c->bad || n > c->left) {
+		c->bad = 1;
+		return NULL;
+	}
+	const uint8_t *p = c->p;
+	c->p += n;
+	c->left -= n;
+	return p;
+}
+
+static uint32_t u32(struct cursor *c)
+{
+	const uint8_t *p = take(c, 4);
+	return p ? (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
+			   (uint32_t)p[3] << 24
+		 : 0;
+}
+
+static double f64(struct cursor *c)
+{
+	const uint8_t *p = take(c, 8);
+	uint64_t v = 0;
+	double d;
+	for (int i = 7; p && i >= 0; i--)
+		v = v << 8 | p[i];
+	memcpy(&d, &v, sizeof(d));
+	return d;
+}
+
+/* A string or uint8[]: its bytes, *n its length. */
+static const uint8_t *bytes(struct cursor *c, uint32_t *n)
+{
+	*n = u32(c);
+	return take(c, *n);
+}
+
+static void header(struct cursor *c, struct dao_ros_header *h)
+{
+	uint32_t n;
+	h->seq = u32(c);
+	uint64_t sec = u32(c);
+	h->stamp_ns = sec * 1000000000u + u32(c);
+	(void)bytes(c, &n); /* frame_id */
+}
+
+int dao_ros_image_parse(const uint8_t *msg, uint32_t len, struct dao_ros_image *img)
+{
+	struct cursor c = {msg, len, 0};
+	uint32_t n;
+	memset(img, 0, sizeof(*img));
+	header(&c, &img->header);
+	img->height = u32(&c);
+	img->width = u32(&c);
+	const uint8_t *enc = bytes(&c, &n);
+	if (enc && n < sizeof(img->encoding) && !memchr(enc, 0, n))
+		memcpy(img->encoding, enc, n);
+	else
+		c.bad = 1;
+	const uint8_t *be = take(&c, 1);
+	img->is_bigendian = be ? be[0] : 0;
+	img->step = u32(&c);
+	img->data = bytes(&c, &img->data_len);
+	return c.bad ? -EINVAL : 0;
+}
+
+int dao_ros_camera_info_parse(const uint8_t *msg, uint32_t len, struct dao_ros_camera_info *ci)
+{
+	struct cursor c = {msg, len, 0};
+	uint32_t n;
+	memset(ci, 0, sizeof(*ci));
+	header(&c, &ci->header);
+	ci->height = u32(&c);
+	ci->width = u32(&c);
+	(void)bytes(&c, &n); /* distortion_model */
+	ci->distortion_count = u32(&c);
+	if (ci->distortion_count > c.left / 8)
+		return -EINVAL;
+	for (uint32_t i = 0; i < ci->distortion_count; i++)
+		if (f64(&c) != 0.0)
+			ci->distorted = 1;
+	for (int i = 0; i < 9; i++)
+		ci->k[i] = f64(&c);
+	return c.bad ? -EINVAL : 0; /* R, P, binning and roi follow: not needed */
+}
+
+int dao_ros_float32_parse(const uint8_t *msg, uint32_t len, float *value)
+{
+	if (len != 4)
+		return -EINVAL;
+	uint32_t v = (uint32_t)msg[0] | (uint32_t)msg[1] << 8 | (uint32_t)msg[2] << 16 |
+		     (uint32_t)msg[3] << 24;
+	memcpy(value, &v, sizeof(*value));
+	return 0;
+}

@@ -1,0 +1,528 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Built-in source "bag": depth images from a ROS 1 bag (format 2.0) through
+ * depthao's own reader (bag/bag_reader.c).  URI: FILE.bag[?topic=T][&unit=M]
+ * (also "?unit=M" alone).
+ *
+ * The depth topic is a sensor_msgs/Image topic whose encoding is 16UC1 or
+ * mono16 (counts of `unit` metres: ?unit=, else the RealSense option topic
+ * below, else the caller's depth_unit, else 0.001) or 32FC1 (metres; NaN
+ * and 0 are no data).  With one such topic it is taken; with several,
+ * ?topic= chooses (the error lists them).  The intrinsics come from the
+ * first sensor_msgs/CameraInfo of the topic's namespace: ".../camera_info"
+ * beside ".../image_raw", or for a RealSense recording (realsense-viewer,
+ * rs-record) "/device_0/sensor_N/Depth_0/info/camera_info" beside
+ * "/device_0/sensor_N/Depth_0/image/data", whose unit is the std_msgs/
+ * Float32 "/device_0/sensor_N/option/Depth Units/value".
+ *
+ * A bag without an index (a recording that was not finished) is read up
+ * to its last complete chunk, with the reader's warning (info.warning).
+ * Frames are the topic's messages in time order; a frame's time is its
+ * header stamp, or the time it was recorded when the stamp is 0; real-time
+ * playback waits for it (relative to the first frame delivered).
+ */
+#include <depthao/plugin.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "core/clock.h"
+#include "bag/bag_reader.h"
+#include "bag/ros_msg.h"
+#include "core/error_internal.h"
+#include "plugin/builtin.h"
+
+#define BAG_MAX_QUERY 512
+
+struct bag_source {
+	struct dao_bag *bag;
+	uint32_t topic;
+	uint32_t count;
+	struct dao_source_options opts;
+	struct dao_source_info info;
+	char encoding[32];
+	int is_float;
+	float unit;
+	struct dao_frame depth;
+	uint64_t next;
+	int paced;
+	uint64_t clock_start_ns;
+	uint64_t ts_start_us;
+};
+
+/*
+ * "FILE.bag?topic=T&unit=M" in parts; the options start at the last "?topic="
+ * or "?unit=" (a file name may hold a '?').
+ */
+struct bag_uri {
+	char *path;
+	char topic[256];
+	float unit;
+};
+
+static const char *query_start(const char *uri)
+{
+	const char *q = NULL;
+	for (const char *p = strchr(uri, '?'); p; p = strchr(p + 1, '?'))
+		if (!strncmp(p + 1, "topic=", 6) || !strncmp(p + 1, "unit=", 5))
+			q = p;
+	return q;
+}
+
+static int has_bag_suffix(const char *s, size_t n)
+{
+	return n > 4 && !strncasecmp(s + n - 4, ".bag", 4);
+}
+
+static int bag_probe(const char *uri)
+{
+	const char *q = query_start(uri);
+	return has_bag_suffix(uri, q ? (size_t)(q - uri) : strlen(uri)) ? 60 : 0;
+}
+
+static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
+{
+	const char *q = query_start(uri);
+	size_t plen = q ? (size_t)(q - uri) : strlen(uri);
+	memset(u, 0, sizeof(*u));
+	if (!(u->path = strndup(uri, plen)))
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	if (!q)
+		return 0;
+	char query[BAG_MAX_QUERY];
+	if (strlen(q + 1) >= sizeof(query))
+		return dao_error_set(err, -EINVAL, "bag: the options '%s' are too long", q + 1);
+	snprintf(query, sizeof(query), "%s", q + 1);
+	char *save = NULL;
+	for (char *kv = strtok_r(query, "&", &save); kv; kv = strtok_r(NULL, "&", &save)) {
+		char *end;
+		if (!strncmp(kv, "topic=", 6) && kv[6] && strlen(kv + 6) < sizeof(u->topic)) {
+			snprintf(u->topic, sizeof(u->topic), "%s", kv + 6);
+		} else if (!strncmp(kv, "unit=", 5)) {
+			double v = strtod(kv + 5, &end);
+			if (end == kv + 5 || *end || !(v > 0 && v <= 1))
+				return dao_error_set(err, -EINVAL,
+						     "bag: unit '%s' must be metres per count in (0, 1]",
+						     kv + 5);
+			u->unit = (float)v;
+		} else {
+			return dao_error_set(err, -EINVAL,
+					     "bag: unknown option '%s' (known: topic=NAME, unit=METRES)",
+					     kv);
+		}
+	}
+	return 0;
+}
+
+/* A depth encoding: 1 for 16-bit counts, 2 for float metres, 0 otherwise. */
+static int depth_kind(const char *enc)
+{
+	if (!strcmp(enc, "16UC1") || !strcmp(enc, "mono16"))
+		return 1;
+	if (!strcmp(enc, "32FC1"))
+		return 2;
+	return 0;
+}
+
+static int is_image_topic(const struct dao_bag_topic *t)
+{
+	return !strcmp(t->type, "sensor_msgs/Image") && t->message_count > 0;
+}
+
+/* The first message of an image topic, parsed; -EINVAL with a message if it is not one. */
+static int first_image(struct dao_bag *bag, uint32_t t, struct dao_ros_image *img,
+		       struct dao_error *err)
+{
+	const uint8_t *d;
+	uint32_t n;
+	int r = dao_bag_read_message(bag, t, 0, &d, &n, NULL, err);
+	if (r < 0)
+		return r;
+	if (dao_ros_image_parse(d, n, img) < 0)
+		return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
+				     "sensor_msgs/Image", dao_bag_path(bag),
+				     dao_bag_topic(bag, t)->name);
+	return 0;
+}
+
+/* Appends "name (encoding)" to a list. */
+static void list_add(char *buf, size_t cap, const char *name, const char *enc)
+{
+	size_t len = strlen(buf);
+	if (len + 8 < cap)
+		snprintf(buf + len, cap - len, "%s%s (%s)", len ? ", " : "", name, enc);
+}
+
+static int pick_topic(struct bag_source *s, const struct bag_uri *u, struct dao_ros_image *img,
+		      struct dao_error *err)
+{
+	struct dao_bag *bag = s->bag;
+	const char *path = dao_bag_path(bag);
+	char depth[400] = "", other[400] = "";
+	int found = -1, ndepth = 0, r;
+	if (u->topic[0]) {
+		int t = dao_bag_find_topic(bag, u->topic);
+		if (t < 0 || !is_image_topic(dao_bag_topic(bag, (uint32_t)t)))
+			goto list;
+		if ((r = first_image(bag, (uint32_t)t, img, err)) < 0)
+			return r;
+		if (!depth_kind(img->encoding))
+			return dao_error_set(err, -EINVAL,
+					     "%s: topic '%s' has images of encoding '%s', not depth "
+					     "(16UC1, mono16 or 32FC1)", path, u->topic, img->encoding);
+		s->topic = (uint32_t)t;
+		return 0;
+	}
+list:
+	for (uint32_t t = 0; t < dao_bag_topic_count(bag); t++) {
+		const struct dao_bag_topic *tp = dao_bag_topic(bag, t);
+		if (!is_image_topic(tp))
+			continue;
+		struct dao_ros_image im;
+		if ((r = first_image(bag, t, &im, err)) < 0)
+			return r;
+		if (depth_kind(im.encoding)) {
+			list_add(depth, sizeof(depth), tp->name, im.encoding);
+			if (ndepth++ == 0) {
+				found = (int)t;
+				*img = im;
+			}
+		} else {
+			list_add(other, sizeof(other), tp->name, im.encoding);
+		}
+	}
+	if (u->topic[0])
+		return dao_error_set(err, -ENOENT,
+				     "%s: no image topic '%s'; depth topics: %s", path, u->topic,
+				     ndepth ? depth : "none");
+	if (ndepth == 0)
+		return dao_error_set(err, -EINVAL,
+				     "%s: no depth image topic (sensor_msgs/Image in 16UC1, mono16 or "
+				     "32FC1); image topics: %s", path, other[0] ? other : "none");
+	if (ndepth > 1)
+		return dao_error_set(err, -EINVAL,
+				     "%s: %d depth topics, choose one with ?topic=NAME: %s", path,
+				     ndepth, depth);
+	s->topic = (uint32_t)found;
+	return 0;
+}
+
+/* "/device_0/sensor_1/Depth_0/image/data" -> its prefix length up to "/Depth_0", or 0. */
+static size_t realsense_stream_prefix(const char *topic)
+{
+	size_t n = strlen(topic);
+	static const char tail[] = "/image/data";
+	if (strncmp(topic, "/device_", 8) || n <= sizeof(tail) - 1 ||
+	    strcmp(topic + n - (sizeof(tail) - 1), tail))
+		return 0;
+	return n - (sizeof(tail) - 1);
+}
+
+static int first_message(struct dao_bag *bag, const char *topic, const char *type,
+			 const uint8_t **d, uint32_t *n, struct dao_error *err)
+{
+	int t = dao_bag_find_topic(bag, topic);
+	if (t < 0 || strcmp(dao_bag_topic(bag, (uint32_t)t)->type, type) ||
+	    dao_bag_topic(bag, (uint32_t)t)->message_count == 0)
+		return 1; /* not there */
+	return dao_bag_read_message(bag, (uint32_t)t, 0, d, n, NULL, err);
+}
+
+/* Intrinsics from the CameraInfo beside the depth topic, if there is one; the unit. */
+static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao_error *err)
+{
+	const char *topic = dao_bag_topic(s->bag, s->topic)->name;
+	const char *path = dao_bag_path(s->bag);
+	char name[600];
+	const uint8_t *d;
+	uint32_t n;
+	int r;
+	size_t rs = realsense_stream_prefix(topic);
+	if (rs) {
+		snprintf(name, sizeof(name), "%.*s/info/camera_info", (int)rs, topic);
+	} else {
+		const char *slash = strrchr(topic, '/');
+		snprintf(name, sizeof(name), "%.*s/camera_info", (int)(slash ? slash - topic : 0),
+			 topic);
+	}
+	if ((r = first_message(s->bag, name, "sensor_msgs/CameraInfo", &d, &n, err)) < 0)
+		return r;
+	if (r == 0) {
+		struct dao_ros_camera_info ci;
+		if (dao_ros_camera_info_parse(d, n, &ci) < 0)
+			return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
+					     "sensor_msgs/CameraInfo", path, name);
+		const double *k = ci.k;
+		if (ci.width != s->info.width || ci.height != s->info.height) {
+			snprintf(s->info.warning, sizeof(s->info.warning),
+				 "%.150s is for %ux%u images, the depth is %ux%u: not used", name,
+				 ci.width, ci.height, s->info.width, s->info.height);
+		} else if (!(k[0] > 0 && k[4] > 0 && isfinite(k[0]) && isfinite(k[4]) &&
+			     isfinite(k[2]) && isfinite(k[5]))) {
+			snprintf(s->info.warning, sizeof(s->info.warning),
+				 "%.150s has no usable K (fx %g, fy %g): not used", name, k[0], k[4]);
+		} else {
+			s->info.has_intrinsics = 1;
+			s->info.fx = k[0];
+			s->info.fy = k[4];
+			s->info.cx = k[2];
+			s->info.cy = k[5];
+			s->info.has_fov = 1;
+			s->info.hfov = 2.0 * atan(s->info.width / (2.0 * k[0]));
+			s->info.vfov = 2.0 * atan(s->info.height / (2.0 * k[4]));
+			if (ci.distorted)
+				snprintf(s->info.warning, sizeof(s->info.warning),
+					 "%.150s has lens distortion; the depth is used as it is "
+					 "(rectify it for exact geometry)", name);
+		}
+	}
+	s->unit = u->unit;
+	if (rs && !s->unit) {
+		/* "/device_0/sensor_1" of ".../sensor_1/Depth_0" */
+		const char *cut = topic + rs;
+		while (cut > topic && cut[-1] != '/')
+			cut--;
+		snprintf(name, sizeof(name), "%.*s/option/Depth Units/value",
+			 (int)(cut > topic ? cut - topic - 1 : 0), topic);
+		if ((r = first_message(s->bag, name, "std_msgs/Float32", &d, &n, err)) < 0)
+			return r;
+		float v;
+		if (r == 0 && (dao_ros_float32_parse(d, n, &v) < 0 || !(v > 0 && v <= 1)))
+			return dao_error_set(err, -EINVAL, "%s: '%s' is not a unit in (0, 1] metres",
+					     path, name);
+		if (r == 0)
+			s->unit = v;
+	}
+	if (!s->unit)
+		s->unit = s->opts.depth_unit > 0 ? s->opts.depth_unit : 0.001f;
+	return 0;
+}
+
+int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
+			uint64_t max_pixels, void **state, struct dao_error *err)
+{
+	struct bag_source *s = calloc(1, sizeof(*s));
+	struct bag_uri u = {0};
+	struct dao_ros_image img;
+	int r;
+	if (!s)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	s->opts = *opts;
+	if (s->opts.step == 0)
+		s->opts.step = 1;
+	if (!(opts->depth_unit >= 0 && opts->depth_unit <= 1)) {
+		r = dao_error_set(err, -EINVAL, "bag: depth unit %g is not in (0, 1] metres",
+				  (double)opts->depth_unit);
+		goto fail;
+	}
+	if ((r = parse_uri(uri, &u, err)) < 0)
+		goto fail;
+	/* a chunk holds at least one image (up to 4 bytes a pixel), maybe colour beside it */
+	if ((r = dao_bag_open(u.path, 8 * max_pixels + (16u << 20), &s->bag, err)) < 0)
+		goto fail;
+	if ((r = pick_topic(s, &u, &img, err)) < 0)
+		goto fail;
+	const struct dao_bag_topic *tp = dao_bag_topic(s->bag, s->topic);
+	s->count = tp->message_count;
+	if ((uint64_t)img.width * img.height > max_pixels || !img.width || !img.height) {
+		r = dao_error_set(err, img.width && img.height ? -EFBIG : -EINVAL,
+				  "%s: topic '%s' has %ux%u images; the limit is %llu pixels", u.path,
+				  tp->name, img.width, img.height, (unsigned long long)max_pixels);
+		goto fail;
+	}
+	snprintf(s->encoding, sizeof(s->encoding), "%s", img.encoding);
+	s->is_float = depth_kind(img.encoding) == 2;
+	s->info.width = img.width;
+	s->info.height = img.height;
+	if ((r = find_camera(s, &u, err)) < 0)
+		goto fail;
+	if (dao_bag_warning(s->bag)) /* an unfinished recording, read as far as it goes */
+		snprintf(s->info.warning, sizeof(s->info.warning), "%s", dao_bag_warning(s->bag));
+	if (opts->start_frame >= s->count) {
+		r = dao_error_set(err, -EINVAL,
+				  "%s: start frame %u is past the end (topic '%s' has %u frames)",
+				  u.path, opts->start_frame, tp->name, s->count);
+		goto fail;
+	}
+	s->info.format = s->is_float ? DAO_PIXFMT_DEPTH_F32 : DAO_PIXFMT_DEPTH16;
+	s->info.depth_unit = s->is_float ? 0.0f : s->unit;
+	s->info.frame_count = s->count;
+	const char *base = strrchr(u.path, '/');
+	snprintf(s->info.description, sizeof(s->info.description), "%.40s: %.50s %ux%u %.12s, %u frames",
+		 base ? base + 1 : u.path, tp->name, img.width, img.height, img.encoding, s->count);
+	if ((r = dao_frame_alloc(&s->depth, s->info.format, img.width, img.height, err)) < 0)
+		goto fail;
+	s->next = opts->start_frame;
+	free(u.path);
+	*state = s;
+	return 0;
+fail:
+	free(u.path);
+	dao_bag_close(s->bag);
+	free(s);
+	return r;
+}
+
+static int bag_open(const char *uri, const struct dao_source_options *opts, void **state,
+		    struct dao_error *err)
+{
+	return dao_bag_source_open(uri, opts, DAO_DEFAULT_MAX_PIXELS, state, err);
+}
+
+static void bag_get_info(void *state, struct dao_source_info *in)
+{
+	struct bag_source *s = state;
+	*in = s->info;
+}
+
+static int bag_start(void *state, struct dao_error *err)
+{
+	struct bag_source *s = state;
+	(void)err;
+	s->paced = 0;
+	return 0;
+}
+
+/* Real time: wait for the frame's moment; -EAGAIN if it is beyond the timeout. */
+static int pace(struct bag_source *s, uint64_t ts_us, int timeout_ms)
+{
+	if (!s->paced || ts_us < s->ts_start_us) {
+		s->clock_start_ns = dao_mono_ns();
+		s->ts_start_us = ts_us;
+		s->paced = 1;
+		return 0;
+	}
+	int64_t due = (int64_t)(ts_us - s->ts_start_us) - dao_mono_us_since(s->clock_start_ns);
+	if (due <= 0)
+		return 0;
+	int64_t wait = due;
+	if (timeout_ms >= 0 && wait > (int64_t)timeout_ms * 1000)
+		wait = (int64_t)timeout_ms * 1000;
+	dao_sleep_us(wait);
+	return wait < due ? -EAGAIN : 0;
+}
+
+static int host_is_big_endian(void)
+{
+	const uint16_t one = 1;
+	uint8_t b;
+	memcpy(&b, &one, 1);
+	return b == 0;
+}
+
+/* Decodes message `i` into s->depth. */
+static int decode(struct bag_source *s, uint32_t i, struct dao_error *err)
+{
+	const char *path = dao_bag_path(s->bag), *topic = dao_bag_topic(s->bag, s->topic)->name;
+	const uint8_t *d;
+	uint32_t n;
+	uint64_t rec_ns;
+	struct dao_ros_image img;
+	int r = dao_bag_read_message(s->bag, s->topic, i, &d, &n, &rec_ns, err);
+	if (r < 0)
+		return r;
+	if (dao_ros_image_parse(d, n, &img) < 0)
+		return dao_error_set(err, -EINVAL, "%s: message %u of '%s' is not a sensor_msgs/Image",
+				     path, i, topic);
+	if (img.width != s->info.width || img.height != s->info.height ||
+	    strcmp(img.encoding, s->encoding))
+		return dao_error_set(err, -EINVAL,
+				     "%s: message %u of '%s' is %ux%u %s, the topic began with %ux%u "
+				     "%s", path, i, topic, img.width, img.height, img.encoding,
+				     s->info.width, s->info.height, s->encoding);
+	uint32_t bpp = s->is_float ? 4 : 2;
+	if (img.step < (uint64_t)img.width * bpp ||
+	    (uint64_t)img.step * img.height > img.data_len)
+		return dao_error_set(err, -EINVAL,
+				     "%s: message %u of '%s': %u bytes of data for %u rows of step %u "
+				     "(%ux%u, %u bytes a pixel)", path, i, topic, img.data_len,
+				     img.height, img.step, img.width, img.height, bpp);
+	int swap = !!img.is_bigendian != host_is_big_endian();
+	for (uint32_t y = 0; y < img.height; y++) {
+		const uint8_t *src = img.data + (size_t)y * img.step;
+		uint8_t *dst = (uint8_t *)s->depth.data + (size_t)y * (size_t)s->depth.stride;
+		if (!swap) {
+			memcpy(dst, src, (size_t)img.width * bpp);
+			continue;
+		}
+		for (uint32_t x = 0; x < img.width; x++)
+			for (uint32_t k = 0; k < bpp; k++)
+				dst[x * bpp + k] = src[x * bpp + bpp - 1 - k];
+	}
+	s->depth.depth_unit = s->is_float ? 0.0f : s->unit;
+	s->depth.timestamp_ns = img.header.stamp_ns ? img.header.stamp_ns : rec_ns;
+	s->depth.sequence = (uint64_t)i + 1;
+	return 0;
+}
+
+static int bag_read(void *state, struct dao_source_frame *f, int timeout_ms, struct dao_error *err)
+{
+	struct bag_source *s = state;
+	if (s->next >= s->count) {
+		if (!s->opts.loop)
+			return DAO_SOURCE_EOS;
+		s->next = s->opts.start_frame;
+		s->paced = 0;
+	}
+	int r = decode(s, (uint32_t)s->next, err);
+	if (r < 0) {
+		s->next += s->opts.step; /* a corrupt frame is skipped: the next read goes on */
+		return r;
+	}
+	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
+	    (r = pace(s, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+		return r; /* the frame is read again next time */
+	f->depth = s->depth;
+	f->color.format = DAO_PIXFMT_NONE;
+	f->index = s->next;
+	s->next += s->opts.step;
+	return 0;
+}
+
+static int bag_seek(void *state, uint64_t index, struct dao_error *err)
+{
+	struct bag_source *s = state;
+	if (index >= s->count)
+		return dao_error_set(err, -EINVAL, "seek to frame %llu: the topic has %u frames",
+				     (unsigned long long)index, s->count);
+	s->next = index;
+	s->paced = 0;
+	return 0;
+}
+
+static void bag_stop(void *state)
+{
+	(void)state;
+}
+
+static void bag_close(void *state)
+{
+	struct bag_source *s = state;
+	dao_frame_free(&s->depth);
+	dao_bag_close(s->bag);
+	free(s);
+}
+
+static const struct dao_source_ops bag_source_ops = {
+	.probe = bag_probe,
+	.open = bag_open,
+	.get_info = bag_get_info,
+	.start = bag_start,
+	.read = bag_read,
+	.seek = bag_seek,
+	.stop = bag_stop,
+	.close = bag_close,
+};
+
+const struct dao_plugin dao_builtin_bag_plugin = {
+	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	.name = "bag",
+	.description = "ROS 1 bags (format 2.0, chunks none/bz2/lz4) and RealSense .bag "
+		       "recordings: depth images 16UC1, mono16, 32FC1; FILE.bag[?topic=T][&unit=M]",
+	.source = &bag_source_ops,
+};
