@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "core/error_internal.h"
-#include "plugin/uri.h"
+#include "plugin/lookup.h"
 
 struct dao_sink {
 	const struct dao_plugin *plugin;
@@ -24,69 +24,18 @@ struct dao_sink {
 	struct dao_sink_format fmt;
 };
 
-/* "name1, name2" of the plugins that are sinks. */
-static void list_sinks(const struct dao_plugins *p, char *buf, size_t cap)
-{
-	size_t len = 0;
-	buf[0] = '\0';
-	for (size_t i = 0; i < dao_plugins_count(p); i++) {
-		const struct dao_plugin *pl = dao_plugins_get(p, i);
-		if (!pl->sink)
-			continue;
-		int k = snprintf(buf + len, cap - len, "%s%s", len ? ", " : "", pl->name);
-		if (k < 0 || (size_t)k >= cap - len)
-			break;
-		len += (size_t)k;
-	}
-	if (len == 0)
-		snprintf(buf, cap, "none");
-	size_t ns = dao_plugins_skipped_count(p);
-	len = strlen(buf);
-	if (ns && len + 32 < cap)
-		snprintf(buf + len, cap - len, "; %zu plugin(s) failed to load, see 'depthao devices'",
-			 ns);
-}
-
-
 int dao_sink_open(const struct dao_plugins *p, const char *uri, struct dao_sink **out,
 		  struct dao_error *err)
 {
 	const struct dao_plugin *pl = NULL;
 	const char *rest = uri;
-	char names[200];
 
 	if (!p || !uri || !out)
 		return dao_error_set(err, -EINVAL, "dao_sink_open: plugins, uri and out are required");
 	*out = NULL;
-	size_t n = dao_uri_prefix_len(uri);
-	if (n) {
-		char name[64];
-		snprintf(name, sizeof(name), "%.*s", (int)(n < 63 ? n : 63), uri);
-		pl = dao_plugins_find(p, name);
-		if (!pl || !pl->sink) {
-			list_sinks(p, names, sizeof(names));
-			return dao_error_set(err, -ENOENT, "no sink plugin '%s' for '%s'; available: %s",
-					     name, uri, names);
-		}
-		rest = uri + n + 1;
-	} else {
-		int best = 0;
-		for (size_t i = 0; i < dao_plugins_count(p); i++) {
-			const struct dao_plugin *c = dao_plugins_get(p, i);
-			int score = c->sink && c->sink->probe ? c->sink->probe(uri) : 0;
-			if (score > best) {
-				best = score;
-				pl = c;
-			}
-		}
-		if (!pl) {
-			list_sinks(p, names, sizeof(names));
-			return dao_error_set(err, -ENOENT,
-					     "no sink recognises '%s'; name one as NAME:URI "
-					     "(available: %s)",
-					     uri, names);
-		}
-	}
+	int r = dao_plugin_lookup(p, uri, DAO_PLUGIN_SINK, &pl, &rest, err);
+	if (r < 0)
+		return r;
 	const struct dao_sink_ops *ops = pl->sink;
 	if (!ops->open || !ops->negotiate || !ops->write || !ops->close)
 		return dao_error_set(err, -ENOTSUP,
@@ -97,7 +46,7 @@ int dao_sink_open(const struct dao_plugins *p, const char *uri, struct dao_sink 
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->plugin = pl;
-	int r = ops->open(rest, &s->state, err);
+	r = ops->open(rest, &s->state, err);
 	if (r < 0) {
 		free(s);
 		return r;

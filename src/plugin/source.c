@@ -9,34 +9,13 @@
 
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
-#include "plugin/uri.h"
+#include "plugin/lookup.h"
 
 struct dao_source {
 	const struct dao_plugin *plugin;
 	void *state;
 	int started;
 };
-
-/* "name1 (built-in), name2 (/path)" of the plugins that are sources. */
-static void list_sources(const struct dao_plugins *p, char *buf, size_t cap)
-{
-	size_t len = 0;
-	buf[0] = '\0';
-	for (size_t i = 0; i < dao_plugins_count(p); i++) {
-		const struct dao_plugin *pl = dao_plugins_get(p, i);
-		if (!pl->source)
-			continue;
-		int k = snprintf(buf + len, cap - len, "%s%s", len ? ", " : "", pl->name);
-		if (k < 0 || (size_t)k >= cap - len)
-			break;
-		len += (size_t)k;
-	}
-	size_t ns = dao_plugins_skipped_count(p);
-	if (ns && len + 32 < cap)
-		snprintf(buf + len, cap - len, "; %zu plugin(s) failed to load, see 'depthao devices'",
-			 ns);
-}
-
 
 /* The plugin's open; the built-in file sources check the limit themselves, before allocating. */
 static int open_state(const struct dao_plugin *pl, const char *rest,
@@ -82,49 +61,21 @@ int dao_source_open_limited(const struct dao_plugins *p, const char *uri,
 	static const struct dao_source_options defaults = {0};
 	const struct dao_plugin *pl = NULL;
 	const char *rest = uri;
-	char names[200];
 
 	if (!p || !uri || !out)
 		return dao_error_set(err, -EINVAL, "dao_source_open: plugins, uri and out are required");
 	*out = NULL;
 	if (!opts)
 		opts = &defaults;
-	size_t n = dao_uri_prefix_len(uri);
-	if (n) {
-		char name[64];
-		snprintf(name, sizeof(name), "%.*s", (int)(n < 63 ? n : 63), uri);
-		pl = dao_plugins_find(p, name);
-		if (!pl || !pl->source) {
-			list_sources(p, names, sizeof(names));
-			return dao_error_set(err, -ENOENT,
-					     "no source plugin '%s' for '%s'; available: %s", name,
-					     uri, names);
-		}
-		rest = uri + n + 1;
-	} else {
-		int best = 0;
-		for (size_t i = 0; i < dao_plugins_count(p); i++) {
-			const struct dao_plugin *c = dao_plugins_get(p, i);
-			int score = c->source && c->source->probe ? c->source->probe(uri) : 0;
-			if (score > best) {
-				best = score;
-				pl = c;
-			}
-		}
-		if (!pl) {
-			list_sources(p, names, sizeof(names));
-			return dao_error_set(err, -ENOENT,
-					     "no source recognises '%s'; name one as NAME:URI "
-					     "(available: %s)",
-					     uri, names);
-		}
-	}
+	int r = dao_plugin_lookup(p, uri, DAO_PLUGIN_SOURCE, &pl, &rest, err);
+	if (r < 0)
+		return r;
 	struct dao_source *s = calloc(1, sizeof(*s));
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->plugin = pl;
-	int r = open_state(pl, rest, opts, max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS,
-			   &s->state, err);
+	r = open_state(pl, rest, opts, max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS,
+		       &s->state, err);
 	if (r < 0) {
 		free(s);
 		return r;
