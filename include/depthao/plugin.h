@@ -186,6 +186,18 @@ struct dao_plugin {
 
 typedef const struct dao_plugin *(*dao_plugin_entry_fn)(void);
 
+/*
+ * A module's entry point, returning `plugin` (its static struct dao_plugin),
+ * exported whatever the module's default visibility.  In one C file:
+ *     DAO_PLUGIN_DEFINE(my_plugin)
+ */
+#define DAO_PLUGIN_DEFINE(plugin)                                                        \
+	__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void); \
+	const struct dao_plugin *dao_plugin_entry(void)                                  \
+	{                                                                                \
+		return &(plugin);                                                        \
+	}
+
 /* --- the registry ------------------------------------------------------ */
 
 struct dao_plugins;

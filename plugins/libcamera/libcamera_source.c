@@ -149,9 +149,4 @@ static const struct dao_plugin lc_plugin = {
 	.source = &lc_ops,
 };
 
-__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void);
-
-const struct dao_plugin *dao_plugin_entry(void)
-{
-	return &lc_plugin;
-}
+DAO_PLUGIN_DEFINE(lc_plugin)

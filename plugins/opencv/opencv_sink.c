@@ -321,9 +321,4 @@ static const struct dao_plugin opencv_plugin = {
 	.sink = &opencv_sink_ops,
 };
 
-__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void);
-
-const struct dao_plugin *dao_plugin_entry(void)
-{
-	return &opencv_plugin;
-}
+DAO_PLUGIN_DEFINE(opencv_plugin)

@@ -608,9 +608,4 @@ static const struct dao_plugin openni2_plugin = {
 	.source = &openni2_source_ops,
 };
 
-__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void);
-
-const struct dao_plugin *dao_plugin_entry(void)
-{
-	return &openni2_plugin;
-}
+DAO_PLUGIN_DEFINE(openni2_plugin)

@@ -484,9 +484,4 @@ static const struct dao_plugin rtsp_plugin = {
 	.sink = &rtsp_sink_ops,
 };
 
-__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void);
-
-const struct dao_plugin *dao_plugin_entry(void)
-{
-	return &rtsp_plugin;
-}
+DAO_PLUGIN_DEFINE(rtsp_plugin)

@@ -111,9 +111,4 @@ static const struct dao_plugin v4l2_plugin = {
 	.sink = &v4l2_sink_ops,
 };
 
-__attribute__((visibility("default"))) const struct dao_plugin *dao_plugin_entry(void);
-
-const struct dao_plugin *dao_plugin_entry(void)
-{
-	return &v4l2_plugin;
-}
+DAO_PLUGIN_DEFINE(v4l2_plugin)
