@@ -263,143 +263,135 @@ static double mean_or_zero(double sum, int n)
 	return n ? sum / n : 0.0;
 }
 
-int cmd_eval(int argc, char **argv)
-{
-	struct eval_options o = { 0 };
-	if (parse_args(argc, argv, &o))
-		return 2;
-	/* validate the scene names before the long render */
-	for (int k = 0; o.scenes[k]; k++) {
-		struct synth_scene sc;
-		struct dao_error e;
-		if (synth_scene_build(o.scenes[k], 0.0, &sc, &e))
-			return usage_error("eval", "%s", e.message);
-	}
-	/* one column per (algorithm, preset) */
-	struct eval_column {
-		enum dao_quality q;
-		int algorithm;
-	} cols[EVAL_MAX_COLUMNS];
-	int ncols = 0;
-	for (int a = 0; a < o.na; a++)
-		for (int q = 0; q < o.nq; q++)
-			cols[ncols++] = (struct eval_column){o.qualities[q], o.algorithms[a]};
-	int default_col = -1;
-	for (int k = 0; k < ncols; k++)
-		if (cols[k].q == DAO_QUALITY_DEFAULT && cols[k].algorithm <= DAO_ALGORITHM_GTAO &&
-		    default_col < 0)
-			default_col = k;
-	if (o.check && default_col < 0) {
-		return usage_error("eval", "--check needs the default preset in --quality");
-	}
+/* One column of the table: an algorithm (-1: the preset's) at a preset. */
+struct eval_column {
+	enum dao_quality q;
+	int algorithm;
+};
 
-	/* the bars of --check are about clean and Gaussian input */
-	int have[SYNTH_SENSOR_COUNT] = { 0 };
-	for (int k = 0; k < o.nsensors; k++)
-		have[o.sensors[k]] = 1;
-	if (o.check && !have[SYNTH_SENSOR_CLEAN])
-		return usage_error("eval", "--check needs clean in --sensors");
-
+/* A run of the suite: its columns, the results per case and column, their summaries. */
+struct eval_run {
+	const struct eval_options *o;
+	struct eval_column cols[EVAL_MAX_COLUMNS];
+	int ncols;
+	int default_col;                  /* the default preset's GTAO column, -1: none */
+	int have[SYNTH_SENSOR_COUNT];     /* sensors in --sensors */
 	struct synth_suite suite;
-	struct dao_error err;
-	fprintf(stderr, "depthao: rendering ground truth (%d rays per pixel), %s set...\n",
-		o.rays_sqrt * o.rays_sqrt, synth_set_name(o.set));
-	struct synth_suite_spec spec = {
-		.scenes = o.scenes[0] ? o.scenes : NULL, .radius = 0.5, .rays_sqrt = o.rays_sqrt,
-		.sensors = o.sensors, .nsensors = o.nsensors, .seed = 1, .threads = 2,
-	};
-	synth_suite_spec_set(&spec, o.set, o.variants);
-	if (synth_suite_load_spec(&suite, &spec, &err)) {
-		fprintf(stderr, "depthao: %s\n", err.message);
-		return 1;
-	}
-	const size_t np = (size_t)suite.cam.width * suite.cam.height;
-	float *ao = malloc(np * sizeof(float));
-	struct synth_metrics (*res)[EVAL_MAX_COLUMNS] = calloc((size_t)suite.count, sizeof *res);
-	struct preset_summary sum[EVAL_MAX_COLUMNS] = { 0 };
-	int status = 0;
-	if (!ao || !res) {
-		fprintf(stderr, "depthao: out of memory\n");
-		status = 1;
-		goto out;
-	}
+	struct synth_metrics (*res)[EVAL_MAX_COLUMNS];
+	struct preset_summary sum[EVAL_MAX_COLUMNS];
+};
 
-	for (int k = 0; k < ncols; k++) {
+/* The columns (one per algorithm and preset) and what --check needs of them; 0 or a usage error. */
+static int plan_columns(struct eval_run *run)
+{
+	const struct eval_options *o = run->o;
+	for (int a = 0; a < o->na; a++)
+		for (int q = 0; q < o->nq; q++)
+			run->cols[run->ncols++] = (struct eval_column){ o->qualities[q], o->algorithms[a] };
+	run->default_col = -1;
+	for (int k = 0; k < run->ncols; k++)
+		if (run->cols[k].q == DAO_QUALITY_DEFAULT && run->cols[k].algorithm <= DAO_ALGORITHM_GTAO &&
+		    run->default_col < 0)
+			run->default_col = k;
+	if (o->check && run->default_col < 0)
+		return usage_error("eval", "--check needs the default preset in --quality");
+	for (int k = 0; k < o->nsensors; k++)
+		run->have[o->sensors[k]] = 1;
+	/* the bars of --check are about clean and Gaussian input */
+	if (o->check && !run->have[SYNTH_SENSOR_CLEAN])
+		return usage_error("eval", "--check needs clean in --sensors");
+	return 0;
+}
+
+/* Adds the metrics of case c to the summary of its column. */
+static void summarise(struct preset_summary *s, const struct synth_case *c,
+		      const struct synth_metrics *m, double ms)
+{
+	const enum synth_sensor sn = c->sensor;
+	s->ms += ms;
+	s->frames++;
+	s->nan += m->nan_count;
+	s->invalid += m->invalid_not_one;
+	if (!synth_scene_is_foundation(c->scene)) {
+		if (sn == SYNTH_SENSOR_CLEAN) {
+			s->thick_sum += m->mae;
+			s->thick_n++;
+		}
+	} else if (!synth_scene_is_structured(c->scene)) {
+		s->plane_occ[sn] += m->mean_occlusion;
+		s->plane_n[sn]++;
+	} else {
+		s->mae_sum[sn] += m->mae;
+		s->mae_n[sn]++;
+		s->mae_max[sn] = fmax(s->mae_max[sn], m->mae);
+	}
+}
+
+/* Every case through every column; 0, or the exit status after a message. */
+static int run_columns(struct eval_run *run, float *ao)
+{
+	struct dao_error err;
+	for (int k = 0; k < run->ncols; k++) {
 		struct dao_params p;
 		struct dao_context *ctx;
-		if (params_for(&o, cols[k].q, &p)) {
-			status = 2;
-			goto out;
-		}
-		if (cols[k].algorithm >= 0)
-			p.algorithm = cols[k].algorithm;
-		if (dao_context_create(&ctx, &suite.cam, &p, &err)) {
+		if (params_for(run->o, run->cols[k].q, &p))
+			return 2;
+		if (run->cols[k].algorithm >= 0)
+			p.algorithm = run->cols[k].algorithm;
+		if (dao_context_create(&ctx, &run->suite.cam, &p, &err)) {
 			fprintf(stderr, "depthao: %s\n", err.message);
-			status = 1;
-			goto out;
+			return 1;
 		}
-		for (int i = 0; i < suite.count; i++) {
+		for (int i = 0; i < run->suite.count; i++) {
 			double ms;
-			if (synth_suite_run_case(&suite, i, ctx, ao, &res[i][k], &ms, &err)) {
+			if (synth_suite_run_case(&run->suite, i, ctx, ao, &run->res[i][k], &ms, &err)) {
 				fprintf(stderr, "depthao: %s\n", err.message);
 				dao_context_destroy(ctx);
-				status = 1;
-				goto out;
+				return 1;
 			}
-			const struct synth_case *c = &suite.cases[i];
-			const struct synth_metrics *m = &res[i][k];
-			struct preset_summary *s = &sum[k];
-			s->ms += ms;
-			s->frames++;
-			s->nan += m->nan_count;
-			s->invalid += m->invalid_not_one;
-			const enum synth_sensor sn = c->sensor;
-			if (!synth_scene_is_foundation(c->scene)) {
-				if (sn == SYNTH_SENSOR_CLEAN) {
-					s->thick_sum += m->mae;
-					s->thick_n++;
-				}
-			} else if (!synth_scene_is_structured(c->scene)) {
-				s->plane_occ[sn] += m->mean_occlusion;
-				s->plane_n[sn]++;
-			} else {
-				s->mae_sum[sn] += m->mae;
-				s->mae_n[sn]++;
-				s->mae_max[sn] = fmax(s->mae_max[sn], m->mae);
-			}
+			summarise(&run->sum[k], &run->suite.cases[i], &run->res[i][k], ms);
 		}
 		dao_context_destroy(ctx);
 	}
+	return 0;
+}
 
+/* The table: a row per case, then the means per sensor, thickness scenes, plane, time. */
+static void print_table(const struct eval_run *run)
+{
+	const struct eval_options *o = run->o;
+	const int ncols = run->ncols;
+	const struct preset_summary *sum = run->sum;
 	printf("| scene | input |");
 	for (int k = 0; k < ncols; k++) {
 		char alg[32] = "";
-		if (o.na > 1 || cols[k].algorithm > 0) {
+		if (o->na > 1 || run->cols[k].algorithm > 0) {
 			struct dao_params p;
 			dao_params_init(&p, DAO_QUALITY_DEFAULT);
-			p.algorithm = cols[k].algorithm < 0 ? 0 : cols[k].algorithm;
+			p.algorithm = run->cols[k].algorithm < 0 ? 0 : run->cols[k].algorithm;
 			dao_params_get(&p, "algorithm", alg, sizeof alg - 1, NULL);
 			strcat(alg, " ");
 		}
-		printf(" %s%s%s MAE | bias | p99 |", alg, dao_quality_name(cols[k].q),
-		       k == default_col ? " (default)" : "");
+		printf(" %s%s%s MAE | bias | p99 |", alg, dao_quality_name(run->cols[k].q),
+		       k == run->default_col ? " (default)" : "");
 	}
 	printf("\n|---|---|");
 	for (int k = 0; k < ncols; k++)
 		printf("---:|---:|---:|");
 	printf("\n");
-	for (int i = 0; i < suite.count; i++) {
-		const struct synth_case *c = &suite.cases[i];
+	for (int i = 0; i < run->suite.count; i++) {
+		const struct synth_case *c = &run->suite.cases[i];
 		if (c->variant)
 			printf("| %s #%d | %s |", c->scene, c->variant, synth_sensor_name(c->sensor));
 		else
 			printf("| %s | %s |", c->scene, synth_sensor_name(c->sensor));
 		for (int k = 0; k < ncols; k++)
-			printf(" %.4f | %+.4f | %.3f |", res[i][k].mae, res[i][k].bias, res[i][k].p99);
+			printf(" %.4f | %+.4f | %.3f |", run->res[i][k].mae, run->res[i][k].bias,
+			       run->res[i][k].p99);
 		printf("\n");
 	}
-	for (int k2 = 0; k2 < o.nsensors; k2++) {
-		const enum synth_sensor sn = o.sensors[k2];
+	for (int k2 = 0; k2 < o->nsensors; k2++) {
+		const enum synth_sensor sn = o->sensors[k2];
 		printf("| **%s scenes, mean MAE** | |", sn == SYNTH_SENSOR_CLEAN ? "clean" : synth_sensor_name(sn));
 		for (int k = 0; k < ncols; k++)
 			printf(" **%.4f** | | |", mean_or_zero(sum[k].mae_sum[sn], sum[k].mae_n[sn]));
@@ -420,8 +412,8 @@ int cmd_eval(int argc, char **argv)
 			printf(" **%.4f** | | |", mean_or_zero(sum[k].thick_sum, sum[k].thick_n));
 		printf("\n");
 	}
-	for (int k2 = 0; k2 < o.nsensors; k2++) {
-		const enum synth_sensor sn = o.sensors[k2];
+	for (int k2 = 0; k2 < o->nsensors; k2++) {
+		const enum synth_sensor sn = o->sensors[k2];
 		if (!sum[0].plane_n[sn])
 			continue;
 		printf("| plane, mean occlusion | %s |", synth_sensor_name(sn));
@@ -433,67 +425,117 @@ int cmd_eval(int argc, char **argv)
 	for (int k = 0; k < ncols; k++)
 		printf(" %.0f | | |", sum[k].frames ? sum[k].ms / sum[k].frames : 0.0);
 	printf("\n");
-	/* issue #15's targets for the default preset, measured here, enforced by nothing yet */
-	if (default_col >= 0) {
-		const struct preset_summary *d = &sum[default_col];
-		const enum synth_sensor sl = SYNTH_SENSOR_STRUCTURED_LIGHT;
-		const char *sep = "";
-		printf("\nTargets (issue #15, default preset, %s set):", synth_set_name(o.set));
-		if (have[sl] && d->mae_n[sl]) {
-			printf("%s structured-light mean MAE %.4f (target <= %.3f)", sep,
-			       mean_or_zero(d->mae_sum[sl], d->mae_n[sl]), TARGET_SL_MEAN_MAE);
-			sep = ";";
-		}
-		if (have[sl] && d->plane_n[sl]) {
-			printf("%s tilted plane under structured light, mean occlusion %.4f (target <= %.3f)",
-			       sep, mean_or_zero(d->plane_occ[sl], d->plane_n[sl]), TARGET_SL_PLANE_OCCLUSION);
-			sep = ";";
-		}
-		if (have[SYNTH_SENSOR_CLEAN] && d->mae_n[SYNTH_SENSOR_CLEAN])
-			printf("%s clean mean MAE %.4f (target <= %.4f)", sep,
-			       mean_or_zero(d->mae_sum[SYNTH_SENSOR_CLEAN], d->mae_n[SYNTH_SENSOR_CLEAN]),
-			       TARGET_CLEAN_MEAN_MAE);
-		printf("\n");
+}
+
+/* Issue #15's targets for the default preset, as measured (only the plane's is enforced). */
+static void print_targets(const struct eval_run *run)
+{
+	if (run->default_col < 0)
+		return;
+	const struct preset_summary *d = &run->sum[run->default_col];
+	const enum synth_sensor sl = SYNTH_SENSOR_STRUCTURED_LIGHT;
+	const char *sep = "";
+	printf("\nTargets (issue #15, default preset, %s set):", synth_set_name(run->o->set));
+	if (run->have[sl] && d->mae_n[sl]) {
+		printf("%s structured-light mean MAE %.4f (target <= %.3f)", sep,
+		       mean_or_zero(d->mae_sum[sl], d->mae_n[sl]), TARGET_SL_MEAN_MAE);
+		sep = ";";
 	}
+	if (run->have[sl] && d->plane_n[sl]) {
+		printf("%s tilted plane under structured light, mean occlusion %.4f (target <= %.3f)",
+		       sep, mean_or_zero(d->plane_occ[sl], d->plane_n[sl]), TARGET_SL_PLANE_OCCLUSION);
+		sep = ";";
+	}
+	if (run->have[SYNTH_SENSOR_CLEAN] && d->mae_n[SYNTH_SENSOR_CLEAN])
+		printf("%s clean mean MAE %.4f (target <= %.4f)", sep,
+		       mean_or_zero(d->mae_sum[SYNTH_SENSOR_CLEAN], d->mae_n[SYNTH_SENSOR_CLEAN]),
+		       TARGET_CLEAN_MEAN_MAE);
+	printf("\n");
+}
 
-
-	for (int k = 0; k < ncols; k++)
-		if (sum[k].nan || sum[k].invalid) {
+/* NaN or out-of-range output, and with --check the accuracy bars; 0 if all hold, else 1. */
+static int check_results(const struct eval_run *run)
+{
+	int status = 0;
+	for (int k = 0; k < run->ncols; k++)
+		if (run->sum[k].nan || run->sum[k].invalid) {
 			fprintf(stderr, "depthao: %s: %ld NaN/out-of-range values, %ld no-data pixels not 1\n",
-				dao_quality_name(cols[k].q), sum[k].nan, sum[k].invalid);
+				dao_quality_name(run->cols[k].q), run->sum[k].nan, run->sum[k].invalid);
 			status = 1;
 		}
-	if (o.check) {
-		const struct preset_summary *s = &sum[default_col];
-		const enum synth_sensor c = SYNTH_SENSOR_CLEAN, g = SYNTH_SENSOR_GAUSSIAN;
-		const enum synth_sensor sl = SYNTH_SENSOR_STRUCTURED_LIGHT;
-		struct {
-			const char *what;
-			double value, bar;
-			int present;
-		} bars[] = {
-			{ "tilted plane, mean occlusion", mean_or_zero(s->plane_occ[c], s->plane_n[c]),
-			  BAR_PLANE_OCCLUSION, 1 },
-			{ "clean scenes, mean MAE", mean_or_zero(s->mae_sum[c], s->mae_n[c]),
-			  BAR_CLEAN_MEAN_MAE, 1 },
-			{ "clean scenes, largest MAE", s->mae_max[c], BAR_CLEAN_MAX_MAE, 1 },
-			{ "noisy scenes, largest MAE", s->mae_max[g], BAR_NOISY_MAX_MAE, have[g] },
-			{ "structured-light plane, occl.", mean_or_zero(s->plane_occ[sl], s->plane_n[sl]),
-			  BAR_SL_PLANE_OCCLUSION, have[sl] && s->plane_n[sl] },
-		};
-		for (size_t b = 0; b < sizeof bars / sizeof bars[0]; b++) {
-			if (!bars[b].present)
-				continue;
-			int ok = bars[b].value <= bars[b].bar;
-			fprintf(stderr, "depthao: %-30s %.4f (bar %.3f) %s\n", bars[b].what, bars[b].value,
-				bars[b].bar, ok ? "ok" : "FAILED");
-			if (!ok)
-				status = 1;
-		}
+	if (!run->o->check)
+		return status;
+	const struct preset_summary *s = &run->sum[run->default_col];
+	const enum synth_sensor c = SYNTH_SENSOR_CLEAN, g = SYNTH_SENSOR_GAUSSIAN;
+	const enum synth_sensor sl = SYNTH_SENSOR_STRUCTURED_LIGHT;
+	struct {
+		const char *what;
+		double value, bar;
+		int present;
+	} bars[] = {
+		{ "tilted plane, mean occlusion", mean_or_zero(s->plane_occ[c], s->plane_n[c]),
+		  BAR_PLANE_OCCLUSION, 1 },
+		{ "clean scenes, mean MAE", mean_or_zero(s->mae_sum[c], s->mae_n[c]),
+		  BAR_CLEAN_MEAN_MAE, 1 },
+		{ "clean scenes, largest MAE", s->mae_max[c], BAR_CLEAN_MAX_MAE, 1 },
+		{ "noisy scenes, largest MAE", s->mae_max[g], BAR_NOISY_MAX_MAE, run->have[g] },
+		{ "structured-light plane, occl.", mean_or_zero(s->plane_occ[sl], s->plane_n[sl]),
+		  BAR_SL_PLANE_OCCLUSION, run->have[sl] && s->plane_n[sl] },
+	};
+	for (size_t b = 0; b < sizeof bars / sizeof bars[0]; b++) {
+		if (!bars[b].present)
+			continue;
+		int ok = bars[b].value <= bars[b].bar;
+		fprintf(stderr, "depthao: %-30s %.4f (bar %.3f) %s\n", bars[b].what, bars[b].value,
+			bars[b].bar, ok ? "ok" : "FAILED");
+		if (!ok)
+			status = 1;
 	}
-out:
+	return status;
+}
+
+int cmd_eval(int argc, char **argv)
+{
+	struct eval_options o = { 0 };
+	if (parse_args(argc, argv, &o))
+		return 2;
+	/* validate the scene names before the long render */
+	for (int k = 0; o.scenes[k]; k++) {
+		struct synth_scene sc;
+		struct dao_error e;
+		if (synth_scene_build(o.scenes[k], 0.0, &sc, &e))
+			return usage_error("eval", "%s", e.message);
+	}
+	struct eval_run run = { .o = &o };
+	int status = plan_columns(&run);
+	if (status)
+		return status;
+
+	struct dao_error err;
+	fprintf(stderr, "depthao: rendering ground truth (%d rays per pixel), %s set...\n",
+		o.rays_sqrt * o.rays_sqrt, synth_set_name(o.set));
+	struct synth_suite_spec spec = {
+		.scenes = o.scenes[0] ? o.scenes : NULL, .radius = 0.5, .rays_sqrt = o.rays_sqrt,
+		.sensors = o.sensors, .nsensors = o.nsensors, .seed = 1, .threads = 2,
+	};
+	synth_suite_spec_set(&spec, o.set, o.variants);
+	if (synth_suite_load_spec(&run.suite, &spec, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	const size_t np = (size_t)run.suite.cam.width * run.suite.cam.height;
+	float *ao = malloc(np * sizeof(float));
+	run.res = calloc((size_t)run.suite.count, sizeof *run.res);
+	if (!ao || !run.res) {
+		fprintf(stderr, "depthao: out of memory\n");
+		status = 1;
+	} else if (!(status = run_columns(&run, ao))) {
+		print_table(&run);
+		print_targets(&run);
+		status = check_results(&run);
+	}
 	free(ao);
-	free(res);
-	synth_suite_free(&suite);
+	free(run.res);
+	synth_suite_free(&run.suite);
 	return status;
 }
