@@ -618,27 +618,26 @@ static void repack_rgb(const guint8 *rgb, uint32_t w, uint32_t h, guint8 *out, g
 	}
 }
 
-static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVideoFrame *in,
-						 GstVideoFrame *out)
+/*
+ * What changed since the last frame (properties, a flush or a discontinuity):
+ * a new context for new intrinsics, new parameters, or a reset of the
+ * histories.  The depth unit in *unit.  FALSE if no context could be made.
+ */
+static gboolean apply_pending(GstDepthao *self, GstBuffer *buf, uint32_t w, uint32_t h,
+			      float *unit)
 {
-	GstDepthao *self = GST_DEPTHAO(filter);
 	struct dao_error err = {0};
-	const uint32_t w = (uint32_t)GST_VIDEO_FRAME_WIDTH(in);
-	const uint32_t h = (uint32_t)GST_VIDEO_FRAME_HEIGHT(in);
-	struct dao_params p;
-	float unit;
-
 	GST_OBJECT_LOCK(self);
 	gboolean camera_dirty = self->camera_dirty, params_dirty = self->params_dirty;
-	gboolean reset = self->reset_pending || GST_BUFFER_FLAG_IS_SET(in->buffer, GST_BUFFER_FLAG_DISCONT);
-	p = self->params;
+	gboolean reset = self->reset_pending || GST_BUFFER_FLAG_IS_SET(buf, GST_BUFFER_FLAG_DISCONT);
+	struct dao_params p = self->params;
 	self->params_dirty = FALSE;
 	self->reset_pending = FALSE;
-	unit = (float)self->depth_unit;
+	*unit = (float)self->depth_unit;
 	GST_OBJECT_UNLOCK(self);
 	if (camera_dirty || !self->ctx) { /* intrinsics changed while playing: a new context */
 		if (!setup_context(self, w, h))
-			return GST_FLOW_ERROR;
+			return FALSE;
 	} else if (params_dirty && dao_context_set_params(self->ctx, &p, &err) < 0) {
 		GST_ELEMENT_WARNING(self, LIBRARY, SETTINGS,
 				    ("depthao kept its previous AO parameters: %s", err.message),
@@ -646,7 +645,14 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 	}
 	if (reset)
 		dao_context_reset(self->ctx);
+	return TRUE;
+}
 
+/* The input frame as the library's depth frame (little-endian samples). */
+static struct dao_frame depth_of(GstDepthao *self, GstVideoFrame *in, float unit)
+{
+	const uint32_t w = (uint32_t)GST_VIDEO_FRAME_WIDTH(in);
+	const uint32_t h = (uint32_t)GST_VIDEO_FRAME_HEIGHT(in);
 	struct dao_frame depth = {
 		.format = DAO_PIXFMT_DEPTH16,
 		.width = w,
@@ -667,14 +673,22 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 	depth.data = self->swapped;
 	depth.stride = (int32_t)(w * 2);
 #endif
+	return depth;
+}
+
+/* The AO (GRAY8, GRAY16_LE) or the shaded image (RGB, RGBA, BGRx) of `depth` into `out`. */
+static int render(GstDepthao *self, const struct dao_frame *depth, GstVideoFrame *out,
+		  struct dao_error *err)
+{
+	const uint32_t w = depth->width, h = depth->height;
 	GstVideoFormat of = GST_VIDEO_FRAME_FORMAT(out);
 	guint8 *od = GST_VIDEO_FRAME_PLANE_DATA(out, 0);
 	gint os = GST_VIDEO_FRAME_PLANE_STRIDE(out, 0);
-	struct dao_frame ao = {.width = w, .height = h, .stride = os, .data = od};
 	int r;
 	if (of == GST_VIDEO_FORMAT_GRAY8 || of == GST_VIDEO_FORMAT_GRAY16_LE) {
+		struct dao_frame ao = {.width = w, .height = h, .stride = os, .data = od};
 		ao.format = of == GST_VIDEO_FORMAT_GRAY8 ? DAO_PIXFMT_GRAY8 : DAO_PIXFMT_GRAY16;
-		r = dao_context_process(self->ctx, &depth, NULL, self->frame_index, &ao, &err);
+		r = dao_context_process(self->ctx, depth, NULL, self->frame_index, &ao, err);
 #if G_BYTE_ORDER == G_BIG_ENDIAN
 		if (r == 0 && of == GST_VIDEO_FORMAT_GRAY16_LE)
 			for (uint32_t y = 0; y < h; y++) {
@@ -683,22 +697,35 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 					row[x] = GUINT16_TO_LE(row[x]);
 			}
 #endif
-	} else {
-		struct dao_frame rgb = {.format = DAO_PIXFMT_RGB24, .width = w, .height = h};
-		if (of == GST_VIDEO_FORMAT_RGB) {
-			rgb.stride = os;
-			rgb.data = od;
-		} else {
-			rgb.stride = (int32_t)(w * 3);
-			rgb.data = self->scratch;
-		}
-		r = dao_context_process(self->ctx, &depth, NULL, self->frame_index, NULL, &err);
-		if (r == 0)
-			r = dao_context_shade(self->ctx, &rgb, &err);
-		if (r == 0 && of != GST_VIDEO_FORMAT_RGB)
-			repack_rgb(self->scratch, w, h, od, os, of == GST_VIDEO_FORMAT_BGRx);
+		return r;
 	}
-	if (r < 0) {
+	struct dao_frame rgb = {.format = DAO_PIXFMT_RGB24, .width = w, .height = h};
+	if (of == GST_VIDEO_FORMAT_RGB) {
+		rgb.stride = os;
+		rgb.data = od;
+	} else {
+		rgb.stride = (int32_t)(w * 3);
+		rgb.data = self->scratch;
+	}
+	r = dao_context_process(self->ctx, depth, NULL, self->frame_index, NULL, err);
+	if (r == 0)
+		r = dao_context_shade(self->ctx, &rgb, err);
+	if (r == 0 && of != GST_VIDEO_FORMAT_RGB)
+		repack_rgb(self->scratch, w, h, od, os, of == GST_VIDEO_FORMAT_BGRx);
+	return r;
+}
+
+static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVideoFrame *in,
+						 GstVideoFrame *out)
+{
+	GstDepthao *self = GST_DEPTHAO(filter);
+	struct dao_error err = {0};
+	float unit;
+	if (!apply_pending(self, in->buffer, (uint32_t)GST_VIDEO_FRAME_WIDTH(in),
+			   (uint32_t)GST_VIDEO_FRAME_HEIGHT(in), &unit))
+		return GST_FLOW_ERROR;
+	const struct dao_frame depth = depth_of(self, in, unit);
+	if (render(self, &depth, out, &err) < 0) {
 		GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: %s", err.message),
 				  ("frame %" G_GUINT64_FORMAT, self->frame_index));
 		return GST_FLOW_ERROR;
