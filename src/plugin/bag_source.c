@@ -31,7 +31,7 @@
 #include <strings.h>
 #include <time.h>
 
-#include "core/clock.h"
+#include "plugin/pacer.h"
 #include "bag/bag_reader.h"
 #include "bag/ros_msg.h"
 #include "core/error_internal.h"
@@ -50,9 +50,7 @@ struct bag_source {
 	float unit;
 	struct dao_frame depth;
 	uint64_t next;
-	int paced;
-	uint64_t clock_start_ns;
-	uint64_t ts_start_us;
+	struct dao_pacer pacer;     /* real-time playback */
 };
 
 /*
@@ -384,27 +382,8 @@ static int bag_start(void *state, struct dao_error *err)
 {
 	struct bag_source *s = state;
 	(void)err;
-	s->paced = 0;
+	dao_pacer_reset(&s->pacer);
 	return 0;
-}
-
-/* Real time: wait for the frame's moment; -EAGAIN if it is beyond the timeout. */
-static int pace(struct bag_source *s, uint64_t ts_us, int timeout_ms)
-{
-	if (!s->paced || ts_us < s->ts_start_us) {
-		s->clock_start_ns = dao_mono_ns();
-		s->ts_start_us = ts_us;
-		s->paced = 1;
-		return 0;
-	}
-	int64_t due = (int64_t)(ts_us - s->ts_start_us) - dao_mono_us_since(s->clock_start_ns);
-	if (due <= 0)
-		return 0;
-	int64_t wait = due;
-	if (timeout_ms >= 0 && wait > (int64_t)timeout_ms * 1000)
-		wait = (int64_t)timeout_ms * 1000;
-	dao_sleep_us(wait);
-	return wait < due ? -EAGAIN : 0;
 }
 
 static int host_is_big_endian(void)
@@ -467,7 +446,7 @@ static int bag_read(void *state, struct dao_source_frame *f, int timeout_ms, str
 		if (!s->opts.loop)
 			return DAO_SOURCE_EOS;
 		s->next = s->opts.start_frame;
-		s->paced = 0;
+		dao_pacer_reset(&s->pacer);
 	}
 	int r = decode(s, (uint32_t)s->next, err);
 	if (r < 0) {
@@ -475,7 +454,7 @@ static int bag_read(void *state, struct dao_source_frame *f, int timeout_ms, str
 		return r;
 	}
 	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
-	    (r = pace(s, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
 		return r; /* the frame is read again next time */
 	f->depth = s->depth;
 	f->color.format = DAO_PIXFMT_NONE;
@@ -491,7 +470,7 @@ static int bag_seek(void *state, uint64_t index, struct dao_error *err)
 		return dao_error_set(err, -EINVAL, "seek to frame %llu: the topic has %u frames",
 				     (unsigned long long)index, s->count);
 	s->next = index;
-	s->paced = 0;
+	dao_pacer_reset(&s->pacer);
 	return 0;
 }
 

@@ -17,7 +17,7 @@
 #include <strings.h>
 #include <time.h>
 
-#include "core/clock.h"
+#include "plugin/pacer.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 
@@ -29,9 +29,7 @@ struct oni_source {
 	char path_tail[96];
 	struct dao_frame depth;
 	uint64_t next;
-	int paced;                 /* clock_start/ts_start are set */
-	uint64_t clock_start_ns;
-	uint64_t ts_start_us;
+	struct dao_pacer pacer;     /* real-time playback */
 };
 
 static int oni_probe(const char *uri)
@@ -122,27 +120,8 @@ static void oni_get_info(void *state, struct dao_source_info *in)
 static int oni_start(void *state, struct dao_error *err)
 {
 	struct oni_source *s = state;
-	s->paced = 0;
+	dao_pacer_reset(&s->pacer);
 	return 0;
-}
-
-/* Real time: wait for the frame's moment; -EAGAIN if it is beyond the timeout. */
-static int pace(struct oni_source *s, uint64_t ts_us, int timeout_ms)
-{
-	if (!s->paced || ts_us < s->ts_start_us) {
-		s->clock_start_ns = dao_mono_ns();
-		s->ts_start_us = ts_us;
-		s->paced = 1;
-		return 0;
-	}
-	int64_t due = (int64_t)(ts_us - s->ts_start_us) - dao_mono_us_since(s->clock_start_ns);
-	if (due <= 0)
-		return 0;
-	int64_t wait = due;
-	if (timeout_ms >= 0 && wait > (int64_t)timeout_ms * 1000)
-		wait = (int64_t)timeout_ms * 1000;
-	dao_sleep_us(wait);
-	return wait < due ? -EAGAIN : 0;
 }
 
 static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
@@ -153,7 +132,7 @@ static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		if (!s->opts.loop)
 			return DAO_SOURCE_EOS;
 		s->next = s->opts.start_frame;
-		s->paced = 0; /* the timestamps start again */
+		dao_pacer_reset(&s->pacer); /* the timestamps start again */
 	}
 	int r = dao_oni_reader_read_depth(s->reader, (uint32_t)s->stream, (uint32_t)s->next,
 					  &s->depth, err);
@@ -162,7 +141,7 @@ static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		return r;
 	}
 	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
-	    (r = pace(s, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
 		return r; /* the frame is read again next time */
 	f->depth = s->depth;
 	f->color.format = DAO_PIXFMT_NONE;
@@ -178,7 +157,7 @@ static int oni_seek(void *state, uint64_t index, struct dao_error *err)
 		return dao_error_set(err, -EINVAL, "seek to frame %llu: the recording has %u frames",
 				     (unsigned long long)index, s->info.frame_count);
 	s->next = index;
-	s->paced = 0;
+	dao_pacer_reset(&s->pacer);
 	return 0;
 }
 
