@@ -97,7 +97,13 @@ for s in e1 e2 e3; do
 	lines=$(grep -c "sink $s " "$WORK/log3")
 	[ "$lines" -le 3 ] || fail "sink $s: $lines log lines in 5 s: $(grep "sink $s " "$WORK/log3")"
 done
-[ "$(opens "$WORK/e1.txt")" = "$(sink_stat e1 errors)" ] || fail "e1: opens $(opens "$WORK/e1.txt"), errors $(sink_stat e1 errors)"
+# every open is followed by one failed write: between two readings of the error count
+# (the sink retries meanwhile, at 7.5 s, on a loaded host) the opens lie within them
+e_before=$(sink_stat e1 errors)
+o=$(opens "$WORK/e1.txt")
+e_after=$(sink_stat e1 errors)
+[ "$o" -ge "$e_before" ] && [ "$o" -le $((e_after + 1)) ] ||
+	fail "e1: opens $o, errors $e_before then $e_after"
 [ "$(sink_stat e1 frames_out)" -eq 0 ] || fail "e1 counted $(sink_stat e1 frames_out) frames it never took"
 # two good writes per open: the counter is exactly what the sink took
 [ "$(sink_stat e2 frames_out)" = "$(written "$WORK/e2.txt")" ] ||
