@@ -85,8 +85,8 @@ struct dao_domain_pass {
 /* floats of scratch per sample and lane: the causal moments, the link, 1/z */
 #define DAO_DOMAIN_SCRATCH 7
 /* and per sample of the longer side and lane for the cells' knots (at most
- * one knot of noise and one of scale per px) */
-#define DAO_DOMAIN_KNOT_SCRATCH 2
+ * a cell per px: of noise and of scale, a knot and the difference to the next) */
+#define DAO_DOMAIN_KNOT_SCRATCH 4
 /* a link whose exponent exceeds this is 0 (e^-17 = 4e-8: below float's step at 1) */
 #define DAO_DOMAIN_MAX_EXPONENT 17.0f
 /* the least noise sigma in 1/z, 1/m (4 um at 2 m) */
@@ -137,8 +137,8 @@ static inline void dao_domain_cell_pos(int n, int cells, int span, int *k, float
 void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1);
 
 /* Lanes the optimised passes process together: a scratch of
- * (DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP * len
- * floats serves every set. */
+ * ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 2) *
+ * len floats serves every set (dao_domain_scratch_floats). */
 #define DAO_DOMAIN_STRIP 16
 
 /* The whole filter of a w x h frame. */
