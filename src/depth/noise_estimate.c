@@ -236,15 +236,14 @@ static int slope_pairs(const struct dao_noise_grid *g, int bx, int by, float *v)
 	return n;
 }
 
-void dao_noise_cells(struct dao_noise_grid *g)
+void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 {
-	const int cw = g->cw, ch = g->ch, nc = cw * ch;
+	const int cw = g->cw, nc = cw * g->ch;
 	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
 	float *slope = g->cell + 3 * nc;
 	float va[DAO_NOISE_CELL * DAO_NOISE_CELL], vl[DAO_NOISE_CELL * DAO_NOISE_CELL];
 	float vw[DAO_NOISE_CELL * DAO_NOISE_CELL], vs[4 * DAO_NOISE_CELL * DAO_NOISE_CELL];
-	g->usable_cells = 0;
-	for (int cy = 0; cy < ch; cy++)
+	for (int cy = cy0; cy < cy1; cy++)
 		for (int cx = 0; cx < cw; cx++) {
 			int n = 0, ns = 0;
 			for (int by = cy * DAO_NOISE_CELL; by < (cy + 1) * DAO_NOISE_CELL && by < g->bh; by++)
@@ -266,8 +265,17 @@ void dao_noise_cells(struct dao_noise_grid *g)
 			area[i] = median(va, n);
 			link[i] = median(vl, n);
 			wm[i] = median(vw, n);
-			g->usable_cells++;
 		}
+}
+
+void dao_noise_cells_finish(struct dao_noise_grid *g)
+{
+	const int nc = g->cw * g->ch;
+	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	float *slope = g->cell + 3 * nc;
+	g->usable_cells = 0;
+	for (int i = 0; i < nc; i++)
+		g->usable_cells += !isnan(area[i]);
 	/* the frame: medians over the usable cells (the scratch holds a copy) */
 	float *tmp = g->scratch;
 	float *planes[4] = { area, link, wm, slope };
@@ -286,6 +294,12 @@ void dao_noise_cells(struct dao_noise_grid *g)
 		g->frame_slope = g->frame_area;
 	for (int k = 0; k < 4; k++)
 		fill_empty(g, planes[k], *frame[k]);
+}
+
+void dao_noise_cells(struct dao_noise_grid *g)
+{
+	dao_noise_cell_rows(g, 0, g->ch);
+	dao_noise_cells_finish(g);
 }
 
 /*

@@ -80,6 +80,12 @@ void dao_noise_blocks(struct dao_noise_grid *g, const float *z, int by0, int by1
 /* Cells from the blocks, and the frame's medians (after dao_noise_blocks on all rows). */
 void dao_noise_cells(struct dao_noise_grid *g);
 
+/* The same in two steps: the cells of the cell rows [cy0, cy1) (any rows
+ * in any order, on any thread), then, after all rows, the frame's medians
+ * and the filling of the empty cells. */
+void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1);
+void dao_noise_cells_finish(struct dao_noise_grid *g);
+
 /*
  * A per-pixel map of one value per cell (cell_values[cy * cw + cx]),
  * bilinear between cell centres and constant beyond the outer ones: rows
