@@ -37,10 +37,12 @@ static float load_w(const struct dao_domain_pass *p, int n, int lane)
 
 /*
  * The exponent of the link between samples n-1 and n of a lane (w: 1/z
- * at n-2 .. n+1, 0 outside the line or without data), or a value above
+ * at n-2 .. n+1, 0 outside the line or without data; the noise sigma and
+ * 1 / sigma_s there), or a value above
  * DAO_DOMAIN_MAX_EXPONENT when there is no link.
  */
-static float link_exponent(const struct dao_domain_pass *p, const float w[4], size_t at)
+static float link_exponent(const struct dao_domain_pass *p, const float w[4], float sigma,
+			   float inv_scale)
 {
 	const float wm2 = w[0], wm1 = w[1], w0 = w[2], wp1 = w[3];
 	if (!(wm1 > 0.0f && w0 > 0.0f))
@@ -50,17 +52,45 @@ static float link_exponent(const struct dao_domain_pass *p, const float w[4], si
 	const float dm = wm2 > 0.0f ? wm1 - wm2 : 0.0f;
 	const float dp = wp1 > 0.0f ? wp1 - w0 : 0.0f;
 	const float e = d - med3(dm, d, dp);
-	float sigma = p->noise_map ? p->noise_map[at] : p->noise;
 	sigma = fmaxf(fmaxf(sigma, p->unit * w0 * w0), DAO_DOMAIN_MIN_NOISE);
 	const float r = e / sigma;
-	const float inv_scale = p->inv_scale_map ? p->inv_scale_map[at] : p->inv_scale;
 	return p->spatial * inv_scale + p->range_coef * r * r;
+}
+
+void dao_domain_cell_knots(const struct dao_domain_pass *p, const float *cells, int lane,
+			   float *knots, size_t knot_stride)
+{
+	int a;
+	float u;
+	dao_domain_cell_pos(lane, p->lane_cells, p->cell_span, &a, &u);
+	const int b = a + 1 < p->lane_cells ? a + 1 : a;
+	for (int k = 0; k < p->line_cells; k++) {
+		const float va = cells[(size_t)a * p->lane_step + (size_t)k * p->line_step];
+		const float vb = cells[(size_t)b * p->lane_step + (size_t)k * p->line_step];
+		knots[k * knot_stride] = va + (vb - va) * u;
+	}
+}
+
+/* a per-cell value at sample n of a line from its knots */
+static float cell_value(const struct dao_domain_pass *p, const float *knots, int n)
+{
+	int k;
+	float u;
+	dao_domain_cell_pos(n, p->line_cells, p->cell_span, &k, &u);
+	const float a = knots[k], b = knots[k + 1 < p->line_cells ? k + 1 : k];
+	return a + (b - a) * u;
 }
 
 void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1)
 {
 	const int len = p->len;
+	float *noise_knots = scratch + (size_t)DAO_DOMAIN_SCRATCH * len;
+	float *scale_knots = noise_knots + len;
 	for (int lane = lane0; lane < lane1; lane++) {
+		if (p->noise_cells)
+			dao_domain_cell_knots(p, p->noise_cells, lane, noise_knots, 1);
+		if (p->inv_scale_cells)
+			dao_domain_cell_knots(p, p->inv_scale_cells, lane, scale_knots, 1);
 		/* causal sweep: moments of the samples 0..n about sample n, at
 		 * distances n - k, the data centred on w_n; each step moves the
 		 * samples so far one further away and the centre by w_n-1 - w_n */
@@ -69,8 +99,13 @@ void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int la
 		for (int n = 0; n < len; n++) {
 			w[0] = w[1], w[1] = w[2], w[2] = w[3];
 			w[3] = n + 1 < len ? load_w(p, n + 1, lane) : 0.0f;
-			const size_t at = (size_t)n * p->lanes + lane;
-			const float x = n > 0 ? link_exponent(p, w, at) : INFINITY;
+			float x = INFINITY;
+			if (n > 0) {
+				const float sigma = p->noise_cells ? cell_value(p, noise_knots, n) : p->noise;
+				const float inv_scale = p->inv_scale_cells ? cell_value(p, scale_knots, n)
+									   : p->inv_scale;
+				x = link_exponent(p, w, sigma, inv_scale);
+			}
 			const float l = x < DAO_DOMAIN_MAX_EXPONENT ? expf(-x) : 0.0f;
 			const float valid = w[2] > 0.0f ? 1.0f : 0.0f;
 			const float dw = w[1] - w[2];
@@ -129,17 +164,25 @@ void dao_domain_pass_init(struct dao_domain_pass *p, const struct dao_domain_set
 		.out_depth = k == 2 * s->iterations - 1,
 		.spatial = dao_domain_spatial(it, s->iterations),
 		.inv_scale = s->inv_scale,
-		.inv_scale_map = vertical ? s->inv_scale_map : s->inv_scale_map_t,
 		.range_coef = s->range_coef,
 		.noise = s->noise,
-		.noise_map = vertical ? s->noise_map : s->noise_map_t,
 		.unit = s->unit,
+		.noise_cells = s->noise_cells,
+		.inv_scale_cells = s->inv_scale_cells,
+		/* vertical passes: the lanes are the frame's columns (x) */
+		.lane_cells = vertical ? s->cells_x : s->cells_y,
+		.line_cells = vertical ? s->cells_y : s->cells_x,
+		.lane_step = vertical ? 1 : s->cells_x,
+		.line_step = vertical ? s->cells_x : 1,
+		.cell_span = s->cell_span,
 	};
 }
 
 size_t dao_domain_scratch_floats(int width, int height)
 {
-	return (size_t)DAO_DOMAIN_SCRATCH * DAO_DOMAIN_STRIP * (size_t)(width > height ? width : height);
+	/* and two per sample of a line: where it is between the knots */
+	const size_t len = (size_t)(width > height ? width : height);
+	return ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 2) * len;
 }
 
 void dao_domain_filter(const struct dao_domain_setup *s, dao_domain_pass_fn pass, const float *z,

@@ -2,6 +2,9 @@
 #ifndef DAO_DEPTH_DOMAIN_H
 #define DAO_DEPTH_DOMAIN_H
 
+#include <math.h>
+#include <stddef.h>
+
 /*
  * prefilter=domain: a wide edge-preserving filter of inverse depth w = 1/z
  * whose cost does not depend on its scale, after the recursive filter of the
@@ -65,16 +68,25 @@ struct dao_domain_pass {
 	/* a link is exp(-(spatial x inv_scale + range_coef x (e / sigma)^2)) */
 	float spatial;            /* sqrt(2) / (schedule factor of the iteration) */
 	float inv_scale;          /* 1 / sigma_s (1/px) */
-	const float *inv_scale_map; /* per sample 1 / sigma_s, laid out as `in`, or NULL */
 	float range_coef;         /* 1 / (2 range^2) */
 	float noise;              /* sigma of 1/z, 1/m */
-	const float *noise_map;   /* per sample, laid out as `in`, or NULL */
 	float unit;               /* depth quantum, m (0 for float input) */
+	/* per-cell noise and 1 / sigma_s instead of the two scalars (NULL: the
+	 * scalars): cell (a, b), a along the lanes and b along the line, at
+	 * cells[a * lane_step + b * line_step], bilinear between cell centres
+	 * (dao_domain_cell_knots, dao_domain_cell_at) */
+	const float *noise_cells, *inv_scale_cells;
+	int lane_cells, line_cells; /* cells along the lanes and along the line */
+	int lane_step, line_step;
+	int cell_span;            /* px per cell side */
 };
 
 #define DAO_DOMAIN_MAX_ITERATIONS 5
 /* floats of scratch per sample and lane: the causal moments, the link, 1/z */
 #define DAO_DOMAIN_SCRATCH 7
+/* and per sample of the longer side and lane for the cells' knots (at most
+ * a cell per px: of noise and of scale, a knot and the difference to the next) */
+#define DAO_DOMAIN_KNOT_SCRATCH 4
 /* a link whose exponent exceeds this is 0 (e^-17 = 4e-8: below float's step at 1) */
 #define DAO_DOMAIN_MAX_EXPONENT 17.0f
 /* the least noise sigma in 1/z, 1/m (4 um at 2 m) */
@@ -92,13 +104,41 @@ float dao_domain_spatial(int iteration, int iterations);
 float dao_domain_range_coef(float range);
 
 /*
+ * Per-cell values (noise-model=auto): bilinear between cell centres,
+ * constant beyond the outer ones, computed where a pass needs them instead
+ * of per-pixel maps (four planes of the frame written per frame and read
+ * strided by every pass cost more time than the filter's arithmetic).  The
+ * interpolation goes along the lanes first: knots[k] is the value at `lane`
+ * on the k-th row of cells along the line (line_cells of them); then along
+ * the line, the same arithmetic in every kernel set:
+ *
+ *   v = knots[k] + (knots[k + 1] - knots[k]) * u    (dao_domain_cell_pos)
+ */
+void dao_domain_cell_knots(const struct dao_domain_pass *p, const float *cells, int lane,
+			   float *knots, size_t knot_stride);
+
+/* the knot k and weight u of sample n along a line of `cells` cells of `span` px */
+static inline void dao_domain_cell_pos(int n, int cells, int span, int *k, float *u)
+{
+	const float f = ((float)n - (0.5f * (float)span - 0.5f)) / (float)span;
+	int i = (int)floorf(f);
+	float t = f - (float)i;
+	if (i < 0)
+		i = 0, t = 0.0f;
+	if (i >= cells - 1)
+		i = cells - 1, t = 0.0f;
+	*k = i, *u = t;
+}
+
+/*
  * Reference pass (scalar, libm exp) over lanes [lane0, lane1).  scratch:
- * DAO_DOMAIN_SCRATCH * len floats.
+ * (DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * len floats.
  */
 void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1);
 
 /* Lanes the optimised passes process together: a scratch of
- * DAO_DOMAIN_SCRATCH * DAO_DOMAIN_STRIP * len floats serves every set. */
+ * ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 2) *
+ * len floats serves every set (dao_domain_scratch_floats). */
 #define DAO_DOMAIN_STRIP 16
 
 /* The whole filter of a w x h frame. */
@@ -107,9 +147,10 @@ struct dao_domain_setup {
 	float inv_scale;          /* 1 / sigma_s, 1/px */
 	float range_coef;         /* dao_domain_range_coef(range) */
 	float noise, unit;        /* as in struct dao_domain_pass */
-	/* per-pixel maps (NULL: the scalars), in the frame's layout and transposed */
-	const float *noise_map, *noise_map_t;
-	const float *inv_scale_map, *inv_scale_map_t;
+	/* per-cell values (NULL: the scalars): cells_x x cells_y, row-major,
+	 * cells of cell_span px, bilinear between their centres */
+	const float *noise_cells, *inv_scale_cells;
+	int cells_x, cells_y, cell_span;
 };
 
 /*

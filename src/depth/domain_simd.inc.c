@@ -43,11 +43,35 @@ static inline vf dt_exp_neg(vf x)
 /* What a strip's sweeps read, in registers and locals (the stores to the
  * scratch could otherwise alias the pass's fields). */
 struct dt_ctx {
-	const float *in, *noise_map, *scale_map;
+	const float *in;
+	/* per cell along the line: the knot and the difference to the next
+	 * (0 after the last), VN each, or NULL */
+	const float *noise_knots, *scale_knots;
+	const float *pos;         /* per sample: the knots' offset (k 2 VN) and u */
 	size_t stride;
 	int in_depth;
 	vf noise, unit, spatial, spatial_term, range;
 };
+
+/* a per-cell value at the knot k + u of the line (cell_value in domain.c) */
+static inline vf dt_cell_value(const float *knots, size_t at, vf u)
+{
+	const float *a = knots + at;
+	return v_add(v_load(a), v_mul(v_load(a + VN), u));
+}
+
+/* the knots of lanes lane0 .. lane0 + VN - 1 and their differences */
+static void dt_cell_knots(const struct dao_domain_pass *p, const float *cells, int lane0,
+			  float *knots)
+{
+	for (int j = 0; j < VN; j++)
+		dao_domain_cell_knots(p, cells, lane0 + j, knots + j, 2 * VN);
+	for (int k = 0; k < p->line_cells; k++) {
+		float *a = knots + (size_t)k * 2 * VN;
+		const vf d = k + 1 < p->line_cells ? v_sub(v_load(a + 2 * VN), v_load(a)) : v_zero();
+		v_store(a + VN, d);
+	}
+}
 
 static inline vf dt_load_w(const struct dt_ctx *c, size_t at)
 {
@@ -61,20 +85,25 @@ static inline vf dt_load_w(const struct dt_ctx *c, size_t at)
 }
 
 /* the link between samples n-1 and n (link_exponent in domain.c) */
-static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, vf d, size_t at)
+static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, vf d, int n)
 {
 	const vf zero = v_zero();
 	const vm ok = m_and(v_gt(wm1, zero), v_gt(w0, zero));
 	const vf dm = v_sel(v_gt(wm2, zero), v_sub(wm1, wm2), zero);
 	const vf dp = v_sel(v_gt(wp1, zero), v_sub(wp1, w0), zero);
 	const vf e = v_sub(d, dt_med3(dm, d, dp));
-	vf sigma = c->noise_map ? v_load(c->noise_map + at) : c->noise;
+	size_t k = 0;
+	vf uv = zero;
+	if (c->noise_knots || c->scale_knots)
+		k = (size_t)c->pos[2 * n], uv = v_set1(c->pos[2 * n + 1]);
+	vf sigma = c->noise_knots ? dt_cell_value(c->noise_knots, k, uv) : c->noise;
 	sigma = v_max(v_max(sigma, v_mul(v_mul(c->unit, w0), w0)), v_set1(DAO_DOMAIN_MIN_NOISE));
 	/* (e / sigma)^2 with the refined reciprocal (3e-7 relative; a division
 	 * costs more than the rest of the link on AVX-512) */
 	const vf r = v_mul(e, v_rcp(sigma));
 	const vf r2 = v_mul(r, r);
-	const vf sp = c->scale_map ? v_mul(c->spatial, v_load(c->scale_map + at)) : c->spatial_term;
+	const vf sp = c->scale_knots ? v_mul(c->spatial, dt_cell_value(c->scale_knots, k, uv))
+				     : c->spatial_term;
 	const vf x = v_fma(c->range, r2, sp);
 	const vm on = m_and(ok, v_lt(x, v_set1(DAO_DOMAIN_MAX_EXPONENT)));
 	return v_sel(on, dt_exp_neg(x), zero);
@@ -97,16 +126,16 @@ dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const 
 	struct dt_ctx c = *cp;
 	c.in_depth = in_depth;
 	if (!noise_map)
-		c.noise_map = NULL;
+		c.noise_knots = NULL;
 	if (!scale_map)
-		c.scale_map = NULL;
+		c.scale_knots = NULL;
 	const vf zero = v_zero();
 	vf wm2 = zero, wm1 = zero, w0 = zero, wp1 = dt_load_w(&c, 0);
 	for (int n = 0; n < len; n++) {
 		const size_t at = (size_t)n * c.stride;
 		wm2 = wm1, wm1 = w0, w0 = wp1;
 		wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
-		const vf l = n > 0 ? dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), at) : zero;
+		const vf l = n > 0 ? dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), n) : zero;
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
 		v_store(o + 5 * VN, l);
 		v_store(o + 6 * VN, w0);
@@ -123,31 +152,40 @@ dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const 
  * moment depends on its predecessor through one operation (domain.c has the
  * same sums).
  */
-static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int skip)
+static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *pos, int lane0,
+		     int skip)
 {
 	const int len = p->len;
+	/* the cells' knots of the strip's lanes, after its scratch */
+	float *noise_knots = sc + (size_t)DAO_DOMAIN_SCRATCH * VN * len;
+	float *scale_knots = noise_knots + (size_t)2 * VN * p->line_cells;
+	if (p->noise_cells)
+		dt_cell_knots(p, p->noise_cells, lane0, noise_knots);
+	if (p->inv_scale_cells)
+		dt_cell_knots(p, p->inv_scale_cells, lane0, scale_knots);
 	const struct dt_ctx c = {
 		.in = p->in + lane0,
-		.noise_map = p->noise_map ? p->noise_map + lane0 : NULL,
-		.scale_map = p->inv_scale_map ? p->inv_scale_map + lane0 : NULL,
+		.noise_knots = p->noise_cells ? noise_knots : NULL,
+		.scale_knots = p->inv_scale_cells ? scale_knots : NULL,
 		.stride = (size_t)p->lanes,
 		.in_depth = p->in_depth,
+		.pos = pos,
 		.noise = v_set1(p->noise), .unit = v_set1(p->unit), .spatial = v_set1(p->spatial),
 		.spatial_term = v_set1(p->spatial * p->inv_scale), .range = v_set1(p->range_coef),
 	};
 	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
-	if (c.noise_map && c.scale_map) {
+	if (c.noise_knots && c.scale_knots) {
 		if (c.in_depth)
 			dt_links(&c, sc, len, 1, 1, 1);
 		else
 			dt_links(&c, sc, len, 0, 1, 1);
-	} else if (!c.noise_map && !c.scale_map) {
+	} else if (!c.noise_knots && !c.scale_knots) {
 		if (c.in_depth)
 			dt_links(&c, sc, len, 1, 0, 0);
 		else
 			dt_links(&c, sc, len, 0, 0, 0);
 	} else {
-		dt_links(&c, sc, len, c.in_depth, c.noise_map != NULL, c.scale_map != NULL);
+		dt_links(&c, sc, len, c.in_depth, c.noise_knots != NULL, c.scale_knots != NULL);
 	}
 	/* causal: moments about sample n at distances n - k, data centred on w_n */
 	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, wprev = zero;
@@ -221,13 +259,23 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, int lane0, int 
 void DAO_ISA_FN(dao_domain_pass)(const struct dao_domain_pass *p, float *scratch, int lane0,
 				 int lane1)
 {
+	/* where each sample of a line is between the cells' knots, the same
+	 * for every line: after the largest scratch a strip uses */
+	float *pos = scratch + (size_t)(DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * VN * p->len;
+	if (p->noise_cells || p->inv_scale_cells)
+		for (int n = 0; n < p->len; n++) {
+			int k;
+			float u;
+			dao_domain_cell_pos(n, p->line_cells, p->cell_span, &k, &u);
+			pos[2 * n] = (float)(k * 2 * VN), pos[2 * n + 1] = u;
+		}
 	int l0 = lane0;
 	for (; l0 + VN <= lane1; l0 += VN)
-		dt_strip(p, scratch, l0, 0);
+		dt_strip(p, scratch, pos, l0, 0);
 	if (l0 >= lane1)
 		return;
 	if (lane1 == p->lanes && p->lanes >= VN) /* overlap the strip before */
-		dt_strip(p, scratch, p->lanes - VN, l0 - (p->lanes - VN));
+		dt_strip(p, scratch, pos, p->lanes - VN, l0 - (p->lanes - VN));
 	else
 		dao_domain_pass_ref(p, scratch, l0, lane1);
 }

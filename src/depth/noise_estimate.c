@@ -236,15 +236,14 @@ static int slope_pairs(const struct dao_noise_grid *g, int bx, int by, float *v)
 	return n;
 }
 
-void dao_noise_cells(struct dao_noise_grid *g)
+void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 {
-	const int cw = g->cw, ch = g->ch, nc = cw * ch;
+	const int cw = g->cw, nc = cw * g->ch;
 	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
 	float *slope = g->cell + 3 * nc;
 	float va[DAO_NOISE_CELL * DAO_NOISE_CELL], vl[DAO_NOISE_CELL * DAO_NOISE_CELL];
 	float vw[DAO_NOISE_CELL * DAO_NOISE_CELL], vs[4 * DAO_NOISE_CELL * DAO_NOISE_CELL];
-	g->usable_cells = 0;
-	for (int cy = 0; cy < ch; cy++)
+	for (int cy = cy0; cy < cy1; cy++)
 		for (int cx = 0; cx < cw; cx++) {
 			int n = 0, ns = 0;
 			for (int by = cy * DAO_NOISE_CELL; by < (cy + 1) * DAO_NOISE_CELL && by < g->bh; by++)
@@ -266,8 +265,17 @@ void dao_noise_cells(struct dao_noise_grid *g)
 			area[i] = median(va, n);
 			link[i] = median(vl, n);
 			wm[i] = median(vw, n);
-			g->usable_cells++;
 		}
+}
+
+void dao_noise_cells_finish(struct dao_noise_grid *g)
+{
+	const int nc = g->cw * g->ch;
+	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	float *slope = g->cell + 3 * nc;
+	g->usable_cells = 0;
+	for (int i = 0; i < nc; i++)
+		g->usable_cells += !isnan(area[i]);
 	/* the frame: medians over the usable cells (the scratch holds a copy) */
 	float *tmp = g->scratch;
 	float *planes[4] = { area, link, wm, slope };
@@ -288,70 +296,8 @@ void dao_noise_cells(struct dao_noise_grid *g)
 		fill_empty(g, planes[k], *frame[k]);
 }
 
-/*
- * One line of a map: knots v[0..n) at positions (k + 1/2) * span - 1/2,
- * linear between them, constant beyond the outer ones; len samples.  Each
- * segment is a plain loop over its range (vectorised).
- */
-DAO_MULTIVERSION
-static void map_line(const float *v, int n, int span, float *out, int len)
+void dao_noise_cells(struct dao_noise_grid *g)
 {
-	const float c0 = 0.5f * (float)span - 0.5f;
-	/* samples x < first are before the first knot; segment k covers
-	 * [first + k span, first + (k + 1) span) */
-	const int first = (int)floorf(c0) + 1;
-	int x = 0;
-	for (; x < len && x < first; x++)
-		out[x] = v[0];
-	for (int k = 0; k + 1 < n && x < len; k++) {
-		const float a = c0 + (float)(k * span), slope = (v[k + 1] - v[k]) / (float)span;
-		const float base = v[k] - slope * a;
-		const int end = first + (k + 1) * span < len ? first + (k + 1) * span : len;
-		for (int i = x; i < end; i++)
-			out[i] = base + slope * (float)i;
-		x = end;
-	}
-	for (; x < len; x++)
-		out[x] = v[n - 1];
-}
-
-/* the cell values interpolated to position p along the other axis (t: per cell column) */
-static void knots_at(const float *cv, int stride_a, int stride_b, int nb, int na, int span,
-		     int p, float *t)
-{
-	const float c0 = 0.5f * (float)span - 0.5f;
-	float f = ((float)p - c0) / (float)span;
-	int k = (int)floorf(f);
-	if (k < 0)
-		k = 0, f = 0.0f;
-	if (k >= na - 1)
-		k = na - 1, f = 0.0f;
-	const float u = f - (float)k;
-	for (int j = 0; j < nb; j++) {
-		const float a = cv[k * stride_a + j * stride_b];
-		const float b = k + 1 < na ? cv[(k + 1) * stride_a + j * stride_b] : a;
-		t[j] = a + (b - a) * u;
-	}
-}
-
-void dao_noise_map_rows(const struct dao_noise_grid *g, const float *cell_values, float *map,
-			int y0, int y1)
-{
-	float t[16384 / (DAO_NOISE_BLOCK * DAO_NOISE_CELL) + 1];
-	const int span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
-	for (int y = y0; y < y1; y++) {
-		knots_at(cell_values, g->cw, 1, g->cw, g->ch, span, y, t);
-		map_line(t, g->cw, span, map + (size_t)y * g->width, g->width);
-	}
-}
-
-void dao_noise_map_cols(const struct dao_noise_grid *g, const float *cell_values, float *map_t,
-			int x0, int x1)
-{
-	float t[16384 / (DAO_NOISE_BLOCK * DAO_NOISE_CELL) + 1];
-	const int span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
-	for (int x = x0; x < x1; x++) {
-		knots_at(cell_values, 1, g->cw, g->ch, g->cw, span, x, t);
-		map_line(t, g->ch, span, map_t + (size_t)x * g->height, g->height);
-	}
+	dao_noise_cell_rows(g, 0, g->ch);
+	dao_noise_cells_finish(g);
 }

@@ -29,7 +29,8 @@
  * (robust to the few blocks a depth edge, a crease or a hole boundary runs
  * through); cells with fewer than DAO_NOISE_MIN_BLOCKS blocks take the mean
  * of their neighbours, repeatedly, and the frame's median when none has any.
- * Per pixel: bilinear between cell centres (dao_noise_map_*).
+ * Per pixel: bilinear between cell centres (where prefilter=domain's passes
+ * need a value, dao_domain_cell_knots in domain.h).
  *
  * (`slope`: the median over the cell's pairs).
  *
@@ -80,16 +81,11 @@ void dao_noise_blocks(struct dao_noise_grid *g, const float *z, int by0, int by1
 /* Cells from the blocks, and the frame's medians (after dao_noise_blocks on all rows). */
 void dao_noise_cells(struct dao_noise_grid *g);
 
-/*
- * A per-pixel map of one value per cell (cell_values[cy * cw + cx]),
- * bilinear between cell centres and constant beyond the outer ones: rows
- * [y0, y1) of the frame's layout (map: w x h), or rows [x0, x1) of the
- * transposed layout (map_t: h x w, row x = column x of the frame).
- */
-void dao_noise_map_rows(const struct dao_noise_grid *g, const float *cell_values, float *map,
-			int y0, int y1);
-void dao_noise_map_cols(const struct dao_noise_grid *g, const float *cell_values, float *map_t,
-			int x0, int x1);
+/* The same in two steps: the cells of the cell rows [cy0, cy1) (any rows
+ * in any order, on any thread), then, after all rows, the frame's medians
+ * and the filling of the empty cells. */
+void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1);
+void dao_noise_cells_finish(struct dao_noise_grid *g);
 
 /*
  * noise-model=auto: from the estimate to the filters' settings (the gain,

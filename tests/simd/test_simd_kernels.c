@@ -248,8 +248,9 @@ static void test_prefilter(void **state)
 
 /*
  * prefilter=domain, every pass and the whole filter: fixed scales (2 and
- * 8 px) with the depth quantum of the input, and per-pixel maps of noise and
- * scale (smooth ramps over the frame, as the noise estimate makes them).
+ * 8 px) with the depth quantum of the input, and per-cell noise and scale
+ * (cells of 32 px, values ramping over the frame with a jitter, bilinear
+ * between the cells as the noise estimate's are).
  */
 static void test_domain(void **state)
 {
@@ -261,18 +262,18 @@ static void test_domain(void **state)
 		const int w = (int)in->cam.width, h = (int)in->cam.height;
 		const size_t np = (size_t)w * h;
 		float *tmp = malloc(np * 4), *ref = malloc(np * 4), *opt = malloc(np * 4);
-		float *maps = malloc(np * 4 * 4);
+		const int span = 32, cx = (w + span - 1) / span, cy = (h + span - 1) / span;
+		float *cells = malloc(2 * (size_t)cx * cy * sizeof(float));
 		float *sc = malloc(dao_domain_scratch_floats(w, h) * sizeof(float));
-		assert_non_null(maps);
+		assert_non_null(cells);
 		assert_non_null(sc);
-		for (int y = 0; y < h; y++)
-			for (int x = 0; x < w; x++) {
-				const float noise = 0.0005f + 0.002f * (float)x / (float)w;
-				const float inv_scale = 1.0f / (1.5f + 10.0f * (float)y / (float)h);
-				maps[(size_t)y * w + x] = noise;
-				maps[np + (size_t)x * h + y] = noise;
-				maps[2 * np + (size_t)y * w + x] = inv_scale;
-				maps[3 * np + (size_t)x * h + y] = inv_scale;
+		for (int y = 0; y < cy; y++)
+			for (int x = 0; x < cx; x++) {
+				const float jitter = (float)((x * 7 + y * 13) % 5) / 5.0f;
+				cells[y * cx + x] = 0.0005f + 0.002f * (float)x / (float)cx +
+						    0.0004f * jitter;
+				cells[cx * cy + y * cx + x] =
+					1.0f / (1.5f + 10.0f * (float)y / (float)cy + 2.0f * jitter);
 			}
 		for (int mode = 0; mode < 3; mode++) {
 			struct dao_domain_setup s = {
@@ -282,8 +283,8 @@ static void test_domain(void **state)
 				.noise = 0.0012f, .unit = 0.001f,
 			};
 			if (mode == 2) {
-				s.noise_map = maps, s.noise_map_t = maps + np;
-				s.inv_scale_map = maps + 2 * np, s.inv_scale_map_t = maps + 3 * np;
+				s.noise_cells = cells, s.inv_scale_cells = cells + cx * cy;
+				s.cells_x = cx, s.cells_y = cy, s.cell_span = span;
 			}
 			dao_domain_filter(&s, dao_domain_pass_ref, in->depth, tmp, ref, sc);
 			for (int k = 0; k < ns; k++) {
@@ -305,7 +306,7 @@ static void test_domain(void **state)
 		free(tmp);
 		free(ref);
 		free(opt);
-		free(maps);
+		free(cells);
 		free(sc);
 	}
 }
