@@ -58,7 +58,8 @@ static int src_open(const char *uri, const struct dao_source_options *o, void **
 	s->fps = 100;
 	char buf[256];
 	snprintf(buf, sizeof buf, "%s", uri);
-	for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+	char *save = NULL; /* strtok_r: the daemon opens its source and sinks in parallel threads */
+	for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
 		unsigned v;
 		if (sscanf(tok, "fps=%u", &v) == 1)
 			s->fps = v;
@@ -212,7 +213,8 @@ static int sink_open(const char *uri, void **state, struct dao_error *err)
 	char buf[512];
 	snprintf(buf, sizeof buf, "%s", uri);
 	s->ms = atol(buf);
-	for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+	char *save = NULL; /* strtok_r: the daemon opens its source and sinks in parallel threads */
+	for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
 		if (!strncmp(tok, "fail=", 5))
 			s->fail = errno_of(tok + 5);
 		else if (!strncmp(tok, "open_fail=", 10))
