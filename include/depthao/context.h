@@ -41,8 +41,20 @@ DAO_API void dao_context_destroy(struct dao_context *ctx);
 DAO_API int dao_context_set_params(struct dao_context *ctx, const struct dao_params *params,
 			   struct dao_error *err);
 
+/*
+ * Copies the current parameters into `out`, a struct dao_params of `size`
+ * bytes (the fields that fit; out->size is set).  -EINVAL if `size` is
+ * smaller than the first struct that carried a size.  Programs call
+ * dao_context_get_params() below; bindings pass dao_params_size().
+ */
+DAO_API int dao_context_get_params_sized(const struct dao_context *ctx, struct dao_params *out,
+					 size_t size);
+
 /* Copies the current parameters. */
-DAO_API void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out);
+static inline void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out)
+{
+	(void)dao_context_get_params_sized(ctx, out, sizeof(*out));
+}
 
 /* The camera the context was created with. */
 DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ctx);

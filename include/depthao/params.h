@@ -100,6 +100,12 @@ enum dao_shade {
 };
 
 struct dao_params {
+	/* sizeof(struct dao_params) as the program that filled it was built, set by
+	 * dao_params_init(): a program built against an older depthao passes a
+	 * shorter struct, and the library takes the defaults for the fields it
+	 * lacks (fields are only ever added at the end; README "ABI policy") */
+	uint32_t size;
+
 	/* depth input */
 	float depth_min;          /* m; nearer = no data */
 	float depth_max;          /* m; farther = no data */
@@ -192,8 +198,20 @@ DAO_API int dao_quality_parse(const char *name, enum dao_quality *q, struct dao_
 /* sizeof(struct dao_params) of this library, for bindings that cannot see the header. */
 DAO_API size_t dao_params_size(void);
 
+/*
+ * Fills `p`, a struct dao_params of `size` bytes, with a quality preset and
+ * sets p->size.  -EINVAL if `size` is smaller than the first struct that
+ * carried a size or larger than this library's.  Programs call
+ * dao_params_init() below, which passes their own sizeof; bindings that
+ * cannot see the header pass dao_params_size().
+ */
+DAO_API int dao_params_init_sized(struct dao_params *p, size_t size, enum dao_quality q);
+
 /* Fills `p` with a quality preset. */
-DAO_API void dao_params_init(struct dao_params *p, enum dao_quality q);
+static inline void dao_params_init(struct dao_params *p, enum dao_quality q)
+{
+	(void)dao_params_init_sized(p, sizeof(*p), q);
+}
 
 /*
  * Turns on what suits a stream of consecutive frames from one camera (a

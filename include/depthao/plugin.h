@@ -26,6 +26,23 @@
  * Frames from read stay valid until release (or the next read); sources own
  * their buffers.  One thread at a time per source; separate sources are
  * independent.
+ *
+ * Growing the interface without breaking built plugins and programs (README
+ * "ABI policy"; PipeWire versions its interfaces the same way):
+ *  - struct dao_source_info, dao_source_options, dao_sink_format and
+ *    dao_sink_host begin with `size`, the sizeof of the struct as the code
+ *    that filled it was built.  Fields are only ever appended.  Whoever reads
+ *    a field added after the first layout checks DAO_STRUCT_HAS() first (and
+ *    takes 0 / the default otherwise); whoever fills a struct the other side
+ *    allocated writes such a field only when DAO_STRUCT_HAS() says it is there.
+ *    The fields below without a "since" note are in every layout.
+ *  - struct dao_source_ops and dao_sink_ops begin with `version`
+ *    (DAO_SOURCE_OPS_VERSION, DAO_SINK_OPS_VERSION as the plugin was built).
+ *    A callback added later says "since version N"; the host calls it only
+ *    when version >= N, and loads plugins built for newer versions than its
+ *    own (it uses what it knows).
+ *  - DAO_PLUGIN_ABI_VERSION changes only when the layout breaks; a plugin
+ *    built for another one is refused with a message.
  */
 #ifndef DEPTHAO_PLUGIN_H
 #define DEPTHAO_PLUGIN_H
@@ -42,14 +59,23 @@
 extern "C" {
 #endif
 
-#define DAO_PLUGIN_ABI_VERSION 1
+/* 2: the structs carry `size` and the ops tables `version` (plugins built
+ * for 1 are refused: rebuild them) */
+#define DAO_PLUGIN_ABI_VERSION 2
+#define DAO_SOURCE_OPS_VERSION 1
+#define DAO_SINK_OPS_VERSION 1
 #define DAO_PLUGIN_ENTRY_SYMBOL "dao_plugin_entry"
 #define DAO_PLUGIN_PATH_ENV "DEPTHAO_PLUGIN_PATH"
 
 /* read(): the end of a recording (files without looping). */
 #define DAO_SOURCE_EOS 1
 
+/* The struct at `ptr` (of `type`, with its `size` set) holds `field`. */
+#define DAO_STRUCT_HAS(type, ptr, field) \
+	((size_t)(ptr)->size >= offsetof(type, field) + sizeof(((type *)0)->field))
+
 struct dao_source_info {
+	uint32_t size;              /* sizeof, set by whoever allocated it */
 	uint32_t width, height;     /* depth image size */
 	enum dao_pixfmt format;     /* DAO_PIXFMT_DEPTH16 or DAO_PIXFMT_DEPTH_F32 */
 	float depth_unit;           /* metres per count (DEPTH16) */
@@ -77,6 +103,7 @@ enum dao_playback {
 };
 
 struct dao_source_options {
+	uint32_t size;              /* sizeof: DAO_SOURCE_OPTIONS_INIT */
 	enum dao_playback playback;
 	int loop;                   /* at the end, start again (at start_frame) instead of
 				       DAO_SOURCE_EOS */
@@ -86,6 +113,9 @@ struct dao_source_options {
 	float depth_unit;           /* metres per count where the files do not say
 				       (16-bit PNG images); 0 = 0.001 */
 };
+
+/* Options with their size set and everything else 0 (the defaults). */
+#define DAO_SOURCE_OPTIONS_INIT { .size = sizeof(struct dao_source_options) }
 
 struct dao_source_frame {
 	struct dao_frame depth;     /* sequence = recorded/device frame number */
@@ -103,6 +133,7 @@ struct dao_device_entry {
 typedef void (*dao_device_cb)(void *user, const struct dao_device_entry *entry);
 
 struct dao_source_ops {
+	uint32_t version;           /* DAO_SOURCE_OPS_VERSION */
 	/* 0..100: how well this source handles `uri` (auto selection), 0 = not at all */
 	int (*probe)(const char *uri);
 	/* optional: enumerate devices; returns the count or < 0 */
@@ -121,6 +152,7 @@ struct dao_source_ops {
 };
 
 struct dao_sink_format {
+	uint32_t size;              /* sizeof: DAO_SINK_FORMAT_INIT */
 	enum dao_pixfmt format;     /* GRAY8, GRAY16, RGB24 or DEPTH16 */
 	uint32_t width, height;
 	double fps;                 /* nominal, 0 if unknown */
@@ -128,13 +160,18 @@ struct dao_sink_format {
 	int has_fov;                /* the camera's field of view is known */
 	double hfov, vfov;          /* radians (recorders store it) */
 	int mirrored;               /* the images are mirrored left-right (recorders store it) */
+	uint32_t reserved;          /* 0; the struct has no tail padding a later field could
+				       fall into (tests/plugin/test_abi_growth.c) */
 };
+
+#define DAO_SINK_FORMAT_INIT { .size = sizeof(struct dao_sink_format) }
 
 /* Levels of the messages a sink logs through its host. */
 enum dao_log_level { DAO_LOG_ERROR = 0, DAO_LOG_WARN, DAO_LOG_INFO };
 
 /* What a sink may ask of the program running it (the daemon); all optional. */
 struct dao_sink_host {
+	uint32_t size;              /* sizeof: DAO_SINK_HOST_INIT */
 	void *user;
 	/* an AO parameter of the running pipeline, as text (dao_params_get); 0 or < 0 */
 	int (*get_param)(void *user, const char *name, char *value, size_t len);
@@ -145,7 +182,10 @@ struct dao_sink_host {
 	void (*log)(void *user, int level, const char *message);
 };
 
+#define DAO_SINK_HOST_INIT { .size = sizeof(struct dao_sink_host) }
+
 struct dao_sink_ops {
+	uint32_t version;           /* DAO_SINK_OPS_VERSION */
 	/* 0..100: how well this sink handles `uri` (auto selection), 0 = not at all */
 	int (*probe)(const char *uri);
 	int (*open)(const char *uri, void **state, struct dao_error *err);
@@ -232,6 +272,8 @@ struct dao_source;
  * pick the source that probes best (a path ending in .oni -> "oni", .bag ->
  * "bag").
  * Unknown plugin names are -ENOENT with the list of available sources.
+ * `opts` may be NULL (the defaults); else its size must be set
+ * (DAO_SOURCE_OPTIONS_INIT), -EINVAL otherwise.
  */
 DAO_API int dao_source_open(const struct dao_plugins *plugins, const char *uri,
 			    const struct dao_source_options *opts, struct dao_source **out,
@@ -247,7 +289,19 @@ DAO_API int dao_source_open_limited(const struct dao_plugins *plugins, const cha
 				    const struct dao_source_options *opts, uint64_t max_pixels,
 				    struct dao_source **out, struct dao_error *err);
 DAO_API const struct dao_plugin *dao_source_plugin(const struct dao_source *src);
-DAO_API void dao_source_get_info(const struct dao_source *src, struct dao_source_info *info);
+/*
+ * Fills `info`, a struct dao_source_info of `size` bytes (the fields that
+ * fit; the rest of what a source does not know is 0) and sets info->size.
+ * -EINVAL if `size` is smaller than the first struct that carried a size.
+ * Programs call dao_source_get_info(); bindings pass their struct's size.
+ */
+DAO_API int dao_source_get_info_sized(const struct dao_source *src, struct dao_source_info *info,
+				      size_t size);
+static inline void dao_source_get_info(const struct dao_source *src,
+				       struct dao_source_info *info)
+{
+	(void)dao_source_get_info_sized(src, info, sizeof(*info));
+}
 DAO_API int dao_source_start(struct dao_source *src, struct dao_error *err);
 DAO_API int dao_source_read(struct dao_source *src, struct dao_source_frame *frame,
 			    int timeout_ms, struct dao_error *err);
@@ -269,8 +323,10 @@ struct dao_sink;
 DAO_API int dao_sink_open(const struct dao_plugins *plugins, const char *uri,
 			  struct dao_sink **out, struct dao_error *err);
 DAO_API const struct dao_plugin *dao_sink_plugin(const struct dao_sink *sink);
-/* Passes the host to sinks that take one (no-op otherwise); before negotiate. */
+/* Passes the host to sinks that take one (no-op otherwise); before negotiate.
+ * host->size must be set (DAO_SINK_HOST_INIT); the sink gets a copy. */
 DAO_API void dao_sink_attach_host(struct dao_sink *sink, const struct dao_sink_host *host);
+/* fmt->size must be set (DAO_SINK_FORMAT_INIT); -EINVAL otherwise. */
 DAO_API int dao_sink_negotiate(struct dao_sink *sink, struct dao_sink_format *fmt,
 			       struct dao_error *err);
 /* The frame must have the negotiated format and size (-EINVAL otherwise). */

@@ -132,6 +132,7 @@ static void lc_close(void *state)
 }
 
 static const struct dao_source_ops lc_ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = lc_probe,
 	.list_devices = lc_list,
 	.open = lc_open,

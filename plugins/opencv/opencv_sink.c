@@ -305,6 +305,7 @@ static int cv_close(void *state, struct dao_error *err)
 }
 
 static const struct dao_sink_ops opencv_sink_ops = {
+	.version = DAO_SINK_OPS_VERSION,
 	.probe = cv_probe,
 	.open = cv_open,
 	.negotiate = cv_negotiate,

@@ -588,6 +588,7 @@ static void ni_close(void *state)
 }
 
 static const struct dao_source_ops openni2_source_ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = probe,
 	.list_devices = list_devices,
 	.open = ni_open,

@@ -469,6 +469,7 @@ static int rtsp_close(void *state, struct dao_error *err)
 }
 
 static const struct dao_sink_ops rtsp_sink_ops = {
+	.version = DAO_SINK_OPS_VERSION,
 	.probe = rtsp_probe,
 	.open = rtsp_open,
 	.negotiate = rtsp_negotiate,

@@ -84,6 +84,7 @@ static int sink_close(void *state, struct dao_error *err)
 }
 
 static const struct dao_source_ops v4l2_source_ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = src_probe,
 	.list_devices = src_list,
 	.open = src_open,
@@ -95,6 +96,7 @@ static const struct dao_source_ops v4l2_source_ops = {
 };
 
 static const struct dao_sink_ops v4l2_sink_ops = {
+	.version = DAO_SINK_OPS_VERSION,
 	.probe = sink_probe,
 	.open = sink_open,
 	.negotiate = sink_negotiate,

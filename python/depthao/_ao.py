@@ -181,7 +181,7 @@ class AO:
     def _current(self):
         p = _params.Params.__new__(_params.Params)
         p.buf = ctypes.create_string_buffer(_params.PARAMS_BUFFER_SIZE)
-        lib.dao_context_get_params(self._handle(), p.buf)
+        lib.dao_context_get_params_sized(self._handle(), p.buf, _params.PARAMS_BUFFER_SIZE)
         return p
 
     @property

@@ -150,7 +150,9 @@ PLAYBACK_REALTIME = 1
 
 
 class dao_source_info(ctypes.Structure):
-    _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
+    # `size` first: the library fills what fits (plugin.h, "Growing the interface")
+    _fields_ = [("size", ctypes.c_uint32),
+                ("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
                 ("format", ctypes.c_int),
                 ("depth_unit", ctypes.c_float),
                 ("has_fov", ctypes.c_int),
@@ -168,7 +170,8 @@ class dao_source_info(ctypes.Structure):
 
 
 class dao_source_options(ctypes.Structure):
-    _fields_ = [("playback", ctypes.c_int), ("loop", ctypes.c_int),
+    _fields_ = [("size", ctypes.c_uint32),
+                ("playback", ctypes.c_int), ("loop", ctypes.c_int),
                 ("start_frame", ctypes.c_uint32), ("step", ctypes.c_uint32),
                 ("want_color", ctypes.c_int), ("depth_unit", ctypes.c_float)]
 
@@ -194,7 +197,8 @@ _PROTOTYPES = {
     "dao_param_table": (_P(dao_param_info), [_P(ctypes.c_size_t)]),
     "dao_quality_parse": (_int, [_cp, _P(_int), _E]),
     "dao_quality_name": (_cp, [_int]),
-    "dao_params_init": (None, [_vp, _int]),
+    "dao_params_size": (ctypes.c_size_t, []),
+    "dao_params_init_sized": (_int, [_vp, ctypes.c_size_t, _int]),
     "dao_params_set": (_int, [_vp, _cp, _cp, _E]),
     "dao_params_get": (_int, [_vp, _cp, _cp, ctypes.c_size_t, _E]),
     "dao_params_validate": (_int, [_vp, _E]),
@@ -203,7 +207,7 @@ _PROTOTYPES = {
     "dao_context_destroy": (None, [_vp]),
     "dao_context_reset": (None, [_vp]),
     "dao_context_set_params": (_int, [_vp, _vp, _E]),
-    "dao_context_get_params": (None, [_vp, _vp]),
+    "dao_context_get_params_sized": (_int, [_vp, _vp, ctypes.c_size_t]),
     "dao_context_process": (_int, [_vp, _P(dao_frame), _P(dao_frame), _u64, _P(dao_frame), _E]),
     "dao_context_shade": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_get_depth": (_int, [_vp, _P(dao_frame), _E]),
@@ -219,7 +223,7 @@ _PROTOTYPES = {
     "dao_plugins_load": (_int, [_P(_vp), _cp, _E]),
     "dao_plugins_free": (None, [_vp]),
     "dao_source_open": (_int, [_vp, _cp, _P(dao_source_options), _P(_vp), _E]),
-    "dao_source_get_info": (None, [_vp, _P(dao_source_info)]),
+    "dao_source_get_info_sized": (_int, [_vp, _P(dao_source_info), ctypes.c_size_t]),
     "dao_source_start": (_int, [_vp, _E]),
     "dao_source_read": (_int, [_vp, _P(dao_source_frame), _int, _E]),
     "dao_source_release": (None, [_vp, _P(dao_source_frame)]),

@@ -62,11 +62,13 @@ def _read_table():
 TABLE, _END = _read_table()
 BY_ATTR = {p.attr: p for p in TABLE}
 
-# sizeof(struct dao_params) is not exported.  Every field is in the table and
-# 4 bytes wide, so the struct ends at _END rounded up to its alignment; the
-# buffer is made much larger so that a field the table does not describe can
-# never make the library write past it.
-PARAMS_BUFFER_SIZE = max(1024, 4 * _END)
+# sizeof(struct dao_params) of the library loaded: the buffer holds every
+# field it has, and the library writes no more than the size it is given
+# (struct dao_params begins with its size; params.h).
+PARAMS_BUFFER_SIZE = lib.dao_params_size()
+if PARAMS_BUFFER_SIZE < _END:
+    raise ImportError("libdepthao reports struct dao_params of %d bytes but its table reaches "
+                      "%d: a broken library" % (PARAMS_BUFFER_SIZE, _END))
 
 
 def find(name):
@@ -119,7 +121,7 @@ class Params:
 
     def __init__(self, quality=None):
         self.buf = ctypes.create_string_buffer(PARAMS_BUFFER_SIZE)
-        lib.dao_params_init(self.buf, parse_quality(quality))
+        lib.dao_params_init_sized(self.buf, PARAMS_BUFFER_SIZE, parse_quality(quality))
 
     def copy(self):
         p = Params.__new__(Params)

@@ -91,6 +91,7 @@ class Source:
             raise ValueError("timeout must be a positive number of seconds or None, got %r"
                              % (timeout,))
         opts = _lib.dao_source_options()
+        opts.size = ctypes.sizeof(opts)
         opts.playback = _PLAYBACK[playback]
         opts.loop = 1 if loop else 0
         opts.start_frame = _count("start", start)
@@ -122,7 +123,7 @@ class Source:
         _lib.check(r, err)
         self._src = src
         info = _lib.dao_source_info()
-        lib.dao_source_get_info(src, ctypes.byref(info))
+        lib.dao_source_get_info_sized(src, ctypes.byref(info), ctypes.sizeof(info))
         self.info = {
             "width": info.width, "height": info.height,
             "format": _lib.text(lib.dao_pixfmt_name(info.format)),

@@ -12,6 +12,7 @@
 #include <depthao/params.h>
 
 #include "core/error_internal.h"
+#include "params/params_abi.h"
 #include "params/presets.h"
 #include "simd/cpu_internal.h"
 
@@ -177,13 +178,6 @@ int dao_quality_parse(const char *name, enum dao_quality *q, struct dao_error *e
 			     name ? name : "(null)");
 }
 
-void dao_params_init(struct dao_params *p, enum dao_quality q)
-{
-	if ((unsigned)q >= DAO_QUALITY_COUNT)
-		q = DAO_QUALITY_DEFAULT;
-	dao_preset_fill(p, q);
-}
-
 static void *field(struct dao_params *p, const struct dao_param_info *pi)
 {
 	return (char *)p + pi->offset;
@@ -192,6 +186,21 @@ static void *field(struct dao_params *p, const struct dao_param_info *pi)
 static const void *cfield(const struct dao_params *p, const struct dao_param_info *pi)
 {
 	return (const char *)p + pi->offset;
+}
+
+/* The caller's struct has a valid size and holds the field of `pi`. */
+static int in_struct(const struct dao_params *p, const struct dao_param_info *pi,
+		     struct dao_error *err)
+{
+	int r = dao_params_check_size(p, err);
+	if (r < 0)
+		return r;
+	if (!dao_params_has(p, pi->offset, 4)) /* every field is a 4-byte int, float or uint32_t */
+		return dao_error_set(err, -ENOENT,
+				     "parameter '%s' is newer than the program's struct dao_params "
+				     "(%u bytes); rebuild the program against this depthao",
+				     pi->name, (unsigned)p->size);
+	return 0;
 }
 
 static void format_enum_list(const struct dao_param_info *pi, char *buf, size_t len)
@@ -223,6 +232,9 @@ int dao_params_set(struct dao_params *p, const char *name, const char *value,
 	const struct dao_param_info *pi = dao_param_find(name);
 	if (!pi)
 		return dao_error_set(err, -EINVAL, "unknown parameter '%s'", name ? name : "(null)");
+	int r = in_struct(p, pi, err);
+	if (r < 0)
+		return r;
 	if (!value || !*value)
 		return dao_error_set(err, -EINVAL, "parameter '%s' needs a value", pi->name);
 	char *end;
@@ -281,6 +293,9 @@ int dao_params_get(const struct dao_params *p, const char *name, char *buf, size
 	const struct dao_param_info *pi = dao_param_find(name);
 	if (!pi)
 		return dao_error_set(err, -EINVAL, "unknown parameter '%s'", name ? name : "(null)");
+	int r = in_struct(p, pi, err);
+	if (r < 0)
+		return r;
 	if (!buf || !len)
 		return dao_error_set(err, -EINVAL, "%s: no buffer for the value", pi->name);
 	int n = 0;
@@ -309,10 +324,13 @@ int dao_params_get(const struct dao_params *p, const char *name, char *buf, size
 	return 0;
 }
 
-int dao_params_validate(const struct dao_params *p, struct dao_error *err)
+int dao_params_validate(const struct dao_params *caller, struct dao_error *err)
 {
-	if (!p)
-		return dao_error_set(err, -EINVAL, "parameters are NULL");
+	struct dao_params full;
+	int r = dao_params_import(&full, caller, err);
+	if (r < 0)
+		return r;
+	const struct dao_params *p = &full;
 	for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
 		const struct dao_param_info *pi = &table[i];
 		switch (pi->type) {

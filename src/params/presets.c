@@ -9,7 +9,10 @@
  */
 #include "params/presets.h"
 
+#include "params/params_abi.h"
+
 static const struct dao_params common = {
+	.size = sizeof(struct dao_params),
 	.depth_min = 0.05f,
 	.depth_max = 20.0f,
 	.prefilter = DAO_PREFILTER_DOMAIN,
@@ -87,5 +90,7 @@ void dao_preset_fill(struct dao_params *p, enum dao_quality q)
  */
 void dao_params_stream_defaults(struct dao_params *p)
 {
+	if (dao_params_check_size(p, NULL) < 0)
+		return; /* dao_params_validate() reports it */
 	p->depth_temporal = 0.8f;
 }

@@ -36,6 +36,7 @@
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 #include "normals/normals.h"
+#include "params/params_abi.h"
 #include "pipeline/kernels.h"
 #include "pipeline/temporal_depth.h"
 #include "pipeline/threadpool.h"
@@ -191,7 +192,7 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 		r = dao_params_validate(params, err);
 		if (r)
 			return r;
-		p = *params;
+		dao_params_import(&p, params, NULL); /* the caller's struct may be older */
 	} else {
 		dao_params_init(&p, DAO_QUALITY_DEFAULT);
 	}
@@ -269,14 +270,18 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx);
 }
 
-int dao_context_set_params(struct dao_context *ctx, const struct dao_params *params,
+int dao_context_set_params(struct dao_context *ctx, const struct dao_params *caller,
 			   struct dao_error *err)
 {
-	if (!ctx || !params)
+	if (!ctx || !caller)
 		return dao_error_set(err, -EINVAL, "context or parameters are NULL");
-	int r = dao_params_validate(params, err);
-	if (!r)
-		r = check_simd(params->simd, err);
+	int r = dao_params_validate(caller, err);
+	if (r)
+		return r;
+	struct dao_params full; /* the caller's struct may be older */
+	dao_params_import(&full, caller, NULL);
+	const struct dao_params *params = &full;
+	r = check_simd(params->simd, err);
 	if (r)
 		return r;
 	if (!dao_gtao_planes_fit(&ctx->planes, params->max_screen_radius)) {
@@ -316,9 +321,16 @@ void dao_context_reset(struct dao_context *ctx)
 	ctx->depth_hist_valid = 0;
 }
 
-void dao_context_get_params(const struct dao_context *ctx, struct dao_params *out)
+int dao_context_get_params_sized(const struct dao_context *ctx, struct dao_params *out,
+				 size_t size)
 {
-	*out = ctx->params;
+	if (!ctx || !out || size < DAO_PARAMS_SIZE_FIRST)
+		return -EINVAL;
+	if (size > sizeof(*out))
+		size = sizeof(*out);
+	memcpy(out, &ctx->params, size);
+	out->size = (uint32_t)size;
+	return 0;
 }
 
 const struct dao_camera *dao_context_camera(const struct dao_context *ctx)

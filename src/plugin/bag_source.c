@@ -488,6 +488,7 @@ static void bag_close(void *state)
 }
 
 static const struct dao_source_ops bag_source_ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = bag_probe,
 	.open = bag_open,
 	.get_info = bag_get_info,

@@ -321,6 +321,7 @@ static int images_sink_close(void *state, struct dao_error *err)
 }
 
 const struct dao_sink_ops dao_images_sink_ops = {
+	.version = DAO_SINK_OPS_VERSION,
 	.probe = images_sink_probe,
 	.open = images_sink_open,
 	.negotiate = images_sink_negotiate,

@@ -252,6 +252,7 @@ static void images_close(void *state)
 }
 
 static const struct dao_source_ops images_source_ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = images_probe,
 	.open = images_open,
 	.get_info = images_get_info,

@@ -298,6 +298,7 @@ static int oni_sink_close(void *state, struct dao_error *err)
 }
 
 const struct dao_sink_ops dao_oni_sink_ops = {
+	.version = DAO_SINK_OPS_VERSION,
 	.probe = oni_sink_probe,
 	.open = oni_sink_open,
 	.negotiate = oni_sink_negotiate,

@@ -175,6 +175,7 @@ static void oni_close(void *state)
 }
 
 static const struct dao_source_ops oni_source_ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = oni_probe,
 	.open = oni_open,
 	.get_info = oni_get_info,

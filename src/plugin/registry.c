@@ -17,6 +17,7 @@
 
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/struct_sizes.h"
 
 #ifndef DAO_PLUGIN_DIR
 #define DAO_PLUGIN_DIR "/usr/local/lib/depthao/plugins"
@@ -95,6 +96,20 @@ static int load_module(struct dao_plugins *p, const char *path)
 	if (pl->abi_version != DAO_PLUGIN_ABI_VERSION) {
 		snprintf(why, sizeof(why), "built for plugin ABI %u, this library has %u; rebuild it",
 			 pl->abi_version, DAO_PLUGIN_ABI_VERSION);
+		dlclose(h);
+		return add_skipped(p, path, why);
+	}
+	/* each interface by its own version: newer than ours is fine (we call
+	 * what we know), older than the first versioned table is not */
+	if ((pl->source && pl->source->version < SOURCE_OPS_VERSION_FIRST) ||
+	    (pl->sink && pl->sink->version < SINK_OPS_VERSION_FIRST)) {
+		snprintf(why, sizeof(why),
+			 "its %s table has version 0; set .version = %s and rebuild it",
+			 pl->source && pl->source->version < SOURCE_OPS_VERSION_FIRST ? "source"
+										 : "sink",
+			 pl->source && pl->source->version < SOURCE_OPS_VERSION_FIRST
+				 ? "DAO_SOURCE_OPS_VERSION"
+				 : "DAO_SINK_OPS_VERSION");
 		dlclose(h);
 		return add_skipped(p, path, why);
 	}

@@ -15,6 +15,7 @@
 
 #include "core/error_internal.h"
 #include "plugin/lookup.h"
+#include "plugin/struct_sizes.h"
 
 struct dao_sink {
 	const struct dao_plugin *plugin;
@@ -22,6 +23,7 @@ struct dao_sink {
 	int negotiated;               /* fmt holds what the sink accepted */
 	int written;                  /* a write was attempted: the format is fixed */
 	struct dao_sink_format fmt;
+	struct dao_sink_host host;    /* the caller's, completed to this library's size */
 };
 
 int dao_sink_open(const struct dao_plugins *p, const char *uri, struct dao_sink **out,
@@ -57,8 +59,12 @@ int dao_sink_open(const struct dao_plugins *p, const char *uri, struct dao_sink 
 
 void dao_sink_attach_host(struct dao_sink *s, const struct dao_sink_host *host)
 {
-	if (s && s->plugin->sink->attach_host)
-		s->plugin->sink->attach_host(s->state, host);
+	if (!s || !host || !s->plugin->sink->attach_host || host->size < SINK_HOST_SIZE_FIRST)
+		return; /* a host without its size is not one this library can read */
+	memset(&s->host, 0, sizeof(s->host));
+	memcpy(&s->host, host, host->size < sizeof(s->host) ? host->size : sizeof(s->host));
+	s->host.size = sizeof(s->host);
+	s->plugin->sink->attach_host(s->state, &s->host);
 }
 
 const struct dao_plugin *dao_sink_plugin(const struct dao_sink *s)
@@ -70,6 +76,17 @@ int dao_sink_negotiate(struct dao_sink *s, struct dao_sink_format *fmt, struct d
 {
 	if (!s || !fmt)
 		return dao_error_set(err, -EINVAL, "dao_sink_negotiate: sink and fmt are required");
+	if (fmt->size < SINK_FORMAT_SIZE_FIRST)
+		return dao_error_set(err, -EINVAL,
+				     "struct dao_sink_format has size %u: initialise it with "
+				     "DAO_SINK_FORMAT_INIT",
+				     (unsigned)fmt->size);
+	/* the plugin gets a complete struct of this library's size; the caller
+	 * gets back what fits in its own */
+	const uint32_t caller_size = fmt->size < sizeof(s->fmt) ? fmt->size : sizeof(s->fmt);
+	struct dao_sink_format full = DAO_SINK_FORMAT_INIT;
+	memcpy(&full, fmt, caller_size);
+	full.size = sizeof(full);
 	if (s->written)
 		return dao_error_set(err, -EINVAL,
 				     "sink '%s': the format cannot change after the first write; "
@@ -87,10 +104,12 @@ int dao_sink_negotiate(struct dao_sink *s, struct dao_sink_format *fmt, struct d
 		return dao_error_set(err, -EINVAL,
 				     "sink '%s': frame rate %g is not valid (>= 0, 0 = unknown)",
 				     s->plugin->name, fmt->fps);
-	int r = s->plugin->sink->negotiate(s->state, fmt, err);
+	int r = s->plugin->sink->negotiate(s->state, &full, err);
+	memcpy(fmt, &full, caller_size);
+	fmt->size = caller_size;
 	if (r < 0)
 		return r;
-	s->fmt = *fmt;
+	s->fmt = full;
 	s->negotiated = 1;
 	return 0;
 }

@@ -10,6 +10,7 @@
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 #include "plugin/lookup.h"
+#include "plugin/struct_sizes.h"
 
 struct dao_source {
 	const struct dao_plugin *plugin;
@@ -33,6 +34,7 @@ static int open_state(const struct dao_plugin *pl, const char *rest,
 		return r;
 	struct dao_source_info in;
 	memset(&in, 0, sizeof(in));
+	in.size = sizeof(in);
 	pl->source->get_info(*state, &in);
 	if ((uint64_t)in.width * in.height > max_pixels) {
 		r = dao_error_set(err, -EFBIG,
@@ -58,15 +60,25 @@ int dao_source_open_limited(const struct dao_plugins *p, const char *uri,
 			    const struct dao_source_options *opts, uint64_t max_pixels,
 			    struct dao_source **out, struct dao_error *err)
 {
-	static const struct dao_source_options defaults = {0};
+	struct dao_source_options full = DAO_SOURCE_OPTIONS_INIT;
 	const struct dao_plugin *pl = NULL;
 	const char *rest = uri;
 
 	if (!p || !uri || !out)
 		return dao_error_set(err, -EINVAL, "dao_source_open: plugins, uri and out are required");
 	*out = NULL;
-	if (!opts)
-		opts = &defaults;
+	if (opts) {
+		/* the caller's struct may be older (shorter) than this library's: the
+		 * plugin gets a complete one, the missing fields at their defaults */
+		if (opts->size < SOURCE_OPTIONS_SIZE_FIRST)
+			return dao_error_set(err, -EINVAL,
+					     "struct dao_source_options has size %u: initialise it "
+					     "with DAO_SOURCE_OPTIONS_INIT",
+					     (unsigned)opts->size);
+		memcpy(&full, opts, opts->size < sizeof(full) ? opts->size : sizeof(full));
+		full.size = sizeof(full);
+	}
+	opts = &full;
 	int r = dao_plugin_lookup(p, uri, DAO_PLUGIN_SOURCE, &pl, &rest, err);
 	if (r < 0)
 		return r;
@@ -89,10 +101,20 @@ const struct dao_plugin *dao_source_plugin(const struct dao_source *s)
 	return s ? s->plugin : NULL;
 }
 
-void dao_source_get_info(const struct dao_source *s, struct dao_source_info *info)
+int dao_source_get_info_sized(const struct dao_source *s, struct dao_source_info *info,
+			      size_t size)
 {
-	memset(info, 0, sizeof(*info));
-	s->plugin->source->get_info(s->state, info);
+	if (!s || !info || size < SOURCE_INFO_SIZE_FIRST)
+		return -EINVAL;
+	struct dao_source_info full;
+	memset(&full, 0, sizeof(full));
+	full.size = sizeof(full);
+	s->plugin->source->get_info(s->state, &full);
+	if (size > sizeof(full))
+		size = sizeof(full);
+	memcpy(info, &full, size);
+	info->size = (uint32_t)size;
+	return 0;
 }
 
 int dao_source_start(struct dao_source *s, struct dao_error *err)

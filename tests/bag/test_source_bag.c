@@ -163,7 +163,7 @@ static void test_prefix_and_options(void **state)
 	struct dao_source_info in;
 	/* the plugin named, and a unit given; start and step */
 	snprintf(uri, sizeof uri, "bag:%s?unit=0.0005", bag("d16_lz4.bag"));
-	struct dao_source_options o = {.start_frame = 1, .step = 2};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .start_frame = 1, .step = 2};
 	struct dao_source *s = open_bag(uri, &o);
 	dao_source_get_info(s, &in);
 	assert_true(in.depth_unit == 0.0005f);
@@ -181,7 +181,7 @@ static void test_prefix_and_options(void **state)
 	expect_open_error(uri, -EINVAL, "unit '2'", NULL);
 	snprintf(uri, sizeof uri, "%s?topic=/x&colour=1", bag("d16_lz4.bag"));
 	expect_open_error(uri, -EINVAL, "unknown option 'colour=1'", NULL);
-	struct dao_source_options past = {.start_frame = FRAMES};
+	struct dao_source_options past = {.size = sizeof(struct dao_source_options), .start_frame = FRAMES};
 	struct dao_source *none = NULL;
 	assert_int_equal(dao_source_open(g_plugins, bag("d16_lz4.bag"), &past, &none, &err),
 			 -EINVAL);
@@ -230,7 +230,7 @@ static double now_s(void)
 static void test_realtime(void **state)
 {
 	(void)state;
-	struct dao_source_options o = {.playback = DAO_PLAYBACK_REALTIME};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .playback = DAO_PLAYBACK_REALTIME};
 	struct dao_source *s = open_bag(bag("f32_be.bag"), &o);
 	struct dao_source_frame f;
 	struct dao_error err;

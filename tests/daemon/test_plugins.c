@@ -169,6 +169,7 @@ static void src_close(void *state)
 }
 
 static const struct dao_source_ops ops = {
+	.version = DAO_SOURCE_OPS_VERSION,
 	.probe = no_probe, .open = src_open, .get_info = src_info, .start = src_start,
 	.read = src_read, .stop = src_stop, .close = src_close,
 };
@@ -275,6 +276,7 @@ static int sink_close(void *state, struct dao_error *err)
 }
 
 static const struct dao_sink_ops ops = {
+	.version = DAO_SINK_OPS_VERSION,
 	.probe = no_probe, .open = sink_open, .negotiate = sink_negotiate, .write = sink_write,
 	.flush = sink_flush, .close = sink_close,
 };

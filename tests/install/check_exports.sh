@@ -11,8 +11,13 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/dao-exports.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 
 echo '#include <depthao/depthao.h>' |
-	${CC:-cc} -std=c11 -E -P -I"$2" -I"$3" -x c - |
-	grep -o 'dao_[a-z0-9_]*[[:space:]]*(' | tr -d ' \t(' | sort -u >"$tmp/declared"
+	${CC:-cc} -std=c11 -E -P -I"$2" -I"$3" -x c - >"$tmp/headers"
+# static inline wrappers (dao_params_init passes the caller's sizeof to
+# dao_params_init_sized) live in the caller, not in the library
+grep -o 'static inline [a-z_ ]*[ *]dao_[a-z0-9_]*[[:space:]]*(' "$tmp/headers" |
+	grep -o 'dao_[a-z0-9_]*' | sort -u >"$tmp/inline"
+grep -o 'dao_[a-z0-9_]*[[:space:]]*(' "$tmp/headers" | tr -d ' \t(' | sort -u |
+	comm -23 - "$tmp/inline" >"$tmp/declared"
 # name@@VERSION type, for every defined dynamic symbol but the version node itself
 nm -D --defined-only --with-symbol-versions "$1" |
 	awk 'NF == 3 && $2 != "A" { print $3, $2 }' | sort -u >"$tmp/symbols"

@@ -5,9 +5,14 @@
  *   2: a module without the entry symbol (must be skipped)
  *   3: a valid sink-only plugin named "fakesink" (must load)
  *   4: a source "fakebig" whose URI "WxH" is the size it reports (pixel limits)
+ *   5: a source "noversion" whose ops table lacks its version (must be skipped)
+ *   6: a sink "newersink" built for a newer sink interface and a larger
+ *      struct dao_sink_format than this library's (must load and work: it
+ *      reads only what DAO_STRUCT_HAS says is there)
  */
 #include <depthao/plugin.h>
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -64,8 +69,8 @@ static void big_close(void *state)
 	free(state);
 }
 
-static const struct dao_source_ops ops = {.open = big_open, .get_info = big_info,
-					  .close = big_close};
+static const struct dao_source_ops ops = {.version = DAO_SOURCE_OPS_VERSION, .open = big_open,
+					  .get_info = big_info, .close = big_close};
 static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "fakebig", "a test source", &ops,
 					 0};
 EXPORT const struct dao_plugin *dao_plugin_entry(void);
@@ -73,13 +78,64 @@ const struct dao_plugin *dao_plugin_entry(void)
 {
 	return &plugin;
 }
+#elif FAKE_KIND == 5
+static const struct dao_source_ops ops = {.open = NULL}; /* .version left 0 */
+static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "noversion", "", &ops, 0};
+DAO_PLUGIN_DEFINE(plugin)
+#elif FAKE_KIND == 6
+/* The struct a future depthao might hand over: today's, then a new field. */
+struct future_format {
+	struct dao_sink_format now;
+	double gamma; /* "since" a later layout */
+};
+
+static int ns_open(const char *uri, void **state, struct dao_error *err)
+{
+	(void)uri;
+	(void)err;
+	*state = calloc(1, sizeof(int));
+	return *state ? 0 : -12;
+}
+
+static int ns_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
+{
+	(void)state;
+	(void)err;
+	/* the new field only where the host's struct has it */
+	if (fmt->size >= offsetof(struct future_format, gamma) + sizeof(double))
+		return -22; /* this library's struct never has it */
+	fmt->format = DAO_PIXFMT_GRAY8; /* take GRAY8 only */
+	return 0;
+}
+
+static int ns_write(void *state, const struct dao_frame *frame, struct dao_error *err)
+{
+	(void)frame;
+	(void)err;
+	++*(int *)state;
+	return 0;
+}
+
+static int ns_close(void *state, struct dao_error *err)
+{
+	(void)err;
+	int n = *(int *)state;
+	free(state);
+	return n == 1 ? 0 : -5; /* exactly the one frame the test writes */
+}
+
+static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION + 5, .open = ns_open,
+					.negotiate = ns_negotiate, .write = ns_write,
+					.close = ns_close};
+static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "newersink", "", 0, &ops};
+DAO_PLUGIN_DEFINE(plugin)
 #else
 static int fake_probe(const char *uri)
 {
 	(void)uri;
 	return 0;
 }
-static const struct dao_sink_ops ops = {.probe = fake_probe};
+static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION, .probe = fake_probe};
 static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "fakesink", "a test sink", 0,
 					 &ops};
 EXPORT const struct dao_plugin *dao_plugin_entry(void);

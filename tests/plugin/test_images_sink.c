@@ -59,7 +59,7 @@ static struct dao_sink *open_images(const char *dir, const char *opts)
 	int r = dao_sink_open(g_plugins, uri, &s, &err);
 	if (r)
 		fail_msg("open %s: %s", uri, err.message);
-	struct dao_sink_format fmt = {.format = DAO_PIXFMT_GRAY16, .width = W, .height = H};
+	struct dao_sink_format fmt = {.size = sizeof(struct dao_sink_format), .format = DAO_PIXFMT_GRAY16, .width = W, .height = H};
 	assert_int_equal(dao_sink_negotiate(s, &fmt, &err), 0);
 	return s;
 }

@@ -141,7 +141,7 @@ static void test_loop_and_stop_at_end(void **state)
 	(void)state;
 	char uri[512];
 	recording(uri, sizeof uri, "16z");
-	struct dao_source_options o = {.loop = 1};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .loop = 1};
 	struct dao_source *s = open_src(uri, &o);
 	for (long long i = 0; i < 2 * FRAMES + 2; i++)
 		assert_int_equal(next(s), i % FRAMES);
@@ -173,7 +173,7 @@ static void test_start_step_seek(void **state)
 	char uri[512];
 	struct dao_error err;
 	recording(uri, sizeof uri, "16zt");
-	struct dao_source_options o = {.start_frame = 3};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .start_frame = 3};
 	struct dao_source *s = open_src(uri, &o);
 	assert_int_equal(next(s), 3);
 	assert_int_equal(next(s), 4);
@@ -188,7 +188,7 @@ static void test_start_step_seek(void **state)
 	assert_int_equal(dao_source_seek(s, FRAMES, &err), -EINVAL);
 	dao_source_close(s);
 
-	struct dao_source_options st = {.start_frame = 1, .step = 2};
+	struct dao_source_options st = {.size = sizeof(struct dao_source_options), .start_frame = 1, .step = 2};
 	s = open_src(uri, &st);
 	assert_int_equal(next(s), 1);
 	assert_int_equal(next(s), 3);
@@ -247,7 +247,7 @@ static void test_kinect_colour(void **state)
 	if (dao_test_data_path("oni/3DJ_test.oni", path, sizeof path))
 		skip();
 	snprintf(uri, sizeof uri, "openni2:%s", path);
-	struct dao_source_options o = {.want_color = 1};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .want_color = 1};
 	struct dao_source *s = open_src(uri, &o);
 	struct dao_source_info in;
 	dao_source_get_info(s, &in);

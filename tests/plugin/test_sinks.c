@@ -72,7 +72,9 @@ static struct dao_sink *open_sink(const char *uri)
 static int negotiate(struct dao_sink *s, enum dao_pixfmt f, uint32_t w, uint32_t h, double fps,
 		     struct dao_error *err)
 {
-	struct dao_sink_format fmt = {.format = f, .width = w, .height = h, .fps = fps,
+	struct dao_sink_format fmt = {
+		.size = sizeof(struct dao_sink_format),
+		.format = f, .width = w, .height = h, .fps = fps,
 				      .depth_unit = 0.001f};
 	return dao_sink_negotiate(s, &fmt, err);
 }
@@ -333,7 +335,7 @@ static void test_images_sink(void **state)
 
 	/* float formats: the sink names the nearest one it takes */
 	struct dao_sink *s = open_sink(uri);
-	struct dao_sink_format fmt = {.format = DAO_PIXFMT_GRAY_F32, .width = 4, .height = 4};
+	struct dao_sink_format fmt = {.size = sizeof(struct dao_sink_format), .format = DAO_PIXFMT_GRAY_F32, .width = 4, .height = 4};
 	assert_int_equal(dao_sink_negotiate(s, &fmt, &err), 0);
 	assert_int_equal(fmt.format, DAO_PIXFMT_GRAY16);
 	close_ok(s);
@@ -558,7 +560,7 @@ static void test_y4m_fps_and_refusals(void **state)
 	assert_non_null(strstr(err.message, "depth16"));
 	assert_non_null(strstr(err.message, "ao"));
 	assert_non_null(strstr(err.message, "shaded"));
-	struct dao_sink_format fmt = {.format = DAO_PIXFMT_GRAY_F32, .width = 4, .height = 4};
+	struct dao_sink_format fmt = {.size = sizeof(struct dao_sink_format), .format = DAO_PIXFMT_GRAY_F32, .width = 4, .height = 4};
 	assert_int_equal(dao_sink_negotiate(s, &fmt, &err), 0);
 	assert_int_equal(fmt.format, DAO_PIXFMT_GRAY16);
 	close_ok(s);
@@ -796,7 +798,9 @@ static void record(const char *uri, uint32_t n, float unit, int has_fov, enum ts
 	struct dao_error err;
 	struct dao_sink *s = open_sink(uri);
 	assert_string_equal(dao_sink_plugin(s)->name, "oni");
-	struct dao_sink_format fmt = {.format = DAO_PIXFMT_DEPTH16, .width = TEST_W,
+	struct dao_sink_format fmt = {
+		.size = sizeof(struct dao_sink_format),
+		.format = DAO_PIXFMT_DEPTH16, .width = TEST_W,
 				      .height = TEST_H, .fps = 29.97, .depth_unit = unit,
 				      .has_fov = has_fov, .hfov = 1.0, .vfov = 0.75};
 	int r = dao_sink_negotiate(s, &fmt, &err);
@@ -1013,7 +1017,7 @@ static struct dao_sink *open_logged(const char *uri, struct log_capture *cap,
 	struct dao_error err;
 	struct dao_sink *s = open_sink(uri);
 	memset(cap, 0, sizeof *cap);
-	*host = (struct dao_sink_host){.user = cap, .log = capture_log};
+	*host = (struct dao_sink_host){.size = sizeof(struct dao_sink_host), .user = cap, .log = capture_log};
 	dao_sink_attach_host(s, host);
 	int r = negotiate(s, f, w, h, 30, &err);
 	if (r)

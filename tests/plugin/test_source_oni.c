@@ -148,7 +148,7 @@ static void test_manual_every_frame_once(void **state)
 static void test_loop_wraps(void **state)
 {
 	(void)state;
-	struct dao_source_options o = {.loop = 1, .start_frame = 4};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .loop = 1, .start_frame = 4};
 	struct dao_source *s = open_src(g_path, &o);
 	long long expect[] = {4, 5, 4, 5, 4};
 	for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++)
@@ -159,7 +159,7 @@ static void test_loop_wraps(void **state)
 static void test_start_step_seek(void **state)
 {
 	(void)state;
-	struct dao_source_options o = {.start_frame = 1, .step = 2};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .start_frame = 1, .step = 2};
 	struct dao_source *s = open_src(g_path, &o);
 	assert_int_equal(read_index(s), 1);
 	assert_int_equal(read_index(s), 3);
@@ -176,7 +176,7 @@ static void test_start_step_seek(void **state)
 static void test_realtime_delivers_all(void **state)
 {
 	(void)state;
-	struct dao_source_options o = {.playback = DAO_PLAYBACK_REALTIME};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .playback = DAO_PLAYBACK_REALTIME};
 	struct dao_source *s = open_src(g_path, &o);
 	for (long long i = 0; i < FRAMES; i++)
 		assert_int_equal(read_index(s), i); /* paced, but none skipped */
@@ -197,7 +197,7 @@ static void test_open_errors(void **state)
 	assert_int_equal(dao_source_open(g_plugins, "oni:/nonexistent/x.oni", NULL, &s, &err),
 			 -ENOENT);
 	assert_non_null(strstr(err.message, "/nonexistent/x.oni"));
-	struct dao_source_options o = {.start_frame = FRAMES};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .start_frame = FRAMES};
 	assert_int_equal(dao_source_open(g_plugins, g_path, &o, &s, &err), -EINVAL);
 	assert_non_null(strstr(err.message, "start frame"));
 	assert_null(s);
@@ -231,7 +231,7 @@ static void test_images_source(void **state)
 	(void)state;
 	char uri[600];
 	snprintf(uri, sizeof uri, "images:%s", write_pngs("images", 4, 99));
-	struct dao_source_options o = {.start_frame = 1, .loop = 1, .depth_unit = 0.0002f};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .start_frame = 1, .loop = 1, .depth_unit = 0.0002f};
 	struct dao_source *s = open_src(uri, &o);
 	struct dao_source_info in;
 	dao_source_get_info(s, &in);
@@ -315,7 +315,7 @@ static void test_bad_frame_skipped(void **state)
 	char path[600];
 	snprintf(path, sizeof path, "%s/corrupt.oni", dao_test_tmpdir("source-oni-corrupt"));
 	write_corrupt_oni(path, 2);
-	struct dao_source_options o = {.loop = 1};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .loop = 1};
 	struct dao_source *s = open_src(path, &o);
 	long long expect[] = {0, 1, -1000 - EINVAL, 3, 4, 5, 0, 1, -1000 - EINVAL, 3};
 	for (size_t i = 0; i < sizeof expect / sizeof expect[0]; i++)
@@ -410,14 +410,18 @@ static void test_modules_skipped_with_reason(void **state)
 	assert_int_equal(dao_plugins_load(&p, dir, &err), 0);
 	assert_non_null(dao_plugins_find(p, "fakesink"));
 	assert_null(dao_plugins_find(p, "wrongabi"));
-	int abi = 0, nosym = 0;
+	assert_null(dao_plugins_find(p, "noversion"));
+	int abi = 0, nosym = 0, nover = 0;
 	for (size_t i = 0; i < dao_plugins_skipped_count(p); i++) {
 		const char *m = dao_plugins_skipped(p, i);
 		abi += strstr(m, "fake-wrongabi.so") && strstr(m, "ABI") ? 1 : 0;
 		nosym += strstr(m, "fake-nosymbol.so") && strstr(m, "not a depthao plugin") ? 1 : 0;
+		nover += strstr(m, "fake-noversion.so") && strstr(m, "DAO_SOURCE_OPS_VERSION") ? 1 : 0;
 	}
 	assert_int_equal(abi, 1);
 	assert_int_equal(nosym, 1);
+	assert_int_equal(nover, 1);
+	assert_int_equal(dao_plugins_skipped_count(p), 3);
 	/* a sink is not a source */
 	struct dao_source *s;
 	assert_int_equal(dao_source_open(p, "fakesink:x", NULL, &s, &err), -ENOENT);

@@ -39,7 +39,7 @@ static struct emu *rig(unsigned fail_after)
 
 static struct v4l2cap *open_ok(struct emu *e, const char *uri, float unit)
 {
-	struct dao_source_options o = {.depth_unit = unit};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .depth_unit = unit};
 	struct dao_error err = {0};
 	struct v4l2cap *c = NULL;
 	int r = v4l2cap_open(emu_io(e), uri, &o, &c, &err);
@@ -168,7 +168,7 @@ static void test_lookup_and_list(void **state)
 	assert_non_null(strstr(in.description, "/dev/video6"));
 	v4l2cap_close(c);
 	struct dao_error err;
-	struct dao_source_options o = {0};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options)};
 	assert_int_equal(v4l2cap_open(emu_io(e), "card=Nothing", &o, &c, &err), -ENODEV);
 	assert_non_null(strstr(err.message, "no depth camera matches 'card=Nothing'"));
 	assert_int_equal(v4l2cap_open(emu_io(e), "/dev/video0", &o, &c, &err), -ENOTSUP);
@@ -228,7 +228,7 @@ static void test_unplug(void **state)
 	assert_int_equal(v4l2cap_read(c, &f, 100, &err), -ENODEV); /* and it stays gone */
 	v4l2cap_close(c);
 	/* reopening a device that is gone: -ENODEV, which the daemon retries */
-	struct dao_source_options o = {0};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options)};
 	assert_int_equal(v4l2cap_open(emu_io(e), "/dev/video2", &o, &c, &err), -ENODEV);
 	emu_destroy(e);
 }

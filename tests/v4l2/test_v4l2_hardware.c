@@ -31,7 +31,7 @@ int main(void)
 		printf("no V4L2 depth camera here; skipped\n");
 		return 77;
 	}
-	struct dao_source_options o = {0};
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options)};
 	struct v4l2cap *c;
 	if (v4l2cap_open(io, "any", &o, &c, &err) || v4l2cap_start(c, &err)) {
 		printf("FAIL: %s\n", err.message);

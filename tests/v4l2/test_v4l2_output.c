@@ -20,6 +20,11 @@
 #include "v4l2_emu.h"
 #include "v4l2_output.h"
 
+/* A sink format with its size set (DAO_SINK_FORMAT_INIT) */
+#define FMT(f, w, h, rate) \
+	((struct dao_sink_format){.size = sizeof(struct dao_sink_format), .format = (f), \
+				  .width = (w), .height = (h), .fps = (rate)})
+
 static const uint32_t Z16[] = {V4L2_PIX_FMT_Z16};
 static const struct emu_size vga[] = {{640, 480}};
 
@@ -61,7 +66,7 @@ static void test_yuyv_default(void **state)
 {
 	(void)state;
 	struct emu *e = rig();
-	struct dao_sink_format fmt = {DAO_PIXFMT_RGB24, 64, 48, 30, 0, 0, 0, 0, 0};
+	struct dao_sink_format fmt = FMT(DAO_PIXFMT_RGB24, 64, 48, 30);
 	struct v4l2out *o = open_neg(e, "/dev/video10", &fmt);
 	struct dao_error err;
 	static const struct {
@@ -95,7 +100,7 @@ static void test_rgb24_and_grey_round_trip(void **state)
 	(void)state;
 	struct emu *e = rig();
 	struct dao_error err;
-	struct dao_sink_format fmt = {DAO_PIXFMT_RGB24, 33, 7, 15, 0, 0, 0, 0, 0}; /* odd width is fine */
+	struct dao_sink_format fmt = FMT(DAO_PIXFMT_RGB24, 33, 7, 15); /* odd width is fine */
 	struct v4l2out *o = open_neg(e, "/dev/video10?format=RGB24&fps=15", &fmt);
 	struct dao_frame f;
 	assert_int_equal(dao_frame_alloc(&f, DAO_PIXFMT_RGB24, 33, 7, NULL), 0);
@@ -111,7 +116,7 @@ static void test_rgb24_and_grey_round_trip(void **state)
 	dao_frame_free(&f);
 	v4l2out_close(o);
 
-	struct dao_sink_format g = {DAO_PIXFMT_GRAY8, 16, 4, 0, 0, 0, 0, 0, 0};
+	struct dao_sink_format g = FMT(DAO_PIXFMT_GRAY8, 16, 4, 0);
 	o = open_neg(e, "/dev/video10?format=GREY", &g);
 	assert_int_equal(dao_frame_alloc(&f, DAO_PIXFMT_GRAY8, 16, 4, NULL), 0);
 	memset(f.data, 77, 64);
@@ -134,14 +139,14 @@ static void test_negotiation_rules(void **state)
 	struct dao_error err;
 	/* YUYV pairs pixels: an odd width is refused with what to do */
 	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video10", &o, &err), 0);
-	struct dao_sink_format fmt = {DAO_PIXFMT_RGB24, 33, 7, 0, 0, 0, 0, 0, 0};
+	struct dao_sink_format fmt = FMT(DAO_PIXFMT_RGB24, 33, 7, 0);
 	assert_int_equal(v4l2out_negotiate(o, &fmt, &err), -EINVAL);
 	assert_non_null(strstr(err.message, "even width"));
 	/* 16-bit AO: the nearest is the 8-bit stream */
-	fmt = (struct dao_sink_format){DAO_PIXFMT_GRAY16, 32, 8, 0, 0, 0, 0, 0, 0};
+	fmt = FMT(DAO_PIXFMT_GRAY16, 32, 8, 0);
 	assert_int_equal(v4l2out_negotiate(o, &fmt, &err), 0);
 	assert_int_equal(fmt.format, DAO_PIXFMT_GRAY8);
-	fmt = (struct dao_sink_format){DAO_PIXFMT_DEPTH16, 32, 8, 0, 0, 0, 0, 0, 0};
+	fmt = FMT(DAO_PIXFMT_DEPTH16, 32, 8, 0);
 	assert_int_equal(v4l2out_negotiate(o, &fmt, &err), -ENOTSUP);
 	v4l2out_close(o);
 	/* a capture node is not an output */
@@ -159,7 +164,7 @@ static void test_no_room(void **state)
 	struct emu *e = rig();
 	struct dao_error err;
 	const uint8_t grey[3] = {128, 128, 128};
-	struct dao_sink_format fmt = {DAO_PIXFMT_RGB24, 16, 4, 0, 0, 0, 0, 0, 0};
+	struct dao_sink_format fmt = FMT(DAO_PIXFMT_RGB24, 16, 4, 0);
 	struct v4l2out *o = open_neg(e, "/dev/video10", &fmt);
 	struct dao_frame f = rgb_frame(16, 4, grey);
 	emu_set_no_room(e, "/dev/video10", 1);

@@ -106,6 +106,7 @@ int process_stream(const struct process_options *o)
 	int status = 1;
 
 	struct dao_source_options so = {
+		.size = sizeof(struct dao_source_options),
 		.playback = o->realtime ? DAO_PLAYBACK_REALTIME : DAO_PLAYBACK_MANUAL,
 		.start_frame = o->start,
 		.depth_unit = (float)o->depth_unit,

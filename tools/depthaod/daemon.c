@@ -42,7 +42,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
 	d->snapshot_notify_fd = -1;
 	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
-	d->host = (struct dao_sink_host){d, host_get_param, host_set_param, host_log};
+	d->host = (struct dao_sink_host){sizeof(struct dao_sink_host), d, host_get_param,
+					  host_set_param, host_log};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);

@@ -38,6 +38,7 @@ static int source_names_file(const char *uri)
 static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int first)
 {
 	struct dao_source_options so = {
+		.size = sizeof(struct dao_source_options),
 		.playback = d->cfg.playback,
 		.loop = d->cfg.loop,
 		.start_frame = d->cfg.start,

@@ -210,6 +210,7 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 		}
 		pthread_mutex_unlock(&d->lock);
 		struct dao_sink_format fmt = {
+			.size = sizeof(struct dao_sink_format),
 			.format = it->frame.format, .width = it->frame.width, .height = it->frame.height,
 			.fps = in.fps, .depth_unit = it->frame.depth_unit, .has_fov = in.has_fov,
 			.hfov = in.hfov, .vfov = in.vfov, .mirrored = in.mirrored,

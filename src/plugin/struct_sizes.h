@@ -1,0 +1,25 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The first layouts of the plugin interface's structs that carried `size`
+ * (plugin ABI 2): the smallest a caller or plugin may hand over.  They never
+ * change once released; fields added later lie beyond them (plugin.h).
+ */
+#ifndef DAO_PLUGIN_STRUCT_SIZES_H
+#define DAO_PLUGIN_STRUCT_SIZES_H
+
+#include <stddef.h>
+
+#include <depthao/plugin.h>
+
+#define DAO_END_OF(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
+
+#define SOURCE_INFO_SIZE_FIRST DAO_END_OF(struct dao_source_info, cy)
+#define SOURCE_OPTIONS_SIZE_FIRST DAO_END_OF(struct dao_source_options, depth_unit)
+#define SINK_FORMAT_SIZE_FIRST DAO_END_OF(struct dao_sink_format, reserved)
+#define SINK_HOST_SIZE_FIRST DAO_END_OF(struct dao_sink_host, log)
+
+/* The first ops tables carried `version` 1; 0 is a table that forgot it. */
+#define SOURCE_OPS_VERSION_FIRST 1
+#define SINK_OPS_VERSION_FIRST 1
+
+#endif
