@@ -23,6 +23,7 @@
 #include <depthao/png.h>
 #include <depthao/oni.h>
 #include <depthao/plugin.h>
+#include <depthao/output_file.h>
 
 #include <depthao/api.h>
 

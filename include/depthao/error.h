@@ -27,6 +27,17 @@ struct dao_error {
 /* A short description of a negative error code (never NULL). */
 DAO_API const char *dao_strerror(int code);
 
+/*
+ * Fills `err` (when not NULL) with `code` and a printf-formatted message, as
+ * the library does; returns `code`.  For plugins and programs that report
+ * their own errors through a struct dao_error.
+ */
+DAO_API int dao_error_set(struct dao_error *err, int code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
+/* Clears `err` (code 0, empty message); NULL-safe. */
+DAO_API void dao_error_clear(struct dao_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -15,7 +15,6 @@
 
 #include <depthao/plugin.h>
 
-#include "common/plugin_util.h"
 #include "lc_shim.h"
 
 struct lc_source {
@@ -53,7 +52,7 @@ static int lc_list(dao_device_cb cb, void *user, struct dao_error *err)
 	char msg[256];
 	struct listing l = {cb, user};
 	int n = lcs_list(on_camera, &l, msg, sizeof msg);
-	return n < 0 ? plugin_error(err, n, "%s", msg) : n;
+	return n < 0 ? dao_error_set(err, n, "%s", msg) : n;
 }
 
 static int lc_open(const char *uri, const struct dao_source_options *o, void **state,
@@ -66,16 +65,16 @@ static int lc_open(const char *uri, const struct dao_source_options *o, void **s
 	if (q) {
 		*q = '\0';
 		if (sscanf(q + 1, "size=%ux%u", &w, &h) != 2 || !w || !h)
-			return plugin_error(err, -EINVAL, "libcamera: the only option is ?size=WxH, not "
+			return dao_error_set(err, -EINVAL, "libcamera: the only option is ?size=WxH, not "
 					    "'%s'", q + 1);
 	}
 	struct lc_source *s = calloc(1, sizeof(*s));
 	if (!s)
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->unit = o->depth_unit > 0 ? o->depth_unit : 0.001f;
 	if (!(s->cam = lcs_open(id, w, h, msg, sizeof msg))) {
 		free(s);
-		return plugin_error(err, -ENODEV, "%s", msg);
+		return dao_error_set(err, -ENODEV, "%s", msg);
 	}
 	lcs_describe(s->cam, &s->w, &s->h, &s->bits, s->text, sizeof s->text);
 	*state = s;
@@ -98,7 +97,7 @@ static int lc_start(void *state, struct dao_error *err)
 {
 	char msg[256];
 	int r = lcs_start(((struct lc_source *)state)->cam, msg, sizeof msg);
-	return r < 0 ? plugin_error(err, r, "%s", msg) : 0;
+	return r < 0 ? dao_error_set(err, r, "%s", msg) : 0;
 }
 
 static int lc_read(void *state, struct dao_source_frame *f, int timeout_ms, struct dao_error *err)
@@ -109,7 +108,7 @@ static int lc_read(void *state, struct dao_source_frame *f, int timeout_ms, stru
 	uint64_t ts, seq;
 	int r = lcs_read(s->cam, timeout_ms, &data, &stride, &ts, &seq);
 	if (r == -ENODEV)
-		return plugin_error(err, -ENODEV, "libcamera: the camera was disconnected");
+		return dao_error_set(err, -ENODEV, "libcamera: the camera was disconnected");
 	if (r < 0)
 		return r;
 	f->depth = (struct dao_frame){DAO_PIXFMT_DEPTH16, s->w, s->h, (int32_t)stride,

@@ -32,7 +32,6 @@
 #include <depthao/params.h>
 #include <depthao/plugin.h>
 
-#include "common/plugin_util.h"
 #include "cv_shim.h"
 
 #define MAX_CONTROLS 5
@@ -81,12 +80,12 @@ static int cv_open(const char *uri, void **state, struct dao_error *err)
 {
 	struct cv_sink *s = calloc(1, sizeof(*s));
 	if (!s)
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	if (!strcmp(uri, "window") || !strncmp(uri, "window:", 7)) {
 		const char *display = getenv("DISPLAY"), *wl = getenv("WAYLAND_DISPLAY");
 		if ((!display || !*display) && (!wl || !*wl)) {
 			free(s);
-			return plugin_error(err, -ENOTSUP,
+			return dao_error_set(err, -ENOTSUP,
 					    "opencv: no display (DISPLAY and WAYLAND_DISPLAY are unset), "
 					    "so there is no window");
 		}
@@ -95,7 +94,7 @@ static int cv_open(const char *uri, void **state, struct dao_error *err)
 	} else if (is_video_path(uri)) {
 		if (strlen(uri) >= sizeof s->path) {
 			free(s);
-			return plugin_error(err, -ENAMETOOLONG, "opencv: '%s' is longer than %zu bytes",
+			return dao_error_set(err, -ENAMETOOLONG, "opencv: '%s' is longer than %zu bytes",
 					    uri, sizeof s->path - 1);
 		}
 		snprintf(s->path, sizeof s->path, "%s", uri);
@@ -119,7 +118,7 @@ static int cv_open(const char *uri, void **state, struct dao_error *err)
 				}
 				if (!ok) {
 					free(s);
-					return plugin_error(err, -EINVAL,
+					return dao_error_set(err, -EINVAL,
 							    "opencv: '%s': the options are fourcc=XXXX "
 							    "(four characters, e.g. MJPG, XVID, mp4v) and "
 							    "overwrite=true|false",
@@ -130,7 +129,7 @@ static int cv_open(const char *uri, void **state, struct dao_error *err)
 		}
 	} else {
 		free(s);
-		return plugin_error(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 				    "opencv: '%s' is neither a video file (.avi, .mkv, .mp4) nor "
 				    "'window[:TITLE]'",
 				    uri);
@@ -203,10 +202,10 @@ static int claim_file(struct cv_sink *s, struct dao_error *err)
 			return 0;
 		}
 		if (errno != EEXIST)
-			return plugin_error(err, -errno, "opencv: cannot create %s: %s", s->file,
+			return dao_error_set(err, -errno, "opencv: cannot create %s: %s", s->file,
 					    strerror(errno));
 	}
-	return plugin_error(err, -EEXIST,
+	return dao_error_set(err, -EEXIST,
 			    "opencv: %s and its numbered names up to -%d exist; a video never "
 			    "replaces a file (add ?overwrite=true to replace it)",
 			    s->path, NUMBERED_MAX);
@@ -231,7 +230,7 @@ static int cv_negotiate(void *state, struct dao_sink_format *fmt, struct dao_err
 		return 0;
 	}
 	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8)
-		return plugin_error(err, -ENOTSUP,
+		return dao_error_set(err, -ENOTSUP,
 				    "opencv: takes pictures (the shaded, overlay or ao8 stream), "
 				    "not %s frames",
 				    fmt->format == DAO_PIXFMT_DEPTH16 ? "depth" : "these");
@@ -239,7 +238,7 @@ static int cv_negotiate(void *state, struct dao_sink_format *fmt, struct dao_err
 	if (s->window) {
 		setup_controls(s);
 		if (!(s->win = cvs_window_open(s->title, s->controls, s->ncontrols, msg, sizeof msg)))
-			return plugin_error(err, -ENOTSUP, "opencv: %s", msg);
+			return dao_error_set(err, -ENOTSUP, "opencv: %s", msg);
 		return 0;
 	}
 	double fps = fmt->fps > 0 ? fmt->fps : 30.0;
@@ -253,7 +252,7 @@ static int cv_negotiate(void *state, struct dao_sink_format *fmt, struct dao_err
 		if (s->claimed)
 			unlink(s->file);
 		s->claimed = 0;
-		return plugin_error(err, -EIO, "opencv: %s", msg);
+		return dao_error_set(err, -EIO, "opencv: %s", msg);
 	}
 	return 0;
 }
@@ -265,7 +264,7 @@ static int cv_write(void *state, const struct dao_frame *f, struct dao_error *er
 	const int channels = f->format == DAO_PIXFMT_RGB24 ? 3 : 1;
 	if (s->video) {
 		if (cvs_video_write(s->video, f->data, f->stride, msg, sizeof msg) < 0)
-			return plugin_error(err, -EIO, "opencv: %s: %s", s->file, msg);
+			return dao_error_set(err, -EIO, "opencv: %s: %s", s->file, msg);
 		s->frames++;
 		return 0;
 	}
@@ -282,7 +281,7 @@ static int cv_write(void *state, const struct dao_frame *f, struct dao_error *er
 	int moved = cvs_window_show(s->win, f->data, (int)f->width, (int)f->height, f->stride,
 				    channels, overlay);
 	if (moved < 0)
-		return plugin_error(err, -ECANCELED, "opencv: the window was closed");
+		return dao_error_set(err, -ECANCELED, "opencv: the window was closed");
 	for (int i = 0; i < s->ncontrols; i++) {
 		if (!(moved & (1 << i)) || !s->host || !s->host->set_param)
 			continue;

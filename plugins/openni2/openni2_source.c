@@ -46,7 +46,6 @@ typedef struct _OniRecorder _OniRecorder;
 
 #include <depthao/plugin.h>
 
-#include "common/plugin_util.h"
 
 struct ni_source {
 	char uri[512];
@@ -95,7 +94,7 @@ static const char *ni_error(char *buf, size_t cap)
 static int ni_status(struct dao_error *err, int code, const char *what)
 {
 	char e[160];
-	return plugin_error(err, code, "openni2: %s: %s", what, ni_error(e, sizeof(e)));
+	return dao_error_set(err, code, "openni2: %s: %s", what, ni_error(e, sizeof(e)));
 }
 
 static int list_devices(dao_device_cb cb, void *user, struct dao_error *err)
@@ -227,7 +226,7 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 	if (oniDeviceOpen(uri, &s->dev) != ONI_STATUS_OK) {
 		s->dev = NULL;
 		char e[160];
-		return plugin_error(err, s->is_file ? -EINVAL : -ENODEV,
+		return dao_error_set(err, s->is_file ? -EINVAL : -ENODEV,
 				    "openni2: cannot open '%s': %s", s->uri, ni_error(e, sizeof(e)));
 	}
 	OniDeviceInfo di;
@@ -235,7 +234,7 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 	if (oniDeviceGetInfo(s->dev, &di) == ONI_STATUS_OK)
 		snprintf(s->device_uri, sizeof(s->device_uri), "%s", di.uri);
 	if (!oniDeviceGetSensorInfo(s->dev, ONI_SENSOR_DEPTH))
-		return plugin_error(err, -EINVAL, "openni2: '%s' has no depth sensor", s->uri);
+		return dao_error_set(err, -EINVAL, "openni2: '%s' has no depth sensor", s->uri);
 	if (s->is_file) {
 		OniBool repeat = 1; /* see the top of this file */
 		oniDeviceSetProperty(s->dev, ONI_DEVICE_PROPERTY_PLAYBACK_REPEAT_ENABLED, &repeat,
@@ -268,7 +267,7 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 	in->format = DAO_PIXFMT_DEPTH16;
 	in->depth_unit = unit_of(vm.pixelFormat);
 	if (in->depth_unit == 0.0f)
-		return plugin_error(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 				    "openni2: '%s' delivers depth in pixel format %d, not in "
 				    "millimetres or 100 um",
 				    s->uri, (int)vm.pixelFormat);
@@ -303,7 +302,7 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 		if (oniStreamGetProperty(s->depth, ONI_STREAM_PROPERTY_NUMBER_OF_FRAMES, &n, &size) !=
 			    ONI_STATUS_OK ||
 		    n <= 0)
-			return plugin_error(err, -EINVAL, "openni2: '%s' has no depth frames", s->uri);
+			return dao_error_set(err, -EINVAL, "openni2: '%s' has no depth frames", s->uri);
 		s->frame_count = n;
 		in->frame_count = n;
 	}
@@ -334,10 +333,10 @@ static int ni_open(const char *uri, const struct dao_source_options *opts, void 
 	struct ni_source *s = calloc(1, sizeof(*s));
 	int r;
 	if (!s)
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	if (strlen(uri) >= sizeof(s->uri)) {
 		free(s);
-		return plugin_error(err, -EINVAL, "openni2: URI too long");
+		return dao_error_set(err, -EINVAL, "openni2: URI too long");
 	}
 	size_t n = strlen(uri);
 	memcpy(s->uri, uri, n + 1); /* length checked above */
@@ -348,7 +347,7 @@ static int ni_open(const char *uri, const struct dao_source_options *opts, void 
 	if (s->is_file) {
 		FILE *f = fopen(uri, "rb"); /* OpenNI2's own message for a missing file is vague */
 		if (!f) {
-			r = plugin_error(err, -errno, "openni2: cannot open %s: %s", uri, strerror(errno));
+			r = dao_error_set(err, -errno, "openni2: cannot open %s: %s", uri, strerror(errno));
 			free(s);
 			return r;
 		}
@@ -365,7 +364,7 @@ static int ni_open(const char *uri, const struct dao_source_options *opts, void 
 	if ((r = open_device(s, err)) < 0)
 		goto fail;
 	if (s->is_file && opts->start_frame >= (uint32_t)s->frame_count) {
-		r = plugin_error(err, -EINVAL, "openni2: start frame %u is past the end of %s (%d frames)",
+		r = dao_error_set(err, -EINVAL, "openni2: start frame %u is past the end of %s (%d frames)",
 				 opts->start_frame, uri, s->frame_count);
 		goto fail;
 	}
@@ -406,11 +405,11 @@ static int next_depth(struct ni_source *s, int timeout_ms, struct dao_error *err
 		s->depth_frame = NULL;
 	}
 	if (atomic_load(&s->disconnected))
-		return plugin_error(err, -ENODEV, "openni2: device '%s' was disconnected", s->uri);
+		return dao_error_set(err, -ENODEV, "openni2: device '%s' was disconnected", s->uri);
 	OniStatus st = oniWaitForAnyStream(&s->depth, 1, &idx, timeout_ms);
 	if (st == ONI_STATUS_TIME_OUT) {
 		if (atomic_load(&s->disconnected))
-			return plugin_error(err, -ENODEV, "openni2: device '%s' was disconnected", s->uri);
+			return dao_error_set(err, -ENODEV, "openni2: device '%s' was disconnected", s->uri);
 		return -EAGAIN;
 	}
 	if (st != ONI_STATUS_OK)
@@ -429,7 +428,7 @@ static int skip_to(struct ni_source *s, int target, struct dao_error *err)
 	while (s->last_index + 1 < target) {
 		int r = next_depth(s, 5000, err);
 		if (r == -EAGAIN)
-			return plugin_error(err, -EIO, "openni2: no frame within 5 s while seeking");
+			return dao_error_set(err, -EIO, "openni2: no frame within 5 s while seeking");
 		if (r < 0)
 			return r;
 	}
@@ -441,7 +440,7 @@ static int ni_start(void *state, struct dao_error *err)
 	struct ni_source *s = state;
 	int r;
 	if (s->ended)
-		return plugin_error(err, -EINVAL, "openni2: the recording has ended; reopen it");
+		return dao_error_set(err, -EINVAL, "openni2: the recording has ended; reopen it");
 	if ((r = start_streams(s, err)) < 0)
 		return r;
 	if (s->is_file) {
@@ -504,7 +503,7 @@ static int ni_read(void *state, struct dao_source_frame *f, int timeout_ms, stru
 	OniFrame *d = s->depth_frame;
 	if ((uint32_t)d->width != s->info.width || (uint32_t)d->height != s->info.height ||
 	    d->stride < d->width * 2)
-		return plugin_error(err, -EIO, "openni2: frame %d is %dx%d, the stream said %ux%u",
+		return dao_error_set(err, -EIO, "openni2: frame %d is %dx%d, the stream said %ux%u",
 				    d->frameIndex, d->width, d->height, s->info.width, s->info.height);
 	f->depth.format = DAO_PIXFMT_DEPTH16;
 	f->depth.width = (uint32_t)d->width;
@@ -534,9 +533,9 @@ static int ni_seek(void *state, uint64_t index, struct dao_error *err)
 	struct ni_source *s = state;
 	int r;
 	if (!s->is_file)
-		return plugin_error(err, -ENOTSUP, "openni2: live devices cannot seek");
+		return dao_error_set(err, -ENOTSUP, "openni2: live devices cannot seek");
 	if (index >= (uint64_t)s->frame_count)
-		return plugin_error(err, -EINVAL, "openni2: seek to frame %llu: %s has %d frames",
+		return dao_error_set(err, -EINVAL, "openni2: seek to frame %llu: %s has %d frames",
 				    (unsigned long long)index, s->uri, s->frame_count);
 	int was_started = s->started || s->ended;
 	if ((int)index < s->last_index || s->ended) {

@@ -37,7 +37,6 @@
 
 #include <depthao/plugin.h>
 
-#include "common/plugin_util.h"
 
 #define DEFAULT_QUALITY 85
 #define APPSRC_NAME "depthao-src"
@@ -112,7 +111,7 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 {
 	char buf[512];
 	if (g_strlcpy(buf, uri, sizeof buf) >= sizeof buf)
-		return plugin_error(err, -EINVAL, "rtsp: the URI is too long");
+		return dao_error_set(err, -EINVAL, "rtsp: the URI is too long");
 	char *p = buf, *q = strchr(buf, '?');
 	s->quality = DEFAULT_QUALITY;
 	s->transport = GST_RTSP_LOWER_TRANS_TCP;
@@ -121,7 +120,7 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 		char *save = NULL;
 		for (char *opt = strtok_r(q, "&", &save); opt; opt = strtok_r(NULL, "&", &save))
 			if (parse_option(s, opt) < 0)
-				return plugin_error(err, -EINVAL,
+				return dao_error_set(err, -EINVAL,
 						    "rtsp: '%s': bad option '%s' (options: quality=1..100, "
 						    "transport=tcp|udp)",
 						    uri, opt);
@@ -131,7 +130,7 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 	char *slash = strchr(p, '/');
 	if (g_strlcpy(s->mount, slash && slash[1] ? slash : "/depthao", sizeof s->mount) >=
 	    sizeof s->mount)
-		return plugin_error(err, -EINVAL, "rtsp: '%s': the mount path is too long", uri);
+		return dao_error_set(err, -EINVAL, "rtsp: '%s': the mount path is too long", uri);
 	if (slash)
 		*slash = '\0';
 	char *colon = strrchr(p, ':');
@@ -144,13 +143,13 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 			p++;
 		}
 		if (*p && g_strlcpy(s->host, p, sizeof s->host) >= sizeof s->host)
-			return plugin_error(err, -EINVAL, "rtsp: '%s': the address is too long", uri);
+			return dao_error_set(err, -EINVAL, "rtsp: '%s': the address is too long", uri);
 		p = colon + 1;
 	}
 	char *end;
 	long port = strtol(p, &end, 10);
 	if (!*p || *end || port < 1 || port > 65535)
-		return plugin_error(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 				    "rtsp: '%s' is not PORT/MOUNT or HOST:PORT/MOUNT with a port in "
 				    "1..65535 (e.g. rtsp:8554/depthao)",
 				    uri);
@@ -181,14 +180,14 @@ static int rtsp_open(const char *uri, void **state, struct dao_error *err)
 	GError *gerr = NULL;
 	struct rtsp_sink *s = calloc(1, sizeof(*s));
 	if (!s)
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	int r = parse_uri(s, uri, err);
 	if (r < 0) {
 		free(s);
 		return r;
 	}
 	if (!gst_init_check(NULL, NULL, &gerr)) {
-		r = plugin_error(err, -ENOTSUP, "rtsp: GStreamer does not start: %s",
+		r = dao_error_set(err, -ENOTSUP, "rtsp: GStreamer does not start: %s",
 				 gerr ? gerr->message : "gst_init failed");
 		g_clear_error(&gerr);
 		free(s);
@@ -199,7 +198,7 @@ static int rtsp_open(const char *uri, void **state, struct dao_error *err)
 		GstElementFactory *f = gst_element_factory_find(needed[i]);
 		if (!f) {
 			free(s);
-			return plugin_error(err, -ENOTSUP,
+			return dao_error_set(err, -ENOTSUP,
 					    "rtsp: the GStreamer element '%s' is missing (install "
 					    "gstreamer1.0-plugins-base and -good)",
 					    needed[i]);
@@ -220,7 +219,7 @@ static int rtsp_open(const char *uri, void **state, struct dao_error *err)
 	if (!s->server_source) {
 		r = gerr && g_error_matches(gerr, G_IO_ERROR, G_IO_ERROR_ADDRESS_IN_USE) ? -EADDRINUSE
 											  : -EIO;
-		plugin_error(err, r, "rtsp: cannot listen on %s:%d: %s", s->host, s->port,
+		dao_error_set(err, r, "rtsp: cannot listen on %s:%d: %s", s->host, s->port,
 			     gerr ? gerr->message : "unknown error");
 		g_clear_error(&gerr);
 		g_object_unref(s->server);
@@ -279,12 +278,12 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 		return 0;
 	}
 	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8)
-		return plugin_error(err, -ENOTSUP,
+		return dao_error_set(err, -ENOTSUP,
 				    "rtsp: serves pictures (the shaded, overlay or ao8 stream), not %s "
 				    "frames",
 				    fmt->format == DAO_PIXFMT_DEPTH16 ? "depth" : "these");
 	if (fmt->width > 2040 || fmt->height > 2040) /* RFC 2435: at most 255 x 8 pixels */
-		return plugin_error(err, -ENOTSUP,
+		return dao_error_set(err, -ENOTSUP,
 				    "rtsp: %ux%u is too large for RTP/JPEG (2040x2040 at most)",
 				    fmt->width, fmt->height);
 	gint num = 0, den = 1;
@@ -297,7 +296,7 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 		GST_TYPE_FRACTION, num, den, NULL);
 	if (!gst_video_info_from_caps(&s->info, caps)) {
 		gst_caps_unref(caps);
-		return plugin_error(err, -EINVAL, "rtsp: bad frame size %ux%u", fmt->width,
+		return dao_error_set(err, -EINVAL, "rtsp: bad frame size %ux%u", fmt->width,
 				    fmt->height);
 	}
 	if (s->pool) {
@@ -311,7 +310,7 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 	if (!gst_buffer_pool_set_config(s->pool, conf) || !gst_buffer_pool_set_active(s->pool, TRUE)) {
 		gst_caps_unref(caps);
 		gst_clear_object(&s->pool);
-		return plugin_error(err, -ENOMEM, "rtsp: cannot set up frame buffers of %ux%u",
+		return dao_error_set(err, -ENOMEM, "rtsp: cannot set up frame buffers of %ux%u",
 				    fmt->width, fmt->height);
 	}
 	g_mutex_lock(&s->sh->lock);

@@ -12,7 +12,6 @@
 
 #include <linux/videodev2.h>
 
-#include "common/plugin_util.h"
 
 #define RING 4
 #define DEFAULT_W 640
@@ -84,7 +83,7 @@ static int parse_request(const char *uri, const struct dao_source_options *o, st
 	const char *q = strchr(uri, '?');
 	size_t n = q ? (size_t)(q - uri) : strlen(uri);
 	if (n == 0 || n >= sizeof r->device)
-		return plugin_error(err, -EINVAL, "v4l2: '%s' names no device (use /dev/videoN, card=NAME, "
+		return dao_error_set(err, -EINVAL, "v4l2: '%s' names no device (use /dev/videoN, card=NAME, "
 				    "bus=INFO or any)", uri);
 	memcpy(r->device, uri, n);
 	r->device[n] = '\0';
@@ -95,18 +94,18 @@ static int parse_request(const char *uri, const struct dao_source_options *o, st
 		size_t len = amp ? (size_t)(amp - q - 1) : strlen(q + 1);
 		char item[96];
 		if (len >= sizeof item)
-			return plugin_error(err, -EINVAL, "v4l2: option too long in '%s'", uri);
+			return dao_error_set(err, -EINVAL, "v4l2: option too long in '%s'", uri);
 		memcpy(item, q + 1, len);
 		item[len] = '\0';
 		if (sscanf(item, "%15[^=]=%63s", key, val) != 2)
-			return plugin_error(err, -EINVAL, "v4l2: '%s' is not key=value", item);
+			return dao_error_set(err, -EINVAL, "v4l2: '%s' is not key=value", item);
 		if (!strcmp(key, "size")) {
 			if (sscanf(val, "%ux%u", &r->w, &r->h) != 2 || !r->w || !r->h || r->w > 16384 ||
 			    r->h > 16384)
-				return plugin_error(err, -EINVAL, "v4l2: size '%s' must be WxH", val);
+				return dao_error_set(err, -EINVAL, "v4l2: size '%s' must be WxH", val);
 		} else if (!strcmp(key, "fps")) {
 			if (sscanf(val, "%u", &r->fps) != 1 || !r->fps || r->fps > 1000)
-				return plugin_error(err, -EINVAL, "v4l2: fps '%s' must be 1..1000", val);
+				return dao_error_set(err, -EINVAL, "v4l2: fps '%s' must be 1..1000", val);
 		} else if (!strcmp(key, "format")) {
 			if (!strcasecmp(val, "Z16"))
 				r->pixfmt = V4L2_PIX_FMT_Z16;
@@ -115,18 +114,18 @@ static int parse_request(const char *uri, const struct dao_source_options *o, st
 			else if (!strcasecmp(val, "Y10B"))
 				r->pixfmt = V4L2_PIX_FMT_Y10BPACK;
 			else
-				return plugin_error(err, -EINVAL, "v4l2: format '%s' must be Z16, Y16 or Y10B",
+				return dao_error_set(err, -EINVAL, "v4l2: format '%s' must be Z16, Y16 or Y10B",
 						    val);
 		} else if (!strcmp(key, "unit")) {
 			double u = atof(val);
 			if (!(u > 0 && u <= 1))
-				return plugin_error(err, -EINVAL,
+				return dao_error_set(err, -EINVAL,
 						    "v4l2: unit '%s' must be metres per count in (0, 1] "
 						    "(RealSense 0.001, D405 0.0001)",
 						    val);
 			r->unit = (float)u;
 		} else {
-			return plugin_error(err, -EINVAL,
+			return dao_error_set(err, -EINVAL,
 					    "v4l2: unknown option '%s' (size, fps, format, unit)", key);
 		}
 		q = amp;
@@ -216,7 +215,7 @@ static int resolve_device(const struct v4l2_io *io, const char *dev, uint32_t pi
 	int any = !strcmp(dev, "any"), by_card = !strncmp(dev, "card=", 5),
 	    by_bus = !strncmp(dev, "bus=", 4);
 	if (!any && !by_card && !by_bus)
-		return plugin_error(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 				    "v4l2: '%s' is not a device (use /dev/videoN, card=NAME, bus=INFO "
 				    "or any)",
 				    dev);
@@ -234,7 +233,7 @@ static int resolve_device(const struct v4l2_io *io, const char *dev, uint32_t pi
 			return 0;
 		}
 	}
-	return plugin_error(err, -ENODEV, "v4l2: no depth camera matches '%s' (%d video nodes; see "
+	return dao_error_set(err, -ENODEV, "v4l2: no depth camera matches '%s' (%d video nodes; see "
 			    "'depthao devices')", dev, n);
 }
 
@@ -254,10 +253,10 @@ static int setup_buffers(struct v4l2cap *c, struct dao_error *err)
 	rb.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
 	rb.memory = V4L2_MEMORY_MMAP;
 	if (v4l2_xioctl(c->io, c->fd, VIDIOC_REQBUFS, &rb) < 0)
-		return plugin_error(err, -errno, "v4l2: %s: cannot get buffers: %s", c->path,
+		return dao_error_set(err, -errno, "v4l2: %s: cannot get buffers: %s", c->path,
 				    strerror(errno));
 	if (rb.count < 2)
-		return plugin_error(err, -ENOMEM, "v4l2: %s: only %u buffer(s)", c->path, rb.count);
+		return dao_error_set(err, -ENOMEM, "v4l2: %s: only %u buffer(s)", c->path, rb.count);
 	for (unsigned i = 0; i < rb.count && i < RING; i++) {
 		struct v4l2_buffer b;
 		memset(&b, 0, sizeof b);
@@ -265,12 +264,12 @@ static int setup_buffers(struct v4l2cap *c, struct dao_error *err)
 		b.memory = V4L2_MEMORY_MMAP;
 		b.index = i;
 		if (v4l2_xioctl(c->io, c->fd, VIDIOC_QUERYBUF, &b) < 0)
-			return plugin_error(err, -errno, "v4l2: %s: QUERYBUF: %s", c->path, strerror(errno));
+			return dao_error_set(err, -errno, "v4l2: %s: QUERYBUF: %s", c->path, strerror(errno));
 		c->bufs[i].length = b.length;
 		c->bufs[i].start = c->io->mmap(c->io->user, b.length, PROT_READ | PROT_WRITE, MAP_SHARED,
 					       c->fd, b.m.offset);
 		if (c->bufs[i].start == MAP_FAILED)
-			return plugin_error(err, -errno, "v4l2: %s: mmap: %s", c->path, strerror(errno));
+			return dao_error_set(err, -errno, "v4l2: %s: mmap: %s", c->path, strerror(errno));
 		c->nbufs++;
 	}
 	return 0;
@@ -285,7 +284,7 @@ int v4l2cap_open(const struct v4l2_io *io, const char *uri, const struct dao_sou
 		return r;
 	struct v4l2cap *c = calloc(1, sizeof(*c));
 	if (!c)
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	c->io = io;
 	c->fd = -1;
 	c->unit = rq.unit;
@@ -293,17 +292,17 @@ int v4l2cap_open(const struct v4l2_io *io, const char *uri, const struct dao_sou
 		goto fail;
 	c->fd = io->open(io->user, c->path, O_RDWR | O_NONBLOCK);
 	if (c->fd < 0) {
-		r = plugin_error(err, errno == ENOENT ? -ENODEV : -errno, "v4l2: cannot open %s: %s",
+		r = dao_error_set(err, errno == ENOENT ? -ENODEV : -errno, "v4l2: cannot open %s: %s",
 				 c->path, strerror(errno));
 		goto fail;
 	}
 	if (!query(io, c->fd, c->card, c->bus, sizeof c->card)) {
-		r = plugin_error(err, -ENOTSUP, "v4l2: %s is not a streaming capture device", c->path);
+		r = dao_error_set(err, -ENOTSUP, "v4l2: %s is not a streaming capture device", c->path);
 		goto fail;
 	}
 	char fcc[5];
 	if (!(c->pixfmt = pick_format(io, c->fd, rq.pixfmt))) {
-		r = plugin_error(err, -ENOTSUP,
+		r = dao_error_set(err, -ENOTSUP,
 				 rq.pixfmt ? "v4l2: %s (%s) does not offer %s"
 					   : "v4l2: %s (%s) offers no depth format (Z16, Y16 or Y10B)%s",
 				 c->path, c->card, rq.pixfmt ? fourcc_str(rq.pixfmt, fcc) : "");
@@ -319,12 +318,12 @@ int v4l2cap_open(const struct v4l2_io *io, const char *uri, const struct dao_sou
 	f.fmt.pix.pixelformat = c->pixfmt;
 	f.fmt.pix.field = V4L2_FIELD_NONE;
 	if (v4l2_xioctl(io, c->fd, VIDIOC_S_FMT, &f) < 0) {
-		r = plugin_error(err, -errno, "v4l2: %s: cannot set %s %ux%u: %s", c->path,
+		r = dao_error_set(err, -errno, "v4l2: %s: cannot set %s %ux%u: %s", c->path,
 				 fourcc_str(c->pixfmt, fcc), w, h, strerror(errno));
 		goto fail;
 	}
 	if (f.fmt.pix.pixelformat != c->pixfmt || !f.fmt.pix.width || !f.fmt.pix.height) {
-		r = plugin_error(err, -ENOTSUP, "v4l2: %s changed the format to %s", c->path,
+		r = dao_error_set(err, -ENOTSUP, "v4l2: %s changed the format to %s", c->path,
 				 fourcc_str(f.fmt.pix.pixelformat, fcc));
 		goto fail;
 	}
@@ -352,7 +351,7 @@ int v4l2cap_open(const struct v4l2_io *io, const char *uri, const struct dao_sou
 			c->kinect_lut[d] = v4l2_kinect_disparity_to_mm(d);
 	}
 	if (!(c->depth = malloc((size_t)c->width * c->height * 2))) {
-		r = plugin_error(err, -ENOMEM, "out of memory");
+		r = dao_error_set(err, -ENOMEM, "out of memory");
 		goto fail;
 	}
 	if ((r = setup_buffers(c, err)) < 0)
@@ -388,12 +387,12 @@ int v4l2cap_start(struct v4l2cap *c, struct dao_error *err)
 		b.memory = V4L2_MEMORY_MMAP;
 		b.index = i;
 		if (v4l2_xioctl(c->io, c->fd, VIDIOC_QBUF, &b) < 0)
-			return plugin_error(err, errno == ENODEV ? -ENODEV : -errno, "v4l2: %s: QBUF: %s",
+			return dao_error_set(err, errno == ENODEV ? -ENODEV : -errno, "v4l2: %s: QBUF: %s",
 					    c->path, strerror(errno));
 	}
 	int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
 	if (v4l2_xioctl(c->io, c->fd, VIDIOC_STREAMON, &type) < 0)
-		return plugin_error(err, errno == ENODEV ? -ENODEV : -errno, "v4l2: %s: STREAMON: %s",
+		return dao_error_set(err, errno == ENODEV ? -ENODEV : -errno, "v4l2: %s: STREAMON: %s",
 				    c->path, strerror(errno));
 	c->streaming = 1;
 	return 0;
@@ -429,14 +428,14 @@ static void convert(struct v4l2cap *c, const uint8_t *src)
 
 static int gone(struct v4l2cap *c, struct dao_error *err)
 {
-	return plugin_error(err, -ENODEV, "v4l2: %s (%s) was disconnected", c->path, c->card);
+	return dao_error_set(err, -ENODEV, "v4l2: %s (%s) was disconnected", c->path, c->card);
 }
 
 int v4l2cap_read(struct v4l2cap *c, struct dao_source_frame *f, int timeout_ms,
 		 struct dao_error *err)
 {
 	if (!c->streaming)
-		return plugin_error(err, -EINVAL, "v4l2: %s is not streaming", c->path);
+		return dao_error_set(err, -EINVAL, "v4l2: %s is not streaming", c->path);
 	if (c->lost)
 		return gone(c, err);
 	for (;;) {
@@ -445,7 +444,7 @@ int v4l2cap_read(struct v4l2cap *c, struct dao_source_frame *f, int timeout_ms,
 		if (n < 0 && errno == EINTR)
 			continue;
 		if (n < 0)
-			return plugin_error(err, -errno, "v4l2: %s: poll: %s", c->path, strerror(errno));
+			return dao_error_set(err, -errno, "v4l2: %s: poll: %s", c->path, strerror(errno));
 		if (n == 0)
 			return -EAGAIN;
 		if (p.revents & (POLLERR | POLLHUP | POLLNVAL))
@@ -459,7 +458,7 @@ int v4l2cap_read(struct v4l2cap *c, struct dao_source_frame *f, int timeout_ms,
 				continue;
 			if (errno == ENODEV || errno == EIO)
 				return gone(c, err);
-			return plugin_error(err, -errno, "v4l2: %s: DQBUF: %s", c->path, strerror(errno));
+			return dao_error_set(err, -errno, "v4l2: %s: DQBUF: %s", c->path, strerror(errno));
 		}
 		size_t need = (size_t)c->bytesperline * (c->height - 1) +
 			      (c->pixfmt == V4L2_PIX_FMT_Y10BPACK ? (c->width * 10 + 7) / 8 : c->width * 2);

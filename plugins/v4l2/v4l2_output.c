@@ -10,7 +10,6 @@
 
 #include <linux/videodev2.h>
 
-#include "common/plugin_util.h"
 
 struct v4l2out {
 	const struct v4l2_io *io;
@@ -54,7 +53,7 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 {
 	struct v4l2out *o = calloc(1, sizeof(*o));
 	if (!o)
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	o->io = io;
 	o->fd = -1;
 	o->pixfmt = V4L2_PIX_FMT_YUYV;
@@ -63,14 +62,14 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 	size_t n = q ? (size_t)(q - uri) : strlen(uri);
 	int r;
 	if (n == 0 || n >= sizeof o->path) {
-		r = plugin_error(err, -EINVAL, "v4l2 output: '%s' names no device (/dev/videoN)", uri);
+		r = dao_error_set(err, -EINVAL, "v4l2 output: '%s' names no device (/dev/videoN)", uri);
 		goto fail;
 	}
 	memcpy(o->path, uri, n);
 	while (q && *q) {
 		char key[16], val[32];
 		if (sscanf(q + 1, "%15[^=]=%31[^&]", key, val) != 2) {
-			r = plugin_error(err, -EINVAL, "v4l2 output: bad option in '%s'", uri);
+			r = dao_error_set(err, -EINVAL, "v4l2 output: bad option in '%s'", uri);
 			goto fail;
 		}
 		if (!strcmp(key, "format") && !strcasecmp(val, "YUYV"))
@@ -82,7 +81,7 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 		else if (!strcmp(key, "fps") && atoi(val) > 0 && atoi(val) <= 1000)
 			o->fps = (uint32_t)atoi(val);
 		else {
-			r = plugin_error(err, -EINVAL,
+			r = dao_error_set(err, -EINVAL,
 					 "v4l2 output: '%s=%s' (format=YUYV|RGB24|GREY, fps=1..1000)", key,
 					 val);
 			goto fail;
@@ -91,7 +90,7 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 	}
 	o->fd = io->open(io->user, o->path, O_RDWR | O_NONBLOCK);
 	if (o->fd < 0) {
-		r = plugin_error(err, errno == ENOENT ? -ENODEV : -errno,
+		r = dao_error_set(err, errno == ENOENT ? -ENODEV : -errno,
 				 "v4l2 output: cannot open %s: %s (is v4l2loopback loaded? see the "
 				 "README)",
 				 o->path, strerror(errno));
@@ -100,12 +99,12 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 	struct v4l2_capability c;
 	memset(&c, 0, sizeof c);
 	if (v4l2_xioctl(io, o->fd, VIDIOC_QUERYCAP, &c) < 0) {
-		r = plugin_error(err, -ENOTSUP, "v4l2 output: %s is not a V4L2 device", o->path);
+		r = dao_error_set(err, -ENOTSUP, "v4l2 output: %s is not a V4L2 device", o->path);
 		goto fail;
 	}
 	uint32_t caps = (c.capabilities & V4L2_CAP_DEVICE_CAPS) ? c.device_caps : c.capabilities;
 	if (!(caps & V4L2_CAP_VIDEO_OUTPUT)) {
-		r = plugin_error(err, -ENOTSUP,
+		r = dao_error_set(err, -ENOTSUP,
 				 "v4l2 output: %s (%.32s) is not a video output device (a v4l2loopback "
 				 "device is)",
 				 o->path, (const char *)c.card);
@@ -125,11 +124,11 @@ int v4l2out_negotiate(struct v4l2out *o, struct dao_sink_format *fmt, struct dao
 		return 0;
 	}
 	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8)
-		return plugin_error(err, -ENOTSUP,
+		return dao_error_set(err, -ENOTSUP,
 				    "v4l2 output: takes the shaded, overlay or ao8 stream, not %s",
 				    dao_pixfmt_name(fmt->format));
 	if (o->pixfmt == V4L2_PIX_FMT_YUYV && (fmt->width & 1))
-		return plugin_error(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 				    "v4l2 output: YUYV needs an even width, the stream is %u wide (use "
 				    "?format=RGB24 or GREY)",
 				    fmt->width);
@@ -153,12 +152,12 @@ int v4l2out_negotiate(struct v4l2out *o, struct dao_sink_format *fmt, struct dao
 	f.fmt.pix.sizeimage = fmt->width * bpp * fmt->height;
 	f.fmt.pix.colorspace = V4L2_COLORSPACE_SRGB;
 	if (v4l2_xioctl(o->io, o->fd, VIDIOC_S_FMT, &f) < 0)
-		return plugin_error(err, -errno, "v4l2 output: %s: cannot set the format: %s (a "
+		return dao_error_set(err, -errno, "v4l2 output: %s: cannot set the format: %s (a "
 				    "v4l2loopback device in use by another writer keeps its format)",
 				    o->path, strerror(errno));
 	if (f.fmt.pix.width != fmt->width || f.fmt.pix.height != fmt->height ||
 	    f.fmt.pix.pixelformat != o->pixfmt)
-		return plugin_error(err, -ENOTSUP, "v4l2 output: %s took %ux%u instead of %ux%u",
+		return dao_error_set(err, -ENOTSUP, "v4l2 output: %s took %ux%u instead of %ux%u",
 				    o->path, f.fmt.pix.width, f.fmt.pix.height, fmt->width, fmt->height);
 	o->width = fmt->width;
 	o->height = fmt->height;
@@ -173,7 +172,7 @@ int v4l2out_negotiate(struct v4l2out *o, struct dao_sink_format *fmt, struct dao
 	v4l2_xioctl(o->io, o->fd, VIDIOC_S_PARM, &sp); /* advisory; not every driver has it */
 	free(o->buf);
 	if (!(o->buf = calloc(1, o->sizeimage)))
-		return plugin_error(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	return 0;
 }
 
@@ -197,10 +196,10 @@ int v4l2out_write(struct v4l2out *o, const struct dao_frame *f, struct dao_error
 		return 0;
 	}
 	if (w < 0)
-		return plugin_error(err, errno == ENODEV ? -ENODEV : -errno, "v4l2 output: %s: %s",
+		return dao_error_set(err, errno == ENODEV ? -ENODEV : -errno, "v4l2 output: %s: %s",
 				    o->path, strerror(errno));
 	if ((size_t)w != o->sizeimage)
-		return plugin_error(err, -EIO, "v4l2 output: %s took %zd of %u bytes", o->path, w,
+		return dao_error_set(err, -EIO, "v4l2 output: %s took %zd of %u bytes", o->path, w,
 				    o->sizeimage);
 	return 0;
 }

@@ -10,7 +10,6 @@
 
 #include <depthao/plugin.h>
 
-#include "common/plugin_util.h"
 #include "v4l2_capture.h"
 #include "v4l2_output.h"
 

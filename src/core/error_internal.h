@@ -1,13 +1,9 @@
 /* SPDX-License-Identifier: MIT */
+/* The library's files include this; dao_error_set() and dao_error_clear() are
+ * public (depthao/error.h), so plugins and tools report errors the same way. */
 #ifndef DAO_CORE_ERROR_INTERNAL_H
 #define DAO_CORE_ERROR_INTERNAL_H
 
 #include <depthao/error.h>
-
-/* Fills `err` (if not NULL) with code and printf-style message; returns code. */
-int dao_error_set(struct dao_error *err, int code, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-
-void dao_error_clear(struct dao_error *err);
 
 #endif

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #define _XOPEN_SOURCE 700 /* realpath */
-#include "io/output_file.h"
+#include <depthao/output_file.h>
 
 #include <errno.h>
 #include <fcntl.h>

@@ -2,7 +2,7 @@
 /*
  * PNG reading and writing through libpng, with errors a user can act on and
  * atomic writes (temporary file + rename; FIFOs and character devices are
- * written straight into, see io/output_file.h).
+ * written straight into, see depthao/output_file.h).
  */
 #include <errno.h>
 #include <setjmp.h>
@@ -18,7 +18,7 @@
 #include <depthao/png.h>
 
 #include "core/error_internal.h"
-#include "io/output_file.h"
+#include <depthao/output_file.h>
 
 struct png_err_ctx {
 	char message[160];

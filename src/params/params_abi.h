@@ -10,7 +10,7 @@
 
 #include <depthao/params.h>
 
-/* The first struct dao_params that carried `size` (version node DEPTHAO_0):
+/* The first struct dao_params that carried `size` (version node DEPTHAO_1):
  * every field up to occlusion_color.  Never changes once released. */
 #define DAO_PARAMS_SIZE_FIRST (offsetof(struct dao_params, occlusion_color) + sizeof(uint32_t))
 

@@ -5,7 +5,6 @@
 
 #include "core/error_internal.h"
 #include "plugin/lookup.h"
-#include "plugin/uri.h"
 
 static int has_role(const struct dao_plugin *pl, enum dao_plugin_role role)
 {

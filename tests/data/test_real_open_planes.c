@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The real-frame metric of issue #15: false occlusion on the open planar
- * regions of real sensor frames (src/synth/open_planes.c, `depthao
+ * regions of real sensor frames (tools/synth/open_planes.c, `depthao
  * realcheck`).
  *
  * 1. The finder itself, where the truth is known: on synthetic scenes, clean

@@ -23,7 +23,7 @@ pc=$(find "$stage" -name depthao.pc | head -n 1)
 [ -n "$pc" ] || fail "depthao.pc was not installed"
 lib=$(find "$stage" -name libdepthao.so | head -n 1)
 [ -n "$lib" ] || fail "libdepthao.so was not installed"
-for h in depthao api version error frame camera params context png; do
+for h in depthao api version error frame camera params context png plugin output_file; do
 	[ -n "$(find "$stage" -path "*/include/depthao/$h.h")" ] || fail "include/depthao/$h.h was not installed"
 done
 
@@ -50,8 +50,24 @@ esac
 ${CC:-cc} -std=c11 -Wall -Wextra -Werror "$src/examples/shade_depth.c" $flags \
 	-Wl,-rpath,"$(dirname "$lib")" -o "$stage/shade_depth" || fail "building the example"
 # it must run on the staged library, not on one installed on this machine
-ldd "$stage/shade_depth" | grep -q "libdepthao.so.0 => $stage/" ||
+ldd "$stage/shade_depth" | grep -q "libdepthao.so.1 => $stage/" ||
 	fail "the example does not load the staged library: $(ldd "$stage/shade_depth" | grep depthao)"
+
+# The installed tools run on the shared library too (one copy of it in a daemon
+# that loads plugins, and the tools exercise the ABI), not on a private static copy
+libdir=$(dirname "$lib")
+for t in depthao depthaod; do
+	exe=$(find "$stage" -type f -name "$t" | head -n 1)
+	[ -n "$exe" ] || fail "$t was not installed"
+	readelf -d "$exe" | grep -q 'NEEDED.*\[libdepthao\.so\.1\]' ||
+		fail "$t does not link libdepthao.so.1: $(readelf -d "$exe" | grep NEEDED | tr -s ' ')"
+	LD_LIBRARY_PATH="$libdir" ldd "$exe" | grep -q "libdepthao.so.1 => $libdir/" ||
+		fail "$t does not load the staged library: $(LD_LIBRARY_PATH="$libdir" ldd "$exe" | grep depthao)"
+	if nm "$exe" 2>/dev/null | grep -q ' [Tt] dao_context_create$'; then
+		fail "$t carries its own copy of the library (dao_context_create is defined in it)"
+	fi
+	LD_LIBRARY_PATH="$libdir" "$exe" --version >/dev/null || fail "$t --version on the staged library"
+done
 
 "$stage/shade_depth" "$stage/depth.png" "$stage/out.png" 60 60 31.5 23.5 || fail "shade_depth with intrinsics"
 "$stage/shade_depth" "$stage/depth.png" "$stage/default.png" || fail "shade_depth with the default camera"

@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 # Every function the public headers declare must be exported by libdepthao.so
-# (marked DAO_API) in the version node DEPTHAO_0 (src/libdepthao.ver), and the
+# (marked DAO_API) in the version node DEPTHAO_1 (src/libdepthao.ver), and the
 # library must export nothing else: no symbol of any kind (functions, ifuncs,
 # weak symbols, data) that the headers do not declare.
 # usage: check_exports.sh LIBDEPTHAO_SO INCLUDE_DIR GENERATED_INCLUDE_DIR
@@ -34,9 +34,9 @@ for f in $(comm -13 "$tmp/declared" "$tmp/exported"); do
 done
 while read -r sym type; do
 	case "$sym" in
-	*@@DEPTHAO_0) ;;
-	*) echo "FAIL: $sym (type $type) is not in the version node DEPTHAO_0 (src/libdepthao.ver)"; status=1 ;;
+	*@@DEPTHAO_1) ;;
+	*) echo "FAIL: $sym (type $type) is not in the version node DEPTHAO_1 (src/libdepthao.ver)"; status=1 ;;
 	esac
 done <"$tmp/symbols"
-[ "$status" -ne 0 ] || echo "$(wc -l <"$tmp/declared") public functions, all exported at DEPTHAO_0, nothing else"
+[ "$status" -ne 0 ] || echo "$(wc -l <"$tmp/declared") public functions, all exported at DEPTHAO_1, nothing else"
 exit "$status"

@@ -32,6 +32,11 @@ daemon=$(find "$stage" -path '*/bin/depthaod' | head -n 1)
 for page in man1/depthao.1 man5/depthaod.ini.5 man8/depthaod.8; do
 	[ -n "$(find "$stage" -path "*/man/$page")" ] || fail "$page was not installed"
 done
+# the staged binaries run on the staged library (an install runs ldconfig, or has
+# the rpath of a prefix outside the system's library directories)
+lib=$(find "$stage" -name 'libdepthao.so.1' | head -n 1)
+[ -n "$lib" ] || fail "libdepthao.so.1 was not installed"
+export LD_LIBRARY_PATH="$(dirname "$lib")${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 man_dir=$(dirname "$(dirname "$(find "$stage" -path '*/man/man8/depthaod.8' | head -n 1)")")
 
 "$daemon" --check-config "$ini" >"$stage/out" 2>&1 || fail "the installed configuration: $(cat "$stage/out")"

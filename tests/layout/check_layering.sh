@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # The library's layers include only what is below them (src/<concern>/ may
 # include the private headers of the concerns listed for it), and plugins
-# include only the public <depthao/...> headers, their own and plugins/common.
+# include only the public <depthao/...> headers and their own.
 # usage: check_layering.sh SOURCE_ROOT
 set -eu
 [ $# -eq 1 ] || { echo "usage: $0 SOURCE_ROOT" >&2; exit 2; }
@@ -24,7 +24,6 @@ oni: core io
 bag: core
 plugin: core io oni bag
 pipeline: core simd camera params depth normals kernels denoise shade
-synth: core
 '
 
 status=0
@@ -52,15 +51,26 @@ for dir in src/*/; do
 	done | grep -v '^x$' && status=1 || true
 done
 
-# plugins: public headers, their own directory's headers, plugins/common
+# plugins: public headers and their own directory's headers
 for f in $(find plugins -name '*.[ch]' -o -name '*.cpp' | sort); do
-	bad=$(grep -o '^#[[:space:]]*include[[:space:]]*"[A-Za-z0-9_]*/[^"]*"' "$f" |
-	      grep -v '"common/' || true)
+	bad=$(grep -o '^#[[:space:]]*include[[:space:]]*"[A-Za-z0-9_]*/[^"]*"' "$f" || true)
 	if [ -n "$bad" ]; then
 		echo "FAIL: $f includes a private header: $bad (plugins use <depthao/...> only)"
 		status=1
 	fi
 done
 
-[ "$status" -ne 0 ] || echo "layering: every src/ concern includes only the layers below it; plugins only public headers"
+# tools: public headers, their own directory's, tools/common and tools/synth;
+# nothing of src/ (they link the shared library and see only its API)
+for f in $(find tools -name '*.[ch]' -o -name '*.cpp' | sort); do
+	bad=$(grep -o '^#[[:space:]]*include[[:space:]]*"[^"]*"' "$f" |
+	      grep -v '"common/\|"synth/\|"[A-Za-z0-9_.-]*"' || true)
+	if [ -n "$bad" ]; then
+		echo "FAIL: $f includes a private header: $bad (tools use <depthao/...>, their own, common/ and synth/)"
+		status=1
+	fi
+done
+[ -z "$(ls -d src/synth 2>/dev/null)" ] || { echo "FAIL: src/synth is back: the scenes and the ray tracer are not part of libdepthao (tools/synth)"; status=1; }
+
+[ "$status" -ne 0 ] || echo "layering: every src/ concern includes only the layers below it; plugins and tools only public headers"
 exit "$status"

@@ -14,10 +14,10 @@
 
 #include <depthao/depthao.h>
 
-#include "tool_clock.h"
+#include "common/tool_clock.h"
 #include "cli_params.h"
 #include "commands.h"
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/synth.h"
 
 #define MAX_SIZES 8

@@ -12,7 +12,7 @@
 
 #include <json-c/json.h>
 
-#include "tool_clock.h"
+#include "common/tool_clock.h"
 #include "commands.h"
 
 static void usage(FILE *out)

@@ -5,7 +5,7 @@
 
 #include <depthao/depthao.h>
 
-#include "cli_plugins.h"
+#include "common/cli_plugins.h"
 #include "commands.h"
 
 static void usage(FILE *out)

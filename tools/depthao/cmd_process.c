@@ -14,12 +14,12 @@
 
 #include <depthao/depthao.h>
 
-#include "tool_clock.h"
+#include "common/tool_clock.h"
 #include "camera_file.h"
 #include "cli_params.h"
 #include "commands.h"
 #include "file_list.h"
-#include "pixel_limit.h"
+#include "common/pixel_limit.h"
 #include "process.h"
 #include "progress.h"
 

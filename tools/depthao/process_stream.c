@@ -12,10 +12,9 @@
 
 #include <depthao/depthao.h>
 
-#include "cli_plugins.h"
+#include "common/cli_plugins.h"
 #include "commands.h"
 #include "file_list.h"
-#include "plugin/uri.h"
 #include "process.h"
 #include "progress.h"
 

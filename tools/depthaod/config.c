@@ -10,7 +10,7 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-#include "../depthao/pixel_limit.h"
+#include "common/pixel_limit.h"
 #include "ini_file.h"
 #include "log.h"
 

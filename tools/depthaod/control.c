@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #define _GNU_SOURCE /* struct ucred, accept4, pipe2 */
-#include "../depthao/tool_clock.h"
+#include "common/tool_clock.h"
 #include "control.h"
 
 #include <errno.h>

@@ -12,7 +12,7 @@
 #include <stdint.h>
 #include <time.h>
 
-#include "../depthao/tool_clock.h"
+#include "common/tool_clock.h"
 #include "daemon.h"
 #include "frame_queue.h"
 #include "log.h"

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-#include "../depthao/tool_clock.h"
+#include "common/tool_clock.h"
 #include "log.h"
 
 #include <stdarg.h>

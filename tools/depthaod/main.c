@@ -16,8 +16,8 @@
 
 #include <depthao/depthao.h>
 
-#include "../depthao/tool_clock.h"
-#include "../depthao/cli_plugins.h"
+#include "common/tool_clock.h"
+#include "common/cli_plugins.h"
 #include "config.h"
 #include "control.h"
 #include "daemon.h"

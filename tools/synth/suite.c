@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/suite.h"
 
 int synth_scene_is_structured(const char *scene)

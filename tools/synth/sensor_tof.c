@@ -37,7 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/parallel.h"
 #include "synth/sensor.h"
 #include "synth/sensor_field.h"

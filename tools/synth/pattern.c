@@ -3,13 +3,13 @@
 #include <math.h>
 #include <string.h>
 
-#include "core/math_util.h"
 #include "synth/linalg.h"
 #include "synth/pattern.h"
 
 #define WIN SYNTH_PATTERN_WIN
 #define NEIGH 8
 #define OFFSET_BINS 3.0
+#define SYNTH_PI 3.14159265358979323846
 
 const float synth_pattern_freq[SYNTH_PATTERN_FREQS][2] = {
 	{ 0.25f, 0.0f }, { 0.5f, 0.0f }, { 0.0f, 0.25f }, { 0.0f, 0.5f }, { 0.25f, 0.25f },
@@ -31,10 +31,10 @@ struct wave {
 static void wave_init(struct wave *wv, double fx, double fy)
 {
 	for (int i = 0; i < WIN; i++) {
-		wv->cx[i] = cos(2.0 * DAO_PI * fx * i);
-		wv->sx[i] = -sin(2.0 * DAO_PI * fx * i);
-		wv->cy[i] = cos(2.0 * DAO_PI * fy * i);
-		wv->sy[i] = -sin(2.0 * DAO_PI * fy * i);
+		wv->cx[i] = cos(2.0 * SYNTH_PI * fx * i);
+		wv->sx[i] = -sin(2.0 * SYNTH_PI * fx * i);
+		wv->cy[i] = cos(2.0 * SYNTH_PI * fy * i);
+		wv->sy[i] = -sin(2.0 * SYNTH_PI * fy * i);
 	}
 }
 
@@ -111,7 +111,7 @@ int synth_pattern_measure(const float *ao, const float *depth, int w, int h,
 	}
 	double hann[WIN], hsum = 0.0;
 	for (int i = 0; i < WIN; i++)
-		hann[i] = 0.5 - 0.5 * cos(2.0 * DAO_PI * (i + 0.5) / WIN);
+		hann[i] = 0.5 - 0.5 * cos(2.0 * SYNTH_PI * (i + 0.5) / WIN);
 	for (int i = 0; i < WIN; i++)
 		hsum += hann[i];
 

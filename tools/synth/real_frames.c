@@ -6,7 +6,7 @@
 
 #include <depthao/depthao.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/real_frames.h"
 
 #define KINECT "Kinect v1 (OpenNI 1.5 recording)"

@@ -2,7 +2,7 @@
 #include <errno.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/sensor.h"
 #include "synth/suite.h"
 

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/open_planes.h"
 #include "synth/sensor_stats.h"
 

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/rng.h"
 #include "synth/synth.h"
 

@@ -55,7 +55,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/block_match.h"
 #include "synth/parallel.h"
 #include "synth/sensor.h"

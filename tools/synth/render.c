@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/rng.h"
 #include "synth/synth.h"
 

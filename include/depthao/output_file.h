@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Opening a path for a file written whole (a PNG, a small text file); what
+ * Opening a path for a file written whole (a PNG, a small text file, a point
+ * cloud), as depthao's own outputs are written; what
  * the path already is decides how:
  *   - nothing, or a regular file: a temporary file beside it, renamed into
  *     place once complete, so readers never see half a file and a failed
@@ -13,10 +14,16 @@
  *     at once instead of a hang;
  *   - a directory: -EISDIR; a block device or a socket: -EINVAL.
  */
-#ifndef DAO_IO_OUTPUT_FILE_H
-#define DAO_IO_OUTPUT_FILE_H
+#ifndef DEPTHAO_OUTPUT_FILE_H
+#define DEPTHAO_OUTPUT_FILE_H
 
 #include <depthao/error.h>
+
+#include <depthao/api.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 struct dao_output_file {
 	int fd;         /* write here; the caller closes it before commit/discard */
@@ -25,12 +32,15 @@ struct dao_output_file {
 };
 
 /* Opens `path` for writing as above; messages name `path`. */
-int dao_output_file_open(struct dao_output_file *o, const char *path, struct dao_error *err);
+DAO_API int dao_output_file_open(struct dao_output_file *o, const char *path, struct dao_error *err);
 
 /* After the last byte was written and fd closed: renames into place (if temporary). */
-int dao_output_file_commit(struct dao_output_file *o, const char *path, struct dao_error *err);
+DAO_API int dao_output_file_commit(struct dao_output_file *o, const char *path, struct dao_error *err);
 
 /* After a failure (fd closed): removes the temporary file; the target is untouched. */
-void dao_output_file_discard(struct dao_output_file *o);
+DAO_API void dao_output_file_discard(struct dao_output_file *o);
 
+#ifdef __cplusplus
+}
+#endif
 #endif

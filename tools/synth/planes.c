@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/error_internal.h"
+#include <depthao/error.h>
 #include "synth/linalg.h"
 #include "synth/planes.h"
 #include "synth/rng.h"
