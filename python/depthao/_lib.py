@@ -206,6 +206,7 @@ _PROTOTYPES = {
     "dao_context_get_params": (None, [_vp, _vp]),
     "dao_context_process": (_int, [_vp, _P(dao_frame), _P(dao_frame), _u64, _P(dao_frame), _E]),
     "dao_context_shade": (_int, [_vp, _P(dao_frame), _E]),
+    "dao_overlay": (_int, [_P(dao_frame), _P(dao_frame), _P(dao_frame), _E]),
     "dao_context_get_depth": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_get_normals": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_timings": (None, [_vp, _P(dao_timings)]),

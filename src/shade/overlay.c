@@ -49,7 +49,7 @@ static void ao_row16(const struct dao_frame *ao, uint32_t y, uint16_t *a16)
 			float v;
 			memcpy(&v, row + 4 * (size_t)x, 4);
 			v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; /* NaN -> 0 */
-			a16[x] = (uint16_t)(v * 65535.0f + 0.5f);
+			a16[x] = (uint16_t)lrintf(v * 65535.0f); /* as the PNG writer rounds */
 			break;
 		}
 		}
