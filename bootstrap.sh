@@ -28,6 +28,7 @@ PACKAGES=(
 	python3 python3-numpy python3-pytest python3-pil python3-rosbag python3-sensor-msgs
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
+	python3-gi gir1.2-gstreamer-1.0
 )
 
 usage() {
