@@ -76,7 +76,7 @@ class Source:
     metres, or float32 metres if the source delivers those), info a dict with
     sequence, timestamp_ns, depth_unit, and color: with open(..., color=True)
     on a source with colour (.info["has_color"]: an .oni recording with a
-    colour stream, OpenNI2 devices), a uint8 RGB (h, w, 3) copy of the colour
+    colour stream, a bag with a colour topic, OpenNI2 devices), a uint8 RGB (h, w, 3) copy of the colour
     frame paired with the depth (the one recorded nearest in time), else None.  Iteration ends at the end of the
     recording; a live source that delivers nothing for `timeout` seconds
     raises TimeoutError.
@@ -264,7 +264,8 @@ def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout
     instead of stopping; start: first frame (0-based); step: every step-th
     frame.
     color: also deliver the colour frame of each depth frame, in info["color"]
-    (sources with colour: .oni recordings with a colour stream, OpenNI2; the
+    (sources with colour: .oni recordings with a colour stream, bags with a
+    colour topic (FILE.bag?color=TOPIC when there are several), OpenNI2; the
     others deliver None; .info["has_color"] says which).
     plugin_path: directories (colon-separated) to load plugin modules from,
     instead of $DEPTHAO_PLUGIN_PATH / the install directory.

@@ -1,14 +1,17 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Plays an .oni recording through the built-in "oni" source with colour
- * (want_color) and writes each frame's colour image as OUTDIR/NNNNNN.ppm
- * (binary P6); prints one line per frame: "index depth_seq depth_ts_us
- * color_seq color_ts_us".  For test_oni_color.py, which checks the pixels
- * against Python's own decoders and the pairing against the timestamps.
+ * Plays a recording through a built-in source with colour (want_color):
+ * FILE.oni (as "oni:FILE.oni") or a source URI ("bag:FILE.bag?color=T"),
+ * and writes each frame's colour image as OUTDIR/NNNNNN.ppm (binary P6);
+ * prints one line per frame: "index depth_seq depth_ts_us color_seq
+ * color_ts_us".  For test_oni_color.py and test_bag_color.py, which check
+ * the pixels against Python's own decoders and the pairing against the
+ * timestamps.
  * Exit 0, or 1 with the error (e.g. no colour) on stderr.
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <depthao/depthao.h>
 
@@ -18,11 +21,13 @@ int main(int argc, char **argv)
 	struct dao_plugins *plugins = NULL;
 	struct dao_source *src = NULL;
 	if (argc != 3) {
-		fprintf(stderr, "usage: %s FILE.oni OUTDIR\n", argv[0]);
+		fprintf(stderr, "usage: %s FILE.oni|URI OUTDIR\n", argv[0]);
 		return 2;
 	}
 	char uri[4096];
-	snprintf(uri, sizeof uri, "oni:%s", argv[1]);
+	size_t n = strlen(argv[1]);
+	int is_oni = n > 4 && !strcmp(argv[1] + n - 4, ".oni") && strncmp(argv[1], "oni:", 4);
+	snprintf(uri, sizeof uri, "%s%s", is_oni ? "oni:" : "", argv[1]);
 	struct dao_source_options so = {.want_color = 1};
 	if (dao_plugins_load(&plugins, "", &err) || dao_source_open(plugins, uri, &so, &src, &err) ||
 	    dao_source_start(src, &err)) {
