@@ -1091,7 +1091,22 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 			   (uint32_t)GST_VIDEO_FRAME_HEIGHT(in), &unit))
 		return GST_FLOW_ERROR;
 	const struct dao_frame depth = depth_of(self, in, unit);
-	if (self->ao16) { /* colour linked: AO over colour */
+	GST_OBJECT_LOCK(self);
+	const gboolean with_color = self->color_pad != NULL;
+	GST_OBJECT_UNLOCK(self);
+	if (with_color) { /* colour linked: AO over colour */
+		GstVideoFormat of = GST_VIDEO_FRAME_FORMAT(out);
+		if (of != GST_VIDEO_FORMAT_RGB && of != GST_VIDEO_FORMAT_RGBA &&
+		    of != GST_VIDEO_FORMAT_BGRx) {
+			/* negotiated before color_sink was requested, downstream kept its caps */
+			GST_ELEMENT_ERROR(self, CORE, NEGOTIATION,
+					  ("depthao: AO over colour needs RGB, RGBA or BGRx output, "
+					   "the output is %s", gst_video_format_to_string(of)),
+					  (NULL));
+			return GST_FLOW_NOT_NEGOTIATED;
+		}
+		if (!self->ao16) /* color_sink requested after the caps were set */
+			self->ao16 = g_new(guint16, (gsize)depth.width * depth.height);
 		GstFlowReturn ret = render_overlay(self, GST_BASE_TRANSFORM(filter), &depth, out, &err);
 		if (ret == GST_FLOW_ERROR && err.message[0])
 			GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: %s", err.message),
