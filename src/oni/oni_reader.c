@@ -440,7 +440,7 @@ static int check_depth_node(struct dao_oni_reader *r, struct node *n, const char
 /*
  * Checks a colour node once: decodable nodes get their largest payload into
  * the read buffer's size; others keep the reason in n->unusable (the depth
- * of the file is still readable).
+ * of the file is still readable, and opening fails only for memory).
  */
 static int check_color_node(struct dao_oni_reader *r, struct node *n, const char *path,
 			    struct dao_error *err)
@@ -479,18 +479,23 @@ static int check_color_node(struct dao_oni_reader *r, struct node *n, const char
 			 in->name, in->codec_fourcc);
 		return 0;
 	}
+	/* a frame that cannot be one: the colour is left out, the depth still plays */
+	size_t largest = 0;
 	for (uint32_t i = 0; i < n->nframes; i++) {
 		uint32_t ps = n->frames[i].payload_size;
-		if (ps > bound || (in->codec == DAO_ONI_CODEC_NONE && ps != bound))
-			return dao_error_set(err, -EINVAL,
-					     "%s: frame %u of '%s' has %u bytes of data, %s %ux%u "
-					     "%s frame (%zu)",
-					     path, i, in->name, ps,
-					     ps > bound ? "more than a" : "not what a raw", in->width,
-					     in->height, in->codec_fourcc, bound);
-		if (ps > r->payload_cap)
-			r->payload_cap = ps;
+		if (ps > bound || (in->codec == DAO_ONI_CODEC_NONE && ps != bound)) {
+			snprintf(n->unusable, sizeof(n->unusable),
+				 "frame %u of colour node '%s' has %u bytes of data, %s %ux%u %s "
+				 "frame (%zu)", i, in->name, ps,
+				 ps > bound ? "more than a" : "not what a raw", in->width, in->height,
+				 in->codec_fourcc, bound);
+			return 0;
+		}
+		if (ps > largest)
+			largest = ps;
 	}
+	if (largest > r->payload_cap)
+		r->payload_cap = largest;
 	if (in->codec == DAO_ONI_CODEC_JPEG && !r->jpeg && n->nframes &&
 	    dao_jpeg_create(&r->jpeg) < 0)
 		return dao_error_set(err, -ENOMEM, "out of memory opening %s (JPEG decoder)", path);

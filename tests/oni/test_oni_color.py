@@ -135,6 +135,27 @@ def synthetic(tmp, name, codec, pixel_format, xn, payload_of, expect, w=8, h=6):
     print("%s: 5 frames, pairs by nearest time, pixels within %d" % (name, worst))
 
 
+def broken(tmp):
+    """A raw colour frame of the wrong size, and the Im8z codec: the colour is left out
+    with the reason (info.warning), the depth still opens."""
+    for name, codec, fmt, payload in [("short", "NONE", 200, bytes(8 * 6 * 3 - 1)),
+                                      ("im8z", "Im8z", 202, bytes(10))]:
+        wr = oni_py.Writer()
+        wr.node(1, "Depth1", oni_py.DEPTH, "NONE", 8, 6)
+        wr.node(2, "Image1", oni_py.IMAGE, codec, 8, 6, props={"oniPixelFormat": fmt})
+        wr.frame(2, 1000, 1, payload)
+        wr.frame(1, 2000, 1, np.full((6, 8), 900, "<u2").tobytes())
+        path = os.path.join(tmp, name + ".oni")
+        wr.save(path)
+        out = os.path.join(tmp, name)
+        os.mkdir(out)
+        lines, err = dump(path, out)
+        want = "not what a raw" if name == "short" else "codec 'Im8z'"
+        check(lines is None and "no colour:" in err and want in err,
+              "%s: the colour is not refused with its reason: %s" % (name, err))
+    print("a colour node that cannot be decoded: left out with the reason, depth opens")
+
+
 def main():
     with tempfile.TemporaryDirectory() as tmp:
         kinect(tmp)
@@ -174,6 +195,7 @@ def main():
             return buf.getvalue()
         synthetic(tmp, "jpeg", "JPEG", 204, 0, jpeg,
                   lambda a, p: np.asarray(Image.open(io.BytesIO(p)).convert("RGB")), w=32, h=16)
+        broken(tmp)
     if failures:
         print("%d failure(s)" % len(failures))
         return 1
