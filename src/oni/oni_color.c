@@ -120,7 +120,7 @@ int dao_jpeg_decode(struct dao_jpeg *j, const uint8_t *data, size_t size,
 {
 	int w = 0, h = 0, sub = 0, cs = 0;
 	if (tjDecompressHeader3(j->tj, data, (unsigned long)size, &w, &h, &sub, &cs) < 0) {
-		snprintf(why, why_len, "not a JPEG image: %s", tjGetErrorStr2(j->tj));
+		snprintf(why, why_len, "bad JPEG header: %s", tjGetErrorStr2(j->tj));
 		return -EINVAL;
 	}
 	if ((uint32_t)w != out->width || (uint32_t)h != out->height) {
