@@ -20,14 +20,15 @@ DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
 PACKAGES=(
 	meson ninja-build pkg-config gcc g++
-	libpng-dev libjson-c-dev libcmocka-dev liblz4-dev libbz2-dev
+	libpng-dev libjson-c-dev libcmocka-dev liblz4-dev libbz2-dev libturbojpeg0-dev
 	libopencv-dev libopencv-contrib-dev
 	libopenni2-dev libv4l-dev libcamera-dev
 	libsystemd-dev systemd groff-base man-db
 	xvfb xauth
-	python3 python3-numpy python3-pytest python3-rosbag python3-sensor-msgs
+	python3 python3-numpy python3-pytest python3-pil python3-rosbag python3-sensor-msgs
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
+	python3-gi gir1.2-gstreamer-1.0
 )
 
 usage() {

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * libFuzzer target: the input is an .oni file.  It is opened with
- * dao_oni_reader_open() and every frame of every depth stream is read.
+ * dao_oni_reader_open() and every frame of every depth and colour stream is
+ * read (colour: JPEG through libturbojpeg, raw RGB/YUV/grey), and each
+ * depth frame's colour partner is looked up.
  * Any outcome is fine except a crash, a sanitizer report, an error without
  * a message, or an error code the API does not document.
  */
@@ -57,7 +59,8 @@ static int store(const uint8_t *data, size_t size)
 static void check_error(int ret, const struct dao_error *err)
 {
 	/* documented codes only, always with a message */
-	if (ret != -EINVAL && ret != -EIO && ret != -ENOMEM && ret != -ENOENT && ret != -EACCES)
+	if (ret != -EINVAL && ret != -EIO && ret != -ENOMEM && ret != -ENOENT && ret != -EACCES &&
+	    ret != -ENOTSUP)
 		abort();
 	if (!err->message[0] || err->code != ret)
 		abort();
@@ -83,12 +86,35 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (dao_oni_reader_stream(r, n) != NULL)
 		abort();
 	(void)dao_oni_reader_depth_stream(r, &err);
+	int color = dao_oni_reader_color_stream(r, &err);
 	for (uint32_t s = 0; s < n; s++) {
 		const struct dao_oni_stream_info *in = dao_oni_reader_stream(r, s);
 		if (!in || memchr(in->name, 0, sizeof(in->name)) == NULL || in->codec_fourcc[4] != 0)
 			abort();
+		if (in->sensor == DAO_ONI_SENSOR_COLOR && in->width && in->height &&
+		    (uint64_t)in->width * in->height <= MAX_PIXELS) {
+			struct dao_frame c = {DAO_PIXFMT_RGB24, in->width, in->height,
+					      (int32_t)(in->width * 3), NULL, 0, 0, 0};
+			if (!(c.data = malloc((size_t)in->width * in->height * 3)))
+				abort();
+			for (uint32_t k = 0; k <= in->frame_count; k++) {
+				err.message[0] = 0;
+				ret = dao_oni_reader_read_color(r, s, k, &c, &err);
+				if (ret < 0)
+					check_error(ret, &err);
+				else if (k == in->frame_count)
+					abort();
+			}
+			free(c.data);
+		}
 		if (in->sensor != DAO_ONI_SENSOR_DEPTH)
 			continue;
+		for (uint32_t k = 0; color >= 0 && k < in->frame_count; k++) {
+			uint32_t m;
+			if (dao_oni_reader_match_frame(r, s, k, (uint32_t)color, &m) == 0 &&
+			    m >= dao_oni_reader_stream(r, (uint32_t)color)->frame_count)
+				abort();
+		}
 		if (in->width == 0 || in->height == 0 ||
 		    (uint64_t)in->width * in->height > MAX_PIXELS)
 			continue;

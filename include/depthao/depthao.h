@@ -20,6 +20,7 @@
 #include <depthao/params.h>
 #include <depthao/cpu.h>
 #include <depthao/context.h>
+#include <depthao/overlay.h>
 #include <depthao/png.h>
 #include <depthao/oni.h>
 #include <depthao/plugin.h>

@@ -34,7 +34,7 @@ enum dao_oni_codec {
 	DAO_ONI_CODEC_NONE = 0, /* "NONE": raw uint16 */
 	DAO_ONI_CODEC_16Z,      /* "16zP" */
 	DAO_ONI_CODEC_16ZT,     /* "16zT" */
-	DAO_ONI_CODEC_JPEG,     /* "JPEG" (colour; listed, not decoded) */
+	DAO_ONI_CODEC_JPEG,     /* "JPEG" (colour) */
 	DAO_ONI_CODEC_8Z,       /* "Im8z" (listed, not decoded) */
 	DAO_ONI_CODEC_OTHER,
 };
@@ -49,6 +49,12 @@ enum dao_oni_sensor {
 /* OpenNI2 pixel formats of depth streams (OniPixelFormat values). */
 #define DAO_ONI_PIXEL_DEPTH_1_MM 100
 #define DAO_ONI_PIXEL_DEPTH_100_UM 101
+/* ... and of colour streams (OpenNI 1's xnPixelFormat is mapped to these). */
+#define DAO_ONI_PIXEL_RGB888 200
+#define DAO_ONI_PIXEL_YUV422 201     /* U Y0 V Y1 */
+#define DAO_ONI_PIXEL_GRAY8 202
+#define DAO_ONI_PIXEL_JPEG 204
+#define DAO_ONI_PIXEL_YUYV 205       /* Y0 U Y1 V */
 
 struct dao_oni_stream_info {
 	char name[64];               /* node name, e.g. "Depth1" */
@@ -57,7 +63,8 @@ struct dao_oni_stream_info {
 	char codec_fourcc[5];        /* as stored, e.g. "16zT" */
 	uint32_t width, height, fps; /* from xnMapOutputMode (0 if absent) */
 	uint32_t frame_count;        /* frames found in the file */
-	int pixel_format;            /* OniPixelFormat; depth: 100 (1 mm) or 101 (100 um) */
+	int pixel_format;            /* OniPixelFormat; depth: 100 (1 mm) or 101 (100 um);
+					colour: DAO_ONI_PIXEL_RGB888 ... (0 if not recorded) */
 	float depth_unit;            /* metres per count (depth streams), else 0 */
 	uint32_t max_depth;          /* xnDeviceMaxDepth in counts, 0 if absent */
 	int has_fov;                 /* xnFOV present */
@@ -116,6 +123,41 @@ DAO_API int dao_oni_reader_depth_stream(const struct dao_oni_reader *reader,
 DAO_API int dao_oni_reader_read_depth(struct dao_oni_reader *reader, uint32_t stream,
 				      uint32_t frame, struct dao_frame *out,
 				      struct dao_error *err);
+
+/* Index of the first colour stream, or -ENOENT (with a message) if there is none. */
+DAO_API int dao_oni_reader_color_stream(const struct dao_oni_reader *reader,
+					struct dao_error *err);
+
+/*
+ * 0 if colour stream `stream` can be decoded (JPEG, or raw RGB888, YUV422,
+ * YUYV, GRAY8 of its declared size), else -ENOTSUP with a message saying why
+ * (e.g. the Im8z codec, a missing size).
+ */
+DAO_API int dao_oni_reader_color_usable(const struct dao_oni_reader *reader, uint32_t stream,
+					struct dao_error *err);
+
+/*
+ * Decodes frame `frame` of colour stream `stream` into `out`, a caller-owned
+ * DAO_PIXFMT_RGB24 frame of the stream's size (any stride); sets
+ * out->timestamp_ns and ->sequence.  JPEG decoding allocates inside
+ * libjpeg; raw formats do not allocate.  Errors as dao_oni_reader_read_depth.
+ */
+DAO_API int dao_oni_reader_read_color(struct dao_oni_reader *reader, uint32_t stream,
+				      uint32_t frame, struct dao_frame *out,
+				      struct dao_error *err);
+
+/*
+ * The frame of stream `other` recorded nearest in time to frame `frame` of
+ * stream `stream` (the earlier one on a tie).  OpenNI2's player pushes each
+ * stream's frames at their recorded times, so a reader taking a depth frame
+ * and the colour frame at hand gets the one recorded last before it; the
+ * nearest one is the same frame when colour leads depth by less than half a
+ * frame (the Kinect recording in the tests: 11.7 of 33.3 ms, colour N with
+ * depth N), and the closer one when it does not.
+ * -EINVAL for bad arguments, -ENOENT if `other` has no frames.
+ */
+DAO_API int dao_oni_reader_match_frame(const struct dao_oni_reader *reader, uint32_t stream,
+				       uint32_t frame, uint32_t other, uint32_t *match);
 
 /* --- writing ---------------------------------------------------------- */
 

@@ -1,14 +1,34 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * GStreamer element "depthao": 16-bit depth in, ambient occlusion or the
- * occlusion-shaded image out, through libdepthao (one dao_context per
- * negotiated size and camera).
+ * GStreamer element "depthao": 16-bit depth in, ambient occlusion, the
+ * occlusion-shaded image or AO over colour out, through libdepthao (one
+ * dao_context per negotiated size and camera).
  *
- *   sink: video/x-raw GRAY16_LE (depth counts, metres = count * depth-unit)
+ *   sink:       video/x-raw GRAY16_LE or GRAY16_BE (depth counts, metres =
+ *               count * depth-unit; pngdec gives GRAY16_BE)
+ *   color_sink: (request pad) video/x-raw RGB, the colour camera's frames
  *   src:  GRAY8 / GRAY16_LE  the AO (visibility * 255 / round(visibility * 65535))
- *         RGB / RGBA / BGRx  the shaded image (dao_context_shade)
+ *         RGB / RGBA / BGRx  the shaded image (dao_context_shade), or with a
+ *                            linked color_sink the colour darkened by the AO
+ *                            (dao_overlay)
  *
- * The camera comes from fx/fy/cx/cy, else hfov/vfov (radians), else a
+ * AO over colour: each depth buffer is paired with the colour buffer whose
+ * running time is nearest to its own (the earlier one on a tie; without
+ * timestamps, one colour buffer per depth buffer in order); the depth
+ * thread waits for the colour buffer that decides it, up to COLOR_QUEUE
+ * colour buffers are held.  The two inputs must come from separate
+ * streaming threads (two sources, or queues after a tee), as for any
+ * element with two sink pads.  Colour of another size with the depth's
+ * aspect ratio is scaled to the depth's size; another aspect ratio is an
+ * element error.  The pad is given only when asked for by name
+ * (d.color_sink): a colour stream linked to the element without a pad name
+ * is refused as before (it would take the colour pad and leave the depth
+ * unlinked).  A requested color_sink that is not linked when the
+ * element starts is an error (the overlay would never come), and so is a
+ * colour stream that ends before its first frame.
+ *
+ * The camera comes from fx/fy/cx/cy, else hfov-deg/vfov-deg (degrees, like
+ * depthao's --fov; the radian properties hfov/vfov are deprecated), else a
  * 58.5 x 45.6 degree field of view (with a warning).  Every AO parameter of
  * the library's table (dao_param_table) is a controllable property generated
  * at class_init: float -> double, int -> int, enum -> a registered GEnum,
@@ -32,6 +52,7 @@
 #include <gst/video/video.h>
 
 #include <depthao/context.h>
+#include <depthao/overlay.h>
 #include <depthao/params.h>
 
 #ifndef PACKAGE
@@ -48,6 +69,10 @@ GST_DEBUG_CATEGORY_STATIC(gst_depthao_debug);
 #define DEFAULT_HFOV_DEG 58.5
 #define DEFAULT_VFOV_DEG 45.6
 #define SRC_FORMATS "{ RGB, BGRx, RGBA, GRAY8, GRAY16_LE }"
+#define SINK_FORMATS "{ GRAY16_LE, GRAY16_BE }"
+/* colour buffers held while the depth they pair with is awaited */
+#define COLOR_QUEUE 4
+#define RAD_PER_DEG (G_PI / 180.0)
 
 /* preferred output when downstream takes several: the shaded image first */
 static const GstVideoFormat src_preference[] = {GST_VIDEO_FORMAT_RGB, GST_VIDEO_FORMAT_BGRx,
@@ -63,7 +88,8 @@ struct _GstDepthao {
 	/* properties, under the object lock */
 	double depth_unit;
 	double fx, fy, cx, cy; /* fx/fy 0 = unset; cx/cy < 0 = image centre */
-	double hfov, vfov;     /* radians, 0 = unset */
+	double hfov, vfov;     /* radians, 0 = unset (properties hfov-deg, vfov-deg) */
+	gboolean radians_warned; /* the deprecated radian properties were used */
 	enum dao_quality quality;
 	struct dao_params params; /* what the AO properties say */
 	guint8 *explicit_set;     /* per table entry: set by the user (survives a preset) */
@@ -78,10 +104,21 @@ struct _GstDepthao {
 	gchar *last_error;  /* the setup error posted last (not posted again on retries) */
 	guint8 *scratch;    /* shaded RGB24 before repacking (RGBA, BGRx) */
 	gsize scratch_size;
-#if G_BYTE_ORDER == G_BIG_ENDIAN
-	guint16 *swapped; /* GRAY16_LE depth in host order */
-	gsize swapped_size;
-#endif
+	gboolean swap_in;   /* the depth's byte order is not the host's */
+	guint16 *swapped;   /* the depth in host order when swap_in */
+	guint16 *ao16;      /* AO over colour: the AO before it is laid over */
+
+	/* colour input (request pad color_sink), under color_lock */
+	GstPad *color_pad;
+	GMutex color_lock;
+	GCond color_cond;
+	GstBuffer *color_q[COLOR_QUEUE];
+	GstClockTime color_rt[COLOR_QUEUE]; /* running times */
+	guint color_n;
+	GstVideoInfo color_info;
+	gboolean color_info_set;
+	GstSegment color_segment;
+	gboolean color_eos, color_flushing, depth_flushing;
 };
 
 G_DEFINE_TYPE(GstDepthao, gst_depthao, GST_TYPE_VIDEO_FILTER)
@@ -95,6 +132,8 @@ enum {
 	PROP_CY,
 	PROP_HFOV,
 	PROP_VFOV,
+	PROP_HFOV_DEG,
+	PROP_VFOV_DEG,
 	PROP_QUALITY,
 	PROP_PARAM_FIRST, /* + index in the library's parameter table */
 };
@@ -106,7 +145,13 @@ static GType *param_enum_types;
 
 static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
 	"sink", GST_PAD_SINK, GST_PAD_ALWAYS,
-	GST_STATIC_CAPS("video/x-raw, format = (string) GRAY16_LE, "
+	GST_STATIC_CAPS("video/x-raw, format = (string) " SINK_FORMATS ", "
+			"width = (int) [ 1, 16384 ], height = (int) [ 1, 16384 ], "
+			"framerate = (fraction) [ 0, MAX ]"));
+
+static GstStaticPadTemplate color_template = GST_STATIC_PAD_TEMPLATE(
+	"color_sink", GST_PAD_SINK, GST_PAD_REQUEST,
+	GST_STATIC_CAPS("video/x-raw, format = (string) RGB, "
 			"width = (int) [ 1, 16384 ], height = (int) [ 1, 16384 ], "
 			"framerate = (fraction) [ 0, MAX ]"));
 
@@ -318,11 +363,19 @@ static void gst_depthao_set_property(GObject *object, guint id, const GValue *va
 		self->camera_dirty = TRUE;
 		break;
 	case PROP_HFOV:
-		self->hfov = g_value_get_double(value);
+	case PROP_VFOV:
+		if (!self->radians_warned)
+			GST_WARNING_OBJECT(self, "the properties hfov and vfov (radians) are "
+					   "deprecated: use hfov-deg and vfov-deg (degrees)");
+		self->radians_warned = TRUE;
+		*(id == PROP_HFOV ? &self->hfov : &self->vfov) = g_value_get_double(value);
 		self->camera_dirty = TRUE;
 		break;
-	case PROP_VFOV:
-		self->vfov = g_value_get_double(value);
+	case PROP_HFOV_DEG:
+	case PROP_VFOV_DEG:
+		/* as depthao process --fov H,V turns degrees into radians */
+		*(id == PROP_HFOV_DEG ? &self->hfov : &self->vfov) =
+			g_value_get_double(value) * RAD_PER_DEG;
 		self->camera_dirty = TRUE;
 		break;
 	case PROP_QUALITY: {
@@ -381,6 +434,12 @@ static void gst_depthao_get_property(GObject *object, guint id, GValue *value, G
 	case PROP_VFOV:
 		g_value_set_double(value, self->vfov);
 		break;
+	case PROP_HFOV_DEG:
+		g_value_set_double(value, self->hfov / RAD_PER_DEG);
+		break;
+	case PROP_VFOV_DEG:
+		g_value_set_double(value, self->vfov / RAD_PER_DEG);
+		break;
 	case PROP_QUALITY:
 		g_value_set_enum(value, (gint)self->quality);
 		break;
@@ -399,19 +458,30 @@ static void gst_depthao_get_property(GObject *object, guint id, GValue *value, G
 static GstCaps *gst_depthao_transform_caps(GstBaseTransform *bt, GstPadDirection direction,
 					   GstCaps *caps, GstCaps *filter)
 {
+	GstDepthao *self = GST_DEPTHAO(bt);
 	GstCaps *res = gst_caps_new_empty();
 	GValue formats = G_VALUE_INIT;
+	/* with colour linked, the output is AO over colour: the RGB formats */
+	GST_OBJECT_LOCK(self);
+	const size_t nout = self->color_pad ? 3 : G_N_ELEMENTS(src_preference);
+	GST_OBJECT_UNLOCK(self);
 	if (direction == GST_PAD_SINK) { /* depth in -> every output format */
-		gst_value_list_init(&formats, G_N_ELEMENTS(src_preference));
-		for (size_t i = 0; i < G_N_ELEMENTS(src_preference); i++) {
+		gst_value_list_init(&formats, nout);
+		for (size_t i = 0; i < nout; i++) {
 			GValue f = G_VALUE_INIT;
 			g_value_init(&f, G_TYPE_STRING);
 			g_value_set_static_string(&f, gst_video_format_to_string(src_preference[i]));
 			gst_value_list_append_and_take_value(&formats, &f);
 		}
 	} else {
-		g_value_init(&formats, G_TYPE_STRING);
-		g_value_set_static_string(&formats, "GRAY16_LE");
+		static const char *const in_formats[] = {"GRAY16_LE", "GRAY16_BE"};
+		gst_value_list_init(&formats, 2);
+		for (size_t i = 0; i < G_N_ELEMENTS(in_formats); i++) {
+			GValue f = G_VALUE_INIT;
+			g_value_init(&f, G_TYPE_STRING);
+			g_value_set_static_string(&f, in_formats[i]);
+			gst_value_list_append_and_take_value(&formats, &f);
+		}
 	}
 	for (guint i = 0; i < gst_caps_get_size(caps); i++) {
 		GstStructure *s = gst_structure_copy(gst_caps_get_structure(caps, i));
@@ -473,8 +543,8 @@ static int make_camera(GstDepthao *self, uint32_t w, uint32_t h, struct dao_came
 		hfov = DEFAULT_HFOV_DEG * (G_PI / 180.0);
 		vfov = DEFAULT_VFOV_DEG * (G_PI / 180.0);
 		GST_WARNING_OBJECT(self,
-				   "no camera given (fx/fy/cx/cy or hfov/vfov): assuming a %.1f x %.1f "
-				   "degree field of view",
+				   "no camera given (fx/fy/cx/cy or hfov-deg/vfov-deg): assuming a %.1f "
+				   "x %.1f degree field of view",
 				   DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
 	} else if (vfov <= 0) { /* square pixels */
 		vfov = 2.0 * atan(tan(hfov / 2.0) * h / w);
@@ -555,9 +625,10 @@ static gboolean gst_depthao_set_info(GstVideoFilter *filter, GstCaps *incaps,
 	GstVideoFormat of = GST_VIDEO_INFO_FORMAT(out_info);
 	(void)incaps;
 	(void)outcaps;
-	if (GST_VIDEO_INFO_FORMAT(in_info) != GST_VIDEO_FORMAT_GRAY16_LE) {
+	GstVideoFormat inf = GST_VIDEO_INFO_FORMAT(in_info);
+	if (inf != GST_VIDEO_FORMAT_GRAY16_LE && inf != GST_VIDEO_FORMAT_GRAY16_BE) {
 		GST_ELEMENT_ERROR(self, CORE, NEGOTIATION,
-				  ("depthao takes 16-bit depth (GRAY16_LE), not %s",
+				  ("depthao takes 16-bit depth (GRAY16_LE or GRAY16_BE), not %s",
 				   gst_video_format_to_string(GST_VIDEO_INFO_FORMAT(in_info))),
 				  (NULL));
 		return FALSE;
@@ -582,11 +653,15 @@ static gboolean gst_depthao_set_info(GstVideoFilter *filter, GstCaps *incaps,
 		self->scratch_size = (gsize)w * h * 3;
 		self->scratch = g_malloc(self->scratch_size);
 	}
-#if G_BYTE_ORDER == G_BIG_ENDIAN
-	g_free(self->swapped);
-	self->swapped_size = (gsize)w * h;
-	self->swapped = g_new(guint16, self->swapped_size);
-#endif
+	self->swap_in = (inf == GST_VIDEO_FORMAT_GRAY16_BE) != (G_BYTE_ORDER == G_BIG_ENDIAN);
+	g_clear_pointer(&self->swapped, g_free);
+	if (self->swap_in)
+		self->swapped = g_new(guint16, (gsize)w * h);
+	g_clear_pointer(&self->ao16, g_free);
+	if (self->color_pad)
+		self->ao16 = g_new(guint16, (gsize)w * h);
+	GST_INFO_OBJECT(self, "%ux%u %s depth%s", w, h, gst_video_format_to_string(inf),
+			self->color_pad ? ", AO over colour" : "");
 	return TRUE;
 }
 
@@ -648,7 +723,7 @@ static gboolean apply_pending(GstDepthao *self, GstBuffer *buf, uint32_t w, uint
 	return TRUE;
 }
 
-/* The input frame as the library's depth frame (little-endian samples). */
+/* The input frame as the library's depth frame (host-order samples). */
 static struct dao_frame depth_of(GstDepthao *self, GstVideoFrame *in, float unit)
 {
 	const uint32_t w = (uint32_t)GST_VIDEO_FRAME_WIDTH(in);
@@ -663,16 +738,19 @@ static struct dao_frame depth_of(GstDepthao *self, GstVideoFrame *in, float unit
 		.timestamp_ns = GST_BUFFER_PTS_IS_VALID(in->buffer) ? GST_BUFFER_PTS(in->buffer) : 0,
 		.sequence = self->frame_index,
 	};
-#if G_BYTE_ORDER == G_BIG_ENDIAN
-	for (uint32_t y = 0; y < h; y++) {
-		const guint16 *s = (const guint16 *)((const guint8 *)depth.data +
-						     (gsize)y * (gsize)depth.stride);
-		for (uint32_t x = 0; x < w; x++)
-			self->swapped[(gsize)y * w + x] = GUINT16_FROM_LE(s[x]);
+	if (self->swap_in) { /* GRAY16_BE on a little-endian host (or LE on a big one) */
+		for (uint32_t y = 0; y < h; y++) {
+			const guint8 *s = (const guint8 *)depth.data + (gsize)y * (gsize)depth.stride;
+			guint16 *d = self->swapped + (gsize)y * w;
+			for (uint32_t x = 0; x < w; x++) {
+				guint16 v;
+				memcpy(&v, s + 2 * (gsize)x, 2);
+				d[x] = GUINT16_SWAP_LE_BE(v);
+			}
+		}
+		depth.data = self->swapped;
+		depth.stride = (int32_t)(w * 2);
 	}
-	depth.data = self->swapped;
-	depth.stride = (int32_t)(w * 2);
-#endif
 	return depth;
 }
 
@@ -715,6 +793,294 @@ static int render(GstDepthao *self, const struct dao_frame *depth, GstVideoFrame
 	return r;
 }
 
+/* ---- colour ------------------------------------------------------------ */
+
+static void color_pop(GstDepthao *self)
+{
+	gst_buffer_unref(self->color_q[0]);
+	memmove(self->color_q, self->color_q + 1, (self->color_n - 1) * sizeof(self->color_q[0]));
+	memmove(self->color_rt, self->color_rt + 1, (self->color_n - 1) * sizeof(self->color_rt[0]));
+	self->color_n--;
+	g_cond_broadcast(&self->color_cond);
+}
+
+static void color_clear(GstDepthao *self)
+{
+	while (self->color_n)
+		color_pop(self);
+}
+
+/*
+ * The colour buffer for a depth buffer at running time t (a reference, with
+ * its video info in *info), waiting for the colour that decides it.  NULL
+ * with *ret FLUSHING while flushing, or ERROR (posted) when the colour
+ * stream ended before its first frame.
+ */
+static GstBuffer *color_for(GstDepthao *self, GstClockTime t, GstVideoInfo *info,
+			    GstFlowReturn *ret)
+{
+	GstBuffer *buf = NULL;
+	g_mutex_lock(&self->color_lock);
+	for (;;) {
+		if (self->depth_flushing || self->color_flushing) {
+			*ret = GST_FLOW_FLUSHING;
+			g_mutex_unlock(&self->color_lock);
+			return NULL;
+		}
+		/* a colour buffer with a later one not after t is never the nearest */
+		while (GST_CLOCK_TIME_IS_VALID(t) && self->color_n >= 2 &&
+		       GST_CLOCK_TIME_IS_VALID(self->color_rt[1]) && self->color_rt[1] <= t)
+			color_pop(self);
+		GstClockTime last = self->color_n ? self->color_rt[self->color_n - 1] : 0;
+		if (self->color_n && (!GST_CLOCK_TIME_IS_VALID(t) || !GST_CLOCK_TIME_IS_VALID(last) ||
+				      last >= t))
+			break; /* colour at or after t: the nearest is known */
+		if (self->color_eos)
+			break; /* no more colour: the last one is the nearest */
+		g_cond_wait(&self->color_cond, &self->color_lock);
+	}
+	if (self->color_n == 0) {
+		g_mutex_unlock(&self->color_lock);
+		GST_ELEMENT_ERROR(self, STREAM, FAILED,
+				  ("depthao: the colour stream (color_sink) ended before its first "
+				   "frame, so there is no colour to lay the AO over"),
+				  (NULL));
+		*ret = GST_FLOW_ERROR;
+		return NULL;
+	}
+	guint i = 0;
+	if (GST_CLOCK_TIME_IS_VALID(t) && GST_CLOCK_TIME_IS_VALID(self->color_rt[0])) {
+		if (self->color_n >= 2 && self->color_rt[0] < t && self->color_rt[1] > t &&
+		    self->color_rt[1] - t < t - self->color_rt[0])
+			i = 1;
+		buf = gst_buffer_ref(self->color_q[i]);
+		*info = self->color_info;
+	} else { /* no timestamps: one colour buffer per depth buffer, in order */
+		buf = gst_buffer_ref(self->color_q[0]);
+		*info = self->color_info;
+		color_pop(self);
+	}
+	g_mutex_unlock(&self->color_lock);
+	return buf;
+}
+
+/* AO over the colour paired with this depth buffer into `out` (RGB, RGBA, BGRx). */
+static GstFlowReturn render_overlay(GstDepthao *self, GstBaseTransform *bt,
+				    const struct dao_frame *depth, GstVideoFrame *out,
+				    struct dao_error *err)
+{
+	const uint32_t w = depth->width, h = depth->height;
+	GstClockTime pts = GST_BUFFER_PTS(out->buffer);
+	GstClockTime t = GST_CLOCK_TIME_IS_VALID(pts)
+				 ? gst_segment_to_running_time(&bt->segment, GST_FORMAT_TIME, pts)
+				 : GST_CLOCK_TIME_NONE;
+	GstVideoInfo cinfo;
+	GstFlowReturn ret = GST_FLOW_OK;
+	GstBuffer *cbuf = color_for(self, t, &cinfo, &ret);
+	if (!cbuf)
+		return ret;
+	GstVideoFrame cf;
+	if (!gst_video_frame_map(&cf, &cinfo, cbuf, GST_MAP_READ)) {
+		gst_buffer_unref(cbuf);
+		GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: cannot map a colour buffer"),
+				  (NULL));
+		return GST_FLOW_ERROR;
+	}
+	struct dao_frame color = {
+		.format = DAO_PIXFMT_RGB24,
+		.width = (uint32_t)GST_VIDEO_FRAME_WIDTH(&cf),
+		.height = (uint32_t)GST_VIDEO_FRAME_HEIGHT(&cf),
+		.stride = GST_VIDEO_FRAME_PLANE_STRIDE(&cf, 0),
+		.data = GST_VIDEO_FRAME_PLANE_DATA(&cf, 0),
+	};
+	struct dao_frame ao = {.format = DAO_PIXFMT_GRAY16, .width = w, .height = h,
+			       .stride = (int32_t)(w * 2), .data = self->ao16};
+	GstVideoFormat of = GST_VIDEO_FRAME_FORMAT(out);
+	struct dao_frame rgb = {.format = DAO_PIXFMT_RGB24, .width = w, .height = h};
+	if (of == GST_VIDEO_FORMAT_RGB) {
+		rgb.stride = GST_VIDEO_FRAME_PLANE_STRIDE(out, 0);
+		rgb.data = GST_VIDEO_FRAME_PLANE_DATA(out, 0);
+	} else {
+		rgb.stride = (int32_t)(w * 3);
+		rgb.data = self->scratch;
+	}
+	int r = dao_context_process(self->ctx, depth, NULL, self->frame_index, &ao, err);
+	if (r == 0)
+		r = dao_overlay(&color, &ao, &rgb, err);
+	gst_video_frame_unmap(&cf);
+	gst_buffer_unref(cbuf);
+	if (r < 0)
+		return GST_FLOW_ERROR;
+	if (of != GST_VIDEO_FORMAT_RGB)
+		repack_rgb(self->scratch, w, h, GST_VIDEO_FRAME_PLANE_DATA(out, 0),
+			   GST_VIDEO_FRAME_PLANE_STRIDE(out, 0), of == GST_VIDEO_FORMAT_BGRx);
+	return GST_FLOW_OK;
+}
+
+static GstFlowReturn color_chain(GstPad *pad, GstObject *parent, GstBuffer *buf)
+{
+	GstDepthao *self = GST_DEPTHAO(parent);
+	(void)pad;
+	g_mutex_lock(&self->color_lock);
+	GstClockTime pts = GST_BUFFER_PTS(buf);
+	GstClockTime rt = GST_CLOCK_TIME_IS_VALID(pts)
+				  ? gst_segment_to_running_time(&self->color_segment, GST_FORMAT_TIME,
+								pts)
+				  : GST_CLOCK_TIME_NONE;
+	while (self->color_n == COLOR_QUEUE && !self->color_flushing)
+		g_cond_wait(&self->color_cond, &self->color_lock);
+	if (self->color_flushing) {
+		g_mutex_unlock(&self->color_lock);
+		gst_buffer_unref(buf);
+		return GST_FLOW_FLUSHING;
+	}
+	self->color_q[self->color_n] = buf;
+	self->color_rt[self->color_n++] = rt;
+	g_cond_broadcast(&self->color_cond);
+	g_mutex_unlock(&self->color_lock);
+	return GST_FLOW_OK;
+}
+
+/* The colour pad's events stay here: its caps, segment, flushes and EOS. */
+static gboolean color_event(GstPad *pad, GstObject *parent, GstEvent *event)
+{
+	GstDepthao *self = GST_DEPTHAO(parent);
+	gboolean ok = TRUE;
+	(void)pad;
+	g_mutex_lock(&self->color_lock);
+	switch (GST_EVENT_TYPE(event)) {
+	case GST_EVENT_CAPS: {
+		GstCaps *caps;
+		gst_event_parse_caps(event, &caps);
+		ok = gst_video_info_from_caps(&self->color_info, caps);
+		self->color_info_set = ok;
+		break;
+	}
+	case GST_EVENT_SEGMENT:
+		gst_event_copy_segment(event, &self->color_segment);
+		break;
+	case GST_EVENT_FLUSH_START:
+		self->color_flushing = TRUE;
+		g_cond_broadcast(&self->color_cond);
+		break;
+	case GST_EVENT_FLUSH_STOP:
+		color_clear(self);
+		self->color_flushing = FALSE;
+		self->color_eos = FALSE;
+		gst_segment_init(&self->color_segment, GST_FORMAT_TIME);
+		break;
+	case GST_EVENT_EOS:
+		self->color_eos = TRUE;
+		g_cond_broadcast(&self->color_cond);
+		break;
+	default:
+		break;
+	}
+	g_mutex_unlock(&self->color_lock);
+	gst_event_unref(event);
+	return ok;
+}
+
+static gboolean color_query(GstPad *pad, GstObject *parent, GstQuery *query)
+{
+	switch (GST_QUERY_TYPE(query)) {
+	case GST_QUERY_ALLOCATION:
+		return FALSE; /* upstream allocates as it likes */
+	case GST_QUERY_CAPS: {
+		GstCaps *filter, *caps = gst_pad_get_pad_template_caps(pad);
+		gst_query_parse_caps(query, &filter);
+		if (filter) {
+			GstCaps *tmp = gst_caps_intersect_full(filter, caps, GST_CAPS_INTERSECT_FIRST);
+			gst_caps_unref(caps);
+			caps = tmp;
+		}
+		gst_query_set_caps_result(query, caps);
+		gst_caps_unref(caps);
+		return TRUE;
+	}
+	default:
+		return gst_pad_query_default(pad, parent, query);
+	}
+}
+
+static GstPad *gst_depthao_request_new_pad(GstElement *element, GstPadTemplate *templ,
+					   const gchar *name, const GstCaps *caps)
+{
+	GstDepthao *self = GST_DEPTHAO(element);
+	(void)caps;
+	/* only by name (d.color_sink): linking colour caps to the element without naming
+	 * a pad would otherwise take this pad and leave the depth input unlinked */
+	if (!name || strcmp(name, "color_sink") != 0) {
+		GST_DEBUG_OBJECT(self, "color_sink is requested by its name only");
+		return NULL;
+	}
+	GST_OBJECT_LOCK(self);
+	if (self->color_pad) {
+		GST_OBJECT_UNLOCK(self);
+		GST_WARNING_OBJECT(self, "depthao has one color_sink pad");
+		return NULL;
+	}
+	GstPad *pad = gst_pad_new_from_template(templ, "color_sink");
+	gst_pad_set_chain_function(pad, color_chain);
+	gst_pad_set_event_function(pad, color_event);
+	gst_pad_set_query_function(pad, color_query);
+	self->color_pad = pad;
+	GST_OBJECT_UNLOCK(self);
+	gst_element_add_pad(element, pad);
+	/* the output formats change: the RGB ones only */
+	gst_base_transform_reconfigure_src(GST_BASE_TRANSFORM(self));
+	return pad;
+}
+
+static void gst_depthao_release_pad(GstElement *element, GstPad *pad)
+{
+	GstDepthao *self = GST_DEPTHAO(element);
+	GST_OBJECT_LOCK(self);
+	if (self->color_pad == pad)
+		self->color_pad = NULL;
+	GST_OBJECT_UNLOCK(self);
+	gst_element_remove_pad(element, pad);
+	gst_base_transform_reconfigure_src(GST_BASE_TRANSFORM(self));
+}
+
+static GstStateChangeReturn gst_depthao_change_state(GstElement *element, GstStateChange t)
+{
+	GstDepthao *self = GST_DEPTHAO(element);
+	if (t == GST_STATE_CHANGE_READY_TO_PAUSED) {
+		GST_OBJECT_LOCK(self);
+		gboolean unlinked = self->color_pad && !gst_pad_is_linked(self->color_pad);
+		GST_OBJECT_UNLOCK(self);
+		if (unlinked) {
+			GST_ELEMENT_ERROR(self, CORE, PAD,
+					  ("depthao: the color_sink pad was requested but nothing is "
+					   "linked to it, so the AO over colour would never come: link "
+					   "the colour stream to it (depth-only input: do not request "
+					   "color_sink)"),
+					  (NULL));
+			return GST_STATE_CHANGE_FAILURE;
+		}
+		g_mutex_lock(&self->color_lock);
+		color_clear(self);
+		self->color_eos = self->color_flushing = self->depth_flushing = FALSE;
+		gst_segment_init(&self->color_segment, GST_FORMAT_TIME);
+		g_mutex_unlock(&self->color_lock);
+	} else if (t == GST_STATE_CHANGE_PAUSED_TO_READY) {
+		/* a depth thread waiting for colour, a colour thread for room: both go */
+		g_mutex_lock(&self->color_lock);
+		self->color_flushing = self->depth_flushing = TRUE;
+		g_cond_broadcast(&self->color_cond);
+		g_mutex_unlock(&self->color_lock);
+	}
+	GstStateChangeReturn ret =
+		GST_ELEMENT_CLASS(gst_depthao_parent_class)->change_state(element, t);
+	if (t == GST_STATE_CHANGE_PAUSED_TO_READY) {
+		g_mutex_lock(&self->color_lock);
+		color_clear(self);
+		g_mutex_unlock(&self->color_lock);
+	}
+	return ret;
+}
+
 static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVideoFrame *in,
 						 GstVideoFrame *out)
 {
@@ -725,6 +1091,30 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 			   (uint32_t)GST_VIDEO_FRAME_HEIGHT(in), &unit))
 		return GST_FLOW_ERROR;
 	const struct dao_frame depth = depth_of(self, in, unit);
+	GST_OBJECT_LOCK(self);
+	const gboolean with_color = self->color_pad != NULL;
+	GST_OBJECT_UNLOCK(self);
+	if (with_color) { /* colour linked: AO over colour */
+		GstVideoFormat of = GST_VIDEO_FRAME_FORMAT(out);
+		if (of != GST_VIDEO_FORMAT_RGB && of != GST_VIDEO_FORMAT_RGBA &&
+		    of != GST_VIDEO_FORMAT_BGRx) {
+			/* negotiated before color_sink was requested, downstream kept its caps */
+			GST_ELEMENT_ERROR(self, CORE, NEGOTIATION,
+					  ("depthao: AO over colour needs RGB, RGBA or BGRx output, "
+					   "the output is %s", gst_video_format_to_string(of)),
+					  (NULL));
+			return GST_FLOW_NOT_NEGOTIATED;
+		}
+		if (!self->ao16) /* color_sink requested after the caps were set */
+			self->ao16 = g_new(guint16, (gsize)depth.width * depth.height);
+		GstFlowReturn ret = render_overlay(self, GST_BASE_TRANSFORM(filter), &depth, out, &err);
+		if (ret == GST_FLOW_ERROR && err.message[0])
+			GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: %s", err.message),
+					  ("frame %" G_GUINT64_FORMAT, self->frame_index));
+		if (ret == GST_FLOW_OK)
+			self->frame_index++;
+		return ret;
+	}
 	if (render(self, &depth, out, &err) < 0) {
 		GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: %s", err.message),
 				  ("frame %" G_GUINT64_FORMAT, self->frame_index));
@@ -745,11 +1135,19 @@ static gboolean gst_depthao_start(GstBaseTransform *bt)
 /* A flush (a seek): the next frame does not follow the last one. */
 static gboolean gst_depthao_sink_event(GstBaseTransform *bt, GstEvent *event)
 {
+	GstDepthao *self = GST_DEPTHAO(bt);
 	if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP) {
-		GstDepthao *self = GST_DEPTHAO(bt);
 		GST_OBJECT_LOCK(self);
 		self->reset_pending = TRUE;
 		GST_OBJECT_UNLOCK(self);
+	}
+	/* a depth thread waiting for colour lets go on a flush */
+	if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_START ||
+	    GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP) {
+		g_mutex_lock(&self->color_lock);
+		self->depth_flushing = GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_START;
+		g_cond_broadcast(&self->color_cond);
+		g_mutex_unlock(&self->color_lock);
 	}
 	return GST_BASE_TRANSFORM_CLASS(gst_depthao_parent_class)->sink_event(bt, event);
 }
@@ -763,11 +1161,8 @@ static void release_stream(GstDepthao *self)
 	g_free(self->scratch);
 	self->scratch = NULL;
 	self->scratch_size = 0;
-#if G_BYTE_ORDER == G_BIG_ENDIAN
-	g_free(self->swapped);
-	self->swapped = NULL;
-	self->swapped_size = 0;
-#endif
+	g_clear_pointer(&self->swapped, g_free);
+	g_clear_pointer(&self->ao16, g_free);
 }
 
 static gboolean gst_depthao_stop(GstBaseTransform *bt)
@@ -781,6 +1176,8 @@ static void gst_depthao_finalize(GObject *object)
 	GstDepthao *self = GST_DEPTHAO(object);
 	release_stream(self);
 	g_free(self->explicit_set);
+	g_mutex_clear(&self->color_lock);
+	g_cond_clear(&self->color_cond);
 	G_OBJECT_CLASS(gst_depthao_parent_class)->finalize(object);
 }
 
@@ -792,16 +1189,26 @@ static void gst_depthao_init(GstDepthao *self)
 	dao_params_init(&self->params, DAO_QUALITY_DEFAULT);
 	dao_params_stream_defaults(&self->params);
 	self->explicit_set = g_new0(guint8, param_count ? param_count : 1);
+	g_mutex_init(&self->color_lock);
+	g_cond_init(&self->color_cond);
+	gst_segment_init(&self->color_segment, GST_FORMAT_TIME);
 }
 
-static void install_double(GObjectClass *oc, guint id, const char *name, const char *blurb,
-			   double min, double max, double def)
+static void install_double_flags(GObjectClass *oc, guint id, const char *name, const char *blurb,
+				 double min, double max, double def, GParamFlags extra)
 {
 	g_object_class_install_property(
 		oc, id,
 		g_param_spec_double(name, name, blurb, min, max, def,
 				    G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-					    GST_PARAM_CONTROLLABLE | GST_PARAM_MUTABLE_PLAYING));
+					    GST_PARAM_CONTROLLABLE | GST_PARAM_MUTABLE_PLAYING |
+					    extra));
+}
+
+static void install_double(GObjectClass *oc, guint id, const char *name, const char *blurb,
+			   double min, double max, double def)
+{
+	install_double_flags(oc, id, name, blurb, min, max, def, 0);
 }
 
 static void gst_depthao_class_init(GstDepthaoClass *klass)
@@ -825,14 +1232,22 @@ static void gst_depthao_class_init(GstDepthaoClass *klass)
 		       1e6, -1);
 	install_double(oc, PROP_CY, "cy", "principal point y in pixels (-1 = image centre)", -1,
 		       1e6, -1);
-	install_double(oc, PROP_HFOV,
-		       "hfov", "horizontal field of view in radians, used without fx/fy "
-			       "(0 = from vfov, or 58.5 degrees)",
-		       0, 3.1, 0);
-	install_double(oc, PROP_VFOV,
-		       "vfov", "vertical field of view in radians, used without fx/fy "
-			       "(0 = from hfov, or 45.6 degrees)",
-		       0, 3.1, 0);
+	install_double(oc, PROP_HFOV_DEG, "hfov-deg",
+		       "horizontal field of view in degrees, as depthao's --fov, used without "
+		       "fx/fy (0 = from vfov-deg, or 58.5)",
+		       0, 179, 0);
+	install_double(oc, PROP_VFOV_DEG, "vfov-deg",
+		       "vertical field of view in degrees, as depthao's --fov, used without "
+		       "fx/fy (0 = from hfov-deg, or 45.6)",
+		       0, 179, 0);
+	install_double_flags(oc, PROP_HFOV, "hfov",
+			     "DEPRECATED, use hfov-deg: horizontal field of view in radians "
+			     "(the same setting as hfov-deg)",
+			     0, 3.1, 0, G_PARAM_DEPRECATED);
+	install_double_flags(oc, PROP_VFOV, "vfov",
+			     "DEPRECATED, use vfov-deg: vertical field of view in radians "
+			     "(the same setting as vfov-deg)",
+			     0, 3.1, 0, G_PARAM_DEPRECATED);
 	g_object_class_install_property(
 		oc, PROP_QUALITY,
 		g_param_spec_enum("quality", "quality",
@@ -864,11 +1279,16 @@ static void gst_depthao_class_init(GstDepthaoClass *klass)
 
 	gst_element_class_set_static_metadata(
 		ec, "Depth ambient occlusion", "Filter/Effect/Video",
-		"Ambient occlusion (GRAY8, GRAY16_LE) or the occlusion-shaded image (RGB, RGBA, "
-		"BGRx) from 16-bit depth (GRAY16_LE), with libdepthao",
+		"Ambient occlusion (GRAY8, GRAY16_LE), the occlusion-shaded image, or with colour "
+		"on color_sink the AO over colour (RGB, RGBA, BGRx) from 16-bit depth (GRAY16_LE, "
+		"GRAY16_BE), with libdepthao",
 		"depthao");
 	gst_element_class_add_static_pad_template(ec, &sink_template);
 	gst_element_class_add_static_pad_template(ec, &src_template);
+	gst_element_class_add_static_pad_template(ec, &color_template);
+	ec->request_new_pad = gst_depthao_request_new_pad;
+	ec->release_pad = gst_depthao_release_pad;
+	ec->change_state = gst_depthao_change_state;
 
 	bc->transform_caps = gst_depthao_transform_caps;
 	bc->fixate_caps = gst_depthao_fixate_caps;

@@ -133,6 +133,7 @@ class AO:
         object.__setattr__(self, "_ctx", None)
         object.__setattr__(self, "_lock", threading.Lock())
         object.__setattr__(self, "_camera", camera)
+        object.__setattr__(self, "_last_ao", None)
         p = _params.Params(quality)
         if stream:
             lib.dao_params_stream_defaults(p.buf)
@@ -314,6 +315,7 @@ class AO:
         _lib.check(r, err)
         if target is not result:
             result[...] = target
+        object.__setattr__(self, "_last_ao", result)
         return result
 
     def reset(self):
@@ -346,6 +348,51 @@ class AO:
         with self._lock:
             r = lib.dao_context_shade(self._handle(), ctypes.byref(frame), ctypes.byref(err))
         _lib.check(r, err)
+        if target is not result:
+            result[...] = target
+        return result
+
+    def overlay(self, color, ao=None, out=None):
+        """AO over colour: the colour image darkened by the AO, uint8 RGB (H, W, 3)
+        at the camera's (the depth's) size, each channel round(c x a / 65535) with
+        a = round(visibility x 65535) (dao_overlay; what depthaod's overlay stream
+        and depthao process --overlay-out write).
+
+        color: uint8 (h, w, 3) RGB of the frame, the depth's size or the same
+        aspect ratio (then resampled bilinearly; another aspect ratio raises
+        ValueError: depthao does not reproject between cameras).  ao: the
+        visibility (float32 (H, W)); default the array the last process()
+        returned.  out: a uint8 (H, W, 3) array to write into.
+        """
+        if ao is None:
+            ao = self._last_ao
+            if ao is None:
+                raise ValueError("overlay() before process(): there is no AO yet")
+        ao = self._check_image("ao", ao, {"f4": "float32"}, 1)
+        if not isinstance(color, np.ndarray):
+            raise ValueError("color must be a numpy array, got %s" % type(color).__name__)
+        if color.dtype != np.uint8 or color.ndim != 3 or color.shape[2] != 3:
+            raise ValueError("color must be uint8 RGB of shape (h, w, 3), got %s %s"
+                             % (color.dtype, color.shape))
+        if _frames.row_stride(color, 3) is None:
+            color = _frames.packed(color, np.uint8)
+        if _frames.row_stride(ao, 1) is None:
+            ao = _frames.packed(ao, np.float32)
+        h, w = self._camera.shape
+        if out is None:
+            result = target = np.empty((h, w, 3), np.uint8)
+        else:
+            result = self._check_image("out", out, {"u1": "uint8"}, 3)
+            if not out.flags.writeable:
+                raise ValueError("out is read-only")
+            target = out if _frames.row_stride(out, 3) is not None else \
+                np.empty((h, w, 3), np.uint8)
+        cframe = _frames.make_frame(color, _lib.PIXFMT_RGB24, _frames.row_stride(color, 3))
+        aframe = _frames.make_frame(ao, _lib.PIXFMT_GRAY_F32, _frames.row_stride(ao, 1))
+        oframe = _frames.make_frame(target, _lib.PIXFMT_RGB24, _frames.row_stride(target, 3))
+        err = _lib.new_error()
+        _lib.check(lib.dao_overlay(ctypes.byref(cframe), ctypes.byref(aframe),
+                                   ctypes.byref(oframe), ctypes.byref(err)), err)
         if target is not result:
             result[...] = target
         return result

@@ -74,7 +74,10 @@ class Source:
     (index, depth, info) per frame: index is the 0-based position in the
     recording, depth a copy of the frame (uint16 counts of info["depth_unit"]
     metres, or float32 metres if the source delivers those), info a dict with
-    sequence, timestamp_ns, depth_unit.  Iteration ends at the end of the
+    sequence, timestamp_ns, depth_unit, and color: with open(..., color=True)
+    on a source with colour (.info["has_color"]: an .oni recording with a
+    colour stream, a bag with a colour topic, OpenNI2 devices), a uint8 RGB (h, w, 3) copy of the colour
+    frame paired with the depth (the one recorded nearest in time), else None.  Iteration ends at the end of the
     recording; a live source that delivers nothing for `timeout` seconds
     raises TimeoutError.
 
@@ -84,7 +87,7 @@ class Source:
     """
 
     def __init__(self, uri, playback="manual", loop=False, start=0, step=1, unit=None,
-                 timeout=5.0, plugin_path=None):
+                 timeout=5.0, plugin_path=None, color=False):
         if playback not in _PLAYBACK:
             raise ValueError("playback must be 'manual' or 'realtime', got %r" % (playback,))
         if timeout is not None and not (isinstance(timeout, numbers.Real) and timeout > 0):
@@ -96,6 +99,7 @@ class Source:
         opts.loop = 1 if loop else 0
         opts.start_frame = _count("start", start)
         opts.step = _count("step", step, 1)
+        opts.want_color = 1 if color else 0
         if unit is not None:
             unit = float(unit)
             if not (math.isfinite(unit) and unit > 0):
@@ -136,6 +140,10 @@ class Source:
             "live": bool(info.live),
             "mirrored": bool(info.mirrored),
             "registered": bool(info.registered),
+            # colour delivered with each frame (open(..., color=True) on a source with colour)
+            "has_color": bool(info.has_color),
+            "color_width": info.color_width if info.has_color else None,
+            "color_height": info.color_height if info.has_color else None,
             "description": _lib.text(info.description),
             "warning": _lib.text(info.warning) or None,
             # (fx, fy, cx, cy) in pixels when the source knows them (a bag's CameraInfo)
@@ -213,7 +221,9 @@ class Source:
                 depth = _frames.array_from_frame(d)
                 info = {"sequence": d.sequence, "timestamp_ns": d.timestamp_ns,
                         "depth_unit": _f32(d.depth_unit) if d.format == _lib.PIXFMT_DEPTH16
-                        else None}
+                        else None,
+                        "color": (_frames.array_from_frame(frame.color)
+                                  if frame.color.format == _lib.PIXFMT_RGB24 else None)}
                 index = frame.index
             finally:
                 lib.dao_source_release(src, ctypes.byref(frame))
@@ -242,7 +252,7 @@ class Source:
 
 
 def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout=5.0,
-         plugin_path=None):
+         plugin_path=None, color=False):
     """Opens a recording or device through the library's sources:
     "FILE.oni" or "oni:FILE" (depthao's reader), "images:DIR" or "images:FILE.png"
     (16-bit depth PNGs in name order; `unit` metres per count, default 0.001),
@@ -254,11 +264,15 @@ def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout
     (paced by the timestamps); loop: at the end, start again (at `start`)
     instead of stopping; start: first frame (0-based); step: every step-th
     frame.
+    color: also deliver the colour frame of each depth frame, in info["color"]
+    (sources with colour: .oni recordings with a colour stream, bags with a
+    colour topic (FILE.bag?color=TOPIC when there are several), OpenNI2; the
+    others deliver None; .info["has_color"] says which).
     plugin_path: directories (colon-separated) to load plugin modules from,
     instead of $DEPTHAO_PLUGIN_PATH / the install directory.
     """
     return Source(uri, playback=playback, loop=loop, start=start, step=step, unit=unit,
-                  timeout=timeout, plugin_path=plugin_path)
+                  timeout=timeout, plugin_path=plugin_path, color=color)
 
 
 # --- PNG ----------------------------------------------------------------------

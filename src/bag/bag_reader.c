@@ -955,6 +955,13 @@ static int load_chunk(struct dao_bag *b, uint32_t ci, struct dao_error *err)
 	return 0;
 }
 
+uint64_t dao_bag_message_time(const struct dao_bag *b, uint32_t topic, uint32_t i)
+{
+	if (topic >= b->ntopics || i >= b->topics[topic].count)
+		return 0;
+	return b->topics[topic].entries[i].time_ns;
+}
+
 int dao_bag_read_message(struct dao_bag *b, uint32_t topic, uint32_t i, const uint8_t **data,
 			 uint32_t *len, uint64_t *time_ns, struct dao_error *err)
 {

@@ -54,4 +54,11 @@ int dao_bag_find_topic(const struct dao_bag *bag, const char *name);
 int dao_bag_read_message(struct dao_bag *bag, uint32_t topic, uint32_t i, const uint8_t **data,
 			 uint32_t *len, uint64_t *time_ns, struct dao_error *err);
 
+/*
+ * The time message `i` of topic `topic` was recorded (ns), from the index,
+ * without reading it; 0 if there is no such message.  Messages are in this
+ * order.
+ */
+uint64_t dao_bag_message_time(const struct dao_bag *bag, uint32_t topic, uint32_t i);
+
 #endif

@@ -27,6 +27,7 @@
 
 #include "core/error_internal.h"
 #include "oni/codec_16z.h"
+#include "oni/oni_color.h"
 #include "oni/oni_format.h"
 
 /* Property and node records are small; anything bigger is corruption. */
@@ -44,6 +45,7 @@ struct node {
 	struct dao_oni_stream_info info;
 	uint32_t codec_fourcc;
 	int pixel_format_set;
+	char unusable[320]; /* colour nodes: why they cannot be decoded, empty if they can */
 	struct frame_ref *frames;
 	uint32_t nframes, cap;
 };
@@ -64,11 +66,12 @@ struct dao_oni_reader {
 	uint32_t max_node_id;
 	struct node *nodes;
 	uint32_t nnodes;
-	uint8_t *payload; /* largest depth payload */
+	uint8_t *payload; /* largest depth or colour payload */
 	size_t payload_cap;
 	uint16_t *pixels; /* largest depth frame, contiguous */
 	size_t pixels_cap;
 	uint64_t max_pixels; /* depth nodes with frames may not be larger */
+	struct dao_jpeg *jpeg; /* colour nodes with the JPEG codec */
 };
 
 static int read_at(struct dao_oni_reader *r, void *buf, size_t n, uint64_t pos)
@@ -182,6 +185,11 @@ static void apply_int(struct node *n, const char *name, uint64_t v)
 		n->info.mirrored = v != 0;
 	else if (!strcmp(name, "AlternativeViewPoint"))
 		n->info.registered = v != 0;
+	else if (n->info.sensor == DAO_ONI_SENSOR_COLOR && !strcmp(name, "oniPixelFormat"))
+		n->info.pixel_format = (int)v;
+	else if (n->info.sensor == DAO_ONI_SENSOR_COLOR && !strcmp(name, "xnPixelFormat") &&
+		 !n->info.pixel_format)
+		n->info.pixel_format = dao_oni_color_format_from_xn(v);
 	else if (!strcmp(name, "oniPixelFormat") && n->info.sensor == DAO_ONI_SENSOR_DEPTH) {
 		n->info.pixel_format = (int)v;
 		n->info.depth_unit = v == DAO_ONI_PIXEL_DEPTH_100_UM ? 0.0001f
@@ -429,6 +437,71 @@ static int check_depth_node(struct dao_oni_reader *r, struct node *n, const char
 	return 0;
 }
 
+/*
+ * Checks a colour node once: decodable nodes get their largest payload into
+ * the read buffer's size; others keep the reason in n->unusable (the depth
+ * of the file is still readable, and opening fails only for memory).
+ */
+static int check_color_node(struct dao_oni_reader *r, struct node *n, const char *path,
+			    struct dao_error *err)
+{
+	struct dao_oni_stream_info *in = &n->info;
+	size_t npix = (size_t)in->width * in->height;
+	size_t raw = dao_oni_color_raw_size(in->pixel_format, in->width, in->height);
+	if (in->width == 0 || in->height == 0 || in->width > DAO_MAX_DIMENSION ||
+	    in->height > DAO_MAX_DIMENSION) {
+		snprintf(n->unusable, sizeof(n->unusable),
+			 "colour node '%s' has no usable size (xnMapOutputMode %ux%u)", in->name,
+			 in->width, in->height);
+		return 0;
+	}
+	if (npix > r->max_pixels) {
+		snprintf(n->unusable, sizeof(n->unusable),
+			 "colour node '%s' is %ux%u, more than the limit of %llu pixels", in->name,
+			 in->width, in->height, (unsigned long long)r->max_pixels);
+		return 0;
+	}
+	/* a JPEG frame larger than the raw RGB of its size plus headers is not an image */
+	size_t bound = 3 * npix + 65536;
+	if (in->codec == DAO_ONI_CODEC_NONE) {
+		if (!raw) {
+			snprintf(n->unusable, sizeof(n->unusable),
+				 "colour node '%s' has pixel format %d, which depthao cannot "
+				 "convert (it reads RGB888, YUV422, YUYV, GRAY8 and JPEG)",
+				 in->name, in->pixel_format);
+			return 0;
+		}
+		bound = raw;
+	} else if (in->codec != DAO_ONI_CODEC_JPEG) {
+		snprintf(n->unusable, sizeof(n->unusable),
+			 "colour node '%s' uses codec '%s', which depthao cannot decode (it "
+			 "reads JPEG and NONE)",
+			 in->name, in->codec_fourcc);
+		return 0;
+	}
+	/* a frame that cannot be one: the colour is left out, the depth still plays */
+	size_t largest = 0;
+	for (uint32_t i = 0; i < n->nframes; i++) {
+		uint32_t ps = n->frames[i].payload_size;
+		if (ps > bound || (in->codec == DAO_ONI_CODEC_NONE && ps != bound)) {
+			snprintf(n->unusable, sizeof(n->unusable),
+				 "frame %u of colour node '%s' has %u bytes of data, %s %ux%u %s "
+				 "frame (%zu)", i, in->name, ps,
+				 ps > bound ? "more than a" : "not what a raw", in->width, in->height,
+				 in->codec_fourcc, bound);
+			return 0;
+		}
+		if (ps > largest)
+			largest = ps;
+	}
+	if (largest > r->payload_cap)
+		r->payload_cap = largest;
+	if (in->codec == DAO_ONI_CODEC_JPEG && !r->jpeg && n->nframes &&
+	    dao_jpeg_create(&r->jpeg) < 0)
+		return dao_error_set(err, -ENOMEM, "out of memory opening %s (JPEG decoder)", path);
+	return 0;
+}
+
 static const char *plural(uint64_t n)
 {
 	return n == 1 ? "" : "s";
@@ -539,6 +612,9 @@ int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
 		if (n->info.sensor == DAO_ONI_SENSOR_DEPTH &&
 		    (ret = check_depth_node(r, n, path, err)) < 0)
 			goto fail;
+		if (n->info.sensor == DAO_ONI_SENSOR_COLOR &&
+		    (ret = check_color_node(r, n, path, err)) < 0)
+			goto fail;
 	}
 	/* drop nodes that carry no images (the device node) from the stream list */
 	uint32_t k = 0;
@@ -576,6 +652,7 @@ void dao_oni_reader_close(struct dao_oni_reader *r)
 	free(r->nodes);
 	free(r->payload);
 	free(r->pixels);
+	dao_jpeg_destroy(r->jpeg);
 	free(r);
 }
 
@@ -651,6 +728,87 @@ int dao_oni_reader_read_depth(struct dao_oni_reader *r, uint32_t stream, uint32_
 	out->depth_unit = in->depth_unit;
 	out->timestamp_ns = fr->timestamp_us * 1000u;
 	out->sequence = fr->number;
+	return 0;
+}
+
+int dao_oni_reader_color_stream(const struct dao_oni_reader *r, struct dao_error *err)
+{
+	for (uint32_t i = 0; r && i < r->nnodes; i++)
+		if (r->nodes[i].info.sensor == DAO_ONI_SENSOR_COLOR)
+			return (int)i;
+	return dao_error_set(err, -ENOENT, "the recording has no colour stream");
+}
+
+int dao_oni_reader_color_usable(const struct dao_oni_reader *r, uint32_t stream,
+				struct dao_error *err)
+{
+	if (!r || stream >= r->nnodes || r->nodes[stream].info.sensor != DAO_ONI_SENSOR_COLOR)
+		return dao_error_set(err, -EINVAL, "stream %u is not a colour stream", stream);
+	if (r->nodes[stream].unusable[0])
+		return dao_error_set(err, -ENOTSUP, "%s", r->nodes[stream].unusable);
+	return 0;
+}
+
+int dao_oni_reader_read_color(struct dao_oni_reader *r, uint32_t stream, uint32_t frame,
+			      struct dao_frame *out, struct dao_error *err)
+{
+	int ret = dao_oni_reader_color_usable(r, stream, err);
+	if (ret < 0)
+		return ret;
+	struct node *n = &r->nodes[stream];
+	const struct dao_oni_stream_info *in = &n->info;
+	if (frame >= n->nframes)
+		return dao_error_set(err, -EINVAL, "frame %u is past the end of '%s' (%u frames)",
+				     frame, in->name, n->nframes);
+	if ((ret = dao_frame_check(out, "oni colour output", in->width, in->height, err)) < 0)
+		return ret;
+	if (out->format != DAO_PIXFMT_RGB24)
+		return dao_error_set(err, -EINVAL, "oni colour output must be rgb24, not %s",
+				     dao_pixfmt_name(out->format));
+	const struct frame_ref *fr = &n->frames[frame];
+	if ((ret = read_at(r, r->payload, fr->payload_size, fr->payload_pos)) < 0)
+		return dao_error_set(err, -EIO, "cannot read frame %u of '%s': %s", frame,
+				     in->name, ret == -ENODATA ? "the file has shrunk" : strerror(-ret));
+	if (in->codec == DAO_ONI_CODEC_JPEG) {
+		char why[160];
+		if (dao_jpeg_decode(r->jpeg, r->payload, fr->payload_size, out, why, sizeof(why)) < 0)
+			return dao_error_set(err, -EINVAL, "frame %u of '%s' is corrupt: %s (%u bytes)",
+					     frame, in->name, why, fr->payload_size);
+	} else {
+		dao_oni_color_convert_raw(in->pixel_format, r->payload, in->width, in->height, out);
+	}
+	out->timestamp_ns = fr->timestamp_us * 1000u;
+	out->sequence = fr->number;
+	return 0;
+}
+
+int dao_oni_reader_match_frame(const struct dao_oni_reader *r, uint32_t stream, uint32_t frame,
+			       uint32_t other, uint32_t *match)
+{
+	if (!r || stream >= r->nnodes || other >= r->nnodes || !match ||
+	    frame >= r->nodes[stream].nframes)
+		return -EINVAL;
+	const struct node *o = &r->nodes[other];
+	if (!o->nframes)
+		return -ENOENT;
+	const uint64_t t = r->nodes[stream].frames[frame].timestamp_us;
+	/* the first frame recorded after t (timestamps do not go back within a node) */
+	uint32_t lo = 0, hi = o->nframes;
+	while (lo < hi) {
+		uint32_t mid = lo + (hi - lo) / 2;
+		if (o->frames[mid].timestamp_us <= t)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	if (lo == 0)
+		*match = 0;
+	else if (lo == o->nframes)
+		*match = o->nframes - 1;
+	else
+		*match = o->frames[lo].timestamp_us - t < t - o->frames[lo - 1].timestamp_us
+				 ? lo
+				 : lo - 1;
 	return 0;
 }
 

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Built-in source "bag": depth images from a ROS 1 bag (format 2.0) through
- * depthao's own reader (bag/bag_reader.c).  URI: FILE.bag[?topic=T][&unit=M]
- * (also "?unit=M" alone).
+ * depthao's own reader (bag/bag_reader.c).  URI:
+ * FILE.bag[?topic=T][&unit=M][&color=C] (the options in any order).
  *
  * The depth topic is a sensor_msgs/Image topic whose encoding is 16UC1 or
  * mono16 (counts of `unit` metres: ?unit=, else the RealSense option topic
@@ -14,6 +14,15 @@
  * rs-record) "/device_0/sensor_N/Depth_0/info/camera_info" beside
  * "/device_0/sensor_N/Depth_0/image/data", whose unit is the std_msgs/
  * Float32 "/device_0/sensor_N/option/Depth Units/value".
+ *
+ * Colour (want_color): a sensor_msgs/Image topic in rgb8, bgr8, rgba8, bgra8
+ * or mono8 (?color= chooses; one such topic is taken, e.g. a RealSense
+ * ".../Color_0/image/data"), delivered as RGB24 with each depth frame: the
+ * colour message whose header stamp is nearest to the depth's (the earlier
+ * one on a tie), found among the messages recorded around the depth
+ * message, as ROS's approximate-time pairing of the two topics would.
+ * Depth on an "aligned_depth_to_color" or "depth_registered" topic counts
+ * as registered to the colour camera; other depth may not be.
  *
  * A bag without an index (a recording that was not finished) is read up
  * to its last complete chunk, with the reader's warning (info.warning).
@@ -49,6 +58,11 @@ struct bag_source {
 	int is_float;
 	float unit;
 	struct dao_frame depth;
+	uint64_t depth_rec_ns;      /* when the depth frame was recorded */
+	int color_topic;            /* -1: no colour delivered */
+	uint32_t color_count;
+	char color_encoding[32];
+	struct dao_frame color;
 	uint64_t next;
 	struct dao_pacer pacer;     /* real-time playback */
 };
@@ -60,6 +74,7 @@ struct bag_source {
 struct bag_uri {
 	char *path;
 	char topic[256];
+	char color[256];
 	float unit;
 };
 
@@ -67,7 +82,8 @@ static const char *query_start(const char *uri)
 {
 	const char *q = NULL;
 	for (const char *p = strchr(uri, '?'); p; p = strchr(p + 1, '?'))
-		if (!strncmp(p + 1, "topic=", 6) || !strncmp(p + 1, "unit=", 5))
+		if (!strncmp(p + 1, "topic=", 6) || !strncmp(p + 1, "unit=", 5) ||
+		    !strncmp(p + 1, "color=", 6))
 			q = p;
 	return q;
 }
@@ -101,6 +117,8 @@ static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
 		char *end;
 		if (!strncmp(kv, "topic=", 6) && kv[6] && strlen(kv + 6) < sizeof(u->topic)) {
 			snprintf(u->topic, sizeof(u->topic), "%s", kv + 6);
+		} else if (!strncmp(kv, "color=", 6) && kv[6] && strlen(kv + 6) < sizeof(u->color)) {
+			snprintf(u->color, sizeof(u->color), "%s", kv + 6);
 		} else if (!strncmp(kv, "unit=", 5)) {
 			double v = strtod(kv + 5, &end);
 			if (end == kv + 5 || *end || !(v > 0 && v <= 1))
@@ -110,7 +128,8 @@ static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
 			u->unit = (float)v;
 		} else {
 			return dao_error_set(err, -EINVAL,
-					     "bag: unknown option '%s' (known: topic=NAME, unit=METRES)",
+					     "bag: unknown option '%s' (known: topic=NAME, unit=METRES, "
+					     "color=NAME)",
 					     kv);
 		}
 	}
@@ -125,6 +144,16 @@ static int depth_kind(const char *enc)
 	if (!strcmp(enc, "32FC1"))
 		return 2;
 	return 0;
+}
+
+/* Bytes a pixel of a colour encoding, 0 if it is not one the source converts. */
+static uint32_t color_bytes(const char *enc)
+{
+	if (!strcmp(enc, "rgb8") || !strcmp(enc, "bgr8"))
+		return 3;
+	if (!strcmp(enc, "rgba8") || !strcmp(enc, "bgra8"))
+		return 4;
+	return !strcmp(enc, "mono8") ? 1 : 0;
 }
 
 static int is_image_topic(const struct dao_bag_topic *t)
@@ -301,6 +330,63 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 	return 0;
 }
 
+/* The colour topic: ?color=, else the one image topic in a colour encoding. */
+static int pick_color(struct bag_source *s, const struct bag_uri *u, uint64_t max_pixels,
+		      struct dao_error *err)
+{
+	struct dao_bag *bag = s->bag;
+	const char *path = dao_bag_path(bag);
+	char list[400] = "";
+	struct dao_ros_image img, im;
+	int found = -1, n = 0, r;
+	for (uint32_t t = 0; t < dao_bag_topic_count(bag); t++) {
+		const struct dao_bag_topic *tp = dao_bag_topic(bag, t);
+		if (!is_image_topic(tp) || (t == s->topic && !u->color[0]))
+			continue;
+		if (u->color[0] && strcmp(tp->name, u->color))
+			continue;
+		if ((r = first_image(bag, t, &im, err)) < 0)
+			return r;
+		if (u->color[0] && !color_bytes(im.encoding))
+			return dao_error_set(err, -EINVAL,
+					     "%s: topic '%s' has images of encoding '%s', not colour "
+					     "(rgb8, bgr8, rgba8, bgra8 or mono8)", path, u->color,
+					     im.encoding);
+		if (!color_bytes(im.encoding))
+			continue;
+		list_add(list, sizeof(list), tp->name, im.encoding);
+		if (n++ == 0) {
+			found = (int)t;
+			img = im;
+		}
+	}
+	if (u->color[0] && n == 0)
+		return dao_error_set(err, -ENOENT, "%s: no image topic '%s' (color=)", path, u->color);
+	if (n == 0) {
+		snprintf(s->info.warning, sizeof(s->info.warning),
+			 "no colour: the bag has no image topic in rgb8, bgr8, rgba8, bgra8 or mono8");
+		return 0;
+	}
+	if (n > 1)
+		return dao_error_set(err, -EINVAL,
+				     "%s: %d colour topics, choose one with ?color=NAME: %s", path, n,
+				     list);
+	if ((uint64_t)img.width * img.height > max_pixels || !img.width || !img.height)
+		return dao_error_set(err, img.width && img.height ? -EFBIG : -EINVAL,
+				     "%s: colour topic '%s' has %ux%u images; the limit is %llu pixels",
+				     path, dao_bag_topic(bag, (uint32_t)found)->name, img.width,
+				     img.height, (unsigned long long)max_pixels);
+	if ((r = dao_frame_alloc(&s->color, DAO_PIXFMT_RGB24, img.width, img.height, err)) < 0)
+		return r;
+	s->color_topic = found;
+	s->color_count = dao_bag_topic(bag, (uint32_t)found)->message_count;
+	snprintf(s->color_encoding, sizeof(s->color_encoding), "%s", img.encoding);
+	s->info.has_color = 1;
+	s->info.color_width = img.width;
+	s->info.color_height = img.height;
+	return 0;
+}
+
 int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			uint64_t max_pixels, void **state, struct dao_error *err)
 {
@@ -339,6 +425,11 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	s->info.height = img.height;
 	if ((r = find_camera(s, &u, err)) < 0)
 		goto fail;
+	s->color_topic = -1;
+	if (opts->want_color && (r = pick_color(s, &u, max_pixels, err)) < 0)
+		goto fail;
+	s->info.registered = strstr(tp->name, "aligned_depth_to_color") != NULL ||
+			     strstr(tp->name, "depth_registered") != NULL;
 	if (dao_bag_warning(s->bag)) /* an unfinished recording, read as far as it goes */
 		snprintf(s->info.warning, sizeof(s->info.warning), "%s", dao_bag_warning(s->bag));
 	if (opts->start_frame >= s->count) {
@@ -351,8 +442,16 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	s->info.depth_unit = s->is_float ? 0.0f : s->unit;
 	s->info.frame_count = s->count;
 	const char *base = strrchr(u.path, '/');
-	snprintf(s->info.description, sizeof(s->info.description), "%.40s: %.50s %ux%u %.12s, %u frames",
-		 base ? base + 1 : u.path, tp->name, img.width, img.height, img.encoding, s->count);
+	if (s->color_topic >= 0)
+		snprintf(s->info.description, sizeof(s->info.description),
+			 "%.30s: %.40s %ux%u %.8s + %.40s %ux%u %.6s, %u frames",
+			 base ? base + 1 : u.path, tp->name, img.width, img.height, img.encoding,
+			 dao_bag_topic(s->bag, (uint32_t)s->color_topic)->name, s->info.color_width,
+			 s->info.color_height, s->color_encoding, s->count);
+	else
+		snprintf(s->info.description, sizeof(s->info.description),
+			 "%.40s: %.50s %ux%u %.12s, %u frames", base ? base + 1 : u.path, tp->name,
+			 img.width, img.height, img.encoding, s->count);
 	if ((r = dao_frame_alloc(&s->depth, s->info.format, img.width, img.height, err)) < 0)
 		goto fail;
 	s->next = opts->start_frame;
@@ -361,6 +460,8 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	return 0;
 fail:
 	free(u.path);
+	dao_frame_free(&s->depth);
+	dao_frame_free(&s->color);
 	dao_bag_close(s->bag);
 	free(s);
 	return r;
@@ -436,6 +537,92 @@ static int decode(struct bag_source *s, uint32_t i, struct dao_error *err)
 	s->depth.depth_unit = s->is_float ? 0.0f : s->unit;
 	s->depth.timestamp_ns = img.header.stamp_ns ? img.header.stamp_ns : rec_ns;
 	s->depth.sequence = (uint64_t)i + 1;
+	s->depth_rec_ns = rec_ns;
+	return 0;
+}
+
+/* Colour message i: parsed, checked against the topic's first; its time in *t_ns. */
+static int color_message(struct bag_source *s, uint32_t i, struct dao_ros_image *img,
+			 uint64_t *t_ns, struct dao_error *err)
+{
+	const char *path = dao_bag_path(s->bag);
+	const char *topic = dao_bag_topic(s->bag, (uint32_t)s->color_topic)->name;
+	const uint8_t *d;
+	uint32_t n;
+	uint64_t rec_ns;
+	int r = dao_bag_read_message(s->bag, (uint32_t)s->color_topic, i, &d, &n, &rec_ns, err);
+	if (r < 0)
+		return r;
+	if (dao_ros_image_parse(d, n, img) < 0)
+		return dao_error_set(err, -EINVAL, "%s: message %u of '%s' is not a sensor_msgs/Image",
+				     path, i, topic);
+	uint32_t bpp = color_bytes(img->encoding);
+	if (img->width != s->color.width || img->height != s->color.height ||
+	    strcmp(img->encoding, s->color_encoding))
+		return dao_error_set(err, -EINVAL,
+				     "%s: message %u of '%s' is %ux%u %s, the topic began with %ux%u "
+				     "%s", path, i, topic, img->width, img->height, img->encoding,
+				     s->color.width, s->color.height, s->color_encoding);
+	if (img->step < (uint64_t)img->width * bpp ||
+	    (uint64_t)img->step * img->height > img->data_len)
+		return dao_error_set(err, -EINVAL,
+				     "%s: message %u of '%s': %u bytes of data for %u rows of step %u",
+				     path, i, topic, img->data_len, img->height, img->step);
+	*t_ns = img->header.stamp_ns ? img->header.stamp_ns : rec_ns;
+	return 0;
+}
+
+/*
+ * The colour frame for the depth frame just decoded: of the colour messages
+ * recorded around it (two before, two after, by the index), the one whose
+ * time is nearest to the depth's, converted into s->color.
+ */
+static int decode_color(struct bag_source *s, struct dao_error *err)
+{
+	const uint64_t t = s->depth.timestamp_ns;
+	uint32_t lo = 0, hi = s->color_count;
+	while (lo < hi) { /* the first colour message recorded at or after the depth */
+		uint32_t mid = lo + (hi - lo) / 2;
+		if (dao_bag_message_time(s->bag, (uint32_t)s->color_topic, mid) < s->depth_rec_ns)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	uint32_t first = lo >= 2 ? lo - 2 : 0, last = lo + 2 < s->color_count ? lo + 2 : s->color_count;
+	uint32_t best = first;
+	uint64_t best_d = UINT64_MAX;
+	struct dao_ros_image img;
+	int r;
+	for (uint32_t i = first; i < last || i == first; i++) {
+		uint64_t ct;
+		if ((r = color_message(s, i, &img, &ct, err)) < 0)
+			return r;
+		uint64_t d = ct > t ? ct - t : t - ct;
+		if (d < best_d) {
+			best_d = d;
+			best = i;
+		}
+	}
+	uint64_t ct;
+	if ((r = color_message(s, best, &img, &ct, err)) < 0)
+		return r;
+	const uint32_t bpp = color_bytes(img.encoding);
+	const int bgr = img.encoding[0] == 'b';
+	for (uint32_t y = 0; y < img.height; y++) {
+		const uint8_t *src = img.data + (size_t)y * img.step;
+		uint8_t *dst = (uint8_t *)s->color.data + (size_t)y * (size_t)s->color.stride;
+		for (uint32_t x = 0; x < img.width; x++, src += bpp, dst += 3) {
+			if (bpp == 1) {
+				dst[0] = dst[1] = dst[2] = src[0];
+				continue;
+			}
+			dst[0] = src[bgr ? 2 : 0];
+			dst[1] = src[1];
+			dst[2] = src[bgr ? 0 : 2];
+		}
+	}
+	s->color.timestamp_ns = ct;
+	s->color.sequence = (uint64_t)best + 1;
 	return 0;
 }
 
@@ -456,8 +643,15 @@ static int bag_read(void *state, struct dao_source_frame *f, int timeout_ms, str
 	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
 	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
 		return r; /* the frame is read again next time */
-	f->depth = s->depth;
 	f->color.format = DAO_PIXFMT_NONE;
+	if (s->color_topic >= 0) {
+		if ((r = decode_color(s, err)) < 0) {
+			s->next += s->opts.step; /* skipped like a corrupt depth frame */
+			return r;
+		}
+		f->color = s->color;
+	}
+	f->depth = s->depth;
 	f->index = s->next;
 	s->next += s->opts.step;
 	return 0;
@@ -483,6 +677,7 @@ static void bag_close(void *state)
 {
 	struct bag_source *s = state;
 	dao_frame_free(&s->depth);
+	dao_frame_free(&s->color);
 	dao_bag_close(s->bag);
 	free(s);
 }
@@ -503,6 +698,7 @@ const struct dao_plugin dao_builtin_bag_plugin = {
 	.abi_version = DAO_PLUGIN_ABI_VERSION,
 	.name = "bag",
 	.description = "ROS 1 bags (format 2.0, chunks none/bz2/lz4) and RealSense .bag "
-		       "recordings: depth images 16UC1, mono16, 32FC1; FILE.bag[?topic=T][&unit=M]",
+		       "recordings: depth images 16UC1, mono16, 32FC1, colour rgb8, bgr8, rgba8, "
+		       "bgra8, mono8; FILE.bag[?topic=T][&unit=M][&color=C]",
 	.source = &bag_source_ops,
 };

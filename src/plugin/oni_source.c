@@ -6,6 +6,8 @@
  * the first frame delivered); loop wraps to the first frame (or start_frame).
  * A recording that was never finished (its writer crashed) plays up to its
  * last complete frame; the reader's warning says so (info.warning).
+ * With want_color, each depth frame comes with the colour frame recorded
+ * nearest in time to it (dao_oni_reader_match_frame), decoded to RGB24.
  */
 #include <depthao/oni.h>
 #include <depthao/plugin.h>
@@ -28,6 +30,10 @@ struct oni_source {
 	struct dao_oni_stream_info info;
 	char path_tail[96];
 	struct dao_frame depth;
+	int color_stream;           /* -1: no colour delivered */
+	struct dao_oni_stream_info color_info;
+	struct dao_frame color;
+	char color_note[256];       /* why a recording's colour is not delivered */
 	uint64_t next;
 	struct dao_pacer pacer;     /* real-time playback */
 };
@@ -36,6 +42,31 @@ static int oni_probe(const char *uri)
 {
 	size_t n = strlen(uri);
 	return n > 4 && !strcasecmp(uri + n - 4, ".oni") ? 60 : 0;
+}
+
+/* The colour stream, when the recording has one that can be decoded. */
+static int open_color(struct oni_source *s, struct dao_error *err)
+{
+	struct dao_error e;
+	int c = dao_oni_reader_color_stream(s->reader, &e);
+	if (c < 0)
+		return 0; /* depth only */
+	if (dao_oni_reader_color_usable(s->reader, (uint32_t)c, &e) < 0) {
+		snprintf(s->color_note, sizeof(s->color_note), "no colour: %.240s", e.message);
+		return 0;
+	}
+	const struct dao_oni_stream_info *ci = dao_oni_reader_stream(s->reader, (uint32_t)c);
+	if (ci->frame_count == 0) {
+		snprintf(s->color_note, sizeof(s->color_note),
+			 "no colour: the colour stream '%s' has no frames", ci->name);
+		return 0;
+	}
+	int r = dao_frame_alloc(&s->color, DAO_PIXFMT_RGB24, ci->width, ci->height, err);
+	if (r < 0)
+		return r;
+	s->color_info = *ci;
+	s->color_stream = c;
+	return 0;
 }
 
 int dao_oni_source_open(const char *uri, const struct dao_source_options *opts,
@@ -76,12 +107,17 @@ int dao_oni_source_open(const char *uri, const struct dao_source_options *opts,
 	if ((r = dao_frame_alloc(&s->depth, DAO_PIXFMT_DEPTH16, s->info.width, s->info.height,
 				 err)) < 0)
 		goto fail;
+	s->color_stream = -1;
+	if (opts->want_color && (r = open_color(s, err)) < 0)
+		goto fail;
 	const char *base = strrchr(uri, '/');
 	snprintf(s->path_tail, sizeof(s->path_tail), "%s", base ? base + 1 : uri);
 	s->next = opts->start_frame;
 	*state = s;
 	return 0;
 fail:
+	dao_frame_free(&s->depth);
+	dao_frame_free(&s->color);
 	dao_oni_reader_close(s->reader);
 	free(s);
 	return r;
@@ -108,13 +144,26 @@ static void oni_get_info(void *state, struct dao_source_info *in)
 	in->live = 0;
 	in->mirrored = s->info.mirrored;
 	in->registered = s->info.registered;
-	in->has_color = 0; /* the colour node (JPEG) is not decoded by the built-in reader */
-	snprintf(in->description, sizeof(in->description), "%.60s: %.40s %ux%u@%u %s, %u frames",
-		 s->path_tail, s->info.name, s->info.width, s->info.height, s->info.fps,
-		 s->info.codec_fourcc, s->info.frame_count);
+	in->has_color = s->color_stream >= 0;
+	if (in->has_color) {
+		in->color_width = s->color_info.width;
+		in->color_height = s->color_info.height;
+		snprintf(in->description, sizeof(in->description),
+			 "%.60s: %.30s %ux%u@%u %s + %.20s %ux%u %s, %u frames", s->path_tail,
+			 s->info.name, s->info.width, s->info.height, s->info.fps,
+			 s->info.codec_fourcc, s->color_info.name, s->color_info.width,
+			 s->color_info.height, s->color_info.codec_fourcc, s->info.frame_count);
+	} else {
+		snprintf(in->description, sizeof(in->description),
+			 "%.60s: %.40s %ux%u@%u %s, %u frames", s->path_tail, s->info.name,
+			 s->info.width, s->info.height, s->info.fps, s->info.codec_fourcc,
+			 s->info.frame_count);
+	}
 	const char *w = dao_oni_reader_warning(s->reader); /* an unfinished recording */
 	if (w)
 		snprintf(in->warning, sizeof(in->warning), "%s", w);
+	else if (s->color_note[0])
+		snprintf(in->warning, sizeof(in->warning), "%.250s", s->color_note);
 }
 
 static int oni_start(void *state, struct dao_error *err)
@@ -143,8 +192,19 @@ static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
 	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
 	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
 		return r; /* the frame is read again next time */
-	f->depth = s->depth;
 	f->color.format = DAO_PIXFMT_NONE;
+	if (s->color_stream >= 0) {
+		uint32_t c;
+		if (dao_oni_reader_match_frame(s->reader, (uint32_t)s->stream, (uint32_t)s->next,
+					       (uint32_t)s->color_stream, &c) < 0 ||
+		    (r = dao_oni_reader_read_color(s->reader, (uint32_t)s->color_stream, c,
+						   &s->color, err)) < 0) {
+			s->next += s->opts.step; /* skipped like a corrupt depth frame */
+			return r < 0 ? r : dao_error_set(err, -EINVAL, "no colour frame");
+		}
+		f->color = s->color;
+	}
+	f->depth = s->depth;
 	f->index = s->next;
 	s->next += s->opts.step;
 	return 0;
@@ -170,6 +230,7 @@ static void oni_close(void *state)
 {
 	struct oni_source *s = state;
 	dao_frame_free(&s->depth);
+	dao_frame_free(&s->color);
 	dao_oni_reader_close(s->reader);
 	free(s);
 }
@@ -189,8 +250,8 @@ static const struct dao_source_ops oni_source_ops = {
 const struct dao_plugin dao_builtin_oni_plugin = {
 	.abi_version = DAO_PLUGIN_ABI_VERSION,
 	.name = "oni",
-	.description = ".oni recordings (depth: NONE, 16zP, 16zT) through depthao's own "
-		       "reader and writer",
+	.description = ".oni recordings (depth: NONE, 16zP, 16zT; colour: JPEG, RGB, YUV) "
+		       "through depthao's own reader and writer",
 	.source = &oni_source_ops,
 	.sink = &dao_oni_sink_ops,
 };

@@ -18,6 +18,10 @@ computes the same); 0 on the diagonal x == y (no data).  Files written:
   realsense.bag  the realsense-viewer layout, Depth Units 0.0001, bz2 chunks
   unindexed.bag  d16_lz4.bag as a crash after frame 2 leaves it: 3 frames (--seeds: 1), chunks
                  closed, no index (the header's index_pos still 0)
+  color.bag      16UC1 on /camera/aligned_depth_to_color/image_raw and bgr8 colour at
+                 twice the size on /camera/color/image_raw, at its own rate (one every
+                 0.7 s from 99.9 s; depth at 100 + i s + i ms): colour_pixel() below
+  colors.bag     d16 frames with two colour topics, rgba8 and mono8, of the depth's size
   png/NNNNNN.png and png/camera.json  the frames of d16_*.bag as 16-bit PNGs
 """
 import json
@@ -138,6 +142,52 @@ def write_realsense(path):
             b.write("/device_0/sensor_0/Depth_0/image/data", d16(i, stamp(i)), stamp(i))
 
 
+def colour_pixel(x, y, j):
+    """Colour message j at (x, y), as R, G, B."""
+    return ((3 * x + 40 * j) % 256, (5 * y + 7 * x) % 256, (x * y + 90 * j) % 256)
+
+
+def colour_stamp(j):
+    return genpy.Time(99, 900000000) + genpy.Duration(0, 700000000 * j)
+
+
+def colour_image(j, encoding, w, h):
+    px = [colour_pixel(x, y, j) for y in range(h) for x in range(w)]
+    if encoding == "bgr8":
+        data, step = bytes(c for p in px for c in (p[2], p[1], p[0])), 3 * w
+    elif encoding == "rgba8":
+        data, step = bytes(c for p in px for c in (p[0], p[1], p[2], 200)), 4 * w
+    else:  # mono8: the red channel
+        data, step = bytes(p[0] for p in px), w
+    m = image(j, encoding, data, step, colour_stamp(j))
+    m.width, m.height = w, h
+    m.header.frame_id = "color_optical"
+    return m
+
+
+def write_color(path):
+    """Depth and colour at different rates, written in record-time order."""
+    with rosbag.Bag(path, "w", compression="lz4", chunk_threshold=CHUNK) as b:
+        b.write("/camera/aligned_depth_to_color/camera_info", camera_info(), stamp(0))
+        msgs = []
+        for i in range(FRAMES):
+            msgs.append((stamp(i) + genpy.Duration(0, 3000000),
+                         "/camera/aligned_depth_to_color/image_raw", d16(i, stamp(i))))
+        for j in range(int(FRAMES / 0.7) + 2):
+            msgs.append((colour_stamp(j) + genpy.Duration(0, 5000000),
+                         "/camera/color/image_raw", colour_image(j, "bgr8", 2 * W, 2 * H)))
+        for t, topic, m in sorted(msgs, key=lambda x: x[0]):
+            b.write(topic, m, t)
+
+
+def write_colors(path):
+    with rosbag.Bag(path, "w") as b:
+        for i in range(FRAMES):
+            b.write("/cam/depth/image_raw", d16(i, stamp(i)), stamp(i))
+            b.write("/cam/rgba/image_raw", colour_image(i, "rgba8", W, H), stamp(i))
+            b.write("/cam/mono/image_raw", colour_image(i, "mono8", W, H), stamp(i))
+
+
 def png_chunk(kind, data):
     return (struct.pack(">I", len(data)) + kind + data +
             struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
@@ -166,6 +216,8 @@ def main():
     write_f32_be(os.path.join(out, "f32_be.bag"))
     if not seeds:
         write_two(os.path.join(out, "two.bag"))
+        write_color(os.path.join(out, "color.bag"))
+        write_colors(os.path.join(out, "colors.bag"))
     write_realsense(os.path.join(out, "realsense.bag"))
     write_unindexed(os.path.join(out, "finished.bag"), os.path.join(out, "unindexed.bag"))
     if seeds:

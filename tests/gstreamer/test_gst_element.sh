@@ -37,10 +37,21 @@ done
 # --- gst-inspect-1.0 -------------------------------------------------------------------
 gst-inspect-1.0 depthao >"$WORK/inspect" 2>&1 || fail "gst-inspect-1.0 depthao: $(cat "$WORK/inspect")"
 grep -q "Long-name *Depth ambient occlusion" "$WORK/inspect" || fail "inspect: no element metadata"
-for p in depth-unit fx fy cx cy hfov vfov quality radius slices steps thickness denoise shade \
-	occlusion-color depth-min depth-max; do
+for p in depth-unit fx fy cx cy hfov-deg vfov-deg hfov vfov quality radius slices steps thickness \
+	denoise shade occlusion-color depth-min depth-max; do
 	grep -q "^  $p *:" "$WORK/inspect" || fail "inspect: property $p missing"
 done
+# the radian properties are deprecated (flagged, and said so in their description)
+for p in hfov vfov; do
+	grep -A1 "^  $p *:" "$WORK/inspect" | grep -q "DEPRECATED, use $p-deg" ||
+		fail "inspect: $p is not marked deprecated"
+	grep -A1 "^  $p *:" "$WORK/inspect" | grep -q "flags:.*deprecated" ||
+		fail "inspect: $p lacks the deprecated flag"
+done
+grep -q "SINK template: 'color_sink'" "$WORK/inspect" || fail "inspect: no color_sink template"
+grep -A4 "SINK template: 'sink'" "$WORK/inspect" | grep -q "GRAY16_BE" ||
+	fail "inspect: the sink does not take GRAY16_BE"
+
 grep -A1 "^  radius *:" "$WORK/inspect" | grep -q "controllable" || fail "radius is not controllable"
 grep -A2 "^  radius *:" "$WORK/inspect" | grep -q "Double. Range: *0.01 - *100 Default: *0.5" ||
 	fail "radius range/default: $(grep -A2 "^  radius *:" "$WORK/inspect")"
@@ -114,7 +125,8 @@ GST_DEBUG=depthao:2 launch -q filesrc location="$DEPTH" ! pngdec ! videoconvert 
 grep -q "assuming a 58.5 x 45.6 degree field of view" "$WORK/log" || fail "no warning without a camera: $(cat "$WORK/log")"
 # shellcheck disable=SC2059
 same "$(printf "$RAW" gray16le nocam.raw)" "$WORK/ref-nocam.png" 0 "default camera vs depthao process"
-# fov properties in radians: the doubles depthao process makes of --fov 66,50 (degrees)
+# the deprecated fov properties in radians: the doubles depthao process makes of --fov 66,50
+# (degrees; hfov-deg/vfov-deg are tested in test_gst_color.py)
 hfov=$(awk 'BEGIN { printf "%.17g", 66 * (3.14159265358979323846 / 180.0) }')
 vfov=$(awk 'BEGIN { printf "%.17g", 50 * (3.14159265358979323846 / 180.0) }')
 gst fov.raw GRAY16_LE hfov="$hfov" vfov="$vfov"

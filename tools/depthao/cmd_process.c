@@ -32,7 +32,8 @@ static void usage(FILE *out)
 	stream = def;
 	dao_params_stream_defaults(&stream);
 	fprintf(out,
-		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH] [options]\n"
+		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH]\n"
+		"                       [--overlay-out DIR] [options]\n"
 		"\n"
 		"Computes ambient occlusion for a 16-bit depth PNG, for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
@@ -53,6 +54,10 @@ static void usage(FILE *out)
 		"  --realtime                recordings: pace frames by their timestamps\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
+		"  --overlay-out DIR         recordings and devices with colour: the colour image\n"
+		"                            darkened by the AO (8-bit RGB PNG, the depth's size;\n"
+		"                            colour of the depth's aspect ratio is scaled, others\n"
+		"                            are refused); a depth-only input is an error\n"
 		"  --depth-unit M            PNG input and 16-bit bag topics: metres per count\n"
 		"                            (default 0.001; TUM: 0.0002); .oni and RealSense\n"
 		"                            recordings carry their own unit\n"
@@ -166,7 +171,8 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 			const char **dst;
 		} strings[] = {
 			{ "--input", &o->input }, { "--ao-out", &o->ao_out },
-			{ "--shaded-out", &o->shaded_out }, { "--intrinsics", &o->intrinsics },
+			{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
+			{ "--intrinsics", &o->intrinsics },
 			{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 		};
 		int matched = 0;
@@ -242,8 +248,13 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 	}
 	if (!o->input)
 		return usage_error("process", "--input is required");
-	if (!o->ao_out && !o->shaded_out)
-		return usage_error("process", "nothing to write: give --ao-out and/or --shaded-out");
+	if (!o->ao_out && !o->shaded_out && !o->overlay_out)
+		return usage_error("process", "nothing to write: give --ao-out, --shaded-out and/or "
+				   "--overlay-out");
+	if (o->overlay_out && !process_input_is_stream(o->input))
+		return usage_error("process", "--overlay-out needs colour, and '%s' is depth-only PNG "
+				   "input: give a recording or device with colour (.oni, .bag, "
+				   "openni2:...)", o->input);
 	if (!!o->intrinsics + !!o->fov + !!o->intrinsics_file > 1)
 		return usage_error("process",
 				   "give only one of --intrinsics, --fov and --intrinsics-file");
@@ -359,9 +370,10 @@ double process_now_ms(void)
 
 
 int process_depth(const struct process_options *o, struct run_state *st,
-		  const struct dao_frame *depth, const char *ao_path, const char *shaded_path,
-		  uint64_t index)
+		  const struct dao_frame *depth, const struct dao_frame *color,
+		  const struct process_paths *paths, uint64_t index)
 {
+	const char *ao_path = paths->ao, *shaded_path = paths->shaded;
 	struct dao_error err;
 	const struct dao_camera *cam = dao_context_camera(st->ctx);
 	if (depth->width != cam->width || depth->height != cam->height) {
@@ -381,6 +393,16 @@ int process_depth(const struct process_options *o, struct run_state *st,
 		if (!r)
 			r = dao_png_write(shaded_path, &st->rgb, &err);
 	}
+	if (!r && paths->overlay) {
+		if (!color || color->format != DAO_PIXFMT_RGB24) {
+			fprintf(stderr, "depthao: frame %llu came without its colour image\n",
+				(unsigned long long)index);
+			return 1;
+		}
+		r = dao_overlay(color, &st->ao, &st->overlay, &err);
+		if (!r)
+			r = dao_png_write(paths->overlay, &st->overlay, &err);
+	}
 	if (r) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
@@ -397,7 +419,8 @@ static int process_one(const struct process_options *o, struct run_state *st, co
 		process_print_error(&err);
 		return 1;
 	}
-	int r = process_depth(o, st, &depth, ao_path, shaded_path, index);
+	struct process_paths paths = { ao_path, shaded_path, NULL };
+	int r = process_depth(o, st, &depth, NULL, &paths, index);
 	dao_frame_free(&depth);
 	return r;
 }

@@ -14,7 +14,7 @@
 
 struct process_options {
 	const char *input;
-	const char *ao_out, *shaded_out;
+	const char *ao_out, *shaded_out, *overlay_out;
 	double depth_unit;
 	const char *intrinsics, *fov, *intrinsics_file;
 	double k[4];   /* parsed --intrinsics */
@@ -30,7 +30,7 @@ struct process_options {
 
 struct run_state {
 	struct dao_context *ctx;
-	struct dao_frame ao, rgb;
+	struct dao_frame ao, rgb, overlay;
 	double ms_total;
 	size_t frames;
 };
@@ -48,10 +48,18 @@ int process_ensure_dir(const char *path);
 int process_resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
 			   uint32_t h, const struct dao_source_info *src, struct dao_camera *cam);
 
-/* AO (and shading) of one depth frame, written to the paths that are not NULL. */
+/* The output paths of one frame; NULL where that output is not wanted. */
+struct process_paths {
+	const char *ao, *shaded, *overlay;
+};
+
+/*
+ * AO (and shading, and the overlay of `color` when paths->overlay) of one
+ * depth frame, written to the paths that are not NULL.
+ */
 int process_depth(const struct process_options *o, struct run_state *st,
-		  const struct dao_frame *depth, const char *ao_path, const char *shaded_path,
-		  uint64_t index);
+		  const struct dao_frame *depth, const struct dao_frame *color,
+		  const struct process_paths *paths, uint64_t index);
 
 /* Input that goes through a source plugin: "NAME:URI" or a path ending in .oni. */
 int process_input_is_stream(const char *input);

@@ -80,14 +80,17 @@ static int run(const struct process_options *o, struct dao_source *src,
 		empty = 0;
 		uint64_t index = si->live ? done : f.index;
 		char *ao = numbered(o->ao_out, index), *sh = numbered(o->shaded_out, index);
-		if ((o->ao_out && !ao) || (o->shaded_out && !sh)) {
+		char *ov = numbered(o->overlay_out, index);
+		if ((o->ao_out && !ao) || (o->shaded_out && !sh) || (o->overlay_out && !ov)) {
 			fprintf(stderr, "depthao: out of memory\n");
 			status = 1;
 		} else {
-			status = process_depth(o, st, &f.depth, ao, sh, o->frame_index + index);
+			struct process_paths paths = { ao, sh, ov };
+			status = process_depth(o, st, &f.depth, &f.color, &paths, o->frame_index + index);
 		}
 		free(ao);
 		free(sh);
+		free(ov);
 		dao_source_release(src, &f);
 		done++;
 		progress_update(&bar, (size_t)done, st->ms_total / (double)(st->frames ? st->frames : 1));
@@ -108,6 +111,7 @@ int process_stream(const struct process_options *o)
 		.size = sizeof(struct dao_source_options),
 		.playback = o->realtime ? DAO_PLAYBACK_REALTIME : DAO_PLAYBACK_MANUAL,
 		.start_frame = o->start,
+		.want_color = o->overlay_out != NULL,
 		.depth_unit = (float)o->depth_unit,
 	};
 	/* the built-in sources first: a recording then costs no plugin modules (OpenCV and
@@ -149,14 +153,31 @@ int process_stream(const struct process_options *o)
 		fprintf(stderr, "depthao: %s\n", si.description);
 	if (si.warning[0])
 		fprintf(stderr, "depthao: warning: %s\n", si.warning);
+	if (o->overlay_out && !si.has_color) {
+		fprintf(stderr, "depthao: --overlay-out needs colour, and '%s' delivers depth only "
+			"(%s): give a recording or device with a colour stream, or leave out "
+			"--overlay-out\n", o->input, si.description);
+		goto out;
+	}
+	if (o->overlay_out && dao_overlay_check(si.color_width, si.color_height, si.width,
+						si.height, &err) < 0) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		goto out;
+	}
+	if (o->overlay_out && !si.registered && !o->quiet)
+		fprintf(stderr, "depthao: warning: the depth is not registered to the colour camera "
+			"(or the source cannot tell): the overlay is offset by the parallax between "
+			"the two cameras\n");
 	struct dao_camera cam;
 	if ((status = process_resolve_camera(o, 0, si.width, si.height, &si, &cam)))
 		goto out;
 	status = 1;
 	if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
-	    (o->shaded_out && process_ensure_dir(o->shaded_out)))
+	    (o->shaded_out && process_ensure_dir(o->shaded_out)) ||
+	    (o->overlay_out && process_ensure_dir(o->overlay_out)))
 		goto out;
 	if (dao_context_create(&st.ctx, &cam, &o->params, &err) ||
+	    dao_frame_alloc(&st.overlay, DAO_PIXFMT_RGB24, si.width, si.height, &err) ||
 	    dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, si.width, si.height, &err) ||
 	    dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, si.width, si.height, &err) ||
 	    dao_source_start(src, &err)) {
@@ -175,12 +196,16 @@ int process_stream(const struct process_options *o)
 			fprintf(stderr, " %s", o->ao_out);
 		if (o->shaded_out)
 			fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
+		if (o->overlay_out)
+			fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ",
+				o->overlay_out);
 		fputc('\n', stderr);
 	}
 out:
 	dao_source_close(src);
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);
+	dao_frame_free(&st.overlay);
 	dao_context_destroy(st.ctx);
 	dao_plugins_free(plugins);
 	return status;

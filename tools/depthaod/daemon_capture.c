@@ -34,6 +34,33 @@ static int source_names_file(const char *uri)
 	return !prefixed && memchr(rest, '/', n) && strncmp(rest, "/dev/", 5) != 0;
 }
 
+/*
+ * An overlay sink needs colour that can be laid over the depth: a depth-only
+ * source, or colour of another aspect ratio, is an error at start (never an
+ * overlay sink that silently gets nothing).
+ */
+static int overlay_refused(struct daemon *d, const struct dao_source_info *in)
+{
+	struct dao_error err = {0};
+	if (!in->has_color) {
+		log_error("source %s delivers depth only (%s), but a sink asks for the overlay "
+			  "stream (AO over colour): use a source with colour (an .oni or bag "
+			  "recording with a colour stream, openni2:any) or another stream for that "
+			  "sink%s%s", d->cfg.source_uri, in->description, in->warning[0] ? "; " : "",
+			  in->warning);
+		return 1;
+	}
+	if (dao_overlay_check(in->color_width, in->color_height, in->width, in->height, &err) < 0) {
+		log_error("source %s: %s", d->cfg.source_uri, err.message);
+		return 1;
+	}
+	if (!in->registered)
+		log_warn("source %s: the depth is not registered to the colour camera (or the "
+			 "source cannot tell): the overlay is offset by the parallax between the "
+			 "two cameras", d->cfg.source_uri);
+	return 0;
+}
+
 /* The source opened and started; NULL after a failure (waited out, or fatal: d->failed). */
 static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int first)
 {
@@ -74,6 +101,11 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	*backoff = d->cfg.retry_initial_ms;
 	struct dao_source_info in;
 	dao_source_get_info(src, &in);
+	if (d->wants[STREAM_OVERLAY] && overlay_refused(d, &in)) {
+		dao_source_close(src);
+		atomic_store(&d->failed, 1);
+		return NULL;
+	}
 	pthread_mutex_lock(&d->lock);
 	d->src_info = in;
 	d->have_src_info = 1;

@@ -53,22 +53,6 @@ static void ao_to_8bit(const struct dao_frame *a, struct dao_frame *b)
 	}
 }
 
-/* The source's colour darkened by the AO (same size only). */
-static int overlay(const struct dao_frame *color, const struct dao_frame *ao, struct dao_frame *out)
-{
-	if (color->format != DAO_PIXFMT_RGB24 || color->width != ao->width ||
-	    color->height != ao->height)
-		return -1;
-	for (uint32_t y = 0; y < ao->height; y++) {
-		const uint8_t *c = (const uint8_t *)color->data + (size_t)y * (size_t)color->stride;
-		const uint16_t *a = (const uint16_t *)((const uint8_t *)ao->data + (size_t)y * (size_t)ao->stride);
-		uint8_t *o = (uint8_t *)out->data + (size_t)y * (size_t)out->stride;
-		for (uint32_t x = 0; x < 3 * ao->width; x++)
-			o[x] = (uint8_t)(((uint32_t)c[x] * a[x / 3] + 32767u) / 65535u);
-	}
-	return 0;
-}
-
 static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *o, int have_overlay)
 {
 	for (unsigned i = 0; i < d->nsinks; i++) {
@@ -203,7 +187,7 @@ void *process_main(void *arg)
 			if (d->wants[STREAM_AO8])
 				ao_to_8bit(&o.ao16, &o.ao8);
 			if (d->wants[STREAM_OVERLAY] && in->color.format == DAO_PIXFMT_RGB24)
-				have_overlay = overlay(&in->color, &o.ao16, &o.overlay) == 0;
+				have_overlay = dao_overlay(&in->color, &o.ao16, &o.overlay, &err) == 0;
 		}
 		atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);
 		if (r < 0) {
