@@ -28,7 +28,8 @@ int main(int argc, char **argv)
 	size_t n = strlen(argv[1]);
 	int is_oni = n > 4 && !strcmp(argv[1] + n - 4, ".oni") && strncmp(argv[1], "oni:", 4);
 	snprintf(uri, sizeof uri, "%s%s", is_oni ? "oni:" : "", argv[1]);
-	struct dao_source_options so = {.want_color = 1};
+	struct dao_source_options so = DAO_SOURCE_OPTIONS_INIT;
+	so.want_color = 1;
 	if (dao_plugins_load(&plugins, "", &err) || dao_source_open(plugins, uri, &so, &src, &err) ||
 	    dao_source_start(src, &err)) {
 		fprintf(stderr, "%s\n", err.message);
