@@ -21,6 +21,7 @@
 #include <depthao/cpu.h>
 #include <depthao/context.h>
 #include <depthao/png.h>
+#include <depthao/ply.h>
 #include <depthao/oni.h>
 #include <depthao/plugin.h>
 

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -32,7 +33,8 @@ static void usage(FILE *out)
 	stream = def;
 	dao_params_stream_defaults(&stream);
 	fprintf(out,
-		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH] [options]\n"
+		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH]\n"
+		"                       [--cloud-out DIR|FILE.ply] [options]\n"
 		"\n"
 		"Computes ambient occlusion for a 16-bit depth PNG, for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
@@ -53,6 +55,11 @@ static void usage(FILE *out)
 		"  --realtime                recordings: pace frames by their timestamps\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
+		"  --cloud-out DIR|FILE.ply  point clouds: binary PLY of the pixels with depth, x y z\n"
+		"                            in metres (optical frame: x right, y down, z forward),\n"
+		"                            the AO as grey colour and as the property scalar_ao;\n"
+		"                            a directory gets one file per frame (NAME.ply, or\n"
+		"                            000000.ply ... for recordings), FILE.ply one frame only\n"
 		"  --depth-unit M            PNG input and 16-bit bag topics: metres per count\n"
 		"                            (default 0.001; TUM: 0.0002); .oni and RealSense\n"
 		"                            recordings carry their own unit\n"
@@ -166,7 +173,8 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 			const char **dst;
 		} strings[] = {
 			{ "--input", &o->input }, { "--ao-out", &o->ao_out },
-			{ "--shaded-out", &o->shaded_out }, { "--intrinsics", &o->intrinsics },
+			{ "--shaded-out", &o->shaded_out }, { "--cloud-out", &o->cloud_out },
+			{ "--intrinsics", &o->intrinsics },
 			{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 		};
 		int matched = 0;
@@ -242,8 +250,9 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 	}
 	if (!o->input)
 		return usage_error("process", "--input is required");
-	if (!o->ao_out && !o->shaded_out)
-		return usage_error("process", "nothing to write: give --ao-out and/or --shaded-out");
+	if (!o->ao_out && !o->shaded_out && !o->cloud_out)
+		return usage_error("process",
+				   "nothing to write: give --ao-out, --shaded-out and/or --cloud-out");
 	if (!!o->intrinsics + !!o->fov + !!o->intrinsics_file > 1)
 		return usage_error("process",
 				   "give only one of --intrinsics, --fov and --intrinsics-file");
@@ -358,10 +367,39 @@ double process_now_ms(void)
 }
 
 
-int process_depth(const struct process_options *o, struct run_state *st,
-		  const struct dao_frame *depth, const char *ao_path, const char *shaded_path,
-		  uint64_t index)
+int process_cloud_is_file(const struct process_options *o)
 {
+	size_t n = o->cloud_out ? strlen(o->cloud_out) : 0;
+	return n > 4 && !strcasecmp(o->cloud_out + n - 4, ".ply");
+}
+
+int process_check_cloud_frames(const struct process_options *o, uint64_t frames, int stream)
+{
+	if (frames <= 1 || !process_cloud_is_file(o))
+		return 0;
+	return usage_error("process",
+			   "--cloud-out '%s' is one file, but the input has %llu frames: give a "
+			   "directory (one .ply per frame)%s", o->cloud_out,
+			   (unsigned long long)frames, stream ? " or --frames 1" : "");
+}
+
+char *process_cloud_name(const char *dir, const char *input_name)
+{
+	const char *base = path_basename(input_name);
+	const char *dot = strrchr(base, '.');
+	size_t n = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+	char name[512];
+	if (n > sizeof name - 5)
+		n = sizeof name - 5;
+	memcpy(name, base, n);
+	memcpy(name + n, ".ply", 5);
+	return path_join(dir, name);
+}
+
+int process_depth(const struct process_options *o, struct run_state *st,
+		  const struct dao_frame *depth, const struct frame_paths *out, uint64_t index)
+{
+	const char *ao_path = out->ao, *shaded_path = out->shaded;
 	struct dao_error err;
 	const struct dao_camera *cam = dao_context_camera(st->ctx);
 	if (depth->width != cam->width || depth->height != cam->height) {
@@ -381,6 +419,8 @@ int process_depth(const struct process_options *o, struct run_state *st,
 		if (!r)
 			r = dao_png_write(shaded_path, &st->rgb, &err);
 	}
+	if (!r && out->cloud)
+		r = dao_ply_write(out->cloud, cam, depth, &st->ao, NULL, &err);
 	if (r) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
@@ -389,7 +429,7 @@ int process_depth(const struct process_options *o, struct run_state *st,
 }
 
 static int process_one(const struct process_options *o, struct run_state *st, const char *in,
-		       const char *ao_path, const char *shaded_path, uint64_t index)
+		       const struct frame_paths *out, uint64_t index)
 {
 	struct dao_error err;
 	struct dao_frame depth;
@@ -397,7 +437,7 @@ static int process_one(const struct process_options *o, struct run_state *st, co
 		process_print_error(&err);
 		return 1;
 	}
-	int r = process_depth(o, st, &depth, ao_path, shaded_path, index);
+	int r = process_depth(o, st, &depth, out, index);
 	dao_frame_free(&depth);
 	return r;
 }
@@ -445,11 +485,19 @@ int cmd_process(int argc, char **argv)
 			fprintf(stderr, "depthao: no *.png files in '%s'\n", o.input);
 			return 1;
 		}
+		if ((status = process_check_cloud_frames(&o, files.count, 0))) {
+			file_list_free(&files);
+			return status;
+		}
 		if ((o.ao_out && process_ensure_dir(o.ao_out)) ||
 		    (o.shaded_out && process_ensure_dir(o.shaded_out))) {
 			file_list_free(&files);
 			return 1;
 		}
+	}
+	if (o.cloud_out && !process_cloud_is_file(&o) && process_ensure_dir(o.cloud_out)) {
+		file_list_free(&files);
+		return 1;
 	}
 	char *first = is_dir ? path_join(o.input, files.names[0]) : strdup(o.input);
 	uint32_t w = 0, h = 0;
@@ -470,7 +518,11 @@ int cmd_process(int argc, char **argv)
 		goto out;
 
 	if (!is_dir) {
-		status = process_one(&o, &st, o.input, o.ao_out, o.shaded_out, o.frame_index);
+		char *cloud = o.cloud_out && !process_cloud_is_file(&o)
+				      ? process_cloud_name(o.cloud_out, o.input) : NULL;
+		struct frame_paths out = { o.ao_out, o.shaded_out, cloud ? cloud : o.cloud_out };
+		status = process_one(&o, &st, o.input, &out, o.frame_index);
+		free(cloud);
 	} else {
 		struct progress bar;
 		progress_begin(&bar, files.count, o.quiet);
@@ -478,15 +530,21 @@ int cmd_process(int argc, char **argv)
 			char *in = path_join(o.input, files.names[i]);
 			char *ao = o.ao_out ? path_join(o.ao_out, files.names[i]) : NULL;
 			char *sh = o.shaded_out ? path_join(o.shaded_out, files.names[i]) : NULL;
-			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh)) {
+			char *pc = o.cloud_out ? (process_cloud_is_file(&o)
+							  ? strdup(o.cloud_out)
+							  : process_cloud_name(o.cloud_out, files.names[i]))
+					       : NULL;
+			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh) || (o.cloud_out && !pc)) {
 				fprintf(stderr, "depthao: out of memory\n");
 				status = 1;
 			} else {
-				status = process_one(&o, &st, in, ao, sh, o.frame_index + i);
+				struct frame_paths out = { ao, sh, pc };
+				status = process_one(&o, &st, in, &out, o.frame_index + i);
 			}
 			free(in);
 			free(ao);
 			free(sh);
+			free(pc);
 			progress_update(&bar, i + 1, st.ms_total / (double)(st.frames ? st.frames : 1));
 		}
 		progress_end(&bar);
@@ -498,6 +556,8 @@ int cmd_process(int argc, char **argv)
 			fprintf(stderr, " %s", o.ao_out);
 		if (o.shaded_out)
 			fprintf(stderr, "%s%s", o.ao_out ? " and " : " ", o.shaded_out);
+		if (o.cloud_out)
+			fprintf(stderr, "%s%s", o.ao_out || o.shaded_out ? " and " : " ", o.cloud_out);
 		fputc('\n', stderr);
 	}
 out:
