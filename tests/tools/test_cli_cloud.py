@@ -25,7 +25,7 @@ except ImportError:
     print("SKIP: numpy is not installed (python3-numpy)")
     sys.exit(77)
 
-CLI = sys.argv[1]
+CLI = None
 ROOT = os.environ.get("DAO_SOURCE_ROOT", os.path.join(os.path.dirname(__file__), "..", ".."))
 FX, FY, CX, CY = 61.0, 58.5, 30.25, 22.75
 UNIT = 0.0005
@@ -140,84 +140,90 @@ def scene():
     return d
 
 
-with tempfile.TemporaryDirectory() as tmp:
-    depth = scene()
-    png = os.path.join(tmp, "d.png")
-    write_png16(png, depth)
-    ply = os.path.join(tmp, "cloud.ply")
-    aopng = os.path.join(tmp, "ao.png")
-    intr = "--intrinsics=%r,%r,%r,%r" % (FX, FY, CX, CY)
-    run("--input", png, intr, "--depth-unit", str(UNIT), "--ao-out", aopng, "--cloud-out", ply)
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        depth = scene()
+        png = os.path.join(tmp, "d.png")
+        write_png16(png, depth)
+        ply = os.path.join(tmp, "cloud.ply")
+        aopng = os.path.join(tmp, "ao.png")
+        intr = "--intrinsics=%r,%r,%r,%r" % (FX, FY, CX, CY)
+        run("--input", png, intr, "--depth-unit", str(UNIT), "--ao-out", aopng, "--cloud-out", ply)
 
-    v, names = read_ply(ply)
-    check(names == ["x", "y", "z", "red", "green", "blue", "scalar_ao"],
-          "PLY properties x y z red green blue scalar_ao (%s)" % " ".join(names))
-    rows, cols = np.nonzero(depth)
-    check(len(v) == len(rows) == int(np.count_nonzero(depth)),
-          "one vertex per pixel with depth: %d of %d pixels" % (len(v), depth.size))
-    z = depth[rows, cols] * np.float64(np.float32(UNIT))
-    want = np.stack([(cols - CX) / FX * z, (rows - CY) / FY * z, z], axis=1)
-    got = np.stack([v["x"], v["y"], v["z"]], axis=1).astype(np.float64)
-    err = np.abs(got - want).max()
-    check(err <= 1e-6, "x y z = back-projection of the depth, row order (max error %.2g m)" % err)
-    ao16 = read_png16(aopng)
-    vis = ao16[rows, cols] / 65535.0
-    err = np.abs(v["scalar_ao"] - vis).max()
-    check(err <= 1e-6, "scalar_ao = the AO PNG's visibility (max error %.2g)" % err)
-    check(vis.min() < 0.97 and len(np.unique(vis)) > 50,
-          "the scene has occlusion (AO down to %.3f)" % vis.min())
-    grey = np.round(v["scalar_ao"].astype(np.float64) * 255)
-    check(np.array_equal(v["red"], grey) and np.array_equal(v["green"], grey) and
-          np.array_equal(v["blue"], grey), "colour = grey round(visibility x 255)")
+        v, names = read_ply(ply)
+        check(names == ["x", "y", "z", "red", "green", "blue", "scalar_ao"],
+              "PLY properties x y z red green blue scalar_ao (%s)" % " ".join(names))
+        rows, cols = np.nonzero(depth)
+        check(len(v) == len(rows) == int(np.count_nonzero(depth)),
+              "one vertex per pixel with depth: %d of %d pixels" % (len(v), depth.size))
+        z = depth[rows, cols] * np.float64(np.float32(UNIT))
+        want = np.stack([(cols - CX) / FX * z, (rows - CY) / FY * z, z], axis=1)
+        got = np.stack([v["x"], v["y"], v["z"]], axis=1).astype(np.float64)
+        err = np.abs(got - want).max()
+        check(err <= 1e-6, "x y z = back-projection of the depth, row order (max error %.2g m)" % err)
+        ao16 = read_png16(aopng)
+        vis = ao16[rows, cols] / 65535.0
+        err = np.abs(v["scalar_ao"] - vis).max()
+        check(err <= 1e-6, "scalar_ao = the AO PNG's visibility (max error %.2g)" % err)
+        check(vis.min() < 0.97 and len(np.unique(vis)) > 50,
+              "the scene has occlusion (AO down to %.3f)" % vis.min())
+        grey = np.round(v["scalar_ao"].astype(np.float64) * 255)
+        check(np.array_equal(v["red"], grey) and np.array_equal(v["green"], grey) and
+              np.array_equal(v["blue"], grey), "colour = grey round(visibility x 255)")
 
-    try:
-        import open3d as o3d
-    except ImportError:
-        print("SKIP (part): Open3D is not installed (python3-open3d); read back with numpy only")
-        o3d = None
-    if o3d is not None:
-        pc = o3d.io.read_point_cloud(ply)
-        pts = np.asarray(pc.points)
-        check(pts.shape == (len(v), 3), "Open3D reads %d points" % len(pts))
-        check(np.abs(pts - want).max() <= 1e-6, "Open3D: the same coordinates")
-        cols3 = np.asarray(pc.colors)
-        check(pc.has_colors() and np.abs(cols3 - grey[:, None] / 255).max() <= 1e-6,
-              "Open3D: the AO as colour")
+        try:
+            import open3d as o3d
+        except ImportError:
+            print("SKIP (part): Open3D is not installed (python3-open3d); read back with numpy only")
+            o3d = None
+        if o3d is not None:
+            pc = o3d.io.read_point_cloud(ply)
+            pts = np.asarray(pc.points)
+            check(pts.shape == (len(v), 3), "Open3D reads %d points" % len(pts))
+            check(np.abs(pts - want).max() <= 1e-6, "Open3D: the same coordinates")
+            cols3 = np.asarray(pc.colors)
+            check(pc.has_colors() and np.abs(cols3 - grey[:, None] / 255).max() <= 1e-6,
+                  "Open3D: the AO as colour")
 
-    # a directory of PNGs: one NAME.ply per file; one .ply for several frames is an error
-    d2 = os.path.join(tmp, "seq")
-    os.mkdir(d2)
-    write_png16(os.path.join(d2, "a.png"), depth)
-    write_png16(os.path.join(d2, "b.png"), np.where(depth > 0, depth // 2, 0).astype(np.uint16))
-    out = os.path.join(tmp, "clouds")
-    run("--input", d2, intr, "--depth-unit", str(UNIT), "--cloud-out", out)
-    check(sorted(os.listdir(out)) == ["a.ply", "b.ply"], "a directory: a.ply, b.ply and nothing "
-          "else (%s)" % sorted(os.listdir(out)))
-    vb, _ = read_ply(os.path.join(out, "b.ply"))
-    check(np.abs(vb["z"] * 2 - v["z"]).max() < UNIT, "b.ply holds the second frame")
-    msg = run("--input", d2, intr, "--cloud-out", os.path.join(tmp, "one.ply"), expect=2)
-    check("give a directory" in msg and not os.path.exists(os.path.join(tmp, "one.ply")),
-          "several PNGs into one FILE.ply: usage error naming a directory, nothing written")
+        # a directory of PNGs: one NAME.ply per file; one .ply for several frames is an error
+        d2 = os.path.join(tmp, "seq")
+        os.mkdir(d2)
+        write_png16(os.path.join(d2, "a.png"), depth)
+        write_png16(os.path.join(d2, "b.png"), np.where(depth > 0, depth // 2, 0).astype(np.uint16))
+        out = os.path.join(tmp, "clouds")
+        run("--input", d2, intr, "--depth-unit", str(UNIT), "--cloud-out", out)
+        check(sorted(os.listdir(out)) == ["a.ply", "b.ply"], "a directory: a.ply, b.ply and nothing "
+              "else (%s)" % sorted(os.listdir(out)))
+        vb, _ = read_ply(os.path.join(out, "b.ply"))
+        check(np.abs(vb["z"] * 2 - v["z"]).max() < UNIT, "b.ply holds the second frame")
+        msg = run("--input", d2, intr, "--cloud-out", os.path.join(tmp, "one.ply"), expect=2)
+        check("give a directory" in msg and not os.path.exists(os.path.join(tmp, "one.ply")),
+              "several PNGs into one FILE.ply: usage error naming a directory, nothing written")
 
-    # a recording: 000000.ply ...; FILE.ply with --frames 1 only
-    oni = os.path.join(ROOT, "recordings", "spheres-rolling.oni")
-    out = os.path.join(tmp, "rec")
-    run("--input", oni, "--frames", "2", "--cloud-out", out)
-    check(sorted(os.listdir(out)) == ["000000.ply", "000001.ply"],
-          "a recording: 000000.ply, 000001.ply")
-    msg = run("--input", oni, "--cloud-out", os.path.join(tmp, "rec.ply"), expect=2)
-    check("--frames 1" in msg, "a recording into one FILE.ply: usage error suggesting --frames 1")
-    run("--input", oni, "--frames", "1", "--start", "1", "--cloud-out",
-        os.path.join(tmp, "rec.ply"))
-    v1, _ = read_ply(os.path.join(tmp, "rec.ply"))
-    v0, _ = read_ply(os.path.join(out, "000001.ply"))
-    check(np.array_equal(v0[["x", "y", "z"]], v1[["x", "y", "z"]]),
-          "--start 1 --frames 1 into FILE.ply = frame 1 of the directory run")
+        # a recording: 000000.ply ...; FILE.ply with --frames 1 only
+        oni = os.path.join(ROOT, "recordings", "spheres-rolling.oni")
+        out = os.path.join(tmp, "rec")
+        run("--input", oni, "--frames", "2", "--cloud-out", out)
+        check(sorted(os.listdir(out)) == ["000000.ply", "000001.ply"],
+              "a recording: 000000.ply, 000001.ply")
+        msg = run("--input", oni, "--cloud-out", os.path.join(tmp, "rec.ply"), expect=2)
+        check("--frames 1" in msg, "a recording into one FILE.ply: usage error suggesting --frames 1")
+        run("--input", oni, "--frames", "1", "--start", "1", "--cloud-out",
+            os.path.join(tmp, "rec.ply"))
+        v1, _ = read_ply(os.path.join(tmp, "rec.ply"))
+        v0, _ = read_ply(os.path.join(out, "000001.ply"))
+        check(np.array_equal(v0[["x", "y", "z"]], v1[["x", "y", "z"]]),
+              "--start 1 --frames 1 into FILE.ply = frame 1 of the directory run")
 
-    # written whole: a FIFO is written straight into, a directory named FILE.ply is refused
-    os.mkdir(os.path.join(tmp, "dir.ply"))
-    msg = run("--input", png, intr, "--cloud-out", os.path.join(tmp, "dir.ply"), expect=1)
-    check("dir.ply" in msg, "a directory named FILE.ply: an error naming it")
-    leftovers = [n for n in os.listdir(tmp) if n.startswith(".")]
-    check(not leftovers, "no temporary files left (%s)" % leftovers)
-print("PASS")
+        # written whole: a FIFO is written straight into, a directory named FILE.ply is refused
+        os.mkdir(os.path.join(tmp, "dir.ply"))
+        msg = run("--input", png, intr, "--cloud-out", os.path.join(tmp, "dir.ply"), expect=1)
+        check("dir.ply" in msg, "a directory named FILE.ply: an error naming it")
+        leftovers = [n for n in os.listdir(tmp) if n.startswith(".")]
+        check(not leftovers, "no temporary files left (%s)" % leftovers)
+    print("PASS")
+
+
+if __name__ == "__main__":
+    CLI = sys.argv[1]
+    main()

@@ -1,9 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * Camera intrinsics files in Open3D's PinholeCameraIntrinsic JSON format:
+ * Camera intrinsics files: Open3D's PinholeCameraIntrinsic JSON
  *   { "width": 640, "height": 480,
  *     "intrinsic_matrix": [fx, 0, 0, 0, fy, 0, cx, cy, 1] }   (column-major K)
- * as used by the Redwood and RealSense data in ../shared/data.
+ * as used by the Redwood and RealSense data in ../shared/data, and ROS
+ * CameraInfo YAML (camera_info_manager's format, camera_info_yaml.h).  A
+ * name ending in .yaml/.yml is YAML, .json JSON, else a file starting with
+ * '{' is JSON and any other YAML.
  */
 #ifndef DAO_TOOLS_CAMERA_FILE_H
 #define DAO_TOOLS_CAMERA_FILE_H
@@ -12,7 +15,16 @@
 
 struct json_object;
 
-/* Reads a camera file.  On error returns -1 with a message naming the file and the problem. */
+/*
+ * Reads a camera file.  On error returns -1 with a message naming the file and
+ * the problem.  `warning` (may be NULL) gets what the caller should tell the
+ * user, or "": a CameraInfo with distortion (the depth must be rectified; its
+ * projection matrix's intrinsics are used then), a skewed K.
+ */
+int camera_file_load(const char *path, struct dao_camera *cam, char *warning, size_t wlen,
+		     char *msg, size_t len);
+
+/* camera_file_load() that prints the warning to stderr ("depthao: warning: ..."). */
 int camera_file_read(const char *path, struct dao_camera *cam, char *msg, size_t len);
 
 /*

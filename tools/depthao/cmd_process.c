@@ -69,9 +69,12 @@ static void usage(FILE *out)
 		"  --intrinsics FX,FY,CX,CY  pinhole intrinsics in pixels\n"
 		"  --fov H,V                 field of view in degrees (OpenNI style)\n"
 		"  --intrinsics-file FILE    Open3D camera JSON (width, height, intrinsic_matrix)\n"
+		"                            or ROS CameraInfo YAML (camera_info_manager's format;\n"
+		"                            with distortion: a warning, the depth must be\n"
+		"                            rectified, and the projection matrix is used)\n"
 		"                            without any of these: the recording's intrinsics (a\n"
-		"                            bag's CameraInfo) or field of view,\n"
-		"                            or camera.json beside PNG input, else a %.1f x %.1f\n"
+		"                            bag's CameraInfo) or field of view, or camera.json\n"
+		"                            (else camera.yaml) beside PNG input, else a %.1f x %.1f\n"
 		"                            degree field of view\n"
 		"  --quality Q               preset: low, medium, high, ultra, default (= medium)\n"
 		"  --frame-index N           noise pattern of the first frame (default 0)\n"
@@ -308,6 +311,11 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 		int in_dir = src ? path_is_dir(in) == 1 : input_is_dir;
 		char *dir = in_dir ? strdup(in) : path_dirname(in);
 		auto_file = dir ? path_join(dir, "camera.json") : NULL;
+		if (auto_file && access(auto_file, F_OK) != 0) {
+			/* else a ROS CameraInfo */
+			free(auto_file);
+			auto_file = dir ? path_join(dir, "camera.yaml") : NULL;
+		}
 		free(dir);
 		if (auto_file && access(auto_file, R_OK) == 0) {
 			file = auto_file;
