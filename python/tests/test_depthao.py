@@ -781,3 +781,22 @@ def test_type_stubs_cover_the_api():
         for m in vars(cls):
             if not m.startswith("_"):
                 assert m in members, "%s.%s is not in __init__.pyi" % (cls.__name__, m)
+
+
+def test_open_bag(tmp_path):
+    """A ROS bag written by rosbag (tests/bag/make_bags.py): depthao.open() takes it
+    with its CameraInfo's intrinsics; its frames equal the PNGs written beside it."""
+    make = os.path.join(SOURCE_ROOT, "tests", "bag", "make_bags.py")
+    py = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+    p = subprocess.run([py, make, str(tmp_path)], capture_output=True, text=True)
+    if p.returncode == 77:
+        pytest.skip(p.stdout.strip())
+    assert p.returncode == 0, p.stdout + p.stderr
+    with depthao.open(str(tmp_path / "d16_lz4.bag")) as src:
+        cam = src.camera()
+        frames = list(src)
+    want = depthao.Camera.from_file(tmp_path / "png" / "camera.json")
+    assert cam == want and src.info["intrinsics"] == (want.fx, want.fy, want.cx, want.cy)
+    assert [i for i, _, _ in frames] == list(range(len(frames))) and len(frames) == 5
+    for i, d, info in frames:
+        assert np.array_equal(d, depthao.read_png_depth(tmp_path / "png" / ("%06d.png" % i)))
