@@ -215,7 +215,14 @@ def main():
         check(np.array_equal(v0[["x", "y", "z"]], v1[["x", "y", "z"]]),
               "--start 1 --frames 1 into FILE.ply = frame 1 of the directory run")
 
-        # written whole: a FIFO is written straight into, a directory named FILE.ply is refused
+        # a pipe (/dev/stdout): written straight into, the same bytes as the file
+        p = subprocess.run([CLI, "process", "--quiet", "--input", png, intr, "--depth-unit",
+                            str(UNIT), "--cloud-out", "/dev/stdout"], capture_output=True)
+        check(p.returncode == 0 and p.stdout == open(ply, "rb").read(),
+              "--cloud-out /dev/stdout on a pipe: the same %d bytes as the file"
+              % len(p.stdout))
+
+        # written whole: a directory named FILE.ply is refused
         os.mkdir(os.path.join(tmp, "dir.ply"))
         msg = run("--input", png, intr, "--cloud-out", os.path.join(tmp, "dir.ply"), expect=1)
         check("dir.ply" in msg, "a directory named FILE.ply: an error naming it")

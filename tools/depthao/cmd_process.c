@@ -378,7 +378,11 @@ double process_now_ms(void)
 int process_cloud_is_file(const struct process_options *o)
 {
 	size_t n = o->cloud_out ? strlen(o->cloud_out) : 0;
-	return n > 4 && !strcasecmp(o->cloud_out + n - 4, ".ply");
+	struct stat st;
+	if (n > 4 && !strcasecmp(o->cloud_out + n - 4, ".ply"))
+		return 1;
+	/* a FIFO or character device (/dev/stdout on a pipe, /dev/null), an existing file */
+	return n && stat(o->cloud_out, &st) == 0 && !S_ISDIR(st.st_mode);
 }
 
 int process_check_cloud_frames(const struct process_options *o, uint64_t frames, int stream)

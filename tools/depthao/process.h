@@ -58,7 +58,8 @@ struct frame_paths {
 int process_depth(const struct process_options *o, struct run_state *st,
 		  const struct dao_frame *depth, const struct frame_paths *out, uint64_t index);
 
-/* --cloud-out names one .ply file (else a directory of them). */
+/* --cloud-out names one file (a name ending in .ply, or anything there that is not a
+ * directory: /dev/stdout, a FIFO), else a directory of them. */
 int process_cloud_is_file(const struct process_options *o);
 /* The usage error for a .ply file with `frames` frames to write (0 if frames <= 1);
  * `stream`: a recording or device (--frames applies). */
