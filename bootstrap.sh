@@ -26,6 +26,7 @@ PACKAGES=(
 	libsystemd-dev systemd groff-base man-db
 	xvfb xauth
 	python3 python3-numpy python3-pytest python3-pil python3-rosbag python3-sensor-msgs
+	python3-open3d python3-mesonpy python3-venv python3-yaml libyaml-dev
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 	python3-gi gir1.2-gstreamer-1.0

@@ -22,6 +22,7 @@
 #include <depthao/context.h>
 #include <depthao/overlay.h>
 #include <depthao/png.h>
+#include <depthao/ply.h>
 #include <depthao/oni.h>
 #include <depthao/plugin.h>
 #include <depthao/output_file.h>

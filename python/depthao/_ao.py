@@ -4,12 +4,13 @@
 import ctypes
 import math
 import numbers
+import os
 import threading
 import weakref
 
 import numpy as np
 
-from . import _frames, _lib, _params
+from . import _camera_files, _frames, _lib, _params
 from ._lib import lib
 
 
@@ -53,6 +54,37 @@ class Camera:
             float(hfov), float(vfov), ctypes.byref(err)), err)
         self._c = c
         return self
+
+    @classmethod
+    def from_matrix(cls, K, width, height):
+        """A camera from its 3x3 intrinsic matrix K = [[fx, 0, cx], [0, fy, cy],
+        [0, 0, 1]] (a numpy array, nested lists, or 9 numbers row-major as in
+        a ROS CameraInfo); ValueError for anything else."""
+        fx, fy, cx, cy = _camera_files.matrix_intrinsics(K)
+        return cls(fx, fy, cx, cy, width, height)
+
+    @classmethod
+    def from_camera_info(cls, info):
+        """A camera from a ROS CameraInfo: a path to a YAML file in
+        camera_info_manager's format (needs PyYAML), its contents as a dict,
+        or a sensor_msgs/CameraInfo message (ROS 1 K/D/P or ROS 2 k/d/p, or
+        any object with width, height and those fields).  A CameraInfo with
+        distortion gives a RuntimeWarning (the depth must be rectified) and
+        the projection matrix's intrinsics, those of the rectified image."""
+        if isinstance(info, (str, bytes, os.PathLike)):
+            path = os.fsdecode(info)
+            w, h, fx, fy, cx, cy = _camera_files.camera_info_intrinsics(
+                _camera_files.load_yaml(path), "camera file '%s'" % path)
+        else:
+            w, h, fx, fy, cx, cy = _camera_files.camera_info_intrinsics(info)
+        return cls(fx, fy, cx, cy, w, h)
+
+    @classmethod
+    def from_file(cls, path):
+        """A camera from a file as `depthao process --intrinsics-file` reads it:
+        Open3D JSON (width, height, intrinsic_matrix) or ROS CameraInfo YAML."""
+        w, h, fx, fy, cx, cy = _camera_files.file_intrinsics(path)
+        return cls(fx, fy, cx, cy, w, h)
 
     width = property(lambda self: self._c.width, doc="image width, pixels")
     height = property(lambda self: self._c.height, doc="image height, pixels")
@@ -262,7 +294,8 @@ class AO:
         """Ambient occlusion of one depth frame: float32 visibility (H, W), 1 = open.
 
         depth: numpy uint16 (H, W) counts of `unit` metres (0 = no data), or
-        float32 (H, W) metres (0, NaN, inf = no data; `unit` is ignored).  Any
+        float32 or float64 (H, W) metres (0, NaN, inf = no data; `unit` is
+        ignored; float64 is converted to float32 first, a copy).  Any
         strides: rows at a positive stride are passed as they are; other
         layouts (transposed, reversed, unaligned) are copied first.
         frame_index selects the noise pattern and tells the temporal filters
@@ -274,7 +307,10 @@ class AO:
         The GIL is released while the library works.
         """
         depth = self._check_image("depth", depth, {"u2": "uint16 (with unit)",
-                                                   "f4": "float32 (metres)"}, 1)
+                                                   "f4": "float32 (metres)",
+                                                   "f8": "float64 (metres)"}, 1)
+        if depth.dtype.kind == "f" and depth.dtype.itemsize == 8:
+            depth = depth.astype(np.float32)  # what the library takes; NaN and inf stay
         fmt = _lib.PIXFMT_DEPTH16 if depth.dtype.kind == "u" else _lib.PIXFMT_DEPTH_F32
         if fmt == _lib.PIXFMT_DEPTH16:
             unit = float(unit)

@@ -12,6 +12,7 @@ change to this package.
 import ctypes
 import ctypes.util
 import errno as _errno
+import importlib.machinery
 import os
 
 __all__ = ["lib", "path", "build_root", "check", "error_from", "new_error", "text"]
@@ -31,6 +32,12 @@ def _candidates():
         # An explicit choice is never second-guessed: it loads or it fails.
         return [("$DEPTHAO_LIBRARY", env)]
     out = []
+    # installed with pip (pyproject.toml): the package's own copy, _libdepthao.<suffix>
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        p = os.path.join(_HERE, "_libdepthao" + suffix)
+        if os.path.exists(p):
+            out.append(("the package", p))
+            break
     for d in _BUILD_DIRS:
         p = os.path.join(_SOURCE_ROOT, d, "src", "libdepthao.so")
         if os.path.exists(p):

@@ -13,7 +13,7 @@ import warnings
 
 import numpy as np
 
-from . import _frames, _lib
+from . import _camera_files, _frames, _lib
 from ._ao import Camera
 from ._lib import lib
 
@@ -150,6 +150,15 @@ class Source:
             "intrinsics": ((info.fx, info.fy, info.cx, info.cy) if info.has_intrinsics
                            else None),
         }
+        # PNG images: the camera.json (Open3D) or camera.yaml (ROS CameraInfo) beside them,
+        # as the depthao command reads it
+        self.info["camera_file"] = None
+        if self.info["intrinsics"] is None and not self.info["has_fov"]:
+            try:
+                self._camera_file()
+            except BaseException:
+                self.close()
+                raise
         if self.info["warning"]:
             # e.g. a recording whose writer crashed, recovered up to its last frame
             warnings.warn(self.info["warning"], RuntimeWarning, stacklevel=3)
@@ -159,11 +168,26 @@ class Source:
             self.close()
             raise
 
+    def _camera_file(self):
+        path = self.uri[7:] if self.uri.startswith("images:") else self.uri
+        if ":" in path.split(os.sep)[0] and not os.path.exists(path):
+            return  # another plugin's URI
+        f = _camera_files.beside(path)
+        if f is None:
+            return
+        w, h, fx, fy, cx, cy = _camera_files.file_intrinsics(f)
+        if (w, h) != (self.info["width"], self.info["height"]):
+            raise ValueError("camera file '%s' is for %dx%d images, '%s' is %dx%d" % (
+                f, w, h, self.uri, self.info["width"], self.info["height"]))
+        self.info["intrinsics"] = (fx, fy, cx, cy)
+        self.info["camera_file"] = f
+
     def camera(self, hfov=None, vfov=None):
         """The Camera of this stream: its intrinsics when the source has them
-        (a bag's CameraInfo) and no field of view is given, else from its field
-        of view (or the one given, radians); ValueError if the source knows
-        neither (PNG images)."""
+        (a bag's CameraInfo; PNG images: the camera.json or camera.yaml beside
+        them, info["camera_file"]) and no field of view is given, else from its
+        field of view (or the one given, radians); ValueError if it knows
+        neither."""
         k = self.info["intrinsics"]
         if k is not None and hfov is None and vfov is None:
             return Camera(k[0], k[1], k[2], k[3], self.info["width"], self.info["height"])
@@ -254,8 +278,10 @@ class Source:
 def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout=5.0,
          plugin_path=None, color=False):
     """Opens a recording or device through the library's sources:
-    "FILE.oni" or "oni:FILE" (depthao's reader), "images:DIR" or "images:FILE.png"
-    (16-bit depth PNGs in name order; `unit` metres per count, default 0.001),
+    "FILE.oni" or "oni:FILE" (depthao's reader), "FILE.bag" or "bag:FILE.bag?topic=..."
+    (ROS 1 bags and RealSense recordings), "images:DIR", "images:FILE.png", a
+    directory or a PNG (16-bit depth PNGs in name order; `unit` metres per count,
+    default 0.001; the camera from the camera.json or camera.yaml beside them),
     "openni2:any" and other plugins' URIs.  Returns a Source: iterate it for
     (index, depth, info).  Plugin modules are loaded (once) only for URIs the
     built-in sources do not take.

@@ -254,7 +254,7 @@ def test_no_allocation_per_call_with_out(frame0, monkeypatch):
 def test_input_errors(frame0):
     cam, d = frame0
     ao = depthao.AO(cam)
-    for bad, what in [(d.astype(np.float64), "float64"), (d.astype(np.int16), "int16"),
+    for bad, what in [(d.astype(np.float16), "float16"), (d.astype(np.int16), "int16"),
                       (d.astype(np.uint8), "uint8"), (d.astype(np.int32), "int32")]:
         with pytest.raises(ValueError, match="uint16.*float32.*got " + what):
             ao.process(bad)
@@ -526,10 +526,17 @@ def test_realtime_playback():
     assert time.monotonic() - t0 >= 0.08  # 4 frames at 30 fps: >= 3 intervals
 
 
-def test_images_source():
+def test_images_source(tmp_path):
     with depthao.open("images:" + IMAGES) as src:
         frames = list(src)
         assert src.info["frame_count"] == 4 and not src.info["has_fov"]
+        # the camera.json beside the images, as depthao process reads it
+        assert src.info["camera_file"] == os.path.join(IMAGES, "camera.json")
+        assert src.camera() == depthao.Camera(525, 525, 319.5, 239.5, 640, 480)
+    # without one: no camera
+    shutil.copy(os.path.join(IMAGES, "0000.png"), tmp_path / "0000.png")
+    with depthao.open(str(tmp_path)) as src:
+        assert src.info["camera_file"] is None
         with pytest.raises(ValueError, match="field of view"):
             src.camera()
     assert [i for i, _, _ in frames] == [0, 1, 2, 3]
@@ -653,3 +660,143 @@ def test_struct_layouts_match_headers(tmp_path):
         for field, _ in cls._fields_:
             assert int(got[name + "." + field]) == getattr(cls, field).offset, name + "." + field
     assert int(got["dao_params"]) <= _params.PARAMS_BUFFER_SIZE
+
+
+# --- cameras from matrices, CameraInfo and camera files; float64 depth ------------------
+
+def test_camera_from_matrix():
+    want = depthao.Camera(525, 524, 319.5, 239.25, 640, 480)
+    k = [[525, 0, 319.5], [0, 524, 239.25], [0, 0, 1]]
+    assert depthao.Camera.from_matrix(k, 640, 480) == want
+    assert depthao.Camera.from_matrix(np.array(k, np.float32), 640, 480) == want
+    assert depthao.Camera.from_matrix(np.ravel(k).tolist(), 640, 480) == want  # ROS K
+    for bad in ([[1, 0, 0], [0, 1, 0]], [[525, 0, 319.5], [0, 524, 239.25], [0, 0, 2]],
+                [[525, 0, 319.5], [0, 524, 239.25], [0, float("nan"), 1]], "K"):
+        with pytest.raises(ValueError):
+            depthao.Camera.from_matrix(bad, 640, 480)
+    with pytest.raises(ValueError, match="focal"):
+        depthao.Camera.from_matrix([[-5, 0, 1], [0, 5, 1], [0, 0, 1]], 640, 480)
+
+
+def _camera_info_yaml(k, d, p):
+    return {"image_width": 64, "image_height": 48, "camera_name": "d",
+            "camera_matrix": {"rows": 3, "cols": 3, "data": np.ravel(k).tolist()},
+            "distortion_model": "plumb_bob",
+            "distortion_coefficients": {"rows": 1, "cols": len(d), "data": list(d)},
+            "rectification_matrix": {"rows": 3, "cols": 3, "data": [1, 0, 0, 0, 1, 0, 0, 0, 1]},
+            "projection_matrix": {"rows": 3, "cols": 4, "data": np.ravel(p).tolist()}}
+
+
+def test_camera_from_camera_info(tmp_path):
+    k = [[50.0, 0, 31.5], [0, 51.0, 23.5], [0, 0, 1]]
+    p = [[49.0, 0, 32.0, 0], [0, 49.5, 24.0, 0], [0, 0, 1, 0]]
+    plain = depthao.Camera(50, 51, 31.5, 23.5, 64, 48)
+    rect = depthao.Camera(49, 49.5, 32, 24, 64, 48)
+    info = _camera_info_yaml(k, [0.0] * 5, p)
+    assert depthao.Camera.from_camera_info(info) == plain
+    # a YAML file written by PyYAML (an independent writer), by path and via from_file
+    yaml = pytest.importorskip("yaml", reason="PyYAML (python3-yaml) is not installed")
+    f = tmp_path / "cam.yaml"
+    f.write_text(yaml.safe_dump(info))
+    assert depthao.Camera.from_camera_info(str(f)) == plain
+    assert depthao.Camera.from_camera_info(f) == plain
+    assert depthao.Camera.from_file(f) == plain
+    # distortion: a warning, and the projection matrix (the rectified image's camera)
+    info = _camera_info_yaml(k, [-0.1, 0.01, 0, 0, 0], p)
+    f.write_text(yaml.safe_dump(info))
+    with pytest.warns(RuntimeWarning, match="must be rectified"):
+        assert depthao.Camera.from_camera_info(str(f)) == rect
+    # a message object: ROS 1 fields (K, D, P) and ROS 2 ones (k, d, p)
+    try:
+        from sensor_msgs.msg import CameraInfo  # python3-sensor-msgs (ROS 1)
+        msg = CameraInfo(width=64, height=48, K=np.ravel(k).tolist(), D=[0.0] * 5,
+                         P=np.ravel(p).tolist(), distortion_model="plumb_bob")
+    except ImportError:
+        import types
+        msg = types.SimpleNamespace(width=64, height=48, K=np.ravel(k).tolist(), D=[0.0] * 5,
+                                    P=np.ravel(p).tolist(), distortion_model="plumb_bob")
+    assert depthao.Camera.from_camera_info(msg) == plain
+    import types
+    ros2 = types.SimpleNamespace(width=64, height=48, k=np.ravel(k), d=np.array([0.2]),
+                                 p=np.ravel(p), distortion_model="plumb_bob")
+    with pytest.warns(RuntimeWarning, match="rectified"):
+        assert depthao.Camera.from_camera_info(ros2) == rect
+    # broken ones: ValueError naming the file and what is wrong
+    for text, what in [("image_width: 64\nimage_height: [48\n", "not valid YAML"),
+                       ("- 1\n", "not a ROS CameraInfo"),
+                       (yaml.safe_dump(dict(info, image_width=0)), "width"),
+                       (yaml.safe_dump({k2: v for k2, v in info.items()
+                                        if k2 != "camera_matrix"}), "camera_matrix")]:
+        f.write_text(text)
+        with pytest.raises(ValueError, match=what) as e:
+            depthao.Camera.from_camera_info(str(f))
+        assert "cam.yaml" in str(e.value)
+    with pytest.raises(ValueError, match="no K"):
+        depthao.Camera.from_camera_info({"width": 64})
+
+
+def test_open_images_with_camera_yaml(tmp_path):
+    yaml = pytest.importorskip("yaml", reason="PyYAML (python3-yaml) is not installed")
+    shutil.copy(os.path.join(IMAGES, "0000.png"), tmp_path / "0000.png")
+    k = [[500.0, 0, 320], [0, 501.0, 240], [0, 0, 1]]
+    info = _camera_info_yaml(k, [0.0] * 5, [[500.0, 0, 320, 0], [0, 501.0, 240, 0], [0, 0, 1, 0]])
+    (tmp_path / "camera.yaml").write_text(yaml.safe_dump(dict(info, image_width=640,
+                                                               image_height=480)))
+    with depthao.open(str(tmp_path)) as src:
+        assert src.camera() == depthao.Camera(500, 501, 320, 240, 640, 480)
+    (tmp_path / "camera.yaml").write_text(yaml.safe_dump(info))  # 64x48: not these images
+    with pytest.raises(ValueError, match="64x48"):
+        depthao.open(str(tmp_path))
+
+
+def test_float64_depth():
+    cam = depthao.Camera(525, 525, 319.5, 239.5, 640, 480)
+    depth = depthao.read_png_depth(os.path.join(IMAGES, "0000.png"))
+    metres32 = depth.astype(np.float32) * np.float32(0.001)
+    metres32[::9, ::7] = np.nan
+    ao = depthao.AO(cam)
+    want = ao.process(metres32)
+    got = ao.process(metres32.astype(np.float64))
+    assert np.array_equal(got, want)
+    got = ao.process(metres32.astype(np.float64)[::-1, :][::-1, :])  # a strided view
+    assert np.array_equal(got, want)
+
+
+def test_type_stubs_cover_the_api():
+    """__init__.pyi (PEP 561, with py.typed) names every public class, function and
+    method of the package, so that a type checker sees the whole API."""
+    import ast
+    here = os.path.dirname(depthao.__file__)
+    assert os.path.exists(os.path.join(here, "py.typed"))
+    tree = ast.parse(open(os.path.join(here, "__init__.pyi")).read())
+    stub = {n.name: n for n in tree.body if isinstance(n, (ast.ClassDef, ast.FunctionDef))}
+    for name in depthao.__all__ + ["open"]:
+        obj = getattr(depthao, name)
+        if callable(obj) and not name.startswith("_"):
+            assert name in stub, "%s is not in __init__.pyi" % name
+    for cls in (depthao.Camera, depthao.AO, depthao.Source):
+        body = stub[cls.__name__].body
+        members = {n.name for n in body if isinstance(n, ast.FunctionDef)} | \
+            {n.target.id for n in body if isinstance(n, ast.AnnAssign)}
+        for m in vars(cls):
+            if not m.startswith("_"):
+                assert m in members, "%s.%s is not in __init__.pyi" % (cls.__name__, m)
+
+
+def test_open_bag(tmp_path):
+    """A ROS bag written by rosbag (tests/bag/make_bags.py): depthao.open() takes it
+    with its CameraInfo's intrinsics; its frames equal the PNGs written beside it."""
+    make = os.path.join(SOURCE_ROOT, "tests", "bag", "make_bags.py")
+    py = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+    p = subprocess.run([py, make, str(tmp_path)], capture_output=True, text=True)
+    if p.returncode == 77:
+        pytest.skip(p.stdout.strip())
+    assert p.returncode == 0, p.stdout + p.stderr
+    with depthao.open(str(tmp_path / "d16_lz4.bag")) as src:
+        cam = src.camera()
+        frames = list(src)
+    want = depthao.Camera.from_file(tmp_path / "png" / "camera.json")
+    assert cam == want and src.info["intrinsics"] == (want.fx, want.fy, want.cx, want.cy)
+    assert [i for i, _, _ in frames] == list(range(len(frames))) and len(frames) == 5
+    for i, d, info in frames:
+        assert np.array_equal(d, depthao.read_png_depth(tmp_path / "png" / ("%06d.png" % i)))

@@ -13,7 +13,7 @@
 
 #include <depthao/depthao.h>
 
-#include "camera_file.h"
+#include "common/camera_file.h"
 #include "commands.h"
 #include "synth/suite.h"
 #include "synth/synth.h"
@@ -36,7 +36,8 @@ static void usage(FILE *out)
 		"  --noise               the scene with Kinect-like sensor noise\n"
 		"  --rays N              ground-truth rays per pixel, a square (default 256)\n"
 		"  --input DEPTH.png     a 16-bit depth PNG in millimetres (--depth-unit M otherwise)\n"
-		"  --intrinsics F,F,C,C  its camera (or --intrinsics-file FILE, Open3D JSON)\n",
+		"  --intrinsics F,F,C,C  its camera (or --intrinsics-file FILE: Open3D JSON or ROS\n"
+		"                        CameraInfo YAML)\n",
 		COLUMNS);
 }
 

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -15,7 +16,7 @@
 #include <depthao/depthao.h>
 
 #include "common/tool_clock.h"
-#include "camera_file.h"
+#include "common/camera_file.h"
 #include "cli_params.h"
 #include "commands.h"
 #include "file_list.h"
@@ -33,7 +34,7 @@ static void usage(FILE *out)
 	dao_params_stream_defaults(&stream);
 	fprintf(out,
 		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH]\n"
-		"                       [--overlay-out DIR] [options]\n"
+		"                       [--overlay-out DIR] [--cloud-out DIR|FILE.ply] [options]\n"
 		"\n"
 		"Computes ambient occlusion for a 16-bit depth PNG, for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
@@ -58,6 +59,11 @@ static void usage(FILE *out)
 		"                            darkened by the AO (8-bit RGB PNG, the depth's size;\n"
 		"                            colour of the depth's aspect ratio is scaled, others\n"
 		"                            are refused); a depth-only input is an error\n"
+		"  --cloud-out DIR|FILE.ply  point clouds: binary PLY of the pixels with depth, x y z\n"
+		"                            in metres (optical frame: x right, y down, z forward),\n"
+		"                            the AO as grey colour and as the property scalar_ao;\n"
+		"                            a directory gets one file per frame (NAME.ply, or\n"
+		"                            000000.ply ... for recordings), FILE.ply one frame only\n"
 		"  --depth-unit M            PNG input and 16-bit bag topics: metres per count\n"
 		"                            (default 0.001; TUM: 0.0002); .oni and RealSense\n"
 		"                            recordings carry their own unit\n"
@@ -67,9 +73,12 @@ static void usage(FILE *out)
 		"  --intrinsics FX,FY,CX,CY  pinhole intrinsics in pixels\n"
 		"  --fov H,V                 field of view in degrees (OpenNI style)\n"
 		"  --intrinsics-file FILE    Open3D camera JSON (width, height, intrinsic_matrix)\n"
+		"                            or ROS CameraInfo YAML (camera_info_manager's format;\n"
+		"                            with distortion: a warning, the depth must be\n"
+		"                            rectified, and the projection matrix is used)\n"
 		"                            without any of these: the recording's intrinsics (a\n"
-		"                            bag's CameraInfo) or field of view,\n"
-		"                            or camera.json beside PNG input, else a %.1f x %.1f\n"
+		"                            bag's CameraInfo) or field of view, or camera.json\n"
+		"                            (else camera.yaml) beside PNG input, else a %.1f x %.1f\n"
 		"                            degree field of view\n"
 		"  --quality Q               preset: low, medium, high, ultra, default (= medium)\n"
 		"  --frame-index N           noise pattern of the first frame (default 0)\n"
@@ -172,6 +181,7 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 		} strings[] = {
 			{ "--input", &o->input }, { "--ao-out", &o->ao_out },
 			{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
+			{ "--cloud-out", &o->cloud_out },
 			{ "--intrinsics", &o->intrinsics },
 			{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 		};
@@ -248,9 +258,9 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 	}
 	if (!o->input)
 		return usage_error("process", "--input is required");
-	if (!o->ao_out && !o->shaded_out && !o->overlay_out)
-		return usage_error("process", "nothing to write: give --ao-out, --shaded-out and/or "
-				   "--overlay-out");
+	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out)
+		return usage_error("process", "nothing to write: give --ao-out, --shaded-out, "
+				   "--overlay-out and/or --cloud-out");
 	if (o->overlay_out && !process_input_is_stream(o->input))
 		return usage_error("process", "--overlay-out needs colour, and '%s' is depth-only PNG "
 				   "input: give a recording or device with colour (.oni, .bag, "
@@ -310,6 +320,11 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 		int in_dir = src ? path_is_dir(in) == 1 : input_is_dir;
 		char *dir = in_dir ? strdup(in) : path_dirname(in);
 		auto_file = dir ? path_join(dir, "camera.json") : NULL;
+		if (auto_file && access(auto_file, F_OK) != 0) {
+			/* else a ROS CameraInfo */
+			free(auto_file);
+			auto_file = dir ? path_join(dir, "camera.yaml") : NULL;
+		}
 		free(dir);
 		if (auto_file && access(auto_file, R_OK) == 0) {
 			file = auto_file;
@@ -369,6 +384,39 @@ double process_now_ms(void)
 }
 
 
+int process_cloud_is_file(const struct process_options *o)
+{
+	size_t n = o->cloud_out ? strlen(o->cloud_out) : 0;
+	struct stat st;
+	if (n > 4 && !strcasecmp(o->cloud_out + n - 4, ".ply"))
+		return 1;
+	/* a FIFO or character device (/dev/stdout on a pipe, /dev/null), an existing file */
+	return n && stat(o->cloud_out, &st) == 0 && !S_ISDIR(st.st_mode);
+}
+
+int process_check_cloud_frames(const struct process_options *o, uint64_t frames, int stream)
+{
+	if (frames <= 1 || !process_cloud_is_file(o))
+		return 0;
+	return usage_error("process",
+			   "--cloud-out '%s' is one file, but the input has %llu frames: give a "
+			   "directory (one .ply per frame)%s", o->cloud_out,
+			   (unsigned long long)frames, stream ? " or --frames 1" : "");
+}
+
+char *process_cloud_name(const char *dir, const char *input_name)
+{
+	const char *base = path_basename(input_name);
+	const char *dot = strrchr(base, '.');
+	size_t n = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+	char name[512];
+	if (n > sizeof name - 5)
+		n = sizeof name - 5;
+	memcpy(name, base, n);
+	memcpy(name + n, ".ply", 5);
+	return path_join(dir, name);
+}
+
 int process_depth(const struct process_options *o, struct run_state *st,
 		  const struct dao_frame *depth, const struct dao_frame *color,
 		  const struct process_paths *paths, uint64_t index)
@@ -403,6 +451,8 @@ int process_depth(const struct process_options *o, struct run_state *st,
 		if (!r)
 			r = dao_png_write(paths->overlay, &st->overlay, &err);
 	}
+	if (!r && paths->cloud)
+		r = dao_ply_write(paths->cloud, cam, depth, &st->ao, NULL, &err);
 	if (r) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
@@ -411,7 +461,7 @@ int process_depth(const struct process_options *o, struct run_state *st,
 }
 
 static int process_one(const struct process_options *o, struct run_state *st, const char *in,
-		       const char *ao_path, const char *shaded_path, uint64_t index)
+		       const struct process_paths *paths, uint64_t index)
 {
 	struct dao_error err;
 	struct dao_frame depth;
@@ -419,8 +469,7 @@ static int process_one(const struct process_options *o, struct run_state *st, co
 		process_print_error(&err);
 		return 1;
 	}
-	struct process_paths paths = { ao_path, shaded_path, NULL };
-	int r = process_depth(o, st, &depth, NULL, &paths, index);
+	int r = process_depth(o, st, &depth, NULL, paths, index);
 	dao_frame_free(&depth);
 	return r;
 }
@@ -468,11 +517,19 @@ int cmd_process(int argc, char **argv)
 			fprintf(stderr, "depthao: no *.png files in '%s'\n", o.input);
 			return 1;
 		}
+		if ((status = process_check_cloud_frames(&o, files.count, 0))) {
+			file_list_free(&files);
+			return status;
+		}
 		if ((o.ao_out && process_ensure_dir(o.ao_out)) ||
 		    (o.shaded_out && process_ensure_dir(o.shaded_out))) {
 			file_list_free(&files);
 			return 1;
 		}
+	}
+	if (o.cloud_out && !process_cloud_is_file(&o) && process_ensure_dir(o.cloud_out)) {
+		file_list_free(&files);
+		return 1;
 	}
 	char *first = is_dir ? path_join(o.input, files.names[0]) : strdup(o.input);
 	uint32_t w = 0, h = 0;
@@ -493,7 +550,11 @@ int cmd_process(int argc, char **argv)
 		goto out;
 
 	if (!is_dir) {
-		status = process_one(&o, &st, o.input, o.ao_out, o.shaded_out, o.frame_index);
+		char *cloud = o.cloud_out && !process_cloud_is_file(&o)
+				      ? process_cloud_name(o.cloud_out, o.input) : NULL;
+		struct process_paths out = { o.ao_out, o.shaded_out, NULL, cloud ? cloud : o.cloud_out };
+		status = process_one(&o, &st, o.input, &out, o.frame_index);
+		free(cloud);
 	} else {
 		struct progress bar;
 		progress_begin(&bar, files.count, o.quiet);
@@ -501,15 +562,21 @@ int cmd_process(int argc, char **argv)
 			char *in = path_join(o.input, files.names[i]);
 			char *ao = o.ao_out ? path_join(o.ao_out, files.names[i]) : NULL;
 			char *sh = o.shaded_out ? path_join(o.shaded_out, files.names[i]) : NULL;
-			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh)) {
+			char *pc = o.cloud_out ? (process_cloud_is_file(&o)
+							  ? strdup(o.cloud_out)
+							  : process_cloud_name(o.cloud_out, files.names[i]))
+					       : NULL;
+			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh) || (o.cloud_out && !pc)) {
 				fprintf(stderr, "depthao: out of memory\n");
 				status = 1;
 			} else {
-				status = process_one(&o, &st, in, ao, sh, o.frame_index + i);
+				struct process_paths out = { ao, sh, NULL, pc };
+				status = process_one(&o, &st, in, &out, o.frame_index + i);
 			}
 			free(in);
 			free(ao);
 			free(sh);
+			free(pc);
 			progress_update(&bar, i + 1, st.ms_total / (double)(st.frames ? st.frames : 1));
 		}
 		progress_end(&bar);
@@ -521,6 +588,8 @@ int cmd_process(int argc, char **argv)
 			fprintf(stderr, " %s", o.ao_out);
 		if (o.shaded_out)
 			fprintf(stderr, "%s%s", o.ao_out ? " and " : " ", o.shaded_out);
+		if (o.cloud_out)
+			fprintf(stderr, "%s%s", o.ao_out || o.shaded_out ? " and " : " ", o.cloud_out);
 		fputc('\n', stderr);
 	}
 out:

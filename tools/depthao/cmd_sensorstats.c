@@ -16,7 +16,7 @@
 
 #include <depthao/depthao.h>
 
-#include "camera_file.h"
+#include "common/camera_file.h"
 #include "commands.h"
 #include "sensor_compare.h"
 #include "synth/open_planes.h"

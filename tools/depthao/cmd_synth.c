@@ -17,7 +17,7 @@
 
 #include <depthao/depthao.h>
 
-#include "camera_file.h"
+#include "common/camera_file.h"
 #include "commands.h"
 #include "file_list.h"
 #include "synth/suite.h"

@@ -15,6 +15,7 @@
 struct process_options {
 	const char *input;
 	const char *ao_out, *shaded_out, *overlay_out;
+	const char *cloud_out;  /* --cloud-out: a directory, or one FILE.ply */
 	double depth_unit;
 	const char *intrinsics, *fov, *intrinsics_file;
 	double k[4];   /* parsed --intrinsics */
@@ -50,16 +51,25 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 
 /* The output paths of one frame; NULL where that output is not wanted. */
 struct process_paths {
-	const char *ao, *shaded, *overlay;
+	const char *ao, *shaded, *overlay, *cloud;
 };
 
 /*
- * AO (and shading, and the overlay of `color` when paths->overlay) of one
- * depth frame, written to the paths that are not NULL.
+ * AO (and shading, the overlay of `color` when paths->overlay, the point cloud)
+ * of one depth frame, written to the paths that are not NULL.
  */
 int process_depth(const struct process_options *o, struct run_state *st,
 		  const struct dao_frame *depth, const struct dao_frame *color,
 		  const struct process_paths *paths, uint64_t index);
+
+/* --cloud-out names one file (a name ending in .ply, or anything there that is not a
+ * directory: /dev/stdout, a FIFO), else a directory of them. */
+int process_cloud_is_file(const struct process_options *o);
+/* The usage error for a .ply file with `frames` frames to write (0 if frames <= 1);
+ * `stream`: a recording or device (--frames applies). */
+int process_check_cloud_frames(const struct process_options *o, uint64_t frames, int stream);
+/* DIR/BASE.ply for an input file name BASE.png (or any BASE.EXT, or BASE). */
+char *process_cloud_name(const char *dir, const char *input_name);
 
 /* Input that goes through a source plugin: "NAME:URI" or a path ending in .oni. */
 int process_input_is_stream(const char *input);

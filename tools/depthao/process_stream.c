@@ -35,26 +35,30 @@ const char *process_input_path(const char *input)
 	return input + (n ? n + 1 : 0);
 }
 
-static char *numbered(const char *dir, uint64_t index)
+static char *numbered(const char *dir, uint64_t index, const char *ext)
 {
-	char name[32];
+	char name[40];
 	if (!dir)
 		return NULL;
-	snprintf(name, sizeof name, "%06llu.png", (unsigned long long)index);
+	snprintf(name, sizeof name, "%06llu.%s", (unsigned long long)index, ext);
 	return path_join(dir, name);
+}
+
+/* The frames a run writes: what is left of a recording after --start, at most --frames. */
+static uint64_t frames_to_write(const struct process_options *o, const struct dao_source_info *si)
+{
+	if (si->frame_count < 0)
+		return o->max_frames;
+	uint64_t left = (uint64_t)si->frame_count > o->start ? (uint64_t)si->frame_count - o->start
+							      : 0;
+	return o->max_frames && o->max_frames < left ? o->max_frames : left;
 }
 
 static int run(const struct process_options *o, struct dao_source *src,
 	       const struct dao_source_info *si, struct run_state *st)
 {
 	struct dao_error err;
-	uint64_t total = 0;
-	if (si->frame_count >= 0) {
-		uint64_t left = (uint64_t)si->frame_count - o->start;
-		total = o->max_frames && o->max_frames < left ? o->max_frames : left;
-	} else {
-		total = o->max_frames;
-	}
+	uint64_t total = frames_to_write(o, si);
 	struct progress bar;
 	progress_begin(&bar, (size_t)total, o->quiet);
 	int status = 0, empty = 0;
@@ -79,18 +83,22 @@ static int run(const struct process_options *o, struct dao_source *src,
 		}
 		empty = 0;
 		uint64_t index = si->live ? done : f.index;
-		char *ao = numbered(o->ao_out, index), *sh = numbered(o->shaded_out, index);
-		char *ov = numbered(o->overlay_out, index);
-		if ((o->ao_out && !ao) || (o->shaded_out && !sh) || (o->overlay_out && !ov)) {
+		char *ao = numbered(o->ao_out, index, "png"), *sh = numbered(o->shaded_out, index, "png");
+		char *ov = numbered(o->overlay_out, index, "png");
+		char *pc = process_cloud_is_file(o) ? strdup(o->cloud_out)
+						    : numbered(o->cloud_out, index, "ply");
+		if ((o->ao_out && !ao) || (o->shaded_out && !sh) || (o->overlay_out && !ov) ||
+		    (o->cloud_out && !pc)) {
 			fprintf(stderr, "depthao: out of memory\n");
 			status = 1;
 		} else {
-			struct process_paths paths = { ao, sh, ov };
+			struct process_paths paths = { ao, sh, ov, pc };
 			status = process_depth(o, st, &f.depth, &f.color, &paths, o->frame_index + index);
 		}
 		free(ao);
 		free(sh);
 		free(ov);
+		free(pc);
 		dao_source_release(src, &f);
 		done++;
 		progress_update(&bar, (size_t)done, st->ms_total / (double)(st->frames ? st->frames : 1));
@@ -168,13 +176,16 @@ int process_stream(const struct process_options *o)
 		fprintf(stderr, "depthao: warning: the depth is not registered to the colour camera "
 			"(or the source cannot tell): the overlay is offset by the parallax between "
 			"the two cameras\n");
+	if ((status = process_check_cloud_frames(o, frames_to_write(o, &si), 1)))
+		goto out;
 	struct dao_camera cam;
 	if ((status = process_resolve_camera(o, 0, si.width, si.height, &si, &cam)))
 		goto out;
 	status = 1;
 	if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
 	    (o->shaded_out && process_ensure_dir(o->shaded_out)) ||
-	    (o->overlay_out && process_ensure_dir(o->overlay_out)))
+	    (o->overlay_out && process_ensure_dir(o->overlay_out)) ||
+	    (o->cloud_out && !process_cloud_is_file(o) && process_ensure_dir(o->cloud_out)))
 		goto out;
 	if (dao_context_create(&st.ctx, &cam, &o->params, &err) ||
 	    dao_frame_alloc(&st.overlay, DAO_PIXFMT_RGB24, si.width, si.height, &err) ||
@@ -199,6 +210,9 @@ int process_stream(const struct process_options *o)
 		if (o->overlay_out)
 			fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ",
 				o->overlay_out);
+		if (o->cloud_out)
+			fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out ? " and " : " ",
+				o->cloud_out);
 		fputc('\n', stderr);
 	}
 out:

@@ -10,6 +10,7 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "common/camera_file.h"
 #include "common/pixel_limit.h"
 #include "ini_file.h"
 #include "log.h"
@@ -140,6 +141,23 @@ static int set_source(struct daemon_config *c, const char *section, const char *
 		c->has_intrinsics = 1;
 		return 0;
 	}
+	if (!strcmp(key, "intrinsics_file")) {
+		struct dao_camera cam;
+		char m[560];
+		if (copy_str(c->intrinsics_file, sizeof c->intrinsics_file, value))
+			return BAD("is empty or too long");
+		if (camera_file_load(value, &cam, c->camera_warning, sizeof c->camera_warning, m,
+				     sizeof m))
+			return fail(msg, len, "[%s] %s: %s", section, key, m);
+		c->file_width = cam.width;
+		c->file_height = cam.height;
+		c->file_intrinsics[0] = cam.fx;
+		c->file_intrinsics[1] = cam.fy;
+		c->file_intrinsics[2] = cam.cx;
+		c->file_intrinsics[3] = cam.cy;
+		c->has_intrinsics_file = 1;
+		return 0;
+	}
 	if (!strcmp(key, "fov")) {
 		if (parse_doubles(value, c->fov_deg, 2) || !(c->fov_deg[0] > 0 && c->fov_deg[0] < 180) ||
 		    !(c->fov_deg[1] > 0 && c->fov_deg[1] < 180))
@@ -164,8 +182,8 @@ static int set_source(struct daemon_config *c, const char *section, const char *
 			       ? BAD("must be a pixel count or WxH, at most 16384x16384")
 			       : 0;
 	return fail(msg, len, "[%s] %s: unknown key (keys: uri, playback, loop, start, depth_unit, "
-		    "intrinsics, fov, retry_initial_ms, retry_max_ms, queue, max_pixels)", section,
-		    key);
+		    "intrinsics, intrinsics_file, fov, retry_initial_ms, retry_max_ms, queue, "
+		    "max_pixels)", section, key);
 }
 
 static int set_ao(struct daemon_config *c, const char *section, const char *key,
@@ -402,6 +420,9 @@ int config_check(const struct daemon_config *c, char *msg, size_t len)
 	}
 	if (c->has_intrinsics && c->has_fov)
 		return fail(msg, len, "%s: [source] give intrinsics or fov, not both", where);
+	if (c->has_intrinsics_file && (c->has_intrinsics || c->has_fov))
+		return fail(msg, len, "%s: [source] give intrinsics_file alone, not with %s", where,
+			    c->has_intrinsics ? "intrinsics" : "fov");
 	if (c->retry_initial_ms > c->retry_max_ms)
 		return fail(msg, len, "%s: [source] retry_initial_ms %u exceeds retry_max_ms %u", where,
 			    c->retry_initial_ms, c->retry_max_ms);

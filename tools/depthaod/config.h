@@ -52,6 +52,12 @@ struct daemon_config {
 	double intrinsics[4];    /* fx, fy, cx, cy */
 	int has_fov;
 	double fov_deg[2];
+	/* intrinsics_file: an Open3D JSON or ROS CameraInfo YAML, read when the key is set */
+	int has_intrinsics_file;
+	char intrinsics_file[512];
+	uint32_t file_width, file_height; /* the size the file is for */
+	double file_intrinsics[4];        /* fx, fy, cx, cy */
+	char camera_warning[640];         /* from the file (distortion), logged at start */
 	unsigned retry_initial_ms, retry_max_ms;
 	unsigned input_queue;
 	uint64_t max_pixels;     /* largest depth image decoded from files (0 = the default) */

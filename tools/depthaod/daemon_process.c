@@ -4,6 +4,8 @@
  * every sink's queue; it pings the systemd watchdog.
  */
 
+#include <errno.h>
+
 #include "notify.h"
 #include "daemon_internal.h"
 
@@ -11,6 +13,17 @@ static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_came
 {
 	struct dao_error err;
 	const struct daemon_config *c = &d->cfg;
+	if (c->has_intrinsics_file) {
+		if (w != c->file_width || h != c->file_height) {
+			log_error("camera file '%s' is for %ux%u images, the source delivers %ux%u: "
+				  "give the camera file of this stream ([source] intrinsics_file)",
+				  c->intrinsics_file, c->file_width, c->file_height, w, h);
+			return -EINVAL;
+		}
+		return dao_camera_from_intrinsics(cam, w, h, c->file_intrinsics[0],
+						  c->file_intrinsics[1], c->file_intrinsics[2],
+						  c->file_intrinsics[3], &err);
+	}
 	if (c->has_intrinsics)
 		return dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
 						  c->intrinsics[2], c->intrinsics[3], &err);

@@ -192,7 +192,11 @@ static int build_config(const struct options *o, const char *file, struct daemon
 			return -1;
 		}
 	}
-	return config_check(c, msg, len);
+	if (config_check(c, msg, len) < 0)
+		return -1;
+	if (c->camera_warning[0])
+		log_warn("%s", c->camera_warning);
+	return 0;
 }
 
 static void log_stats(struct daemon *d, const char *json_path)

@@ -6,7 +6,7 @@
 
 #include <depthao/error.h>
 
-#include "atomic_file.h"
+#include "common/atomic_file.h"
 #include <depthao/output_file.h>
 
 int atomic_write_text(const char *path, const char *text, char *msg, size_t len)

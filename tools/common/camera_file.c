@@ -1,0 +1,183 @@
+/* SPDX-License-Identifier: MIT */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#include <json-c/json.h>
+
+#include <depthao/frame.h>
+
+#include "common/atomic_file.h"
+#include "common/camera_file.h"
+#include "common/camera_info_yaml.h"
+
+/* A CameraInfo is a few hundred bytes; anything far larger is not one. */
+#define CAMERA_FILE_MAX_BYTES (1 << 20)
+
+static int get_number(struct json_object *o, double *out)
+{
+	if (!o || !(json_object_is_type(o, json_type_double) || json_object_is_type(o, json_type_int)))
+		return -1;
+	*out = json_object_get_double(o);
+	return 0;
+}
+
+static int read_json(const char *path, struct dao_camera *cam, char *msg, size_t len)
+{
+	struct json_object *root = json_object_from_file(path);
+	if (!root) {
+		if (access(path, R_OK) != 0)
+			snprintf(msg, len, "cannot read camera file '%s': %s", path, strerror(errno));
+		else
+			snprintf(msg, len, "camera file '%s' is not valid JSON: %s", path,
+				 json_util_get_last_err() ? json_util_get_last_err() : "parse error");
+		return -1;
+	}
+	int rc = -1;
+	struct json_object *w, *h, *k;
+	double wd, hd, m[9];
+	if (!json_object_object_get_ex(root, "width", &w) || get_number(w, &wd) ||
+	    !json_object_object_get_ex(root, "height", &h) || get_number(h, &hd)) {
+		snprintf(msg, len, "camera file '%s': needs numeric \"width\" and \"height\"", path);
+		goto out;
+	}
+	if (!json_object_object_get_ex(root, "intrinsic_matrix", &k) ||
+	    !json_object_is_type(k, json_type_array) || json_object_array_length(k) != 9) {
+		snprintf(msg, len,
+			 "camera file '%s': needs \"intrinsic_matrix\", an array of 9 numbers "
+			 "(column-major [fx,0,0, 0,fy,0, cx,cy,1])", path);
+		goto out;
+	}
+	for (int i = 0; i < 9; i++)
+		if (get_number(json_object_array_get_idx(k, (size_t)i), &m[i])) {
+			snprintf(msg, len, "camera file '%s': intrinsic_matrix[%d] is not a number", path, i);
+			goto out;
+		}
+	if (wd < 1 || hd < 1 || wd > DAO_MAX_DIMENSION || hd > DAO_MAX_DIMENSION ||
+	    wd != (double)(uint32_t)wd || hd != (double)(uint32_t)hd) {
+		snprintf(msg, len, "camera file '%s': size %gx%g is not a valid image size", path, wd, hd);
+		goto out;
+	}
+	struct dao_error err;
+	if (dao_camera_from_intrinsics(cam, (uint32_t)wd, (uint32_t)hd, m[0], m[4], m[6], m[7], &err)) {
+		snprintf(msg, len, "camera file '%s': %s", path, err.message);
+		goto out;
+	}
+	rc = 0;
+out:
+	json_object_put(root);
+	return rc;
+}
+
+int camera_file_write(const char *path, const struct dao_camera *cam, struct json_object *extra,
+		      char *msg, size_t len)
+{
+	struct json_object *root = json_object_new_object();
+	struct json_object *k = json_object_new_array();
+	const double m[9] = { cam->fx, 0, 0, 0, cam->fy, 0, cam->cx, cam->cy, 1 };
+	json_object_object_add(root, "width", json_object_new_int((int)cam->width));
+	json_object_object_add(root, "height", json_object_new_int((int)cam->height));
+	for (int i = 0; i < 9; i++)
+		json_object_array_add(k, json_object_new_double(m[i]));
+	json_object_object_add(root, "intrinsic_matrix", k);
+	if (extra) {
+		json_object_object_foreach(extra, key, val)
+			json_object_object_add(root, key, json_object_get(val));
+	}
+	const char *text = json_object_to_json_string_ext(root, JSON_C_TO_STRING_PRETTY);
+	int rc = atomic_write_text(path, text, msg, len);
+	json_object_put(root);
+	return rc;
+}
+
+/* YAML by the name (.yaml, .yml), JSON by the name (.json), else by the first
+ * character that is not a blank: '{' is JSON. */
+static int is_yaml(const char *path, const char *text, size_t n)
+{
+	const char *dot = strrchr(path, '.');
+	if (dot && (!strcasecmp(dot, ".yaml") || !strcasecmp(dot, ".yml")))
+		return 1;
+	if (dot && !strcasecmp(dot, ".json"))
+		return 0;
+	size_t i = 0;
+	while (i < n && strchr(" \t\r\n", text[i]))
+		i++;
+	return i == n || text[i] != '{';
+}
+
+static int read_yaml(const char *path, const char *text, size_t n, struct dao_camera *cam,
+		     char *warning, size_t wlen, char *msg, size_t len)
+{
+	struct camera_info ci;
+	if (camera_info_yaml_parse(text, n, path, &ci, msg, len))
+		return -1;
+	/* K describes the camera's own (distorted) image; a rectified image, which is
+	 * what depth without distortion is, has P's intrinsics (ROS REP 104) */
+	double fx = ci.k[0], fy = ci.k[4], cx = ci.k[2], cy = ci.k[5];
+	const char *which = "camera_matrix";
+	int distorted = camera_info_distorted(&ci);
+	if (distorted && ci.has_p && ci.p[0] > 0 && ci.p[5] > 0) {
+		fx = ci.p[0], fy = ci.p[5], cx = ci.p[2], cy = ci.p[6];
+		which = "projection_matrix (the rectified image's)";
+	}
+	struct dao_error err;
+	if (dao_camera_from_intrinsics(cam, ci.width, ci.height, fx, fy, cx, cy, &err)) {
+		snprintf(msg, len, "camera file '%s': %s: %s", path, which, err.message);
+		return -1;
+	}
+	if (warning && wlen)
+		warning[0] = '\0';
+	if (warning && distorted)
+		snprintf(warning, wlen,
+			 "camera file '%s' has distortion (%s%s%d coefficients): depthao does not "
+			 "undistort, so the depth must be rectified (a ROS image_rect topic); using the "
+			 "intrinsics of its %s: fx %.3f fy %.3f cx %.3f cy %.3f", path,
+			 ci.distortion_model[0] ? ci.distortion_model : "no model",
+			 ", ", ci.nd, which, fx, fy, cx, cy);
+	else if (warning && ci.k[1] != 0)
+		snprintf(warning, wlen, "camera file '%s': camera_matrix has skew %g, which "
+			 "depthao's pinhole model ignores", path, ci.k[1]);
+	return 0;
+}
+
+int camera_file_load(const char *path, struct dao_camera *cam, char *warning, size_t wlen,
+		     char *msg, size_t len)
+{
+	if (warning && wlen)
+		warning[0] = '\0';
+	FILE *f = fopen(path, "rb");
+	if (!f) {
+		snprintf(msg, len, "cannot read camera file '%s': %s", path, strerror(errno));
+		return -1;
+	}
+	char *text = malloc(CAMERA_FILE_MAX_BYTES + 1);
+	size_t n = text ? fread(text, 1, CAMERA_FILE_MAX_BYTES + 1, f) : 0;
+	int bad = !text || ferror(f);
+	int e = errno;
+	fclose(f);
+	int rc = -1;
+	if (bad)
+		snprintf(msg, len, "cannot read camera file '%s': %s", path,
+			 text ? strerror(e) : "out of memory");
+	else if (n > CAMERA_FILE_MAX_BYTES)
+		snprintf(msg, len, "camera file '%s' is larger than %d bytes: not a camera file",
+			 path, CAMERA_FILE_MAX_BYTES);
+	else if (is_yaml(path, text, n))
+		rc = read_yaml(path, text, n, cam, warning, wlen, msg, len);
+	else
+		rc = read_json(path, cam, msg, len);
+	free(text);
+	return rc;
+}
+
+int camera_file_read(const char *path, struct dao_camera *cam, char *msg, size_t len)
+{
+	char warning[512];
+	int r = camera_file_load(path, cam, warning, sizeof warning, msg, len);
+	if (!r && warning[0])
+		fprintf(stderr, "depthao: warning: %s\n", warning);
+	return r;
+}
