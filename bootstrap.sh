@@ -26,6 +26,8 @@ PACKAGES=(
 	libsystemd-dev systemd groff-base man-db
 	xvfb xauth
 	python3 python3-numpy python3-pytest python3-rosbag python3-sensor-msgs
+	ros-core libroscpp-dev libimage-transport-dev libsensor-msgs-dev
+	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 )

@@ -52,15 +52,16 @@ for dir in src/*/; do
 	done | grep -v '^x$' && status=1 || true
 done
 
-# plugins: public headers, their own directory's headers, plugins/common
-for f in $(find plugins -name '*.[ch]' -o -name '*.cpp' | sort); do
+# plugins and the ROS nodes: public headers, their own directory's headers,
+# plugins/common (ros/ includes its common/ layer by name, "dao_ros.h")
+for f in $(find plugins ros -name '*.[ch]' -o -name '*.cpp' | sort); do
 	bad=$(grep -o '^#[[:space:]]*include[[:space:]]*"[A-Za-z0-9_]*/[^"]*"' "$f" |
 	      grep -v '"common/' || true)
 	if [ -n "$bad" ]; then
-		echo "FAIL: $f includes a private header: $bad (plugins use <depthao/...> only)"
+		echo "FAIL: $f includes a private header: $bad (plugins and ros/ use <depthao/...> only)"
 		status=1
 	fi
 done
 
-[ "$status" -ne 0 ] || echo "layering: every src/ concern includes only the layers below it; plugins only public headers"
+[ "$status" -ne 0 ] || echo "layering: every src/ concern includes only the layers below it; plugins and ros/ only public headers"
 exit "$status"
