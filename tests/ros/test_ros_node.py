@@ -143,12 +143,14 @@ def start_roscore():
 
 # ---------------------------------------------------------------- the bags
 def depth_m(x, y, i):
-    """A tilted wall with a box in front of it moving one pixel a frame; holes."""
+    """A tilted wall with a box in front of it moving one pixel a frame; holes; +-2 mm
+    of noise changing from frame to frame (the temporal depth filter matters)."""
     if (x * 7 + y * 3 + i) % 37 == 0:
         return 0.0
+    noise = ((x * 7919 + y * 104729 + i * 15485863) % 5 - 2) * 0.001
     if 20 + i <= x < 46 + i and 15 <= y < 42:
-        return 1.5 + 0.004 * (x - 20 - i)
-    return 2.0 + 0.01 * y + 0.002 * x
+        return 1.7 + 0.004 * (x - 20 - i) + noise
+    return 2.0 + 0.01 * y + 0.002 * x + noise
 
 
 def stamp(i):
