@@ -2,10 +2,13 @@
 # SPDX-License-Identifier: MIT
 """depthao_node against a real roscore started here.
 
-usage: test_ros_node.py DEPTHAO_NODE DEPTHAO_CLI PYTHON_DIR   (DEPTHAO_LIBRARY in the environment)
+usage: test_ros_node.py DEPTHAO_NODE DEPTHAO_CLI PYTHON_DIR LAUNCH_FILE
+       (DEPTHAO_LIBRARY in the environment)
 
 A roscore on a free port with its own ROS_HOME and ROS_LOG_DIR; two nodes: /a
-(16UC1 in, mono16 AO) and /b (32FC1 big-endian in, 32FC1 AO).  Bags written here by
+(16UC1 in, mono16 AO; started by roslaunch with depthao.launch, the build tree as the
+ROS package, a YAML file of AO parameters) and /b (32FC1 big-endian in, 32FC1 AO;
+started directly).  Bags written here by
 rosbag's Python writer (depth + camera_info per frame) are played into them with
 `rosbag play`; the AO and shaded images they publish must equal `depthao process` on
 the same bags (mono16 and rgb8 bit for bit, 32FC1 rounded to 16 bits as the library
@@ -34,6 +37,9 @@ W, H, FRAMES = 80, 60, 6
 K = [70.0, 0.0, 39.5, 0.0, 71.0, 29.25, 0.0, 0.0, 1.0]
 TIMEOUT = 120.0  # s: generous, the host may run seven builds at once
 procs = []
+# processes roslaunch (roscore is one) starts in sessions of their own: the master, rosout,
+# launched nodes; (pid, what its command line holds), killed should roslaunch not stop them
+launched = []
 
 
 def skip(msg):
@@ -46,13 +52,13 @@ def fail(msg):
     sys.exit(1)
 
 
-if len(sys.argv) != 4:
+if len(sys.argv) != 5:
     sys.exit(__doc__)
-NODE, CLI, PYDIR = sys.argv[1:4]
+NODE, CLI, PYDIR, LAUNCH = sys.argv[1:5]
 if not NODE or not os.path.exists(NODE):
     skip("depthao_node was not built: meson feature 'ros' needs libroscpp-dev, "
          "libimage-transport-dev, libsensor-msgs-dev, libdynamic-reconfigure-config-init-mutex-dev")
-for tool in ("roscore", "rosbag"):
+for tool in ("roscore", "rosbag", "roslaunch"):
     if not shutil.which(tool):
         skip("%s not found (Debian: ros-core)" % tool)
 try:
@@ -86,6 +92,13 @@ def kill_all():
         except subprocess.TimeoutExpired:
             os.killpg(p.pid, signal.SIGKILL)
             p.wait()
+    for pid, word in launched:
+        try:
+            with open("/proc/%d/cmdline" % pid, "rb") as f:
+                if word.encode() in f.read():
+                    os.kill(pid, signal.SIGKILL)
+        except (OSError, ProcessLookupError):
+            pass
     if not os.environ.get("DAO_KEEP_WORK"):
         shutil.rmtree(WORK, ignore_errors=True)
 
@@ -120,6 +133,14 @@ def free_port():
     return port
 
 
+def note_pid(master, node, word):
+    """Remembers the pid of a node roslaunch started, to kill it if roslaunch cannot."""
+    import xmlrpc.client
+    code, _, pid = xmlrpc.client.ServerProxy(master.lookupNode(node)).getPid("/dao_test")
+    if code == 1:
+        launched.append((pid, word))
+
+
 def start_roscore():
     """roscore on a free port; another port if it lost a race for this one."""
     for attempt in range(3):
@@ -133,6 +154,8 @@ def start_roscore():
             try:
                 # rosout too (it subscribes /rosout): the nodes' logs go through it
                 if any(t == "/rosout" for t, _ in master.getSystemState()[1]):
+                    note_pid(master, "/rosout", "rosout")
+                    launched.append((master.getPid(), "rosmaster"))
                     return
             except (OSError, rosgraph.MasterException):
                 pass
@@ -310,8 +333,17 @@ def main():
         if st != 1 or words not in log_of("bad"):
             fail("%s: exit %s, log: %s" % (bad, st, log_of("bad")))
 
-    node_a = start([NODE, "__ns:=/a", "__name:=depthao", "depth/image:=/cam/depth/image",
-                    "_queue_size:=50", "_radiuss:=1"], os.path.join(WORK, "a.log"))
+    # node a through roslaunch: the package 'depthao' is the build directory (package.xml
+    # beside the node); AO parameters from a YAML file
+    yaml = os.path.join(WORK, "a.yaml")
+    with open(yaml, "w") as f:
+        f.write("occlusion_color: '203040'\nradiuss: 1\n")
+    env = dict(os.environ, ROS_PACKAGE_PATH=os.path.dirname(os.path.abspath(NODE)))
+    node_a = subprocess.Popen(["roslaunch", "--wait", LAUNCH, "ns:=a", "depth:=/cam/depth/image",
+                               "queue_size:=50", "params:=" + yaml],
+                              stdout=open(os.path.join(WORK, "a.log"), "wb"),
+                              stderr=subprocess.STDOUT, start_new_session=True, env=env)
+    procs.append(node_a)
     node_b = start([NODE, "__ns:=/b", "__name:=depthao", "depth/image:=/cam32/depth/image",
                     "_queue_size:=50", "_ao_encoding:=32FC1"], os.path.join(WORK, "b.log"))
     rospy.init_node("dao_test", anonymous=True, disable_signals=True)
@@ -319,13 +351,16 @@ def main():
     col_b = {"ao": Collector("/b/ao/image")}
     for c in list(col_a.values()) + list(col_b.values()):
         wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
+    note_pid(rosgraph.Master("/dao_test_probe"), "/a/depthao", "depthao_node")
+    if rospy.get_param("/a/depthao/occlusion_color") != "203040":
+        fail("the parameters file was not applied: %s" % rospy.get_param("/a/depthao"))
     if "~radiuss is not a parameter of depthao_node" not in log_of("a"):
         fail("a misspelt parameter was not reported: %s" % log_of("a"))
 
     play(bag_a, bag_b)
     wait_for("%d AO frames of each node" % FRAMES, lambda: col_a["ao"].count() >= FRAMES and
              col_a["sh"].count() >= FRAMES and col_b["ao"].count() >= FRAMES)
-    check_run("a", col_a, bag_a, FRAMES, "mono16", [], 0)
+    check_run("a", col_a, bag_a, FRAMES, "mono16", ["--occlusion-color", "203040"], 0)
     check_run("b", col_b, bag_b, FRAMES, "32FC1", [], 0)
 
     # dynamic_reconfigure: names for enums, ranges checked, the parameter server follows
@@ -371,7 +406,7 @@ def main():
              col_a["sh"].count() >= 2 * FRAMES)
     check_run("a reconfigured", col_a, bag_a, FRAMES, "mono16",
               ["--radius", "0.25", "--prefilter", "none", "--slices", "3",
-               "--frame-index", str(FRAMES)], FRAMES)
+               "--occlusion-color", "203040", "--frame-index", str(FRAMES)], FRAMES)
     time.sleep(1.0)
     n = (col_a["ao"].count(), col_a["sh"].count(), col_b["ao"].count())
     if n != (2 * FRAMES, 2 * FRAMES, FRAMES):
