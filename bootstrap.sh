@@ -156,10 +156,10 @@ sanitized_tests() {
 			-Db_lundef=false -Dwerror=true >/dev/null
 	fi
 	ninja -C "$dir" >/dev/null
-	say "sanitizers: the oni, plugin, bag and daemon suites under ASan + UBSan"
+	say "sanitizers: the oni, plugin, bag, daemon and ros suites under ASan + UBSan"
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
 		LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" \
-		meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --print-errorlogs
+		meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --suite ros --print-errorlogs
 }
 
 case "${1:-}" in
