@@ -6,8 +6,8 @@ usage: test_ros_node.py DEPTHAO_NODE DEPTHAO_CLI LAUNCH_FILE
 
 A roscore on a free port with its own ROS_HOME and ROS_LOG_DIR; two nodes: /a
 (16UC1 in, mono16 AO; started by roslaunch with depthao.launch, the build tree as the
-ROS package, a YAML file of AO parameters) and /b (32FC1 big-endian in, 32FC1 AO;
-started directly).  Bags written here by
+ROS package, a YAML file of AO parameters), /b (32FC1 big-endian in, 32FC1 AO) and
+/c (a's input read as counts of 0.1 mm, the low preset), b and c started directly.  Bags written here by
 rosbag's Python writer (depth + camera_info per frame) are played into them with
 `rosbag play`; the AO and shaded images they publish must equal `depthao process` on
 the same bags (mono16 and rgb8 bit for bit, 32FC1 rounded to 16 bits as the library
@@ -391,10 +391,15 @@ def main():
     procs.append(node_a)
     node_b = start([NODE, "__ns:=/b", "__name:=depthao", "depth/image:=/cam32/depth/image",
                     "_queue_size:=50", "_ao_encoding:=32FC1"], os.path.join(WORK, "b.log"))
+    # node c: a's input with counts of 0.1 mm and the low preset
+    node_c = start([NODE, "__ns:=/c", "__name:=depthao", "depth/image:=/cam/depth/image",
+                    "_queue_size:=50", "_depth_unit:=0.0001", "_quality:=low"],
+                   os.path.join(WORK, "c.log"))
     rospy.init_node("dao_test", anonymous=True, disable_signals=True)
     col_a = {"ao": Collector("/a/ao/image"), "sh": Collector("/a/shaded/image")}
     col_b = {"ao": Collector("/b/ao/image")}
-    for c in list(col_a.values()) + list(col_b.values()):
+    col_c = {"ao": Collector("/c/ao/image")}
+    for c in list(col_a.values()) + list(col_b.values()) + list(col_c.values()):
         wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
     note_pid(rosgraph.Master("/dao_test_probe"), "/a/depthao", "depthao_node")
     if rospy.get_param("/a/depthao/occlusion_color") != "203040":
@@ -404,9 +409,11 @@ def main():
 
     play(bag_a, bag_b)
     wait_for("%d AO frames of each node" % FRAMES, lambda: col_a["ao"].count() >= FRAMES and
-             col_a["sh"].count() >= FRAMES and col_b["ao"].count() >= FRAMES)
+             col_a["sh"].count() >= FRAMES and col_b["ao"].count() >= FRAMES and
+             col_c["ao"].count() >= FRAMES)
     check_run("a", col_a, bag_a, FRAMES, "mono16", ["--occlusion-color", "203040"], 0)
     check_run("b", col_b, bag_b, FRAMES, "32FC1", [], 0)
+    check_run("c", col_c, bag_a, FRAMES, "mono16", ["--depth-unit", "0.0001", "--quality", "low"], 0)
 
     # dynamic_reconfigure: names for enums, ranges checked, the parameter server follows
     client = dynamic_reconfigure.client.Client("/a/depthao", timeout=TIMEOUT)
@@ -453,15 +460,15 @@ def main():
               ["--radius", "0.25", "--prefilter", "none", "--slices", "3",
                "--occlusion-color", "203040", "--frame-index", str(FRAMES)], FRAMES)
     time.sleep(1.0)
-    n = (col_a["ao"].count(), col_a["sh"].count(), col_b["ao"].count())
-    if n != (2 * FRAMES, 2 * FRAMES, FRAMES):
-        fail("published frames (a AO, a shaded, b AO) %s, expected %s"
-             % (n, (2 * FRAMES, 2 * FRAMES, FRAMES)))
-    for name, p in (("a", node_a), ("b", node_b)):
+    n = (col_a["ao"].count(), col_a["sh"].count(), col_b["ao"].count(), col_c["ao"].count())
+    if n != (2 * FRAMES, 2 * FRAMES, FRAMES, 2 * FRAMES):
+        fail("published frames (a AO, a shaded, b AO, c AO) %s, expected %s"
+             % (n, (2 * FRAMES, 2 * FRAMES, FRAMES, 2 * FRAMES)))
+    for name, p in (("a", node_a), ("b", node_b), ("c", node_c)):
         if p.poll() is not None:
             fail("node %s stopped: %s" % (name, log_of(name)))
     # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
-    for name in ("a", "b", "bad"):
+    for name in ("a", "b", "c", "bad"):
         for word in ("AddressSanitizer", "runtime error:"):
             if word in log_of(name):
                 fail("%s in the log of %s: %s" % (word, name, log_of(name)))
