@@ -27,6 +27,8 @@ PACKAGES=(
 	xvfb xauth
 	python3 python3-numpy python3-pytest python3-pil python3-rosbag python3-sensor-msgs
 	python3-open3d python3-mesonpy python3-venv python3-yaml libyaml-dev
+	ros-core libroscpp-dev libimage-transport-dev libsensor-msgs-dev
+	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 	python3-gi gir1.2-gstreamer-1.0
@@ -156,10 +158,10 @@ sanitized_tests() {
 			-Db_lundef=false -Dwerror=true >/dev/null
 	fi
 	ninja -C "$dir" >/dev/null
-	say "sanitizers: the oni, plugin, bag and daemon suites under ASan + UBSan"
+	say "sanitizers: the oni, plugin, bag, daemon and ros suites under ASan + UBSan"
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
 		LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" \
-		meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --print-errorlogs
+		meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --suite ros --print-errorlogs
 }
 
 case "${1:-}" in

@@ -51,11 +51,12 @@ for dir in src/*/; do
 	done | grep -v '^x$' && status=1 || true
 done
 
-# plugins: public headers and their own directory's headers
-for f in $(find plugins -name '*.[ch]' -o -name '*.cpp' | sort); do
+# plugins and the ROS nodes: public headers and their own directory's headers
+# (ros/ includes its C layer ros/common by name, "dao_ros.h")
+for f in $(find plugins ros -name '*.[ch]' -o -name '*.cpp' | sort); do
 	bad=$(grep -o '^#[[:space:]]*include[[:space:]]*"[A-Za-z0-9_]*/[^"]*"' "$f" || true)
 	if [ -n "$bad" ]; then
-		echo "FAIL: $f includes a private header: $bad (plugins use <depthao/...> only)"
+		echo "FAIL: $f includes a private header: $bad (plugins and ros/ use <depthao/...> only)"
 		status=1
 	fi
 done
@@ -72,5 +73,5 @@ for f in $(find tools -name '*.[ch]' -o -name '*.cpp' | sort); do
 done
 [ -z "$(ls -d src/synth 2>/dev/null)" ] || { echo "FAIL: src/synth is back: the scenes and the ray tracer are not part of libdepthao (tools/synth)"; status=1; }
 
-[ "$status" -ne 0 ] || echo "layering: every src/ concern includes only the layers below it; plugins and tools only public headers"
+[ "$status" -ne 0 ] || echo "layering: every src/ concern includes only the layers below it; plugins, tools and ros/ only public headers"
 exit "$status"

@@ -1,0 +1,170 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The ROS-independent core of depthao's ROS nodes, in C on the public API.
+ *
+ * A ROS node is a shell around this layer: it copies the fields of the
+ * sensor_msgs/Image and sensor_msgs/CameraInfo it receives (the same fields in
+ * ROS 1 and ROS 2) into the plain structs below, lets dao_ros_proc_* check
+ * them, follow the camera and compute AO and the shaded image into buffers the
+ * shell owns (its outgoing messages' data), and maps its node parameters onto
+ * the AO parameter table with dao_ros_param_*.  Nothing here knows ROS: the
+ * ROS 1 node (ros/ros1/depthao_node.cpp) is its only C++, and a ROS 2 node
+ * would reuse this file unchanged.
+ *
+ * Steady state allocates nothing: buffers are made when the first frame or a
+ * new camera (size or intrinsics) arrives.
+ */
+#ifndef DAO_ROS_H
+#define DAO_ROS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <depthao/depthao.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The fields of a sensor_msgs/Image that depthao reads (data is not copied). */
+struct dao_ros_image {
+	uint32_t width, height;
+	const char *encoding;   /* "16UC1", "mono16" (counts) or "32FC1" (metres) */
+	int is_bigendian;
+	uint32_t step;          /* bytes per row */
+	const void *data;
+	size_t size;            /* bytes at data */
+};
+
+/* The fields of a sensor_msgs/CameraInfo that depthao reads. */
+struct dao_ros_camera_info {
+	uint32_t width, height;
+	const double *k;        /* 9 values, row-major: fx 0 cx, 0 fy cy, 0 0 1 */
+	const double *d;        /* distortion coefficients (may be NULL) */
+	size_t d_count;
+};
+
+/* The AO image's encoding. */
+enum dao_ros_ao_encoding {
+	DAO_ROS_AO_MONO16 = 0,  /* round(visibility x 65535) */
+	DAO_ROS_AO_32FC1,       /* visibility in [0, 1] */
+};
+
+/* What a node is told at start, beside the AO parameters. */
+struct dao_ros_settings {
+	float depth_unit;                   /* metres per count of 16UC1 / mono16 (0.001) */
+	enum dao_ros_ao_encoding ao_encoding;
+};
+
+/* Defaults: depth_unit 0.001, mono16. */
+void dao_ros_settings_init(struct dao_ros_settings *s);
+
+/*
+ * Sets one node setting from text: "depth_unit" (metres, > 0), "ao_encoding"
+ * ("mono16" or "32FC1").  Returns 0,
+ * -ENOENT when `name` is not a node setting, or -EINVAL with a message.
+ */
+int dao_ros_settings_set(struct dao_ros_settings *s, const char *name, const char *value,
+			 struct dao_error *err);
+
+/* The encoding name of an AO encoding ("mono16", "32FC1"). */
+const char *dao_ros_ao_encoding_name(enum dao_ros_ao_encoding e);
+
+/* An output image: its layout is given by dao_ros_proc_prepare(); the shell
+ * points `data` at `size` bytes it owns before dao_ros_proc_run(). */
+struct dao_ros_output {
+	const char *encoding;   /* "mono16", "32FC1" or "rgb8" */
+	uint32_t width, height;
+	uint32_t step;
+	size_t size;            /* step x height */
+	void *data;
+};
+
+struct dao_ros_proc;
+
+/* `params` may be NULL: the default preset with the stream defaults
+ * (dao_params_stream_defaults: a topic is a stream from one camera). */
+int dao_ros_proc_create(struct dao_ros_proc **out, const struct dao_ros_settings *s,
+			const struct dao_params *params, struct dao_error *err);
+void dao_ros_proc_destroy(struct dao_ros_proc *proc);
+
+/*
+ * Checks a depth image and its camera info and gives the layout of the
+ * outputs for it.  A new size or new intrinsics (re)create the AO context
+ * (allocation happens here only); a CameraInfo with distortion sets
+ * *distorted (depth should be rectified; the shell warns once).  Errors name
+ * what was wrong: an encoding that is not accepted, a step or data size that
+ * does not hold the image, an image and camera info of different sizes.
+ */
+int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *depth,
+			 const struct dao_ros_camera_info *info, struct dao_ros_output *ao,
+			 struct dao_ros_output *shaded, int *distorted, struct dao_error *err);
+
+/*
+ * Computes AO (and the shaded image when shaded->data is not NULL) of the
+ * depth image last given to dao_ros_proc_prepare() into the outputs' data.
+ * stamp_ns is the image's capture time: frames continue the temporal
+ * filters' histories unless the stamp goes back (a bag played again).
+ */
+int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *depth,
+		     uint64_t stamp_ns, struct dao_ros_output *ao, struct dao_ros_output *shaded,
+		     struct dao_error *err);
+
+/* The AO parameters now in use, and new ones (validated; applied at once). */
+void dao_ros_proc_get_params(const struct dao_ros_proc *proc, struct dao_params *out);
+int dao_ros_proc_set_params(struct dao_ros_proc *proc, const struct dao_params *params,
+			    struct dao_error *err);
+
+/* Frames processed since creation. */
+uint64_t dao_ros_proc_frames(const struct dao_ros_proc *proc);
+
+/*
+ * The AO parameters as node parameters.  ROS names allow no '-': a node
+ * parameter is the table's name with '_' ("depth_min"); dao_param_find()
+ * takes either.
+ */
+enum dao_ros_param_kind {
+	DAO_ROS_PARAM_DOUBLE = 0,  /* FLOAT entries */
+	DAO_ROS_PARAM_INT,         /* INT entries, and ENUM entries by index */
+	DAO_ROS_PARAM_STRING,      /* COLOR entries, "RRGGBB" */
+};
+
+struct dao_ros_param_desc {
+	char name[64];                   /* with '_' */
+	enum dao_ros_param_kind kind;
+	double min, max;                 /* ENUM: 0 .. count - 1 */
+	const struct dao_param_info *info;
+};
+
+void dao_ros_param_describe(const struct dao_param_info *pi, struct dao_ros_param_desc *out);
+
+/* Values of the parameter `pi` in `p`: as a double (DOUBLE), an int (INT,
+ * ENUM index, COLOR 0xRRGGBB), text (any kind: "0.4", "domain", "202040"). */
+double dao_ros_param_get_double(const struct dao_params *p, const struct dao_param_info *pi);
+long dao_ros_param_get_int(const struct dao_params *p, const struct dao_param_info *pi);
+int dao_ros_param_get_string(const struct dao_params *p, const struct dao_param_info *pi,
+			     char *buf, size_t len, struct dao_error *err);
+
+/*
+ * Sets a parameter from a node parameter of any ROS type: a double (FLOAT;
+ * INT when it is integral), an int (INT, FLOAT, ENUM by index, COLOR as
+ * 0xRRGGBB) or a string (any entry, as dao_params_set() parses it: an
+ * enum by name).  Range-checked; errors name the parameter and the range.
+ */
+int dao_ros_param_set_double(struct dao_params *p, const struct dao_param_info *pi, double v,
+			     struct dao_error *err);
+int dao_ros_param_set_int(struct dao_params *p, const struct dao_param_info *pi, long v,
+			  struct dao_error *err);
+int dao_ros_param_set_string(struct dao_params *p, const struct dao_param_info *pi,
+			     const char *v, struct dao_error *err);
+
+/* Nanoseconds of a ROS time (sec, nsec). */
+static inline uint64_t dao_ros_stamp_ns(uint32_t sec, uint32_t nsec)
+{
+	return (uint64_t)sec * 1000000000u + nsec;
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,377 @@
+// SPDX-License-Identifier: MIT
+//
+// depthao_node: the ROS 1 shell around ros/common/dao_ros.c (all logic is
+// there, in C on the public API, for a ROS 2 node to reuse).  ROS 1 has no C
+// API, so this file only moves message fields into dao_ros structs and back,
+// reads the private parameters at start, and serves dynamic_reconfigure's
+// protocol (descriptions, updates, set_parameters) from depthao's parameter
+// table, without its code generator.
+//
+//   in:  depth/image (16UC1, mono16, 32FC1) + depth/camera_info (image_transport)
+//   out: ao/image (mono16 or 32FC1), shaded/image (rgb8), the input's header
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <dynamic_reconfigure/Config.h>
+#include <dynamic_reconfigure/ConfigDescription.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <image_transport/image_transport.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "dao_ros.h"
+
+namespace {
+
+// Sets one AO parameter from a ROS parameter value of any type.
+int set_from_xmlrpc(dao_params *p, const dao_param_info *pi, XmlRpc::XmlRpcValue &v,
+		    dao_error *err)
+{
+	switch (v.getType()) {
+	case XmlRpc::XmlRpcValue::TypeDouble:
+		return dao_ros_param_set_double(p, pi, static_cast<double>(v), err);
+	case XmlRpc::XmlRpcValue::TypeInt:
+		return dao_ros_param_set_int(p, pi, static_cast<int>(v), err);
+	case XmlRpc::XmlRpcValue::TypeString:
+		return dao_ros_param_set_string(p, pi, static_cast<std::string>(v).c_str(), err);
+	default:
+		std::snprintf(err->message, sizeof err->message,
+			      "%s: give a number or a name, not a %s", pi->name,
+			      v.getType() == XmlRpc::XmlRpcValue::TypeBoolean ? "boolean" : "list or map");
+		return err->code = -EINVAL;
+	}
+}
+
+std::string text_of(XmlRpc::XmlRpcValue &v)
+{
+	switch (v.getType()) {
+	case XmlRpc::XmlRpcValue::TypeDouble: {
+		char b[64];
+		std::snprintf(b, sizeof b, "%.17g", static_cast<double>(v));
+		return b;
+	}
+	case XmlRpc::XmlRpcValue::TypeInt:
+		return std::to_string(static_cast<int>(v));
+	case XmlRpc::XmlRpcValue::TypeString:
+		return static_cast<std::string>(v);
+	default:
+		return "";
+	}
+}
+
+class DepthaoNode {
+public:
+	DepthaoNode() : pnh_("~"), it_(nh_) {}
+	~DepthaoNode() { dao_ros_proc_destroy(proc_); }
+
+	bool start();
+
+private:
+	void on_depth(const sensor_msgs::ImageConstPtr &img, const sensor_msgs::CameraInfoConstPtr &info);
+	bool on_set(dynamic_reconfigure::Reconfigure::Request &req,
+		    dynamic_reconfigure::Reconfigure::Response &res);
+	bool read_parameters(dao_ros_settings *s, dao_params *p);
+	dynamic_reconfigure::Config config_of(const dao_params &p, int which) const;
+	void publish_config(const dao_params &p);
+	void log_error(const char *what, const dao_error &err);
+
+	ros::NodeHandle nh_, pnh_;
+	image_transport::ImageTransport it_;
+	image_transport::CameraSubscriber sub_;
+	image_transport::Publisher ao_pub_, shaded_pub_;
+	ros::Publisher descr_pub_, update_pub_;
+	ros::ServiceServer set_srv_;
+	dao_ros_proc *proc_ = nullptr;
+	std::vector<dao_ros_param_desc> descs_;
+	dao_params defaults_{};
+	sensor_msgs::Image ao_msg_, shaded_msg_;  // reused: their data keep their capacity
+	bool warned_distortion_ = false;
+	std::string last_error_;
+	ros::WallTime last_error_time_;
+};
+
+// The same error is logged again after 10 s, another one at once.
+void DepthaoNode::log_error(const char *what, const dao_error &err)
+{
+	ros::WallTime now = ros::WallTime::now();
+	if (last_error_ == err.message && (now - last_error_time_).toSec() < 10.0)
+		return;
+	last_error_ = err.message;
+	last_error_time_ = now;
+	ROS_ERROR("%s: %s", what, err.message);
+}
+
+bool DepthaoNode::read_parameters(dao_ros_settings *s, dao_params *p)
+{
+	dao_error err{};
+	dao_ros_settings_init(s);
+	std::string quality = "default";
+	pnh_.param<std::string>("quality", quality, "default");
+	dao_quality q;
+	if (dao_quality_parse(quality.c_str(), &q, &err)) {
+		ROS_FATAL("~quality: %s", err.message);
+		return false;
+	}
+	dao_params_init(p, q);
+	bool stream = true;
+	pnh_.param("stream", stream, true);
+	if (stream)
+		dao_params_stream_defaults(p);
+	defaults_ = *p;
+
+	const char *settings[] = { "depth_unit", "ao_encoding" };
+	for (const char *name : settings) {
+		XmlRpc::XmlRpcValue v;
+		if (pnh_.getParam(name, v) && dao_ros_settings_set(s, name, text_of(v).c_str(), &err)) {
+			ROS_FATAL("~%s", err.message);
+			return false;
+		}
+	}
+	size_t count;
+	const dao_param_info *table = dao_param_table(&count);
+	for (size_t i = 0; i < count; i++) {
+		dao_ros_param_desc d;
+		dao_ros_param_describe(&table[i], &d);
+		descs_.push_back(d);
+		XmlRpc::XmlRpcValue v;
+		if (pnh_.getParam(d.name, v) && set_from_xmlrpc(p, d.info, v, &err)) {
+			ROS_FATAL("~%s (%s): %s", d.name, d.info->help, err.message);
+			return false;
+		}
+	}
+	// a misspelt private parameter would otherwise be ignored silently
+	std::vector<std::string> names;
+	const std::string ns = pnh_.getNamespace() + "/";
+	if (ros::param::getParamNames(names))
+		for (const std::string &full : names) {
+			if (full.compare(0, ns.size(), ns) != 0)
+				continue;
+			std::string n = full.substr(ns.size());
+			if (n == "quality" || n == "stream" || n == "depth_unit" || n == "ao_encoding" ||
+			    n == "queue_size" || n.find('/') != std::string::npos ||
+			    dao_param_find(n.c_str()))
+				continue;
+			ROS_WARN("~%s is not a parameter of depthao_node: ignored (the AO parameters "
+				 "are those of depthao process --help, with '_' for '-')", n.c_str());
+		}
+	return true;
+}
+
+dynamic_reconfigure::Config DepthaoNode::config_of(const dao_params &p, int which) const
+{
+	// which: 0 the values of p, -1 the minima, 1 the maxima
+	dynamic_reconfigure::Config c;
+	for (const dao_ros_param_desc &d : descs_) {
+		switch (d.kind) {
+		case DAO_ROS_PARAM_DOUBLE: {
+			dynamic_reconfigure::DoubleParameter v;
+			v.name = d.name;
+			v.value = which < 0 ? d.min : which > 0 ? d.max : dao_ros_param_get_double(&p, d.info);
+			c.doubles.push_back(v);
+			break;
+		}
+		case DAO_ROS_PARAM_INT: {
+			dynamic_reconfigure::IntParameter v;
+			v.name = d.name;
+			v.value = which < 0 ? static_cast<int>(d.min) : which > 0 ? static_cast<int>(d.max)
+					: static_cast<int>(dao_ros_param_get_int(&p, d.info));
+			c.ints.push_back(v);
+			break;
+		}
+		case DAO_ROS_PARAM_STRING: {
+			dynamic_reconfigure::StrParameter v;
+			v.name = d.name;
+			char buf[64] = "";
+			if (which == 0)
+				dao_ros_param_get_string(&p, d.info, buf, sizeof buf, nullptr);
+			v.value = buf;
+			c.strs.push_back(v);
+			break;
+		}
+		}
+	}
+	dynamic_reconfigure::GroupState g;
+	g.name = "Default";
+	g.state = true;
+	g.id = 0;
+	g.parent = 0;
+	c.groups.push_back(g);
+	return c;
+}
+
+// The enums as dynamic_reconfigure's edit_method (a Python literal rqt_reconfigure
+// and the Python client evaluate), so they take names: {"prefilter": "domain"}.
+std::string edit_method(const dao_param_info *pi)
+{
+	if (pi->type != DAO_PARAM_ENUM)
+		return "";
+	std::string s = "{'enum_description': '" + std::string(pi->name) + "', 'enum': [";
+	for (int i = 0; pi->enum_names[i]; i++)
+		s += std::string(i ? ", " : "") + "{'name': '" + pi->enum_names[i] +
+		     "', 'type': 'int', 'value': " + std::to_string(i) +
+		     ", 'description': '', 'srcline': 0, 'srcfile': '', 'cconsttype': 'const int', "
+		     "'ctype': 'int'}";
+	return s + "]}";
+}
+
+void DepthaoNode::publish_config(const dao_params &p)
+{
+	update_pub_.publish(config_of(p, 0));
+	// the parameter server shows the values in use, as dynamic_reconfigure's server does
+	for (const dao_ros_param_desc &d : descs_) {
+		if (d.kind == DAO_ROS_PARAM_DOUBLE)
+			pnh_.setParam(d.name, dao_ros_param_get_double(&p, d.info));
+		else if (d.kind == DAO_ROS_PARAM_INT)
+			pnh_.setParam(d.name, static_cast<int>(dao_ros_param_get_int(&p, d.info)));
+		else {
+			char buf[64];
+			if (!dao_ros_param_get_string(&p, d.info, buf, sizeof buf, nullptr))
+				pnh_.setParam(d.name, std::string(buf));
+		}
+	}
+}
+
+bool DepthaoNode::start()
+{
+	dao_ros_settings s;
+	dao_params p;
+	if (!read_parameters(&s, &p))
+		return false;
+	dao_error err{};
+	if (dao_ros_proc_create(&proc_, &s, &p, &err)) {
+		ROS_FATAL("%s", err.message);
+		return false;
+	}
+	int queue = 5;
+	pnh_.param("queue_size", queue, 5);
+	if (queue < 1) {
+		ROS_FATAL("~queue_size: %d is not a queue length (1 or more)", queue);
+		return false;
+	}
+	ao_pub_ = it_.advertise("ao/image", queue);
+	shaded_pub_ = it_.advertise("shaded/image", queue);
+
+	dynamic_reconfigure::ConfigDescription descr;
+	dynamic_reconfigure::Group g;
+	g.name = "Default";
+	g.type = "";
+	g.id = 0;
+	g.parent = 0;
+	for (const dao_ros_param_desc &d : descs_) {
+		dynamic_reconfigure::ParamDescription pd;
+		pd.name = d.name;
+		pd.type = d.kind == DAO_ROS_PARAM_DOUBLE ? "double" : d.kind == DAO_ROS_PARAM_INT ? "int" : "str";
+		pd.level = 0;
+		pd.description = d.info->help;
+		if (d.info->unit)
+			pd.description += std::string(" (") + d.info->unit + ")";
+		pd.edit_method = edit_method(d.info);
+		g.parameters.push_back(pd);
+	}
+	descr.groups.push_back(g);
+	descr.min = config_of(p, -1);
+	descr.max = config_of(p, 1);
+	descr.dflt = config_of(defaults_, 0);
+	descr_pub_ = pnh_.advertise<dynamic_reconfigure::ConfigDescription>("parameter_descriptions", 1, true);
+	update_pub_ = pnh_.advertise<dynamic_reconfigure::Config>("parameter_updates", 1, true);
+	descr_pub_.publish(descr);
+	publish_config(p);
+	set_srv_ = pnh_.advertiseService("set_parameters", &DepthaoNode::on_set, this);
+
+	sub_ = it_.subscribeCamera("depth/image", queue, &DepthaoNode::on_depth, this);
+	ROS_INFO("depthao %s: %s + %s -> %s (%s), %s (rgb8); depth_unit %g m", dao_version(),
+		 sub_.getTopic().c_str(), sub_.getInfoTopic().c_str(), ao_pub_.getTopic().c_str(),
+		 dao_ros_ao_encoding_name(s.ao_encoding), shaded_pub_.getTopic().c_str(),
+		 static_cast<double>(s.depth_unit));
+	return true;
+}
+
+bool DepthaoNode::on_set(dynamic_reconfigure::Reconfigure::Request &req,
+			 dynamic_reconfigure::Reconfigure::Response &res)
+{
+	dao_params p;
+	dao_ros_proc_get_params(proc_, &p);
+	dao_error err{};
+	auto apply = [&](const std::string &name, auto set) {
+		const dao_param_info *pi = dao_param_find(name.c_str());
+		if (!pi)
+			ROS_ERROR("set_parameters: '%s' is not an AO parameter", name.c_str());
+		else if (set(pi))
+			ROS_ERROR("set_parameters: %s; %s keeps its value", err.message, name.c_str());
+	};
+	for (const auto &v : req.config.doubles)
+		apply(v.name, [&](const dao_param_info *pi) { return dao_ros_param_set_double(&p, pi, v.value, &err); });
+	for (const auto &v : req.config.ints)
+		apply(v.name, [&](const dao_param_info *pi) { return dao_ros_param_set_int(&p, pi, v.value, &err); });
+	for (const auto &v : req.config.strs)
+		apply(v.name, [&](const dao_param_info *pi) { return dao_ros_param_set_string(&p, pi, v.value.c_str(), &err); });
+	for (const auto &v : req.config.bools)
+		ROS_ERROR("set_parameters: %s: depthao has no boolean parameters", v.name.c_str());
+	if (dao_ros_proc_set_params(proc_, &p, &err))
+		ROS_ERROR("set_parameters: %s (nothing changed)", err.message);
+	dao_ros_proc_get_params(proc_, &p);
+	res.config = config_of(p, 0);
+	publish_config(p);
+	return true;
+}
+
+void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
+			   const sensor_msgs::CameraInfoConstPtr &info)
+{
+	const dao_ros_image depth = { img->width, img->height, img->encoding.c_str(), img->is_bigendian,
+				      img->step, img->data.data(), img->data.size() };
+	const dao_ros_camera_info ci = { info->width, info->height, info->K.data(), info->D.data(),
+					 info->D.size() };
+	dao_ros_output ao, shaded;
+	int distorted;
+	dao_error err{};
+	if (dao_ros_proc_prepare(proc_, &depth, &ci, &ao, &shaded, &distorted, &err)) {
+		log_error(sub_.getTopic().c_str(), err);
+		return;
+	}
+	if (distorted && !warned_distortion_) {
+		ROS_WARN("%s: the camera info has distortion coefficients: depthao assumes a "
+			 "pinhole camera, give it rectified depth (image_rect)", sub_.getInfoTopic().c_str());
+		warned_distortion_ = true;
+	}
+	// the messages are kept: once sized, resize() and the header's copy reuse their memory
+	const bool want_shaded = shaded_pub_.getNumSubscribers() > 0;
+	sensor_msgs::Image *msgs[2] = { &ao_msg_, &shaded_msg_ };
+	dao_ros_output *outs[2] = { &ao, &shaded };
+	for (int i = 0; i < 2; i++) {
+		msgs[i]->header = img->header;
+		msgs[i]->width = outs[i]->width;
+		msgs[i]->height = outs[i]->height;
+		msgs[i]->encoding = outs[i]->encoding;
+		msgs[i]->is_bigendian = 0;
+		msgs[i]->step = outs[i]->step;
+		if (i == 0 || want_shaded) {
+			msgs[i]->data.resize(outs[i]->size);
+			outs[i]->data = msgs[i]->data.data();
+		}
+	}
+	if (dao_ros_proc_run(proc_, &depth, dao_ros_stamp_ns(img->header.stamp.sec, img->header.stamp.nsec),
+			     &ao, &shaded, &err)) {
+		log_error(sub_.getTopic().c_str(), err);
+		return;
+	}
+	ao_pub_.publish(ao_msg_);
+	if (want_shaded)
+		shaded_pub_.publish(shaded_msg_);
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	ros::init(argc, argv, "depthao");
+	DepthaoNode node;
+	if (!node.start())
+		return 1;
+	ros::spin();
+	return 0;
+}

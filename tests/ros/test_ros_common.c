@@ -1,0 +1,468 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * ros/common, the C layer of the ROS nodes, without ROS: message fields to
+ * frames (every accepted encoding and byte order, padded rows give the same AO;
+ * the errors name what is wrong), the camera followed, time going back starts
+ * the temporal filters over, the parameter table as node parameters, and no
+ * allocation per frame (the C allocator interposed, as test_no_alloc.c does).
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/cmocka_all.h"
+#include "common/test_common.h"
+#include "dao_ros.h"
+
+#ifdef __GLIBC__
+void *__libc_malloc(size_t n);
+void *__libc_calloc(size_t n, size_t m);
+void *__libc_realloc(void *p, size_t n);
+void *__libc_memalign(size_t a, size_t n);
+void __libc_free(void *p);
+
+static atomic_int counting;
+static atomic_long allocations;
+
+static void count(void)
+{
+	if (atomic_load(&counting))
+		atomic_fetch_add(&allocations, 1);
+}
+
+void *malloc(size_t n)
+{
+	count();
+	return __libc_malloc(n);
+}
+
+void *calloc(size_t n, size_t m)
+{
+	count();
+	return __libc_calloc(n, m);
+}
+
+void *realloc(void *p, size_t n)
+{
+	count();
+	return __libc_realloc(p, n);
+}
+
+void *aligned_alloc(size_t a, size_t n)
+{
+	count();
+	return __libc_memalign(a, n);
+}
+
+int posix_memalign(void **out, size_t a, size_t n)
+{
+	count();
+	*out = __libc_memalign(a, n);
+	return *out ? 0 : ENOMEM;
+}
+
+void free(void *p)
+{
+	__libc_free(p);
+}
+#endif
+
+#define W 64
+#define H 48
+
+static const double K[9] = { 60.0, 0, 31.5, 0, 61.0, 23.25, 0, 0, 1 };
+
+/* a wall with a box in front of it (counts of 1 mm), holes on a lattice, and
+ * +-2 mm of noise that changes from frame to frame */
+static uint16_t count_at(int x, int y, int i)
+{
+	if ((x * 7 + y * 3 + i) % 29 == 0)
+		return 0;
+	int noise = (int)((unsigned)(x * 7919 + y * 104729 + i * 15485863) % 5u) - 2;
+	if (x >= 16 + i && x < 40 + i && y >= 12 && y < 36)
+		return (uint16_t)(1800 + x + noise);
+	return (uint16_t)(2000 + 9 * y + 2 * x + noise);
+}
+
+/* the frame as a message would carry it: 16UC1 (or mono16) or 32FC1, either
+ * byte order, rows `pad` bytes longer than needed */
+static size_t make_image(uint8_t *buf, struct dao_ros_image *img, const char *encoding, int big,
+			 int pad, int i)
+{
+	int f32 = !strcmp(encoding, "32FC1");
+	size_t bpp = f32 ? 4 : 2, step = W * bpp + (size_t)pad;
+	memset(buf, 0xee, step * H);
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			uint16_t c = count_at(x, y, i);
+			uint8_t b[4];
+			if (f32) {
+				float m = c ? (float)c * 0.001f : NAN;
+				memcpy(b, &m, 4);
+			} else {
+				memcpy(b, &c, 2);
+			}
+			uint8_t *d = buf + (size_t)y * step + (size_t)x * bpp;
+			for (size_t k = 0; k < bpp; k++)
+				d[k] = big ? b[bpp - 1 - k] : b[k];
+		}
+	*img = (struct dao_ros_image){ W, H, encoding, big, (uint32_t)step, buf, step * H };
+	return step * H;
+}
+
+static const struct dao_ros_camera_info info = { W, H, K, NULL, 0 };
+
+static uint8_t in_buf[W * H * 4 + 64 * H];
+static float ao_f[W * H];
+static uint16_t ao_16[W * H];
+static uint8_t rgb[W * H * 3];
+
+/* one frame through prepare + run; the outputs in ao_16 / ao_f and rgb */
+static int run_frame(struct dao_ros_proc *proc, const struct dao_ros_image *img, uint64_t stamp,
+		     struct dao_error *err)
+{
+	struct dao_ros_output ao, sh;
+	int distorted;
+	int r = dao_ros_proc_prepare(proc, img, &info, &ao, &sh, &distorted, err);
+	if (r)
+		return r;
+	ao.data = !strcmp(ao.encoding, "32FC1") ? (void *)ao_f : (void *)ao_16;
+	sh.data = rgb;
+	return dao_ros_proc_run(proc, img, stamp, &ao, &sh, err);
+}
+
+static struct dao_ros_proc *make_proc(const char *ao_encoding, struct dao_params *p)
+{
+	struct dao_ros_settings s;
+	struct dao_ros_proc *proc;
+	struct dao_error err;
+	dao_ros_settings_init(&s);
+	assert_int_equal(dao_ros_settings_set(&s, "ao_encoding", ao_encoding, &err), 0);
+	if (dao_ros_proc_create(&proc, &s, p, &err))
+		fail_msg("create: %s", err.message);
+	return proc;
+}
+
+static void test_settings(void **state)
+{
+	(void)state;
+	struct dao_ros_settings s;
+	struct dao_error err;
+	dao_ros_settings_init(&s);
+	assert_true(s.depth_unit == 0.001f && s.ao_encoding == DAO_ROS_AO_MONO16);
+	assert_int_equal(dao_ros_settings_set(&s, "depth_unit", "0.0001", &err), 0);
+	assert_true(s.depth_unit == 0.0001f);
+	assert_int_equal(dao_ros_settings_set(&s, "depth_unit", "-1", &err), -EINVAL);
+	assert_non_null(strstr(err.message, "depth_unit: '-1' is not a unit in metres"));
+	assert_int_equal(dao_ros_settings_set(&s, "ao_encoding", "32FC1", &err), 0);
+	assert_int_equal(s.ao_encoding, DAO_ROS_AO_32FC1);
+	assert_int_equal(dao_ros_settings_set(&s, "ao_encoding", "mono8", &err), -EINVAL);
+	assert_non_null(strstr(err.message, "'mono8' is not mono16 or 32FC1"));
+	assert_int_equal(dao_ros_settings_set(&s, "radius", "1", &err), -ENOENT);
+	assert_string_equal(dao_ros_ao_encoding_name(DAO_ROS_AO_32FC1), "32FC1");
+}
+
+/* 16UC1 and mono16 in both byte orders, with padded rows: one AO; 32FC1 in
+ * both byte orders: one AO, within a count of the counts' (the unit's product
+ * rounds differently from the float metres) */
+static void test_encodings_agree(void **state)
+{
+	(void)state;
+	static uint16_t first[W * H];
+	static uint8_t first_rgb[W * H * 3];
+	struct dao_ros_image img;
+	struct dao_error err;
+	const struct { const char *enc; int big, pad; } cases[] = {
+		{ "16UC1", 0, 0 }, { "16UC1", 1, 0 }, { "mono16", 0, 6 }, { "mono16", 1, 2 },
+	};
+	for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+		struct dao_ros_proc *proc = make_proc("mono16", NULL);
+		make_image(in_buf, &img, cases[c].enc, cases[c].big, cases[c].pad, 0);
+		if (run_frame(proc, &img, 1, &err))
+			fail_msg("%s big %d: %s", cases[c].enc, cases[c].big, err.message);
+		if (c == 0) {
+			memcpy(first, ao_16, sizeof first);
+			memcpy(first_rgb, rgb, sizeof first_rgb);
+		} else {
+			assert_memory_equal(ao_16, first, sizeof first);
+			assert_memory_equal(rgb, first_rgb, sizeof first_rgb);
+		}
+		dao_ros_proc_destroy(proc);
+	}
+	int lo = 65535, hi = 0;
+	for (int k = 0; k < W * H; k++) {
+		lo = first[k] < lo ? first[k] : lo;
+		hi = first[k] > hi ? first[k] : hi;
+	}
+	if (hi - lo < 5000) /* the box occludes the wall: there is AO to compare */
+		fail_msg("AO from %d to %d only", lo, hi);
+	static float f32_le[W * H];
+	for (int big = 0; big < 2; big++) {
+		struct dao_ros_proc *proc = make_proc("32FC1", NULL);
+		make_image(in_buf, &img, "32FC1", big, big ? 4 : 0, 0);
+		if (run_frame(proc, &img, 1, &err))
+			fail_msg("32FC1 big %d: %s", big, err.message);
+		if (!big)
+			memcpy(f32_le, ao_f, sizeof f32_le);
+		else
+			assert_memory_equal(ao_f, f32_le, sizeof f32_le);
+		dao_ros_proc_destroy(proc);
+	}
+	int worst = 0;
+	for (int k = 0; k < W * H; k++) {
+		int d = abs((int)lrintf(f32_le[k] * 65535.0f) - (int)first[k]);
+		worst = d > worst ? d : worst;
+	}
+	if (worst > 64)
+		fail_msg("32FC1 metres and 16UC1 counts differ by %d / 65535", worst);
+}
+
+static void test_errors(void **state)
+{
+	(void)state;
+	struct dao_ros_proc *proc = make_proc("mono16", NULL);
+	struct dao_ros_image img;
+	struct dao_ros_output ao, sh;
+	struct dao_error err;
+	int distorted;
+	make_image(in_buf, &img, "16UC1", 0, 0, 0);
+	struct dao_ros_image bad = img;
+	bad.encoding = "rgb8";
+	assert_int_equal(dao_ros_proc_prepare(proc, &bad, &info, &ao, &sh, &distorted, &err), -EINVAL);
+	assert_string_equal(err.message, "depth image encoding 'rgb8' is not accepted: depthao takes "
+			    "16UC1 or mono16 (counts of depth_unit metres) or 32FC1 (metres)");
+	bad = img;
+	bad.step = 2 * W - 2;
+	assert_int_equal(dao_ros_proc_prepare(proc, &bad, &info, &ao, &sh, &distorted, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "step 126 is below width x 2 bytes"));
+	bad = img;
+	bad.size = img.size - 1;
+	assert_int_equal(dao_ros_proc_prepare(proc, &bad, &info, &ao, &sh, &distorted, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "6143 bytes of data, step 128 x height needs 6144"));
+	struct dao_ros_camera_info ci = info;
+	ci.width = W / 2;
+	assert_int_equal(dao_ros_proc_prepare(proc, &img, &ci, &ao, &sh, &distorted, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "the camera info is for 32x48, the depth image is 64x48"));
+	const double zero[9] = { 0 };
+	ci = info;
+	ci.k = zero;
+	assert_int_equal(dao_ros_proc_prepare(proc, &img, &ci, &ao, &sh, &distorted, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "fx 0, fy 0"));
+	/* run before a successful prepare */
+	ao.data = ao_16;
+	assert_int_equal(dao_ros_proc_run(proc, &img, 1, &ao, NULL, &err), -EINVAL);
+	/* distortion is reported, the frame still processed */
+	const double d[5] = { 0.1, 0, 0, 0, 0 };
+	ci = info;
+	ci.d = d;
+	ci.d_count = 5;
+	assert_int_equal(dao_ros_proc_prepare(proc, &img, &ci, &ao, &sh, &distorted, &err), 0);
+	assert_int_equal(distorted, 1);
+	assert_string_equal(ao.encoding, "mono16");
+	assert_int_equal(ao.step, 2 * W);
+	assert_int_equal(ao.size, 2 * W * H);
+	assert_string_equal(sh.encoding, "rgb8");
+	assert_int_equal(sh.step, 3 * W);
+	ao.data = ao_16;
+	sh.data = NULL; /* no shaded image wanted */
+	assert_int_equal(dao_ros_proc_run(proc, &img, 1, &ao, &sh, &err), 0);
+	assert_int_equal(dao_ros_proc_frames(proc), 1);
+	dao_ros_proc_destroy(proc);
+}
+
+/* new intrinsics make a new camera: the AO changes */
+static void test_camera_followed(void **state)
+{
+	(void)state;
+	static uint16_t before[W * H];
+	struct dao_ros_proc *proc = make_proc("mono16", NULL);
+	struct dao_ros_image img;
+	struct dao_ros_output ao, sh;
+	struct dao_error err;
+	int distorted;
+	make_image(in_buf, &img, "16UC1", 0, 0, 0);
+	assert_int_equal(run_frame(proc, &img, 1, &err), 0);
+	memcpy(before, ao_16, sizeof before);
+	double k2[9];
+	memcpy(k2, K, sizeof k2);
+	k2[0] = k2[4] = 30.0; /* a wider lens: the same radius covers fewer pixels */
+	struct dao_ros_camera_info ci = info;
+	ci.k = k2;
+	assert_int_equal(dao_ros_proc_prepare(proc, &img, &ci, &ao, &sh, &distorted, &err), 0);
+	ao.data = ao_16;
+	assert_int_equal(dao_ros_proc_run(proc, &img, 2, &ao, NULL, &err), 0);
+	assert_true(memcmp(before, ao_16, sizeof before) != 0);
+	dao_ros_proc_destroy(proc);
+}
+
+/* a stamp earlier than the last one starts the temporal histories over: the
+ * result equals a processor whose history holds other frames, reset there */
+static void test_time_back_resets(void **state)
+{
+	(void)state;
+	static uint16_t a[W * H], b[W * H], c[W * H];
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&p);
+	assert_true(p.depth_temporal > 0.0f);
+	struct dao_ros_image img;
+	struct dao_error err;
+	struct dao_ros_proc *pa = make_proc("mono16", &p), *pb = make_proc("mono16", &p),
+			    *pc = make_proc("mono16", &p);
+	for (int i = 0; i < 3; i++) {
+		make_image(in_buf, &img, "16UC1", 0, 0, i + 1);
+		assert_int_equal(run_frame(pa, &img, 10 + (uint64_t)i, &err), 0);
+		assert_int_equal(run_frame(pc, &img, 10 + (uint64_t)i, &err), 0);
+		make_image(in_buf, &img, "16UC1", 0, 0, 5 - i);
+		assert_int_equal(run_frame(pb, &img, 10 + (uint64_t)i, &err), 0);
+	}
+	make_image(in_buf, &img, "16UC1", 0, 0, 0);
+	assert_int_equal(run_frame(pa, &img, 5, &err), 0); /* back in time */
+	memcpy(a, ao_16, sizeof a);
+	assert_int_equal(run_frame(pb, &img, 5, &err), 0);
+	memcpy(b, ao_16, sizeof b);
+	assert_int_equal(run_frame(pc, &img, 13, &err), 0); /* onwards: the history counts */
+	memcpy(c, ao_16, sizeof c);
+	assert_memory_equal(a, b, sizeof a);
+	assert_true(memcmp(a, c, sizeof a) != 0);
+	dao_ros_proc_destroy(pa);
+	dao_ros_proc_destroy(pb);
+	dao_ros_proc_destroy(pc);
+}
+
+static void test_params(void **state)
+{
+	(void)state;
+	size_t n;
+	const struct dao_param_info *t = dao_param_table(&n);
+	struct dao_params p, q;
+	struct dao_error err;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	for (size_t k = 0; k < n; k++) {
+		struct dao_ros_param_desc d;
+		dao_ros_param_describe(&t[k], &d);
+		assert_null(strchr(d.name, '-'));
+		assert_ptr_equal(dao_param_find(d.name), &t[k]);
+		char text[64];
+		assert_int_equal(dao_ros_param_get_string(&p, &t[k], text, sizeof text, &err), 0);
+		q = p;
+		/* each kind's value round-trips through its node parameter type */
+		switch (d.kind) {
+		case DAO_ROS_PARAM_DOUBLE:
+			assert_int_equal(t[k].type, DAO_PARAM_FLOAT);
+			assert_int_equal(dao_ros_param_set_double(&q, &t[k], d.max, &err), 0);
+			assert_true(dao_ros_param_get_double(&q, &t[k]) == (double)(float)d.max);
+			assert_int_equal(dao_ros_param_set_double(&q, &t[k], d.max * 2 + 1, &err), -EINVAL);
+			assert_non_null(strstr(err.message, t[k].name));
+			assert_non_null(strstr(err.message, "out of range"));
+			break;
+		case DAO_ROS_PARAM_INT:
+			assert_int_equal(dao_ros_param_set_int(&q, &t[k], (long)d.max, &err), 0);
+			assert_int_equal(dao_ros_param_get_int(&q, &t[k]), (long)d.max);
+			assert_int_equal(dao_ros_param_set_int(&q, &t[k], (long)d.max + 1, &err), -EINVAL);
+			assert_int_equal(dao_ros_param_set_double(&q, &t[k], d.min, &err), 0);
+			assert_int_equal(dao_ros_param_get_int(&q, &t[k]), (long)d.min);
+			assert_int_equal(dao_ros_param_set_double(&q, &t[k], d.min + 0.5, &err), -EINVAL);
+			assert_non_null(strstr(err.message, "is not an integer"));
+			break;
+		case DAO_ROS_PARAM_STRING:
+			assert_int_equal(t[k].type, DAO_PARAM_COLOR);
+			assert_int_equal(dao_ros_param_set_string(&q, &t[k], "a0b1c2", &err), 0);
+			assert_int_equal(dao_ros_param_get_int(&q, &t[k]), 0xa0b1c2);
+			assert_int_equal(dao_ros_param_set_int(&q, &t[k], 0x102030, &err), 0);
+			assert_int_equal(dao_ros_param_get_string(&q, &t[k], text, sizeof text, &err), 0);
+			assert_string_equal(text, "102030");
+			break;
+		}
+	}
+	/* enums: by index and by name; a wrong index lists the choices */
+	const struct dao_param_info *pf = dao_param_find("prefilter");
+	struct dao_ros_param_desc d;
+	dao_ros_param_describe(pf, &d);
+	assert_int_equal(d.kind, DAO_ROS_PARAM_INT);
+	assert_true(d.min == 0 && d.max == 2);
+	assert_int_equal(dao_ros_param_set_int(&p, pf, 1, &err), 0);
+	assert_int_equal(p.prefilter, DAO_PREFILTER_BILATERAL);
+	assert_int_equal(dao_ros_param_set_string(&p, pf, "domain", &err), 0);
+	assert_int_equal(p.prefilter, DAO_PREFILTER_DOMAIN);
+	assert_int_equal(dao_ros_param_set_int(&p, pf, 3, &err), -EINVAL);
+	assert_string_equal(err.message, "prefilter: 3 is not one of: 0 none, 1 bilateral, 2 domain");
+	/* floats come back exactly as text (%.9g) */
+	const struct dao_param_info *pr = dao_param_find("depth_max");
+	assert_int_equal(dao_ros_param_set_double(&p, pr, 7.123456789, &err), 0);
+	char text[64];
+	assert_int_equal(dao_ros_param_get_string(&p, pr, text, sizeof text, &err), 0);
+	assert_true(strtof(text, NULL) == p.depth_max);
+	/* the processor takes new parameters at once, and refuses invalid ones */
+	struct dao_ros_proc *proc = make_proc("mono16", NULL);
+	dao_ros_proc_get_params(proc, &q);
+	q.radius = 0.2f;
+	assert_int_equal(dao_ros_proc_set_params(proc, &q, &err), 0);
+	q.radius = -1.0f;
+	assert_int_equal(dao_ros_proc_set_params(proc, &q, &err), -EINVAL);
+	dao_ros_proc_get_params(proc, &q);
+	assert_true(q.radius == 0.2f);
+	dao_ros_proc_destroy(proc);
+}
+
+/* steady state: 30 frames, big-endian 16UC1 (the swap buffer) and 32FC1 AO, a
+ * parameter change among them: no allocation by anything in the process */
+static void test_no_allocation(void **state)
+{
+	(void)state;
+#ifdef __GLIBC__
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&p);
+	p.threads = 2;
+	struct dao_ros_image img;
+	struct dao_error err;
+	atomic_store(&allocations, 0);
+	atomic_store(&counting, 1);
+	struct dao_ros_proc *proc = make_proc("32FC1", &p);
+	make_image(in_buf, &img, "16UC1", 1, 4, 0);
+	int r = run_frame(proc, &img, 1, &err);
+	atomic_store(&counting, 0);
+	assert_int_equal(r, 0);
+	if (atomic_load(&allocations) == 0)
+		fail_msg("the counter saw no allocation while the context was made");
+	for (int i = 1; i < 3; i++) /* warm-up */
+		assert_int_equal(run_frame(proc, &img, 1 + (uint64_t)i, &err), 0);
+	struct dao_params q = p;
+	q.radius = 0.3f;
+	atomic_store(&allocations, 0);
+	atomic_store(&counting, 1);
+	for (int i = 3; i < 33 && !r; i++) {
+		r = run_frame(proc, &img, 1 + (uint64_t)i, &err);
+		if (i == 10)
+			r = r || dao_ros_proc_set_params(proc, &q, &err);
+	}
+	atomic_store(&counting, 0);
+	if (r)
+		fail_msg("frame: %s", err.message);
+	long n = atomic_load(&allocations);
+	if (n)
+		fail_msg("%ld allocations in 30 frames", n);
+	dao_ros_proc_destroy(proc);
+#else
+	skip();
+#endif
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_settings),
+		cmocka_unit_test(test_encodings_agree),
+		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_camera_followed),
+		cmocka_unit_test(test_time_back_resets),
+		cmocka_unit_test(test_params),
+		cmocka_unit_test(test_no_allocation),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,479 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""depthao_node against a real roscore started here.
+
+usage: test_ros_node.py DEPTHAO_NODE DEPTHAO_CLI LAUNCH_FILE
+
+A roscore on a free port with its own ROS_HOME and ROS_LOG_DIR; two nodes: /a
+(16UC1 in, mono16 AO; started by roslaunch with depthao.launch, the build tree as the
+ROS package, a YAML file of AO parameters), /b (32FC1 big-endian in, 32FC1 AO) and
+/c (a's input read as counts of 0.1 mm, the low preset), b and c started directly.  Bags written here by
+rosbag's Python writer (depth + camera_info per frame) are played into them with
+`rosbag play`; the AO and shaded images they publish must equal `depthao process` on
+the same bags (mono16 and rgb8 bit for bit, 32FC1 rounded to 16 bits as the library
+rounds: bit for bit),
+with the inputs' stamps and frame ids, one output per input.  Then dynamic_reconfigure
+changes /a's parameters (a value out of range is refused with a message), a wrong
+encoding and a camera info of another size are logged as errors naming what is wrong,
+and the bag played again (time goes back: the temporal filter starts over) equals
+`depthao process` with the new parameters.  Parameters refused at start stop the node.
+Exits 77 when ROS (roscore, rosbag, rospy, the node) is absent.  Every process
+started here is killed on every exit path.
+"""
+import atexit
+import os
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import zlib
+
+W, H, FRAMES = 80, 60, 6
+K = [70.0, 0.0, 39.5, 0.0, 71.0, 29.25, 0.0, 0.0, 1.0]
+TIMEOUT = 120.0  # s: generous, the host may run seven builds at once
+procs = []
+# processes roslaunch (roscore is one) starts in sessions of their own: the master, rosout,
+# launched nodes; (pid, what its command line holds), killed should roslaunch not stop them
+launched = []
+
+
+def skip(msg):
+    print("skip: " + msg)
+    sys.exit(77)
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+if len(sys.argv) != 4:
+    sys.exit(__doc__)
+NODE, CLI, LAUNCH = sys.argv[1:4]
+if not NODE or not os.path.exists(NODE):
+    skip("depthao_node was not built: meson feature 'ros' needs libroscpp-dev, "
+         "libimage-transport-dev, libsensor-msgs-dev, libdynamic-reconfigure-config-init-mutex-dev")
+for tool in ("roscore", "rosbag", "roslaunch"):
+    if not shutil.which(tool):
+        skip("%s not found (Debian: ros-core)" % tool)
+try:
+    import genpy
+    import numpy as np
+    import rosbag
+    import rosgraph
+    import rospy
+    import dynamic_reconfigure.client
+    from sensor_msgs.msg import CameraInfo, Image
+except ImportError as e:
+    skip("ROS Python modules missing (python3-rospy, python3-rosbag, python3-sensor-msgs, "
+         "python3-dynamic-reconfigure): %s" % e)
+
+WORK = tempfile.mkdtemp(prefix="dao-ros-")
+
+
+def kill_all():
+    for p in procs:
+        if p.poll() is None:
+            try:
+                os.killpg(p.pid, signal.SIGTERM)
+            except ProcessLookupError:
+                continue
+    deadline = time.monotonic() + 10
+    for p in procs:
+        try:
+            p.wait(max(0.1, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+    for pid, word in launched:
+        try:
+            with open("/proc/%d/cmdline" % pid, "rb") as f:
+                if word.encode() in f.read():
+                    os.kill(pid, signal.SIGKILL)
+        except (OSError, ProcessLookupError):
+            pass
+    if not os.environ.get("DAO_KEEP_WORK"):
+        shutil.rmtree(WORK, ignore_errors=True)
+
+
+atexit.register(kill_all)
+# meson test stops a test that runs out of time with SIGTERM: clean up then too
+signal.signal(signal.SIGTERM, lambda *a: sys.exit(1))
+
+
+def start(args, log):
+    # a process group of its own: roscore's rosmaster and rosout go with it
+    p = subprocess.Popen(args, stdout=open(log, "wb"), stderr=subprocess.STDOUT,
+                         start_new_session=True)
+    procs.append(p)
+    return p
+
+
+def wait_for(what, cond, timeout=TIMEOUT):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if cond():
+            return
+        time.sleep(0.05)
+    fail("timed out after %.0f s waiting for %s" % (timeout, what))
+
+
+def free_port():
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def note_pid(master, node, word):
+    """Remembers the pid of a node roslaunch started, to kill it if roslaunch cannot."""
+    import xmlrpc.client
+    code, _, pid = xmlrpc.client.ServerProxy(master.lookupNode(node)).getPid("/dao_test")
+    if code == 1:
+        launched.append((pid, word))
+
+
+def start_roscore():
+    """roscore on a free port; another port if it lost a race for this one."""
+    for attempt in range(3):
+        port = free_port()
+        os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
+        log = os.path.join(WORK, "roscore-%d.log" % attempt)
+        p = start(["roscore", "-p", str(port)], log)
+        master = rosgraph.Master("/dao_test_probe")
+        deadline = time.monotonic() + TIMEOUT
+        while time.monotonic() < deadline and p.poll() is None:
+            try:
+                # rosout too (it subscribes /rosout): the nodes' logs go through it
+                if any(t == "/rosout" for t, _ in master.getSystemState()[1]):
+                    note_pid(master, "/rosout", "rosout")
+                    launched.append((master.getPid(), "rosmaster"))
+                    return
+            except (OSError, rosgraph.MasterException):
+                pass
+            time.sleep(0.1)
+        print("roscore on port %d did not come up:\n%s" % (port, open(log).read()))
+    fail("roscore did not start")
+
+
+# ---------------------------------------------------------------- the bags
+def depth_m(x, y, i):
+    """A tilted wall with a box in front of it moving one pixel a frame; holes; +-2 mm
+    of noise changing from frame to frame (the temporal depth filter matters)."""
+    if (x * 7 + y * 3 + i) % 37 == 0:
+        return 0.0
+    noise = ((x * 7919 + y * 104729 + i * 15485863) % 5 - 2) * 0.001
+    if 20 + i <= x < 46 + i and 15 <= y < 42:
+        return 1.7 + 0.004 * (x - 20 - i) + noise
+    return 2.0 + 0.01 * y + 0.002 * x + noise
+
+
+def stamp(i):
+    return genpy.Time(200 + i, 10000000 * i)
+
+
+def info_msg(i, width=W, height=H):
+    c = CameraInfo()
+    c.header.stamp = stamp(i)
+    c.header.frame_id = "cam_depth_optical"
+    c.width, c.height = width, height
+    c.distortion_model = "plumb_bob"
+    c.D = [0.0] * 5
+    c.K = K
+    c.R = [1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0]
+    c.P = K[:3] + [0.0] + K[3:6] + [0.0] + K[6:] + [0.0]
+    return c
+
+
+def image_msg(i, encoding, data, step, big_endian=0):
+    m = Image()
+    m.header.seq = i
+    m.header.stamp = stamp(i)
+    m.header.frame_id = "cam_depth_optical"
+    m.width, m.height = W, H
+    m.encoding, m.is_bigendian, m.step, m.data = encoding, big_endian, step, data
+    return m
+
+
+def d16(i):
+    counts = [int(round(depth_m(x, y, i) * 1000)) for y in range(H) for x in range(W)]
+    return image_msg(i, "16UC1", struct.pack("<%dH" % (W * H), *counts), 2 * W)
+
+
+def f32_be(i):
+    v = [depth_m(x, y, i) or float("nan") for y in range(H) for x in range(W)]
+    return image_msg(i, "32FC1", struct.pack(">%df" % (W * H), *v), 4 * W, 1)
+
+
+def write_bag(path, topic, make):
+    with rosbag.Bag(path, "w") as b:
+        for i in range(FRAMES):
+            t = stamp(i) + genpy.Duration(0, 2000000)
+            b.write(topic + "/camera_info", info_msg(i), t)
+            b.write(topic + "/image", make(i), t)
+
+
+def read_png(path):
+    """depthao process' PNGs (16-bit gray, 8-bit RGB), read here: a reader independent of
+    the library (and no libdepthao in this process, which may be a sanitizer build)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        fail("%s is not a PNG" % path)
+    pos, idat = 8, b""
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        pos += 12 + n
+        if kind == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+    if (depth, ctype) not in ((16, 0), (8, 2)) or interlace:
+        fail("%s: PNG of depth %d colour type %d interlace %d" % (path, depth, ctype, interlace))
+    bpp = 2 if ctype == 0 else 3
+    stride = w * bpp
+    raw = zlib.decompress(idat)
+    out = bytearray(h * stride)
+    prev = bytearray(stride)
+    for y in range(h):  # the five filters of the PNG specification, section 9
+        kind = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0
+            b = prev[x]
+            c = prev[x - bpp] if x >= bpp else 0
+            if kind == 1:
+                line[x] = (line[x] + a) & 255
+            elif kind == 2:
+                line[x] = (line[x] + b) & 255
+            elif kind == 3:
+                line[x] = (line[x] + (a + b) // 2) & 255
+            elif kind == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                pred = a if pa <= pb and pa <= pc else b if pb <= pc else c
+                line[x] = (line[x] + pred) & 255
+        out[y * stride:(y + 1) * stride] = line
+        prev = line
+    if ctype == 0:
+        return np.frombuffer(bytes(out), dtype=">u2").reshape(h, w).astype(np.uint16)
+    return np.frombuffer(bytes(out), dtype=np.uint8).reshape(h, w, 3)
+
+
+# ---------------------------------------------------------------- outputs
+class Collector:
+    def __init__(self, topic):
+        self.msgs = []
+        self.lock = threading.Lock()
+        self.sub = rospy.Subscriber(topic, Image, self.cb, queue_size=None)
+        self.topic = topic
+
+    def cb(self, m):
+        with self.lock:
+            self.msgs.append(m)
+
+    def count(self):
+        with self.lock:
+            return len(self.msgs)
+
+
+def as_array(m):
+    dt = {"mono16": "<u2", "32FC1": "<f4", "rgb8": "u1"}[m.encoding]
+    a = np.frombuffer(m.data, dtype=dt)
+    a = a.reshape(m.height, m.width, 3) if m.encoding == "rgb8" else a.reshape(m.height, m.width)
+    return a
+
+
+def cli(*args):
+    r = subprocess.run([CLI, "process", "--quiet"] + list(args), capture_output=True, text=True)
+    if r.returncode:
+        fail("depthao process %s: %s" % (" ".join(args), r.stderr))
+
+
+def check_run(name, col, bag, frames, encoding, opts, first):
+    """The messages col.msgs[first:first+frames] against depthao process on bag."""
+    out = os.path.join(WORK, "%s-%d" % (name, first))
+    cli("--input", bag, "--ao-out", out + "/ao", "--shaded-out", out + "/sh", *opts)
+    with col["ao"].lock:
+        msgs = col["ao"].msgs[first:first + frames]
+    for i, m in enumerate(msgs):
+        if (m.header.stamp, m.header.frame_id) != (stamp(i), "cam_depth_optical"):
+            fail("%s frame %d: header %s %r, the input had %s 'cam_depth_optical'"
+                 % (name, i, m.header.stamp, m.header.frame_id, stamp(i)))
+        if (m.encoding, m.width, m.height, m.is_bigendian) != (encoding, W, H, 0):
+            fail("%s frame %d: %s %dx%d big-endian %d" % (name, i, m.encoding, m.width,
+                                                          m.height, m.is_bigendian))
+        ref = read_png(os.path.join(out, "ao", "%06d.png" % i))
+        got = as_array(m)
+        if encoding == "mono16":
+            if not np.array_equal(got, ref):
+                fail("%s frame %d: AO differs from depthao process in %d pixels (max %d)"
+                     % (name, i, np.count_nonzero(got != ref),
+                        np.abs(got.astype(int) - ref).max()))
+        else:
+            # the PNG holds round-half-even(v x 65535) of the same float visibility,
+            # the product taken in float32 as the library does: equal, bit for bit
+            if got.dtype != np.float32 or got.min() < 0.0 or got.max() > 1.0:
+                fail("%s frame %d: 32FC1 visibility outside [0, 1]: %g..%g"
+                     % (name, i, got.min(), got.max()))
+            q = np.rint(got * np.float32(65535.0))
+            if not np.array_equal(q, ref):
+                fail("%s frame %d: 32FC1 AO x 65535 differs from depthao process in %d pixels "
+                     "(max %.3f)" % (name, i, np.count_nonzero(q != ref),
+                                     np.abs(got.astype(np.float64) * 65535.0 - ref).max()))
+        if np.all(ref == ref.flat[0]):
+            fail("%s frame %d: the AO is flat: the scene tests nothing" % (name, i))
+    if "sh" in col:
+        with col["sh"].lock:
+            shaded = col["sh"].msgs[first:first + frames]
+        for i, m in enumerate(shaded):
+            ref = read_png(os.path.join(out, "sh", "%06d.png" % i))
+            if m.encoding != "rgb8" or m.header.stamp != stamp(i) or \
+                    not np.array_equal(as_array(m), ref):
+                fail("%s frame %d: the shaded image (%s) differs from depthao process"
+                     % (name, i, m.encoding))
+    print("%s: %d frames equal to depthao process %s" % (name, frames, " ".join(opts)))
+
+
+def play(*bags):
+    r = subprocess.run(["rosbag", "play", "--wait-for-subscribers", "-q"] + list(bags),
+                       capture_output=True, text=True, timeout=TIMEOUT)
+    if r.returncode:
+        fail("rosbag play: %s%s" % (r.stdout, r.stderr))
+
+
+def log_of(name):
+    with open(os.path.join(WORK, name + ".log"), errors="replace") as f:
+        return f.read()
+
+
+def main():
+    os.environ["ROS_HOME"] = os.path.join(WORK, "ros_home")
+    os.environ["ROS_LOG_DIR"] = os.path.join(WORK, "ros_log")
+    os.environ["ROS_HOSTNAME"] = "localhost"
+    os.environ.pop("ROS_IP", None)
+    os.environ.pop("ROS_NAMESPACE", None)
+    os.environ["ROSCONSOLE_FORMAT"] = "[${severity}] ${message}"
+    bag_a, bag_b = os.path.join(WORK, "a.bag"), os.path.join(WORK, "b.bag")
+    write_bag(bag_a, "/cam/depth", d16)
+    write_bag(bag_b, "/cam32/depth", f32_be)
+    start_roscore()
+
+    # parameters refused at start: an error naming them, exit status 1
+    # (private parameters stay on the server: a node name each)
+    for k, (bad, words) in enumerate(((["_radius:=-1"], "radius"),
+                                      (["_ao_encoding:=rgb8"], "mono16 or 32FC1"),
+                                      (["_prefilter:=blur"], "blur"))):
+        p = start([NODE, "__name:=bad%d" % k] + bad, os.path.join(WORK, "bad.log"))
+        try:
+            st = p.wait(TIMEOUT)
+        except subprocess.TimeoutExpired:
+            fail("the node did not stop on %s" % bad)
+        if st != 1 or words not in log_of("bad"):
+            fail("%s: exit %s, log: %s" % (bad, st, log_of("bad")))
+
+    # node a through roslaunch: the package 'depthao' is the build directory (package.xml
+    # beside the node); AO parameters from a YAML file
+    yaml = os.path.join(WORK, "a.yaml")
+    with open(yaml, "w") as f:
+        f.write("occlusion_color: '203040'\nradiuss: 1\n")
+    env = dict(os.environ, ROS_PACKAGE_PATH=os.path.dirname(os.path.abspath(NODE)))
+    node_a = subprocess.Popen(["roslaunch", "--wait", LAUNCH, "ns:=a", "depth:=/cam/depth/image",
+                               "queue_size:=50", "params:=" + yaml],
+                              stdout=open(os.path.join(WORK, "a.log"), "wb"),
+                              stderr=subprocess.STDOUT, start_new_session=True, env=env)
+    procs.append(node_a)
+    node_b = start([NODE, "__ns:=/b", "__name:=depthao", "depth/image:=/cam32/depth/image",
+                    "_queue_size:=50", "_ao_encoding:=32FC1"], os.path.join(WORK, "b.log"))
+    # node c: a's input with counts of 0.1 mm and the low preset
+    node_c = start([NODE, "__ns:=/c", "__name:=depthao", "depth/image:=/cam/depth/image",
+                    "_queue_size:=50", "_depth_unit:=0.0001", "_quality:=low"],
+                   os.path.join(WORK, "c.log"))
+    rospy.init_node("dao_test", anonymous=True, disable_signals=True)
+    col_a = {"ao": Collector("/a/ao/image"), "sh": Collector("/a/shaded/image")}
+    col_b = {"ao": Collector("/b/ao/image")}
+    col_c = {"ao": Collector("/c/ao/image")}
+    for c in list(col_a.values()) + list(col_b.values()) + list(col_c.values()):
+        wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
+    note_pid(rosgraph.Master("/dao_test_probe"), "/a/depthao", "depthao_node")
+    if rospy.get_param("/a/depthao/occlusion_color") != "203040":
+        fail("the parameters file was not applied: %s" % rospy.get_param("/a/depthao"))
+    if "~radiuss is not a parameter of depthao_node" not in log_of("a"):
+        fail("a misspelt parameter was not reported: %s" % log_of("a"))
+
+    play(bag_a, bag_b)
+    wait_for("%d AO frames of each node" % FRAMES, lambda: col_a["ao"].count() >= FRAMES and
+             col_a["sh"].count() >= FRAMES and col_b["ao"].count() >= FRAMES and
+             col_c["ao"].count() >= FRAMES)
+    check_run("a", col_a, bag_a, FRAMES, "mono16", ["--occlusion-color", "203040"], 0)
+    check_run("b", col_b, bag_b, FRAMES, "32FC1", [], 0)
+    check_run("c", col_c, bag_a, FRAMES, "mono16", ["--depth-unit", "0.0001", "--quality", "low"], 0)
+
+    # dynamic_reconfigure: names for enums, ranges checked, the parameter server follows
+    client = dynamic_reconfigure.client.Client("/a/depthao", timeout=TIMEOUT)
+    cfg = client.update_configuration({"radius": 0.25, "prefilter": "none", "slices": 3})
+    if (cfg["radius"], cfg["prefilter"], cfg["slices"]) != (0.25, 0, 3):
+        fail("reconfigure: %s" % cfg)
+    cfg = client.update_configuration({"radius": 500.0})
+    if cfg["radius"] != 0.25:
+        fail("radius 500 (out of range) was not refused: %s" % cfg["radius"])
+    wait_for("the refusal in the log", lambda: "radius: 500 is out of range [0.01, 100] m; "
+             "radius keeps its value" in log_of("a"))
+    if rospy.get_param("/a/depthao/radius") != 0.25 or \
+            rospy.get_param("/a/depthao/prefilter") != 0:
+        fail("parameter server: %s" % rospy.get_param("/a/depthao"))
+
+    # errors a publisher can cause: logged with what is wrong, the node goes on
+    pub = rospy.Publisher("/cam/depth/image", Image, queue_size=10)
+    pub_info = rospy.Publisher("/cam/depth/camera_info", CameraInfo, queue_size=10)
+    wait_for("the node to subscribe", lambda: pub.get_num_connections() > 0 and
+             pub_info.get_num_connections() > 0)
+    rgb = image_msg(50, "rgb8", bytes(3 * W * H), 3 * W)
+    pub_info.publish(info_msg(50))
+    pub.publish(rgb)
+    wait_for("the encoding error", lambda: "depth image encoding 'rgb8' is not accepted: "
+             "depthao takes 16UC1 or mono16 (counts of depth_unit metres) or 32FC1 (metres)"
+             in log_of("a"))
+    small = d16(51)
+    pub_info.publish(info_msg(51, W // 2, H // 2))
+    pub.publish(small)
+    wait_for("the size error", lambda: "the camera info is for 40x30, the depth image is 80x60"
+             in log_of("a"))
+    if node_a.poll() is not None:
+        fail("node a stopped: %s" % log_of("a"))
+    if col_a["ao"].count() != FRAMES:
+        fail("%d AO frames after the errors, expected %d" % (col_a["ao"].count(), FRAMES))
+    pub.unregister()
+    pub_info.unregister()
+
+    # the bag again: stamps go back, the histories start over; indices go on at FRAMES
+    play(bag_a)
+    wait_for("the second play", lambda: col_a["ao"].count() >= 2 * FRAMES and
+             col_a["sh"].count() >= 2 * FRAMES)
+    check_run("a reconfigured", col_a, bag_a, FRAMES, "mono16",
+              ["--radius", "0.25", "--prefilter", "none", "--slices", "3",
+               "--occlusion-color", "203040", "--frame-index", str(FRAMES)], FRAMES)
+    time.sleep(1.0)
+    n = (col_a["ao"].count(), col_a["sh"].count(), col_b["ao"].count(), col_c["ao"].count())
+    if n != (2 * FRAMES, 2 * FRAMES, FRAMES, 2 * FRAMES):
+        fail("published frames (a AO, a shaded, b AO, c AO) %s, expected %s"
+             % (n, (2 * FRAMES, 2 * FRAMES, FRAMES, 2 * FRAMES)))
+    for name, p in (("a", node_a), ("b", node_b), ("c", node_c)):
+        if p.poll() is not None:
+            fail("node %s stopped: %s" % (name, log_of(name)))
+    # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
+    for name in ("a", "b", "c", "bad"):
+        for word in ("AddressSanitizer", "runtime error:"):
+            if word in log_of(name):
+                fail("%s in the log of %s: %s" % (word, name, log_of(name)))
+    print("ok")
+
+
+if __name__ == "__main__":
+    main()
