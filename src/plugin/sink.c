@@ -119,6 +119,34 @@ int dao_sink_write(struct dao_sink *s, const struct dao_frame *frame, struct dao
 	return s->plugin->sink->write(s->state, frame, err);
 }
 
+int dao_sink_write_stream(struct dao_sink *s, const struct dao_sink_frame_info *info,
+			  const struct dao_frame *frame, struct dao_error *err)
+{
+	int r;
+	if (!s || !info || !frame)
+		return dao_error_set(err, -EINVAL,
+				     "dao_sink_write_stream: sink, info and frame are required");
+	if ((unsigned)info->stream >= DAO_STREAM_COUNT)
+		return dao_error_set(err, -EINVAL, "sink '%s': stream %d is not valid",
+				     s->plugin->name, (int)info->stream);
+	if (!s->plugin->sink->write_stream)
+		return dao_sink_write(s, frame, err);
+	if (!s->negotiated)
+		return dao_error_set(err, -EINVAL,
+				     "sink '%s': write before the format was negotiated "
+				     "(call dao_sink_negotiate first)",
+				     s->plugin->name);
+	if ((r = dao_frame_check(frame, "sink input", 0, 0, err)) < 0)
+		return r;
+	s->written = 1;
+	return s->plugin->sink->write_stream(s->state, info, frame, err);
+}
+
+int dao_sink_takes_streams(const struct dao_sink *s)
+{
+	return s && s->plugin->sink->write_stream != NULL;
+}
+
 int dao_sink_flush(struct dao_sink *s, struct dao_error *err)
 {
 	if (!s)

@@ -42,7 +42,6 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
 	d->snapshot_notify_fd = -1;
 	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
-	d->host = (struct dao_sink_host){d, host_get_param, host_set_param, host_log};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
@@ -60,6 +59,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		s->cfg = &d->cfg.sinks[i];
 		s->backoff_ms = SINK_RETRY_INITIAL_MS;
 		s->warn_limit = (struct log_limit)LOG_LIMIT_INIT(SINK_LOG_INTERVAL_MS, SINK_LOG_BURST);
+		sink_host_init(s);
 		make_reopen_uri(s->cfg->uri, s->reopen_uri, sizeof s->reopen_uri);
 		pthread_mutex_init(&s->lat_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
@@ -69,6 +69,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		}
 		d->nsinks++;
 		d->wants[s->cfg->stream] = 1;
+		if (sink_may_want_any_stream(s->cfg))
+			d->wants_color = 1;
 	}
 	*out = d;
 	return 0;
