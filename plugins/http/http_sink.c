@@ -39,6 +39,7 @@
 #define DEFAULT_QUEUE 2
 /* frames during which the overlay is asked for, to learn whether the source has colour */
 #define COLOR_PROBE_FRAMES 30
+#define SEND_BUFFER (128 * 1024) /* bytes (Linux doubles it) */
 
 static const char *const view_names[VIEW_COUNT] = {"shaded", "ao", "overlay", "depth"};
 
@@ -191,6 +192,12 @@ static int listen_on(struct http_sink *s, struct dao_error *err)
 				    s->bind_host, gai_strerror(r));
 	int fd = socket(ai->ai_family, SOCK_STREAM | SOCK_CLOEXEC, 0);
 	int one = 1;
+	/* the connections inherit a modest send buffer: a client that stops reading
+	   holds a few frames in the kernel, not a hundred, and its own queue (where
+	   frames are dropped, counted) fills soon */
+	int sndbuf = SEND_BUFFER;
+	if (fd >= 0)
+		setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof sndbuf);
 	if (fd < 0 || setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) < 0 ||
 	    bind(fd, ai->ai_addr, ai->ai_addrlen) < 0 || listen(fd, 64) < 0) {
 		r = -errno;
