@@ -192,6 +192,11 @@ static enum MHD_Result get_stats(struct http_sink *s, struct MHD_Connection *con
 	json_object_object_add(h, "latency_ms_median", json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
 	json_object_object_add(h, "latency_ms_p99",
 			       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
+	memcpy(lat, s->send_us, n * sizeof s->send_us[0]);
+	qsort(lat, n, sizeof s->send_us[0], cmp_u32);
+	json_object_object_add(h, "sink_ms_median", json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
+	json_object_object_add(h, "sink_ms_p99",
+			       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
 	json_object_object_add(h, "encode_ms_mean",
 			       json_object_new_double(s->encoded ? (double)s->encode_ns / 1e6 / (double)s->encoded : 0));
 	pthread_mutex_unlock(&s->lock);

@@ -70,10 +70,17 @@ uint64_t http_now_ns(void)
 	return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
-void http_record_latency(struct http_sink *s, uint64_t capture_ns, uint64_t now_ns)
+static uint32_t micros(uint64_t from, uint64_t to)
 {
-	uint64_t us = now_ns > capture_ns ? (now_ns - capture_ns) / 1000u : 0;
-	s->lat_us[s->lat_pos] = us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+	uint64_t us = to > from ? (to - from) / 1000u : 0;
+	return us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+}
+
+void http_record_latency(struct http_sink *s, uint64_t capture_ns, uint64_t written_ns,
+			 uint64_t now_ns)
+{
+	s->lat_us[s->lat_pos] = micros(capture_ns, now_ns);
+	s->send_us[s->lat_pos] = micros(written_ns, now_ns);
 	s->lat_pos = (s->lat_pos + 1) % HTTP_LATENCY_RING;
 	if (s->lat_n < HTTP_LATENCY_RING)
 		s->lat_n++;
@@ -381,6 +388,7 @@ static int http_write_stream(void *state, const struct dao_sink_frame_info *info
 			     const struct dao_frame *f, struct dao_error *err)
 {
 	struct http_sink *s = state;
+	const uint64_t t_in = http_now_ns();
 	enum view_stream v;
 	switch (info->stream) {
 	case DAO_STREAM_SHADED: v = VIEW_SHADED; break;
@@ -425,7 +433,7 @@ static int http_write_stream(void *state, const struct dao_sink_frame_info *info
 	pthread_mutex_lock(&s->lock);
 	s->encode_ns += http_now_ns() - t0;
 	s->encoded++;
-	mjpeg_clients_push(s, v, jpeg, jlen, info->capture_ns);
+	mjpeg_clients_push(s, v, jpeg, jlen, info->capture_ns ? info->capture_ns : t_in, t_in);
 	pthread_mutex_unlock(&s->lock);
 	return 0;
 }

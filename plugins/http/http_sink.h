@@ -64,7 +64,8 @@ struct http_sink {
 	struct view_picture pic[VIEW_COUNT];
 	int stopping;
 	unsigned long long frames_sent, frames_dropped, clients_served;
-	uint32_t lat_us[HTTP_LATENCY_RING];
+	uint32_t lat_us[HTTP_LATENCY_RING];  /* capture -> the frame's last bytes to the socket */
+	uint32_t send_us[HTTP_LATENCY_RING]; /* the sink got it -> its last bytes to the socket */
 	unsigned lat_n, lat_pos;
 	uint32_t lat_sorted[HTTP_LATENCY_RING]; /* /api/stats' copy */
 	pthread_mutex_t stats_lock;  /* one /api/stats reply at a time: stats_text */
@@ -77,8 +78,9 @@ const char *view_stream_name(enum view_stream v);
 int view_stream_parse(const char *name, enum view_stream *v);
 /* Tells the host the streams the clients want now (with s->lock held). */
 void http_update_wanted(struct http_sink *s);
-/* Records one frame's latency (with s->lock held). */
-void http_record_latency(struct http_sink *s, uint64_t capture_ns, uint64_t now_ns);
+/* Records one frame's latency and the sink's share of it (with s->lock held). */
+void http_record_latency(struct http_sink *s, uint64_t capture_ns, uint64_t written_ns,
+			 uint64_t now_ns);
 uint64_t http_now_ns(void);
 
 /* http_routes.c: starts serving on the listening socket; 0 or < 0 with err */
@@ -91,7 +93,7 @@ struct mjpeg_client *mjpeg_client_new(struct http_sink *s, enum view_stream v);
 void mjpeg_client_free(struct http_sink *s, struct mjpeg_client *c);
 /* Queues one JPEG for every client of stream v; a full queue drops its oldest. */
 void mjpeg_clients_push(struct http_sink *s, enum view_stream v, const unsigned char *jpeg,
-			size_t len, uint64_t capture_ns);
+			size_t len, uint64_t capture_ns, uint64_t written_ns);
 /* The next bytes of the client's multipart stream (MHD's content reader; takes s->lock). */
 ssize_t mjpeg_client_read(struct http_sink *s, struct mjpeg_client *c, char *buf, size_t max);
 

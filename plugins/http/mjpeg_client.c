@@ -22,7 +22,7 @@
 struct part {
 	char *data;
 	size_t len, cap;
-	uint64_t capture_ns;
+	uint64_t capture_ns, written_ns;
 };
 
 struct mjpeg_client {
@@ -69,7 +69,8 @@ void mjpeg_client_free(struct http_sink *s, struct mjpeg_client *c)
 	free(c);
 }
 
-static int part_fill(struct part *p, const unsigned char *jpeg, size_t len, uint64_t capture_ns)
+static int part_fill(struct part *p, const unsigned char *jpeg, size_t len, uint64_t capture_ns,
+		     uint64_t written_ns)
 {
 	char head[128];
 	int n = snprintf(head, sizeof head,
@@ -88,11 +89,12 @@ static int part_fill(struct part *p, const unsigned char *jpeg, size_t len, uint
 	memcpy(p->data + n + len, "\r\n", 2);
 	p->len = need;
 	p->capture_ns = capture_ns;
+	p->written_ns = written_ns;
 	return 0;
 }
 
 void mjpeg_clients_push(struct http_sink *s, enum view_stream v, const unsigned char *jpeg,
-			size_t len, uint64_t capture_ns)
+			size_t len, uint64_t capture_ns, uint64_t written_ns)
 {
 	int any = 0;
 	for (struct mjpeg_client *c = s->clients; c; c = c->next) {
@@ -105,7 +107,7 @@ void mjpeg_clients_push(struct http_sink *s, enum view_stream v, const unsigned 
 			s->frames_dropped++;
 		}
 		struct part *p = &c->q[(c->head + c->count) % c->depth];
-		if (part_fill(p, jpeg, len, capture_ns) < 0) {
+		if (part_fill(p, jpeg, len, capture_ns, written_ns) < 0) {
 			c->dropped++;
 			s->frames_dropped++;
 			continue;
@@ -154,8 +156,7 @@ ssize_t mjpeg_client_read(struct http_sink *s, struct mjpeg_client *c, char *buf
 		/* its last bytes go to the connection now: the earlier ones are on the socket */
 		c->sent++;
 		s->frames_sent++;
-		if (c->out.capture_ns)
-			http_record_latency(s, c->out.capture_ns, http_now_ns());
+		http_record_latency(s, c->out.capture_ns, c->out.written_ns, http_now_ns());
 	}
 	pthread_mutex_unlock(&s->lock);
 	return (ssize_t)n;

@@ -184,6 +184,7 @@ def main():
             shots.append(stats_of(wd.shot(img)))
             time.sleep(1.0)
         natural = max(diff(shots[i][1], shots[i + 1][1]) for i in range(2))
+        wobble = max(s[0] for s in shots) - min(s[0] for s in shots)
         if natural < 0.5:
             fail("the live image did not change between screenshots (mean difference %.2f)" % natural)
         if out_png:
@@ -215,14 +216,16 @@ def main():
             time.sleep(1.0)
             dark = stats_of(wd.shot(img))
             drop = shots[-1][0] - dark[0]
-            if drop > max(3.0, 3 * natural):
+            # the rolling spheres change the mean brightness by `wobble` by themselves
+            # (measured 0.1-1); shade-power 1 -> 7.5 lowers it by about 44 of 255
+            if drop > max(10.0, 3 * wobble):
                 break
             if time.monotonic() > end:
                 fail("shade-power %.2f -> %.2f did not darken the picture: brightness %.1f -> "
-                     "%.1f (frames differ by %.2f by themselves)" %
-                     (before, after, shots[-1][0], dark[0], natural))
-        print("live: frames differ by %.2f; shade-power %.2f -> %.2f: brightness %.1f -> %.1f" %
-              (natural, before, after, shots[-1][0], dark[0]))
+                     "%.1f (it varies by %.2f by itself)" %
+                     (before, after, shots[-1][0], dark[0], wobble))
+        print("live: frames differ by %.2f, brightness by %.2f; shade-power %.2f -> %.2f: "
+              "brightness %.1f -> %.1f" % (natural, wobble, before, after, shots[-1][0], dark[0]))
         # 10 concurrent stream clients each get frames, the page's among the watchers
         readers = [MjpegReader(d.port, ("shaded", "ao", "depth")[i % 3]) for i in range(10)]
         counts = [0] * 10
@@ -238,6 +241,19 @@ def main():
             fail("10 concurrent clients: frames %r (%d bad)" % (counts, sum(r.bad for r in readers)))
         if clients < 11:
             fail("%d clients counted with the page and 10 readers" % clients)
+        # a phone's screen: nothing wider than the window, the picture across it
+        wd.s("POST", "/window/rect", {"width": 390, "height": 844})
+        end = time.monotonic() + 30
+        while True:
+            m = wd.js("const e = document.documentElement;"
+                      "return [e.scrollWidth, e.clientWidth,"
+                      "        document.getElementById('live').getBoundingClientRect().width]")
+            if m[1] < 500 and m[0] <= m[1] and m[2] >= 0.85 * m[1]:
+                break
+            if time.monotonic() > end:
+                fail("on a 390 px wide window: page %d px wide in %d, picture %d px" % tuple(m))
+            time.sleep(0.3)
+        print("phone: page %d px in a %d px window, picture %d px" % tuple(m))
         print("ok")
     finally:
         if wd:

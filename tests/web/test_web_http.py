@@ -154,7 +154,7 @@ def check_stats_snapshot_streams(d):
         fail("frames_processed did not grow: %r -> %r" % (s0["daemon"], s1["daemon"]))
     h = s1["http"]
     for k in ("clients", "frames_sent", "frames_dropped", "latency_ms_median", "latency_ms_p99",
-              "streams"):
+              "sink_ms_median", "sink_ms_p99", "streams"):
         if k not in h:
             fail("/api/stats http lacks %s: %r" % (k, h))
     if h["streams"] != ["shaded", "ao", "depth"]:

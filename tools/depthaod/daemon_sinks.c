@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/prctl.h>
 
 #include "daemon_internal.h"
 
@@ -356,6 +357,9 @@ void *sink_main(void *arg)
 {
 	struct sink_runner *s = arg;
 	struct fq_item *it;
+	char name[16]; /* the thread's name in top -H and /proc: "sink:NAME" (15 bytes) */
+	snprintf(name, sizeof name, "sink:%.10s", s->cfg->name);
+	prctl(PR_SET_NAME, name, 0, 0, 0);
 	for (;;) {
 		it = fq_pop(s->q, s->unflushed ? SINK_IDLE_FLUSH_MS : -1);
 		if (!it) {
