@@ -3,8 +3,8 @@
  * The viewer's routes, and nothing else: /, /stream.mjpg, /api/params,
  * /api/stats, /snapshot.png.  Anything else is 404, another method 405, a
  * body over HTTP_MAX_BODY 413, more than HTTP_MAX_HEADERS header lines 431;
- * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT)
- * and the connections (max_clients).  libmicrohttpd's own messages stay off:
+ * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT);
+ * connections beyond max_clients are closed as they come (accept_policy).  libmicrohttpd's own messages stay off:
  * a viewer closing its tab would log a failed send every time.
  */
 #include <errno.h>
@@ -63,15 +63,24 @@ static enum MHD_Result reply_error(struct MHD_Connection *conn, unsigned status,
 
 static const char *const param_types[] = {"float", "int", "enum", "color"};
 
+/* The host, once attached (the server answers from open on, before attach_host). */
+static const struct dao_sink_host *host_of(struct http_sink *s)
+{
+	pthread_mutex_lock(&s->lock);
+	const struct dao_sink_host *h = s->host;
+	pthread_mutex_unlock(&s->lock);
+	return h;
+}
+
 static struct json_object *params_json(struct http_sink *s, int control)
 {
+	const struct dao_sink_host *host = host_of(s);
 	struct json_object *list = json_object_new_array();
 	size_t n;
 	const struct dao_param_info *t = dao_param_table(&n);
 	for (size_t i = 0; i < n; i++) {
 		char v[64];
-		if (!s->host || !s->host->get_param ||
-		    s->host->get_param(s->host->user, t[i].name, v, sizeof v) < 0)
+		if (!host || !host->get_param || host->get_param(host->user, t[i].name, v, sizeof v) < 0)
 			continue;
 		struct json_object *o = json_object_new_object();
 		json_object_object_add(o, "name", json_object_new_string(t[i].name));
@@ -160,9 +169,10 @@ static enum MHD_Result post_params(struct http_sink *s, struct MHD_Connection *c
 		names[n] = key;
 		values[n++] = json_object_get_string(val);
 	}
-	if (!msg[0] && (!s->host || !s->host->set_params))
+	const struct dao_sink_host *host = host_of(s);
+	if (!msg[0] && (!host || !host->set_params))
 		snprintf(msg, sizeof msg, "this host does not take parameter changes");
-	if (!msg[0] && s->host->set_params(s->host->user, names, values, n, msg, sizeof msg) < 0 &&
+	if (!msg[0] && host->set_params(host->user, names, values, n, msg, sizeof msg) < 0 &&
 	    !msg[0])
 		snprintf(msg, sizeof msg, "the changes were refused");
 	json_object_put(j);
@@ -209,8 +219,9 @@ static enum MHD_Result get_stats(struct http_sink *s, struct MHD_Connection *con
 	struct json_object *j = json_object_new_object();
 	pthread_mutex_lock(&s->stats_lock); /* one stats reply at a time: stats_text */
 	struct json_object *dj = NULL;
-	if (s->host && s->host->stats_json &&
-	    s->host->stats_json(s->host->user, s->stats_text, sizeof s->stats_text) >= 0)
+	const struct dao_sink_host *host = host_of(s);
+	if (host && host->stats_json &&
+	    host->stats_json(host->user, s->stats_text, sizeof s->stats_text) >= 0)
 		dj = json_tokener_parse(s->stats_text);
 	pthread_mutex_unlock(&s->stats_lock);
 	json_object_object_add(j, "daemon", dj ? dj : json_object_new_object());
@@ -375,7 +386,9 @@ static int stream_arg(struct http_sink *s, struct MHD_Connection *conn, enum vie
 {
 	const char *name = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "stream");
 	if (!name) {
+		pthread_mutex_lock(&s->lock);
 		*v = s->primary;
+		pthread_mutex_unlock(&s->lock);
 		return 0;
 	}
 	if (view_stream_parse(name, v) < 0)
@@ -482,12 +495,39 @@ static void request_done(void *cls, struct MHD_Connection *conn, void **con_cls,
 	*con_cls = NULL;
 }
 
+/* Counts the open connections (libmicrohttpd's threads call this). */
+static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_context,
+			  enum MHD_ConnectionNotificationCode code)
+{
+	struct http_sink *s = cls;
+	(void)conn;
+	(void)socket_context;
+	if (code == MHD_CONNECTION_NOTIFY_STARTED)
+		atomic_fetch_add(&s->connections, 1);
+	else if (code == MHD_CONNECTION_NOTIFY_CLOSED)
+		atomic_fetch_sub(&s->connections, 1);
+}
+
+/*
+ * Beyond max_clients a new connection is closed at once.  (libmicrohttpd's own
+ * limit stops accepting instead: a client waited in the listen backlog, a
+ * request for /api/stats hung for as long as the streams lasted.)
+ */
+static enum MHD_Result accept_policy(void *cls, const struct sockaddr *addr, socklen_t addrlen)
+{
+	struct http_sink *s = cls;
+	(void)addr;
+	(void)addrlen;
+	return atomic_load(&s->connections) < (int)s->max_clients ? MHD_YES : MHD_NO;
+}
+
 int http_routes_start(struct http_sink *s, struct dao_error *err)
 {
 	s->mhd = MHD_start_daemon(
 		MHD_USE_THREAD_PER_CONNECTION | MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ITC,
-		0, NULL, NULL, handle, s, MHD_OPTION_LISTEN_SOCKET, s->listen_fd,
-		MHD_OPTION_CONNECTION_LIMIT, s->max_clients, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+		0, accept_policy, s, handle, s, MHD_OPTION_LISTEN_SOCKET, s->listen_fd,
+		MHD_OPTION_NOTIFY_CONNECTION, on_connection, s,
+		MHD_OPTION_CONNECTION_LIMIT, s->max_clients + 8, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
 		(size_t)HTTP_MEMORY_LIMIT, MHD_OPTION_CONNECTION_TIMEOUT, 30u,
 		MHD_OPTION_NOTIFY_COMPLETED, request_done, s,
 		MHD_OPTION_END);

@@ -55,6 +55,7 @@ struct http_sink {
 	enum view_stream primary;    /* the configured stream (negotiated) */
 	uint32_t frames_seen;        /* of the configured stream, since open */
 	atomic_int has_color;        /* an overlay frame came: the source has colour */
+	atomic_int connections;      /* open now (max_clients at most) */
 
 	pthread_mutex_t lock;        /* clients, pictures, the latency ring, counters */
 	pthread_cond_t frame_cond;   /* a frame was queued for some client, or stopping */

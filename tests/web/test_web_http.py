@@ -5,6 +5,7 @@ control=true, a token; bad values refused with nothing changed), the
 statistics, the snapshot, bad requests (400, 403, 404, 405, 413, 431), every
 stream, a slow client that must not slow the others, and SIGTERM with clients
 attached.  usage: test_web_http.py DEPTHAOD PLUGIN_DIR"""
+import http.client
 import json
 import os
 import socket
@@ -124,9 +125,43 @@ def check_params(d):
     c.close()
 
 
-def check_token(depthaod, plugins):
-    d = Daemon(depthaod, plugins, "token=s3cret")
+def check_token_and_connection_limit(depthaod, plugins):
+    d = Daemon(depthaod, plugins, "token=s3cret&max_clients=4")
     try:
+        # max_clients=4: four streams, then a fifth connection is turned away; once one
+        # stream closes, requests are answered again
+        readers = [MjpegReader(d.port) for _ in range(4)]
+        for r in readers:
+            r.pump(0.5)
+        try:
+            st, _, _ = d.request("GET", "/api/stats")
+            fail("a fifth connection with max_clients=4 was answered: %d" % st)
+        except (ConnectionError, http.client.HTTPException, socket.timeout):
+            pass
+        readers.pop().close()
+        end = time.monotonic() + 10
+        while True:
+            try:
+                if d.request("GET", "/api/stats")[0] == 200:
+                    break
+            except (ConnectionError, http.client.HTTPException):
+                pass
+            if time.monotonic() > end:
+                fail("no request answered 10 s after a stream of four closed")
+            time.sleep(0.1)
+        for r in readers:
+            r.close()
+        # until the server has seen them go (a stream's end is noticed at its next frame)
+        end = time.monotonic() + 10
+        while True:
+            try:
+                if d.stats()["http"]["clients"] == 0:
+                    break
+            except (ConnectionError, http.client.HTTPException):
+                pass
+            if time.monotonic() > end:
+                fail("closed streams still counted after 10 s")
+            time.sleep(0.1)
         st, j = d.json("POST", "/api/params", body=json.dumps({"radius": 0.33}))
         if st != 403:
             fail("token sink, no header: %d" % st)
@@ -277,7 +312,7 @@ def main():
         d.stop()
     finally:
         d.close()
-    check_token(DEPTHAOD, PLUGINS)
+    check_token_and_connection_limit(DEPTHAOD, PLUGINS)
     print("ok")
 
 
