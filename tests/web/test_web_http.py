@@ -296,6 +296,34 @@ def check_sigterm(d):
         s.close()
 
 
+def check_overlay(depthaod, plugins):
+    """A source with colour (the Kinect recording through OpenNI2) offers the overlay."""
+    root = os.environ.get("DAO_SOURCE_ROOT", ".")
+    shared = os.environ.get("DAO_SHARED_DATA", os.path.join(root, "..", "shared", "data"))
+    kinect = os.path.join(shared, "oni", "3DJ_test.oni")
+    ni = os.path.join(os.path.dirname(plugins), "openni2")
+    if not os.path.exists(os.path.join(ni, "depthao-openni2.so")) or not os.path.exists(kinect):
+        print("note: no openni2 plugin or no %s: the overlay part was skipped" % kinect)
+        return
+    d = Daemon(depthaod, plugins + ":" + ni, source="openni2:" + kinect)
+    try:
+        end = time.monotonic() + 30
+        while "overlay" not in d.stats()["http"]["streams"]:
+            if time.monotonic() > end:
+                fail("a colour source: the overlay is not offered: %r" % d.stats()["http"])
+            time.sleep(0.2)
+        r = MjpegReader(d.port, "overlay")
+        n = r.pump(4.0)
+        sof = r.last.find(b"\xff\xc0")
+        if n < 2 or r.bad or sof < 0 or r.last[sof + 9] != 3:
+            fail("the overlay stream: %d frames, %d bad" % (n, r.bad))
+        r.close()
+        print("overlay: %d frames in 4 s" % n)
+        d.stop()
+    finally:
+        d.close()
+
+
 def main():
     d = Daemon(DEPTHAOD, PLUGINS)
     try:
@@ -313,6 +341,7 @@ def main():
     finally:
         d.close()
     check_token_and_connection_limit(DEPTHAOD, PLUGINS)
+    check_overlay(DEPTHAOD, PLUGINS)
     print("ok")
 
 

@@ -29,9 +29,9 @@ def free_port():
 class Daemon:
     """depthaod looping the recording in real time into sink web=http:PORT?OPTS."""
 
-    def __init__(self, depthaod, plugin_dir, opts="", extra=()):
+    def __init__(self, depthaod, plugin_dir, opts="", extra=(), source=None):
         root = os.environ.get("DAO_SOURCE_ROOT", ".")
-        self.rec = os.path.join(root, "recordings", "spheres-rolling.oni")
+        self.rec = source or os.path.join(root, "recordings", "spheres-rolling.oni")
         self.port = free_port()
         self.log = tempfile.NamedTemporaryFile(prefix="web-", suffix=".log", delete=False)
         uri = "http:%d%s" % (self.port, ("?" + opts) if opts else "")
