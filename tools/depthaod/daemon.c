@@ -62,6 +62,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		sink_host_init(s);
 		make_reopen_uri(s->cfg->uri, s->reopen_uri, sizeof s->reopen_uri);
 		pthread_mutex_init(&s->lat_lock, NULL);
+		pthread_mutex_init(&s->control_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
 			snprintf(msg, len, "out of memory");
 			daemon_destroy(d);
@@ -232,6 +233,7 @@ void daemon_destroy(struct daemon *d)
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		fq_destroy(d->sinks[i].q);
 		pthread_mutex_destroy(&d->sinks[i].lat_lock);
+		pthread_mutex_destroy(&d->sinks[i].control_lock);
 	}
 	fq_destroy(d->input);
 	dao_frame_free(&d->snapshot_frame);

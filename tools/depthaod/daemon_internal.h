@@ -80,6 +80,8 @@ struct sink_runner {
 	atomic_ullong written, dropped, errors, opens;
 	struct dao_sink_host host;    /* what the sink may ask (user: this runner) */
 	atomic_uint extra_streams;    /* streams asked for besides cfg->stream (1u << stream) */
+	pthread_mutex_t control_lock; /* the sink's parameter changes, one at a time; control_log */
+	struct log_limit control_log;
 	pthread_mutex_t lat_lock;
 	uint32_t lat_us[LATENCY_RING];
 	unsigned lat_n, lat_pos;

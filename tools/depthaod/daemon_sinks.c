@@ -39,19 +39,24 @@ static int host_set_params(void *user, const char *const *names, const char *con
 	struct dao_params p;
 	struct dao_error err = {0};
 	int r = 0;
+	/* a web page's requests come in parallel: one change applies after the other */
+	pthread_mutex_lock(&s->control_lock);
 	daemon_get_params(s->d, &p);
 	for (size_t i = 0; i < count && r == 0; i++)
 		r = dao_params_set(&p, names[i], values[i], &err);
 	if (r == 0)
 		r = dao_params_validate(&p, &err);
 	if (r < 0) {
+		pthread_mutex_unlock(&s->control_lock);
 		if (msg && len)
 			snprintf(msg, len, "%s", err.message[0] ? err.message : strerror(-r));
 		return r;
 	}
 	daemon_set_params(s->d, &p);
 	for (size_t i = 0; i < count; i++)
-		log_info("sink %s control: %s = %s", s->cfg->name, names[i], values[i]);
+		log_limited(&s->control_log, LOG_INFO, "sink %s control: %s = %s", s->cfg->name,
+			    names[i], values[i]);
+	pthread_mutex_unlock(&s->control_lock);
 	return 0;
 }
 
@@ -100,6 +105,7 @@ void sink_host_init(struct sink_runner *s)
 			       (int)STREAM_OVERLAY == (int)DAO_STREAM_OVERLAY &&
 			       (int)STREAM_COUNT == (int)DAO_STREAM_COUNT,
 		       "depthaod's streams are numbered as enum dao_stream");
+	s->control_log = (struct log_limit)LOG_LIMIT_INIT(10000, 10);
 	s->host = (struct dao_sink_host){
 		.user = s,
 		.get_param = host_get_param,
@@ -416,6 +422,8 @@ void *sink_main(void *arg)
 	char what[96];
 	snprintf(what, sizeof what, "sink %s", s->cfg->name);
 	log_limit_flush(&s->warn_limit, LOG_WARN, what);
+	snprintf(what, sizeof what, "sink %s control", s->cfg->name);
+	log_limit_flush(&s->control_log, LOG_INFO, what);
 	atomic_store(&s->done, 1);
 	return NULL;
 }
