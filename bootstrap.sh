@@ -6,6 +6,8 @@
 #   ./bootstrap.sh build  deps, then configure and build in build/ (release, warnings are errors)
 #   ./bootstrap.sh demo   build, then run depthaod on the bundled recording: out/shaded, out/ao,
 #                         out/shaded.y4m
+#   ./bootstrap.sh view   build, then serve the bundled recording in a loop to the browser viewer
+#                         (http://127.0.0.1:8080/) until Ctrl-C
 #   ./bootstrap.sh test   build, then run every test suite, the installed-library example included,
 #                         then the .oni/plugin suites under ASan + UBSan
 set -euo pipefail
@@ -14,6 +16,8 @@ cd "$(dirname "$0")"
 # The recording the demo shades (an .oni file, or a directory of 16-bit depth PNGs).
 DEMO_INPUT=${DEMO_INPUT:-recordings/spheres-rolling.oni}
 DEMO_OUT=${DEMO_OUT:-out}
+# Where `./bootstrap.sh view` serves the viewer (HOST:PORT; every interface only when asked).
+VIEW_ADDR=${VIEW_ADDR:-127.0.0.1:8080}
 BUILD_DIR=${BUILD_DIR:-build}
 DEPTHAO=$BUILD_DIR/tools/depthao/depthao
 DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
@@ -32,22 +36,26 @@ PACKAGES=(
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 	python3-gi gir1.2-gstreamer-1.0
+	libmicrohttpd-dev libturbojpeg0-dev chromium chromium-driver
 )
 
 usage() {
 	cat <<USAGE
-usage: ./bootstrap.sh deps|build|demo|test
+usage: ./bootstrap.sh deps|build|demo|view|test
 
   deps    install the missing Debian packages with apt-get (as root, or through sudo):
           ${PACKAGES[*]}
   build   deps, then configure $BUILD_DIR/ (release, -Dwerror=true) and build it
   demo    build, then run depthaod on the recording $DEMO_INPUT: shaded and AO frames
           into $DEMO_OUT/shaded and $DEMO_OUT/ao, a video into $DEMO_OUT/shaded.y4m
+  view    build, then serve $DEMO_INPUT in a loop, in real time, to the browser viewer at
+          http://$VIEW_ADDR/ (parameters may be changed from the page) until Ctrl-C
   test    build, then run every test suite (meson test), including the example built
           against the installed library (suite 'install'); then the oni and plugin
           suites again under ASan + UBSan (in $BUILD_DIR-asan)
 
-environment: BUILD_DIR (default build), DEMO_INPUT, DEMO_OUT (default out)
+environment: BUILD_DIR (default build), DEMO_INPUT, DEMO_OUT (default out),
+             VIEW_ADDR (default 127.0.0.1:8080; 0.0.0.0:8080 for other machines)
 USAGE
 }
 
@@ -122,6 +130,18 @@ demo() {
 	say "shaded video (YUV4MPEG2):          $out/shaded.y4m (e.g. ffplay $out/shaded.y4m)"
 }
 
+# The browser viewer on the demo recording, looped in real time, until Ctrl-C.
+view() {
+	[ -e "$DEMO_INPUT" ] ||
+		die "the demo recording $DEMO_INPUT does not exist (set DEMO_INPUT=<.oni file or dir of 16-bit depth PNGs>)"
+	build
+	[ -f "$BUILD_DIR/plugins/http/depthao-http.so" ] ||
+		die "the http plugin was not built (it needs libmicrohttpd-dev and libturbojpeg0-dev)"
+	say "open http://$VIEW_ADDR/ in a browser (Ctrl-C stops)"
+	exec "$DEPTHAOD" --source "$DEMO_INPUT" --loop --stats-interval 0 \
+		--sink web="http:$VIEW_ADDR?control=true"
+}
+
 # One closing line a CI reader understands: "meson: N passed, N failed, N skipped".
 summarize() {
 	python3 - "$BUILD_DIR/meson-logs/testlog.json" <<'PY' || true
@@ -168,6 +188,7 @@ case "${1:-}" in
 deps) deps ;;
 build) build ;;
 demo) demo ;;
+view) view ;;
 test) run_tests ;;
 -h | --help | help) usage ;;
 *)

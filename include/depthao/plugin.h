@@ -166,6 +166,28 @@ struct dao_sink_format {
 
 #define DAO_SINK_FORMAT_INIT { .size = sizeof(struct dao_sink_format) }
 
+/*
+ * The streams a host (depthaod) produces for every frame, for sinks that take
+ * more than the one they were configured for (write_stream, want_streams).
+ */
+enum dao_stream {
+	DAO_STREAM_SHADED = 0,      /* RGB24: occlusion-shaded */
+	DAO_STREAM_AO,              /* GRAY16: visibility x 65535 */
+	DAO_STREAM_AO8,             /* GRAY8: visibility x 255 */
+	DAO_STREAM_DEPTH,           /* DEPTH16: the input depth */
+	DAO_STREAM_OVERLAY,         /* RGB24: the source's colour x AO (colour sources only) */
+	DAO_STREAM_COUNT,
+};
+
+/* What write_stream gets with each frame (from the host: a plugin reads a
+ * field added after the first layout only when DAO_STRUCT_HAS() says so). */
+struct dao_sink_frame_info {
+	uint32_t size;              /* sizeof, set by the host */
+	enum dao_stream stream;     /* which of the frame's streams this is */
+	uint64_t capture_ns;        /* CLOCK_MONOTONIC when the source delivered the frame
+				       (latency = now - capture_ns), 0 if unknown */
+};
+
 /* Levels of the messages a sink logs through its host. */
 enum dao_log_level { DAO_LOG_ERROR = 0, DAO_LOG_WARN, DAO_LOG_INFO };
 
@@ -180,6 +202,23 @@ struct dao_sink_host {
 	/* one line for the log (e.g. the file a recorder chose because the one named
 	 * existed); `level` is an enum dao_log_level */
 	void (*log)(void *user, int level, const char *message);
+	/*
+	 * Sets several parameters at once, all or none: each is checked as set_param
+	 * does and the whole set is validated before anything changes.  0, or < 0 with
+	 * the reason in msg (the parameter, the value, the valid range).
+	 */
+	int (*set_params)(void *user, const char *const *names, const char *const *values,
+			  size_t count, char *msg, size_t len);
+	/* The host's statistics as one JSON object in json; its length, or < 0
+	 * (-ENOSPC: json too small) */
+	int (*stats_json)(void *user, char *json, size_t len);
+	/*
+	 * Asks for these streams (a mask of 1u << enum dao_stream) besides the one the
+	 * sink was configured for, from the next frame on, until asked again (0 = none).
+	 * They arrive through write_stream only, in any format, never negotiated.
+	 * The overlay exists only for sources with colour.  0 or < 0.
+	 */
+	int (*want_streams)(void *user, unsigned mask);
 };
 
 #define DAO_SINK_HOST_INIT { .size = sizeof(struct dao_sink_host) }
@@ -214,6 +253,14 @@ struct dao_sink_ops {
 	int (*close)(void *state, struct dao_error *err);
 	/* optional: the host, before negotiate; valid until close (e.g. window controls) */
 	void (*attach_host)(void *state, const struct dao_sink_host *host);
+	/*
+	 * optional: takes every frame in place of write, with the stream it belongs to
+	 * and its capture time: frames of the configured stream (negotiated, as for
+	 * write) and those of the streams asked for with want_streams (any format;
+	 * the sink checks).  Same return values as write.
+	 */
+	int (*write_stream)(void *state, const struct dao_sink_frame_info *info,
+			    const struct dao_frame *frame, struct dao_error *err);
 };
 
 struct dao_plugin {
@@ -347,6 +394,16 @@ DAO_API int dao_sink_negotiate(struct dao_sink *sink, struct dao_sink_format *fm
 DAO_API int dao_sink_write(struct dao_sink *sink, const struct dao_frame *frame,
 			   struct dao_error *err);
 DAO_API int dao_sink_flush(struct dao_sink *sink, struct dao_error *err);
+/*
+ * A frame with its stream and capture time: to the sink's write_stream when it
+ * has one (frames of other streams than the negotiated one are then passed
+ * whatever their format), else to write (frames of the negotiated stream only;
+ * others are -ENOTSUP).
+ */
+DAO_API int dao_sink_write_stream(struct dao_sink *sink, const struct dao_sink_frame_info *info,
+				  const struct dao_frame *frame, struct dao_error *err);
+/* 1 if the sink takes frames of several streams (it has write_stream). */
+DAO_API int dao_sink_takes_streams(const struct dao_sink *sink);
 /* Finalises and frees; NULL-safe (returns 0). */
 DAO_API int dao_sink_close(struct dao_sink *sink, struct dao_error *err);
 

@@ -138,6 +138,44 @@ int dao_sink_write(struct dao_sink *s, const struct dao_frame *frame, struct dao
 	return s->plugin->sink->write(s->state, frame, err);
 }
 
+int dao_sink_write_stream(struct dao_sink *s, const struct dao_sink_frame_info *info,
+			  const struct dao_frame *frame, struct dao_error *err)
+{
+	int r;
+	if (!s || !info || !frame)
+		return dao_error_set(err, -EINVAL,
+				     "dao_sink_write_stream: sink, info and frame are required");
+	if (info->size < SINK_FRAME_INFO_SIZE_FIRST)
+		return dao_error_set(err, -EINVAL,
+				     "struct dao_sink_frame_info has size %u: set .size = sizeof(struct "
+				     "dao_sink_frame_info)",
+				     (unsigned)info->size);
+	if ((unsigned)info->stream >= DAO_STREAM_COUNT)
+		return dao_error_set(err, -EINVAL, "sink '%s': stream %d is not valid",
+				     s->plugin->name, (int)info->stream);
+	if (!s->plugin->sink->write_stream)
+		return dao_sink_write(s, frame, err);
+	if (!s->negotiated)
+		return dao_error_set(err, -EINVAL,
+				     "sink '%s': write before the format was negotiated "
+				     "(call dao_sink_negotiate first)",
+				     s->plugin->name);
+	if ((r = dao_frame_check(frame, "sink input", 0, 0, err)) < 0)
+		return r;
+	s->written = 1;
+	/* the plugin gets a complete struct of this library's size */
+	struct dao_sink_frame_info full;
+	memset(&full, 0, sizeof(full));
+	memcpy(&full, info, info->size < sizeof(full) ? info->size : sizeof(full));
+	full.size = sizeof(full);
+	return s->plugin->sink->write_stream(s->state, &full, frame, err);
+}
+
+int dao_sink_takes_streams(const struct dao_sink *s)
+{
+	return s && s->plugin->sink->write_stream != NULL;
+}
+
 int dao_sink_flush(struct dao_sink *s, struct dao_error *err)
 {
 	if (!s)

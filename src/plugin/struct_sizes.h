@@ -16,7 +16,8 @@
 #define SOURCE_INFO_SIZE_FIRST DAO_END_OF(struct dao_source_info, cy)
 #define SOURCE_OPTIONS_SIZE_FIRST DAO_END_OF(struct dao_source_options, depth_unit)
 #define SINK_FORMAT_SIZE_FIRST DAO_END_OF(struct dao_sink_format, reserved)
-#define SINK_HOST_SIZE_FIRST DAO_END_OF(struct dao_sink_host, log)
+#define SINK_HOST_SIZE_FIRST DAO_END_OF(struct dao_sink_host, want_streams)
+#define SINK_FRAME_INFO_SIZE_FIRST DAO_END_OF(struct dao_sink_frame_info, capture_ns)
 
 /* The first ops tables carried `version` 1; 0 is a table that forgot it. */
 #define SOURCE_OPS_VERSION_FIRST 1

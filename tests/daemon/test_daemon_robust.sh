@@ -44,7 +44,10 @@ wait_for 10 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stat
 	fail "the source was not reopened: $(cat "$WORK/log2")"
 kill -0 "$PID" || fail "the daemon exited on source loss"
 grep -q "lost: testsrc: unplugged after 20 frames; reopening" "$WORK/log2" || fail "loss not logged: $(cat "$WORK/log2")"
-[ "$(stat_of "$SOCK" frames_processed)" -ge 40 ] || fail "frames did not keep flowing"
+# (waited for: read at the moment of the third open it was below 40 in 3 runs of 4 on a
+# host at load 24, where the input queue drops about a quarter of the 200 fps source)
+wait_for 10 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stats.frames_processed) -ge 40 ]" ||
+	fail "frames did not keep flowing: $(stat_of "$SOCK" frames_processed) processed"
 stop_daemon || fail "exit status"
 
 # a device that cannot be opened: retried with backoff, logged (a few lines), sinks stay up

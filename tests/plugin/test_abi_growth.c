@@ -132,6 +132,12 @@ static const struct frozen layout[] = {
 	F(dao_sink_host, get_param, 16),
 	F(dao_sink_host, set_param, 24),
 	F(dao_sink_host, log, 32),
+	F(dao_sink_host, set_params, 40),
+	F(dao_sink_host, stats_json, 48),
+	F(dao_sink_host, want_streams, 56),
+	F(dao_sink_frame_info, size, 0),
+	F(dao_sink_frame_info, stream, 4),
+	F(dao_sink_frame_info, capture_ns, 8),
 };
 
 static void test_layout_frozen(void **state)
@@ -156,13 +162,16 @@ static void test_layout_frozen(void **state)
 			 DAO_END_OF(struct dao_source_options, depth_unit));
 	assert_int_equal(sizeof(struct dao_sink_format),
 			 DAO_END_OF(struct dao_sink_format, reserved));
-	assert_int_equal(sizeof(struct dao_sink_host), DAO_END_OF(struct dao_sink_host, log));
+	assert_int_equal(sizeof(struct dao_sink_host), DAO_END_OF(struct dao_sink_host, want_streams));
+	assert_int_equal(sizeof(struct dao_sink_frame_info),
+			 DAO_END_OF(struct dao_sink_frame_info, capture_ns));
 	/* the smallest structs the library takes never change */
 	assert_int_equal(DAO_PARAMS_SIZE_FIRST, 184);
 	assert_int_equal(SOURCE_INFO_SIZE_FIRST, 536);
 	assert_int_equal(SOURCE_OPTIONS_SIZE_FIRST, 28);
 	assert_int_equal(SINK_FORMAT_SIZE_FIRST, 56);
-	assert_int_equal(SINK_HOST_SIZE_FIRST, 40);
+	assert_int_equal(SINK_HOST_SIZE_FIRST, 64);
+	assert_int_equal(SINK_FRAME_INFO_SIZE_FIRST, 16);
 }
 
 static int poisoned(const void *p, size_t from, size_t to)

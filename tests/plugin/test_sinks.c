@@ -258,6 +258,42 @@ static void test_wrapper_call_order(void **state)
 	free(f.data);
 }
 
+/* dao_sink_write_stream on a sink without write_stream: the checks of dao_sink_write
+ * (a frame of another format is refused), a bad stream is refused, and a good frame is
+ * written as by dao_sink_write. */
+static void test_wrapper_write_stream_fallback(void **state)
+{
+	(void)state;
+	char dir[512], uri[600];
+	struct dao_error err;
+	struct dao_frame f, other;
+	tmpdir("sink-streams", dir, sizeof dir);
+	snprintf(uri, sizeof uri, "images:%s", dir);
+	struct dao_sink *s = open_sink(uri);
+	assert_int_equal(dao_sink_takes_streams(s), 0);
+	make_frame(&f, DAO_PIXFMT_GRAY8, 8, 6, 0);
+	struct dao_sink_frame_info info = {.size = sizeof(struct dao_sink_frame_info),
+					   .stream = DAO_STREAM_AO8, .capture_ns = 1};
+	assert_int_equal(dao_sink_write_stream(s, &info, &f, &err), -EINVAL); /* not negotiated */
+	assert_int_equal(negotiate(s, DAO_PIXFMT_GRAY8, 8, 6, 30, &err), 0);
+	info.stream = DAO_STREAM_COUNT;
+	assert_int_equal(dao_sink_write_stream(s, &info, &f, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "stream"));
+	assert_int_equal(dao_sink_write_stream(s, NULL, &f, &err), -EINVAL);
+	info.stream = DAO_STREAM_SHADED;
+	make_frame(&other, DAO_PIXFMT_RGB24, 8, 6, 0);
+	assert_int_equal(dao_sink_write_stream(s, &info, &other, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "rgb24"));
+	free(other.data);
+	assert_int_equal(count_entries(dir), 0);
+	info.stream = DAO_STREAM_AO8;
+	assert_int_equal(dao_sink_write_stream(s, &info, &f, &err), 0);
+	close_ok(s);
+	assert_int_equal(count_entries(dir), 1);
+	assert_int_equal(dao_sink_takes_streams(NULL), 0);
+	free(f.data);
+}
+
 static void test_wrapper_incomplete_plugin(void **state)
 {
 	(void)state;
@@ -1374,6 +1410,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test(test_wrapper_open_errors),
 		cmocka_unit_test(test_wrapper_auto_pick),
 		cmocka_unit_test(test_wrapper_call_order),
+		cmocka_unit_test(test_wrapper_write_stream_fallback),
 		cmocka_unit_test(test_wrapper_incomplete_plugin),
 		cmocka_unit_test(test_images_sink),
 		cmocka_unit_test(test_y4m_gray8),

@@ -42,8 +42,6 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;
 	d->snapshot_notify_fd = -1;
 	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
-	d->host = (struct dao_sink_host){sizeof(struct dao_sink_host), d, host_get_param,
-					  host_set_param, host_log};
 	pthread_mutex_init(&d->lock, NULL);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
@@ -61,8 +59,10 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		s->cfg = &d->cfg.sinks[i];
 		s->backoff_ms = SINK_RETRY_INITIAL_MS;
 		s->warn_limit = (struct log_limit)LOG_LIMIT_INIT(SINK_LOG_INTERVAL_MS, SINK_LOG_BURST);
+		sink_host_init(s);
 		make_reopen_uri(s->cfg->uri, s->reopen_uri, sizeof s->reopen_uri);
 		pthread_mutex_init(&s->lat_lock, NULL);
+		pthread_mutex_init(&s->control_lock, NULL);
 		if (fq_create(&s->q, s->cfg->queue) < 0) {
 			snprintf(msg, len, "out of memory");
 			daemon_destroy(d);
@@ -70,6 +70,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		}
 		d->nsinks++;
 		d->wants[s->cfg->stream] = 1;
+		if (sink_may_want_any_stream(s->cfg))
+			d->wants_color = 1;
 	}
 	*out = d;
 	return 0;
@@ -231,6 +233,7 @@ void daemon_destroy(struct daemon *d)
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		fq_destroy(d->sinks[i].q);
 		pthread_mutex_destroy(&d->sinks[i].lat_lock);
+		pthread_mutex_destroy(&d->sinks[i].control_lock);
 	}
 	fq_destroy(d->input);
 	dao_frame_free(&d->snapshot_frame);

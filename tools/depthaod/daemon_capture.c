@@ -69,7 +69,7 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 		.playback = d->cfg.playback,
 		.loop = d->cfg.loop,
 		.start_frame = d->cfg.start,
-		.want_color = d->wants[STREAM_OVERLAY],
+		.want_color = d->wants[STREAM_OVERLAY] || d->wants_color,
 		.depth_unit = d->cfg.depth_unit,
 	};
 	struct dao_source *src = NULL;

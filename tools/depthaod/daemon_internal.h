@@ -78,6 +78,10 @@ struct sink_runner {
 	const char *stop_code;        /* ... and the error's name: "ENOSPC", "ECANCELED", ... */
 	/* counters (atomics: read by the stats thread) */
 	atomic_ullong written, dropped, errors, opens;
+	struct dao_sink_host host;    /* what the sink may ask (user: this runner) */
+	atomic_uint extra_streams;    /* streams asked for besides cfg->stream (1u << stream) */
+	pthread_mutex_t control_lock; /* the sink's parameter changes, one at a time; control_log */
+	struct log_limit control_log;
 	pthread_mutex_t lat_lock;
 	uint32_t lat_us[LATENCY_RING];
 	unsigned lat_n, lat_pos;
@@ -91,7 +95,8 @@ struct daemon {
 	struct frame_queue *input;
 	struct sink_runner sinks[DAOD_MAX_SINKS];
 	unsigned nsinks;
-	int wants[STREAM_COUNT];
+	int wants[STREAM_COUNT];       /* the sinks' configured streams */
+	int wants_color;              /* a sink may ask for the overlay at run time */
 	int lossless;                 /* manual playback: wait, never drop */
 
 	pthread_t capture, process;
@@ -109,7 +114,6 @@ struct daemon {
 
 	struct dao_params params;
 	int params_pending;
-	struct dao_sink_host host;    /* what sinks may ask (window controls) */
 	struct dao_source_info src_info;
 	int have_src_info;
 	double cam_hfov, cam_vfov;    /* of the camera the pipeline uses (recorders store it) */
@@ -152,10 +156,12 @@ void take_snapshot(struct daemon *d, const struct dao_frame *rgb);
 /* daemon_snapshot.c: ends the snapshot thread by the deadline; 0 if it is still writing */
 int stop_snapshot_writer(struct daemon *d, uint64_t deadline);
 
-/* daemon_sinks.c: what a sink may ask of the daemon (struct dao_sink_host) */
-int host_get_param(void *user, const char *name, char *value, size_t len);
-int host_set_param(void *user, const char *name, const char *value);
-void host_log(void *user, int level, const char *message);
+/* daemon_sinks.c: what a sink may ask of the daemon (struct dao_sink_host, user: its runner) */
+void sink_host_init(struct sink_runner *s);
+/* daemon_sinks.c: the streams some sink wants this frame (1u << enum stream_kind) */
+unsigned sinks_wanted_streams(struct daemon *d);
+/* daemon_sinks.c: a sink that may ask for any stream at run time (the http viewer) */
+int sink_may_want_any_stream(const struct sink_config *cfg);
 /* daemon_sinks.c: the URI a sink is reopened with (overwrite=true turned off), "" if the same */
 void make_reopen_uri(const char *uri, char *out, size_t cap);
 

@@ -66,38 +66,58 @@ static void ao_to_8bit(const struct dao_frame *a, struct dao_frame *b)
 	}
 }
 
+static const struct dao_frame *stream_frame(int stream, const struct fq_item *in,
+					    const struct outputs *o, int have_overlay)
+{
+	switch (stream) {
+	case STREAM_SHADED: return &o->rgb;
+	case STREAM_AO: return &o->ao16;
+	case STREAM_AO8: return &o->ao8;
+	case STREAM_DEPTH: return &in->frame;
+	case STREAM_OVERLAY: return have_overlay ? &o->overlay : NULL;
+	default: return NULL;
+	}
+}
+
+/* Queues one stream's frame for a sink. */
+static void push_frame(struct daemon *d, struct sink_runner *s, int stream,
+		       const struct dao_frame *f, const struct fq_item *in)
+{
+	uint64_t dropped = 0;
+	struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
+	atomic_fetch_add(&s->dropped, dropped);
+	if (!it) { /* its queue closed at the stop deadline: this frame never reaches it */
+		atomic_fetch_add(&s->dropped, 1);
+		return;
+	}
+	if (fq_item_copy_frame(it, f) < 0) {
+		fq_cancel_push(s->q, it);
+		return;
+	}
+	it->frame.sequence = in->index;
+	it->frame.timestamp_ns = in->frame.timestamp_ns;
+	it->frame.depth_unit = in->frame.depth_unit;
+	it->index = in->index;
+	it->t_capture_ns = in->t_capture_ns;
+	it->stream = stream;
+	fq_end_push(s->q, it);
+}
+
+/* Every sink gets its configured stream, then those it asked for besides. */
 static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *o, int have_overlay)
 {
 	for (unsigned i = 0; i < d->nsinks; i++) {
 		struct sink_runner *s = &d->sinks[i];
-		const struct dao_frame *f;
-		switch (s->cfg->stream) {
-		case STREAM_SHADED: f = &o->rgb; break;
-		case STREAM_AO: f = &o->ao16; break;
-		case STREAM_AO8: f = &o->ao8; break;
-		case STREAM_DEPTH: f = &in->frame; break;
-		case STREAM_OVERLAY: f = have_overlay ? &o->overlay : NULL; break;
-		default: f = NULL;
-		}
-		if (!f || atomic_load(&s->state) == SINK_STOPPED)
+		if (atomic_load(&s->state) == SINK_STOPPED)
 			continue;
-		uint64_t dropped = 0;
-		struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
-		atomic_fetch_add(&s->dropped, dropped);
-		if (!it) { /* its queue closed at the stop deadline: this frame never reaches it */
-			atomic_fetch_add(&s->dropped, 1);
-			continue;
-		}
-		if (fq_frame_copy(&it->frame, f) < 0) {
-			fq_cancel_push(s->q, it);
-			continue;
-		}
-		it->frame.sequence = in->index;
-		it->frame.timestamp_ns = in->frame.timestamp_ns;
-		it->frame.depth_unit = in->frame.depth_unit;
-		it->index = in->index;
-		it->t_capture_ns = in->t_capture_ns;
-		fq_end_push(s->q, it);
+		const int primary = (int)s->cfg->stream;
+		const struct dao_frame *f = stream_frame(primary, in, o, have_overlay);
+		if (f)
+			push_frame(d, s, primary, f, in);
+		unsigned extra = atomic_load(&s->extra_streams) & ~(1u << primary);
+		for (int k = 0; k < STREAM_COUNT; k++)
+			if ((extra & (1u << k)) && (f = stream_frame(k, in, o, have_overlay)))
+				push_frame(d, s, k, f, in);
 	}
 }
 
@@ -188,7 +208,9 @@ void *process_main(void *arg)
 				log_error("new AO parameters refused: %s", err.message);
 			d->params_pending = 0;
 		}
-		int want_rgb = d->wants[STREAM_SHADED] || d->snapshot_state == SNAP_REQUESTED;
+		const unsigned extra = sinks_wanted_streams(d);
+		int want_rgb = d->wants[STREAM_SHADED] || (extra & (1u << STREAM_SHADED)) ||
+			       d->snapshot_state == SNAP_REQUESTED;
 		pthread_mutex_unlock(&d->lock);
 
 		uint64_t c0 = tool_thread_cpu_ns();
@@ -197,9 +219,10 @@ void *process_main(void *arg)
 			r = dao_context_shade(ctx, &o.rgb, &err);
 		int have_overlay = 0;
 		if (r == 0) {
-			if (d->wants[STREAM_AO8])
+			if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
 				ao_to_8bit(&o.ao16, &o.ao8);
-			if (d->wants[STREAM_OVERLAY] && in->color.format == DAO_PIXFMT_RGB24)
+			if ((d->wants[STREAM_OVERLAY] || (extra & (1u << STREAM_OVERLAY))) &&
+			    in->color.format == DAO_PIXFMT_RGB24)
 				have_overlay = dao_overlay(&in->color, &o.ao16, &o.overlay, &err) == 0;
 		}
 		atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/prctl.h>
 
 #include "daemon_internal.h"
 
@@ -21,35 +22,114 @@ static void record_latency(struct sink_runner *s, uint64_t t_capture)
 	pthread_mutex_unlock(&s->lat_lock);
 }
 
-int host_get_param(void *user, const char *name, char *value, size_t len)
+static int host_get_param(void *user, const char *name, char *value, size_t len)
 {
+	struct sink_runner *s = user;
 	struct dao_params p;
-	daemon_get_params(user, &p);
+	daemon_get_params(s->d, &p);
 	return dao_params_get(&p, name, value, len, NULL);
 }
 
-int host_set_param(void *user, const char *name, const char *value)
+/* Through the checks of `depthao ctl set` (control.c): dao_params_set, then
+ * dao_params_validate of the whole set, then daemon_set_params. */
+static int host_set_params(void *user, const char *const *names, const char *const *values,
+			   size_t count, char *msg, size_t len)
 {
-	struct daemon *d = user;
+	struct sink_runner *s = user;
 	struct dao_params p;
 	struct dao_error err = {0};
-	daemon_get_params(d, &p);
-	int r = dao_params_set(&p, name, value, &err);
+	int r = 0;
+	/* a web page's requests come in parallel: one change applies after the other */
+	pthread_mutex_lock(&s->control_lock);
+	daemon_get_params(s->d, &p);
+	for (size_t i = 0; i < count && r == 0; i++)
+		r = dao_params_set(&p, names[i], values[i], &err);
 	if (r == 0)
 		r = dao_params_validate(&p, &err);
-	if (r == 0) {
-		daemon_set_params(d, &p);
-		log_info("sink control: %s = %s", name, value);
+	if (r < 0) {
+		pthread_mutex_unlock(&s->control_lock);
+		if (msg && len)
+			snprintf(msg, len, "%s", err.message[0] ? err.message : strerror(-r));
+		return r;
 	}
-	return r;
+	daemon_set_params(s->d, &p);
+	for (size_t i = 0; i < count; i++)
+		log_limited(&s->control_log, LOG_INFO, "sink %s control: %s = %s", s->cfg->name,
+			    names[i], values[i]);
+	pthread_mutex_unlock(&s->control_lock);
+	return 0;
+}
+
+static int host_set_param(void *user, const char *name, const char *value)
+{
+	return host_set_params(user, &name, &value, 1, NULL, 0);
 }
 
 /* A sink's log line (e.g. the file a recorder chose) at its level. */
-void host_log(void *user, int level, const char *message)
+static void host_log(void *user, int level, const char *message)
 {
 	(void)user;
 	log_msg(level == DAO_LOG_ERROR ? LOG_ERROR : level == DAO_LOG_WARN ? LOG_WARN : LOG_INFO,
 		"%s", message);
+}
+
+/* The same JSON as `depthao ctl stats`. */
+static int host_stats_json(void *user, char *json, size_t len)
+{
+	struct sink_runner *s = user;
+	struct json_object *j = daemon_stats(s->d, 0);
+	const char *t = json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN);
+	size_t n = strlen(t);
+	int r = n < len ? (int)n : -ENOSPC;
+	if (r >= 0)
+		memcpy(json, t, n + 1);
+	json_object_put(j);
+	return r;
+}
+
+static int host_want_streams(void *user, unsigned mask)
+{
+	struct sink_runner *s = user;
+	if (mask >> STREAM_COUNT)
+		return -EINVAL;
+	atomic_store(&s->extra_streams, mask);
+	return 0;
+}
+
+void sink_host_init(struct sink_runner *s)
+{
+	_Static_assert((int)STREAM_SHADED == (int)DAO_STREAM_SHADED &&
+			       (int)STREAM_AO == (int)DAO_STREAM_AO &&
+			       (int)STREAM_AO8 == (int)DAO_STREAM_AO8 &&
+			       (int)STREAM_DEPTH == (int)DAO_STREAM_DEPTH &&
+			       (int)STREAM_OVERLAY == (int)DAO_STREAM_OVERLAY &&
+			       (int)STREAM_COUNT == (int)DAO_STREAM_COUNT,
+		       "depthaod's streams are numbered as enum dao_stream");
+	s->control_log = (struct log_limit)LOG_LIMIT_INIT(10000, 10);
+	s->host = (struct dao_sink_host){
+		.size = sizeof(struct dao_sink_host),
+		.user = s,
+		.get_param = host_get_param,
+		.set_param = host_set_param,
+		.log = host_log,
+		.set_params = host_set_params,
+		.stats_json = host_stats_json,
+		.want_streams = host_want_streams,
+	};
+}
+
+unsigned sinks_wanted_streams(struct daemon *d)
+{
+	unsigned m = 0;
+	for (unsigned i = 0; i < d->nsinks; i++)
+		if (atomic_load(&d->sinks[i].state) != SINK_STOPPED)
+			m |= atomic_load(&d->sinks[i].extra_streams);
+	return m;
+}
+
+int sink_may_want_any_stream(const struct sink_config *cfg)
+{
+	return !strncmp(cfg->uri, "http:", 5);
 }
 
 /* Errors after which a sink cannot go on: retrying would not help, and reopening a
@@ -102,6 +182,7 @@ static void close_sink(struct sink_runner *s)
 	if (s->sink && dao_sink_close(s->sink, &err) < 0)
 		log_error("sink %s: closing %s: %s", s->cfg->name, s->cfg->uri, err.message);
 	s->sink = NULL;
+	atomic_store(&s->extra_streams, 0); /* until it opens again and asks */
 }
 
 /* Stops the sink for good: what it wrote is finalised, it is never reopened. */
@@ -200,7 +281,7 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 	}
 	int r = dao_sink_open(d->plugins, uri, &s->sink, &err);
 	if (r == 0) {
-		dao_sink_attach_host(s->sink, &d->host);
+		dao_sink_attach_host(s->sink, &s->host);
 		pthread_mutex_lock(&d->lock);
 		struct dao_source_info in = d->src_info;
 		if (d->have_cam) { /* the camera in use: configured intrinsics win over the source's */
@@ -240,7 +321,15 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 static void write_frame(struct sink_runner *s, const struct fq_item *it)
 {
 	struct dao_error err = {0};
-	int r = dao_sink_write(s->sink, &it->frame, &err);
+	const struct dao_sink_frame_info info = {.size = sizeof(struct dao_sink_frame_info),
+						 .stream = (enum dao_stream)it->stream,
+						 .capture_ns = it->t_capture_ns};
+	int r = dao_sink_write_stream(s->sink, &info, &it->frame, &err);
+	if (it->stream != (int)s->cfg->stream) {
+		/* a stream asked for besides (want_streams): the sink's counters and its
+		   errors are those of its configured stream */
+		return;
+	}
 	if (r == -ECANCELED) { /* finished by the user (a closed window) */
 		char why[300];
 		snprintf(why, sizeof why, "%s", err.message);
@@ -277,6 +366,9 @@ void *sink_main(void *arg)
 {
 	struct sink_runner *s = arg;
 	struct fq_item *it;
+	char name[16]; /* the thread's name in top -H and /proc: "sink:NAME" (15 bytes) */
+	snprintf(name, sizeof name, "sink:%.10s", s->cfg->name);
+	prctl(PR_SET_NAME, name, 0, 0, 0);
 	for (;;) {
 		it = fq_pop(s->q, s->unflushed ? SINK_IDLE_FLUSH_MS : -1);
 		if (!it) {
@@ -296,6 +388,13 @@ void *sink_main(void *arg)
 			break;
 		}
 		if (atomic_load(&s->state) == SINK_STOPPED) {
+			fq_done(s->q, it);
+			continue;
+		}
+		if (it->stream != (int)s->cfg->stream) {
+			/* another stream the sink asked for: only to an open sink that takes it */
+			if (s->sink && dao_sink_takes_streams(s->sink))
+				write_frame(s, it);
 			fq_done(s->q, it);
 			continue;
 		}
@@ -326,6 +425,8 @@ void *sink_main(void *arg)
 	char what[96];
 	snprintf(what, sizeof what, "sink %s", s->cfg->name);
 	log_limit_flush(&s->warn_limit, LOG_WARN, what);
+	snprintf(what, sizeof what, "sink %s control", s->cfg->name);
+	log_limit_flush(&s->control_log, LOG_INFO, what);
 	atomic_store(&s->done, 1);
 	return NULL;
 }

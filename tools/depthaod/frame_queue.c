@@ -202,6 +202,33 @@ int fq_frame_reserve(struct dao_frame *f, enum dao_pixfmt format, uint32_t w, ui
 	return dao_frame_alloc(f, format, w, h, NULL);
 }
 
+int fq_item_copy_frame(struct fq_item *it, const struct dao_frame *src)
+{
+	struct dao_frame *dst = &it->frame;
+	const size_t row = (size_t)src->width * dao_pixfmt_bytes_per_pixel(src->format);
+	const size_t bytes = row * src->height;
+	if (!row || !src->height)
+		return -EINVAL;
+	if (!dst->data || it->frame_cap < bytes) {
+		void *p = realloc(dst->data, bytes);
+		if (!p)
+			return -ENOMEM;
+		dst->data = p;
+		it->frame_cap = bytes;
+	}
+	dst->format = src->format;
+	dst->width = src->width;
+	dst->height = src->height;
+	dst->stride = (int32_t)row;
+	for (uint32_t y = 0; y < src->height; y++)
+		memcpy((uint8_t *)dst->data + (size_t)y * row,
+		       (const uint8_t *)src->data + (size_t)y * (size_t)src->stride, row);
+	dst->depth_unit = src->depth_unit;
+	dst->timestamp_ns = src->timestamp_ns;
+	dst->sequence = src->sequence;
+	return 0;
+}
+
 int fq_frame_copy(struct dao_frame *dst, const struct dao_frame *src)
 {
 	int r = fq_frame_reserve(dst, src->format, src->width, src->height);

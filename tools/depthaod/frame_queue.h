@@ -19,6 +19,8 @@ struct fq_item {
 	struct dao_frame color;   /* owned buffer (RGB24) or format NONE */
 	uint64_t index;           /* source frame index */
 	uint64_t t_capture_ns;    /* CLOCK_MONOTONIC when the source delivered it */
+	int stream;               /* sink queues: the stream of `frame` (enum stream_kind) */
+	size_t frame_cap;         /* bytes allocated for frame.data (fq_item_copy_frame) */
 };
 
 struct frame_queue;
@@ -49,6 +51,12 @@ int fq_closed_and_empty(struct frame_queue *q);
 
 /* Makes `f` a frame of this format and size, reallocating only on change. */
 int fq_frame_reserve(struct dao_frame *f, enum dao_pixfmt format, uint32_t w, uint32_t h);
+/*
+ * Copies src into it->frame, row by row (tightly packed), keeping its buffer
+ * while it is large enough: a queue that carries frames of several formats in
+ * turn (a sink taking several streams) reallocates only when one is larger.
+ */
+int fq_item_copy_frame(struct fq_item *it, const struct dao_frame *src);
 /* Copies src into dst (reserving dst), row by row. */
 int fq_frame_copy(struct dao_frame *dst, const struct dao_frame *src);
 

@@ -1,0 +1,556 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The viewer's routes, and nothing else: /, /stream.mjpg, /api/params,
+ * /api/stats, /snapshot.png.  Anything else is 404, another method 405, a
+ * body over HTTP_MAX_BODY 413, more than HTTP_MAX_HEADERS header lines 431;
+ * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT);
+ * connections beyond max_clients are closed as they come (accept_policy).  libmicrohttpd's own messages stay off:
+ * a viewer closing its tab would log a failed send every time.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <json-c/json.h>
+#include <microhttpd.h>
+#include <png.h>
+
+#include <depthao/params.h>
+
+#include "http_sink.h"
+#include "viewer_page.h"
+
+/* A request's state between the calls of the access handler (POST bodies). */
+struct request {
+	char body[HTTP_MAX_BODY + 1];
+	size_t len;
+	int too_large;
+};
+
+static enum MHD_Result reply(struct MHD_Connection *conn, unsigned status, const char *type,
+			     const void *data, size_t len, enum MHD_ResponseMemoryMode mode)
+{
+	struct MHD_Response *r = MHD_create_response_from_buffer(len, (void *)data, mode);
+	if (!r)
+		return MHD_NO;
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, type);
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+	MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+	enum MHD_Result ret = MHD_queue_response(conn, status, r);
+	MHD_destroy_response(r);
+	return ret;
+}
+
+static enum MHD_Result reply_json(struct MHD_Connection *conn, unsigned status,
+				  struct json_object *j)
+{
+	const char *t = json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN);
+	enum MHD_Result r = reply(conn, status, "application/json", t, strlen(t),
+				  MHD_RESPMEM_MUST_COPY);
+	json_object_put(j);
+	return r;
+}
+
+static enum MHD_Result reply_error(struct MHD_Connection *conn, unsigned status, const char *msg)
+{
+	struct json_object *j = json_object_new_object();
+	json_object_object_add(j, "error", json_object_new_string(msg));
+	return reply_json(conn, status, j);
+}
+
+static const char *const param_types[] = {"float", "int", "enum", "color"};
+
+/* The host, once attached (the server answers from open on, before attach_host). */
+static const struct dao_sink_host *host_of(struct http_sink *s)
+{
+	pthread_mutex_lock(&s->lock);
+	const struct dao_sink_host *h = s->host;
+	pthread_mutex_unlock(&s->lock);
+	return h;
+}
+
+static struct json_object *params_json(struct http_sink *s, int control)
+{
+	const struct dao_sink_host *host = host_of(s);
+	struct json_object *list = json_object_new_array();
+	size_t n;
+	const struct dao_param_info *t = dao_param_table(&n);
+	for (size_t i = 0; i < n; i++) {
+		char v[64];
+		if (!host || !host->get_param || host->get_param(host->user, t[i].name, v, sizeof v) < 0)
+			continue;
+		struct json_object *o = json_object_new_object();
+		json_object_object_add(o, "name", json_object_new_string(t[i].name));
+		json_object_object_add(o, "value", json_object_new_string(v));
+		json_object_object_add(o, "type", json_object_new_string(param_types[t[i].type]));
+		if (t[i].type == DAO_PARAM_FLOAT || t[i].type == DAO_PARAM_INT) {
+			json_object_object_add(o, "min", json_object_new_double(t[i].min));
+			json_object_object_add(o, "max", json_object_new_double(t[i].max));
+		}
+		if (t[i].type == DAO_PARAM_ENUM) {
+			struct json_object *e = json_object_new_array();
+			for (const char *const *k = t[i].enum_names; k && *k; k++)
+				json_object_array_add(e, json_object_new_string(*k));
+			json_object_object_add(o, "options", e);
+		}
+		if (t[i].unit)
+			json_object_object_add(o, "unit", json_object_new_string(t[i].unit));
+		json_object_object_add(o, "help", json_object_new_string(t[i].help));
+		json_object_object_add(o, "runtime",
+				       json_object_new_boolean(!!(t[i].flags & DAO_PARAM_RUNTIME)));
+		json_object_array_add(list, o);
+	}
+	struct json_object *j = json_object_new_object();
+	json_object_object_add(j, "control", json_object_new_boolean(control));
+	json_object_object_add(j, "params", list);
+	return j;
+}
+
+/* Compares without stopping at the first difference (the token is a secret). */
+static int same_secret(const char *a, const char *b)
+{
+	size_t la = strlen(a), lb = strlen(b);
+	unsigned char d = la != lb;
+	for (size_t i = 0; i < la; i++)
+		d |= (unsigned char)(a[i] ^ b[i % (lb ? lb : 1)]);
+	return d == 0;
+}
+
+static int may_control(struct http_sink *s, struct MHD_Connection *conn)
+{
+	if (s->control)
+		return 1;
+	const char *tok = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, HTTP_TOKEN_HEADER);
+	return s->token[0] && tok && same_secret(tok, s->token);
+}
+
+/* POST /api/params: a JSON object of changes, applied all together or not at all. */
+static enum MHD_Result post_params(struct http_sink *s, struct MHD_Connection *conn,
+				   struct request *rq)
+{
+	if (!may_control(s, conn))
+		return reply_error(conn, MHD_HTTP_FORBIDDEN,
+				   "the viewer is read-only: start the sink with ?control=true, or "
+				   "give it ?token=SECRET and send the header " HTTP_TOKEN_HEADER);
+	rq->body[rq->len] = '\0';
+	struct json_tokener *tk = json_tokener_new();
+	struct json_object *j = json_tokener_parse_ex(tk, rq->body, (int)rq->len);
+	int complete = json_tokener_get_error(tk) == json_tokener_success &&
+		       tk->char_offset == (int)rq->len;
+	json_tokener_free(tk);
+	if (!j || !complete || !json_object_is_type(j, json_type_object)) {
+		json_object_put(j);
+		return reply_error(conn, MHD_HTTP_BAD_REQUEST,
+				   "expected one JSON object of parameter changes, e.g. "
+				   "{\"radius\": 0.5, \"algorithm\": \"gtao\"}");
+	}
+	const char *names[128], *values[128];
+	size_t n = 0;
+	char msg[512] = "";
+	json_object_object_foreach(j, key, val)
+	{
+		if (n == 128) {
+			snprintf(msg, sizeof msg, "too many changes in one request (128 at most)");
+			break;
+		}
+		if (!dao_param_find(key)) {
+			snprintf(msg, sizeof msg, "unknown AO parameter '%.100s'", key);
+			break;
+		}
+		if (!json_object_is_type(val, json_type_string) &&
+		    !json_object_is_type(val, json_type_int) &&
+		    !json_object_is_type(val, json_type_double)) {
+			snprintf(msg, sizeof msg, "%.100s: the value must be a number or a string", key);
+			break;
+		}
+		names[n] = key;
+		values[n++] = json_object_get_string(val);
+	}
+	const struct dao_sink_host *host = host_of(s);
+	if (!msg[0] && (!host || !host->set_params))
+		snprintf(msg, sizeof msg, "this host does not take parameter changes");
+	if (!msg[0] && host->set_params(host->user, names, values, n, msg, sizeof msg) < 0 &&
+	    !msg[0])
+		snprintf(msg, sizeof msg, "the changes were refused");
+	json_object_put(j);
+	if (msg[0])
+		return reply_error(conn, MHD_HTTP_BAD_REQUEST, msg);
+	return reply_json(conn, MHD_HTTP_OK, params_json(s, 1));
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+	uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+	return x < y ? -1 : x > y;
+}
+
+static enum MHD_Result get_stats(struct http_sink *s, struct MHD_Connection *conn)
+{
+	uint32_t *lat = s->lat_sorted; /* under s->lock */
+	struct json_object *h = json_object_new_object();
+	pthread_mutex_lock(&s->lock);
+	unsigned n = s->lat_n;
+	memcpy(lat, s->lat_us, n * sizeof s->lat_us[0]);
+	qsort(lat, n, sizeof s->lat_us[0], cmp_u32);
+	json_object_object_add(h, "clients", json_object_new_int((int)s->nclients));
+	json_object_object_add(h, "clients_served", json_object_new_int64((int64_t)s->clients_served));
+	json_object_object_add(h, "frames_sent", json_object_new_int64((int64_t)s->frames_sent));
+	json_object_object_add(h, "frames_dropped", json_object_new_int64((int64_t)s->frames_dropped));
+	json_object_object_add(h, "latency_ms_median", json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
+	json_object_object_add(h, "latency_ms_p99",
+			       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
+	memcpy(lat, s->send_us, n * sizeof s->send_us[0]);
+	qsort(lat, n, sizeof s->send_us[0], cmp_u32);
+	json_object_object_add(h, "sink_ms_median", json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
+	json_object_object_add(h, "sink_ms_p99",
+			       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
+	json_object_object_add(h, "encode_ms_mean",
+			       json_object_new_double(s->encoded ? (double)s->encode_ns / 1e6 / (double)s->encoded : 0));
+	pthread_mutex_unlock(&s->lock);
+	struct json_object *streams = json_object_new_array();
+	for (int v = 0; v < VIEW_COUNT; v++)
+		if (v != VIEW_OVERLAY || atomic_load(&s->has_color))
+			json_object_array_add(streams, json_object_new_string(view_stream_name(v)));
+	json_object_object_add(h, "streams", streams);
+	json_object_object_add(h, "control", json_object_new_boolean(may_control(s, conn)));
+	struct json_object *j = json_object_new_object();
+	pthread_mutex_lock(&s->stats_lock); /* one stats reply at a time: stats_text */
+	struct json_object *dj = NULL;
+	const struct dao_sink_host *host = host_of(s);
+	if (host && host->stats_json &&
+	    host->stats_json(host->user, s->stats_text, sizeof s->stats_text) >= 0)
+		dj = json_tokener_parse(s->stats_text);
+	pthread_mutex_unlock(&s->stats_lock);
+	json_object_object_add(j, "daemon", dj ? dj : json_object_new_object());
+	json_object_object_add(j, "http", h);
+	return reply_json(conn, MHD_HTTP_OK, j);
+}
+
+struct png_buf {
+	unsigned char *data;
+	size_t len, cap;
+	int failed;
+};
+
+static void png_append(png_structp png, png_bytep data, png_size_t len)
+{
+	struct png_buf *b = png_get_io_ptr(png);
+	if (b->failed)
+		return;
+	if (b->len + len > b->cap) {
+		size_t cap = (b->cap ? b->cap * 2 : 65536) + len;
+		unsigned char *d = realloc(b->data, cap);
+		if (!d) {
+			b->failed = 1;
+			return;
+		}
+		b->data = d;
+		b->cap = cap;
+	}
+	memcpy(b->data + b->len, data, len);
+	b->len += len;
+}
+
+static void png_no_flush(png_structp png)
+{
+	(void)png;
+}
+
+/* A copy of the picture as PNG (fast compression: a snapshot is for looking at). */
+static int encode_png(const uint8_t *px, uint32_t w, uint32_t h, int gray, struct png_buf *out)
+{
+	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+	png_infop info = png ? png_create_info_struct(png) : NULL;
+	if (!info) {
+		png_destroy_write_struct(&png, NULL);
+		return -ENOMEM;
+	}
+	if (setjmp(png_jmpbuf(png))) {
+		png_destroy_write_struct(&png, &info);
+		return -EIO;
+	}
+	png_set_write_fn(png, out, png_append, png_no_flush);
+	png_set_compression_level(png, 1);
+	png_set_IHDR(png, info, w, h, 8, gray ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB,
+		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+	png_write_info(png, info);
+	const size_t row = (size_t)w * (gray ? 1 : 3);
+	for (uint32_t y = 0; y < h; y++)
+		png_write_row(png, (png_const_bytep)(px + (size_t)y * row));
+	png_write_end(png, NULL);
+	png_destroy_write_struct(&png, &info);
+	return out->failed ? -ENOMEM : 0;
+}
+
+static enum MHD_Result get_snapshot(struct http_sink *s, struct MHD_Connection *conn,
+				    enum view_stream v)
+{
+	pthread_mutex_lock(&s->lock);
+	struct view_picture *p = &s->pic[v];
+	if (!p->valid) {
+		pthread_mutex_unlock(&s->lock);
+		return reply_error(conn, MHD_HTTP_SERVICE_UNAVAILABLE,
+				   "no frame of that stream yet: try again, or watch it first");
+	}
+	const size_t bytes = (size_t)p->width * p->height * (p->gray ? 1 : 3);
+	uint8_t *copy = malloc(bytes);
+	const uint32_t w = p->width, h = p->height;
+	const int gray = p->gray;
+	if (copy)
+		memcpy(copy, p->rgb, bytes);
+	pthread_mutex_unlock(&s->lock);
+	struct png_buf b = {0};
+	if (!copy || encode_png(copy, w, h, gray, &b) < 0) {
+		free(copy);
+		free(b.data);
+		return reply_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "cannot encode the PNG");
+	}
+	free(copy);
+	struct MHD_Response *r = MHD_create_response_from_buffer(b.len, b.data, MHD_RESPMEM_MUST_FREE);
+	if (!r) {
+		free(b.data);
+		return MHD_NO;
+	}
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "image/png");
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+	enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return ret;
+}
+
+struct stream_ctx {
+	struct http_sink *s;
+	struct mjpeg_client *c;
+};
+
+static ssize_t stream_read(void *cls, uint64_t pos, char *buf, size_t max)
+{
+	struct stream_ctx *x = cls;
+	(void)pos;
+	return mjpeg_client_read(x->s, x->c, buf, max);
+}
+
+/* The connection ended: the client and its queue go at once. */
+static void stream_free(void *cls)
+{
+	struct stream_ctx *x = cls;
+	pthread_mutex_lock(&x->s->lock);
+	mjpeg_client_free(x->s, x->c);
+	pthread_mutex_unlock(&x->s->lock);
+	free(x);
+}
+
+static enum MHD_Result get_stream(struct http_sink *s, struct MHD_Connection *conn,
+				  enum view_stream v)
+{
+	struct stream_ctx *x = malloc(sizeof(*x));
+	if (!x)
+		return MHD_NO;
+	x->s = s;
+	pthread_mutex_lock(&s->lock);
+	x->c = mjpeg_client_new(s, v);
+	pthread_mutex_unlock(&s->lock);
+	if (!x->c) {
+		free(x);
+		return MHD_NO;
+	}
+	struct MHD_Response *r =
+		MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 32 * 1024, stream_read, x, stream_free);
+	if (!r) {
+		stream_free(x);
+		return MHD_NO;
+	}
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE,
+				"multipart/x-mixed-replace; boundary=depthaoframe");
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+	enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_OK, r);
+	MHD_destroy_response(r);
+	return ret;
+}
+
+static enum MHD_Result count_header(void *cls, enum MHD_ValueKind kind, const char *key,
+				    const char *value)
+{
+	(void)kind;
+	(void)key;
+	(void)value;
+	(*(unsigned *)cls)++;
+	return MHD_YES;
+}
+
+/* ?stream=NAME (default: the configured stream); -1 when it names none */
+static int stream_arg(struct http_sink *s, struct MHD_Connection *conn, enum view_stream *v)
+{
+	const char *name = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "stream");
+	if (!name) {
+		pthread_mutex_lock(&s->lock);
+		*v = s->primary;
+		pthread_mutex_unlock(&s->lock);
+		return 0;
+	}
+	if (view_stream_parse(name, v) < 0)
+		return -1;
+	return 0;
+}
+
+static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char *url,
+			      const char *method, const char *version, const char *upload,
+			      size_t *upload_size, void **con_cls)
+{
+	struct http_sink *s = cls;
+	(void)version;
+	const int get = !strcmp(method, MHD_HTTP_METHOD_GET) || !strcmp(method, MHD_HTTP_METHOD_HEAD);
+	const int post = !strcmp(method, MHD_HTTP_METHOD_POST);
+	struct request *rq = *con_cls;
+	if (!rq) { /* the first call: the headers are in */
+		unsigned headers = 0;
+		MHD_get_connection_values(conn, MHD_HEADER_KIND, count_header, &headers);
+		if (headers > HTTP_MAX_HEADERS)
+			return reply_error(conn, MHD_HTTP_REQUEST_HEADER_FIELDS_TOO_LARGE,
+					   "too many header lines");
+		if (post && !strcmp(url, "/api/params")) {
+			const char *cl = MHD_lookup_connection_value(conn, MHD_HEADER_KIND,
+								     MHD_HTTP_HEADER_CONTENT_LENGTH);
+			if (cl && strtoull(cl, NULL, 10) > HTTP_MAX_BODY)
+				return reply_error(conn, MHD_HTTP_CONTENT_TOO_LARGE,
+						   "the body is too large (8 KiB at most)");
+			if (!(rq = calloc(1, sizeof(*rq))))
+				return MHD_NO;
+			*con_cls = rq;
+			return MHD_YES;
+		}
+		/* other requests have no body: answered now (a body is refused below) */
+	} else if (*upload_size) { /* a POST body arrives in pieces */
+		if (rq->len + *upload_size > HTTP_MAX_BODY)
+			rq->too_large = 1;
+		else
+			memcpy(rq->body + rq->len, upload, *upload_size);
+		if (!rq->too_large)
+			rq->len += *upload_size;
+		*upload_size = 0;
+		return MHD_YES;
+	} else { /* the whole body is in */
+		if (rq->too_large)
+			return reply_error(conn, MHD_HTTP_CONTENT_TOO_LARGE,
+					   "the body is too large (8 KiB at most)");
+		return post_params(s, conn, rq);
+	}
+	if (upload && *upload_size)
+		return reply_error(conn, MHD_HTTP_BAD_REQUEST, "this route takes no body");
+	const char *allow = "GET, HEAD";
+	if (!strcmp(url, "/") || !strcmp(url, "/index.html")) {
+		if (get)
+			return reply(conn, MHD_HTTP_OK, "text/html; charset=utf-8", viewer_html,
+				     sizeof viewer_html - 1, MHD_RESPMEM_PERSISTENT);
+	} else if (!strcmp(url, "/stream.mjpg") || !strcmp(url, "/snapshot.png")) {
+		enum view_stream v;
+		if (get && stream_arg(s, conn, &v) < 0)
+			return reply_error(conn, MHD_HTTP_BAD_REQUEST,
+					   "unknown stream (streams: shaded, ao, overlay, depth)");
+		if (get && v == VIEW_OVERLAY && !atomic_load(&s->has_color))
+			return reply_error(conn, MHD_HTTP_BAD_REQUEST,
+					   "the overlay needs a source with colour; this one has none");
+		if (get)
+			return url[1] == 's' && url[2] == 't' ? get_stream(s, conn, v)
+							     : get_snapshot(s, conn, v);
+	} else if (!strcmp(url, "/api/stats")) {
+		if (get)
+			return get_stats(s, conn);
+	} else if (!strcmp(url, "/api/params")) {
+		if (get)
+			return reply_json(conn, MHD_HTTP_OK, params_json(s, may_control(s, conn)));
+		allow = "GET, HEAD, POST";
+	} else {
+		return reply_error(conn, MHD_HTTP_NOT_FOUND,
+				   "no such page (/, /stream.mjpg, /snapshot.png, /api/params, "
+				   "/api/stats)");
+	}
+	char msg[96];
+	snprintf(msg, sizeof msg, "method %.20s is not allowed here (allowed: %s)", method, allow);
+	struct json_object *j = json_object_new_object();
+	json_object_object_add(j, "error", json_object_new_string(msg));
+	const char *t = json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN);
+	struct MHD_Response *r = MHD_create_response_from_buffer(strlen(t), (void *)t,
+								 MHD_RESPMEM_MUST_COPY);
+	json_object_put(j);
+	if (!r)
+		return MHD_NO;
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+	MHD_add_response_header(r, MHD_HTTP_HEADER_ALLOW, allow);
+	enum MHD_Result ret = MHD_queue_response(conn, MHD_HTTP_METHOD_NOT_ALLOWED, r);
+	MHD_destroy_response(r);
+	return ret;
+}
+
+static void request_done(void *cls, struct MHD_Connection *conn, void **con_cls,
+			 enum MHD_RequestTerminationCode code)
+{
+	(void)cls;
+	(void)conn;
+	(void)code;
+	free(*con_cls);
+	*con_cls = NULL;
+}
+
+/* Counts the open connections (libmicrohttpd's threads call this). */
+static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_context,
+			  enum MHD_ConnectionNotificationCode code)
+{
+	struct http_sink *s = cls;
+	(void)conn;
+	(void)socket_context;
+	if (code == MHD_CONNECTION_NOTIFY_STARTED)
+		atomic_fetch_add(&s->connections, 1);
+	else if (code == MHD_CONNECTION_NOTIFY_CLOSED)
+		atomic_fetch_sub(&s->connections, 1);
+}
+
+/*
+ * Beyond max_clients a new connection is closed at once.  (libmicrohttpd's own
+ * limit stops accepting instead: a client waited in the listen backlog, a
+ * request for /api/stats hung for as long as the streams lasted.)
+ */
+static enum MHD_Result accept_policy(void *cls, const struct sockaddr *addr, socklen_t addrlen)
+{
+	struct http_sink *s = cls;
+	(void)addr;
+	(void)addrlen;
+	return atomic_load(&s->connections) < (int)s->max_clients ? MHD_YES : MHD_NO;
+}
+
+int http_routes_start(struct http_sink *s, struct dao_error *err)
+{
+	s->mhd = MHD_start_daemon(
+		MHD_USE_THREAD_PER_CONNECTION | MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ITC,
+		0, accept_policy, s, handle, s, MHD_OPTION_LISTEN_SOCKET, s->listen_fd,
+		MHD_OPTION_NOTIFY_CONNECTION, on_connection, s,
+		MHD_OPTION_CONNECTION_LIMIT, s->max_clients + 8, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+		(size_t)HTTP_MEMORY_LIMIT, MHD_OPTION_CONNECTION_TIMEOUT, 30u,
+		MHD_OPTION_NOTIFY_COMPLETED, request_done, s,
+		MHD_OPTION_END);
+	if (!s->mhd) {
+		if (err) {
+			err->code = -EIO;
+			snprintf(err->message, sizeof err->message,
+				 "http: the server does not start on %s:%d", s->bind_host, s->port);
+		}
+		return -EIO;
+	}
+	return 0;
+}
+
+void http_routes_stop(struct http_sink *s)
+{
+	if (!s->mhd)
+		return;
+	/* the listening socket is ours again (closed here, not by MHD), then every
+	   connection ends: readers waiting for a frame see s->stopping */
+	MHD_quiesce_daemon(s->mhd);
+	MHD_stop_daemon(s->mhd);
+	s->mhd = NULL;
+	close(s->listen_fd);
+	s->listen_fd = -1;
+}
