@@ -45,6 +45,13 @@ enum dao_algorithm {
 	DAO_ALGORITHM_VBAO,     /* visibility bitmask (Therrien et al. 2023): finite thickness */
 };
 
+/* Where VBAO's thickness of each occluder comes from (README.md, "Algorithms"). */
+enum dao_vbao_thickness_mode {
+	DAO_VBAO_THICKNESS_CONSTANT = 0, /* vbao_thickness behind every surface */
+	DAO_VBAO_THICKNESS_IMAGE,        /* each surface's visible extent, at most
+					  * vbao_thickness_max */
+};
+
 enum dao_prefilter {
 	DAO_PREFILTER_NONE = 0,
 	DAO_PREFILTER_BILATERAL,  /* edge-preserving smoothing scaled to sensor noise */
@@ -136,6 +143,8 @@ struct dao_params {
 	float ssao_min, ssao_max; /* SSAO: a sample counts when the surface is this far in front, m */
 	float edl_radius;         /* EDL neighbour distance, px */
 	float vbao_thickness;     /* VBAO: assumed thickness of what the depth image shows, m */
+	int vbao_thickness_mode;  /* enum dao_vbao_thickness_mode */
+	float vbao_thickness_max; /* VBAO, mode IMAGE: upper bound of the estimate, m */
 	float temporal;           /* AO: share of the history in each output (0 = off), streams */
 	float temporal_reject;    /* AO history dropped where depth changed by more than this share */
 	float depth_temporal;     /* depth: share of the 1/z history in each frame (0 = off), streams */

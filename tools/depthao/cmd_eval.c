@@ -63,11 +63,12 @@ static void usage(FILE *out)
 		"over the pixels where the sensor delivered depth.\n"
 		"\n"
 		"  --quality LIST    comma-separated presets (default: low,medium,high)\n"
-		"  --algorithms LIST comma-separated algorithms: gtao (default), hbao, ssao, edl;\n"
+		"  --algorithms LIST comma-separated algorithms: gtao (default), vbao, hbao, ssao, edl;\n"
 		"                    every algorithm runs every preset\n"
 		"  --scenes LIST     comma-separated scenes (default: all; the clean mean and the\n"
-		"                    bars count the first six, the thickness scenes thin-poles,\n"
-		"                    chair and floating-plate get their own mean)\n"
+		"                    bars count the first six; the thickness scenes thin-poles,\n"
+		"                    chair, floating-plate, pole-gaps, table-above, pole-widths,\n"
+		"                    shelves-below, panels and chair-corner get their own mean)\n"
 		"  --rays N          ground-truth rays per pixel, a square (default 256)\n"
 		"  --sensors LIST    comma-separated inputs: clean, gaussian (sigma = 0.0012 z^2,\n"
 		"                    mm, 2%% holes), structured-light, active-stereo, tof\n"
@@ -150,7 +151,7 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 			const char *names[EVAL_MAX_ALGORITHMS + 1];
 			int n = parse_list(argv[++i], names, EVAL_MAX_ALGORITHMS);
 			if (n <= 0)
-				return usage_error("eval", "--algorithms needs one to four of gtao, hbao, ssao, edl");
+				return usage_error("eval", "--algorithms needs one to four of gtao, vbao, hbao, ssao, edl");
 			for (int k = 0; k < n; k++) {
 				struct dao_params scratch;
 				struct dao_error err;
