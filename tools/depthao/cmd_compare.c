@@ -30,7 +30,8 @@ static void usage(FILE *out)
 		"Writes one PNG with the algorithms side by side at half size, %d per row: the\n"
 		"depth (near = bright), the ray-traced ground truth (synthetic scenes only), then\n"
 		"the visibility of each algorithm in LIST (default gtao,vbao,hbao,ssao,edl) with\n"
-		"the medium preset.\n"
+		"the medium preset; an entry NAME:PARAM=VALUE[:PARAM=VALUE] sets parameters of\n"
+		"its own (e.g. vbao:vbao-thickness-mode=image).\n"
 		"\n"
 		"  --scene NAME          a synthetic scene (see 'depthao synth --help')\n"
 		"  --noise               the scene with Kinect-like sensor noise\n"
@@ -174,20 +175,35 @@ int cmd_compare(int argc, char **argv)
 		struct dao_params p;
 		struct dao_context *ctx;
 		dao_params_init(&p, DAO_QUALITY_DEFAULT);
-		if (dao_params_set(&p, "algorithm", name, &err)) {
+		/* NAME[:PARAM=VALUE]...: an algorithm with parameters of its own */
+		char *psave = NULL, *alg = strtok_r(name, ":", &psave);
+		if (dao_params_set(&p, "algorithm", alg ? alg : "", &err)) {
 			status = usage_error("compare", "%s", err.message);
 			goto out2;
+		}
+		for (char *kv = strtok_r(NULL, ":", &psave); kv; kv = strtok_r(NULL, ":", &psave)) {
+			char *eq = strchr(kv, '=');
+			if (!eq) {
+				status = usage_error("compare", "'%s' in --algorithms: give PARAM=VALUE "
+						     "after the algorithm, e.g. vbao:vbao-thickness-mode=image", kv);
+				goto out2;
+			}
+			*eq = '\0';
+			if (dao_params_set(&p, kv, eq + 1, &err)) {
+				status = usage_error("compare", "%s", err.message);
+				goto out2;
+			}
 		}
 		struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, w, h, (int32_t)(w * 4), depth, 0, 0, 0};
 		struct dao_frame ao = {DAO_PIXFMT_GRAY_F32, w, h, (int32_t)(w * 4), plane, 0, 0, 0};
 		if (dao_context_create(&ctx, &cam, &p, &err) ||
 		    dao_context_process(ctx, &in, NULL, 0, &ao, &err)) {
-			fprintf(stderr, "depthao: %s: %s\n", name, err.message);
+			fprintf(stderr, "depthao: %s: %s\n", alg, err.message);
 			goto out2;
 		}
 		dao_context_destroy(ctx);
 		put_tile(&m, tiles++, plane, w, h);
-		fprintf(stderr, "depthao: tile %d: %s\n", tiles, name);
+		fprintf(stderr, "depthao: tile %d: %s\n", tiles, alg);
 	}
 	if (dao_png_write(out, &m, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
