@@ -57,6 +57,45 @@ static void put_tile(struct dao_frame *m, int t, const float *plane, uint32_t w,
 	}
 }
 
+/*
+ * Sets p from one entry of --algorithms, NAME[:PARAM=VALUE]... (an algorithm
+ * with parameters of its own); the entry is cut to NAME.  0, or -1 with a
+ * message in err.
+ */
+static int algorithm_entry(char *entry, struct dao_params *p, struct dao_error *err)
+{
+	char *save = NULL, *alg = strtok_r(entry, ":", &save);
+	if (dao_params_set(p, "algorithm", alg ? alg : "", err))
+		return -1;
+	for (char *kv = strtok_r(NULL, ":", &save); kv; kv = strtok_r(NULL, ":", &save)) {
+		char *eq = strchr(kv, '=');
+		if (!eq) {
+			snprintf(err->message, sizeof err->message,
+				 "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
+				 "vbao:vbao-thickness-mode=image", kv);
+			return -1;
+		}
+		*eq = '\0';
+		if (dao_params_set(p, kv, eq + 1, err))
+			return -1;
+	}
+	return 0;
+}
+
+/* Every entry of the --algorithms list valid?  0, or -1 with a message in err. */
+static int check_algorithms(const char *list, struct dao_error *err)
+{
+	char buf[128], *save = NULL;
+	snprintf(buf, sizeof buf, "%s", list);
+	for (char *e = strtok_r(buf, ",", &save); e; e = strtok_r(NULL, ",", &save)) {
+		struct dao_params p;
+		dao_params_init(&p, DAO_QUALITY_DEFAULT);
+		if (algorithm_entry(e, &p, err))
+			return -1;
+	}
+	return 0;
+}
+
 int cmd_compare(int argc, char **argv)
 {
 	const char *scene = NULL, *input = NULL, *out = NULL, *intr = NULL, *intr_file = NULL;
@@ -104,6 +143,8 @@ int cmd_compare(int argc, char **argv)
 		return usage_error("compare", "--depth-unit must be in (0, 1]");
 
 	struct dao_error err;
+	if (check_algorithms(algos_buf, &err))
+		return usage_error("compare", "%s", err.message);
 	struct dao_camera cam;
 	float *depth = NULL, *gt = NULL;
 	struct synth_image img = {0};
@@ -175,24 +216,10 @@ int cmd_compare(int argc, char **argv)
 		struct dao_params p;
 		struct dao_context *ctx;
 		dao_params_init(&p, DAO_QUALITY_DEFAULT);
-		/* NAME[:PARAM=VALUE]...: an algorithm with parameters of its own */
-		char *psave = NULL, *alg = strtok_r(name, ":", &psave);
-		if (dao_params_set(&p, "algorithm", alg ? alg : "", &err)) {
+		const char *alg = name;
+		if (algorithm_entry(name, &p, &err)) { /* checked before the rendering */
 			status = usage_error("compare", "%s", err.message);
 			goto out2;
-		}
-		for (char *kv = strtok_r(NULL, ":", &psave); kv; kv = strtok_r(NULL, ":", &psave)) {
-			char *eq = strchr(kv, '=');
-			if (!eq) {
-				status = usage_error("compare", "'%s' in --algorithms: give PARAM=VALUE "
-						     "after the algorithm, e.g. vbao:vbao-thickness-mode=image", kv);
-				goto out2;
-			}
-			*eq = '\0';
-			if (dao_params_set(&p, kv, eq + 1, &err)) {
-				status = usage_error("compare", "%s", err.message);
-				goto out2;
-			}
 		}
 		struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, w, h, (int32_t)(w * 4), depth, 0, 0, 0};
 		struct dao_frame ao = {DAO_PIXFMT_GRAY_F32, w, h, (int32_t)(w * 4), plane, 0, 0, 0};
