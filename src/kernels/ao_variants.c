@@ -323,7 +323,8 @@ void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float
 	for (int y = y0; y < y1; y++)
 		for (int x = 0; x < s->width; x++) {
 			size_t i = (size_t)y * s->width + x;
-			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, thick, x, y)) : s->invalid_value;
+			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, thick, x, y))
+					 : s->invalid_value;
 		}
 }
 
