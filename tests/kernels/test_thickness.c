@@ -210,12 +210,15 @@ static void test_vbao_behind_poles(void **state)
 	camera(&cam, 320, 240);
 	assert_int_equal(synth_render(&s, &cam, 0.5, 8, 2, &img, NULL), 0);
 	const double g = run_mae(&cam, &img, DAO_ALGORITHM_GTAO, 0, 0.2f);
-	const double c = run_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_CONSTANT, 0.5f);
+	const double c2 = run_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_CONSTANT, 0.2f);
+	const double c5 = run_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_CONSTANT, 0.5f);
 	const double e = run_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_IMAGE, 0.2f);
-	print_message("wall behind the poles, MAE: gtao %.4f, vbao 0.5 m %.4f, vbao image %.4f\n",
-		      g, c, e);
-	assert_true(e < 0.7 * g);
-	assert_true(e < 0.8 * c);
+	print_message("wall behind the poles, MAE: gtao %.4f, vbao 0.2 m %.4f, 0.5 m %.4f, "
+		      "image %.4f\n", g, c2, c5, e);
+	/* measured 0.1163, 0.0742, 0.1458, 0.0406 */
+	assert_true(e < 0.5 * g);
+	assert_true(e < 0.75 * c2);
+	assert_true(e < 0.5 * c5);
 	synth_image_free(&img);
 }
 
