@@ -45,6 +45,13 @@ enum dao_algorithm {
 	DAO_ALGORITHM_VBAO,     /* visibility bitmask (Therrien et al. 2023): finite thickness */
 };
 
+/* Where VBAO's thickness of each occluder comes from (README.md, "Algorithms"). */
+enum dao_vbao_thickness_mode {
+	DAO_VBAO_THICKNESS_CONSTANT = 0, /* vbao_thickness behind every surface */
+	DAO_VBAO_THICKNESS_IMAGE,        /* each surface's visible extent, at most
+					  * vbao_thickness_max */
+};
+
 enum dao_prefilter {
 	DAO_PREFILTER_NONE = 0,
 	DAO_PREFILTER_BILATERAL,  /* edge-preserving smoothing scaled to sensor noise */
@@ -160,6 +167,10 @@ struct dao_params {
 	float near_m, far_m;      /* colormap range, m; 0 = from the frame's depth */
 	float shade_power;        /* shaded = mix(occlusion_color, color, AO^shade_power) */
 	uint32_t occlusion_color; /* 0xRRGGBB */
+
+	/* added after the first layout (a caller's struct may end before them) */
+	int vbao_thickness_mode;  /* enum dao_vbao_thickness_mode */
+	float vbao_thickness_max; /* VBAO, mode IMAGE: upper bound of the estimate, m */
 };
 
 enum dao_param_type {

@@ -247,8 +247,8 @@ static uint32_t sectors(float t0, float t1, float lo)
 #define DAO_VBAO_RADIUS_REACH 0.6f
 #endif
 
-static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm, int x,
-			int y)
+static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm,
+			const float *thick, int x, int y)
 {
 	const struct dao_gtao_setup *s = v->g;
 	const float zc = z[(size_t)y * s->width + x];
@@ -266,7 +266,6 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	/* samples reach GTAO's widened radius, but occlude only within the true one */
 	const float R = s->search_radius / (1.0f + DAO_GTAO_RADIUS_REACH / (float)s->steps) *
 			(1.0f + DAO_VBAO_RADIUS_REACH / (float)s->steps);
-	const float T = v->vbao_thickness;
 	float vis = 0.0f, norm = 0.0f;
 	for (int sl = 0; sl < s->slices; sl++) {
 		float dx, dy;
@@ -291,7 +290,10 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 				if (!(len > 0.0f) || len > R)
 					continue;
 				/* the back of the sample: thickness T further along its camera ray
-				 * (which lies in the slice plane, through the camera centre) */
+				 * (which lies in the slice plane, through the camera centre); T
+				 * from the thickness plane at the sample's pixel, if there is one */
+				const float T = thick ? thick[(size_t)lrintf(vv) * s->width +
+							      (size_t)lrintf(u)] : v->vbao_thickness;
 				float ls = sqrtf(dao_dot3(S, S)), k = T / ls;
 				float B[3] = {S[0] * (1 + k) - P[0], S[1] * (1 + k) - P[1], S[2] * (1 + k) - P[2]};
 				float lb = sqrtf(dao_dot3(B, B));
@@ -314,14 +316,15 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	return norm > 0.0f ? vis / norm : 1.0f;
 }
 
-void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
-		  int y0, int y1)
+void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n,
+		  const float *thick, float *ao, int y0, int y1)
 {
 	const struct dao_gtao_setup *s = v->g;
 	for (int y = y0; y < y1; y++)
 		for (int x = 0; x < s->width; x++) {
 			size_t i = (size_t)y * s->width + x;
-			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, x, y)) : s->invalid_value;
+			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, thick, x, y))
+					 : s->invalid_value;
 		}
 }
 

@@ -37,13 +37,15 @@ void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float
  * Visibility bitmask AO (Therrien, Levesque, Gilet 2023): per slice a mask
  * of DAO_VBAO_SECTORS sectors over the normal's hemisphere; each sample
  * occludes the sectors between the angle of its front and of its back,
- * assumed vbao_thickness behind it, so light passes behind thin objects.
+ * assumed vbao_thickness behind it (or, if `thick` is not NULL, the
+ * thickness plane's value at the sample's pixel: kernels/thickness.h), so
+ * light passes behind thin objects.
  * The free sectors are weighted by the cosine-weighted slice measure (the
  * paper counts them uniformly).
  */
 #define DAO_VBAO_SECTORS 32
-void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
-		  int y0, int y1);
+void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n,
+		  const float *thick, float *ao, int y0, int y1);
 void dao_edl_ref(const struct dao_variant_setup *v, const float *z, float *ao, int y0, int y1);
 
 #endif

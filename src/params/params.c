@@ -19,6 +19,7 @@
 #define OFF(field) offsetof(struct dao_params, field)
 
 static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "vbao", NULL };
+static const char *const vbao_thickness_names[] = { "constant", "image", NULL };
 static const char *const prefilter_names[] = { "none", "bilateral", "domain", NULL };
 static const char *const noise_model_names[] = { "fixed", "auto", "auto-prefilter", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
@@ -90,6 +91,10 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(edl_radius), 0.5, 16.0, NULL, RT },
 	{ "vbao-thickness", "vbao: thickness assumed behind every visible surface", "m",
 	  DAO_PARAM_FLOAT, OFF(vbao_thickness), 0.001, 10.0, NULL, RT },
+	{ "vbao-thickness-mode", "vbao: constant (vbao-thickness behind every surface) or image (each surface's visible extent, at most vbao-thickness-max)", NULL,
+	  DAO_PARAM_ENUM, OFF(vbao_thickness_mode), 0, 0, vbao_thickness_names, RT },
+	{ "vbao-thickness-max", "vbao, vbao-thickness-mode=image: upper bound of the thickness estimated from the image", "m",
+	  DAO_PARAM_FLOAT, OFF(vbao_thickness_max), 0.001, 10.0, NULL, RT },
 	{ "temporal", "streams: share of the per-pixel AO history in each output (0 = off; 0.8 settles in ~5 frames)", NULL,
 	  DAO_PARAM_FLOAT, OFF(temporal), 0.0, 0.98, NULL, RT },
 	{ "temporal-reject", "streams: the AO history of a pixel is dropped where its depth changed by more than this share", NULL,

@@ -33,6 +33,7 @@
 #include "depth/noise_estimate.h"
 #include "depth/prefilter.h"
 #include "kernels/ao_variants.h"
+#include "kernels/thickness.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 #include "normals/normals.h"
@@ -57,6 +58,7 @@ struct dao_context {
 	float *ao_buf;  /* storage for the denoised plane */
 	float *tmp;     /* scratch of the separable denoise */
 	float *bent;    /* bent normals, made on request (dao_context_get_bent_normals) */
+	float *thick;   /* VBAO: thickness estimated from the image, m (made when first needed) */
 	float *row_range; /* per row: nearest and farthest depth (shading's automatic range) */
 	uint64_t last_frame_index;
 	int have_index;     /* last_frame_index is that of a frame processed to the end */
@@ -160,6 +162,9 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		ctx->dt_slots = domain_slots(ctx);
 		ctx->dt_slot_floats = per;
 	}
+	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE &&
+	    !ctx->thick && !(ctx->thick = malloc(ctx->npix * sizeof(float))))
+		return dao_error_set(err, -ENOMEM, "out of memory for the thickness plane");
 	if (p->noise_model != DAO_NOISE_MODEL_FIXED && !ctx->have_noise_grid) {
 		if (dao_noise_grid_init(&ctx->noise, w, h))
 			return dao_error_set(err, -ENOMEM, "out of memory for the noise estimate");
@@ -262,6 +267,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx->z_raw);
 	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
+	free(ctx->thick);
 	free(ctx->row_range);
 	free(ctx->dt_scratch);
 	if (ctx->have_noise_grid)
@@ -432,8 +438,10 @@ struct frame_job {
 	struct dao_frame *ao_out;
 	int normal_radius;
 	struct dao_gtao_setup gtao;
-	struct dao_variant_setup variant; /* HBAO, SSAO, EDL */
+	struct dao_variant_setup variant; /* HBAO, SSAO, EDL, VBAO */
 	int algorithm;
+	struct dao_thickness_setup thickness; /* VBAO with its thickness from the image */
+	const float *thick;                   /* ... its plane, NULL: vbao_thickness */
 	struct dao_denoise_setup denoise;
 	struct dao_prefilter_setup prefilter;
 	int depth_temporal;  /* run the temporal depth filter */
@@ -519,6 +527,18 @@ static void stage_normals(void *arg, int y0, int y1)
 		fill_inverse_depth(j->ctx, &j->k, y0, y1);
 }
 
+static void stage_thickness_rows(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_thickness_rows(&j->thickness, j->ctx->z, j->ctx->thick, y0, y1);
+}
+
+static void stage_thickness_cols(void *arg, int x0, int x1)
+{
+	struct frame_job *j = arg;
+	dao_thickness_cols(&j->thickness, j->ctx->z, j->ctx->thick, x0, x1);
+}
+
 static void stage_gtao(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
@@ -527,7 +547,9 @@ static void stage_gtao(void *arg, int y0, int y1)
 	case DAO_ALGORITHM_HBAO: dao_hbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
-	case DAO_ALGORITHM_VBAO: dao_vbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
+	case DAO_ALGORITHM_VBAO:
+		dao_vbao_ref(&j->variant, c->z, c->n, j->thick, c->ao_raw, y0, y1);
+		break;
 	default: j->k.gtao(&j->gtao, c->z, &c->planes, c->n, c->ao_raw, y0, y1); break;
 	}
 }
@@ -759,6 +781,10 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	job.algorithm = p->algorithm;
 	if (p->algorithm != DAO_ALGORITHM_GTAO)
 		dao_variant_setup_init(&job.variant, &job.gtao, p);
+	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE) {
+		dao_thickness_setup_init(&job.thickness, &ctx->cam, p->vbao_thickness_max);
+		job.thick = ctx->thick;
+	}
 	job.k = ctx->kernels;
 	use_r2_tile(ctx, &job.gtao, frame_index);
 	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
@@ -838,6 +864,10 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
 	}
 	const double t3 = now_ms();
+	if (job.thick) {
+		dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, &job);
+		dao_pool_run(ctx->pool, (int)ctx->cam.width, 8, stage_thickness_cols, &job);
+	}
 	const int sw = gtao_strip_width((int)ctx->cam.width);
 	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
 	if (strips > 1 && job.algorithm == DAO_ALGORITHM_GTAO && job.k.simd != DAO_SIMD_REFERENCE)

@@ -156,7 +156,8 @@ static void test_layout_frozen(void **state)
 	assert_int_equal(moved, 0);
 	/* no tail padding: each struct ends with its last field (name the new last
 	 * field here when appending one) */
-	assert_int_equal(sizeof(struct dao_params), DAO_END_OF(struct dao_params, occlusion_color));
+	assert_int_equal(sizeof(struct dao_params),
+			 DAO_END_OF(struct dao_params, vbao_thickness_max));
 	assert_int_equal(sizeof(struct dao_source_info), DAO_END_OF(struct dao_source_info, cy));
 	assert_int_equal(sizeof(struct dao_source_options),
 			 DAO_END_OF(struct dao_source_options, depth_unit));
@@ -220,10 +221,27 @@ static void test_params_sizes(void **state)
 	memset(&zero, 0, sizeof zero);
 	assert_int_equal(dao_params_set(&zero, "radius", "0.3", &err), -EINVAL);
 
-	/* the first size: taken; get_params writes no further */
-	big.p.size = DAO_PARAMS_SIZE_FIRST;
+	/* the first size (a program built before the VBAO thickness fields were
+	 * appended): taken, the later fields at their defaults, never touched */
+	memset(&big, POISON, sizeof big);
+	assert_int_equal(dao_params_init_sized(&big.p, DAO_PARAMS_SIZE_FIRST, DAO_QUALITY_HIGH), 0);
+	assert_true(poisoned(&big, DAO_PARAMS_SIZE_FIRST, sizeof big));
+	assert_true(DAO_PARAMS_SIZE_FIRST <= offsetof(struct dao_params, vbao_thickness_mode));
+	assert_int_equal(dao_params_set(&big.p, "vbao-thickness-mode", "image", &err), -ENOENT);
+	assert_non_null(strstr(err.message, "newer than the program's struct"));
+	assert_int_equal(dao_params_get(&big.p, "vbao-thickness-max", v, sizeof v, &err), -ENOENT);
+	assert_int_equal(dao_params_validate(&big.p, &err), 0);
+	assert_true(poisoned(&big, DAO_PARAMS_SIZE_FIRST, sizeof big));
 	assert_int_equal(dao_params_set(&big.p, "radius", "0.3", &err), 0);
 	assert_int_equal(dao_context_create(&ctx, &cam, &big.p, &err), 0);
+	{
+		struct dao_params now, def;
+		dao_params_init(&def, DAO_QUALITY_DEFAULT);
+		dao_context_get_params(ctx, &now);
+		assert_int_equal(now.vbao_thickness_mode, def.vbao_thickness_mode);
+		assert_true(now.vbao_thickness_max == def.vbao_thickness_max);
+		assert_true(now.radius == 0.3f && now.slices == 4);
+	}
 	memset(&big, POISON, sizeof big);
 	assert_int_equal(dao_context_get_params_sized(ctx, &big.p, DAO_PARAMS_SIZE_FIRST), 0);
 	assert_int_equal(big.p.size, DAO_PARAMS_SIZE_FIRST);

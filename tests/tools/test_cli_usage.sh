@@ -33,4 +33,8 @@ expect_usage_error "synth bad rays" -- "$DEPTHAO" synth --scene plane --out "$WO
 expect_usage_error "synth no out" -- "$DEPTHAO" synth --scene plane
 expect_usage_error "eval bad scene" -- "$DEPTHAO" eval --scenes plane,moon
 expect_usage_error "eval check without default" -- "$DEPTHAO" eval --quality low --check
+expect_usage_error "eval algorithm parameter without value" -- "$DEPTHAO" eval --algorithms vbao:vbao-thickness-mode
+expect_usage_error "eval algorithm parameter unknown" -- "$DEPTHAO" eval --algorithms vbao:depth=1
+expect_usage_error "eval algorithm parameter out of range" -- "$DEPTHAO" eval --algorithms vbao:vbao-thickness-max=99
+expect_usage_error "compare algorithm parameter" -- "$DEPTHAO" compare --scene plane --rays 1 --out "$WORK/c.png" --algorithms vbao:vbao-thickness-mode=guess
 finish

@@ -30,7 +30,8 @@ static void usage(FILE *out)
 		"Writes one PNG with the algorithms side by side at half size, %d per row: the\n"
 		"depth (near = bright), the ray-traced ground truth (synthetic scenes only), then\n"
 		"the visibility of each algorithm in LIST (default gtao,vbao,hbao,ssao,edl) with\n"
-		"the medium preset.\n"
+		"the medium preset; an entry NAME:PARAM=VALUE[:PARAM=VALUE] sets parameters of\n"
+		"its own (e.g. vbao:vbao-thickness-mode=image).\n"
 		"\n"
 		"  --scene NAME          a synthetic scene (see 'depthao synth --help')\n"
 		"  --noise               the scene with Kinect-like sensor noise\n"
@@ -55,6 +56,45 @@ static void put_tile(struct dao_frame *m, int t, const float *plane, uint32_t w,
 			row[3 * x] = row[3 * x + 1] = row[3 * x + 2] = g;
 		}
 	}
+}
+
+/*
+ * Sets p from one entry of --algorithms, NAME[:PARAM=VALUE]... (an algorithm
+ * with parameters of its own); the entry is cut to NAME.  0, or -1 with a
+ * message in err.
+ */
+static int algorithm_entry(char *entry, struct dao_params *p, struct dao_error *err)
+{
+	char *save = NULL, *alg = strtok_r(entry, ":", &save);
+	if (dao_params_set(p, "algorithm", alg ? alg : "", err))
+		return -1;
+	for (char *kv = strtok_r(NULL, ":", &save); kv; kv = strtok_r(NULL, ":", &save)) {
+		char *eq = strchr(kv, '=');
+		if (!eq) {
+			snprintf(err->message, sizeof err->message,
+				 "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
+				 "vbao:vbao-thickness-mode=image", kv);
+			return -1;
+		}
+		*eq = '\0';
+		if (dao_params_set(p, kv, eq + 1, err))
+			return -1;
+	}
+	return 0;
+}
+
+/* Every entry of the --algorithms list valid?  0, or -1 with a message in err. */
+static int check_algorithms(const char *list, struct dao_error *err)
+{
+	char buf[128], *save = NULL;
+	snprintf(buf, sizeof buf, "%s", list);
+	for (char *e = strtok_r(buf, ",", &save); e; e = strtok_r(NULL, ",", &save)) {
+		struct dao_params p;
+		dao_params_init(&p, DAO_QUALITY_DEFAULT);
+		if (algorithm_entry(e, &p, err))
+			return -1;
+	}
+	return 0;
 }
 
 int cmd_compare(int argc, char **argv)
@@ -104,6 +144,8 @@ int cmd_compare(int argc, char **argv)
 		return usage_error("compare", "--depth-unit must be in (0, 1]");
 
 	struct dao_error err;
+	if (check_algorithms(algos_buf, &err))
+		return usage_error("compare", "%s", err.message);
 	struct dao_camera cam;
 	float *depth = NULL, *gt = NULL;
 	struct synth_image img = {0};
@@ -175,7 +217,8 @@ int cmd_compare(int argc, char **argv)
 		struct dao_params p;
 		struct dao_context *ctx;
 		dao_params_init(&p, DAO_QUALITY_DEFAULT);
-		if (dao_params_set(&p, "algorithm", name, &err)) {
+		const char *alg = name;
+		if (algorithm_entry(name, &p, &err)) { /* checked before the rendering */
 			status = usage_error("compare", "%s", err.message);
 			goto out2;
 		}
@@ -183,12 +226,12 @@ int cmd_compare(int argc, char **argv)
 		struct dao_frame ao = {DAO_PIXFMT_GRAY_F32, w, h, (int32_t)(w * 4), plane, 0, 0, 0};
 		if (dao_context_create(&ctx, &cam, &p, &err) ||
 		    dao_context_process(ctx, &in, NULL, 0, &ao, &err)) {
-			fprintf(stderr, "depthao: %s: %s\n", name, err.message);
+			fprintf(stderr, "depthao: %s: %s\n", alg, err.message);
 			goto out2;
 		}
 		dao_context_destroy(ctx);
 		put_tile(&m, tiles++, plane, w, h);
-		fprintf(stderr, "depthao: tile %d: %s\n", tiles, name);
+		fprintf(stderr, "depthao: tile %d: %s\n", tiles, alg);
 	}
 	if (dao_png_write(out, &m, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);

@@ -39,6 +39,7 @@ struct eval_options {
 	enum dao_quality qualities[DAO_QUALITY_COUNT];
 	int nq;
 	int algorithms[EVAL_MAX_ALGORITHMS]; /* enum dao_algorithm */
+	char *algorithm_params[EVAL_MAX_ALGORITHMS]; /* "PARAM=VALUE[:...]" of each, or NULL */
 	int na;
 	const char *scenes[SYNTH_SUITE_MAX_IMAGES + 1];
 	int rays_sqrt;
@@ -63,11 +64,13 @@ static void usage(FILE *out)
 		"over the pixels where the sensor delivered depth.\n"
 		"\n"
 		"  --quality LIST    comma-separated presets (default: low,medium,high)\n"
-		"  --algorithms LIST comma-separated algorithms: gtao (default), hbao, ssao, edl;\n"
-		"                    every algorithm runs every preset\n"
+		"  --algorithms LIST comma-separated algorithms: gtao (default), vbao, hbao, ssao, edl;\n"
+		"                    every algorithm runs every preset; NAME:PARAM=VALUE[:...]\n"
+		"                    gives one its own parameters (vbao:vbao-thickness-mode=image)\n"
 		"  --scenes LIST     comma-separated scenes (default: all; the clean mean and the\n"
-		"                    bars count the first six, the thickness scenes thin-poles,\n"
-		"                    chair and floating-plate get their own mean)\n"
+		"                    bars count the first six; the thickness scenes thin-poles,\n"
+		"                    chair, floating-plate, pole-gaps, table-above, pole-widths,\n"
+		"                    shelves-below, panels and chair-corner get their own mean)\n"
 		"  --rays N          ground-truth rays per pixel, a square (default 256)\n"
 		"  --sensors LIST    comma-separated inputs: clean, gaussian (sigma = 0.0012 z^2,\n"
 		"                    mm, 2%% holes), structured-light, active-stereo, tof\n"
@@ -91,6 +94,31 @@ static int parse_list(char *arg, const char **out, int max)
 		out[n++] = tok;
 	}
 	return n;
+}
+
+/* Applies "PARAM=VALUE[:PARAM=VALUE]..." to p; 0, or -1 with a message in err. */
+static int algorithm_params_apply(const char *list, struct dao_params *p, struct dao_error *err)
+{
+	char buf[256];
+	if (snprintf(buf, sizeof buf, "%s", list) >= (int)sizeof buf) {
+		snprintf(err->message, sizeof err->message,
+			 "parameters of an algorithm in --algorithms too long: '%s'", list);
+		return -1;
+	}
+	char *save = NULL;
+	for (char *kv = strtok_r(buf, ":", &save); kv; kv = strtok_r(NULL, ":", &save)) {
+		char *eq = strchr(kv, '=');
+		if (!eq) {
+			snprintf(err->message, sizeof err->message,
+				 "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
+				 "vbao:vbao-thickness-mode=image", kv);
+			return -1;
+		}
+		*eq = '\0';
+		if (dao_params_set(p, kv, eq + 1, err))
+			return -1;
+	}
+	return 0;
 }
 
 static int parse_args(int argc, char **argv, struct eval_options *o)
@@ -147,17 +175,23 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 		} else if (strcmp(a, "--algorithms") == 0) {
 			if (i + 1 >= argc)
 				return usage_error("eval", "%s needs a value", a);
-			const char *names[EVAL_MAX_ALGORITHMS + 1];
-			int n = parse_list(argv[++i], names, EVAL_MAX_ALGORITHMS);
+			char *names[EVAL_MAX_ALGORITHMS + 1];
+			int n = parse_list(argv[++i], (const char **)names, EVAL_MAX_ALGORITHMS);
 			if (n <= 0)
-				return usage_error("eval", "--algorithms needs one to four of gtao, hbao, ssao, edl");
+				return usage_error("eval", "--algorithms needs one to four of gtao, vbao, hbao, ssao, edl");
 			for (int k = 0; k < n; k++) {
 				struct dao_params scratch;
 				struct dao_error err;
 				dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+				char *extra = strchr(names[k], ':');
+				if (extra)
+					*extra++ = '\0';
 				if (dao_params_set(&scratch, "algorithm", names[k], &err))
 					return usage_error("eval", "%s", err.message);
 				o->algorithms[k] = scratch.algorithm;
+				o->algorithm_params[k] = extra;
+				if (extra && algorithm_params_apply(extra, &scratch, &err))
+					return usage_error("eval", "%s", err.message);
 			}
 			o->na = n;
 		} else if (strcmp(a, "--quality") == 0 || strcmp(a, "--scenes") == 0 ||
@@ -267,6 +301,7 @@ static double mean_or_zero(double sum, int n)
 struct eval_column {
 	enum dao_quality q;
 	int algorithm;
+	const char *params;  /* the algorithm's own "PARAM=VALUE[:...]", or NULL */
 };
 
 /* A run of the suite: its columns, the results per case and column, their summaries. */
@@ -287,11 +322,12 @@ static int plan_columns(struct eval_run *run)
 	const struct eval_options *o = run->o;
 	for (int a = 0; a < o->na; a++)
 		for (int q = 0; q < o->nq; q++)
-			run->cols[run->ncols++] = (struct eval_column){ o->qualities[q], o->algorithms[a] };
+			run->cols[run->ncols++] = (struct eval_column){ o->qualities[q], o->algorithms[a],
+									o->algorithm_params[a] };
 	run->default_col = -1;
 	for (int k = 0; k < run->ncols; k++)
 		if (run->cols[k].q == DAO_QUALITY_DEFAULT && run->cols[k].algorithm <= DAO_ALGORITHM_GTAO &&
-		    run->default_col < 0)
+		    !run->cols[k].params && run->default_col < 0)
 			run->default_col = k;
 	if (o->check && run->default_col < 0)
 		return usage_error("eval", "--check needs the default preset in --quality");
@@ -338,6 +374,12 @@ static int run_columns(struct eval_run *run, float *ao)
 			return 2;
 		if (run->cols[k].algorithm >= 0)
 			p.algorithm = run->cols[k].algorithm;
+		if (run->cols[k].params &&
+		    (algorithm_params_apply(run->cols[k].params, &p, &err) ||
+		     dao_params_validate(&p, &err))) {
+			fprintf(stderr, "depthao: %s\n", err.message);
+			return 1;
+		}
 		if (dao_context_create(&ctx, &run->suite.cam, &p, &err)) {
 			fprintf(stderr, "depthao: %s\n", err.message);
 			return 1;
@@ -364,13 +406,15 @@ static void print_table(const struct eval_run *run)
 	const struct preset_summary *sum = run->sum;
 	printf("| scene | input |");
 	for (int k = 0; k < ncols; k++) {
-		char alg[32] = "";
+		char alg[300] = "";
 		if (o->na > 1 || run->cols[k].algorithm > 0) {
 			struct dao_params p;
 			dao_params_init(&p, DAO_QUALITY_DEFAULT);
 			p.algorithm = run->cols[k].algorithm < 0 ? 0 : run->cols[k].algorithm;
-			dao_params_get(&p, "algorithm", alg, sizeof alg - 1, NULL);
-			strcat(alg, " ");
+			dao_params_get(&p, "algorithm", alg, 32, NULL);
+			size_t l = strlen(alg);
+			snprintf(alg + l, sizeof alg - l, "%s%s ", run->cols[k].params ? ":" : "",
+				 run->cols[k].params ? run->cols[k].params : "");
 		}
 		printf(" %s%s%s MAE | bias | p99 |", alg, dao_quality_name(run->cols[k].q),
 		       k == run->default_col ? " (default)" : "");

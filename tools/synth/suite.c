@@ -15,8 +15,12 @@ int synth_scene_is_structured(const char *scene)
 
 int synth_scene_is_foundation(const char *scene)
 {
-	return strcmp(scene, "thin-poles") != 0 && strcmp(scene, "chair") != 0 &&
-	       strcmp(scene, "floating-plate") != 0;
+	static const char *const foundation[] = { "plane", "room-corner", "spheres", "stairs",
+						  "boxes", "thin-pole", NULL };
+	for (const char *const *f = foundation; *f; f++)
+		if (strcmp(scene, *f) == 0)
+			return 1;
+	return 0;
 }
 
 int synth_set_parse(const char *name, enum synth_set *out, struct dao_error *err)

@@ -127,7 +127,8 @@ int synth_suite_run_case(const struct synth_suite *s, int index, struct dao_cont
 int synth_scene_is_structured(const char *scene);
 
 /* The original six scenes, which the accuracy bars (eval --check) are about; the
- * thickness scenes (thin-poles, chair, floating-plate) are reported beside them. */
+ * thickness scenes (thin-poles, chair, floating-plate, pole-gaps, table-above,
+ * pole-widths, shelves-below, panels, chair-corner) are reported beside them. */
 int synth_scene_is_foundation(const char *scene);
 
 #endif

@@ -1,0 +1,42 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * Thickness of what the depth image shows, estimated per pixel from the
+ * image (README.md, "Algorithms": vbao-thickness-mode=image), for the
+ * visibility bitmask AO, which samples it at each occluder.
+ *
+ * A surface's run along a row (and a column) is the stretch of pixels
+ * without a depth step; where a run ends at a step to something farther (or
+ * at a hole) on both sides, the object lies in front of what is around it
+ * and the run's extent in metres, its chord, is its visible width: a pole
+ * 4 cm wide on screen is taken to be 4 cm deep.  Where a run ends at an
+ * occluder (a step to something nearer) or at the image border, the surface
+ * goes on out of sight and its extent is unknown.  The thickness is the
+ * smaller of the row's and the column's extent, at most the bound.
+ */
+#ifndef DAO_KERNELS_THICKNESS_H
+#define DAO_KERNELS_THICKNESS_H
+
+#include <depthao/camera.h>
+
+/* Two neighbours whose depths differ by more than this share of the nearer
+ * one lie on different surfaces. */
+#define DAO_THICKNESS_JUMP 0.03f
+
+struct dao_thickness_setup {
+	int width, height;
+	float ax, ay, bx, by;   /* view position x = (u ax + bx) z, y = (v ay + by) z */
+	float max;              /* upper bound, m (also where the extent is unknown) */
+};
+
+void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,
+			      float max);
+
+/* Rows [y0, y1): thick = min(max, the extent of the pixel's run along its row). */
+void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,
+			int y0, int y1);
+
+/* Columns [x0, x1), after the rows: thick = min(thick, the extent along the column). */
+void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
+			int x0, int x1);
+
+#endif
