@@ -38,6 +38,7 @@ void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_s
 	v->ssao_max = p->ssao_max;
 	v->edl_radius = p->edl_radius;
 	v->vbao_thickness = p->vbao_thickness;
+	v->thickness = NULL;
 	int n = 2 * p->slices * p->steps;
 	v->ssao_samples = n > DAO_SSAO_MAX_SAMPLES ? DAO_SSAO_MAX_SAMPLES : n;
 	/* Hammersley points on the hemisphere (z up), pushed inside it with the
@@ -242,11 +243,6 @@ static uint32_t sectors(float t0, float t1, float lo)
 	return (uint32_t)(m << i0);
 }
 
-/* Part of GTAO's radius widening: sectors cover between samples, horizons do not. */
-#ifndef DAO_VBAO_RADIUS_REACH
-#define DAO_VBAO_RADIUS_REACH 0.6f
-#endif
-
 static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm, int x,
 			int y)
 {
@@ -260,13 +256,12 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	float r_px = s->search_radius * s->focal / zc;
 	if (r_px < s->min_r_px || r_px < 1.0f)
 		return 1.0f;
+	if (s->noise == DAO_NOISE_TILE)
+		r_px = dao_gtao_block_radius(s, z, x, y);
 	r_px = fminf(r_px, s->max_r_px);
 	float n0, n1;
 	dao_gtao_noise(s, x, y, &n0, &n1);
-	/* samples reach GTAO's widened radius, but occlude only within the true one */
-	const float R = s->search_radius / (1.0f + DAO_GTAO_RADIUS_REACH / (float)s->steps) *
-			(1.0f + DAO_VBAO_RADIUS_REACH / (float)s->steps);
-	const float T = v->vbao_thickness;
+	const float R = dao_vbao_radius(s);
 	float vis = 0.0f, norm = 0.0f;
 	for (int sl = 0; sl < s->slices; sl++) {
 		float dx, dy;
@@ -282,8 +277,12 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 			for (int i = 0; i < s->steps; i++) {
 				float t = dao_gtao_step_t(s, i, n1);
 				float dist = 1.0f + t * (r_px - 1.0f), u, vv, zs;
-				if (!dao_gtao_sample(z, s->width, s->height, x, y, sx, sy, dist, &u, &vv, &zs))
+				struct dao_gtao_taps tp;
+				if (!dao_gtao_sample_taps(z, s->width, s->height, x, y, sx, sy, dist, &u,
+							  &vv, &zs, &tp))
 					continue;
+				const float T = v->thickness ? dao_gtao_taps_value(v->thickness, &tp)
+							     : v->vbao_thickness;
 				float S[3];
 				view_pos(s, u, vv, zs, S);
 				float D[3] = {S[0] - P[0], S[1] - P[1], S[2] - P[2]};

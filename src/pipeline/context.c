@@ -75,6 +75,7 @@ struct dao_context {
 	int cmap_mode;
 	struct dao_pool *pool;
 	int pool_threads;  /* params.threads the pool was made for */
+	struct dao_tile_scratch *tile_scratch; /* one per pool thread (the tile kernels') */
 	enum dao_simd simd;        /* params.simd resolved (AUTO: this CPU's best) ... */
 	struct dao_kernels kernels; /* ... and its kernels, chosen when the parameters change */
 	struct dao_timings times;
@@ -130,7 +131,16 @@ static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err
 	if (r)
 		return dao_error_set(err, r, "cannot start %d worker threads: %s",
 				     resolve_threads(threads), dao_strerror(r));
+	/* the tile kernels' tables, one set per thread, here and not on the threads' stacks */
+	struct dao_tile_scratch *sc = malloc((size_t)dao_pool_threads(pool) * sizeof *sc);
+	if (!sc) {
+		dao_pool_destroy(pool);
+		return dao_error_set(err, -ENOMEM, "out of memory for %d threads' scratch",
+				     resolve_threads(threads));
+	}
 	dao_pool_destroy(ctx->pool);
+	free(ctx->tile_scratch);
+	ctx->tile_scratch = sc;
 	ctx->pool = pool;
 	ctx->pool_threads = threads;
 	return 0;
@@ -258,6 +268,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	if (!ctx)
 		return;
 	dao_pool_destroy(ctx->pool);
+	free(ctx->tile_scratch);
 	free(ctx->z_raw);
 	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
@@ -507,16 +518,19 @@ static void stage_normals(void *arg, int y0, int y1)
 		fill_inverse_depth(j->ctx, &j->k, y0, y1);
 }
 
-static void stage_gtao(void *arg, int y0, int y1)
+static void stage_gtao(void *arg, int thread, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
+	struct dao_tile_scratch *sc = &c->tile_scratch[thread];
 	switch (j->algorithm) {
 	case DAO_ALGORITHM_HBAO: dao_hbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
-	case DAO_ALGORITHM_VBAO: dao_vbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
-	default: j->k.gtao(&j->gtao, c->z, &c->planes, c->n, c->ao_raw, y0, y1); break;
+	case DAO_ALGORITHM_VBAO:
+		j->k.vbao(&j->variant, c->z, &c->planes, c->n, c->ao_raw, y0, y1, sc);
+		break;
+	default: j->k.gtao(&j->gtao, c->z, &c->planes, c->n, c->ao_raw, y0, y1, sc); break;
 	}
 }
 
@@ -537,7 +551,7 @@ static int gtao_strip_width(int w)
 	return (groups + strips - 1) / strips * DAO_GTAO_BLOCK_SPAN;
 }
 
-static void stage_gtao_strips(void *arg, int i0, int i1)
+static void stage_gtao_strips(void *arg, int thread, int i0, int i1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
@@ -549,7 +563,15 @@ static void stage_gtao_strips(void *arg, int i0, int i1)
 		struct dao_gtao_setup g = j->gtao;
 		g.x_begin = strip * sw;
 		g.x_end = g.x_begin + sw < w ? g.x_begin + sw : w;
-		j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1);
+		if (j->algorithm == DAO_ALGORITHM_VBAO) {
+			struct dao_variant_setup v = j->variant;
+			v.g = &g;
+			j->k.vbao(&v, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
+				  &c->tile_scratch[thread]);
+		} else {
+			j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
+				  &c->tile_scratch[thread]);
+		}
 		i0 += y1 - y0;
 	}
 }
@@ -828,10 +850,14 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	const double t3 = now_ms();
 	const int sw = gtao_strip_width((int)ctx->cam.width);
 	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
-	if (strips > 1 && job.algorithm == DAO_ALGORITHM_GTAO && job.k.simd != DAO_SIMD_REFERENCE)
-		dao_pool_run(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
+	/* the optimised kernels compute strips (vbao: with tile noise, its tile kernel) */
+	const int in_strips = job.k.simd != DAO_SIMD_REFERENCE &&
+			      (job.algorithm == DAO_ALGORITHM_GTAO ||
+			       (job.algorithm == DAO_ALGORITHM_VBAO && p->noise == DAO_NOISE_TILE));
+	if (strips > 1 && in_strips)
+		dao_pool_run_threads(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
 	else
-		dao_pool_run(ctx->pool, h, 2, stage_gtao, &job);
+		dao_pool_run_threads(ctx->pool, h, 2, stage_gtao, &job);
 	const double t4 = now_ms();
 	switch (p->denoise) {
 	case DAO_DENOISE_PLANE:
