@@ -70,6 +70,46 @@ static const float vbao_bound[DAO_VBAO_SECTORS + 1][3] = {
 };
 
 /*
+ * Per sector k: G(a_k+1) - G(a_k) = cos n P_k + sin n Q_k (G below), with
+ * P_k = (cos(2 (k+1) pi/32) - cos(2 k pi/32)) / 4 and
+ * Q_k = pi/64 - (sin(2 (k+1) pi/32) - sin(2 k pi/32)) / 4.
+ */
+static const float vbao_sector[DAO_VBAO_SECTORS][2] = {
+	{ -4.803679899e-03f, 3.148047083e-04f },
+	{ -1.422643697e-02f, 2.189107625e-03f },
+	{ -2.310248005e-02f, 5.865685049e-03f },
+	{ -3.109070778e-02f, 1.120324817e-02f },
+	{ -3.788413704e-02f, 1.799667743e-02f },
+	{ -4.322170016e-02f, 2.598490516e-02f },
+	{ -4.689827759e-02f, 3.486094824e-02f },
+	{ -4.877258050e-02f, 4.428370531e-02f },
+	{ -4.877258050e-02f, 5.389106511e-02f },
+	{ -4.689827759e-02f, 6.331382219e-02f },
+	{ -4.322170016e-02f, 7.218986526e-02f },
+	{ -3.788413704e-02f, 8.017809299e-02f },
+	{ -3.109070778e-02f, 8.697152225e-02f },
+	{ -2.310248005e-02f, 9.230908538e-02f },
+	{ -1.422643697e-02f, 9.598566280e-02f },
+	{ -4.803679899e-03f, 9.785996572e-02f },
+	{ 4.803679899e-03f, 9.785996572e-02f },
+	{ 1.422643697e-02f, 9.598566280e-02f },
+	{ 2.310248005e-02f, 9.230908538e-02f },
+	{ 3.109070778e-02f, 8.697152225e-02f },
+	{ 3.788413704e-02f, 8.017809299e-02f },
+	{ 4.322170016e-02f, 7.218986526e-02f },
+	{ 4.689827759e-02f, 6.331382219e-02f },
+	{ 4.877258050e-02f, 5.389106511e-02f },
+	{ 4.877258050e-02f, 4.428370531e-02f },
+	{ 4.689827759e-02f, 3.486094824e-02f },
+	{ 4.322170016e-02f, 2.598490516e-02f },
+	{ 3.788413704e-02f, 1.799667743e-02f },
+	{ 3.109070778e-02f, 1.120324817e-02f },
+	{ 2.310248005e-02f, 5.865685049e-03f },
+	{ 1.422643697e-02f, 2.189107625e-03f },
+	{ 4.803679899e-03f, 3.148047083e-04f },
+};
+
+/*
  * The slice measure from 0 to boundary k (dao_vbao_ref's slice_measure in
  * closed form): G(t) = -cos(2t - n)/4 + t sin(n)/2 is the antiderivative of
  * cos(t - n) sin t, and below t = 0 the |sin t| of the slice's solid angle
@@ -106,13 +146,13 @@ static inline vf vbao_acos(vf x)
 /*
  * One step of one side: the sectors [round(a), round(b)) (clamped to 0 .. 32)
  * between the sample's front and back, a and b in sector units (t - lo) 32/pi
- * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi); none where there is no
- * sample or it lies beyond the radius.
+ * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi, edge_at: the side's edge, 32
+ * or 0); none where there is no sample or it lies beyond the radius.
  */
 static inline __attribute__((always_inline)) vi
 vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf thr,
-	    const int major_x, const int plane)
+	    const float edge_at, const int major_x, const int plane)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -165,7 +205,10 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf g2b = v_fma(Gzb, v_add(GUb, B), c);
 	const vf cb = v_mul(v_mul(GUb, v_rsqrt(v_sel(ok, g2b, one))), t->inu);
 	const vf af = v_fma(vbao_acos(cf), k_sgn, k_lo);
-	const vf ab = v_fma(vbao_acos(cb), k_sgn, k_lo);
+	/* a back within half a sector of the edge or beyond it (thr, as the front's
+	 * test) is at the edge once rounded: its acos only where some lane's is not */
+	const vf ab = m_any(m_andnot(ok, v_le(cb, thr))) ? v_fma(vbao_acos(cb), k_sgn, k_lo)
+							  : v_set1(edge_at);
 	/* rounded, so a sample exactly on the hemisphere's edge (a plane) marks nothing */
 	const vf top = v_set1((float)DAO_VBAO_SECTORS);
 	const vf a = v_sel(ok, v_min(v_max(v_round(v_min(af, ab)), zero), top), zero);
@@ -200,9 +243,9 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	for (int i = 0; i < s->steps; i++) {
 		if (!check || !tile_skip(t, &st[i]))
 			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, thr_p,
-						      major_x, plane));
+						      (float)DAO_VBAO_SECTORS, major_x, plane));
 		if (!check || !tile_skip(t, &sn[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, thr_n,
+			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, thr_n, 0.0f,
 						      major_x, plane));
 	}
 	return mask;
@@ -230,28 +273,64 @@ static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup
 /*
  * Adds one slice's open measure (all sectors but those in `mask`) and its
  * whole measure, weighted by lpn, to *vis and *norm, as dao_vbao_ref sums
- * them.  Only sectors some lane occludes are visited.
+ * them.  A sector below t = 0 measures -(G(a_k+1) - G(a_k)), one above
+ * +(G(a_k+1) - G(a_k)) = cos n P_k + sin n Q_k, so the occluded ones add up
+ * as sums of the constants P_k, Q_k over the lanes' bits, visiting only the
+ * sectors some lane occludes; the one sector across t = 0 (around V, which
+ * is rarely occluded) takes H from its ends.
  */
 static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf *norm)
 {
 	const vf zero = v_zero(), half_sin = v_mul(g->sin_n, v_set1(0.5f));
 	const vf all = v_sub(vbao_h(g, half_sin, DAO_VBAO_SECTORS), vbao_h(g, half_sin, 0));
+	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
+	/* the sector across t = 0: a_k0 <= 0 < a_k0+1, k0 = floor((pi/2 - n) 32/pi) */
+	const vf k0 = v_min(v_max(v_floor(v_fnma(g->n, v_set1(k32),
+						   v_set1(0.5f * (float)DAO_VBAO_SECTORS))),
+				  v_set1(-1.0f)), v_set1((float)DAO_VBAO_SECTORS));
+	const vi below = vi_low_bits(vi_from_whole(v_max(k0, zero)));
+	const vi upto = vi_low_bits(vi_from_whole(v_min(v_add(k0, v_set1(1.0f)),
+							v_set1((float)DAO_VBAO_SECTORS))));
+	const vi neg = vi_andnot(mask, vi_andnot(vi_set1(-1), below)); /* mask & below */
+	const vi pos = vi_andnot(mask, upto);
+	const vi across = vi_andnot(vi_andnot(mask, vi_andnot(vi_set1(-1), upto)), below);
 	int32_t lanes[VN];
 	vi_store(lanes, mask);
 	uint32_t any = 0;
 	for (int l = 0; l < VN; l++)
 		any |= (uint32_t)lanes[l];
-	vf occ = zero, hk = zero;
-	int next = -1; /* the boundary hk holds: runs of sectors share their inner ones */
+	vf pp = zero, qp = zero, pn = zero, qn = zero;
 	while (any) {
 		const int k = __builtin_ctz(any);
 		any &= any - 1;
-		if (k != next)
-			hk = vbao_h(g, half_sin, k);
-		const vf h1 = vbao_h(g, half_sin, k + 1);
-		occ = v_add(occ, v_sel(m_bit(mask, (int32_t)(1u << k)), v_sub(h1, hk), zero));
-		hk = h1;
-		next = k + 1;
+		const int32_t bit = (int32_t)(1u << k);
+		const vm mp = m_bit(pos, bit), mn = m_bit(neg, bit);
+		const vf P = v_set1(vbao_sector[k][0]), Q = v_set1(vbao_sector[k][1]);
+		pp = v_add(pp, v_sel(mp, P, zero));
+		qp = v_add(qp, v_sel(mp, Q, zero));
+		pn = v_add(pn, v_sel(mn, P, zero));
+		qn = v_add(qn, v_sel(mn, Q, zero));
+	}
+	vf occ = v_fma(g->cos_n, v_sub(pp, pn), v_mul(g->sin_n, v_sub(qp, qn)));
+	vi_store(lanes, across);
+	float has[VN];
+	int some = 0;
+	for (int l = 0; l < VN; l++) {
+		has[l] = lanes[l] ? 1.0f : 0.0f;
+		some |= lanes[l];
+	}
+	if (some) {
+		/* H(a_k0+1) - H(a_k0) = G(a_k0+1) + G(a_k0) + cos(n)/2, G(t) = -cos(2t - n)/4 + t sin(n)/2 */
+		const vf a0 = v_add(g->n, v_fma(k0, v_set1(DAO_PI_F / (float)DAO_VBAO_SECTORS),
+						  v_set1(-DAO_HALF_PI_F)));
+		const vf a1 = v_add(a0, v_set1(DAO_PI_F / (float)DAO_VBAO_SECTORS));
+		vf s0, c0, s1, c1;
+		v_sincos(v_fnma(v_set1(-2.0f), a0, v_neg(g->n)), &s0, &c0);
+		v_sincos(v_fnma(v_set1(-2.0f), a1, v_neg(g->n)), &s1, &c1);
+		const vf G0 = v_fma(a0, half_sin, v_mul(v_set1(-0.25f), c0));
+		const vf G1 = v_fma(a1, half_sin, v_mul(v_set1(-0.25f), c1));
+		const vf w = v_fma(g->cos_n, v_set1(0.5f), v_add(G0, G1));
+		occ = v_add(occ, v_sel(v_gt(v_load(has), zero), w, zero));
 	}
 	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, v_sub(all, occ)), zero));
 	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, all), zero));
