@@ -38,6 +38,7 @@ void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_s
 	v->ssao_max = p->ssao_max;
 	v->edl_radius = p->edl_radius;
 	v->vbao_thickness = p->vbao_thickness;
+	v->thickness = NULL;
 	int n = 2 * p->slices * p->steps;
 	v->ssao_samples = n > DAO_SSAO_MAX_SAMPLES ? DAO_SSAO_MAX_SAMPLES : n;
 	/* Hammersley points on the hemisphere (z up), pushed inside it with the
@@ -242,13 +243,8 @@ static uint32_t sectors(float t0, float t1, float lo)
 	return (uint32_t)(m << i0);
 }
 
-/* Part of GTAO's radius widening: sectors cover between samples, horizons do not. */
-#ifndef DAO_VBAO_RADIUS_REACH
-#define DAO_VBAO_RADIUS_REACH 0.6f
-#endif
-
-static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm,
-			const float *thick, int x, int y)
+static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const float *nrm, int x,
+			int y)
 {
 	const struct dao_gtao_setup *s = v->g;
 	const float zc = z[(size_t)y * s->width + x];
@@ -260,12 +256,12 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	float r_px = s->search_radius * s->focal / zc;
 	if (r_px < s->min_r_px || r_px < 1.0f)
 		return 1.0f;
+	if (s->noise == DAO_NOISE_TILE)
+		r_px = dao_gtao_block_radius(s, z, x, y);
 	r_px = fminf(r_px, s->max_r_px);
 	float n0, n1;
 	dao_gtao_noise(s, x, y, &n0, &n1);
-	/* samples reach GTAO's widened radius, but occlude only within the true one */
-	const float R = s->search_radius / (1.0f + DAO_GTAO_RADIUS_REACH / (float)s->steps) *
-			(1.0f + DAO_VBAO_RADIUS_REACH / (float)s->steps);
+	const float R = dao_vbao_radius(s);
 	float vis = 0.0f, norm = 0.0f;
 	for (int sl = 0; sl < s->slices; sl++) {
 		float dx, dy;
@@ -281,8 +277,12 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 			for (int i = 0; i < s->steps; i++) {
 				float t = dao_gtao_step_t(s, i, n1);
 				float dist = 1.0f + t * (r_px - 1.0f), u, vv, zs;
-				if (!dao_gtao_sample(z, s->width, s->height, x, y, sx, sy, dist, &u, &vv, &zs))
+				struct dao_gtao_taps tp;
+				if (!dao_gtao_sample_taps(z, s->width, s->height, x, y, sx, sy, dist, &u,
+							  &vv, &zs, &tp))
 					continue;
+				const float T = v->thickness ? dao_gtao_taps_value(v->thickness, &tp)
+							     : v->vbao_thickness;
 				float S[3];
 				view_pos(s, u, vv, zs, S);
 				float D[3] = {S[0] - P[0], S[1] - P[1], S[2] - P[2]};
@@ -290,10 +290,7 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 				if (!(len > 0.0f) || len > R)
 					continue;
 				/* the back of the sample: thickness T further along its camera ray
-				 * (which lies in the slice plane, through the camera centre); T
-				 * from the thickness plane at the sample's pixel, if there is one */
-				const float T = thick ? thick[(size_t)lrintf(vv) * s->width +
-							      (size_t)lrintf(u)] : v->vbao_thickness;
+				 * (which lies in the slice plane, through the camera centre) */
 				float ls = sqrtf(dao_dot3(S, S)), k = T / ls;
 				float B[3] = {S[0] * (1 + k) - P[0], S[1] * (1 + k) - P[1], S[2] * (1 + k) - P[2]};
 				float lb = sqrtf(dao_dot3(B, B));
@@ -316,15 +313,14 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	return norm > 0.0f ? vis / norm : 1.0f;
 }
 
-void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n,
-		  const float *thick, float *ao, int y0, int y1)
+void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1)
 {
 	const struct dao_gtao_setup *s = v->g;
 	for (int y = y0; y < y1; y++)
 		for (int x = 0; x < s->width; x++) {
 			size_t i = (size_t)y * s->width + x;
-			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, thick, x, y))
-					 : s->invalid_value;
+			ao[i] = z[i] > 0 ? dao_gtao_finish(s, vbao_pixel(v, z, n, x, y)) : s->invalid_value;
 		}
 }
 

@@ -24,6 +24,10 @@ struct dao_variant_setup {
 	float ssao_kernel[DAO_SSAO_MAX_SAMPLES][3]; /* unit hemisphere (z up), denser at the centre */
 	float edl_radius;
 	float vbao_thickness;
+	/* vbao: each occluder's thickness in metres (>= 0), one per pixel (w x h),
+	 * read at the sample's taps as its depth is; NULL: vbao_thickness
+	 * everywhere.  The SIMD kernel reads it from pl->thick (gtao_planes.h). */
+	const float *thickness;
 };
 
 void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_setup *g,
@@ -37,15 +41,28 @@ void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float
  * Visibility bitmask AO (Therrien, Levesque, Gilet 2023): per slice a mask
  * of DAO_VBAO_SECTORS sectors over the normal's hemisphere; each sample
  * occludes the sectors between the angle of its front and of its back,
- * assumed vbao_thickness behind it (or, if `thick` is not NULL, the
- * thickness plane's value at the sample's pixel: kernels/thickness.h), so
- * light passes behind thin objects.
+ * assumed vbao_thickness (or the thickness plane's value there) behind it,
+ * so light passes behind thin objects.  With tile noise a pixel searches
+ * its block's radius, as dao_gtao_ref does (the SIMD kernel's taps).
  * The free sectors are weighted by the cosine-weighted slice measure (the
  * paper counts them uniformly).
  */
 #define DAO_VBAO_SECTORS 32
-void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n,
-		  const float *thick, float *ao, int y0, int y1);
+
+/* Part of GTAO's radius widening: sectors cover between samples, horizons do not. */
+#ifndef DAO_VBAO_RADIUS_REACH
+#define DAO_VBAO_RADIUS_REACH 0.6f
+#endif
+
+/* How far a sample may lie from the pixel and occlude, m: samples reach GTAO's
+ * widened radius, but occlude only within the true one (widened less). */
+static inline float dao_vbao_radius(const struct dao_gtao_setup *s)
+{
+	return s->search_radius / (1.0f + DAO_GTAO_RADIUS_REACH / (float)s->steps) *
+	       (1.0f + DAO_VBAO_RADIUS_REACH / (float)s->steps);
+}
+void dao_vbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
+		  int y0, int y1);
 void dao_edl_ref(const struct dao_variant_setup *v, const float *z, float *ao, int y0, int y1);
 
 #endif

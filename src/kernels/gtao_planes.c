@@ -39,7 +39,27 @@ void dao_gtao_planes_free(struct dao_gtao_planes *pl)
 {
 	free(pl->izp);
 	free(pl->phase);
-	pl->izp = pl->phase = NULL;
+	free(pl->thick);
+	pl->izp = pl->phase = pl->thick = NULL;
+}
+
+int dao_gtao_planes_init_thickness(struct dao_gtao_planes *pl)
+{
+	if (pl->thick)
+		return 0;
+	pl->thick = calloc(((size_t)pl->height + 2) * 4 * (size_t)pl->stride4, sizeof(float));
+	return pl->thick ? 0 : -ENOMEM;
+}
+
+void dao_gtao_planes_fill_thickness(struct dao_gtao_planes *pl, const float *t, int y0, int y1)
+{
+	const int w = pl->width;
+	for (int y = y0; y < y1; y++)
+		for (int q = 0; q < 4; q++) {
+			float *o = (float *)dao_gtao_thick_row(pl, y, q);
+			for (int x = q, j = 0; x < w; x += 4, j++)
+				o[j] = t[(size_t)y * w + x];
+		}
 }
 
 int dao_gtao_planes_fit(const struct dao_gtao_planes *pl, float max_r_px)

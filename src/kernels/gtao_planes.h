@@ -23,11 +23,18 @@ struct dao_gtao_planes {
 	int pad4;       /* zero entries before and after each phase row */
 	int stride4;    /* entries per phase row: pad4 + DAO_GTAO_BLOCK x blocks + pad4 */
 	int max_offset; /* largest |column offset| of a tap the padding covers */
+	float *thick;   /* vbao's occluder thickness (m) laid out as `phase`, or NULL */
 };
 
 /* Allocates the planes for w x h and samples up to max_r_px away (zeroed). */
 int dao_gtao_planes_init(struct dao_gtao_planes *pl, int w, int h, float max_r_px);
 void dao_gtao_planes_free(struct dao_gtao_planes *pl);
+
+/* Allocates pl->thick (zeroed), for vbao with a thickness plane. */
+int dao_gtao_planes_init_thickness(struct dao_gtao_planes *pl);
+
+/* Rows [y0, y1) of pl->thick from the per-pixel plane t (w x h, metres). */
+void dao_gtao_planes_fill_thickness(struct dao_gtao_planes *pl, const float *t, int y0, int y1);
 
 /* Whether planes made for max_r_px `have` serve max_r_px `want` as well. */
 int dao_gtao_planes_fit(const struct dao_gtao_planes *pl, float max_r_px);
@@ -39,6 +46,12 @@ void dao_gtao_planes_fill(struct dao_gtao_planes *pl, const float *z, int phase,
 static inline const float *dao_gtao_phase_row(const struct dao_gtao_planes *pl, int r, int q)
 {
 	return pl->phase + ((size_t)(r + 1) * 4 + (size_t)q) * (size_t)pl->stride4 + pl->pad4;
+}
+
+/* First entry of phase q of row r of pl->thick (-1 <= r <= height). */
+static inline const float *dao_gtao_thick_row(const struct dao_gtao_planes *pl, int r, int q)
+{
+	return pl->thick + ((size_t)(r + 1) * 4 + (size_t)q) * (size_t)pl->stride4 + pl->pad4;
 }
 
 #endif

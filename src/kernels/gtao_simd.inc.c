@@ -20,7 +20,9 @@
 #include "core/math_util.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
+#include "kernels/ao_variants.h"
 #include "kernels/gtao_simd.h"
+#include "kernels/gtao_tile.h"
 #include "kernels/noise.h"
 #include "simd/fastmath.h"
 
@@ -328,10 +330,10 @@ static vf gtao_lanes(const struct dao_gtao_setup *s, const float *izp, int pw, c
 
 void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z,
 			       const struct dao_gtao_planes *pl, const float *n, float *ao, int y0,
-			       int y1)
+			       int y1, struct dao_tile_scratch *sc)
 {
 	if (s->noise == DAO_NOISE_TILE) {
-		gtao_tile(s, pl, n, ao, y0, y1);
+		gtao_tile(s, pl, n, ao, y0, y1, sc, NULL);
 		return;
 	}
 	const int w = s->width, pw = w + 2;
@@ -374,6 +376,21 @@ void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z,
 				ao[i0 + k] = zl[k] > 0.0f ? out[k] : s->invalid_value;
 		}
 	}
+}
+
+/* VBAO: the tile kernel with tile noise, the reference with any other. */
+void DAO_ISA_FN(dao_vbao_simd)(const struct dao_variant_setup *v, const float *z,
+			       const struct dao_gtao_planes *pl, const float *n, float *ao, int y0,
+			       int y1, struct dao_tile_scratch *sc)
+{
+	const struct dao_gtao_setup *s = v->g;
+	if (s->noise != DAO_NOISE_TILE) {
+		dao_vbao_ref(v, z, n, ao, y0, y1);
+		return;
+	}
+	const struct tile_vbao vb = { .radius = dao_vbao_radius(s), .thickness = v->vbao_thickness,
+				      .plane = v->thickness != NULL };
+	gtao_tile(s, pl, n, ao, y0, y1, sc, &vb);
 }
 
 void DAO_ISA_FN(dao_gtao_planes_fill)(struct dao_gtao_planes *pl, const float *z, int phase,

@@ -27,38 +27,6 @@ enum {
 	TAP_ONLY1 = 4, /* ... on the second tap */
 };
 
-/* One step of a side, the same for every pixel of a block, relative to its row. */
-struct tile_step {
-	int32_t o0, o1;     /* the taps: entries from the row's first entry of phase 0,
-			     * before the block's first entry is added */
-	int32_t oe;         /* the tap an edge takes (the one closer to the line) */
-	int32_t dr_lo, dr_hi; /* rows of the taps relative to the pixel's */
-	int32_t dc_lo, dc_hi; /* columns of the taps relative to the pixel's: a step
-			       * whose taps are all off the image for every lane of a
-			       * block is skipped (it would sample nothing) */
-	float f;            /* fraction between the taps */
-	float ux_s, ux_e;   /* (u_sample - u_pixel) ax, smooth (s) and at an edge (e) */
-	float vy_s, vy_e;   /* (v_sample - v_pixel) ay, smooth and at an edge */
-	float c_s, c_e;     /* ux^2 + vy^2, smooth and at an edge */
-	int flags;
-};
-
-/*
- * Tables of steps for one tile phase and tile row (y mod 4), one per block
- * radius seen: as many as fit in TILE_STEPS_MAX entries, up to TILE_TABLES,
- * replaced oldest first.
- */
-#define TILE_STEPS_MAX 256 /* the steps of every preset fit (ultra: 192) */
-#define TILE_TABLES 8
-struct tile_cache {
-	int per;    /* entries per table: slices x 2 x steps */
-	int count;  /* tables that fit */
-	int next;   /* the one to replace next */
-	float rp[TILE_TABLES]; /* the radius each table was made for (-1: none) */
-	int reach_r[TILE_TABLES], reach_c[TILE_TABLES]; /* largest |row|, |column| offset of a tap */
-	struct tile_step st[TILE_STEPS_MAX];
-};
-
 /* The constants of one tile phase and tile row: slice directions and step positions. */
 struct tile_phase {
 	int a;
@@ -371,12 +339,15 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
 	}
 }
 
+#include "kernels/vbao_tile.inc.c"
+
 /* VN lanes of a block of phase a: columns x0, x0 + 4, ... (entries jb, jb + 1,
- * ... of the phase plane; nq: their normals, from tile_group_normals). */
+ * ... of the phase plane; nq: their normals, from tile_group_normals); GTAO,
+ * or VBAO with vb. */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		       const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
 		       const struct tile_step *tsteps, int reach_r, int reach_c, float rp, int y,
-		       int jb, int h)
+		       int jb, int h, struct dao_tile_scratch *sc, const struct tile_vbao *vb)
 {
 	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
@@ -417,6 +388,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const vf N[3] = { v_load(nq[0] + h), v_load(nq[1] + h), v_load(nq[2] + h) };
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 		const float *base = dao_gtao_phase_row(pl, y, 0) + jb + h;
+		const float *tbase = vb && vb->plane ? dao_gtao_thick_row(pl, y, 0) + jb + h : NULL;
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
 			/* the axis dir x V is -(dir x U0) / |U0|, and dir x U0 = (diry,
@@ -424,21 +396,31 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			const float dirx = ph->dx[sl] * s->ax, diry = ph->dy[sl] * s->ay;
 			const vf az = v_fnma(v_set1(diry), t.X0, v_mul(v_set1(dirx), t.Y0));
 			const vf a2 = v_fma(az, az, v_set1(dirx * dirx + diry * diry));
-			struct slice_v g = slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
-							   v_set1(-dirx), az, a2, N, NV, 1);
+			/* VBAO places its sectors from n: the precise acos and sqrt there */
+			struct slice_v g =
+				vb ? slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
+						     v_set1(-dirx), az, a2, N, NV, 0)
+				   : slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
+						     v_set1(-dirx), az, a2, N, NV, 1);
 			if (!m_any(g.ok))
 				continue;
 			const struct tile_step *st;
-			struct tile_step local[2 * DAO_MAX_STEPS];
 			if (tsteps) {
 				st = tsteps + (size_t)sl * 2 * (size_t)s->steps;
 			} else {
-				tile_slice_make(s, pl, ph, rp, sl, local);
-				st = local;
+				tile_slice_make(s, pl, ph, rp, sl, sc->local);
+				st = sc->local;
+			}
+			const int major_x = fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]);
+			if (vb) {
+				const vi mask = vbao_sides_any(vb, s, base, tbase, &t, st, &g, major_x,
+							       inner);
+				vbao_accumulate(&g, mask, &sum, &norm);
+				continue;
 			}
 			vf hc_pos, hc_neg;
 			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg,
-				       fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]), inner);
+				       major_x, inner);
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		const vm has = v_gt(norm, v_zero());
@@ -453,7 +435,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
  * DAO_GTAO_BLOCK_SPAN columns share one split of their normals. */
 static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		     const float *n, float *ao, const struct tile_phase ph[4],
-		     struct tile_cache cache[4], int y)
+		     struct dao_tile_scratch *sc, const struct tile_vbao *vb, int y)
 {
 	const float rf = s->search_radius * s->focal;
 	float nb[4][3][DAO_GTAO_BLOCK];
@@ -476,7 +458,7 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 			const float rp = rq < s->max_r_px ? rq : s->max_r_px; /* fminf: a libm call */
 			int reach_r = 0, reach_c = 0;
 			const struct tile_step *tsteps =
-				tile_cache_get(s, pl, &ph[a], rp, &cache[a], &reach_r, &reach_c);
+				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c);
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
@@ -484,20 +466,21 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
 					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
-						   tsteps, reach_r, reach_c, rp, y, jb, h);
+						   tsteps, reach_r, reach_c, rp, y, jb, h, sc, vb);
 		}
 	}
 }
 
-/* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block span). */
+/* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block
+ * span): GTAO, or VBAO with vb; sc: this thread's scratch. */
 static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		      const float *n, float *ao, int y0, int y1)
+		      const float *n, float *ao, int y0, int y1, struct dao_tile_scratch *sc,
+		      const struct tile_vbao *vb)
 {
 	/* Rows by tile row (y mod 4), so that the tables of a tile phase serve every
-	 * row of the band with that noise.  The tables of every preset fit on the
-	 * stack; more slices x steps than that are made per block and slice
+	 * row of the band with that noise.  The tables of every preset fit in the
+	 * scratch; more slices x steps than that are made per block and slice
 	 * (tile_lanes). */
-	struct tile_cache cache[4];
 	struct tile_phase ph[4];
 	for (int cls = 0; cls < 4; cls++) {
 		int yc = y0 + ((cls - y0) & 3); /* the first row of the band in this tile row */
@@ -505,9 +488,9 @@ static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_plan
 			continue;
 		for (int a = 0; a < 4; a++) {
 			tile_phase_init(s, a, yc, &ph[a]);
-			tile_cache_reset(s, &cache[a]);
+			tile_cache_reset(s, &sc->cache[a]);
 		}
 		for (int y = yc; y < y1; y += 4)
-			tile_row(s, pl, n, ao, ph, cache, y);
+			tile_row(s, pl, n, ao, ph, sc, vb, y);
 	}
 }

@@ -78,6 +78,7 @@ struct dao_context {
 	int cmap_mode;
 	struct dao_pool *pool;
 	int pool_threads;  /* params.threads the pool was made for */
+	struct dao_tile_scratch *tile_scratch; /* one per pool thread (the tile kernels') */
 	enum dao_simd simd;        /* params.simd resolved (AUTO: this CPU's best) ... */
 	struct dao_kernels kernels; /* ... and its kernels, chosen when the parameters change */
 	struct dao_timings times;
@@ -133,7 +134,16 @@ static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err
 	if (r)
 		return dao_error_set(err, r, "cannot start %d worker threads: %s",
 				     resolve_threads(threads), dao_strerror(r));
+	/* the tile kernels' tables, one set per thread, here and not on the threads' stacks */
+	struct dao_tile_scratch *sc = malloc((size_t)dao_pool_threads(pool) * sizeof *sc);
+	if (!sc) {
+		dao_pool_destroy(pool);
+		return dao_error_set(err, -ENOMEM, "out of memory for %d threads' scratch",
+				     resolve_threads(threads));
+	}
 	dao_pool_destroy(ctx->pool);
+	free(ctx->tile_scratch);
+	ctx->tile_scratch = sc;
 	ctx->pool = pool;
 	ctx->pool_threads = threads;
 	return 0;
@@ -163,7 +173,8 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		ctx->dt_slot_floats = per;
 	}
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE &&
-	    !ctx->thick && !(ctx->thick = malloc(ctx->npix * sizeof(float))))
+	    ((!ctx->thick && !(ctx->thick = malloc(ctx->npix * sizeof(float)))) ||
+	     dao_gtao_planes_init_thickness(&ctx->planes) < 0))
 		return dao_error_set(err, -ENOMEM, "out of memory for the thickness plane");
 	if (p->noise_model != DAO_NOISE_MODEL_FIXED && !ctx->have_noise_grid) {
 		if (dao_noise_grid_init(&ctx->noise, w, h))
@@ -264,6 +275,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	if (!ctx)
 		return;
 	dao_pool_destroy(ctx->pool);
+	free(ctx->tile_scratch);
 	free(ctx->z_raw);
 	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
@@ -539,18 +551,26 @@ static void stage_thickness_cols(void *arg, int x0, int x1)
 	dao_thickness_cols(&j->thickness, j->ctx->z, j->ctx->thick, x0, x1);
 }
 
-static void stage_gtao(void *arg, int y0, int y1)
+/* vbao's optimised kernels read the thickness split by phase, like the depth */
+static void stage_thickness_phases(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_gtao_planes_fill_thickness(&j->ctx->planes, j->ctx->thick, y0, y1);
+}
+
+static void stage_gtao(void *arg, int thread, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
+	struct dao_tile_scratch *sc = &c->tile_scratch[thread];
 	switch (j->algorithm) {
 	case DAO_ALGORITHM_HBAO: dao_hbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_VBAO:
-		dao_vbao_ref(&j->variant, c->z, c->n, j->thick, c->ao_raw, y0, y1);
+		j->k.vbao(&j->variant, c->z, &c->planes, c->n, c->ao_raw, y0, y1, sc);
 		break;
-	default: j->k.gtao(&j->gtao, c->z, &c->planes, c->n, c->ao_raw, y0, y1); break;
+	default: j->k.gtao(&j->gtao, c->z, &c->planes, c->n, c->ao_raw, y0, y1, sc); break;
 	}
 }
 
@@ -571,7 +591,7 @@ static int gtao_strip_width(int w)
 	return (groups + strips - 1) / strips * DAO_GTAO_BLOCK_SPAN;
 }
 
-static void stage_gtao_strips(void *arg, int i0, int i1)
+static void stage_gtao_strips(void *arg, int thread, int i0, int i1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
@@ -583,7 +603,15 @@ static void stage_gtao_strips(void *arg, int i0, int i1)
 		struct dao_gtao_setup g = j->gtao;
 		g.x_begin = strip * sw;
 		g.x_end = g.x_begin + sw < w ? g.x_begin + sw : w;
-		j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1);
+		if (j->algorithm == DAO_ALGORITHM_VBAO) {
+			struct dao_variant_setup v = j->variant;
+			v.g = &g;
+			j->k.vbao(&v, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
+				  &c->tile_scratch[thread]);
+		} else {
+			j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
+				  &c->tile_scratch[thread]);
+		}
 		i0 += y1 - y0;
 	}
 }
@@ -784,6 +812,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE) {
 		dao_thickness_setup_init(&job.thickness, &ctx->cam, p->vbao_thickness_max);
 		job.thick = ctx->thick;
+		job.variant.thickness = ctx->thick;
 	}
 	job.k = ctx->kernels;
 	use_r2_tile(ctx, &job.gtao, frame_index);
@@ -867,13 +896,19 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (job.thick) {
 		dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, &job);
 		dao_pool_run(ctx->pool, (int)ctx->cam.width, 8, stage_thickness_cols, &job);
+		if (job.k.simd != DAO_SIMD_REFERENCE)
+			dao_pool_run(ctx->pool, h, 8, stage_thickness_phases, &job);
 	}
 	const int sw = gtao_strip_width((int)ctx->cam.width);
 	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
-	if (strips > 1 && job.algorithm == DAO_ALGORITHM_GTAO && job.k.simd != DAO_SIMD_REFERENCE)
-		dao_pool_run(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
+	/* the optimised kernels compute strips (vbao: with tile noise, its tile kernel) */
+	const int in_strips = job.k.simd != DAO_SIMD_REFERENCE &&
+			      (job.algorithm == DAO_ALGORITHM_GTAO ||
+			       (job.algorithm == DAO_ALGORITHM_VBAO && p->noise == DAO_NOISE_TILE));
+	if (strips > 1 && in_strips)
+		dao_pool_run_threads(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
 	else
-		dao_pool_run(ctx->pool, h, 2, stage_gtao, &job);
+		dao_pool_run_threads(ctx->pool, h, 2, stage_gtao, &job);
 	const double t4 = now_ms();
 	switch (p->denoise) {
 	case DAO_DENOISE_PLANE:

@@ -8,8 +8,10 @@
 #include "denoise/denoise.h"
 #include "depth/domain.h"
 #include "depth/prefilter.h"
+#include "kernels/ao_variants.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
+#include "kernels/gtao_tile.h"
 #include "pipeline/temporal_depth.h"
 #include "shade/shade.h"
 
@@ -21,9 +23,14 @@ struct dao_kernels {
 			    int y0, int y1);
 	/* prefilter=domain: one pass over lanes [lane0, lane1) (domain.h) */
 	void (*domain_pass)(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1);
-	/* pl: the 1/z planes of gtao_planes.h, used by the optimised kernels only */
+	/* pl: the 1/z planes of gtao_planes.h, sc: the thread's scratch (gtao_tile.h),
+	 * both used by the optimised kernels only */
 	void (*gtao)(const struct dao_gtao_setup *s, const float *z,
-		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1);
+		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1,
+		     struct dao_tile_scratch *sc);
+	void (*vbao)(const struct dao_variant_setup *v, const float *z,
+		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1,
+		     struct dao_tile_scratch *sc);
 	/* fills the planes (dao_gtao_planes_fill) */
 	void (*planes_fill)(struct dao_gtao_planes *pl, const float *z, int phase, int y0, int y1);
 	void (*denoise_plane)(const struct dao_denoise_setup *s, const float *z, const float *ao_in,

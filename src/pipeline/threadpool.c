@@ -18,9 +18,11 @@ struct dao_pool {
 	int sleepers;            /* workers blocked on `wake` (under lock) */
 	/* the current job */
 	dao_pool_fn fn;
+	dao_pool_thread_fn tfn; /* or this one, told which thread runs the band */
 	void *arg;
 	int rows, band;
 	atomic_int next_band;
+	atomic_int started;      /* workers that took their index (1 .. nworkers) */
 };
 
 /*
@@ -40,8 +42,8 @@ static inline void cpu_relax(void)
 #endif
 }
 
-/* Takes bands until none is left. */
-static void drain(struct dao_pool *p)
+/* Takes bands until none is left; `thread`: 0 the caller, 1 .. nworkers the workers. */
+static void drain(struct dao_pool *p, int thread)
 {
 	for (;;) {
 		int b = atomic_fetch_add_explicit(&p->next_band, 1, memory_order_relaxed);
@@ -49,13 +51,17 @@ static void drain(struct dao_pool *p)
 		if (y0 >= p->rows)
 			return;
 		int y1 = y0 + p->band < p->rows ? y0 + p->band : p->rows;
-		p->fn(p->arg, y0, y1);
+		if (p->tfn)
+			p->tfn(p->arg, thread, y0, y1);
+		else
+			p->fn(p->arg, y0, y1);
 	}
 }
 
 static void *worker_main(void *arg)
 {
 	struct dao_pool *p = arg;
+	const int thread = atomic_fetch_add(&p->started, 1) + 1;
 	unsigned seen = 0;
 	for (;;) {
 		/* wait for a new job: spin a little, then sleep */
@@ -77,7 +83,7 @@ static void *worker_main(void *arg)
 		if (atomic_load(&p->quit))
 			break;
 		seen = g;
-		drain(p);
+		drain(p, thread);
 		if (atomic_fetch_sub_explicit(&p->busy, 1, memory_order_acq_rel) == 1) {
 			/* the last one out: wake the caller if it went to sleep */
 			pthread_mutex_lock(&p->lock);
@@ -141,7 +147,8 @@ int dao_pool_threads(const struct dao_pool *p)
 	return p->nworkers + 1;
 }
 
-void dao_pool_run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn, void *arg)
+static void run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn,
+		dao_pool_thread_fn tfn, void *arg)
 {
 	if (rows <= 0)
 		return;
@@ -152,10 +159,14 @@ void dao_pool_run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn, vo
 	if (band < min_rows)
 		band = min_rows;
 	if (p->nworkers == 0 || band >= rows) {
-		fn(arg, 0, rows);
+		if (tfn)
+			tfn(arg, 0, 0, rows);
+		else
+			fn(arg, 0, rows);
 		return;
 	}
 	p->fn = fn;
+	p->tfn = tfn;
 	p->arg = arg;
 	p->rows = rows;
 	p->band = band;
@@ -168,7 +179,7 @@ void dao_pool_run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn, vo
 		pthread_cond_broadcast(&p->wake);
 	pthread_mutex_unlock(&p->lock);
 
-	drain(p);
+	drain(p, 0);
 
 	for (int i = 0; atomic_load_explicit(&p->busy, memory_order_acquire) > 0; i++) {
 		if (i < SPIN_ROUNDS) {
@@ -181,4 +192,15 @@ void dao_pool_run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn, vo
 		pthread_mutex_unlock(&p->lock);
 		break;
 	}
+}
+
+void dao_pool_run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn, void *arg)
+{
+	run(p, rows, min_rows, fn, NULL, arg);
+}
+
+void dao_pool_run_threads(struct dao_pool *p, int rows, int min_rows, dao_pool_thread_fn fn,
+			  void *arg)
+{
+	run(p, rows, min_rows, NULL, fn, arg);
 }

@@ -28,4 +28,13 @@ int dao_pool_threads(const struct dao_pool *pool);
  */
 void dao_pool_run(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg);
 
+/* fn processes rows [y0, y1) on thread `thread`, 0 .. dao_pool_threads() - 1
+ * (0: the caller), which no other band runs on at the same time: an index
+ * into per-thread scratch allocated once (never on a worker's stack). */
+typedef void (*dao_pool_thread_fn)(void *arg, int thread, int y0, int y1);
+
+/* dao_pool_run for a function that is told its thread. */
+void dao_pool_run_threads(struct dao_pool *pool, int rows, int min_rows, dao_pool_thread_fn fn,
+			  void *arg);
+
 #endif

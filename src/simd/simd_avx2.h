@@ -82,6 +82,19 @@ static inline vi vi_sel(vm m, vi a, vi b)
 	return _mm256_castps_si256(
 		_mm256_blendv_ps(_mm256_castsi256_ps(b), _mm256_castsi256_ps(a), m));
 }
+static inline vi vi_or(vi a, vi b) { return _mm256_or_si256(a, b); }
+static inline vi vi_andnot(vi a, vi b) { return _mm256_andnot_si256(b, a); } /* a & ~b */
+/* the n lowest bits set, n in [0, 32] (a shift by 32 gives 0) */
+static inline vi vi_low_bits(vi n)
+{
+	return _mm256_srlv_epi32(_mm256_set1_epi32(-1), _mm256_sub_epi32(_mm256_set1_epi32(32), n));
+}
+/* lanes whose bit `bit` (a power of two) is set */
+static inline vm m_bit(vi a, int32_t bit)
+{
+	const __m256i b = _mm256_set1_epi32(bit);
+	return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(a, b), b));
+}
 /* a * 2^n for whole n in [-126, 127] (adds n to the exponent field) */
 static inline vf v_ldexp(vf a, vf n)
 {

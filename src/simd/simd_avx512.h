@@ -79,6 +79,15 @@ static inline vi vi_mul(vi a, vi b) { return _mm512_mullo_epi32(a, b); }
 /* float lanes holding whole numbers -> int32 */
 static inline vi vi_from_whole(vf a) { return _mm512_cvtps_epi32(a); }
 static inline vi vi_sel(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, b, a); }
+static inline vi vi_or(vi a, vi b) { return _mm512_or_si512(a, b); }
+static inline vi vi_andnot(vi a, vi b) { return _mm512_andnot_si512(b, a); } /* a & ~b */
+/* the n lowest bits set, n in [0, 32] (a shift by 32 gives 0) */
+static inline vi vi_low_bits(vi n)
+{
+	return _mm512_srlv_epi32(_mm512_set1_epi32(-1), _mm512_sub_epi32(_mm512_set1_epi32(32), n));
+}
+/* lanes whose bit `bit` (a power of two) is set */
+static inline vm m_bit(vi a, int32_t bit) { return _mm512_test_epi32_mask(a, _mm512_set1_epi32(bit)); }
 /* a * 2^n for whole n in [-126, 127] (vscalefps) */
 static inline vf v_ldexp(vf a, vf n) { return _mm512_scalef_ps(a, n); }
 /* base[idx] where m is set, 0 elsewhere (masked lanes are not read) */

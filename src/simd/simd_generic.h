@@ -76,6 +76,15 @@ static inline vi vi_add(vi a, vi b) { return a + b; }
 static inline vi vi_mul(vi a, vi b) { return a * b; }
 static inline vi vi_from_whole(vf a) { return __builtin_convertvector(a, vi); }
 static inline vi vi_sel(vm m, vi a, vi b) { return (m & a) | (~m & b); }
+static inline vi vi_or(vi a, vi b) { return a | b; }
+static inline vi vi_andnot(vi a, vi b) { return a & ~b; }
+/* the n lowest bits set, n in [0, 32] */
+static inline vi vi_low_bits(vi n)
+{
+	return ((vi_set1(1) << (n & 31)) - 1) | (vi)(n > 31);
+}
+/* lanes whose bit `bit` (a power of two) is set */
+static inline vm m_bit(vi a, int32_t bit) { return (a & bit) == bit; }
 static inline vf v_ldexp(vf a, vf n)
 {
 	return (vf)((vi)a + (__builtin_convertvector(n, vi) << 23));

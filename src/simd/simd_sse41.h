@@ -71,6 +71,23 @@ static inline vi vi_sel(vm m, vi a, vi b)
 {
 	return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(b), _mm_castsi128_ps(a), m));
 }
+static inline vi vi_or(vi a, vi b) { return _mm_or_si128(a, b); }
+static inline vi vi_andnot(vi a, vi b) { return _mm_andnot_si128(b, a); } /* a & ~b */
+/* the n lowest bits set, n in [0, 32]: 2^n - 1 with 2^n made as a float (SSE has
+ * no per-lane shift); its conversion gives 0x80000000 for 2^31 (right) and 2^32 */
+static inline vi vi_low_bits(vi n)
+{
+	const __m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(
+		_mm_slli_epi32(_mm_add_epi32(n, _mm_set1_epi32(127)), 23)));
+	return _mm_or_si128(_mm_sub_epi32(p, _mm_set1_epi32(1)),
+			    _mm_cmpeq_epi32(n, _mm_set1_epi32(32)));
+}
+/* lanes whose bit `bit` (a power of two) is set */
+static inline vm m_bit(vi a, int32_t bit)
+{
+	const __m128i b = _mm_set1_epi32(bit);
+	return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(a, b), b));
+}
 static inline vf v_ldexp(vf a, vf n)
 {
 	return _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(a), _mm_slli_epi32(_mm_cvtps_epi32(n), 23)));

@@ -72,7 +72,8 @@ static void usage(FILE *out)
 		"  --json              one JSON object per configuration and line, no table\n"
 		"  --help              this text\n"
 		"\n"
-		"Any other algorithm parameter can be set as in `depthao process` (--radius ...).\n");
+		"Any other algorithm parameter can be set as in `depthao process` (--radius ...),\n"
+		"among them --algorithm (gtao, vbao, hbao, ssao, edl): the AO stage is its kernel.\n");
 }
 
 static double now_s(void)
@@ -215,6 +216,9 @@ static void print_json(const struct config *c, int simd, const struct stats *st,
 	json_object_object_add(o, "width", json_object_new_int(c->size.w));
 	json_object_object_add(o, "height", json_object_new_int(c->size.h));
 	json_object_object_add(o, "quality", json_object_new_string(c->quality));
+	char algo[32];
+	if (dao_params_get(&c->params, "algorithm", algo, sizeof algo, NULL) == 0)
+		json_object_object_add(o, "algorithm", json_object_new_string(algo));
 	json_object_object_add(o, "slices", json_object_new_int(c->params.slices));
 	json_object_object_add(o, "steps", json_object_new_int(c->params.steps));
 	json_object_object_add(o, "threads", json_object_new_int(c->threads));
@@ -239,9 +243,15 @@ static void print_json(const struct config *c, int simd, const struct stats *st,
 
 static void print_row(const struct config *c, const struct stats *st, const struct stats *ref)
 {
-	char size[24], q[32], sp[16] = "-", rm[16] = "-";
+	char size[24], q[64], sp[16] = "-", rm[16] = "-";
 	snprintf(size, sizeof size, "%dx%d", c->size.w, c->size.h);
 	snprintf(q, sizeof q, "%s %dx%d", c->quality, c->params.slices, c->params.steps);
+	if (c->params.algorithm != DAO_ALGORITHM_GTAO) {
+		char algo[32];
+		if (dao_params_get(&c->params, "algorithm", algo, sizeof algo, NULL) == 0)
+			snprintf(q, sizeof q, "%s %s %dx%d", algo, c->quality, c->params.slices,
+				 c->params.steps);
+	}
 	if (ref) {
 		snprintf(rm, sizeof rm, "%.0f", ref->median);
 		snprintf(sp, sizeof sp, "%.0fx", ref->median / st->median);

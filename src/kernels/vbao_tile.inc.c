@@ -1,0 +1,337 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * VBAO with tile noise (included by gtao_tile.inc.c): the visibility
+ * bitmask of dao_vbao_ref (ao_variants.c, read that first) on the taps of
+ * the GTAO tile kernel.  Per step the same two loads and depth-edge rule as
+ * tile_sample; then instead of a horizon each lane marks the sectors between
+ * the sample's front and its back, the point `thickness` further along the
+ * sample's camera ray, in a 32-bit mask per lane and slice.
+ *
+ * In tile_sample's terms (D = z_s G, G = Gz U0 + (du, dv, 0)): the front's
+ * cosine from V is (G.U0 / |G|) (-1 / |U0|); the back lies on the ray of
+ * U = U0 + (du, dv, 0) at depth z_s + T / |U| (a distance T further along
+ * it), so it is the same sample with 1 / z_b = iz / (1 + T iz / |U|) and
+ * |U|^2 = Q + 2 B + du^2 + dv^2.  |D| <= R is |G|^2 <= (R iz)^2.
+ *
+ * The sector a point falls in is round((t - lo) 32 / pi) with t = +-acos of
+ * its cosine: a sample near a sector boundary that rounds differently from
+ * the reference covers one sector more or less, so the cosines and the acos
+ * are the precise ones (refined 1/sqrt, 8-term acos), not the estimates
+ * the GTAO horizon makes do with.
+ */
+
+/* What VBAO adds to a tile kernel run (tile_lanes: NULL for GTAO). */
+struct tile_vbao {
+	float radius;    /* dao_vbao_radius: farther samples do not occlude */
+	float thickness; /* of every occluder, without a thickness plane */
+	int plane;       /* the thickness from pl->thick, at the sample's taps */
+};
+
+/*
+ * Per sector boundary k = 0 .. 32, at angle a_k = n - pi/2 + k pi/32 from V:
+ * cos(2 k pi/32) / 4, sin(2 k pi/32) / 4 and k pi/32 - pi/2, so that
+ * cos(2 a_k - n) = -(cos n cos(2 k pi/32) - sin n sin(2 k pi/32)) needs no
+ * trigonometry per lane.
+ */
+static const float vbao_bound[DAO_VBAO_SECTORS + 1][3] = {
+	{ 2.500000000e-01f, 0.000000000e+00f, -1.570796327e+00f },
+	{ 2.451963201e-01f, 4.877258050e-02f, -1.472621556e+00f },
+	{ 2.309698831e-01f, 9.567085809e-02f, -1.374446786e+00f },
+	{ 2.078674031e-01f, 1.388925583e-01f, -1.276272016e+00f },
+	{ 1.767766953e-01f, 1.767766953e-01f, -1.178097245e+00f },
+	{ 1.388925583e-01f, 2.078674031e-01f, -1.079922475e+00f },
+	{ 9.567085809e-02f, 2.309698831e-01f, -9.817477042e-01f },
+	{ 4.877258050e-02f, 2.451963201e-01f, -8.835729338e-01f },
+	{ 1.530808499e-17f, 2.500000000e-01f, -7.853981634e-01f },
+	{ -4.877258050e-02f, 2.451963201e-01f, -6.872233930e-01f },
+	{ -9.567085809e-02f, 2.309698831e-01f, -5.890486225e-01f },
+	{ -1.388925583e-01f, 2.078674031e-01f, -4.908738521e-01f },
+	{ -1.767766953e-01f, 1.767766953e-01f, -3.926990817e-01f },
+	{ -2.078674031e-01f, 1.388925583e-01f, -2.945243113e-01f },
+	{ -2.309698831e-01f, 9.567085809e-02f, -1.963495408e-01f },
+	{ -2.451963201e-01f, 4.877258050e-02f, -9.817477042e-02f },
+	{ -2.500000000e-01f, 3.061616998e-17f, 0.000000000e+00f },
+	{ -2.451963201e-01f, -4.877258050e-02f, 9.817477042e-02f },
+	{ -2.309698831e-01f, -9.567085809e-02f, 1.963495408e-01f },
+	{ -2.078674031e-01f, -1.388925583e-01f, 2.945243113e-01f },
+	{ -1.767766953e-01f, -1.767766953e-01f, 3.926990817e-01f },
+	{ -1.388925583e-01f, -2.078674031e-01f, 4.908738521e-01f },
+	{ -9.567085809e-02f, -2.309698831e-01f, 5.890486225e-01f },
+	{ -4.877258050e-02f, -2.451963201e-01f, 6.872233930e-01f },
+	{ -4.592425497e-17f, -2.500000000e-01f, 7.853981634e-01f },
+	{ 4.877258050e-02f, -2.451963201e-01f, 8.835729338e-01f },
+	{ 9.567085809e-02f, -2.309698831e-01f, 9.817477042e-01f },
+	{ 1.388925583e-01f, -2.078674031e-01f, 1.079922475e+00f },
+	{ 1.767766953e-01f, -1.767766953e-01f, 1.178097245e+00f },
+	{ 2.078674031e-01f, -1.388925583e-01f, 1.276272016e+00f },
+	{ 2.309698831e-01f, -9.567085809e-02f, 1.374446786e+00f },
+	{ 2.451963201e-01f, -4.877258050e-02f, 1.472621556e+00f },
+	{ 2.500000000e-01f, -6.123233996e-17f, 1.570796327e+00f },
+};
+
+/*
+ * Per sector k: G(a_k+1) - G(a_k) = cos n P_k + sin n Q_k (G below), with
+ * P_k = (cos(2 (k+1) pi/32) - cos(2 k pi/32)) / 4 and
+ * Q_k = pi/64 - (sin(2 (k+1) pi/32) - sin(2 k pi/32)) / 4.
+ */
+static const float vbao_sector[DAO_VBAO_SECTORS][2] = {
+	{ -4.803679899e-03f, 3.148047083e-04f },
+	{ -1.422643697e-02f, 2.189107625e-03f },
+	{ -2.310248005e-02f, 5.865685049e-03f },
+	{ -3.109070778e-02f, 1.120324817e-02f },
+	{ -3.788413704e-02f, 1.799667743e-02f },
+	{ -4.322170016e-02f, 2.598490516e-02f },
+	{ -4.689827759e-02f, 3.486094824e-02f },
+	{ -4.877258050e-02f, 4.428370531e-02f },
+	{ -4.877258050e-02f, 5.389106511e-02f },
+	{ -4.689827759e-02f, 6.331382219e-02f },
+	{ -4.322170016e-02f, 7.218986526e-02f },
+	{ -3.788413704e-02f, 8.017809299e-02f },
+	{ -3.109070778e-02f, 8.697152225e-02f },
+	{ -2.310248005e-02f, 9.230908538e-02f },
+	{ -1.422643697e-02f, 9.598566280e-02f },
+	{ -4.803679899e-03f, 9.785996572e-02f },
+	{ 4.803679899e-03f, 9.785996572e-02f },
+	{ 1.422643697e-02f, 9.598566280e-02f },
+	{ 2.310248005e-02f, 9.230908538e-02f },
+	{ 3.109070778e-02f, 8.697152225e-02f },
+	{ 3.788413704e-02f, 8.017809299e-02f },
+	{ 4.322170016e-02f, 7.218986526e-02f },
+	{ 4.689827759e-02f, 6.331382219e-02f },
+	{ 4.877258050e-02f, 5.389106511e-02f },
+	{ 4.877258050e-02f, 4.428370531e-02f },
+	{ 4.689827759e-02f, 3.486094824e-02f },
+	{ 4.322170016e-02f, 2.598490516e-02f },
+	{ 3.788413704e-02f, 1.799667743e-02f },
+	{ 3.109070778e-02f, 1.120324817e-02f },
+	{ 2.310248005e-02f, 5.865685049e-03f },
+	{ 1.422643697e-02f, 2.189107625e-03f },
+	{ 4.803679899e-03f, 3.148047083e-04f },
+};
+
+/*
+ * The slice measure from 0 to boundary k (dao_vbao_ref's slice_measure in
+ * closed form): G(t) = -cos(2t - n)/4 + t sin(n)/2 is the antiderivative of
+ * cos(t - n) sin t, and below t = 0 the |sin t| of the slice's solid angle
+ * flips its sign, so H(t) = G(t) for t >= 0 and 2 G(0) - G(t) below, with
+ * G(0) = -cos(n)/4; a sector [a_k, a_k+1] measures H(a_k+1) - H(a_k).
+ */
+static inline vf vbao_h(const struct slice_v *g, vf half_sin, int k)
+{
+	const vf a = v_add(g->n, v_set1(vbao_bound[k][2]));
+	const vf G = v_fma(g->cos_n, v_set1(vbao_bound[k][0]),
+			   v_fma(a, half_sin, v_mul(g->sin_n, v_set1(-vbao_bound[k][1]))));
+	return v_sel(v_ge(a, v_zero()), G, v_fnma(g->cos_n, v_set1(0.5f), v_neg(G)));
+}
+
+/* acos(x) = sqrt(1 - |x|) P(|x|) with P of degree 5 fitted for the least
+ * largest error (6.7e-7 absolute; v_acos's degree 7 has 2e-8), the square
+ * root from the refined hardware 1/sqrt (relative 3e-7) instead of the
+ * divider, and acos(-x) = pi - acos(x) */
+static inline vf vbao_acos(vf x)
+{
+	const vf ax = v_min(v_abs(x), v_set1(1.0f));
+	vf p = v_set1(-4.910309333e-03f);
+	p = v_fma(p, ax, v_set1(2.061796002e-02f));
+	p = v_fma(p, ax, v_set1(-4.592540860e-02f));
+	p = v_fma(p, ax, v_set1(8.817038685e-02f));
+	p = v_fma(p, ax, v_set1(-2.145427167e-01f));
+	p = v_fma(p, ax, v_set1(1.570795655e+00f));
+	const vf s2 = v_sub(v_set1(1.0f), ax);
+	const vm pos = v_gt(s2, v_zero());
+	const vf r = v_sel(pos, v_mul(v_mul(s2, v_rsqrt(v_sel(pos, s2, v_set1(1.0f)))), p), v_zero());
+	return v_sel(v_lt(x, v_zero()), v_sub(v_set1(3.14159265358979f), r), r);
+}
+
+/*
+ * One step of one side: the sectors [round(a), round(b)) (clamped to 0 .. 32)
+ * between the sample's front and back, a and b in sector units (t - lo) 32/pi
+ * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi, edge_at: the side's edge, 32
+ * or 0); none where there is no sample or it lies beyond the radius.
+ */
+static inline __attribute__((always_inline)) vi
+vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
+	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf thr,
+	    const float edge_at, const int major_x, const int plane)
+{
+	const vf one = v_set1(1.0f), zero = v_zero();
+	const struct px *p = &t->p;
+	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
+	const vf izmin = v_min(iz0, iz1);
+	vm ok = v_gt(izmin, zero); /* both taps have data */
+	const vf d01 = v_sub(iz1, iz0);
+	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
+	const vf fs = v_set1(st->f);
+	vf iz = v_sel(edge, v_load(base + st->oe), v_sel(ok, v_fma(fs, d01, iz0), zero));
+	vf T = v_set1(vb->thickness);
+	vf T0 = T, T1 = T;
+	if (plane) { /* the thickness at the same taps, the same way */
+		T0 = v_load(tbase + st->o0);
+		T1 = v_load(tbase + st->o1);
+		T = v_sel(edge, v_load(tbase + st->oe), v_fma(fs, v_sub(T1, T0), T0));
+	}
+	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
+		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
+		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
+		iz = v_sel(only, (st->flags & TAP_ONLY0) ? iz0 : iz1, iz);
+		if (plane)
+			T = v_sel(only, (st->flags & TAP_ONLY0) ? T0 : T1, T);
+		ok = m_or(ok, only);
+	}
+	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
+	const vf dv = major_x ? v_sel(edge, v_set1(st->vy_e), v_set1(st->vy_s)) : v_set1(st->vy_s);
+	const vf c = v_sel(edge, v_set1(st->c_e), v_set1(st->c_s));
+	const vf B = v_fma(t->X0, du, v_mul(t->Y0, dv));
+	/* the front */
+	const vf Gz = v_fnma(p->Pz, iz, one);
+	const vf GU = v_fma(Gz, t->Q, B);
+	const vf g2 = v_fma(Gz, v_add(GU, B), c);
+	const vf Riz = v_mul(v_set1(vb->radius), iz);
+	ok = m_and(ok, v_le(g2, v_mul(Riz, Riz)));
+	const vf cf = v_mul(v_mul(GU, v_rsqrt(v_sel(ok, g2, one))), t->inu);
+	/* seen from P, the points of the sample's camera ray sweep away from V
+	 * monotonically, so its back lies further from V than its front: a front
+	 * within half a sector of the hemisphere's edge or below marks nothing
+	 * (thr: that edge's cosine, lowered by a margin) */
+	ok = m_and(ok, v_gt(cf, thr));
+	if (!m_any(ok))
+		return vi_set1(0);
+	/* the back */
+	const vf U2 = v_add(v_add(t->Q, c), v_add(B, B));
+	const vf k = v_mul(v_mul(T, iz), v_rsqrt(U2));
+	const vf izb = v_mul(iz, v_rcp(v_add(one, k)));
+	const vf Gzb = v_fnma(p->Pz, izb, one);
+	const vf GUb = v_fma(Gzb, t->Q, B);
+	const vf g2b = v_fma(Gzb, v_add(GUb, B), c);
+	const vf cb = v_mul(v_mul(GUb, v_rsqrt(v_sel(ok, g2b, one))), t->inu);
+	const vf af = v_fma(vbao_acos(cf), k_sgn, k_lo);
+	/* a back within half a sector of the edge or beyond it (thr, as the front's
+	 * test) is at the edge once rounded: its acos only where some lane's is not */
+	const vf ab = m_any(m_andnot(ok, v_le(cb, thr))) ? v_fma(vbao_acos(cb), k_sgn, k_lo)
+							  : v_set1(edge_at);
+	/* rounded, so a sample exactly on the hemisphere's edge (a plane) marks nothing */
+	const vf top = v_set1((float)DAO_VBAO_SECTORS);
+	const vf a = v_sel(ok, v_min(v_max(v_round(v_min(af, ab)), zero), top), zero);
+	const vf b = v_sel(ok, v_min(v_max(v_round(v_max(af, ab)), zero), top), zero);
+	return vi_andnot(vi_low_bits(vi_from_whole(b)), vi_low_bits(vi_from_whole(a)));
+}
+
+/* The sectors both sides of a slice occlude, per lane. */
+static inline __attribute__((always_inline)) vi
+vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
+	   const float *tbase, const struct tile_px *t, const struct tile_step *st,
+	   const struct slice_v *g, const int major_x, const int check, const int plane)
+{
+	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
+	/* lo = n - pi/2: sector 0 starts at the hemisphere's edge */
+	const vf k_lo = v_fnma(g->n, v_set1(k32), v_set1(0.5f * (float)DAO_VBAO_SECTORS));
+	const vf kp = v_set1(k32), kn = v_set1(-k32);
+	/* the cosines of the angles half a sector above the edges, n + pi/2 - d/2 and
+	 * n - pi/2 + d/2 (d = pi/32), less 1e-3 of margin; no skipping where the
+	 * normal is within 3 degrees of perpendicular to V, where the angles leave
+	 * [0, pi] (no such lanes with normals that face the camera) */
+	const float ch = cosf(0.5f * DAO_PI_F / (float)DAO_VBAO_SECTORS);
+	const float sh = sinf(0.5f * DAO_PI_F / (float)DAO_VBAO_SECTORS);
+	const vm facing = v_gt(g->cos_n, v_set1(0.05f));
+	const vf margin = v_set1(1e-3f), never = v_set1(-2.0f);
+	const vf thr_p = v_sel(facing, v_sub(v_fnma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
+					    margin), never);
+	const vf thr_n = v_sel(facing, v_sub(v_fma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
+					    margin), never);
+	const struct tile_step *sn = st + s->steps;
+	vi mask = vi_set1(0);
+	for (int i = 0; i < s->steps; i++) {
+		if (!check || !tile_skip(t, &st[i]))
+			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, thr_p,
+						      (float)DAO_VBAO_SECTORS, major_x, plane));
+		if (!check || !tile_skip(t, &sn[i]))
+			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, thr_n, 0.0f,
+						      major_x, plane));
+	}
+	return mask;
+}
+
+/* vbao_sides specialised on the major axis, the bounds test and the plane. */
+static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
+			 const float *base, const float *tbase, const struct tile_px *t,
+			 const struct tile_step *st, const struct slice_v *g, int major_x, int inner)
+{
+#define VBAO_SIDES(mx, check, plane) vbao_sides(vb, s, base, tbase, t, st, g, mx, check, plane)
+	switch (vb->plane * 4 + major_x * 2 + inner) {
+	case 0: return VBAO_SIDES(0, 1, 0);
+	case 1: return VBAO_SIDES(0, 0, 0);
+	case 2: return VBAO_SIDES(1, 1, 0);
+	case 3: return VBAO_SIDES(1, 0, 0);
+	case 4: return VBAO_SIDES(0, 1, 1);
+	case 5: return VBAO_SIDES(0, 0, 1);
+	case 6: return VBAO_SIDES(1, 1, 1);
+	default: return VBAO_SIDES(1, 0, 1);
+	}
+#undef VBAO_SIDES
+}
+
+/*
+ * Adds one slice's open measure (all sectors but those in `mask`) and its
+ * whole measure, weighted by lpn, to *vis and *norm, as dao_vbao_ref sums
+ * them.  A sector below t = 0 measures -(G(a_k+1) - G(a_k)), one above
+ * +(G(a_k+1) - G(a_k)) = cos n P_k + sin n Q_k, so the occluded ones add up
+ * as sums of the constants P_k, Q_k over the lanes' bits, visiting only the
+ * sectors some lane occludes; the one sector across t = 0 (around V, which
+ * is rarely occluded) takes H from its ends.
+ */
+static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf *norm)
+{
+	const vf zero = v_zero(), half_sin = v_mul(g->sin_n, v_set1(0.5f));
+	const vf all = v_sub(vbao_h(g, half_sin, DAO_VBAO_SECTORS), vbao_h(g, half_sin, 0));
+	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
+	/* the sector across t = 0: a_k0 <= 0 < a_k0+1, k0 = floor((pi/2 - n) 32/pi) */
+	const vf k0 = v_min(v_max(v_floor(v_fnma(g->n, v_set1(k32),
+						   v_set1(0.5f * (float)DAO_VBAO_SECTORS))),
+				  v_set1(-1.0f)), v_set1((float)DAO_VBAO_SECTORS));
+	const vi below = vi_low_bits(vi_from_whole(v_max(k0, zero)));
+	const vi upto = vi_low_bits(vi_from_whole(v_min(v_add(k0, v_set1(1.0f)),
+							v_set1((float)DAO_VBAO_SECTORS))));
+	const vi neg = vi_andnot(mask, vi_andnot(vi_set1(-1), below)); /* mask & below */
+	const vi pos = vi_andnot(mask, upto);
+	const vi across = vi_andnot(vi_andnot(mask, vi_andnot(vi_set1(-1), upto)), below);
+	int32_t lanes[VN];
+	vi_store(lanes, mask);
+	uint32_t any = 0;
+	for (int l = 0; l < VN; l++)
+		any |= (uint32_t)lanes[l];
+	vf pp = zero, qp = zero, pn = zero, qn = zero;
+	while (any) {
+		const int k = __builtin_ctz(any);
+		any &= any - 1;
+		const int32_t bit = (int32_t)(1u << k);
+		const vm mp = m_bit(pos, bit), mn = m_bit(neg, bit);
+		const vf P = v_set1(vbao_sector[k][0]), Q = v_set1(vbao_sector[k][1]);
+		pp = v_add(pp, v_sel(mp, P, zero));
+		qp = v_add(qp, v_sel(mp, Q, zero));
+		pn = v_add(pn, v_sel(mn, P, zero));
+		qn = v_add(qn, v_sel(mn, Q, zero));
+	}
+	vf occ = v_fma(g->cos_n, v_sub(pp, pn), v_mul(g->sin_n, v_sub(qp, qn)));
+	vi_store(lanes, across);
+	float has[VN];
+	int some = 0;
+	for (int l = 0; l < VN; l++) {
+		has[l] = lanes[l] ? 1.0f : 0.0f;
+		some |= lanes[l];
+	}
+	if (some) {
+		/* H(a_k0+1) - H(a_k0) = G(a_k0+1) + G(a_k0) + cos(n)/2, G(t) = -cos(2t - n)/4 + t sin(n)/2 */
+		const vf a0 = v_add(g->n, v_fma(k0, v_set1(DAO_PI_F / (float)DAO_VBAO_SECTORS),
+						  v_set1(-DAO_HALF_PI_F)));
+		const vf a1 = v_add(a0, v_set1(DAO_PI_F / (float)DAO_VBAO_SECTORS));
+		vf s0, c0, s1, c1;
+		v_sincos(v_fnma(v_set1(-2.0f), a0, v_neg(g->n)), &s0, &c0);
+		v_sincos(v_fnma(v_set1(-2.0f), a1, v_neg(g->n)), &s1, &c1);
+		const vf G0 = v_fma(a0, half_sin, v_mul(v_set1(-0.25f), c0));
+		const vf G1 = v_fma(a1, half_sin, v_mul(v_set1(-0.25f), c1));
+		const vf w = v_fma(g->cos_n, v_set1(0.5f), v_add(G0, G1));
+		occ = v_add(occ, v_sel(v_gt(v_load(has), zero), w, zero));
+	}
+	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, v_sub(all, occ)), zero));
+	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, all), zero));
+}
