@@ -66,6 +66,7 @@ struct dao_context {
 	uint8_t *depth_count;   /* ... samples in it, frames since the pixel had data */
 	uint8_t *depth_age;
 	int depth_hist_valid;
+	int depth_hist_frames;  /* frames the depth history has averaged (up to 255) */
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -682,6 +683,11 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 	job->prefilter.noise_k = g->frame_area;
 	if (p->noise_model == DAO_NOISE_MODEL_AUTO) {
 		job->denoise.noise_k = g->frame_area;
+		/* the temporal depth filter tests a sample against the history
+		 * with the noise of one sample: `area` (the independent part) or
+		 * `link` (what neighbours differ by: bands, correlated blobs),
+		 * whichever is larger */
+		job->depth_temporal_setup.noise_k = fmaxf(g->frame_area, g->frame_link);
 		if (p->normals == DAO_NORMALS_WIDE)
 			job->normal_radius = dao_auto_normal_radius(g->frame_slope, f, g->frame_w);
 		ni->normal_radius = job->normal_radius;
@@ -784,7 +790,22 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		.inv_scale = 1.0f / p->prefilter_scale,
 		.range_coef = dao_domain_range_coef(p->prefilter_range),
 		.noise = p->depth_noise, .unit = ctx->depth_unit,
+		.sides = 1,
 	};
+	/*
+	 * The side windows' test compares residuals with the sensor's noise;
+	 * after the temporal depth filter the prefilter's input holds less:
+	 * its variance over the frames averaged so far, max(1/n, (1 - alpha) /
+	 * (1 + alpha)) of one sample's (the stream's creases would otherwise
+	 * stay round under a threshold the averaged noise no longer reaches).
+	 */
+	if (job.depth_temporal) {
+		const int n = ctx->depth_hist_valid ? ctx->depth_hist_frames + 1 : 1;
+		const float a = p->depth_temporal;
+		const float v = fmaxf(1.0f / (float)n, (1.0f - a) / (1.0f + a));
+		dt.side_noise = DAO_DOMAIN_SIDE_NOISE * sqrtf(v);
+		ctx->depth_hist_frames = n < 255 ? n : 255;
+	}
 	ctx->noise_info = (struct dao_noise_info){
 		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
 		.sigma_slope = p->depth_noise,
