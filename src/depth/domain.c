@@ -74,6 +74,8 @@ static float side_value(const float full[6], const float left[6], const float ri
 {
 	float vf, vl, vr;
 	const float af = dao_domain_line(full[0], full[1], full[2], full[3], full[4], full[5], &vf);
+	if (!(vf * k2 > 1.0f)) /* the test cannot fail: the blend is af */
+		return af;
 	const float al = dao_domain_line(left[0], left[1], left[2], left[3], left[4], left[5], &vl);
 	const float ar = dao_domain_line(right[0], right[1], right[2], right[3], right[4], right[5],
 					 &vr);

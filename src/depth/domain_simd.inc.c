@@ -149,16 +149,15 @@ dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const 
 	}
 }
 
-/* the value of a weighted least-squares line at d = 0 and its residual
- * variance (dao_domain_line) */
-static inline vf dt_line(vf s0, vf s1, vf s2, vf t0, vf t1, vf t2, vf *var)
+/* the value of a weighted least-squares line at d = 0, its residual sum of
+ * squares and the weight it is divided by for the variance (dao_domain_line) */
+static inline vf dt_line(vf s0, vf s1, vf s2, vf t0, vf t1, vf t2, vf *rss, vf *dof)
 {
 	const vf inv = v_rcp(v_fnma(s1, s1, v_mul(s2, s0)));
 	const vf a = v_mul(v_fnma(s1, t1, v_mul(s2, t0)), inv);
 	const vf b = v_mul(v_fnma(s1, t0, v_mul(s0, t1)), inv);
-	const vf rss = v_fnma(b, t1, v_fnma(a, t0, t2));
-	const vf dof = v_max(v_sub(s0, v_set1(DAO_DOMAIN_SIDE_DOF)), v_set1(DAO_DOMAIN_SIDE_MIN_WEIGHT));
-	*var = v_mul(v_max(rss, v_zero()), v_rcp(dof));
+	*rss = v_max(v_fnma(b, t1, v_fnma(a, t0, t2)), v_zero());
+	*dof = v_max(v_sub(s0, v_set1(DAO_DOMAIN_SIDE_DOF)), v_set1(DAO_DOMAIN_SIDE_MIN_WEIGHT));
 	return a;
 }
 
@@ -166,10 +165,16 @@ static inline vf dt_line(vf s0, vf s1, vf s2, vf t0, vf t1, vf t2, vf *var)
 static inline vf dt_side(vf f0, vf f1, vf f2, vf f3, vf f4, vf f5, vf l0, vf l1, vf l2, vf l3,
 			 vf l4, vf l5, vf r0, vf r1, vf r2, vf r3, vf r4, vf r5, vf k2)
 {
-	vf vf_, vl, vr;
-	const vf af = dt_line(f0, f1, f2, f3, f4, f5, &vf_);
-	const vf al = dt_line(l0, l1, l2, l3, l4, l5, &vl);
-	const vf ar = dt_line(r0, r1, r2, r3, r4, r5, &vr);
+	vf rf, df, rl, dl, rr, dr;
+	const vf af = dt_line(f0, f1, f2, f3, f4, f5, &rf, &df);
+	/* the one-sided fits only where a lane's two-sided fit may fail the
+	 * test (creases, edges, hole borders; rss k2 > dof): elsewhere the
+	 * blend is af */
+	if (!m_any(v_gt(v_mul(rf, k2), df)))
+		return af;
+	const vf al = dt_line(l0, l1, l2, l3, l4, l5, &rl, &dl);
+	const vf ar = dt_line(r0, r1, r2, r3, r4, r5, &rr, &dr);
+	const vf vf_ = v_mul(rf, v_rcp(df)), vl = v_mul(rl, v_rcp(dl)), vr = v_mul(rr, v_rcp(dr));
 	const vf tiny = v_set1(1e-30f), one = v_set1(1.0f);
 	const vf vl2 = v_mul(vl, vl), vr2 = v_mul(vr, vr);
 	const vf wl = v_mul(vr2, v_rcp(v_add(v_add(vl2, vr2), tiny)));
@@ -180,16 +185,6 @@ static inline vf dt_side(vf f0, vf f1, vf f2, vf f3, vf f4, vf f5, vf l0, vf l1,
 	return v_fma(v_sub(side, af), t, af);
 }
 
-/*
- * VN lines from lane0.  The links first, then the causal sweep stores its
- * moments per sample and the anticausal sweep overwrites the first of them
- * with the result, which then goes out VN x VN at a time, transposed.  Rows
- * of the output below lane0 + skip are left alone (the last strip overlaps
- * the one before it).  The recursions are written as fused multiply-adds
- * onto the previous moment (m' = l m + terms of the previous state), so each
- * moment depends on its predecessor through one operation (domain.c has the
- * same sums).
- */
 static inline __attribute__((always_inline)) void
 dt_strip_sides(const struct dao_domain_pass *p, float *sc, const float *pos, int lane0, int skip,
 	       const int sides)
