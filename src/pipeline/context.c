@@ -66,7 +66,6 @@ struct dao_context {
 	uint8_t *depth_count;   /* ... samples in it, frames since the pixel had data */
 	uint8_t *depth_age;
 	int depth_hist_valid;
-	int depth_hist_frames;  /* frames the depth history has averaged (up to 255) */
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -708,6 +707,33 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 	dt->cell_span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
 }
 
+/*
+ * The side windows' test (domain.h) compares residuals with the sensor's
+ * noise, measured before the temporal depth filter; the prefilter's input
+ * holds what that filter left: less where the noise changes from frame to
+ * frame, as much where it does not (a still clean scene, a Kinect's fixed
+ * pattern).  Measured again after it (`area`, the frame's), the test's
+ * threshold follows the ratio: a stream's creases would otherwise stay round
+ * under a threshold its averaged noise no longer reaches
+ * (tests/pipeline/test_temporal_depth.c, still Gaussian stairs).
+ */
+static void side_noise_after_temporal(struct dao_context *ctx, struct frame_job *job,
+				      struct dao_domain_setup *dt)
+{
+	struct dao_noise_grid *g = &ctx->noise;
+	const float before = ctx->noise_info.sigma_area;
+	if (ctx->params.prefilter != DAO_PREFILTER_DOMAIN || !ctx->noise_info.measured ||
+	    job->depth_temporal_setup.fresh || !(before > 0.0f))
+		return;
+	dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
+	dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
+	dao_noise_cells_finish(g);
+	if (!g->usable_cells)
+		return;
+	const float r = g->frame_area / before;
+	dt->side_noise = DAO_DOMAIN_SIDE_NOISE * (r < 1.0f ? r : 1.0f);
+}
+
 /* prefilter=domain: z_raw -> z_buf, the passes alternating through tmp */
 static void run_domain(struct dao_context *ctx, struct frame_job *job,
 		       const struct dao_domain_setup *dt)
@@ -792,20 +818,6 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		.noise = p->depth_noise, .unit = ctx->depth_unit,
 		.sides = 1,
 	};
-	/*
-	 * The side windows' test compares residuals with the sensor's noise;
-	 * after the temporal depth filter the prefilter's input holds less:
-	 * its variance over the frames averaged so far, max(1/n, (1 - alpha) /
-	 * (1 + alpha)) of one sample's (the stream's creases would otherwise
-	 * stay round under a threshold the averaged noise no longer reaches).
-	 */
-	if (job.depth_temporal) {
-		const int n = ctx->depth_hist_valid ? ctx->depth_hist_frames + 1 : 1;
-		const float a = p->depth_temporal;
-		const float v = fmaxf(1.0f / (float)n, (1.0f - a) / (1.0f + a));
-		dt.side_noise = DAO_DOMAIN_SIDE_NOISE * sqrtf(v);
-		ctx->depth_hist_frames = n < 255 ? n : 255;
-	}
 	ctx->noise_info = (struct dao_noise_info){
 		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
 		.sigma_slope = p->depth_noise,
@@ -823,8 +835,10 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (p->noise_model != DAO_NOISE_MODEL_FIXED)
 		estimate_noise(ctx, &job, &dt);
 	const double t1n = now_ms();
-	if (job.depth_temporal && !job.temporal_in_decode)
+	if (job.depth_temporal && !job.temporal_in_decode) {
 		dao_pool_run(ctx->pool, h, 8, stage_temporal_depth, &job);
+		side_noise_after_temporal(ctx, &job, &dt);
+	}
 	const double t1t = now_ms();
 	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
 		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, &job);
