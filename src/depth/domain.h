@@ -51,6 +51,19 @@
  *   (1/z is affine in the pixel on any plane) stays where it is up to float
  *   rounding, next to edges and holes too.  On open ground S1 = 0 and it is
  *   the weighted mean.  lambda (px^2) only keeps a lone sample's 0/0 finite.
+ * - Side windows (sides = 1, the pipeline's setting).  The slope-corrected
+ *   link lets a crease (two planes meeting at an angle) through, and the
+ *   two-sided line rounds it over the scale: normals tilted 10 px either
+ *   side of every stair crease.  With the squares T2 carried as well, the
+ *   causal sums alone are the line fitted to the samples up to n and the
+ *   anticausal ones (plus n) to those from n on; where the two-sided fit's
+ *   residual variance exceeds both (side_noise sigma)^2 and
+ *   DAO_DOMAIN_SIDE_RATIO times the better side's, the output moves to the
+ *   one-sided fits (weighted by the square of the other's residual), fully
+ *   at twice the threshold: the plane each side of a crease is extrapolated
+ *   to it (Yin et al., "Side Window Filtering", CVPR 2019, with local lines
+ *   and the residual as the criterion as in the Kuwahara filter).  Planes
+ *   keep the two-sided fit; a plane stays exact either way.
  *
  * Range scale: sigma_r = range x sigma with sigma = max(noise, unit w^2,
  * DAO_DOMAIN_MIN_NOISE) at the sample (sensor noise in 1/z, from the model
@@ -65,6 +78,8 @@ struct dao_domain_pass {
 	const float *in;          /* 1/z, or z when in_depth; 0 = no data */
 	float *out;               /* transposed; 1/z, or z when out_depth */
 	int in_depth, out_depth;
+	int sides;                /* 1: side windows at creases (see DAO_DOMAIN_SIDE_NOISE) */
+	float side_k2;            /* 1 / side_noise^2 (sides) */
 	/* a link is exp(-(spatial x inv_scale + range_coef x (e / sigma)^2)) */
 	float spatial;            /* sqrt(2) / (schedule factor of the iteration) */
 	float inv_scale;          /* 1 / sigma_s (1/px) */
@@ -82,8 +97,9 @@ struct dao_domain_pass {
 };
 
 #define DAO_DOMAIN_MAX_ITERATIONS 5
-/* floats of scratch per sample and lane: the causal moments, the link, 1/z */
-#define DAO_DOMAIN_SCRATCH 7
+/* floats of scratch per sample and lane: the causal moments S0-S2, T0-T2,
+ * the link, 1/z and the side test's 1 / (side_noise sigma)^2 */
+#define DAO_DOMAIN_SCRATCH 9
 /* and per sample of the longer side and lane for the cells' knots (at most
  * a cell per px: of noise and of scale, a knot and the difference to the next) */
 #define DAO_DOMAIN_KNOT_SCRATCH 4
@@ -93,6 +109,29 @@ struct dao_domain_pass {
 #define DAO_DOMAIN_MIN_NOISE 1e-6f
 /* lambda of the local linear fit, px^2 */
 #define DAO_DOMAIN_RIDGE 1e-6f
+/* side windows (README.md, Noise measured in the frame): a one-sided fit
+ * replaces the two-sided one where the two-sided fit's residual variance
+ * exceeds DAO_DOMAIN_SIDE_NOISE^2 sigma^2 and DAO_DOMAIN_SIDE_RATIO times the
+ * better side's, fully at twice the threshold; a fit's residual variance is
+ * its weighted RSS / (S0 - DAO_DOMAIN_SIDE_DOF), at least / 0.25 (fitted
+ * on eval --set tune) */
+#define DAO_DOMAIN_SIDE_NOISE 1.4f
+#define DAO_DOMAIN_SIDE_RATIO 2.0f
+#define DAO_DOMAIN_SIDE_DOF 1.5f
+#define DAO_DOMAIN_SIDE_MIN_WEIGHT 0.25f
+
+/* the residual variance of a weighted least-squares line from its moments
+ * (rss = T2 - a T0 - b T1 for the line a + b d) and its value at d = 0;
+ * S2 includes the ridge */
+static inline float dao_domain_line(float s0, float s1, float s2, float t0, float t1, float t2,
+				    float *var)
+{
+	const float den = s2 * s0 - s1 * s1;
+	const float a = (s2 * t0 - s1 * t1) / den, b = (s0 * t1 - s1 * t0) / den;
+	const float rss = t2 - a * t0 - b * t1;
+	*var = fmaxf(rss, 0.0f) / fmaxf(s0 - DAO_DOMAIN_SIDE_DOF, DAO_DOMAIN_SIDE_MIN_WEIGHT);
+	return a;
+}
 
 /* sqrt(3) 2^(N-i) / sqrt(4^N - 1): iteration i's share of sigma_s (i = 1..n) */
 float dao_domain_schedule(int iteration, int iterations);
@@ -147,6 +186,11 @@ struct dao_domain_setup {
 	float inv_scale;          /* 1 / sigma_s, 1/px */
 	float range_coef;         /* dao_domain_range_coef(range) */
 	float noise, unit;        /* as in struct dao_domain_pass */
+	int sides;                /* as in struct dao_domain_pass */
+	/* the side test's threshold in units of sigma (0: DAO_DOMAIN_SIDE_NOISE);
+	 * smaller where the input is averaged beyond what sigma says (the
+	 * temporal depth filter) */
+	float side_noise;
 	/* per-cell values (NULL: the scalars): cells_x x cells_y, row-major,
 	 * cells of cell_span px, bilinear between their centres */
 	const float *noise_cells, *inv_scale_cells;

@@ -50,7 +50,7 @@ struct dt_ctx {
 	const float *pos;         /* per sample: the knots' offset (k 2 VN) and u */
 	size_t stride;
 	int in_depth;
-	vf noise, unit, spatial, spatial_term, range;
+	vf noise, unit, spatial, spatial_term, range, side_k2;
 };
 
 /* a per-cell value at the knot k + u of the line (cell_value in domain.c) */
@@ -85,7 +85,8 @@ static inline vf dt_load_w(const struct dt_ctx *c, size_t at)
 }
 
 /* the link between samples n-1 and n (link_exponent in domain.c) */
-static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, vf d, int n)
+static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, vf d, int n,
+			  vf *sigma_out)
 {
 	const vf zero = v_zero();
 	const vm ok = m_and(v_gt(wm1, zero), v_gt(w0, zero));
@@ -98,6 +99,7 @@ static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, 
 		k = (size_t)c->pos[2 * n], uv = v_set1(c->pos[2 * n + 1]);
 	vf sigma = c->noise_knots ? dt_cell_value(c->noise_knots, k, uv) : c->noise;
 	sigma = v_max(v_max(sigma, v_mul(v_mul(c->unit, w0), w0)), v_set1(DAO_DOMAIN_MIN_NOISE));
+	*sigma_out = sigma;
 	/* (e / sigma)^2 with the refined reciprocal (3e-7 relative; a division
 	 * costs more than the rest of the link on AVX-512) */
 	const vf r = v_mul(e, v_rcp(sigma));
@@ -130,30 +132,62 @@ dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const 
 	if (!scale_map)
 		c.scale_knots = NULL;
 	const vf zero = v_zero();
+	const vf side_k2 = c.side_k2;
 	vf wm2 = zero, wm1 = zero, w0 = zero, wp1 = dt_load_w(&c, 0);
 	for (int n = 0; n < len; n++) {
 		const size_t at = (size_t)n * c.stride;
 		wm2 = wm1, wm1 = w0, w0 = wp1;
 		wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
-		const vf l = n > 0 ? dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), n) : zero;
+		vf sigma;
+		const vf l0 = dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), n, &sigma);
+		const vf l = n > 0 ? l0 : zero;
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
-		v_store(o + 5 * VN, l);
-		v_store(o + 6 * VN, w0);
+		v_store(o + 6 * VN, l);
+		v_store(o + 7 * VN, w0);
+		/* 1 / (side_noise sigma)^2: a division, once per sample */
+		v_store(o + 8 * VN, v_div(side_k2, v_mul(sigma, sigma)));
 	}
 }
 
-/*
- * VN lines from lane0.  The links first, then the causal sweep stores its
- * moments per sample and the anticausal sweep overwrites the first of them
- * with the result, which then goes out VN x VN at a time, transposed.  Rows
- * of the output below lane0 + skip are left alone (the last strip overlaps
- * the one before it).  The recursions are written as fused multiply-adds
- * onto the previous moment (m' = l m + terms of the previous state), so each
- * moment depends on its predecessor through one operation (domain.c has the
- * same sums).
- */
-static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *pos, int lane0,
-		     int skip)
+/* the value of a weighted least-squares line at d = 0, its residual sum of
+ * squares and the weight it is divided by for the variance (dao_domain_line) */
+static inline vf dt_line(vf s0, vf s1, vf s2, vf t0, vf t1, vf t2, vf *rss, vf *dof)
+{
+	const vf inv = v_rcp(v_fnma(s1, s1, v_mul(s2, s0)));
+	const vf a = v_mul(v_fnma(s1, t1, v_mul(s2, t0)), inv);
+	const vf b = v_mul(v_fnma(s1, t0, v_mul(s0, t1)), inv);
+	*rss = v_max(v_fnma(b, t1, v_fnma(a, t0, t2)), v_zero());
+	*dof = v_max(v_sub(s0, v_set1(DAO_DOMAIN_SIDE_DOF)), v_set1(DAO_DOMAIN_SIDE_MIN_WEIGHT));
+	return a;
+}
+
+/* side_value in domain.c */
+static inline vf dt_side(vf f0, vf f1, vf f2, vf f3, vf f4, vf f5, vf l0, vf l1, vf l2, vf l3,
+			 vf l4, vf l5, vf r0, vf r1, vf r2, vf r3, vf r4, vf r5, vf k2)
+{
+	vf rf, df, rl, dl, rr, dr;
+	const vf af = dt_line(f0, f1, f2, f3, f4, f5, &rf, &df);
+	/* the one-sided fits only where a lane's two-sided fit may fail the
+	 * test (creases, edges, hole borders; rss k2 > dof): elsewhere the
+	 * blend is af */
+	if (!m_any(v_gt(v_mul(rf, k2), df)))
+		return af;
+	const vf al = dt_line(l0, l1, l2, l3, l4, l5, &rl, &dl);
+	const vf ar = dt_line(r0, r1, r2, r3, r4, r5, &rr, &dr);
+	const vf vf_ = v_mul(rf, v_rcp(df)), vl = v_mul(rl, v_rcp(dl)), vr = v_mul(rr, v_rcp(dr));
+	const vf tiny = v_set1(1e-30f), one = v_set1(1.0f);
+	const vf vl2 = v_mul(vl, vl), vr2 = v_mul(vr, vr);
+	const vf wl = v_mul(vr2, v_rcp(v_add(v_add(vl2, vr2), tiny)));
+	const vf side = v_fma(v_sub(al, ar), wl, ar);
+	const vf best = v_fma(v_set1(DAO_DOMAIN_SIDE_RATIO), v_min(vl, vr), tiny);
+	const vf q = v_min(v_mul(vf_, k2), v_mul(vf_, v_rcp(best)));
+	const vf t = v_min(v_max(v_sub(q, one), v_zero()), one);
+	return v_fma(v_sub(side, af), t, af);
+}
+
+static inline __attribute__((always_inline)) void
+dt_strip_sides(const struct dao_domain_pass *p, float *sc, const float *pos, int lane0, int skip,
+	       const int sides)
 {
 	const int len = p->len;
 	/* the cells' knots of the strip's lanes, after its scratch */
@@ -172,6 +206,7 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *po
 		.pos = pos,
 		.noise = v_set1(p->noise), .unit = v_set1(p->unit), .spatial = v_set1(p->spatial),
 		.spatial_term = v_set1(p->spatial * p->inv_scale), .range = v_set1(p->range_coef),
+		.side_k2 = v_set1(p->side_k2),
 	};
 	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
 	if (c.noise_knots && c.scale_knots) {
@@ -188,12 +223,14 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *po
 		dt_links(&c, sc, len, c.in_depth, c.noise_knots != NULL, c.scale_knots != NULL);
 	}
 	/* causal: moments about sample n at distances n - k, data centred on w_n */
-	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, wprev = zero;
+	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, t2 = zero, wprev = zero;
 	for (int n = 0; n < len; n++) {
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
-		const vf l = v_load(o + 5 * VN), w0 = v_load(o + 6 * VN);
+		const vf l = v_load(o + 6 * VN), w0 = v_load(o + 7 * VN);
 		const vf dw = v_sub(wprev, w0), valid = v_sel(v_gt(w0, zero), one, zero);
 		const vf ls0 = v_mul(l, s0), ls1 = v_mul(l, s1);
+		if (sides)
+			t2 = v_fma(l, t2, v_mul(dw, v_fma(two, v_mul(l, t0), v_mul(dw, ls0))));
 		t1 = v_fma(l, t1, v_fma(dw, v_add(ls1, ls0), v_mul(l, t0)));
 		t0 = v_fma(l, t0, v_mul(dw, ls0));
 		s2 = v_fma(l, s2, v_fma(two, ls1, ls0));
@@ -205,32 +242,48 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *po
 		v_store(o + 2 * VN, s2);
 		v_store(o + 3 * VN, t0);
 		v_store(o + 4 * VN, t1);
+		v_store(o + 5 * VN, t2);
 	}
 	/* anticausal: distances k - n, added to the causal moments (whose first
 	 * moments change sign), then the fit */
-	vf r0 = zero, r1 = zero, r2 = zero, u0 = zero, u1 = zero, lnext = zero, wnext = zero;
+	vf r0 = zero, r1 = zero, r2 = zero, u0 = zero, u1 = zero, u2 = zero, lnext = zero;
+	vf wnext = zero;
 	const vf ridge = v_set1(DAO_DOMAIN_RIDGE);
 	const int out_depth = p->out_depth;
 	for (int n = len - 1; n >= 0; n--) {
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
-		const vf wn = v_load(o + 6 * VN), dw = v_sub(wnext, wn);
+		const vf wn = v_load(o + 7 * VN), dw = v_sub(wnext, wn);
 		const vm has = v_gt(wn, zero);
 		const vf x0 = v_mul(lnext, r0), lr1 = v_mul(lnext, r1), lu0 = v_mul(lnext, u0);
 		const vf x1 = v_fma(lnext, r1, x0);
 		const vf x2 = v_fma(lnext, r2, v_fma(two, lr1, x0));
 		const vf y0 = v_fma(lnext, u0, v_mul(dw, x0));
 		const vf y1 = v_fma(lnext, u1, v_fma(dw, v_add(lr1, x0), lu0));
-		const vf S0 = v_add(v_load(o), x0), S1 = v_sub(x1, v_load(o + VN));
-		const vf S2 = v_add(v_add(v_load(o + 2 * VN), x2), ridge);
-		const vf T0 = v_add(v_load(o + 3 * VN), y0), T1 = v_sub(y1, v_load(o + 4 * VN));
+		const vf c0 = v_load(o), c1 = v_load(o + VN), c2 = v_load(o + 2 * VN);
+		const vf c3 = v_load(o + 3 * VN), c4 = v_load(o + 4 * VN);
+		const vf S0 = v_add(c0, x0), S1 = v_sub(x1, c1);
+		const vf S2 = v_add(v_add(c2, x2), ridge);
+		const vf T0 = v_add(c3, y0), T1 = v_sub(y1, c4);
 		r0 = v_fma(lnext, r0, v_sel(has, one, zero)), r1 = x1, r2 = x2;
 		u0 = y0, u1 = y1;
-		lnext = v_load(o + 5 * VN);
-		wnext = wn;
+		vf d;
 		/* holes: den = 0, a NaN here, zeroed below */
-		const vf num = v_fnma(S1, T1, v_mul(S2, T0));
-		const vf den = v_fnma(S1, S1, v_mul(S2, S0));
-		vf v = v_fma(num, v_rcp(den), wn);
+		if (sides) {
+			const vf y2 = v_fma(lnext, u2, v_mul(dw, v_fma(two, lu0, v_mul(dw, x0))));
+			const vf c5 = v_load(o + 5 * VN);
+			d = dt_side(S0, S1, S2, T0, T1, v_add(c5, y2),
+				    c0, v_neg(c1), v_add(c2, ridge), c3, v_neg(c4), c5,
+				    v_add(x0, one), x1, v_add(x2, ridge), y0, y1, y2,
+				    v_load(o + 8 * VN));
+			u2 = y2;
+		} else {
+			const vf num = v_fnma(S1, T1, v_mul(S2, T0));
+			const vf den = v_fnma(S1, S1, v_mul(S2, S0));
+			d = v_mul(num, v_rcp(den));
+		}
+		lnext = v_load(o + 6 * VN);
+		wnext = wn;
+		vf v = v_add(d, wn);
 		v = v_sel(v_gt(v, zero), v, wn);
 		if (out_depth) /* a division: once per pixel and frame */
 			v = v_div(one, v);
@@ -254,6 +307,15 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *po
 			}
 		}
 	}
+}
+
+static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *pos, int lane0,
+		     int skip)
+{
+	if (p->sides)
+		dt_strip_sides(p, sc, pos, lane0, skip, 1);
+	else
+		dt_strip_sides(p, sc, pos, lane0, skip, 0);
 }
 
 void DAO_ISA_FN(dao_domain_pass)(const struct dao_domain_pass *p, float *scratch, int lane0,

@@ -744,6 +744,11 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 	job->prefilter.noise_k = g->frame_area;
 	if (p->noise_model == DAO_NOISE_MODEL_AUTO) {
 		job->denoise.noise_k = g->frame_area;
+		/* the temporal depth filter tests a sample against the history
+		 * with the noise of one sample: `area` (the independent part) or
+		 * `link` (what neighbours differ by: bands, correlated blobs),
+		 * whichever is larger */
+		job->depth_temporal_setup.noise_k = fmaxf(g->frame_area, g->frame_link);
 		if (p->normals == DAO_NORMALS_WIDE)
 			job->normal_radius = dao_auto_normal_radius(g->frame_slope, f, g->frame_w);
 		ni->normal_radius = job->normal_radius;
@@ -762,6 +767,33 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 	dt->inv_scale_cells = ctx->noise_cells + nc;
 	dt->cells_x = g->cw, dt->cells_y = g->ch;
 	dt->cell_span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
+}
+
+/*
+ * The side windows' test (domain.h) compares residuals with the sensor's
+ * noise, measured before the temporal depth filter; the prefilter's input
+ * holds what that filter left: less where the noise changes from frame to
+ * frame, as much where it does not (a still clean scene, a Kinect's fixed
+ * pattern).  Measured again after it (`area`, the frame's), the test's
+ * threshold follows the ratio: a stream's creases would otherwise stay round
+ * under a threshold its averaged noise no longer reaches
+ * (tests/pipeline/test_temporal_depth.c, still Gaussian stairs).
+ */
+static void side_noise_after_temporal(struct dao_context *ctx, struct frame_job *job,
+				      struct dao_domain_setup *dt)
+{
+	struct dao_noise_grid *g = &ctx->noise;
+	const float before = ctx->noise_info.sigma_area;
+	if (ctx->params.prefilter != DAO_PREFILTER_DOMAIN || !ctx->noise_info.measured ||
+	    job->depth_temporal_setup.fresh || !(before > 0.0f))
+		return;
+	dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
+	dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
+	dao_noise_cells_finish(g);
+	if (!g->usable_cells)
+		return;
+	const float r = g->frame_area / before;
+	dt->side_noise = DAO_DOMAIN_SIDE_NOISE * (r < 1.0f ? r : 1.0f);
 }
 
 /* prefilter=domain: z_raw -> z_buf, the passes alternating through tmp */
@@ -851,6 +883,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		.inv_scale = 1.0f / p->prefilter_scale,
 		.range_coef = dao_domain_range_coef(p->prefilter_range),
 		.noise = p->depth_noise, .unit = ctx->depth_unit,
+		.sides = 1,
 	};
 	ctx->noise_info = (struct dao_noise_info){
 		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
@@ -869,8 +902,10 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (p->noise_model != DAO_NOISE_MODEL_FIXED)
 		estimate_noise(ctx, &job, &dt);
 	const double t1n = now_ms();
-	if (job.depth_temporal && !job.temporal_in_decode)
+	if (job.depth_temporal && !job.temporal_in_decode) {
 		dao_pool_run(ctx->pool, h, 8, stage_temporal_depth, &job);
+		side_noise_after_temporal(ctx, &job, &dt);
+	}
 	const double t1t = now_ms();
 	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
 		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, &job);

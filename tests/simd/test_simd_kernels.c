@@ -37,8 +37,12 @@
  * separate multiply-adds), which a local linear fit from few, one-sided
  * samples amplifies where the depth is ragged (1/z in and out are divisions:
  * with the refined 12-bit estimate there, a jumble of edges in the RealSense
- * frame reached 2.2e-5) */
-#define DOMAIN_MAX_REL 5e-6       /* largest [1.7e-6] */
+ * frame reached 2.2e-5); with side windows the blend of the one-sided fits
+ * follows the residual variance T2 - a T0 - b T1, a difference of sums
+ * whose rounding is relative to T2, not to the residual: where the residual
+ * is near the side test's threshold the blend moves with it (clean stairs,
+ * at a crease: 1.8e-5) */
+#define DOMAIN_MAX_REL 1e-4       /* largest [1.8e-5] */
 #define DOMAIN_MEAN_REL 2e-8      /* mean over the pixels [1.6e-9] */
 #define DENOISE_MAX_ABS 1e-6      /* plane denoise output [2.4e-7] */
 #define NORMALS_MAX_ABS 1e-5      /* normal components (FMA contraction differs) */
@@ -264,7 +268,8 @@ static void test_prefilter(void **state)
  * prefilter=domain, every pass and the whole filter: fixed scales (2 and
  * 8 px) with the depth quantum of the input, and per-cell noise and scale
  * (cells of 32 px, values ramping over the frame with a jitter, bilinear
- * between the cells as the noise estimate's are).
+ * between the cells as the noise estimate's are), with side windows (as the
+ * pipeline runs it) and at 8 px without.
  */
 static void test_domain(void **state)
 {
@@ -289,12 +294,13 @@ static void test_domain(void **state)
 				cells[cx * cy + y * cx + x] =
 					1.0f / (1.5f + 10.0f * (float)y / (float)cy + 2.0f * jitter);
 			}
-		for (int mode = 0; mode < 3; mode++) {
+		for (int mode = 0; mode < 4; mode++) {
 			struct dao_domain_setup s = {
 				.width = w, .height = h, .iterations = 3,
 				.inv_scale = mode == 0 ? 0.5f : 0.125f,
 				.range_coef = dao_domain_range_coef(3.0f),
 				.noise = 0.0012f, .unit = 0.001f,
+				.sides = mode != 3,
 			};
 			if (mode == 2) {
 				s.noise_cells = cells, s.inv_scale_cells = cells + cx * cy;
@@ -307,7 +313,7 @@ static void test_domain(void **state)
 				dao_domain_filter(&s, kr.domain_pass, in->depth, tmp, opt, sc);
 				struct diff d = compare(ref, opt, np, 1);
 				print_message("domain %-3s %-8s %-34s max rel %.2e mean %.2e\n",
-					      mode == 0 ? "2" : mode == 1 ? "8" : "map",
+					      mode == 0 ? "2" : mode == 1 ? "8" : mode == 2 ? "map" : "8-1",
 					      dao_simd_name(sets[k]), in->name, d.max, d.mae);
 				for (size_t p = 0; p < np; p++)
 					if ((ref[p] == 0.0f) != (opt[p] == 0.0f) ||
