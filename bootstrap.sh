@@ -9,7 +9,8 @@
 #   ./bootstrap.sh view   build, then serve the bundled recording in a loop to the browser viewer
 #                         (http://127.0.0.1:8080/) until Ctrl-C
 #   ./bootstrap.sh test   build, then run every test suite, the installed-library example included,
-#                         then the .oni/plugin suites under ASan + UBSan
+#                         then the .oni/plugin/bag/daemon/ros suites and the http sink's
+#                         tests under ASan + UBSan
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -51,8 +52,8 @@ usage: ./bootstrap.sh deps|build|demo|view|test
   view    build, then serve $DEMO_INPUT in a loop, in real time, to the browser viewer at
           http://$VIEW_ADDR/ (parameters may be changed from the page) until Ctrl-C
   test    build, then run every test suite (meson test), including the example built
-          against the installed library (suite 'install'); then the oni and plugin
-          suites again under ASan + UBSan (in $BUILD_DIR-asan)
+          against the installed library (suite 'install'); then the oni, plugin, bag,
+          daemon and ros suites and web-http again under ASan + UBSan (in $BUILD_DIR-asan)
 
 environment: BUILD_DIR (default build), DEMO_INPUT, DEMO_OUT (default out),
              VIEW_ADDR (default 127.0.0.1:8080; 0.0.0.0:8080 for other machines)
@@ -178,10 +179,16 @@ sanitized_tests() {
 			-Db_lundef=false -Dwerror=true >/dev/null
 	fi
 	ninja -C "$dir" >/dev/null
-	say "sanitizers: the oni, plugin, bag, daemon and ros suites under ASan + UBSan"
-	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
-		LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" \
-		meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --suite ros --print-errorlogs
+	say "sanitizers: the oni, plugin, bag, daemon and ros suites and the http sink under ASan + UBSan"
+	export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1
+	export LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp"
+	# (called after ||, so errexit is off in here: each status is kept by hand)
+	local st=0
+	meson test -C "$dir" --suite oni --suite plugin --suite bag --suite daemon --suite ros \
+		--print-errorlogs || st=1
+	# the http sink parses what the network sends (its plain-HTTP tests; not the browser's)
+	meson test -C "$dir" web-http --print-errorlogs || st=1
+	return "$st"
 }
 
 case "${1:-}" in
