@@ -23,7 +23,7 @@ computes the same); 0 on the diagonal x == y (no data).  Files written:
                  0.7 s from 99.9 s; depth at 100 + i s + i ms): colour_pixel() below
   colors.bag     d16 frames with two colour topics, rgba8 and mono8, of the depth's size
   distorted.bag  d16 frames with a CameraInfo that has distortion and a P (P_RECT) other
-                 than K: the rectified camera's intrinsics
+                 than K: the rectified camera's intrinsics (also a seed)
   png/NNNNNN.png and png/camera.json  the frames of d16_*.bag as 16-bit PNGs
 """
 import json
@@ -229,7 +229,7 @@ def main():
         write_two(os.path.join(out, "two.bag"))
         write_color(os.path.join(out, "color.bag"))
         write_colors(os.path.join(out, "colors.bag"))
-        write_distorted(os.path.join(out, "distorted.bag"))
+    write_distorted(os.path.join(out, "distorted.bag"))
     write_realsense(os.path.join(out, "realsense.bag"))
     write_unindexed(os.path.join(out, "finished.bag"), os.path.join(out, "unindexed.bag"))
     if seeds:
