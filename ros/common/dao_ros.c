@@ -196,17 +196,27 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		r = check_info(info, depth, err);
 	if (r)
 		return r;
-	*distorted = 0;
+	*distorted = DAO_ROS_UNDISTORTED;
 	for (size_t i = 0; info->d && i < info->d_count; i++)
 		if (info->d[i] != 0.0)
-			*distorted = 1;
+			*distorted = DAO_ROS_DISTORTED_K;
+	/* K is the raw (distorted) image's, P the rectified image's (REP 104,
+	 * image_geometry's PinholeCameraModel): with distortion and a usable P, P's
+	 * intrinsics, as the bag source (src/plugin/bag_source.c) and the CameraInfo
+	 * YAML reader (tools/common/camera_file.c) choose them */
+	const double *p = info->p;
+	if (*distorted && p && p[0] > 0.0 && p[5] > 0.0 && isfinite(p[0]) && isfinite(p[5]) &&
+	    isfinite(p[2]) && isfinite(p[6]))
+		*distorted = DAO_ROS_DISTORTED_P;
 	const double k[4] = { info->k[0], info->k[4], info->k[2], info->k[5] };
+	const double pk[4] = { p ? p[0] : 0, p ? p[5] : 0, p ? p[2] : 0, p ? p[6] : 0 };
+	const double *use = *distorted == DAO_ROS_DISTORTED_P ? pk : k;
 	if (!proc->ctx || proc->cam.width != depth->width || proc->cam.height != depth->height ||
-	    memcmp(k, proc->k, sizeof k)) {
+	    memcmp(use, proc->k, sizeof proc->k)) {
 		struct dao_camera cam;
 		struct dao_context *ctx;
-		r = dao_camera_from_intrinsics(&cam, depth->width, depth->height, k[0], k[1], k[2],
-					       k[3], err);
+		r = dao_camera_from_intrinsics(&cam, depth->width, depth->height, use[0], use[1],
+					       use[2], use[3], err);
 		if (!r)
 			r = dao_context_create(&ctx, &cam, &proc->params, err);
 		if (r)
@@ -214,7 +224,7 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		dao_context_destroy(proc->ctx);
 		proc->ctx = ctx;
 		proc->cam = cam;
-		memcpy(proc->k, k, sizeof k);
+		memcpy(proc->k, use, sizeof proc->k);
 		proc->index = 0;
 	}
 	size_t bpp = dao_pixfmt_bytes_per_pixel(fmt);

@@ -42,6 +42,15 @@ struct dao_ros_camera_info {
 	const double *k;        /* 9 values, row-major: fx 0 cx, 0 fy cy, 0 0 1 */
 	const double *d;        /* distortion coefficients (may be NULL) */
 	size_t d_count;
+	const double *p;        /* 12 values, row-major 3x4: the rectified image's projection
+				 * (fx' 0 cx' Tx, 0 fy' cy' Ty, 0 0 1 0); may be NULL */
+};
+
+/* What dao_ros_proc_prepare() says of the camera info's distortion. */
+enum dao_ros_distortion {
+	DAO_ROS_UNDISTORTED = 0,        /* D all zeros (or none): K's intrinsics */
+	DAO_ROS_DISTORTED_K,            /* distortion and no usable P: K's intrinsics */
+	DAO_ROS_DISTORTED_P,            /* distortion: P's intrinsics, the rectified image's */
 };
 
 /* The AO image's encoding. */
@@ -91,8 +100,13 @@ void dao_ros_proc_destroy(struct dao_ros_proc *proc);
 /*
  * Checks a depth image and its camera info and gives the layout of the
  * outputs for it.  A new size or new intrinsics (re)create the AO context
- * (allocation happens here only); a CameraInfo with distortion sets
- * *distorted (depth should be rectified; the shell warns once).  Errors name
+ * (allocation happens here only).  The intrinsics are K's (fx K[0], fy
+ * K[4], cx K[2], cy K[5]) unless D has a coefficient that is not 0 and P is
+ * usable (P[0], P[5] > 0, finite): then P's (fx P[0], fy P[5], cx P[2], cy
+ * P[6]), the rectified image's, as ROS's image_geometry takes them.
+ * *distorted is an enum dao_ros_distortion: not 0 when D is, and depthao
+ * does not undistort, so the depth must be rectified (the shell warns
+ * once).  Errors name
  * what was wrong: an encoding that is not accepted, a step or data size that
  * does not hold the image, an image and camera info of different sizes.
  */

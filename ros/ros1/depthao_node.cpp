@@ -325,7 +325,7 @@ void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
 	const dao_ros_image depth = { img->width, img->height, img->encoding.c_str(), img->is_bigendian,
 				      img->step, img->data.data(), img->data.size() };
 	const dao_ros_camera_info ci = { info->width, info->height, info->K.data(), info->D.data(),
-					 info->D.size() };
+					 info->D.size(), info->P.data() };
 	dao_ros_output ao, shaded;
 	int distorted;
 	dao_error err{};
@@ -334,8 +334,11 @@ void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
 		return;
 	}
 	if (distorted && !warned_distortion_) {
-		ROS_WARN("%s: the camera info has distortion coefficients: depthao assumes a "
-			 "pinhole camera, give it rectified depth (image_rect)", sub_.getInfoTopic().c_str());
+		ROS_WARN("%s: the camera info has distortion coefficients: depthao does not undistort, "
+			 "the depth must be rectified (image_rect; it is used as it is); intrinsics %s",
+			 sub_.getInfoTopic().c_str(),
+			 distorted == DAO_ROS_DISTORTED_P ? "from P, the rectified image's"
+							  : "from K (the camera info has no usable P)");
 		warned_distortion_ = true;
 	}
 	// the messages are kept: once sized, resize() and the header's copy reuse their memory

@@ -95,7 +95,11 @@ int dao_ros_camera_info_parse(const uint8_t *msg, uint32_t len, struct dao_ros_c
 			ci->distorted = 1;
 	for (int i = 0; i < 9; i++)
 		ci->k[i] = f64(&c);
-	return c.bad ? -EINVAL : 0; /* R, P, binning and roi follow: not needed */
+	for (int i = 0; i < 9; i++)
+		ci->r[i] = f64(&c);
+	for (int i = 0; i < 12; i++)
+		ci->p[i] = f64(&c);
+	return c.bad ? -EINVAL : 0; /* binning and roi follow: not needed */
 }
 
 int dao_ros_float32_parse(const uint8_t *msg, uint32_t len, float *value)

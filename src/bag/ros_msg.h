@@ -27,13 +27,16 @@ struct dao_ros_image {
 	uint32_t data_len;
 };
 
-/* sensor_msgs/CameraInfo: the parts used (K, row-major 3x3). */
+/* sensor_msgs/CameraInfo: the parts used (K, R, P row-major; binning and
+ * roi, which follow P, are not read). */
 struct dao_ros_camera_info {
 	struct dao_ros_header header;
 	uint32_t height, width;
 	uint32_t distortion_count; /* entries of D */
 	int distorted;             /* some entry of D is not 0 */
-	double k[9];
+	double k[9];               /* the raw (distorted) image's camera matrix, 3x3 */
+	double r[9];               /* rectification rotation, 3x3 */
+	double p[12];              /* the rectified image's projection, 3x4 */
 };
 
 int dao_ros_image_parse(const uint8_t *msg, uint32_t len, struct dao_ros_image *img);

@@ -284,28 +284,38 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 		if (dao_ros_camera_info_parse(d, n, &ci) < 0)
 			return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
 					     "sensor_msgs/CameraInfo", path, name);
-		const double *k = ci.k;
+		/* K describes the camera's raw (distorted) image, P the rectified one
+		 * (REP 104; image_geometry's PinholeCameraModel projects with P): with
+		 * distortion and a usable P, P's intrinsics, as depthao's CameraInfo YAML
+		 * reader (tools/common/camera_file.c) and the ROS node (ros/common/dao_ros.c) */
+		const double *p = ci.p;
+		int use_p = ci.distorted && p[0] > 0 && p[5] > 0 && isfinite(p[0]) &&
+			    isfinite(p[5]) && isfinite(p[2]) && isfinite(p[6]);
+		double fx = use_p ? p[0] : ci.k[0], fy = use_p ? p[5] : ci.k[4];
+		double cx = use_p ? p[2] : ci.k[2], cy = use_p ? p[6] : ci.k[5];
 		if (ci.width != s->info.width || ci.height != s->info.height) {
 			snprintf(s->info.warning, sizeof(s->info.warning),
 				 "%.150s is for %ux%u images, the depth is %ux%u: not used", name,
 				 ci.width, ci.height, s->info.width, s->info.height);
-		} else if (!(k[0] > 0 && k[4] > 0 && isfinite(k[0]) && isfinite(k[4]) &&
-			     isfinite(k[2]) && isfinite(k[5]))) {
+		} else if (!(fx > 0 && fy > 0 && isfinite(fx) && isfinite(fy) && isfinite(cx) &&
+			     isfinite(cy))) {
 			snprintf(s->info.warning, sizeof(s->info.warning),
-				 "%.150s has no usable K (fx %g, fy %g): not used", name, k[0], k[4]);
+				 "%.150s has no usable K (fx %g, fy %g): not used", name, fx, fy);
 		} else {
 			s->info.has_intrinsics = 1;
-			s->info.fx = k[0];
-			s->info.fy = k[4];
-			s->info.cx = k[2];
-			s->info.cy = k[5];
+			s->info.fx = fx;
+			s->info.fy = fy;
+			s->info.cx = cx;
+			s->info.cy = cy;
 			s->info.has_fov = 1;
-			s->info.hfov = 2.0 * atan(s->info.width / (2.0 * k[0]));
-			s->info.vfov = 2.0 * atan(s->info.height / (2.0 * k[4]));
+			s->info.hfov = 2.0 * atan(s->info.width / (2.0 * fx));
+			s->info.vfov = 2.0 * atan(s->info.height / (2.0 * fy));
 			if (ci.distorted)
 				snprintf(s->info.warning, sizeof(s->info.warning),
-					 "%.150s has lens distortion; the depth is used as it is "
-					 "(rectify it for exact geometry)", name);
+					 "%.120s has lens distortion: the depth must be rectified "
+					 "(depthao does not undistort; used as it is); intrinsics %s",
+					 name, use_p ? "from P, the rectified image's"
+						     : "from K (no usable P)");
 		}
 	}
 	s->unit = u->unit;

@@ -22,6 +22,8 @@ computes the same); 0 on the diagonal x == y (no data).  Files written:
                  twice the size on /camera/color/image_raw, at its own rate (one every
                  0.7 s from 99.9 s; depth at 100 + i s + i ms): colour_pixel() below
   colors.bag     d16 frames with two colour topics, rgba8 and mono8, of the depth's size
+  distorted.bag  d16 frames with a CameraInfo that has distortion and a P (P_RECT) other
+                 than K: the rectified camera's intrinsics (also a seed)
   png/NNNNNN.png and png/camera.json  the frames of d16_*.bag as 16-bit PNGs
 """
 import json
@@ -43,6 +45,8 @@ W, H, FRAMES = 64, 48, 5
 # chunks of about two frames: the index spans several chunks
 CHUNK = 10000
 K = [60.0, 0.0, 31.5, 0.0, 61.0, 23.25, 0.0, 0.0, 1.0]
+# distorted.bag's P: fx 45, fy 46.5, cx 30, cy 22 (the rectified image's camera)
+P_RECT = [45.0, 0.0, 30.0, 0.0, 0.0, 46.5, 22.0, 0.0, 0.0, 0.0, 1.0, 0.0]
 
 
 def depth_count(x, y, i):
@@ -70,15 +74,15 @@ def d16(i, stamp):
     return image(i, "16UC1", struct.pack("<%dH" % (W * H), *pixels(i)), 2 * W, stamp)
 
 
-def camera_info():
+def camera_info(distorted=False):
     c = CameraInfo()
     c.header.frame_id = "depth_optical"
     c.height, c.width = H, W
     c.distortion_model = "plumb_bob"
-    c.D = [0.0] * 5
+    c.D = [-0.12, 0.03, 0.001, 0.0, 0.0] if distorted else [0.0] * 5
     c.K = K
     c.R = [1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0]
-    c.P = K[:3] + [0.0] + K[3:6] + [0.0] + K[6:] + [0.0]
+    c.P = P_RECT if distorted else K[:3] + [0.0] + K[3:6] + [0.0] + K[6:] + [0.0]
     return c
 
 
@@ -98,6 +102,13 @@ def write_d16(path, compression):
             t = stamp(i) + genpy.Duration(0, 3000000)  # recorded 3 ms after capture
             b.write("/camera/color/image_raw", rgb(i, stamp(i)), t)
             b.write("/camera/depth/image_raw", d16(i, stamp(i)), t)
+
+
+def write_distorted(path):
+    with rosbag.Bag(path, "w") as b:
+        b.write("/camera/depth/camera_info", camera_info(True), stamp(0))
+        for i in range(FRAMES):
+            b.write("/camera/depth/image_raw", d16(i, stamp(i)), stamp(i))
 
 
 def write_unindexed(path, crash_copy):
@@ -218,6 +229,7 @@ def main():
         write_two(os.path.join(out, "two.bag"))
         write_color(os.path.join(out, "color.bag"))
         write_colors(os.path.join(out, "colors.bag"))
+    write_distorted(os.path.join(out, "distorted.bag"))
     write_realsense(os.path.join(out, "realsense.bag"))
     write_unindexed(os.path.join(out, "finished.bag"), os.path.join(out, "unindexed.bag"))
     if seeds:

@@ -68,6 +68,21 @@ for f in 000002 000003; do
 done
 cmp -s "$WORK/cam1/000002.png" "$WORK/cam2/000002.png" && fail "?topic=: cam1 and cam2 gave the same AO"
 
+# a CameraInfo with distortion and a P other than K: P's intrinsics (the rectified image's,
+# as ROS's image_geometry), a warning that the depth must be rectified
+expect_exit 0 "distorted bag" -- "$DEPTHAO" process --input "$BAGS/distorted.bag" --depth-temporal 0 \
+	--ao-out "$WORK/dist-ao"
+grep -q "intrinsics from the source: fx 45.00 fy 46.50 cx 30.00 cy 22.00" "$WORK/err" ||
+	fail "distorted: intrinsics not from P: $(cat "$WORK/err")"
+grep -q "has lens distortion: the depth must be rectified" "$WORK/err" ||
+	fail "distorted: no warning: $(cat "$WORK/err")"
+expect_exit 0 "PNG frames with P's intrinsics" -- "$DEPTHAO" process --input "$BAGS/png" \
+	--intrinsics 45,46.5,30,22 --ao-out "$WORK/png-p" --quiet
+for f in 000000 000001 000002 000003 000004; do
+	cmp -s "$WORK/dist-ao/$f.png" "$WORK/png-p/$f.png" || fail "distorted: AO $f differs from --intrinsics of P"
+done
+cmp -s "$WORK/dist-ao/000000.png" "$WORK/png-ao/000000.png" && fail "distorted: P's intrinsics changed nothing"
+
 # a truncated bag: an error naming the file and the byte
 head -c 20000 "$BAGS/d16_none.bag" >"$WORK/cut.bag"
 expect_exit 1 "truncated bag" -- "$DEPTHAO" process --input "$WORK/cut.bag" --ao-out "$WORK/cut" --quiet

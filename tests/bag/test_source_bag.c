@@ -305,6 +305,34 @@ static void test_realsense(void **state)
 	dao_source_close(s);
 }
 
+/*
+ * A CameraInfo with distortion and a P other than K: P's intrinsics (the
+ * rectified image's, as ROS's image_geometry and depthao's CameraInfo YAML
+ * reader take them) and a warning that the depth must be rectified.
+ */
+static void test_distorted(void **state)
+{
+	(void)state;
+	struct dao_source *s = open_bag(bag("distorted.bag"), NULL);
+	struct dao_source_info in;
+	struct dao_source_frame f;
+	struct dao_error err;
+	dao_source_get_info(s, &in);
+	fprintf(stderr, "distorted: %s\n", in.warning);
+	assert_true(in.has_intrinsics);
+	assert_true(in.fx == 45.0 && in.fy == 46.5 && in.cx == 30.0 && in.cy == 22.0);
+	assert_true(in.has_fov);
+	assert_true(fabs(in.hfov - 2 * atan(W / 90.0)) < 1e-12);
+	assert_true(fabs(in.vfov - 2 * atan(H / 93.0)) < 1e-12);
+	assert_non_null(strstr(in.warning, "/camera/depth/camera_info has lens distortion"));
+	assert_non_null(strstr(in.warning, "must be rectified"));
+	assert_non_null(strstr(in.warning, "from P"));
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+	check_d16(&f.depth, 0);
+	dao_source_release(s, &f);
+	dao_source_close(s);
+}
+
 static void test_pixel_limit(void **state)
 {
 	(void)state;
@@ -624,6 +652,7 @@ int main(void)
 		cmocka_unit_test(test_realtime),
 		cmocka_unit_test(test_two_topics),
 		cmocka_unit_test(test_realsense),
+		cmocka_unit_test(test_distorted),
 		cmocka_unit_test(test_pixel_limit),
 		cmocka_unit_test(test_truncated),
 		cmocka_unit_test(test_corrupt_chunk),

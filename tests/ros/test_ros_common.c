@@ -114,7 +114,7 @@ static size_t make_image(uint8_t *buf, struct dao_ros_image *img, const char *en
 	return step * H;
 }
 
-static const struct dao_ros_camera_info info = { W, H, K, NULL, 0 };
+static const struct dao_ros_camera_info info = { W, H, K, NULL, 0, NULL };
 
 static uint8_t in_buf[W * H * 4 + 64 * H];
 static float ao_f[W * H];
@@ -261,7 +261,7 @@ static void test_errors(void **state)
 	ci.d = d;
 	ci.d_count = 5;
 	assert_int_equal(dao_ros_proc_prepare(proc, &img, &ci, &ao, &sh, &distorted, &err), 0);
-	assert_int_equal(distorted, 1);
+	assert_int_equal(distorted, DAO_ROS_DISTORTED_K);
 	assert_string_equal(ao.encoding, "mono16");
 	assert_int_equal(ao.step, 2 * W);
 	assert_int_equal(ao.size, 2 * W * H);
@@ -272,6 +272,67 @@ static void test_errors(void **state)
 	assert_int_equal(dao_ros_proc_run(proc, &img, 1, &ao, &sh, &err), 0);
 	assert_int_equal(dao_ros_proc_frames(proc), 1);
 	dao_ros_proc_destroy(proc);
+}
+
+/* The AO of frame 0 with camera info `ci` into out; *distorted as prepare says it. */
+static void ao_with(const struct dao_ros_camera_info *ci, uint16_t *out, int *distorted)
+{
+	struct dao_ros_proc *proc = make_proc("mono16", NULL);
+	struct dao_ros_image img;
+	struct dao_ros_output ao, sh;
+	struct dao_error err;
+	make_image(in_buf, &img, "16UC1", 0, 0, 0);
+	assert_int_equal(dao_ros_proc_prepare(proc, &img, ci, &ao, &sh, distorted, &err), 0);
+	ao.data = out;
+	assert_int_equal(dao_ros_proc_run(proc, &img, 1, &ao, NULL, &err), 0);
+	dao_ros_proc_destroy(proc);
+}
+
+/*
+ * With distortion and a usable P, P's intrinsics (the rectified image's, as
+ * image_geometry): the AO equals that of a camera info whose K is P's; K
+ * without distortion or without a usable P.
+ */
+static void test_projection_with_distortion(void **state)
+{
+	(void)state;
+	static uint16_t of_k[W * H], of_pk[W * H], got[W * H];
+	const double d[5] = { -0.12, 0.03, 0.001, 0, 0 };
+	/* the rectified camera: another focal length and principal point than K */
+	const double p[12] = { 45.0, 0, 30.0, 0, 0, 46.5, 22.0, 0, 0, 0, 1, 0 };
+	const double pk[9] = { 45.0, 0, 30.0, 0, 46.5, 22.0, 0, 0, 1 };
+	struct dao_ros_camera_info plain = info, ci = info;
+	int distorted;
+	ao_with(&info, of_k, &distorted);
+	assert_int_equal(distorted, DAO_ROS_UNDISTORTED);
+	plain.k = pk;
+	ao_with(&plain, of_pk, &distorted);
+	assert_true(memcmp(of_k, of_pk, sizeof of_k) != 0); /* the two cameras differ */
+
+	ci.d = d;
+	ci.d_count = 5;
+	ci.p = p;
+	ao_with(&ci, got, &distorted);
+	assert_int_equal(distorted, DAO_ROS_DISTORTED_P);
+	assert_memory_equal(got, of_pk, sizeof got);
+
+	/* no distortion: K, whatever P says */
+	ci.d_count = 0;
+	ao_with(&ci, got, &distorted);
+	assert_int_equal(distorted, DAO_ROS_UNDISTORTED);
+	assert_memory_equal(got, of_k, sizeof got);
+
+	/* distortion, P of an uncalibrated driver (zeros), non-finite or absent: K */
+	const double p0[12] = { 0 };
+	const double pnan[12] = { 45.0, 0, NAN, 0, 0, 46.5, 22.0, 0, 0, 0, 1, 0 };
+	const double *bad[3] = { p0, pnan, NULL };
+	ci.d_count = 5;
+	for (int i = 0; i < 3; i++) {
+		ci.p = bad[i];
+		ao_with(&ci, got, &distorted);
+		assert_int_equal(distorted, DAO_ROS_DISTORTED_K);
+		assert_memory_equal(got, of_k, sizeof got);
+	}
 }
 
 /* new intrinsics make a new camera: the AO changes */
@@ -460,6 +521,7 @@ int main(void)
 		cmocka_unit_test(test_encodings_agree),
 		cmocka_unit_test(test_errors),
 		cmocka_unit_test(test_camera_followed),
+		cmocka_unit_test(test_projection_with_distortion),
 		cmocka_unit_test(test_time_back_resets),
 		cmocka_unit_test(test_params),
 		cmocka_unit_test(test_no_allocation),

@@ -16,7 +16,8 @@ with the inputs' stamps and frame ids, one output per input.  Then dynamic_recon
 changes /a's parameters (a value out of range is refused with a message), a wrong
 encoding and a camera info of another size are logged as errors naming what is wrong,
 and the bag played again (time goes back: the temporal filter starts over) equals
-`depthao process` with the new parameters.  Parameters refused at start stop the node.
+`depthao process` with the new parameters; played with a camera info that has
+distortion, `depthao process` with the intrinsics of its P (the rectified image's).  Parameters refused at start stop the node.
 Exits 77 when ROS (roscore, rosbag, rospy, the node) is absent.  Every process
 started here is killed on every exit path.
 """
@@ -35,6 +36,8 @@ import zlib
 
 W, H, FRAMES = 80, 60, 6
 K = [70.0, 0.0, 39.5, 0.0, 71.0, 29.25, 0.0, 0.0, 1.0]
+# the distorted camera info's P: the rectified image's camera, fx 52 fy 53.5 cx 38 cy 28
+P_RECT = [52.0, 0.0, 38.0, 0.0, 0.0, 53.5, 28.0, 0.0, 0.0, 0.0, 1.0, 0.0]
 TIMEOUT = 120.0  # s: generous, the host may run seven builds at once
 procs = []
 # processes roslaunch (roscore is one) starts in sessions of their own: the master, rosout,
@@ -178,16 +181,16 @@ def stamp(i):
     return genpy.Time(200 + i, 10000000 * i)
 
 
-def info_msg(i, width=W, height=H):
+def info_msg(i, width=W, height=H, distorted=False):
     c = CameraInfo()
     c.header.stamp = stamp(i)
     c.header.frame_id = "cam_depth_optical"
     c.width, c.height = width, height
     c.distortion_model = "plumb_bob"
-    c.D = [0.0] * 5
+    c.D = [-0.12, 0.03, 0.001, 0.0, 0.0] if distorted else [0.0] * 5
     c.K = K
     c.R = [1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0]
-    c.P = K[:3] + [0.0] + K[3:6] + [0.0] + K[6:] + [0.0]
+    c.P = P_RECT if distorted else K[:3] + [0.0] + K[3:6] + [0.0] + K[6:] + [0.0]
     return c
 
 
@@ -211,11 +214,11 @@ def f32_be(i):
     return image_msg(i, "32FC1", struct.pack(">%df" % (W * H), *v), 4 * W, 1)
 
 
-def write_bag(path, topic, make):
+def write_bag(path, topic, make, distorted=False):
     with rosbag.Bag(path, "w") as b:
         for i in range(FRAMES):
             t = stamp(i) + genpy.Duration(0, 2000000)
-            b.write(topic + "/camera_info", info_msg(i), t)
+            b.write(topic + "/camera_info", info_msg(i, distorted=distorted), t)
             b.write(topic + "/image", make(i), t)
 
 
@@ -467,6 +470,18 @@ def main():
     for name, p in (("a", node_a), ("b", node_b), ("c", node_c)):
         if p.poll() is not None:
             fail("node %s stopped: %s" % (name, log_of(name)))
+    # a camera info with distortion: P's intrinsics (the rectified image's, as
+    # image_geometry), one warning; new intrinsics make a new context (indices from 0)
+    bag_d = os.path.join(WORK, "distorted.bag")
+    write_bag(bag_d, "/cam/depth", d16, distorted=True)
+    play(bag_d)
+    wait_for("the distorted play", lambda: col_a["ao"].count() >= 3 * FRAMES)
+    wait_for("the distortion warning", lambda: "the camera info has distortion coefficients: "
+             "depthao does not undistort, the depth must be rectified (image_rect; it is used "
+             "as it is); intrinsics from P, the rectified image's" in log_of("a"))
+    check_run("a distorted", col_a, bag_a, FRAMES, "mono16",
+              ["--radius", "0.25", "--prefilter", "none", "--slices", "3",
+               "--occlusion-color", "203040", "--intrinsics", "52,53.5,38,28"], 2 * FRAMES)
     # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
     for name in ("a", "b", "c", "bad"):
         for word in ("AddressSanitizer", "runtime error:"):

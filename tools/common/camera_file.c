@@ -115,7 +115,9 @@ static int read_yaml(const char *path, const char *text, size_t n, struct dao_ca
 	if (camera_info_yaml_parse(text, n, path, &ci, msg, len))
 		return -1;
 	/* K describes the camera's own (distorted) image; a rectified image, which is
-	 * what depth without distortion is, has P's intrinsics (ROS REP 104) */
+	 * what depth without distortion is, has P's intrinsics (ROS REP 104).  The
+	 * same rule for CameraInfo messages: src/plugin/bag_source.c (bags) and
+	 * ros/common/dao_ros.c (the ROS node) */
 	double fx = ci.k[0], fy = ci.k[4], cx = ci.k[2], cy = ci.k[5];
 	const char *which = "camera_matrix";
 	int distorted = camera_info_distorted(&ci);
