@@ -7,66 +7,16 @@
  * allocate, or the counter is not working and the test fails.
  */
 #define _GNU_SOURCE
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <depthao/depthao.h>
 
+#include "common/alloc_count.h"
 #include "common/test_common.h"
 
 #ifdef __GLIBC__
-void *__libc_malloc(size_t n);
-void *__libc_calloc(size_t n, size_t m);
-void *__libc_realloc(void *p, size_t n);
-void *__libc_memalign(size_t a, size_t n);
-void __libc_free(void *p);
-
-static atomic_int counting;
-static atomic_long allocations;
-
-static void count(void)
-{
-	if (atomic_load(&counting))
-		atomic_fetch_add(&allocations, 1);
-}
-
-void *malloc(size_t n)
-{
-	count();
-	return __libc_malloc(n);
-}
-
-void *calloc(size_t n, size_t m)
-{
-	count();
-	return __libc_calloc(n, m);
-}
-
-void *realloc(void *p, size_t n)
-{
-	count();
-	return __libc_realloc(p, n);
-}
-
-void *aligned_alloc(size_t a, size_t n)
-{
-	count();
-	return __libc_memalign(a, n);
-}
-
-int posix_memalign(void **out, size_t a, size_t n)
-{
-	count();
-	*out = __libc_memalign(a, n);
-	return *out ? 0 : 12;
-}
-
-void free(void *p)
-{
-	__libc_free(p);
-}
 
 /* VBAO with the thickness estimated from the image instead of GTAO (its plane is
  * made with the context, never per frame) */
@@ -105,14 +55,12 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 		p.algorithm = DAO_ALGORITHM_VBAO;
 		p.vbao_thickness_mode = DAO_VBAO_THICKNESS_IMAGE;
 	}
-	atomic_store(&allocations, 0);
-	atomic_store(&counting, 1);
+	dao_test_alloc_start();
 	if (dao_context_create(&ctx, &cam, &p, &err)) {
 		fprintf(stderr, "create: %s\n", err.message);
 		return 1;
 	}
-	atomic_store(&counting, 0);
-	long at_create = atomic_load(&allocations);
+	long at_create = dao_test_alloc_stop();
 	if (at_create == 0) {
 		fprintf(stderr, "FAIL: the allocation counter saw nothing while creating a context\n");
 		return 1;
@@ -128,8 +76,7 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	for (int i = 0; i < 3 && !r; i++)
 		r = dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
 		    dao_context_shade(ctx, &sh, &err);
-	atomic_store(&allocations, 0);
-	atomic_store(&counting, 1);
+	dao_test_alloc_start();
 	for (int i = 3; i < 103 && !r; i++) {
 		r = dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
 		    dao_context_shade(ctx, &sh, &err);
@@ -147,8 +94,7 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 		if (i == 70) /* a cut: the histories start over */
 			dao_context_reset(ctx);
 	}
-	atomic_store(&counting, 0);
-	long steady = atomic_load(&allocations);
+	long steady = dao_test_alloc_stop();
 	dao_context_destroy(ctx);
 	if (r) {
 		fprintf(stderr, "FAIL: processing: %s\n", err.message);

@@ -9,67 +9,15 @@
 #define _GNU_SOURCE
 #include <errno.h>
 #include <math.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/alloc_count.h"
 #include "common/cmocka_all.h"
 #include "common/test_common.h"
 #include "dao_ros.h"
 
-#ifdef __GLIBC__
-void *__libc_malloc(size_t n);
-void *__libc_calloc(size_t n, size_t m);
-void *__libc_realloc(void *p, size_t n);
-void *__libc_memalign(size_t a, size_t n);
-void __libc_free(void *p);
-
-static atomic_int counting;
-static atomic_long allocations;
-
-static void count(void)
-{
-	if (atomic_load(&counting))
-		atomic_fetch_add(&allocations, 1);
-}
-
-void *malloc(size_t n)
-{
-	count();
-	return __libc_malloc(n);
-}
-
-void *calloc(size_t n, size_t m)
-{
-	count();
-	return __libc_calloc(n, m);
-}
-
-void *realloc(void *p, size_t n)
-{
-	count();
-	return __libc_realloc(p, n);
-}
-
-void *aligned_alloc(size_t a, size_t n)
-{
-	count();
-	return __libc_memalign(a, n);
-}
-
-int posix_memalign(void **out, size_t a, size_t n)
-{
-	count();
-	*out = __libc_memalign(a, n);
-	return *out ? 0 : ENOMEM;
-}
-
-void free(void *p)
-{
-	__libc_free(p);
-}
-#endif
 
 #define W 64
 #define H 48
@@ -482,30 +430,27 @@ static void test_no_allocation(void **state)
 	p.threads = 2;
 	struct dao_ros_image img;
 	struct dao_error err;
-	atomic_store(&allocations, 0);
-	atomic_store(&counting, 1);
+	dao_test_alloc_start();
 	struct dao_ros_proc *proc = make_proc("32FC1", &p);
 	make_image(in_buf, &img, "16UC1", 1, 4, 0);
 	int r = run_frame(proc, &img, 1, &err);
-	atomic_store(&counting, 0);
+	long made = dao_test_alloc_stop();
 	assert_int_equal(r, 0);
-	if (atomic_load(&allocations) == 0)
+	if (made == 0)
 		fail_msg("the counter saw no allocation while the context was made");
 	for (int i = 1; i < 3; i++) /* warm-up */
 		assert_int_equal(run_frame(proc, &img, 1 + (uint64_t)i, &err), 0);
 	struct dao_params q = p;
 	q.radius = 0.3f;
-	atomic_store(&allocations, 0);
-	atomic_store(&counting, 1);
+	dao_test_alloc_start();
 	for (int i = 3; i < 33 && !r; i++) {
 		r = run_frame(proc, &img, 1 + (uint64_t)i, &err);
 		if (i == 10)
 			r = r || dao_ros_proc_set_params(proc, &q, &err);
 	}
-	atomic_store(&counting, 0);
+	long n = dao_test_alloc_stop();
 	if (r)
 		fail_msg("frame: %s", err.message);
-	long n = atomic_load(&allocations);
 	if (n)
 		fail_msg("%ld allocations in 30 frames", n);
 	dao_ros_proc_destroy(proc);

@@ -1,6 +1,9 @@
 /* SPDX-License-Identifier: MIT */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
+
+#include <depthao/error.h>
 
 #include "cli_params.h"
 
@@ -71,4 +74,28 @@ void cli_print_param_help(FILE *out, const struct dao_params *defaults)
 			def[0] = '\0';
 		fprintf(out, "  --%-20s %-24s %s [%s]\n", t[k].name, values, t[k].help, def);
 	}
+}
+
+int cli_apply_param_list(const char *list, struct dao_params *p, struct dao_error *err)
+{
+	char buf[256];
+	if (snprintf(buf, sizeof buf, "%s", list) >= (int)sizeof buf) {
+		dao_error_set(err, -EINVAL, "parameters of an algorithm in --algorithms too long: '%s'",
+			      list);
+		return -1;
+	}
+	char *save = NULL;
+	for (char *kv = strtok_r(buf, ":", &save); kv; kv = strtok_r(NULL, ":", &save)) {
+		char *eq = strchr(kv, '=');
+		if (!eq) {
+			dao_error_set(err, -EINVAL,
+				      "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
+				      "vbao:vbao-thickness-mode=image", kv);
+			return -1;
+		}
+		*eq = '\0';
+		if (dao_params_set(p, kv, eq + 1, err))
+			return -1;
+	}
+	return 0;
 }

@@ -16,6 +16,13 @@
 int cli_apply_param_option(struct dao_params *p, int argc, char **argv, int *i, char *msg,
 			   size_t len);
 
+/*
+ * Applies "PARAM=VALUE:PARAM=VALUE..." (what follows an algorithm's name in
+ * --algorithms, e.g. vbao:vbao-thickness-mode=image) to p.  0, or -1 with a
+ * message in err naming the entry.
+ */
+int cli_apply_param_list(const char *list, struct dao_params *p, struct dao_error *err);
+
 /* One help line per parameter: --name <values> help [default]. */
 void cli_print_param_help(FILE *out, const struct dao_params *defaults);
 

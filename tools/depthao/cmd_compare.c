@@ -13,6 +13,7 @@
 
 #include <depthao/depthao.h>
 
+#include "cli_params.h"
 #include "common/camera_file.h"
 #include "commands.h"
 #include "synth/suite.h"
@@ -65,22 +66,12 @@ static void put_tile(struct dao_frame *m, int t, const float *plane, uint32_t w,
  */
 static int algorithm_entry(char *entry, struct dao_params *p, struct dao_error *err)
 {
-	char *save = NULL, *alg = strtok_r(entry, ":", &save);
-	if (dao_params_set(p, "algorithm", alg ? alg : "", err))
+	char *colon = strchr(entry, ':');
+	if (colon)
+		*colon = '\0';
+	if (dao_params_set(p, "algorithm", entry, err))
 		return -1;
-	for (char *kv = strtok_r(NULL, ":", &save); kv; kv = strtok_r(NULL, ":", &save)) {
-		char *eq = strchr(kv, '=');
-		if (!eq) {
-			snprintf(err->message, sizeof err->message,
-				 "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
-				 "vbao:vbao-thickness-mode=image", kv);
-			return -1;
-		}
-		*eq = '\0';
-		if (dao_params_set(p, kv, eq + 1, err))
-			return -1;
-	}
-	return 0;
+	return colon ? cli_apply_param_list(colon + 1, p, err) : 0;
 }
 
 /* Every entry of the --algorithms list valid?  0, or -1 with a message in err. */

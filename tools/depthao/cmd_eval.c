@@ -96,31 +96,6 @@ static int parse_list(char *arg, const char **out, int max)
 	return n;
 }
 
-/* Applies "PARAM=VALUE[:PARAM=VALUE]..." to p; 0, or -1 with a message in err. */
-static int algorithm_params_apply(const char *list, struct dao_params *p, struct dao_error *err)
-{
-	char buf[256];
-	if (snprintf(buf, sizeof buf, "%s", list) >= (int)sizeof buf) {
-		snprintf(err->message, sizeof err->message,
-			 "parameters of an algorithm in --algorithms too long: '%s'", list);
-		return -1;
-	}
-	char *save = NULL;
-	for (char *kv = strtok_r(buf, ":", &save); kv; kv = strtok_r(NULL, ":", &save)) {
-		char *eq = strchr(kv, '=');
-		if (!eq) {
-			snprintf(err->message, sizeof err->message,
-				 "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
-				 "vbao:vbao-thickness-mode=image", kv);
-			return -1;
-		}
-		*eq = '\0';
-		if (dao_params_set(p, kv, eq + 1, err))
-			return -1;
-	}
-	return 0;
-}
-
 static int parse_args(int argc, char **argv, struct eval_options *o)
 {
 	o->rays_sqrt = 16;
@@ -190,7 +165,7 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 					return usage_error("eval", "%s", err.message);
 				o->algorithms[k] = scratch.algorithm;
 				o->algorithm_params[k] = extra;
-				if (extra && algorithm_params_apply(extra, &scratch, &err))
+				if (extra && cli_apply_param_list(extra, &scratch, &err))
 					return usage_error("eval", "%s", err.message);
 			}
 			o->na = n;
@@ -375,7 +350,7 @@ static int run_columns(struct eval_run *run, float *ao)
 		if (run->cols[k].algorithm >= 0)
 			p.algorithm = run->cols[k].algorithm;
 		if (run->cols[k].params &&
-		    (algorithm_params_apply(run->cols[k].params, &p, &err) ||
+		    (cli_apply_param_list(run->cols[k].params, &p, &err) ||
 		     dao_params_validate(&p, &err))) {
 			fprintf(stderr, "depthao: %s\n", err.message);
 			return 1;
