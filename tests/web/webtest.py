@@ -45,6 +45,8 @@ class Daemon:
             if self.proc.poll() is not None:
                 fail("depthaod exited %d: %s" % (self.proc.returncode, self.text()))
             if time.monotonic() > deadline:
+                self.proc.kill()  # never leave a daemon running behind a failed test
+                self.proc.wait()
                 fail("the http sink did not open in 60 s: " + self.text())
             time.sleep(0.1)
 
