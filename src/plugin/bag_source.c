@@ -678,11 +678,6 @@ static int bag_seek(void *state, uint64_t index, struct dao_error *err)
 	return 0;
 }
 
-static void bag_stop(void *state)
-{
-	(void)state;
-}
-
 static void bag_close(void *state)
 {
 	struct bag_source *s = state;
@@ -700,7 +695,6 @@ static const struct dao_source_ops bag_source_ops = {
 	.start = bag_start,
 	.read = bag_read,
 	.seek = bag_seek,
-	.stop = bag_stop,
 	.close = bag_close,
 };
 

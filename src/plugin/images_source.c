@@ -238,11 +238,6 @@ static int images_seek(void *state, uint64_t index, struct dao_error *err)
 	return 0;
 }
 
-static void images_stop(void *state)
-{
-	(void)state;
-}
-
 static void images_close(void *state)
 {
 	struct images_source *s = state;
@@ -259,7 +254,6 @@ static const struct dao_source_ops images_source_ops = {
 	.start = images_start,
 	.read = images_read,
 	.seek = images_seek,
-	.stop = images_stop,
 	.close = images_close,
 };
 

@@ -221,11 +221,6 @@ static int oni_seek(void *state, uint64_t index, struct dao_error *err)
 	return 0;
 }
 
-static void oni_stop(void *state)
-{
-	(void)state;
-}
-
 static void oni_close(void *state)
 {
 	struct oni_source *s = state;
@@ -243,7 +238,6 @@ static const struct dao_source_ops oni_source_ops = {
 	.start = oni_start,
 	.read = oni_read,
 	.seek = oni_seek,
-	.stop = oni_stop,
 	.close = oni_close,
 };
 
