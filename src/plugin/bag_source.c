@@ -40,11 +40,11 @@
 #include <strings.h>
 #include <time.h>
 
-#include "plugin/pacer.h"
 #include "bag/bag_reader.h"
 #include "bag/ros_msg.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/playback.h"
 
 #define BAG_MAX_QUERY 512
 
@@ -63,8 +63,7 @@ struct bag_source {
 	uint32_t color_count;
 	char color_encoding[32];
 	struct dao_frame color;
-	uint64_t next;
-	struct dao_pacer pacer;     /* real-time playback */
+	struct dao_playback_cursor play;
 };
 
 /*
@@ -407,8 +406,6 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->opts = *opts;
-	if (s->opts.step == 0)
-		s->opts.step = 1;
 	if (!(opts->depth_unit >= 0 && opts->depth_unit <= 1)) {
 		r = dao_error_set(err, -EINVAL, "bag: depth unit %g is not in (0, 1] metres",
 				  (double)opts->depth_unit);
@@ -464,7 +461,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			 img.width, img.height, img.encoding, s->count);
 	if ((r = dao_frame_alloc(&s->depth, s->info.format, img.width, img.height, err)) < 0)
 		goto fail;
-	s->next = opts->start_frame;
+	dao_playback_init(&s->play, opts, s->count);
 	free(u.path);
 	*state = s;
 	return 0;
@@ -493,7 +490,7 @@ static int bag_start(void *state, struct dao_error *err)
 {
 	struct bag_source *s = state;
 	(void)err;
-	dao_pacer_reset(&s->pacer);
+	dao_playback_restart(&s->play);
 	return 0;
 }
 
@@ -639,31 +636,22 @@ static int decode_color(struct bag_source *s, struct dao_error *err)
 static int bag_read(void *state, struct dao_source_frame *f, int timeout_ms, struct dao_error *err)
 {
 	struct bag_source *s = state;
-	if (s->next >= s->count) {
-		if (!s->opts.loop)
-			return DAO_SOURCE_EOS;
-		s->next = s->opts.start_frame;
-		dao_pacer_reset(&s->pacer);
-	}
-	int r = decode(s, (uint32_t)s->next, err);
-	if (r < 0) {
-		s->next += s->opts.step; /* a corrupt frame is skipped: the next read goes on */
+	uint64_t i;
+	int r = dao_playback_next(&s->play, &i, err);
+	if (r)
 		return r;
-	}
-	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
-	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
-		return r; /* the frame is read again next time */
+	if ((r = decode(s, (uint32_t)i, err)) < 0)
+		return dao_playback_skip(&s->play, r, err);
+	if ((r = dao_playback_pace(&s->play, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+		return r;
 	f->color.format = DAO_PIXFMT_NONE;
 	if (s->color_topic >= 0) {
-		if ((r = decode_color(s, err)) < 0) {
-			s->next += s->opts.step; /* skipped like a corrupt depth frame */
-			return r;
-		}
+		if ((r = decode_color(s, err)) < 0) /* skipped like a corrupt depth frame */
+			return dao_playback_skip(&s->play, r, err);
 		f->color = s->color;
 	}
 	f->depth = s->depth;
-	f->index = s->next;
-	s->next += s->opts.step;
+	f->index = dao_playback_advance(&s->play);
 	return 0;
 }
 
@@ -673,8 +661,7 @@ static int bag_seek(void *state, uint64_t index, struct dao_error *err)
 	if (index >= s->count)
 		return dao_error_set(err, -EINVAL, "seek to frame %llu: the topic has %u frames",
 				     (unsigned long long)index, s->count);
-	s->next = index;
-	dao_pacer_reset(&s->pacer);
+	dao_playback_seek(&s->play, index);
 	return 0;
 }
 
