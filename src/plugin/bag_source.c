@@ -30,6 +30,7 @@
  * header stamp, or the time it was recorded when the stamp is 0; real-time
  * playback waits for it (relative to the first frame delivered).
  */
+#include <depthao/camera.h>
 #include <depthao/plugin.h>
 
 #include <errno.h>
@@ -283,38 +284,34 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 		if (dao_ros_camera_info_parse(d, n, &ci) < 0)
 			return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
 					     "sensor_msgs/CameraInfo", path, name);
-		/* K describes the camera's raw (distorted) image, P the rectified one
-		 * (REP 104; image_geometry's PinholeCameraModel projects with P): with
-		 * distortion and a usable P, P's intrinsics, as depthao's CameraInfo YAML
-		 * reader (tools/common/camera_file.c) and the ROS node (ros/common/dao_ros.c) */
-		const double *p = ci.p;
-		int use_p = ci.distorted && p[0] > 0 && p[5] > 0 && isfinite(p[0]) &&
-			    isfinite(p[5]) && isfinite(p[2]) && isfinite(p[6]);
-		double fx = use_p ? p[0] : ci.k[0], fy = use_p ? p[5] : ci.k[4];
-		double cx = use_p ? p[2] : ci.k[2], cy = use_p ? p[6] : ci.k[5];
+		struct dao_camera cam;
+		enum dao_camera_info_matrix from;
+		struct dao_error e;
+		uint32_t nd = ci.distortion_count < DAO_ROS_MAX_DISTORTION ? ci.distortion_count
+									   : DAO_ROS_MAX_DISTORTION;
 		if (ci.width != s->info.width || ci.height != s->info.height) {
 			snprintf(s->info.warning, sizeof(s->info.warning),
 				 "%.150s is for %ux%u images, the depth is %ux%u: not used", name,
 				 ci.width, ci.height, s->info.width, s->info.height);
-		} else if (!(fx > 0 && fy > 0 && isfinite(fx) && isfinite(fy) && isfinite(cx) &&
-			     isfinite(cy))) {
-			snprintf(s->info.warning, sizeof(s->info.warning),
-				 "%.150s has no usable K (fx %g, fy %g): not used", name, fx, fy);
+		} else if (dao_camera_from_camera_info(&cam, ci.width, ci.height, ci.k, ci.p, ci.d, nd,
+						       &from, &e)) {
+			snprintf(s->info.warning, sizeof(s->info.warning), "%.90s: %.150s: not used",
+				 name, e.message);
 		} else {
 			s->info.has_intrinsics = 1;
-			s->info.fx = fx;
-			s->info.fy = fy;
-			s->info.cx = cx;
-			s->info.cy = cy;
+			s->info.fx = cam.fx;
+			s->info.fy = cam.fy;
+			s->info.cx = cam.cx;
+			s->info.cy = cam.cy;
 			s->info.has_fov = 1;
-			s->info.hfov = 2.0 * atan(s->info.width / (2.0 * fx));
-			s->info.vfov = 2.0 * atan(s->info.height / (2.0 * fy));
-			if (ci.distorted)
+			dao_camera_fov(&cam, &s->info.hfov, &s->info.vfov);
+			if (from != DAO_CAMERA_INFO_K)
 				snprintf(s->info.warning, sizeof(s->info.warning),
 					 "%.120s has lens distortion: the depth must be rectified "
 					 "(depthao does not undistort; used as it is); intrinsics %s",
-					 name, use_p ? "from P, the rectified image's"
-						     : "from K (no usable P)");
+					 name, from == DAO_CAMERA_INFO_P_RECTIFIED
+						       ? "from P, the rectified image's"
+						       : "from K (no usable P)");
 		}
 	}
 	s->unit = u->unit;
