@@ -10,6 +10,7 @@
 #ifndef DEPTHAO_CAMERA_H
 #define DEPTHAO_CAMERA_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include <depthao/error.h>
@@ -41,6 +42,31 @@ DAO_API int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t width, u
  */
 DAO_API int dao_camera_from_fov(struct dao_camera *cam, uint32_t width, uint32_t height,
 			double hfov, double vfov, struct dao_error *err);
+
+/* Which of a CameraInfo's matrices dao_camera_from_camera_info() took. */
+enum dao_camera_info_matrix {
+	DAO_CAMERA_INFO_K = 0,           /* no distortion: K, the camera matrix */
+	DAO_CAMERA_INFO_K_DISTORTED = 1, /* distortion and no usable P: K */
+	DAO_CAMERA_INFO_P_RECTIFIED = 2, /* distortion: P, the rectified image's camera */
+};
+
+/*
+ * Sets up a camera from a ROS sensor_msgs/CameraInfo (REP 104; also its YAML
+ * file): k[9] and p[12] row-major (p may be NULL: none), d[d_count] the
+ * distortion coefficients (d may be NULL when d_count is 0).  K is the camera
+ * of the raw (distorted) image, P that of the rectified one.  Without
+ * distortion (every coefficient 0) K's intrinsics; with distortion P's when
+ * P is usable (fx, fy > 0, fx, fy, cx, cy finite), as ROS's image_geometry
+ * projects, else K's.  depthao does not undistort: with distortion the depth
+ * must be rectified (an image_rect topic) for the camera to fit it, which the
+ * caller should say (*from, when not NULL, tells which matrix was taken).
+ * Returns 0, or -EINVAL with a message naming the matrix (K's focal length
+ * not > 0, a value not finite, a size out of range).
+ */
+DAO_API int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t width, uint32_t height,
+					const double k[9], const double p[12], const double *d,
+					size_t d_count, enum dao_camera_info_matrix *from,
+					struct dao_error *err);
 
 /* Field of view (radians) of a camera: hfov = 2 atan(w / (2 fx)). */
 DAO_API void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov);

@@ -147,6 +147,7 @@ struct dao_source_ops {
 	void (*release)(void *state, struct dao_source_frame *frame);
 	/* optional: the next read delivers frame `index` of a recording */
 	int (*seek)(void *state, uint64_t index, struct dao_error *err);
+	/* optional: after the last read, before close (a source that was started) */
 	void (*stop)(void *state);
 	void (*close)(void *state);
 };

@@ -196,30 +196,21 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		r = check_info(info, depth, err);
 	if (r)
 		return r;
-	*distorted = DAO_ROS_UNDISTORTED;
-	for (size_t i = 0; info->d && i < info->d_count; i++)
-		if (info->d[i] != 0.0)
-			*distorted = DAO_ROS_DISTORTED_K;
-	/* K is the raw (distorted) image's, P the rectified image's (REP 104,
-	 * image_geometry's PinholeCameraModel): with distortion and a usable P, P's
-	 * intrinsics, as the bag source (src/plugin/bag_source.c) and the CameraInfo
-	 * YAML reader (tools/common/camera_file.c) choose them */
-	const double *p = info->p;
-	if (*distorted && p && p[0] > 0.0 && p[5] > 0.0 && isfinite(p[0]) && isfinite(p[5]) &&
-	    isfinite(p[2]) && isfinite(p[6]))
-		*distorted = DAO_ROS_DISTORTED_P;
-	const double k[4] = { info->k[0], info->k[4], info->k[2], info->k[5] };
-	const double pk[4] = { p ? p[0] : 0, p ? p[5] : 0, p ? p[2] : 0, p ? p[6] : 0 };
-	const double *use = *distorted == DAO_ROS_DISTORTED_P ? pk : k;
+	/* with distortion, the rectified image's intrinsics (P), as image_geometry */
+	struct dao_camera cam;
+	enum dao_camera_info_matrix from;
+	r = dao_camera_from_camera_info(&cam, depth->width, depth->height, info->k, info->p,
+					info->d, info->d ? info->d_count : 0, &from, err);
+	if (r)
+		return r;
+	*distorted = from == DAO_CAMERA_INFO_P_RECTIFIED   ? DAO_ROS_DISTORTED_P
+		     : from == DAO_CAMERA_INFO_K_DISTORTED ? DAO_ROS_DISTORTED_K
+							   : DAO_ROS_UNDISTORTED;
+	const double use[4] = { cam.fx, cam.fy, cam.cx, cam.cy };
 	if (!proc->ctx || proc->cam.width != depth->width || proc->cam.height != depth->height ||
 	    memcmp(use, proc->k, sizeof proc->k)) {
-		struct dao_camera cam;
 		struct dao_context *ctx;
-		r = dao_camera_from_intrinsics(&cam, depth->width, depth->height, use[0], use[1],
-					       use[2], use[3], err);
-		if (!r)
-			r = dao_context_create(&ctx, &cam, &proc->params, err);
-		if (r)
+		if ((r = dao_context_create(&ctx, &cam, &proc->params, err)))
 			return r;
 		dao_context_destroy(proc->ctx);
 		proc->ctx = ctx;

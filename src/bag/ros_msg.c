@@ -90,9 +90,11 @@ int dao_ros_camera_info_parse(const uint8_t *msg, uint32_t len, struct dao_ros_c
 	ci->distortion_count = u32(&c);
 	if (ci->distortion_count > c.left / 8)
 		return -EINVAL;
-	for (uint32_t i = 0; i < ci->distortion_count; i++)
-		if (f64(&c) != 0.0)
-			ci->distorted = 1;
+	for (uint32_t i = 0; i < ci->distortion_count; i++) {
+		double v = f64(&c);
+		if (i < DAO_ROS_MAX_DISTORTION)
+			ci->d[i] = v;
+	}
 	for (int i = 0; i < 9; i++)
 		ci->k[i] = f64(&c);
 	for (int i = 0; i < 9; i++)

@@ -29,11 +29,13 @@ struct dao_ros_image {
 
 /* sensor_msgs/CameraInfo: the parts used (K, R, P row-major; binning and
  * roi, which follow P, are not read). */
+#define DAO_ROS_MAX_DISTORTION 16
+
 struct dao_ros_camera_info {
 	struct dao_ros_header header;
 	uint32_t height, width;
 	uint32_t distortion_count; /* entries of D */
-	int distorted;             /* some entry of D is not 0 */
+	double d[DAO_ROS_MAX_DISTORTION]; /* its first entries (no model has more) */
 	double k[9];               /* the raw (distorted) image's camera matrix, 3x3 */
 	double r[9];               /* rectification rotation, 3x3 */
 	double p[12];              /* the rectified image's projection, 3x4 */

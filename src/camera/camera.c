@@ -58,6 +58,42 @@ int dao_camera_from_fov(struct dao_camera *cam, uint32_t w, uint32_t h, double h
 	return dao_camera_from_intrinsics(cam, w, h, fx, fy, (w - 1) / 2.0, (h - 1) / 2.0, err);
 }
 
+int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t w, uint32_t h, const double k[9],
+				const double p[12], const double *d, size_t d_count,
+				enum dao_camera_info_matrix *from, struct dao_error *err)
+{
+	if (!cam)
+		return dao_error_set(err, -EINVAL, "camera is NULL");
+	if (!k)
+		return dao_error_set(err, -EINVAL, "the CameraInfo has no K (camera_matrix)");
+	if (d_count && !d)
+		return dao_error_set(err, -EINVAL, "the CameraInfo's %zu distortion coefficients "
+				     "are missing (NULL)", d_count);
+	int distorted = 0;
+	for (size_t i = 0; i < d_count; i++)
+		distorted |= d[i] != 0.0;
+	enum dao_camera_info_matrix m = DAO_CAMERA_INFO_K;
+	if (distorted)
+		m = p && p[0] > 0 && p[5] > 0 && isfinite(p[0]) && isfinite(p[5]) &&
+				    isfinite(p[2]) && isfinite(p[6])
+			    ? DAO_CAMERA_INFO_P_RECTIFIED
+			    : DAO_CAMERA_INFO_K_DISTORTED;
+	/* K = [fx 0 cx; 0 fy cy; 0 0 1], P = [fx' 0 cx' Tx; 0 fy' cy' Ty; 0 0 1 0] */
+	const int use_p = m == DAO_CAMERA_INFO_P_RECTIFIED;
+	const double fx = use_p ? p[0] : k[0], fy = use_p ? p[5] : k[4];
+	const double cx = use_p ? p[2] : k[2], cy = use_p ? p[6] : k[5];
+	int r = check_size(w, h, err);
+	if (r)
+		return r;
+	struct dao_error e;
+	if ((r = dao_camera_from_intrinsics(cam, w, h, fx, fy, cx, cy, &e)))
+		return dao_error_set(err, r, "the CameraInfo's %s: %s",
+				     use_p ? "P (projection_matrix)" : "K (camera_matrix)", e.message);
+	if (from)
+		*from = m;
+	return 0;
+}
+
 void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov)
 {
 	if (hfov)

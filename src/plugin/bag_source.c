@@ -30,6 +30,7 @@
  * header stamp, or the time it was recorded when the stamp is 0; real-time
  * playback waits for it (relative to the first frame delivered).
  */
+#include <depthao/camera.h>
 #include <depthao/plugin.h>
 
 #include <errno.h>
@@ -40,11 +41,11 @@
 #include <strings.h>
 #include <time.h>
 
-#include "plugin/pacer.h"
 #include "bag/bag_reader.h"
 #include "bag/ros_msg.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/playback.h"
 
 #define BAG_MAX_QUERY 512
 
@@ -63,8 +64,7 @@ struct bag_source {
 	uint32_t color_count;
 	char color_encoding[32];
 	struct dao_frame color;
-	uint64_t next;
-	struct dao_pacer pacer;     /* real-time playback */
+	struct dao_playback_cursor play;
 };
 
 /*
@@ -284,38 +284,34 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 		if (dao_ros_camera_info_parse(d, n, &ci) < 0)
 			return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
 					     "sensor_msgs/CameraInfo", path, name);
-		/* K describes the camera's raw (distorted) image, P the rectified one
-		 * (REP 104; image_geometry's PinholeCameraModel projects with P): with
-		 * distortion and a usable P, P's intrinsics, as depthao's CameraInfo YAML
-		 * reader (tools/common/camera_file.c) and the ROS node (ros/common/dao_ros.c) */
-		const double *p = ci.p;
-		int use_p = ci.distorted && p[0] > 0 && p[5] > 0 && isfinite(p[0]) &&
-			    isfinite(p[5]) && isfinite(p[2]) && isfinite(p[6]);
-		double fx = use_p ? p[0] : ci.k[0], fy = use_p ? p[5] : ci.k[4];
-		double cx = use_p ? p[2] : ci.k[2], cy = use_p ? p[6] : ci.k[5];
+		struct dao_camera cam;
+		enum dao_camera_info_matrix from;
+		struct dao_error e;
+		uint32_t nd = ci.distortion_count < DAO_ROS_MAX_DISTORTION ? ci.distortion_count
+									   : DAO_ROS_MAX_DISTORTION;
 		if (ci.width != s->info.width || ci.height != s->info.height) {
 			snprintf(s->info.warning, sizeof(s->info.warning),
 				 "%.150s is for %ux%u images, the depth is %ux%u: not used", name,
 				 ci.width, ci.height, s->info.width, s->info.height);
-		} else if (!(fx > 0 && fy > 0 && isfinite(fx) && isfinite(fy) && isfinite(cx) &&
-			     isfinite(cy))) {
-			snprintf(s->info.warning, sizeof(s->info.warning),
-				 "%.150s has no usable K (fx %g, fy %g): not used", name, fx, fy);
+		} else if (dao_camera_from_camera_info(&cam, ci.width, ci.height, ci.k, ci.p, ci.d, nd,
+						       &from, &e)) {
+			snprintf(s->info.warning, sizeof(s->info.warning), "%.90s: %.150s: not used",
+				 name, e.message);
 		} else {
 			s->info.has_intrinsics = 1;
-			s->info.fx = fx;
-			s->info.fy = fy;
-			s->info.cx = cx;
-			s->info.cy = cy;
+			s->info.fx = cam.fx;
+			s->info.fy = cam.fy;
+			s->info.cx = cam.cx;
+			s->info.cy = cam.cy;
 			s->info.has_fov = 1;
-			s->info.hfov = 2.0 * atan(s->info.width / (2.0 * fx));
-			s->info.vfov = 2.0 * atan(s->info.height / (2.0 * fy));
-			if (ci.distorted)
+			dao_camera_fov(&cam, &s->info.hfov, &s->info.vfov);
+			if (from != DAO_CAMERA_INFO_K)
 				snprintf(s->info.warning, sizeof(s->info.warning),
 					 "%.120s has lens distortion: the depth must be rectified "
 					 "(depthao does not undistort; used as it is); intrinsics %s",
-					 name, use_p ? "from P, the rectified image's"
-						     : "from K (no usable P)");
+					 name, from == DAO_CAMERA_INFO_P_RECTIFIED
+						       ? "from P, the rectified image's"
+						       : "from K (no usable P)");
 		}
 	}
 	s->unit = u->unit;
@@ -407,8 +403,6 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->opts = *opts;
-	if (s->opts.step == 0)
-		s->opts.step = 1;
 	if (!(opts->depth_unit >= 0 && opts->depth_unit <= 1)) {
 		r = dao_error_set(err, -EINVAL, "bag: depth unit %g is not in (0, 1] metres",
 				  (double)opts->depth_unit);
@@ -464,7 +458,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			 img.width, img.height, img.encoding, s->count);
 	if ((r = dao_frame_alloc(&s->depth, s->info.format, img.width, img.height, err)) < 0)
 		goto fail;
-	s->next = opts->start_frame;
+	dao_playback_init(&s->play, opts, s->count);
 	free(u.path);
 	*state = s;
 	return 0;
@@ -493,7 +487,7 @@ static int bag_start(void *state, struct dao_error *err)
 {
 	struct bag_source *s = state;
 	(void)err;
-	dao_pacer_reset(&s->pacer);
+	dao_playback_restart(&s->play);
 	return 0;
 }
 
@@ -639,31 +633,22 @@ static int decode_color(struct bag_source *s, struct dao_error *err)
 static int bag_read(void *state, struct dao_source_frame *f, int timeout_ms, struct dao_error *err)
 {
 	struct bag_source *s = state;
-	if (s->next >= s->count) {
-		if (!s->opts.loop)
-			return DAO_SOURCE_EOS;
-		s->next = s->opts.start_frame;
-		dao_pacer_reset(&s->pacer);
-	}
-	int r = decode(s, (uint32_t)s->next, err);
-	if (r < 0) {
-		s->next += s->opts.step; /* a corrupt frame is skipped: the next read goes on */
+	uint64_t i;
+	int r = dao_playback_next(&s->play, &i, err);
+	if (r)
 		return r;
-	}
-	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
-	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
-		return r; /* the frame is read again next time */
+	if ((r = decode(s, (uint32_t)i, err)) < 0)
+		return dao_playback_skip(&s->play, r, err);
+	if ((r = dao_playback_pace(&s->play, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+		return r;
 	f->color.format = DAO_PIXFMT_NONE;
 	if (s->color_topic >= 0) {
-		if ((r = decode_color(s, err)) < 0) {
-			s->next += s->opts.step; /* skipped like a corrupt depth frame */
-			return r;
-		}
+		if ((r = decode_color(s, err)) < 0) /* skipped like a corrupt depth frame */
+			return dao_playback_skip(&s->play, r, err);
 		f->color = s->color;
 	}
 	f->depth = s->depth;
-	f->index = s->next;
-	s->next += s->opts.step;
+	f->index = dao_playback_advance(&s->play);
 	return 0;
 }
 
@@ -673,14 +658,8 @@ static int bag_seek(void *state, uint64_t index, struct dao_error *err)
 	if (index >= s->count)
 		return dao_error_set(err, -EINVAL, "seek to frame %llu: the topic has %u frames",
 				     (unsigned long long)index, s->count);
-	s->next = index;
-	dao_pacer_reset(&s->pacer);
+	dao_playback_seek(&s->play, index);
 	return 0;
-}
-
-static void bag_stop(void *state)
-{
-	(void)state;
 }
 
 static void bag_close(void *state)
@@ -700,7 +679,6 @@ static const struct dao_source_ops bag_source_ops = {
 	.start = bag_start,
 	.read = bag_read,
 	.seek = bag_seek,
-	.stop = bag_stop,
 	.close = bag_close,
 };
 

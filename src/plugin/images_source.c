@@ -4,7 +4,8 @@
  * directory in byte order of their names, as a recording of frame_count
  * frames (unit from the options, 0.001 by default; no field of view: PNG
  * files do not carry one).  Frames are decoded on read; all must have the
- * size of the first.  Real-time playback paces frames at 30 fps.
+ * size of the first.  Real-time playback paces them as a recording at
+ * 30 fps (frame i at i/30 s; with a step, every step-th of them).
  */
 #include <depthao/plugin.h>
 #include <depthao/png.h>
@@ -18,23 +19,20 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "core/clock.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/playback.h"
 
 #define IMAGES_REALTIME_FPS 30
 
 struct images_source {
 	char **paths;
 	uint32_t count;
-	struct dao_source_options opts;
 	float unit;
 	uint64_t max_pixels;
 	uint32_t width, height;
 	struct dao_frame frame; /* the last frame read (owned) */
-	uint64_t next;
-	uint64_t last_delivery_ns;
-	int delivered;
+	struct dao_playback_cursor play;
 	char description[160];
 };
 
@@ -127,10 +125,7 @@ int dao_images_source_open(const char *uri, const struct dao_source_options *opt
 	int r;
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	s->opts = *opts;
 	s->max_pixels = max_pixels;
-	if (s->opts.step == 0)
-		s->opts.step = 1;
 	s->unit = opts->depth_unit > 0 ? opts->depth_unit : 0.001f;
 	if (!(opts->depth_unit >= 0 && opts->depth_unit <= 1)) {
 		r = dao_error_set(err, -EINVAL, "images: depth unit %g is not in (0, 1] metres",
@@ -159,7 +154,7 @@ int dao_images_source_open(const char *uri, const struct dao_source_options *opt
 	dao_frame_free(&s->frame);
 	snprintf(s->description, sizeof(s->description), "%.100s: %u depth PNG%s, %ux%u", uri,
 		 s->count, s->count == 1 ? "" : "s", s->width, s->height);
-	s->next = opts->start_frame;
+	dao_playback_init(&s->play, opts, s->count);
 	*state = s;
 	return 0;
 fail:
@@ -189,8 +184,9 @@ static void images_get_info(void *state, struct dao_source_info *in)
 
 static int images_start(void *state, struct dao_error *err)
 {
-	(void)state;
+	struct images_source *s = state;
 	(void)err;
+	dao_playback_restart(&s->play);
 	return 0;
 }
 
@@ -198,33 +194,17 @@ static int images_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		       struct dao_error *err)
 {
 	struct images_source *s = state;
-	if (s->next >= s->count) {
-		if (!s->opts.loop)
-			return DAO_SOURCE_EOS;
-		s->next = s->opts.start_frame;
-	}
-	if (s->opts.playback == DAO_PLAYBACK_REALTIME && s->delivered) {
-		int64_t due = 1000000 / IMAGES_REALTIME_FPS - dao_mono_us_since(s->last_delivery_ns);
-		if (due > 0) {
-			int64_t wait = timeout_ms >= 0 && due > (int64_t)timeout_ms * 1000
-					       ? (int64_t)timeout_ms * 1000
-					       : due;
-			dao_sleep_us(wait);
-			if (wait < due)
-				return -EAGAIN;
-		}
-	}
-	int r = read_frame(s, (uint32_t)s->next, err);
-	if (r < 0) {
-		s->next += s->opts.step; /* a bad image is skipped: the next read goes on */
+	uint64_t i;
+	int r = dao_playback_next(&s->play, &i, err);
+	if (r)
 		return r;
-	}
-	s->last_delivery_ns = dao_mono_ns();
-	s->delivered = 1;
+	if ((r = read_frame(s, (uint32_t)i, err)) < 0) /* a bad image is skipped */
+		return dao_playback_skip(&s->play, r, err);
+	if ((r = dao_playback_pace(&s->play, s->frame.timestamp_ns / 1000, timeout_ms)) < 0)
+		return r;
 	f->depth = s->frame;
 	f->color.format = DAO_PIXFMT_NONE;
-	f->index = s->next;
-	s->next += s->opts.step;
+	f->index = dao_playback_advance(&s->play);
 	return 0;
 }
 
@@ -234,13 +214,8 @@ static int images_seek(void *state, uint64_t index, struct dao_error *err)
 	if (index >= s->count)
 		return dao_error_set(err, -EINVAL, "seek to frame %llu: there are %u images",
 				     (unsigned long long)index, s->count);
-	s->next = index;
+	dao_playback_seek(&s->play, index);
 	return 0;
-}
-
-static void images_stop(void *state)
-{
-	(void)state;
 }
 
 static void images_close(void *state)
@@ -259,7 +234,6 @@ static const struct dao_source_ops images_source_ops = {
 	.start = images_start,
 	.read = images_read,
 	.seek = images_seek,
-	.stop = images_stop,
 	.close = images_close,
 };
 

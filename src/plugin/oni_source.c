@@ -19,14 +19,13 @@
 #include <strings.h>
 #include <time.h>
 
-#include "plugin/pacer.h"
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/playback.h"
 
 struct oni_source {
 	struct dao_oni_reader *reader;
 	int stream;
-	struct dao_source_options opts;
 	struct dao_oni_stream_info info;
 	char path_tail[96];
 	struct dao_frame depth;
@@ -34,8 +33,7 @@ struct oni_source {
 	struct dao_oni_stream_info color_info;
 	struct dao_frame color;
 	char color_note[256];       /* why a recording's colour is not delivered */
-	uint64_t next;
-	struct dao_pacer pacer;     /* real-time playback */
+	struct dao_playback_cursor play;
 };
 
 static int oni_probe(const char *uri)
@@ -76,9 +74,6 @@ int dao_oni_source_open(const char *uri, const struct dao_source_options *opts,
 	int r;
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	s->opts = *opts;
-	if (s->opts.step == 0)
-		s->opts.step = 1;
 	if ((r = dao_oni_reader_open_limited(uri, max_pixels, &s->reader, err)) < 0)
 		goto fail;
 	if ((r = dao_oni_reader_depth_stream(s->reader, err)) < 0) {
@@ -112,7 +107,7 @@ int dao_oni_source_open(const char *uri, const struct dao_source_options *opts,
 		goto fail;
 	const char *base = strrchr(uri, '/');
 	snprintf(s->path_tail, sizeof(s->path_tail), "%s", base ? base + 1 : uri);
-	s->next = opts->start_frame;
+	dao_playback_init(&s->play, opts, s->info.frame_count);
 	*state = s;
 	return 0;
 fail:
@@ -169,7 +164,7 @@ static void oni_get_info(void *state, struct dao_source_info *in)
 static int oni_start(void *state, struct dao_error *err)
 {
 	struct oni_source *s = state;
-	dao_pacer_reset(&s->pacer);
+	dao_playback_restart(&s->play);
 	return 0;
 }
 
@@ -177,36 +172,30 @@ static int oni_read(void *state, struct dao_source_frame *f, int timeout_ms,
 		    struct dao_error *err)
 {
 	struct oni_source *s = state;
-	if (s->next >= s->info.frame_count) {
-		if (!s->opts.loop)
-			return DAO_SOURCE_EOS;
-		s->next = s->opts.start_frame;
-		dao_pacer_reset(&s->pacer); /* the timestamps start again */
-	}
-	int r = dao_oni_reader_read_depth(s->reader, (uint32_t)s->stream, (uint32_t)s->next,
-					  &s->depth, err);
-	if (r < 0) {
-		s->next += s->opts.step; /* a corrupt frame is skipped: the next read goes on */
+	uint64_t i;
+	int r = dao_playback_next(&s->play, &i, err);
+	if (r)
 		return r;
-	}
-	if (s->opts.playback == DAO_PLAYBACK_REALTIME &&
-	    (r = dao_pacer_wait(&s->pacer, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
-		return r; /* the frame is read again next time */
+	if ((r = dao_oni_reader_read_depth(s->reader, (uint32_t)s->stream, (uint32_t)i, &s->depth,
+					   err)) < 0)
+		return dao_playback_skip(&s->play, r, err);
+	if ((r = dao_playback_pace(&s->play, s->depth.timestamp_ns / 1000, timeout_ms)) < 0)
+		return r;
 	f->color.format = DAO_PIXFMT_NONE;
 	if (s->color_stream >= 0) {
 		uint32_t c;
-		if (dao_oni_reader_match_frame(s->reader, (uint32_t)s->stream, (uint32_t)s->next,
-					       (uint32_t)s->color_stream, &c) < 0 ||
-		    (r = dao_oni_reader_read_color(s->reader, (uint32_t)s->color_stream, c,
-						   &s->color, err)) < 0) {
-			s->next += s->opts.step; /* skipped like a corrupt depth frame */
-			return r < 0 ? r : dao_error_set(err, -EINVAL, "no colour frame");
-		}
+		if (dao_oni_reader_match_frame(s->reader, (uint32_t)s->stream, (uint32_t)i,
+					       (uint32_t)s->color_stream, &c) < 0)
+			r = dao_error_set(err, -EINVAL, "no colour frame");
+		else
+			r = dao_oni_reader_read_color(s->reader, (uint32_t)s->color_stream, c,
+						      &s->color, err);
+		if (r < 0) /* skipped like a corrupt depth frame */
+			return dao_playback_skip(&s->play, r, err);
 		f->color = s->color;
 	}
 	f->depth = s->depth;
-	f->index = s->next;
-	s->next += s->opts.step;
+	f->index = dao_playback_advance(&s->play);
 	return 0;
 }
 
@@ -216,14 +205,8 @@ static int oni_seek(void *state, uint64_t index, struct dao_error *err)
 	if (index >= s->info.frame_count)
 		return dao_error_set(err, -EINVAL, "seek to frame %llu: the recording has %u frames",
 				     (unsigned long long)index, s->info.frame_count);
-	s->next = index;
-	dao_pacer_reset(&s->pacer);
+	dao_playback_seek(&s->play, index);
 	return 0;
-}
-
-static void oni_stop(void *state)
-{
-	(void)state;
 }
 
 static void oni_close(void *state)
@@ -243,7 +226,6 @@ static const struct dao_source_ops oni_source_ops = {
 	.start = oni_start,
 	.read = oni_read,
 	.seek = oni_seek,
-	.stop = oni_stop,
 	.close = oni_close,
 };
 

@@ -106,6 +106,91 @@ static void test_errors(void **state)
 	assert_int_equal(dao_camera_view_to_pixel(&cam, p, &u, &v), -EDOM);
 }
 
+/*
+ * A CameraInfo's intrinsics: K without distortion; with distortion P (the
+ * rectified image's camera), or K when P is not usable; refused values say
+ * which matrix was wrong.
+ */
+static void test_camera_info(void **state)
+{
+	(void)state;
+	const double k[9] = { 50, 0, 31, 0, 51, 23, 0, 0, 1 };
+	const double p[12] = { 45, 0, 30, 0, 0, 46.5, 22, 0, 0, 0, 1, 0 };
+	const double none[5] = { 0, 0, 0, 0, 0 }, plumb[5] = { -0.1, 0.02, 0, 0, 0 };
+	struct dao_camera cam;
+	struct dao_error err;
+	enum dao_camera_info_matrix from = DAO_CAMERA_INFO_P_RECTIFIED;
+	/* no distortion: K, whatever P says */
+	assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, p, none, 5, &from, &err), 0);
+	assert_int_equal(from, DAO_CAMERA_INFO_K);
+	assert_true(cam.fx == 50 && cam.fy == 51 && cam.cx == 31 && cam.cy == 23);
+	assert_true(cam.width == 64 && cam.height == 48);
+	assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, NULL, NULL, 0, &from, &err), 0);
+	assert_int_equal(from, DAO_CAMERA_INFO_K);
+	assert_true(cam.fx == 50 && cam.cy == 23);
+	/* distortion and a usable P: P's, the same camera as from its intrinsics */
+	assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, p, plumb, 5, &from, &err), 0);
+	assert_int_equal(from, DAO_CAMERA_INFO_P_RECTIFIED);
+	struct dao_camera want;
+	assert_int_equal(dao_camera_from_intrinsics(&want, 64, 48, 45, 46.5, 30, 22, NULL), 0);
+	assert_memory_equal(&cam, &want, sizeof cam);
+	/* one coefficient not 0 is distortion (the last of 8, rational_polynomial) */
+	const double rational[8] = { 0, 0, 0, 0, 0, 0, 0, 1e-6 };
+	assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, p, rational, 8, &from, &err), 0);
+	assert_int_equal(from, DAO_CAMERA_INFO_P_RECTIFIED);
+	/* distortion and an unusable P (an uncalibrated driver's zeros, none, not
+	 * finite, a negative focal length): K's, and the caller is told */
+	const double zeros[12] = { 0 };
+	double bad_p[12];
+	const double bad_values[] = { NAN, INFINITY, -45 };
+	const int where[] = { 0, 5, 2, 6 };
+	assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, zeros, plumb, 5, &from, &err), 0);
+	assert_int_equal(from, DAO_CAMERA_INFO_K_DISTORTED);
+	assert_true(cam.fx == 50 && cam.fy == 51 && cam.cx == 31 && cam.cy == 23);
+	from = DAO_CAMERA_INFO_K;
+	assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, NULL, plumb, 5, &from, &err), 0);
+	assert_int_equal(from, DAO_CAMERA_INFO_K_DISTORTED);
+	for (int w = 0; w < 4; w++)
+		for (int b = 0; b < 3; b++) {
+			if (b == 2 && (where[w] == 2 || where[w] == 6))
+				continue; /* a negative principal point is a camera */
+			memcpy(bad_p, p, sizeof bad_p);
+			bad_p[where[w]] = bad_values[b];
+			from = DAO_CAMERA_INFO_P_RECTIFIED;
+			assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, k, bad_p, plumb, 5,
+								     &from, &err), 0);
+			assert_int_equal(from, DAO_CAMERA_INFO_K_DISTORTED);
+			assert_true(cam.fx == 50);
+		}
+	/* K refused: zero, negative or not finite, with a message naming K */
+	double bad_k[9];
+	const int kwhere[] = { 0, 4, 2, 5 };
+	const double kbad[] = { 0, -50, NAN, INFINITY };
+	for (int w = 0; w < 4; w++)
+		for (int b = 0; b < 4; b++) {
+			if (b < 2 && (kwhere[w] == 2 || kwhere[w] == 5))
+				continue;
+			memcpy(bad_k, k, sizeof bad_k);
+			bad_k[kwhere[w]] = kbad[b];
+			expect_invalid(dao_camera_from_camera_info(&cam, 64, 48, bad_k, p, none, 5, NULL,
+								   &err), &err, "K (camera_matrix)");
+			assert_non_null(strstr(err.message, kwhere[w] == 2 || kwhere[w] == 5
+								    ? "principal point" : "focal"));
+			/* with distortion and a usable P, K is not what is used */
+			assert_int_equal(dao_camera_from_camera_info(&cam, 64, 48, bad_k, p, plumb, 5,
+								     NULL, &err), 0);
+			assert_true(cam.fx == 45);
+		}
+	expect_invalid(dao_camera_from_camera_info(&cam, 0, 48, k, p, none, 5, NULL, &err), &err,
+		       "size");
+	expect_invalid(dao_camera_from_camera_info(&cam, 64, 48, NULL, p, none, 5, NULL, &err), &err,
+		       "no K");
+	expect_invalid(dao_camera_from_camera_info(&cam, 64, 48, k, p, NULL, 5, NULL, &err), &err,
+		       "distortion");
+	expect_invalid(dao_camera_from_camera_info(NULL, 64, 48, k, p, none, 5, NULL, &err), &err,
+		       "NULL");
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -113,6 +198,7 @@ int main(void)
 		cmocka_unit_test(test_uv_to_view_params),
 		cmocka_unit_test(test_fov),
 		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_camera_info),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -268,6 +269,43 @@ static void test_images_source(void **state)
 	assert_non_null(strstr(err.message, "no *.png files"));
 }
 
+/*
+ * Real-time playback of depth PNGs follows their timestamps (a recording at
+ * 30 fps), as .oni and bag recordings do: with step 3, frames 0, 3 and 6 come
+ * 100 ms apart, the recording's own time.  A sleep is never shorter than asked,
+ * so this lower bound holds on a loaded host.
+ */
+static uint64_t mono_ms(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (uint64_t)t.tv_sec * 1000 + (uint64_t)t.tv_nsec / 1000000;
+}
+
+static void test_images_realtime_step(void **state)
+{
+	(void)state;
+	char uri[600];
+	snprintf(uri, sizeof uri, "images:%s", write_pngs("images-realtime", 7, 99));
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options),
+				       .playback = DAO_PLAYBACK_REALTIME, .step = 3};
+	struct dao_source *s = open_src(uri, &o);
+	struct dao_error err;
+	struct dao_source_frame f;
+	const uint64_t t0 = mono_ms();
+	for (uint64_t i = 0; i <= 6; i += 3) {
+		assert_int_equal(dao_source_read(s, &f, 1000, &err), 0);
+		assert_int_equal(f.index, i);
+		assert_int_equal(f.depth.timestamp_ns, i * 1000000000u / 30);
+		dao_source_release(s, &f);
+	}
+	const uint64_t ms = mono_ms() - t0;
+	if (ms < 199)
+		fail_msg("frames 0, 3, 6 at 30 fps played in %llu ms, not 200", (unsigned long long)ms);
+	assert_int_equal(dao_source_read(s, &f, 1000, &err), DAO_SOURCE_EOS);
+	dao_source_close(s);
+}
+
 static uint32_t rd32(const uint8_t *p)
 {
 	return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
@@ -345,6 +383,40 @@ static void test_bad_frame_skipped(void **state)
 		assert_int_equal(f.index, want[i]);
 		assert_true(test_is_frame(&f.depth, (uint32_t)f.index));
 		dao_source_release(s, &f);
+	}
+	dao_source_close(s);
+}
+
+/*
+ * A looping recording none of whose frames can be read: each fails once, then
+ * the reads end in -EIO with a message, instead of failing forever.
+ */
+static void test_all_frames_bad(void **state)
+{
+	(void)state;
+	char dir[600], png[700], uri[700];
+	snprintf(dir, sizeof dir, "%s", write_pngs("images-all-bad", 3, 99));
+	struct dao_source_options o = {.size = sizeof(struct dao_source_options), .loop = 1};
+	snprintf(uri, sizeof uri, "images:%s", dir);
+	struct dao_source *s = open_src(uri, &o); /* the first image sets the size */
+	for (int i = 0; i < 3; i++) {
+		snprintf(png, sizeof png, "%s/%02d.png", dir, i);
+		assert_int_equal(truncate(png, 40), 0);
+	}
+	struct dao_source_frame f;
+	struct dao_error err;
+	for (int i = 0; i < 3; i++) {
+		assert_int_equal(dao_source_read(s, &f, 1000, &err), -EINVAL);
+		snprintf(png, sizeof png, "%02d.png", i);
+		assert_non_null(strstr(err.message, png));
+	}
+	for (int i = 0; i < 3; i++) {
+		int r = dao_source_read(s, &f, 1000, &err);
+		if (r != -EIO)
+			fail_msg("read %d after a pass of bad frames: %d (%s), expected -EIO", i, r,
+				 err.message);
+		assert_non_null(strstr(err.message, "no frame can be read: all 3 from frame 0"));
+		assert_non_null(strstr(err.message, "02.png"));
 	}
 	dao_source_close(s);
 }
@@ -440,7 +512,9 @@ int main(void)
 		cmocka_unit_test(test_realtime_delivers_all),
 		cmocka_unit_test(test_open_errors),
 		cmocka_unit_test(test_images_source),
+		cmocka_unit_test(test_images_realtime_step),
 		cmocka_unit_test(test_bad_frame_skipped),
+		cmocka_unit_test(test_all_frames_bad),
 		cmocka_unit_test(test_kinect_recording_ao),
 		cmocka_unit_test(test_modules_skipped_with_reason),
 	};

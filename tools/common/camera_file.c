@@ -114,31 +114,26 @@ static int read_yaml(const char *path, const char *text, size_t n, struct dao_ca
 	struct camera_info ci;
 	if (camera_info_yaml_parse(text, n, path, &ci, msg, len))
 		return -1;
-	/* K describes the camera's own (distorted) image; a rectified image, which is
-	 * what depth without distortion is, has P's intrinsics (ROS REP 104).  The
-	 * same rule for CameraInfo messages: src/plugin/bag_source.c (bags) and
-	 * ros/common/dao_ros.c (the ROS node) */
-	double fx = ci.k[0], fy = ci.k[4], cx = ci.k[2], cy = ci.k[5];
-	const char *which = "camera_matrix";
-	int distorted = camera_info_distorted(&ci);
-	if (distorted && ci.has_p && ci.p[0] > 0 && ci.p[5] > 0) {
-		fx = ci.p[0], fy = ci.p[5], cx = ci.p[2], cy = ci.p[6];
-		which = "projection_matrix (the rectified image's)";
-	}
+	/* with distortion, the rectified image's intrinsics (P), as ROS does */
+	enum dao_camera_info_matrix from;
 	struct dao_error err;
-	if (dao_camera_from_intrinsics(cam, ci.width, ci.height, fx, fy, cx, cy, &err)) {
-		snprintf(msg, len, "camera file '%s': %s: %s", path, which, err.message);
+	if (dao_camera_from_camera_info(cam, ci.width, ci.height, ci.k, ci.has_p ? ci.p : NULL, ci.d,
+					(size_t)ci.nd, &from, &err)) {
+		snprintf(msg, len, "camera file '%s': %s", path, err.message);
 		return -1;
 	}
 	if (warning && wlen)
 		warning[0] = '\0';
-	if (warning && distorted)
+	if (warning && from != DAO_CAMERA_INFO_K)
 		snprintf(warning, wlen,
 			 "camera file '%s' has distortion (%s%s%d coefficients): depthao does not "
 			 "undistort, so the depth must be rectified (a ROS image_rect topic); using the "
 			 "intrinsics of its %s: fx %.3f fy %.3f cx %.3f cy %.3f", path,
 			 ci.distortion_model[0] ? ci.distortion_model : "no model",
-			 ", ", ci.nd, which, fx, fy, cx, cy);
+			 ", ", ci.nd,
+			 from == DAO_CAMERA_INFO_P_RECTIFIED ? "projection_matrix (the rectified image's)"
+							     : "camera_matrix",
+			 cam->fx, cam->fy, cam->cx, cam->cy);
 	else if (warning && ci.k[1] != 0)
 		snprintf(warning, wlen, "camera file '%s': camera_matrix has skew %g, which "
 			 "depthao's pinhole model ignores", path, ci.k[1]);

@@ -194,11 +194,3 @@ int camera_info_yaml_parse(const char *text, size_t len, const char *name, struc
 	yaml_parser_delete(&parser);
 	return r;
 }
-
-int camera_info_distorted(const struct camera_info *ci)
-{
-	for (int i = 0; i < ci->nd; i++)
-		if (ci->d[i] != 0)
-			return 1;
-	return 0;
-}

@@ -42,7 +42,4 @@ struct camera_info {
 int camera_info_yaml_parse(const char *text, size_t len, const char *name, struct camera_info *ci,
 			   char *msg, size_t msglen);
 
-/* Whether any distortion coefficient is not 0. */
-int camera_info_distorted(const struct camera_info *ci);
-
 #endif
