@@ -435,8 +435,10 @@ def main():
     # errors a publisher can cause: logged with what is wrong, the node goes on
     pub = rospy.Publisher("/cam/depth/image", Image, queue_size=10)
     pub_info = rospy.Publisher("/cam/depth/camera_info", CameraInfo, queue_size=10)
-    wait_for("the node to subscribe", lambda: pub.get_num_connections() > 0 and
-             pub_info.get_num_connections() > 0)
+    # a and c both subscribe to /cam/depth: one connection may be c's alone, and a message
+    # published then never reaches a (seen once at load 11), so wait for both
+    wait_for("nodes a and c to subscribe", lambda: pub.get_num_connections() >= 2 and
+             pub_info.get_num_connections() >= 2)
     rgb = image_msg(50, "rgb8", bytes(3 * W * H), 3 * W)
     pub_info.publish(info_msg(50))
     pub.publish(rgb)
