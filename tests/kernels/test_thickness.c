@@ -305,7 +305,7 @@ static void test_vbao_behind_poles(void **state)
 	const double e = run_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_IMAGE, 0.2f);
 	print_message("wall behind the poles, MAE: gtao %.4f, vbao 0.2 m %.4f, 0.5 m %.4f, "
 		      "image %.4f\n", g, c2, c5, e);
-	/* measured 0.1163, 0.0742, 0.1458, 0.0406 */
+	/* measured 0.1138, 0.0737, 0.1226, 0.0487 (the same before and after the slab test) */
 	assert_true(e < 0.5 * g);
 	assert_true(e < 0.75 * c2);
 	assert_true(e < 0.5 * c5);
