@@ -45,10 +45,15 @@ static inline float vdot(struct vec a, struct vec b)
 	return a.x * b.x + a.y * b.y + a.z * b.z;
 }
 
+static inline struct vec vcross(struct vec a, struct vec b)
+{
+	return (struct vec){ a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
+}
+
 static inline float vcross_len(struct vec a, struct vec b)
 {
-	const float x = a.y * b.z - a.z * b.y, y = a.z * b.x - a.x * b.z, z = a.x * b.y - a.y * b.x;
-	return sqrtf(x * x + y * y + z * z);
+	const struct vec c = vcross(a, b);
+	return sqrtf(vdot(c, c));
 }
 
 static inline struct vec vunit(struct vec a)
@@ -84,7 +89,7 @@ struct line_geom {
 	float u0, v0, du, dv;
 };
 
-/* The view position of the line's pixel k (or of the point at k + off), at depth zk. */
+/* The view position of the point k pixels along the line (k may be fractional), at depth zk. */
 static inline struct vec line_pos(const struct line_geom *g, float k, float zk)
 {
 	const float u = g->u0 + k * g->du, v = g->v0 + k * g->dv;
@@ -156,17 +161,13 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 		return 0;
 #undef SEG
 	/* convex: the corner lies on the camera's side of the line from the edge's end to
-	 * the broad face (a box standing in a corner turns the other way) */
+	 * the broad face (a concave crease, a floor meeting a wall, turns the other way) */
 	const float ke = (float)end, kc = (float)(end + dir * f), kf = (float)(end + dir * (f + 2));
 	const struct vec pe = line_pos(g, ke, g->z[(size_t)end * g->step]);
 	const struct vec pc = line_pos(g, kc, g->z[(size_t)(end + dir * f) * g->step]);
 	const struct vec pf = line_pos(g, kf, g->z[(size_t)(end + dir * (f + 2)) * g->step]);
 	const struct vec fe = vsub(pe, pf), fc = vsub(pc, pf);
-	const struct vec cam = { -pf.x, -pf.y, -pf.z };
-	const float sc = fe.x * fc.y - fe.y * fc.x, so = fe.x * cam.y - fe.y * cam.x;
-	const float sc2 = fe.y * fc.z - fe.z * fc.y, so2 = fe.y * cam.z - fe.z * cam.y;
-	const float sc3 = fe.z * fc.x - fe.x * fc.z, so3 = fe.z * cam.x - fe.x * cam.z;
-	if (sc * so + sc2 * so2 + sc3 * so3 <= 0.0f)
+	if (vdot(vcross(fe, fc), vcross(fe, vneg(pf))) <= 0.0f)
 		return 0;
 	/* the edge face's far end: the outer edge of the end pixel */
 	const struct vec pout = line_pos(g, ke + 0.5f * (float)-dir, g->z[(size_t)end * g->step]);
