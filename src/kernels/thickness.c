@@ -33,15 +33,161 @@ static inline int outline(float inside, float next)
 	return !(next > 0.0f) || next > inside;
 }
 
+struct vec { float x, y, z; };
+
+static inline struct vec vsub(struct vec a, struct vec b)
+{
+	return (struct vec){ a.x - b.x, a.y - b.y, a.z - b.z };
+}
+
+static inline float vdot(struct vec a, struct vec b)
+{
+	return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+static inline struct vec vcross(struct vec a, struct vec b)
+{
+	return (struct vec){ a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
+}
+
+static inline float vcross_len(struct vec a, struct vec b)
+{
+	const struct vec c = vcross(a, b);
+	return sqrtf(vdot(c, c));
+}
+
+static inline struct vec vunit(struct vec a)
+{
+	const float l = sqrtf(vdot(a, a));
+	return l > 0.0f ? (struct vec){ a.x / l, a.y / l, a.z / l } : a;
+}
+
+static inline struct vec vneg(struct vec a)
+{
+	return (struct vec){ -a.x, -a.y, -a.z };
+}
+
+/* cos(a, b) >= c (c > 0), without roots or divisions */
+static inline int cos_above(struct vec a, struct vec b, float c)
+{
+	const float d = vdot(a, b);
+	return d > 0.0f && d * d >= c * c * vdot(a, a) * vdot(b, b);
+}
+
+/* |cos(a, b)| <= c */
+static inline int abs_cos_below(struct vec a, struct vec b, float c)
+{
+	const float d = vdot(a, b);
+	return d * d <= c * c * vdot(a, a) * vdot(b, b);
+}
+
+/* One line: its pixels' depths z[k * step] at (u0 + k du, v0 + k dv). */
+struct line_geom {
+	const struct dao_thickness_setup *t;
+	const float *z;
+	size_t step;
+	float u0, v0, du, dv;
+};
+
+/* The view position of the point k pixels along the line (k may be fractional), at depth zk. */
+static inline struct vec line_pos(const struct line_geom *g, float k, float zk)
+{
+	const float u = g->u0 + k * g->du, v = g->v0 + k * g->dv;
+	return (struct vec){ (u * g->t->ax + g->t->bx) * zk, (v * g->t->ay + g->t->by) * zk, zk };
+}
+
+/* The segment from pixel k to pixel k + 1. */
+static inline struct vec seg(const struct line_geom *g, int k)
+{
+	const struct vec a = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
+	const struct vec b = line_pos(g, (float)(k + 1), g->z[(size_t)(k + 1) * g->step]);
+	return vsub(b, a);
+}
+
+/*
+ * A slab's edge face at the end of a run (README.md, "Thickness from the
+ * image"): seen from above or below, a board's broad face is wide on screen
+ * and its thickness shows only in the narrow face of its edge, which ends
+ * the run at its silhouette.  From the end pixel `e` inwards (dir = -1 from
+ * the run's last pixel, +1 from its first) the points must go straight for
+ * at least two segments (the edge face, at most DAO_SLAB_EDGE_MAX px), then
+ * turn by more than DAO_SLAB_CREASE_COS (a crease, with at most one segment
+ * cutting the corner) onto two more straight segments (the broad face).  A
+ * pole's surface turns at every pixel and never passes.  On success: the
+ * broad face's direction in the line's plane and the edge face's extent
+ * across it, t (the slab's thickness as the line cuts it).
+ */
+#define DAO_SLAB_EDGE_MAX 24
+#define DAO_SLAB_STRAIGHT_COS 0.94f /* 20 degrees */
+#define DAO_SLAB_CREASE_COS 0.64f   /* 50 degrees */
+
+static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct vec *face, float *t)
+{
+	const int end = dir < 0 ? e : s;
+	const int len = e - s + 1;
+	/* segment j from the end: from pixel end + dir j to end + dir (j + 1) */
+#define SEG(j) (dir < 0 ? vneg(seg(g, end - (j) - 1)) : seg(g, end + (j)))
+#define PT(j) line_pos(g, (float)(end + dir * (j)), g->z[(size_t)(end + dir * (j)) * g->step])
+	/* (walking the points: each is made once) */
+	struct vec p = PT(1);
+	const struct vec e0 = vsub(p, PT(0));
+	int m = 1;
+	struct vec d = e0;
+	while (m < DAO_SLAB_EDGE_MAX && m + 3 < len) {
+		const struct vec q = PT(m + 1);
+		d = vsub(q, p);
+		if (!cos_above(d, e0, DAO_SLAB_STRAIGHT_COS))
+			break;
+		p = q;
+		m++;
+	}
+#undef PT
+	if (m < 2 || m + 3 >= len || cos_above(d, e0, DAO_SLAB_STRAIGHT_COS))
+		return 0;
+	/* d = segment m turned away from the edge face: the corner or the broad face */
+	int f = m;
+	struct vec d1 = SEG(m + 1);
+	if (!cos_above(d, d1, DAO_SLAB_STRAIGHT_COS)) {
+		/* segment m cuts the corner; the broad face starts one further */
+		if (m + 4 >= len)
+			return 0;
+		f = m + 1;
+		d = d1;
+		d1 = SEG(m + 2);
+		if (!cos_above(d, d1, DAO_SLAB_STRAIGHT_COS))
+			return 0;
+	}
+	if (!abs_cos_below(d, e0, DAO_SLAB_CREASE_COS))
+		return 0;
+#undef SEG
+	/* convex: the corner lies on the camera's side of the line from the edge's end to
+	 * the broad face (a concave crease, a floor meeting a wall, turns the other way) */
+	const float ke = (float)end, kc = (float)(end + dir * f), kf = (float)(end + dir * (f + 2));
+	const struct vec pe = line_pos(g, ke, g->z[(size_t)end * g->step]);
+	const struct vec pc = line_pos(g, kc, g->z[(size_t)(end + dir * f) * g->step]);
+	const struct vec pf = line_pos(g, kf, g->z[(size_t)(end + dir * (f + 2)) * g->step]);
+	const struct vec fe = vsub(pe, pf), fc = vsub(pc, pf);
+	if (vdot(vcross(fe, fc), vcross(fe, vneg(pf))) <= 0.0f)
+		return 0;
+	/* the edge face's far end: the outer edge of the end pixel */
+	const struct vec pout = line_pos(g, ke + 0.5f * (float)-dir, g->z[(size_t)end * g->step]);
+	*face = vunit(vsub(pc, pf));
+	*t = vcross_len(vsub(pout, pc), *face);
+	return 1;
+}
+
 /*
  * One line of n pixels, the k-th at z[k * step] and at pixel coordinates
  * (u0 + k du, v0 + k dv).  Each run's chord spans from the outer edge of its
  * first pixel to the outer edge of its last (a run of one pixel is a pixel
- * wide), each end at its own depth.
+ * wide), each end at its own depth.  Where an end of the run is a slab's
+ * edge face (slab_edge), each pixel's ray crosses the slab, of thickness t
+ * along the face direction f, over t / sin(ray, f).
  */
 static void line(const struct dao_thickness_setup *t, const float *z, float *thick, int n,
 		 size_t step, float u0, float v0, float du, float dv, int take_min)
 {
+	const struct line_geom g = { t, z, step, u0, v0, du, dv };
 	int i = 0;
 	while (i < n) {
 		const float zs = z[(size_t)i * step];
@@ -57,6 +203,9 @@ static void line(const struct dao_thickness_setup *t, const float *z, float *thi
 		const int e = i;
 		const float ze = z[(size_t)e * step];
 		float value = t->max;
+		int slabs = 0;
+		struct vec face[2];
+		float slab_t[2];
 		if (s > 0 && e + 1 < n && outline(zs, z[(size_t)(s - 1) * step]) &&
 		    outline(ze, z[(size_t)(e + 1) * step])) {
 			const float us = u0 + ((float)s - 0.5f) * du, vs = v0 + ((float)s - 0.5f) * dv;
@@ -67,8 +216,28 @@ static void line(const struct dao_thickness_setup *t, const float *z, float *thi
 			const float chord = sqrtf(dx * dx + dy * dy + dz * dz);
 			if (chord < value)
 				value = chord;
+			if (e - s >= 4) {
+				slabs += slab_edge(&g, s, e, -1, &face[slabs], &slab_t[slabs]);
+				slabs += slab_edge(&g, s, e, 1, &face[slabs], &slab_t[slabs]);
+			}
 		}
-		if (take_min) {
+		if (slabs) {
+			for (int k = s; k <= e; k++) {
+				const struct vec p = line_pos(&g, (float)k, z[(size_t)k * step]);
+				const float lp = sqrtf(vdot(p, p));
+				float vk = value;
+				for (int q = 0; q < slabs; q++) {
+					/* scale t / sin(ray, face) = scale t |p| / |p x f|, no division by 0 */
+					const float sn = vcross_len(p, face[q]);
+					const float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
+					if (across < vk * sn)
+						vk = across / sn;
+				}
+				float *o = &thick[(size_t)k * step];
+				if (!take_min || vk < *o)
+					*o = vk;
+			}
+		} else if (take_min) {
 			for (int k = s; k <= e; k++) {
 				float *o = &thick[(size_t)k * step];
 				if (value < *o)
