@@ -86,7 +86,7 @@ static inline vf dt_load_w(const struct dt_ctx *c, size_t at)
 
 /* the link between samples n-1 and n (link_exponent in domain.c) */
 static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, vf d, int n,
-			  vf *sigma_out)
+			  vf *inv_sigma_out)
 {
 	const vf zero = v_zero();
 	const vm ok = m_and(v_gt(wm1, zero), v_gt(w0, zero));
@@ -99,10 +99,11 @@ static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, 
 		k = (size_t)c->pos[2 * n], uv = v_set1(c->pos[2 * n + 1]);
 	vf sigma = c->noise_knots ? dt_cell_value(c->noise_knots, k, uv) : c->noise;
 	sigma = v_max(v_max(sigma, v_mul(v_mul(c->unit, w0), w0)), v_set1(DAO_DOMAIN_MIN_NOISE));
-	*sigma_out = sigma;
 	/* (e / sigma)^2 with the refined reciprocal (3e-7 relative; a division
 	 * costs more than the rest of the link on AVX-512) */
-	const vf r = v_mul(e, v_rcp(sigma));
+	const vf inv_sigma = v_rcp(sigma);
+	*inv_sigma_out = inv_sigma;
+	const vf r = v_mul(e, inv_sigma);
 	const vf r2 = v_mul(r, r);
 	const vf sp = c->scale_knots ? v_mul(c->spatial, dt_cell_value(c->scale_knots, k, uv))
 				     : c->spatial_term;
@@ -118,12 +119,19 @@ static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, 
  * output below lane0 + skip are left alone (the last strip overlaps the one
  * before it).
  */
-/* The links of a strip (its first loop: no recursion, so the steps overlap
- * freely), built once per combination of the flags (constants at the call)
- * so that the loop tests none of them; stores each link and 1/z. */
+/*
+ * The causal sweep of a strip: per sample the link to the one before, then
+ * the moments of the samples 0..n about n at distances n - k, the data
+ * centred on w_n; stores the moments, the link, 1/z and the side test's
+ * scale.  Built once per combination of the flags (constants at the call)
+ * so that the loop tests none of them.  The links carry no recursion, so
+ * out-of-order execution overlaps them with the moments' chains; in one loop
+ * the link and 1/z are not stored and read back, and each sample's scratch
+ * is written at once.
+ */
 static inline __attribute__((always_inline)) void
-dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const int noise_map,
-	 const int scale_map)
+dt_causal(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const int noise_map,
+	  const int scale_map, const int sides)
 {
 	struct dt_ctx c = *cp;
 	c.in_depth = in_depth;
@@ -131,21 +139,39 @@ dt_links(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const 
 		c.noise_knots = NULL;
 	if (!scale_map)
 		c.scale_knots = NULL;
-	const vf zero = v_zero();
+	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
 	const vf side_k2 = c.side_k2;
 	vf wm2 = zero, wm1 = zero, w0 = zero, wp1 = dt_load_w(&c, 0);
+	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, t2 = zero;
 	for (int n = 0; n < len; n++) {
 		const size_t at = (size_t)n * c.stride;
 		wm2 = wm1, wm1 = w0, w0 = wp1;
 		wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
-		vf sigma;
-		const vf l0 = dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), n, &sigma);
+		vf inv_sigma;
+		const vf l0 = dt_link(&c, wm2, wm1, w0, wp1, v_sub(w0, wm1), n, &inv_sigma);
 		const vf l = n > 0 ? l0 : zero;
+		const vf dw = v_sub(wm1, w0), valid = v_sel(v_gt(w0, zero), one, zero);
+		const vf ls0 = v_mul(l, s0), ls1 = v_mul(l, s1);
+		if (sides)
+			t2 = v_fma(l, t2, v_mul(dw, v_fma(two, v_mul(l, t0), v_mul(dw, ls0))));
+		t1 = v_fma(l, t1, v_fma(dw, v_add(ls1, ls0), v_mul(l, t0)));
+		t0 = v_fma(l, t0, v_mul(dw, ls0));
+		s2 = v_fma(l, s2, v_fma(two, ls1, ls0));
+		s1 = v_fma(l, s1, ls0);
+		s0 = v_fma(l, s0, valid);
 		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
+		v_store(o, s0);
+		v_store(o + VN, s1);
+		v_store(o + 2 * VN, s2);
+		v_store(o + 3 * VN, t0);
+		v_store(o + 4 * VN, t1);
+		v_store(o + 5 * VN, t2);
 		v_store(o + 6 * VN, l);
 		v_store(o + 7 * VN, w0);
-		/* 1 / (side_noise sigma)^2: a division, once per sample */
-		v_store(o + 8 * VN, v_div(side_k2, v_mul(sigma, sigma)));
+		/* 1 / (side_noise sigma)^2 from the link's refined reciprocal of
+		 * sigma, not a division of its own (domain.c divides) */
+		if (sides)
+			v_store(o + 8 * VN, v_mul(v_mul(side_k2, inv_sigma), inv_sigma));
 	}
 }
 
@@ -208,42 +234,21 @@ dt_strip_sides(const struct dao_domain_pass *p, float *sc, const float *pos, int
 		.spatial_term = v_set1(p->spatial * p->inv_scale), .range = v_set1(p->range_coef),
 		.side_k2 = v_set1(p->side_k2),
 	};
-	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
 	if (c.noise_knots && c.scale_knots) {
 		if (c.in_depth)
-			dt_links(&c, sc, len, 1, 1, 1);
+			dt_causal(&c, sc, len, 1, 1, 1, sides);
 		else
-			dt_links(&c, sc, len, 0, 1, 1);
+			dt_causal(&c, sc, len, 0, 1, 1, sides);
 	} else if (!c.noise_knots && !c.scale_knots) {
 		if (c.in_depth)
-			dt_links(&c, sc, len, 1, 0, 0);
+			dt_causal(&c, sc, len, 1, 0, 0, sides);
 		else
-			dt_links(&c, sc, len, 0, 0, 0);
+			dt_causal(&c, sc, len, 0, 0, 0, sides);
 	} else {
-		dt_links(&c, sc, len, c.in_depth, c.noise_knots != NULL, c.scale_knots != NULL);
+		dt_causal(&c, sc, len, c.in_depth, c.noise_knots != NULL, c.scale_knots != NULL,
+			  sides);
 	}
-	/* causal: moments about sample n at distances n - k, data centred on w_n */
-	vf s0 = zero, s1 = zero, s2 = zero, t0 = zero, t1 = zero, t2 = zero, wprev = zero;
-	for (int n = 0; n < len; n++) {
-		float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
-		const vf l = v_load(o + 6 * VN), w0 = v_load(o + 7 * VN);
-		const vf dw = v_sub(wprev, w0), valid = v_sel(v_gt(w0, zero), one, zero);
-		const vf ls0 = v_mul(l, s0), ls1 = v_mul(l, s1);
-		if (sides)
-			t2 = v_fma(l, t2, v_mul(dw, v_fma(two, v_mul(l, t0), v_mul(dw, ls0))));
-		t1 = v_fma(l, t1, v_fma(dw, v_add(ls1, ls0), v_mul(l, t0)));
-		t0 = v_fma(l, t0, v_mul(dw, ls0));
-		s2 = v_fma(l, s2, v_fma(two, ls1, ls0));
-		s1 = v_fma(l, s1, ls0);
-		s0 = v_fma(l, s0, valid);
-		wprev = w0;
-		v_store(o, s0);
-		v_store(o + VN, s1);
-		v_store(o + 2 * VN, s2);
-		v_store(o + 3 * VN, t0);
-		v_store(o + 4 * VN, t1);
-		v_store(o + 5 * VN, t2);
-	}
+	const vf zero = v_zero(), one = v_set1(1.0f), two = v_set1(2.0f);
 	/* anticausal: distances k - n, added to the causal moments (whose first
 	 * moments change sign), then the fit */
 	vf r0 = zero, r1 = zero, r2 = zero, u0 = zero, u1 = zero, u2 = zero, lnext = zero;
