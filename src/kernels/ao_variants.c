@@ -96,6 +96,9 @@ static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x
 	float r_px = R * s->focal / zc;
 	if (r_px < 1.0f)
 		return 1.0f;
+	/* with tile noise the block's radius, as dao_gtao_ref (the SIMD kernel's taps) */
+	if (s->noise == DAO_NOISE_TILE)
+		r_px = dao_gtao_block_radius(s, z, x, y);
 	r_px = fminf(r_px, s->max_r_px);
 	float n0, n1;
 	dao_gtao_noise(s, x, y, &n0, &n1);
@@ -113,7 +116,9 @@ static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x
 		float ao_d = 0.0f;
 		for (int i = 0; i < s->steps; i++) {
 			float dist = 1.0f + ((float)i + n1) / (float)s->steps * (r_px - 1.0f);
-			int sx = (int)lrintf((float)x + dx * dist), sy = (int)lrintf((float)y + dy * dist);
+			/* the offset rounded first (as dao_gtao_sample_taps), so that pixels
+			 * sharing it (the SIMD kernel's blocks) sample alike */
+			int sx = x + (int)lrintf(dx * dist), sy = y + (int)lrintf(dy * dist);
 			float zs = z_at(s, z, sx, sy);
 			if (!(zs > 0.0f))
 				continue;
