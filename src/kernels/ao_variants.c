@@ -96,9 +96,12 @@ static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x
 	float r_px = R * s->focal / zc;
 	if (r_px < 1.0f)
 		return 1.0f;
-	/* with tile noise the block's radius, as dao_gtao_ref (the SIMD kernel's taps) */
+	/* with tile noise the block's radius, as dao_gtao_ref (the SIMD kernel's taps),
+	 * but rounded down to the grid: steps beyond the pixel's own radius are lost
+	 * (r >= 1), while W(r) = 1 - r^2 weighs the radius' far end little */
 	if (s->noise == DAO_NOISE_TILE)
-		r_px = dao_gtao_block_radius(s, z, x, y);
+		r_px = dao_gtao_quantize_radius_down(s->search_radius * s->focal *
+						     dao_gtao_block_izmax(s, z, x, y));
 	r_px = fminf(r_px, s->max_r_px);
 	float n0, n1;
 	dao_gtao_noise(s, x, y, &n0, &n1);

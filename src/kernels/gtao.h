@@ -94,6 +94,10 @@ void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const flo
  * z: metres (0 = no data). */
 float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y);
 
+/* The largest 1/z of the block of pixel (x, y), 0 when none has depth (1/z as
+ * the optimised kernels store it, so both round alike). */
+float dao_gtao_block_izmax(const struct dao_gtao_setup *s, const float *z, int x, int y);
+
 /*
  * A block radius rounded up to the grid 2^(k/8) (at most 9 % larger, 4.5 % on
  * average), so that neighbouring blocks of a row mostly share one radius
@@ -124,6 +128,18 @@ static inline float dao_gtao_quantize_radius(float r)
 	float out;
 	memcpy(&out, &gb, sizeof out);
 	return out;
+}
+
+/*
+ * The grid point of dao_gtao_quantize_radius at or below r (HBAO's blocks:
+ * there W(r) = 1 - r^2 weighs the far end of a radius little, while steps
+ * placed beyond a pixel's own radius sample nothing).  Between two grid
+ * points the same value for every r, so blocks still share their tables.
+ */
+static inline float dao_gtao_quantize_radius_down(float r)
+{
+	const float q = dao_gtao_quantize_radius(r);
+	return q > r ? q * 0.917004043f : q; /* 2^(-1/8): the grid point below q */
 }
 
 /* Fills tile[0..8191] with this frame's R2 noise pairs over a 64 x 64 tile. */

@@ -455,17 +455,22 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] = out[k];
 }
 
-/* The radius in pixels the block of phase a at entry jb of row y searches, from
- * its largest 1/z (dao_gtao_block_radius, then at most max_r_px); -1 when no
- * pixel of the block has depth. */
-static inline float tile_block_rp(const struct dao_gtao_setup *s,
-				  const struct dao_gtao_planes *pl, int y, int a, int jb)
+/* The largest 1/z of the block of phase a at entry jb of row y (0: no depth);
+ * the radius in pixels the block searches, from it (dao_gtao_block_radius,
+ * then at most max_r_px; -1 when no pixel of the block has depth). */
+static inline float tile_block_izmax(const struct dao_gtao_planes *pl, int y, int a, int jb)
 {
 	const float *izrow = dao_gtao_phase_row(pl, y, a);
 	vf m = v_load(izrow + jb);
 	for (int k = VN; k < DAO_GTAO_BLOCK; k += VN)
 		m = v_max(m, v_load(izrow + jb + k));
-	const float izmax = v_hmax(m);
+	return v_hmax(m);
+}
+
+static inline float tile_block_rp(const struct dao_gtao_setup *s,
+				  const struct dao_gtao_planes *pl, int y, int a, int jb)
+{
+	const float izmax = tile_block_izmax(pl, y, a, jb);
 	if (izmax <= 0.0f)
 		return -1.0f;
 	const float rq = dao_gtao_quantize_radius(s->search_radius * s->focal * izmax);

@@ -6,7 +6,8 @@
  *
  * HBAO's directions and steps depend on the pixel only through its noise
  * and its radius, so with tile noise the pixels of a block (one tile phase
- * along a row, one radius) sample at the same offsets, as GTAO's do.  Its
+ * along a row, one radius: the block's largest rounded down to the grid of
+ * dao_gtao_quantize_radius) sample at the same offsets, as GTAO's do.  Its
  * sample is the pixel nearest the point on the direction (no interpolation
  * between two taps, no depth-edge rule): one tap, one load per step and 16
  * pixels from the phase plane.  The tables hold per direction (2 x slices
@@ -258,11 +259,15 @@ static void hbao_tile(const struct dao_variant_setup *v, const struct dao_gtao_p
 			for (int xb = s->x_begin; xb < s->x_end; xb += DAO_GTAO_BLOCK_SPAN)
 				for (int a = 0; a < 4 && xb + a < s->x_end; a++) {
 					const int jb = xb / 4;
-					const float rp = tile_block_rp(s, pl, y, a, jb);
-					if (rp < 0.0f) {
+					const float izmax = tile_block_izmax(pl, y, a, jb);
+					if (izmax <= 0.0f) {
 						tile_block_invalid(s, ao, y, xb + a);
 						continue;
 					}
+					/* hbao_pixel's block radius: rounded down */
+					const float rq = dao_gtao_quantize_radius_down(
+						s->search_radius * s->focal * izmax);
+					const float rp = rq < s->max_r_px ? rq : s->max_r_px;
 					int reach_r = 0, reach_c = 0;
 					const struct tile_step *tsteps = hbao_cache_get(
 						s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c);
