@@ -130,18 +130,6 @@ static inline float dao_gtao_quantize_radius(float r)
 	return out;
 }
 
-/*
- * The grid point of dao_gtao_quantize_radius at or below r (HBAO's blocks:
- * there W(r) = 1 - r^2 weighs the far end of a radius little, while steps
- * placed beyond a pixel's own radius sample nothing).  Between two grid
- * points the same value for every r, so blocks still share their tables.
- */
-static inline float dao_gtao_quantize_radius_down(float r)
-{
-	const float q = dao_gtao_quantize_radius(r);
-	return q > r ? q * 0.917004043f : q; /* 2^(-1/8): the grid point below q */
-}
-
 /* Fills tile[0..8191] with this frame's R2 noise pairs over a 64 x 64 tile. */
 void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index);
 

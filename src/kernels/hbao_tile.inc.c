@@ -6,8 +6,8 @@
  *
  * HBAO's directions and steps depend on the pixel only through its noise
  * and its radius, so with tile noise the pixels of a block (one tile phase
- * along a row, one radius: the block's largest rounded down to the grid of
- * dao_gtao_quantize_radius) sample at the same offsets, as GTAO's do.  Its
+ * along a row, one radius: its farthest pixel's, where GTAO's blocks take their
+ * nearest's, see hbao_block_izmin) sample at the same offsets, as GTAO's do.  Its
  * sample is the pixel nearest the point on the direction (no interpolation
  * between two taps, no depth-edge rule): one tap, one load per step and 16
  * pixels from the phase plane.  The tables hold per direction (2 x slices
@@ -47,7 +47,7 @@ static void hbao_phase_init(const struct dao_gtao_setup *s, int a, int y, struct
 /* The steps of direction d for block radius rp: the pixel nearest the point
  * dist along the direction, relative to the block's pixels (hbao_pixel's
  * lrintf of the offset); a column beyond the padding is off the image for
- * every pixel: never sampled. */
+ * every pixel. */
 static void hbao_dir_make(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 			  const struct hbao_phase *ph, float rp, int d, struct tile_step *o)
 {
@@ -61,7 +61,9 @@ static void hbao_dir_make(const struct dao_gtao_setup *s, const struct dao_gtao_
 		o->ux_s = o->ux_e = (float)dc * s->ax;
 		o->vy_s = o->vy_e = (float)dr * s->ay;
 		o->c_s = o->c_e = o->ux_s * o->ux_s + o->vy_s * o->vy_s;
-		if (dc < -pl->max_offset || dc > pl->max_offset) {
+		/* beyond the padding, or on the pixel itself (hbao_pixel's len2 = 0; not
+		 * with radii of a pixel or more): never sampled */
+		if (dc < -pl->max_offset || dc > pl->max_offset || (dc == 0 && dr == 0)) {
 			o->o0 = o->o1 = o->oe = 0;
 			o->dc_lo = o->dc_hi = INT32_MAX / 2;
 		}
@@ -149,6 +151,20 @@ static inline void hbao_min_diff(const vf P[3], const vf L[3], const vf R[3], vm
 	const vm left = m_or(m_andnot(have_l, have_r), m_and(have_l, v_lt(l2, r2)));
 	for (int c = 0; c < 3; c++)
 		T[c] = v_sel(left, dl[c], dr[c]);
+}
+
+/* The smallest 1/z with depth of the block of phase a at entry jb of row y
+ * (INFINITY: none), as hbao_block_izmin of ao_variants.c. */
+static inline float hbao_block_izmin(const struct dao_gtao_planes *pl, int y, int a, int jb)
+{
+	const float *izrow = dao_gtao_phase_row(pl, y, a);
+	const vf ninf = v_set1(-INFINITY);
+	vf m = ninf; /* the largest -1/z */
+	for (int k = 0; k < DAO_GTAO_BLOCK; k += VN) {
+		const vf iz = v_load(izrow + jb + k);
+		m = v_max(m, v_sel(v_gt(iz, v_zero()), v_neg(iz), ninf));
+	}
+	return -v_hmax(m);
 }
 
 /* VN lanes of a block of phase a: columns x0, x0 + 4, ... (entries jb + h, ...). */
@@ -259,14 +275,14 @@ static void hbao_tile(const struct dao_variant_setup *v, const struct dao_gtao_p
 			for (int xb = s->x_begin; xb < s->x_end; xb += DAO_GTAO_BLOCK_SPAN)
 				for (int a = 0; a < 4 && xb + a < s->x_end; a++) {
 					const int jb = xb / 4;
-					const float izmax = tile_block_izmax(pl, y, a, jb);
-					if (izmax <= 0.0f) {
+					const float izmin = hbao_block_izmin(pl, y, a, jb);
+					if (izmin == INFINITY) {
 						tile_block_invalid(s, ao, y, xb + a);
 						continue;
 					}
-					/* hbao_pixel's block radius: rounded down */
-					const float rq = dao_gtao_quantize_radius_down(
-						s->search_radius * s->focal * izmax);
+					/* hbao_pixel's block radius: its farthest pixel's */
+					const float rq = dao_gtao_quantize_radius(
+						s->search_radius * s->focal * izmin);
 					const float rp = rq < s->max_r_px ? rq : s->max_r_px;
 					int reach_r = 0, reach_c = 0;
 					const struct tile_step *tsteps = hbao_cache_get(
