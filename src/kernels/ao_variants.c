@@ -72,6 +72,28 @@ static void min_diff(const float P[3], const float Pl[3], const float Pr[3], int
 }
 
 /*
+ * The smallest 1/z with depth of the block of pixel (x, y) (dao_gtao_block_izmax's
+ * block, 1/z as the kernels store it).  HBAO's blocks search the radius of
+ * their farthest pixel: a step beyond a pixel's own radius samples nothing
+ * (r >= 1), so a block searching its nearest pixel's radius (GTAO's choice,
+ * where the highest horizon needs the full reach) leaves the others few
+ * samples -- at a wall rising towards the camera beside a floor, most of them
+ * -- while one short of it misses only the far end, where W(r) = 1 - r^2 is
+ * small.
+ */
+static float hbao_block_izmin(const struct dao_gtao_setup *s, const float *z, int x, int y)
+{
+	const int x0 = (x & ~(DAO_GTAO_BLOCK_SPAN - 1)) + (x & 3);
+	float izmin = INFINITY;
+	for (int k = 0; k < DAO_GTAO_BLOCK && x0 + 4 * k < s->width; k++) {
+		const float zz = z[(size_t)y * s->width + x0 + 4 * k];
+		if (zz > 0.0f && 1.0f / zz < izmin)
+			izmin = 1.0f / zz;
+	}
+	return izmin;
+}
+
+/*
  * HBAO (Bavoil, Sainz, Dimitrov 2008): per direction, the elevation above the
  * image plane of the biased tangent starts the horizon; each sample above it
  * adds W(r) (sin h - sin h_prev), W(r) = 1 - r^2, r = |S - P| / R.
@@ -96,6 +118,11 @@ static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x
 	float r_px = R * s->focal / zc;
 	if (r_px < 1.0f)
 		return 1.0f;
+	/* with tile noise the block's radius (the SIMD kernel's taps): unlike GTAO's
+	 * the smallest of its pixels' (the farthest depth), on the grid */
+	if (s->noise == DAO_NOISE_TILE)
+		r_px = dao_gtao_quantize_radius(s->search_radius * s->focal *
+						hbao_block_izmin(s, z, x, y));
 	r_px = fminf(r_px, s->max_r_px);
 	float n0, n1;
 	dao_gtao_noise(s, x, y, &n0, &n1);
@@ -113,7 +140,9 @@ static float hbao_pixel(const struct dao_variant_setup *v, const float *z, int x
 		float ao_d = 0.0f;
 		for (int i = 0; i < s->steps; i++) {
 			float dist = 1.0f + ((float)i + n1) / (float)s->steps * (r_px - 1.0f);
-			int sx = (int)lrintf((float)x + dx * dist), sy = (int)lrintf((float)y + dy * dist);
+			/* the offset rounded first (as dao_gtao_sample_taps), so that pixels
+			 * sharing it (the SIMD kernel's blocks) sample alike */
+			int sx = x + (int)lrintf(dx * dist), sy = y + (int)lrintf(dy * dist);
 			float zs = z_at(s, z, sx, sy);
 			if (!(zs > 0.0f))
 				continue;

@@ -33,6 +33,9 @@ struct dao_variant_setup {
 void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_setup *g,
 			    const struct dao_params *p);
 
+/* HBAO; with tile noise a pixel searches its block's radius: the SIMD
+ * kernel's taps (kernels/hbao_tile.inc.c), its farthest pixel's radius on
+ * the grid of dao_gtao_quantize_radius. */
 void dao_hbao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,
 		  int y0, int y1);
 void dao_ssao_ref(const struct dao_variant_setup *v, const float *z, const float *n, float *ao,

@@ -94,6 +94,10 @@ void dao_gtao_bent_ref(const struct dao_gtao_setup *s, const float *z, const flo
  * z: metres (0 = no data). */
 float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y);
 
+/* The largest 1/z of the block of pixel (x, y), 0 when none has depth (1/z as
+ * the optimised kernels store it, so both round alike). */
+float dao_gtao_block_izmax(const struct dao_gtao_setup *s, const float *z, int x, int y);
+
 /*
  * A block radius rounded up to the grid 2^(k/8) (at most 9 % larger, 4.5 % on
  * average), so that neighbouring blocks of a row mostly share one radius

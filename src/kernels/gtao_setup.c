@@ -55,7 +55,7 @@ void dao_gtao_fill_r2_tile(float *tile, uint64_t frame_index)
 			dao_r2(x, y, (uint32_t)frame_index, &tile[y * 64 + x], &tile[4096 + y * 64 + x]);
 }
 
-float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y)
+float dao_gtao_block_izmax(const struct dao_gtao_setup *s, const float *z, int x, int y)
 {
 	const int x0 = (x & ~(DAO_GTAO_BLOCK_SPAN - 1)) + (x & 3);
 	float izmax = 0.0f;
@@ -68,7 +68,12 @@ float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int 
 		const float iz = zz > 0.0f ? 1.0f / zz : 0.0f;
 		izmax = iz > izmax ? iz : izmax;
 	}
-	return dao_gtao_quantize_radius(s->search_radius * s->focal * izmax);
+	return izmax;
+}
+
+float dao_gtao_block_radius(const struct dao_gtao_setup *s, const float *z, int x, int y)
+{
+	return dao_gtao_quantize_radius(s->search_radius * s->focal * dao_gtao_block_izmax(s, z, x, y));
 }
 
 

@@ -30,6 +30,15 @@
 				 const struct dao_gtao_planes *pl, const float *n, float *ao,    \
 				 int y0, int y1, struct dao_tile_scratch *sc)
 
+/*
+ * Optimised HBAO (with tile noise; the reference with any other): as
+ * dao_hbao_ref, from the phase plane of the GTAO kernel.
+ */
+#define DAO_HBAO_SIMD_PROTO(isa)                                                          \
+	void dao_hbao_simd_##isa(const struct dao_variant_setup *v, const float *z,       \
+				 const struct dao_gtao_planes *pl, const float *n, float *ao,    \
+				 int y0, int y1, struct dao_tile_scratch *sc)
+
 /* dao_gtao_planes_fill over SIMD lanes (the same values) */
 #define DAO_GTAO_PLANES_FILL_PROTO(isa)                                                   \
 	void dao_gtao_planes_fill_##isa(struct dao_gtao_planes *pl, const float *z, int phase, \
@@ -43,6 +52,10 @@ DAO_VBAO_SIMD_PROTO(generic);
 DAO_VBAO_SIMD_PROTO(sse41);
 DAO_VBAO_SIMD_PROTO(avx2);
 DAO_VBAO_SIMD_PROTO(avx512);
+DAO_HBAO_SIMD_PROTO(generic);
+DAO_HBAO_SIMD_PROTO(sse41);
+DAO_HBAO_SIMD_PROTO(avx2);
+DAO_HBAO_SIMD_PROTO(avx512);
 DAO_GTAO_PLANES_FILL_PROTO(generic);
 DAO_GTAO_PLANES_FILL_PROTO(sse41);
 DAO_GTAO_PLANES_FILL_PROTO(avx2);

@@ -141,6 +141,42 @@ static void tile_cache_reset(const struct dao_gtao_setup *s, struct tile_cache *
 		c->rp[i] = -1.0f;
 }
 
+/* The table of block radius rp in c: the one made for it (*fresh = 0), or the
+ * slot to make it in (*fresh = 1; then tile_cache_reach), or NULL when no
+ * table fits; *slot: its index. */
+static struct tile_step *tile_cache_slot(struct tile_cache *c, float rp, int *slot, int *fresh)
+{
+	if (!c->count)
+		return NULL;
+	for (int i = 0; i < c->count; i++)
+		if (c->rp[i] == rp) {
+			*slot = i;
+			*fresh = 0;
+			return c->st + (size_t)i * (size_t)c->per;
+		}
+	const int i = c->next;
+	c->next = (c->next + 1) % c->count;
+	c->rp[i] = rp;
+	*slot = i;
+	*fresh = 1;
+	return c->st + (size_t)i * (size_t)c->per;
+}
+
+/* How far the taps of a freshly made table reach from the pixel in rows and columns. */
+static void tile_cache_reach(struct tile_cache *c, int slot)
+{
+	const struct tile_step *st = c->st + (size_t)slot * (size_t)c->per;
+	int rr = 0, rc = 0;
+	for (int k = 0; k < c->per; k++) {
+		const int r = abs(st[k].dr_lo) > abs(st[k].dr_hi) ? abs(st[k].dr_lo) : abs(st[k].dr_hi);
+		const int q = abs(st[k].dc_lo) > abs(st[k].dc_hi) ? abs(st[k].dc_lo) : abs(st[k].dc_hi);
+		rr = r > rr ? r : rr;
+		rc = q > rc ? q : rc;
+	}
+	c->reach_r[slot] = rr;
+	c->reach_c[slot] = rc;
+}
+
 /* The steps of every slice for block radius rp (NULL when they do not fit:
  * tile_lanes then makes them per slice), and how far their taps reach from
  * the pixel in rows and columns (*reach_r, *reach_c). */
@@ -149,29 +185,17 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 					      const struct tile_phase *ph, float rp,
 					      struct tile_cache *c, int *reach_r, int *reach_c)
 {
-	if (!c->count)
+	int i, fresh;
+	struct tile_step *st = tile_cache_slot(c, rp, &i, &fresh);
+	if (!st)
 		return NULL;
-	for (int i = 0; i < c->count; i++)
-		if (c->rp[i] == rp) {
-			*reach_r = c->reach_r[i];
-			*reach_c = c->reach_c[i];
-			return c->st + (size_t)i * (size_t)c->per;
-		}
-	const int i = c->next;
-	c->next = (c->next + 1) % c->count;
-	c->rp[i] = rp;
-	struct tile_step *st = c->st + (size_t)i * (size_t)c->per;
-	for (int sl = 0; sl < s->slices; sl++)
-		tile_slice_make(s, pl, ph, rp, sl, st + (size_t)sl * 2 * (size_t)s->steps);
-	int rr = 0, rc = 0;
-	for (int k = 0; k < c->per; k++) {
-		const int r = abs(st[k].dr_lo) > abs(st[k].dr_hi) ? abs(st[k].dr_lo) : abs(st[k].dr_hi);
-		const int q = abs(st[k].dc_lo) > abs(st[k].dc_hi) ? abs(st[k].dc_lo) : abs(st[k].dc_hi);
-		rr = r > rr ? r : rr;
-		rc = q > rc ? q : rc;
+	if (fresh) {
+		for (int sl = 0; sl < s->slices; sl++)
+			tile_slice_make(s, pl, ph, rp, sl, st + (size_t)sl * 2 * (size_t)s->steps);
+		tile_cache_reach(c, i);
 	}
-	*reach_r = c->reach_r[i] = rr;
-	*reach_c = c->reach_c[i] = rc;
+	*reach_r = c->reach_r[i];
+	*reach_c = c->reach_c[i];
 	return st;
 }
 
@@ -431,31 +455,52 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] = out[k];
 }
 
+/* The largest 1/z of the block of phase a at entry jb of row y (0: no depth);
+ * the radius in pixels the block searches, from it (dao_gtao_block_radius,
+ * then at most max_r_px; -1 when no pixel of the block has depth). */
+static inline float tile_block_izmax(const struct dao_gtao_planes *pl, int y, int a, int jb)
+{
+	const float *izrow = dao_gtao_phase_row(pl, y, a);
+	vf m = v_load(izrow + jb);
+	for (int k = VN; k < DAO_GTAO_BLOCK; k += VN)
+		m = v_max(m, v_load(izrow + jb + k));
+	return v_hmax(m);
+}
+
+static inline float tile_block_rp(const struct dao_gtao_setup *s,
+				  const struct dao_gtao_planes *pl, int y, int a, int jb)
+{
+	const float izmax = tile_block_izmax(pl, y, a, jb);
+	if (izmax <= 0.0f)
+		return -1.0f;
+	const float rq = dao_gtao_quantize_radius(s->search_radius * s->focal * izmax);
+	return rq < s->max_r_px ? rq : s->max_r_px; /* fminf: a libm call */
+}
+
+/* A block without depth: every pixel of it (from column x0, every 4th) invalid. */
+static inline void tile_block_invalid(const struct dao_gtao_setup *s, float *ao, int y, int x0)
+{
+	const int xe = (x0 & ~(DAO_GTAO_BLOCK_SPAN - 1)) + DAO_GTAO_BLOCK_SPAN;
+	for (int x = x0; x < xe && x < s->x_end; x += 4)
+		ao[(size_t)y * s->width + x] = s->invalid_value;
+}
+
 /* Columns [x_begin, x_end) of row y, block by block: the four tile phases of
  * DAO_GTAO_BLOCK_SPAN columns share one split of their normals. */
 static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		     const float *n, float *ao, const struct tile_phase ph[4],
 		     struct dao_tile_scratch *sc, const struct tile_vbao *vb, int y)
 {
-	const float rf = s->search_radius * s->focal;
 	float nb[4][3][DAO_GTAO_BLOCK];
 	for (int xb = s->x_begin; xb < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
 		const int jb = xb / 4;
 		int split = 0;
 		for (int a = 0; a < 4 && xb + a < s->x_end; a++) {
-			const float *izrow = dao_gtao_phase_row(pl, y, a);
-			/* the block's radius, from its largest 1/z (dao_gtao_block_radius) */
-			vf m = v_load(izrow + jb);
-			for (int k = VN; k < DAO_GTAO_BLOCK; k += VN)
-				m = v_max(m, v_load(izrow + jb + k));
-			const float izmax = v_hmax(m);
-			if (izmax <= 0.0f) {
-				for (int x = xb + a; x < xb + DAO_GTAO_BLOCK_SPAN && x < s->x_end; x += 4)
-					ao[(size_t)y * s->width + x] = s->invalid_value;
+			const float rp = tile_block_rp(s, pl, y, a, jb);
+			if (rp < 0.0f) {
+				tile_block_invalid(s, ao, y, xb + a);
 				continue;
 			}
-			const float rq = dao_gtao_quantize_radius(rf * izmax);
-			const float rp = rq < s->max_r_px ? rq : s->max_r_px; /* fminf: a libm call */
 			int reach_r = 0, reach_c = 0;
 			const struct tile_step *tsteps =
 				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c);
@@ -494,3 +539,5 @@ static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_plan
 			tile_row(s, pl, n, ao, ph, sc, vb, y);
 	}
 }
+
+#include "kernels/hbao_tile.inc.c"

@@ -564,7 +564,9 @@ static void stage_gtao(void *arg, int thread, int y0, int y1)
 	struct dao_context *c = j->ctx;
 	struct dao_tile_scratch *sc = &c->tile_scratch[thread];
 	switch (j->algorithm) {
-	case DAO_ALGORITHM_HBAO: dao_hbao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
+	case DAO_ALGORITHM_HBAO:
+		j->k.hbao(&j->variant, c->z, &c->planes, c->n, c->ao_raw, y0, y1, sc);
+		break;
 	case DAO_ALGORITHM_SSAO: dao_ssao_ref(&j->variant, c->z, c->n, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_EDL: dao_edl_ref(&j->variant, c->z, c->ao_raw, y0, y1); break;
 	case DAO_ALGORITHM_VBAO:
@@ -607,6 +609,11 @@ static void stage_gtao_strips(void *arg, int thread, int i0, int i1)
 			struct dao_variant_setup v = j->variant;
 			v.g = &g;
 			j->k.vbao(&v, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
+				  &c->tile_scratch[thread]);
+		} else if (j->algorithm == DAO_ALGORITHM_HBAO) {
+			struct dao_variant_setup v = j->variant;
+			v.g = &g;
+			j->k.hbao(&v, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
 				  &c->tile_scratch[thread]);
 		} else {
 			j->k.gtao(&g, c->z, &c->planes, c->n, c->ao_raw, y0, y1,
@@ -936,10 +943,12 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	}
 	const int sw = gtao_strip_width((int)ctx->cam.width);
 	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
-	/* the optimised kernels compute strips (vbao: with tile noise, its tile kernel) */
+	/* the optimised kernels compute strips (vbao, hbao: with tile noise, the tile kernel) */
 	const int in_strips = job.k.simd != DAO_SIMD_REFERENCE &&
 			      (job.algorithm == DAO_ALGORITHM_GTAO ||
-			       (job.algorithm == DAO_ALGORITHM_VBAO && p->noise == DAO_NOISE_TILE));
+			       ((job.algorithm == DAO_ALGORITHM_VBAO ||
+				 job.algorithm == DAO_ALGORITHM_HBAO) &&
+				p->noise == DAO_NOISE_TILE));
 	if (strips > 1 && in_strips)
 		dao_pool_run_threads(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
 	else

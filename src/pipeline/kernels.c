@@ -22,12 +22,22 @@ static void vbao_reference(const struct dao_variant_setup *v, const float *z,
 	dao_vbao_ref(v, z, n, ao, y0, y1);
 }
 
+static void hbao_reference(const struct dao_variant_setup *v, const float *z,
+			   const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1,
+			   struct dao_tile_scratch *sc)
+{
+	(void)pl;
+	(void)sc;
+	dao_hbao_ref(v, z, n, ao, y0, y1);
+}
+
 #define KERNELS(isa)                                                                         \
 	(struct dao_kernels)                                                                 \
 	{                                                                                    \
 		.prefilter_h = dao_prefilter_h_##isa, .prefilter_v = dao_prefilter_v_##isa,  \
 		.domain_pass = dao_domain_pass_##isa,                                        \
 		.gtao = dao_gtao_simd_##isa, .vbao = dao_vbao_simd_##isa,                    \
+		.hbao = dao_hbao_simd_##isa,                                                 \
 		.planes_fill = dao_gtao_planes_fill_##isa,                                   \
 		.denoise_plane = dao_denoise_plane_##isa,                                    \
 		.normals = dao_normals_from_depth_##isa, .shade = dao_shade_##isa,           \
@@ -58,6 +68,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.domain_pass = dao_domain_pass_ref,
 			.gtao = gtao_reference,
 			.vbao = vbao_reference,
+			.hbao = hbao_reference,
 			.planes_fill = dao_gtao_planes_fill,
 			.denoise_plane = dao_denoise_plane,
 			.normals = dao_normals_from_depth,

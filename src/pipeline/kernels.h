@@ -31,6 +31,9 @@ struct dao_kernels {
 	void (*vbao)(const struct dao_variant_setup *v, const float *z,
 		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1,
 		     struct dao_tile_scratch *sc);
+	void (*hbao)(const struct dao_variant_setup *v, const float *z,
+		     const struct dao_gtao_planes *pl, const float *n, float *ao, int y0, int y1,
+		     struct dao_tile_scratch *sc);
 	/* fills the planes (dao_gtao_planes_fill) */
 	void (*planes_fill)(struct dao_gtao_planes *pl, const float *z, int phase, int y0, int y1);
 	void (*denoise_plane)(const struct dao_denoise_setup *s, const float *z, const float *ao_in,

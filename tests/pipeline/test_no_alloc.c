@@ -21,6 +21,8 @@
 /* VBAO with the thickness estimated from the image instead of GTAO (its plane is
  * made with the context, never per frame) */
 static int vbao_image;
+/* HBAO instead of GTAO (its tile kernel, in strips at 640 wide) */
+static int hbao;
 
 /* frames of W x H (at most 640 x 480: the noise estimate's cells are then
  * more than a small sort keeps on the stack) */
@@ -55,6 +57,8 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 		p.algorithm = DAO_ALGORITHM_VBAO;
 		p.vbao_thickness_mode = DAO_VBAO_THICKNESS_IMAGE;
 	}
+	if (hbao)
+		p.algorithm = DAO_ALGORITHM_HBAO;
 	dao_test_alloc_start();
 	if (dao_context_create(&ctx, &cam, &p, &err)) {
 		fprintf(stderr, "create: %s\n", err.message);
@@ -102,7 +106,7 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	}
 	printf("%dx%d %-6s noise %d prefilter %d noise model %d%s: %ld allocations creating the "
 	       "context, %ld in 100 frames\n", W, H, dao_quality_name(q), noise, prefilter,
-	       noise_model, vbao_image ? " vbao image" : "", at_create, steady);
+	       noise_model, vbao_image ? " vbao image" : hbao ? " hbao" : "", at_create, steady);
 	if (steady != 0) {
 		fprintf(stderr, "FAIL: %ld heap allocations in steady state\n", steady);
 		return 1;
@@ -131,6 +135,10 @@ int main(void)
 		      DAO_NOISE_MODEL_AUTO);
 	vbao_image = 1;
 	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_DOMAIN, DAO_NOISE_MODEL_AUTO);
+	vbao_image = 0;
+	hbao = 1;
+	r |= run_size(640, 480, DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_BILATERAL,
+		      DAO_NOISE_MODEL_FIXED);
 	return r;
 }
 #else
