@@ -11,7 +11,7 @@
  * cosine from V is (G.U0 / |G|) (-1 / |U0|); the back lies on the ray of
  * U = U0 + (du, dv, 0) at depth z_s + T / |U| (a distance T further along
  * it), so it is the same sample with 1 / z_b = iz / (1 + T iz / |U|) and
- * |U|^2 = Q + 2 B + du^2 + dv^2.  |D| <= R is |G|^2 <= (R iz)^2.
+ * |U|^2 = Q + 2 B + du^2 + dv^2.  The falloff weighs |D| = |G| / iz.
  *
  * The sector a point falls in is round((t - lo) 32 / pi) with t = +-acos of
  * its cosine: a sample near a sector boundary that rounds differently from
@@ -24,6 +24,7 @@
 struct tile_vbao {
 	float fall_mul, fall_add; /* the falloff weight saturate(|D| mul + add), 0 beyond
 				   * vbao_radius */
+	float fall_full;          /* ... 1 up to this |D| */
 	float thickness; /* of every occluder, without a thickness plane */
 	int plane;       /* the thickness from pl->thick, at the sample's taps */
 };
@@ -200,14 +201,19 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	if (!m_any(ok))
 		return vi_set1(0);
 	/* the falloff weight of |D| = |G| / iz (0 beyond vbao_radius: no sample),
-	 * with the refined 1/iz: the estimate's 3.7e-4 moves sector ends */
-	const vf len = v_mul(v_mul(g2, rg), v_rcp(v_sel(ok, iz, one)));
-	const vf wgt = v_min(v_max(v_fma(len, v_set1(vb->fall_mul), v_set1(vb->fall_add)), zero),
-			     one);
-	ok = m_and(ok, v_gt(wgt, zero));
-	if (!m_any(ok))
-		return vi_set1(0);
-	const vf cf = v_fma(v_sub(cf0, low), wgt, low);
+	 * with the refined 1/iz (the estimate's 3.7e-4 moves sector ends); only
+	 * where some lane lies beyond fall_full (most steps lie within it) */
+	const vf Fiz = v_mul(v_set1(vb->fall_full), iz);
+	const int weigh = m_any(m_and(ok, v_gt(g2, v_mul(Fiz, Fiz))));
+	vf wgt = one, cf = cf0;
+	if (weigh) {
+		const vf len = v_mul(v_mul(g2, rg), v_rcp(v_sel(ok, iz, one)));
+		wgt = v_min(v_max(v_fma(len, v_set1(vb->fall_mul), v_set1(vb->fall_add)), zero), one);
+		ok = m_and(ok, v_gt(wgt, zero));
+		if (!m_any(ok))
+			return vi_set1(0);
+		cf = v_fma(v_sub(cf0, low), wgt, low);
+	}
 	/* the back */
 	const vf U2 = v_add(v_add(t->Q, c), v_add(B, B));
 	const vf k = v_mul(v_mul(T, iz), v_rsqrt(U2));
@@ -215,8 +221,8 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf Gzb = v_fnma(p->Pz, izb, one);
 	const vf GUb = v_fma(Gzb, t->Q, B);
 	const vf g2b = v_fma(Gzb, v_add(GUb, B), c);
-	const vf cb = v_fma(v_sub(v_mul(v_mul(GUb, v_rsqrt(v_sel(ok, g2b, one))), t->inu), low),
-			    wgt, low);
+	const vf cb0 = v_mul(v_mul(GUb, v_rsqrt(v_sel(ok, g2b, one))), t->inu);
+	const vf cb = weigh ? v_fma(v_sub(cb0, low), wgt, low) : cb0;
 	const vf af = v_fma(vbao_acos(cf), k_sgn, k_lo);
 	/* a back within half a sector of the edge or beyond it (thr, as the front's
 	 * test) is at the edge once rounded: its acos only where some lane's is not */
