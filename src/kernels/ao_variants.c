@@ -38,6 +38,19 @@ void dao_variant_setup_init(struct dao_variant_setup *v, const struct dao_gtao_s
 	v->ssao_max = p->ssao_max;
 	v->edl_radius = p->edl_radius;
 	v->vbao_thickness = p->vbao_thickness;
+	{
+		/* GTAO's band is R_eff (1 -+ falloff / 2) (dao_gtao_setup_init) */
+		const float R = dao_gtao_effective_radius(p->radius, p->steps);
+		const float half = 0.5f * DAO_VBAO_FALLOFF_SHARE * p->falloff * R;
+		v->vbao_radius = R + half;
+		if (half > 0.0f) {
+			v->vbao_fall_mul = -1.0f / (2.0f * half);
+			v->vbao_fall_add = (R + half) / (2.0f * half);
+		} else { /* hard cut at R */
+			v->vbao_fall_mul = -1e30f;
+			v->vbao_fall_add = R * 1e30f;
+		}
+	}
 	v->thickness = NULL;
 	int n = 2 * p->slices * p->steps;
 	v->ssao_samples = n > DAO_SSAO_MAX_SAMPLES ? DAO_SSAO_MAX_SAMPLES : n;
@@ -290,7 +303,7 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 	r_px = fminf(r_px, s->max_r_px);
 	float n0, n1;
 	dao_gtao_noise(s, x, y, &n0, &n1);
-	const float R = dao_vbao_radius(s);
+	const float R = v->vbao_radius; /* where the falloff weight reaches 0 */
 	float vis = 0.0f, norm = 0.0f;
 	for (int sl = 0; sl < s->slices; sl++) {
 		float dx, dy;
@@ -300,9 +313,12 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 			continue;
 		const float lpn = sf.lpn, n = sf.n;
 		const float lo = n - DAO_HALF_PI_F; /* sector 0 starts at the hemisphere's edge */
+		const float sin_n = sinf(n);
 		uint32_t mask = 0;
 		for (int side = 0; side < 2; side++) {
 			const float sx = side ? -dx : dx, sy = side ? -dy : dy, sign = side ? -1.0f : 1.0f;
+			/* the cosine of this side's hemisphere edge, n -+ pi/2 from V */
+			const float low = side ? sin_n : -sin_n;
 			for (int i = 0; i < s->steps; i++) {
 				float t = dao_gtao_step_t(s, i, n1);
 				float dist = 1.0f + t * (r_px - 1.0f), u, vv, zs;
@@ -323,8 +339,16 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 				float ls = sqrtf(dao_dot3(S, S)), k = T / ls;
 				float B[3] = {S[0] * (1 + k) - P[0], S[1] * (1 + k) - P[1], S[2] * (1 + k) - P[2]};
 				float lb = sqrtf(dao_dot3(B, B));
-				float tf = sign * acosf(dao_clampf(dao_dot3(D, V) / len, -1.0f, 1.0f));
-				float tb = sign * acosf(dao_clampf(dao_dot3(B, V) / lb, -1.0f, 1.0f));
+				/* the falloff: as search_side moves a far sample's horizon
+				 * cosine towards the edge's by its weight, both ends of the
+				 * occluder move, so it shrinks into the edge; with infinitely
+				 * thick occluders this is a horizon with that falloff (issue #17:
+				 * the hard cut at the radius over-occluded the room corner) */
+				const float wgt = dao_saturate(len * v->vbao_fall_mul + v->vbao_fall_add);
+				const float cf = dao_clampf(dao_dot3(D, V) / len, -1.0f, 1.0f);
+				const float cb = dao_clampf(dao_dot3(B, V) / lb, -1.0f, 1.0f);
+				float tf = sign * acosf(dao_lerpf(low, cf, wgt));
+				float tb = sign * acosf(dao_lerpf(low, cb, wgt));
 				mask |= sectors(tf, tb, lo);
 			}
 		}

@@ -388,8 +388,9 @@ void DAO_ISA_FN(dao_vbao_simd)(const struct dao_variant_setup *v, const float *z
 		dao_vbao_ref(v, z, n, ao, y0, y1);
 		return;
 	}
-	const struct tile_vbao vb = { .radius = dao_vbao_radius(s), .thickness = v->vbao_thickness,
-				      .plane = v->thickness != NULL };
+	const struct tile_vbao vb = { .fall_mul = v->vbao_fall_mul, .fall_add = v->vbao_fall_add,
+				      .fall_full = (1.0f - v->vbao_fall_add) / v->vbao_fall_mul,
+				      .thickness = v->vbao_thickness, .plane = v->thickness != NULL };
 	gtao_tile(s, pl, n, ao, y0, y1, sc, &vb);
 }
 

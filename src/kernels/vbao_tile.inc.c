@@ -11,7 +11,7 @@
  * cosine from V is (G.U0 / |G|) (-1 / |U0|); the back lies on the ray of
  * U = U0 + (du, dv, 0) at depth z_s + T / |U| (a distance T further along
  * it), so it is the same sample with 1 / z_b = iz / (1 + T iz / |U|) and
- * |U|^2 = Q + 2 B + du^2 + dv^2.  |D| <= R is |G|^2 <= (R iz)^2.
+ * |U|^2 = Q + 2 B + du^2 + dv^2.  The falloff weighs |D| = |G| / iz.
  *
  * The sector a point falls in is round((t - lo) 32 / pi) with t = +-acos of
  * its cosine: a sample near a sector boundary that rounds differently from
@@ -22,7 +22,9 @@
 
 /* What VBAO adds to a tile kernel run (tile_lanes: NULL for GTAO). */
 struct tile_vbao {
-	float radius;    /* dao_vbao_radius: farther samples do not occlude */
+	float fall_mul, fall_add; /* the falloff weight saturate(|D| mul + add), 0 beyond
+				   * vbao_radius */
+	float fall_full;          /* ... 1 up to this |D| */
 	float thickness; /* of every occluder, without a thickness plane */
 	int plane;       /* the thickness from pl->thick, at the sample's taps */
 };
@@ -147,11 +149,13 @@ static inline vf vbao_acos(vf x)
  * One step of one side: the sectors [round(a), round(b)) (clamped to 0 .. 32)
  * between the sample's front and back, a and b in sector units (t - lo) 32/pi
  * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi, edge_at: the side's edge, 32
- * or 0); none where there is no sample or it lies beyond the radius.
+ * or 0); none where there is no sample or it lies beyond the radius.  Both
+ * cosines move towards the edge's (low) by the falloff weight, as in
+ * dao_vbao_ref.
  */
 static inline __attribute__((always_inline)) vi
 vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
-	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf thr,
+	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf low, vf thr,
 	    const float edge_at, const int major_x, const int plane)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
@@ -186,16 +190,30 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf Gz = v_fnma(p->Pz, iz, one);
 	const vf GU = v_fma(Gz, t->Q, B);
 	const vf g2 = v_fma(Gz, v_add(GU, B), c);
-	const vf Riz = v_mul(v_set1(vb->radius), iz);
-	ok = m_and(ok, v_le(g2, v_mul(Riz, Riz)));
-	const vf cf = v_mul(v_mul(GU, v_rsqrt(v_sel(ok, g2, one))), t->inu);
+	const vf rg = v_rsqrt(v_sel(ok, g2, one));
+	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
 	/* seen from P, the points of the sample's camera ray sweep away from V
 	 * monotonically, so its back lies further from V than its front: a front
 	 * within half a sector of the hemisphere's edge or below marks nothing
-	 * (thr: that edge's cosine, lowered by a margin) */
-	ok = m_and(ok, v_gt(cf, thr));
+	 * (thr: that edge's cosine, lowered by a margin), nor does it once the
+	 * falloff has moved it further towards the edge */
+	ok = m_and(ok, v_gt(cf0, thr));
 	if (!m_any(ok))
 		return vi_set1(0);
+	/* the falloff weight of |D| = |G| / iz (0 beyond vbao_radius: no sample),
+	 * with the refined 1/iz (the estimate's 3.7e-4 moves sector ends); only
+	 * where some lane lies beyond fall_full (most steps lie within it) */
+	const vf Fiz = v_mul(v_set1(vb->fall_full), iz);
+	const int weigh = m_any(m_and(ok, v_gt(g2, v_mul(Fiz, Fiz))));
+	vf wgt = one, cf = cf0;
+	if (weigh) {
+		const vf len = v_mul(v_mul(g2, rg), v_rcp(v_sel(ok, iz, one)));
+		wgt = v_min(v_max(v_fma(len, v_set1(vb->fall_mul), v_set1(vb->fall_add)), zero), one);
+		ok = m_and(ok, v_gt(wgt, zero));
+		if (!m_any(ok))
+			return vi_set1(0);
+		cf = v_fma(v_sub(cf0, low), wgt, low);
+	}
 	/* the back */
 	const vf U2 = v_add(v_add(t->Q, c), v_add(B, B));
 	const vf k = v_mul(v_mul(T, iz), v_rsqrt(U2));
@@ -203,7 +221,8 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf Gzb = v_fnma(p->Pz, izb, one);
 	const vf GUb = v_fma(Gzb, t->Q, B);
 	const vf g2b = v_fma(Gzb, v_add(GUb, B), c);
-	const vf cb = v_mul(v_mul(GUb, v_rsqrt(v_sel(ok, g2b, one))), t->inu);
+	const vf cb0 = v_mul(v_mul(GUb, v_rsqrt(v_sel(ok, g2b, one))), t->inu);
+	const vf cb = weigh ? v_fma(v_sub(cb0, low), wgt, low) : cb0;
 	const vf af = v_fma(vbao_acos(cf), k_sgn, k_lo);
 	/* a back within half a sector of the edge or beyond it (thr, as the front's
 	 * test) is at the edge once rounded: its acos only where some lane's is not */
@@ -226,6 +245,8 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	/* lo = n - pi/2: sector 0 starts at the hemisphere's edge */
 	const vf k_lo = v_fnma(g->n, v_set1(k32), v_set1(0.5f * (float)DAO_VBAO_SECTORS));
 	const vf kp = v_set1(k32), kn = v_set1(-k32);
+	/* the cosines of the edges, n + pi/2 and n - pi/2 */
+	const vf low_p = v_neg(g->sin_n), low_n = g->sin_n;
 	/* the cosines of the angles half a sector above the edges, n + pi/2 - d/2 and
 	 * n - pi/2 + d/2 (d = pi/32), less 1e-3 of margin; no skipping where the
 	 * normal is within 3 degrees of perpendicular to V, where the angles leave
@@ -242,10 +263,10 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	vi mask = vi_set1(0);
 	for (int i = 0; i < s->steps; i++) {
 		if (!check || !tile_skip(t, &st[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, thr_p,
+			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p,
 						      (float)DAO_VBAO_SECTORS, major_x, plane));
 		if (!check || !tile_skip(t, &sn[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, thr_n, 0.0f,
+			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, 0.0f,
 						      major_x, plane));
 	}
 	return mask;

@@ -2,7 +2,8 @@
 /*
  * HBAO, SSAO and eye-dome lighting through the public API: open surfaces
  * stay open, occlusion grows towards a wall (floor-and-wall scene with its
- * closed form, MAE printed), EDL darkens only the far side of a depth step,
+ * closed form, MAE printed), VBAO stays within 5 % of GTAO on the room
+ * corner, EDL darkens only the far side of a depth step,
  * strength 0 switches them off, and results do not depend on the thread count.
  */
 #include <errno.h>
@@ -141,6 +142,64 @@ static void test_vbao_thin_bar(void **state)
 	free(v);
 }
 
+/* MAE against the truth over the pixels with depth, at the default preset (medium). */
+static double room_mae(const struct dao_camera *cam, const struct synth_image *img, int algorithm,
+		       int mode, float thickness)
+{
+	const int w = (int)cam->width, h = (int)cam->height;
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.algorithm = algorithm;
+	p.vbao_thickness_mode = mode;
+	p.vbao_thickness = thickness;
+	p.threads = 2;
+	struct dao_context *ctx;
+	struct dao_error err;
+	assert_int_equal(dao_context_create(&ctx, cam, &p, &err), 0);
+	float *ao = malloc((size_t)w * h * sizeof(float));
+	struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, (uint32_t)w, (uint32_t)h, w * 4, img->depth,
+			       0, 0, 0};
+	struct dao_frame out = {DAO_PIXFMT_GRAY_F32, (uint32_t)w, (uint32_t)h, w * 4, ao, 0, 0, 0};
+	assert_int_equal(dao_context_process(ctx, &in, NULL, 0, &out, &err), 0);
+	dao_context_destroy(ctx);
+	double sum = 0;
+	int n = 0;
+	for (int i = 0; i < w * h; i++)
+		if (img->depth[i] > 0) {
+			sum += fabs(ao[i] - img->gt[i]);
+			n++;
+		}
+	free(ao);
+	return sum / n;
+}
+
+/*
+ * Issue #17: on thick scenes VBAO no more than 5 % above GTAO.  With
+ * infinitely thick occluders (10 m) VBAO is a horizon method, so on the
+ * room corner (two walls and a floor, eval's scene, 64 rays) the gap is
+ * how it weighs samples: with a hard cut at the radius it was 20 % worse
+ * than GTAO (0.0199 against 0.0166, with the estimated thickness too);
+ * with the falloff 1.6 % (0.0169).
+ */
+static void test_vbao_room_corner(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	assert_int_equal(synth_scene_build("room-corner", 0.0, &s, NULL), 0);
+	synth_default_camera(&cam);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 8, 2, &img, NULL), 0);
+	const double g = room_mae(&cam, &img, DAO_ALGORITHM_GTAO, 0, 0.2f);
+	const double v = room_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_CONSTANT, 10.0f);
+	const double e = room_mae(&cam, &img, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_IMAGE, 0.2f);
+	print_message("room corner, MAE: gtao %.4f, vbao 10 m %.4f (%+.1f %%), image %.4f "
+		      "(%+.1f %%)\n", g, v, 100 * (v / g - 1), e, 100 * (e / g - 1));
+	assert_true(v <= 1.05 * g);
+	assert_true(e <= 1.05 * g);
+	synth_image_free(&img);
+}
+
 /* Bent normals: the normal on open ground, tilted away from a wall beside it. */
 static void test_bent_normals(void **state)
 {
@@ -250,6 +309,7 @@ int main(void)
 		cmocka_unit_test(test_open_plane),
 		cmocka_unit_test(test_floor_and_wall),
 		cmocka_unit_test(test_vbao_thin_bar),
+		cmocka_unit_test(test_vbao_room_corner),
 		cmocka_unit_test(test_bent_normals),
 		cmocka_unit_test(test_edl_step),
 		cmocka_unit_test(test_strength_zero_and_threads),
