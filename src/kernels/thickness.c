@@ -177,13 +177,71 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 }
 
 /*
- * One line of n pixels, the k-th at z[k * step] and at pixel coordinates
- * (u0 + k du, v0 + k dv).  Each run's chord spans from the outer edge of its
- * first pixel to the outer edge of its last (a run of one pixel is a pixel
- * wide), each end at its own depth.  Where an end of the run is a slab's
- * edge face (slab_edge), each pixel's ray crosses the slab, of thickness t
- * along the face direction f, over t / sin(ray, f).
+ * The run of pixels s..e (all with data, neighbours on the same surface) of a
+ * line of n pixels, the k-th at z[k * step] and at pixel coordinates
+ * (u0 + k du, v0 + k dv).  Its chord spans from the outer edge of its first
+ * pixel to the outer edge of its last (a run of one pixel is a pixel wide),
+ * each end at its own depth.  Where an end of the run is a slab's edge face
+ * (slab_edge), each pixel's ray crosses the slab, of thickness t along the
+ * face direction f, over t / sin(ray, f).
  */
+static void run(const struct line_geom *lg, float *thick, int n, int s, int e, int take_min)
+{
+	const struct dao_thickness_setup *t = lg->t;
+	const struct line_geom g = *lg;
+	const float *z = g.z;
+	const size_t step = g.step;
+	const float u0 = g.u0, v0 = g.v0, du = g.du, dv = g.dv;
+	const float zs = z[(size_t)s * step];
+	const float ze = z[(size_t)e * step];
+	float value = t->max;
+	int slabs = 0;
+	struct vec face[2];
+	float slab_t[2];
+	if (s > 0 && e + 1 < n && outline(zs, z[(size_t)(s - 1) * step]) &&
+	    outline(ze, z[(size_t)(e + 1) * step])) {
+		const float us = u0 + ((float)s - 0.5f) * du, vs = v0 + ((float)s - 0.5f) * dv;
+		const float ue = u0 + ((float)e + 0.5f) * du, ve = v0 + ((float)e + 0.5f) * dv;
+		const float dx = (ue * t->ax + t->bx) * ze - (us * t->ax + t->bx) * zs;
+		const float dy = (ve * t->ay + t->by) * ze - (vs * t->ay + t->by) * zs;
+		const float dz = ze - zs;
+		const float chord = sqrtf(dx * dx + dy * dy + dz * dz);
+		if (chord < value)
+			value = chord;
+		if (e - s >= 4) {
+			slabs += slab_edge(&g, s, e, -1, &face[slabs], &slab_t[slabs]);
+			slabs += slab_edge(&g, s, e, 1, &face[slabs], &slab_t[slabs]);
+		}
+	}
+	if (slabs) {
+		for (int k = s; k <= e; k++) {
+			const struct vec p = line_pos(&g, (float)k, z[(size_t)k * step]);
+			const float lp = sqrtf(vdot(p, p));
+			float vk = value;
+			for (int q = 0; q < slabs; q++) {
+				/* scale t / sin(ray, face) = scale t |p| / |p x f|, no division by 0 */
+				const float sn = vcross_len(p, face[q]);
+				const float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
+				if (across < vk * sn)
+					vk = across / sn;
+			}
+			float *o = &thick[(size_t)k * step];
+			if (!take_min || vk < *o)
+				*o = vk;
+		}
+	} else if (take_min) {
+		for (int k = s; k <= e; k++) {
+			float *o = &thick[(size_t)k * step];
+			if (value < *o)
+				*o = value;
+		}
+	} else {
+		for (int k = s; k <= e; k++)
+			thick[(size_t)k * step] = value;
+	}
+}
+
+/* One line of n pixels (run), holes: the bound (take_min: left alone). */
 static void line(const struct dao_thickness_setup *t, const float *z, float *thick, int n,
 		 size_t step, float u0, float v0, float du, float dv, int take_min)
 {
@@ -200,59 +258,57 @@ static void line(const struct dao_thickness_setup *t, const float *z, float *thi
 		const int s = i;
 		while (i + 1 < n && same_surface(z[(size_t)i * step], z[(size_t)(i + 1) * step]))
 			i++;
-		const int e = i;
-		const float ze = z[(size_t)e * step];
-		float value = t->max;
-		int slabs = 0;
-		struct vec face[2];
-		float slab_t[2];
-		if (s > 0 && e + 1 < n && outline(zs, z[(size_t)(s - 1) * step]) &&
-		    outline(ze, z[(size_t)(e + 1) * step])) {
-			const float us = u0 + ((float)s - 0.5f) * du, vs = v0 + ((float)s - 0.5f) * dv;
-			const float ue = u0 + ((float)e + 0.5f) * du, ve = v0 + ((float)e + 0.5f) * dv;
-			const float dx = (ue * t->ax + t->bx) * ze - (us * t->ax + t->bx) * zs;
-			const float dy = (ve * t->ay + t->by) * ze - (vs * t->ay + t->by) * zs;
-			const float dz = ze - zs;
-			const float chord = sqrtf(dx * dx + dy * dy + dz * dz);
-			if (chord < value)
-				value = chord;
-			if (e - s >= 4) {
-				slabs += slab_edge(&g, s, e, -1, &face[slabs], &slab_t[slabs]);
-				slabs += slab_edge(&g, s, e, 1, &face[slabs], &slab_t[slabs]);
-			}
-		}
-		if (slabs) {
-			for (int k = s; k <= e; k++) {
-				const struct vec p = line_pos(&g, (float)k, z[(size_t)k * step]);
-				const float lp = sqrtf(vdot(p, p));
-				float vk = value;
-				for (int q = 0; q < slabs; q++) {
-					/* scale t / sin(ray, face) = scale t |p| / |p x f|, no division by 0 */
-					const float sn = vcross_len(p, face[q]);
-					const float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
-					if (across < vk * sn)
-						vk = across / sn;
-				}
-				float *o = &thick[(size_t)k * step];
-				if (!take_min || vk < *o)
-					*o = vk;
-			}
-		} else if (take_min) {
-			for (int k = s; k <= e; k++) {
-				float *o = &thick[(size_t)k * step];
-				if (value < *o)
-					*o = value;
-			}
-		} else {
-			for (int k = s; k <= e; k++)
-				thick[(size_t)k * step] = value;
-		}
-		i = e + 1;
+		run(&g, thick, n, s, i, take_min);
+		i++;
 	}
 }
 
+/*
+ * The same-surface test between each pixel and the next, for n pixels of a
+ * row side by side (vectorised by the compiler): same[c] for z[c], z[c + 1].
+ */
+static void same_next(const float *z, unsigned char *same, int n)
+{
+	for (int c = 0; c < n; c++) {
+		const float a = z[c], b = z[c + 1];
+		const float m = a < b ? a : b;
+		same[c] = (a > 0.0f) & (b > 0.0f) & (fabsf(a - b) <= DAO_THICKNESS_JUMP * m);
+	}
+}
+
+/* line() for rows, its runs found a chunk of pixels at a time (same_next). */
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,
 			int y0, int y1)
+{
+	const int w = t->width;
+	unsigned char same[DAO_THICKNESS_COL_BLOCK];
+	for (int y = y0; y < y1; y++) {
+		const size_t o = (size_t)y * w;
+		const struct line_geom g = { t, z + o, 1, 0.0f, (float)y, 1.0f, 0.0f };
+		int start = 0;
+		for (int xc = 0; xc < w; xc += DAO_THICKNESS_COL_BLOCK) {
+			const int last = w - xc <= DAO_THICKNESS_COL_BLOCK;
+			const int n = last ? w - xc : DAO_THICKNESS_COL_BLOCK;
+			/* (the row's last pixel has no next: its test reads one float less) */
+			same_next(z + o + xc, same, last ? n - 1 : n);
+			if (last)
+				same[n - 1] = 0;
+			for (int c = 0; c < n; c++) {
+				if (same[c])
+					continue;
+				const int x = xc + c;
+				if (z[o + x] > 0.0f)
+					run(&g, thick + o, w, start, x, 0);
+				else
+					thick[o + x] = t->max;
+				start = x + 1;
+			}
+		}
+	}
+}
+
+void dao_thickness_rows_ref(const struct dao_thickness_setup *t, const float *z, float *thick,
+			    int y0, int y1)
 {
 	for (int y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * t->width;
@@ -260,9 +316,56 @@ void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, flo
 	}
 }
 
-void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
-			int x0, int x1)
+void dao_thickness_cols_ref(const struct dao_thickness_setup *t, const float *z, float *thick,
+			    int x0, int x1)
 {
 	for (int x = x0; x < x1; x++)
 		line(t, z + x, thick + x, t->height, (size_t)t->width, (float)x, 0.0f, 0.0f, 1.0f, 1);
+}
+
+/*
+ * The column pass swept down the rows over a block of columns at once: the
+ * same-surface test between two rows is made for the block's columns side by
+ * side (contiguous, so the compiler vectorises it), and each column's run is
+ * handed to run() when it ends.  The same runs as line() with the same
+ * arithmetic: the result is dao_thickness_cols_ref's.
+ */
+void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
+			int x0, int x1)
+{
+	const size_t w = (size_t)t->width;
+	const int h = t->height;
+	for (int xb = x0; xb < x1; xb += DAO_THICKNESS_COL_BLOCK) {
+		const int nb = x1 - xb < DAO_THICKNESS_COL_BLOCK ? x1 - xb : DAO_THICKNESS_COL_BLOCK;
+		int start[DAO_THICKNESS_COL_BLOCK];
+		unsigned char same[DAO_THICKNESS_COL_BLOCK];
+		for (int c = 0; c < nb; c++)
+			start[c] = 0;
+		for (int y = 0; y < h; y++) {
+			const float *za = z + (size_t)y * w + xb;
+			if (y + 1 < h) {
+				const float *zb = za + w;
+				for (int c = 0; c < nb; c++) {
+					const float a = za[c], b = zb[c];
+					const float m = a < b ? a : b;
+					same[c] = (a > 0.0f) & (b > 0.0f) &
+						  (fabsf(a - b) <= DAO_THICKNESS_JUMP * m);
+				}
+			} else {
+				for (int c = 0; c < nb; c++)
+					same[c] = 0;
+			}
+			for (int c = 0; c < nb; c++) {
+				if (same[c])
+					continue;
+				/* the run start[c] .. y of column xb + c ends here */
+				if (za[c] > 0.0f) {
+					const struct line_geom g = { t, z + xb + c, w, (float)(xb + c), 0.0f,
+								     0.0f, 1.0f };
+					run(&g, thick + xb + c, h, start[c], y, 1);
+				}
+				start[c] = y + 1;
+			}
+		}
+	}
 }

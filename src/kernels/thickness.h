@@ -49,8 +49,19 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,
 			int y0, int y1);
 
-/* Columns [x0, x1), after the rows: thick = min(thick, the extent along the column). */
+/* Columns [x0, x1), after the rows: thick = min(thick, the extent along the column).
+ * Swept down the rows over blocks of DAO_THICKNESS_COL_BLOCK columns side by
+ * side (the same-surface tests vectorised, the memory read row by row). */
+#define DAO_THICKNESS_COL_BLOCK 64
 void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
 			int x0, int x1);
+
+/* The references for both (the oracle of tests/kernels/test_thickness.c): each
+ * line walked pixel by pixel, the columns a row stride apart.  The same
+ * result, bit for bit. */
+void dao_thickness_rows_ref(const struct dao_thickness_setup *t, const float *z, float *thick,
+			    int y0, int y1);
+void dao_thickness_cols_ref(const struct dao_thickness_setup *t, const float *z, float *thick,
+			    int x0, int x1);
 
 #endif

@@ -10,6 +10,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -290,6 +291,70 @@ static double run_mae(const struct dao_camera *cam, const struct synth_image *im
 	return m;
 }
 
+/* The row pass (chunks of a row) and the column pass (blocks of columns), split
+ * anywhere, against the references that walk each line pixel by pixel, bit for bit. */
+static void expect_blocked_same(const struct dao_camera *cam, const float *z, float max)
+{
+	const int w = (int)cam->width, h = (int)cam->height;
+	const size_t n = (size_t)w * h;
+	float *ref = malloc(n * sizeof(float)), *got = malloc(n * sizeof(float));
+	assert_non_null(ref);
+	assert_non_null(got);
+	struct dao_thickness_setup ts;
+	dao_thickness_setup_init(&ts, cam, max);
+	dao_thickness_rows_ref(&ts, z, ref, 0, h);
+	dao_thickness_rows(&ts, z, got, 0, h / 3);
+	dao_thickness_rows(&ts, z, got, h / 3, h);
+	size_t diff = 0;
+	for (size_t i = 0; i < n; i++)
+		diff += memcmp(&ref[i], &got[i], sizeof(float)) != 0;
+	assert_int_equal(diff, 0);
+	dao_thickness_cols_ref(&ts, z, ref, 0, w);
+	/* splits that cut blocks: one column, a partial block, the rest */
+	const int cuts[] = { 0, 1, 1 + DAO_THICKNESS_COL_BLOCK / 2, 3 * DAO_THICKNESS_COL_BLOCK + 5, w };
+	for (size_t c = 0; c + 1 < sizeof(cuts) / sizeof(cuts[0]); c++)
+		dao_thickness_cols(&ts, z, got, cuts[c], cuts[c + 1]);
+	for (size_t i = 0; i < n; i++)
+		diff += memcmp(&ref[i], &got[i], sizeof(float)) != 0;
+	assert_int_equal(diff, 0);
+	free(got);
+	free(ref);
+}
+
+static void test_same_as_reference(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	vec3 up;
+	camera(&cam, W, H);
+	poles_scene(&s);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	expect_blocked_same(&cam, img.depth, 0.5f);
+	expect_blocked_same(&cam, img.depth, 0.15f);
+	synth_image_free(&img);
+	slabs_scene(&s, &up);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	expect_blocked_same(&cam, img.depth, 0.5f);
+	synth_image_free(&img);
+	/* a checkerboard of 8 px squares 1 and 1.2 m away with noise and holes, on a
+	 * frame whose width is no multiple of the block */
+	camera(&cam, 203, 97);
+	float *z = malloc((size_t)203 * 97 * sizeof(float));
+	assert_non_null(z);
+	uint32_t r = 12345;
+	for (int y = 0; y < 97; y++)
+		for (int x = 0; x < 203; x++) {
+			r = r * 1664525u + 1013904223u;
+			const float noise = 0.004f * ((float)(r >> 8) / 16777216.0f - 0.5f);
+			z[(size_t)y * 203 + x] = (r >> 28) == 0 ? 0.0f
+				: (((x >> 3) + (y >> 3)) & 1 ? 1.2f : 1.0f) + noise;
+		}
+	expect_blocked_same(&cam, z, 0.5f);
+	free(z);
+}
+
 static void test_vbao_behind_poles(void **state)
 {
 	(void)state;
@@ -318,6 +383,7 @@ int main(void)
 		cmocka_unit_test(test_pole_widths),
 		cmocka_unit_test(test_run_ends),
 		cmocka_unit_test(test_slabs),
+		cmocka_unit_test(test_same_as_reference),
 		cmocka_unit_test(test_vbao_behind_poles),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
