@@ -60,3 +60,34 @@ const char *dao_test_tmpdir(const char *tag)
 		snprintf(tmpdirs[n_tmpdirs++], sizeof tmpdirs[0], "%s", path);
 	return path;
 }
+
+float *dao_test_ao_of_depth(const struct dao_camera *cam, const float *depth, int algorithm,
+			    int thickness_mode, float thickness)
+{
+	const uint32_t w = cam->width, h = cam->height;
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.algorithm = algorithm;
+	p.vbao_thickness_mode = thickness_mode;
+	p.vbao_thickness = thickness;
+	p.threads = 2;
+	struct dao_context *ctx;
+	struct dao_error err;
+	float *ao = malloc((size_t)w * h * sizeof(float));
+	if (!ao || dao_context_create(&ctx, cam, &p, &err)) {
+		fprintf(stderr, "dao_test_ao_of_depth: %s\n", ao ? err.message : "out of memory");
+		free(ao);
+		return NULL;
+	}
+	const struct dao_frame in = { DAO_PIXFMT_DEPTH_F32, w, h, (int32_t)w * 4,
+				      (void *)(uintptr_t)depth, 0, 0, 0 };
+	struct dao_frame out = { DAO_PIXFMT_GRAY_F32, w, h, (int32_t)w * 4, ao, 0, 0, 0 };
+	const int r = dao_context_process(ctx, &in, NULL, 0, &out, &err);
+	dao_context_destroy(ctx);
+	if (r) {
+		fprintf(stderr, "dao_test_ao_of_depth: %s\n", err.message);
+		free(ao);
+		return NULL;
+	}
+	return ao;
+}

@@ -23,4 +23,13 @@ int dao_test_data_path(const char *rel, char *buf, size_t len);
  */
 const char *dao_test_tmpdir(const char *tag);
 
+/*
+ * The AO of a float depth image (metres, cam's size) from a context at the
+ * default preset with `algorithm` and VBAO's thickness mode and constant, on
+ * 2 threads: a plane of width x height floats the caller frees, or NULL
+ * after printing why (the caller asserts it).
+ */
+float *dao_test_ao_of_depth(const struct dao_camera *cam, const float *depth, int algorithm,
+			    int thickness_mode, float thickness);
+
 #endif

@@ -270,22 +270,8 @@ static double wall_mae(const float *ao, const struct synth_image *img)
 static double run_mae(const struct dao_camera *cam, const struct synth_image *img, int algorithm,
 		      int mode, float thickness)
 {
-	const int w = (int)cam->width, h = (int)cam->height;
-	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	p.algorithm = algorithm;
-	p.vbao_thickness_mode = mode;
-	p.vbao_thickness = thickness;
-	p.threads = 2;
-	struct dao_context *ctx;
-	struct dao_error err;
-	assert_int_equal(dao_context_create(&ctx, cam, &p, &err), 0);
-	float *ao = malloc((size_t)w * h * sizeof(float));
-	struct dao_frame in = { DAO_PIXFMT_DEPTH_F32, (uint32_t)w, (uint32_t)h, w * 4, img->depth,
-				0, 0, 0 };
-	struct dao_frame out = { DAO_PIXFMT_GRAY_F32, (uint32_t)w, (uint32_t)h, w * 4, ao, 0, 0, 0 };
-	assert_int_equal(dao_context_process(ctx, &in, NULL, 0, &out, &err), 0);
-	dao_context_destroy(ctx);
+	float *ao = dao_test_ao_of_depth(cam, img->depth, algorithm, mode, thickness);
+	assert_non_null(ao);
 	const double m = wall_mae(ao, img);
 	free(ao);
 	return m;
