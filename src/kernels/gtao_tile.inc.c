@@ -232,26 +232,60 @@ static inline int tile_skip(const struct tile_px *t, const struct tile_step *st)
  * is left to the end of the search (tile_sides), which then takes the minimum.
  * Lanes without a sample have iz = 0, so |D| = inf and weight 0.
  */
+/* A step's 1/z from its two taps in a plane (1/z, or the thickness read the
+ * same way), as every tile kernel with the depth-edge rule reads it. */
+struct tile_tap {
+	vf iz;       /* 0 where there is no sample */
+	vm ok;       /* a sample */
+	vm edge;     /* the taps straddle a depth edge: the tap closer to the line */
+	vm only;     /* on a tap without data on the other: it alone (TAP_ONLY*) */
+};
+
+static inline __attribute__((always_inline)) struct tile_tap
+tile_tap_read(const float *base, const struct tile_step *st)
+{
+	const vf zero = v_zero();
+	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
+	const vf izmin = v_min(iz0, iz1);
+	struct tile_tap r;
+	r.ok = v_gt(izmin, zero); /* both taps have data */
+	const vf d01 = v_sub(iz1, iz0);
+	/* |z0 - z1| > 0.1 min(z0, z1), in 1/z: the tap closer to the line, at its place */
+	r.edge = m_and(r.ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
+	/* no sample (a tap without data): iz = 0 */
+	r.iz = v_sel(r.edge, v_load(base + st->oe), v_sel(r.ok, v_fma(v_set1(st->f), d01, iz0), zero));
+	r.only = v_gt(zero, zero);
+	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
+		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
+		r.only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
+		r.iz = v_sel(r.only, (st->flags & TAP_ONLY0) ? iz0 : iz1, r.iz);
+		r.ok = m_or(r.ok, r.only);
+	}
+	return r;
+}
+
+/* The same interpolation of another plane at a step whose taps were read
+ * (tile_tap_read): the value at the edge's tap, the lone tap, or between. */
+static inline __attribute__((always_inline)) vf
+tile_tap_follow(const float *base, const struct tile_step *st, const struct tile_tap *tp)
+{
+	const vf a0 = v_load(base + st->o0), a1 = v_load(base + st->o1);
+	vf a = v_sel(tp->edge, v_load(base + st->oe), v_fma(v_set1(st->f), v_sub(a1, a0), a0));
+	if (st->flags & (TAP_ONLY0 | TAP_ONLY1))
+		a = v_sel(tp->only, (st->flags & TAP_ONLY0) ? a0 : a1, a);
+	return a;
+}
+
 static inline __attribute__((always_inline)) vf
 tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
 	    const struct tile_step *st, vf lowk, vm *okp, const int major_x)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
-	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
-	const vf izmin = v_min(iz0, iz1);
-	vm ok = v_gt(izmin, zero); /* both taps have data */
-	const vf d01 = v_sub(iz1, iz0);
-	/* |z0 - z1| > 0.1 min(z0, z1), in 1/z: the tap closer to the line, at its place */
-	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
-	/* no sample (a tap without data): iz = 0 */
-	vf iz = v_sel(edge, v_load(base + st->oe), v_sel(ok, v_fma(v_set1(st->f), d01, iz0), zero));
-	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
-		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
-		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
-		iz = v_sel(only, (st->flags & TAP_ONLY0) ? iz0 : iz1, iz);
-		ok = m_or(ok, only);
-	}
+	const struct tile_tap tp = tile_tap_read(base, st);
+	const vf iz = tp.iz;
+	vm ok = tp.ok;
+	const vm edge = tp.edge;
 	const vf Gz = v_fnma(p->Pz, iz, one);
 	/* an edge moves the sample on the minor axis only */
 	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));

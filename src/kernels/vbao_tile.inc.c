@@ -160,28 +160,12 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
-	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
-	const vf izmin = v_min(iz0, iz1);
-	vm ok = v_gt(izmin, zero); /* both taps have data */
-	const vf d01 = v_sub(iz1, iz0);
-	const vm edge = m_and(ok, v_gt(v_abs(d01), v_mul(v_set1(0.1f), izmin)));
-	const vf fs = v_set1(st->f);
-	vf iz = v_sel(edge, v_load(base + st->oe), v_sel(ok, v_fma(fs, d01, iz0), zero));
-	vf T = v_set1(vb->thickness);
-	vf T0 = T, T1 = T;
-	if (plane) { /* the thickness at the same taps, the same way */
-		T0 = v_load(tbase + st->o0);
-		T1 = v_load(tbase + st->o1);
-		T = v_sel(edge, v_load(tbase + st->oe), v_fma(fs, v_sub(T1, T0), T0));
-	}
-	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
-		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
-		const vm only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
-		iz = v_sel(only, (st->flags & TAP_ONLY0) ? iz0 : iz1, iz);
-		if (plane)
-			T = v_sel(only, (st->flags & TAP_ONLY0) ? T0 : T1, T);
-		ok = m_or(ok, only);
-	}
+	const struct tile_tap tp = tile_tap_read(base, st);
+	const vf iz = tp.iz;
+	vm ok = tp.ok;
+	const vm edge = tp.edge;
+	/* the thickness at the same taps, the same way */
+	const vf T = plane ? tile_tap_follow(tbase, st, &tp) : v_set1(vb->thickness);
 	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
 	const vf dv = major_x ? v_sel(edge, v_set1(st->vy_e), v_set1(st->vy_s)) : v_set1(st->vy_s);
 	const vf c = v_sel(edge, v_set1(st->c_e), v_set1(st->c_s));
