@@ -26,11 +26,26 @@ static inline int same_surface(float a, float b)
 	return a > 0.0f && b > 0.0f && fabsf(a - b) <= DAO_THICKNESS_JUMP * (a < b ? a : b);
 }
 
-/* A run ends on the outline of its object when the next pixel is farther or has no
- * data; at the border or in front of an occluder the surface goes on unseen. */
-static inline int outline(float inside, float next)
+/*
+ * A run ends on the outline of its object when the next pixel is farther, or
+ * when it has no data and the first pixel with data beyond the hole is
+ * farther by more than a step (or there is none up to the border); at the
+ * border or in front of an occluder the surface goes on unseen.  A hole with
+ * the same surface beyond it (a sensor's dropouts inside a wall, a floor or a
+ * box) or something nearer says nothing about where the surface ends.  The
+ * run's end pixel is z[k * step], the next one out is k + dir (in 0..n-1).
+ * Each hole is walked by at most the two runs beside it.
+ */
+static inline int outline(const float *z, size_t step, int n, int k, int dir)
 {
-	return !(next > 0.0f) || next > inside;
+	const float inside = z[(size_t)k * step];
+	int j = k + dir;
+	const float next = z[(size_t)j * step];
+	if (next > 0.0f)
+		return next > inside;
+	while (j >= 0 && j < n && !(z[(size_t)j * step] > 0.0f))
+		j += dir;
+	return j < 0 || j >= n || z[(size_t)j * step] > inside + DAO_THICKNESS_JUMP * inside;
 }
 
 struct vec { float x, y, z; };
@@ -198,8 +213,7 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 	int slabs = 0;
 	struct vec face[2];
 	float slab_t[2];
-	if (s > 0 && e + 1 < n && outline(zs, z[(size_t)(s - 1) * step]) &&
-	    outline(ze, z[(size_t)(e + 1) * step])) {
+	if (s > 0 && e + 1 < n && outline(z, step, n, s, -1) && outline(z, step, n, e, 1)) {
 		const float us = u0 + ((float)s - 0.5f) * du, vs = v0 + ((float)s - 0.5f) * dv;
 		const float ue = u0 + ((float)e + 0.5f) * du, ve = v0 + ((float)e + 0.5f) * dv;
 		const float dx = (ue * t->ax + t->bx) * ze - (us * t->ax + t->bx) * zs;

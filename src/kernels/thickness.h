@@ -6,7 +6,8 @@
  *
  * A surface's run along a row (and a column) is the stretch of pixels
  * without a depth step; where a run ends at a step to something farther (or
- * at a hole) on both sides, the object lies in front of what is around it
+ * at a hole with something farther beyond it, or nothing up to the border)
+ * on both sides, the object lies in front of what is around it
  * and the run's extent in metres, its chord, is its visible width: a pole
  * 4 cm wide on screen is taken to be 4 cm deep.  Where a run ends at an
  * occluder (a step to something nearer) or at the image border, the surface
