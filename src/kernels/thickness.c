@@ -5,6 +5,8 @@
  */
 #include "kernels/thickness.h"
 
+#include "core/math_util.h"
+
 #include <math.h>
 #include <stddef.h>
 
@@ -18,6 +20,15 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 	t->bx = cam->bx;
 	t->by = cam->by;
 	t->max = max;
+	t->crease_cos = cosf(DAO_SLAB_CREASE_DEG * (DAO_PI_F / 180.0f));
+}
+
+void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
+{
+	float a = (scale - DAO_SLAB_ROUND_FROM) / (DAO_SLAB_ROUND_TO - DAO_SLAB_ROUND_FROM);
+	a = a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f;
+	const float deg = DAO_SLAB_CREASE_DEG + a * (DAO_SLAB_CREASE_ROUNDED_DEG - DAO_SLAB_CREASE_DEG);
+	t->crease_cos = cosf(deg * (DAO_PI_F / 180.0f));
 }
 
 /* (comparisons, not fminf: libm's is a call per pixel, a sixth of the time) */
@@ -126,7 +137,7 @@ static inline struct vec seg(const struct line_geom *g, int k)
  * the run at its silhouette.  From the end pixel `e` inwards (dir = -1 from
  * the run's last pixel, +1 from its first) the points must go straight for
  * at least two segments (the edge face, at most DAO_SLAB_EDGE_MAX px), then
- * turn by more than DAO_SLAB_CREASE_COS (a crease, with at most one segment
+ * turn by more than acos(crease_cos) (a crease, with at most one segment
  * cutting the corner) onto two more straight segments (the broad face).  A
  * pole's surface turns at every pixel and never passes.  On success: the
  * broad face's direction in the line's plane and the edge face's extent
@@ -134,7 +145,6 @@ static inline struct vec seg(const struct line_geom *g, int k)
  */
 #define DAO_SLAB_EDGE_MAX 24
 #define DAO_SLAB_STRAIGHT_COS 0.94f /* 20 degrees */
-#define DAO_SLAB_CREASE_COS 0.64f   /* 50 degrees */
 
 static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct vec *face, float *t)
 {
@@ -172,7 +182,7 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 		if (!cos_above(d, d1, DAO_SLAB_STRAIGHT_COS))
 			return 0;
 	}
-	if (!abs_cos_below(d, e0, DAO_SLAB_CREASE_COS))
+	if (!abs_cos_below(d, e0, g->t->crease_cos))
 		return 0;
 #undef SEG
 	/* convex: the corner lies on the camera's side of the line from the edge's end to
