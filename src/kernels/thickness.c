@@ -5,6 +5,8 @@
  */
 #include "kernels/thickness.h"
 
+#include "core/math_util.h"
+
 #include <math.h>
 #include <stddef.h>
 
@@ -18,6 +20,15 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 	t->bx = cam->bx;
 	t->by = cam->by;
 	t->max = max;
+	t->crease_cos = cosf(DAO_SLAB_CREASE_DEG * (DAO_PI_F / 180.0f));
+}
+
+void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
+{
+	float a = (scale - DAO_SLAB_ROUND_FROM) / (DAO_SLAB_ROUND_TO - DAO_SLAB_ROUND_FROM);
+	a = a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f;
+	const float deg = DAO_SLAB_CREASE_DEG + a * (DAO_SLAB_CREASE_ROUNDED_DEG - DAO_SLAB_CREASE_DEG);
+	t->crease_cos = cosf(deg * (DAO_PI_F / 180.0f));
 }
 
 /* (comparisons, not fminf: libm's is a call per pixel, a sixth of the time) */
@@ -26,11 +37,26 @@ static inline int same_surface(float a, float b)
 	return a > 0.0f && b > 0.0f && fabsf(a - b) <= DAO_THICKNESS_JUMP * (a < b ? a : b);
 }
 
-/* A run ends on the outline of its object when the next pixel is farther or has no
- * data; at the border or in front of an occluder the surface goes on unseen. */
-static inline int outline(float inside, float next)
+/*
+ * A run ends on the outline of its object when the next pixel is farther, or
+ * when it has no data and the first pixel with data beyond the hole is
+ * farther by more than a step (or there is none up to the border); at the
+ * border or in front of an occluder the surface goes on unseen.  A hole with
+ * the same surface beyond it (a sensor's dropouts inside a wall, a floor or a
+ * box) or something nearer says nothing about where the surface ends.  The
+ * run's end pixel is z[k * step], the next one out is k + dir (in 0..n-1).
+ * Each hole is walked by at most the two runs beside it.
+ */
+static inline int outline(const float *z, size_t step, int n, int k, int dir)
 {
-	return !(next > 0.0f) || next > inside;
+	const float inside = z[(size_t)k * step];
+	int j = k + dir;
+	const float next = z[(size_t)j * step];
+	if (next > 0.0f)
+		return next > inside;
+	while (j >= 0 && j < n && !(z[(size_t)j * step] > 0.0f))
+		j += dir;
+	return j < 0 || j >= n || z[(size_t)j * step] > inside + DAO_THICKNESS_JUMP * inside;
 }
 
 struct vec { float x, y, z; };
@@ -111,7 +137,7 @@ static inline struct vec seg(const struct line_geom *g, int k)
  * the run at its silhouette.  From the end pixel `e` inwards (dir = -1 from
  * the run's last pixel, +1 from its first) the points must go straight for
  * at least two segments (the edge face, at most DAO_SLAB_EDGE_MAX px), then
- * turn by more than DAO_SLAB_CREASE_COS (a crease, with at most one segment
+ * turn by more than acos(crease_cos) (a crease, with at most one segment
  * cutting the corner) onto two more straight segments (the broad face).  A
  * pole's surface turns at every pixel and never passes.  On success: the
  * broad face's direction in the line's plane and the edge face's extent
@@ -119,7 +145,6 @@ static inline struct vec seg(const struct line_geom *g, int k)
  */
 #define DAO_SLAB_EDGE_MAX 24
 #define DAO_SLAB_STRAIGHT_COS 0.94f /* 20 degrees */
-#define DAO_SLAB_CREASE_COS 0.64f   /* 50 degrees */
 
 static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct vec *face, float *t)
 {
@@ -157,7 +182,7 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 		if (!cos_above(d, d1, DAO_SLAB_STRAIGHT_COS))
 			return 0;
 	}
-	if (!abs_cos_below(d, e0, DAO_SLAB_CREASE_COS))
+	if (!abs_cos_below(d, e0, g->t->crease_cos))
 		return 0;
 #undef SEG
 	/* convex: the corner lies on the camera's side of the line from the edge's end to
@@ -198,8 +223,7 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 	int slabs = 0;
 	struct vec face[2];
 	float slab_t[2];
-	if (s > 0 && e + 1 < n && outline(zs, z[(size_t)(s - 1) * step]) &&
-	    outline(ze, z[(size_t)(e + 1) * step])) {
+	if (s > 0 && e + 1 < n && outline(z, step, n, s, -1) && outline(z, step, n, e, 1)) {
 		const float us = u0 + ((float)s - 0.5f) * du, vs = v0 + ((float)s - 0.5f) * dv;
 		const float ue = u0 + ((float)e + 0.5f) * du, ve = v0 + ((float)e + 0.5f) * dv;
 		const float dx = (ue * t->ax + t->bx) * ze - (us * t->ax + t->bx) * zs;

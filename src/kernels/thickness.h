@@ -6,7 +6,8 @@
  *
  * A surface's run along a row (and a column) is the stretch of pixels
  * without a depth step; where a run ends at a step to something farther (or
- * at a hole) on both sides, the object lies in front of what is around it
+ * at a hole with something farther beyond it, or nothing up to the border)
+ * on both sides, the object lies in front of what is around it
  * and the run's extent in metres, its chord, is its visible width: a pole
  * 4 cm wide on screen is taken to be 4 cm deep.  Where a run ends at an
  * occluder (a step to something nearer) or at the image border, the surface
@@ -40,10 +41,32 @@ struct dao_thickness_setup {
 	int width, height;
 	float ax, ay, bx, by;   /* view position x = (u ax + bx) z, y = (v ay + by) z */
 	float max;              /* upper bound, m (also where the extent is unknown) */
+	float crease_cos;       /* a slab's crease turns by more than acos(this) */
 };
 
+/* crease_cos: DAO_SLAB_CREASE_DEG, for depth the prefilter left sharp. */
 void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,
 			      float max);
+
+/*
+ * The least turn of a slab's crease on depth the domain prefilter smoothed
+ * at spatial scale `scale` px (noise-model=auto: the scale the frame's
+ * measured noise asked for, dao_noise_info.prefilter_scale).  A slab's edge
+ * face is a few pixels wide; where the noise is large enough for the
+ * prefilter to average over more than that, the crease between it and the
+ * broad face comes out rounded (the 3 cm floating plate: a turn of about 90
+ * degrees on clean depth, 34 - 43 degrees with Gaussian noise) and the turn
+ * the test asks for comes down with it: DAO_SLAB_CREASE_DEG up to
+ * DAO_SLAB_ROUND_FROM px (clean renders read 1 - 2 px), linearly down to
+ * DAO_SLAB_CREASE_ROUNDED_DEG at DAO_SLAB_ROUND_TO px and beyond (Gaussian
+ * noise reads about 5 px, structured light 14 - 16 px).  Chosen on the tune
+ * split (README.md, "Thickness from the image").
+ */
+#define DAO_SLAB_CREASE_DEG 50.0f
+#define DAO_SLAB_CREASE_ROUNDED_DEG 30.0f
+#define DAO_SLAB_ROUND_FROM 2.0f
+#define DAO_SLAB_ROUND_TO 5.0f
+void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale);
 
 /* Rows [y0, y1): thick = min(max, the extent of the pixel's run along its row). */
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,

@@ -936,6 +936,9 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	}
 	const double t3 = now_ms();
 	if (job.thick) {
+		/* slabs' creases as rounded as the measured noise had the prefilter make them */
+		if (p->prefilter == DAO_PREFILTER_DOMAIN && ctx->noise_info.measured)
+			dao_thickness_setup_rounding(&job.thickness, ctx->noise_info.prefilter_scale);
 		dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, &job);
 		dao_pool_run(ctx->pool, (int)ctx->cam.width, 8, stage_thickness_cols, &job);
 		if (job.k.simd != DAO_SIMD_REFERENCE)

@@ -18,7 +18,10 @@
 #include <cmocka.h>
 
 #include "common/test_common.h"
+#include "core/math_util.h"
 #include "kernels/thickness.h"
+#include "synth/geometry.h"
+#include "synth/suite.h"
 #include "synth/synth.h"
 
 #define W 640
@@ -161,6 +164,34 @@ static void test_run_ends(void **state)
 	assert_true(chord > 10 * px + 0.1f);
 }
 
+/* Holes end a run on its outline only when something farther lies beyond them (a
+ * shadow beside an object) or nothing does up to the border: a dropout inside a
+ * surface or a hole before a nearer one says nothing about where it ends. */
+static void test_run_holes(void **state)
+{
+	(void)state;
+	struct dao_camera cam;
+	camera(&cam, 64, 4);
+	const float px = 2.0f / (float)cam.fx;
+	float z[64 * 4], t[64 * 4];
+	for (int x = 0; x < 64; x++) {
+		const int strip = x >= 20 && x < 30, gap = x >= 30 && x < 34;
+		/* a surface 20..49 with a dropout at 35 */
+		z[0 * 64 + x] = x == 35 ? 0.0f : x >= 20 && x < 50 ? 2.0f : 3.0f;
+		z[1 * 64 + x] = strip ? 2.0f : gap ? 0.0f : 3.0f; /* a shadow, then farther */
+		z[2 * 64 + x] = strip ? 2.0f : gap ? 0.0f : x < 20 ? 3.0f : 1.0f; /* then nearer */
+		z[3 * 64 + x] = strip ? 2.0f : x < 20 ? 3.0f : 0.0f; /* holes up to the border */
+	}
+	struct dao_thickness_setup ts;
+	dao_thickness_setup_init(&ts, &cam, 0.5f);
+	dao_thickness_rows(&ts, z, t, 0, 4);
+	assert_float_equal(t[0 * 64 + 25], 0.5f, 0.0f);
+	assert_float_equal(t[0 * 64 + 40], 0.5f, 0.0f);
+	assert_float_equal(t[1 * 64 + 25], 10 * px, 1e-5);
+	assert_float_equal(t[2 * 64 + 25], 0.5f, 0.0f);
+	assert_float_equal(t[3 * 64 + 25], 10 * px, 1e-5);
+}
+
 /*
  * Slabs 2, 3 and 5 cm thick (80 x 60 cm, turned by 20 degrees) floating 35 cm
  * above a floor, seen from above at about 35 degrees, as the floating-plate
@@ -248,6 +279,119 @@ static void test_slabs(void **state)
 	/* the floor around them runs into the border: the bound */
 	assert_float_equal(t[(size_t)470 * W + 320], 0.5f, 0.0f);
 	free(t);
+	synth_image_free(&img);
+}
+
+/*
+ * A scene as `sensor` delivers it (millimetres, seed 7: not one of eval's),
+ * through the pipeline at the medium preset with VBAO and the thickness from
+ * the image: its filtered depth in z (cam's size), the estimate in t, made
+ * with the crease test the pipeline derives from the frame's measured noise.
+ */
+static void sensor_estimate(const struct synth_scene *s, const struct dao_camera *cam,
+			    const struct synth_image *img, enum synth_sensor sensor, float *z, float *t)
+{
+	struct dao_error err;
+	struct synth_case c;
+	const int w = (int)cam->width, h = (int)cam->height;
+	assert_int_equal(synth_case_simulate(&c, s, 0, cam, img, sensor, 7, 2, &err), 0);
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_MEDIUM);
+	p.algorithm = DAO_ALGORITHM_VBAO;
+	p.vbao_thickness_mode = DAO_VBAO_THICKNESS_IMAGE;
+	struct dao_context *ctx;
+	assert_int_equal(dao_context_create(&ctx, cam, &p, &err), 0);
+	const struct dao_frame depth = {
+		.format = DAO_PIXFMT_DEPTH16, .width = (uint32_t)w, .height = (uint32_t)h,
+		.stride = w * (int)sizeof(uint16_t), .data = c.depth_mm, .depth_unit = 0.001f,
+	};
+	struct dao_frame out = {
+		.format = DAO_PIXFMT_DEPTH_F32, .width = (uint32_t)w, .height = (uint32_t)h,
+		.stride = w * (int)sizeof(float), .data = z,
+	};
+	assert_int_equal(dao_context_process(ctx, &depth, NULL, 0, NULL, &err), 0);
+	assert_int_equal(dao_context_get_depth(ctx, &out, &err), 0);
+	struct dao_noise_info ni;
+	dao_context_noise(ctx, &ni);
+	assert_true(ni.measured);
+	dao_context_destroy(ctx);
+	synth_case_free(&c);
+	/* as the pipeline runs it (context.c) */
+	struct dao_thickness_setup ts;
+	dao_thickness_setup_init(&ts, cam, 0.5f);
+	dao_thickness_setup_rounding(&ts, ni.prefilter_scale);
+	dao_thickness_rows(&ts, z, t, 0, h);
+	dao_thickness_cols(&ts, z, t, 0, w);
+}
+
+/*
+ * The share of the pixels with depth whose estimate is less than half of what
+ * it should be: half the length of the pixel's ray through the object it
+ * hits (ray-traced; walls and floors: infinite), at most the bound 0.5 m.
+ */
+static double too_thin_share(const struct synth_scene *s, const struct dao_camera *cam,
+			     const float *z, const float *t)
+{
+	const int w = (int)cam->width, h = (int)cam->height;
+	long n = 0, thin = 0;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			const size_t k = (size_t)y * w + x;
+			if (!(z[k] > 0.0f))
+				continue;
+			const vec3 d = v3_normalize(v3(x * cam->ax + cam->bx, y * cam->ay + cam->by, 1));
+			double t0, t1 = 1e9;
+			vec3 nn;
+			const int i = synth_trace(s, v3(0, 0, 0), d, 0.0, 100.0, &t0, &nn);
+			if (i < 0)
+				continue;
+			double through = 1e9;
+			if (s->prims[i].kind != SYNTH_HALFSPACE &&
+			    synth_prim_intersect(&s->prims[i], v3(0, 0, 0), d, t0 + 1e-5, 100.0, &t1, &nn))
+				through = t1 - t0;
+			n++;
+			thin += t[k] < 0.5 * fmin(through, 0.5);
+		}
+	return (double)thin / (double)n;
+}
+
+/*
+ * Boxes on a floor before a wall, as a Gaussian sensor (2 % holes) and a
+ * structured-light sensor (holes in its shadows and where it loses the dots)
+ * deliver them: walls, floor and boxes are thick.  A hole inside a surface
+ * is no outline: the runs between a sensor's dropouts made walls, floor and
+ * box faces as thin as the distance between two holes (before: 6.3 % of the
+ * pixels too thin with Gaussian noise, 4.4 % with structured light, 0.04 %
+ * clean), which let the light through where they meet (boxes +8 % MAE over
+ * GTAO on both inputs).
+ */
+static void test_boxes_noisy(void **state)
+{
+	(void)state;
+	static const enum synth_sensor sensors[] = { SYNTH_SENSOR_CLEAN, SYNTH_SENSOR_GAUSSIAN,
+						     SYNTH_SENSOR_STRUCTURED_LIGHT };
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	struct dao_error err;
+	assert_int_equal(synth_scene_build_variant("boxes", 0.0, 0, &s, &err), 0);
+	synth_default_camera(&cam);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 2, &img, &err), 0);
+	const size_t n = (size_t)cam.width * cam.height;
+	float *z = malloc(n * sizeof(float)), *t = malloc(n * sizeof(float));
+	assert_non_null(z);
+	assert_non_null(t);
+	for (int k = 0; k < 3; k++) {
+		sensor_estimate(&s, &cam, &img, sensors[k], z, t);
+		const double share = too_thin_share(&s, &cam, z, t);
+		print_message("boxes, %s: %.2f %% of the pixels too thin\n",
+			      synth_sensor_name(sensors[k]), 100.0 * share);
+		/* measured 0.04 %, 0.03 %, 3.4 % (structured light: the edge faces of some
+		 * boxes' narrow sides pass the rounded crease test, below) */
+		assert_true(share < (sensors[k] == SYNTH_SENSOR_STRUCTURED_LIGHT ? 0.04 : 0.01));
+	}
+	free(t);
+	free(z);
 	synth_image_free(&img);
 }
 
@@ -363,14 +507,75 @@ static void test_vbao_behind_poles(void **state)
 	synth_image_free(&img);
 }
 
+/*
+ * The slabs of test_slabs as a Gaussian sensor delivers them, through the
+ * pipeline: the measured noise has the prefilter round each edge face's
+ * crease (a turn of 34 - 43 degrees left of about 90), and the crease test
+ * follows the prefilter's scale (dao_thickness_setup_rounding).  With the 50
+ * degree test of clean depth the 5 cm slab's top face kept the bound over
+ * most of its pixels.  The 2 and 3 cm slabs are not found with this noise
+ * (their edge faces' rounded turn stays under 30 degrees), nor any with
+ * structured light, whose disparity bands hold an edge face within one or
+ * two steps (README.md): printed, not asked for.
+ */
+static void test_slabs_noisy(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	vec3 up;
+	/* the crease test's turn: 50 degrees up to 2 px, 30 from 5 px */
+	struct dao_thickness_setup ts;
+	camera(&cam, W, H);
+	dao_thickness_setup_init(&ts, &cam, 0.5f);
+	assert_float_equal(ts.crease_cos, cosf(50.0f * DAO_PI_F / 180.0f), 1e-6);
+	dao_thickness_setup_rounding(&ts, 1.5f);
+	assert_float_equal(ts.crease_cos, cosf(50.0f * DAO_PI_F / 180.0f), 1e-6);
+	dao_thickness_setup_rounding(&ts, 3.5f);
+	assert_float_equal(ts.crease_cos, cosf(40.0f * DAO_PI_F / 180.0f), 1e-6);
+	dao_thickness_setup_rounding(&ts, 16.0f);
+	assert_float_equal(ts.crease_cos, cosf(30.0f * DAO_PI_F / 180.0f), 1e-6);
+	slabs_scene(&s, &up);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 2, &img, NULL), 0);
+	const size_t n = (size_t)W * H;
+	float *z = malloc(n * sizeof(float)), *t = malloc(n * sizeof(float));
+	assert_non_null(z);
+	assert_non_null(t);
+	static const enum synth_sensor sensors[] = { SYNTH_SENSOR_GAUSSIAN,
+						     SYNTH_SENSOR_STRUCTURED_LIGHT };
+	for (int k = 0; k < 2; k++) {
+		sensor_estimate(&s, &cam, &img, sensors[k], z, t);
+		for (int i = 0; i < 3; i++) {
+			int np;
+			const double m = slab_ratio(&s, up, &cam, t, i, &np);
+			print_message("slab %.0f cm thick, %s: top face (%d px) estimate / (%.0f x its "
+				      "rays' length through it) %.2f\n", slab_t[i] * 100,
+				      synth_sensor_name(sensors[k]), np,
+				      (double)DAO_THICKNESS_SLAB_SCALE, m);
+			assert_true(np > 2000);
+			/* the 5 cm slab with Gaussian noise: found (0.92; 1.40 with the clean
+			 * depth's 50 degrees, the bound's share of the rest) */
+			if (k == 0 && i == 2)
+				assert_true(m > 0.8 && m < 1.25);
+		}
+	}
+	free(t);
+	free(z);
+	synth_image_free(&img);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_pole_widths),
 		cmocka_unit_test(test_run_ends),
+		cmocka_unit_test(test_run_holes),
 		cmocka_unit_test(test_slabs),
 		cmocka_unit_test(test_same_as_reference),
 		cmocka_unit_test(test_vbao_behind_poles),
+		cmocka_unit_test(test_boxes_noisy),
+		cmocka_unit_test(test_slabs_noisy),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
