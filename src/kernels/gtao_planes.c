@@ -62,10 +62,13 @@ void dao_gtao_planes_fill_thickness_cols(struct dao_gtao_planes *pl, const float
 	const int w = pl->width;
 	for (int y = y0; y < y1; y++)
 		for (int q = 0; q < 4; q++) {
-			float *o = (float *)dao_gtao_thick_row(pl, y, q);
-			/* the first column of phase q from x0 on, entry x / 4 */
-			for (int x = x0 + ((q - x0) & 3); x < x1; x += 4)
-				o[x >> 2] = t[(size_t)y * w + x];
+			/* the first column of phase q from x0 on (entry xq / 4), and how many */
+			const int xq = x0 + ((q - x0) & 3);
+			const int n = xq < x1 ? (x1 - xq + 3) / 4 : 0;
+			float *o = (float *)dao_gtao_thick_row(pl, y, q) + (xq >> 2);
+			const float *in = t + (size_t)y * w + xq;
+			for (int j = 0; j < n; j++)
+				o[j] = in[4 * j];
 		}
 }
 
