@@ -127,8 +127,9 @@ DAO_API int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_fra
 struct dao_timings {
 	double decode_ms;     /* depth input to metres */
 	double prefilter_ms;  /* edge-preserving depth filter */
-	double normals_ms;    /* normals (and the kernels' depth layout) */
-	double gtao_ms;       /* the AO kernel */
+	double normals_ms;    /* normals (and the kernels' depth layout; vbao with
+			       * vbao-thickness-mode=image: the thickness's row pass) */
+	double gtao_ms;       /* the AO kernel (and the thickness's column pass) */
 	double denoise_ms;
 	double output_ms;     /* AO to the caller's format */
 	double process_ms;    /* all of the last dao_context_process() */

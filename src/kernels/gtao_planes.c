@@ -53,12 +53,22 @@ int dao_gtao_planes_init_thickness(struct dao_gtao_planes *pl)
 
 void dao_gtao_planes_fill_thickness(struct dao_gtao_planes *pl, const float *t, int y0, int y1)
 {
+	dao_gtao_planes_fill_thickness_cols(pl, t, y0, y1, 0, pl->width);
+}
+
+void dao_gtao_planes_fill_thickness_cols(struct dao_gtao_planes *pl, const float *t, int y0,
+					 int y1, int x0, int x1)
+{
 	const int w = pl->width;
 	for (int y = y0; y < y1; y++)
 		for (int q = 0; q < 4; q++) {
-			float *o = (float *)dao_gtao_thick_row(pl, y, q);
-			for (int x = q, j = 0; x < w; x += 4, j++)
-				o[j] = t[(size_t)y * w + x];
+			/* the first column of phase q from x0 on (entry xq / 4), and how many */
+			const int xq = x0 + ((q - x0) & 3);
+			const int n = xq < x1 ? (x1 - xq + 3) / 4 : 0;
+			float *o = (float *)dao_gtao_thick_row(pl, y, q) + (xq >> 2);
+			const float *in = t + (size_t)y * w + xq;
+			for (int j = 0; j < n; j++)
+				o[j] = in[4 * j];
 		}
 }
 

@@ -36,6 +36,11 @@ int dao_gtao_planes_init_thickness(struct dao_gtao_planes *pl);
 /* Rows [y0, y1) of pl->thick from the per-pixel plane t (w x h, metres). */
 void dao_gtao_planes_fill_thickness(struct dao_gtao_planes *pl, const float *t, int y0, int y1);
 
+/* ... of columns [x0, x1) only (for a pass that finishes the plane a block of
+ * columns at a time). */
+void dao_gtao_planes_fill_thickness_cols(struct dao_gtao_planes *pl, const float *t, int y0,
+					 int y1, int x0, int x1);
+
 /* Whether planes made for max_r_px `have` serve max_r_px `want` as well. */
 int dao_gtao_planes_fit(const struct dao_gtao_planes *pl, float max_r_px);
 

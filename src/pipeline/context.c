@@ -531,31 +531,44 @@ static void stage_noise_cells(void *arg, int cy0, int cy1)
 	dao_noise_cell_rows(&j->ctx->noise, cy0, cy1);
 }
 
-static void stage_normals(void *arg, int y0, int y1)
-{
-	struct frame_job *j = arg;
-	j->k.normals(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
-	if (j->k.simd != DAO_SIMD_REFERENCE)
-		fill_inverse_depth(j->ctx, &j->k, y0, y1);
-}
-
 static void stage_thickness_rows(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
 	dao_thickness_rows(&j->thickness, j->ctx->z, j->ctx->thick, y0, y1);
 }
 
-static void stage_thickness_cols(void *arg, int x0, int x1)
+/*
+ * The thickness estimate's row pass needs the filtered depth of its rows
+ * only, like the normals: it runs in their bands, and the estimate costs
+ * one dispatch to the pool (the columns) instead of three.  Under load each
+ * dispatch waits for both threads (README.md, Performance).
+ */
+static void stage_normals(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	dao_thickness_cols(&j->thickness, j->ctx->z, j->ctx->thick, x0, x1);
+	j->k.normals(&j->ctx->cam, j->ctx->z, j->normal_radius, j->ctx->n, y0, y1);
+	if (j->k.simd != DAO_SIMD_REFERENCE)
+		fill_inverse_depth(j->ctx, &j->k, y0, y1);
+	if (j->thick)
+		stage_thickness_rows(arg, y0, y1);
 }
 
-/* vbao's optimised kernels read the thickness split by phase, like the depth */
-static void stage_thickness_phases(void *arg, int y0, int y1)
+/*
+ * Blocks [b0, b1) of DAO_THICKNESS_COL_BLOCK columns, after every row: their
+ * columns are then final, and vbao's optimised kernels get them split by
+ * phase, like the depth, while they are in the cache (no third dispatch).
+ */
+static void stage_thickness_cols(void *arg, int b0, int b1)
 {
 	struct frame_job *j = arg;
-	dao_gtao_planes_fill_thickness(&j->ctx->planes, j->ctx->thick, y0, y1);
+	struct dao_context *c = j->ctx;
+	const int w = (int)c->cam.width;
+	const int x0 = b0 * DAO_THICKNESS_COL_BLOCK;
+	const int x1 = b1 * DAO_THICKNESS_COL_BLOCK < w ? b1 * DAO_THICKNESS_COL_BLOCK : w;
+	dao_thickness_cols(&j->thickness, c->z, c->thick, x0, x1);
+	if (j->k.simd != DAO_SIMD_REFERENCE)
+		dao_gtao_planes_fill_thickness_cols(&c->planes, c->thick, 0, (int)c->cam.height, x0,
+						    x1);
 }
 
 static void stage_gtao(void *arg, int thread, int y0, int y1)
@@ -925,25 +938,26 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		ctx->z = ctx->z_raw;
 	}
 	const double t2 = now_ms();
+	/* slabs' creases as rounded as the measured noise had the prefilter make them
+	 * (before the normals stage: it runs the thickness's rows) */
+	if (job.thick && p->prefilter == DAO_PREFILTER_DOMAIN && ctx->noise_info.measured)
+		dao_thickness_setup_rounding(&job.thickness, ctx->noise_info.prefilter_scale);
 	if (normals) {
 		r = load_normals(ctx, normals, err);
 		if (r)
 			return r;
 		if (job.k.simd != DAO_SIMD_REFERENCE)
 			fill_inverse_depth(ctx, &job.k, 0, h);
+		if (job.thick)
+			dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, &job);
 	} else {
-		dao_pool_run(ctx->pool, h, 4, stage_normals, &job);
+		dao_pool_run(ctx->pool, h, 4, stage_normals, &job); /* and the thickness's rows */
 	}
 	const double t3 = now_ms();
-	if (job.thick) {
-		/* slabs' creases as rounded as the measured noise had the prefilter make them */
-		if (p->prefilter == DAO_PREFILTER_DOMAIN && ctx->noise_info.measured)
-			dao_thickness_setup_rounding(&job.thickness, ctx->noise_info.prefilter_scale);
-		dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, &job);
-		dao_pool_run(ctx->pool, (int)ctx->cam.width, 8, stage_thickness_cols, &job);
-		if (job.k.simd != DAO_SIMD_REFERENCE)
-			dao_pool_run(ctx->pool, h, 8, stage_thickness_phases, &job);
-	}
+	if (job.thick)
+		dao_pool_run(ctx->pool,
+			     ((int)ctx->cam.width + DAO_THICKNESS_COL_BLOCK - 1) / DAO_THICKNESS_COL_BLOCK,
+			     1, stage_thickness_cols, &job);
 	const int sw = gtao_strip_width((int)ctx->cam.width);
 	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
 	/* the optimised kernels compute strips (vbao, hbao: with tile noise, the tile kernel) */
