@@ -35,6 +35,7 @@
 static struct {
 	const float *truth; /* NULL: leave the estimate */
 	float scale, cap;
+	float add;          /* added to the scaled truth, m */
 	int where;          /* 0: everywhere, 1: only where the estimate is over 1.5 times
 			     * the scaled truth, -1: only where under 1 / 1.5 times */
 	float *estimate;    /* the estimate is copied here (if not NULL) */
@@ -55,7 +56,7 @@ void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float 
 			if (sub.estimate)
 				sub.estimate[i] = thick[i];
 			if (sub.truth) {
-				float v = sub.scale * sub.truth[i];
+				float v = sub.scale * sub.truth[i] + sub.add;
 				v = v < sub.cap ? v : sub.cap;
 				if (!sub.where || (sub.where > 0 && thick[i] > 1.5f * v) ||
 				    (sub.where < 0 && 1.5f * thick[i] < v))
@@ -72,21 +73,28 @@ struct column {
 	float scale, cap;
 	int constant; /* VBAO with its constant 0.2 m instead */
 	int where;    /* sub.where */
+	float add;    /* sub.add */
 };
 
+#define TRUTH(k, c, w, a) .algorithm = DAO_ALGORITHM_VBAO, .truth = 1, .scale = k, .cap = c, \
+			  .where = w, .add = a
 static const struct column columns[] = {
-	{ "gtao", DAO_ALGORITHM_GTAO, 0, 0, 0, 0, 0 },
-	{ "vbao estimate", DAO_ALGORITHM_VBAO, 0, 0, 0, 0, 0 },
-	{ "truth x1", DAO_ALGORITHM_VBAO, 1, 1.0f, 0.5f, 0, 0 },
-	{ "truth x2", DAO_ALGORITHM_VBAO, 1, 2.0f, 0.5f, 0, 0 },
-	{ "truth x3", DAO_ALGORITHM_VBAO, 1, 3.0f, 0.5f, 0, 0 },
-	{ "truth x4", DAO_ALGORITHM_VBAO, 1, 4.0f, 0.5f, 0, 0 },
-	{ "truth x6", DAO_ALGORITHM_VBAO, 1, 6.0f, 0.5f, 0, 0 },
-	{ "truth x3, cap 10 m", DAO_ALGORITHM_VBAO, 1, 3.0f, 10.0f, 0, 0 },
-	{ "vbao 0.2 m", DAO_ALGORITHM_VBAO, 0, 0, 0, 1, 0 },
-	{ "x3 where est too thick", DAO_ALGORITHM_VBAO, 1, 3.0f, 0.5f, 0, 1 },
-	{ "x3 where est too thin", DAO_ALGORITHM_VBAO, 1, 3.0f, 0.5f, 0, -1 },
+	{ "gtao", .algorithm = DAO_ALGORITHM_GTAO },
+	{ "vbao estimate", .algorithm = DAO_ALGORITHM_VBAO },
+	{ "truth x1", TRUTH(1.0f, 0.5f, 0, 0.0f) },
+	{ "truth x2", TRUTH(2.0f, 0.5f, 0, 0.0f) },
+	{ "truth x3", TRUTH(3.0f, 0.5f, 0, 0.0f) },
+	{ "truth x4", TRUTH(4.0f, 0.5f, 0, 0.0f) },
+	{ "truth x6", TRUTH(6.0f, 0.5f, 0, 0.0f) },
+	{ "truth x3, cap 10 m", TRUTH(3.0f, 10.0f, 0, 0.0f) },
+	{ "truth + 4 cm", TRUTH(1.0f, 0.5f, 0, 0.04f) },
+	{ "truth + 8 cm", TRUTH(1.0f, 0.5f, 0, 0.08f) },
+	{ "truth + 12 cm", TRUTH(1.0f, 0.5f, 0, 0.12f) },
+	{ "x3 where est too thick", TRUTH(3.0f, 0.5f, 1, 0.0f) },
+	{ "x3 where est too thin", TRUTH(3.0f, 0.5f, -1, 0.0f) },
+	{ "vbao 0.2 m", .algorithm = DAO_ALGORITHM_VBAO, .constant = 1 },
 };
+#undef TRUTH
 #define NCOL (int)(sizeof columns / sizeof columns[0])
 
 static int dump(const char *dir, const char *scene, int variant, const char *what, const float *p,
@@ -191,6 +199,7 @@ int main(int argc, char **argv)
 			sub.scale = columns[k].scale;
 			sub.cap = columns[k].cap;
 			sub.where = columns[k].where;
+			sub.add = columns[k].add;
 			sub.estimate = est;
 			struct synth_metrics m;
 			double ms;
