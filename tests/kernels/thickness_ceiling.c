@@ -136,9 +136,20 @@ int main(int argc, char **argv)
 				return 2;
 			}
 		} else if (strcmp(argv[i], "--rays") == 0 && i + 1 < argc) {
-			rays_sqrt = (int)lrint(sqrt(atof(argv[++i])));
+			const long n = strtol(argv[++i], NULL, 10), r = lrint(sqrt((double)n));
+			if (n < 1 || n > 65536 || r * r != n) {
+				fprintf(stderr, "thickness-ceiling: --rays %s must be a perfect square "
+					"in 1..65536\n", argv[i]);
+				return 2;
+			}
+			rays_sqrt = (int)r;
 		} else if (strcmp(argv[i], "--variants") == 0 && i + 1 < argc) {
 			variants = atoi(argv[++i]);
+			if (variants < 1 || variants > 16) {
+				fprintf(stderr, "thickness-ceiling: --variants %s must be in 1..16\n",
+					argv[i]);
+				return 2;
+			}
 		} else if (strcmp(argv[i], "--dump") == 0 && i + 1 < argc) {
 			dir = argv[++i];
 		} else if (argv[i][0] != '-' && ns < SYNTH_SUITE_MAX_IMAGES) {
@@ -149,7 +160,7 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
-	if (ns == 0 || rays_sqrt < 1 || variants < 1) {
+	if (ns == 0) {
 		fprintf(stderr, "thickness-ceiling: name the scenes (e.g. panels shelves-below)\n");
 		return 2;
 	}
@@ -167,8 +178,10 @@ int main(int argc, char **argv)
 	const size_t np = (size_t)suite.cam.width * suite.cam.height;
 	float *ao = malloc(np * sizeof(float)), *truth = malloc(np * sizeof(float));
 	float *est = malloc(np * sizeof(float));
-	if (!ao || !truth || !est)
+	if (!ao || !truth || !est) {
+		fprintf(stderr, "thickness-ceiling: out of memory\n");
 		return 1;
+	}
 	printf("| scene | %s", columns[0].name);
 	for (int k = 1; k < NCOL; k++)
 		printf(" | %s", columns[k].name);
