@@ -18,6 +18,7 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 	t->bx = cam->bx;
 	t->by = cam->by;
 	t->max = max;
+	t->spacing = 0.0f;
 }
 
 /* (comparisons, not fminf: libm's is a call per pixel, a sixth of the time) */
@@ -219,9 +220,13 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 			const float lp = sqrtf(vdot(p, p));
 			float vk = value;
 			for (int q = 0; q < slabs; q++) {
-				/* scale t / sin(ray, face) = scale t |p| / |p x f|, no division by 0 */
+				/* scale t / sin(ray, face) = scale t |p| / |p x f|, and at least
+				 * t / sin + spacing (thickness.h), no division by 0 */
 				const float sn = vcross_len(p, face[q]);
-				const float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
+				float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
+				const float spaced = slab_t[q] * lp + t->spacing * sn;
+				if (spaced > across)
+					across = spaced;
 				if (across < vk * sn)
 					vk = across / sn;
 			}
