@@ -129,6 +129,9 @@ static void test_ray_inside(void **state)
 	const vec3 o3 = v3(-2.3, 0, 0);
 	assert_int_equal(synth_trace(&s, o3, v3(0, 0, 1), 0, 100, &t, NULL), 2);
 	assert_true(fabs(synth_ray_inside(&s, o3, v3(0, 0, 1), t, 2) - 0.8) < 1e-9);
+	/* a direction that is not unit: the same length in metres */
+	assert_int_equal(synth_trace(&s, o, v3_scale(d, 3.0), 0, 100, &t, NULL), 0);
+	assert_true(fabs(synth_ray_inside(&s, o, v3_scale(d, 3.0), t, 0) - 0.04) < 1e-9);
 	/* a wall: a half-space the ray never leaves */
 	const vec3 o4 = v3(2, 0, 0);
 	assert_int_equal(synth_trace(&s, o4, v3(0, 0, 1), 0, 100, &t, NULL), 3);

@@ -37,7 +37,10 @@ int synth_prim_inside(const struct synth_prim *p, vec3 x)
 
 double synth_ray_inside(const struct synth_scene *s, vec3 o, vec3 d, double t, int prim)
 {
-	d = v3_normalize(d);
+	/* in metres: t along a unit d */
+	const double dl = sqrt(v3_dot(d, d));
+	d = v3_scale(d, 1.0 / dl);
+	t *= dl;
 	const double t0 = t;
 	int cur = prim;
 	/* each primitive is convex: the ray leaves it once, and enters a primitive it

@@ -74,8 +74,8 @@ int synth_prim_inside(const struct synth_prim *p, vec3 x);
 /*
  * The length of the ray o + t d inside solid matter from its hit at t on
  * primitive `prim` (synth_trace's): to where it leaves the union of the
- * primitives it passes through without leaving solid matter, in the units of
- * a unit d; INFINITY inside a half-space it never leaves.
+ * primitives it passes through without leaving solid matter, in metres (d
+ * need not be unit); INFINITY inside a half-space it never leaves.
  */
 double synth_ray_inside(const struct synth_scene *s, vec3 o, vec3 d, double t, int prim);
 
