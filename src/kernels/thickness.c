@@ -21,6 +21,7 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 	t->by = cam->by;
 	t->max = max;
 	t->crease_cos = cosf(DAO_SLAB_CREASE_DEG * (DAO_PI_F / 180.0f));
+	t->spacing = 0.0f;
 }
 
 void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
@@ -243,9 +244,13 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 			const float lp = sqrtf(vdot(p, p));
 			float vk = value;
 			for (int q = 0; q < slabs; q++) {
-				/* scale t / sin(ray, face) = scale t |p| / |p x f|, no division by 0 */
+				/* scale t / sin(ray, face) = scale t |p| / |p x f|, and at least
+				 * t / sin + spacing (thickness.h), no division by 0 */
 				const float sn = vcross_len(p, face[q]);
-				const float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
+				float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
+				const float spaced = slab_t[q] * lp + t->spacing * sn;
+				if (spaced > across)
+					across = spaced;
 				if (across < vk * sn)
 					vk = across / sn;
 			}

@@ -42,7 +42,18 @@ struct dao_thickness_setup {
 	float ax, ay, bx, by;   /* view position x = (u ax + bx) z, y = (v ay + by) z */
 	float max;              /* upper bound, m (also where the extent is unknown) */
 	float crease_cos;       /* a slab's crease turns by more than acos(this) */
+	float spacing;          /* VBAO's step between samples, m (below); 0: none */
 };
+
+/*
+ * A slab's pixel gets at least the length of its ray through the slab plus
+ * the spacing of VBAO's samples (the search radius over the steps): the
+ * factor DAO_THICKNESS_SLAB_SCALE makes up for the gaps between samples, but
+ * a thin slab seen face-on (a plate from above, 2 cm crossed over 3.5 cm)
+ * times 3 still spans less than one gap, and the light passes between its
+ * samples (README.md, the ceiling: the true thickness plus a sample spacing
+ * is VBAO's best model).  The pipeline sets it (context.c); init leaves 0.
+ */
 
 /* crease_cos: DAO_SLAB_CREASE_DEG, for depth the prefilter left sharp. */
 void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,

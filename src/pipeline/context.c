@@ -863,6 +863,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		dao_variant_setup_init(&job.variant, &job.gtao, p);
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE) {
 		dao_thickness_setup_init(&job.thickness, &ctx->cam, p->vbao_thickness_max);
+		job.thickness.spacing = job.gtao.search_radius / (float)job.gtao.steps;
 		job.thick = ctx->thick;
 		job.variant.thickness = ctx->thick;
 	}

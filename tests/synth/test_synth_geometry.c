@@ -91,6 +91,58 @@ static void test_ground_truth_corner(void **state)
 	synth_image_free(&img);
 }
 
+/* The length of a camera ray inside what it hits: a board crossed at 60 degrees, the
+ * board and the side panel it touches as one solid, a sphere's chord, a wall. */
+static void test_ray_inside(void **state)
+{
+	(void)state;
+	struct synth_scene s = { .name = "inside" };
+	/* a board 2 cm thick (z in [2.99, 3.01]) ... */
+	struct synth_prim *b = &s.prims[s.count++];
+	*b = (struct synth_prim){ .kind = SYNTH_BOX, .c = { 0, 0, 3 }, .half = { 0.4, 0.3, 0.01 } };
+	b->axis[0] = v3(1, 0, 0), b->axis[1] = v3(0, 1, 0), b->axis[2] = v3(0, 0, 1);
+	/* ... touching a panel 5 cm thick at x = 0.4 (x in [0.4, 0.45]) */
+	struct synth_prim *p = &s.prims[s.count++];
+	*p = (struct synth_prim){ .kind = SYNTH_BOX, .c = { 0.425, 0, 3 }, .half = { 0.025, 0.3, 0.5 } };
+	p->axis[0] = v3(1, 0, 0), p->axis[1] = v3(0, 1, 0), p->axis[2] = v3(0, 0, 1);
+	s.prims[s.count++] = (struct synth_prim){ .kind = SYNTH_SPHERE, .c = { -2, 0, 3 }, .r = 0.5 };
+	s.prims[s.count++] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 0, 6 },
+						  .n = { 0, 0, -1 } };
+	for (int i = 0; i < s.count; i++)
+		synth_prim_bound(&s.prims[i]);
+	double t;
+	/* straight through the board: 2 cm; at 60 degrees from its normal: 4 cm */
+	vec3 d = v3(0, 0, 1);
+	assert_int_equal(synth_trace(&s, v3(0, 0, 0), d, 0, 100, &t, NULL), 0);
+	assert_true(fabs(synth_ray_inside(&s, v3(0, 0, 0), d, t, 0) - 0.02) < 1e-9);
+	const vec3 o = v3(-1.7, 0, 2);
+	d = v3(sqrt(3.0) / 2, 0, 0.5); /* 60 degrees from the board's normal */
+	assert_int_equal(synth_trace(&s, o, d, 0, 100, &t, NULL), 0);
+	assert_true(fabs(synth_ray_inside(&s, o, d, t, 0) - 0.04) < 1e-9);
+	/* along the board into the panel it touches, out of the panel's far face:
+	 * from x = 0.3 to 0.45 */
+	const vec3 o2 = v3(-1, 0, 3.0);
+	assert_int_equal(synth_trace(&s, o2, v3(1, 0, 0), 0, 100, &t, NULL), 0);
+	assert_true(fabs(t - 0.6) < 1e-9);
+	assert_true(fabs(synth_ray_inside(&s, o2, v3(1, 0, 0), t, 0) - 0.85) < 1e-6);
+	/* the sphere 0.3 m off its centre: a chord of 2 sqrt(0.5^2 - 0.3^2) = 0.8 m */
+	const vec3 o3 = v3(-2.3, 0, 0);
+	assert_int_equal(synth_trace(&s, o3, v3(0, 0, 1), 0, 100, &t, NULL), 2);
+	assert_true(fabs(synth_ray_inside(&s, o3, v3(0, 0, 1), t, 2) - 0.8) < 1e-9);
+	/* a direction that is not unit: the same length in metres */
+	assert_int_equal(synth_trace(&s, o, v3_scale(d, 3.0), 0, 100, &t, NULL), 0);
+	assert_true(fabs(synth_ray_inside(&s, o, v3_scale(d, 3.0), t, 0) - 0.04) < 1e-9);
+	/* a wall: a half-space the ray never leaves */
+	const vec3 o4 = v3(2, 0, 0);
+	assert_int_equal(synth_trace(&s, o4, v3(0, 0, 1), 0, 100, &t, NULL), 3);
+	assert_true(isinf(synth_ray_inside(&s, o4, v3(0, 0, 1), t, 3)));
+	/* a primitive's solid, its surface included */
+	assert_true(synth_prim_inside(b, v3(0.4, 0.3, 3.01)));
+	assert_false(synth_prim_inside(b, v3(0.4, 0.3, 3.02)));
+	assert_true(synth_prim_inside(&s.prims[3], v3(0, 0, 7)));
+	assert_false(synth_prim_inside(&s.prims[3], v3(0, 0, 5)));
+}
+
 static void test_noise_model(void **state)
 {
 	(void)state;
@@ -125,6 +177,7 @@ int main(void)
 		cmocka_unit_test(test_box_hit),
 		cmocka_unit_test(test_cylinder_hit),
 		cmocka_unit_test(test_ground_truth_corner),
+		cmocka_unit_test(test_ray_inside),
 		cmocka_unit_test(test_noise_model),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

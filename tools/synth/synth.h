@@ -68,6 +68,21 @@ void synth_image_free(struct synth_image *img);
 int synth_trace(const struct synth_scene *s, vec3 o, vec3 d, double tmin, double tmax, double *t,
 		vec3 *n);
 
+/* 1 if the point x lies in the primitive's solid (its surface included). */
+int synth_prim_inside(const struct synth_prim *p, vec3 x);
+
+/*
+ * The length of the ray o + t d inside solid matter from its hit at t on
+ * primitive `prim` (synth_trace's): to where it leaves the union of the
+ * primitives it passes through without leaving solid matter, in metres (d
+ * need not be unit); INFINITY inside a half-space it never leaves.
+ */
+double synth_ray_inside(const struct synth_scene *s, vec3 o, vec3 d, double t, int prim);
+
+/* synth_ray_inside of every pixel's camera ray (cam's pixel centres), w x h
+ * floats; 0 where the ray hits nothing, INFINITY in half-spaces. */
+void synth_inside_plane(const struct synth_scene *s, const struct dao_camera *cam, float *out);
+
 /* 1 if anything lies on the ray o + t d for t in (tmin, tmax). */
 int synth_occluded(const struct synth_scene *s, vec3 o, vec3 d, double tmin, double tmax);
 

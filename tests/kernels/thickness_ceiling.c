@@ -1,0 +1,260 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * How good VBAO can be with the thickness right (issue #17): scenes of
+ * `depthao eval`, clean, through the whole pipeline at the medium preset,
+ * with VBAO's thickness plane replaced by the ray-traced truth -- the length
+ * of each pixel's camera ray inside the solid it hits (synth_inside_plane),
+ * scaled or with a margin added, capped -- against GTAO, the estimate from
+ * the image and VBAO's constant; and, to find where the estimate loses, the
+ * truth only where the estimate is 1.5 times too thick or too thin.  A
+ * measuring program (README.md, "Thickness from the image", the ceiling);
+ * the test suite runs it once, small, to keep it working.
+ *
+ * The truth reaches the kernel the way the estimate does: this program is
+ * linked with --wrap=dao_thickness_cols, so the pipeline's own call of the
+ * column pass (the estimate's last step) lands in __wrap_dao_thickness_cols,
+ * which runs the pass and then overwrites its columns of the plane with the
+ * truth; the phase split and the kernel that follow are the pipeline's.  The
+ * library is not changed for it.
+ *
+ *   thickness-ceiling [--set tune|heldout] [--rays N] [--variants N]
+ *                     [--dump DIR] SCENE...
+ *
+ * --dump writes each scene's planes as raw little-endian floats (640 x 480):
+ * depth, gt, truth, estimate, and the AO of every column, for error maps.
+ */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <depthao/depthao.h>
+
+#include "kernels/thickness.h"
+#include "synth/suite.h"
+
+/* what the wrapped column pass does after the real one */
+static struct {
+	const float *truth; /* NULL: leave the estimate */
+	float scale, cap;
+	float add;          /* added to the scaled truth, m */
+	int where;          /* 0: everywhere, 1: only where the estimate is over 1.5 times
+			     * the scaled truth, -1: only where under 1 / 1.5 times */
+	float *estimate;    /* the estimate is copied here (if not NULL) */
+} sub;
+
+static atomic_long column_passes; /* the wrapper was called (pool threads run it) */
+
+void __real_dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
+			       int x0, int x1);
+void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
+			       int x0, int x1);
+
+void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
+			       int x0, int x1)
+{
+	__real_dao_thickness_cols(t, z, thick, x0, x1);
+	atomic_fetch_add_explicit(&column_passes, 1, memory_order_relaxed);
+	for (int y = 0; y < t->height; y++)
+		for (int x = x0; x < x1; x++) {
+			const size_t i = (size_t)y * t->width + x;
+			if (sub.estimate)
+				sub.estimate[i] = thick[i];
+			if (sub.truth) {
+				float v = sub.scale * sub.truth[i] + sub.add;
+				v = v < sub.cap ? v : sub.cap;
+				if (!sub.where || (sub.where > 0 && thick[i] > 1.5f * v) ||
+				    (sub.where < 0 && 1.5f * thick[i] < v))
+					thick[i] = v;
+			}
+		}
+}
+
+/* The columns: GTAO, VBAO with the estimate, VBAO with the truth scaled and capped. */
+struct column {
+	const char *name;
+	int algorithm;
+	int truth;
+	float scale, cap;
+	int constant; /* VBAO with its constant 0.2 m instead */
+	int where;    /* sub.where */
+	float add;    /* sub.add */
+};
+
+#define TRUTH(k, c, w, a) .algorithm = DAO_ALGORITHM_VBAO, .truth = 1, .scale = k, .cap = c, \
+			  .where = w, .add = a
+static const struct column columns[] = {
+	{ "gtao", .algorithm = DAO_ALGORITHM_GTAO },
+	{ "vbao estimate", .algorithm = DAO_ALGORITHM_VBAO },
+	{ "truth x1", TRUTH(1.0f, 0.5f, 0, 0.0f) },
+	{ "truth x2", TRUTH(2.0f, 0.5f, 0, 0.0f) },
+	{ "truth x3", TRUTH(3.0f, 0.5f, 0, 0.0f) },
+	{ "truth x4", TRUTH(4.0f, 0.5f, 0, 0.0f) },
+	{ "truth x6", TRUTH(6.0f, 0.5f, 0, 0.0f) },
+	{ "truth x3, cap 10 m", TRUTH(3.0f, 10.0f, 0, 0.0f) },
+	{ "truth + 4 cm", TRUTH(1.0f, 0.5f, 0, 0.04f) },
+	{ "truth + 8 cm", TRUTH(1.0f, 0.5f, 0, 0.08f) },
+	{ "truth + 12 cm", TRUTH(1.0f, 0.5f, 0, 0.12f) },
+	{ "x3 where est too thick", TRUTH(3.0f, 0.5f, 1, 0.0f) },
+	{ "x3 where est too thin", TRUTH(3.0f, 0.5f, -1, 0.0f) },
+	{ "vbao 0.2 m", .algorithm = DAO_ALGORITHM_VBAO, .constant = 1 },
+};
+#undef TRUTH
+#define NCOL (int)(sizeof columns / sizeof columns[0])
+
+static int dump(const char *dir, const char *scene, int variant, const char *what, const float *p,
+		size_t n)
+{
+	char path[1024];
+	snprintf(path, sizeof path, "%s/%s-%d-%s.f32", dir, scene, variant, what);
+	for (char *c = path + strlen(dir) + 1; *c; c++)
+		if (*c == ' ' || *c == ',')
+			*c = '_';
+	FILE *f = fopen(path, "wb");
+	if (!f || fwrite(p, sizeof(float), n, f) != n) {
+		fprintf(stderr, "thickness-ceiling: cannot write %s\n", path);
+		if (f)
+			fclose(f);
+		return -1;
+	}
+	return fclose(f);
+}
+
+int main(int argc, char **argv)
+{
+	enum synth_set set = SYNTH_SET_TUNE;
+	int rays_sqrt = 8, variants = 1;
+	const char *dir = NULL;
+	const char *scenes[SYNTH_SUITE_MAX_IMAGES + 1];
+	int ns = 0;
+	for (int i = 1; i < argc; i++) {
+		struct dao_error err;
+		if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) {
+			if (synth_set_parse(argv[++i], &set, &err)) {
+				fprintf(stderr, "thickness-ceiling: %s\n", err.message);
+				return 2;
+			}
+		} else if (strcmp(argv[i], "--rays") == 0 && i + 1 < argc) {
+			const long n = strtol(argv[++i], NULL, 10), r = lrint(sqrt((double)n));
+			if (n < 1 || n > 65536 || r * r != n) {
+				fprintf(stderr, "thickness-ceiling: --rays %s must be a perfect square "
+					"in 1..65536\n", argv[i]);
+				return 2;
+			}
+			rays_sqrt = (int)r;
+		} else if (strcmp(argv[i], "--variants") == 0 && i + 1 < argc) {
+			variants = atoi(argv[++i]);
+			if (variants < 1 || variants > 16) {
+				fprintf(stderr, "thickness-ceiling: --variants %s must be in 1..16\n",
+					argv[i]);
+				return 2;
+			}
+		} else if (strcmp(argv[i], "--dump") == 0 && i + 1 < argc) {
+			dir = argv[++i];
+		} else if (argv[i][0] != '-' && ns < SYNTH_SUITE_MAX_IMAGES) {
+			scenes[ns++] = argv[i];
+		} else {
+			fprintf(stderr, "usage: thickness-ceiling [--set tune|heldout] [--rays N] "
+				"[--variants N] [--dump DIR] SCENE...\n");
+			return 2;
+		}
+	}
+	if (ns == 0) {
+		fprintf(stderr, "thickness-ceiling: name the scenes (e.g. panels shelves-below)\n");
+		return 2;
+	}
+	scenes[ns] = NULL;
+	const enum synth_sensor clean = SYNTH_SENSOR_CLEAN;
+	struct synth_suite_spec spec = { .scenes = scenes, .radius = 0.5, .rays_sqrt = rays_sqrt,
+					 .sensors = &clean, .nsensors = 1, .seed = 1, .threads = 2 };
+	synth_suite_spec_set(&spec, set, variants);
+	static struct synth_suite suite;
+	struct dao_error err;
+	if (synth_suite_load_spec(&suite, &spec, &err)) {
+		fprintf(stderr, "thickness-ceiling: %s\n", err.message);
+		return 1;
+	}
+	const size_t np = (size_t)suite.cam.width * suite.cam.height;
+	float *ao = malloc(np * sizeof(float)), *truth = malloc(np * sizeof(float));
+	float *est = malloc(np * sizeof(float));
+	if (!ao || !truth || !est) {
+		fprintf(stderr, "thickness-ceiling: out of memory\n");
+		return 1;
+	}
+	printf("| scene | %s", columns[0].name);
+	for (int k = 1; k < NCOL; k++)
+		printf(" | %s", columns[k].name);
+	printf(" |\n|---|");
+	for (int k = 0; k < NCOL; k++)
+		printf("---:|");
+	printf("\n");
+	double sum[NCOL] = { 0 };
+	for (int c = 0; c < suite.count; c++) {
+		const struct synth_case *sc = &suite.cases[c];
+		struct synth_scene scene;
+		if (synth_scene_build_variant(sc->scene, 0.0, sc->variant, &scene, &err)) {
+			fprintf(stderr, "thickness-ceiling: %s\n", err.message);
+			return 1;
+		}
+		synth_inside_plane(&scene, &suite.cam, truth);
+		if (sc->variant)
+			printf("| %s #%d |", sc->scene, sc->variant);
+		else
+			printf("| %s |", sc->scene);
+		for (int k = 0; k < NCOL; k++) {
+			struct dao_params p;
+			dao_params_init(&p, DAO_QUALITY_MEDIUM);
+			p.algorithm = columns[k].algorithm;
+			p.vbao_thickness_mode = columns[k].constant ? DAO_VBAO_THICKNESS_CONSTANT
+							       : DAO_VBAO_THICKNESS_IMAGE;
+			p.threads = 2;
+			struct dao_context *ctx;
+			if (dao_context_create(&ctx, &suite.cam, &p, &err)) {
+				fprintf(stderr, "thickness-ceiling: %s\n", err.message);
+				return 1;
+			}
+			sub.truth = columns[k].truth ? truth : NULL;
+			sub.scale = columns[k].scale;
+			sub.cap = columns[k].cap;
+			sub.where = columns[k].where;
+			sub.add = columns[k].add;
+			sub.estimate = est;
+			struct synth_metrics m;
+			double ms;
+			if (synth_suite_run_case(&suite, c, ctx, ao, &m, &ms, &err)) {
+				fprintf(stderr, "thickness-ceiling: %s\n", err.message);
+				return 1;
+			}
+			dao_context_destroy(ctx);
+			if (columns[k].algorithm == DAO_ALGORITHM_VBAO && !columns[k].constant &&
+			    atomic_exchange(&column_passes, 0) == 0) {
+				/* the pipeline no longer calls the column pass: nothing was measured */
+				fprintf(stderr, "thickness-ceiling: the pipeline did not call "
+					"dao_thickness_cols, so the truth never reached VBAO; wrap the "
+					"function that now fills the thickness plane\n");
+				return 1;
+			}
+			sum[k] += m.mae;
+			printf(" %.4f |", m.mae);
+			if (dir && dump(dir, sc->scene, sc->variant, columns[k].name, ao, np))
+				return 1;
+			fflush(stdout);
+		}
+		printf("\n");
+		if (dir && (dump(dir, sc->scene, sc->variant, "depth", sc->depth_m, np) ||
+			    dump(dir, sc->scene, sc->variant, "gt", sc->gt, np) ||
+			    dump(dir, sc->scene, sc->variant, "truth", truth, np) ||
+			    dump(dir, sc->scene, sc->variant, "estimate", est, np)))
+			return 1;
+	}
+	printf("| **mean** |");
+	for (int k = 0; k < NCOL; k++)
+		printf(" **%.4f** |", sum[k] / suite.count);
+	printf("\n");
+	free(est);
+	free(truth);
+	free(ao);
+	synth_suite_free(&suite);
+	return 0;
+}
