@@ -262,16 +262,16 @@ static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup
 			 const struct tile_step *st, const struct slice_v *g, int major_x, int inner)
 {
 #define VBAO_SIDES(mx, check, plane) vbao_sides(vb, s, base, tbase, t, st, g, mx, check, plane)
-	switch (vb->plane * 4 + major_x * 2 + inner) {
-	case 0: return VBAO_SIDES(0, 1, 0);
-	case 1: return VBAO_SIDES(0, 0, 0);
-	case 2: return VBAO_SIDES(1, 1, 0);
-	case 3: return VBAO_SIDES(1, 0, 0);
-	case 4: return VBAO_SIDES(0, 1, 1);
-	case 5: return VBAO_SIDES(0, 0, 1);
-	case 6: return VBAO_SIDES(1, 1, 1);
-	default: return VBAO_SIDES(1, 0, 1);
+	/* tests, not a switch: its table jump alternated between the cases with
+	 * the slices' major axes and mispredicted */
+	if (vb->plane) {
+		if (major_x)
+			return inner ? VBAO_SIDES(1, 0, 1) : VBAO_SIDES(1, 1, 1);
+		return inner ? VBAO_SIDES(0, 0, 1) : VBAO_SIDES(0, 1, 1);
 	}
+	if (major_x)
+		return inner ? VBAO_SIDES(1, 0, 0) : VBAO_SIDES(1, 1, 0);
+	return inner ? VBAO_SIDES(0, 0, 0) : VBAO_SIDES(0, 1, 0);
 #undef VBAO_SIDES
 }
 
@@ -299,11 +299,7 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	const vi neg = vi_andnot(mask, vi_andnot(vi_set1(-1), below)); /* mask & below */
 	const vi pos = vi_andnot(mask, upto);
 	const vi across = vi_andnot(vi_andnot(mask, vi_andnot(vi_set1(-1), upto)), below);
-	int32_t lanes[VN];
-	vi_store(lanes, mask);
-	uint32_t any = 0;
-	for (int l = 0; l < VN; l++)
-		any |= (uint32_t)lanes[l];
+	uint32_t any = vi_hor(mask);
 	vf pp = zero, qp = zero, pn = zero, qn = zero;
 	while (any) {
 		const int k = __builtin_ctz(any);
@@ -317,14 +313,8 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 		qn = v_add(qn, v_sel(mn, Q, zero));
 	}
 	vf occ = v_fma(g->cos_n, v_sub(pp, pn), v_mul(g->sin_n, v_sub(qp, qn)));
-	vi_store(lanes, across);
-	float has[VN];
-	int some = 0;
-	for (int l = 0; l < VN; l++) {
-		has[l] = lanes[l] ? 1.0f : 0.0f;
-		some |= lanes[l];
-	}
-	if (some) {
+	const vm has = m_nonzero(across);
+	if (m_any(has)) {
 		/* H(a_k0+1) - H(a_k0) = G(a_k0+1) + G(a_k0) + cos(n)/2, G(t) = -cos(2t - n)/4 + t sin(n)/2 */
 		const vf a0 = v_add(g->n, v_fma(k0, v_set1(DAO_PI_F / (float)DAO_VBAO_SECTORS),
 						  v_set1(-DAO_HALF_PI_F)));
@@ -335,7 +325,7 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 		const vf G0 = v_fma(a0, half_sin, v_mul(v_set1(-0.25f), c0));
 		const vf G1 = v_fma(a1, half_sin, v_mul(v_set1(-0.25f), c1));
 		const vf w = v_fma(g->cos_n, v_set1(0.5f), v_add(G0, G1));
-		occ = v_add(occ, v_sel(v_gt(v_load(has), zero), w, zero));
+		occ = v_add(occ, v_sel(has, w, zero));
 	}
 	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, v_sub(all, occ)), zero));
 	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, all), zero));
