@@ -174,7 +174,16 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf Gz = v_fnma(p->Pz, iz, one);
 	const vf GU = v_fma(Gz, t->Q, B);
 	const vf g2 = v_fma(Gz, v_add(GU, B), c);
-	const vf rg = v_rsqrt(v_sel(ok, g2, one));
+	const vf g2s = v_sel(ok, g2, one);
+	/* a step where no lane's front passes the test below marks nothing: told
+	 * from the estimate of 1/sqrt (relative error below 4e-4, |cf0| <= 1)
+	 * against thr less a margin, a superset of the lanes the test keeps, so
+	 * that the branch, which mispredicts often, need not wait for the
+	 * refinement (a step kept here and by no lane there marks nothing too) */
+	if (!m_any(m_and(ok, v_gt(v_mul(v_mul(GU, v_rsqrt_fast(g2s)), t->inu),
+				  v_sub(thr, v_set1(1e-3f))))))
+		return vi_set1(0);
+	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
 	/* seen from P, the points of the sample's camera ray sweep away from V
 	 * monotonically, so its back lies further from V than its front: a front
@@ -182,8 +191,6 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	 * (thr: that edge's cosine, lowered by a margin), nor does it once the
 	 * falloff has moved it further towards the edge */
 	ok = m_and(ok, v_gt(cf0, thr));
-	if (!m_any(ok))
-		return vi_set1(0);
 	/* the falloff weight of |D| = |G| / iz (0 beyond vbao_radius: no sample),
 	 * with the refined 1/iz (the estimate's 3.7e-4 moves sector ends); only
 	 * where some lane lies beyond fall_full (most steps lie within it) */
