@@ -174,7 +174,16 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf Gz = v_fnma(p->Pz, iz, one);
 	const vf GU = v_fma(Gz, t->Q, B);
 	const vf g2 = v_fma(Gz, v_add(GU, B), c);
-	const vf rg = v_rsqrt(v_sel(ok, g2, one));
+	const vf g2s = v_sel(ok, g2, one);
+	/* a step where no lane's front passes the test below marks nothing: told
+	 * from the estimate of 1/sqrt (relative error below 4e-4, |cf0| <= 1)
+	 * against thr less a margin, a superset of the lanes the test keeps, so
+	 * that the branch, which mispredicts often, need not wait for the
+	 * refinement (a step kept here and by no lane there marks nothing too) */
+	if (!m_any(m_and(ok, v_gt(v_mul(v_mul(GU, v_rsqrt_fast(g2s)), t->inu),
+				  v_sub(thr, v_set1(1e-3f))))))
+		return vi_set1(0);
+	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
 	/* seen from P, the points of the sample's camera ray sweep away from V
 	 * monotonically, so its back lies further from V than its front: a front
@@ -182,8 +191,6 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	 * (thr: that edge's cosine, lowered by a margin), nor does it once the
 	 * falloff has moved it further towards the edge */
 	ok = m_and(ok, v_gt(cf0, thr));
-	if (!m_any(ok))
-		return vi_set1(0);
 	/* the falloff weight of |D| = |G| / iz (0 beyond vbao_radius: no sample),
 	 * with the refined 1/iz (the estimate's 3.7e-4 moves sector ends); only
 	 * where some lane lies beyond fall_full (most steps lie within it) */
@@ -262,16 +269,16 @@ static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup
 			 const struct tile_step *st, const struct slice_v *g, int major_x, int inner)
 {
 #define VBAO_SIDES(mx, check, plane) vbao_sides(vb, s, base, tbase, t, st, g, mx, check, plane)
-	switch (vb->plane * 4 + major_x * 2 + inner) {
-	case 0: return VBAO_SIDES(0, 1, 0);
-	case 1: return VBAO_SIDES(0, 0, 0);
-	case 2: return VBAO_SIDES(1, 1, 0);
-	case 3: return VBAO_SIDES(1, 0, 0);
-	case 4: return VBAO_SIDES(0, 1, 1);
-	case 5: return VBAO_SIDES(0, 0, 1);
-	case 6: return VBAO_SIDES(1, 1, 1);
-	default: return VBAO_SIDES(1, 0, 1);
+	/* tests, not a switch: its table jump alternated between the cases with
+	 * the slices' major axes and mispredicted */
+	if (vb->plane) {
+		if (major_x)
+			return inner ? VBAO_SIDES(1, 0, 1) : VBAO_SIDES(1, 1, 1);
+		return inner ? VBAO_SIDES(0, 0, 1) : VBAO_SIDES(0, 1, 1);
 	}
+	if (major_x)
+		return inner ? VBAO_SIDES(1, 0, 0) : VBAO_SIDES(1, 1, 0);
+	return inner ? VBAO_SIDES(0, 0, 0) : VBAO_SIDES(0, 1, 0);
 #undef VBAO_SIDES
 }
 
@@ -299,11 +306,7 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	const vi neg = vi_andnot(mask, vi_andnot(vi_set1(-1), below)); /* mask & below */
 	const vi pos = vi_andnot(mask, upto);
 	const vi across = vi_andnot(vi_andnot(mask, vi_andnot(vi_set1(-1), upto)), below);
-	int32_t lanes[VN];
-	vi_store(lanes, mask);
-	uint32_t any = 0;
-	for (int l = 0; l < VN; l++)
-		any |= (uint32_t)lanes[l];
+	uint32_t any = vi_hor(mask);
 	vf pp = zero, qp = zero, pn = zero, qn = zero;
 	while (any) {
 		const int k = __builtin_ctz(any);
@@ -317,14 +320,8 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 		qn = v_add(qn, v_sel(mn, Q, zero));
 	}
 	vf occ = v_fma(g->cos_n, v_sub(pp, pn), v_mul(g->sin_n, v_sub(qp, qn)));
-	vi_store(lanes, across);
-	float has[VN];
-	int some = 0;
-	for (int l = 0; l < VN; l++) {
-		has[l] = lanes[l] ? 1.0f : 0.0f;
-		some |= lanes[l];
-	}
-	if (some) {
+	const vm has = m_nonzero(across);
+	if (m_any(has)) {
 		/* H(a_k0+1) - H(a_k0) = G(a_k0+1) + G(a_k0) + cos(n)/2, G(t) = -cos(2t - n)/4 + t sin(n)/2 */
 		const vf a0 = v_add(g->n, v_fma(k0, v_set1(DAO_PI_F / (float)DAO_VBAO_SECTORS),
 						  v_set1(-DAO_HALF_PI_F)));
@@ -335,7 +332,7 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 		const vf G0 = v_fma(a0, half_sin, v_mul(v_set1(-0.25f), c0));
 		const vf G1 = v_fma(a1, half_sin, v_mul(v_set1(-0.25f), c1));
 		const vf w = v_fma(g->cos_n, v_set1(0.5f), v_add(G0, G1));
-		occ = v_add(occ, v_sel(v_gt(v_load(has), zero), w, zero));
+		occ = v_add(occ, v_sel(has, w, zero));
 	}
 	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, v_sub(all, occ)), zero));
 	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, all), zero));

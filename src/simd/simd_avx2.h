@@ -95,6 +95,19 @@ static inline vm m_bit(vi a, int32_t bit)
 	const __m256i b = _mm256_set1_epi32(bit);
 	return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(a, b), b));
 }
+/* lanes with any bit set */
+static inline vm m_nonzero(vi a)
+{
+	return _mm256_castsi256_ps(_mm256_xor_si256(_mm256_cmpeq_epi32(a, _mm256_setzero_si256()),
+						    _mm256_set1_epi32(-1)));
+}
+/* the OR of all lanes */
+static inline uint32_t vi_hor(vi a)
+{
+	__m128i o = _mm_or_si128(_mm256_castsi256_si128(a), _mm256_extracti128_si256(a, 1));
+	o = _mm_or_si128(o, _mm_shuffle_epi32(o, 0x4e));
+	return (uint32_t)_mm_cvtsi128_si32(_mm_or_si128(o, _mm_shuffle_epi32(o, 0xb1)));
+}
 /* a * 2^n for whole n in [-126, 127] (adds n to the exponent field) */
 static inline vf v_ldexp(vf a, vf n)
 {

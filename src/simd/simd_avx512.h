@@ -88,6 +88,10 @@ static inline vi vi_low_bits(vi n)
 }
 /* lanes whose bit `bit` (a power of two) is set */
 static inline vm m_bit(vi a, int32_t bit) { return _mm512_test_epi32_mask(a, _mm512_set1_epi32(bit)); }
+/* lanes with any bit set */
+static inline vm m_nonzero(vi a) { return _mm512_test_epi32_mask(a, a); }
+/* the OR of all lanes */
+static inline uint32_t vi_hor(vi a) { return (uint32_t)_mm512_reduce_or_epi32(a); }
 /* a * 2^n for whole n in [-126, 127] (vscalefps) */
 static inline vf v_ldexp(vf a, vf n) { return _mm512_scalef_ps(a, n); }
 /* base[idx] where m is set, 0 elsewhere (masked lanes are not read) */

@@ -85,6 +85,10 @@ static inline vi vi_low_bits(vi n)
 }
 /* lanes whose bit `bit` (a power of two) is set */
 static inline vm m_bit(vi a, int32_t bit) { return (a & bit) == bit; }
+/* lanes with any bit set */
+static inline vm m_nonzero(vi a) { return a != 0; }
+/* the OR of all lanes */
+static inline uint32_t vi_hor(vi a) { return (uint32_t)(a[0] | a[1] | a[2] | a[3]); }
 static inline vf v_ldexp(vf a, vf n)
 {
 	return (vf)((vi)a + (__builtin_convertvector(n, vi) << 23));

@@ -88,6 +88,18 @@ static inline vm m_bit(vi a, int32_t bit)
 	const __m128i b = _mm_set1_epi32(bit);
 	return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(a, b), b));
 }
+/* lanes with any bit set */
+static inline vm m_nonzero(vi a)
+{
+	return _mm_castsi128_ps(_mm_xor_si128(_mm_cmpeq_epi32(a, _mm_setzero_si128()),
+					      _mm_set1_epi32(-1)));
+}
+/* the OR of all lanes */
+static inline uint32_t vi_hor(vi a)
+{
+	const __m128i o = _mm_or_si128(a, _mm_shuffle_epi32(a, 0x4e));
+	return (uint32_t)_mm_cvtsi128_si32(_mm_or_si128(o, _mm_shuffle_epi32(o, 0xb1)));
+}
 static inline vf v_ldexp(vf a, vf n)
 {
 	return _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(a), _mm_slli_epi32(_mm_cvtps_epi32(n), 23)));
