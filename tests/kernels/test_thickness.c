@@ -56,12 +56,20 @@ static void poles_scene(struct synth_scene *s)
 		synth_prim_bound(&s->prims[i]);
 }
 
-static void estimate(const struct dao_camera *cam, const float *z, float max, float *t)
+/* The estimate with slabs at least their rays' length plus `spacing` (thickness.h). */
+static void estimate_spaced(const struct dao_camera *cam, const float *z, float max,
+			    float spacing, float *t)
 {
 	struct dao_thickness_setup ts;
 	dao_thickness_setup_init(&ts, cam, max);
+	ts.spacing = spacing;
 	dao_thickness_rows(&ts, z, t, 0, (int)cam->height);
 	dao_thickness_cols(&ts, z, t, 0, (int)cam->width);
+}
+
+static void estimate(const struct dao_camera *cam, const float *z, float max, float *t)
+{
+	estimate_spaced(cam, z, max, 0.0f, t);
 }
 
 static int cmp_float(const void *a, const void *b)
@@ -230,6 +238,15 @@ static void slabs_scene(struct synth_scene *s, vec3 *up)
 	*up = rot(R, v3(0, 0, 1));
 }
 
+/* The slabs, clean, one ray a pixel, on the test camera. */
+static void render_slabs(struct synth_scene *s, vec3 *up, struct dao_camera *cam,
+			 struct synth_image *img)
+{
+	slabs_scene(s, up);
+	camera(cam, W, H);
+	assert_int_equal(synth_render(s, cam, 0.5, 0, 1, img, NULL), 0);
+}
+
 /* The estimate on slab i's top face against the scaled length of each pixel's ray
  * through the slab, at least that length plus `spacing` (thickness.h; at most the
  * bound, 0.5 m): the median ratio; *n the pixels. */
@@ -263,10 +280,9 @@ static void test_slabs(void **state)
 	struct dao_camera cam;
 	struct synth_image img;
 	vec3 up;
-	slabs_scene(&s, &up);
-	camera(&cam, W, H);
-	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	render_slabs(&s, &up, &cam, &img);
 	float *t = malloc((size_t)W * H * sizeof(float));
+	assert_non_null(t);
 	estimate(&cam, img.depth, 0.5f, t);
 	for (int i = 0; i < 3; i++) {
 		int n;
@@ -412,17 +428,14 @@ static void test_slabs_spacing(void **state)
 	struct dao_camera cam;
 	struct synth_image img;
 	vec3 up;
-	slabs_scene(&s, &up);
-	camera(&cam, W, H);
-	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	render_slabs(&s, &up, &cam, &img);
 	float *t = malloc((size_t)W * H * sizeof(float));
 	assert_non_null(t);
 	struct dao_thickness_setup ts;
 	dao_thickness_setup_init(&ts, &cam, 0.5f);
-	assert_float_equal(ts.spacing, 0.0f, 0.0f);
+	assert_float_equal(ts.spacing, 0.0f, 0.0f); /* none unless the pipeline sets it */
 	ts.spacing = 0.15f;
-	dao_thickness_rows(&ts, img.depth, t, 0, H);
-	dao_thickness_cols(&ts, img.depth, t, 0, W);
+	estimate_spaced(&cam, img.depth, 0.5f, ts.spacing, t);
 	for (int i = 0; i < 3; i++) {
 		int n;
 		const double m = slab_ratio(&s, up, &cam, t, i, ts.spacing, &n);
