@@ -148,7 +148,8 @@ struct dao_params {
 	float hbao_bias;          /* HBAO tangent bias angle, degrees */
 	float ssao_min, ssao_max; /* SSAO: a sample counts when the surface is this far in front, m */
 	float edl_radius;         /* EDL neighbour distance, px */
-	float vbao_thickness;     /* VBAO: assumed thickness of what the depth image shows, m */
+	float vbao_thickness;     /* VBAO, mode CONSTANT: assumed thickness of what the depth
+				   * image shows, m */
 	float temporal;           /* AO: share of the history in each output (0 = off), streams */
 	float temporal_reject;    /* AO history dropped where depth changed by more than this share */
 	float depth_temporal;     /* depth: share of the 1/z history in each frame (0 = off), streams */
@@ -169,7 +170,7 @@ struct dao_params {
 	uint32_t occlusion_color; /* 0xRRGGBB */
 
 	/* added after the first layout (a caller's struct may end before them) */
-	int vbao_thickness_mode;  /* enum dao_vbao_thickness_mode */
+	int vbao_thickness_mode;  /* enum dao_vbao_thickness_mode (default IMAGE) */
 	float vbao_thickness_max; /* VBAO, mode IMAGE: upper bound of the estimate, m */
 };
 
