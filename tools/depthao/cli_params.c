@@ -90,7 +90,7 @@ int cli_apply_param_list(const char *list, struct dao_params *p, struct dao_erro
 		if (!eq) {
 			dao_error_set(err, -EINVAL,
 				      "'%s' in --algorithms: give PARAM=VALUE after the algorithm, e.g. "
-				      "vbao:vbao-thickness-mode=image", kv);
+				      "vbao:vbao-thickness-mode=constant", kv);
 			return -1;
 		}
 		*eq = '\0';

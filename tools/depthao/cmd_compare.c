@@ -32,7 +32,7 @@ static void usage(FILE *out)
 		"depth (near = bright), the ray-traced ground truth (synthetic scenes only), then\n"
 		"the visibility of each algorithm in LIST (default gtao,vbao,hbao,ssao,edl) with\n"
 		"the medium preset; an entry NAME:PARAM=VALUE[:PARAM=VALUE] sets parameters of\n"
-		"its own (e.g. vbao:vbao-thickness-mode=image).\n"
+		"its own (e.g. vbao:vbao-thickness-mode=constant).\n"
 		"\n"
 		"  --scene NAME          a synthetic scene (see 'depthao synth --help')\n"
 		"  --noise               the scene with Kinect-like sensor noise\n"

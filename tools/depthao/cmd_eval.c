@@ -66,7 +66,7 @@ static void usage(FILE *out)
 		"  --quality LIST    comma-separated presets (default: low,medium,high)\n"
 		"  --algorithms LIST comma-separated algorithms: gtao (default), vbao, hbao, ssao, edl;\n"
 		"                    every algorithm runs every preset; NAME:PARAM=VALUE[:...]\n"
-		"                    gives one its own parameters (vbao:vbao-thickness-mode=image)\n"
+		"                    gives one its own parameters (vbao:vbao-thickness-mode=constant)\n"
 		"  --scenes LIST     comma-separated scenes (default: all; the clean mean and the\n"
 		"                    bars count the first six; the thickness scenes thin-poles,\n"
 		"                    chair, floating-plate, pole-gaps, table-above, pole-widths,\n"
