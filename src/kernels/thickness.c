@@ -429,13 +429,36 @@ static void cols_put(const float *restrict sc, float *restrict thick, float *res
 }
 
 /* cols_put for n = 4 m columns from a multiple of 4 on, each also to its entry
- * of its phase's row of the thickness plane: column 4 j + q to o[q][j] */
+ * of its phase's row of the thickness plane: column 4 j + q to o[q][j] (with
+ * SSE2 16 columns at a time, a 4 x 4 transpose: the same selections and minima) */
 DAO_MULTIVERSION
 static void cols_put_split(const float *restrict sc, float *restrict thick, float *restrict v,
 			   float *restrict o0, float *restrict o1, float *restrict o2,
 			   float *restrict o3, int m)
 {
-	for (int j = 0; j < m; j++) {
+	int j = 0;
+#ifdef __SSE2__
+	const __m128 inside = _mm_set1_ps(RUN_INSIDE);
+	for (; j + 4 <= m; j += 4) {
+		__m128 r[4];
+		for (int i = 0; i < 4; i++) {
+			const int c = 4 * (j + i);
+			const __m128 sv = _mm_loadu_ps(sc + c);
+			const __m128 in = _mm_cmpeq_ps(sv, inside);
+			const __m128 vc = _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(v + c)),
+						    _mm_andnot_ps(in, sv));
+			_mm_storeu_ps(v + c, vc);
+			r[i] = _mm_min_ps(vc, _mm_loadu_ps(thick + c)); /* vc < o ? vc : o */
+			_mm_storeu_ps(thick + c, r[i]);
+		}
+		_MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+		_mm_storeu_ps(o0 + j, r[0]);
+		_mm_storeu_ps(o1 + j, r[1]);
+		_mm_storeu_ps(o2 + j, r[2]);
+		_mm_storeu_ps(o3 + j, r[3]);
+	}
+#endif
+	for (; j < m; j++) {
 		float r[4];
 		for (int q = 0; q < 4; q++) {
 			const int c = 4 * j + q;
