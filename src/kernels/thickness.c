@@ -494,6 +494,13 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 				ends &= ~same_mask(za, za + w, nb);
 			for (int c = 0; c < nb; c++)
 				sr[c] = RUN_INSIDE;
+			/* the rows the way up writes: asked for now, while this sweep reads the
+			 * depth (the row pass left them in the other threads' caches) */
+			for (int c = 0; c < nb; c += 16)
+				__builtin_prefetch(thick + (size_t)y * w + xb + c, 1, 3);
+			if (pl)
+				for (int q = 0; q < 4; q++)
+					__builtin_prefetch(dao_gtao_thick_row(pl, y, q) + xb / 4, 1, 3);
 			while (ends) {
 				const int c = __builtin_ctzll(ends);
 				ends &= ends - 1;

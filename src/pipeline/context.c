@@ -567,21 +567,32 @@ static void stage_normals(void *arg, int y0, int y1)
 }
 
 /*
- * Blocks [b0, b1) of DAO_THICKNESS_COL_BLOCK columns, after every row: their
- * columns are then final, and vbao's optimised kernels get them split by
- * phase, like the depth, row by row as the pass finishes them (no third
- * dispatch).
+ * Blocks of DAO_THICKNESS_COL_BLOCK columns, after every row: their columns
+ * are then final, and vbao's optimised kernels get them split by phase, like
+ * the depth, row by row as the pass finishes them (no third dispatch).  The
+ * i-th block handed out is block i / 2 of the left half or of the right half
+ * by turns, so that the threads work on blocks far apart: neighbouring blocks
+ * share a cache line at their border in each row of the plane and of the
+ * split (the rows are not aligned to them), and two threads that wrote them
+ * side by side, sweeping the same rows at the same time, took the line from
+ * each other in every row (1.6 ms of CPU a frame in the split, 2 threads).
  */
-static void stage_thickness_cols(void *arg, int thread, int b0, int b1)
+static void stage_thickness_cols(void *arg, int thread, int i0, int i1)
 {
 	struct frame_job *j = arg;
 	struct dao_context *c = j->ctx;
 	const int w = (int)c->cam.width;
-	const int x0 = b0 * DAO_THICKNESS_COL_BLOCK;
-	const int x1 = b1 * DAO_THICKNESS_COL_BLOCK < w ? b1 * DAO_THICKNESS_COL_BLOCK : w;
-	dao_thickness_cols(&j->thickness, c->z, c->thick,
-			   c->thick_scratch + (size_t)thread * dao_thickness_cols_scratch((int)c->cam.height),
-			   j->k.simd != DAO_SIMD_REFERENCE ? &c->planes : NULL, x0, x1);
+	const int nblocks = (w + DAO_THICKNESS_COL_BLOCK - 1) / DAO_THICKNESS_COL_BLOCK;
+	const int half = (nblocks + 1) / 2;
+	float *scratch =
+		c->thick_scratch + (size_t)thread * dao_thickness_cols_scratch((int)c->cam.height);
+	for (int i = i0; i < i1; i++) {
+		const int b = i & 1 ? half + i / 2 : i / 2;
+		const int x0 = b * DAO_THICKNESS_COL_BLOCK;
+		const int x1 = x0 + DAO_THICKNESS_COL_BLOCK < w ? x0 + DAO_THICKNESS_COL_BLOCK : w;
+		dao_thickness_cols(&j->thickness, c->z, c->thick, scratch,
+				   j->k.simd != DAO_SIMD_REFERENCE ? &c->planes : NULL, x0, x1);
+	}
 }
 
 static void stage_gtao(void *arg, int thread, int y0, int y1)
