@@ -22,6 +22,7 @@
 #include "kernels/gtao_planes.h"
 #include "kernels/thickness.h"
 #include "synth/geometry.h"
+#include "synth/real_frames.h"
 #include "synth/suite.h"
 #include "synth/synth.h"
 
@@ -572,6 +573,33 @@ static void test_same_as_reference(void **state)
 	free(z);
 }
 
+/* The same on the real sensor frames of ../shared/data, raw (their holes, noise and
+ * projector shadows as recorded); the frames not there are skipped. */
+static void test_same_as_reference_real(void **state)
+{
+	(void)state;
+	int n, done = 0;
+	const struct synth_real_frame *frames = synth_real_frames(&n);
+	const char *dir = synth_real_data_dir();
+	for (int k = 0; k < n; k++) {
+		char path[1024];
+		snprintf(path, sizeof path, "%s/%s", dir, frames[k].file);
+		FILE *probe = fopen(path, "rb");
+		if (!probe)
+			continue;
+		fclose(probe);
+		float *z;
+		struct dao_camera cam;
+		double unit;
+		struct dao_error err;
+		assert_int_equal(synth_real_frame_load(&frames[k], dir, &z, &cam, &unit, &err), 0);
+		expect_blocked_same(&cam, z, 0.5f, 0.05f);
+		free(z);
+		done++;
+	}
+	print_message("%d of %d real frames estimated as the references do\n", done, n);
+}
+
 static void test_vbao_behind_poles(void **state)
 {
 	(void)state;
@@ -705,6 +733,7 @@ int main(void)
 		cmocka_unit_test(test_slabs),
 		cmocka_unit_test(test_slabs_spacing),
 		cmocka_unit_test(test_same_as_reference),
+		cmocka_unit_test(test_same_as_reference_real),
 		cmocka_unit_test(test_vbao_behind_poles),
 		cmocka_unit_test(test_boxes_noisy),
 		cmocka_unit_test(test_slabs_noisy),
