@@ -6,9 +6,16 @@
 #include "kernels/thickness.h"
 
 #include "core/math_util.h"
+#include "core/multiversion.h"
+#include "kernels/gtao_planes.h"
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,
 			      float max)
@@ -211,7 +218,16 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
  * (slab_edge), each pixel's ray crosses the slab, of thickness t along the
  * face direction f, over t / sin(ray, f).
  */
-static void run(const struct line_geom *lg, float *thick, int n, int s, int e, int take_min)
+struct run_est {
+	float value; /* every pixel's, without slabs */
+	int slabs;   /* slab edges found (0 - 2) */
+	struct vec face[2];
+	float slab_t[2];
+};
+
+/* (noinline: one build of the arithmetic, whichever clone of a sweep calls it) */
+__attribute__((noinline)) static void run_estimate(const struct line_geom *lg, int n, int s,
+						   int e, struct run_est *r)
 {
 	const struct dao_thickness_setup *t = lg->t;
 	const struct line_geom g = *lg;
@@ -220,10 +236,8 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 	const float u0 = g.u0, v0 = g.v0, du = g.du, dv = g.dv;
 	const float zs = z[(size_t)s * step];
 	const float ze = z[(size_t)e * step];
-	float value = t->max;
-	int slabs = 0;
-	struct vec face[2];
-	float slab_t[2];
+	r->value = t->max;
+	r->slabs = 0;
 	if (s > 0 && e + 1 < n && outline(z, step, n, s, -1) && outline(z, step, n, e, 1)) {
 		const float us = u0 + ((float)s - 0.5f) * du, vs = v0 + ((float)s - 0.5f) * dv;
 		const float ue = u0 + ((float)e + 0.5f) * du, ve = v0 + ((float)e + 0.5f) * dv;
@@ -231,29 +245,45 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 		const float dy = (ve * t->ay + t->by) * ze - (vs * t->ay + t->by) * zs;
 		const float dz = ze - zs;
 		const float chord = sqrtf(dx * dx + dy * dy + dz * dz);
-		if (chord < value)
-			value = chord;
+		if (chord < r->value)
+			r->value = chord;
 		if (e - s >= 4) {
-			slabs += slab_edge(&g, s, e, -1, &face[slabs], &slab_t[slabs]);
-			slabs += slab_edge(&g, s, e, 1, &face[slabs], &slab_t[slabs]);
+			r->slabs += slab_edge(&g, s, e, -1, &r->face[r->slabs], &r->slab_t[r->slabs]);
+			r->slabs += slab_edge(&g, s, e, 1, &r->face[r->slabs], &r->slab_t[r->slabs]);
 		}
 	}
-	if (slabs) {
+}
+
+/* Pixel k's value in a run with slabs (r->slabs > 0). */
+__attribute__((noinline)) static float run_slab_value(const struct line_geom *g,
+						      const struct run_est *r, int k)
+{
+	const struct vec p = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
+	const float lp = sqrtf(vdot(p, p));
+	float vk = r->value;
+	for (int q = 0; q < r->slabs; q++) {
+		/* scale t / sin(ray, face) = scale t |p| / |p x f|, and at least
+		 * t / sin + spacing (thickness.h), no division by 0 */
+		const float sn = vcross_len(p, r->face[q]);
+		float across = DAO_THICKNESS_SLAB_SCALE * r->slab_t[q] * lp;
+		const float spaced = r->slab_t[q] * lp + g->t->spacing * sn;
+		if (spaced > across)
+			across = spaced;
+		if (across < vk * sn)
+			vk = across / sn;
+	}
+	return vk;
+}
+
+/* The run's pixels get its values (take_min: where smaller than what they hold). */
+static void run(const struct line_geom *g, float *thick, int n, int s, int e, int take_min)
+{
+	struct run_est r;
+	run_estimate(g, n, s, e, &r);
+	const size_t step = g->step;
+	if (r.slabs) {
 		for (int k = s; k <= e; k++) {
-			const struct vec p = line_pos(&g, (float)k, z[(size_t)k * step]);
-			const float lp = sqrtf(vdot(p, p));
-			float vk = value;
-			for (int q = 0; q < slabs; q++) {
-				/* scale t / sin(ray, face) = scale t |p| / |p x f|, and at least
-				 * t / sin + spacing (thickness.h), no division by 0 */
-				const float sn = vcross_len(p, face[q]);
-				float across = DAO_THICKNESS_SLAB_SCALE * slab_t[q] * lp;
-				const float spaced = slab_t[q] * lp + t->spacing * sn;
-				if (spaced > across)
-					across = spaced;
-				if (across < vk * sn)
-					vk = across / sn;
-			}
+			const float vk = run_slab_value(g, &r, k);
 			float *o = &thick[(size_t)k * step];
 			if (!take_min || vk < *o)
 				*o = vk;
@@ -261,12 +291,12 @@ static void run(const struct line_geom *lg, float *thick, int n, int s, int e, i
 	} else if (take_min) {
 		for (int k = s; k <= e; k++) {
 			float *o = &thick[(size_t)k * step];
-			if (value < *o)
-				*o = value;
+			if (r.value < *o)
+				*o = r.value;
 		}
 	} else {
 		for (int k = s; k <= e; k++)
-			thick[(size_t)k * step] = value;
+			thick[(size_t)k * step] = r.value;
 	}
 }
 
@@ -293,39 +323,54 @@ static void line(const struct dao_thickness_setup *t, const float *z, float *thi
 }
 
 /*
- * The same-surface test between each pixel and the next, for n pixels of a
- * row side by side (vectorised by the compiler): same[c] for z[c], z[c + 1].
+ * The same-surface test between a[c] and b[c] for n <= 64 pixels side by side:
+ * bit c of the result.  With SSE2 four at a time (the same comparisons and
+ * the one product: min(a, b) as a < b ? a : b, the same bits).
  */
-static void same_next(const float *z, unsigned char *same, int n)
+static inline uint64_t same_mask(const float *a, const float *b, int n)
 {
-	for (int c = 0; c < n; c++) {
-		const float a = z[c], b = z[c + 1];
-		const float m = a < b ? a : b;
-		same[c] = (a > 0.0f) & (b > 0.0f) & (fabsf(a - b) <= DAO_THICKNESS_JUMP * m);
+	uint64_t m = 0;
+	int c = 0;
+#ifdef __SSE2__
+	const __m128 zero = _mm_setzero_ps(), jump = _mm_set1_ps(DAO_THICKNESS_JUMP);
+	const __m128 sign = _mm_set1_ps(-0.0f);
+	for (; c + 4 <= n; c += 4) {
+		const __m128 va = _mm_loadu_ps(a + c), vb = _mm_loadu_ps(b + c);
+		const __m128 d = _mm_andnot_ps(sign, _mm_sub_ps(va, vb));
+		const __m128 ok = _mm_and_ps(_mm_and_ps(_mm_cmpgt_ps(va, zero), _mm_cmpgt_ps(vb, zero)),
+					     _mm_cmple_ps(d, _mm_mul_ps(jump, _mm_min_ps(va, vb))));
+		m |= (uint64_t)_mm_movemask_ps(ok) << c;
 	}
+#endif
+	for (; c < n; c++)
+		m |= (uint64_t)same_surface(a[c], b[c]) << c;
+	return m;
 }
 
-/* line() for rows, its runs found a chunk of pixels at a time (same_next). */
+/* the bits below n (1 <= n <= 64) */
+static inline uint64_t low_bits(int n)
+{
+	return n >= 64 ? ~(uint64_t)0 : ((uint64_t)1 << n) - 1;
+}
+
+/* line() for rows, its runs' ends found a chunk of pixels at a time (same_mask). */
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,
 			int y0, int y1)
 {
 	const int w = t->width;
-	unsigned char same[DAO_THICKNESS_COL_BLOCK];
 	for (int y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * w;
 		const struct line_geom g = { t, z + o, 1, 0.0f, (float)y, 1.0f, 0.0f };
 		int start = 0;
-		for (int xc = 0; xc < w; xc += DAO_THICKNESS_COL_BLOCK) {
-			const int last = w - xc <= DAO_THICKNESS_COL_BLOCK;
-			const int n = last ? w - xc : DAO_THICKNESS_COL_BLOCK;
-			/* (the row's last pixel has no next: its test reads one float less) */
-			same_next(z + o + xc, same, last ? n - 1 : n);
-			if (last)
-				same[n - 1] = 0;
-			for (int c = 0; c < n; c++) {
-				if (same[c])
-					continue;
-				const int x = xc + c;
+		for (int xc = 0; xc < w; xc += 64) {
+			const int n = w - xc < 64 ? w - xc : 64;
+			/* (the row's last pixel has no next: it ends its run) */
+			const int last = xc + n == w;
+			const float *zc = z + o + xc;
+			uint64_t ends = ~same_mask(zc, zc + 1, last ? n - 1 : n) & low_bits(n);
+			while (ends) {
+				const int x = xc + __builtin_ctzll(ends);
+				ends &= ends - 1;
 				if (z[o + x] > 0.0f)
 					run(&g, thick + o, w, start, x, 0);
 				else
@@ -353,47 +398,147 @@ void dao_thickness_cols_ref(const struct dao_thickness_setup *t, const float *z,
 }
 
 /*
- * The column pass swept down the rows over a block of columns at once: the
- * same-surface test between two rows is made for the block's columns side by
- * side (contiguous, so the compiler vectorises it), and each column's run is
- * handed to run() when it ends.  The same runs as line() with the same
- * arithmetic: the result is dao_thickness_cols_ref's.
+ * The column pass over a block of columns side by side, in two sweeps that
+ * read and write whole rows of the block (a column walk, a row stride per
+ * pixel, missed the cache at nearly every pixel of the plane).  Down the
+ * rows, the same-surface test between two rows is made for the block's
+ * columns at once, and where a column's run ends its value is made
+ * (run_estimate) and left in the scratch at the run's last row: the other
+ * rows of the run hold RUN_INSIDE, a hole +inf (it leaves the pixel alone);
+ * a run with slabs leaves each of its pixels' own values.  Up the rows, each
+ * column carries the value of the run it is in (a run's last row is met
+ * first), and the plane takes the smaller one.  The same runs and arithmetic
+ * as line(): the result is dao_thickness_cols_ref's.
  */
+#define RUN_INSIDE (-1.0f)
+
+_Static_assert(DAO_THICKNESS_COL_BLOCK <= 64, "a block's ends are the bits of a uint64_t");
+
+/* The row's columns c < n: v[c] = the run's value from sc[c] unless RUN_INSIDE,
+ * thick[c] = the smaller of it and v[c] */
+DAO_MULTIVERSION
+static void cols_put(const float *restrict sc, float *restrict thick, float *restrict v, int n)
+{
+	for (int c = 0; c < n; c++) {
+		const float r = sc[c];
+		const float vc = r == RUN_INSIDE ? v[c] : r;
+		const float o = thick[c];
+		v[c] = vc;
+		thick[c] = vc < o ? vc : o;
+	}
+}
+
+/* cols_put for n = 4 m columns from a multiple of 4 on, each also to its entry
+ * of its phase's row of the thickness plane: column 4 j + q to o[q][j] (with
+ * SSE2 16 columns at a time, a 4 x 4 transpose: the same selections and minima) */
+DAO_MULTIVERSION
+static void cols_put_split(const float *restrict sc, float *restrict thick, float *restrict v,
+			   float *restrict o0, float *restrict o1, float *restrict o2,
+			   float *restrict o3, int m)
+{
+	int j = 0;
+#ifdef __SSE2__
+	const __m128 inside = _mm_set1_ps(RUN_INSIDE);
+	for (; j + 4 <= m; j += 4) {
+		__m128 r[4];
+		for (int i = 0; i < 4; i++) {
+			const int c = 4 * (j + i);
+			const __m128 sv = _mm_loadu_ps(sc + c);
+			const __m128 in = _mm_cmpeq_ps(sv, inside);
+			const __m128 vc = _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(v + c)),
+						    _mm_andnot_ps(in, sv));
+			_mm_storeu_ps(v + c, vc);
+			r[i] = _mm_min_ps(vc, _mm_loadu_ps(thick + c)); /* vc < o ? vc : o */
+			_mm_storeu_ps(thick + c, r[i]);
+		}
+		_MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+		_mm_storeu_ps(o0 + j, r[0]);
+		_mm_storeu_ps(o1 + j, r[1]);
+		_mm_storeu_ps(o2 + j, r[2]);
+		_mm_storeu_ps(o3 + j, r[3]);
+	}
+#endif
+	for (; j < m; j++) {
+		float r[4];
+		for (int q = 0; q < 4; q++) {
+			const int c = 4 * j + q;
+			const float vc = sc[c] == RUN_INSIDE ? v[c] : sc[c];
+			const float o = thick[c];
+			v[c] = vc;
+			r[q] = vc < o ? vc : o;
+			thick[c] = r[q];
+		}
+		o0[j] = r[0];
+		o1[j] = r[1];
+		o2[j] = r[2];
+		o3[j] = r[3];
+	}
+}
+
 void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
-			int x0, int x1)
+			float *scratch, struct dao_gtao_planes *pl, int x0, int x1)
 {
 	const size_t w = (size_t)t->width;
 	const int h = t->height;
+	const size_t bs = DAO_THICKNESS_COL_BLOCK;
 	for (int xb = x0; xb < x1; xb += DAO_THICKNESS_COL_BLOCK) {
 		const int nb = x1 - xb < DAO_THICKNESS_COL_BLOCK ? x1 - xb : DAO_THICKNESS_COL_BLOCK;
 		int start[DAO_THICKNESS_COL_BLOCK];
-		unsigned char same[DAO_THICKNESS_COL_BLOCK];
 		for (int c = 0; c < nb; c++)
 			start[c] = 0;
 		for (int y = 0; y < h; y++) {
 			const float *za = z + (size_t)y * w + xb;
-			if (y + 1 < h) {
-				const float *zb = za + w;
-				for (int c = 0; c < nb; c++) {
-					const float a = za[c], b = zb[c];
-					const float m = a < b ? a : b;
-					same[c] = (a > 0.0f) & (b > 0.0f) &
-						  (fabsf(a - b) <= DAO_THICKNESS_JUMP * m);
-				}
-			} else {
-				for (int c = 0; c < nb; c++)
-					same[c] = 0;
-			}
-			for (int c = 0; c < nb; c++) {
-				if (same[c])
-					continue;
+			float *sr = scratch + (size_t)y * bs;
+			uint64_t ends = low_bits(nb);
+			if (y + 1 < h)
+				ends &= ~same_mask(za, za + w, nb);
+			for (int c = 0; c < nb; c++)
+				sr[c] = RUN_INSIDE;
+			/* the rows the way up writes: asked for now, while this sweep reads the
+			 * depth (the row pass left them in the other threads' caches) */
+			for (int c = 0; c < nb; c += 16)
+				__builtin_prefetch(thick + (size_t)y * w + xb + c, 1, 3);
+			if (pl)
+				for (int q = 0; q < 4; q++)
+					__builtin_prefetch(dao_gtao_thick_row(pl, y, q) + xb / 4, 1, 3);
+			while (ends) {
+				const int c = __builtin_ctzll(ends);
+				ends &= ends - 1;
 				/* the run start[c] .. y of column xb + c ends here */
 				if (za[c] > 0.0f) {
 					const struct line_geom g = { t, z + xb + c, w, (float)(xb + c), 0.0f,
 								     0.0f, 1.0f };
-					run(&g, thick + xb + c, h, start[c], y, 1);
+					struct run_est r;
+					run_estimate(&g, h, start[c], y, &r);
+					if (r.slabs) {
+						for (int k = start[c]; k <= y; k++)
+							scratch[(size_t)k * bs + c] = run_slab_value(&g, &r, k);
+					} else {
+						sr[c] = r.value;
+					}
+				} else {
+					sr[c] = INFINITY;
 				}
 				start[c] = y + 1;
+			}
+		}
+		float v[DAO_THICKNESS_COL_BLOCK];
+		for (int c = 0; c < nb; c++)
+			v[c] = INFINITY;
+		const int split = pl && !(xb & 3) && !(nb & 3);
+		for (int y = h - 1; y >= 0; y--) {
+			const float *sr = scratch + (size_t)y * bs;
+			float *tr = thick + (size_t)y * w + xb;
+			if (split) {
+				float *o[4];
+				for (int q = 0; q < 4; q++)
+					o[q] = (float *)dao_gtao_thick_row(pl, y, q) + xb / 4;
+				cols_put_split(sr, tr, v, o[0], o[1], o[2], o[3], nb / 4);
+			} else {
+				cols_put(sr, tr, v, nb);
+				if (pl)
+					dao_gtao_planes_fill_thickness_cols(pl, thick, y, y + 1, xb,
+									    xb + nb);
 			}
 		}
 	}

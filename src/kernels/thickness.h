@@ -23,6 +23,8 @@
 
 #include <depthao/camera.h>
 
+#include <stddef.h>
+
 /* Two neighbours whose depths differ by more than this share of the nearer
  * one lie on different surfaces. */
 #define DAO_THICKNESS_JUMP 0.03f
@@ -83,12 +85,23 @@ void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale);
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,
 			int y0, int y1);
 
-/* Columns [x0, x1), after the rows: thick = min(thick, the extent along the column).
- * Swept down the rows over blocks of DAO_THICKNESS_COL_BLOCK columns side by
- * side (the same-surface tests vectorised, the memory read row by row). */
+/*
+ * Columns [x0, x1), after the rows: thick = min(thick, the extent along the
+ * column), and where pl is not NULL, pl->thick the same for those columns
+ * (dao_gtao_planes_fill_thickness_cols).  Swept down and up the rows over
+ * blocks of DAO_THICKNESS_COL_BLOCK columns side by side (thickness.c), with
+ * `scratch`: dao_thickness_cols_scratch(height) floats, which no other call uses at
+ * the same time.
+ */
 #define DAO_THICKNESS_COL_BLOCK 64
+struct dao_gtao_planes;
 void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
-			int x0, int x1);
+			float *scratch, struct dao_gtao_planes *pl, int x0, int x1);
+
+static inline size_t dao_thickness_cols_scratch(int height)
+{
+	return (size_t)DAO_THICKNESS_COL_BLOCK * (size_t)height;
+}
 
 /* The references for both (the oracle of tests/kernels/test_thickness.c): each
  * line walked pixel by pixel, the columns a row stride apart.  The same

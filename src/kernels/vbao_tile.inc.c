@@ -164,8 +164,6 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf iz = tp.iz;
 	vm ok = tp.ok;
 	const vm edge = tp.edge;
-	/* the thickness at the same taps, the same way */
-	const vf T = plane ? tile_tap_follow(tbase, st, &tp) : v_set1(vb->thickness);
 	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
 	const vf dv = major_x ? v_sel(edge, v_set1(st->vy_e), v_set1(st->vy_s)) : v_set1(st->vy_s);
 	const vf c = v_sel(edge, v_set1(st->c_e), v_set1(st->c_s));
@@ -205,7 +203,9 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 			return vi_set1(0);
 		cf = v_fma(v_sub(cf0, low), wgt, low);
 	}
-	/* the back */
+	/* the back, `T` further: the thickness at the same taps, the same way (read
+	 * only here, by the steps that passed the exits above) */
+	const vf T = plane ? tile_tap_follow(tbase, st, &tp) : v_set1(vb->thickness);
 	const vf U2 = v_add(v_add(t->Q, c), v_add(B, B));
 	const vf k = v_mul(v_mul(T, iz), v_rsqrt(U2));
 	const vf izb = v_mul(iz, v_rcp(v_add(one, k)));

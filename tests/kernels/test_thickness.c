@@ -19,8 +19,10 @@
 
 #include "common/test_common.h"
 #include "core/math_util.h"
+#include "kernels/gtao_planes.h"
 #include "kernels/thickness.h"
 #include "synth/geometry.h"
+#include "synth/real_frames.h"
 #include "synth/suite.h"
 #include "synth/synth.h"
 
@@ -56,6 +58,15 @@ static void poles_scene(struct synth_scene *s)
 		synth_prim_bound(&s->prims[i]);
 }
 
+/* The column pass of columns [x0, x1) with a scratch of its own (no plane split). */
+static void cols(const struct dao_thickness_setup *ts, const float *z, float *t, int x0, int x1)
+{
+	float *scratch = malloc(dao_thickness_cols_scratch(ts->height) * sizeof(float));
+	assert_non_null(scratch);
+	dao_thickness_cols(ts, z, t, scratch, NULL, x0, x1);
+	free(scratch);
+}
+
 /* The estimate with slabs at least their rays' length plus `spacing` (thickness.h). */
 static void estimate_spaced(const struct dao_camera *cam, const float *z, float max,
 			    float spacing, float *t)
@@ -64,7 +75,7 @@ static void estimate_spaced(const struct dao_camera *cam, const float *z, float 
 	dao_thickness_setup_init(&ts, cam, max);
 	ts.spacing = spacing;
 	dao_thickness_rows(&ts, z, t, 0, (int)cam->height);
-	dao_thickness_cols(&ts, z, t, 0, (int)cam->width);
+	cols(&ts, z, t, 0, (int)cam->width);
 }
 
 static void estimate(const struct dao_camera *cam, const float *z, float max, float *t)
@@ -153,7 +164,7 @@ static void test_run_ends(void **state)
 	assert_float_equal(t[0 * 64 + 40], 0.5f, 0.0f);
 	assert_float_equal(t[1 * 64 + 40], 0.5f, 0.0f);
 	/* columns of 4 px of one depth run into both borders: the rows' value stays */
-	dao_thickness_cols(&ts, z, t, 0, 64);
+	cols(&ts, z, t, 0, 64);
 	assert_float_equal(t[0 * 64 + 25], 10 * px, 1e-5);
 	/* a slope within the jump is one surface: 2 % deeper per pixel */
 	float zs[64], ts1[64];
@@ -338,7 +349,7 @@ static void sensor_estimate(const struct synth_scene *s, const struct dao_camera
 	dao_thickness_setup_init(&ts, cam, 0.5f);
 	dao_thickness_setup_rounding(&ts, ni.prefilter_scale);
 	dao_thickness_rows(&ts, z, t, 0, h);
-	dao_thickness_cols(&ts, z, t, 0, w);
+	cols(&ts, z, t, 0, w);
 }
 
 /*
@@ -481,8 +492,10 @@ static double run_mae(const struct dao_camera *cam, const struct synth_image *im
 	return m;
 }
 
-/* The row pass (chunks of a row) and the column pass (blocks of columns), split
- * anywhere, against the references that walk each line pixel by pixel, bit for bit. */
+/* The row pass (chunks of a row) and the column pass (blocks of columns, in
+ * two sweeps), split anywhere, against the references that walk each line
+ * pixel by pixel, bit for bit; and the thickness plane the column pass splits
+ * by phase as it goes, against the split of the reference's result. */
 static void expect_blocked_same(const struct dao_camera *cam, const float *z, float max,
 				float spacing)
 {
@@ -502,13 +515,26 @@ static void expect_blocked_same(const struct dao_camera *cam, const float *z, fl
 		diff += memcmp(&ref[i], &got[i], sizeof(float)) != 0;
 	assert_int_equal(diff, 0);
 	dao_thickness_cols_ref(&ts, z, ref, 0, w);
+	struct dao_gtao_planes pr, pg;
+	assert_int_equal(dao_gtao_planes_init(&pr, w, h, 20.0f), 0);
+	assert_int_equal(dao_gtao_planes_init(&pg, w, h, 20.0f), 0);
+	assert_int_equal(dao_gtao_planes_init_thickness(&pr), 0);
+	assert_int_equal(dao_gtao_planes_init_thickness(&pg), 0);
+	dao_gtao_planes_fill_thickness(&pr, ref, 0, h);
+	float *scratch = malloc(dao_thickness_cols_scratch(h) * sizeof(float));
+	assert_non_null(scratch);
 	/* splits that cut blocks: one column, a partial block, the rest */
 	const int cuts[] = { 0, 1, 1 + DAO_THICKNESS_COL_BLOCK / 2, 3 * DAO_THICKNESS_COL_BLOCK + 5, w };
 	for (size_t c = 0; c + 1 < sizeof(cuts) / sizeof(cuts[0]); c++)
-		dao_thickness_cols(&ts, z, got, cuts[c], cuts[c + 1]);
+		dao_thickness_cols(&ts, z, got, scratch, &pg, cuts[c], cuts[c + 1]);
 	for (size_t i = 0; i < n; i++)
 		diff += memcmp(&ref[i], &got[i], sizeof(float)) != 0;
 	assert_int_equal(diff, 0);
+	const size_t np = ((size_t)h + 2) * 4 * (size_t)pr.stride4;
+	assert_memory_equal(pr.thick, pg.thick, np * sizeof(float));
+	free(scratch);
+	dao_gtao_planes_free(&pg);
+	dao_gtao_planes_free(&pr);
 	free(got);
 	free(ref);
 }
@@ -545,6 +571,33 @@ static void test_same_as_reference(void **state)
 		}
 	expect_blocked_same(&cam, z, 0.5f, 0.0f);
 	free(z);
+}
+
+/* The same on the real sensor frames of ../shared/data, raw (their holes, noise and
+ * projector shadows as recorded); the frames not there are skipped. */
+static void test_same_as_reference_real(void **state)
+{
+	(void)state;
+	int n, done = 0;
+	const struct synth_real_frame *frames = synth_real_frames(&n);
+	const char *dir = synth_real_data_dir();
+	for (int k = 0; k < n; k++) {
+		char path[1024];
+		snprintf(path, sizeof path, "%s/%s", dir, frames[k].file);
+		FILE *probe = fopen(path, "rb");
+		if (!probe)
+			continue;
+		fclose(probe);
+		float *z;
+		struct dao_camera cam;
+		double unit;
+		struct dao_error err;
+		assert_int_equal(synth_real_frame_load(&frames[k], dir, &z, &cam, &unit, &err), 0);
+		expect_blocked_same(&cam, z, 0.5f, 0.05f);
+		free(z);
+		done++;
+	}
+	print_message("%d of %d real frames estimated as the references do\n", done, n);
 }
 
 static void test_vbao_behind_poles(void **state)
@@ -680,6 +733,7 @@ int main(void)
 		cmocka_unit_test(test_slabs),
 		cmocka_unit_test(test_slabs_spacing),
 		cmocka_unit_test(test_same_as_reference),
+		cmocka_unit_test(test_same_as_reference_real),
 		cmocka_unit_test(test_vbao_behind_poles),
 		cmocka_unit_test(test_boxes_noisy),
 		cmocka_unit_test(test_slabs_noisy),

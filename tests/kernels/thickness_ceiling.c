@@ -14,8 +14,8 @@
  * linked with --wrap=dao_thickness_cols, so the pipeline's own call of the
  * column pass (the estimate's last step) lands in __wrap_dao_thickness_cols,
  * which runs the pass and then overwrites its columns of the plane with the
- * truth; the phase split and the kernel that follow are the pipeline's.  The
- * library is not changed for it.
+ * truth and splits them by phase again (the pass splits them as it goes); the
+ * kernel that follows is the pipeline's.  The library is not changed for it.
  *
  *   thickness-ceiling [--set tune|heldout] [--rays N] [--variants N]
  *                     [--dump DIR] SCENE...
@@ -31,6 +31,7 @@
 
 #include <depthao/depthao.h>
 
+#include "kernels/gtao_planes.h"
 #include "kernels/thickness.h"
 #include "synth/suite.h"
 
@@ -47,14 +48,14 @@ static struct {
 static atomic_long column_passes; /* the wrapper was called (pool threads run it) */
 
 void __real_dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
-			       int x0, int x1);
+			       float *scratch, struct dao_gtao_planes *pl, int x0, int x1);
 void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
-			       int x0, int x1);
+			       float *scratch, struct dao_gtao_planes *pl, int x0, int x1);
 
 void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
-			       int x0, int x1)
+			       float *scratch, struct dao_gtao_planes *pl, int x0, int x1)
 {
-	__real_dao_thickness_cols(t, z, thick, x0, x1);
+	__real_dao_thickness_cols(t, z, thick, scratch, pl, x0, x1);
 	atomic_fetch_add_explicit(&column_passes, 1, memory_order_relaxed);
 	for (int y = 0; y < t->height; y++)
 		for (int x = x0; x < x1; x++) {
@@ -69,6 +70,8 @@ void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float 
 					thick[i] = v;
 			}
 		}
+	if (pl && sub.truth)
+		dao_gtao_planes_fill_thickness_cols(pl, thick, 0, t->height, x0, x1);
 }
 
 /* The columns: GTAO, VBAO with the estimate, VBAO with the truth scaled and capped. */
