@@ -215,8 +215,9 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
  * (u0 + k du, v0 + k dv).  Its chord spans from the outer edge of its first
  * pixel to the outer edge of its last (a run of one pixel is a pixel wide),
  * each end at its own depth.  Where an end of the run is a slab's edge face
- * (slab_edge), each pixel's ray crosses the slab, of thickness t along the
- * face direction f, over t / sin(ray, f).
+ * (slab_edge) or the run is the edge face of a slab receding beyond an end
+ * (receding_face), each pixel's ray crosses the slab, of thickness t along
+ * the face direction f, over t / sin(ray, f).
  */
 struct run_est {
 	float value; /* every pixel's, without slabs */
@@ -224,6 +225,60 @@ struct run_est {
 	struct vec face[2];
 	float slab_t[2];
 };
+
+/*
+ * A board seen almost along its plane (README.md, "Thickness from the
+ * image"): beyond the end of a run in front (dir = -1 before its first pixel,
+ * +1 after its last) its broad face recedes at a grazing angle, each pixel a
+ * step farther than the last, so the run is only the board's edge face and
+ * the face's pixels are runs of their own.  On a plane 1/z is linear along
+ * the line: the two pixels out, j1 and j2, must recede (1/z falling by sg a
+ * pixel) faster than the run's face does by more than half of that (a
+ * crease), the two lines must meet within 1.25 px of the end pixel, and a
+ * third point must not put j1 and j2 on a background: the end pixel lies on
+ * their line (within 5 % of sg), or the pixel after j2 is at least a step sg
+ * farther (the face going on, or the background behind it; where it is
+ * nearer or level, j2 was the background).  On success, as slab_edge: the
+ * face's direction and the run's extent across it, t.
+ */
+#define DAO_RECEDE_CREASE 0.5f
+#define DAO_RECEDE_MEET 1.25f
+#define DAO_RECEDE_TOL 0.05f
+
+static int receding_face(const struct line_geom *g, int n, int s, int e, int dir,
+			 struct vec *face, float *t)
+{
+	const int end = dir < 0 ? s : e, j1 = end + dir, j2 = end + 2 * dir, j3 = end + 3 * dir;
+	if (e - s < 2 || j2 < 0 || j2 >= n)
+		return 0;
+	const float *z = g->z;
+	const size_t st = g->step;
+	const float z1 = z[(size_t)j1 * st], z2 = z[(size_t)j2 * st];
+	if (!(z1 > 0.0f) || !(z2 > z1))
+		return 0;
+	const float wi1 = 1.0f / z[(size_t)(end - dir) * st];
+	const float wi2 = 1.0f / z[(size_t)(end - 2 * dir) * st];
+	const float wj1 = 1.0f / z1, wj2 = 1.0f / z2;
+	const float sr = wi1 - wi2, sg = wj2 - wj1, den = sr - sg;
+	if (!(den > DAO_RECEDE_CREASE * -sg))
+		return 0;
+	/* the lines meet m = num / den pixels out from the end */
+	const float num = wj1 - wi1 - sg - sr;
+	if (num < -DAO_RECEDE_MEET * den || num > DAO_RECEDE_MEET * den)
+		return 0;
+	const float tol = DAO_RECEDE_TOL * -sg;
+	int third = fabsf(wj1 - 1.0f / z[(size_t)end * st] - sg) <= tol;
+	if (!third && j3 >= 0 && j3 < n && z[(size_t)j3 * st] > 0.0f)
+		third = 1.0f / z[(size_t)j3 * st] - wj2 <= sg + tol;
+	if (!third)
+		return 0;
+	const int far = dir < 0 ? e : s;
+	const struct vec p1 = line_pos(g, (float)j1, z1), p2 = line_pos(g, (float)j2, z2);
+	const struct vec pout = line_pos(g, (float)far - 0.5f * (float)dir, z[(size_t)far * st]);
+	*face = vunit(vsub(p2, p1));
+	*t = vcross_len(vsub(pout, p1), *face);
+	return 1;
+}
 
 /* (noinline: one build of the arithmetic, whichever clone of a sweep calls it) */
 __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, int n, int s,
@@ -251,6 +306,9 @@ __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, i
 			r->slabs += slab_edge(&g, s, e, -1, &r->face[r->slabs], &r->slab_t[r->slabs]);
 			r->slabs += slab_edge(&g, s, e, 1, &r->face[r->slabs], &r->slab_t[r->slabs]);
 		}
+		for (int dir = -1; dir <= 1 && r->slabs < 2; dir += 2)
+			r->slabs += receding_face(&g, n, s, e, dir, &r->face[r->slabs],
+						  &r->slab_t[r->slabs]);
 	}
 }
 
@@ -260,11 +318,17 @@ __attribute__((noinline)) static float run_slab_value(const struct line_geom *g,
 {
 	const struct vec p = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
 	const float lp = sqrtf(vdot(p, p));
-	float vk = r->value;
+	float vk = r->value, sns[2];
+	/* the chord caps no slab the ray meets at a grazing angle (thickness.h) */
+	for (int q = 0; q < r->slabs; q++) {
+		sns[q] = vcross_len(p, r->face[q]);
+		if (sns[q] < DAO_SLAB_GRAZING_SIN * lp)
+			vk = g->t->max;
+	}
 	for (int q = 0; q < r->slabs; q++) {
 		/* scale t / sin(ray, face) = scale t |p| / |p x f|, and at least
 		 * t / sin + spacing (thickness.h), no division by 0 */
-		const float sn = vcross_len(p, r->face[q]);
+		const float sn = sns[q];
 		float across = DAO_THICKNESS_SLAB_SCALE * r->slab_t[q] * lp;
 		const float spaced = r->slab_t[q] * lp + g->t->spacing * sn;
 		if (spaced > across)
