@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "core/half.h"
 #include "core/math_util.h"
 #include "kernels/gtao_sample.h"
 #include "kernels/gtao_slice.h"
@@ -268,6 +269,18 @@ static float slice_measure(float a, float b, float n)
 	return (slice_g(b, n) - slice_g(0.0f, n)) + (slice_g(a, n) - slice_g(0.0f, n));
 }
 
+
+/* The thickness plane at a sample's taps as dao_gtao_taps_value reads a plane,
+ * each tap rounded to the nearest half: the SIMD kernel's plane holds halves
+ * (gtao_planes.h), so that it reads half the bytes. */
+static inline float thickness_at(const float *t, const struct dao_gtao_taps *tp)
+{
+	const float t0 = dao_half_round(t[tp->i0]), t1 = dao_half_round(t[tp->i1]);
+	if (tp->pick < 0)
+		return t0 + tp->f * (t1 - t0);
+	return tp->pick ? t1 : t0;
+}
+
 /* Marks the sectors an occluder spanning angles [t0, t1] covers (angles from V). */
 static uint32_t sectors(float t0, float t1, float lo)
 {
@@ -326,7 +339,7 @@ static float vbao_pixel(const struct dao_variant_setup *v, const float *z, const
 				if (!dao_gtao_sample_taps(z, s->width, s->height, x, y, sx, sy, dist, &u,
 							  &vv, &zs, &tp))
 					continue;
-				const float T = v->thickness ? dao_gtao_taps_value(v->thickness, &tp)
+				const float T = v->thickness ? thickness_at(v->thickness, &tp)
 							     : v->vbao_thickness;
 				float S[3];
 				view_pos(s, u, vv, zs, S);

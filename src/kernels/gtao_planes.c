@@ -4,6 +4,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "core/half.h"
 #include "core/multiversion.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
@@ -40,14 +41,15 @@ void dao_gtao_planes_free(struct dao_gtao_planes *pl)
 	free(pl->izp);
 	free(pl->phase);
 	free(pl->thick);
-	pl->izp = pl->phase = pl->thick = NULL;
+	pl->izp = pl->phase = NULL;
+	pl->thick = NULL;
 }
 
 int dao_gtao_planes_init_thickness(struct dao_gtao_planes *pl)
 {
 	if (pl->thick)
 		return 0;
-	pl->thick = calloc(((size_t)pl->height + 2) * 4 * (size_t)pl->stride4, sizeof(float));
+	pl->thick = calloc(((size_t)pl->height + 2) * 4 * (size_t)pl->stride4, sizeof(uint16_t));
 	return pl->thick ? 0 : -ENOMEM;
 }
 
@@ -65,10 +67,10 @@ void dao_gtao_planes_fill_thickness_cols(struct dao_gtao_planes *pl, const float
 			/* the first column of phase q from x0 on (entry xq / 4), and how many */
 			const int xq = x0 + ((q - x0) & 3);
 			const int n = xq < x1 ? (x1 - xq + 3) / 4 : 0;
-			float *o = (float *)dao_gtao_thick_row(pl, y, q) + (xq >> 2);
+			uint16_t *o = (uint16_t *)dao_gtao_thick_row(pl, y, q) + (xq >> 2);
 			const float *in = t + (size_t)y * w + xq;
 			for (int j = 0; j < n; j++)
-				o[j] = in[4 * j];
+				o[j] = dao_half_from_float(in[4 * j]);
 		}
 }
 

@@ -15,6 +15,7 @@
 #define DAO_KERNELS_GTAO_PLANES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 struct dao_gtao_planes {
 	int width, height;
@@ -23,7 +24,8 @@ struct dao_gtao_planes {
 	int pad4;       /* zero entries before and after each phase row */
 	int stride4;    /* entries per phase row: pad4 + DAO_GTAO_BLOCK x blocks + pad4 */
 	int max_offset; /* largest |column offset| of a tap the padding covers */
-	float *thick;   /* vbao's occluder thickness (m) laid out as `phase`, or NULL */
+	uint16_t *thick; /* vbao's occluder thickness (m) laid out as `phase`, as IEEE
+			  * halves (core/half.h), or NULL */
 };
 
 /* Allocates the planes for w x h and samples up to max_r_px away (zeroed). */
@@ -33,7 +35,8 @@ void dao_gtao_planes_free(struct dao_gtao_planes *pl);
 /* Allocates pl->thick (zeroed), for vbao with a thickness plane. */
 int dao_gtao_planes_init_thickness(struct dao_gtao_planes *pl);
 
-/* Rows [y0, y1) of pl->thick from the per-pixel plane t (w x h, metres). */
+/* Rows [y0, y1) of pl->thick from the per-pixel plane t (w x h, metres),
+ * rounded to the nearest half. */
 void dao_gtao_planes_fill_thickness(struct dao_gtao_planes *pl, const float *t, int y0, int y1);
 
 /* ... of columns [x0, x1) only (for a pass that finishes the plane a block of
@@ -54,7 +57,7 @@ static inline const float *dao_gtao_phase_row(const struct dao_gtao_planes *pl, 
 }
 
 /* First entry of phase q of row r of pl->thick (-1 <= r <= height). */
-static inline const float *dao_gtao_thick_row(const struct dao_gtao_planes *pl, int r, int q)
+static inline const uint16_t *dao_gtao_thick_row(const struct dao_gtao_planes *pl, int r, int q)
 {
 	return pl->thick + ((size_t)(r + 1) * 4 + (size_t)q) * (size_t)pl->stride4 + pl->pad4;
 }

@@ -264,13 +264,14 @@ tile_tap_read(const float *base, const struct tile_step *st)
 	return r;
 }
 
-/* The same interpolation of another plane at a step whose taps were read
- * (tile_tap_read): the value at the edge's tap, the lone tap, or between. */
+/* The same interpolation of a plane of halves (the thickness) at a step whose
+ * taps were read (tile_tap_read): the value at the edge's tap, the lone tap, or
+ * between. */
 static inline __attribute__((always_inline)) vf
-tile_tap_follow(const float *base, const struct tile_step *st, const struct tile_tap *tp)
+tile_tap_follow(const uint16_t *base, const struct tile_step *st, const struct tile_tap *tp)
 {
-	const vf a0 = v_load(base + st->o0), a1 = v_load(base + st->o1);
-	vf a = v_sel(tp->edge, v_load(base + st->oe), v_fma(v_set1(st->f), v_sub(a1, a0), a0));
+	const vf a0 = v_load_h(base + st->o0), a1 = v_load_h(base + st->o1);
+	vf a = v_sel(tp->edge, v_load_h(base + st->oe), v_fma(v_set1(st->f), v_sub(a1, a0), a0));
 	if (st->flags & (TAP_ONLY0 | TAP_ONLY1))
 		a = v_sel(tp->only, (st->flags & TAP_ONLY0) ? a0 : a1, a);
 	return a;
@@ -446,7 +447,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const vf N[3] = { v_load(nq[0] + h), v_load(nq[1] + h), v_load(nq[2] + h) };
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 		const float *base = dao_gtao_phase_row(pl, y, 0) + jb + h;
-		const float *tbase = vb && vb->plane ? dao_gtao_thick_row(pl, y, 0) + jb + h : NULL;
+		const uint16_t *tbase = vb && vb->plane ? dao_gtao_thick_row(pl, y, 0) + jb + h : NULL;
 		vf sum = v_zero(), norm = v_zero();
 		for (int sl = 0; sl < s->slices; sl++) {
 			/* the axis dir x V is -(dir x U0) / |U0|, and dir x U0 = (diry,

@@ -5,6 +5,7 @@
  */
 #include "kernels/thickness.h"
 
+#include "core/half.h"
 #include "core/math_util.h"
 #include "core/multiversion.h"
 #include "kernels/gtao_planes.h"
@@ -15,6 +16,9 @@
 
 #ifdef __SSE2__
 #include <emmintrin.h>
+#endif
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>
 #endif
 
 void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,
@@ -493,35 +497,35 @@ static void cols_put(const float *restrict sc, float *restrict thick, float *res
 }
 
 /* cols_put for n = 4 m columns from a multiple of 4 on, each also to its entry
- * of its phase's row of the thickness plane: column 4 j + q to o[q][j] (with
- * SSE2 16 columns at a time, a 4 x 4 transpose: the same selections and minima) */
-DAO_MULTIVERSION
-static void cols_put_split(const float *restrict sc, float *restrict thick, float *restrict v,
-			   float *restrict o0, float *restrict o1, float *restrict o2,
-			   float *restrict o3, int m)
-{
-	int j = 0;
-#ifdef __SSE2__
-	const __m128 inside = _mm_set1_ps(RUN_INSIDE);
-	for (; j + 4 <= m; j += 4) {
-		__m128 r[4];
-		for (int i = 0; i < 4; i++) {
-			const int c = 4 * (j + i);
-			const __m128 sv = _mm_loadu_ps(sc + c);
-			const __m128 in = _mm_cmpeq_ps(sv, inside);
-			const __m128 vc = _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(v + c)),
-						    _mm_andnot_ps(in, sv));
-			_mm_storeu_ps(v + c, vc);
-			r[i] = _mm_min_ps(vc, _mm_loadu_ps(thick + c)); /* vc < o ? vc : o */
-			_mm_storeu_ps(thick + c, r[i]);
-		}
-		_MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
-		_mm_storeu_ps(o0 + j, r[0]);
-		_mm_storeu_ps(o1 + j, r[1]);
-		_mm_storeu_ps(o2 + j, r[2]);
-		_mm_storeu_ps(o3 + j, r[3]);
+ * of its phase's row of the thickness plane, as a half: column 4 j + q to o[q][j]
+ * (with SSE2 16 columns at a time, a 4 x 4 transpose: the same selections and
+ * minima, the same halves; HALF4: 4 floats to 4 halves in the low 64 bits) */
+#define COLS_PUT_SPLIT_SSE2(HALF4)                                                          \
+	const __m128 inside = _mm_set1_ps(RUN_INSIDE);                                     \
+	for (; j + 4 <= m; j += 4) {                                                       \
+		__m128 r[4];                                                               \
+		for (int i = 0; i < 4; i++) {                                              \
+			const int c = 4 * (j + i);                                         \
+			const __m128 sv = _mm_loadu_ps(sc + c);                            \
+			const __m128 in = _mm_cmpeq_ps(sv, inside);                        \
+			const __m128 vc = _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(v + c)),    \
+						    _mm_andnot_ps(in, sv));                \
+			_mm_storeu_ps(v + c, vc);                                          \
+			r[i] = _mm_min_ps(vc, _mm_loadu_ps(thick + c)); /* vc < o ? vc : o */ \
+			_mm_storeu_ps(thick + c, r[i]);                                    \
+		}                                                                          \
+		_MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);                                 \
+		_mm_storel_epi64((__m128i *)(o0 + j), HALF4(r[0]));                       \
+		_mm_storel_epi64((__m128i *)(o1 + j), HALF4(r[1]));                       \
+		_mm_storel_epi64((__m128i *)(o2 + j), HALF4(r[2]));                       \
+		_mm_storel_epi64((__m128i *)(o3 + j), HALF4(r[3]));                       \
 	}
-#endif
+
+static inline void cols_put_split_tail(const float *restrict sc, float *restrict thick,
+				       float *restrict v, uint16_t *restrict o0,
+				       uint16_t *restrict o1, uint16_t *restrict o2,
+				       uint16_t *restrict o3, int j, int m)
+{
 	for (; j < m; j++) {
 		float r[4];
 		for (int q = 0; q < 4; q++) {
@@ -532,12 +536,46 @@ static void cols_put_split(const float *restrict sc, float *restrict thick, floa
 			r[q] = vc < o ? vc : o;
 			thick[c] = r[q];
 		}
-		o0[j] = r[0];
-		o1[j] = r[1];
-		o2[j] = r[2];
-		o3[j] = r[3];
+		o0[j] = dao_half_from_float(r[0]);
+		o1[j] = dao_half_from_float(r[1]);
+		o2[j] = dao_half_from_float(r[2]);
+		o3[j] = dao_half_from_float(r[3]);
 	}
 }
+
+DAO_MULTIVERSION
+static void cols_put_split(const float *restrict sc, float *restrict thick, float *restrict v,
+			   uint16_t *restrict o0, uint16_t *restrict o1, uint16_t *restrict o2,
+			   uint16_t *restrict o3, int m)
+{
+	int j = 0;
+#ifdef __SSE2__
+	COLS_PUT_SPLIT_SSE2(dao_half_from_ps_sse2)
+#endif
+	cols_put_split_tail(sc, thick, v, o0, o1, o2, o3, j, m);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define HAVE_SPLIT_F16C 1
+/* the same with the conversion of F16C (which rounds the same), for CPUs that
+ * have it (__builtin_cpu_supports) */
+__attribute__((target("f16c"))) static inline __m128i half4_f16c(__m128 r)
+{
+	return _mm_cvtps_ph(r, 0); /* to nearest even */
+}
+
+__attribute__((target("f16c"))) static void
+cols_put_split_f16c(const float *restrict sc, float *restrict thick, float *restrict v,
+		    uint16_t *restrict o0, uint16_t *restrict o1, uint16_t *restrict o2,
+		    uint16_t *restrict o3, int m)
+{
+	int j = 0;
+	COLS_PUT_SPLIT_SSE2(half4_f16c)
+	cols_put_split_tail(sc, thick, v, o0, o1, o2, o3, j, m);
+}
+#else
+#define HAVE_SPLIT_F16C 0
+#endif
 
 void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, float *thick,
 			float *scratch, struct dao_gtao_planes *pl, int x0, int x1)
@@ -545,6 +583,9 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 	const size_t w = (size_t)t->width;
 	const int h = t->height;
 	const size_t bs = DAO_THICKNESS_COL_BLOCK;
+#if HAVE_SPLIT_F16C
+	const int f16c = __builtin_cpu_supports("f16c");
+#endif
 	for (int xb = x0; xb < x1; xb += DAO_THICKNESS_COL_BLOCK) {
 		const int nb = x1 - xb < DAO_THICKNESS_COL_BLOCK ? x1 - xb : DAO_THICKNESS_COL_BLOCK;
 		int start[DAO_THICKNESS_COL_BLOCK];
@@ -594,10 +635,16 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 			const float *sr = scratch + (size_t)y * bs;
 			float *tr = thick + (size_t)y * w + xb;
 			if (split) {
-				float *o[4];
+				uint16_t *o[4];
 				for (int q = 0; q < 4; q++)
-					o[q] = (float *)dao_gtao_thick_row(pl, y, q) + xb / 4;
-				cols_put_split(sr, tr, v, o[0], o[1], o[2], o[3], nb / 4);
+					o[q] = (uint16_t *)dao_gtao_thick_row(pl, y, q) + xb / 4;
+#if HAVE_SPLIT_F16C
+				if (f16c)
+					cols_put_split_f16c(sr, tr, v, o[0], o[1], o[2], o[3],
+							    nb / 4);
+				else
+#endif
+					cols_put_split(sr, tr, v, o[0], o[1], o[2], o[3], nb / 4);
 			} else {
 				cols_put(sr, tr, v, nb);
 				if (pl)

@@ -154,9 +154,9 @@ static inline vf vbao_acos(vf x)
  * dao_vbao_ref.
  */
 static inline __attribute__((always_inline)) vi
-vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
+vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase,
 	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf low, vf thr,
-	    const float edge_at, const int major_x, const int plane)
+	    vf thr_exit, const float edge_at, const int major_x, const int plane)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -172,15 +172,17 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 	const vf Gz = v_fnma(p->Pz, iz, one);
 	const vf GU = v_fma(Gz, t->Q, B);
 	const vf g2 = v_fma(Gz, v_add(GU, B), c);
-	const vf g2s = v_sel(ok, g2, one);
 	/* a step where no lane's front passes the test below marks nothing: told
 	 * from the estimate of 1/sqrt (relative error below 4e-4, |cf0| <= 1)
 	 * against thr less a margin, a superset of the lanes the test keeps, so
 	 * that the branch, which mispredicts often, need not wait for the
-	 * refinement (a step kept here and by no lane there marks nothing too) */
-	if (!m_any(m_and(ok, v_gt(v_mul(v_mul(GU, v_rsqrt_fast(g2s)), t->inu),
-				  v_sub(thr, v_set1(1e-3f))))))
+	 * refinement (a step kept here and by no lane there marks nothing too);
+	 * in tile_sample's units (thr_exit: (thr - 1e-3) nu, as nu < 0 the test
+	 * flips), and with g2 as it is on lanes without a sample (there G = U,
+	 * never 0) */
+	if (!m_any(m_and(ok, v_lt(v_mul(GU, v_rsqrt_fast(g2)), thr_exit))))
 		return vi_set1(0);
+	const vf g2s = v_sel(ok, g2, one);
 	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
 	/* seen from P, the points of the sample's camera ray sweep away from V
@@ -229,7 +231,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const float *tbase,
 /* The sectors both sides of a slice occlude, per lane. */
 static inline __attribute__((always_inline)) vi
 vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
-	   const float *tbase, const struct tile_px *t, const struct tile_step *st,
+	   const uint16_t *tbase, const struct tile_px *t, const struct tile_step *st,
 	   const struct slice_v *g, const int major_x, const int check, const int plane)
 {
 	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
@@ -250,14 +252,16 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 					    margin), never);
 	const vf thr_n = v_sel(facing, v_sub(v_fma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
 					    margin), never);
+	const vf exit_p = v_mul(v_sub(thr_p, margin), t->nu);
+	const vf exit_n = v_mul(v_sub(thr_n, margin), t->nu);
 	const struct tile_step *sn = st + s->steps;
 	vi mask = vi_set1(0);
 	for (int i = 0; i < s->steps; i++) {
 		if (!check || !tile_skip(t, &st[i]))
 			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p,
-						      (float)DAO_VBAO_SECTORS, major_x, plane));
+						      exit_p, (float)DAO_VBAO_SECTORS, major_x, plane));
 		if (!check || !tile_skip(t, &sn[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, 0.0f,
+			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
 						      major_x, plane));
 	}
 	return mask;
@@ -265,7 +269,7 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 
 /* vbao_sides specialised on the major axis, the bounds test and the plane. */
 static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
-			 const float *base, const float *tbase, const struct tile_px *t,
+			 const float *base, const uint16_t *tbase, const struct tile_px *t,
 			 const struct tile_step *st, const struct slice_v *g, int major_x, int inner)
 {
 #define VBAO_SIDES(mx, check, plane) vbao_sides(vb, s, base, tbase, t, st, g, mx, check, plane)

@@ -44,9 +44,11 @@ int dao_simd_supported(enum dao_simd simd)
 	case DAO_SIMD_SSE41:
 		return __builtin_cpu_supports("sse4.1");
 	case DAO_SIMD_AVX2:
-		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+		       __builtin_cpu_supports("f16c");
 	case DAO_SIMD_AVX512:
 		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+		       __builtin_cpu_supports("f16c") &&
 		       __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
 		       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
 #endif

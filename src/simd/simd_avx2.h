@@ -21,6 +21,11 @@ static inline vf v_set1(float a) { return _mm256_set1_ps(a); }
 static inline vf v_zero(void) { return _mm256_setzero_ps(); }
 static inline vf v_iota(void) { return _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7); }
 static inline vf v_load(const float *p) { return _mm256_loadu_ps(p); }
+/* VN IEEE halves (core/half.h) as floats, exact (F16C: every AVX2 CPU has it) */
+static inline vf v_load_h(const uint16_t *p)
+{
+	return _mm256_cvtph_ps(_mm_loadu_si128((const __m128i *)p));
+}
 static inline void v_store(float *p, vf a) { _mm256_storeu_ps(p, a); }
 static inline vf v_add(vf a, vf b) { return _mm256_add_ps(a, b); }
 static inline vf v_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }

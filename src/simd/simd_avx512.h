@@ -22,6 +22,11 @@ static inline vf v_set1(float a) { return _mm512_set1_ps(a); }
 static inline vf v_zero(void) { return _mm512_setzero_ps(); }
 static inline vf v_iota(void) { return _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15); }
 static inline vf v_load(const float *p) { return _mm512_loadu_ps(p); }
+/* VN IEEE halves (core/half.h) as floats, exact */
+static inline vf v_load_h(const uint16_t *p)
+{
+	return _mm512_cvtph_ps(_mm256_loadu_si256((const __m256i *)p));
+}
 static inline void v_store(float *p, vf a) { _mm512_storeu_ps(p, a); }
 static inline vf v_add(vf a, vf b) { return _mm512_add_ps(a, b); }
 static inline vf v_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }

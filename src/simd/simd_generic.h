@@ -11,6 +11,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/half.h"
+
 #define VN 4
 #define DAO_SIMD_NAME "generic"
 
@@ -22,6 +24,12 @@ static inline vf v_set1(float a) { return (vf){ a, a, a, a }; }
 static inline vf v_zero(void) { return (vf){ 0, 0, 0, 0 }; }
 static inline vf v_iota(void) { return (vf){ 0, 1, 2, 3 }; }
 static inline vf v_load(const float *p) { vf a; memcpy(&a, p, sizeof a); return a; }
+/* VN IEEE halves (core/half.h) as floats, exact, lane by lane */
+static inline vf v_load_h(const uint16_t *p)
+{
+	return (vf){ dao_half_to_float(p[0]), dao_half_to_float(p[1]), dao_half_to_float(p[2]),
+		     dao_half_to_float(p[3]) };
+}
 static inline void v_store(float *p, vf a) { memcpy(p, &a, sizeof a); }
 static inline vf v_add(vf a, vf b) { return a + b; }
 static inline vf v_sub(vf a, vf b) { return a - b; }

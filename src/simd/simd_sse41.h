@@ -7,6 +7,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/half.h"
+
 #define VN 4
 #define DAO_SIMD_NAME "sse4.1"
 
@@ -18,6 +20,12 @@ static inline vf v_set1(float a) { return _mm_set1_ps(a); }
 static inline vf v_zero(void) { return _mm_setzero_ps(); }
 static inline vf v_iota(void) { return _mm_setr_ps(0, 1, 2, 3); }
 static inline vf v_load(const float *p) { return _mm_loadu_ps(p); }
+/* VN IEEE halves (core/half.h) as floats, exact, lane by lane */
+static inline vf v_load_h(const uint16_t *p)
+{
+	return _mm_setr_ps(dao_half_to_float(p[0]), dao_half_to_float(p[1]), dao_half_to_float(p[2]),
+			   dao_half_to_float(p[3]));
+}
 static inline void v_store(float *p, vf a) { _mm_storeu_ps(p, a); }
 static inline vf v_add(vf a, vf b) { return _mm_add_ps(a, b); }
 static inline vf v_sub(vf a, vf b) { return _mm_sub_ps(a, b); }

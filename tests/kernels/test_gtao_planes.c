@@ -14,6 +14,7 @@
 
 #include <cmocka.h>
 
+#include "core/half.h"
 #include "kernels/gtao_planes.h"
 
 static size_t plane_floats(const struct dao_gtao_planes *pl)
@@ -36,15 +37,16 @@ static void expect_cols_as_rows(int w, int h, const int *cuts, int ncuts)
 	for (int c = 0; c + 1 < ncuts; c++) {
 		/* before its block: the columns of the block are still 0 (fresh plane) */
 		const int x = cuts[c];
-		assert_true(dao_gtao_thick_row(&b, h - 1, x & 3)[x >> 2] == 0.0f);
+		assert_true(dao_gtao_thick_row(&b, h - 1, x & 3)[x >> 2] == 0);
 		dao_gtao_planes_fill_thickness_cols(&b, t, 0, h, cuts[c], cuts[c + 1]);
-		assert_true(dao_gtao_thick_row(&b, h - 1, x & 3)[x >> 2] == t[(size_t)(h - 1) * w + x]);
+		assert_true(dao_gtao_thick_row(&b, h - 1, x & 3)[x >> 2] ==
+			    dao_half_from_float(t[(size_t)(h - 1) * w + x]));
 		/* ... and the next block's first column not yet */
 		const int xn = cuts[c + 1];
 		if (xn < w)
-			assert_true(dao_gtao_thick_row(&b, 0, xn & 3)[xn >> 2] == 0.0f);
+			assert_true(dao_gtao_thick_row(&b, 0, xn & 3)[xn >> 2] == 0);
 	}
-	assert_memory_equal(a.thick, b.thick, plane_floats(&a) * sizeof(float));
+	assert_memory_equal(a.thick, b.thick, plane_floats(&a) * sizeof(uint16_t));
 	free(t);
 	dao_gtao_planes_free(&b);
 	dao_gtao_planes_free(&a);

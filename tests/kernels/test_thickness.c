@@ -601,7 +601,7 @@ static void expect_blocked_same(const struct dao_camera *cam, const float *z, fl
 		diff += memcmp(&ref[i], &got[i], sizeof(float)) != 0;
 	assert_int_equal(diff, 0);
 	const size_t np = ((size_t)h + 2) * 4 * (size_t)pr.stride4;
-	assert_memory_equal(pr.thick, pg.thick, np * sizeof(float));
+	assert_memory_equal(pr.thick, pg.thick, np * sizeof(uint16_t));
 	free(scratch);
 	dao_gtao_planes_free(&pg);
 	dao_gtao_planes_free(&pr);

@@ -15,6 +15,7 @@
 
 #include <depthao/depthao.h>
 
+#include "core/half.h"
 #include "core/math_util.h"
 #include "denoise/denoise.h"
 #include "depth/domain.h"
@@ -561,13 +562,16 @@ static void vbao_case(const struct planes *p, const struct input *in, int slices
 	dao_gtao_setup_init(&s, &in->cam, &prm, 3);
 	struct dao_variant_setup v;
 	dao_variant_setup_init(&v, &s, &prm);
+	/* the plane holds halves: a flat plane equals the constant where that is one */
+	if (mode == VBAO_FLAT_PLANE)
+		v.vbao_thickness = dao_half_round(v.vbao_thickness);
 	float *thick = malloc(np * 4), *ref = malloc(np * 4), *opt = malloc(np * 4);
 	struct dao_gtao_planes gp = p->gp; /* the test's planes, with a thickness plane */
 	gp.thick = NULL;
 	assert_int_equal(dao_gtao_planes_init_thickness(&gp), 0);
 	for (size_t k = 0; k < np; k++) {
 		const unsigned h = (unsigned)(k * 2654435761u) >> 20;
-		thick[k] = mode == VBAO_FLAT_PLANE ? prm.vbao_thickness
+		thick[k] = mode == VBAO_FLAT_PLANE ? v.vbao_thickness
 						    : 0.01f + 0.5f * (float)(h & 255u) / 255.0f;
 	}
 	dao_gtao_planes_fill_thickness(&gp, thick, 0, p->h);
