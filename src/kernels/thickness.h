@@ -15,8 +15,13 @@
  * ends in a slab's edge face (a straight stretch, a convex crease, a straight broad
  * face), the slab's thickness is the edge's extent across the broad face
  * and each pixel of the run gets the length of its ray through the slab
- * (scaled, below).  The thickness is the smaller of the row's and the
- * column's value, at most the bound.
+ * (scaled, below).  Where a run ends at a step to something farther and
+ * goes straight to its end (or to an edge face of a few pixels), the face
+ * at right angles behind that end would show if the object were thick: its
+ * absence bounds the thickness, even where the run's other end is not an
+ * outline (a board standing on the floor; thickness.c, face_bound).  The
+ * thickness is the smaller of the row's and the column's value, at most the
+ * bound.
  */
 #ifndef DAO_KERNELS_THICKNESS_H
 #define DAO_KERNELS_THICKNESS_H
