@@ -214,6 +214,226 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 }
 
 /*
+ * No visible edge face (README.md, "Thickness from the image"): where a run
+ * ends at a direct step to something farther (not at a hole: a hole can hide
+ * an edge face) and, from at most DAO_BOUND_EDGE_PX pixels of its end
+ * inwards, DAO_BOUND_FACE_SEGS segments go straight (a broad face), a face at
+ * right angles to the broad face behind its end, of depth T, would show on
+ * screen.  Its back edge is the end P moved by -T N (N the broad face's
+ * normal, from the neighbouring lines), and the lines across cut the face's
+ * parallelogram over a rate (pixels per metre along this line, from the
+ * screen motion of P - T N and the outline's direction where the runs of the
+ * lines DAO_BOUND_CROSS across end).  Where that face would face the camera
+ * (the rate points outwards) but the run shows it over only f pixels, T is at
+ * most (f + 1/2) / rate; the rate is taken at the outline's least steep
+ * slope within a pixel's rounding of the lines' ends, so a quantised outline
+ * cannot make it larger.  Seen square-on, or where the face would look away
+ * (every convex outline: a pole's, a sphere's, a box's hidden faces), there is
+ * no bound.  It holds for the pixels of the end and of the straight broad face
+ * (a board meets the floor in a crease without a step: the floor keeps its
+ * value), as a slab's edge face does (run_slab_value: 3 times the ray's
+ * length through a slab of thickness T, at least that length plus the
+ * spacing of VBAO's samples).  Unlike slab_edge it needs only its own end to
+ * be an outline.
+ */
+#define DAO_BOUND_EDGE_PX 8   /* an edge face's pixels, at most */
+#define DAO_BOUND_FACE_SEGS 4 /* the broad face's straight segments, at least */
+#define DAO_BOUND_CROSS 2     /* the lines across the normal and the outline come from */
+#define DAO_BOUND_ALLOW 0.5f  /* px: the face's extent beyond its pixels' centres */
+
+struct face_bound {
+	struct vec normal; /* the broad face's, towards the camera */
+	float t;           /* the bound on the thickness across it, m */
+	int k0, k1;        /* the pixels it holds for, k0 <= k1 */
+};
+
+/* d/dT of the pixel coordinates along (al) and across (ac) the line of p - T n, at T = 0 */
+static inline void line_rates(const struct line_geom *g, struct vec p, struct vec n, float *al,
+			      float *ac)
+{
+	const float iz2 = 1.0f / (p.z * p.z);
+	const float ru = (p.x * n.z - n.x * p.z) * iz2 / g->t->ax;
+	const float rv = (p.y * n.z - n.y * p.z) * iz2 / g->t->ay;
+	*al = ru * g->du + rv * g->dv;
+	*ac = ru * g->dv + rv * g->du;
+}
+
+/* The line c across from this one (rows: a row, columns: a column) is in the image. */
+static inline int cross_ok(const struct line_geom *g, int c)
+{
+	const int li = g->du != 0.0f ? (int)g->v0 : (int)g->u0;
+	const int nl = g->du != 0.0f ? g->t->height : g->t->width;
+	return li + c >= 0 && li + c < nl;
+}
+
+static inline float cross_z(const struct line_geom *g, int k, int c)
+{
+	const ptrdiff_t cs = g->du != 0.0f ? (ptrdiff_t)g->t->width : 1;
+	return g->z[(ptrdiff_t)k * (ptrdiff_t)g->step + (ptrdiff_t)c * cs];
+}
+
+static inline struct vec cross_pos(const struct line_geom *g, int k, int c, float zk)
+{
+	const float u = g->u0 + (float)k * g->du + (float)c * g->dv;
+	const float v = g->v0 + (float)k * g->dv + (float)c * g->du;
+	return (struct vec){ (u * g->t->ax + g->t->bx) * zk, (v * g->t->ay + g->t->by) * zk, zk };
+}
+
+/* From pixel k0 (depth zk) of the line c across outwards (-dir) to where its run ends at a
+ * direct step to farther, at most 3 |c| pixels past `end`: *k its last pixel. */
+static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir, int c, float zk,
+		     int *k)
+{
+	int j = k0;
+	for (;;) {
+		const int jn = j - dir;
+		if (jn < 0 || jn >= n || (jn - end) * -dir > 3 * (c < 0 ? -c : c))
+			return 0;
+		const float zn = cross_z(g, jn, c);
+		if (!same_surface(zk, zn)) {
+			*k = j;
+			return zn > zk;
+		}
+		j = jn;
+		zk = zn;
+	}
+}
+
+/* The bound with the broad face from pixel f of the end on (its segments straight;
+ * pt: the points of the end's first pixels, pf = pt[f], pm = pt[f + DAO_BOUND_FACE_SEGS]). */
+static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir, int f,
+			 struct vec p0, struct vec pf, struct vec pm, struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int len = e - s + 1;
+	const struct vec d = vunit(vsub(pm, pf));
+	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side */
+	const int c = DAO_BOUND_CROSS;
+	const int k0 = end + dir * (f + 2);
+	if (!cross_ok(g, c) || !cross_ok(g, -c))
+		return 0;
+	const float z0 = g->z[(size_t)k0 * g->step];
+	const float zp = cross_z(g, k0, c), zm = cross_z(g, k0, -c);
+	if (!same_surface(z0, zp) || !same_surface(z0, zm))
+		return 0;
+	struct vec nrm = vunit(vcross(d, vsub(cross_pos(g, k0, c, zp), cross_pos(g, k0, -c, zm))));
+	if (vdot(nrm, pf) > 0.0f)
+		nrm = vneg(nrm);
+	/* an edge face's pixels lie behind the broad face (a convex edge) */
+	if (f > 0 && vdot(vsub(p0, pf), nrm) >= 0.0f)
+		return 0;
+	/* the screen motion of pf - T nrm, outwards, before the outline's slope */
+	float al, ac;
+	line_rates(g, pf, nrm, &al, &ac);
+	const float slack = fabsf(ac) / (float)(2 * c);
+	/* (the lines' ends lie from k0 to 3 c past the end: |ep - em| <= f + 2 + 3 c) */
+	if (!(al * (float)-dir + slack * (float)(f + 2 + 3 * c) - slack > 0.0f))
+		return 0; /* not outwards at any slope the lines' ends can give */
+	/* the outline's direction on screen: where the lines across end */
+	int ep, em;
+	if (!cross_end(g, n, k0, end, dir, c, zp, &ep) ||
+	    !cross_end(g, n, k0, end, dir, -c, zm, &em))
+		return 0;
+	const float rate = (al - ac * (float)(ep - em) / (float)(2 * c)) * (float)-dir - slack;
+	if (!(rate > 0.0f))
+		return 0;
+	const float bt = ((float)f + DAO_BOUND_ALLOW) / rate;
+	if (!(bt < g->t->max))
+		return 0;
+	/* the pixels of the straight broad face */
+#define PT(j) line_pos(g, (float)(end + dir * (j)), g->z[(size_t)(end + dir * (j)) * g->step])
+	int j = f + DAO_BOUND_FACE_SEGS;
+	struct vec q = pm;
+	while (j + 1 < len) {
+		const struct vec r = PT(j + 1);
+		if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+			break;
+		q = r;
+		j++;
+	}
+#undef PT
+	const int kb = end + dir * j;
+	b->k0 = end < kb ? end : kb;
+	b->k1 = end < kb ? kb : end;
+	b->normal = nrm;
+	b->t = bt;
+	return 1;
+}
+
+/* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's). */
+static int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
+		      struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int len = e - s + 1;
+	const int out = end - dir;
+	if (out < 0 || out >= n || len <= DAO_BOUND_FACE_SEGS)
+		return 0;
+	if (!(g->z[(size_t)out * g->step] > g->z[(size_t)end * g->step]))
+		return 0; /* a hole or something nearer */
+	/* the end's first points and segments, each made once */
+	struct vec pt[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1];
+	struct vec sg[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS];
+	int np = DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1;
+	if (np > len)
+		np = len;
+	for (int j = 0; j < np; j++) {
+		const int k = end + dir * j;
+		pt[j] = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
+		if (j > 0)
+			sg[j - 1] = vsub(pt[j], pt[j - 1]);
+	}
+	int tried = 0;
+	for (int f = 0; f <= DAO_BOUND_EDGE_PX && f + DAO_BOUND_FACE_SEGS < np; f++) {
+		/* (a straight stretch is tried once, from its first pixel that passes) */
+		if (f > 0 && !cos_above(sg[f], sg[f - 1], DAO_SLAB_STRAIGHT_COS))
+			tried = 0;
+		if (tried)
+			continue;
+		int j = f + 1;
+		while (j < f + DAO_BOUND_FACE_SEGS &&
+		       cos_above(sg[j], sg[f], DAO_SLAB_STRAIGHT_COS))
+			j++;
+		if (j < f + DAO_BOUND_FACE_SEGS)
+			continue;
+		if (face_bound_at(g, n, s, e, dir, f, pt[0], pt[f], pt[f + DAO_BOUND_FACE_SEGS], b))
+			return 1;
+		tried = 1;
+	}
+	return 0;
+}
+
+/* Both ends of the run s..e: *count bounds in b. */
+static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
+			    struct face_bound b[2])
+{
+	*count = face_bound(g, n, s, e, -1, &b[0]);
+	*count += face_bound(g, n, s, e, 1, &b[*count]);
+}
+
+/* Pixel k's value vk under the bounds: at most a slab's of thickness t (run_slab_value,
+ * with the broad face's normal instead of its direction), no division by 0. */
+__attribute__((noinline)) static float face_bound_value(const struct line_geom *g, int count,
+							const struct face_bound *b, int k, float vk)
+{
+	const struct vec p = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
+	const float lp = sqrtf(vdot(p, p));
+	for (int q = 0; q < count; q++) {
+		if (k < b[q].k0 || k > b[q].k1)
+			continue;
+		/* 3 t / cos(ray, normal) = 3 t |p| / |p.n|, at least t / cos + spacing */
+		const float cn = fabsf(vdot(p, b[q].normal));
+		float across = DAO_THICKNESS_SLAB_SCALE * b[q].t * lp;
+		const float spaced = b[q].t * lp + g->t->spacing * cn;
+		if (spaced > across)
+			across = spaced;
+		if (across < vk * cn)
+			vk = across / cn;
+	}
+	return vk;
+}
+
+/*
  * The run of pixels s..e (all with data, neighbours on the same surface) of a
  * line of n pixels, the k-th at z[k * step] and at pixel coordinates
  * (u0 + k du, v0 + k dv).  Its chord spans from the outer edge of its first
@@ -228,6 +448,8 @@ struct run_est {
 	int slabs;   /* slab edges found (0 - 2) */
 	struct vec face[2];
 	float slab_t[2];
+	int bounds; /* ends without a visible edge face (0 - 2, face_bound) */
+	struct face_bound bound[2];
 };
 
 /*
@@ -314,6 +536,7 @@ __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, i
 			r->slabs += receding_face(&g, n, s, e, dir, &r->face[r->slabs],
 						  &r->slab_t[r->slabs]);
 	}
+	run_face_bounds(&g, n, s, e, &r->bounds, r->bound);
 }
 
 /* Pixel k's value in a run with slabs (r->slabs > 0). */
@@ -349,9 +572,10 @@ static void run(const struct line_geom *g, float *thick, int n, int s, int e, in
 	struct run_est r;
 	run_estimate(g, n, s, e, &r);
 	const size_t step = g->step;
-	if (r.slabs) {
+	if (r.slabs || r.bounds) {
 		for (int k = s; k <= e; k++) {
-			const float vk = run_slab_value(g, &r, k);
+			const float vk = face_bound_value(g, r.bounds, r.bound, k,
+							  r.slabs ? run_slab_value(g, &r, k) : r.value);
 			float *o = &thick[(size_t)k * step];
 			if (!take_min || vk < *o)
 				*o = vk;
@@ -615,9 +839,11 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 								     0.0f, 1.0f };
 					struct run_est r;
 					run_estimate(&g, h, start[c], y, &r);
-					if (r.slabs) {
+					if (r.slabs || r.bounds) {
 						for (int k = start[c]; k <= y; k++)
-							scratch[(size_t)k * bs + c] = run_slab_value(&g, &r, k);
+							scratch[(size_t)k * bs + c] = face_bound_value(
+								&g, r.bounds, r.bound, k,
+								r.slabs ? run_slab_value(&g, &r, k) : r.value);
 					} else {
 						sr[c] = r.value;
 					}

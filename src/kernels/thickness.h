@@ -17,8 +17,13 @@
  * and each pixel of the run gets the length of its ray through the slab
  * (scaled, below).  Where the pixels beyond a run's end in front recede on
  * one plane (a board's face seen at a grazing angle, each pixel a step
- * farther), the run is that slab's edge face.  The thickness is the smaller
- * of the row's and the column's value, at most the bound.
+ * farther), the run is that slab's edge face.  Where a run ends at a step to
+ * something farther and goes straight to its end (or to an edge face of a
+ * few pixels), the face at right angles behind that end would show if the
+ * object were thick: its absence bounds the thickness, even where the run's
+ * other end is not an outline (a board standing on the floor; thickness.c,
+ * face_bound).  The thickness is the smaller of the row's and the column's
+ * value, at most the bound.
  */
 #ifndef DAO_KERNELS_THICKNESS_H
 #define DAO_KERNELS_THICKNESS_H

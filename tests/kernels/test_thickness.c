@@ -475,7 +475,7 @@ static void test_slabs_spacing(void **state)
  * seen edge-on).  Rays run up to 35 cm through the panel and 25 cm through the board;
  * the chord of the panel's rows is 3 cm, of the board's columns 35 cm.
  */
-static void boards_scene(struct synth_scene *s)
+static void grazing_scene(struct synth_scene *s)
 {
 	*s = (struct synth_scene){ .name = "boards" };
 	s->prims[s->count++] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 0, 2.5 },
@@ -498,7 +498,7 @@ static void test_boards_grazing(void **state)
 	struct synth_scene s;
 	struct dao_camera cam;
 	struct synth_image img;
-	boards_scene(&s);
+	grazing_scene(&s);
 	camera(&cam, W, H);
 	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
 	float *t = malloc((size_t)W * H * sizeof(float));
@@ -532,6 +532,106 @@ static void test_boards_grazing(void **state)
 		assert_true(r[n / 2] > 0.8f && r[n / 2] < 1.25f);
 	}
 	free(r);
+	free(t);
+	synth_image_free(&img);
+}
+
+/*
+ * Upright boards 1 and 3 cm thick (60 cm wide, 1 m tall, standing on a floor,
+ * turned by 30 and 10 degrees) and a box 50 x 50 x 80 cm, seen from 1.4 m
+ * high as the panels scene sees its boards: a board's rows span 60 cm (the
+ * bound) and its columns run into the floor without a step, so without the
+ * absence of a visible edge face every board pixel kept the bound, 0.5 m
+ * (15 and 5 times 3 times its rays' length through the board).  The boards'
+ * top faces show over less than a pixel or two in the columns: the bound
+ * (thickness.c, face_bound) gives the boards about their thickness, and the
+ * box, whose top face shows, is not made thin.  The same in the blocked
+ * passes as in the references.
+ */
+static void upright_boards_scene(struct synth_scene *s)
+{
+	*s = (struct synth_scene){ .name = "boards" };
+	const vec3 eye = v3(0.2, -0.1, 1.4), target = v3(0.0, 3.0, 0.5);
+	const vec3 f = v3_normalize(v3_sub(target, eye));
+	const vec3 right = v3_normalize(v3_cross(f, v3(0, 0, 1)));
+	const vec3 R[3] = { right, v3_cross(f, right), f };
+	s->prims[s->count++] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 0, 0 },
+						    .n = { 0, 0, 1 } };
+	s->prims[s->count++] = (struct synth_prim){ .kind = SYNTH_HALFSPACE, .c = { 0, 3.2, 0 },
+						    .n = { 0, -1, 0 } };
+	static const double yaw[3] = { 30.0, 10.0, -10.0 };
+	static const vec3 half[3] = { { 0.3, 0.005, 0.5 }, { 0.3, 0.015, 0.5 },
+				      { 0.25, 0.25, 0.4 } };
+	for (int i = 0; i < 3; i++) {
+		const double a = yaw[i] * 3.14159265358979 / 180.0;
+		s->prims[s->count++] = (struct synth_prim){
+			.kind = SYNTH_BOX, .c = { -0.8 + 0.8 * i, 2.2 + 0.2 * i, half[i].z },
+			.axis = { { cos(a), sin(a), 0 }, { -sin(a), cos(a), 0 }, { 0, 0, 1 } },
+			.half = half[i] };
+	}
+	for (int i = 0; i < s->count; i++) {
+		synth_prim_transform(&s->prims[i], R, eye);
+		synth_prim_bound(&s->prims[i]);
+	}
+}
+
+/* Over the pixels that see prim p: the median of the estimate / 3 times the ray's length
+ * through the prim (at most the bound), and the share where it is under half of that. */
+static double prim_ratio(const struct synth_scene *s, const struct dao_camera *cam,
+			 const float *t, const float *inside, int p, double *thin, int *n)
+{
+	static float r[W * H];
+	int nthin = 0;
+	*n = 0;
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			const vec3 d = v3_normalize(v3(x * cam->ax + cam->bx, y * cam->ay + cam->by, 1));
+			double tt;
+			vec3 nn;
+			const size_t k = (size_t)y * W + x;
+			if (synth_trace(s, v3(0, 0, 0), d, 0.0, 100.0, &tt, &nn) != p)
+				continue;
+			const double want = fmin(0.5, DAO_THICKNESS_SLAB_SCALE * inside[k]);
+			r[(*n)++] = (float)(t[k] / want);
+			nthin += t[k] < 0.5 * want;
+		}
+	assert_true(*n > 0);
+	*thin = (double)nthin / *n;
+	qsort(r, (size_t)*n, sizeof r[0], cmp_float);
+	return r[*n / 2];
+}
+
+static void test_boards_upright(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	upright_boards_scene(&s);
+	camera(&cam, W, H);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	float *t = malloc((size_t)W * H * sizeof(float));
+	float *inside = malloc((size_t)W * H * sizeof(float));
+	assert_non_null(t);
+	assert_non_null(inside);
+	synth_inside_plane(&s, &cam, inside);
+	estimate(&cam, img.depth, 0.5f, t);
+	static const char *const what[3] = { "board 1 cm", "board 3 cm", "box 50 cm" };
+	for (int i = 0; i < 3; i++) {
+		int n;
+		double thin;
+		const double m = prim_ratio(&s, &cam, t, inside, 2 + i, &thin, &n);
+		print_message("%s (%d px): estimate / (3 x its rays' length through it) median "
+			      "%.2f, under half %.1f %%\n", what[i], n, m, 100.0 * thin);
+		assert_true(n > 5000);
+		if (i < 2)
+			assert_true(m > 0.7 && m < 4.0);
+		else
+			assert_true(m > 0.9 && thin < 0.01);
+	}
+	expect_blocked_same(&cam, img.depth, 0.5f, 0.0f);
+	expect_blocked_same(&cam, img.depth, 0.5f, 0.11f);
+	free(inside);
 	free(t);
 	synth_image_free(&img);
 }
@@ -698,10 +798,12 @@ static void test_vbao_behind_poles(void **state)
  * crease (a turn of 34 - 43 degrees left of about 90), and the crease test
  * follows the prefilter's scale (dao_thickness_setup_rounding).  With the 50
  * degree test of clean depth the 5 cm slab's top face kept the bound over
- * most of its pixels.  The 2 and 3 cm slabs are not found with this noise
- * (their edge faces' rounded turn stays under 30 degrees), nor any with
- * structured light, whose disparity bands hold an edge face within one or
- * two steps (README.md): printed, not asked for.
+ * most of its pixels.  The 2 and 3 cm slabs' edge faces are not found with
+ * this noise (their rounded turn stays under 30 degrees), but the absence of a
+ * visible edge face (face_bound) bounds them about right: 0.89 and 0.97 (3.9
+ * and 2.7 before, the bound's share).  None is found with structured light,
+ * whose disparity bands hold an edge face within one or two steps (README.md):
+ * printed, not asked for.
  */
 static void test_slabs_noisy(void **state)
 {
@@ -741,7 +843,7 @@ static void test_slabs_noisy(void **state)
 			assert_true(np > 2000);
 			/* the 5 cm slab with Gaussian noise: found (0.92; 1.40 with the clean
 			 * depth's 50 degrees, the bound's share of the rest) */
-			if (k == 0 && i == 2)
+			if (k == 0)
 				assert_true(m > 0.8 && m < 1.25);
 		}
 	}
@@ -803,6 +905,7 @@ int main(void)
 		cmocka_unit_test(test_slabs),
 		cmocka_unit_test(test_slabs_spacing),
 		cmocka_unit_test(test_boards_grazing),
+		cmocka_unit_test(test_boards_upright),
 		cmocka_unit_test(test_same_as_reference),
 		cmocka_unit_test(test_same_as_reference_real),
 		cmocka_unit_test(test_vbao_behind_poles),
