@@ -269,7 +269,6 @@ static float slice_measure(float a, float b, float n)
 	return (slice_g(b, n) - slice_g(0.0f, n)) + (slice_g(a, n) - slice_g(0.0f, n));
 }
 
-
 /* The thickness plane at a sample's taps as dao_gtao_taps_value reads a plane,
  * each tap rounded to the nearest half: the SIMD kernel's plane holds halves
  * (gtao_planes.h), so that it reads half the bytes. */
