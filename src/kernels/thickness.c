@@ -233,7 +233,9 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
  * (a board meets the floor in a crease without a step: the floor keeps its
  * value), as a slab's edge face does (run_slab_value: 3 times the ray's
  * length through a slab of thickness T, at least that length plus the
- * spacing of VBAO's samples).  Unlike slab_edge it needs only its own end to
+ * spacing of VBAO's samples), with T the middle of what the end allows: the
+ * f pixels of an edge face also put T at least (f - 1/2) / rate, so f / rate;
+ * with none, half the bound.  Unlike slab_edge it needs only its own end to
  * be an outline.
  */
 #define DAO_BOUND_EDGE_PX 8   /* an edge face's pixels, at most */
@@ -243,7 +245,8 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 
 struct face_bound {
 	struct vec normal; /* the broad face's, towards the camera */
-	float t;           /* the bound on the thickness across it, m */
+	float t;           /* the thickness across it its value is made for, m (the middle of
+			    * what the bound and the end's pixels allow) */
 	int k0, k1;        /* the pixels it holds for, k0 <= k1 */
 };
 
@@ -356,7 +359,9 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	b->k0 = end < kb ? end : kb;
 	b->k1 = end < kb ? kb : end;
 	b->normal = nrm;
-	b->t = bt;
+	/* the f pixels of the edge face put T within (f -+ 1/2) / rate; with none, within
+	 * 0 .. 1/2 / rate: the value is made for the middle (README.md) */
+	b->t = (f > 0 ? (float)f : 0.5f * DAO_BOUND_ALLOW) / rate;
 	return 1;
 }
 
@@ -411,8 +416,9 @@ static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int 
 	*count += face_bound(g, n, s, e, 1, &b[*count]);
 }
 
-/* Pixel k's value vk under the bounds: at most a slab's of thickness t (run_slab_value,
- * with the broad face's normal instead of its direction), no division by 0. */
+/* Pixel k's value vk under the bounds: at most a slab's of thickness t, the middle of the
+ * bound's interval (run_slab_value, with the broad face's normal instead of its
+ * direction), no division by 0. */
 __attribute__((noinline)) static float face_bound_value(const struct line_geom *g, int count,
 							const struct face_bound *b, int k, float vk)
 {

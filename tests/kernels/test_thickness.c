@@ -624,8 +624,10 @@ static void test_boards_upright(void **state)
 		print_message("%s (%d px): estimate / (3 x its rays' length through it) median "
 			      "%.2f, under half %.1f %%\n", what[i], n, m, 100.0 * thin);
 		assert_true(n > 5000);
+		/* medians 1.11 and 1.15 with the value made for the middle of the bound's
+		 * interval (2.2 and 1.7 with the bound itself; 15.6 before it) */
 		if (i < 2)
-			assert_true(m > 0.7 && m < 4.0);
+			assert_true(m > 0.7 && m < 2.0);
 		else
 			assert_true(m > 0.9 && thin < 0.01);
 	}
@@ -842,9 +844,13 @@ static void test_slabs_noisy(void **state)
 				      (double)DAO_THICKNESS_SLAB_SCALE, m);
 			assert_true(np > 2000);
 			/* the 5 cm slab with Gaussian noise: found (0.92; 1.40 with the clean
-			 * depth's 50 degrees, the bound's share of the rest) */
+			 * depth's 50 degrees, the bound's share of the rest).  With the face
+			 * bound's value made for the middle of its interval 0.76, 0.88 and 0.87
+			 * (0.89, 0.97, 0.92 with the bound itself): at spacing 0, as here; in the
+			 * pipeline the spacing's term governs the thin slabs (the floating plate
+			 * with Gaussian noise 0.0126 -> 0.0125) */
 			if (k == 0)
-				assert_true(m > 0.8 && m < 1.25);
+				assert_true(m > 0.7 && m < 1.25);
 		}
 	}
 	free(t);
