@@ -416,6 +416,21 @@ static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int 
 	*count += face_bound(g, n, s, e, 1, &b[*count]);
 }
 
+/*
+ * vk capped by a slab t thick that a ray |p| = lp long crosses over t lp / sl
+ * (sl = lp times the sine of the ray to the slab's face): scale times that,
+ * at least that plus the spacing of VBAO's samples (thickness.h), with no
+ * division by 0.
+ */
+static inline float slab_cap(float vk, float t, float lp, float sl, float spacing)
+{
+	float across = DAO_THICKNESS_SLAB_SCALE * t * lp;
+	const float spaced = t * lp + spacing * sl;
+	if (spaced > across)
+		across = spaced;
+	return across < vk * sl ? across / sl : vk;
+}
+
 /* Pixel k's value vk under the bounds: at most a slab's of thickness t, the middle of the
  * bound's interval (run_slab_value, with the broad face's normal instead of its
  * direction), no division by 0. */
@@ -427,14 +442,8 @@ __attribute__((noinline)) static float face_bound_value(const struct line_geom *
 	for (int q = 0; q < count; q++) {
 		if (k < b[q].k0 || k > b[q].k1)
 			continue;
-		/* 3 t / cos(ray, normal) = 3 t |p| / |p.n|, at least t / cos + spacing */
-		const float cn = fabsf(vdot(p, b[q].normal));
-		float across = DAO_THICKNESS_SLAB_SCALE * b[q].t * lp;
-		const float spaced = b[q].t * lp + g->t->spacing * cn;
-		if (spaced > across)
-			across = spaced;
-		if (across < vk * cn)
-			vk = across / cn;
+		/* the ray crosses the board over t / cos(ray, normal) = t |p| / |p.n| */
+		vk = slab_cap(vk, b[q].t, lp, fabsf(vdot(p, b[q].normal)), g->t->spacing);
 	}
 	return vk;
 }
@@ -558,17 +567,9 @@ __attribute__((noinline)) static float run_slab_value(const struct line_geom *g,
 		if (sns[q] < DAO_SLAB_GRAZING_SIN * lp)
 			vk = g->t->max;
 	}
-	for (int q = 0; q < r->slabs; q++) {
-		/* scale t / sin(ray, face) = scale t |p| / |p x f|, and at least
-		 * t / sin + spacing (thickness.h), no division by 0 */
-		const float sn = sns[q];
-		float across = DAO_THICKNESS_SLAB_SCALE * r->slab_t[q] * lp;
-		const float spaced = r->slab_t[q] * lp + g->t->spacing * sn;
-		if (spaced > across)
-			across = spaced;
-		if (across < vk * sn)
-			vk = across / sn;
-	}
+	for (int q = 0; q < r->slabs; q++)
+		/* the ray crosses the slab over t / sin(ray, face) = t |p| / |p x f| */
+		vk = slab_cap(vk, r->slab_t[q], lp, sns[q], g->t->spacing);
 	return vk;
 }
 
