@@ -232,7 +232,8 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 static inline __attribute__((always_inline)) vi
 vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
 	   const uint16_t *tbase, const struct tile_px *t, const struct tile_step *st,
-	   const struct slice_v *g, const int major_x, const int check, const int plane)
+	   const struct slice_v *g, const int major_x, const int check, const int chk_p,
+	   const int chk_n, const int plane)
 {
 	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
 	/* lo = n - pi/2: sector 0 starts at the hemisphere's edge */
@@ -257,22 +258,27 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	const struct tile_step *sn = st + s->steps;
 	vi mask = vi_set1(0);
 	for (int i = 0; i < s->steps; i++) {
-		if (!check || !tile_skip(t, &st[i]))
+		if (!check || !chk_p || !tile_skip(t, &st[i]))
 			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p,
 						      exit_p, (float)DAO_VBAO_SECTORS, major_x, plane));
-		if (!check || !tile_skip(t, &sn[i]))
+		if (!check || !chk_n || !tile_skip(t, &sn[i]))
 			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
 						      major_x, plane));
 	}
 	return mask;
 }
 
-/* vbao_sides specialised on the major axis, the bounds test and the plane. */
+/* vbao_sides specialised on the major axis, the bounds test and the plane;
+ * chk_p, chk_n: whether a step of the positive, the negative side may have to
+ * be skipped (tile_side_checks). */
 static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
 			 const float *base, const uint16_t *tbase, const struct tile_px *t,
-			 const struct tile_step *st, const struct slice_v *g, int major_x, int inner)
+			 const struct tile_step *st, const struct slice_v *g, int major_x, int chk_p,
+			 int chk_n)
 {
-#define VBAO_SIDES(mx, check, plane) vbao_sides(vb, s, base, tbase, t, st, g, mx, check, plane)
+	const int inner = !chk_p && !chk_n;
+#define VBAO_SIDES(mx, check, plane) \
+	vbao_sides(vb, s, base, tbase, t, st, g, mx, check, chk_p, chk_n, plane)
 	/* tests, not a switch: its table jump alternated between the cases with
 	 * the slices' major axes and mispredicted */
 	if (vb->plane) {
