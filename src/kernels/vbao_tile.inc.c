@@ -221,11 +221,12 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	 * test) is at the edge once rounded: its acos only where some lane's is not */
 	const vf ab = m_any(m_andnot(ok, v_le(cb, thr))) ? v_fma(vbao_acos(cb), k_sgn, k_lo)
 							  : v_set1(edge_at);
-	/* rounded, so a sample exactly on the hemisphere's edge (a plane) marks nothing */
+	/* rounded, so a sample exactly on the hemisphere's edge (a plane) marks nothing
+	 * (clamped to whole bounds before the rounding: the same as after) */
 	const vf top = v_set1((float)DAO_VBAO_SECTORS);
-	const vf a = v_sel(ok, v_min(v_max(v_round(v_min(af, ab)), zero), top), zero);
-	const vf b = v_sel(ok, v_min(v_max(v_round(v_max(af, ab)), zero), top), zero);
-	return vi_andnot(vi_low_bits(vi_from_whole(b)), vi_low_bits(vi_from_whole(a)));
+	const vi a = vi_from_nearest(v_min(v_max(v_min(af, ab), zero), top));
+	const vi b = vi_from_nearest(v_min(v_max(v_max(af, ab), zero), top));
+	return vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a)));
 }
 
 /* The sectors both sides of a slice occlude, per lane. */
