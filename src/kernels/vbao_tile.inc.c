@@ -317,18 +317,20 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	const vi neg = vi_andnot(mask, vi_andnot(vi_set1(-1), below)); /* mask & below */
 	const vi pos = vi_andnot(mask, upto);
 	const vi across = vi_andnot(vi_andnot(mask, vi_andnot(vi_set1(-1), upto)), below);
-	uint32_t any = vi_hor(mask);
+	/* the sectors above t = 0 and those below in loops of their own: few
+	 * sectors are above in one lane and below in another */
 	vf pp = zero, qp = zero, pn = zero, qn = zero;
-	while (any) {
+	for (uint32_t any = vi_hor(pos); any; any &= any - 1) {
 		const int k = __builtin_ctz(any);
-		any &= any - 1;
-		const int32_t bit = (int32_t)(1u << k);
-		const vm mp = m_bit(pos, bit), mn = m_bit(neg, bit);
-		const vf P = v_set1(vbao_sector[k][0]), Q = v_set1(vbao_sector[k][1]);
-		pp = v_add(pp, v_sel(mp, P, zero));
-		qp = v_add(qp, v_sel(mp, Q, zero));
-		pn = v_add(pn, v_sel(mn, P, zero));
-		qn = v_add(qn, v_sel(mn, Q, zero));
+		const vm m = m_bit(pos, (int32_t)(1u << k));
+		pp = v_add(pp, v_keep(m, v_set1(vbao_sector[k][0])));
+		qp = v_add(qp, v_keep(m, v_set1(vbao_sector[k][1])));
+	}
+	for (uint32_t any = vi_hor(neg); any; any &= any - 1) {
+		const int k = __builtin_ctz(any);
+		const vm m = m_bit(neg, (int32_t)(1u << k));
+		pn = v_add(pn, v_keep(m, v_set1(vbao_sector[k][0])));
+		qn = v_add(qn, v_keep(m, v_set1(vbao_sector[k][1])));
 	}
 	vf occ = v_fma(g->cos_n, v_sub(pp, pn), v_mul(g->sin_n, v_sub(qp, qn)));
 	const vm has = m_nonzero(across);
