@@ -141,7 +141,7 @@ static inline vf vbao_acos(vf x)
 	p = v_fma(p, ax, v_set1(1.570795655e+00f));
 	const vf s2 = v_sub(v_set1(1.0f), ax);
 	const vm pos = v_gt(s2, v_zero());
-	const vf r = v_sel(pos, v_mul(v_mul(s2, v_rsqrt(v_sel(pos, s2, v_set1(1.0f)))), p), v_zero());
+	const vf r = v_keep(pos, v_mul(v_mul(s2, v_rsqrt(v_sel(pos, s2, v_set1(1.0f)))), p));
 	return v_sel(v_lt(x, v_zero()), v_sub(v_set1(3.14159265358979f), r), r);
 }
 
@@ -345,8 +345,8 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 		const vf G0 = v_fma(a0, half_sin, v_mul(v_set1(-0.25f), c0));
 		const vf G1 = v_fma(a1, half_sin, v_mul(v_set1(-0.25f), c1));
 		const vf w = v_fma(g->cos_n, v_set1(0.5f), v_add(G0, G1));
-		occ = v_add(occ, v_sel(has, w, zero));
+		occ = v_add(occ, v_keep(has, w));
 	}
-	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, v_sub(all, occ)), zero));
-	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, all), zero));
+	*vis = v_add(*vis, v_keep(g->ok, v_mul(g->lpn, v_sub(all, occ))));
+	*norm = v_add(*norm, v_keep(g->ok, v_mul(g->lpn, all)));
 }
