@@ -306,6 +306,12 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 {
 	const vf zero = v_zero(), half_sin = v_mul(g->sin_n, v_set1(0.5f));
 	const vf all = v_sub(vbao_h(g, half_sin, DAO_VBAO_SECTORS), vbao_h(g, half_sin, 0));
+	if (!vi_any(mask)) { /* no lane occluded (about half the slices): all - 0 */
+		const vf w = v_keep(g->ok, v_mul(g->lpn, all));
+		*vis = v_add(*vis, w);
+		*norm = v_add(*norm, w);
+		return;
+	}
 	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
 	/* the sector across t = 0: a_k0 <= 0 < a_k0+1, k0 = floor((pi/2 - n) 32/pi) */
 	const vf k0 = v_min(v_max(v_floor(v_fnma(g->n, v_set1(k32),
