@@ -43,6 +43,11 @@ struct tile_cache {
 	int next;   /* the one to replace next */
 	float rp[TILE_TABLES]; /* the radius each table was made for (-1: none) */
 	int reach_r[TILE_TABLES], reach_c[TILE_TABLES]; /* largest |row|, |column| offset of a tap */
+	int steps;  /* entries per slice side (a run of them in a table) */
+	/* per table and slice side: the least dr_hi, the largest dr_lo, the least
+	 * dc_hi and the largest dc_lo of its steps, so that a block tells once per
+	 * side whether tile_skip could skip any of them (tile_side_checks) */
+	int32_t side_lim[TILE_TABLES][2 * DAO_MAX_SLICES][4];
 	struct tile_step st[TILE_STEPS_MAX];
 };
 

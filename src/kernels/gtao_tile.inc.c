@@ -133,6 +133,7 @@ static inline int tile_table_fits(const struct dao_gtao_setup *s)
 static void tile_cache_reset(const struct dao_gtao_setup *s, struct tile_cache *c)
 {
 	c->per = s->slices * 2 * s->steps;
+	c->steps = s->steps;
 	c->count = tile_table_fits(s) ? TILE_STEPS_MAX / c->per : 0;
 	if (c->count > TILE_TABLES)
 		c->count = TILE_TABLES;
@@ -175,15 +176,29 @@ static void tile_cache_reach(struct tile_cache *c, int slot)
 	}
 	c->reach_r[slot] = rr;
 	c->reach_c[slot] = rc;
+	for (int side = 0; side * c->steps < c->per; side++) {
+		const struct tile_step *o = st + (size_t)side * (size_t)c->steps;
+		int32_t *lim = c->side_lim[slot][side];
+		lim[0] = lim[2] = INT32_MAX;
+		lim[1] = lim[3] = INT32_MIN;
+		for (int k = 0; k < c->steps; k++) {
+			lim[0] = o[k].dr_hi < lim[0] ? o[k].dr_hi : lim[0];
+			lim[1] = o[k].dr_lo > lim[1] ? o[k].dr_lo : lim[1];
+			lim[2] = o[k].dc_hi < lim[2] ? o[k].dc_hi : lim[2];
+			lim[3] = o[k].dc_lo > lim[3] ? o[k].dc_lo : lim[3];
+		}
+	}
 }
 
 /* The steps of every slice for block radius rp (NULL when they do not fit:
- * tile_lanes then makes them per slice), and how far their taps reach from
- * the pixel in rows and columns (*reach_r, *reach_c). */
+ * tile_lanes then makes them per slice), how far their taps reach from the
+ * pixel in rows and columns (*reach_r, *reach_c), and each slice side's
+ * limits (*lim, tile_cache's side_lim). */
 static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 					      const struct dao_gtao_planes *pl,
 					      const struct tile_phase *ph, float rp,
-					      struct tile_cache *c, int *reach_r, int *reach_c)
+					      struct tile_cache *c, int *reach_r, int *reach_c,
+					      const int32_t (**lim)[4])
 {
 	int i, fresh;
 	struct tile_step *st = tile_cache_slot(c, rp, &i, &fresh);
@@ -196,6 +211,7 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 	}
 	*reach_r = c->reach_r[i];
 	*reach_c = c->reach_c[i];
+	*lim = (const int32_t (*)[4])c->side_lim[i];
 	return st;
 }
 
@@ -216,6 +232,14 @@ static inline int tile_skip(const struct tile_px *t, const struct tile_step *st)
 {
 	return t->y + st->dr_hi < 0 || t->y + st->dr_lo >= t->h || t->x_last + st->dc_hi < 0 ||
 	       t->x_first + st->dc_lo >= t->w;
+}
+
+/* Whether tile_skip may skip any step of a slice side with limits lim
+ * (tile_cache's side_lim): exactly when one of its steps would be. */
+static inline int tile_side_checks(const struct tile_px *t, const int32_t lim[4])
+{
+	return t->y + lim[0] < 0 || t->y + lim[1] >= t->h || t->x_last + lim[2] < 0 ||
+	       t->x_first + lim[3] >= t->w;
 }
 
 /*
@@ -405,8 +429,9 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
  * or VBAO with vb. */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		       const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
-		       const struct tile_step *tsteps, int reach_r, int reach_c, float rp, int y,
-		       int jb, int h, struct dao_tile_scratch *sc, const struct tile_vbao *vb)
+		       const struct tile_step *tsteps, const int32_t (*lim)[4], int reach_r,
+		       int reach_c, float rp, int y, int jb, int h, struct dao_tile_scratch *sc,
+		       const struct tile_vbao *vb)
 {
 	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
@@ -472,8 +497,11 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			}
 			const int major_x = fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]);
 			if (vb) {
+				/* outside the inner blocks, which sides have steps to skip */
+				const int chk_p = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl]));
+				const int chk_n = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl + 1]));
 				const vi mask = vbao_sides_any(vb, s, base, tbase, &t, st, &g, major_x,
-							       inner);
+							       chk_p, chk_n);
 				vbao_accumulate(&g, mask, &sum, &norm);
 				continue;
 			}
@@ -537,8 +565,9 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 				continue;
 			}
 			int reach_r = 0, reach_c = 0;
-			const struct tile_step *tsteps =
-				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c);
+			const int32_t (*lim)[4] = NULL;
+			const struct tile_step *tsteps = tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a],
+									&reach_r, &reach_c, &lim);
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
@@ -546,7 +575,7 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
 					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
-						   tsteps, reach_r, reach_c, rp, y, jb, h, sc, vb);
+						   tsteps, lim, reach_r, reach_c, rp, y, jb, h, sc, vb);
 		}
 	}
 }

@@ -141,7 +141,7 @@ static inline vf vbao_acos(vf x)
 	p = v_fma(p, ax, v_set1(1.570795655e+00f));
 	const vf s2 = v_sub(v_set1(1.0f), ax);
 	const vm pos = v_gt(s2, v_zero());
-	const vf r = v_sel(pos, v_mul(v_mul(s2, v_rsqrt(v_sel(pos, s2, v_set1(1.0f)))), p), v_zero());
+	const vf r = v_keep(pos, v_mul(v_mul(s2, v_rsqrt(v_sel(pos, s2, v_set1(1.0f)))), p));
 	return v_sel(v_lt(x, v_zero()), v_sub(v_set1(3.14159265358979f), r), r);
 }
 
@@ -221,18 +221,20 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	 * test) is at the edge once rounded: its acos only where some lane's is not */
 	const vf ab = m_any(m_andnot(ok, v_le(cb, thr))) ? v_fma(vbao_acos(cb), k_sgn, k_lo)
 							  : v_set1(edge_at);
-	/* rounded, so a sample exactly on the hemisphere's edge (a plane) marks nothing */
+	/* rounded, so a sample exactly on the hemisphere's edge (a plane) marks nothing
+	 * (clamped to whole bounds before the rounding: the same as after) */
 	const vf top = v_set1((float)DAO_VBAO_SECTORS);
-	const vf a = v_sel(ok, v_min(v_max(v_round(v_min(af, ab)), zero), top), zero);
-	const vf b = v_sel(ok, v_min(v_max(v_round(v_max(af, ab)), zero), top), zero);
-	return vi_andnot(vi_low_bits(vi_from_whole(b)), vi_low_bits(vi_from_whole(a)));
+	const vi a = vi_from_nearest(v_min(v_max(v_min(af, ab), zero), top));
+	const vi b = vi_from_nearest(v_min(v_max(v_max(af, ab), zero), top));
+	return vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a)));
 }
 
 /* The sectors both sides of a slice occlude, per lane. */
 static inline __attribute__((always_inline)) vi
 vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
 	   const uint16_t *tbase, const struct tile_px *t, const struct tile_step *st,
-	   const struct slice_v *g, const int major_x, const int check, const int plane)
+	   const struct slice_v *g, const int major_x, const int check, const int chk_p,
+	   const int chk_n, const int plane)
 {
 	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
 	/* lo = n - pi/2: sector 0 starts at the hemisphere's edge */
@@ -257,22 +259,27 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	const struct tile_step *sn = st + s->steps;
 	vi mask = vi_set1(0);
 	for (int i = 0; i < s->steps; i++) {
-		if (!check || !tile_skip(t, &st[i]))
+		if (!check || !chk_p || !tile_skip(t, &st[i]))
 			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p,
 						      exit_p, (float)DAO_VBAO_SECTORS, major_x, plane));
-		if (!check || !tile_skip(t, &sn[i]))
+		if (!check || !chk_n || !tile_skip(t, &sn[i]))
 			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
 						      major_x, plane));
 	}
 	return mask;
 }
 
-/* vbao_sides specialised on the major axis, the bounds test and the plane. */
+/* vbao_sides specialised on the major axis, the bounds test and the plane;
+ * chk_p, chk_n: whether a step of the positive, the negative side may have to
+ * be skipped (tile_side_checks). */
 static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
 			 const float *base, const uint16_t *tbase, const struct tile_px *t,
-			 const struct tile_step *st, const struct slice_v *g, int major_x, int inner)
+			 const struct tile_step *st, const struct slice_v *g, int major_x, int chk_p,
+			 int chk_n)
 {
-#define VBAO_SIDES(mx, check, plane) vbao_sides(vb, s, base, tbase, t, st, g, mx, check, plane)
+	const int inner = !chk_p && !chk_n;
+#define VBAO_SIDES(mx, check, plane) \
+	vbao_sides(vb, s, base, tbase, t, st, g, mx, check, chk_p, chk_n, plane)
 	/* tests, not a switch: its table jump alternated between the cases with
 	 * the slices' major axes and mispredicted */
 	if (vb->plane) {
@@ -299,6 +306,12 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 {
 	const vf zero = v_zero(), half_sin = v_mul(g->sin_n, v_set1(0.5f));
 	const vf all = v_sub(vbao_h(g, half_sin, DAO_VBAO_SECTORS), vbao_h(g, half_sin, 0));
+	if (!vi_any(mask)) { /* no lane occluded (about half the slices): all - 0 */
+		const vf w = v_keep(g->ok, v_mul(g->lpn, all));
+		*vis = v_add(*vis, w);
+		*norm = v_add(*norm, w);
+		return;
+	}
 	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
 	/* the sector across t = 0: a_k0 <= 0 < a_k0+1, k0 = floor((pi/2 - n) 32/pi) */
 	const vf k0 = v_min(v_max(v_floor(v_fnma(g->n, v_set1(k32),
@@ -310,18 +323,20 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	const vi neg = vi_andnot(mask, vi_andnot(vi_set1(-1), below)); /* mask & below */
 	const vi pos = vi_andnot(mask, upto);
 	const vi across = vi_andnot(vi_andnot(mask, vi_andnot(vi_set1(-1), upto)), below);
-	uint32_t any = vi_hor(mask);
+	/* the sectors above t = 0 and those below in loops of their own: few
+	 * sectors are above in one lane and below in another */
 	vf pp = zero, qp = zero, pn = zero, qn = zero;
-	while (any) {
+	for (uint32_t any = vi_hor(pos); any; any &= any - 1) {
 		const int k = __builtin_ctz(any);
-		any &= any - 1;
-		const int32_t bit = (int32_t)(1u << k);
-		const vm mp = m_bit(pos, bit), mn = m_bit(neg, bit);
-		const vf P = v_set1(vbao_sector[k][0]), Q = v_set1(vbao_sector[k][1]);
-		pp = v_add(pp, v_sel(mp, P, zero));
-		qp = v_add(qp, v_sel(mp, Q, zero));
-		pn = v_add(pn, v_sel(mn, P, zero));
-		qn = v_add(qn, v_sel(mn, Q, zero));
+		const vm m = m_bit(pos, (int32_t)(1u << k));
+		pp = v_add(pp, v_keep(m, v_set1(vbao_sector[k][0])));
+		qp = v_add(qp, v_keep(m, v_set1(vbao_sector[k][1])));
+	}
+	for (uint32_t any = vi_hor(neg); any; any &= any - 1) {
+		const int k = __builtin_ctz(any);
+		const vm m = m_bit(neg, (int32_t)(1u << k));
+		pn = v_add(pn, v_keep(m, v_set1(vbao_sector[k][0])));
+		qn = v_add(qn, v_keep(m, v_set1(vbao_sector[k][1])));
 	}
 	vf occ = v_fma(g->cos_n, v_sub(pp, pn), v_mul(g->sin_n, v_sub(qp, qn)));
 	const vm has = m_nonzero(across);
@@ -336,8 +351,8 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 		const vf G0 = v_fma(a0, half_sin, v_mul(v_set1(-0.25f), c0));
 		const vf G1 = v_fma(a1, half_sin, v_mul(v_set1(-0.25f), c1));
 		const vf w = v_fma(g->cos_n, v_set1(0.5f), v_add(G0, G1));
-		occ = v_add(occ, v_sel(has, w, zero));
+		occ = v_add(occ, v_keep(has, w));
 	}
-	*vis = v_add(*vis, v_sel(g->ok, v_mul(g->lpn, v_sub(all, occ)), zero));
-	*norm = v_add(*norm, v_sel(g->ok, v_mul(g->lpn, all), zero));
+	*vis = v_add(*vis, v_keep(g->ok, v_mul(g->lpn, v_sub(all, occ))));
+	*norm = v_add(*norm, v_keep(g->ok, v_mul(g->lpn, all)));
 }

@@ -82,6 +82,13 @@ static inline vi vi_add(vi a, vi b) { return _mm256_add_epi32(a, b); }
 static inline vi vi_mul(vi a, vi b) { return _mm256_mullo_epi32(a, b); }
 /* float lanes holding whole numbers -> int32 */
 static inline vi vi_from_whole(vf a) { return _mm256_cvtps_epi32(a); }
+/* a rounded to the nearest whole number (ties to even, the default rounding) */
+static inline vi vi_from_nearest(vf a) { return _mm256_cvtps_epi32(a); }
+/* a where m, else 0 (v_sel with 0, as one AND) */
+static inline vf v_keep(vm m, vf a) { return _mm256_and_ps(m, a); }
+static inline vi vi_keep(vm m, vi a) { return _mm256_and_si256(_mm256_castps_si256(m), a); }
+/* whether any bit of a is set */
+static inline int vi_any(vi a) { return !_mm256_testz_si256(a, a); }
 static inline vi vi_sel(vm m, vi a, vi b)
 {
 	return _mm256_castps_si256(

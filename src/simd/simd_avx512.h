@@ -83,6 +83,13 @@ static inline vi vi_add(vi a, vi b) { return _mm512_add_epi32(a, b); }
 static inline vi vi_mul(vi a, vi b) { return _mm512_mullo_epi32(a, b); }
 /* float lanes holding whole numbers -> int32 */
 static inline vi vi_from_whole(vf a) { return _mm512_cvtps_epi32(a); }
+/* a rounded to the nearest whole number (ties to even, the default rounding) */
+static inline vi vi_from_nearest(vf a) { return _mm512_cvtps_epi32(a); }
+/* a where m, else 0 */
+static inline vf v_keep(vm m, vf a) { return _mm512_maskz_mov_ps(m, a); }
+static inline vi vi_keep(vm m, vi a) { return _mm512_maskz_mov_epi32(m, a); }
+/* whether any bit of a is set */
+static inline int vi_any(vi a) { return _mm512_test_epi32_mask(a, a) != 0; }
 static inline vi vi_sel(vm m, vi a, vi b) { return _mm512_mask_blend_epi32(m, b, a); }
 static inline vi vi_or(vi a, vi b) { return _mm512_or_si512(a, b); }
 static inline vi vi_andnot(vi a, vi b) { return _mm512_andnot_si512(b, a); } /* a & ~b */

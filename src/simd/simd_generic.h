@@ -83,6 +83,13 @@ static inline vi vi_set1(int32_t a) { return (vi){ a, a, a, a }; }
 static inline vi vi_add(vi a, vi b) { return a + b; }
 static inline vi vi_mul(vi a, vi b) { return a * b; }
 static inline vi vi_from_whole(vf a) { return __builtin_convertvector(a, vi); }
+/* a rounded to the nearest whole number (ties to even) */
+static inline vi vi_from_nearest(vf a) { return __builtin_convertvector(v_round(a), vi); }
+/* a where m, else 0 */
+static inline vf v_keep(vm m, vf a) { return (vf)(m & (vi)a); }
+static inline vi vi_keep(vm m, vi a) { return m & a; }
+/* whether any bit of a is set */
+static inline int vi_any(vi a) { return (a[0] | a[1] | a[2] | a[3]) != 0; }
 static inline vi vi_sel(vm m, vi a, vi b) { return (m & a) | (~m & b); }
 static inline vi vi_or(vi a, vi b) { return a | b; }
 static inline vi vi_andnot(vi a, vi b) { return a & ~b; }

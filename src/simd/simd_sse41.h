@@ -75,6 +75,13 @@ static inline vi vi_set1(int32_t a) { return _mm_set1_epi32(a); }
 static inline vi vi_add(vi a, vi b) { return _mm_add_epi32(a, b); }
 static inline vi vi_mul(vi a, vi b) { return _mm_mullo_epi32(a, b); }
 static inline vi vi_from_whole(vf a) { return _mm_cvtps_epi32(a); }
+/* a rounded to the nearest whole number (ties to even, the default rounding) */
+static inline vi vi_from_nearest(vf a) { return _mm_cvtps_epi32(a); }
+/* a where m, else 0 (v_sel with 0, as one AND) */
+static inline vf v_keep(vm m, vf a) { return _mm_and_ps(m, a); }
+static inline vi vi_keep(vm m, vi a) { return _mm_and_si128(_mm_castps_si128(m), a); }
+/* whether any bit of a is set */
+static inline int vi_any(vi a) { return !_mm_testz_si128(a, a); }
 static inline vi vi_sel(vm m, vi a, vi b)
 {
 	return _mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(b), _mm_castsi128_ps(a), m));
