@@ -419,8 +419,9 @@ static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int 
 /*
  * vk capped by a slab t thick that a ray |p| = lp long crosses over t lp / sl
  * (sl = lp times the sine of the ray to the slab's face): scale times that,
- * at least that plus the spacing of VBAO's samples (thickness.h), with no
- * division by 0.
+ * at least that plus the spacing of VBAO's samples, at most that plus the
+ * larger of the spacing and DAO_SLAB_EXTRA_SEC spacings over the cosine of
+ * the ray to the slab's normal, sl / lp (thickness.h), with no division by 0.
  */
 static inline float slab_cap(float vk, float t, float lp, float sl, float spacing)
 {
@@ -428,6 +429,12 @@ static inline float slab_cap(float vk, float t, float lp, float sl, float spacin
 	const float spaced = t * lp + spacing * sl;
 	if (spaced > across)
 		across = spaced;
+	if (spacing > 0.0f) {
+		const float wide = t * lp + DAO_SLAB_EXTRA_SEC * spacing * lp;
+		const float most = wide > spaced ? wide : spaced;
+		if (across > most)
+			across = most;
+	}
 	return across < vk * sl ? across / sl : vk;
 }
 
