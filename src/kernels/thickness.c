@@ -248,6 +248,7 @@ struct face_bound {
 	float t;           /* the thickness across it its value is made for, m (the middle of
 			    * what the bound and the end's pixels allow) */
 	int k0, k1;        /* the pixels it holds for, k0 <= k1 */
+	struct vec at;     /* a point of the broad face */
 };
 
 /* d/dT of the pixel coordinates along (al) and across (ac) the line of p - T n, at T = 0 */
@@ -359,6 +360,7 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	b->k0 = end < kb ? end : kb;
 	b->k1 = end < kb ? kb : end;
 	b->normal = nrm;
+	b->at = pf;
 	/* the f pixels of the edge face put T within (f -+ 1/2) / rate; with none, within
 	 * 0 .. 1/2 / rate: the value is made for the middle (README.md) */
 	b->t = (f > 0 ? (float)f : 0.5f * DAO_BOUND_ALLOW) / rate;
@@ -366,7 +368,7 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 }
 
 /* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's). */
-static int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
+static inline __attribute__((always_inline)) int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
 		      struct face_bound *b)
 {
 	const int end = dir < 0 ? e : s;
@@ -408,19 +410,152 @@ static int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
 	return 0;
 }
 
-/* Both ends of the run s..e: *count bounds in b. */
+/*
+ * A bound carried across (README.md, "No visible edge face"): where the end of
+ * the run s..e (dir as face_bound's) is a direct step to something farther
+ * but gives no bound of its own (the side face of a turned board, which looks
+ * away, ends the columns of its far end on a slanted outline), the outline is
+ * followed over the lines across, at most DAO_BOUND_CARRY of them to each
+ * side, each line's end walked out from the last one's while it stays on the
+ * surface.  Where the outline runs along the lines (their ends 2 px or more
+ * apart), their ends are like this one and are not tried; where it turns to
+ * cross them (the board's top), the line there and the next are, and the
+ * first whose end gives a bound on the same broad face (this end's point
+ * within DAO_BOUND_CARRY_TOL of its plane, for the distance between them)
+ * lends it to the straight broad face at this end.  An outline that crosses
+ * the lines at this end is followed no further (each line's own end is the
+ * same), unless it runs along them on the other side (a corner).
+ */
+#define DAO_BOUND_CARRY 16
+#define DAO_BOUND_CARRY_WALK 64 /* pixels walked out along a line across, at most */
+#define DAO_BOUND_CARRY_TOL 0.1f
+
+__attribute__((noinline)) static int carried_bound(const struct line_geom *g, int n, int s,
+						   int e, int dir, struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int len = e - s + 1;
+	const int out = end - dir;
+	const float *z = g->z;
+	const size_t st = g->step;
+	if (out < 0 || out >= n || len <= DAO_BOUND_FACE_SEGS)
+		return 0;
+	const float ze = z[(size_t)end * st];
+	if (!(z[(size_t)out * st] > ze))
+		return 0;
+	/* this end's straight broad face: its first segments before the first line across
+	 * is tried, the rest once a bound is found */
+#define PT(j) line_pos(g, (float)(end + dir * (j)), z[(size_t)(end + dir * (j)) * st])
+	struct vec pe = { 0.0f, 0.0f, 0.0f }, d = pe, q = pe;
+	int j = -1;
+	const ptrdiff_t cs = g->du != 0.0f ? (ptrdiff_t)g->t->width : 1;
+	for (int side = -1; side <= 1; side += 2) {
+		int k = end, turned = 0;
+		float zk = ze;
+		for (int i = 1; i <= DAO_BOUND_CARRY; i++) {
+			const int c = side * i;
+			if (!cross_ok(g, c))
+				break;
+			float zc = cross_z(g, k, c);
+			if (!same_surface(zk, zc))
+				break;
+			const int k_last = k;
+			for (int w = 0; w < DAO_BOUND_CARRY_WALK; w++) {
+				const int kn = k - dir;
+				if (kn < 0 || kn >= n)
+					break;
+				const float zn = cross_z(g, kn, c);
+				if (!same_surface(zc, zn))
+					break;
+				k = kn;
+				zc = zn;
+			}
+			zk = zc;
+			/* the outline's step from the last line: along the lines (2 px or more),
+			 * their ends are like this one; where it turns to cross them (a step
+			 * under 2 px), that line and the next are tried, and no further */
+			const int dki = k - k_last;
+			const int across = dki < 2 && dki > -2;
+			if (i == 1 && across) {
+				/* the outline crosses the lines: theirs end as this one does, unless
+				 * it runs along them on the other side (this end is a corner) */
+				const int o = -side, k2 = end + dir;
+				if (!cross_ok(g, o) || same_surface(ze, cross_z(g, end, o)) ||
+				    (k2 >= 0 && k2 < n &&
+				     same_surface(z[(size_t)k2 * st], cross_z(g, k2, o))))
+					break;
+				turned = 1;
+			} else if (turned)
+				turned = 2;
+			else if (across)
+				turned = 1;
+			if (!turned)
+				continue;
+			if (j < 0) {
+				pe = PT(0);
+				d = vsub(PT(DAO_BOUND_FACE_SEGS), pe);
+				q = pe;
+				for (j = 0; j < DAO_BOUND_FACE_SEGS; j++) {
+					const struct vec r = PT(j + 1);
+					if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+						return 0;
+					q = r;
+				}
+			}
+			/* line c from its end inwards, as far as face_bound looks */
+			int m = 0;
+			while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
+				const int k1 = k + dir * (m + 1);
+				if (k1 < 0 || k1 >= n ||
+				    !same_surface(cross_z(g, k + dir * m, c), cross_z(g, k1, c)))
+					break;
+				m++;
+			}
+			const struct line_geom gc = { g->t, z + (ptrdiff_t)c * cs, st,
+						      g->u0 + (float)c * g->dv,
+						      g->v0 + (float)c * g->du, g->du, g->dv };
+			struct face_bound fb;
+			if (!face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb)) {
+				if (turned == 2)
+					break;
+				continue;
+			}
+			const struct vec dp = vsub(pe, fb.at);
+			const float off = vdot(dp, fb.normal);
+			if (off * off > DAO_BOUND_CARRY_TOL * DAO_BOUND_CARRY_TOL * vdot(dp, dp))
+				break; /* another face */
+			while (j + 1 < len) {
+				const struct vec r = PT(j + 1);
+				if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+					break;
+				q = r;
+				j++;
+			}
+			const int kb = end + dir * j;
+			*b = fb;
+			b->k0 = end < kb ? end : kb;
+			b->k1 = end < kb ? kb : end;
+			return 1;
+		}
+	}
+#undef PT
+	return 0;
+}
+
+/* Both ends of the run s..e: *count bounds in b (own or carried). */
 static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
 			    struct face_bound b[2])
 {
-	*count = face_bound(g, n, s, e, -1, &b[0]);
-	*count += face_bound(g, n, s, e, 1, &b[*count]);
+	*count = face_bound(g, n, s, e, -1, &b[0]) || carried_bound(g, n, s, e, -1, &b[0]);
+	*count += face_bound(g, n, s, e, 1, &b[*count]) || carried_bound(g, n, s, e, 1, &b[*count]);
 }
 
 /*
  * vk capped by a slab t thick that a ray |p| = lp long crosses over t lp / sl
  * (sl = lp times the sine of the ray to the slab's face): scale times that,
- * at least that plus the spacing of VBAO's samples (thickness.h), with no
- * division by 0.
+ * at least that plus the spacing of VBAO's samples, at most that plus the
+ * larger of the spacing and DAO_SLAB_EXTRA_SEC spacings over the cosine of
+ * the ray to the slab's normal, sl / lp (thickness.h), with no division by 0.
  */
 static inline float slab_cap(float vk, float t, float lp, float sl, float spacing)
 {
@@ -428,6 +563,12 @@ static inline float slab_cap(float vk, float t, float lp, float sl, float spacin
 	const float spaced = t * lp + spacing * sl;
 	if (spaced > across)
 		across = spaced;
+	if (spacing > 0.0f) {
+		const float wide = t * lp + DAO_SLAB_EXTRA_SEC * spacing * lp;
+		const float most = wide > spaced ? wide : spaced;
+		if (across > most)
+			across = most;
+	}
 	return across < vk * sl ? across / sl : vk;
 }
 

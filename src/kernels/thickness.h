@@ -75,6 +75,18 @@ struct dao_thickness_setup {
  * is VBAO's best model).  The pipeline sets it (context.c); init leaves 0.
  */
 
+/*
+ * ... and at most the length plus the larger of the spacing and
+ * DAO_SLAB_EXTRA_SEC spacings over the cosine of the ray to the slab's normal:
+ * the factor 3 where the ray meets the slab obliquely (shelves seen from
+ * below at a grazing angle want it), the spacing alone where it meets it
+ * within 60 degrees of its normal (boards seen face-on: a 20 cm board no
+ * longer gets 3 times 20 cm).  Chosen on the tune split (README.md, "No
+ * visible edge face": 0.2 - 1.6 tried; the ceiling's truth agrees).  With
+ * no spacing (0), the factor 3 alone.
+ */
+#define DAO_SLAB_EXTRA_SEC 0.5f
+
 /* crease_cos: DAO_SLAB_CREASE_DEG, for depth the prefilter left sharp. */
 void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,
 			      float max);

@@ -40,6 +40,10 @@ static struct {
 	const float *truth; /* NULL: leave the estimate */
 	float scale, cap;
 	float add;          /* added to the scaled truth, m */
+	float add_tan;      /* added times tan(ray, surface normal), m */
+	float add_sec;      /* added times 1 / cos(ray, surface normal), m */
+	float extra_max;    /* > 0: v = truth + (scale - 1) truth, within add .. extra_max */
+	const float *cosr;  /* |cos(ray, surface normal)| of each pixel */
 	int where;          /* 0: everywhere, 1: only where the estimate is over 1.5 times
 			     * the scaled truth, -1: only where under 1 / 1.5 times */
 	float *estimate;    /* the estimate is copied here (if not NULL) */
@@ -64,6 +68,22 @@ void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float 
 				sub.estimate[i] = thick[i];
 			if (sub.truth) {
 				float v = sub.scale * sub.truth[i] + sub.add;
+				if (sub.extra_max > 0.0f) {
+					float xa = (sub.scale - 1.0f) * sub.truth[i];
+					float em = sub.extra_max;
+					if (sub.add_sec < 0.0f) {
+						const float cr = sub.cosr[i] > 1e-3f ? sub.cosr[i] : 1e-3f;
+						em = -sub.add_sec / cr;
+					}
+					xa = xa > em ? em : xa;
+					xa = xa < sub.add ? sub.add : xa;
+					v = sub.truth[i] + xa;
+				}
+				if (sub.add_tan != 0.0f || sub.add_sec > 0.0f) {
+					const float cr = sub.cosr[i] > 1e-3f ? sub.cosr[i] : 1e-3f;
+					v += sub.add_sec / cr +
+					     sub.add_tan * sqrtf(fmaxf(0.0f, 1.0f - cr * cr)) / cr;
+				}
 				v = v < sub.cap ? v : sub.cap;
 				if (!sub.where || (sub.where > 0 && thick[i] > 1.5f * v) ||
 				    (sub.where < 0 && 1.5f * thick[i] < v))
@@ -83,6 +103,8 @@ struct column {
 	int constant; /* VBAO with its constant 0.2 m instead */
 	int where;    /* sub.where */
 	float add;    /* sub.add */
+	float add_tan, add_sec;
+	float extra_max;
 };
 
 #define TRUTH(k, c, w, a) .algorithm = DAO_ALGORITHM_VBAO, .truth = 1, .scale = k, .cap = c, \
@@ -99,6 +121,21 @@ static const struct column columns[] = {
 	{ "truth + 4 cm", TRUTH(1.0f, 0.5f, 0, 0.04f) },
 	{ "truth + 8 cm", TRUTH(1.0f, 0.5f, 0, 0.08f) },
 	{ "truth + 12 cm", TRUTH(1.0f, 0.5f, 0, 0.12f) },
+	{ "truth + 11 cm tan", TRUTH(1.0f, 0.5f, 0, 0.0f), .add_tan = 0.11f },
+	{ "truth + 5.5 cm tan", TRUTH(1.0f, 0.5f, 0, 0.0f), .add_tan = 0.055f },
+	{ "truth + 8 cm + 11 cm tan", TRUTH(1.0f, 0.5f, 0, 0.08f), .add_tan = 0.11f },
+	{ "truth + 8 cm + 5.5 cm tan", TRUTH(1.0f, 0.5f, 0, 0.08f), .add_tan = 0.055f },
+	{ "max(x3, +11 cm)", TRUTH(3.0f, 0.5f, 0, 0.11f), .extra_max = 10.0f },
+	{ "max(x3, +8 cm)", TRUTH(3.0f, 0.5f, 0, 0.08f), .extra_max = 10.0f },
+	{ "x3 within +8..15 cm", TRUTH(3.0f, 0.5f, 0, 0.08f), .extra_max = 0.15f },
+	{ "x3 within +8..20 cm", TRUTH(3.0f, 0.5f, 0, 0.08f), .extra_max = 0.20f },
+	{ "x3 within +8..30 cm", TRUTH(3.0f, 0.5f, 0, 0.08f), .extra_max = 0.30f },
+	{ "x3 within +11..20 cm", TRUTH(3.0f, 0.5f, 0, 0.11f), .extra_max = 0.20f },
+	{ "x3 within +11..5.5 sec", TRUTH(3.0f, 0.5f, 0, 0.11f), .extra_max = 1.0f, .add_sec = -0.055f },
+	{ "x3 within +8..4 sec", TRUTH(3.0f, 0.5f, 0, 0.08f), .extra_max = 1.0f, .add_sec = -0.04f },
+	{ "x3 within +8..8 sec", TRUTH(3.0f, 0.5f, 0, 0.08f), .extra_max = 1.0f, .add_sec = -0.08f },
+	{ "truth + 8 cm sec", TRUTH(1.0f, 0.5f, 0, 0.0f), .add_sec = 0.08f },
+	{ "truth + 11 cm sec", TRUTH(1.0f, 0.5f, 0, 0.0f), .add_sec = 0.11f },
 	{ "x3 where est too thick", TRUTH(3.0f, 0.5f, 1, 0.0f) },
 	{ "x3 where est too thin", TRUTH(3.0f, 0.5f, -1, 0.0f) },
 	{ "vbao 0.2 m", .algorithm = DAO_ALGORITHM_VBAO, .constant = 1 },
@@ -180,8 +217,8 @@ int main(int argc, char **argv)
 	}
 	const size_t np = (size_t)suite.cam.width * suite.cam.height;
 	float *ao = malloc(np * sizeof(float)), *truth = malloc(np * sizeof(float));
-	float *est = malloc(np * sizeof(float));
-	if (!ao || !truth || !est) {
+	float *est = malloc(np * sizeof(float)), *cosr = malloc(np * sizeof(float));
+	if (!ao || !truth || !est || !cosr) {
 		fprintf(stderr, "thickness-ceiling: out of memory\n");
 		return 1;
 	}
@@ -201,6 +238,18 @@ int main(int argc, char **argv)
 			return 1;
 		}
 		synth_inside_plane(&scene, &suite.cam, truth);
+		for (int y = 0; y < (int)suite.cam.height; y++)
+			for (int x = 0; x < (int)suite.cam.width; x++) {
+				const struct dao_camera *cm = &suite.cam;
+				const vec3 d = v3_normalize(v3((x - cm->cx) / cm->fx,
+							       (y - cm->cy) / cm->fy, 1.0));
+				double t;
+				vec3 nn;
+				const int prim = synth_trace(&scene, v3(0, 0, 0), d, 0.0, 1e9, &t, &nn);
+				cosr[(size_t)y * cm->width + x] =
+					prim < 0 ? 1.0f : (float)fabs(v3_dot(d, nn));
+			}
+		sub.cosr = cosr;
 		if (sc->variant)
 			printf("| %s #%d |", sc->scene, sc->variant);
 		else
@@ -222,6 +271,9 @@ int main(int argc, char **argv)
 			sub.cap = columns[k].cap;
 			sub.where = columns[k].where;
 			sub.add = columns[k].add;
+			sub.add_tan = columns[k].add_tan;
+			sub.add_sec = columns[k].add_sec;
+			sub.extra_max = columns[k].extra_max;
 			sub.estimate = est;
 			struct synth_metrics m;
 			double ms;
@@ -255,6 +307,7 @@ int main(int argc, char **argv)
 	for (int k = 0; k < NCOL; k++)
 		printf(" **%.4f** |", sum[k] / suite.count);
 	printf("\n");
+	free(cosr);
 	free(est);
 	free(truth);
 	free(ao);
