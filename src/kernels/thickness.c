@@ -253,12 +253,17 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
  * the middle of (f - 1/2) / rate (0 without f) and that.  And an edge face's
  * pixels may lie in front of the broad face by the depth noise the frame
  * measured (noise_k z^2: a disparity band, 13 mm at 2.1 m, against an 8 mm
- * edge face), not only behind it.
+ * edge face), not only behind it; and the broad face's direction, which sets
+ * its normal and so whether the face behind the end would show, is taken
+ * over DAO_BOUND_FACE_LONG pixels where the face goes on straight that far
+ * (a chair's backrest under structured light: 0.6 mm of depth a pixel over
+ * four pixels, 1.75 clean).
  */
 #define DAO_BOUND_EDGE_PX 8   /* an edge face's pixels, at most */
 #define DAO_BOUND_FACE_SEGS 4 /* the broad face's straight segments, at least */
 #define DAO_BOUND_CROSS 2     /* the lines across the normal and the outline come from */
 #define DAO_BOUND_ALLOW 0.5f  /* px: the face's extent beyond its pixels' centres */
+#define DAO_BOUND_FACE_LONG 12 /* noisy depth: the broad face's direction over this, px */
 #define DAO_BOUND_HOLE_PX 8   /* a hole's pixels beyond the end, at most (README.md:
 			       * 4 and 8 tried) */
 
@@ -339,7 +344,16 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
-	const struct vec d = vunit(vsub(pm, pf));
+	struct vec d = vunit(vsub(pm, pf));
+	/* on noisy depth the broad face's direction from DAO_BOUND_FACE_LONG pixels where
+	 * the face goes on that far (quantised depth tilts a few pixels' chord) */
+	if (g->t->noise_k > 0.0f && f + DAO_BOUND_FACE_LONG < len) {
+		const int kl = end + dir * (f + DAO_BOUND_FACE_LONG);
+		const struct vec pl = line_pos(g, (float)kl, g->z[(size_t)kl * g->step]);
+		const struct vec dl = vunit(vsub(pl, pf));
+		if (cos_above(dl, d, DAO_SLAB_STRAIGHT_COS))
+			d = dl;
+	}
 	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side */
 	const int c = DAO_BOUND_CROSS;
 	const int k0 = end + dir * (f + 2);

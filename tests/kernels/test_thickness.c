@@ -415,7 +415,7 @@ static void test_boxes_noisy(void **state)
 		const double share = too_thin_share(&s, &cam, z, t);
 		print_message("boxes, %s: %.2f %% of the pixels too thin\n",
 			      synth_sensor_name(sensors[k]), 100.0 * share);
-		/* measured 0.04 %, 0.39 %, 4.3 % (structured light: the edge faces of some
+		/* measured 0.04 %, 0.04 %, 4.4 % (structured light: the edge faces of some
 		 * boxes' narrow sides pass the rounded crease test, below; 3.6 % before
 		 * the face bound across holes, which bounds some box sides lost in holes
 		 * like a board's edge face: boxes' MAE 0.0359 -> 0.0360, README.md) */
@@ -819,7 +819,7 @@ static void test_vbao_behind_poles(void **state)
  * whose disparity bands hold an edge face within one or two steps and whose
  * block matching loses the last pixels of a silhouette to holes (README.md);
  * the face bound across those holes, with the noise's tolerance for the end's
- * pixels, gives the 2 and 3 cm slabs 0.53 and 0.33 (3.90 and 2.71 before).
+ * pixels, gives the 2 and 3 cm slabs 0.49 and 0.30 (3.90 and 2.71 before).
  */
 static void test_slabs_noisy(void **state)
 {
