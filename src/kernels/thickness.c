@@ -33,6 +33,7 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 	t->max = max;
 	t->crease_cos = cosf(DAO_SLAB_CREASE_DEG * (DAO_PI_F / 180.0f));
 	t->spacing = 0.0f;
+	t->noise_k = 0.0f;
 }
 
 void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
@@ -41,6 +42,11 @@ void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
 	a = a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f;
 	const float deg = DAO_SLAB_CREASE_DEG + a * (DAO_SLAB_CREASE_ROUNDED_DEG - DAO_SLAB_CREASE_DEG);
 	t->crease_cos = cosf(deg * (DAO_PI_F / 180.0f));
+}
+
+void dao_thickness_setup_noise(struct dao_thickness_setup *t, float scale, float sigma)
+{
+	t->noise_k = scale > DAO_SLAB_ROUND_FROM ? DAO_THICKNESS_NOISE_TOL * sigma : 0.0f;
 }
 
 /* (comparisons, not fminf: libm's is a call per pixel, a sixth of the time) */
@@ -237,11 +243,29 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
  * f pixels of an edge face also put T at least (f - 1/2) / rate, so f / rate;
  * with none, half the bound.  Unlike slab_edge it needs only its own end to
  * be an outline.
+ *
+ * Noisy input (README.md, "Noisy input"): a structured-light sensor's block
+ * matching loses the last pixels of a silhouette (its window straddles the
+ * edge), with the edge face in them.  So the end may also be a hole of h <=
+ * DAO_BOUND_HOLE_PX pixels with something farther by a step beyond it (the
+ * lines across may end the same way): the hole can hide an edge face of as
+ * many pixels, T is at most (f + h + 1/2) / rate, and the value is made for
+ * the middle of (f - 1/2) / rate (0 without f) and that.  And an edge face's
+ * pixels may lie in front of the broad face by the depth noise the frame
+ * measured (noise_k z^2: a disparity band, 13 mm at 2.1 m, against an 8 mm
+ * edge face), not only behind it; and the broad face's direction, which sets
+ * its normal and so whether the face behind the end would show, is taken
+ * over DAO_BOUND_FACE_LONG pixels where the face goes on straight that far
+ * (a chair's backrest under structured light: 0.6 mm of depth a pixel over
+ * four pixels, 1.75 clean).
  */
 #define DAO_BOUND_EDGE_PX 8   /* an edge face's pixels, at most */
 #define DAO_BOUND_FACE_SEGS 4 /* the broad face's straight segments, at least */
 #define DAO_BOUND_CROSS 2     /* the lines across the normal and the outline come from */
 #define DAO_BOUND_ALLOW 0.5f  /* px: the face's extent beyond its pixels' centres */
+#define DAO_BOUND_FACE_LONG 12 /* noisy depth: the broad face's direction over this, px */
+#define DAO_BOUND_HOLE_PX 8   /* a hole's pixels beyond the end, at most (README.md:
+			       * 4 and 8 tried) */
 
 struct face_bound {
 	struct vec normal; /* the broad face's, towards the camera */
@@ -294,6 +318,17 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 		if (jn < 0 || jn >= n || (jn - end) * -dir > 3 * (c < 0 ? -c : c))
 			return 0;
 		const float zn = cross_z(g, jn, c);
+		if (!(zn > 0.0f)) {
+			/* a hole: the end if beyond it lies something farther by a step */
+			int jh = jn;
+			while (jh >= 0 && jh < n && !(cross_z(g, jh, c) > 0.0f) &&
+			       (jh - jn) * -dir < DAO_BOUND_HOLE_PX)
+				jh -= dir;
+			if (jh < 0 || jh >= n || !(cross_z(g, jh, c) > 0.0f))
+				return 0;
+			*k = j;
+			return cross_z(g, jh, c) > zk + DAO_THICKNESS_JUMP * zk;
+		}
 		if (!same_surface(zk, zn)) {
 			*k = j;
 			return zn > zk;
@@ -305,12 +340,21 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 
 /* The bound with the broad face from pixel f of the end on (its segments straight;
  * pt: the points of the end's first pixels, pf = pt[f], pm = pt[f + DAO_BOUND_FACE_SEGS]). */
-static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir, int f,
+static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir, int f, int h,
 			 struct vec p0, struct vec pf, struct vec pm, struct face_bound *b)
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
-	const struct vec d = vunit(vsub(pm, pf));
+	struct vec d = vunit(vsub(pm, pf));
+	/* on noisy depth the broad face's direction from DAO_BOUND_FACE_LONG pixels where
+	 * the face goes on that far (quantised depth tilts a few pixels' chord) */
+	if (g->t->noise_k > 0.0f && f + DAO_BOUND_FACE_LONG < len) {
+		const int kl = end + dir * (f + DAO_BOUND_FACE_LONG);
+		const struct vec pl = line_pos(g, (float)kl, g->z[(size_t)kl * g->step]);
+		const struct vec dl = vunit(vsub(pl, pf));
+		if (cos_above(dl, d, DAO_SLAB_STRAIGHT_COS))
+			d = dl;
+	}
 	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side */
 	const int c = DAO_BOUND_CROSS;
 	const int k0 = end + dir * (f + 2);
@@ -323,8 +367,9 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	struct vec nrm = vunit(vcross(d, vsub(cross_pos(g, k0, c, zp), cross_pos(g, k0, -c, zm))));
 	if (vdot(nrm, pf) > 0.0f)
 		nrm = vneg(nrm);
-	/* an edge face's pixels lie behind the broad face (a convex edge) */
-	if (f > 0 && vdot(vsub(p0, pf), nrm) >= 0.0f)
+	/* an edge face's pixels lie behind the broad face (a convex edge), within the
+	 * frame's depth noise */
+	if (f > 0 && vdot(vsub(p0, pf), nrm) >= g->t->noise_k * pf.z * pf.z)
 		return 0;
 	/* the screen motion of pf - T nrm, outwards, before the outline's slope */
 	float al, ac;
@@ -341,7 +386,7 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	const float rate = (al - ac * (float)(ep - em) / (float)(2 * c)) * (float)-dir - slack;
 	if (!(rate > 0.0f))
 		return 0;
-	const float bt = ((float)f + DAO_BOUND_ALLOW) / rate;
+	const float bt = ((float)(f + h) + DAO_BOUND_ALLOW) / rate;
 	if (!(bt < g->t->max))
 		return 0;
 	/* the pixels of the straight broad face */
@@ -362,8 +407,9 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	b->normal = nrm;
 	b->at = pf;
 	/* the f pixels of the edge face put T within (f -+ 1/2) / rate; with none, within
-	 * 0 .. 1/2 / rate: the value is made for the middle (README.md) */
-	b->t = (f > 0 ? (float)f : 0.5f * DAO_BOUND_ALLOW) / rate;
+	 * 0 .. 1/2 / rate; a hole of h px beyond the end adds h / rate to the top: the
+	 * value is made for the middle (README.md) */
+	b->t = (f > 0 ? (float)f + 0.5f * (float)h : 0.5f * ((float)h + DAO_BOUND_ALLOW)) / rate;
 	return 1;
 }
 
@@ -376,8 +422,22 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 	const int out = end - dir;
 	if (out < 0 || out >= n || len <= DAO_BOUND_FACE_SEGS)
 		return 0;
-	if (!(g->z[(size_t)out * g->step] > g->z[(size_t)end * g->step]))
-		return 0; /* a hole or something nearer */
+	const float zend = g->z[(size_t)end * g->step];
+	int h = 0;
+	if (!(g->z[(size_t)out * g->step] > zend)) {
+		if (g->z[(size_t)out * g->step] > 0.0f)
+			return 0; /* something nearer */
+		/* a hole of at most DAO_BOUND_HOLE_PX px with something farther by a step
+		 * beyond it: it can hide an edge face of as many pixels */
+		int j = out;
+		while (j >= 0 && j < n && !(g->z[(size_t)j * g->step] > 0.0f) &&
+		       h < DAO_BOUND_HOLE_PX) {
+			j -= dir;
+			h++;
+		}
+		if (j < 0 || j >= n || !(g->z[(size_t)j * g->step] > zend + DAO_THICKNESS_JUMP * zend))
+			return 0;
+	}
 	/* the end's first points and segments, each made once */
 	struct vec pt[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1];
 	struct vec sg[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS];
@@ -403,7 +463,8 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 			j++;
 		if (j < f + DAO_BOUND_FACE_SEGS)
 			continue;
-		if (face_bound_at(g, n, s, e, dir, f, pt[0], pt[f], pt[f + DAO_BOUND_FACE_SEGS], b))
+		if (face_bound_at(g, n, s, e, dir, f, h, pt[0], pt[f], pt[f + DAO_BOUND_FACE_SEGS],
+				  b))
 			return 1;
 		tried = 1;
 	}

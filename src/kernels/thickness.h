@@ -22,8 +22,10 @@
  * few pixels), the face at right angles behind that end would show if the
  * object were thick: its absence bounds the thickness, even where the run's
  * other end is not an outline (a board standing on the floor; thickness.c,
- * face_bound).  The thickness is the smaller of the row's and the column's
- * value, at most the bound.
+ * face_bound), or at a short hole with something farther beyond it (the
+ * hole can hide as many pixels of edge face: noisy sensors lose them).  The
+ * thickness is the smaller of the row's and the column's value, at most the
+ * bound.
  */
 #ifndef DAO_KERNELS_THICKNESS_H
 #define DAO_KERNELS_THICKNESS_H
@@ -63,6 +65,8 @@ struct dao_thickness_setup {
 	float max;              /* upper bound, m (also where the extent is unknown) */
 	float crease_cos;       /* a slab's crease turns by more than acos(this) */
 	float spacing;          /* VBAO's step between samples, m (below); 0: none */
+	float noise_k;          /* the depth noise the rules allow for: noise_k z^2, m
+				 * (dao_thickness_setup_noise); 0: none */
 };
 
 /*
@@ -110,6 +114,18 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 #define DAO_SLAB_ROUND_FROM 2.0f
 #define DAO_SLAB_ROUND_TO 5.0f
 void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale);
+
+/*
+ * Noisy input (README.md, "Noisy input"): where the prefilter's scale
+ * `scale` shows noise (above DAO_SLAB_ROUND_FROM px), the face bound lets an
+ * edge face's pixels lie in front of the broad face by up to
+ * DAO_THICKNESS_NOISE_TOL times the frame's measured noise `sigma`
+ * (dao_noise_info.sigma_area, of 1/z in 1/m: sigma z^2 m; a structured-light
+ * frame reads 0.0013, its disparity bands 0.0029 apart); below, by nothing
+ * (init's 0).  The pipeline sets it with the crease (context.c).
+ */
+#define DAO_THICKNESS_NOISE_TOL 2.0f
+void dao_thickness_setup_noise(struct dao_thickness_setup *t, float scale, float sigma);
 
 /* Rows [y0, y1): thick = min(max, the extent of the pixel's run along its row). */
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,

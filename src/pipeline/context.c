@@ -965,8 +965,11 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	const double t2 = now_ms();
 	/* slabs' creases as rounded as the measured noise had the prefilter make them
 	 * (before the normals stage: it runs the thickness's rows) */
-	if (job.thick && p->prefilter == DAO_PREFILTER_DOMAIN && ctx->noise_info.measured)
+	if (job.thick && p->prefilter == DAO_PREFILTER_DOMAIN && ctx->noise_info.measured) {
 		dao_thickness_setup_rounding(&job.thickness, ctx->noise_info.prefilter_scale);
+		dao_thickness_setup_noise(&job.thickness, ctx->noise_info.prefilter_scale,
+					  ctx->noise_info.sigma_area);
+	}
 	if (normals) {
 		r = load_normals(ctx, normals, err);
 		if (r)

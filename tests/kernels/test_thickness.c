@@ -359,6 +359,7 @@ static void sensor_estimate(const struct synth_scene *s, const struct dao_camera
 	struct dao_thickness_setup ts;
 	dao_thickness_setup_init(&ts, cam, 0.5f);
 	dao_thickness_setup_rounding(&ts, ni.prefilter_scale);
+	dao_thickness_setup_noise(&ts, ni.prefilter_scale, ni.sigma_area);
 	dao_thickness_rows(&ts, z, t, 0, h);
 	cols(&ts, z, t, 0, w);
 }
@@ -425,9 +426,11 @@ static void test_boxes_noisy(void **state)
 		const double share = too_thin_share(&s, &cam, z, t);
 		print_message("boxes, %s: %.2f %% of the pixels too thin\n",
 			      synth_sensor_name(sensors[k]), 100.0 * share);
-		/* measured 0.04 %, 0.03 %, 3.4 % (structured light: the edge faces of some
-		 * boxes' narrow sides pass the rounded crease test, below) */
-		assert_true(share < (sensors[k] == SYNTH_SENSOR_STRUCTURED_LIGHT ? 0.04 : 0.01));
+		/* measured 0.04 %, 0.04 %, 4.4 % (structured light: the edge faces of some
+		 * boxes' narrow sides pass the rounded crease test, below; 3.6 % before
+		 * the face bound across holes, which bounds some box sides lost in holes
+		 * like a board's edge face: boxes' MAE 0.0359 -> 0.0360, README.md) */
+		assert_true(share < (sensors[k] == SYNTH_SENSOR_STRUCTURED_LIGHT ? 0.05 : 0.01));
 	}
 	free(t);
 	free(z);
@@ -720,8 +723,8 @@ static double run_mae(const struct dao_camera *cam, const struct synth_image *im
  * two sweeps), split anywhere, against the references that walk each line
  * pixel by pixel, bit for bit; and the thickness plane the column pass splits
  * by phase as it goes, against the split of the reference's result. */
-static void expect_blocked_same(const struct dao_camera *cam, const float *z, float max,
-				float spacing)
+static void expect_blocked_same_k(const struct dao_camera *cam, const float *z, float max,
+				  float spacing, float noise_k)
 {
 	const int w = (int)cam->width, h = (int)cam->height;
 	const size_t n = (size_t)w * h;
@@ -731,6 +734,7 @@ static void expect_blocked_same(const struct dao_camera *cam, const float *z, fl
 	struct dao_thickness_setup ts;
 	dao_thickness_setup_init(&ts, cam, max);
 	ts.spacing = spacing;
+	ts.noise_k = noise_k;
 	dao_thickness_rows_ref(&ts, z, ref, 0, h);
 	dao_thickness_rows(&ts, z, got, 0, h / 3);
 	dao_thickness_rows(&ts, z, got, h / 3, h);
@@ -761,6 +765,12 @@ static void expect_blocked_same(const struct dao_camera *cam, const float *z, fl
 	dao_gtao_planes_free(&pr);
 	free(got);
 	free(ref);
+}
+
+static void expect_blocked_same(const struct dao_camera *cam, const float *z, float max,
+				float spacing)
+{
+	expect_blocked_same_k(cam, z, max, spacing, 0.0f);
 }
 
 static void test_same_as_reference(void **state)
@@ -794,6 +804,8 @@ static void test_same_as_reference(void **state)
 				: (((x >> 3) + (y >> 3)) & 1 ? 1.2f : 1.0f) + noise;
 		}
 	expect_blocked_same(&cam, z, 0.5f, 0.0f);
+	/* with the noise tolerance of a structured-light frame (dao_thickness_setup_noise) */
+	expect_blocked_same_k(&cam, z, 0.5f, 0.11f, 2.0f * 0.0013f);
 	free(z);
 }
 
@@ -856,8 +868,10 @@ static void test_vbao_behind_poles(void **state)
  * this noise (their rounded turn stays under 30 degrees), but the absence of a
  * visible edge face (face_bound) bounds them about right: 0.89 and 0.97 (3.9
  * and 2.7 before, the bound's share).  None is found with structured light,
- * whose disparity bands hold an edge face within one or two steps (README.md):
- * printed, not asked for.
+ * whose disparity bands hold an edge face within one or two steps and whose
+ * block matching loses the last pixels of a silhouette to holes (README.md);
+ * the face bound across those holes, with the noise's tolerance for the end's
+ * pixels, gives the 2 and 3 cm slabs 0.49 and 0.30 (3.90 and 2.71 before).
  */
 static void test_slabs_noisy(void **state)
 {
@@ -903,10 +917,61 @@ static void test_slabs_noisy(void **state)
 			 * with Gaussian noise 0.0126 -> 0.0125) */
 			if (k == 0)
 				assert_true(m > 0.7 && m < 1.25);
+			else if (i < 2)
+				assert_true(m > 0.2 && m < 2.0);
 		}
 	}
 	free(t);
 	free(z);
+	synth_image_free(&img);
+}
+
+/*
+ * The slabs of test_slabs with their edge faces lost in holes, as a
+ * structured-light sensor loses them (the window of its block matching
+ * straddles the silhouette; README.md, "Noisy input"): each top face's runs
+ * end at a hole with the floor beyond it.  The hole can hide an edge face of
+ * as many pixels as it has, so the face bound holds across it (face_bound),
+ * its value made for the middle of what the end allows, here about half the
+ * edge face: medians 0.63, 0.53 and 1.19 of 3 times the rays' length (before:
+ * 3.94 for the 2 cm slab, the bound's share; in the pipeline the spacing of
+ * VBAO's samples governs the thin slabs' value).
+ */
+static void test_slabs_edge_holes(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	vec3 up;
+	render_slabs(&s, &up, &cam, &img);
+	int lost = 0;
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			const vec3 d = v3_normalize(v3(x * cam.ax + cam.bx, y * cam.ay + cam.by, 1));
+			double tt;
+			vec3 nn;
+			const int p = synth_trace(&s, v3(0, 0, 0), d, 0.0, 100.0, &tt, &nn);
+			if (p >= 2 && v3_dot(nn, up) < 0.99) {
+				img.depth[(size_t)y * W + x] = 0.0f;
+				lost++;
+			}
+		}
+	float *t = malloc((size_t)W * H * sizeof(float));
+	assert_non_null(t);
+	estimate(&cam, img.depth, 0.5f, t);
+	for (int i = 0; i < 3; i++) {
+		int n;
+		const double m = slab_ratio(&s, up, &cam, t, i, 0.0, &n);
+		print_message("slab %.0f cm thick, edge faces lost (%d px): top face (%d px) "
+			      "estimate / (%.0f x its rays' length through it) %.2f\n",
+			      slab_t[i] * 100, lost, n, (double)DAO_THICKNESS_SLAB_SCALE, m);
+		assert_true(n > 2000);
+		assert_true(m > 0.5 && m < 1.5);
+	}
+	expect_blocked_same(&cam, img.depth, 0.5f, 0.11f);
+	expect_blocked_same_k(&cam, img.depth, 0.5f, 0.11f, 0.0026f);
+	free(t);
 	synth_image_free(&img);
 }
 
@@ -970,6 +1035,7 @@ int main(void)
 		cmocka_unit_test(test_vbao_behind_poles),
 		cmocka_unit_test(test_boxes_noisy),
 		cmocka_unit_test(test_slabs_noisy),
+		cmocka_unit_test(test_slabs_edge_holes),
 		cmocka_unit_test(test_vbao_slabs),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -18,10 +18,13 @@
  * kernel that follows is the pipeline's.  The library is not changed for it.
  *
  *   thickness-ceiling [--set tune|heldout] [--rays N] [--variants N]
- *                     [--dump DIR] SCENE...
+ *                     [--sensor clean|gaussian|structured-light|...] [--dump DIR] SCENE...
  *
- * --dump writes each scene's planes as raw little-endian floats (640 x 480):
- * depth, gt, truth, estimate, and the AO of every column, for error maps.
+ * --sensor feeds the pipeline that sensor's depth (clean by default); the
+ * truth is still each pixel's camera ray through the scene.  --dump writes
+ * each scene's planes as raw little-endian floats (640 x 480): depth (the
+ * input), prefiltered (the depth the estimate saw), gt, truth, estimate, and
+ * the AO of every column, for error maps.
  */
 #include <math.h>
 #include <stdatomic.h>
@@ -47,6 +50,7 @@ static struct {
 	int where;          /* 0: everywhere, 1: only where the estimate is over 1.5 times
 			     * the scaled truth, -1: only where under 1 / 1.5 times */
 	float *estimate;    /* the estimate is copied here (if not NULL) */
+	float *depth;       /* the depth the pass saw is copied here (if not NULL) */
 } sub;
 
 static atomic_long column_passes; /* the wrapper was called (pool threads run it) */
@@ -66,6 +70,8 @@ void __wrap_dao_thickness_cols(const struct dao_thickness_setup *t, const float 
 			const size_t i = (size_t)y * t->width + x;
 			if (sub.estimate)
 				sub.estimate[i] = thick[i];
+			if (sub.depth)
+				sub.depth[i] = z[i];
 			if (sub.truth) {
 				float v = sub.scale * sub.truth[i] + sub.add;
 				if (sub.extra_max > 0.0f) {
@@ -165,6 +171,7 @@ int main(int argc, char **argv)
 {
 	enum synth_set set = SYNTH_SET_TUNE;
 	int rays_sqrt = 8, variants = 1;
+	enum synth_sensor sensor = SYNTH_SENSOR_CLEAN;
 	const char *dir = NULL;
 	const char *scenes[SYNTH_SUITE_MAX_IMAGES + 1];
 	int ns = 0;
@@ -190,13 +197,18 @@ int main(int argc, char **argv)
 					argv[i]);
 				return 2;
 			}
+		} else if (strcmp(argv[i], "--sensor") == 0 && i + 1 < argc) {
+			if (synth_sensor_parse(argv[++i], &sensor, &err)) {
+				fprintf(stderr, "thickness-ceiling: %s\n", err.message);
+				return 2;
+			}
 		} else if (strcmp(argv[i], "--dump") == 0 && i + 1 < argc) {
 			dir = argv[++i];
 		} else if (argv[i][0] != '-' && ns < SYNTH_SUITE_MAX_IMAGES) {
 			scenes[ns++] = argv[i];
 		} else {
 			fprintf(stderr, "usage: thickness-ceiling [--set tune|heldout] [--rays N] "
-				"[--variants N] [--dump DIR] SCENE...\n");
+				"[--variants N] [--sensor NAME] [--dump DIR] SCENE...\n");
 			return 2;
 		}
 	}
@@ -205,9 +217,8 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	scenes[ns] = NULL;
-	const enum synth_sensor clean = SYNTH_SENSOR_CLEAN;
 	struct synth_suite_spec spec = { .scenes = scenes, .radius = 0.5, .rays_sqrt = rays_sqrt,
-					 .sensors = &clean, .nsensors = 1, .seed = 1, .threads = 2 };
+					 .sensors = &sensor, .nsensors = 1, .seed = 1, .threads = 2 };
 	synth_suite_spec_set(&spec, set, variants);
 	static struct synth_suite suite;
 	struct dao_error err;
@@ -218,7 +229,8 @@ int main(int argc, char **argv)
 	const size_t np = (size_t)suite.cam.width * suite.cam.height;
 	float *ao = malloc(np * sizeof(float)), *truth = malloc(np * sizeof(float));
 	float *est = malloc(np * sizeof(float)), *cosr = malloc(np * sizeof(float));
-	if (!ao || !truth || !est || !cosr) {
+	float *pre = malloc(np * sizeof(float));
+	if (!ao || !truth || !est || !cosr || !pre) {
 		fprintf(stderr, "thickness-ceiling: out of memory\n");
 		return 1;
 	}
@@ -275,6 +287,7 @@ int main(int argc, char **argv)
 			sub.add_sec = columns[k].add_sec;
 			sub.extra_max = columns[k].extra_max;
 			sub.estimate = est;
+			sub.depth = pre;
 			struct synth_metrics m;
 			double ms;
 			if (synth_suite_run_case(&suite, c, ctx, ao, &m, &ms, &err)) {
@@ -300,6 +313,7 @@ int main(int argc, char **argv)
 		if (dir && (dump(dir, sc->scene, sc->variant, "depth", sc->depth_m, np) ||
 			    dump(dir, sc->scene, sc->variant, "gt", sc->gt, np) ||
 			    dump(dir, sc->scene, sc->variant, "truth", truth, np) ||
+			    dump(dir, sc->scene, sc->variant, "prefiltered", pre, np) ||
 			    dump(dir, sc->scene, sc->variant, "estimate", est, np)))
 			return 1;
 	}
@@ -307,6 +321,7 @@ int main(int argc, char **argv)
 	for (int k = 0; k < NCOL; k++)
 		printf(" **%.4f** |", sum[k] / suite.count);
 	printf("\n");
+	free(pre);
 	free(cosr);
 	free(est);
 	free(truth);
