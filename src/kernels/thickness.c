@@ -338,6 +338,23 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 	}
 }
 
+/* From the pixel end + dir j (at q) of a run len long, the last pixel k of the straight
+ * face in direction d: each segment on from there turns by less than the straightness
+ * angle from d.  Returns k's offset from end. */
+static int straight_face_end(const struct line_geom *g, int end, int dir, int len, int j,
+			     struct vec q, struct vec d)
+{
+	while (j + 1 < len) {
+		const int k = end + dir * (j + 1);
+		const struct vec r = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
+		if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+			break;
+		q = r;
+		j++;
+	}
+	return j;
+}
+
 /* The bound with the broad face from pixel f of the end on (its segments straight;
  * pt: the points of the end's first pixels, pf = pt[f], pm = pt[f + DAO_BOUND_FACE_SEGS]). */
 static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir, int f, int h,
@@ -390,17 +407,7 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	if (!(bt < g->t->max))
 		return 0;
 	/* the pixels of the straight broad face */
-#define PT(j) line_pos(g, (float)(end + dir * (j)), g->z[(size_t)(end + dir * (j)) * g->step])
-	int j = f + DAO_BOUND_FACE_SEGS;
-	struct vec q = pm;
-	while (j + 1 < len) {
-		const struct vec r = PT(j + 1);
-		if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
-			break;
-		q = r;
-		j++;
-	}
-#undef PT
+	const int j = straight_face_end(g, end, dir, len, f + DAO_BOUND_FACE_SEGS, pm, d);
 	const int kb = end + dir * j;
 	b->k0 = end < kb ? end : kb;
 	b->k1 = end < kb ? kb : end;
@@ -585,13 +592,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 			const float off = vdot(dp, fb.normal);
 			if (off * off > DAO_BOUND_CARRY_TOL * DAO_BOUND_CARRY_TOL * vdot(dp, dp))
 				break; /* another face */
-			while (j + 1 < len) {
-				const struct vec r = PT(j + 1);
-				if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
-					break;
-				q = r;
-				j++;
-			}
+			j = straight_face_end(g, end, dir, len, j, q, d);
 			const int kb = end + dir * j;
 			*b = fb;
 			b->k0 = end < kb ? end : kb;
