@@ -724,6 +724,18 @@ static int receding_face(const struct line_geom *g, int n, int s, int e, int dir
 	return 1;
 }
 
+/*
+ * Whether the surface beyond an end of the run s..e (the pixels next to it, in
+ * 0..n-1, farther: the run ends on its outline) lies within `gap` behind that
+ * end (thickness.h, DAO_CHORD_GAP); a hole beside an end says nothing.
+ */
+static inline int near_behind(const float *z, size_t step, int s, int e, float gap)
+{
+	const float b0 = z[(size_t)(s - 1) * step], b1 = z[(size_t)(e + 1) * step];
+	return (b0 > 0.0f && b0 - z[(size_t)s * step] <= gap) ||
+	       (b1 > 0.0f && b1 - z[(size_t)e * step] <= gap);
+}
+
 /* (noinline: one build of the arithmetic, whichever clone of a sweep calls it) */
 __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, int n, int s,
 						   int e, struct run_est *r)
@@ -743,7 +755,13 @@ __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, i
 		const float dx = (ue * t->ax + t->bx) * ze - (us * t->ax + t->bx) * zs;
 		const float dy = (ve * t->ay + t->by) * ze - (vs * t->ay + t->by) * zs;
 		const float dz = ze - zs;
-		const float chord = sqrtf(dx * dx + dy * dy + dz * dz);
+		float chord = sqrtf(dx * dx + dy * dy + dz * dz);
+		/* a pole before a wall: its chord plus half a spacing (thickness.h) */
+		if (t->noise_k == 0.0f && chord < t->spacing &&
+		    near_behind(z, step, s, e, DAO_CHORD_GAP * t->spacing)) {
+			const float raised = chord + DAO_CHORD_EXTRA * t->spacing;
+			chord = raised < t->spacing ? raised : t->spacing;
+		}
 		if (chord < r->value)
 			r->value = chord;
 		if (e - s >= 4) {

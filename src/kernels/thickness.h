@@ -91,6 +91,22 @@ struct dao_thickness_setup {
  */
 #define DAO_SLAB_EXTRA_SEC 0.5f
 
+/*
+ * A run in front of both its neighbours (a pole, a leg) and thinner than a
+ * spacing gets its chord plus DAO_CHORD_EXTRA spacings, at most one spacing,
+ * where the surface beyond one of its ends lies within DAO_CHORD_GAP spacings
+ * behind that end (a pole before a wall: VBAO's samples pass light between
+ * the two), on depth the prefilter left sharp (noise_k 0).  Not beyond: a
+ * chair's legs over the floor falling away behind them, where the extra only
+ * darkens the floor around their feet; not over a spacing: spheres on the
+ * floor; not on noisy depth: there the chair's back and seat already read too
+ * thick (their edge faces lost) and the floor between its legs is too dark,
+ * the extra makes it darker.  Chosen on the tune split (README.md, "A pole's
+ * chord plus half a spacing").
+ */
+#define DAO_CHORD_EXTRA 0.5f
+#define DAO_CHORD_GAP 3.0f
+
 /* crease_cos: DAO_SLAB_CREASE_DEG, for depth the prefilter left sharp. */
 void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_camera *cam,
 			      float max);

@@ -136,6 +136,52 @@ static void test_pole_widths(void **state)
 	synth_image_free(&img);
 }
 
+/*
+ * A pole's chord plus half a spacing (thickness.h, DAO_CHORD_EXTRA): the poles stand
+ * 0.4 m before the wall, within 3 spacings of 0.15 m (0.45 m) but not of 0.11 m
+ * (0.33 m).  With 0.15 m the poles thinner than it get their width plus 7.5 cm, at
+ * most 15 cm (2 cm: 9.5 cm, 5 cm: 12.5 cm, 10 cm: 15 cm; 20 cm: 20 cm); with 0.11 m,
+ * or on noisy depth (noise_k set), their width alone.
+ */
+static void expect_blocked_same_k(const struct dao_camera *cam, const float *z, float max,
+				  float spacing, float noise_k);
+
+static void test_pole_chord_extra(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	poles_scene(&s);
+	camera(&cam, W, H);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
+	float *t = malloc((size_t)W * H * sizeof(float));
+	struct dao_thickness_setup ts;
+	dao_thickness_setup_init(&ts, &cam, 0.5f);
+	static const struct { float spacing, noise_k, extra; } cases[] = {
+		{ 0.15f, 0.0f, 0.075f }, { 0.11f, 0.0f, 0.0f }, { 0.15f, 0.0012f, 0.0f },
+	};
+	for (int c = 0; c < 3; c++) {
+		ts.spacing = cases[c].spacing;
+		ts.noise_k = cases[c].noise_k;
+		dao_thickness_rows(&ts, img.depth, t, 0, H);
+		cols(&ts, img.depth, t, 0, W);
+		for (int i = 0; i < 4; i++) {
+			const double m = pole_median(&cam, img.depth, t, i);
+			double want = pole_d[i];
+			if (cases[c].extra > 0.0f && want < ts.spacing)
+				want = fmin(want + cases[c].extra, ts.spacing);
+			print_message("pole %.0f cm, spacing %.2f m, noise_k %.4f: %.1f cm (want "
+				      "%.1f)\n", pole_d[i] * 100, (double)ts.spacing,
+				      (double)ts.noise_k, m * 100, want * 100);
+			assert_true(fabs(m - want) <= 0.1 * pole_d[i] + 0.0042);
+		}
+		expect_blocked_same_k(&cam, img.depth, 0.5f, ts.spacing, ts.noise_k);
+	}
+	free(t);
+	synth_image_free(&img);
+}
+
 /* A strip of 10 px at 2 m on a line: bounded by holes and farther surfaces it is
  * 10 px wide; cut by a nearer surface or the image border its extent is unknown. */
 static void test_run_ends(void **state)
@@ -1023,6 +1069,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_pole_widths),
+		cmocka_unit_test(test_pole_chord_extra),
 		cmocka_unit_test(test_run_ends),
 		cmocka_unit_test(test_run_holes),
 		cmocka_unit_test(test_slabs),
