@@ -125,12 +125,16 @@ static inline int abs_cos_below(struct vec a, struct vec b, float c)
 	return d * d <= c * c * vdot(a, a) * vdot(b, b);
 }
 
-/* One line: its pixels' depths z[k * step] at (u0 + k du, v0 + k dv). */
+struct fb_memo;
+
+/* One line: its pixels' depths z[k * step] at (u0 + k du, v0 + k dv); memo: the face
+ * bounds made so far in this pass (face_bound; NULL: none). */
 struct line_geom {
 	const struct dao_thickness_setup *t;
 	const float *z;
 	size_t step;
 	float u0, v0, du, dv;
+	struct fb_memo *memo;
 };
 
 /* The view position of the point k pixels along the line (k may be fractional), at depth zk. */
@@ -273,6 +277,8 @@ struct face_bound {
 			    * what the bound and the end's pixels allow) */
 	int k0, k1;        /* the pixels it holds for, k0 <= k1 */
 	struct vec at;     /* a point of the broad face */
+	int f;             /* the broad face's first pixel from the end, */
+	struct vec d;      /* and its direction (k0, k1: straight_face_end from there) */
 };
 
 /* d/dT of the pixel coordinates along (al) and across (ac) the line of p - T n, at T = 0 */
@@ -406,11 +412,9 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	const float bt = ((float)(f + h) + DAO_BOUND_ALLOW) / rate;
 	if (!(bt < g->t->max))
 		return 0;
-	/* the pixels of the straight broad face */
-	const int j = straight_face_end(g, end, dir, len, f + DAO_BOUND_FACE_SEGS, pm, d);
-	const int kb = end + dir * j;
-	b->k0 = end < kb ? end : kb;
-	b->k1 = end < kb ? kb : end;
+	/* (the pixels of the straight broad face: face_bound_pixels) */
+	b->f = f;
+	b->d = d;
 	b->normal = nrm;
 	b->at = pf;
 	/* the f pixels of the edge face put T within (f -+ 1/2) / rate; with none, within
@@ -420,9 +424,73 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	return 1;
 }
 
-/* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's). */
-static inline __attribute__((always_inline)) int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
-		      struct face_bound *b)
+/* b's pixels, k0 .. k1: from the end of the run s..e over its straight broad face. */
+static void face_bound_pixels(const struct line_geom *g, int s, int e, int dir,
+			      struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int km = end + dir * (b->f + DAO_BOUND_FACE_SEGS);
+	const struct vec pm = line_pos(g, (float)km, g->z[(size_t)km * g->step]);
+	const int j = straight_face_end(g, end, dir, e - s + 1, b->f + DAO_BOUND_FACE_SEGS, pm, b->d);
+	const int kb = end + dir * j;
+	b->k0 = end < kb ? end : kb;
+	b->k1 = end < kb ? kb : end;
+}
+
+/*
+ * The face bounds a pass has made, by line, end pixel and direction: a line's
+ * end that carried_bound tries (the line across, its run cut to what
+ * face_bound looks at) is often the end of that line's own run, whose bound
+ * the pass makes too (a checkerboard's every square, README.md).  The same
+ * arithmetic on the same pixels: the run's length matters only to the pixels
+ * the bound holds for (made by each caller) and, on noisy depth, to the broad
+ * face's direction over DAO_BOUND_FACE_LONG pixels, so a run longer than
+ * face_bound looks at neither reads nor writes the memo there.  Direct-mapped;
+ * an entry overwritten is made again.
+ */
+#define FB_MEMO_BITS 8
+struct fb_memo_entry {
+	int line, k, dir; /* dir 0: empty */
+	int ok;
+	struct face_bound b;
+};
+struct fb_memo {
+	struct fb_memo_entry e[1 << FB_MEMO_BITS];
+};
+
+static void fb_memo_clear(struct fb_memo *m)
+{
+	for (int i = 0; i < 1 << FB_MEMO_BITS; i++)
+		m->e[i].dir = 0;
+}
+
+static inline int line_index(const struct line_geom *g)
+{
+	return g->du != 0.0f ? (int)g->v0 : (int)g->u0;
+}
+
+static inline struct fb_memo_entry *fb_memo_slot(struct fb_memo *m, int line, int k, int dir)
+{
+	const uint32_t key = ((uint32_t)k * 2u + (dir > 0)) * 0x9E3779B1u + (uint32_t)line * 0x85EBCA77u;
+	return &m->e[key >> (32 - FB_MEMO_BITS)];
+}
+
+/* The memo's entry for the end k (dir) of a run of g cut to what face_bound looks at,
+ * or NULL.  (An entry was made for a run whose end passed face_bound's first tests;
+ * they look at no pixel further in than the cut.) */
+static inline const struct fb_memo_entry *fb_memo_find(const struct line_geom *g, int k, int dir)
+{
+	if (!g->memo)
+		return NULL;
+	const int line = line_index(g);
+	const struct fb_memo_entry *me = fb_memo_slot(g->memo, line, k, dir);
+	return me->dir == dir && me->line == line && me->k == k ? me : NULL;
+}
+
+/* face_bound without b's pixels (k0, k1), through the memo. */
+static inline __attribute__((always_inline)) int face_bound_memo(const struct line_geom *g, int n,
+								 int s, int e, int dir,
+								 struct face_bound *b, int own)
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
@@ -445,6 +513,18 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 		if (j < 0 || j >= n || !(g->z[(size_t)j * g->step] > zend + DAO_THICKNESS_JUMP * zend))
 			return 0;
 	}
+	/* made already in this pass? */
+	const int line = line_index(g);
+	struct fb_memo_entry *me = NULL;
+	if (g->memo && (!own || len <= DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1 ||
+			!(g->t->noise_k > 0.0f))) {
+		me = fb_memo_slot(g->memo, line, end, dir);
+		if (me->dir == dir && me->line == line && me->k == end) {
+			if (me->ok)
+				*b = me->b;
+			return me->ok;
+		}
+	}
 	/* the end's first points and segments, each made once */
 	struct vec pt[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1];
 	struct vec sg[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS];
@@ -457,7 +537,7 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 		if (j > 0)
 			sg[j - 1] = vsub(pt[j], pt[j - 1]);
 	}
-	int tried = 0;
+	int tried = 0, ok = 0;
 	for (int f = 0; f <= DAO_BOUND_EDGE_PX && f + DAO_BOUND_FACE_SEGS < np; f++) {
 		/* (a straight stretch is tried once, from its first pixel that passes) */
 		if (f > 0 && !cos_above(sg[f], sg[f - 1], DAO_SLAB_STRAIGHT_COS))
@@ -471,11 +551,33 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 		if (j < f + DAO_BOUND_FACE_SEGS)
 			continue;
 		if (face_bound_at(g, n, s, e, dir, f, h, pt[0], pt[f], pt[f + DAO_BOUND_FACE_SEGS],
-				  b))
-			return 1;
+				  b)) {
+			ok = 1;
+			break;
+		}
 		tried = 1;
 	}
-	return 0;
+	if (me) {
+		me->line = line;
+		me->k = end;
+		me->dir = dir;
+		me->ok = ok;
+		if (ok)
+			me->b = *b;
+	}
+	return ok;
+}
+
+/* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's);
+ * own: the line's whole run (else one cut to what is looked at, whose pixels k0, k1
+ * are not made). */
+static inline __attribute__((always_inline)) int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
+		      struct face_bound *b, int own)
+{
+	const int ok = face_bound_memo(g, n, s, e, dir, b, own);
+	if (ok && own)
+		face_bound_pixels(g, s, e, dir, b);
+	return ok;
 }
 
 /*
@@ -570,20 +672,30 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 					q = r;
 				}
 			}
-			/* line c from its end inwards, as far as face_bound looks */
-			int m = 0;
-			while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
-				const int k1 = k + dir * (m + 1);
-				if (k1 < 0 || k1 >= n ||
-				    !same_surface(cross_z(g, k + dir * m, c), cross_z(g, k1, c)))
-					break;
-				m++;
-			}
 			const struct line_geom gc = { g->t, z + (ptrdiff_t)c * cs, st,
 						      g->u0 + (float)c * g->dv,
-						      g->v0 + (float)c * g->du, g->du, g->dv };
+						      g->v0 + (float)c * g->du, g->du, g->dv, g->memo };
 			struct face_bound fb;
-			if (!face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb)) {
+			int ok;
+			const struct fb_memo_entry *me = fb_memo_find(&gc, k, dir);
+			if (me) {
+				ok = me->ok;
+				if (ok)
+					fb = me->b;
+			} else {
+				/* line c from its end inwards, as far as face_bound looks */
+				int m = 0;
+				while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
+					const int k1 = k + dir * (m + 1);
+					if (k1 < 0 || k1 >= n ||
+					    !same_surface(cross_z(g, k + dir * m, c), cross_z(g, k1, c)))
+						break;
+					m++;
+				}
+				ok = face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb,
+						0);
+			}
+			if (!ok) {
 				if (turned == 2)
 					break;
 				continue;
@@ -608,8 +720,9 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
 			    struct face_bound b[2])
 {
-	*count = face_bound(g, n, s, e, -1, &b[0]) || carried_bound(g, n, s, e, -1, &b[0]);
-	*count += face_bound(g, n, s, e, 1, &b[*count]) || carried_bound(g, n, s, e, 1, &b[*count]);
+	*count = face_bound(g, n, s, e, -1, &b[0], 1) || carried_bound(g, n, s, e, -1, &b[0]);
+	*count += face_bound(g, n, s, e, 1, &b[*count], 1) ||
+		  carried_bound(g, n, s, e, 1, &b[*count]);
 }
 
 /*
@@ -804,9 +917,10 @@ static void run(const struct line_geom *g, float *thick, int n, int s, int e, in
 
 /* One line of n pixels (run), holes: the bound (take_min: left alone). */
 static void line(const struct dao_thickness_setup *t, const float *z, float *thick, int n,
-		 size_t step, float u0, float v0, float du, float dv, int take_min)
+		 size_t step, float u0, float v0, float du, float dv, int take_min,
+		 struct fb_memo *memo)
 {
-	const struct line_geom g = { t, z, step, u0, v0, du, dv };
+	const struct line_geom g = { t, z, step, u0, v0, du, dv, memo };
 	int i = 0;
 	while (i < n) {
 		const float zs = z[(size_t)i * step];
@@ -860,9 +974,11 @@ void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, flo
 			int y0, int y1)
 {
 	const int w = t->width;
+	struct fb_memo memo;
+	fb_memo_clear(&memo);
 	for (int y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * w;
-		const struct line_geom g = { t, z + o, 1, 0.0f, (float)y, 1.0f, 0.0f };
+		const struct line_geom g = { t, z + o, 1, 0.0f, (float)y, 1.0f, 0.0f, &memo };
 		int start = 0;
 		for (int xc = 0; xc < w; xc += 64) {
 			const int n = w - xc < 64 ? w - xc : 64;
@@ -886,9 +1002,10 @@ void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, flo
 void dao_thickness_rows_ref(const struct dao_thickness_setup *t, const float *z, float *thick,
 			    int y0, int y1)
 {
+	/* (no memo: each face bound made from the pixels) */
 	for (int y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * t->width;
-		line(t, z + o, thick + o, t->width, 1, 0.0f, (float)y, 1.0f, 0.0f, 0);
+		line(t, z + o, thick + o, t->width, 1, 0.0f, (float)y, 1.0f, 0.0f, 0, NULL);
 	}
 }
 
@@ -896,7 +1013,8 @@ void dao_thickness_cols_ref(const struct dao_thickness_setup *t, const float *z,
 			    int x0, int x1)
 {
 	for (int x = x0; x < x1; x++)
-		line(t, z + x, thick + x, t->height, (size_t)t->width, (float)x, 0.0f, 0.0f, 1.0f, 1);
+		line(t, z + x, thick + x, t->height, (size_t)t->width, (float)x, 0.0f, 0.0f, 1.0f, 1,
+		     NULL);
 }
 
 /*
@@ -1020,6 +1138,8 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 #if HAVE_SPLIT_F16C
 	const int f16c = __builtin_cpu_supports("f16c");
 #endif
+	struct fb_memo memo;
+	fb_memo_clear(&memo);
 	for (int xb = x0; xb < x1; xb += DAO_THICKNESS_COL_BLOCK) {
 		const int nb = x1 - xb < DAO_THICKNESS_COL_BLOCK ? x1 - xb : DAO_THICKNESS_COL_BLOCK;
 		int start[DAO_THICKNESS_COL_BLOCK];
@@ -1046,7 +1166,7 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 				/* the run start[c] .. y of column xb + c ends here */
 				if (za[c] > 0.0f) {
 					const struct line_geom g = { t, z + xb + c, w, (float)(xb + c), 0.0f,
-								     0.0f, 1.0f };
+								     0.0f, 1.0f, &memo };
 					struct run_est r;
 					run_estimate(&g, h, start[c], y, &r);
 					if (r.slabs || r.bounds) {
