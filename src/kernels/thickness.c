@@ -111,11 +111,17 @@ static inline struct vec vneg(struct vec a)
 	return (struct vec){ -a.x, -a.y, -a.z };
 }
 
-/* cos(a, b) >= c (c > 0), without roots or divisions */
-static inline int cos_above(struct vec a, struct vec b, float c)
+/* cos(a, b) >= c (c > 0), without roots or divisions; bb = vdot(b, b) (made once where b
+ * stays the same) */
+static inline int cos_above_bb(struct vec a, struct vec b, float bb, float c)
 {
 	const float d = vdot(a, b);
-	return d > 0.0f && d * d >= c * c * vdot(a, a) * vdot(b, b);
+	return d > 0.0f && d * d >= c * c * vdot(a, a) * bb;
+}
+
+static inline int cos_above(struct vec a, struct vec b, float c)
+{
+	return cos_above_bb(a, b, vdot(b, b), c);
 }
 
 /* |cos(a, b)| <= c */
@@ -178,18 +184,19 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 	/* (walking the points: each is made once) */
 	struct vec p = PT(1);
 	const struct vec e0 = vsub(p, PT(0));
+	const float ee = vdot(e0, e0);
 	int m = 1;
 	struct vec d = e0;
 	while (m < DAO_SLAB_EDGE_MAX && m + 3 < len) {
 		const struct vec q = PT(m + 1);
 		d = vsub(q, p);
-		if (!cos_above(d, e0, DAO_SLAB_STRAIGHT_COS))
+		if (!cos_above_bb(d, e0, ee, DAO_SLAB_STRAIGHT_COS))
 			break;
 		p = q;
 		m++;
 	}
 #undef PT
-	if (m < 2 || m + 3 >= len || cos_above(d, e0, DAO_SLAB_STRAIGHT_COS))
+	if (m < 2 || m + 3 >= len || cos_above_bb(d, e0, ee, DAO_SLAB_STRAIGHT_COS))
 		return 0;
 	/* d = segment m turned away from the edge face: the corner or the broad face */
 	int f = m;
@@ -350,10 +357,11 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 static int straight_face_end(const struct line_geom *g, int end, int dir, int len, int j,
 			     struct vec q, struct vec d)
 {
+	const float dd = vdot(d, d);
 	while (j + 1 < len) {
 		const int k = end + dir * (j + 1);
 		const struct vec r = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
-		if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+		if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS))
 			break;
 		q = r;
 		j++;
@@ -545,8 +553,9 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 		if (tried)
 			continue;
 		int j = f + 1;
+		const float ff = vdot(sg[f], sg[f]);
 		while (j < f + DAO_BOUND_FACE_SEGS &&
-		       cos_above(sg[j], sg[f], DAO_SLAB_STRAIGHT_COS))
+		       cos_above_bb(sg[j], sg[f], ff, DAO_SLAB_STRAIGHT_COS))
 			j++;
 		if (j < f + DAO_BOUND_FACE_SEGS)
 			continue;
@@ -665,9 +674,10 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 				pe = PT(0);
 				d = vsub(PT(DAO_BOUND_FACE_SEGS), pe);
 				q = pe;
+				const float dd = vdot(d, d);
 				for (j = 0; j < DAO_BOUND_FACE_SEGS; j++) {
 					const struct vec r = PT(j + 1);
-					if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+					if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS))
 						return 0;
 					q = r;
 				}
