@@ -628,15 +628,22 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 	struct vec pe = { 0.0f, 0.0f, 0.0f }, d = pe, q = pe;
 	int j = -1;
 	const ptrdiff_t cs = g->du != 0.0f ? (ptrdiff_t)g->t->width : 1;
+	/* the lines beside (side -1, +1): in the image, and on this end's surface at the end
+	 * (each side's first line, and the other side's corner test) */
+	int in[2], on[2];
+	for (int o = 0; o < 2; o++) {
+		in[o] = cross_ok(g, 2 * o - 1);
+		on[o] = in[o] && same_surface(ze, cross_z(g, end, 2 * o - 1));
+	}
 	for (int side = -1; side <= 1; side += 2) {
 		int k = end, turned = 0;
 		float zk = ze;
 		for (int i = 1; i <= DAO_BOUND_CARRY; i++) {
 			const int c = side * i;
-			if (!cross_ok(g, c))
+			if (i == 1 ? !on[side > 0] : !cross_ok(g, c))
 				break;
 			float zc = cross_z(g, k, c);
-			if (!same_surface(zk, zc))
+			if (i > 1 && !same_surface(zk, zc))
 				break;
 			const int k_last = k;
 			for (int w = 0; w < DAO_BOUND_CARRY_WALK; w++) {
@@ -659,7 +666,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 				/* the outline crosses the lines: theirs end as this one does, unless
 				 * it runs along them on the other side (this end is a corner) */
 				const int o = -side, k2 = end + dir;
-				if (!cross_ok(g, o) || same_surface(ze, cross_z(g, end, o)) ||
+				if (!in[o > 0] || on[o > 0] ||
 				    (k2 >= 0 && k2 < n &&
 				     same_surface(z[(size_t)k2 * st], cross_z(g, k2, o))))
 					break;
