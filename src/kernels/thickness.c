@@ -628,12 +628,14 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 	struct vec pe = { 0.0f, 0.0f, 0.0f }, d = pe, q = pe;
 	int j = -1;
 	const ptrdiff_t cs = g->du != 0.0f ? (ptrdiff_t)g->t->width : 1;
+	/* (cross_z with the stride made once) */
+#define CZ(k, c) z[(ptrdiff_t)(k) * (ptrdiff_t)st + (ptrdiff_t)(c) * cs]
 	/* the lines beside (side -1, +1): in the image, and on this end's surface at the end
 	 * (each side's first line, and the other side's corner test) */
 	int in[2], on[2];
 	for (int o = 0; o < 2; o++) {
 		in[o] = cross_ok(g, 2 * o - 1);
-		on[o] = in[o] && same_surface(ze, cross_z(g, end, 2 * o - 1));
+		on[o] = in[o] && same_surface(ze, CZ(end, 2 * o - 1));
 	}
 	for (int side = -1; side <= 1; side += 2) {
 		int k = end, turned = 0;
@@ -642,7 +644,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 			const int c = side * i;
 			if (i == 1 ? !on[side > 0] : !cross_ok(g, c))
 				break;
-			float zc = cross_z(g, k, c);
+			float zc = CZ(k, c);
 			if (i > 1 && !same_surface(zk, zc))
 				break;
 			const int k_last = k;
@@ -650,7 +652,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 				const int kn = k - dir;
 				if (kn < 0 || kn >= n)
 					break;
-				const float zn = cross_z(g, kn, c);
+				const float zn = CZ(kn, c);
 				if (!same_surface(zc, zn))
 					break;
 				k = kn;
@@ -668,7 +670,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 				const int o = -side, k2 = end + dir;
 				if (!in[o > 0] || on[o > 0] ||
 				    (k2 >= 0 && k2 < n &&
-				     same_surface(z[(size_t)k2 * st], cross_z(g, k2, o))))
+				     same_surface(z[(size_t)k2 * st], CZ(k2, o))))
 					break;
 				turned = 1;
 			} else if (turned)
@@ -702,11 +704,15 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 			} else {
 				/* line c from its end inwards, as far as face_bound looks */
 				int m = 0;
+				float zm = CZ(k, c);
 				while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
 					const int k1 = k + dir * (m + 1);
-					if (k1 < 0 || k1 >= n ||
-					    !same_surface(cross_z(g, k + dir * m, c), cross_z(g, k1, c)))
+					if (k1 < 0 || k1 >= n)
 						break;
+					const float z1 = CZ(k1, c);
+					if (!same_surface(zm, z1))
+						break;
+					zm = z1;
 					m++;
 				}
 				ok = face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb,
@@ -729,6 +735,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 			return 1;
 		}
 	}
+#undef CZ
 #undef PT
 	return 0;
 }
