@@ -376,6 +376,16 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
+	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side
+	 * (those first: they are on the broad face's surface or there is no bound) */
+	const int c = DAO_BOUND_CROSS;
+	const int k0 = end + dir * (f + 2);
+	if (!cross_ok(g, c) || !cross_ok(g, -c))
+		return 0;
+	const float z0 = g->z[(size_t)k0 * g->step];
+	const float zp = cross_z(g, k0, c), zm = cross_z(g, k0, -c);
+	if (!same_surface(z0, zp) || !same_surface(z0, zm))
+		return 0;
 	struct vec d = vunit(vsub(pm, pf));
 	/* on noisy depth the broad face's direction from DAO_BOUND_FACE_LONG pixels where
 	 * the face goes on that far (quantised depth tilts a few pixels' chord) */
@@ -386,15 +396,6 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 		if (cos_above(dl, d, DAO_SLAB_STRAIGHT_COS))
 			d = dl;
 	}
-	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side */
-	const int c = DAO_BOUND_CROSS;
-	const int k0 = end + dir * (f + 2);
-	if (!cross_ok(g, c) || !cross_ok(g, -c))
-		return 0;
-	const float z0 = g->z[(size_t)k0 * g->step];
-	const float zp = cross_z(g, k0, c), zm = cross_z(g, k0, -c);
-	if (!same_surface(z0, zp) || !same_surface(z0, zm))
-		return 0;
 	struct vec nrm = vunit(vcross(d, vsub(cross_pos(g, k0, c, zp), cross_pos(g, k0, -c, zm))));
 	if (vdot(nrm, pf) > 0.0f)
 		nrm = vneg(nrm);
