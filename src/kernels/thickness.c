@@ -111,11 +111,17 @@ static inline struct vec vneg(struct vec a)
 	return (struct vec){ -a.x, -a.y, -a.z };
 }
 
-/* cos(a, b) >= c (c > 0), without roots or divisions */
-static inline int cos_above(struct vec a, struct vec b, float c)
+/* cos(a, b) >= c (c > 0), without roots or divisions; bb = vdot(b, b) (made once where b
+ * stays the same) */
+static inline int cos_above_bb(struct vec a, struct vec b, float bb, float c)
 {
 	const float d = vdot(a, b);
-	return d > 0.0f && d * d >= c * c * vdot(a, a) * vdot(b, b);
+	return d > 0.0f && d * d >= c * c * vdot(a, a) * bb;
+}
+
+static inline int cos_above(struct vec a, struct vec b, float c)
+{
+	return cos_above_bb(a, b, vdot(b, b), c);
 }
 
 /* |cos(a, b)| <= c */
@@ -125,12 +131,16 @@ static inline int abs_cos_below(struct vec a, struct vec b, float c)
 	return d * d <= c * c * vdot(a, a) * vdot(b, b);
 }
 
-/* One line: its pixels' depths z[k * step] at (u0 + k du, v0 + k dv). */
+struct fb_memo;
+
+/* One line: its pixels' depths z[k * step] at (u0 + k du, v0 + k dv); memo: the face
+ * bounds made so far in this pass (face_bound; NULL: none). */
 struct line_geom {
 	const struct dao_thickness_setup *t;
 	const float *z;
 	size_t step;
 	float u0, v0, du, dv;
+	struct fb_memo *memo;
 };
 
 /* The view position of the point k pixels along the line (k may be fractional), at depth zk. */
@@ -174,18 +184,19 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 	/* (walking the points: each is made once) */
 	struct vec p = PT(1);
 	const struct vec e0 = vsub(p, PT(0));
+	const float ee = vdot(e0, e0);
 	int m = 1;
 	struct vec d = e0;
 	while (m < DAO_SLAB_EDGE_MAX && m + 3 < len) {
 		const struct vec q = PT(m + 1);
 		d = vsub(q, p);
-		if (!cos_above(d, e0, DAO_SLAB_STRAIGHT_COS))
+		if (!cos_above_bb(d, e0, ee, DAO_SLAB_STRAIGHT_COS))
 			break;
 		p = q;
 		m++;
 	}
 #undef PT
-	if (m < 2 || m + 3 >= len || cos_above(d, e0, DAO_SLAB_STRAIGHT_COS))
+	if (m < 2 || m + 3 >= len || cos_above_bb(d, e0, ee, DAO_SLAB_STRAIGHT_COS))
 		return 0;
 	/* d = segment m turned away from the edge face: the corner or the broad face */
 	int f = m;
@@ -273,6 +284,8 @@ struct face_bound {
 			    * what the bound and the end's pixels allow) */
 	int k0, k1;        /* the pixels it holds for, k0 <= k1 */
 	struct vec at;     /* a point of the broad face */
+	int f;             /* the broad face's first pixel from the end, */
+	struct vec d;      /* and its direction (k0, k1: straight_face_end from there) */
 };
 
 /* d/dT of the pixel coordinates along (al) and across (ac) the line of p - T n, at T = 0 */
@@ -344,10 +357,11 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 static int straight_face_end(const struct line_geom *g, int end, int dir, int len, int j,
 			     struct vec q, struct vec d)
 {
+	const float dd = vdot(d, d);
 	while (j + 1 < len) {
 		const int k = end + dir * (j + 1);
 		const struct vec r = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
-		if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+		if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS))
 			break;
 		q = r;
 		j++;
@@ -362,6 +376,16 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
+	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side
+	 * (those first: they are on the broad face's surface or there is no bound) */
+	const int c = DAO_BOUND_CROSS;
+	const int k0 = end + dir * (f + 2);
+	if (!cross_ok(g, c) || !cross_ok(g, -c))
+		return 0;
+	const float z0 = g->z[(size_t)k0 * g->step];
+	const float zp = cross_z(g, k0, c), zm = cross_z(g, k0, -c);
+	if (!same_surface(z0, zp) || !same_surface(z0, zm))
+		return 0;
 	struct vec d = vunit(vsub(pm, pf));
 	/* on noisy depth the broad face's direction from DAO_BOUND_FACE_LONG pixels where
 	 * the face goes on that far (quantised depth tilts a few pixels' chord) */
@@ -372,15 +396,6 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 		if (cos_above(dl, d, DAO_SLAB_STRAIGHT_COS))
 			d = dl;
 	}
-	/* the normal: along the line and across it, DAO_BOUND_CROSS lines to each side */
-	const int c = DAO_BOUND_CROSS;
-	const int k0 = end + dir * (f + 2);
-	if (!cross_ok(g, c) || !cross_ok(g, -c))
-		return 0;
-	const float z0 = g->z[(size_t)k0 * g->step];
-	const float zp = cross_z(g, k0, c), zm = cross_z(g, k0, -c);
-	if (!same_surface(z0, zp) || !same_surface(z0, zm))
-		return 0;
 	struct vec nrm = vunit(vcross(d, vsub(cross_pos(g, k0, c, zp), cross_pos(g, k0, -c, zm))));
 	if (vdot(nrm, pf) > 0.0f)
 		nrm = vneg(nrm);
@@ -406,11 +421,9 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	const float bt = ((float)(f + h) + DAO_BOUND_ALLOW) / rate;
 	if (!(bt < g->t->max))
 		return 0;
-	/* the pixels of the straight broad face */
-	const int j = straight_face_end(g, end, dir, len, f + DAO_BOUND_FACE_SEGS, pm, d);
-	const int kb = end + dir * j;
-	b->k0 = end < kb ? end : kb;
-	b->k1 = end < kb ? kb : end;
+	/* (the pixels of the straight broad face: face_bound_pixels) */
+	b->f = f;
+	b->d = d;
 	b->normal = nrm;
 	b->at = pf;
 	/* the f pixels of the edge face put T within (f -+ 1/2) / rate; with none, within
@@ -420,9 +433,73 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	return 1;
 }
 
-/* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's). */
-static inline __attribute__((always_inline)) int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
-		      struct face_bound *b)
+/* b's pixels, k0 .. k1: from the end of the run s..e over its straight broad face. */
+static void face_bound_pixels(const struct line_geom *g, int s, int e, int dir,
+			      struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int km = end + dir * (b->f + DAO_BOUND_FACE_SEGS);
+	const struct vec pm = line_pos(g, (float)km, g->z[(size_t)km * g->step]);
+	const int j = straight_face_end(g, end, dir, e - s + 1, b->f + DAO_BOUND_FACE_SEGS, pm, b->d);
+	const int kb = end + dir * j;
+	b->k0 = end < kb ? end : kb;
+	b->k1 = end < kb ? kb : end;
+}
+
+/*
+ * The face bounds a pass has made, by line, end pixel and direction: a line's
+ * end that carried_bound tries (the line across, its run cut to what
+ * face_bound looks at) is often the end of that line's own run, whose bound
+ * the pass makes too (a checkerboard's every square, README.md).  The same
+ * arithmetic on the same pixels: the run's length matters only to the pixels
+ * the bound holds for (made by each caller) and, on noisy depth, to the broad
+ * face's direction over DAO_BOUND_FACE_LONG pixels, so a run longer than
+ * face_bound looks at neither reads nor writes the memo there.  Direct-mapped;
+ * an entry overwritten is made again.
+ */
+#define FB_MEMO_BITS 8
+struct fb_memo_entry {
+	int line, k, dir; /* dir 0: empty */
+	int ok;
+	struct face_bound b;
+};
+struct fb_memo {
+	struct fb_memo_entry e[1 << FB_MEMO_BITS];
+};
+
+static void fb_memo_clear(struct fb_memo *m)
+{
+	for (int i = 0; i < 1 << FB_MEMO_BITS; i++)
+		m->e[i].dir = 0;
+}
+
+static inline int line_index(const struct line_geom *g)
+{
+	return g->du != 0.0f ? (int)g->v0 : (int)g->u0;
+}
+
+static inline struct fb_memo_entry *fb_memo_slot(struct fb_memo *m, int line, int k, int dir)
+{
+	const uint32_t key = ((uint32_t)k * 2u + (dir > 0)) * 0x9E3779B1u + (uint32_t)line * 0x85EBCA77u;
+	return &m->e[key >> (32 - FB_MEMO_BITS)];
+}
+
+/* The memo's entry for the end k (dir) of a run of g cut to what face_bound looks at,
+ * or NULL.  (An entry was made for a run whose end passed face_bound's first tests;
+ * they look at no pixel further in than the cut.) */
+static inline const struct fb_memo_entry *fb_memo_find(const struct line_geom *g, int k, int dir)
+{
+	if (!g->memo)
+		return NULL;
+	const int line = line_index(g);
+	const struct fb_memo_entry *me = fb_memo_slot(g->memo, line, k, dir);
+	return me->dir == dir && me->line == line && me->k == k ? me : NULL;
+}
+
+/* face_bound without b's pixels (k0, k1), through the memo. */
+static inline __attribute__((always_inline)) int face_bound_memo(const struct line_geom *g, int n,
+								 int s, int e, int dir,
+								 struct face_bound *b, int own)
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
@@ -445,6 +522,18 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 		if (j < 0 || j >= n || !(g->z[(size_t)j * g->step] > zend + DAO_THICKNESS_JUMP * zend))
 			return 0;
 	}
+	/* made already in this pass? */
+	const int line = line_index(g);
+	struct fb_memo_entry *me = NULL;
+	if (g->memo && (!own || len <= DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1 ||
+			!(g->t->noise_k > 0.0f))) {
+		me = fb_memo_slot(g->memo, line, end, dir);
+		if (me->dir == dir && me->line == line && me->k == end) {
+			if (me->ok)
+				*b = me->b;
+			return me->ok;
+		}
+	}
 	/* the end's first points and segments, each made once */
 	struct vec pt[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1];
 	struct vec sg[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS];
@@ -457,7 +546,7 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 		if (j > 0)
 			sg[j - 1] = vsub(pt[j], pt[j - 1]);
 	}
-	int tried = 0;
+	int tried = 0, ok = 0;
 	for (int f = 0; f <= DAO_BOUND_EDGE_PX && f + DAO_BOUND_FACE_SEGS < np; f++) {
 		/* (a straight stretch is tried once, from its first pixel that passes) */
 		if (f > 0 && !cos_above(sg[f], sg[f - 1], DAO_SLAB_STRAIGHT_COS))
@@ -465,17 +554,40 @@ static inline __attribute__((always_inline)) int face_bound(const struct line_ge
 		if (tried)
 			continue;
 		int j = f + 1;
+		const float ff = vdot(sg[f], sg[f]);
 		while (j < f + DAO_BOUND_FACE_SEGS &&
-		       cos_above(sg[j], sg[f], DAO_SLAB_STRAIGHT_COS))
+		       cos_above_bb(sg[j], sg[f], ff, DAO_SLAB_STRAIGHT_COS))
 			j++;
 		if (j < f + DAO_BOUND_FACE_SEGS)
 			continue;
 		if (face_bound_at(g, n, s, e, dir, f, h, pt[0], pt[f], pt[f + DAO_BOUND_FACE_SEGS],
-				  b))
-			return 1;
+				  b)) {
+			ok = 1;
+			break;
+		}
 		tried = 1;
 	}
-	return 0;
+	if (me) {
+		me->line = line;
+		me->k = end;
+		me->dir = dir;
+		me->ok = ok;
+		if (ok)
+			me->b = *b;
+	}
+	return ok;
+}
+
+/* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's);
+ * own: the line's whole run (else one cut to what is looked at, whose pixels k0, k1
+ * are not made). */
+static inline __attribute__((always_inline)) int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
+		      struct face_bound *b, int own)
+{
+	const int ok = face_bound_memo(g, n, s, e, dir, b, own);
+	if (ok && own)
+		face_bound_pixels(g, s, e, dir, b);
+	return ok;
 }
 
 /*
@@ -517,22 +629,31 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 	struct vec pe = { 0.0f, 0.0f, 0.0f }, d = pe, q = pe;
 	int j = -1;
 	const ptrdiff_t cs = g->du != 0.0f ? (ptrdiff_t)g->t->width : 1;
+	/* (cross_z with the stride made once) */
+#define CZ(k, c) z[(ptrdiff_t)(k) * (ptrdiff_t)st + (ptrdiff_t)(c) * cs]
+	/* the lines beside (side -1, +1): in the image, and on this end's surface at the end
+	 * (each side's first line, and the other side's corner test) */
+	int in[2], on[2];
+	for (int o = 0; o < 2; o++) {
+		in[o] = cross_ok(g, 2 * o - 1);
+		on[o] = in[o] && same_surface(ze, CZ(end, 2 * o - 1));
+	}
 	for (int side = -1; side <= 1; side += 2) {
 		int k = end, turned = 0;
 		float zk = ze;
 		for (int i = 1; i <= DAO_BOUND_CARRY; i++) {
 			const int c = side * i;
-			if (!cross_ok(g, c))
+			if (i == 1 ? !on[side > 0] : !cross_ok(g, c))
 				break;
-			float zc = cross_z(g, k, c);
-			if (!same_surface(zk, zc))
+			float zc = CZ(k, c);
+			if (i > 1 && !same_surface(zk, zc))
 				break;
 			const int k_last = k;
 			for (int w = 0; w < DAO_BOUND_CARRY_WALK; w++) {
 				const int kn = k - dir;
 				if (kn < 0 || kn >= n)
 					break;
-				const float zn = cross_z(g, kn, c);
+				const float zn = CZ(kn, c);
 				if (!same_surface(zc, zn))
 					break;
 				k = kn;
@@ -548,9 +669,9 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 				/* the outline crosses the lines: theirs end as this one does, unless
 				 * it runs along them on the other side (this end is a corner) */
 				const int o = -side, k2 = end + dir;
-				if (!cross_ok(g, o) || same_surface(ze, cross_z(g, end, o)) ||
+				if (!in[o > 0] || on[o > 0] ||
 				    (k2 >= 0 && k2 < n &&
-				     same_surface(z[(size_t)k2 * st], cross_z(g, k2, o))))
+				     same_surface(z[(size_t)k2 * st], CZ(k2, o))))
 					break;
 				turned = 1;
 			} else if (turned)
@@ -563,27 +684,42 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 				pe = PT(0);
 				d = vsub(PT(DAO_BOUND_FACE_SEGS), pe);
 				q = pe;
+				const float dd = vdot(d, d);
 				for (j = 0; j < DAO_BOUND_FACE_SEGS; j++) {
 					const struct vec r = PT(j + 1);
-					if (!cos_above(vsub(r, q), d, DAO_SLAB_STRAIGHT_COS))
+					if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS))
 						return 0;
 					q = r;
 				}
 			}
-			/* line c from its end inwards, as far as face_bound looks */
-			int m = 0;
-			while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
-				const int k1 = k + dir * (m + 1);
-				if (k1 < 0 || k1 >= n ||
-				    !same_surface(cross_z(g, k + dir * m, c), cross_z(g, k1, c)))
-					break;
-				m++;
-			}
 			const struct line_geom gc = { g->t, z + (ptrdiff_t)c * cs, st,
 						      g->u0 + (float)c * g->dv,
-						      g->v0 + (float)c * g->du, g->du, g->dv };
+						      g->v0 + (float)c * g->du, g->du, g->dv, g->memo };
 			struct face_bound fb;
-			if (!face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb)) {
+			int ok;
+			const struct fb_memo_entry *me = fb_memo_find(&gc, k, dir);
+			if (me) {
+				ok = me->ok;
+				if (ok)
+					fb = me->b;
+			} else {
+				/* line c from its end inwards, as far as face_bound looks */
+				int m = 0;
+				float zm = CZ(k, c);
+				while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
+					const int k1 = k + dir * (m + 1);
+					if (k1 < 0 || k1 >= n)
+						break;
+					const float z1 = CZ(k1, c);
+					if (!same_surface(zm, z1))
+						break;
+					zm = z1;
+					m++;
+				}
+				ok = face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb,
+						0);
+			}
+			if (!ok) {
 				if (turned == 2)
 					break;
 				continue;
@@ -600,6 +736,7 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 			return 1;
 		}
 	}
+#undef CZ
 #undef PT
 	return 0;
 }
@@ -608,8 +745,9 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
 			    struct face_bound b[2])
 {
-	*count = face_bound(g, n, s, e, -1, &b[0]) || carried_bound(g, n, s, e, -1, &b[0]);
-	*count += face_bound(g, n, s, e, 1, &b[*count]) || carried_bound(g, n, s, e, 1, &b[*count]);
+	*count = face_bound(g, n, s, e, -1, &b[0], 1) || carried_bound(g, n, s, e, -1, &b[0]);
+	*count += face_bound(g, n, s, e, 1, &b[*count], 1) ||
+		  carried_bound(g, n, s, e, 1, &b[*count]);
 }
 
 /*
@@ -822,9 +960,10 @@ static void run(const struct line_geom *g, float *thick, int n, int s, int e, in
 
 /* One line of n pixels (run), holes: the bound (take_min: left alone). */
 static void line(const struct dao_thickness_setup *t, const float *z, float *thick, int n,
-		 size_t step, float u0, float v0, float du, float dv, int take_min)
+		 size_t step, float u0, float v0, float du, float dv, int take_min,
+		 struct fb_memo *memo)
 {
-	const struct line_geom g = { t, z, step, u0, v0, du, dv };
+	const struct line_geom g = { t, z, step, u0, v0, du, dv, memo };
 	int i = 0;
 	while (i < n) {
 		const float zs = z[(size_t)i * step];
@@ -878,9 +1017,11 @@ void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, flo
 			int y0, int y1)
 {
 	const int w = t->width;
+	struct fb_memo memo;
+	fb_memo_clear(&memo);
 	for (int y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * w;
-		const struct line_geom g = { t, z + o, 1, 0.0f, (float)y, 1.0f, 0.0f };
+		const struct line_geom g = { t, z + o, 1, 0.0f, (float)y, 1.0f, 0.0f, &memo };
 		int start = 0;
 		for (int xc = 0; xc < w; xc += 64) {
 			const int n = w - xc < 64 ? w - xc : 64;
@@ -904,9 +1045,10 @@ void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, flo
 void dao_thickness_rows_ref(const struct dao_thickness_setup *t, const float *z, float *thick,
 			    int y0, int y1)
 {
+	/* (no memo: each face bound made from the pixels) */
 	for (int y = y0; y < y1; y++) {
 		const size_t o = (size_t)y * t->width;
-		line(t, z + o, thick + o, t->width, 1, 0.0f, (float)y, 1.0f, 0.0f, 0);
+		line(t, z + o, thick + o, t->width, 1, 0.0f, (float)y, 1.0f, 0.0f, 0, NULL);
 	}
 }
 
@@ -914,7 +1056,8 @@ void dao_thickness_cols_ref(const struct dao_thickness_setup *t, const float *z,
 			    int x0, int x1)
 {
 	for (int x = x0; x < x1; x++)
-		line(t, z + x, thick + x, t->height, (size_t)t->width, (float)x, 0.0f, 0.0f, 1.0f, 1);
+		line(t, z + x, thick + x, t->height, (size_t)t->width, (float)x, 0.0f, 0.0f, 1.0f, 1,
+		     NULL);
 }
 
 /*
@@ -1038,6 +1181,8 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 #if HAVE_SPLIT_F16C
 	const int f16c = __builtin_cpu_supports("f16c");
 #endif
+	struct fb_memo memo;
+	fb_memo_clear(&memo);
 	for (int xb = x0; xb < x1; xb += DAO_THICKNESS_COL_BLOCK) {
 		const int nb = x1 - xb < DAO_THICKNESS_COL_BLOCK ? x1 - xb : DAO_THICKNESS_COL_BLOCK;
 		int start[DAO_THICKNESS_COL_BLOCK];
@@ -1064,7 +1209,7 @@ void dao_thickness_cols(const struct dao_thickness_setup *t, const float *z, flo
 				/* the run start[c] .. y of column xb + c ends here */
 				if (za[c] > 0.0f) {
 					const struct line_geom g = { t, z + xb + c, w, (float)(xb + c), 0.0f,
-								     0.0f, 1.0f };
+								     0.0f, 1.0f, &memo };
 					struct run_est r;
 					run_estimate(&g, h, start[c], y, &r);
 					if (r.slabs || r.bounds) {
