@@ -451,15 +451,17 @@ static void face_bound_pixels(const struct line_geom *g, int s, int e, int dir,
  * end that carried_bound tries (the line across, its run cut to what
  * face_bound looks at) is often the end of that line's own run, whose bound
  * the pass makes too (a checkerboard's every square, README.md).  The same
- * arithmetic on the same pixels: the run's length matters only to the pixels
- * the bound holds for (made by each caller) and, on noisy depth, to the broad
- * face's direction over DAO_BOUND_FACE_LONG pixels, so a run longer than
- * face_bound looks at neither reads nor writes the memo there.  Direct-mapped;
- * an entry overwritten is made again.
+ * arithmetic on the same pixels: the run's length matters only to how many of
+ * its points face_bound looks at, to the pixels the bound holds for (made by
+ * each caller) and, on noisy depth, to the broad face's direction over
+ * DAO_BOUND_FACE_LONG pixels; so an entry is found only for the same length as
+ * fb_memo_len counts it.  Direct-mapped; an entry overwritten is made again.
  */
 #define FB_MEMO_BITS 8
+#define FB_LOOKED (DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1) /* points face_bound looks at */
 struct fb_memo_entry {
 	int line, k, dir; /* dir 0: empty */
+	int len;          /* fb_memo_len of the run */
 	int ok;
 	struct face_bound b;
 };
@@ -484,22 +486,17 @@ static inline struct fb_memo_entry *fb_memo_slot(struct fb_memo *m, int line, in
 	return &m->e[key >> (32 - FB_MEMO_BITS)];
 }
 
-/* The memo's entry for the end k (dir) of a run of g cut to what face_bound looks at,
- * or NULL.  (An entry was made for a run whose end passed face_bound's first tests;
- * they look at no pixel further in than the cut.) */
-static inline const struct fb_memo_entry *fb_memo_find(const struct line_geom *g, int k, int dir)
+/* A run's length as far as its face bound depends on it: all of it on noisy depth
+ * (DAO_BOUND_FACE_LONG), else the points looked at. */
+static inline int fb_memo_len(const struct line_geom *g, int len)
 {
-	if (!g->memo)
-		return NULL;
-	const int line = line_index(g);
-	const struct fb_memo_entry *me = fb_memo_slot(g->memo, line, k, dir);
-	return me->dir == dir && me->line == line && me->k == k ? me : NULL;
+	return g->t->noise_k > 0.0f || len < FB_LOOKED ? len : FB_LOOKED;
 }
 
 /* face_bound without b's pixels (k0, k1), through the memo. */
 static inline __attribute__((always_inline)) int face_bound_memo(const struct line_geom *g, int n,
 								 int s, int e, int dir,
-								 struct face_bound *b, int own)
+								 struct face_bound *b)
 {
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
@@ -524,20 +521,20 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 	}
 	/* made already in this pass? */
 	const int line = line_index(g);
+	const int mlen = fb_memo_len(g, len);
 	struct fb_memo_entry *me = NULL;
-	if (g->memo && (!own || len <= DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1 ||
-			!(g->t->noise_k > 0.0f))) {
+	if (g->memo) {
 		me = fb_memo_slot(g->memo, line, end, dir);
-		if (me->dir == dir && me->line == line && me->k == end) {
+		if (me->dir == dir && me->line == line && me->k == end && me->len == mlen) {
 			if (me->ok)
 				*b = me->b;
 			return me->ok;
 		}
 	}
 	/* the end's first points and segments, each made once */
-	struct vec pt[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1];
-	struct vec sg[DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS];
-	int np = DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS + 1;
+	struct vec pt[FB_LOOKED];
+	struct vec sg[FB_LOOKED - 1];
+	int np = FB_LOOKED;
 	if (np > len)
 		np = len;
 	for (int j = 0; j < np; j++) {
@@ -571,6 +568,7 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 		me->line = line;
 		me->k = end;
 		me->dir = dir;
+		me->len = mlen;
 		me->ok = ok;
 		if (ok)
 			me->b = *b;
@@ -584,7 +582,7 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 static inline __attribute__((always_inline)) int face_bound(const struct line_geom *g, int n, int s, int e, int dir,
 		      struct face_bound *b, int own)
 {
-	const int ok = face_bound_memo(g, n, s, e, dir, b, own);
+	const int ok = face_bound_memo(g, n, s, e, dir, b);
 	if (ok && own)
 		face_bound_pixels(g, s, e, dir, b);
 	return ok;
@@ -695,30 +693,22 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 			const struct line_geom gc = { g->t, z + (ptrdiff_t)c * cs, st,
 						      g->u0 + (float)c * g->dv,
 						      g->v0 + (float)c * g->du, g->du, g->dv, g->memo };
-			struct face_bound fb;
-			int ok;
-			const struct fb_memo_entry *me = fb_memo_find(&gc, k, dir);
-			if (me) {
-				ok = me->ok;
-				if (ok)
-					fb = me->b;
-			} else {
-				/* line c from its end inwards, as far as face_bound looks */
-				int m = 0;
-				float zm = CZ(k, c);
-				while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_SEGS) {
-					const int k1 = k + dir * (m + 1);
-					if (k1 < 0 || k1 >= n)
-						break;
-					const float z1 = CZ(k1, c);
-					if (!same_surface(zm, z1))
-						break;
-					zm = z1;
-					m++;
-				}
-				ok = face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb,
-						0);
+			/* line c from its end inwards, as far as face_bound looks */
+			int m = 0;
+			float zm = CZ(k, c);
+			while (m < FB_LOOKED - 1) {
+				const int k1 = k + dir * (m + 1);
+				if (k1 < 0 || k1 >= n)
+					break;
+				const float z1 = CZ(k1, c);
+				if (!same_surface(zm, z1))
+					break;
+				zm = z1;
+				m++;
 			}
+			struct face_bound fb;
+			const int ok = face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir,
+						  &fb, 0);
 			if (!ok) {
 				if (turned == 2)
 					break;
