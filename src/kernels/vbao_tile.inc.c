@@ -151,12 +151,13 @@ static inline vf vbao_acos(vf x)
  * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi, edge_at: the side's edge, 32
  * or 0); none where there is no sample or it lies beyond the radius.  Both
  * cosines move towards the edge's (low) by the falloff weight, as in
- * dao_vbao_ref.
+ * dao_vbao_ref.  ORed into *mask by the steps that mark something: the three
+ * in four that exit early leave it alone (no OR and store of a zero).
  */
-static inline __attribute__((always_inline)) vi
+static inline __attribute__((always_inline)) void
 vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase,
 	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf low, vf thr,
-	    vf thr_exit, const float edge_at, const int major_x, const int plane)
+	    vf thr_exit, const float edge_at, const int major_x, const int plane, vi *mask)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -181,7 +182,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	 * flips), and with g2 as it is on lanes without a sample (there G = U,
 	 * never 0) */
 	if (!m_any(m_and(ok, v_lt(v_mul(GU, v_rsqrt_fast(g2)), thr_exit))))
-		return vi_set1(0);
+		return;
 	const vf g2s = v_sel(ok, g2, one);
 	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
@@ -202,7 +203,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 		wgt = v_min(v_max(v_fma(len, v_set1(vb->fall_mul), v_set1(vb->fall_add)), zero), one);
 		ok = m_and(ok, v_gt(wgt, zero));
 		if (!m_any(ok))
-			return vi_set1(0);
+			return;
 		cf = v_fma(v_sub(cf0, low), wgt, low);
 	}
 	/* the back, `T` further: the thickness at the same taps, the same way (read
@@ -226,7 +227,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	const vf top = v_set1((float)DAO_VBAO_SECTORS);
 	const vi a = vi_from_nearest(v_min(v_max(v_min(af, ab), zero), top));
 	const vi b = vi_from_nearest(v_min(v_max(v_max(af, ab), zero), top));
-	return vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a)));
+	*mask = vi_or(*mask, vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a))));
 }
 
 /* The sectors both sides of a slice occlude, per lane. */
@@ -260,11 +261,11 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	vi mask = vi_set1(0);
 	for (int i = 0; i < s->steps; i++) {
 		if (!check || !chk_p || !tile_skip(t, &st[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p,
-						      exit_p, (float)DAO_VBAO_SECTORS, major_x, plane));
+			vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p, exit_p,
+				    (float)DAO_VBAO_SECTORS, major_x, plane, &mask);
 		if (!check || !chk_n || !tile_skip(t, &sn[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
-						      major_x, plane));
+			vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
+				    major_x, plane, &mask);
 	}
 	return mask;
 }
