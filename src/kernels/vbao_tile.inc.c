@@ -111,6 +111,14 @@ static const float vbao_sector[DAO_VBAO_SECTORS][2] = {
 	{ 4.803679899e-03f, 3.148047083e-04f },
 };
 
+/* 1 << k per sector k, loaded (and broadcast) rather than made per sector */
+static const int32_t vbao_bit[DAO_VBAO_SECTORS] = {
+	1 << 0,  1 << 1,  1 << 2,  1 << 3,  1 << 4,  1 << 5,  1 << 6,  1 << 7,
+	1 << 8,  1 << 9,  1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15,
+	1 << 16, 1 << 17, 1 << 18, 1 << 19, 1 << 20, 1 << 21, 1 << 22, 1 << 23,
+	1 << 24, 1 << 25, 1 << 26, 1 << 27, 1 << 28, 1 << 29, 1 << 30, INT32_MIN,
+};
+
 /*
  * The slice measure from 0 to boundary k (dao_vbao_ref's slice_measure in
  * closed form): G(t) = -cos(2t - n)/4 + t sin(n)/2 is the antiderivative of
@@ -329,13 +337,13 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	vf pp = zero, qp = zero, pn = zero, qn = zero;
 	for (uint32_t any = vi_hor(pos); any; any &= any - 1) {
 		const int k = __builtin_ctz(any);
-		const vm m = m_bit(pos, (int32_t)(1u << k));
+		const vm m = m_bit(pos, vbao_bit[k]);
 		pp = v_add(pp, v_keep(m, v_set1(vbao_sector[k][0])));
 		qp = v_add(qp, v_keep(m, v_set1(vbao_sector[k][1])));
 	}
 	for (uint32_t any = vi_hor(neg); any; any &= any - 1) {
 		const int k = __builtin_ctz(any);
-		const vm m = m_bit(neg, (int32_t)(1u << k));
+		const vm m = m_bit(neg, vbao_bit[k]);
 		pn = v_add(pn, v_keep(m, v_set1(vbao_sector[k][0])));
 		qn = v_add(qn, v_keep(m, v_set1(vbao_sector[k][1])));
 	}
