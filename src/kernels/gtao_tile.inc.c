@@ -435,9 +435,8 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 {
 	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
-	int lanes = 0;
-	while (lanes < VN && x0 + 4 * lanes < s->x_end)
-		lanes++;
+	/* the lanes before x_end (x0 < x_end: at least one) */
+	const int lanes = (s->x_end - x0 + 3) / 4 < VN ? (s->x_end - x0 + 3) / 4 : VN;
 	struct tile_px t;
 	struct px *p = &t.p; /* the tile kernel sets x, Pz, V and active */
 	t.Y0 = v_set1((float)y * s->ay + s->by);
@@ -514,8 +513,14 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		vis = v_sel(has, v_div(sum, v_sel(has, norm, one)), one);
 	}
 	v_store(out, v_sel(has_z, finish_lanes(s, vis), v_set1(s->invalid_value)));
-	for (int k = 0; k < lanes; k++)
-		ao[(size_t)y * w + (size_t)(x0 + 4 * k)] = out[k];
+	float *dst = ao + (size_t)y * w + x0;
+	if (lanes == VN) { /* a fixed count: unrolled */
+		for (int k = 0; k < VN; k++)
+			dst[4 * k] = out[k];
+	} else {
+		for (int k = 0; k < lanes; k++)
+			dst[4 * k] = out[k];
+	}
 }
 
 /* The largest 1/z of the block of phase a at entry jb of row y (0: no depth);

@@ -111,6 +111,14 @@ static const float vbao_sector[DAO_VBAO_SECTORS][2] = {
 	{ 4.803679899e-03f, 3.148047083e-04f },
 };
 
+/* 1 << k per sector k, loaded (and broadcast) rather than made per sector */
+static const int32_t vbao_bit[DAO_VBAO_SECTORS] = {
+	1 << 0,  1 << 1,  1 << 2,  1 << 3,  1 << 4,  1 << 5,  1 << 6,  1 << 7,
+	1 << 8,  1 << 9,  1 << 10, 1 << 11, 1 << 12, 1 << 13, 1 << 14, 1 << 15,
+	1 << 16, 1 << 17, 1 << 18, 1 << 19, 1 << 20, 1 << 21, 1 << 22, 1 << 23,
+	1 << 24, 1 << 25, 1 << 26, 1 << 27, 1 << 28, 1 << 29, 1 << 30, INT32_MIN,
+};
+
 /*
  * The slice measure from 0 to boundary k (dao_vbao_ref's slice_measure in
  * closed form): G(t) = -cos(2t - n)/4 + t sin(n)/2 is the antiderivative of
@@ -151,12 +159,13 @@ static inline vf vbao_acos(vf x)
  * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi, edge_at: the side's edge, 32
  * or 0); none where there is no sample or it lies beyond the radius.  Both
  * cosines move towards the edge's (low) by the falloff weight, as in
- * dao_vbao_ref.
+ * dao_vbao_ref.  ORed into *mask by the steps that mark something: the three
+ * in four that exit early leave it alone (no OR and store of a zero).
  */
-static inline __attribute__((always_inline)) vi
+static inline __attribute__((always_inline)) void
 vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase,
 	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf low, vf thr,
-	    vf thr_exit, const float edge_at, const int major_x, const int plane)
+	    vf thr_exit, const float edge_at, const int major_x, const int plane, vi *mask)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -181,7 +190,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	 * flips), and with g2 as it is on lanes without a sample (there G = U,
 	 * never 0) */
 	if (!m_any(m_and(ok, v_lt(v_mul(GU, v_rsqrt_fast(g2)), thr_exit))))
-		return vi_set1(0);
+		return;
 	const vf g2s = v_sel(ok, g2, one);
 	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
@@ -202,7 +211,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 		wgt = v_min(v_max(v_fma(len, v_set1(vb->fall_mul), v_set1(vb->fall_add)), zero), one);
 		ok = m_and(ok, v_gt(wgt, zero));
 		if (!m_any(ok))
-			return vi_set1(0);
+			return;
 		cf = v_fma(v_sub(cf0, low), wgt, low);
 	}
 	/* the back, `T` further: the thickness at the same taps, the same way (read
@@ -226,7 +235,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	const vf top = v_set1((float)DAO_VBAO_SECTORS);
 	const vi a = vi_from_nearest(v_min(v_max(v_min(af, ab), zero), top));
 	const vi b = vi_from_nearest(v_min(v_max(v_max(af, ab), zero), top));
-	return vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a)));
+	*mask = vi_or(*mask, vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a))));
 }
 
 /* The sectors both sides of a slice occlude, per lane. */
@@ -260,11 +269,11 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	vi mask = vi_set1(0);
 	for (int i = 0; i < s->steps; i++) {
 		if (!check || !chk_p || !tile_skip(t, &st[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p,
-						      exit_p, (float)DAO_VBAO_SECTORS, major_x, plane));
+			vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p, exit_p,
+				    (float)DAO_VBAO_SECTORS, major_x, plane, &mask);
 		if (!check || !chk_n || !tile_skip(t, &sn[i]))
-			mask = vi_or(mask, vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
-						      major_x, plane));
+			vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
+				    major_x, plane, &mask);
 	}
 	return mask;
 }
@@ -328,13 +337,13 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	vf pp = zero, qp = zero, pn = zero, qn = zero;
 	for (uint32_t any = vi_hor(pos); any; any &= any - 1) {
 		const int k = __builtin_ctz(any);
-		const vm m = m_bit(pos, (int32_t)(1u << k));
+		const vm m = m_bit(pos, vbao_bit[k]);
 		pp = v_add(pp, v_keep(m, v_set1(vbao_sector[k][0])));
 		qp = v_add(qp, v_keep(m, v_set1(vbao_sector[k][1])));
 	}
 	for (uint32_t any = vi_hor(neg); any; any &= any - 1) {
 		const int k = __builtin_ctz(any);
-		const vm m = m_bit(neg, (int32_t)(1u << k));
+		const vm m = m_bit(neg, vbao_bit[k]);
 		pn = v_add(pn, v_keep(m, v_set1(vbao_sector[k][0])));
 		qn = v_add(qn, v_keep(m, v_set1(vbao_sector[k][1])));
 	}

@@ -74,7 +74,16 @@ static inline vm m_or(vm a, vm b) { return _mm256_or_ps(a, b); }
 static inline vm m_andnot(vm a, vm b) { return _mm256_andnot_ps(b, a); } /* a & ~b */
 static inline int m_any(vm a) { return _mm256_movemask_ps(a) != 0; }
 static inline int m_all(vm a) { return _mm256_movemask_ps(a) == 0xff; }
-static inline vf v_sel(vm m, vf a, vf b) { return _mm256_blendv_ps(b, a, m); }
+/* a where m, else b.  One vblendvps in asm: GCC 12 folds the intrinsic into a
+ * select on m < 0, and a mask used by two selects then costs a vpcmpgtd (and
+ * a zeroed register) before them, as it cannot tell that m is all-ones or
+ * all-zeros lanes. */
+static inline vf v_sel(vm m, vf a, vf b)
+{
+	vf r;
+	__asm__("vblendvps %3, %2, %1, %0" : "=x"(r) : "x"(b), "xm"(a), "x"(m));
+	return r;
+}
 
 static inline void vi_store(int32_t *p, vi a) { _mm256_storeu_si256((__m256i *)(void *)p, a); }
 static inline vi vi_set1(int32_t a) { return _mm256_set1_epi32(a); }
