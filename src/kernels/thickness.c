@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -34,6 +35,7 @@ void dao_thickness_setup_init(struct dao_thickness_setup *t, const struct dao_ca
 	t->crease_cos = cosf(DAO_SLAB_CREASE_DEG * (DAO_PI_F / 180.0f));
 	t->spacing = 0.0f;
 	t->noise_k = 0.0f;
+	t->fill_px = DAO_THICKNESS_FILL_PX;
 }
 
 void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
@@ -47,6 +49,7 @@ void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale)
 void dao_thickness_setup_noise(struct dao_thickness_setup *t, float scale, float sigma)
 {
 	t->noise_k = scale > DAO_SLAB_ROUND_FROM ? DAO_THICKNESS_NOISE_TOL * sigma : 0.0f;
+	t->fill_px = scale <= (float)DAO_THICKNESS_FILL_PX ? DAO_THICKNESS_FILL_PX : 0;
 }
 
 /* (comparisons, not fminf: libm's is a call per pixel, a sixth of the time) */
@@ -75,6 +78,42 @@ static inline int outline(const float *z, size_t step, int n, int k, int dir)
 	while (j >= 0 && j < n && !(z[(size_t)j * step] > 0.0f))
 		j += dir;
 	return j < 0 || j >= n || z[(size_t)j * step] > inside + DAO_THICKNESS_JUMP * inside;
+}
+
+void dao_thickness_fill_rows(const struct dao_thickness_setup *t, const float *z, float *zf,
+			     int y0, int y1)
+{
+	const int w = t->width;
+	for (int y = y0; y < y1; y++) {
+		const float *zr = z + (size_t)y * w;
+		float *fr = zf + (size_t)y * w;
+		memcpy(fr, zr, (size_t)w * sizeof(float));
+		int x = 0;
+		while (x < w) {
+#ifdef __SSE2__
+			/* (four pixels with depth at a time: the same test) */
+			while (x + 4 <= w &&
+			       _mm_movemask_ps(_mm_cmpgt_ps(_mm_loadu_ps(zr + x), _mm_setzero_ps())) == 0xf)
+				x += 4;
+			if (x >= w)
+				break;
+#endif
+			if (zr[x] > 0.0f) {
+				x++;
+				continue;
+			}
+			const int a = x;
+			while (x < w && !(zr[x] > 0.0f))
+				x++;
+			/* the hole a .. x - 1 */
+			const int len = x - a;
+			if (a > 0 && x < w && len <= t->fill_px && same_surface(zr[a - 1], zr[x])) {
+				const float za = zr[a - 1], dz = (zr[x] - za) / (float)(len + 1);
+				for (int k = 0; k < len; k++)
+					fr[a + k] = za + dz * (float)(k + 1);
+			}
+		}
+	}
 }
 
 struct vec { float x, y, z; };
@@ -884,8 +923,9 @@ __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, i
 		const float dy = (ve * t->ay + t->by) * ze - (vs * t->ay + t->by) * zs;
 		const float dz = ze - zs;
 		float chord = sqrtf(dx * dx + dy * dy + dz * dz);
-		/* a pole before a wall: its chord plus half a spacing (thickness.h) */
-		if (t->noise_k == 0.0f && chord < t->spacing &&
+		/* a pole before a wall: its chord plus half a spacing, on sharp depth or
+		 * with the dropouts filled (thickness.h) */
+		if ((t->noise_k == 0.0f || t->fill_px > 0) && chord < t->spacing &&
 		    near_behind(z, step, s, e, DAO_CHORD_GAP * t->spacing)) {
 			const float raised = chord + DAO_CHORD_EXTRA * t->spacing;
 			chord = raised < t->spacing ? raised : t->spacing;

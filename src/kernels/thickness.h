@@ -67,6 +67,8 @@ struct dao_thickness_setup {
 	float spacing;          /* VBAO's step between samples, m (below); 0: none */
 	float noise_k;          /* the depth noise the rules allow for: noise_k z^2, m
 				 * (dao_thickness_setup_noise); 0: none */
+	int fill_px;            /* dropouts of at most this many pixels are filled
+				 * (dao_thickness_fill_rows, dao_thickness_setup_noise) */
 };
 
 /*
@@ -96,13 +98,13 @@ struct dao_thickness_setup {
  * spacing gets its chord plus DAO_CHORD_EXTRA spacings, at most one spacing,
  * where the surface beyond one of its ends lies within DAO_CHORD_GAP spacings
  * behind that end (a pole before a wall: VBAO's samples pass light between
- * the two), on depth the prefilter left sharp (noise_k 0).  Not beyond: a
- * chair's legs over the floor falling away behind them, where the extra only
- * darkens the floor around their feet; not over a spacing: spheres on the
- * floor; not on noisy depth: there the chair's back and seat already read too
- * thick (their edge faces lost) and the floor between its legs is too dark,
- * the extra makes it darker.  Chosen on the tune split (README.md, "A pole's
- * chord plus half a spacing").
+ * the two).  Not beyond: a chair's legs over the floor falling away behind
+ * them, where the extra only darkens the floor around their feet; not over a
+ * spacing: spheres on the floor.  On noisy depth too since its dropouts are
+ * filled (dao_thickness_fill_rows): before, the chair's back and seat read
+ * too thick there (their runs cut by holes) and the extra darkened the floor
+ * between its legs further.  Chosen on the tune split (README.md, "A pole's
+ * chord plus half a spacing", "Noisy input").
  */
 #define DAO_CHORD_EXTRA 0.5f
 #define DAO_CHORD_GAP 3.0f
@@ -138,10 +140,36 @@ void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale);
  * DAO_THICKNESS_NOISE_TOL times the frame's measured noise `sigma`
  * (dao_noise_info.sigma_area, of 1/z in 1/m: sigma z^2 m; a structured-light
  * frame reads 0.0013, its disparity bands 0.0029 apart); below, by nothing
- * (init's 0).  The pipeline sets it with the crease (context.c).
+ * (init's 0).  And the dropouts filled (fill_px, dao_thickness_fill_rows) up
+ * to DAO_THICKNESS_FILL_PX px of scale.  The pipeline sets it with the crease
+ * (context.c).
  */
 #define DAO_THICKNESS_NOISE_TOL 2.0f
 void dao_thickness_setup_noise(struct dao_thickness_setup *t, float scale, float sigma);
+
+/*
+ * Dropouts inside a surface (README.md, "Noisy input"): a sensor that drops
+ * single pixels at random (a Gaussian one 2 %, which the prefilter at its
+ * 5 - 6 px widens to holes of 1, 3, 5 and 7 px) cuts nearly every row and
+ * column of a board 100 px wide; a hole with the same surface beyond it is
+ * no outline, so each piece ended at a hole and kept the bound (the chair's
+ * backrest: 10 400 of its 14 500 pixels over 1.5 times 3 times their rays'
+ * length through it, 700 clean).  The surface goes on across such a hole:
+ * rows [y0, y1) of z into zf, each hole of at most t->fill_px pixels along
+ * its row whose pixels on both sides lie on one surface (within a step, as
+ * two neighbours of a run) filled linearly between them, every other pixel
+ * copied.  Both passes then read zf instead of z: their runs go on across
+ * dropouts, while a hole at a silhouette (something farther beyond it) and a
+ * shadow stay holes.  fill_px is DAO_THICKNESS_FILL_PX (the holes face_bound
+ * looks across) where the prefilter's scale is at most that many pixels, 0
+ * beyond (dao_thickness_setup_noise): there the holes are the sensor's own
+ * structure (structured light and active stereo read 16 px, ToF 10 - 12: lost
+ * dots, patches without texture, edges), and filling them made floors and box
+ * faces read as slabs (boxes with active stereo +5 -> +7 % over GTAO).
+ */
+#define DAO_THICKNESS_FILL_PX 8
+void dao_thickness_fill_rows(const struct dao_thickness_setup *t, const float *z, float *zf,
+			     int y0, int y1);
 
 /* Rows [y0, y1): thick = min(max, the extent of the pixel's run along its row). */
 void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, float *thick,

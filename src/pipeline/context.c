@@ -60,6 +60,7 @@ struct dao_context {
 	float *bent;    /* bent normals, made on request (dao_context_get_bent_normals) */
 	float *thick;   /* VBAO: thickness estimated from the image, m (made when first needed) */
 	float *thick_scratch; /* ... its column pass's, one per pool thread */
+	float *thick_z; /* ... the depth its passes read: dropouts filled (dao_thickness_fill_rows) */
 	int thick_slots;
 	float *row_range; /* per row: nearest and farthest depth (shading's automatic range) */
 	uint64_t last_frame_index;
@@ -176,6 +177,7 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 	}
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE &&
 	    ((!ctx->thick && !(ctx->thick = malloc(ctx->npix * sizeof(float)))) ||
+	     (!ctx->thick_z && !(ctx->thick_z = malloc(ctx->npix * sizeof(float)))) ||
 	     dao_gtao_planes_init_thickness(&ctx->planes) < 0))
 		return dao_error_set(err, -ENOMEM, "out of memory for the thickness plane");
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE &&
@@ -293,6 +295,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx->bent);
 	free(ctx->thick);
 	free(ctx->thick_scratch);
+	free(ctx->thick_z);
 	free(ctx->row_range);
 	free(ctx->dt_scratch);
 	if (ctx->have_noise_grid)
@@ -467,6 +470,7 @@ struct frame_job {
 	int algorithm;
 	struct dao_thickness_setup thickness; /* VBAO with its thickness from the image */
 	const float *thick;                   /* ... its plane, NULL: vbao_thickness */
+	const float *thick_z;                 /* ... the depth its passes read */
 	struct dao_denoise_setup denoise;
 	struct dao_prefilter_setup prefilter;
 	int depth_temporal;  /* run the temporal depth filter */
@@ -544,10 +548,16 @@ static void stage_noise_cells(void *arg, int cy0, int cy1)
 	dao_noise_cell_rows(&j->ctx->noise, cy0, cy1);
 }
 
+static void stage_thickness_fill(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	dao_thickness_fill_rows(&j->thickness, j->ctx->z, j->ctx->thick_z, y0, y1);
+}
+
 static void stage_thickness_rows(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	dao_thickness_rows(&j->thickness, j->ctx->z, j->ctx->thick, y0, y1);
+	dao_thickness_rows(&j->thickness, j->thick_z, j->ctx->thick, y0, y1);
 }
 
 /*
@@ -590,7 +600,7 @@ static void stage_thickness_cols(void *arg, int thread, int i0, int i1)
 		const int b = i & 1 ? half + i / 2 : i / 2;
 		const int x0 = b * DAO_THICKNESS_COL_BLOCK;
 		const int x1 = x0 + DAO_THICKNESS_COL_BLOCK < w ? x0 + DAO_THICKNESS_COL_BLOCK : w;
-		dao_thickness_cols(&j->thickness, c->z, c->thick, scratch,
+		dao_thickness_cols(&j->thickness, j->thick_z, c->thick, scratch,
 				   j->k.simd != DAO_SIMD_REFERENCE ? &c->planes : NULL, x0, x1);
 	}
 }
@@ -969,6 +979,13 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 		dao_thickness_setup_rounding(&job.thickness, ctx->noise_info.prefilter_scale);
 		dao_thickness_setup_noise(&job.thickness, ctx->noise_info.prefilter_scale,
 					  ctx->noise_info.sigma_area);
+	}
+	/* the thickness's passes read the depth with its dropouts filled: every row of it
+	 * before they start (the row pass looks at the rows beside its own) */
+	job.thick_z = ctx->z;
+	if (job.thick && job.thickness.fill_px > 0) {
+		dao_pool_run(ctx->pool, h, 8, stage_thickness_fill, &job);
+		job.thick_z = ctx->thick_z;
 	}
 	if (normals) {
 		r = load_normals(ctx, normals, err);

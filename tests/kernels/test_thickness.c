@@ -140,8 +140,9 @@ static void test_pole_widths(void **state)
  * A pole's chord plus half a spacing (thickness.h, DAO_CHORD_EXTRA): the poles stand
  * 0.4 m before the wall, within 3 spacings of 0.15 m (0.45 m) but not of 0.11 m
  * (0.33 m).  With 0.15 m the poles thinner than it get their width plus 7.5 cm, at
- * most 15 cm (2 cm: 9.5 cm, 5 cm: 12.5 cm, 10 cm: 15 cm; 20 cm: 20 cm); with 0.11 m,
- * or on noisy depth (noise_k set), their width alone.
+ * most 15 cm (2 cm: 9.5 cm, 5 cm: 12.5 cm, 10 cm: 15 cm; 20 cm: 20 cm), on noisy
+ * depth (noise_k set) too where its dropouts are filled (fill_px); with 0.11 m, or
+ * on noisy depth whose dropouts are not filled, their width alone.
  */
 static void expect_blocked_same_k(const struct dao_camera *cam, const float *z, float max,
 				  float spacing, float noise_k);
@@ -158,12 +159,14 @@ static void test_pole_chord_extra(void **state)
 	float *t = malloc((size_t)W * H * sizeof(float));
 	struct dao_thickness_setup ts;
 	dao_thickness_setup_init(&ts, &cam, 0.5f);
-	static const struct { float spacing, noise_k, extra; } cases[] = {
-		{ 0.15f, 0.0f, 0.075f }, { 0.11f, 0.0f, 0.0f }, { 0.15f, 0.0012f, 0.0f },
+	static const struct { float spacing, noise_k, extra; int fill_px; } cases[] = {
+		{ 0.15f, 0.0f, 0.075f, 8 }, { 0.11f, 0.0f, 0.0f, 8 }, { 0.15f, 0.0012f, 0.075f, 8 },
+		{ 0.15f, 0.0012f, 0.0f, 0 },
 	};
-	for (int c = 0; c < 3; c++) {
+	for (int c = 0; c < 4; c++) {
 		ts.spacing = cases[c].spacing;
 		ts.noise_k = cases[c].noise_k;
+		ts.fill_px = cases[c].fill_px;
 		dao_thickness_rows(&ts, img.depth, t, 0, H);
 		cols(&ts, img.depth, t, 0, W);
 		for (int i = 0; i < 4; i++) {
@@ -406,8 +409,12 @@ static void sensor_estimate(const struct synth_scene *s, const struct dao_camera
 	dao_thickness_setup_init(&ts, cam, 0.5f);
 	dao_thickness_setup_rounding(&ts, ni.prefilter_scale);
 	dao_thickness_setup_noise(&ts, ni.prefilter_scale, ni.sigma_area);
-	dao_thickness_rows(&ts, z, t, 0, h);
-	cols(&ts, z, t, 0, w);
+	float *zf = malloc((size_t)w * h * sizeof(float));
+	assert_non_null(zf);
+	dao_thickness_fill_rows(&ts, z, zf, 0, h);
+	dao_thickness_rows(&ts, zf, t, 0, h);
+	cols(&ts, zf, t, 0, w);
+	free(zf);
 }
 
 /*
@@ -472,7 +479,12 @@ static void test_boxes_noisy(void **state)
 		const double share = too_thin_share(&s, &cam, z, t);
 		print_message("boxes, %s: %.2f %% of the pixels too thin\n",
 			      synth_sensor_name(sensors[k]), 100.0 * share);
-		/* measured 0.04 %, 0.04 %, 4.4 % (structured light: the edge faces of some
+		/* measured 0.04 %, 0.04 %, 4.4 %; with the dropouts filled (thickness.h,
+		 * dao_thickness_fill_rows; Gaussian only, structured light's prefilter
+		 * scale is over DAO_THICKNESS_FILL_PX) 0.04 %, 0.43 %, 4.4 %: runs that go
+		 * on across holes reach more ends, some of them false slabs and face
+		 * bounds (boxes' MAE with Gaussian noise +2 -> +3 % over GTAO, README.md)
+		 * (structured light: the edge faces of some
 		 * boxes' narrow sides pass the rounded crease test, below; 3.6 % before
 		 * the face bound across holes, which bounds some box sides lost in holes
 		 * like a board's edge face: boxes' MAE 0.0359 -> 0.0360, README.md) */
@@ -973,8 +985,12 @@ static void test_slabs_noisy(void **state)
 			 * (0.89, 0.97, 0.92 with the bound itself): at spacing 0, as here; in the
 			 * pipeline the spacing's term governs the thin slabs (the floating plate
 			 * with Gaussian noise 0.0126 -> 0.0125) */
+			/* With the dropouts filled (dao_thickness_fill_rows), more runs reach
+			 * their ends and their face bounds: 0.53, 0.86 and 0.68 at spacing 0
+			 * (the floating plate with Gaussian noise in the pipeline 0.0116 ->
+			 * 0.0113, 256 rays) */
 			if (k == 0)
-				assert_true(m > 0.7 && m < 1.25);
+				assert_true(m > 0.45 && m < 1.25);
 			else if (i < 2)
 				assert_true(m > 0.2 && m < 2.0);
 		}
@@ -1030,6 +1046,117 @@ static void test_slabs_edge_holes(void **state)
 	expect_blocked_same(&cam, img.depth, 0.5f, 0.11f);
 	expect_blocked_same_k(&cam, img.depth, 0.5f, 0.11f, 0.0026f);
 	free(t);
+	synth_image_free(&img);
+}
+
+/*
+ * Dropouts inside a surface (thickness.h, dao_thickness_fill_rows; README.md,
+ * "Noisy input"): a Gaussian sensor drops 2 % of its pixels, and the
+ * prefilter leaves holes of 1, 3, 5 and 7 px (measured on the chair's
+ * Gaussian frame) with the same surface on both sides.  A hole is no outline,
+ * so every piece of the chair's backrest (a 4 cm board seen face-on, 48 cm
+ * wide) between two of them kept the bound along its row and its column.
+ * With the holes filled along the rows the runs go on across them and the
+ * board gets what it gets on clean depth; through the pipeline, which fills
+ * them the same way, VBAO with the estimate is about as close to the truth
+ * with the dropouts as without (before: the floor behind and below the chair
+ * darkened by its backrest and seat at the bound).
+ */
+static void punch_dropouts(float *z, int w, int h)
+{
+	uint32_t r = 4242;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			r = r * 1664525u + 1013904223u;
+			if ((r >> 8) % 200 != 0)
+				continue; /* 0.5 % of the pixels start a hole of 1 - 7 px */
+			const int len = 1 + 2 * (int)((r >> 4) & 3);
+			for (int k = 0; k < len && x + k < w; k++)
+				z[(size_t)y * w + x + k] = 0.0f;
+		}
+}
+
+static void test_chair_dropouts(void **state)
+{
+	(void)state;
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	struct dao_error err;
+	assert_int_equal(synth_scene_build_variant("chair", 0.0, 0, &s, &err), 0);
+	synth_default_camera(&cam);
+	assert_int_equal(synth_render(&s, &cam, 0.5, 8, 2, &img, &err), 0);
+	const size_t n = (size_t)cam.width * cam.height;
+	float *z = malloc(n * sizeof(float)), *zf = malloc(n * sizeof(float));
+	float *tc = malloc(n * sizeof(float)), *tr = malloc(n * sizeof(float));
+	float *tf = malloc(n * sizeof(float));
+	assert_non_null(z);
+	assert_non_null(zf);
+	assert_non_null(tc);
+	assert_non_null(tr);
+	assert_non_null(tf);
+	memcpy(z, img.depth, n * sizeof(float));
+	punch_dropouts(z, W, H);
+	struct dao_thickness_setup ts;
+	dao_thickness_setup_init(&ts, &cam, 0.5f);
+	ts.spacing = 0.11f;
+	dao_thickness_fill_rows(&ts, z, zf, 0, H);
+	size_t holes = 0, left = 0;
+	for (size_t k = 0; k < n; k++) {
+		holes += !(z[k] > 0.0f);
+		left += !(zf[k] > 0.0f);
+	}
+	estimate_spaced(&cam, img.depth, 0.5f, 0.11f, tc);
+	estimate_spaced(&cam, z, 0.5f, 0.11f, tr);
+	estimate_spaced(&cam, zf, 0.5f, 0.11f, tf);
+	/* the backrest (the scene's last primitive): pixels with depth over 1.5 times
+	 * their clean estimate */
+	const int back = s.count - 1;
+	int nb = 0, thick_r = 0, thick_f = 0;
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++) {
+			const size_t k = (size_t)y * W + x;
+			const vec3 d = v3_normalize(v3(x * cam.ax + cam.bx, y * cam.ay + cam.by, 1));
+			double tt;
+			if (!(z[k] > 0.0f) || synth_trace(&s, v3(0, 0, 0), d, 0.0, 100.0, &tt, NULL) != back)
+				continue;
+			nb++;
+			thick_r += tr[k] > 1.5f * tc[k];
+			thick_f += tf[k] > 1.5f * tc[k];
+		}
+	print_message("chair with dropouts (%.1f %% holes, %.2f %% left after the fill): "
+		      "backrest pixels over 1.5 times their clean estimate: %.1f %% with the "
+		      "holes, %.1f %% filled (%d px)\n", 100.0 * holes / n, 100.0 * left / n,
+		      100.0 * thick_r / nb, 100.0 * thick_f / nb, nb);
+	assert_true(nb > 10000);
+	/* measured 34.0 % and 2.1 % */
+	assert_true(thick_f < 0.05 * nb);
+	expect_blocked_same(&cam, zf, 0.5f, 0.11f);
+	/* through the pipeline */
+	float *ec = dao_test_ao_of_depth(&cam, img.depth, DAO_ALGORITHM_VBAO,
+					 DAO_VBAO_THICKNESS_IMAGE, 0.2f);
+	float *ed = dao_test_ao_of_depth(&cam, z, DAO_ALGORITHM_VBAO, DAO_VBAO_THICKNESS_IMAGE, 0.2f);
+	assert_non_null(ec);
+	assert_non_null(ed);
+	double sc = 0, sd = 0;
+	long m = 0;
+	for (size_t k = 0; k < n; k++)
+		if (z[k] > 0.0f) {
+			sc += fabs(ec[k] - img.gt[k]);
+			sd += fabs(ed[k] - img.gt[k]);
+			m++;
+		}
+	print_message("chair, VBAO with the estimate, MAE over the pixels with depth: clean "
+		      "%.4f, with dropouts %.4f\n", sc / m, sd / m);
+	/* measured 0.0109 and 0.0112 (0.0135 without the fill) */
+	assert_true(sd < 1.05 * sc);
+	free(ed);
+	free(ec);
+	free(tf);
+	free(tr);
+	free(tc);
+	free(zf);
+	free(z);
 	synth_image_free(&img);
 }
 
@@ -1096,6 +1223,7 @@ int main(void)
 		cmocka_unit_test(test_slabs_noisy),
 		cmocka_unit_test(test_slabs_edge_holes),
 		cmocka_unit_test(test_vbao_slabs),
+		cmocka_unit_test(test_chair_dropouts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
