@@ -770,13 +770,145 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 	return 0;
 }
 
+/*
+ * A bound lent by the lines beside (README.md, "Noisy input"): on noisy depth
+ * the face bound of a board's end often fails on one line and holds on the
+ * next (the broad face's normal, the outline's slope, the lines' ends and a
+ * lip of one pixel at the silhouette all come from a few noisy pixels), so a
+ * board's columns came out bimodal, a quarter to a third of the panels'
+ * board pixels at the bound under structured light (clean: 0 - 8 %).  Where
+ * this end (a step to farther or a hole with farther beyond it, as
+ * face_bound's) has no bound of its own or carried, and its broad face goes
+ * straight from one of its first DAO_BOUND_NEIGH_SKIP + 1 pixels, the lines
+ * up to DAO_BOUND_NEIGH to each side whose runs end within
+ * DAO_BOUND_NEIGH_SHIFT px of it are tried, nearest first: the nearest bound
+ * on each side on the same broad face (as carried_bound's), the thinner of
+ * the two, is lent to the straight broad face at this end.  Only on noisy
+ * depth (noise_k > 0) whose dropouts are not filled (fill_px 0: structured
+ * light, active stereo): on sharp depth the lines agree, and on Gaussian depth
+ * it gained nothing and cost shelves-below.  Chosen on the tune set
+ * (README.md: 3 and 8 lines, one side or both required, Gaussian too).
+ */
+#define DAO_BOUND_NEIGH 3
+#define DAO_BOUND_NEIGH_SHIFT 2
+#define DAO_BOUND_NEIGH_SKIP 2
+
+__attribute__((noinline)) static int neighbour_bound(const struct line_geom *g, int n, int s,
+						     int e, int dir, struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int len = e - s + 1;
+	const int out = end - dir;
+	const float *z = g->z;
+	const size_t st = g->step;
+	if (!(g->t->noise_k > 0.0f) || g->t->fill_px > 0 || out < 0 || out >= n ||
+	    len <= DAO_BOUND_FACE_SEGS)
+		return 0;
+	const float ze = z[(size_t)end * st];
+	if (!(z[(size_t)out * st] > ze)) {
+		if (z[(size_t)out * st] > 0.0f)
+			return 0;
+		int j = out, h = 0;
+		while (j >= 0 && j < n && !(z[(size_t)j * st] > 0.0f) && h < DAO_BOUND_HOLE_PX) {
+			j -= dir;
+			h++;
+		}
+		if (j < 0 || j >= n || !(z[(size_t)j * st] > ze + DAO_THICKNESS_JUMP * ze))
+			return 0;
+	}
+	/* this end's straight broad face, from one of its first DAO_BOUND_NEIGH_SKIP + 1
+	 * pixels (past a lip at the silhouette, which may be what failed its own bound) */
+#define PT(j) line_pos(g, (float)(end + dir * (j)), z[(size_t)(end + dir * (j)) * st])
+	struct vec pe = { 0.0f, 0.0f, 0.0f }, d = pe, q = pe;
+	int j = 0;
+	for (int f = 0; f <= DAO_BOUND_NEIGH_SKIP; f++) {
+		if (f + DAO_BOUND_FACE_SEGS >= len)
+			return 0;
+		pe = PT(f);
+		d = vsub(PT(f + DAO_BOUND_FACE_SEGS), pe);
+		q = pe;
+		const float dd = vdot(d, d);
+		for (j = f; j < f + DAO_BOUND_FACE_SEGS; j++) {
+			const struct vec r = PT(j + 1);
+			if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS))
+				break;
+			q = r;
+		}
+		if (j == f + DAO_BOUND_FACE_SEGS)
+			break;
+		if (f == DAO_BOUND_NEIGH_SKIP)
+			return 0;
+	}
+#undef PT
+	const ptrdiff_t cs = g->du != 0.0f ? (ptrdiff_t)g->t->width : 1;
+#define CZ(k, c) z[(ptrdiff_t)(k) * (ptrdiff_t)st + (ptrdiff_t)(c) * cs]
+	/* the nearest bound on each side; of two, the thinner */
+	struct face_bound got[2];
+	int found = 0;
+	for (int side = -1; side <= 1; side += 2) {
+		for (int i = 1; i <= DAO_BOUND_NEIGH; i++) {
+			const int c = side * i;
+			if (!cross_ok(g, c))
+				break;
+			/* line c's run end beside this one: within DAO_BOUND_NEIGH_SHIFT px of
+			 * this end, nearest first, on its surface, with none of it further out */
+			int k = -1;
+			for (int o = 0; o <= 2 * DAO_BOUND_NEIGH_SHIFT && k < 0; o++) {
+				const int kk = end - dir * ((o + 1) / 2 * (o % 2 ? 1 : -1));
+				const int ko = kk - dir;
+				if (kk >= 0 && kk < n && same_surface(ze, CZ(kk, c)) &&
+				    (ko < 0 || ko >= n || !same_surface(CZ(kk, c), CZ(ko, c))))
+					k = kk;
+			}
+			if (k < 0)
+				continue;
+			const float zc = CZ(k, c);
+			/* inwards as far as face_bound looks on noisy depth */
+			int m = 0;
+			float zm = zc;
+			while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_LONG + 1) {
+				const int k1 = k + dir * (m + 1);
+				if (k1 < 0 || k1 >= n || !same_surface(zm, CZ(k1, c)))
+					break;
+				zm = CZ(k1, c);
+				m++;
+			}
+			const struct line_geom gc = { g->t, z + (ptrdiff_t)c * cs, st,
+						      g->u0 + (float)c * g->dv,
+						      g->v0 + (float)c * g->du, g->du, g->dv, g->memo };
+			struct face_bound fb;
+			if (!face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb, 0))
+				continue;
+			const struct vec dp = vsub(pe, fb.at);
+			const float off = vdot(dp, fb.normal);
+			if (off * off > DAO_BOUND_CARRY_TOL * DAO_BOUND_CARRY_TOL * vdot(dp, dp))
+				continue; /* another face */
+			got[found++] = fb;
+			break;
+		}
+	}
+	if (!found)
+		return 0;
+	if (found == 1)
+		got[1] = got[0];
+	j = straight_face_end(g, end, dir, len, j, q, d);
+	const int kb = end + dir * j;
+	*b = got[got[1].t < got[0].t];
+	b->k0 = end < kb ? end : kb;
+	b->k1 = end < kb ? kb : end;
+#undef CZ
+	return 1;
+}
+
 /* Both ends of the run s..e: *count bounds in b (own or carried). */
 static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
 			    struct face_bound b[2])
 {
-	*count = face_bound(g, n, s, e, -1, &b[0], 1) || carried_bound(g, n, s, e, -1, &b[0]);
+	*count = face_bound(g, n, s, e, -1, &b[0], 1) || carried_bound(g, n, s, e, -1, &b[0]) ||
+		 neighbour_bound(g, n, s, e, -1, &b[0]);
 	*count += face_bound(g, n, s, e, 1, &b[*count], 1) ||
-		  carried_bound(g, n, s, e, 1, &b[*count]);
+		  carried_bound(g, n, s, e, 1, &b[*count]) ||
+		  neighbour_bound(g, n, s, e, 1, &b[*count]);
 }
 
 /*
