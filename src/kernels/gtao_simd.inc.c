@@ -390,6 +390,7 @@ void DAO_ISA_FN(dao_vbao_simd)(const struct dao_variant_setup *v, const float *z
 	}
 	const struct tile_vbao vb = { .fall_mul = v->vbao_fall_mul, .fall_add = v->vbao_fall_add,
 				      .fall_full = (1.0f - v->vbao_fall_add) / v->vbao_fall_mul,
+				      .fall_out = 1.001f * v->vbao_radius,
 				      .thickness = v->vbao_thickness, .plane = v->thickness != NULL };
 	gtao_tile(s, pl, n, ao, y0, y1, sc, &vb);
 }

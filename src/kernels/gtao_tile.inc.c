@@ -426,12 +426,12 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
 
 /* VN lanes of a block of phase a: columns x0, x0 + 4, ... (entries jb, jb + 1,
  * ... of the phase plane; nq: their normals, from tile_group_normals); GTAO,
- * or VBAO with vb. */
+ * or VBAO with vb (pipe: its slices in flight, room that tile_row keeps). */
 static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		       const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
 		       const struct tile_step *tsteps, const int32_t (*lim)[4], int reach_r,
 		       int reach_c, float rp, int y, int jb, int h, struct dao_tile_scratch *sc,
-		       const struct tile_vbao *vb)
+		       const struct tile_vbao *vb, struct vbao_pipe *pipe)
 {
 	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
@@ -473,6 +473,11 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const float *base = dao_gtao_phase_row(pl, y, 0) + jb + h;
 		const uint16_t *tbase = vb && vb->plane ? dao_gtao_thick_row(pl, y, 0) + jb + h : NULL;
 		vf sum = v_zero(), norm = v_zero();
+		/* VBAO with the steps of every slice in the table and in one chunk: the
+		 * slices' two passes interleaved (vbao_pipe) */
+		struct vbao_pipe *vp = vb && tsteps && s->steps <= VBAO_CHUNK ? pipe : NULL;
+		if (vp)
+			vp->n = 0;
 		for (int sl = 0; sl < s->slices; sl++) {
 			/* the axis dir x V is -(dir x U0) / |U0|, and dir x U0 = (diry,
 			 * -dirx, dirx Y0 - diry X0) with dir = (dx ax, dy ay, 0) */
@@ -499,6 +504,11 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 				/* outside the inner blocks, which sides have steps to skip */
 				const int chk_p = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl]));
 				const int chk_n = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl + 1]));
+				if (vp) {
+					vbao_pipe_slice(vb, s, base, tbase, &t, st, &g, major_x, chk_p,
+							chk_n, vp, &sum, &norm);
+					continue;
+				}
 				const vi mask = vbao_sides_any(vb, s, base, tbase, &t, st, &g, major_x,
 							       chk_p, chk_n);
 				vbao_accumulate(&g, mask, &sum, &norm);
@@ -509,6 +519,8 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 				       major_x, inner);
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
+		if (vp && vp->n)
+			vbao_pipe_back(vb, s, tbase, &t, vp, (vp->n - 1) & 1, &sum, &norm);
 		const vm has = v_gt(norm, v_zero());
 		vis = v_sel(has, v_div(sum, v_sel(has, norm, one)), one);
 	}
@@ -560,6 +572,7 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 		     struct dao_tile_scratch *sc, const struct tile_vbao *vb, int y)
 {
 	float nb[4][3][DAO_GTAO_BLOCK];
+	struct vbao_pipe pipe;
 	for (int xb = s->x_begin; xb < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
 		const int jb = xb / 4;
 		int split = 0;
@@ -580,7 +593,8 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
 					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
-						   tsteps, lim, reach_r, reach_c, rp, y, jb, h, sc, vb);
+						   tsteps, lim, reach_r, reach_c, rp, y, jb, h, sc, vb,
+						   &pipe);
 		}
 	}
 }

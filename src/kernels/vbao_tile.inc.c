@@ -25,6 +25,7 @@ struct tile_vbao {
 	float fall_mul, fall_add; /* the falloff weight saturate(|D| mul + add), 0 beyond
 				   * vbao_radius */
 	float fall_full;          /* ... 1 up to this |D| */
+	float fall_out;           /* ... 0 beyond this |D| (vbao_radius and a margin) */
 	float thickness; /* of every occluder, without a thickness plane */
 	int plane;       /* the thickness from pl->thick, at the sample's taps */
 };
@@ -154,43 +155,78 @@ static inline vf vbao_acos(vf x)
 }
 
 /*
- * One step of one side: the sectors [round(a), round(b)) (clamped to 0 .. 32)
- * between the sample's front and back, a and b in sector units (t - lo) 32/pi
- * (k_sgn = +-32/pi for the side, k_lo = -lo 32/pi, edge_at: the side's edge, 32
- * or 0); none where there is no sample or it lies beyond the radius.  Both
- * cosines move towards the edge's (low) by the falloff weight, as in
- * dao_vbao_ref.  ORed into *mask by the steps that mark something: the three
- * in four that exit early leave it alone (no OR and store of a zero).
+ * A slice's steps in two passes: the first (vbao_front, every step) reads the
+ * taps and tells whether some lane's front may mark a sector, without a
+ * branch; the second (vbao_back) works out the fronts and backs of the steps
+ * kept (about three in ten), one after the other.  tile_lanes runs a slice's
+ * first pass before the previous slice's second (vbao_pipe), so that the
+ * loads of the one overlap the arithmetic and the mispredicted branches of
+ * the other.
  */
-static inline __attribute__((always_inline)) void
-vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase,
-	    const struct tile_px *t, const struct tile_step *st, vf k_sgn, vf k_lo, vf low, vf thr,
-	    vf thr_exit, const float edge_at, const int major_x, const int plane, vi *mask)
+
+/* What the first pass keeps of a step for the second. */
+struct vbao_front {
+	struct tile_tap tp;
+	vf B, c, GU, g2; /* tile_sample's terms */
+};
+
+/*
+ * The first pass over a step of one side: its taps and the front's terms
+ * into *o, and whether some lane's front may mark a sector.  A step where no
+ * lane's front passes the test below marks nothing: told from the estimate of
+ * 1/sqrt (relative error below 4e-4, |cf0| <= 1) against thr less a margin, a
+ * superset of the lanes vbao_back keeps (a step kept here and by no lane there
+ * marks nothing too); in tile_sample's units (thr_exit: (thr - 1e-3) nu, as
+ * nu < 0 the test flips), and with g2 as it is on lanes without a sample
+ * (there G = U, never 0).  Nor does a lane whose |D| = |G| / iz lies beyond
+ * `out` (vbao_radius and a margin of 1e-3 of it: weight 0 in vbao_back), which
+ * leaves a third of the steps kept without it to the first pass.
+ */
+static inline __attribute__((always_inline)) uint32_t
+vbao_front(const float *base, const struct tile_px *t, const struct tile_step *st, vf thr_exit,
+	   vf out, const int major_x, struct vbao_front *o)
 {
-	const vf one = v_set1(1.0f), zero = v_zero();
+	const vf one = v_set1(1.0f);
 	const struct px *p = &t->p;
 	const struct tile_tap tp = tile_tap_read(base, st);
-	const vf iz = tp.iz;
-	vm ok = tp.ok;
 	const vm edge = tp.edge;
 	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
 	const vf dv = major_x ? v_sel(edge, v_set1(st->vy_e), v_set1(st->vy_s)) : v_set1(st->vy_s);
 	const vf c = v_sel(edge, v_set1(st->c_e), v_set1(st->c_s));
 	const vf B = v_fma(t->X0, du, v_mul(t->Y0, dv));
-	/* the front */
-	const vf Gz = v_fnma(p->Pz, iz, one);
+	const vf Gz = v_fnma(p->Pz, tp.iz, one);
 	const vf GU = v_fma(Gz, t->Q, B);
 	const vf g2 = v_fma(Gz, v_add(GU, B), c);
-	/* a step where no lane's front passes the test below marks nothing: told
-	 * from the estimate of 1/sqrt (relative error below 4e-4, |cf0| <= 1)
-	 * against thr less a margin, a superset of the lanes the test keeps, so
-	 * that the branch, which mispredicts often, need not wait for the
-	 * refinement (a step kept here and by no lane there marks nothing too);
-	 * in tile_sample's units (thr_exit: (thr - 1e-3) nu, as nu < 0 the test
-	 * flips), and with g2 as it is on lanes without a sample (there G = U,
-	 * never 0) */
-	if (!m_any(m_and(ok, v_lt(v_mul(GU, v_rsqrt_fast(g2)), thr_exit))))
-		return;
+	o->tp = tp;
+	o->B = B;
+	o->c = c;
+	o->GU = GU;
+	o->g2 = g2;
+	const vf r = v_mul(out, tp.iz);
+	return (uint32_t)m_any(m_and(m_and(tp.ok, v_lt(g2, v_mul(r, r))),
+				     v_lt(v_mul(GU, v_rsqrt_fast(g2)), thr_exit)));
+}
+
+/*
+ * The rest of a step the first pass kept (f: its terms): the sectors
+ * [round(a), round(b)) (clamped to 0 .. 32) between the sample's front and
+ * back, a and b in sector units (t - lo) 32/pi (k_sgn = +-32/pi for the side,
+ * k_lo = -lo 32/pi, edge_at: the side's edge, 32 or 0); none where there is no
+ * sample or it lies beyond the radius.  Both cosines move towards the edge's
+ * (low) by the falloff weight, as in dao_vbao_ref.  ORed into *mask.
+ */
+static inline __attribute__((always_inline)) void
+vbao_back(const struct tile_vbao *vb, const uint16_t *tbase, const struct tile_px *t,
+	  const struct tile_step *st, const struct vbao_front *f, vf k_sgn, vf k_lo, vf low,
+	  vf thr, const float edge_at, const int plane, vi *mask)
+{
+	const vf one = v_set1(1.0f), zero = v_zero();
+	const struct px *p = &t->p;
+	const vf iz = f->tp.iz, B = f->B, c = f->c, GU = f->GU, g2 = f->g2;
+	vm ok = f->tp.ok;
+	/* the thickness at the same taps, the same way, read first, before the
+	 * branches below */
+	const vf T = plane ? tile_tap_follow(tbase, st, &f->tp) : v_set1(vb->thickness);
 	const vf g2s = v_sel(ok, g2, one);
 	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
@@ -214,9 +250,7 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 			return;
 		cf = v_fma(v_sub(cf0, low), wgt, low);
 	}
-	/* the back, `T` further: the thickness at the same taps, the same way (read
-	 * only here, by the steps that passed the exits above) */
-	const vf T = plane ? tile_tap_follow(tbase, st, &tp) : v_set1(vb->thickness);
+	/* the back, `T` further */
 	const vf U2 = v_add(v_add(t->Q, c), v_add(B, B));
 	const vf k = v_mul(v_mul(T, iz), v_rsqrt(U2));
 	const vf izb = v_mul(iz, v_rcp(v_add(one, k)));
@@ -238,19 +272,24 @@ vbao_sample(const struct tile_vbao *vb, const float *base, const uint16_t *tbase
 	*mask = vi_or(*mask, vi_keep(ok, vi_andnot(vi_low_bits(b), vi_low_bits(a))));
 }
 
-/* The sectors both sides of a slice occlude, per lane. */
-static inline __attribute__((always_inline)) vi
-vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
-	   const uint16_t *tbase, const struct tile_px *t, const struct tile_step *st,
-	   const struct slice_v *g, const int major_x, const int check, const int chk_p,
-	   const int chk_n, const int plane)
+/* steps per side the first pass takes at a time (the default preset's 6 in one) */
+#define VBAO_CHUNK 8
+
+/* A slice's constants of both sides' steps ([0]: the positive side, [1]: the negative). */
+struct vbao_slice {
+	vf k_lo;   /* -lo 32/pi, lo = n - pi/2: sector 0 starts at the hemisphere's edge */
+	vf low[2]; /* the cosines of the edges, n + pi/2 and n - pi/2 */
+	vf thr[2]; /* the fronts' and backs' test (vbao_back) */
+	vf out[2]; /* the first pass's test (vbao_front) */
+};
+
+static inline __attribute__((always_inline)) void
+vbao_slice_make(const struct tile_px *t, const struct slice_v *g, struct vbao_slice *c)
 {
 	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
-	/* lo = n - pi/2: sector 0 starts at the hemisphere's edge */
-	const vf k_lo = v_fnma(g->n, v_set1(k32), v_set1(0.5f * (float)DAO_VBAO_SECTORS));
-	const vf kp = v_set1(k32), kn = v_set1(-k32);
-	/* the cosines of the edges, n + pi/2 and n - pi/2 */
-	const vf low_p = v_neg(g->sin_n), low_n = g->sin_n;
+	c->k_lo = v_fnma(g->n, v_set1(k32), v_set1(0.5f * (float)DAO_VBAO_SECTORS));
+	c->low[0] = v_neg(g->sin_n);
+	c->low[1] = g->sin_n;
 	/* the cosines of the angles half a sector above the edges, n + pi/2 - d/2 and
 	 * n - pi/2 + d/2 (d = pi/32), less 1e-3 of margin; no skipping where the
 	 * normal is within 3 degrees of perpendicular to V, where the angles leave
@@ -259,47 +298,142 @@ vbao_sides(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const flo
 	const float sh = sinf(0.5f * DAO_PI_F / (float)DAO_VBAO_SECTORS);
 	const vm facing = v_gt(g->cos_n, v_set1(0.05f));
 	const vf margin = v_set1(1e-3f), never = v_set1(-2.0f);
-	const vf thr_p = v_sel(facing, v_sub(v_fnma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
-					    margin), never);
-	const vf thr_n = v_sel(facing, v_sub(v_fma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
-					    margin), never);
-	const vf exit_p = v_mul(v_sub(thr_p, margin), t->nu);
-	const vf exit_n = v_mul(v_sub(thr_n, margin), t->nu);
+	c->thr[0] = v_sel(facing, v_sub(v_fnma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
+				       margin), never);
+	c->thr[1] = v_sel(facing, v_sub(v_fma(g->sin_n, v_set1(ch), v_mul(g->cos_n, v_set1(sh))),
+				       margin), never);
+	c->out[0] = v_mul(v_sub(c->thr[0], margin), t->nu);
+	c->out[1] = v_mul(v_sub(c->thr[1], margin), t->nu);
+}
+
+/*
+ * The first pass over steps i0 .. i0 + n - 1 (n <= VBAO_CHUNK) of both sides
+ * of a slice (st: its steps): into fr[2 j] the positive side's step i0 + j,
+ * into fr[2 j + 1] the negative side's; bit 2 j, 2 j + 1 of the result where
+ * some lane's front may mark a sector.
+ */
+static inline __attribute__((always_inline)) uint32_t
+vbao_fronts(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
+	    const struct tile_px *t, const struct tile_step *st, const struct vbao_slice *c,
+	    int i0, int n, const int major_x, const int check, const int chk_p, const int chk_n,
+	    struct vbao_front *fr)
+{
 	const struct tile_step *sn = st + s->steps;
-	vi mask = vi_set1(0);
-	for (int i = 0; i < s->steps; i++) {
+	const vf out = v_set1(vb->fall_out);
+	uint32_t keep = 0;
+	for (int j = 0; j < n; j++) {
+		const int i = i0 + j;
 		if (!check || !chk_p || !tile_skip(t, &st[i]))
-			vbao_sample(vb, base, tbase, t, &st[i], kp, k_lo, low_p, thr_p, exit_p,
-				    (float)DAO_VBAO_SECTORS, major_x, plane, &mask);
+			keep |= vbao_front(base, t, &st[i], c->out[0], out, major_x, &fr[2 * j]) << (2 * j);
 		if (!check || !chk_n || !tile_skip(t, &sn[i]))
-			vbao_sample(vb, base, tbase, t, &sn[i], kn, k_lo, low_n, thr_n, exit_n, 0.0f,
-				    major_x, plane, &mask);
+			keep |= vbao_front(base, t, &sn[i], c->out[1], out, major_x, &fr[2 * j + 1])
+				<< (2 * j + 1);
+	}
+	return keep;
+}
+
+/* The second pass over the steps the first kept (keep, fr: vbao_fronts' for
+ * steps from i0), their sectors ORed into mask. */
+static inline __attribute__((always_inline)) vi
+vbao_backs(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const uint16_t *tbase,
+	   const struct tile_px *t, const struct tile_step *st, const struct vbao_slice *c, int i0,
+	   uint32_t keep, const struct vbao_front *fr, vi mask, const int plane)
+{
+	const struct tile_step *sn = st + s->steps;
+	const float k32 = (float)DAO_VBAO_SECTORS / DAO_PI_F;
+	const vf kp = v_set1(k32), kn = v_set1(-k32);
+	for (uint32_t pos = keep & 0x55555555u; pos; pos &= pos - 1) {
+		const int b = __builtin_ctz(pos);
+		vbao_back(vb, tbase, t, &st[i0 + b / 2], &fr[b], kp, c->k_lo, c->low[0], c->thr[0],
+			  (float)DAO_VBAO_SECTORS, plane, &mask);
+	}
+	for (uint32_t neg = keep & 0xaaaaaaaau; neg; neg &= neg - 1) {
+		const int b = __builtin_ctz(neg);
+		vbao_back(vb, tbase, t, &sn[i0 + b / 2], &fr[b], kn, c->k_lo, c->low[1], c->thr[1],
+			  0.0f, plane, &mask);
 	}
 	return mask;
 }
 
-/* vbao_sides specialised on the major axis, the bounds test and the plane;
- * chk_p, chk_n: whether a step of the positive, the negative side may have to
- * be skipped (tile_side_checks). */
+/* vbao_fronts specialised on the major axis and the bounds test; chk_p, chk_n:
+ * whether a step of the positive, the negative side may have to be skipped
+ * (tile_side_checks). */
+static uint32_t vbao_fronts_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
+				const float *base, const struct tile_px *t,
+				const struct tile_step *st, const struct vbao_slice *c, int i0, int n,
+				int major_x, int chk_p, int chk_n, struct vbao_front *fr)
+{
+	/* tests, not a switch: its table jump alternated between the cases with
+	 * the slices' major axes and mispredicted */
+	if (!chk_p && !chk_n)
+		return major_x ? vbao_fronts(vb, s, base, t, st, c, i0, n, 1, 0, 0, 0, fr)
+			       : vbao_fronts(vb, s, base, t, st, c, i0, n, 0, 0, 0, 0, fr);
+	return major_x ? vbao_fronts(vb, s, base, t, st, c, i0, n, 1, 1, chk_p, chk_n, fr)
+		       : vbao_fronts(vb, s, base, t, st, c, i0, n, 0, 1, chk_p, chk_n, fr);
+}
+
+/* vbao_backs specialised on the plane */
+static vi vbao_backs_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
+			 const uint16_t *tbase, const struct tile_px *t, const struct tile_step *st,
+			 const struct vbao_slice *c, int i0, uint32_t keep,
+			 const struct vbao_front *fr, vi mask)
+{
+	return vb->plane ? vbao_backs(vb, s, tbase, t, st, c, i0, keep, fr, mask, 1)
+			 : vbao_backs(vb, s, tbase, t, st, c, i0, keep, fr, mask, 0);
+}
+
+/* Two slices in flight (tile_lanes; tile_row keeps the room): slice k's
+ * first pass in [k & 1], its second run after the next slice's first. */
+struct vbao_pipe {
+	int n; /* slices whose first pass ran */
+	struct slice_v g[2];
+	struct vbao_slice c[2];
+	const struct tile_step *st[2];
+	uint32_t keep[2];
+	struct vbao_front fr[2][2 * VBAO_CHUNK];
+};
+
+/* The second pass of the slice in vp's [q], added to *vis, *norm. */
+static void vbao_pipe_back(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
+			   const uint16_t *tbase, const struct tile_px *t,
+			   const struct vbao_pipe *vp, int q, vf *vis, vf *norm);
+
+/* A slice's first pass, then the previous slice's second (vbao_pipe_back):
+ * the loads of the one overlap the arithmetic of the other.  Calls, not
+ * inline: tile_lanes' loop stays as GTAO's code needs it. */
+static __attribute__((noinline)) void
+vbao_pipe_slice(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const float *base,
+		const uint16_t *tbase, const struct tile_px *t, const struct tile_step *st,
+		const struct slice_v *g, int major_x, int chk_p, int chk_n, struct vbao_pipe *vp,
+		vf *vis, vf *norm)
+{
+	const int q = vp->n & 1;
+	vp->g[q] = *g;
+	vp->st[q] = st;
+	vbao_slice_make(t, g, &vp->c[q]);
+	vp->keep[q] = vbao_fronts_any(vb, s, base, t, st, &vp->c[q], 0, s->steps, major_x, chk_p,
+				      chk_n, vp->fr[q]);
+	if (vp->n++)
+		vbao_pipe_back(vb, s, tbase, t, vp, 1 - q, vis, norm);
+}
+
+/* The sectors both sides of a slice occlude, per lane, chunk by chunk of steps. */
 static vi vbao_sides_any(const struct tile_vbao *vb, const struct dao_gtao_setup *s,
 			 const float *base, const uint16_t *tbase, const struct tile_px *t,
 			 const struct tile_step *st, const struct slice_v *g, int major_x, int chk_p,
 			 int chk_n)
 {
-	const int inner = !chk_p && !chk_n;
-#define VBAO_SIDES(mx, check, plane) \
-	vbao_sides(vb, s, base, tbase, t, st, g, mx, check, chk_p, chk_n, plane)
-	/* tests, not a switch: its table jump alternated between the cases with
-	 * the slices' major axes and mispredicted */
-	if (vb->plane) {
-		if (major_x)
-			return inner ? VBAO_SIDES(1, 0, 1) : VBAO_SIDES(1, 1, 1);
-		return inner ? VBAO_SIDES(0, 0, 1) : VBAO_SIDES(0, 1, 1);
+	struct vbao_slice c;
+	vbao_slice_make(t, g, &c);
+	struct vbao_front fr[2 * VBAO_CHUNK];
+	vi mask = vi_set1(0);
+	for (int i0 = 0; i0 < s->steps; i0 += VBAO_CHUNK) {
+		const int n = s->steps - i0 < VBAO_CHUNK ? s->steps - i0 : VBAO_CHUNK;
+		const uint32_t keep =
+			vbao_fronts_any(vb, s, base, t, st, &c, i0, n, major_x, chk_p, chk_n, fr);
+		mask = vbao_backs_any(vb, s, tbase, t, st, &c, i0, keep, fr, mask);
 	}
-	if (major_x)
-		return inner ? VBAO_SIDES(1, 0, 0) : VBAO_SIDES(1, 1, 0);
-	return inner ? VBAO_SIDES(0, 0, 0) : VBAO_SIDES(0, 1, 0);
-#undef VBAO_SIDES
+	return mask;
 }
 
 /*
@@ -364,4 +498,13 @@ static inline void vbao_accumulate(const struct slice_v *g, vi mask, vf *vis, vf
 	}
 	*vis = v_add(*vis, v_keep(g->ok, v_mul(g->lpn, v_sub(all, occ))));
 	*norm = v_add(*norm, v_keep(g->ok, v_mul(g->lpn, all)));
+}
+
+static __attribute__((noinline)) void
+vbao_pipe_back(const struct tile_vbao *vb, const struct dao_gtao_setup *s, const uint16_t *tbase,
+	       const struct tile_px *t, const struct vbao_pipe *vp, int q, vf *vis, vf *norm)
+{
+	const vi mask = vbao_backs_any(vb, s, tbase, t, vp->st[q], &vp->c[q], 0, vp->keep[q],
+				       vp->fr[q], vi_set1(0));
+	vbao_accumulate(&vp->g[q], mask, vis, norm);
 }
