@@ -217,16 +217,20 @@ static void test_run_ends(void **state)
 	/* columns of 4 px of one depth run into both borders: the rows' value stays */
 	cols(&ts, z, t, 0, 64);
 	assert_float_equal(t[0 * 64 + 25], 10 * px, 1e-5);
-	/* a slope within the jump is one surface: 2 % deeper per pixel */
+	/* a slope within the jump is one surface: 2 % deeper per pixel (an image of one
+	 * row, with a camera of one row: the setup's height is the lines across a pass
+	 * may read, face_bound's and carried_bound's) */
+	struct dao_camera cam1;
+	camera(&cam1, 64, 1);
 	float zs[64], ts1[64];
 	for (int x = 0; x < 64; x++)
 		zs[x] = x >= 20 && x < 30 ? 2.0f * powf(1.02f, (float)(x - 20)) : 5.0f;
-	dao_thickness_setup_init(&ts, &cam, 2.0f);
+	dao_thickness_setup_init(&ts, &cam1, 2.0f);
 	dao_thickness_rows(&ts, zs, ts1, 0, 1);
 	/* the chord from the outer edge of its first pixel to that of its last */
 	const float z0 = zs[20], z1 = zs[29];
-	const float dx = (29.5f * cam.ax + cam.bx) * z1 - (19.5f * cam.ax + cam.bx) * z0;
-	const float dy = cam.by * (z1 - z0);
+	const float dx = (29.5f * cam1.ax + cam1.bx) * z1 - (19.5f * cam1.ax + cam1.bx) * z0;
+	const float dy = cam1.by * (z1 - z0);
 	const float chord = sqrtf(dx * dx + dy * dy + (z1 - z0) * (z1 - z0));
 	print_message("a 10 px strip sloping 2 %%/px: %.3f m (chord %.3f m, flat %.3f m)\n",
 		      ts1[25], chord, 10 * px);
