@@ -217,16 +217,20 @@ static void test_run_ends(void **state)
 	/* columns of 4 px of one depth run into both borders: the rows' value stays */
 	cols(&ts, z, t, 0, 64);
 	assert_float_equal(t[0 * 64 + 25], 10 * px, 1e-5);
-	/* a slope within the jump is one surface: 2 % deeper per pixel */
+	/* a slope within the jump is one surface: 2 % deeper per pixel (an image of one
+	 * row, with a camera of one row: the setup's height is the lines across a pass
+	 * may read, face_bound's and carried_bound's) */
+	struct dao_camera cam1;
+	camera(&cam1, 64, 1);
 	float zs[64], ts1[64];
 	for (int x = 0; x < 64; x++)
 		zs[x] = x >= 20 && x < 30 ? 2.0f * powf(1.02f, (float)(x - 20)) : 5.0f;
-	dao_thickness_setup_init(&ts, &cam, 2.0f);
+	dao_thickness_setup_init(&ts, &cam1, 2.0f);
 	dao_thickness_rows(&ts, zs, ts1, 0, 1);
 	/* the chord from the outer edge of its first pixel to that of its last */
 	const float z0 = zs[20], z1 = zs[29];
-	const float dx = (29.5f * cam.ax + cam.bx) * z1 - (19.5f * cam.ax + cam.bx) * z0;
-	const float dy = cam.by * (z1 - z0);
+	const float dx = (29.5f * cam1.ax + cam1.bx) * z1 - (19.5f * cam1.ax + cam1.bx) * z0;
+	const float dy = cam1.by * (z1 - z0);
 	const float chord = sqrtf(dx * dx + dy * dy + (z1 - z0) * (z1 - z0));
 	print_message("a 10 px strip sloping 2 %%/px: %.3f m (chord %.3f m, flat %.3f m)\n",
 		      ts1[25], chord, 10 * px);
@@ -1241,6 +1245,138 @@ static void test_chair_dropouts(void **state)
 	synth_image_free(&img);
 }
 
+/*
+ * Small images and their borders (thickness.c, dao_thickness_fill_rows and
+ * neighbour_bound): widths and heights of 1 to 13 pixels (the fill looks at four
+ * pixels at a time, then at the row's tail), holes of 0, NaN and negative depth up
+ * to the borders, boards with a lip at their ends, noise.  The fill is its rule
+ * pixel by pixel (a hole of at most fill_px between two pixels on one surface
+ * filled linearly, everything else copied), and the blocked passes give the
+ * references' result, within (0, max]: on the filled depth, and on the depth
+ * itself with the bounds lent by the lines beside (noise_k, fill_px 0).
+ */
+static uint32_t small_rand(uint32_t *r)
+{
+	*r = *r * 1664525u + 1013904223u;
+	return *r >> 8;
+}
+
+static void small_depth(float *z, int w, int h, uint32_t *r)
+{
+	const float zb = 2.5f + 0.001f * (float)(small_rand(r) % 1000);
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++)
+			z[(size_t)y * w + x] = zb + 0.004f * (float)x + 0.003f * (float)y;
+	const int x0 = (int)(small_rand(r) % (unsigned)w), y0 = (int)(small_rand(r) % (unsigned)h);
+	const int x1 = x0 + 1 + (int)(small_rand(r) % (unsigned)w);
+	const int y1 = y0 + 1 + (int)(small_rand(r) % (unsigned)h);
+	const float zn = 0.8f + 0.001f * (float)(small_rand(r) % 1000);
+	for (int y = y0; y < y1 && y < h; y++)
+		for (int x = x0; x < x1 && x < w; x++)
+			z[(size_t)y * w + x] = zn + 0.01f * (float)(x - x0) +
+					       (y == y0 || x == x0 ? 0.02f : 0.0f);
+	for (size_t i = 0; i < (size_t)w * h; i++) {
+		const uint32_t u = small_rand(r) % 1000;
+		z[i] *= 1.0f + 0.000002f * (float)(small_rand(r) % 1000) - 0.001f;
+		if (u < 50)
+			z[i] = 0.0f;
+		else if (u < 60)
+			z[i] = NAN;
+		else if (u < 65)
+			z[i] = -1.0f;
+	}
+	for (int k = 0; k < w * h / 12; k++) {
+		const int y = (int)(small_rand(r) % (unsigned)h), x = (int)(small_rand(r) % (unsigned)w);
+		const int len = 1 + (int)(small_rand(r) % 10);
+		for (int i = 0; i < len && x + i < w; i++)
+			z[(size_t)y * w + x + i] = 0.0f;
+	}
+}
+
+static void expect_small_same(const struct dao_thickness_setup *ts, const float *z)
+{
+	const int w = ts->width, h = ts->height;
+	const size_t n = (size_t)w * h;
+	float *ref = malloc(n * sizeof(float)), *got = malloc(n * sizeof(float));
+	float *scratch = malloc(dao_thickness_cols_scratch(h) * sizeof(float));
+	assert_non_null(ref);
+	assert_non_null(got);
+	assert_non_null(scratch);
+	dao_thickness_rows_ref(ts, z, ref, 0, h);
+	dao_thickness_rows(ts, z, got, 0, h / 2);
+	dao_thickness_rows(ts, z, got, h / 2, h);
+	assert_memory_equal(ref, got, n * sizeof(float));
+	dao_thickness_cols_ref(ts, z, ref, 0, w);
+	dao_thickness_cols(ts, z, got, scratch, NULL, 0, w / 3);
+	dao_thickness_cols(ts, z, got, scratch, NULL, w / 3, w);
+	assert_memory_equal(ref, got, n * sizeof(float));
+	for (size_t i = 0; i < n; i++)
+		assert_true(ref[i] > 0.0f && ref[i] <= ts->max);
+	free(scratch);
+	free(got);
+	free(ref);
+}
+
+static void test_small_images(void **state)
+{
+	(void)state;
+	uint32_t r = 2026;
+	for (int h = 1; h <= 13; h++)
+		for (int w = 1; w <= 13; w++)
+			for (int v = 0; v < 4; v++) {
+				struct dao_camera cam;
+				const double f = 0.8 * (w > 8 ? w : 8);
+				assert_int_equal(dao_camera_from_intrinsics(&cam, (uint32_t)w, (uint32_t)h,
+									   f, f, 0.5 * (w - 1),
+									   0.5 * (h - 1), NULL),
+						 0);
+				const size_t n = (size_t)w * h;
+				float *z = malloc(n * sizeof(float)), *zf = malloc(n * sizeof(float));
+				float *want = malloc(n * sizeof(float));
+				assert_non_null(z);
+				assert_non_null(zf);
+				assert_non_null(want);
+				small_depth(z, w, h, &r);
+				struct dao_thickness_setup ts;
+				dao_thickness_setup_init(&ts, &cam, 0.5f);
+				ts.spacing = 0.11f;
+				/* the fill, in two bands, against its rule */
+				dao_thickness_fill_rows(&ts, z, zf, 0, h / 2);
+				dao_thickness_fill_rows(&ts, z, zf, h / 2, h);
+				memcpy(want, z, n * sizeof(float));
+				for (int y = 0; y < h; y++) {
+					const float *zr = z + (size_t)y * w;
+					float *o = want + (size_t)y * w;
+					for (int a = 1; a < w; a++) {
+						if (zr[a] > 0.0f || !(zr[a - 1] > 0.0f))
+							continue;
+						int b = a;
+						while (b < w && !(zr[b] > 0.0f))
+							b++;
+						const float za = zr[a - 1];
+						if (b < w && b - a <= ts.fill_px && zr[b] > 0.0f &&
+						    fabsf(zr[b] - za) <=
+							    DAO_THICKNESS_JUMP * (za < zr[b] ? za : zr[b])) {
+							const float dz = (zr[b] - za) / (float)(b - a + 1);
+							for (int k = a; k < b; k++)
+								o[k] = za + dz * (float)(k - a + 1);
+						}
+						a = b;
+					}
+				}
+				assert_memory_equal(zf, want, n * sizeof(float));
+				ts.noise_k = 0.0026f;
+				expect_small_same(&ts, zf);
+				ts.fill_px = 0;
+				expect_small_same(&ts, z);
+				ts.noise_k = 0.0f;
+				expect_small_same(&ts, z);
+				free(want);
+				free(zf);
+				free(z);
+			}
+}
+
 /* Mean |ao - truth| over every pixel with depth. */
 static double image_mae(const float *ao, const struct synth_image *img)
 {
@@ -1306,6 +1442,7 @@ int main(void)
 		cmocka_unit_test(test_slabs_edge_holes),
 		cmocka_unit_test(test_vbao_slabs),
 		cmocka_unit_test(test_chair_dropouts),
+		cmocka_unit_test(test_small_images),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
