@@ -189,6 +189,12 @@ vbao_front(const float *base, const struct tile_px *t, const struct tile_step *s
 	const vf one = v_set1(1.0f);
 	const struct px *p = &t->p;
 	const struct tile_tap tp = tile_tap_read(base, st);
+	/* the line the next block of this tile phase (VN entries on, read a few
+	 * blocks later) adds to these taps: each load moves along by VN entries
+	 * from block to block, which the hardware's prefetchers do not follow
+	 * (one address per step and slice from the same instructions) */
+	__builtin_prefetch(base + st->o0 + 2 * VN - 1);
+	__builtin_prefetch(base + st->o1 + 2 * VN - 1);
 	const vm edge = tp.edge;
 	const vf du = major_x ? v_set1(st->ux_s) : v_sel(edge, v_set1(st->ux_e), v_set1(st->ux_s));
 	const vf dv = major_x ? v_sel(edge, v_set1(st->vy_e), v_set1(st->vy_s)) : v_set1(st->vy_s);
@@ -227,6 +233,10 @@ vbao_back(const struct tile_vbao *vb, const uint16_t *tbase, const struct tile_p
 	/* the thickness at the same taps, the same way, read first, before the
 	 * branches below */
 	const vf T = plane ? tile_tap_follow(tbase, st, &f->tp) : v_set1(vb->thickness);
+	if (plane) { /* the next block's, as vbao_front's (it keeps much the same steps) */
+		__builtin_prefetch(tbase + st->o0 + 2 * VN - 1);
+		__builtin_prefetch(tbase + st->o1 + 2 * VN - 1);
+	}
 	const vf g2s = v_sel(ok, g2, one);
 	const vf rg = v_rsqrt(g2s);
 	const vf cf0 = v_mul(v_mul(GU, rg), t->inu);
