@@ -501,6 +501,7 @@ static void face_bound_pixels(const struct line_geom *g, int s, int e, int dir,
 struct fb_memo_entry {
 	int line, k, dir; /* dir 0: empty */
 	int len;          /* fb_memo_len of the run */
+	int full;         /* len from the whole run from k (else a cut of it: carried_bound) */
 	int ok;
 	struct face_bound b;
 };
@@ -525,25 +526,27 @@ static inline struct fb_memo_entry *fb_memo_slot(struct fb_memo *m, int line, in
 	return &m->e[key >> (32 - FB_MEMO_BITS)];
 }
 
-/* A run's length as far as its face bound depends on it: all of it on noisy depth
- * (DAO_BOUND_FACE_LONG), else the points looked at. */
+/* A run's length as far as its face bound depends on it: the points looked at, on noisy
+ * depth up to the broad face's direction (DAO_BOUND_FACE_LONG past the last edge face
+ * pixel tried: a run longer than that gives the same bound). */
+#define FB_LOOKED_NOISY (DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_LONG + 1)
 static inline int fb_memo_len(const struct line_geom *g, int len)
 {
-	return g->t->noise_k > 0.0f || len < FB_LOOKED ? len : FB_LOOKED;
+	const int most = g->t->noise_k > 0.0f ? FB_LOOKED_NOISY : FB_LOOKED;
+	return len < most ? len : most;
 }
 
-/* face_bound without b's pixels (k0, k1), through the memo. */
-static inline __attribute__((always_inline)) int face_bound_memo(const struct line_geom *g, int n,
-								 int s, int e, int dir,
-								 struct face_bound *b)
+/* Whether the end of the run s..e (dir as face_bound's) can have a bound: a direct step
+ * to farther, or a hole of at most DAO_BOUND_HOLE_PX px with something farther by a step
+ * beyond it (*h its pixels; else 0).  carried_bound and neighbour_bound need it too. */
+static inline __attribute__((always_inline)) int end_beyond(const struct line_geom *g, int n,
+							    int end, int dir, int *h)
 {
-	const int end = dir < 0 ? e : s;
-	const int len = e - s + 1;
 	const int out = end - dir;
-	if (out < 0 || out >= n || len <= DAO_BOUND_FACE_SEGS)
+	*h = 0;
+	if (out < 0 || out >= n)
 		return 0;
 	const float zend = g->z[(size_t)end * g->step];
-	int h = 0;
 	if (!(g->z[(size_t)out * g->step] > zend)) {
 		if (g->z[(size_t)out * g->step] > 0.0f)
 			return 0; /* something nearer */
@@ -551,13 +554,32 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 		 * beyond it: it can hide an edge face of as many pixels */
 		int j = out;
 		while (j >= 0 && j < n && !(g->z[(size_t)j * g->step] > 0.0f) &&
-		       h < DAO_BOUND_HOLE_PX) {
+		       *h < DAO_BOUND_HOLE_PX) {
 			j -= dir;
-			h++;
+			(*h)++;
 		}
 		if (j < 0 || j >= n || !(g->z[(size_t)j * g->step] > zend + DAO_THICKNESS_JUMP * zend))
 			return 0;
 	}
+	return 1;
+}
+
+static inline __attribute__((always_inline)) int bound_end(const struct line_geom *g, int n,
+							   int s, int e, int dir, int *h)
+{
+	return e - s + 1 > DAO_BOUND_FACE_SEGS && end_beyond(g, n, dir < 0 ? e : s, dir, h);
+}
+
+/* face_bound without b's pixels (k0, k1), through the memo, at an end that passed
+ * bound_end (h: its hole); full: s..e is the whole run from the end inwards, or at
+ * least FB_LOOKED_NOISY of it (fb_memo_entry). */
+static inline __attribute__((always_inline)) int face_bound_memo_at(const struct line_geom *g,
+								    int n, int s, int e,
+								    int dir, int h, int full,
+								    struct face_bound *b)
+{
+	const int end = dir < 0 ? e : s;
+	const int len = e - s + 1;
 	/* made already in this pass? */
 	const int line = line_index(g);
 	const int mlen = fb_memo_len(g, len);
@@ -608,11 +630,21 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 		me->k = end;
 		me->dir = dir;
 		me->len = mlen;
+		me->full = full;
 		me->ok = ok;
 		if (ok)
 			me->b = *b;
 	}
 	return ok;
+}
+
+/* face_bound without b's pixels (k0, k1), through the memo. */
+static inline __attribute__((always_inline)) int face_bound_memo(const struct line_geom *g, int n,
+								 int s, int e, int dir,
+								 struct face_bound *b)
+{
+	int h;
+	return bound_end(g, n, s, e, dir, &h) && face_bound_memo_at(g, n, s, e, dir, h, 0, b);
 }
 
 /* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's);
@@ -796,26 +828,12 @@ __attribute__((noinline)) static int carried_bound(const struct line_geom *g, in
 __attribute__((noinline)) static int neighbour_bound(const struct line_geom *g, int n, int s,
 						     int e, int dir, struct face_bound *b)
 {
+	/* (run_face_bounds: on noisy depth not filled, at an end that passed bound_end) */
 	const int end = dir < 0 ? e : s;
 	const int len = e - s + 1;
-	const int out = end - dir;
 	const float *z = g->z;
 	const size_t st = g->step;
-	if (!(g->t->noise_k > 0.0f) || g->t->fill_px > 0 || out < 0 || out >= n ||
-	    len <= DAO_BOUND_FACE_SEGS)
-		return 0;
 	const float ze = z[(size_t)end * st];
-	if (!(z[(size_t)out * st] > ze)) {
-		if (z[(size_t)out * st] > 0.0f)
-			return 0;
-		int j = out, h = 0;
-		while (j >= 0 && j < n && !(z[(size_t)j * st] > 0.0f) && h < DAO_BOUND_HOLE_PX) {
-			j -= dir;
-			h++;
-		}
-		if (j < 0 || j >= n || !(z[(size_t)j * st] > ze + DAO_THICKNESS_JUMP * ze))
-			return 0;
-	}
 	/* this end's straight broad face, from one of its first DAO_BOUND_NEIGH_SKIP + 1
 	 * pixels (past a lip at the silhouette, which may be what failed its own bound) */
 #define PT(j) line_pos(g, (float)(end + dir * (j)), z[(size_t)(end + dir * (j)) * st])
@@ -862,23 +880,39 @@ __attribute__((noinline)) static int neighbour_bound(const struct line_geom *g, 
 			}
 			if (k < 0)
 				continue;
-			const float zc = CZ(k, c);
-			/* inwards as far as face_bound looks on noisy depth */
-			int m = 0;
-			float zm = zc;
-			while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_LONG + 1) {
-				const int k1 = k + dir * (m + 1);
-				if (k1 < 0 || k1 >= n || !same_surface(zm, CZ(k1, c)))
-					break;
-				zm = CZ(k1, c);
-				m++;
-			}
 			const struct line_geom gc = { g->t, z + (ptrdiff_t)c * cs, st,
 						      g->u0 + (float)c * g->dv,
 						      g->v0 + (float)c * g->du, g->du, g->dv, g->memo };
-			struct face_bound fb;
-			if (!face_bound(&gc, n, dir < 0 ? k - m : k, dir < 0 ? k : k + m, dir, &fb, 0))
+			/* its face bound (face_bound's, for the run cut to what it looks at on
+			 * noisy depth): line c's end first, then the memo's entry made from a
+			 * whole run from k (its length is the run's: no need to walk it), else
+			 * inwards as far as face_bound looks and through the memo */
+			int h;
+			if (!end_beyond(&gc, n, k, dir, &h))
 				continue;
+			struct face_bound fb;
+			const struct fb_memo_entry *me =
+				gc.memo ? fb_memo_slot(gc.memo, line_index(&gc), k, dir) : NULL;
+			if (me && me->dir == dir && me->full && me->line == line_index(&gc) &&
+			    me->k == k) {
+				if (!me->ok)
+					continue;
+				fb = me->b;
+			} else {
+				int m = 0;
+				float zm = CZ(k, c);
+				while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_LONG + 1) {
+					const int k1 = k + dir * (m + 1);
+					if (k1 < 0 || k1 >= n || !same_surface(zm, CZ(k1, c)))
+						break;
+					zm = CZ(k1, c);
+					m++;
+				}
+				if (m < DAO_BOUND_FACE_SEGS ||
+				    !face_bound_memo_at(&gc, n, dir < 0 ? k - m : k,
+							dir < 0 ? k : k + m, dir, h, 1, &fb))
+					continue;
+			}
 			const struct vec dp = vsub(pe, fb.at);
 			const float off = vdot(dp, fb.normal);
 			if (off * off > DAO_BOUND_CARRY_TOL * DAO_BOUND_CARRY_TOL * vdot(dp, dp))
@@ -900,15 +934,25 @@ __attribute__((noinline)) static int neighbour_bound(const struct line_geom *g, 
 	return 1;
 }
 
-/* Both ends of the run s..e: *count bounds in b (own or carried). */
+/* Both ends of the run s..e: *count bounds in b (own, carried or lent). */
 static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
 			    struct face_bound b[2])
 {
-	*count = face_bound(g, n, s, e, -1, &b[0], 1) || carried_bound(g, n, s, e, -1, &b[0]) ||
-		 neighbour_bound(g, n, s, e, -1, &b[0]);
-	*count += face_bound(g, n, s, e, 1, &b[*count], 1) ||
-		  carried_bound(g, n, s, e, 1, &b[*count]) ||
-		  neighbour_bound(g, n, s, e, 1, &b[*count]);
+	/* (an end that fails bound_end has none of the three) */
+	const int lend = g->t->noise_k > 0.0f && g->t->fill_px == 0;
+	*count = 0;
+	for (int dir = -1; dir <= 1; dir += 2) {
+		int h;
+		if (!bound_end(g, n, s, e, dir, &h))
+			continue;
+		struct face_bound *bb = &b[*count];
+		if (face_bound_memo_at(g, n, s, e, dir, h, 1, bb))
+			face_bound_pixels(g, s, e, dir, bb);
+		else if (!carried_bound(g, n, s, e, dir, bb) &&
+			 !(lend && neighbour_bound(g, n, s, e, dir, bb)))
+			continue;
+		(*count)++;
+	}
 }
 
 /*
