@@ -717,39 +717,57 @@ static double prim_ratio(const struct synth_scene *s, const struct dao_camera *c
 	return r[*n / 2];
 }
 
+/* The upright boards rendered clean, with planes for the estimate and for the
+ * primitive each pixel shows (synth_inside_plane). */
+static void upright_boards_render(struct synth_scene *s, struct dao_camera *cam,
+				  struct synth_image *img, float **t, float **inside)
+{
+	upright_boards_scene(s);
+	camera(cam, W, H);
+	assert_int_equal(synth_render(s, cam, 0.5, 0, 1, img, NULL), 0);
+	*t = malloc((size_t)W * H * sizeof(float));
+	*inside = malloc((size_t)W * H * sizeof(float));
+	assert_non_null(*t);
+	assert_non_null(*inside);
+	synth_inside_plane(s, cam, *inside);
+}
+
+/* The two boards' estimates near 3 x their rays' length through them, fewer
+ * than at_most of their pixels at the bound; the box not made thin. */
+static void expect_upright_boards(const struct synth_scene *s, const struct dao_camera *cam,
+				  const float *t, const float *inside, const char *how,
+				  double at_most)
+{
+	static const char *const what[3] = { "board 1 cm", "board 3 cm", "box 50 cm" };
+	for (int i = 0; i < 3; i++) {
+		int n;
+		double thin, at_max;
+		const double m = prim_ratio(s, cam, t, inside, 2 + i, &thin, &at_max, &n);
+		print_message("%s%s (%d px): estimate / (3 x its rays' length through it) median "
+			      "%.2f, under half %.1f %%, at the bound %.1f %%\n", what[i], how, n, m,
+			      100.0 * thin, 100.0 * at_max);
+		assert_true(n > 5000);
+		if (i < 2)
+			assert_true(m > 0.7 && m < 2.0 && at_max < at_most);
+		else
+			assert_true(m > 0.9 && thin < 0.01);
+	}
+}
+
 static void test_boards_upright(void **state)
 {
 	(void)state;
 	struct synth_scene s;
 	struct dao_camera cam;
 	struct synth_image img;
-	upright_boards_scene(&s);
-	camera(&cam, W, H);
-	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
-	float *t = malloc((size_t)W * H * sizeof(float));
-	float *inside = malloc((size_t)W * H * sizeof(float));
-	assert_non_null(t);
-	assert_non_null(inside);
-	synth_inside_plane(&s, &cam, inside);
+	float *t, *inside;
+	upright_boards_render(&s, &cam, &img, &t, &inside);
 	estimate(&cam, img.depth, 0.5f, t);
-	static const char *const what[3] = { "board 1 cm", "board 3 cm", "box 50 cm" };
-	for (int i = 0; i < 3; i++) {
-		int n;
-		double thin, at_max;
-		const double m = prim_ratio(&s, &cam, t, inside, 2 + i, &thin, &at_max, &n);
-		print_message("%s (%d px): estimate / (3 x its rays' length through it) median "
-			      "%.2f, under half %.1f %%, at the bound %.1f %%\n", what[i], n, m,
-			      100.0 * thin, 100.0 * at_max);
-		assert_true(n > 5000);
-		/* medians 1.11 and 1.15 with the value made for the middle of the bound's
-		 * interval (2.2 and 1.7 with the bound itself; 15.6 before it); at the
-		 * bound 0.7 % and 0 (the 1 cm board's far end, whose side face looks away:
-		 * 5.5 % before the bound carried across, thickness.c) */
-		if (i < 2)
-			assert_true(m > 0.7 && m < 2.0 && at_max < 0.01);
-		else
-			assert_true(m > 0.9 && thin < 0.01);
-	}
+	/* medians 1.11 and 1.15 with the value made for the middle of the bound's
+	 * interval (2.2 and 1.7 with the bound itself; 15.6 before it); at the
+	 * bound 0.7 % and 0 (the 1 cm board's far end, whose side face looks away:
+	 * 5.5 % before the bound carried across, thickness.c) */
+	expect_upright_boards(&s, &cam, t, inside, "", 0.01);
 	expect_blocked_same(&cam, img.depth, 0.5f, 0.0f);
 	expect_blocked_same(&cam, img.depth, 0.5f, 0.11f);
 	free(inside);
@@ -777,14 +795,8 @@ static void test_boards_neighbour_bound(void **state)
 	struct synth_scene s;
 	struct dao_camera cam;
 	struct synth_image img;
-	upright_boards_scene(&s);
-	camera(&cam, W, H);
-	assert_int_equal(synth_render(&s, &cam, 0.5, 0, 1, &img, NULL), 0);
-	float *t = malloc((size_t)W * H * sizeof(float));
-	float *inside = malloc((size_t)W * H * sizeof(float));
-	assert_non_null(t);
-	assert_non_null(inside);
-	synth_inside_plane(&s, &cam, inside);
+	float *t, *inside;
+	upright_boards_render(&s, &cam, &img, &t, &inside);
 	int moved = 0;
 	for (int x = 0; x < W; x += 3)
 		for (int y = 1; y < H; y++) {
@@ -807,20 +819,8 @@ static void test_boards_neighbour_bound(void **state)
 	ts.fill_px = 0;
 	dao_thickness_rows(&ts, img.depth, t, 0, H);
 	cols(&ts, img.depth, t, 0, W);
-	static const char *const what[3] = { "board 1 cm", "board 3 cm", "box 50 cm" };
-	for (int i = 0; i < 3; i++) {
-		int n;
-		double thin, at_max;
-		const double m = prim_ratio(&s, &cam, t, inside, 2 + i, &thin, &at_max, &n);
-		print_message("%s, every third column's top pixel 3 cm nearer, noisy settings (%d "
-			      "px): estimate / (3 x its rays' length through it) median %.2f, under "
-			      "half %.1f %%, at the bound %.1f %%\n", what[i], n, m, 100.0 * thin,
-			      100.0 * at_max);
-		if (i < 2)
-			assert_true(m > 0.7 && m < 2.0 && at_max < 0.05);
-		else
-			assert_true(m > 0.9 && thin < 0.01);
-	}
+	expect_upright_boards(&s, &cam, t, inside,
+			      ", every third column's top pixel 3 cm nearer, noisy settings", 0.05);
 	expect_blocked_same_kf(&cam, img.depth, 0.5f, 0.11f, 0.0026f, 0);
 	expect_blocked_same_kf(&cam, img.depth, 0.5f, 0.0f, 0.0026f, 0);
 	free(inside);
