@@ -649,6 +649,12 @@ static void test_vbao(void **state)
 			if (i == 0)
 				vbao_case(&p, &inputs[i], 12, 12, VBAO_PLANE);
 		}
+		/* an odd number of slices: the last one's second pass after the loop
+		 * (vbao_pipe), as the low preset's single slice */
+		if (i == 0) {
+			vbao_case(&p, &inputs[i], 1, 6, VBAO_PLANE);
+			vbao_case(&p, &inputs[i], 3, 4, VBAO_CONSTANT);
+		}
 		free_planes(&p);
 	}
 }
