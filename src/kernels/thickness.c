@@ -313,6 +313,7 @@ static int slab_edge(const struct line_geom *g, int s, int e, int dir, struct ve
 #define DAO_BOUND_FACE_SEGS 4 /* the broad face's straight segments, at least */
 #define DAO_BOUND_CROSS 2     /* the lines across the normal and the outline come from */
 #define DAO_BOUND_ALLOW 0.5f  /* px: the face's extent beyond its pixels' centres */
+#define DAO_BOUND_DEPTH_PX 1.0f /* px: added to the end's depth behind the face */
 #define DAO_BOUND_FACE_LONG 12 /* noisy depth: the broad face's direction over this, px */
 #define DAO_BOUND_HOLE_PX 8   /* a hole's pixels beyond the end, at most (README.md:
 			       * 4 and 8 tried) */
@@ -390,17 +391,38 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 	}
 }
 
+/* Whether the chord to r (the pixel j + 1 from end) from DAO_BOUND_FACE_LONG pixels
+ * back, or from jf where that is nearer the end, turns by less than the straightness
+ * angle from d (dd = |d|^2); a chord of one segment does not count. */
+static int straight_chord(const struct line_geom *g, int end, int dir, int j, int jf,
+			  struct vec r, struct vec d, float dd)
+{
+	const int jb = j + 1 - DAO_BOUND_FACE_LONG > jf ? j + 1 - DAO_BOUND_FACE_LONG : jf;
+	if (jb >= j)
+		return 0;
+	const int kb = end + dir * jb;
+	const struct vec pb = line_pos(g, (float)kb, g->z[(size_t)kb * g->step]);
+	return cos_above_bb(vsub(r, pb), d, dd, DAO_SLAB_STRAIGHT_COS);
+}
+
 /* From the pixel end + dir j (at q) of a run len long, the last pixel k of the straight
  * face in direction d: each segment on from there turns by less than the straightness
- * angle from d.  Returns k's offset from end. */
+ * angle from d.  On noisy depth a segment that turns more passes where the chord to it
+ * from DAO_BOUND_FACE_LONG pixels back (from no nearer the end than DAO_BOUND_FACE_SEGS
+ * before j) does not: the noise tilts single segments of a straight face, a crease
+ * turns the chord too (README.md, "Boards seen face-on under Gaussian noise").
+ * Returns k's offset from end. */
 static int straight_face_end(const struct line_geom *g, int end, int dir, int len, int j,
 			     struct vec q, struct vec d)
 {
 	const float dd = vdot(d, d);
+	const int noisy = g->t->noise_k > 0.0f;
+	const int jf = j > DAO_BOUND_FACE_SEGS ? j - DAO_BOUND_FACE_SEGS : 0;
 	while (j + 1 < len) {
 		const int k = end + dir * (j + 1);
 		const struct vec r = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
-		if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS))
+		if (!cos_above_bb(vsub(r, q), d, dd, DAO_SLAB_STRAIGHT_COS) &&
+		    !(noisy && straight_chord(g, end, dir, j, jf, r, d, dd)))
 			break;
 		q = r;
 		j++;
@@ -457,7 +479,20 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	const float rate = (al - ac * (float)(ep - em) / (float)(2 * c)) * (float)-dir - slack;
 	if (!(rate > 0.0f))
 		return 0;
-	const float bt = ((float)(f + h) + DAO_BOUND_ALLOW) / rate;
+	float bt = ((float)(f + h) + DAO_BOUND_ALLOW) / rate;
+	/* with the dropouts filled (Gaussian-like noise), where the edge face shows the
+	 * prefilter rounds the crease into it, so f counts some of the broad face too: the
+	 * end pixel's distance behind the broad face (its far edge's, T) plus a pixel's
+	 * extent, at least half a pixel's, when that is less (README.md, "Boards seen
+	 * face-on under Gaussian noise") */
+	float td = INFINITY;
+	if (f > 0 && g->t->noise_k > 0.0f && g->t->fill_px > 0) {
+		td = vdot(vsub(pf, p0), nrm) + DAO_BOUND_DEPTH_PX / rate;
+		if (td < 0.5f / rate)
+			td = 0.5f / rate;
+		if (td < bt)
+			bt = td;
+	}
 	if (!(bt < g->t->max))
 		return 0;
 	/* (the pixels of the straight broad face: face_bound_pixels) */
@@ -469,6 +504,8 @@ static int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir
 	 * 0 .. 1/2 / rate; a hole of h px beyond the end adds h / rate to the top: the
 	 * value is made for the middle (README.md) */
 	b->t = (f > 0 ? (float)f + 0.5f * (float)h : 0.5f * ((float)h + DAO_BOUND_ALLOW)) / rate;
+	if (td < b->t)
+		b->t = td;
 	return 1;
 }
 
