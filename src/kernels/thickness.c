@@ -1116,6 +1116,34 @@ static inline int near_behind(const float *z, size_t step, int s, int e, float g
 	       (b1 > 0.0f && b1 - z[(size_t)e * step] <= gap);
 }
 
+/*
+ * A face hidden in a hole across the baseline (README.md, "Noisy input"): on
+ * noisy depth whose dropouts are not filled (structured light, active
+ * stereo), a board seen edge-on shows as a short run, its edge face, and its
+ * broad face, receding at a grazing angle beyond one end, falls where the
+ * block matching finds no depth: a hole with the background beyond it.  Along
+ * the rows, the baseline, such holes lie beside every object (the projector's
+ * shadow, the second camera's occlusion; a pole's as a board's); along the
+ * columns there is no shadow.  So in the column pass a run of at least
+ * DAO_HIDDEN_RUN_PX pixels whose chord is under DAO_HIDDEN_CHORD spacings,
+ * with a hole of DAO_HIDDEN_HOLE_PX or more beside an end, gets the bound
+ * instead of its chord: its extent is unknown.  Chosen on the tune set
+ * (README.md: holes of 2 - 5 px, rows too, the chord lifted by 3 or 8 cm).
+ */
+#define DAO_HIDDEN_HOLE_PX 2
+#define DAO_HIDDEN_RUN_PX 5
+#define DAO_HIDDEN_CHORD 0.5f
+
+static inline int hidden_face(const float *z, size_t step, int n, int s, int e)
+{
+	int h0 = 0, h1 = 0;
+	for (int j = 1; j <= DAO_HIDDEN_HOLE_PX; j++) {
+		h0 += s - j >= 0 && !(z[(size_t)(s - j) * step] > 0.0f);
+		h1 += e + j < n && !(z[(size_t)(e + j) * step] > 0.0f);
+	}
+	return h0 == DAO_HIDDEN_HOLE_PX || h1 == DAO_HIDDEN_HOLE_PX;
+}
+
 /* (noinline: one build of the arithmetic, whichever clone of a sweep calls it) */
 __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, int n, int s,
 						   int e, struct run_est *r)
@@ -1143,6 +1171,11 @@ __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, i
 			const float raised = chord + DAO_CHORD_EXTRA * t->spacing;
 			chord = raised < t->spacing ? raised : t->spacing;
 		}
+		/* a face hidden in a hole across the baseline, on noisy depth not filled */
+		if (t->noise_k > 0.0f && t->fill_px == 0 && du == 0.0f &&
+		    e - s + 1 >= DAO_HIDDEN_RUN_PX && chord < DAO_HIDDEN_CHORD * t->spacing &&
+		    hidden_face(z, step, n, s, e))
+			chord = t->max;
 		if (chord < r->value)
 			r->value = chord;
 		if (e - s >= 4) {

@@ -267,6 +267,84 @@ static void test_run_holes(void **state)
 }
 
 /*
+ * A face hidden in a hole across the baseline (thickness.c, hidden_face): on
+ * noisy depth whose dropouts are not filled, a run of 10 px at 2 m (3.8 cm,
+ * under half the 0.11 m spacing) ended along a column by a hole of 2 px or
+ * more with something farther beyond it gets the bound, as the lowest board of
+ * shelves-below under structured light, whose underside lies in such a hole;
+ * with a direct step or a hole of 1 px, along a row (the baseline, where such
+ * holes are shadows beside poles too), on clean depth or with the dropouts
+ * filled it keeps its chord, and so does a run of 4 px.
+ */
+static void test_hidden_face(void **state)
+{
+	(void)state;
+	enum { HW = 640, HH = 40 };
+	struct dao_camera cam;
+	camera(&cam, HW, HH);
+	const float px = 2.0f / (float)cam.fx;
+	float *z = malloc(sizeof(float) * HW * HH), *zt = malloc(sizeof(float) * HW * HH);
+	float *t = malloc(sizeof(float) * HW * HH);
+	assert_non_null(z);
+	assert_non_null(zt);
+	assert_non_null(t);
+	/* a board 10 rows high across the image (rows 10..19; 4 rows, 10..13, in columns
+	 * 400..)  before a wall at 3 m; below it, by column, a hole of 3 px (columns
+	 * 0..199), none (200..299), a hole of 1 px (300..399), a hole of 3 px (400..) */
+	for (int y = 0; y < HH; y++)
+		for (int x = 0; x < HW; x++) {
+			const int bottom = x < 400 ? 20 : 14;
+			const int hole = x < 200 || x >= 400 ? 3 : x < 300 ? 0 : 1;
+			const int board = y >= 10 && y < bottom;
+			z[(size_t)y * HW + x] = board ? 2.0f : y >= bottom && y < bottom + hole ? 0.0f
+											       : 3.0f;
+		}
+	/* the same turned: a post 10 columns wide (300..309) with a hole of 3 px left of
+	 * it, along the rows */
+	for (int y = 0; y < HH; y++)
+		for (int x = 0; x < HW; x++)
+			zt[(size_t)y * HW + x] = x >= 300 && x < 310 ? 2.0f
+						 : x >= 297 && x < 300 ? 0.0f : 3.0f;
+	struct dao_thickness_setup ts;
+	dao_thickness_setup_init(&ts, &cam, 0.5f);
+	ts.spacing = 0.11f;
+	/* structured light's: a prefilter's scale of 14 px, not filled */
+	dao_thickness_setup_noise(&ts, 14.0f, 0.0012f);
+	assert_true(ts.noise_k > 0.0f);
+	assert_int_equal(ts.fill_px, 0);
+	dao_thickness_rows(&ts, z, t, 0, HH);
+	cols(&ts, z, t, 0, HW);
+	const float hidden = t[15 * HW + 100], step = t[15 * HW + 250], one = t[15 * HW + 350];
+	const float shortrun = t[12 * HW + 500];
+	dao_thickness_rows(&ts, zt, t, 0, HH);
+	cols(&ts, zt, t, 0, HW);
+	const float along = t[20 * HW + 305];
+	print_message("a 10 px board (%.1f cm), noisy: a hole of 3 px below %.3f m, a step %.3f, "
+		      "1 px %.3f, 4 px board %.3f, a post with the hole along the row %.3f\n",
+		      (double)(10 * px * 100), (double)hidden, (double)step, (double)one,
+		      (double)shortrun, (double)along);
+	assert_float_equal(hidden, 0.5f, 0.0f);
+	assert_float_equal(step, 10 * px, 1e-4);
+	assert_float_equal(one, 10 * px, 1e-4);
+	assert_float_equal(shortrun, 4 * px, 1e-4);
+	assert_float_equal(along, 10 * px, 1e-4);
+	/* clean, or the dropouts filled: the chord */
+	for (int c = 0; c < 2; c++) {
+		dao_thickness_setup_init(&ts, &cam, 0.5f);
+		ts.spacing = 0.11f;
+		if (c)
+			dao_thickness_setup_noise(&ts, 5.0f, 0.0012f);
+		assert_int_equal(ts.fill_px, DAO_THICKNESS_FILL_PX);
+		dao_thickness_rows(&ts, z, t, 0, HH);
+		cols(&ts, z, t, 0, HW);
+		assert_float_equal(t[15 * HW + 100], 10 * px, 1e-4);
+	}
+	free(z);
+	free(zt);
+	free(t);
+}
+
+/*
  * Slabs 2, 3 and 5 cm thick (80 x 60 cm, turned by 20 degrees) floating 35 cm
  * above a floor, seen from above at about 35 degrees, as the floating-plate
  * scene sees its plate: the top faces are wide on screen in rows and
@@ -1480,6 +1558,7 @@ int main(void)
 		cmocka_unit_test(test_pole_chord_extra),
 		cmocka_unit_test(test_run_ends),
 		cmocka_unit_test(test_run_holes),
+		cmocka_unit_test(test_hidden_face),
 		cmocka_unit_test(test_slabs),
 		cmocka_unit_test(test_slabs_spacing),
 		cmocka_unit_test(test_slabs_spacing_face_on),
