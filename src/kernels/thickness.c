@@ -391,9 +391,11 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 	}
 }
 
-/* Whether the chord to r (the pixel j + 1 from end) from DAO_BOUND_FACE_LONG pixels
- * back, or from jf where that is nearer the end, turns by less than the straightness
- * angle from d (dd = |d|^2); a chord of one segment does not count. */
+/* Whether the chord to r (the pixel j + 1 from end) from the pixel DAO_BOUND_FACE_LONG
+ * back, or from jf where that pixel lies nearer the end than jf, turns by less than the
+ * straightness angle from d (dd = |d|^2).  (straight_face_end's jf lies
+ * DAO_BOUND_FACE_SEGS or more before j, so the chord spans that many segments or more;
+ * a chord of one segment or none would not count.) */
 static int straight_chord(const struct line_geom *g, int end, int dir, int j, int jf,
 			  struct vec r, struct vec d, float dd)
 {

@@ -9,9 +9,13 @@
  * at a hole with something farther beyond it, or nothing up to the border)
  * on both sides, the object lies in front of what is around it
  * and the run's extent in metres, its chord, is its visible width: a pole
- * 4 cm wide on screen is taken to be 4 cm deep.  Where a run ends at an
- * occluder (a step to something nearer) or at the image border, the surface
- * goes on out of sight and its extent is unknown.  Where a run in front
+ * 4 cm wide on screen is taken to be 4 cm deep (on noisy depth whose
+ * dropouts are not filled, a column's run of 5 px or more whose chord is
+ * under half a spacing, with a hole of 2 px or more beside an end, gets the
+ * bound instead: a board's face may lie hidden in the hole; thickness.c,
+ * hidden_face).  Where a run ends at an occluder (a step to something
+ * nearer) or at the image border, the surface goes on out of sight and its
+ * extent is unknown.  Where a run in front
  * ends in a slab's edge face (a straight stretch, a convex crease, a straight broad
  * face), the slab's thickness is the edge's extent across the broad face
  * and each pixel of the run gets the length of its ray through the slab
