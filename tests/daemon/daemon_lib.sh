@@ -12,6 +12,7 @@ REC="$ROOT/recordings/spheres-rolling.oni"
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/daod-test.XXXXXX")
 PID=
 BUSY=
+DAEMON_LOG=/dev/null
 cleanup() {
 	[ -n "$PID" ] && kill -KILL "$PID" 2>/dev/null || true
 	[ -n "$BUSY" ] && kill $BUSY 2>/dev/null || true
@@ -27,9 +28,9 @@ fail() {
 
 # start_daemon LOG args...: runs depthaod in the background
 start_daemon() {
-	log=$1
+	DAEMON_LOG=$1
 	shift
-	"$DAEMON" "$@" 2>"$log" &
+	"$DAEMON" "$@" 2>"$DAEMON_LOG" &
 	PID=$!
 }
 
@@ -74,6 +75,12 @@ stop_daemon() {
 	ms=$((($(date +%s%N) - t0) / 1000000))
 	[ "$ms" -le 1000 ] || fail "SIGTERM took $ms ms (must stop within one second)"
 	echo "stopped in $ms ms, exit $status"
+	# a failed stop shows the daemon's own words (a sanitizer's report goes there too)
+	if [ "$status" -ne 0 ]; then
+		echo "depthaod's log: sanitizer lines, then the last 60 lines"
+		grep -E "Sanitizer|Tracer caught|SUMMARY" "$DAEMON_LOG" || true
+		tail -n 60 "$DAEMON_LOG" || true
+	fi
 	return "$status"
 }
 
