@@ -391,6 +391,13 @@ static int cross_end(const struct line_geom *g, int n, int k0, int end, int dir,
 	}
 }
 
+/* Noisy depth whose dropouts are not filled (structured light, active stereo, ToF): where
+ * the bound lent by the lines beside and the hidden face apply. */
+static inline int noisy_unfilled(const struct dao_thickness_setup *t)
+{
+	return t->noise_k > 0.0f && t->fill_px == 0;
+}
+
 /* Whether the chord to r (the pixel j + 1 from end) from the pixel DAO_BOUND_FACE_LONG
  * back, or from jf where that pixel lies nearer the end than jf, turns by less than the
  * straightness angle from d (dd = |d|^2).  (straight_face_end's jf lies
@@ -940,7 +947,7 @@ __attribute__((noinline)) static int neighbour_bound(const struct line_geom *g, 
 			} else {
 				int m = 0;
 				float zm = CZ(k, c);
-				while (m < DAO_BOUND_EDGE_PX + DAO_BOUND_FACE_LONG + 1) {
+				while (m < FB_LOOKED_NOISY) {
 					const int k1 = k + dir * (m + 1);
 					if (k1 < 0 || k1 >= n || !same_surface(zm, CZ(k1, c)))
 						break;
@@ -978,7 +985,7 @@ static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int 
 			    struct face_bound b[2])
 {
 	/* (an end that fails bound_end has none of the three) */
-	const int lend = g->t->noise_k > 0.0f && g->t->fill_px == 0;
+	const int lend = noisy_unfilled(g->t);
 	*count = 0;
 	for (int dir = -1; dir <= 1; dir += 2) {
 		int h;
@@ -1174,7 +1181,7 @@ __attribute__((noinline)) static void run_estimate(const struct line_geom *lg, i
 			chord = raised < t->spacing ? raised : t->spacing;
 		}
 		/* a face hidden in a hole across the baseline, on noisy depth not filled */
-		if (t->noise_k > 0.0f && t->fill_px == 0 && du == 0.0f &&
+		if (noisy_unfilled(t) && du == 0.0f &&
 		    e - s + 1 >= DAO_HIDDEN_RUN_PX && chord < DAO_HIDDEN_CHORD * t->spacing &&
 		    hidden_face(z, step, n, s, e))
 			chord = t->max;

@@ -801,17 +801,30 @@ static double prim_ratio(const struct synth_scene *s, const struct dao_camera *c
 
 /* The upright boards rendered clean, with planes for the estimate and for the
  * primitive each pixel shows (synth_inside_plane). */
-static void upright_boards_render(struct synth_scene *s, struct dao_camera *cam,
-				  struct synth_image *img, float **t, float **inside)
+struct upright_boards {
+	struct synth_scene s;
+	struct dao_camera cam;
+	struct synth_image img;
+	float *t, *inside;
+};
+
+static void upright_boards_render(struct upright_boards *b)
 {
-	upright_boards_scene(s);
-	camera(cam, W, H);
-	assert_int_equal(synth_render(s, cam, 0.5, 0, 1, img, NULL), 0);
-	*t = malloc((size_t)W * H * sizeof(float));
-	*inside = malloc((size_t)W * H * sizeof(float));
-	assert_non_null(*t);
-	assert_non_null(*inside);
-	synth_inside_plane(s, cam, *inside);
+	upright_boards_scene(&b->s);
+	camera(&b->cam, W, H);
+	assert_int_equal(synth_render(&b->s, &b->cam, 0.5, 0, 1, &b->img, NULL), 0);
+	b->t = malloc((size_t)W * H * sizeof(float));
+	b->inside = malloc((size_t)W * H * sizeof(float));
+	assert_non_null(b->t);
+	assert_non_null(b->inside);
+	synth_inside_plane(&b->s, &b->cam, b->inside);
+}
+
+static void upright_boards_free(struct upright_boards *b)
+{
+	free(b->inside);
+	free(b->t);
+	synth_image_free(&b->img);
 }
 
 /* The two boards' estimates near 3 x their rays' length through them, fewer
@@ -839,22 +852,17 @@ static void expect_upright_boards(const struct synth_scene *s, const struct dao_
 static void test_boards_upright(void **state)
 {
 	(void)state;
-	struct synth_scene s;
-	struct dao_camera cam;
-	struct synth_image img;
-	float *t, *inside;
-	upright_boards_render(&s, &cam, &img, &t, &inside);
-	estimate(&cam, img.depth, 0.5f, t);
+	struct upright_boards b;
+	upright_boards_render(&b);
+	estimate(&b.cam, b.img.depth, 0.5f, b.t);
 	/* medians 1.11 and 1.15 with the value made for the middle of the bound's
 	 * interval (2.2 and 1.7 with the bound itself; 15.6 before it); at the
 	 * bound 0.7 % and 0 (the 1 cm board's far end, whose side face looks away:
 	 * 5.5 % before the bound carried across, thickness.c) */
-	expect_upright_boards(&s, &cam, t, inside, "", 0.01);
-	expect_blocked_same(&cam, img.depth, 0.5f, 0.0f);
-	expect_blocked_same(&cam, img.depth, 0.5f, 0.11f);
-	free(inside);
-	free(t);
-	synth_image_free(&img);
+	expect_upright_boards(&b.s, &b.cam, b.t, b.inside, "", 0.01);
+	expect_blocked_same(&b.cam, b.img.depth, 0.5f, 0.0f);
+	expect_blocked_same(&b.cam, b.img.depth, 0.5f, 0.11f);
+	upright_boards_free(&b);
 }
 
 /*
@@ -874,21 +882,19 @@ static void test_boards_upright(void **state)
 static void test_boards_neighbour_bound(void **state)
 {
 	(void)state;
-	struct synth_scene s;
-	struct dao_camera cam;
-	struct synth_image img;
-	float *t, *inside;
-	upright_boards_render(&s, &cam, &img, &t, &inside);
+	struct upright_boards b;
+	upright_boards_render(&b);
 	int moved = 0;
 	for (int x = 0; x < W; x += 3)
 		for (int y = 1; y < H; y++) {
-			float *z = &img.depth[(size_t)y * W + x];
+			float *z = &b.img.depth[(size_t)y * W + x];
 			const float za = z[-W];
 			if (!(*z > 0.0f) || !(za > *z * (1.0f + DAO_THICKNESS_JUMP)))
 				continue;
-			const vec3 d = v3_normalize(v3(x * cam.ax + cam.bx, y * cam.ay + cam.by, 1));
+			const vec3 d = v3_normalize(
+				v3(x * b.cam.ax + b.cam.bx, y * b.cam.ay + b.cam.by, 1));
 			double tt;
-			const int p = synth_trace(&s, v3(0, 0, 0), d, 0.0, 100.0, &tt, NULL);
+			const int p = synth_trace(&b.s, v3(0, 0, 0), d, 0.0, 100.0, &tt, NULL);
 			if (p == 2 || p == 3) {
 				*z -= 0.03f;
 				moved++;
@@ -896,18 +902,16 @@ static void test_boards_neighbour_bound(void **state)
 		}
 	assert_true(moved > 50);
 	struct dao_thickness_setup ts;
-	dao_thickness_setup_init(&ts, &cam, 0.5f);
+	dao_thickness_setup_init(&ts, &b.cam, 0.5f);
 	ts.noise_k = 0.0026f;
 	ts.fill_px = 0;
-	dao_thickness_rows(&ts, img.depth, t, 0, H);
-	cols(&ts, img.depth, t, 0, W);
-	expect_upright_boards(&s, &cam, t, inside,
+	dao_thickness_rows(&ts, b.img.depth, b.t, 0, H);
+	cols(&ts, b.img.depth, b.t, 0, W);
+	expect_upright_boards(&b.s, &b.cam, b.t, b.inside,
 			      ", every third column's top pixel 3 cm nearer, noisy settings", 0.05);
-	expect_blocked_same_kf(&cam, img.depth, 0.5f, 0.11f, 0.0026f, 0);
-	expect_blocked_same_kf(&cam, img.depth, 0.5f, 0.0f, 0.0026f, 0);
-	free(inside);
-	free(t);
-	synth_image_free(&img);
+	expect_blocked_same_kf(&b.cam, b.img.depth, 0.5f, 0.11f, 0.0026f, 0);
+	expect_blocked_same_kf(&b.cam, b.img.depth, 0.5f, 0.0f, 0.0026f, 0);
+	upright_boards_free(&b);
 }
 
 /*
@@ -930,19 +934,17 @@ static void test_boards_neighbour_bound(void **state)
 static void test_boards_gaussian(void **state)
 {
 	(void)state;
-	struct synth_scene s;
-	struct dao_camera cam;
-	struct synth_image img;
-	float *t, *inside;
-	upright_boards_render(&s, &cam, &img, &t, &inside);
+	struct upright_boards b;
+	upright_boards_render(&b);
 	float *z = malloc((size_t)W * H * sizeof(float));
 	assert_non_null(z);
-	sensor_estimate(&s, &cam, &img, SYNTH_SENSOR_GAUSSIAN, z, t);
+	sensor_estimate(&b.s, &b.cam, &b.img, SYNTH_SENSOR_GAUSSIAN, z, b.t);
 	static const char *const what[3] = { "board 1 cm", "board 3 cm", "box 50 cm" };
 	for (int i = 0; i < 3; i++) {
 		int n;
 		double thin, at_max;
-		const double m = prim_ratio(&s, &cam, t, inside, 2 + i, &thin, &at_max, &n);
+		const double m =
+			prim_ratio(&b.s, &b.cam, b.t, b.inside, 2 + i, &thin, &at_max, &n);
 		print_message("%s, Gaussian sensor (%d px): estimate / (3 x its rays' length "
 			      "through it) median %.2f, under half %.1f %%, "
 			      "at the bound %.1f %%\n",
@@ -955,11 +957,9 @@ static void test_boards_gaussian(void **state)
 		else
 			assert_true(m > 0.9 && thin < 0.05);
 	}
-	expect_blocked_same_k(&cam, z, 0.5f, 0.11f, 0.0026f);
+	expect_blocked_same_k(&b.cam, z, 0.5f, 0.11f, 0.0026f);
 	free(z);
-	free(inside);
-	free(t);
-	synth_image_free(&img);
+	upright_boards_free(&b);
 }
 
 /* Mean |ao - truth| over the wall behind the poles (rows 60..170 of 240, z > 2.5 m). */
