@@ -15,12 +15,13 @@
 #include <depthao/depthao.h>
 
 #include "common/tool_clock.h"
+#include "bench.h"
 #include "cli_params.h"
 #include "commands.h"
 #include <depthao/error.h>
 #include "synth/synth.h"
 
-#define MAX_SIZES 8
+#define MAX_SIZES 16 /* = bench_compare_spec.sizes */
 #define MAX_QUALITIES 8
 #define MAX_THREADS 4
 #define MAX_PARAM_OPTIONS 32
@@ -42,9 +43,19 @@ struct stats {
 	int iterations;
 };
 
-static const char *const stage_names[] = { "decode", "noise", "prefilter", "normals", "gtao",
-					    "denoise", "output", "shade" };
-#define NSTAGES 8
+const char *const bench_stage_names[BENCH_NSTAGES] = { "decode", "noise", "prefilter",
+							"normals", "gtao", "denoise",
+							"output", "shade" };
+#define NSTAGES BENCH_NSTAGES
+#define stage_names bench_stage_names
+
+/* --size sensors: the frames of the depth cameras people use */
+static const struct size sensor_sizes[] = {
+	{ 640, 480 },   /* Kinect v1, Xtion, Orbbec Astra: VGA */
+	{ 848, 480 },   /* Intel RealSense D4xx at up to 90 fps */
+	{ 1280, 720 },  /* RealSense D4xx at its full resolution */
+	{ 1024, 1024 }, /* Azure Kinect / Orbbec Femto wide field of view: ToF */
+};
 
 static void usage(FILE *out)
 {
@@ -55,15 +66,17 @@ static void usage(FILE *out)
 		"dao_context_shade to RGB) and each of its stages on a synthetic 16-bit depth\n"
 		"frame (the \"boxes\" scene with Kinect-like noise), for every size x quality x\n"
 		"thread count, after a warm-up.  Prints the median and 95th percentile per frame,\n"
-		"megapixels per second, and the speedup over the scalar reference kernels\n"
-		"(simd=reference) at the same settings.\n"
+		"frames per second (1000 / median), megapixels per second, and the speedup over\n"
+		"the scalar reference kernels (simd=reference) at the same settings.\n"
 		"\n"
-		"  --size WxH          one frame size (default: 320x240, 640x480, 1280x720)\n"
+		"  --size WxH[,WxH...] frame sizes, or `sensors` for the cameras' frames: 640x480\n"
+		"                      (Kinect), 848x480 (RealSense), 1280x720, 1024x1024 (Azure\n"
+		"                      Kinect ToF); repeatable (default: 320x240, 640x480, 1280x720)\n"
 		"  --quality Q         low, medium, high, ultra, default (= what `depthao process`\n"
 		"                      uses), or all (default: all presets)\n"
 		"  --slices N          override the preset's slices\n"
 		"  --steps N           override the preset's steps per side\n"
-		"  --threads N         one thread count (default: 1 and every CPU)\n"
+		"  --threads N[,N...]  thread counts, repeatable (default: 1 and every CPU)\n"
 		"  --simd S            kernels to time: auto (default), generic, sse4.1, avx2,\n"
 		"                      avx512\n"
 		"  --min-time S        time each configuration for at least S seconds (default 0.5)\n"
@@ -73,7 +86,24 @@ static void usage(FILE *out)
 		"  --help              this text\n"
 		"\n"
 		"Any other algorithm parameter can be set as in `depthao process` (--radius ...),\n"
-		"among them --algorithm (gtao, vbao, hbao, ssao, edl): the AO stage is its kernel.\n");
+		"among them --algorithm (gtao, vbao, hbao, ssao, edl): the AO stage is its kernel.\n"
+		"\n"
+		"Side by side: builds, or parameter sets, timed in one run:\n"
+		"  --compare OTHER     also time OTHER, a build directory (its\n"
+		"                      tools/depthao/depthao) or a depthao binary; repeatable\n"
+		"  --compare-params 'OPTIONS'  also time this build with OPTIONS (split at\n"
+		"                      spaces) added, e.g. '--noise-model fixed'; repeatable\n"
+		"  --rounds N          rounds (default 5)\n"
+		"Each run is a child process `depthao bench OPTIONS --size WxH --json`, one per\n"
+		"size; a round runs every build once per size, the first build in turn.  OPTIONS\n"
+		"are the ones given, passed on as given (an older build knows fewer: it is said\n"
+		"which one it rejects).  Printed per configuration: each build's median and p95\n"
+		"(medians over the rounds) and fps; the ratio A/X of this build's (A) time to\n"
+		"the other's (> 1: A is slower), the median of the rounds' ratios with their\n"
+		"min-max, of the frame and each stage ('-': a stage X does not time); the load\n"
+		"average before and after.  With --json, one object.  For example:\n"
+		"  depthao bench --compare ../rel --compare-params '--noise-model fixed' \\\n"
+		"      --size 640x480 --quality default --threads 2 --no-reference\n");
 }
 
 static double now_s(void)
@@ -228,6 +258,7 @@ static void print_json(const struct config *c, int simd, const struct stats *st,
 	json_object_object_add(o, "p95_ms", json_object_new_double(st->p95));
 	json_object_object_add(o, "mpix_per_s",
 			       json_object_new_double((double)c->size.w * c->size.h / st->median / 1e3));
+	json_object_object_add(o, "fps", json_object_new_double(1e3 / st->median));
 	json_object *stg = json_object_new_object();
 	for (int k = 0; k < NSTAGES; k++)
 		json_object_object_add(stg, stage_names[k], json_object_new_double(st->stage[k]));
@@ -256,8 +287,8 @@ static void print_row(const struct config *c, const struct stats *st, const stru
 		snprintf(rm, sizeof rm, "%.0f", ref->median);
 		snprintf(sp, sizeof sp, "%.0fx", ref->median / st->median);
 	}
-	printf("%-10s %-15s %2d %8.2f %8.2f %8.1f %8s %7s |", size, q, c->threads, st->median,
-	       st->p95, (double)c->size.w * c->size.h / st->median / 1e3, rm, sp);
+	printf("%-10s %-15s %2d %8.2f %8.2f %7.1f %8.1f %8s %7s |", size, q, c->threads, st->median,
+	       st->p95, 1e3 / st->median, (double)c->size.w * c->size.h / st->median / 1e3, rm, sp);
 	for (int k = 0; k < NSTAGES; k++)
 		printf(" %6.2f", st->stage[k]);
 	putchar('\n');
@@ -277,10 +308,15 @@ struct bench_options {
 	/* the parameter options, replayed on top of each preset */
 	const char *param_args[2 * MAX_PARAM_OPTIONS];
 	int nparam;
+	/* --compare, --compare-params, --rounds, and the options to pass on to each run */
+	struct bench_compare_spec cmp;
+	struct bench_arg pass[MAX_PARAM_OPTIONS + MAX_QUALITIES + MAX_THREADS + 8];
+	char size_text[MAX_SIZES][16], thread_text[MAX_THREADS][8];
 };
 
 enum { OPT_SIZE = 1000, OPT_QUALITY, OPT_THREADS, OPT_MIN_TIME, OPT_MIN_ITER, OPT_NO_REF,
-       OPT_JSON, OPT_HELP, OPT_PARAM /* + index in the parameter table */ };
+       OPT_JSON, OPT_HELP, OPT_COMPARE, OPT_COMPARE_PARAMS, OPT_ROUNDS,
+       OPT_PARAM /* + index in the parameter table */ };
 
 static const struct option bench_long_options[] = {
 	{ "size", required_argument, NULL, OPT_SIZE },
@@ -291,6 +327,9 @@ static const struct option bench_long_options[] = {
 	{ "no-reference", no_argument, NULL, OPT_NO_REF },
 	{ "json", no_argument, NULL, OPT_JSON },
 	{ "help", no_argument, NULL, OPT_HELP },
+	{ "compare", required_argument, NULL, OPT_COMPARE },
+	{ "compare-params", required_argument, NULL, OPT_COMPARE_PARAMS },
+	{ "rounds", required_argument, NULL, OPT_ROUNDS },
 };
 #define N_BENCH_OPTIONS (int)(sizeof bench_long_options / sizeof bench_long_options[0])
 
@@ -322,21 +361,79 @@ static void long_options(struct option *opts, char (*names)[64])
 	opts[k] = (struct option){ NULL, 0, NULL, 0 };
 }
 
+/* Appends an option (its long name) and its value (or NULL) to what --compare passes on. */
+static int pass_on(struct bench_options *o, const char *name, const char *value)
+{
+	if (o->cmp.nargs == (int)(sizeof o->pass / sizeof o->pass[0]))
+		return usage_error("bench", "too many options");
+	o->pass[o->cmp.nargs++] = (struct bench_arg){ name, value };
+	return 0;
+}
+
+/* The next comma-separated item of *p (an empty one too), NULL at the end. */
+static char *next_item(char **p)
+{
+	char *item = *p;
+	if (!item)
+		return NULL;
+	char *comma = strchr(item, ',');
+	*p = comma ? comma + 1 : NULL;
+	if (comma)
+		*comma = 0;
+	return item;
+}
+
+/* --size's value (split in place): WxH or `sensors`, comma-separated; appended to o->sizes. */
+static int add_sizes(struct bench_options *o, char *list)
+{
+	for (char *rest = list, *tok; (tok = next_item(&rest));) {
+		const int named = !strcmp(tok, "sensors");
+		const int n = named ? (int)(sizeof sensor_sizes / sizeof sensor_sizes[0]) : 1;
+		if (o->nsizes + n > MAX_SIZES)
+			return usage_error("bench", "at most %d sizes", MAX_SIZES);
+		if (named)
+			memcpy(&o->sizes[o->nsizes], sensor_sizes, sizeof sensor_sizes);
+		else if (parse_size(tok, &o->sizes[o->nsizes]))
+			return usage_error("bench", "--size needs WxH, e.g. 640x480 (16..16384), a "
+					   "comma-separated list of them, or sensors");
+		o->nsizes += n;
+	}
+	return 0;
+}
+
+/* --threads's value (split in place): counts, comma-separated; each passed on as its own
+ * --threads. */
+static int add_threads(struct bench_options *o, char *list)
+{
+	for (char *rest = list, *tok; (tok = next_item(&rest));) {
+		char *end;
+		long n = strtol(tok, &end, 10);
+		if (*end || end == tok || n < 1 || n > 256)
+			return usage_error("bench", "--threads needs a count from 1 to 256");
+		if (o->nthreads == MAX_THREADS)
+			return usage_error("bench", "at most %d thread counts", MAX_THREADS);
+		snprintf(o->thread_text[o->nthreads], sizeof o->thread_text[0], "%ld", n);
+		int r = pass_on(o, "threads", o->thread_text[o->nthreads]);
+		if (r)
+			return r;
+		o->threads[o->nthreads++] = (int)n;
+	}
+	return 0;
+}
+
 /* One of bench's own options with its value; 0, or a usage error's exit status. */
 static int bench_option(struct bench_options *o, int opt, const char *v, int *size_given)
 {
 	struct dao_error err = { 0 };
+	char list[256];
+	if ((opt == OPT_SIZE || opt == OPT_THREADS) && strlen(v) >= sizeof list)
+		return usage_error("bench", "--%s: list too long", opt == OPT_SIZE ? "size" : "threads");
 	switch (opt) {
 	case OPT_SIZE:
 		if (!*size_given)
 			o->nsizes = 0;
-		if (o->nsizes == MAX_SIZES)
-			return usage_error("bench", "at most %d --size options", MAX_SIZES);
-		if (parse_size(v, &o->sizes[o->nsizes]))
-			return usage_error("bench", "--size needs WxH, e.g. 640x480 (16..16384)");
-		o->nsizes++;
 		*size_given = 1;
-		return 0;
+		return add_sizes(o, strcpy(list, v));
 	case OPT_QUALITY: {
 		enum dao_quality q;
 		if (strcmp(v, "all") && dao_quality_parse(v, &q, &err))
@@ -344,18 +441,10 @@ static int bench_option(struct bench_options *o, int opt, const char *v, int *si
 		if (o->nq == MAX_QUALITIES)
 			return usage_error("bench", "too many --quality options");
 		o->qnames[o->nq++] = v;
-		return 0;
+		return pass_on(o, "quality", v);
 	}
-	case OPT_THREADS: {
-		char *end;
-		long n = strtol(v, &end, 10);
-		if (*end || end == v || n < 1 || n > 256)
-			return usage_error("bench", "--threads needs a count from 1 to 256");
-		if (o->nthreads == MAX_THREADS)
-			return usage_error("bench", "at most %d --threads options", MAX_THREADS);
-		o->threads[o->nthreads++] = (int)n;
-		return 0;
-	}
+	case OPT_THREADS:
+		return add_threads(o, strcpy(list, v));
 	case OPT_MIN_TIME:
 	case OPT_MIN_ITER: {
 		char *end;
@@ -367,16 +456,52 @@ static int bench_option(struct bench_options *o, int opt, const char *v, int *si
 			o->min_time = n;
 		else
 			o->min_iter = n < 1 ? 1 : (int)n;
-		return 0;
+		return pass_on(o, opt == OPT_MIN_TIME ? "min-time" : "min-iterations", v);
 	}
 	case OPT_NO_REF:
 		o->no_ref = 1;
-		return 0;
+		return pass_on(o, "no-reference", NULL);
 	case OPT_JSON:
 		o->json = 1;
 		return 0;
+	case OPT_COMPARE:
+	case OPT_COMPARE_PARAMS:
+		if (o->cmp.nothers + o->cmp.nparams + 1 >= BENCH_MAX_VARIANTS)
+			return usage_error("bench", "at most %d --compare and --compare-params",
+					   BENCH_MAX_VARIANTS - 1);
+		if (opt == OPT_COMPARE)
+			o->cmp.others[o->cmp.nothers++] = v;
+		else
+			o->cmp.params[o->cmp.nparams++] = v;
+		return 0;
+	case OPT_ROUNDS: {
+		char *end;
+		long n = strtol(v, &end, 10);
+		if (*end || end == v || n < 1 || n > 1000)
+			return usage_error("bench", "--rounds needs a count from 1 to 1000");
+		o->cmp.rounds = (int)n;
+		return 0;
+	}
 	}
 	return usage_error("bench", "internal: option %d", opt);
+}
+
+/* After the command line: the sizes spelled out for --compare, and its checks. */
+static int finish_compare(struct bench_options *o, int rounds_given)
+{
+	if (!o->cmp.nothers && !o->cmp.nparams)
+		return rounds_given ? usage_error("bench", "--rounds goes with --compare or "
+						  "--compare-params") : 0;
+	/* every size, given or the default, so that all builds time the same frames */
+	for (int i = 0; i < o->nsizes; i++) {
+		snprintf(o->size_text[i], sizeof o->size_text[i], "%dx%d", o->sizes[i].w,
+			 o->sizes[i].h);
+		o->cmp.sizes[i] = o->size_text[i];
+	}
+	o->cmp.nsizes = o->nsizes;
+	o->cmp.args = o->pass;
+	o->cmp.json = o->json;
+	return 0;
 }
 
 /*
@@ -396,11 +521,11 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
 
 	*o = (struct bench_options){ .sizes = { { 320, 240 }, { 640, 480 }, { 1280, 720 } },
 				     .nsizes = 3, .min_iter = 30, .min_time = 0.5,
-				     .simd = DAO_SIMD_AUTO };
+				     .simd = DAO_SIMD_AUTO, .cmp.rounds = 5 };
 	struct dao_params over; /* the parameter options, to check them and read slices ... */
 	dao_params_init(&over, DAO_QUALITY_DEFAULT);
 	const struct dao_param_info *table = dao_param_table(&nparams);
-	int size_given = 0, opt, r;
+	int size_given = 0, rounds_given = 0, opt, r;
 	optind = 1;
 	opterr = 0;
 	while ((opt = getopt_long(argc, argv, ":", opts, NULL)) != -1) {
@@ -421,12 +546,17 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
 				return usage_error("bench", "too many parameter options");
 			o->param_args[o->nparam++] = pi->name;
 			o->param_args[o->nparam++] = optarg;
+			if ((r = pass_on(o, pi->name, optarg)))
+				return r;
 		} else if ((r = bench_option(o, opt, optarg, &size_given))) {
 			return r;
 		}
+		rounds_given |= opt == OPT_ROUNDS;
 	}
 	if (optind < argc)
 		return usage_error("bench", "unexpected argument '%s'", argv[optind]);
+	if ((r = finish_compare(o, rounds_given)))
+		return r;
 
 	/* --slices, --steps and --simd given as parameter options */
 	struct dao_params def;
@@ -459,15 +589,15 @@ static void print_header(int resolved, int simd)
 {
 	char model[128];
 	dao_cpu_model(model, sizeof model);
-	printf("depthao %s bench: %s, %d CPUs, kernels %s%s\n", dao_version(), model,
+	printf("depthao %s bench: %s, %d CPUs, kernels %s%s\n", depthao_version_line(), model,
 	       dao_cpu_count(), dao_simd_name((enum dao_simd)resolved),
 	       simd == DAO_SIMD_AUTO ? " (auto)" : "");
 	printf("frame = dao_context_process (depth16 in, gray16 AO out) + dao_context_shade "
 	       "(RGB); synthetic \"boxes\" scene with sensor noise\n");
-	printf("times in ms per frame; ref = scalar reference kernels (simd=reference), same "
-	       "settings\n\n");
-	printf("%-10s %-15s %2s %8s %8s %8s %8s %7s |", "size", "quality", "th", "median", "p95",
-	       "Mpix/s", "ref", "speedup");
+	printf("times in ms per frame; fps = 1000 / median; ref = scalar reference kernels "
+	       "(simd=reference), same settings\n\n");
+	printf("%-10s %-15s %2s %8s %8s %7s %8s %8s %7s |", "size", "quality", "th", "median", "p95",
+	       "fps", "Mpix/s", "ref", "speedup");
 	for (int k = 0; k < NSTAGES; k++)
 		printf(" %6.6s", stage_names[k]);
 	putchar('\n');
@@ -528,6 +658,8 @@ int cmd_bench(int argc, char **argv)
 	int r = parse_options(argc, argv, &o);
 	if (r)
 		return r < 0 ? 0 : r;
+	if (o.cmp.nothers || o.cmp.nparams)
+		return bench_compare(&o.cmp);
 	const int resolved = o.simd == DAO_SIMD_AUTO ? (int)dao_simd_best() : o.simd;
 	if (!o.json)
 		print_header(resolved, o.simd);

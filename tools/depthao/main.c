@@ -6,6 +6,7 @@
 
 #include <depthao/depthao.h>
 
+#include "build_id.h"
 #include "commands.h"
 
 static void usage(FILE *out)
@@ -42,6 +43,15 @@ int usage_error(const char *cmd, const char *fmt, ...)
 	return 2;
 }
 
+const char *depthao_version_line(void)
+{
+	static char line[96];
+	if (!line[0])
+		snprintf(line, sizeof line, strcmp(DAO_BUILD_ID, "unknown") ? "%s (git %s)" : "%s",
+			 dao_version(), DAO_BUILD_ID);
+	return line;
+}
+
 int main(int argc, char **argv)
 {
 	if (argc < 2)
@@ -52,7 +62,7 @@ int main(int argc, char **argv)
 		return 0;
 	}
 	if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "-V") == 0) {
-		printf("depthao %s\n", dao_version());
+		printf("depthao %s\n", depthao_version_line());
 		return 0;
 	}
 	if (strcmp(cmd, "process") == 0)
