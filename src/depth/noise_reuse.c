@@ -46,11 +46,15 @@ static void signature(const struct dao_noise_grid *g, const float *z, float *sig
 	memset(sig, 0, 2 * (size_t)nc * sizeof(float));
 	for (int y = S / 2; y < ye; y += S) {
 		const float *zr = z + (size_t)y * g->width;
-		const int row = y / SPAN * cw;
-		for (int x = S / 2; x < xe; x += S) {
-			const float v = zr[x];
-			if (v > 0.0f)
-				sum[row + x / SPAN] += 1.0f / v, cnt[row + x / SPAN] += 1.0f;
+		for (int cx = 0; cx < cw; cx++) {
+			const int x1 = (cx + 1) * SPAN < xe ? (cx + 1) * SPAN : xe;
+			float s = 0.0f, c = 0.0f;
+			for (int x = cx * SPAN + S / 2; x < x1; x += S) {
+				/* 1/z or 0, without a branch */
+				const float v = zr[x], has = (float)(v > 0.0f);
+				s += has / (v + (1.0f - has)), c += has;
+			}
+			sum[y / SPAN * cw + cx] += s, cnt[y / SPAN * cw + cx] += c;
 		}
 	}
 	for (int cy = 0; cy < g->ch; cy++)

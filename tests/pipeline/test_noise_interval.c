@@ -357,22 +357,15 @@ static void test_moving_sequence(void **state)
  */
 static int test_real_kinect(void)
 {
-	char path[1024];
-	if (dao_test_data_path("oni/3DJ_test.oni", path, sizeof path)) {
-		printf("SKIP: ../shared/data/oni/3DJ_test.oni not found\n");
-		return DAO_TEST_SKIP;
-	}
 	struct dao_oni_reader *rd;
-	struct dao_error err;
-	if (dao_oni_reader_open(path, &rd, &err)) {
-		printf("FAIL: %s\n", err.message);
-		return 1;
-	}
-	const int s = dao_oni_reader_depth_stream(rd, &err);
-	const struct dao_oni_stream_info *si = dao_oni_reader_stream(rd, (uint32_t)s);
-	const int w = (int)si->width, h = (int)si->height, n = w * h;
+	const struct dao_oni_stream_info *si;
 	struct dao_camera cam;
-	dao_camera_from_fov(&cam, si->width, si->height, si->hfov, si->vfov, NULL);
+	struct dao_error err;
+	int s;
+	const int opened = dao_test_open_kinect(&rd, &s, &si, &cam);
+	if (opened)
+		return opened;
+	const int w = (int)si->width, h = (int)si->height, n = w * h;
 	struct dao_params p;
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
 	dao_params_stream_defaults(&p);
