@@ -141,7 +141,8 @@ DAO_API void dao_context_timings(const struct dao_context *ctx, struct dao_timin
 
 /*
  * The noise the last frame was filtered for (noise-model=auto: measured in
- * the frame; fixed: the depth-noise parameter), as standard deviations of
+ * the frame, or with noise-interval > 1 in a recent one; fixed: the
+ * depth-noise parameter), as standard deviations of
  * inverse depth 1/z in 1/m (sigma(z) = value x z^2 m), and the settings it
  * gave.
  */
@@ -156,6 +157,12 @@ struct dao_noise_info {
 	float denoise_noise;    /* the denoise's noise k, 1/m */
 	float sigma_slope;      /* median: how the slopes of neighbouring 8x8 planes differ
 				 * (independent-noise equivalent; drives the prefilter's scale) */
+	/* noise-interval > 1 (streams): the figures above are those of a full
+	 * measurement `age` frames ago (0: this frame; measured 0 leaves it 0),
+	 * and `cells_measured` cells of 32 x 32 px where the scene moved since
+	 * were measured again in this frame (their range and spatial scale) */
+	int age;
+	int cells_measured;
 };
 
 DAO_API void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out);

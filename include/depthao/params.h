@@ -172,6 +172,10 @@ struct dao_params {
 	/* added after the first layout (a caller's struct may end before them) */
 	int vbao_thickness_mode;  /* enum dao_vbao_thickness_mode (default IMAGE) */
 	float vbao_thickness_max; /* VBAO, mode IMAGE: upper bound of the estimate, m */
+	int noise_interval;       /* noise_model AUTO*: frames between full measurements of the
+				   * noise (1 = every frame, the presets; streams:
+				   * dao_params_stream_defaults), with a check of every frame
+				   * that measures again where the scene moved */
 };
 
 enum dao_param_type {
@@ -227,7 +231,8 @@ static inline void dao_params_init(struct dao_params *p, enum dao_quality q)
 
 /*
  * Turns on what suits a stream of consecutive frames from one camera (a
- * recording, a device): the temporal depth filter (depth-temporal 0.8).
+ * recording, a device): the temporal depth filter (depth-temporal 0.8) and
+ * the noise measured every few frames rather than in each (noise-interval).
  * The presets leave it off: a library user decides whether frames follow
  * each other.  depthaod and `depthao process` on a recording or device call
  * this before applying the user's settings.

@@ -463,7 +463,9 @@ class AO:
     def noise_info(self):
         """The noise the last frame was filtered for (dao_context_noise): a dict with
         measured (bool), sigma_area, sigma_link and sigma_slope (1/z, 1/m),
-        prefilter_scale (px), normal_radius (px) and denoise_noise (1/m)."""
+        prefilter_scale (px), normal_radius (px), denoise_noise (1/m), and with
+        noise_interval > 1 age (frames since the full measurement) and
+        cells_measured (cells measured again this frame where the scene moved)."""
         n = _lib.dao_noise_info()
         with self._lock:
             lib.dao_context_noise(self._handle(), ctypes.byref(n))

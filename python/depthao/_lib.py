@@ -148,7 +148,8 @@ class dao_noise_info(ctypes.Structure):
     _fields_ = [("measured", ctypes.c_int), ("sigma_area", ctypes.c_float),
                 ("sigma_link", ctypes.c_float), ("prefilter_scale", ctypes.c_float),
                 ("normal_radius", ctypes.c_int), ("denoise_noise", ctypes.c_float),
-                ("sigma_slope", ctypes.c_float)]
+                ("sigma_slope", ctypes.c_float), ("age", ctypes.c_int),
+                ("cells_measured", ctypes.c_int)]
 
 
 DAO_SOURCE_EOS = 1

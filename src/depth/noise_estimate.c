@@ -278,6 +278,28 @@ static int slope_pairs(const struct dao_noise_grid *g, int bx, int by, float *v)
 	return n;
 }
 
+/*
+ * The usable blocks of cell (cx, cy): their area, link and mean 1/z into
+ * va, vl, vw (n of them, returned) and, with vs, their slope pairs with the
+ * blocks right and below (*ns values).
+ */
+static int cell_blocks(const struct dao_noise_grid *g, int cx, int cy, float *va, float *vl,
+		       float *vw, float *vs, int *ns)
+{
+	int n = 0;
+	for (int by = cy * DAO_NOISE_CELL; by < (cy + 1) * DAO_NOISE_CELL && by < g->bh; by++)
+		for (int bx = cx * DAO_NOISE_CELL; bx < (cx + 1) * DAO_NOISE_CELL && bx < g->bw; bx++) {
+			const float *b = g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx);
+			if (isnan(b[0]))
+				continue;
+			va[n] = b[0], vl[n] = b[1], vw[n] = b[2];
+			n++;
+			if (vs)
+				*ns += slope_pairs(g, bx, by, vs + *ns);
+		}
+	return n;
+}
+
 void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 {
 	const int cw = g->cw, nc = cw * g->ch;
@@ -286,17 +308,8 @@ void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 	float va[NB], vl[NB], vw[NB], vs[4 * NB];
 	for (int cy = cy0; cy < cy1; cy++)
 		for (int cx = 0; cx < cw; cx++) {
-			int n = 0, ns = 0;
-			for (int by = cy * DAO_NOISE_CELL; by < (cy + 1) * DAO_NOISE_CELL && by < g->bh; by++)
-				for (int bx = cx * DAO_NOISE_CELL;
-				     bx < (cx + 1) * DAO_NOISE_CELL && bx < g->bw; bx++) {
-					const float *b = g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx);
-					if (isnan(b[0]))
-						continue;
-					va[n] = b[0], vl[n] = b[1], vw[n] = b[2];
-					n++;
-					ns += slope_pairs(g, bx, by, vs + ns);
-				}
+			int ns = 0;
+			const int n = cell_blocks(g, cx, cy, va, vl, vw, vs, &ns);
 			const int i = cy * cw + cx;
 			slope[i] = ns >= DAO_NOISE_MIN_BLOCKS ? median_pairs(vs, ns) / DAO_NOISE_SLOPE_IID : NAN;
 			if (n < DAO_NOISE_MIN_BLOCKS) {
@@ -307,6 +320,23 @@ void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 			link[i] = median_blocks(vl, n);
 			wm[i] = median_blocks(vw, n);
 		}
+}
+
+int dao_noise_cell_measure(struct dao_noise_grid *g, const float *z, int cx, int cy,
+			   float *link, float *w)
+{
+	const int bx0 = cx * DAO_NOISE_CELL, by0 = cy * DAO_NOISE_CELL;
+	const int nb = g->bw - bx0 < DAO_NOISE_CELL ? g->bw - bx0 : DAO_NOISE_CELL;
+	for (int by = by0; by < by0 + DAO_NOISE_CELL && by < g->bh; by++)
+		chunk_stats(z + (size_t)by * B * g->width, g->width, bx0 * B, nb * B,
+			    g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx0));
+	float va[NB], vl[NB], vw[NB];
+	const int n = cell_blocks(g, cx, cy, va, vl, vw, NULL, NULL);
+	if (n < DAO_NOISE_MIN_BLOCKS)
+		return 0;
+	*link = median_blocks(vl, n);
+	*w = median_blocks(vw, n);
+	return 1;
 }
 
 void dao_noise_cells_finish(struct dao_noise_grid *g)

@@ -87,6 +87,13 @@ void dao_noise_cells(struct dao_noise_grid *g);
 void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1);
 void dao_noise_cells_finish(struct dao_noise_grid *g);
 
+/* One cell again from z (its blocks, then the medians; the other cells and
+ * the frame's medians are left alone): 1 and the cell's link and mean 1/z
+ * in *link and *w, or 0 (fewer than DAO_NOISE_MIN_BLOCKS usable blocks:
+ * nothing written).  Cells are independent: any cells on any threads. */
+int dao_noise_cell_measure(struct dao_noise_grid *g, const float *z, int cx, int cy,
+			   float *link, float *w);
+
 /*
  * noise-model=auto: from the estimate to the filters' settings (the gain,
  * exponent and share fitted on `depthao eval --set tune`, the Kinect .oni

@@ -105,6 +105,8 @@ static const struct dao_param_info table[] = {
 	  DAO_PARAM_FLOAT, OFF(depth_temporal_reject), 0.5, 100.0, NULL, RT },
 	{ "depth-temporal-persist", "streams: frames a pixel that lost its depth keeps the filtered value (0 = never invent depth)", "frames",
 	  DAO_PARAM_INT, OFF(depth_temporal_persist), 0, 30, NULL, RT },
+	{ "noise-interval", "noise-model=auto: frames between full measurements of the noise, with a check of every frame that measures the cells the scene moved in, and all after a cut (1 = every frame; streams of the CLI and daemon: 15)", "frames",
+	  DAO_PARAM_INT, OFF(noise_interval), 1, 3600, NULL, RT },
 	{ "threads", "threads per context (0 = one per available CPU)", NULL,
 	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
 	{ "simd", "kernels: auto (best for this CPU), reference (scalar oracle) or an instruction set", NULL,

@@ -45,6 +45,7 @@ static const struct dao_params common = {
 	.vbao_thickness = 0.2f,
 	.vbao_thickness_mode = DAO_VBAO_THICKNESS_IMAGE,
 	.vbao_thickness_max = 0.5f,
+	.noise_interval = 1,
 	.temporal = 0.0f,
 	.temporal_reject = 0.02f,
 	.depth_temporal = 0.0f,
@@ -89,10 +90,17 @@ void dao_preset_fill(struct dao_params *p, enum dao_quality q)
  * of 1/z falls to a third once settled, sqrt((1 - a) / (1 + a)); the first
  * five frames are a plain mean).  Chosen on the boxes and spheres sequences
  * of tests/pipeline/test_temporal_depth.c; README.md has the measurements.
+ * The noise is measured fully every DAO_STREAM_NOISE_INTERVAL frames (half
+ * a second at 30 fps) and where the scene moves in between
+ * (depth/noise_reuse.h).
  */
+#define DAO_STREAM_NOISE_INTERVAL 15
+
 void dao_params_stream_defaults(struct dao_params *p)
 {
 	if (dao_params_check_size(p, NULL) < 0)
 		return; /* dao_params_validate() reports it */
 	p->depth_temporal = 0.8f;
+	if (dao_params_has(p, offsetof(struct dao_params, noise_interval), sizeof p->noise_interval))
+		p->noise_interval = DAO_STREAM_NOISE_INTERVAL;
 }

@@ -32,6 +32,7 @@
 #include "depth/decode.h"
 #include "depth/domain.h"
 #include "depth/noise_estimate.h"
+#include "depth/noise_reuse.h"
 #include "depth/prefilter.h"
 #include "kernels/ao_variants.h"
 #include "kernels/thickness.h"
@@ -96,6 +97,7 @@ struct dao_context {
 	int have_noise_grid;
 	float *noise_cells; /* per cell: the range noise, 1 / sigma_s */
 	struct dao_noise_info noise_info;
+	struct dao_noise_reuse noise_reuse; /* noise-interval: the measurement kept */
 };
 
 /* The kernel set of ctx->params, resolved once per parameter change (not per frame). */
@@ -195,8 +197,10 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		if (dao_noise_grid_init(&ctx->noise, w, h))
 			return dao_error_set(err, -ENOMEM, "out of memory for the noise estimate");
 		ctx->noise_cells = malloc(2 * (size_t)ctx->noise.cw * ctx->noise.ch * sizeof(float));
-		if (!ctx->noise_cells) {
+		if (!ctx->noise_cells || dao_noise_reuse_init(&ctx->noise_reuse, &ctx->noise)) {
 			dao_noise_grid_free(&ctx->noise);
+			free(ctx->noise_cells);
+			ctx->noise_cells = NULL;
 			return dao_error_set(err, -ENOMEM, "out of memory for the noise estimate");
 		}
 		ctx->have_noise_grid = 1;
@@ -302,6 +306,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	if (ctx->have_noise_grid)
 		dao_noise_grid_free(&ctx->noise);
 	free(ctx->noise_cells);
+	dao_noise_reuse_free(&ctx->noise_reuse);
 	free(ctx);
 }
 
@@ -345,6 +350,7 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *cal
 	ctx->params = *params;
 	use_kernels(ctx);
 	ctx->hist_valid = 0;
+	dao_noise_reuse_restart(&ctx->noise_reuse);
 	return 0;
 }
 
@@ -354,6 +360,7 @@ void dao_context_reset(struct dao_context *ctx)
 		return;
 	ctx->hist_valid = 0;
 	ctx->depth_hist_valid = 0;
+	dao_noise_reuse_restart(&ctx->noise_reuse);
 }
 
 int dao_context_get_params_sized(const struct dao_context *ctx, struct dao_params *out,
@@ -548,6 +555,14 @@ static void stage_noise_cells(void *arg, int cy0, int cy1)
 {
 	struct frame_job *j = arg;
 	dao_noise_cell_rows(&j->ctx->noise, cy0, cy1);
+}
+
+/* noise-interval: the cells the scene moved in, measured again */
+static void stage_noise_moved(void *arg, int i0, int i1)
+{
+	struct frame_job *j = arg;
+	for (int i = i0; i < i1; i++)
+		dao_noise_reuse_measure_cell(&j->ctx->noise_reuse, &j->ctx->noise, j->ctx->z_raw, i);
 }
 
 static void stage_thickness_fill(void *arg, int y0, int y1)
@@ -811,45 +826,63 @@ static void stage_finish(void *arg, int y0, int y1)
 
 /*
  * noise-model=auto: the frame's noise per region, and what it drives
- * (noise_estimate.h).  Without a measurable block, the model's settings stay.
+ * (noise_estimate.h); with noise-interval > 1 a recent frame's where the
+ * scene stayed (noise_reuse.h).  Without a measurable block, the model's
+ * settings stay.
  */
 static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 			   struct dao_domain_setup *dt)
 {
 	const struct dao_params *p = &ctx->params;
 	struct dao_noise_grid *g = &ctx->noise;
+	struct dao_noise_reuse *nr = &ctx->noise_reuse;
 	const float f = (float)(0.5 * (ctx->cam.fx + ctx->cam.fy));
-	dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
-	dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
-	dao_noise_cells_finish(g);
-	if (!g->usable_cells)
+	int moved = 0;
+	if (p->noise_interval > 1 && !dao_noise_reuse_due(nr)) {
+		moved = dao_noise_reuse_changes(nr, g, ctx->z_raw);
+		if (moved < 0)
+			dao_noise_reuse_restart(nr); /* a cut: all again */
+	}
+	if (p->noise_interval <= 1 || dao_noise_reuse_due(nr)) {
+		dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
+		dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
+		dao_noise_cells_finish(g);
+		dao_noise_reuse_store(nr, g, ctx->z_raw, p->noise_interval);
+		moved = 0;
+	} else if (moved > 0) {
+		dao_pool_run(ctx->pool, moved, 4, stage_noise_moved, job);
+	}
+	dao_noise_reuse_advance(nr);
+	if (!nr->valid)
 		return;
 	struct dao_noise_info *ni = &ctx->noise_info;
 	ni->measured = 1;
-	ni->sigma_area = g->frame_area;
-	ni->sigma_link = g->frame_link;
-	ni->sigma_slope = g->frame_slope;
-	ni->prefilter_scale = dao_auto_scale(g->frame_slope, f, g->frame_w);
-	job->prefilter.noise_k = g->frame_area;
+	ni->age = nr->age - 1; /* advanced already */
+	ni->cells_measured = moved;
+	ni->sigma_area = nr->area;
+	ni->sigma_link = nr->link;
+	ni->sigma_slope = nr->slope;
+	ni->prefilter_scale = dao_auto_scale(nr->slope, f, nr->w);
+	job->prefilter.noise_k = nr->area;
 	if (p->noise_model == DAO_NOISE_MODEL_AUTO) {
-		job->denoise.noise_k = g->frame_area;
+		job->denoise.noise_k = nr->area;
 		/* the temporal depth filter tests a sample against the history
 		 * with the noise of one sample: `area` (the independent part) or
 		 * `link` (what neighbours differ by: bands, correlated blobs),
 		 * whichever is larger */
-		job->depth_temporal_setup.noise_k = fmaxf(g->frame_area, g->frame_link);
+		job->depth_temporal_setup.noise_k = fmaxf(nr->area, nr->link);
 		if (p->normals == DAO_NORMALS_WIDE)
-			job->normal_radius = dao_auto_normal_radius(g->frame_slope, f, g->frame_w);
+			job->normal_radius = dao_auto_normal_radius(nr->slope, f, nr->w);
 		ni->normal_radius = job->normal_radius;
 		ni->denoise_noise = job->denoise.noise_k;
 	}
 	if (p->prefilter != DAO_PREFILTER_DOMAIN)
 		return;
 	const int nc = g->cw * g->ch;
-	const float *link = g->cell + nc, *wm = g->cell + 2 * nc;
+	const float *link = nr->cell, *wm = nr->cell + nc;
 	for (int i = 0; i < nc; i++) {
 		ctx->noise_cells[i] = link[i];
-		ctx->noise_cells[nc + i] = 1.0f / dao_auto_scale(g->frame_slope, f, wm[i]);
+		ctx->noise_cells[nc + i] = 1.0f / dao_auto_scale(nr->slope, f, wm[i]);
 	}
 	/* interpolated between the cells where the passes need them (domain.h) */
 	dt->noise_cells = ctx->noise_cells;
@@ -872,17 +905,21 @@ static void side_noise_after_temporal(struct dao_context *ctx, struct frame_job 
 				      struct dao_domain_setup *dt)
 {
 	struct dao_noise_grid *g = &ctx->noise;
+	struct dao_noise_reuse *nr = &ctx->noise_reuse;
 	const float before = ctx->noise_info.sigma_area;
 	if (ctx->params.prefilter != DAO_PREFILTER_DOMAIN || !ctx->noise_info.measured ||
 	    job->depth_temporal_setup.fresh || !(before > 0.0f))
 		return;
-	dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
-	dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
-	dao_noise_cells_finish(g);
-	if (!g->usable_cells)
-		return;
-	const float r = g->frame_area / before;
-	dt->side_noise = DAO_DOMAIN_SIDE_NOISE * (r < 1.0f ? r : 1.0f);
+	if (ctx->noise_info.age == 0) { /* measured in this frame: the ratio too */
+		dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
+		dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
+		dao_noise_cells_finish(g);
+		if (g->usable_cells)
+			nr->side_ratio = g->frame_area / before;
+	}
+	const float r = nr->side_ratio;
+	if (!isnan(r))
+		dt->side_noise = DAO_DOMAIN_SIDE_NOISE * (r < 1.0f ? r : 1.0f);
 }
 
 /* prefilter=domain: z_raw -> z_buf, the passes alternating through tmp */
@@ -947,6 +984,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (!consecutive) {
 		ctx->hist_valid = 0;
 		ctx->depth_hist_valid = 0;
+		dao_noise_reuse_restart(&ctx->noise_reuse);
 	}
 	job.depth_temporal = p->depth_temporal > 0.0f;
 	/*

@@ -91,3 +91,22 @@ float *dao_test_ao_of_depth(const struct dao_camera *cam, const float *depth, in
 	}
 	return ao;
 }
+
+int dao_test_open_kinect(struct dao_oni_reader **rd, int *stream,
+			 const struct dao_oni_stream_info **si, struct dao_camera *cam)
+{
+	char path[1024];
+	if (dao_test_data_path("oni/3DJ_test.oni", path, sizeof path)) {
+		printf("SKIP: ../shared/data/oni/3DJ_test.oni not found\n");
+		return DAO_TEST_SKIP;
+	}
+	struct dao_error err;
+	if (dao_oni_reader_open(path, rd, &err)) {
+		printf("FAIL: %s\n", err.message);
+		return 1;
+	}
+	*stream = dao_oni_reader_depth_stream(*rd, &err);
+	*si = dao_oni_reader_stream(*rd, (uint32_t)*stream);
+	dao_camera_from_fov(cam, (*si)->width, (*si)->height, (*si)->hfov, (*si)->vfov, NULL);
+	return 0;
+}

@@ -32,4 +32,13 @@ const char *dao_test_tmpdir(const char *tag);
 float *dao_test_ao_of_depth(const struct dao_camera *cam, const float *depth, int algorithm,
 			    int thickness_mode, float thickness);
 
+/*
+ * Opens the Kinect recording ../shared/data/oni/3DJ_test.oni: its reader,
+ * the depth stream's index and info, and a camera of its field of view.
+ * Returns 0, DAO_TEST_SKIP when the file is absent, or 1 after printing
+ * why it failed.
+ */
+int dao_test_open_kinect(struct dao_oni_reader **rd, int *stream,
+			 const struct dao_oni_stream_info **si, struct dao_camera *cam);
+
 #endif

@@ -6,7 +6,10 @@
  * depth edges and holes do not move it, two halves of different noise are
  * told apart, spatially correlated noise reads as documented, a clean render
  * reads its depth quantum, the cells come out the same computed by rows in
- * any order, and prefilter=domain interpolates the cells bilinearly.
+ * any order, and prefilter=domain interpolates the cells bilinearly.  With
+ * noise-interval (noise_reuse.h): a cell measured again on its own equals
+ * the whole frame's measurement of it, and the check finds the cells the
+ * scene moved in and calls a cut when most moved.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -17,6 +20,7 @@
 #include "common/test_common.h"
 #include "depth/domain.h"
 #include "depth/noise_estimate.h"
+#include "depth/noise_reuse.h"
 #include "synth/synth.h"
 
 enum { W = 640, H = 480 };
@@ -292,6 +296,63 @@ static void test_cell_interpolation(void **state)
 	dao_noise_grid_free(&g);
 }
 
+
+/*
+ * noise_reuse.h: frame b is frame a with a box nearer (and ToF-like: its
+ * noise in 1/z grows as w^2) over the cells [4, 8) x [3, 6), partly
+ * covering them.  The check after a's measurement flags those cells and no
+ * other; each, measured again on its own, reads what the whole frame's
+ * measurement of b reads there, bit for bit.  All of the frame nearer is a
+ * cut.
+ */
+static void test_cells_again(void **state)
+{
+	(void)state;
+	float *za = malloc(W * H * sizeof(float)), *zb = malloc(W * H * sizeof(float));
+	float *n = malloc(W * H * sizeof(float));
+	dao_test_correlated_noise(n, W, H, 0.001, 0.0, 21);
+	plane_depth(za, n);
+	dao_test_correlated_noise(n, W, H, 0.001, 0.0, 22);
+	plane_depth(zb, n);
+	const int span = DAO_NOISE_BLOCK * DAO_NOISE_CELL;
+	for (int y = 3 * span + 5; y < 6 * span - 3; y++)
+		for (int x = 4 * span + 7; x < 8 * span - 2; x++) {
+			const double w = 1.0 / 0.8; /* 0.8 m: 2.25 x the plane's 1/z or more */
+			zb[y * W + x] = (float)(1.0 / (w + 0.001 * w * w / 0.25 * n[y * W + x] / 0.001));
+		}
+	struct dao_noise_grid g = estimate(za), gb = estimate(zb);
+	struct dao_noise_reuse r;
+	assert_int_equal(dao_noise_reuse_init(&r, &g), 0);
+	dao_noise_reuse_restart(&r);
+	dao_noise_reuse_store(&r, &g, za, 15);
+	assert_true(r.valid);
+	assert_int_equal(dao_noise_reuse_changes(&r, &g, za), 0);
+	const int moved = dao_noise_reuse_changes(&r, &g, zb);
+	assert_int_equal(moved, 4 * 3);
+	const int nc = g.cw * g.ch;
+	for (int i = 0; i < moved; i++) {
+		const int c = r.changed[i], cx = c % g.cw, cy = c / g.cw;
+		assert_true(cx >= 4 && cx < 8 && cy >= 3 && cy < 6);
+		dao_noise_reuse_measure_cell(&r, &g, zb, i);
+		/* the full measurement's cells before filling: those with enough blocks */
+		assert_false(isnan(gb.cell[c]));
+		assert_true(r.cell[c] == gb.cell[nc + c] && r.cell[nc + c] == gb.cell[2 * nc + c]);
+		assert_true(r.cell[c] > 3.0f * g.cell[nc + c]); /* ToF: nearer, noisier in 1/z */
+	}
+	/* measured again: the reference follows, nothing moved any more */
+	assert_int_equal(dao_noise_reuse_changes(&r, &g, zb), 0);
+	/* everything 20 % nearer: a cut */
+	for (int i = 0; i < W * H; i++)
+		zb[i] = za[i] * 0.8f;
+	assert_int_equal(dao_noise_reuse_changes(&r, &g, zb), -1);
+	dao_noise_reuse_free(&r);
+	dao_noise_grid_free(&g);
+	dao_noise_grid_free(&gb);
+	free(za);
+	free(zb);
+	free(n);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -301,6 +362,7 @@ int main(void)
 		cmocka_unit_test(test_correlated),
 		cmocka_unit_test(test_clean_render),
 		cmocka_unit_test(test_cell_interpolation),
+		cmocka_unit_test(test_cells_again),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -691,22 +691,15 @@ static double block_residual(const float *z, int w, int x0, int y0)
  */
 static int test_real_kinect(void)
 {
-	char path[1024];
-	if (dao_test_data_path("oni/3DJ_test.oni", path, sizeof path)) {
-		printf("SKIP: ../shared/data/oni/3DJ_test.oni not found\n");
-		return DAO_TEST_SKIP;
-	}
 	struct dao_oni_reader *rd;
-	struct dao_error err;
-	if (dao_oni_reader_open(path, &rd, &err)) {
-		printf("FAIL: %s\n", err.message);
-		return 1;
-	}
-	const int s = dao_oni_reader_depth_stream(rd, &err);
-	const struct dao_oni_stream_info *si = dao_oni_reader_stream(rd, (uint32_t)s);
-	const int w = (int)si->width, h = (int)si->height, n = w * h;
+	const struct dao_oni_stream_info *si;
 	struct dao_camera cam;
-	dao_camera_from_fov(&cam, si->width, si->height, si->hfov, si->vfov, NULL);
+	struct dao_error err;
+	int s;
+	const int opened = dao_test_open_kinect(&rd, &s, &si, &cam);
+	if (opened)
+		return opened;
+	const int w = (int)si->width, h = (int)si->height, n = w * h;
 	/* the filter's gain with the fixed noise model it was measured with;
 	 * the stream defaults with noise-model=auto beside them */
 	struct dao_params p, d;

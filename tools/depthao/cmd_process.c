@@ -43,9 +43,11 @@ static void usage(FILE *out)
 		"At least one output is required.\n"
 		"\n"
 		"Recordings and devices are streams of consecutive frames: they also run the\n"
-		"temporal depth filter (--depth-temporal %.1f; --depth-temporal 0 turns it off).\n"
-		"PNG input does not (its files need not follow each other; give --depth-temporal\n"
-		"to have it).\n"
+		"temporal depth filter (--depth-temporal %.1f; --depth-temporal 0 turns it off)\n"
+		"and measure the noise fully every %d frames, and where the scene moved in\n"
+		"between (--noise-interval 1: every frame).  PNG input does neither (its files\n"
+		"need not follow each other: each file's result is its own; give the options to\n"
+		"have them).\n"
 		"\n"
 		"  --input PATH|URI          depth PNG, directory of depth PNGs, .oni recording, or\n"
 		"                            a source URI NAME:ARG (oni:FILE, openni2:any,\n"
@@ -86,7 +88,8 @@ static void usage(FILE *out)
 		"  --help                    this text\n"
 		"\n"
 		"AO parameters (override the preset; defaults are the medium preset):\n",
-		(double)stream.depth_temporal, DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
+		(double)stream.depth_temporal, stream.noise_interval, DEFAULT_HFOV_DEG,
+		DEFAULT_VFOV_DEG);
 	cli_print_param_help(out, &def);
 }
 
