@@ -60,12 +60,39 @@ struct dt_ctx {
 static void dt_cell_knots(const struct dao_domain_pass *p, const float *cells, int lane0,
 			  float *knots)
 {
-	for (int j = 0; j < VN; j++)
-		dao_domain_cell_knots(p, cells, lane0 + j, knots + j, 2 * VN);
+	/* the lanes' cells a (and b = a + 1, clamped) and weights u, as in
+	 * dao_domain_cell_knots; with cells of at least VN px the lanes span
+	 * two values of a and of b, so a knot is a select of two cells'
+	 * values per lane and the same arithmetic, VN lanes at once */
+	int a[VN], b[VN];
+	float af[VN], bf[VN], uf[VN];
+	for (int j = 0; j < VN; j++) {
+		dao_domain_cell_pos(lane0 + j, p->lane_cells, p->cell_span, &a[j], &uf[j]);
+		b[j] = a[j] + 1 < p->lane_cells ? a[j] + 1 : a[j];
+		af[j] = (float)a[j], bf[j] = (float)b[j];
+	}
+	if (a[VN - 1] - a[0] <= 1 && b[VN - 1] - b[0] <= 1) {
+		const vm ma = v_gt(v_load(af), v_set1((float)a[0]));
+		const vm mb = v_gt(v_load(bf), v_set1((float)b[0]));
+		const vf u = v_load(uf);
+		const float *ca0 = cells + (size_t)a[0] * p->lane_step;
+		const float *ca1 = cells + (size_t)a[VN - 1] * p->lane_step;
+		const float *cb0 = cells + (size_t)b[0] * p->lane_step;
+		const float *cb1 = cells + (size_t)b[VN - 1] * p->lane_step;
+		for (int k = 0; k < p->line_cells; k++) {
+			const size_t at = (size_t)k * p->line_step;
+			const vf va = v_sel(ma, v_set1(ca1[at]), v_set1(ca0[at]));
+			const vf vb = v_sel(mb, v_set1(cb1[at]), v_set1(cb0[at]));
+			v_store(knots + (size_t)k * 2 * VN, v_add(va, v_mul(v_sub(vb, va), u)));
+		}
+	} else {
+		for (int j = 0; j < VN; j++)
+			dao_domain_cell_knots(p, cells, lane0 + j, knots + j, 2 * VN);
+	}
 	for (int k = 0; k < p->line_cells; k++) {
-		float *a = knots + (size_t)k * 2 * VN;
-		const vf d = k + 1 < p->line_cells ? v_sub(v_load(a + 2 * VN), v_load(a)) : v_zero();
-		v_store(a + VN, d);
+		float *kn = knots + (size_t)k * 2 * VN;
+		const vf d = k + 1 < p->line_cells ? v_sub(v_load(kn + 2 * VN), v_load(kn)) : v_zero();
+		v_store(kn + VN, d);
 	}
 }
 
