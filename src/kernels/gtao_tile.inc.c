@@ -164,7 +164,7 @@ static struct tile_step *tile_cache_slot(struct tile_cache *c, float rp, int *sl
 }
 
 /* How far the taps of a freshly made table reach from the pixel in rows and
- * columns, and with side_lims each slice side's limits (side_lim: VBAO's). */
+ * columns, and with side_lims each slice side's limits (side_lim). */
 static void tile_cache_reach(struct tile_cache *c, int slot, int side_lims)
 {
 	const struct tile_step *st = c->st + (size_t)slot * (size_t)c->per;
@@ -193,8 +193,8 @@ static void tile_cache_reach(struct tile_cache *c, int slot, int side_lims)
 
 /* The steps of every slice for block radius rp (NULL when they do not fit:
  * tile_lanes then makes them per slice), how far their taps reach from the
- * pixel in rows and columns (*reach_r, *reach_c), and unless lim is NULL
- * each slice side's limits (*lim, tile_cache's side_lim: VBAO's). */
+ * pixel in rows and columns (*reach_r, *reach_c), and each slice side's
+ * limits (*lim, tile_cache's side_lim). */
 static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 					      const struct dao_gtao_planes *pl,
 					      const struct tile_phase *ph, float rp,
@@ -208,12 +208,11 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 	if (fresh) {
 		for (int sl = 0; sl < s->slices; sl++)
 			tile_slice_make(s, pl, ph, rp, sl, st + (size_t)sl * 2 * (size_t)s->steps);
-		tile_cache_reach(c, i, lim != NULL);
+		tile_cache_reach(c, i, 1);
 	}
 	*reach_r = c->reach_r[i];
 	*reach_c = c->reach_c[i];
-	if (lim)
-		*lim = (const int32_t (*)[4])c->side_lim[i];
+	*lim = (const int32_t (*)[4])c->side_lim[i];
 	return st;
 }
 
@@ -341,7 +340,7 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 static inline __attribute__((always_inline)) void
 tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
 	   const struct tile_step *st, vf low_pos, vf low_neg, vf *hc_pos, vf *hc_neg,
-	   const int use_max, const int major_x, const int check)
+	   const int use_max, const int major_x, const int check_p, const int check_n)
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
@@ -349,7 +348,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	vf bp = lp, bn = ln;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
-		if (!check || !tile_skip(t, &st[i])) {
+		if (!check_p || !tile_skip(t, &st[i])) {
 			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x);
 			if (use_max)
 				bp = v_min(bp, cp);
@@ -358,7 +357,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 				bp = v_sel(okp, v_sel(v_lt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
 					   bp);
 		}
-		if (!check || !tile_skip(t, &sn[i])) {
+		if (!check_n || !tile_skip(t, &sn[i])) {
 			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x);
 			if (use_max)
 				bn = v_min(bn, cn);
@@ -371,24 +370,23 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	*hc_neg = v_mul(bn, t->inu);
 }
 
-/* tile_sides specialised on the heuristic, the major axis and whether any
- * step may have to be skipped (inner: the block's taps are all on the image). */
+/* tile_sides specialised on the heuristic, the major axis and which sides may
+ * have steps to skip (chk_p, chk_n: tile_lanes' side checks). */
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 			   const struct tile_px *t, const struct tile_step *st, vf low_pos,
-			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int inner)
+			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int chk_p, int chk_n)
 {
-#define TILE_SIDES(use_max, mx, check) \
-	tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, use_max, mx, check)
+#define TILE_SIDES(k)                                                                    \
+	case k:                                                                          \
+		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, (k) >> 3,  \
+			   ((k) >> 2) & 1, ((k) >> 1) & 1, (k) & 1);                     \
+		break;
 	const int use_max = s->decay == 1.0f;
-	switch (use_max * 4 + major_x * 2 + inner) {
-	case 0: TILE_SIDES(0, 0, 1); break;
-	case 1: TILE_SIDES(0, 0, 0); break;
-	case 2: TILE_SIDES(0, 1, 1); break;
-	case 3: TILE_SIDES(0, 1, 0); break;
-	case 4: TILE_SIDES(1, 0, 1); break;
-	case 5: TILE_SIDES(1, 0, 0); break;
-	case 6: TILE_SIDES(1, 1, 1); break;
-	default: TILE_SIDES(1, 1, 0); break;
+	switch (use_max * 8 + major_x * 4 + chk_p * 2 + chk_n) {
+	TILE_SIDES(0) TILE_SIDES(1) TILE_SIDES(2) TILE_SIDES(3)
+	TILE_SIDES(4) TILE_SIDES(5) TILE_SIDES(6) TILE_SIDES(7)
+	TILE_SIDES(8) TILE_SIDES(9) TILE_SIDES(10) TILE_SIDES(11)
+	TILE_SIDES(12) TILE_SIDES(13) TILE_SIDES(14) default: TILE_SIDES(15)
 	}
 #undef TILE_SIDES
 }
@@ -503,10 +501,10 @@ tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 				st = sc->local;
 			}
 			const int major_x = fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]);
+			/* outside the inner blocks, which sides have steps to skip */
+			const int chk_p = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl]));
+			const int chk_n = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl + 1]));
 			if (is_vbao) {
-				/* outside the inner blocks, which sides have steps to skip */
-				const int chk_p = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl]));
-				const int chk_n = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl + 1]));
 				if (vp) {
 					vbao_pipe_slice(vb, s, base, tbase, &t, st, &g, major_x, chk_p,
 							chk_n, vp, &sum, &norm);
@@ -519,7 +517,7 @@ tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 			}
 			vf hc_pos, hc_neg;
 			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg,
-				       major_x, inner);
+				       major_x, chk_p, chk_n);
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		if (vp && vp->n)
@@ -590,8 +588,7 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 			int reach_r = 0, reach_c = 0;
 			const int32_t (*lim)[4] = NULL;
 			const struct tile_step *tsteps =
-				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c,
-					       is_vbao ? &lim : NULL);
+				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c, &lim);
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
