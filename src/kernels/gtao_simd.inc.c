@@ -333,7 +333,7 @@ void DAO_ISA_FN(dao_gtao_simd)(const struct dao_gtao_setup *s, const float *z,
 			       int y1, struct dao_tile_scratch *sc)
 {
 	if (s->noise == DAO_NOISE_TILE) {
-		gtao_tile(s, pl, n, ao, y0, y1, sc, NULL);
+		gtao_tile(s, pl, n, ao, y0, y1, sc);
 		return;
 	}
 	const int w = s->width, pw = w + 2;
@@ -392,7 +392,7 @@ void DAO_ISA_FN(dao_vbao_simd)(const struct dao_variant_setup *v, const float *z
 				      .fall_full = (1.0f - v->vbao_fall_add) / v->vbao_fall_mul,
 				      .fall_out = 1.001f * v->vbao_radius,
 				      .thickness = v->vbao_thickness, .plane = v->thickness != NULL };
-	gtao_tile(s, pl, n, ao, y0, y1, sc, &vb);
+	vbao_tile(s, pl, n, ao, y0, y1, sc, &vb);
 }
 
 void DAO_ISA_FN(dao_gtao_planes_fill)(struct dao_gtao_planes *pl, const float *z, int phase,

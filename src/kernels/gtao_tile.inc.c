@@ -163,8 +163,9 @@ static struct tile_step *tile_cache_slot(struct tile_cache *c, float rp, int *sl
 	return c->st + (size_t)i * (size_t)c->per;
 }
 
-/* How far the taps of a freshly made table reach from the pixel in rows and columns. */
-static void tile_cache_reach(struct tile_cache *c, int slot)
+/* How far the taps of a freshly made table reach from the pixel in rows and
+ * columns, and with side_lims each slice side's limits (side_lim). */
+static void tile_cache_reach(struct tile_cache *c, int slot, int side_lims)
 {
 	const struct tile_step *st = c->st + (size_t)slot * (size_t)c->per;
 	int rr = 0, rc = 0;
@@ -176,7 +177,7 @@ static void tile_cache_reach(struct tile_cache *c, int slot)
 	}
 	c->reach_r[slot] = rr;
 	c->reach_c[slot] = rc;
-	for (int side = 0; side * c->steps < c->per; side++) {
+	for (int side = 0; side_lims && side * c->steps < c->per; side++) {
 		const struct tile_step *o = st + (size_t)side * (size_t)c->steps;
 		int32_t *lim = c->side_lim[slot][side];
 		lim[0] = lim[2] = INT32_MAX;
@@ -207,7 +208,7 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 	if (fresh) {
 		for (int sl = 0; sl < s->slices; sl++)
 			tile_slice_make(s, pl, ph, rp, sl, st + (size_t)sl * 2 * (size_t)s->steps);
-		tile_cache_reach(c, i);
+		tile_cache_reach(c, i, 1);
 	}
 	*reach_r = c->reach_r[i];
 	*reach_c = c->reach_c[i];
@@ -339,7 +340,7 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 static inline __attribute__((always_inline)) void
 tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
 	   const struct tile_step *st, vf low_pos, vf low_neg, vf *hc_pos, vf *hc_neg,
-	   const int use_max, const int major_x, const int check)
+	   const int use_max, const int major_x, const int check_p, const int check_n)
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
@@ -347,7 +348,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	vf bp = lp, bn = ln;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
-		if (!check || !tile_skip(t, &st[i])) {
+		if (!check_p || !tile_skip(t, &st[i])) {
 			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x);
 			if (use_max)
 				bp = v_min(bp, cp);
@@ -356,7 +357,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 				bp = v_sel(okp, v_sel(v_lt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
 					   bp);
 		}
-		if (!check || !tile_skip(t, &sn[i])) {
+		if (!check_n || !tile_skip(t, &sn[i])) {
 			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x);
 			if (use_max)
 				bn = v_min(bn, cn);
@@ -369,24 +370,23 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	*hc_neg = v_mul(bn, t->inu);
 }
 
-/* tile_sides specialised on the heuristic, the major axis and whether any
- * step may have to be skipped (inner: the block's taps are all on the image). */
+/* tile_sides specialised on the heuristic, the major axis and which sides may
+ * have steps to skip (chk_p, chk_n: tile_lanes' side checks). */
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 			   const struct tile_px *t, const struct tile_step *st, vf low_pos,
-			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int inner)
+			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int chk_p, int chk_n)
 {
-#define TILE_SIDES(use_max, mx, check) \
-	tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, use_max, mx, check)
+#define TILE_SIDES(k)                                                                    \
+	case k:                                                                          \
+		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, (k) >> 3,  \
+			   ((k) >> 2) & 1, ((k) >> 1) & 1, (k) & 1);                     \
+		break;
 	const int use_max = s->decay == 1.0f;
-	switch (use_max * 4 + major_x * 2 + inner) {
-	case 0: TILE_SIDES(0, 0, 1); break;
-	case 1: TILE_SIDES(0, 0, 0); break;
-	case 2: TILE_SIDES(0, 1, 1); break;
-	case 3: TILE_SIDES(0, 1, 0); break;
-	case 4: TILE_SIDES(1, 0, 1); break;
-	case 5: TILE_SIDES(1, 0, 0); break;
-	case 6: TILE_SIDES(1, 1, 1); break;
-	default: TILE_SIDES(1, 1, 0); break;
+	switch (use_max * 8 + major_x * 4 + chk_p * 2 + chk_n) {
+	TILE_SIDES(0) TILE_SIDES(1) TILE_SIDES(2) TILE_SIDES(3)
+	TILE_SIDES(4) TILE_SIDES(5) TILE_SIDES(6) TILE_SIDES(7)
+	TILE_SIDES(8) TILE_SIDES(9) TILE_SIDES(10) TILE_SIDES(11)
+	TILE_SIDES(12) TILE_SIDES(13) TILE_SIDES(14) default: TILE_SIDES(15)
 	}
 #undef TILE_SIDES
 }
@@ -425,13 +425,16 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
 #include "kernels/vbao_tile.inc.c"
 
 /* VN lanes of a block of phase a: columns x0, x0 + 4, ... (entries jb, jb + 1,
- * ... of the phase plane; nq: their normals, from tile_group_normals); GTAO,
- * or VBAO with vb (pipe: its slices in flight, room that tile_row keeps). */
-static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		       const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
-		       const struct tile_step *tsteps, const int32_t (*lim)[4], int reach_r,
-		       int reach_c, float rp, int y, int jb, int h, struct dao_tile_scratch *sc,
-		       const struct tile_vbao *vb, struct vbao_pipe *pipe)
+ * ... of the phase plane; nq: their normals, from tile_group_normals); GTAO
+ * (is_vbao 0, vb and pipe NULL), or VBAO with vb (pipe: its slices in flight,
+ * room that tile_row keeps).  is_vbao is a constant: each kernel gets its
+ * own copy, and GTAO's has none of VBAO's code (nor its registers). */
+static inline __attribute__((always_inline)) void
+tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+	   const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
+	   const struct tile_step *tsteps, const int32_t (*lim)[4], int reach_r, int reach_c,
+	   float rp, int y, int jb, int h, struct dao_tile_scratch *sc,
+	   const struct tile_vbao *vb, struct vbao_pipe *pipe, const int is_vbao)
 {
 	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
 	float out[VN];
@@ -471,11 +474,12 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 		const vf N[3] = { v_load(nq[0] + h), v_load(nq[1] + h), v_load(nq[2] + h) };
 		const vf NV = v_fma(N[0], p->Vx, v_fma(N[1], p->Vy, v_mul(N[2], p->Vz)));
 		const float *base = dao_gtao_phase_row(pl, y, 0) + jb + h;
-		const uint16_t *tbase = vb && vb->plane ? dao_gtao_thick_row(pl, y, 0) + jb + h : NULL;
+		const uint16_t *tbase =
+			is_vbao && vb->plane ? dao_gtao_thick_row(pl, y, 0) + jb + h : NULL;
 		vf sum = v_zero(), norm = v_zero();
 		/* VBAO with the steps of every slice in the table and in one chunk: the
 		 * slices' two passes interleaved (vbao_pipe) */
-		struct vbao_pipe *vp = vb && tsteps && s->steps <= VBAO_CHUNK ? pipe : NULL;
+		struct vbao_pipe *vp = is_vbao && tsteps && s->steps <= VBAO_CHUNK ? pipe : NULL;
 		if (vp)
 			vp->n = 0;
 		for (int sl = 0; sl < s->slices; sl++) {
@@ -485,11 +489,8 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			const vf az = v_fnma(v_set1(diry), t.X0, v_mul(v_set1(dirx), t.Y0));
 			const vf a2 = v_fma(az, az, v_set1(dirx * dirx + diry * diry));
 			/* VBAO places its sectors from n: the precise acos and sqrt there */
-			struct slice_v g =
-				vb ? slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
-						     v_set1(-dirx), az, a2, N, NV, 0)
-				   : slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
-						     v_set1(-dirx), az, a2, N, NV, 1);
+			struct slice_v g = slice_from_axis(p, v_set1(dirx), v_set1(diry), v_set1(diry),
+							   v_set1(-dirx), az, a2, N, NV, !is_vbao);
 			if (!m_any(g.ok))
 				continue;
 			const struct tile_step *st;
@@ -500,10 +501,10 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 				st = sc->local;
 			}
 			const int major_x = fabsf(ph->dx[sl]) >= fabsf(ph->dy[sl]);
-			if (vb) {
-				/* outside the inner blocks, which sides have steps to skip */
-				const int chk_p = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl]));
-				const int chk_n = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl + 1]));
+			/* outside the inner blocks, which sides have steps to skip */
+			const int chk_p = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl]));
+			const int chk_n = !inner && (!tsteps || tile_side_checks(&t, lim[2 * sl + 1]));
+			if (is_vbao) {
 				if (vp) {
 					vbao_pipe_slice(vb, s, base, tbase, &t, st, &g, major_x, chk_p,
 							chk_n, vp, &sum, &norm);
@@ -516,7 +517,7 @@ static void tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_pla
 			}
 			vf hc_pos, hc_neg;
 			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg,
-				       major_x, inner);
+				       major_x, chk_p, chk_n);
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		if (vp && vp->n)
@@ -566,10 +567,12 @@ static inline void tile_block_invalid(const struct dao_gtao_setup *s, float *ao,
 }
 
 /* Columns [x_begin, x_end) of row y, block by block: the four tile phases of
- * DAO_GTAO_BLOCK_SPAN columns share one split of their normals. */
-static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		     const float *n, float *ao, const struct tile_phase ph[4],
-		     struct dao_tile_scratch *sc, const struct tile_vbao *vb, int y)
+ * DAO_GTAO_BLOCK_SPAN columns share one split of their normals (is_vbao, vb:
+ * tile_lanes). */
+static inline __attribute__((always_inline)) void
+tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const float *n,
+	 float *ao, const struct tile_phase ph[4], struct dao_tile_scratch *sc,
+	 const struct tile_vbao *vb, int y, const int is_vbao)
 {
 	float nb[4][3][DAO_GTAO_BLOCK];
 	struct vbao_pipe pipe;
@@ -584,8 +587,8 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 			}
 			int reach_r = 0, reach_c = 0;
 			const int32_t (*lim)[4] = NULL;
-			const struct tile_step *tsteps = tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a],
-									&reach_r, &reach_c, &lim);
+			const struct tile_step *tsteps =
+				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c, &lim);
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
@@ -594,16 +597,17 @@ static void tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_plane
 				if (4 * (jb + h) + a < s->x_end)
 					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
 						   tsteps, lim, reach_r, reach_c, rp, y, jb, h, sc, vb,
-						   &pipe);
+						   is_vbao ? &pipe : NULL, is_vbao);
 		}
 	}
 }
 
 /* Rows [y0, y1), columns [x_begin, x_end) (x_begin a multiple of the block
- * span): GTAO, or VBAO with vb; sc: this thread's scratch. */
-static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-		      const float *n, float *ao, int y0, int y1, struct dao_tile_scratch *sc,
-		      const struct tile_vbao *vb)
+ * span): GTAO, or VBAO with vb (is_vbao); sc: this thread's scratch. */
+static inline __attribute__((always_inline)) void
+tile_rows(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const float *n,
+	  float *ao, int y0, int y1, struct dao_tile_scratch *sc, const struct tile_vbao *vb,
+	  const int is_vbao)
 {
 	/* Rows by tile row (y mod 4), so that the tables of a tile phase serve every
 	 * row of the band with that noise.  The tables of every preset fit in the
@@ -619,8 +623,22 @@ static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_plan
 			tile_cache_reset(s, &sc->cache[a]);
 		}
 		for (int y = yc; y < y1; y += 4)
-			tile_row(s, pl, n, ao, ph, sc, vb, y);
+			tile_row(s, pl, n, ao, ph, sc, vb, y, is_vbao);
 	}
+}
+
+/* The two kernels of tile_rows, each compiled for itself. */
+static void gtao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		      const float *n, float *ao, int y0, int y1, struct dao_tile_scratch *sc)
+{
+	tile_rows(s, pl, n, ao, y0, y1, sc, NULL, 0);
+}
+
+static void vbao_tile(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
+		      const float *n, float *ao, int y0, int y1, struct dao_tile_scratch *sc,
+		      const struct tile_vbao *vb)
+{
+	tile_rows(s, pl, n, ao, y0, y1, sc, vb, 1);
 }
 
 #include "kernels/hbao_tile.inc.c"

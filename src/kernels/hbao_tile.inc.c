@@ -84,7 +84,7 @@ static const struct tile_step *hbao_cache_get(const struct dao_gtao_setup *s,
 	if (fresh) {
 		for (int d = 0; d < 2 * s->slices; d++)
 			hbao_dir_make(s, pl, ph, rp, d, st + (size_t)d * (size_t)s->steps);
-		tile_cache_reach(c, i);
+		tile_cache_reach(c, i, 0);
 	}
 	*reach_r = c->reach_r[i];
 	*reach_c = c->reach_c[i];
