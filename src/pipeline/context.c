@@ -87,8 +87,8 @@ struct dao_context {
 	enum dao_simd simd;        /* params.simd resolved (AUTO: this CPU's best) ... */
 	struct dao_kernels kernels; /* ... and its kernels, chosen when the parameters change */
 	struct dao_timings times;
-	/* prefilter=domain: one scratch per slot; a pass hands every slot a share
-	 * of its strips, and the pool runs the slots */
+	/* prefilter=domain: one scratch per pool thread; the pool hands the
+	 * threads bands of a pass's strips */
 	float *dt_scratch;
 	int dt_slots;
 	size_t dt_slot_floats;
@@ -155,11 +155,10 @@ static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err
 	return 0;
 }
 
-/* slots of the domain filter's passes: a few bands per thread */
+/* scratches of the domain filter's passes: one per thread */
 static int domain_slots(const struct dao_context *ctx)
 {
-	const int n = 4 * dao_pool_threads(ctx->pool);
-	return n < 64 ? n : 64;
+	return dao_pool_threads(ctx->pool);
 }
 
 /* The buffers `p` needs beyond the planes every context has (allocated here,
@@ -485,7 +484,6 @@ struct frame_job {
 	int temporal_in_decode; /* ... in stage_decode, on the rows just decoded */
 	struct dao_temporal_depth_setup depth_temporal_setup;
 	struct dao_domain_pass dt_pass; /* the domain filter's pass being run */
-	int dt_slots;                   /* slots that pass is spread over */
 	_Atomic uint64_t output_ns;     /* stage_finish: the output's time, summed over bands */
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
@@ -528,20 +526,15 @@ static void stage_prefilter_v(void *arg, int y0, int y1)
 	j->k.prefilter_v(&j->prefilter, j->ctx->tmp, j->ctx->z_buf, y0, y1);
 }
 
-/* Slots [s0, s1) of a domain pass, each a share of its strips of lanes, in
- * slot s0's scratch (bands are run one at a time by a thread, so s0 is this
- * call's alone). */
-static void stage_domain(void *arg, int s0, int s1)
+/* Strips [a, b) of a domain pass in the thread's scratch, which stays in its
+ * core's cache from one strip to the next. */
+static void stage_domain(void *arg, int thread, int a, int b)
 {
 	struct frame_job *j = arg;
 	const struct dao_domain_pass *p = &j->dt_pass;
-	const int strips = (p->lanes + DAO_DOMAIN_STRIP - 1) / DAO_DOMAIN_STRIP;
-	const int a = (int)((long)strips * s0 / j->dt_slots);
-	const int b = (int)((long)strips * s1 / j->dt_slots);
 	const int lane1 = b * DAO_DOMAIN_STRIP < p->lanes ? b * DAO_DOMAIN_STRIP : p->lanes;
-	if (a < b)
-		j->k.domain_pass(p, j->ctx->dt_scratch + (size_t)s0 * j->ctx->dt_slot_floats,
-				 a * DAO_DOMAIN_STRIP, lane1);
+	j->k.domain_pass(p, j->ctx->dt_scratch + (size_t)thread * j->ctx->dt_slot_floats,
+			 a * DAO_DOMAIN_STRIP, lane1);
 }
 
 static void stage_noise_blocks(void *arg, int by0, int by1)
@@ -581,7 +574,7 @@ static void stage_thickness_rows(void *arg, int y0, int y1)
  * The thickness estimate's row pass needs the filtered depth of its rows
  * only, like the normals: it runs in their bands, and the estimate costs
  * one dispatch to the pool (the columns) instead of three.  Under load each
- * dispatch waits for both threads (README.md, Performance).
+ * dispatch waits for both threads (docs/performance.md).
  */
 static void stage_normals(void *arg, int y0, int y1)
 {
@@ -797,7 +790,7 @@ static void stage_output(void *arg, int y0, int y1)
  * output, each of which reads only the rows it writes once the denoise's
  * input is complete (the GTAO stage; the bilateral's horizontal pass).  One
  * dispatch to the pool instead of three, and the AO plane is not read back
- * from the shared cache twice (README.md, Performance).  The output's share
+ * from the shared cache twice (docs/performance.md).  The output's share
  * of the time is summed over the bands for dao_timings.
  */
 #define FINISH_CHUNK_ROWS 16 /* 16 rows of 3 planes of 640 floats: 120 KB */
@@ -930,8 +923,7 @@ static void run_domain(struct dao_context *ctx, struct frame_job *job,
 		const float *in = k == 0 ? ctx->z_raw : (k & 1) ? ctx->tmp : ctx->z_buf;
 		dao_domain_pass_init(&job->dt_pass, dt, k, in, (k & 1) ? ctx->z_buf : ctx->tmp);
 		const int strips = (job->dt_pass.lanes + DAO_DOMAIN_STRIP - 1) / DAO_DOMAIN_STRIP;
-		job->dt_slots = strips < ctx->dt_slots ? strips : ctx->dt_slots;
-		dao_pool_run(ctx->pool, job->dt_slots, 1, stage_domain, job);
+		dao_pool_run_threads(ctx->pool, strips, 1, stage_domain, job);
 	}
 }
 
