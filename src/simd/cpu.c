@@ -59,7 +59,7 @@ int dao_simd_supported(enum dao_simd simd)
 
 enum dao_simd dao_simd_best(void)
 {
-	/* measured order on the machines we have (README, Performance) */
+	/* measured order on the machines we have (docs/performance.md) */
 	static const enum dao_simd order[] = { DAO_SIMD_AVX512, DAO_SIMD_AVX2, DAO_SIMD_SSE41 };
 	for (size_t i = 0; i < sizeof order / sizeof order[0]; i++)
 		if (dao_simd_supported(order[i]))

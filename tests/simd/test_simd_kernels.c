@@ -4,7 +4,7 @@
  * FFmpeg's checkasm: the same inputs through simd=reference and through each
  * instruction set this CPU has, stage by stage and end to end, on synthetic
  * scenes (clean and with sensor noise) and on the real frames in
- * ../shared/data.  The bounds are stated in README.md (Performance).
+ * ../shared/data.  The bounds are stated in docs/performance.md.
  */
 #include "common/cmocka_all.h"
 
