@@ -57,6 +57,8 @@ grep -A2 "^  radius *:" "$WORK/inspect" | grep -q "Double. Range: *0.01 - *100 D
 	fail "radius range/default: $(grep -A2 "^  radius *:" "$WORK/inspect")"
 grep -A2 "^  depth-temporal *:" "$WORK/inspect" | grep -q "Default: *0.8" ||
 	fail "the temporal depth filter is not on by default: $(grep -A2 "^  depth-temporal *:" "$WORK/inspect")"
+grep -A2 "^  noise-interval *:" "$WORK/inspect" | grep -q "Default: *15 " ||
+	fail "the element does not measure the noise every 15th frame by default: $(grep -A2 "^  noise-interval *:" "$WORK/inspect")"
 grep -q 'Enum "GstDepthaoShade"' "$WORK/inspect" || fail "shade is not a registered enum"
 grep -q "(1): turbo" "$WORK/inspect" || fail "the shade enum lacks its values"
 echo "gst-inspect-1.0: element and $(grep -c "controllable" "$WORK/inspect") controllable properties"
@@ -189,10 +191,14 @@ for dt in default 0; do
 		multifilesink location="$WORK/noisy-$dt-%d.raw" >"$WORK/log" 2>&1 ||
 		fail "noisy stream ($dt): $(cat "$WORK/log")"
 done
+# (and, as a stream, the noise measured in full on frames 0, 1, 2, 4, 8, ..., every 15th:
+# frame 3 reuses frame 2's; PNG input measures every frame unless told)
 "$DEPTHAO" process --input "images:$NOISY" --intrinsics $K --depth-temporal 0.8 \
-	--ao-out "$WORK/noisy-on" --quiet || fail "depthao process images: --depth-temporal 0.8"
-"$DEPTHAO" process --input "$NOISY" --intrinsics $K --ao-out "$WORK/noisy-off" --quiet ||
-	fail "depthao process on the PNG directory"
+	--noise-interval 15 --ao-out "$WORK/noisy-on" --quiet ||
+	fail "depthao process images: --depth-temporal 0.8 --noise-interval 15"
+"$DEPTHAO" process --input "$NOISY" --intrinsics $K --noise-interval 15 \
+	--ao-out "$WORK/noisy-off" --quiet ||
+	fail "depthao process on the PNG directory --noise-interval 15"
 # shellcheck disable=SC2059
 same "$(printf "$RAW" gray16le noisy-default-3.raw)" "$WORK/noisy-on/000003.png" 0 \
 	"stream frame 3, depth-temporal on vs depthao process --depth-temporal 0.8"
