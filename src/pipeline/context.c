@@ -90,8 +90,8 @@ struct dao_context {
 	/* prefilter=domain: one scratch per pool thread; the pool hands the
 	 * threads bands of a pass's strips */
 	float *dt_scratch;
-	int dt_slots;
-	size_t dt_slot_floats;
+	int dt_threads;
+	size_t dt_thread_floats;
 	/* noise-model=auto */
 	struct dao_noise_grid noise;
 	int have_noise_grid;
@@ -155,27 +155,21 @@ static int make_pool(struct dao_context *ctx, int threads, struct dao_error *err
 	return 0;
 }
 
-/* scratches of the domain filter's passes: one per thread */
-static int domain_slots(const struct dao_context *ctx)
-{
-	return dao_pool_threads(ctx->pool);
-}
-
 /* The buffers `p` needs beyond the planes every context has (allocated here,
  * never per frame; what is there already is kept). */
 static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 			  struct dao_error *err)
 {
 	const int w = (int)ctx->cam.width, h = (int)ctx->cam.height;
-	if (p->prefilter == DAO_PREFILTER_DOMAIN && ctx->dt_slots < domain_slots(ctx)) {
+	if (p->prefilter == DAO_PREFILTER_DOMAIN && ctx->dt_threads < dao_pool_threads(ctx->pool)) {
 		const size_t per = dao_domain_scratch_floats(w, h);
-		float *s = malloc((size_t)domain_slots(ctx) * per * sizeof(float));
+		float *s = malloc((size_t)dao_pool_threads(ctx->pool) * per * sizeof(float));
 		if (!s)
 			return dao_error_set(err, -ENOMEM, "out of memory for the domain prefilter");
 		free(ctx->dt_scratch);
 		ctx->dt_scratch = s;
-		ctx->dt_slots = domain_slots(ctx);
-		ctx->dt_slot_floats = per;
+		ctx->dt_threads = dao_pool_threads(ctx->pool);
+		ctx->dt_thread_floats = per;
 	}
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE &&
 	    ((!ctx->thick && !(ctx->thick = malloc(ctx->npix * sizeof(float)))) ||
@@ -533,7 +527,7 @@ static void stage_domain(void *arg, int thread, int a, int b)
 	struct frame_job *j = arg;
 	const struct dao_domain_pass *p = &j->dt_pass;
 	const int lane1 = b * DAO_DOMAIN_STRIP < p->lanes ? b * DAO_DOMAIN_STRIP : p->lanes;
-	j->k.domain_pass(p, j->ctx->dt_scratch + (size_t)thread * j->ctx->dt_slot_floats,
+	j->k.domain_pass(p, j->ctx->dt_scratch + (size_t)thread * j->ctx->dt_thread_floats,
 			 a * DAO_DOMAIN_STRIP, lane1);
 }
 
