@@ -921,6 +921,220 @@ static void run_domain(struct dao_context *ctx, struct frame_job *job,
 	}
 }
 
+/* The frame's settings for every stage, from the parameters and the camera. */
+static void frame_job_init(struct dao_context *ctx, struct frame_job *job,
+			   const struct dao_frame *depth, struct dao_frame *ao, uint64_t frame_index)
+{
+	const struct dao_params *p = &ctx->params;
+	*job = (struct frame_job){
+		.ctx = ctx,
+		.depth = depth,
+		.ao_out = ao,
+		.normal_radius = p->normals == DAO_NORMALS_WIDE ? p->normal_radius : 1,
+		.denoise = {
+			.width = (int)ctx->cam.width, .height = (int)ctx->cam.height,
+			.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
+			.noise_k = p->depth_noise,
+			.sharpness = p->denoise_sharpness,
+			.radius = p->denoise_radius,
+			.invalid_value = p->invalid_value,
+		},
+	};
+	dao_gtao_setup_init(&job->gtao, &ctx->cam, p, frame_index);
+	job->algorithm = p->algorithm;
+	if (p->algorithm != DAO_ALGORITHM_GTAO)
+		dao_variant_setup_init(&job->variant, &job->gtao, p);
+	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE) {
+		dao_thickness_setup_init(&job->thickness, &ctx->cam, p->vbao_thickness_max);
+		job->thickness.spacing = job->gtao.search_radius / (float)job->gtao.steps;
+		job->thick = ctx->thick;
+		job->variant.thickness = ctx->thick;
+	}
+	job->k = ctx->kernels;
+	use_r2_tile(ctx, &job->gtao, frame_index);
+	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
+	dao_prefilter_setup_init(&job->prefilter, (int)ctx->cam.width, (int)ctx->cam.height,
+				 p->prefilter_radius, p->depth_noise, ctx->depth_unit);
+	job->depth_temporal = p->depth_temporal > 0.0f;
+	/*
+	 * The noise is measured on the samples as the sensor delivers them,
+	 * before the temporal filter: the spatial filters keep the strength
+	 * the sensor's noise asks for and the temporal filter's averaging
+	 * comes on top.  Measured after it, the prefilter and the normals
+	 * backed off to what it leaves and the stream gained nothing
+	 * (tests/pipeline/test_temporal_depth.c: still boxes AO MAE 0.0335
+	 * against 0.0346 without the filter, thin poles moving +0.0084).
+	 */
+	job->temporal_in_decode = job->depth_temporal && p->noise_model == DAO_NOISE_MODEL_FIXED;
+}
+
+/* The histories (AO, depth, noise) go on only from one frame to one of the
+ * next few; otherwise they start again. */
+static void continue_histories(struct dao_context *ctx, uint64_t frame_index)
+{
+	const int consecutive = ctx->have_index && frame_index - ctx->last_frame_index >= 1u &&
+				frame_index - ctx->last_frame_index <= DAO_TEMPORAL_MAX_GAP;
+	if (!consecutive) {
+		ctx->hist_valid = 0;
+		ctx->depth_hist_valid = 0;
+		dao_noise_reuse_restart(&ctx->noise_reuse);
+	}
+}
+
+/* The temporal depth filter's and the domain filter's settings, and the
+ * noise figures of the fixed model (estimate_noise replaces them). */
+static void noise_and_filter_init(struct dao_context *ctx, struct frame_job *job,
+				  struct dao_domain_setup *dt)
+{
+	const struct dao_params *p = &ctx->params;
+	job->depth_temporal_setup = (struct dao_temporal_depth_setup){
+		.width = (int)ctx->cam.width,
+		.alpha = p->depth_temporal,
+		.reject = p->depth_temporal_reject,
+		.noise_k = p->depth_noise,
+		.quantum = ctx->depth_unit,
+		.persist = p->depth_temporal_persist,
+		.fresh = !ctx->depth_hist_valid,
+	};
+	*dt = (struct dao_domain_setup){
+		.width = (int)ctx->cam.width, .height = (int)ctx->cam.height,
+		.iterations = p->prefilter_iterations,
+		.inv_scale = 1.0f / p->prefilter_scale,
+		.range_coef = dao_domain_range_coef(p->prefilter_range),
+		.noise = p->depth_noise, .unit = ctx->depth_unit,
+		.sides = 1,
+	};
+	ctx->noise_info = (struct dao_noise_info){
+		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
+		.sigma_slope = p->depth_noise,
+		.prefilter_scale = p->prefilter_scale, .normal_radius = job->normal_radius,
+		.denoise_noise = p->depth_noise,
+	};
+}
+
+/* the temporal depth filter when it could not run in the decode (the noise is
+ * measured between them) */
+static void run_temporal_depth(struct dao_context *ctx, struct frame_job *job,
+			       struct dao_domain_setup *dt)
+{
+	if (!job->depth_temporal || job->temporal_in_decode)
+		return;
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_temporal_depth, job);
+	side_noise_after_temporal(ctx, job, dt);
+}
+
+/* z_raw -> ctx->z: the prefilter's output, or z_raw itself without one */
+static void run_prefilter(struct dao_context *ctx, struct frame_job *job,
+			  const struct dao_domain_setup *dt)
+{
+	const int h = (int)ctx->cam.height;
+	if (ctx->params.prefilter == DAO_PREFILTER_BILATERAL) {
+		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, job);
+		dao_pool_run(ctx->pool, h, 4, stage_prefilter_v, job);
+		ctx->z = ctx->z_buf;
+	} else if (ctx->params.prefilter == DAO_PREFILTER_DOMAIN) {
+		run_domain(ctx, job, dt);
+		ctx->z = ctx->z_buf;
+	} else {
+		ctx->z = ctx->z_raw;
+	}
+}
+
+/* The normals (computed, or the caller's), and VBAO's thickness inputs that
+ * are made row by row beside them. */
+static int run_normals(struct dao_context *ctx, struct frame_job *job,
+		       const struct dao_frame *normals, struct dao_error *err)
+{
+	const int h = (int)ctx->cam.height;
+	/* slabs' creases as rounded as the measured noise had the prefilter make them
+	 * (before the normals stage: it runs the thickness's rows) */
+	if (job->thick && ctx->params.prefilter == DAO_PREFILTER_DOMAIN &&
+	    ctx->noise_info.measured) {
+		dao_thickness_setup_rounding(&job->thickness, ctx->noise_info.prefilter_scale);
+		dao_thickness_setup_noise(&job->thickness, ctx->noise_info.prefilter_scale,
+					  ctx->noise_info.sigma_area);
+	}
+	/* the thickness's passes read the depth with its dropouts filled: every row of it
+	 * before they start (the row pass looks at the rows beside its own) */
+	job->thick_z = ctx->z;
+	if (job->thick && job->thickness.fill_px > 0) {
+		dao_pool_run(ctx->pool, h, 8, stage_thickness_fill, job);
+		job->thick_z = ctx->thick_z;
+	}
+	if (!normals) {
+		dao_pool_run(ctx->pool, h, 4, stage_normals, job); /* and the thickness's rows */
+		return 0;
+	}
+	int r = load_normals(ctx, normals, err);
+	if (r)
+		return r;
+	if (job->k.simd != DAO_SIMD_REFERENCE)
+		fill_inverse_depth(ctx, &job->k, 0, h);
+	if (job->thick)
+		dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, job);
+	return 0;
+}
+
+/* The AO itself: VBAO's thickness columns, then the AO by strips or rows. */
+static void run_ao(struct dao_context *ctx, struct frame_job *job)
+{
+	const struct dao_params *p = &ctx->params;
+	const int h = (int)ctx->cam.height;
+	if (job->thick)
+		dao_pool_run_threads(ctx->pool,
+				     ((int)ctx->cam.width + DAO_THICKNESS_COL_BLOCK - 1) /
+					     DAO_THICKNESS_COL_BLOCK,
+				     1, stage_thickness_cols, job);
+	const int sw = gtao_strip_width((int)ctx->cam.width);
+	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
+	/* the optimised kernels compute strips (vbao, hbao: with tile noise, the tile kernel) */
+	const int in_strips = job->k.simd != DAO_SIMD_REFERENCE &&
+			      (job->algorithm == DAO_ALGORITHM_GTAO ||
+			       ((job->algorithm == DAO_ALGORITHM_VBAO ||
+				 job->algorithm == DAO_ALGORITHM_HBAO) &&
+				p->noise == DAO_NOISE_TILE));
+	if (strips > 1 && in_strips)
+		dao_pool_run_threads(ctx->pool, h * strips, 2, stage_gtao_strips, job);
+	else
+		dao_pool_run_threads(ctx->pool, h, 2, stage_gtao, job);
+}
+
+/* The denoise, the temporal AO and the output (stage_finish fuses them). */
+static void run_finish(struct dao_context *ctx, struct frame_job *job)
+{
+	const struct dao_params *p = &ctx->params;
+	const int h = (int)ctx->cam.height;
+	ctx->ao = p->denoise == DAO_DENOISE_PLANE || p->denoise == DAO_DENOISE_BILATERAL
+			  ? ctx->ao_buf
+			  : ctx->ao_raw;
+	if (p->denoise == DAO_DENOISE_BILATERAL)
+		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, job);
+	atomic_init(&job->output_ns, 0);
+	dao_pool_run(ctx->pool, h, 4, stage_finish, job);
+	ctx->hist_valid = p->temporal > 0.0f;
+}
+
+/* t[]: the clock before decode, noise, temporal depth, prefilter, normals, AO,
+ * finish, and after it */
+enum { T_DECODE, T_NOISE, T_TEMPORAL, T_PREFILTER, T_NORMALS, T_AO, T_FINISH, T_END };
+
+static void record_timings(struct dao_context *ctx, struct frame_job *job, const double *t)
+{
+	struct dao_timings *tm = &ctx->times;
+	/* the output's share: its time summed over the bands, over the threads */
+	const double out_ms = (double)atomic_load(&job->output_ns) * 1e-6 /
+			      (double)dao_pool_threads(ctx->pool);
+	const double finish_ms = t[T_END] - t[T_FINISH];
+	tm->decode_ms = (t[T_NOISE] - t[T_DECODE]) + (t[T_PREFILTER] - t[T_TEMPORAL]);
+	tm->noise_ms = t[T_TEMPORAL] - t[T_NOISE];
+	tm->prefilter_ms = t[T_NORMALS] - t[T_PREFILTER];
+	tm->normals_ms = t[T_AO] - t[T_NORMALS];
+	tm->gtao_ms = t[T_FINISH] - t[T_AO];
+	tm->output_ms = out_ms < finish_ms ? out_ms : finish_ms;
+	tm->denoise_ms = finish_ms - tm->output_ms;
+	tm->process_ms = t[T_END] - t[T_DECODE];
+}
+
 int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 			const struct dao_frame *normals, uint64_t frame_index,
 			struct dao_frame *ao, struct dao_error *err)
@@ -933,169 +1147,35 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (r)
 		return r;
 
-	const struct dao_params *p = &ctx->params;
-	const int h = (int)ctx->cam.height;
-	struct frame_job job = {
-		.ctx = ctx,
-		.depth = depth,
-		.ao_out = ao,
-		.normal_radius = p->normals == DAO_NORMALS_WIDE ? p->normal_radius : 1,
-		.denoise = {
-			.width = (int)ctx->cam.width, .height = h,
-			.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
-			.noise_k = p->depth_noise,
-			.sharpness = p->denoise_sharpness,
-			.radius = p->denoise_radius,
-			.invalid_value = p->invalid_value,
-		},
-	};
-	dao_gtao_setup_init(&job.gtao, &ctx->cam, p, frame_index);
-	job.algorithm = p->algorithm;
-	if (p->algorithm != DAO_ALGORITHM_GTAO)
-		dao_variant_setup_init(&job.variant, &job.gtao, p);
-	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE) {
-		dao_thickness_setup_init(&job.thickness, &ctx->cam, p->vbao_thickness_max);
-		job.thickness.spacing = job.gtao.search_radius / (float)job.gtao.steps;
-		job.thick = ctx->thick;
-		job.variant.thickness = ctx->thick;
-	}
-	job.k = ctx->kernels;
-	use_r2_tile(ctx, &job.gtao, frame_index);
-	ctx->depth_unit = depth->format == DAO_PIXFMT_DEPTH16 ? depth->depth_unit : 0.0f;
-	dao_prefilter_setup_init(&job.prefilter, (int)ctx->cam.width, h, p->prefilter_radius,
-				 p->depth_noise, ctx->depth_unit);
-	/* the histories go on only from one frame to one of the next few */
-	const int consecutive = ctx->have_index && frame_index - ctx->last_frame_index >= 1u &&
-				frame_index - ctx->last_frame_index <= DAO_TEMPORAL_MAX_GAP;
-	if (!consecutive) {
-		ctx->hist_valid = 0;
-		ctx->depth_hist_valid = 0;
-		dao_noise_reuse_restart(&ctx->noise_reuse);
-	}
-	job.depth_temporal = p->depth_temporal > 0.0f;
-	/*
-	 * The noise is measured on the samples as the sensor delivers them,
-	 * before the temporal filter: the spatial filters keep the strength
-	 * the sensor's noise asks for and the temporal filter's averaging
-	 * comes on top.  Measured after it, the prefilter and the normals
-	 * backed off to what it leaves and the stream gained nothing
-	 * (tests/pipeline/test_temporal_depth.c: still boxes AO MAE 0.0335
-	 * against 0.0346 without the filter, thin poles moving +0.0084).
-	 */
-	job.temporal_in_decode = job.depth_temporal && p->noise_model == DAO_NOISE_MODEL_FIXED;
-	job.depth_temporal_setup = (struct dao_temporal_depth_setup){
-		.width = (int)ctx->cam.width,
-		.alpha = p->depth_temporal,
-		.reject = p->depth_temporal_reject,
-		.noise_k = p->depth_noise,
-		.quantum = ctx->depth_unit,
-		.persist = p->depth_temporal_persist,
-		.fresh = !ctx->depth_hist_valid,
-	};
-	struct dao_domain_setup dt = {
-		.width = (int)ctx->cam.width, .height = h, .iterations = p->prefilter_iterations,
-		.inv_scale = 1.0f / p->prefilter_scale,
-		.range_coef = dao_domain_range_coef(p->prefilter_range),
-		.noise = p->depth_noise, .unit = ctx->depth_unit,
-		.sides = 1,
-	};
-	ctx->noise_info = (struct dao_noise_info){
-		.sigma_area = p->depth_noise, .sigma_link = p->depth_noise,
-		.sigma_slope = p->depth_noise,
-		.prefilter_scale = p->prefilter_scale, .normal_radius = job.normal_radius,
-		.denoise_noise = p->depth_noise,
-	};
+	struct frame_job job;
+	struct dao_domain_setup dt;
+	frame_job_init(ctx, &job, depth, ao, frame_index);
+	continue_histories(ctx, frame_index);
+	noise_and_filter_init(ctx, &job, &dt);
 	ctx->have_frame = 0;
 	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
 
-	struct dao_timings *tm = &ctx->times;
-	const double t0 = now_ms();
-	dao_pool_run(ctx->pool, h, 8, stage_decode, &job);
+	double t[T_END + 1];
+	t[T_DECODE] = now_ms();
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_decode, &job);
 	ctx->depth_hist_valid = job.depth_temporal;
-	const double t1 = now_ms();
-	if (p->noise_model != DAO_NOISE_MODEL_FIXED)
+	t[T_NOISE] = now_ms();
+	if (ctx->params.noise_model != DAO_NOISE_MODEL_FIXED)
 		estimate_noise(ctx, &job, &dt);
-	const double t1n = now_ms();
-	if (job.depth_temporal && !job.temporal_in_decode) {
-		dao_pool_run(ctx->pool, h, 8, stage_temporal_depth, &job);
-		side_noise_after_temporal(ctx, &job, &dt);
-	}
-	const double t1t = now_ms();
-	if (p->prefilter == DAO_PREFILTER_BILATERAL) {
-		dao_pool_run(ctx->pool, h, 4, stage_prefilter_h, &job);
-		dao_pool_run(ctx->pool, h, 4, stage_prefilter_v, &job);
-		ctx->z = ctx->z_buf;
-	} else if (p->prefilter == DAO_PREFILTER_DOMAIN) {
-		run_domain(ctx, &job, &dt);
-		ctx->z = ctx->z_buf;
-	} else {
-		ctx->z = ctx->z_raw;
-	}
-	const double t2 = now_ms();
-	/* slabs' creases as rounded as the measured noise had the prefilter make them
-	 * (before the normals stage: it runs the thickness's rows) */
-	if (job.thick && p->prefilter == DAO_PREFILTER_DOMAIN && ctx->noise_info.measured) {
-		dao_thickness_setup_rounding(&job.thickness, ctx->noise_info.prefilter_scale);
-		dao_thickness_setup_noise(&job.thickness, ctx->noise_info.prefilter_scale,
-					  ctx->noise_info.sigma_area);
-	}
-	/* the thickness's passes read the depth with its dropouts filled: every row of it
-	 * before they start (the row pass looks at the rows beside its own) */
-	job.thick_z = ctx->z;
-	if (job.thick && job.thickness.fill_px > 0) {
-		dao_pool_run(ctx->pool, h, 8, stage_thickness_fill, &job);
-		job.thick_z = ctx->thick_z;
-	}
-	if (normals) {
-		r = load_normals(ctx, normals, err);
-		if (r)
-			return r;
-		if (job.k.simd != DAO_SIMD_REFERENCE)
-			fill_inverse_depth(ctx, &job.k, 0, h);
-		if (job.thick)
-			dao_pool_run(ctx->pool, h, 8, stage_thickness_rows, &job);
-	} else {
-		dao_pool_run(ctx->pool, h, 4, stage_normals, &job); /* and the thickness's rows */
-	}
-	const double t3 = now_ms();
-	if (job.thick)
-		dao_pool_run_threads(ctx->pool,
-				     ((int)ctx->cam.width + DAO_THICKNESS_COL_BLOCK - 1) /
-					     DAO_THICKNESS_COL_BLOCK,
-				     1, stage_thickness_cols, &job);
-	const int sw = gtao_strip_width((int)ctx->cam.width);
-	const int strips = ((int)ctx->cam.width + sw - 1) / sw;
-	/* the optimised kernels compute strips (vbao, hbao: with tile noise, the tile kernel) */
-	const int in_strips = job.k.simd != DAO_SIMD_REFERENCE &&
-			      (job.algorithm == DAO_ALGORITHM_GTAO ||
-			       ((job.algorithm == DAO_ALGORITHM_VBAO ||
-				 job.algorithm == DAO_ALGORITHM_HBAO) &&
-				p->noise == DAO_NOISE_TILE));
-	if (strips > 1 && in_strips)
-		dao_pool_run_threads(ctx->pool, h * strips, 2, stage_gtao_strips, &job);
-	else
-		dao_pool_run_threads(ctx->pool, h, 2, stage_gtao, &job);
-	const double t4 = now_ms();
-	ctx->ao = p->denoise == DAO_DENOISE_PLANE || p->denoise == DAO_DENOISE_BILATERAL
-			  ? ctx->ao_buf
-			  : ctx->ao_raw;
-	if (p->denoise == DAO_DENOISE_BILATERAL)
-		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, &job);
-	atomic_init(&job.output_ns, 0);
-	dao_pool_run(ctx->pool, h, 4, stage_finish, &job); /* denoise, temporal, output */
-	ctx->hist_valid = p->temporal > 0.0f;
-	const double t6 = now_ms();
-	/* the output's share: its time summed over the bands, over the threads */
-	const double out_ms = (double)atomic_load(&job.output_ns) * 1e-6 /
-			      (double)dao_pool_threads(ctx->pool);
-	tm->decode_ms = (t1 - t0) + (t1t - t1n);
-	tm->noise_ms = t1n - t1;
-	tm->prefilter_ms = t2 - t1t;
-	tm->normals_ms = t3 - t2;
-	tm->gtao_ms = t4 - t3;
-	tm->output_ms = out_ms < t6 - t4 ? out_ms : t6 - t4;
-	tm->denoise_ms = (t6 - t4) - tm->output_ms;
-	tm->process_ms = t6 - t0;
+	t[T_TEMPORAL] = now_ms();
+	run_temporal_depth(ctx, &job, &dt);
+	t[T_PREFILTER] = now_ms();
+	run_prefilter(ctx, &job, &dt);
+	t[T_NORMALS] = now_ms();
+	r = run_normals(ctx, &job, normals, err);
+	if (r)
+		return r;
+	t[T_AO] = now_ms();
+	run_ao(ctx, &job);
+	t[T_FINISH] = now_ms();
+	run_finish(ctx, &job);
+	t[T_END] = now_ms();
+	record_timings(ctx, &job, t);
 	ctx->have_frame = 1;
 	ctx->have_index = 1;
 	ctx->last_frame_index = frame_index;
