@@ -38,7 +38,7 @@ enum dao_quality {
 	DAO_QUALITY_DEFAULT = DAO_QUALITY_MEDIUM,
 };
 
-/* The AO algorithm (README.md, "Algorithms"). */
+/* The AO algorithm (docs/algorithms.md). */
 enum dao_algorithm {
 	DAO_ALGORITHM_GTAO = 0, /* ground-truth AO: horizons per slice, cosine-weighted integral */
 	DAO_ALGORITHM_HBAO,     /* horizon-based AO (Bavoil 2008): tangent bias, W(r) = 1 - r^2 */
@@ -47,7 +47,7 @@ enum dao_algorithm {
 	DAO_ALGORITHM_VBAO,     /* visibility bitmask (Therrien et al. 2023): finite thickness */
 };
 
-/* Where VBAO's thickness of each occluder comes from (README.md, "Algorithms"). */
+/* Where VBAO's thickness of each occluder comes from (docs/algorithms.md). */
 enum dao_vbao_thickness_mode {
 	DAO_VBAO_THICKNESS_CONSTANT = 0, /* vbao_thickness behind every surface */
 	DAO_VBAO_THICKNESS_IMAGE,        /* each surface's visible extent, at most
