@@ -25,6 +25,7 @@ DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
 PACKAGES=(
 	meson ninja-build pkg-config gcc g++
+	doxygen
 	libpng-dev libjson-c-dev libcmocka-dev liblz4-dev libbz2-dev libturbojpeg0-dev
 	libopencv-dev libopencv-contrib-dev
 	libopenni2-dev libv4l-dev libcamera-dev
@@ -96,9 +97,9 @@ installing them needs root, and sudo is not available; as root, run:
 build() {
 	deps
 	if [ -f "$BUILD_DIR/meson-private/coredata.dat" ]; then
-		meson setup --reconfigure "$BUILD_DIR" --buildtype=release -Dwerror=true >/dev/null
+		meson setup --reconfigure "$BUILD_DIR" --buildtype=release -Dwerror=true -Ddocs=enabled >/dev/null
 	else
-		meson setup "$BUILD_DIR" --buildtype=release -Dwerror=true
+		meson setup "$BUILD_DIR" --buildtype=release -Dwerror=true -Ddocs=enabled
 	fi
 	ninja -C "$BUILD_DIR"
 }

@@ -21,6 +21,7 @@
 extern "C" {
 #endif
 
+/* A pinhole camera: intrinsics and the UvToViewParams derived from them. */
 struct dao_camera {
 	uint32_t width, height;  /* image size in pixels */
 	double fx, fy, cx, cy;   /* intrinsics in pixels */

@@ -110,6 +110,7 @@ DAO_API int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, st
  */
 DAO_API int dao_context_get_normals(const struct dao_context *ctx, struct dao_frame *out,
 			    struct dao_error *err);
+/* The prefiltered depth of the last frame (see above). */
 DAO_API int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  struct dao_error *err);
 
@@ -130,6 +131,7 @@ struct dao_timings {
 	double normals_ms;    /* normals (and the kernels' depth layout; vbao with
 			       * vbao-thickness-mode=image: the thickness's row pass) */
 	double gtao_ms;       /* the AO kernel (and the thickness's column pass) */
+	/* the AO denoise */
 	double denoise_ms;
 	double output_ms;     /* AO to the caller's format */
 	double process_ms;    /* all of the last dao_context_process() */
@@ -137,6 +139,7 @@ struct dao_timings {
 	double noise_ms;      /* noise-model=auto: the frame's noise estimate and maps */
 };
 
+/* Copies the stage timings of the last frame into `out`. */
 DAO_API void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out);
 
 /*
@@ -162,9 +165,11 @@ struct dao_noise_info {
 	 * and `cells_measured` cells of 32 x 32 px where the scene moved since
 	 * were measured again in this frame (their range and spatial scale) */
 	int age;
+	/* cells of 32 x 32 px measured again in this frame (see above) */
 	int cells_measured;
 };
 
+/* Copies the noise the last frame was filtered for into `out`. */
 DAO_API void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out);
 
 /* The kernel set the context runs (its "simd" parameter with AUTO resolved). */

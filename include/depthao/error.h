@@ -17,8 +17,10 @@
 extern "C" {
 #endif
 
+/* Size of struct dao_error's message buffer, NUL included. */
 #define DAO_ERROR_MESSAGE_MAX 256
 
+/* An error: the code every call returns, and a message saying what and where. */
 struct dao_error {
 	int code;                             /* negative errno, 0 = none */
 	char message[DAO_ERROR_MESSAGE_MAX];  /* NUL-terminated, no newline */

@@ -29,6 +29,7 @@ extern "C" {
  */
 #define DAO_DEFAULT_MAX_PIXELS (4096ull * 4096ull)
 
+/* Pixel formats of frames. */
 enum dao_pixfmt {
 	DAO_PIXFMT_NONE = 0,
 	DAO_PIXFMT_DEPTH16,    /* uint16 depth counts; metres = count * depth_unit; 0 = no data */
@@ -40,10 +41,14 @@ enum dao_pixfmt {
 	DAO_PIXFMT_NORMAL_F32, /* 3 x float unit normal, camera optical frame */
 };
 
+/* An image: format, size, row stride and caller-owned pixels. */
 struct dao_frame {
+	/* the pixel format */
 	enum dao_pixfmt format;
+	/* size in pixels */
 	uint32_t width, height;
 	int32_t stride;          /* bytes from one row to the next, > 0 */
+	/* the first row's first pixel; the caller owns the memory */
 	void *data;
 	float depth_unit;        /* metres per count, DAO_PIXFMT_DEPTH16 only */
 	uint64_t timestamp_ns;   /* capture time, 0 if unknown */

@@ -30,6 +30,7 @@
 extern "C" {
 #endif
 
+/* Codecs of .oni streams. */
 enum dao_oni_codec {
 	DAO_ONI_CODEC_NONE = 0, /* "NONE": raw uint16 */
 	DAO_ONI_CODEC_16Z,      /* "16zP" */
@@ -39,6 +40,7 @@ enum dao_oni_codec {
 	DAO_ONI_CODEC_OTHER,
 };
 
+/* Kinds of .oni stream. */
 enum dao_oni_sensor {
 	DAO_ONI_SENSOR_OTHER = 0,
 	DAO_ONI_SENSOR_DEPTH,
@@ -48,17 +50,23 @@ enum dao_oni_sensor {
 
 /* OpenNI2 pixel formats of depth streams (OniPixelFormat values). */
 #define DAO_ONI_PIXEL_DEPTH_1_MM 100
+/* depth in 100 um counts */
 #define DAO_ONI_PIXEL_DEPTH_100_UM 101
 /* ... and of colour streams (OpenNI 1's xnPixelFormat is mapped to these). */
 #define DAO_ONI_PIXEL_RGB888 200
 #define DAO_ONI_PIXEL_YUV422 201     /* U Y0 V Y1 */
+/* 8-bit grey */
 #define DAO_ONI_PIXEL_GRAY8 202
+/* JPEG-compressed colour */
 #define DAO_ONI_PIXEL_JPEG 204
 #define DAO_ONI_PIXEL_YUYV 205       /* Y0 U Y1 V */
 
+/* One stream (node) of an .oni recording. */
 struct dao_oni_stream_info {
 	char name[64];               /* node name, e.g. "Depth1" */
+	/* depth, colour, IR or another node */
 	enum dao_oni_sensor sensor;
+	/* how its frames are compressed */
 	enum dao_oni_codec codec;
 	char codec_fourcc[5];        /* as stored, e.g. "16zT" */
 	uint32_t width, height, fps; /* from xnMapOutputMode (0 if absent) */
@@ -71,6 +79,7 @@ struct dao_oni_stream_info {
 	double hfov, vfov;           /* radians */
 	int mirrored;                /* xnMirror */
 	int registered;              /* AlternativeViewPoint: depth registered to colour */
+	/* timestamps of the first and last frame, microseconds */
 	uint64_t first_timestamp_us, last_timestamp_us;
 };
 
@@ -95,6 +104,7 @@ DAO_API int dao_oni_reader_open(const char *path, struct dao_oni_reader **out,
 /* dao_oni_reader_open() with another pixel limit (0 = DAO_DEFAULT_MAX_PIXELS). */
 DAO_API int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
 					struct dao_oni_reader **out, struct dao_error *err);
+/* Closes the reader and frees it; NULL-safe. */
 DAO_API void dao_oni_reader_close(struct dao_oni_reader *reader);
 
 /*
@@ -104,7 +114,9 @@ DAO_API void dao_oni_reader_close(struct dao_oni_reader *reader);
  */
 DAO_API const char *dao_oni_reader_warning(const struct dao_oni_reader *reader);
 
+/* The number of streams in the recording. */
 DAO_API uint32_t dao_oni_reader_stream_count(const struct dao_oni_reader *reader);
+/* Stream `index` (< dao_oni_reader_stream_count()), NULL if out of range. */
 DAO_API const struct dao_oni_stream_info *
 dao_oni_reader_stream(const struct dao_oni_reader *reader, uint32_t index);
 
@@ -161,7 +173,9 @@ DAO_API int dao_oni_reader_match_frame(const struct dao_oni_reader *reader, uint
 
 /* --- writing ---------------------------------------------------------- */
 
+/* What dao_oni_writer_open() records: the depth stream's layout and codec. */
 struct dao_oni_writer_options {
+	/* size of the depth images, pixels */
 	uint32_t width, height;
 	uint32_t fps;               /* nominal frame rate (1..1000) */
 	enum dao_oni_codec codec;   /* NONE, 16Z or 16ZT */
@@ -210,6 +224,7 @@ DAO_API int dao_oni_writer_write_depth(struct dao_oni_writer *writer,
 /* Syncs now (fdatasync, then the synced frame count into the header). */
 DAO_API int dao_oni_writer_sync(struct dao_oni_writer *writer, struct dao_error *err);
 
+/* How far a recording got: frames written, synced, and the error that ended it. */
 struct dao_oni_writer_status {
 	uint32_t frames;            /* in the file: write_depth returned 0 */
 	uint32_t synced_frames;     /* of those, synced and counted in the header */
@@ -218,6 +233,7 @@ struct dao_oni_writer_status {
 	int error;                  /* the error that ended the recording, 0 if none */
 };
 
+/* Fills `status` with the writer's state. */
 DAO_API void dao_oni_writer_get_status(const struct dao_oni_writer *writer,
 				       struct dao_oni_writer_status *status);
 
@@ -241,6 +257,7 @@ DAO_API void dao_oni_writer_abort(struct dao_oni_writer *writer);
 
 /* "none", "16z", "16zt", ... and back (case-insensitive); -EINVAL if unknown. */
 DAO_API const char *dao_oni_codec_name(enum dao_oni_codec codec);
+/* The codec called `name`: 0, or -EINVAL if unknown. */
 DAO_API int dao_oni_codec_from_name(const char *name, enum dao_oni_codec *codec);
 
 #ifdef __cplusplus

@@ -25,6 +25,7 @@
 extern "C" {
 #endif
 
+/* A file being written: where to write, and where it goes when committed. */
 struct dao_output_file {
 	int fd;         /* write here; the caller closes it before commit/discard */
 	char *tmp;      /* the temporary file, NULL when written straight into the target */

@@ -25,8 +25,10 @@ extern "C" {
 /* The largest `slices` and `steps` (the parameter table's limits; the
  * kernels' per-slice and per-step arrays are sized by them). */
 #define DAO_MAX_SLICES 32
+/* The largest `steps`. */
 #define DAO_MAX_STEPS 64
 
+/* Quality presets (dao_params_init()). */
 enum dao_quality {
 	DAO_QUALITY_LOW = 0,
 	DAO_QUALITY_MEDIUM,   /* the default: meets the accuracy bars in README.md */
@@ -36,7 +38,7 @@ enum dao_quality {
 	DAO_QUALITY_DEFAULT = DAO_QUALITY_MEDIUM,
 };
 
-/* The AO algorithm (README.md, "Algorithms"). */
+/* The AO algorithm (docs/algorithms.md). */
 enum dao_algorithm {
 	DAO_ALGORITHM_GTAO = 0, /* ground-truth AO: horizons per slice, cosine-weighted integral */
 	DAO_ALGORITHM_HBAO,     /* horizon-based AO (Bavoil 2008): tangent bias, W(r) = 1 - r^2 */
@@ -45,13 +47,14 @@ enum dao_algorithm {
 	DAO_ALGORITHM_VBAO,     /* visibility bitmask (Therrien et al. 2023): finite thickness */
 };
 
-/* Where VBAO's thickness of each occluder comes from (README.md, "Algorithms"). */
+/* Where VBAO's thickness of each occluder comes from (docs/algorithms.md). */
 enum dao_vbao_thickness_mode {
 	DAO_VBAO_THICKNESS_CONSTANT = 0, /* vbao_thickness behind every surface */
 	DAO_VBAO_THICKNESS_IMAGE,        /* each surface's visible extent, at most
 					  * vbao_thickness_max */
 };
 
+/* Depth prefilters (`prefilter`). */
 enum dao_prefilter {
 	DAO_PREFILTER_NONE = 0,
 	DAO_PREFILTER_BILATERAL,  /* edge-preserving smoothing scaled to sensor noise */
@@ -67,11 +70,13 @@ enum dao_noise_model {
 	DAO_NOISE_MODEL_AUTO_PREFILTER, /* measured, drives the prefilter only */
 };
 
+/* How normals are derived from depth (`normals`). */
 enum dao_normals {
 	DAO_NORMALS_SMALLER_DELTA = 0, /* per axis the smaller one-sided difference (1 px) */
 	DAO_NORMALS_WIDE,              /* same, over a wider footprint (normal_radius px) */
 };
 
+/* Per-pixel rotation of the slices and jitter of the steps (`noise`). */
 enum dao_noise {
 	DAO_NOISE_IGN = 0,  /* interleaved gradient noise (Jimenez 2014) */
 	DAO_NOISE_R2,       /* R2 low-discrepancy sequence (Roberts 2018) */
@@ -80,6 +85,7 @@ enum dao_noise {
 			     * optimised GTAO (pixels of a tile phase share directions) */
 };
 
+/* AO denoise filters (`denoise`). */
 enum dao_denoise {
 	DAO_DENOISE_NONE = 0,
 	DAO_DENOISE_PLANE,      /* 5x5, weights against the extrapolated depth plane */
@@ -98,6 +104,7 @@ enum dao_simd {
 	DAO_SIMD_COUNT,
 };
 
+/* How the shaded image is coloured (`shade`). */
 enum dao_shade {
 	DAO_SHADE_LAMBERT = 0,  /* n . l with a head light, times AO */
 	DAO_SHADE_TURBO,        /* depth colormap times AO */
@@ -106,6 +113,7 @@ enum dao_shade {
 	DAO_SHADE_AO,           /* AO alone as gray */
 };
 
+/* Every AO parameter; the table (dao_param_table()) describes each field. */
 struct dao_params {
 	/* sizeof(struct dao_params) as the program that filled it was built, set by
 	 * dao_params_init(): a program built against an older depthao passes a
@@ -178,6 +186,7 @@ struct dao_params {
 				   * that measures again where the scene moved */
 };
 
+/* Types of the parameters in the table. */
 enum dao_param_type {
 	DAO_PARAM_FLOAT = 0,  /* float field, range [min, max] */
 	DAO_PARAM_INT,        /* int field, range [min, max] */
@@ -188,10 +197,12 @@ enum dao_param_type {
 #define DAO_PARAM_RUNTIME   (1u << 0) /* may change while a stream runs */
 #define DAO_PARAM_SHADING   (1u << 1) /* affects only the shaded image */
 
+/* One parameter of the table: its name, help, unit, type, field and range. */
 struct dao_param_info {
 	const char *name;              /* "radius": flag --radius, config key radius */
 	const char *help;              /* one line */
 	const char *unit;              /* "m", "px", NULL */
+	/* how the field is stored and parsed */
 	enum dao_param_type type;
 	size_t offset;                 /* offsetof(struct dao_params, field) */
 	double min, max;               /* inclusive range (FLOAT, INT) */

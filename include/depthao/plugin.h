@@ -62,9 +62,13 @@ extern "C" {
 /* 2: the structs carry `size` and the ops tables `version` (plugins built
  * for 1 are refused: rebuild them) */
 #define DAO_PLUGIN_ABI_VERSION 2
+/* The layout of struct dao_source_ops this header describes. */
 #define DAO_SOURCE_OPS_VERSION 1
+/* The layout of struct dao_sink_ops this header describes. */
 #define DAO_SINK_OPS_VERSION 1
+/* The symbol a plugin module exports (DAO_PLUGIN_DEFINE). */
 #define DAO_PLUGIN_ENTRY_SYMBOL "dao_plugin_entry"
+/* The environment variable with the plugin directories. */
 #define DAO_PLUGIN_PATH_ENV "DEPTHAO_PLUGIN_PATH"
 
 /* read(): the end of a recording (files without looping). */
@@ -74,6 +78,7 @@ extern "C" {
 #define DAO_STRUCT_HAS(type, ptr, field) \
 	((size_t)(ptr)->size >= offsetof(type, field) + sizeof(((type *)0)->field))
 
+/* What a source delivers: the depth stream, the camera, colour. */
 struct dao_source_info {
 	uint32_t size;              /* sizeof, set by whoever allocated it */
 	uint32_t width, height;     /* depth image size */
@@ -87,6 +92,7 @@ struct dao_source_info {
 	int mirrored;               /* images are mirrored left-right */
 	int registered;             /* depth is registered to the colour camera */
 	int has_color;              /* read() also delivers colour (RGB24) */
+	/* size of the colour frames, when has_color */
 	uint32_t color_width, color_height;
 	char description[160];      /* one line for logs: device or file, format, codec */
 	char warning[256];          /* empty, or a line to show as a warning (e.g. a
@@ -102,8 +108,10 @@ enum dao_playback {
 	DAO_PLAYBACK_REALTIME,      /* paced by the recorded timestamps */
 };
 
+/* How a source is opened (dao_source_open()). */
 struct dao_source_options {
 	uint32_t size;              /* sizeof: DAO_SOURCE_OPTIONS_INIT */
+	/* how a recording is played */
 	enum dao_playback playback;
 	int loop;                   /* at the end, start again (at start_frame) instead of
 				       DAO_SOURCE_EOS */
@@ -117,6 +125,7 @@ struct dao_source_options {
 /* Options with their size set and everything else 0 (the defaults). */
 #define DAO_SOURCE_OPTIONS_INIT { .size = sizeof(struct dao_source_options) }
 
+/* A frame from a source: depth, colour when asked for, its position. */
 struct dao_source_frame {
 	struct dao_frame depth;     /* sequence = recorded/device frame number */
 	struct dao_frame color;     /* format DAO_PIXFMT_NONE when absent */
@@ -130,31 +139,41 @@ struct dao_device_entry {
 	char detail[128];           /* e.g. USB ids, modes */
 };
 
+/* Called once per device by a source's list_devices. */
 typedef void (*dao_device_cb)(void *user, const struct dao_device_entry *entry);
 
+/* A source plugin's table: open a URI, report the stream, read frames. */
 struct dao_source_ops {
 	uint32_t version;           /* DAO_SOURCE_OPS_VERSION */
 	/* 0..100: how well this source handles `uri` (auto selection), 0 = not at all */
 	int (*probe)(const char *uri);
 	/* optional: enumerate devices; returns the count or < 0 */
 	int (*list_devices)(dao_device_cb cb, void *user, struct dao_error *err);
+	/* opens `uri` (without the plugin prefix); its state in *state */
 	int (*open)(const char *uri, const struct dao_source_options *opts, void **state,
 		    struct dao_error *err);
+	/* fills `info` (its size set by the host; DAO_STRUCT_HAS for later fields) */
 	void (*get_info)(void *state, struct dao_source_info *info);
+	/* starts streaming */
 	int (*start)(void *state, struct dao_error *err);
+	/* the next frame: 0, -EAGAIN, -ENODEV, DAO_SOURCE_EOS or an error */
 	int (*read)(void *state, struct dao_source_frame *frame, int timeout_ms,
 		    struct dao_error *err);
+	/* gives a frame from read back */
 	void (*release)(void *state, struct dao_source_frame *frame);
 	/* optional: the next read delivers frame `index` of a recording */
 	int (*seek)(void *state, uint64_t index, struct dao_error *err);
 	/* optional: after the last read, before close (a source that was started) */
 	void (*stop)(void *state);
+	/* frees the state */
 	void (*close)(void *state);
 };
 
+/* The format a sink negotiates (dao_sink_negotiate()). */
 struct dao_sink_format {
 	uint32_t size;              /* sizeof: DAO_SINK_FORMAT_INIT */
 	enum dao_pixfmt format;     /* GRAY8, GRAY16, RGB24 or DEPTH16 */
+	/* size in pixels */
 	uint32_t width, height;
 	double fps;                 /* nominal, 0 if unknown */
 	float depth_unit;           /* DEPTH16: metres per count */
@@ -165,6 +184,7 @@ struct dao_sink_format {
 				       fall into (tests/plugin/test_abi_growth.c) */
 };
 
+/* A format with its size set and everything else 0. */
 #define DAO_SINK_FORMAT_INIT { .size = sizeof(struct dao_sink_format) }
 
 /*
@@ -195,6 +215,7 @@ enum dao_log_level { DAO_LOG_ERROR = 0, DAO_LOG_WARN, DAO_LOG_INFO };
 /* What a sink may ask of the program running it (the daemon); all optional. */
 struct dao_sink_host {
 	uint32_t size;              /* sizeof: DAO_SINK_HOST_INIT */
+	/* passed back to every callback */
 	void *user;
 	/* an AO parameter of the running pipeline, as text (dao_params_get); 0 or < 0 */
 	int (*get_param)(void *user, const char *name, char *value, size_t len);
@@ -222,12 +243,15 @@ struct dao_sink_host {
 	int (*want_streams)(void *user, unsigned mask);
 };
 
+/* A host with its size set and no callbacks. */
 #define DAO_SINK_HOST_INIT { .size = sizeof(struct dao_sink_host) }
 
+/* A sink plugin's table: open a URI, negotiate a format, write frames. */
 struct dao_sink_ops {
 	uint32_t version;           /* DAO_SINK_OPS_VERSION */
 	/* 0..100: how well this sink handles `uri` (auto selection), 0 = not at all */
 	int (*probe)(const char *uri);
+	/* opens `uri` (without the plugin prefix); its state in *state */
 	int (*open)(const char *uri, void **state, struct dao_error *err);
 	/*
 	 * Called before the first write (again, until then, to try another
@@ -264,14 +288,17 @@ struct dao_sink_ops {
 			    const struct dao_frame *frame, struct dao_error *err);
 };
 
+/* What a plugin module returns from dao_plugin_entry(). */
 struct dao_plugin {
 	uint32_t abi_version;       /* DAO_PLUGIN_ABI_VERSION */
 	const char *name;           /* lower case, the URI prefix: "openni2" */
+	/* one line for `depthao devices` */
 	const char *description;
 	const struct dao_source_ops *source; /* NULL if not a source */
 	const struct dao_sink_ops *sink;     /* NULL if not a sink */
 };
 
+/* The type of dao_plugin_entry(). */
 typedef const struct dao_plugin *(*dao_plugin_entry_fn)(void);
 
 /*
@@ -298,15 +325,20 @@ struct dao_plugins;
  * `path` ("") loads the built-in plugins only.
  */
 DAO_API int dao_plugins_load(struct dao_plugins **out, const char *path, struct dao_error *err);
+/* Unloads the modules and frees the registry; NULL-safe. */
 DAO_API void dao_plugins_free(struct dao_plugins *plugins);
+/* The number of plugins loaded. */
 DAO_API size_t dao_plugins_count(const struct dao_plugins *plugins);
+/* Plugin i (< dao_plugins_count()). */
 DAO_API const struct dao_plugin *dao_plugins_get(const struct dao_plugins *plugins, size_t i);
 /* Where plugin i came from: a module path, or "built-in". */
 DAO_API const char *dao_plugins_origin(const struct dao_plugins *plugins, size_t i);
+/* The plugin called `name`, or NULL. */
 DAO_API const struct dao_plugin *dao_plugins_find(const struct dao_plugins *plugins,
 						  const char *name);
 /* Modules that were found but not loaded: "path: reason", i < count. */
 DAO_API size_t dao_plugins_skipped_count(const struct dao_plugins *plugins);
+/* Skipped module i: "path: reason". */
 DAO_API const char *dao_plugins_skipped(const struct dao_plugins *plugins, size_t i);
 /* The compiled-in module directory. */
 DAO_API const char *dao_plugins_install_dir(void);
@@ -350,6 +382,7 @@ DAO_API int dao_source_open(const struct dao_plugins *plugins, const char *uri,
 DAO_API int dao_source_open_limited(const struct dao_plugins *plugins, const char *uri,
 				    const struct dao_source_options *opts, uint64_t max_pixels,
 				    struct dao_source **out, struct dao_error *err);
+/* The plugin behind a source. */
 DAO_API const struct dao_plugin *dao_source_plugin(const struct dao_source *src);
 /*
  * Fills `info`, a struct dao_source_info of `size` bytes (the fields that
@@ -359,14 +392,18 @@ DAO_API const struct dao_plugin *dao_source_plugin(const struct dao_source *src)
  */
 DAO_API int dao_source_get_info_sized(const struct dao_source *src, struct dao_source_info *info,
 				      size_t size);
+/* dao_source_get_info_sized() with the caller's sizeof. */
 static inline void dao_source_get_info(const struct dao_source *src,
 				       struct dao_source_info *info)
 {
 	(void)dao_source_get_info_sized(src, info, sizeof(*info));
 }
+/* Starts streaming (before the first read). */
 DAO_API int dao_source_start(struct dao_source *src, struct dao_error *err);
+/* The next frame: 0, -EAGAIN (none within timeout_ms), -ENODEV (device gone), DAO_SOURCE_EOS, or an error. */
 DAO_API int dao_source_read(struct dao_source *src, struct dao_source_frame *frame,
 			    int timeout_ms, struct dao_error *err);
+/* Gives a frame from dao_source_read() back. */
 DAO_API void dao_source_release(struct dao_source *src, struct dao_source_frame *frame);
 /* -ENOTSUP for sources that cannot seek (live devices). */
 DAO_API int dao_source_seek(struct dao_source *src, uint64_t index, struct dao_error *err);
@@ -384,6 +421,7 @@ struct dao_sink;
  */
 DAO_API int dao_sink_open(const struct dao_plugins *plugins, const char *uri,
 			  struct dao_sink **out, struct dao_error *err);
+/* The plugin behind a sink. */
 DAO_API const struct dao_plugin *dao_sink_plugin(const struct dao_sink *sink);
 /* Passes the host to sinks that take one (no-op otherwise); before negotiate.
  * host->size must be set (DAO_SINK_HOST_INIT); the sink gets a copy. */
@@ -394,6 +432,7 @@ DAO_API int dao_sink_negotiate(struct dao_sink *sink, struct dao_sink_format *fm
 /* The frame must have the negotiated format and size (-EINVAL otherwise). */
 DAO_API int dao_sink_write(struct dao_sink *sink, const struct dao_frame *frame,
 			   struct dao_error *err);
+/* Hands on what the sink buffered (recorders sync their file); 0 or < 0. */
 DAO_API int dao_sink_flush(struct dao_sink *sink, struct dao_error *err);
 /*
  * A frame with its stream and capture time: to the sink's write_stream when it

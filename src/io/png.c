@@ -244,8 +244,8 @@ static int png_layout(enum dao_pixfmt format, int *color, int *depth)
 }
 
 /*
- * The encoder settings of a compression level (see png.h and the README for
- * the measurements behind them): one filter for every row instead of
+ * The encoder settings of a compression level (see png.h and
+ * docs/perf/png-output.md for the measurements behind them): one filter for every row instead of
  * libpng's adaptive choice, which tries all five per row and cost more time
  * than the deflate itself at level 1; at level 1 zlib's run-length matching
  * for gray images (AO maps: runs of equal bytes, noise between them that

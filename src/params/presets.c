@@ -2,7 +2,7 @@
 /*
  * Quality presets.  The medium preset is the default of the library and the
  * CLI; its values were tuned against the ray-traced ground truth of the
- * synthetic scenes (`depthao eval`, table in README.md).  The prefilter is
+ * synthetic scenes (`depthao eval`, table in docs/accuracy.md).  The prefilter is
  * the domain filter driven by the noise measured in every frame
  * (noise-model=auto, depth/noise_estimate.h): on clean, Gaussian-noisy and
  * structured-light depth alike, without naming the sensor.
@@ -89,7 +89,7 @@ void dao_preset_fill(struct dao_params *p, enum dao_quality q)
  * Streams: the temporal depth filter with a history share of 0.8 (the noise
  * of 1/z falls to a third once settled, sqrt((1 - a) / (1 + a)); the first
  * five frames are a plain mean).  Chosen on the boxes and spheres sequences
- * of tests/pipeline/test_temporal_depth.c; README.md has the measurements.
+ * of tests/pipeline/test_temporal_depth.c; docs/accuracy.md has the measurements.
  * The noise is measured fully every DAO_STREAM_NOISE_INTERVAL frames (half
  * a second at 30 fps) and where the scene moves in between
  * (depth/noise_reuse.h).

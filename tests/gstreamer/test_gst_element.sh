@@ -92,7 +92,7 @@ same() {
 gst ao.raw GRAY16_LE $CAM
 # shellcheck disable=SC2059
 same "$(printf "$RAW" gray16le ao.raw)" "$WORK/ref-ao.png" 0 "AO GRAY16_LE vs depthao process"
-# the pipeline of the README: 16-bit PNG out through videoconvert and pngenc
+# the pipeline of docs/gstreamer.md: 16-bit PNG out through videoconvert and pngenc
 # shellcheck disable=SC2086
 launch -q filesrc location="$DEPTH" ! pngdec ! videoconvert ! video/x-raw,format=GRAY16_LE ! \
 	depthao $CAM ! video/x-raw,format=GRAY16_LE ! videoconvert ! video/x-raw,format=GRAY16_BE ! pngenc ! \

@@ -9,7 +9,7 @@
  * gives the CPU time per frame (the frame rate one core sustains is its
  * inverse) and the wall time (which includes waiting for the CPU and the
  * disk, so it depends on the host's load).  The
- * README's images sink table comes from this program; it is a measurement,
+ * docs/perf/png-output.md's table comes from this program; it is a measurement,
  * not a test.
  *
  * usage: bench-png-encode [--reps N] [--write DIR] FILE.png...

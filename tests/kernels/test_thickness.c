@@ -571,11 +571,11 @@ static void test_boxes_noisy(void **state)
 		 * dao_thickness_fill_rows; Gaussian only, structured light's prefilter
 		 * scale is over DAO_THICKNESS_FILL_PX) 0.04 %, 0.43 %, 4.4 %: runs that go
 		 * on across holes reach more ends, some of them false slabs and face
-		 * bounds (boxes' MAE with Gaussian noise +2 -> +3 % over GTAO, README.md)
+		 * bounds (boxes' MAE with Gaussian noise +2 -> +3 % over GTAO, docs/design/thickness.md)
 		 * (structured light: the edge faces of some
 		 * boxes' narrow sides pass the rounded crease test, below; 3.6 % before
 		 * the face bound across holes, which bounds some box sides lost in holes
-		 * like a board's edge face: boxes' MAE 0.0359 -> 0.0360, README.md) */
+		 * like a board's edge face: boxes' MAE 0.0359 -> 0.0360, docs/design/thickness.md) */
 		assert_true(share < (sensors[k] == SYNTH_SENSOR_STRUCTURED_LIGHT ? 0.05 : 0.01));
 	}
 	free(t);
@@ -663,7 +663,7 @@ static void test_slabs_spacing_face_on(void **state)
 
 /*
  * Boards seen at a grazing angle, as the shelves-below scene sees its right side
- * panel and its lowest board (README.md, "Thickness from the image"): a panel 2 cm
+ * panel and its lowest board (docs/design/thickness.md, "Thickness from the image"): a panel 2 cm
  * thick and 35 cm deep whose inner face passes 6 cm beside the camera (its rows: the
  * front edge, 6 px, and the inner face beyond it in steps of more than 3 %), and a
  * shelf board 15 cm above the camera (its columns: the front edge and the underside
@@ -866,7 +866,7 @@ static void test_boards_upright(void **state)
 }
 
 /*
- * A bound lent by the lines beside (thickness.c, neighbour_bound; README.md,
+ * A bound lent by the lines beside (thickness.c, neighbour_bound; docs/design/thickness.md,
  * "Noisy input"): under structured light a board's columns came out bimodal,
  * each column's face bound holding or failing on its own few noisy pixels,
  * and a third of the panels' board pixels kept the bound.  Here the upright
@@ -917,7 +917,7 @@ static void test_boards_neighbour_bound(void **state)
 /*
  * The upright boards of test_boards_upright as a Gaussian sensor delivers
  * them, through the pipeline (sensor_estimate, seed 7), as the panels scene's
- * boards (README.md, "Boards seen face-on under Gaussian noise").  Two things
+ * boards (docs/design/thickness.md, "Boards seen face-on under Gaussian noise").  Two things
  * made the 3 cm board thick: its columns' face bounds held only over the first
  * pixels of the broad face, where the noise tilted a single segment by more
  * than the straightness test's 20 degrees (straight_face_end: now the chord
@@ -1158,7 +1158,7 @@ static void test_vbao_behind_poles(void **state)
  * visible edge face (face_bound) bounds them about right: 0.89 and 0.97 (3.9
  * and 2.7 before, the bound's share).  None is found with structured light,
  * whose disparity bands hold an edge face within one or two steps and whose
- * block matching loses the last pixels of a silhouette to holes (README.md);
+ * block matching loses the last pixels of a silhouette to holes (docs/design/thickness.md);
  * the face bound across those holes, with the noise's tolerance for the end's
  * pixels, gives the 2 and 3 cm slabs 0.49 and 0.30 (3.90 and 2.71 before).
  */
@@ -1222,7 +1222,7 @@ static void test_slabs_noisy(void **state)
 /*
  * The slabs of test_slabs with their edge faces lost in holes, as a
  * structured-light sensor loses them (the window of its block matching
- * straddles the silhouette; README.md, "Noisy input"): each top face's runs
+ * straddles the silhouette; docs/design/thickness.md, "Noisy input"): each top face's runs
  * end at a hole with the floor beyond it.  The hole can hide an edge face of
  * as many pixels as it has, so the face bound holds across it (face_bound),
  * its value made for the middle of what the end allows, here about half the
@@ -1269,7 +1269,7 @@ static void test_slabs_edge_holes(void **state)
 }
 
 /*
- * Dropouts inside a surface (thickness.h, dao_thickness_fill_rows; README.md,
+ * Dropouts inside a surface (thickness.h, dao_thickness_fill_rows; docs/design/thickness.md,
  * "Noisy input"): a Gaussian sensor drops 2 % of its pixels, and the
  * prefilter leaves holes of 1, 3, 5 and 7 px (measured on the chair's
  * Gaussian frame) with the same surface on both sides.  A hole is no outline,

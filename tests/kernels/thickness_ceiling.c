@@ -7,7 +7,7 @@
  * scaled or with a margin added, capped -- against GTAO, the estimate from
  * the image and VBAO's constant; and, to find where the estimate loses, the
  * truth only where the estimate is 1.5 times too thick or too thin.  A
- * measuring program (README.md, "Thickness from the image", the ceiling);
+ * measuring program (docs/design/thickness.md, "Thickness from the image", the ceiling);
  * the test suite runs it once, small, to keep it working.
  *
  * The truth reaches the kernel the way the estimate does: this program is

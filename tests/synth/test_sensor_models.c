@@ -2,7 +2,7 @@
 /*
  * The measuring instrument: the plane finder finds synthetic planes exactly,
  * and each simulated sensor has the statistics that were measured on real
- * frames (README, Sensor models), within bands derived from those
+ * frames (docs/sensor-models.md), within bands derived from those
  * measurements; every model is deterministic for a seed and any thread count.
  *
  * The bands for structured light come from `depthao sensorstats --compare` on

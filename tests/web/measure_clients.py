@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""How the http sink scales with stream clients (not a test: numbers for the README).
+"""How the http sink scales with stream clients (not a test: numbers for docs/viewer.md).
 depthaod loops the bundled recording in real time (640x480, 30 fps) into an http sink;
 for 0, 1 and N clients of the shaded stream it reports, over WINDOW seconds, the
 daemon's CPU time per second (utime + stime from /proc), frames processed, the frames

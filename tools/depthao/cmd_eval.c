@@ -18,7 +18,7 @@
 #include "commands.h"
 #include "synth/suite.h"
 
-/* Accuracy bars for the default preset at R = 0.5 m (README.md, issue #2). */
+/* Accuracy bars for the default preset at R = 0.5 m (docs/accuracy.md, issue #2). */
 #define BAR_PLANE_OCCLUSION 0.003
 #define BAR_CLEAN_MEAN_MAE 0.035
 #define BAR_CLEAN_MAX_MAE 0.075

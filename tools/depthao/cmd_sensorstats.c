@@ -52,7 +52,7 @@ static void usage(FILE *out)
 		"  --seed N           first noise seed (default 1); --frames N seeds, pooled\n"
 		"  --real             every frame of the data directory, grouped by sensor\n"
 		"  --compare          the real frames and the simulated sensors side by side:\n"
-		"                     the table of the README (Sensor models)\n"
+		"                     the table of docs/sensor-models.md\n"
 		"  --picture OUT.png  with --compare: real and simulated plane residuals\n"
 		"  --data DIR         the real data (default $DAO_SHARED_DATA or ../shared/data)\n"
 		"  --residual-out P   --input/--scene: the plane residual map as a PNG\n",

@@ -2,7 +2,7 @@
 /*
  * depthao sensorstats --compare: the real sensor frames of ../shared/data
  * next to the simulated sensors, measured the same way (sensor_stats.h), as
- * the tables of the README's Sensor models section, and a picture of their
+ * the tables of docs/sensor-models.md, and a picture of their
  * plane residuals.
  */
 #include <errno.h>

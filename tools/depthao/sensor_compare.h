@@ -23,7 +23,7 @@ int sensorstats_measure(const float *z, const struct dao_camera *cam, double uni
 void sensorstats_print(const char *title, const struct synth_sensor_stats *s, double f);
 
 /*
- * The comparison of the README (Sensor models): the real frames of
+ * The comparison of docs/sensor-models.md: the real frames of
  * `data_dir` and the simulated sensors on the synthetic scenes, as Markdown
  * tables on stdout, and if `picture` is not NULL a PNG of their plane
  * residuals.  Returns the exit status.

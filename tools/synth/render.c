@@ -3,7 +3,7 @@
  * Ray tracing of the synthetic scenes: depth, true normals, and the
  * ground-truth AO that every kernel is measured against.
  *
- * AO definition (README.md, "Accuracy"): visibility = 1/pi * integral over the
+ * AO definition (docs/accuracy.md): visibility = 1/pi * integral over the
  * hemisphere of V(w) (n.w) dw, V = 0 where a ray hits geometry within R.
  * Sampling directions with a cosine-weighted density p(w) = (n.w)/pi makes
  * the estimator the plain fraction of unblocked rays.

@@ -8,8 +8,8 @@
  * visibility, pixel footprints, indirect light), not only from the clean
  * depth; each is deterministic for a seed.  The physics and the constants of
  * each model, and how they were checked against real frames, are in the
- * source files (sensor_structured.c, sensor_stereo.c, sensor_tof.c) and in the
- * README (Sensor models).
+ * source files (sensor_structured.c, sensor_stereo.c, sensor_tof.c) and in
+ * docs/sensor-models.md.
  */
 #ifndef DAO_SYNTH_SENSOR_H
 #define DAO_SYNTH_SENSOR_H
