@@ -25,6 +25,7 @@
 #include <depthao/ply.h>
 #include <depthao/oni.h>
 #include <depthao/plugin.h>
+#include <depthao/uri.h>
 #include <depthao/output_file.h>
 
 #include <depthao/api.h>

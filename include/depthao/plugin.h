@@ -52,6 +52,7 @@
 
 #include <depthao/error.h>
 #include <depthao/frame.h>
+#include <depthao/uri.h>
 
 #include <depthao/api.h>
 
@@ -343,19 +344,8 @@ DAO_API const char *dao_plugins_skipped(const struct dao_plugins *plugins, size_
 /* The compiled-in module directory. */
 DAO_API const char *dao_plugins_install_dir(void);
 
-/*
- * Length of a plugin prefix "name:" at the start of a URI: two or more of
- * [a-z0-9_-] then ':' (so "C:\x", "./a:b" or "/x:y" are not prefixes); 0 if
- * none.  How dao_source_open() and dao_sink_open() split a URI.
- */
-static inline size_t dao_uri_prefix_len(const char *uri)
-{
-	size_t i = 0;
-	while ((uri[i] >= 'a' && uri[i] <= 'z') || (uri[i] >= '0' && uri[i] <= '9') ||
-	       uri[i] == '-' || uri[i] == '_')
-		i++;
-	return i > 1 && uri[i] == ':' ? i : 0;
-}
+/* dao_uri_prefix_len(), how dao_source_open() and dao_sink_open() split a URI, and the
+ * option parser of every plugin: <depthao/uri.h>. */
 
 /* --- sources ----------------------------------------------------------- */
 

@@ -7,6 +7,7 @@
 #ifndef DEPTHAO_PNG_H
 #define DEPTHAO_PNG_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include <depthao/error.h>
@@ -76,6 +77,15 @@ DAO_API int dao_png_write(const char *path, const struct dao_frame *frame, struc
  */
 DAO_API int dao_png_write_compressed(const char *path, const struct dao_frame *frame,
 				     int compression, struct dao_error *err);
+
+/*
+ * The PNG dao_png_write_compressed() would write, in memory: *data (malloc'ed,
+ * release it with free()) holds *size bytes.  For servers and pipes that send
+ * the picture rather than store it.  Errors: -EINVAL (bad frame, format or
+ * compression), -ENOMEM; *data is NULL and *size 0 on failure.
+ */
+DAO_API int dao_png_encode(const struct dao_frame *frame, int compression, void **data,
+			   size_t *size, struct dao_error *err);
 
 #ifdef __cplusplus
 }

@@ -16,9 +16,9 @@
 
 #include <json-c/json.h>
 #include <microhttpd.h>
-#include <png.h>
 
 #include <depthao/params.h>
+#include <depthao/png.h>
 
 #include "http_sink.h"
 #include "viewer_page.h"
@@ -229,62 +229,6 @@ static enum MHD_Result get_stats(struct http_sink *s, struct MHD_Connection *con
 	return reply_json(conn, MHD_HTTP_OK, j);
 }
 
-struct png_buf {
-	unsigned char *data;
-	size_t len, cap;
-	int failed;
-};
-
-static void png_append(png_structp png, png_bytep data, png_size_t len)
-{
-	struct png_buf *b = png_get_io_ptr(png);
-	if (b->failed)
-		return;
-	if (b->len + len > b->cap) {
-		size_t cap = (b->cap ? b->cap * 2 : 65536) + len;
-		unsigned char *d = realloc(b->data, cap);
-		if (!d) {
-			b->failed = 1;
-			return;
-		}
-		b->data = d;
-		b->cap = cap;
-	}
-	memcpy(b->data + b->len, data, len);
-	b->len += len;
-}
-
-static void png_no_flush(png_structp png)
-{
-	(void)png;
-}
-
-/* A copy of the picture as PNG (fast compression: a snapshot is for looking at). */
-static int encode_png(const uint8_t *px, uint32_t w, uint32_t h, int gray, struct png_buf *out)
-{
-	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-	png_infop info = png ? png_create_info_struct(png) : NULL;
-	if (!info) {
-		png_destroy_write_struct(&png, NULL);
-		return -ENOMEM;
-	}
-	if (setjmp(png_jmpbuf(png))) {
-		png_destroy_write_struct(&png, &info);
-		return -EIO;
-	}
-	png_set_write_fn(png, out, png_append, png_no_flush);
-	png_set_compression_level(png, 1);
-	png_set_IHDR(png, info, w, h, 8, gray ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB,
-		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-	png_write_info(png, info);
-	const size_t row = (size_t)w * (gray ? 1 : 3);
-	for (uint32_t y = 0; y < h; y++)
-		png_write_row(png, (png_const_bytep)(px + (size_t)y * row));
-	png_write_end(png, NULL);
-	png_destroy_write_struct(&png, &info);
-	return out->failed ? -ENOMEM : 0;
-}
-
 static enum MHD_Result get_snapshot(struct http_sink *s, struct MHD_Connection *conn,
 				    enum view_stream v)
 {
@@ -302,16 +246,21 @@ static enum MHD_Result get_snapshot(struct http_sink *s, struct MHD_Connection *
 	if (copy)
 		memcpy(copy, p->rgb, bytes);
 	pthread_mutex_unlock(&s->lock);
-	struct png_buf b = {0};
-	if (!copy || encode_png(copy, w, h, gray, &b) < 0) {
+	/* the library's writer, at its fastest level: a snapshot is for looking at */
+	const struct dao_frame f = {
+		.format = gray ? DAO_PIXFMT_GRAY8 : DAO_PIXFMT_RGB24, .width = w, .height = h,
+		.stride = (int32_t)(w * (gray ? 1 : 3)), .data = copy,
+	};
+	void *png = NULL;
+	size_t png_len = 0;
+	if (!copy || dao_png_encode(&f, DAO_PNG_COMPRESSION_DEFAULT, &png, &png_len, NULL) < 0) {
 		free(copy);
-		free(b.data);
 		return reply_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "cannot encode the PNG");
 	}
 	free(copy);
-	struct MHD_Response *r = MHD_create_response_from_buffer(b.len, b.data, MHD_RESPMEM_MUST_FREE);
+	struct MHD_Response *r = MHD_create_response_from_buffer(png_len, png, MHD_RESPMEM_MUST_FREE);
 	if (!r) {
-		free(b.data);
+		free(png);
 		return MHD_NO;
 	}
 	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "image/png");

@@ -113,24 +113,28 @@ static int parse_uint(const char *v, long lo, long hi, long *out)
 	return 0;
 }
 
-static int parse_option(struct http_sink *s, const char *opt)
+static const char *const http_options[] = {"control", "token", "quality", "max_clients", "queue",
+					   NULL};
+
+/* The options after the '?' (the library's parser: errors name the key and the value). */
+static int parse_options(struct http_sink *s, const char *text, struct dao_error *err)
 {
-	long n;
-	if (!strcmp(opt, "control=true") || !strcmp(opt, "control=1"))
-		s->control = 1;
-	else if (!strcmp(opt, "control=false") || !strcmp(opt, "control=0"))
-		s->control = 0;
-	else if (!strncmp(opt, "token=", 6) && opt[6] && strlen(opt + 6) < sizeof s->token)
-		snprintf(s->token, sizeof s->token, "%s", opt + 6);
-	else if (!strncmp(opt, "quality=", 8) && parse_uint(opt + 8, 1, 100, &n) == 0)
-		s->quality = (int)n;
-	else if (!strncmp(opt, "max_clients=", 12) && parse_uint(opt + 12, 1, 1024, &n) == 0)
-		s->max_clients = (unsigned)n;
-	else if (!strncmp(opt, "queue=", 6) && parse_uint(opt + 6, 1, 8, &n) == 0)
-		s->queue = (unsigned)n;
-	else
-		return -1;
-	return 0;
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "http", text, http_options, err);
+	if (r < 0)
+		return r;
+	int64_t quality = s->quality, clients = s->max_clients, queue = s->queue;
+	if ((r = dao_options_get_bool(o, "control", &s->control, err)) >= 0 &&
+	    (r = dao_options_get_string(o, "token", s->token, sizeof s->token, err)) >= 0 &&
+	    (r = dao_options_get_int(o, "quality", 1, 100, &quality, err)) >= 0 &&
+	    (r = dao_options_get_int(o, "max_clients", 1, 1024, &clients, err)) >= 0 &&
+	    (r = dao_options_get_int(o, "queue", 1, 8, &queue, err)) >= 0) {
+		s->quality = (int)quality;
+		s->max_clients = (unsigned)clients;
+		s->queue = (unsigned)queue;
+	}
+	dao_options_free(o);
+	return r < 0 ? r : 0;
 }
 
 /* "PORT", "HOST:PORT", "//HOST:PORT", "[V6]:PORT", each with "?OPTION&OPTION" */
@@ -143,18 +147,12 @@ static int parse_uri(struct http_sink *s, const char *uri, struct dao_error *err
 	s->max_clients = HTTP_DEFAULT_CLIENTS;
 	s->queue = DEFAULT_QUEUE;
 	snprintf(s->bind_host, sizeof s->bind_host, "127.0.0.1");
-	char *p = buf, *q = strchr(buf, '?');
-	if (q) {
-		*q++ = '\0';
-		char *save = NULL;
-		for (char *o = strtok_r(q, "&", &save); o; o = strtok_r(NULL, "&", &save))
-			if (parse_option(s, o) < 0)
-				return dao_error_set(err, -EINVAL,
-						    "http: '%s': bad option '%s' (options: control=true|false, "
-						    "token=SECRET, quality=1..100, max_clients=1..1024, "
-						    "queue=1..8)",
-						    uri, o);
-	}
+	char *p = buf;
+	size_t opts_at = dao_uri_path_len(buf, http_options);
+	int r;
+	if (buf[opts_at] && (r = parse_options(s, buf + opts_at + 1, err)) < 0)
+		return r;
+	buf[opts_at] = '\0';
 	if (!strncmp(p, "//", 2))
 		p += 2;
 	size_t len = strlen(p);

@@ -58,16 +58,22 @@ static int lc_list(dao_device_cb cb, void *user, struct dao_error *err)
 static int lc_open(const char *uri, const struct dao_source_options *o, void **state,
 		   struct dao_error *err)
 {
-	char id[256], msg[256];
+	static const char *const known[] = {"size", NULL};
+	char id[256], msg[256], tail;
 	unsigned w = 0, h = 0;
 	snprintf(id, sizeof id, "%s", uri);
-	char *q = strchr(id, '?');
-	if (q) {
-		*q = '\0';
-		if (sscanf(q + 1, "size=%ux%u", &w, &h) != 2 || !w || !h)
-			return dao_error_set(err, -EINVAL, "libcamera: the only option is ?size=WxH, not "
-					    "'%s'", q + 1);
-	}
+	size_t at = dao_uri_path_len(id, known);
+	struct dao_options *opts;
+	int r = dao_options_parse(&opts, "libcamera", id[at] ? id + at + 1 : NULL, known, err);
+	if (r < 0)
+		return r;
+	const char *size = dao_options_value(opts, "size");
+	if (size && (sscanf(size, "%ux%u%c", &w, &h, &tail) != 2 || !w || !h))
+		r = dao_error_set(err, -EINVAL, "libcamera: 'size' must be WxH, got '%.40s'", size);
+	dao_options_free(opts);
+	if (r < 0)
+		return r;
+	id[at] = '\0';
 	struct lc_source *s = calloc(1, sizeof(*s));
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");

@@ -61,14 +61,32 @@ static int ends_with(const char *s, const char *suffix)
 	return n > k && !strcasecmp(s + n - k, suffix);
 }
 
+static const char *const cv_options[] = {"fourcc", "overwrite", NULL};
+
 static int is_video_path(const char *uri)
 {
 	char path[512];
-	snprintf(path, sizeof path, "%s", uri);
-	char *q = strchr(path, '?');
-	if (q)
-		*q = '\0';
+	snprintf(path, sizeof path, "%.*s", (int)dao_uri_path_len(uri, cv_options), uri);
 	return ends_with(path, ".avi") || ends_with(path, ".mkv") || ends_with(path, ".mp4");
+}
+
+/* "fourcc=XXXX&overwrite=B" (the library's parser: errors name the key and the value) */
+static int parse_options(struct cv_sink *s, const char *text, struct dao_error *err)
+{
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "opencv", text, cv_options, err);
+	if (r < 0)
+		return r;
+	const char *fourcc = dao_options_value(o, "fourcc");
+	if (fourcc && strlen(fourcc) != 4)
+		r = dao_error_set(err, -EINVAL, "opencv: 'fourcc' must be four characters (e.g. "
+				  "MJPG, XVID, mp4v), got '%.80s'", fourcc);
+	else if (fourcc)
+		memcpy(s->fourcc, fourcc, 4);
+	if (r >= 0)
+		r = dao_options_get_bool(o, "overwrite", &s->overwrite, err);
+	dao_options_free(o);
+	return r < 0 ? r : 0;
 }
 
 static int cv_probe(const char *uri)
@@ -98,34 +116,15 @@ static int cv_open(const char *uri, void **state, struct dao_error *err)
 					    uri, sizeof s->path - 1);
 		}
 		snprintf(s->path, sizeof s->path, "%s", uri);
-		char *q = strchr(s->path, '?');
+		size_t opts_at = dao_uri_path_len(s->path, cv_options);
 		memcpy(s->fourcc, "MJPG", 4);
-		if (q) {
-			*q = '\0';
-			for (char *kv = q + 1; *kv;) {
-				size_t n = strcspn(kv, "&");
-				int ok = 0;
-				if (n == 11 && !strncmp(kv, "fourcc=", 7)) {
-					memcpy(s->fourcc, kv + 7, 4);
-					ok = 1;
-				} else if ((n == 14 && !strncmp(kv, "overwrite=true", 14)) ||
-					   (n == 11 && !strncmp(kv, "overwrite=1", 11))) {
-					s->overwrite = ok = 1;
-				} else if ((n == 15 && !strncmp(kv, "overwrite=false", 15)) ||
-					   (n == 11 && !strncmp(kv, "overwrite=0", 11))) {
-					s->overwrite = 0;
-					ok = 1;
-				}
-				if (!ok) {
-					free(s);
-					return dao_error_set(err, -EINVAL,
-							    "opencv: '%s': the options are fourcc=XXXX "
-							    "(four characters, e.g. MJPG, XVID, mp4v) and "
-							    "overwrite=true|false",
-							    uri);
-				}
-				kv += n + (kv[n] == '&');
+		if (s->path[opts_at]) {
+			int r = parse_options(s, s->path + opts_at + 1, err);
+			if (r < 0) {
+				free(s);
+				return r;
 			}
+			s->path[opts_at] = '\0';
 		}
 	} else {
 		free(s);

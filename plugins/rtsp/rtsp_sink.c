@@ -87,23 +87,25 @@ static int rtsp_probe(const char *uri)
 	return !strncmp(uri, "rtsp://", 7) ? 100 : 0;
 }
 
-/* "quality=N" or "transport=tcp|udp"; 0 or -EINVAL */
-static int parse_option(struct rtsp_sink *s, const char *opt)
+static const char *const rtsp_options[] = {"quality", "transport", NULL};
+
+/* "quality=N&transport=tcp|udp" (the library's parser: errors name the key and the value) */
+static int parse_options(struct rtsp_sink *s, const char *text, struct dao_error *err)
 {
-	char *end;
-	if (!strncmp(opt, "quality=", 8)) {
-		long v = strtol(opt + 8, &end, 10);
-		if (end == opt + 8 || *end || v < 1 || v > 100)
-			return -EINVAL;
-		s->quality = (int)v;
-	} else if (!strcmp(opt, "transport=tcp")) {
-		s->transport = GST_RTSP_LOWER_TRANS_TCP;
-	} else if (!strcmp(opt, "transport=udp")) {
-		s->transport = GST_RTSP_LOWER_TRANS_UDP;
-	} else {
-		return -EINVAL;
+	static const char *const transports[] = {"tcp", "udp", NULL};
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "rtsp", text, rtsp_options, err);
+	if (r < 0)
+		return r;
+	int64_t quality = s->quality;
+	int udp = 0;
+	if ((r = dao_options_get_int(o, "quality", 1, 100, &quality, err)) >= 0 &&
+	    (r = dao_options_get_enum(o, "transport", transports, &udp, err)) >= 0) {
+		s->quality = (int)quality;
+		s->transport = udp ? GST_RTSP_LOWER_TRANS_UDP : GST_RTSP_LOWER_TRANS_TCP;
 	}
-	return 0;
+	dao_options_free(o);
+	return r < 0 ? r : 0;
 }
 
 /* "PORT/MOUNT", "HOST:PORT/MOUNT", "//HOST:PORT/MOUNT", each with "?OPTION&OPTION" */
@@ -112,19 +114,14 @@ static int parse_uri(struct rtsp_sink *s, const char *uri, struct dao_error *err
 	char buf[512];
 	if (g_strlcpy(buf, uri, sizeof buf) >= sizeof buf)
 		return dao_error_set(err, -EINVAL, "rtsp: the URI is too long");
-	char *p = buf, *q = strchr(buf, '?');
+	char *p = buf;
 	s->quality = DEFAULT_QUALITY;
 	s->transport = GST_RTSP_LOWER_TRANS_TCP;
-	if (q) {
-		*q++ = '\0';
-		char *save = NULL;
-		for (char *opt = strtok_r(q, "&", &save); opt; opt = strtok_r(NULL, "&", &save))
-			if (parse_option(s, opt) < 0)
-				return dao_error_set(err, -EINVAL,
-						    "rtsp: '%s': bad option '%s' (options: quality=1..100, "
-						    "transport=tcp|udp)",
-						    uri, opt);
-	}
+	size_t opts_at = dao_uri_path_len(buf, rtsp_options);
+	int r;
+	if (buf[opts_at] && (r = parse_options(s, buf + opts_at + 1, err)) < 0)
+		return r;
+	buf[opts_at] = '\0';
 	if (!strncmp(p, "//", 2))
 		p += 2;
 	char *slash = strchr(p, '/');

@@ -76,61 +76,51 @@ uint16_t v4l2_kinect_disparity_to_mm(unsigned d)
 	return mm > 0 && mm < 10000 ? (uint16_t)lrint(mm) : 0;
 }
 
+static const char *const request_options[] = {"size", "fps", "format", "unit", NULL};
+
+/* The options of a request (the library's parser: errors name the key and the value). */
+static int parse_options(const char *text, struct request *r, struct dao_error *err)
+{
+	static const char *const formats[] = {"Z16", "Y16", "Y10B", NULL};
+	static const uint32_t pixfmts[] = {V4L2_PIX_FMT_Z16, V4L2_PIX_FMT_Y16,
+					   V4L2_PIX_FMT_Y10BPACK};
+	struct dao_options *o;
+	int ret = dao_options_parse(&o, "v4l2", text, request_options, err);
+	if (ret < 0)
+		return ret;
+	const char *size = dao_options_value(o, "size");
+	char tail;
+	int64_t fps = 0;
+	int format = 0;
+	double unit = r->unit;
+	if (size && (sscanf(size, "%ux%u%c", &r->w, &r->h, &tail) != 2 || !r->w || !r->h ||
+		     r->w > 16384 || r->h > 16384))
+		ret = dao_error_set(err, -EINVAL, "v4l2: 'size' must be WxH (1..16384 each), got "
+				    "'%.40s'", size);
+	if (ret >= 0 && (ret = dao_options_get_int(o, "fps", 1, 1000, &fps, err)) > 0)
+		r->fps = (unsigned)fps;
+	if (ret >= 0 && (ret = dao_options_get_enum(o, "format", formats, &format, err)) > 0)
+		r->pixfmt = pixfmts[format];
+	/* metres per count: RealSense 0.001, D405 0.0001 */
+	if (ret >= 0 && (ret = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE,
+						      &unit, err)) > 0)
+		r->unit = (float)unit;
+	dao_options_free(o);
+	return ret < 0 ? ret : 0;
+}
+
 static int parse_request(const char *uri, const struct dao_source_options *o, struct request *r,
 			 struct dao_error *err)
 {
 	memset(r, 0, sizeof(*r));
-	const char *q = strchr(uri, '?');
-	size_t n = q ? (size_t)(q - uri) : strlen(uri);
+	size_t n = dao_uri_path_len(uri, request_options);
 	if (n == 0 || n >= sizeof r->device)
 		return dao_error_set(err, -EINVAL, "v4l2: '%s' names no device (use /dev/videoN, card=NAME, "
 				    "bus=INFO or any)", uri);
 	memcpy(r->device, uri, n);
 	r->device[n] = '\0';
 	r->unit = o->depth_unit > 0 ? o->depth_unit : 0.001f;
-	while (q && *q) {
-		char key[16], val[64];
-		const char *amp = strchr(q + 1, '&');
-		size_t len = amp ? (size_t)(amp - q - 1) : strlen(q + 1);
-		char item[96];
-		if (len >= sizeof item)
-			return dao_error_set(err, -EINVAL, "v4l2: option too long in '%s'", uri);
-		memcpy(item, q + 1, len);
-		item[len] = '\0';
-		if (sscanf(item, "%15[^=]=%63s", key, val) != 2)
-			return dao_error_set(err, -EINVAL, "v4l2: '%s' is not key=value", item);
-		if (!strcmp(key, "size")) {
-			if (sscanf(val, "%ux%u", &r->w, &r->h) != 2 || !r->w || !r->h || r->w > 16384 ||
-			    r->h > 16384)
-				return dao_error_set(err, -EINVAL, "v4l2: size '%s' must be WxH", val);
-		} else if (!strcmp(key, "fps")) {
-			if (sscanf(val, "%u", &r->fps) != 1 || !r->fps || r->fps > 1000)
-				return dao_error_set(err, -EINVAL, "v4l2: fps '%s' must be 1..1000", val);
-		} else if (!strcmp(key, "format")) {
-			if (!strcasecmp(val, "Z16"))
-				r->pixfmt = V4L2_PIX_FMT_Z16;
-			else if (!strcasecmp(val, "Y16"))
-				r->pixfmt = V4L2_PIX_FMT_Y16;
-			else if (!strcasecmp(val, "Y10B"))
-				r->pixfmt = V4L2_PIX_FMT_Y10BPACK;
-			else
-				return dao_error_set(err, -EINVAL, "v4l2: format '%s' must be Z16, Y16 or Y10B",
-						    val);
-		} else if (!strcmp(key, "unit")) {
-			double u = atof(val);
-			if (!(u > 0 && u <= 1))
-				return dao_error_set(err, -EINVAL,
-						    "v4l2: unit '%s' must be metres per count in (0, 1] "
-						    "(RealSense 0.001, D405 0.0001)",
-						    val);
-			r->unit = (float)u;
-		} else {
-			return dao_error_set(err, -EINVAL,
-					    "v4l2: unknown option '%s' (size, fps, format, unit)", key);
-		}
-		q = amp;
-	}
-	return 0;
+	return uri[n] ? parse_options(uri + n + 1, r, err) : 0;
 }
 
 /* Capability and identity of an open node; 1 if it captures video with streaming. */

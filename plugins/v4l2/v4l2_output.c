@@ -58,36 +58,29 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 	o->fd = -1;
 	o->pixfmt = V4L2_PIX_FMT_YUYV;
 	o->fps = 30;
-	const char *q = strchr(uri, '?');
-	size_t n = q ? (size_t)(q - uri) : strlen(uri);
+	static const char *const known[] = {"format", "fps", NULL};
+	static const char *const formats[] = {"YUYV", "RGB24", "GREY", NULL};
+	static const uint32_t pixfmts[] = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_RGB24, V4L2_PIX_FMT_GREY};
+	size_t n = dao_uri_path_len(uri, known);
 	int r;
 	if (n == 0 || n >= sizeof o->path) {
 		r = dao_error_set(err, -EINVAL, "v4l2 output: '%s' names no device (/dev/videoN)", uri);
 		goto fail;
 	}
 	memcpy(o->path, uri, n);
-	while (q && *q) {
-		char key[16], val[32];
-		if (sscanf(q + 1, "%15[^=]=%31[^&]", key, val) != 2) {
-			r = dao_error_set(err, -EINVAL, "v4l2 output: bad option in '%s'", uri);
-			goto fail;
-		}
-		if (!strcmp(key, "format") && !strcasecmp(val, "YUYV"))
-			o->pixfmt = V4L2_PIX_FMT_YUYV;
-		else if (!strcmp(key, "format") && !strcasecmp(val, "RGB24"))
-			o->pixfmt = V4L2_PIX_FMT_RGB24;
-		else if (!strcmp(key, "format") && !strcasecmp(val, "GREY"))
-			o->pixfmt = V4L2_PIX_FMT_GREY;
-		else if (!strcmp(key, "fps") && atoi(val) > 0 && atoi(val) <= 1000)
-			o->fps = (uint32_t)atoi(val);
-		else {
-			r = dao_error_set(err, -EINVAL,
-					 "v4l2 output: '%s=%s' (format=YUYV|RGB24|GREY, fps=1..1000)", key,
-					 val);
-			goto fail;
-		}
-		q = strchr(q + 1, '&');
-	}
+	struct dao_options *opts;
+	if ((r = dao_options_parse(&opts, "v4l2 output", uri[n] ? uri + n + 1 : NULL, known,
+				   err)) < 0)
+		goto fail;
+	int format = 0;
+	int64_t fps = o->fps;
+	if ((r = dao_options_get_enum(opts, "format", formats, &format, err)) > 0)
+		o->pixfmt = pixfmts[format];
+	if (r >= 0 && (r = dao_options_get_int(opts, "fps", 1, 1000, &fps, err)) >= 0)
+		o->fps = (uint32_t)fps;
+	dao_options_free(opts);
+	if (r < 0)
+		goto fail;
 	o->fd = io->open(io->user, o->path, O_RDWR | O_NONBLOCK);
 	if (o->fd < 0) {
 		r = dao_error_set(err, errno == ENOENT ? -ENODEV : -errno,

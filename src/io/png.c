@@ -210,6 +210,7 @@ int dao_png_read_depth(const char *path, float depth_unit, struct dao_frame *out
 }
 
 struct write_state {
+	int compression, color, depth;
 	FILE *fp;
 	png_structp png;
 	png_infop info;
@@ -265,31 +266,83 @@ int dao_png_write(const char *path, const struct dao_frame *f, struct dao_error 
 	return dao_png_write_compressed(path, f, DAO_PNG_COMPRESSION_DEFAULT, err);
 }
 
+/* Checks the compression and the frame, and finds its PNG layout; 0 or -EINVAL. */
+static int check_write(const char *what, const struct dao_frame *f, int compression, int *color,
+		       int *depth, struct dao_error *err)
+{
+	if (compression < 0 || compression > 9)
+		return dao_error_set(err, -EINVAL,
+				     "PNG compression %d for %s is not in 0..9 (0 = none, 1 = "
+				     "fastest, 9 = smallest)", compression, what);
+	int r = dao_frame_check(f, "PNG output", 0, 0, err);
+	if (r)
+		return r;
+	if (png_layout(f->format, color, depth))
+		return dao_error_set(err, -EINVAL, "cannot write %s frames as PNG %s",
+				     dao_pixfmt_name(f->format), what);
+	return 0;
+}
+
+/*
+ * The header and every row of `f` into st->png, whose output is set; 0, or
+ * -1 after a libpng error (st->pe.message says which).  The setjmp is here,
+ * with nothing in this frame that changes after it.
+ */
+static int encode_image(struct write_state *st, const struct dao_frame *f)
+{
+	if (setjmp(png_jmpbuf(st->png)))
+		return -1;
+	png_set_IHDR(st->png, st->info, f->width, f->height, st->depth, st->color,
+		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+	set_compression(st->png, st->compression, st->color);
+	png_write_info(st->png, st->info);
+	const uint16_t one = 1;
+	if (st->depth == 16 && *(const unsigned char *)&one == 1)
+		png_set_swap(st->png); /* little-endian host -> big-endian on disk */
+	for (uint32_t y = 0; y < f->height; y++)
+		st->rows[y] = (png_bytep)f->data + (size_t)y * f->stride;
+	png_write_image(st->png, st->rows);
+	png_write_end(st->png, NULL);
+	return 0;
+}
+
+/*
+ * A write_state for `f` (checked: check_write()) with its rows and the
+ * libpng structs; NULL when out of memory.
+ */
+static struct write_state *write_state_new(const struct dao_frame *f, int compression, int color,
+					   int depth)
+{
+	struct write_state *st = calloc(1, sizeof *st);
+	if (!st)
+		return NULL;
+	st->out.fd = -1;
+	st->compression = compression;
+	st->color = color;
+	st->depth = depth;
+	if ((st->rows = malloc(f->height * sizeof *st->rows)) &&
+	    (st->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &st->pe, on_png_error,
+					       on_png_warning)) &&
+	    (st->info = png_create_info_struct(st->png)))
+		return st;
+	write_cleanup(st);
+	return NULL;
+}
+
 int dao_png_write_compressed(const char *path, const struct dao_frame *f, int compression,
 			     struct dao_error *err)
 {
 	if (!path || !*path)
 		return dao_error_set(err, -EINVAL, "PNG write: no output path");
-	if (compression < 0 || compression > 9)
-		return dao_error_set(err, -EINVAL,
-				     "PNG compression %d for '%s' is not in 0..9 (0 = none, 1 = "
-				     "fastest, 9 = smallest)", compression, path);
-	int r = dao_frame_check(f, "PNG output", 0, 0, err);
+	char what[64];
+	snprintf(what, sizeof what, "'%.60s'", path);
+	int color = 0, depth = 0;
+	int r = check_write(what, f, compression, &color, &depth, err);
 	if (r)
 		return r;
-	int color, depth;
-	if (png_layout(f->format, &color, &depth))
-		return dao_error_set(err, -EINVAL, "cannot write %s frames as PNG '%s'",
-				     dao_pixfmt_name(f->format), path);
-
-	struct write_state *const st = calloc(1, sizeof *st);
-	if (st)
-		st->out.fd = -1;
-	if (!st || !(st->rows = malloc(f->height * sizeof *st->rows))) {
-		if (st)
-			write_cleanup(st);
+	struct write_state *const st = write_state_new(f, compression, color, depth);
+	if (!st)
 		return dao_error_set(err, -ENOMEM, "out of memory writing '%s'", path);
-	}
 	if ((r = dao_output_file_open(&st->out, path, err)) < 0) {
 		write_cleanup(st);
 		return r;
@@ -299,14 +352,8 @@ int dao_png_write_compressed(const char *path, const struct dao_frame *f, int co
 		write_cleanup(st);
 		return r;
 	}
-	st->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &st->pe, on_png_error, on_png_warning);
-	if (st->png)
-		st->info = png_create_info_struct(st->png);
-	if (!st->png || !st->info) {
-		write_cleanup(st);
-		return dao_error_set(err, -ENOMEM, "out of memory writing '%s'", path);
-	}
-	if (setjmp(png_jmpbuf(st->png))) {
+	png_init_io(st->png, st->fp);
+	if (encode_image(st, f) < 0) {
 		/* a failed fwrite (a full disk) left its errno; libpng only says "Write Error" */
 		int e = st->fp && ferror(st->fp) && errno ? errno : EIO;
 		if (e != EIO)
@@ -317,18 +364,6 @@ int dao_png_write_compressed(const char *path, const struct dao_frame *f, int co
 		write_cleanup(st);
 		return r;
 	}
-	png_init_io(st->png, st->fp);
-	png_set_IHDR(st->png, st->info, f->width, f->height, depth, color, PNG_INTERLACE_NONE,
-		     PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-	set_compression(st->png, compression, color);
-	png_write_info(st->png, st->info);
-	const uint16_t one = 1;
-	if (depth == 16 && *(const unsigned char *)&one == 1)
-		png_set_swap(st->png); /* little-endian host -> big-endian on disk */
-	for (uint32_t y = 0; y < f->height; y++)
-		st->rows[y] = (png_bytep)f->data + (size_t)y * f->stride;
-	png_write_image(st->png, st->rows);
-	png_write_end(st->png, NULL);
 
 	/* flush and close before the rename, so a full disk shows up here */
 	FILE *fp = st->fp;
@@ -350,4 +385,75 @@ int dao_png_write_compressed(const char *path, const struct dao_frame *f, int co
 	r = dao_output_file_commit(&st->out, path, err);
 	write_cleanup(st);
 	return r;
+}
+
+/* The growing buffer of dao_png_encode(). */
+struct mem_out {
+	unsigned char *data;
+	size_t len, cap;
+	int failed;
+};
+
+static void mem_append(png_structp png, png_bytep data, png_size_t len)
+{
+	struct mem_out *m = png_get_io_ptr(png);
+	if (m->failed)
+		return;
+	if (len > m->cap - m->len) {
+		size_t cap = (m->cap ? m->cap * 2 : 65536) + len;
+		unsigned char *d = realloc(m->data, cap);
+		if (!d) {
+			m->failed = 1;
+			return;
+		}
+		m->data = d;
+		m->cap = cap;
+	}
+	memcpy(m->data + m->len, data, len);
+	m->len += len;
+}
+
+static void mem_flush(png_structp png)
+{
+	(void)png;
+}
+
+int dao_png_encode(const struct dao_frame *f, int compression, void **data, size_t *size,
+		   struct dao_error *err)
+{
+	if (!data || !size)
+		return dao_error_set(err, -EINVAL, "PNG encode: no place for the result");
+	*data = NULL;
+	*size = 0;
+	int color = 0, depth = 0;
+	int r = check_write("in memory", f, compression, &color, &depth, err);
+	if (r)
+		return r;
+	struct write_state *const st = write_state_new(f, compression, color, depth);
+	struct mem_out *const m = calloc(1, sizeof *m);
+	if (!st || !m) {
+		if (st)
+			write_cleanup(st);
+		free(m);
+		return dao_error_set(err, -ENOMEM, "out of memory encoding a PNG");
+	}
+	png_set_write_fn(st->png, m, mem_append, mem_flush);
+	if (encode_image(st, f) < 0) {
+		r = dao_error_set(err, -EIO, "cannot encode a PNG: %s",
+				  st->pe.message[0] ? st->pe.message : "libpng error");
+		write_cleanup(st);
+		free(m->data);
+		free(m);
+		return r;
+	}
+	write_cleanup(st);
+	if (m->failed) {
+		free(m->data);
+		free(m);
+		return dao_error_set(err, -ENOMEM, "out of memory encoding a PNG");
+	}
+	*data = m->data;
+	*size = m->len;
+	free(m);
+	return 0;
 }

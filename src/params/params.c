@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The parameter table: one row per field of struct dao_params.  Parsing,
- * range checks, printing and help text are all driven from it.
+ * The parameter table (param_rows.h): one row per field of struct
+ * dao_params.  Parsing, range checks, printing, help text and the defaults
+ * are all driven from it.
  */
 #include <errno.h>
 #include <math.h>
@@ -30,104 +31,21 @@ static const char *const shade_names[] = { "lambert", "turbo", "jet", "gray", "a
 #define RT DAO_PARAM_RUNTIME
 #define SH (DAO_PARAM_RUNTIME | DAO_PARAM_SHADING)
 
+/* The public table: every column of param_rows.h but the default. */
+#define ROW(name, help, unit, type, field, min, max, names, flags, def) \
+	{ name, help, unit, DAO_PARAM_##type, OFF(field), min, max, names, flags },
 static const struct dao_param_info table[] = {
-	{ "depth-min", "nearest valid depth; nearer pixels count as no data", "m",
-	  DAO_PARAM_FLOAT, OFF(depth_min), 0.0, 1000.0, NULL, RT },
-	{ "depth-max", "farthest valid depth; farther pixels count as no data", "m",
-	  DAO_PARAM_FLOAT, OFF(depth_max), 0.001, 1000.0, NULL, RT },
-	{ "prefilter", "depth prefilter before normals and AO", NULL,
-	  DAO_PARAM_ENUM, OFF(prefilter), 0, 0, prefilter_names, RT },
-	{ "depth-noise", "sensor noise model sigma(z) = k z^2 with noise-model=fixed; k in 1/m (Kinect v1 ~0.0012)", "1/m",
-	  DAO_PARAM_FLOAT, OFF(depth_noise), 0.0, 0.1, NULL, RT },
-	{ "prefilter-radius", "footprint of the bilateral prefilter", "px",
-	  DAO_PARAM_INT, OFF(prefilter_radius), 1, 8, NULL, RT },
-	{ "prefilter-scale", "domain prefilter: spatial scale sigma_s with noise-model=fixed (its cost does not depend on it)", "px",
-	  DAO_PARAM_FLOAT, OFF(prefilter_scale), 0.5, 64.0, NULL, RT },
-	{ "prefilter-range", "domain prefilter: neighbours differing by more than about this many noise sigmas are not averaged", NULL,
-	  DAO_PARAM_FLOAT, OFF(prefilter_range), 0.5, 20.0, NULL, RT },
-	{ "prefilter-iterations", "domain prefilter: iterations of a vertical and a horizontal pass", NULL,
-	  DAO_PARAM_INT, OFF(prefilter_iterations), 1, 5, NULL, RT },
-	{ "noise-model", "depth noise: fixed (depth-noise), auto (measured per frame and region; drives prefilter, normals and denoise), auto-prefilter (drives the prefilter only)", NULL,
-	  DAO_PARAM_ENUM, OFF(noise_model), 0, 0, noise_model_names, RT },
-	{ "normals", "how normals are derived from depth", NULL,
-	  DAO_PARAM_ENUM, OFF(normals), 0, 0, normals_names, RT },
-	{ "normal-radius", "footprint of wide normals (noise-model=auto: from the measured noise)", "px",
-	  DAO_PARAM_INT, OFF(normal_radius), 1, 8, NULL, RT },
-	{ "algorithm", "gtao (ground-truth AO), vbao (visibility bitmask: finite thickness), hbao, ssao, or edl (eye-dome lighting, not AO)", NULL,
-	  DAO_PARAM_ENUM, OFF(algorithm), 0, 4, algorithm_names, RT },
-	{ "radius", "world-space AO radius", "m",
-	  DAO_PARAM_FLOAT, OFF(radius), 0.01, 100.0, NULL, RT },
-	{ "falloff", "fraction of the radius over which occluders fade out", NULL,
-	  DAO_PARAM_FLOAT, OFF(falloff), 0.0, 1.0, NULL, RT },
-	{ "slices", "slice directions per pixel", NULL,
-	  DAO_PARAM_INT, OFF(slices), 1, DAO_MAX_SLICES, NULL, RT },
-	{ "steps", "horizon samples per side of each slice", NULL,
-	  DAO_PARAM_INT, OFF(steps), 1, DAO_MAX_STEPS, NULL, RT },
-	{ "thickness", "thin-occluder heuristic: pull of later, lower samples on the horizon (0 = surfaces infinitely thick)", NULL,
-	  DAO_PARAM_FLOAT, OFF(thickness), 0.0, 1.0, NULL, RT },
-	{ "max-screen-radius", "cap of the radius projected on screen", "px",
-	  DAO_PARAM_FLOAT, OFF(max_screen_radius), 1.0, 4096.0, NULL, RT },
-	{ "min-screen-radius", "below this projected radius the pixel is left open", "px",
-	  DAO_PARAM_FLOAT, OFF(min_screen_radius), 0.0, 64.0, NULL, RT },
-	{ "distribution-power", "sample spacing t^power; > 1 packs samples near the pixel", NULL,
-	  DAO_PARAM_FLOAT, OFF(distribution_power), 1.0, 4.0, NULL, RT },
-	{ "noise", "rotation of slices and jitter of steps: tile (4x4, the fast kernel), or per pixel ign, r2; none", NULL,
-	  DAO_PARAM_ENUM, OFF(noise), 0, 0, noise_names, RT },
-	{ "final-power", "visibility is raised to this power", NULL,
-	  DAO_PARAM_FLOAT, OFF(final_power), 0.1, 8.0, NULL, RT },
-	{ "albedo", "multi-bounce fit (Jimenez 2016) for this albedo; 0 = off", NULL,
-	  DAO_PARAM_FLOAT, OFF(albedo), 0.0, 0.95, NULL, RT },
-	{ "invalid-value", "visibility written where there is no depth", NULL,
-	  DAO_PARAM_FLOAT, OFF(invalid_value), 0.0, 1.0, NULL, RT },
-	{ "strength", "hbao, ssao, edl: visibility = 1 - strength x occlusion", NULL,
-	  DAO_PARAM_FLOAT, OFF(strength), 0.0, 10.0, NULL, RT },
-	{ "hbao-bias", "hbao: tangent bias angle; hides self-occlusion of flat surfaces", "deg",
-	  DAO_PARAM_FLOAT, OFF(hbao_bias), 0.0, 60.0, NULL, RT },
-	{ "ssao-min", "ssao: a sample is occluded when the surface is in front of it by more than this", "m",
-	  DAO_PARAM_FLOAT, OFF(ssao_min), 0.0, 1.0, NULL, RT },
-	{ "ssao-max", "ssao: ... and by less than this (farther surfaces are not its occluders)", "m",
-	  DAO_PARAM_FLOAT, OFF(ssao_max), 0.001, 100.0, NULL, RT },
-	{ "edl-radius", "edl: distance of the neighbours compared", "px",
-	  DAO_PARAM_FLOAT, OFF(edl_radius), 0.5, 16.0, NULL, RT },
-	{ "vbao-thickness", "vbao: thickness assumed behind every visible surface", "m",
-	  DAO_PARAM_FLOAT, OFF(vbao_thickness), 0.001, 10.0, NULL, RT },
-	{ "vbao-thickness-mode", "vbao: constant (vbao-thickness behind every surface) or image (each surface's visible extent, at most vbao-thickness-max)", NULL,
-	  DAO_PARAM_ENUM, OFF(vbao_thickness_mode), 0, 0, vbao_thickness_names, RT },
-	{ "vbao-thickness-max", "vbao, vbao-thickness-mode=image: upper bound of the thickness estimated from the image", "m",
-	  DAO_PARAM_FLOAT, OFF(vbao_thickness_max), 0.001, 10.0, NULL, RT },
-	{ "temporal", "streams: share of the per-pixel AO history in each output (0 = off; 0.8 settles in ~5 frames)", NULL,
-	  DAO_PARAM_FLOAT, OFF(temporal), 0.0, 0.98, NULL, RT },
-	{ "temporal-reject", "streams: the AO history of a pixel is dropped where its depth changed by more than this share", NULL,
-	  DAO_PARAM_FLOAT, OFF(temporal_reject), 0.001, 1.0, NULL, RT },
-	{ "depth-temporal", "streams: share of the per-pixel 1/z history in the depth, before the prefilter (0 = off; streams of the CLI and daemon: 0.8)", NULL,
-	  DAO_PARAM_FLOAT, OFF(depth_temporal), 0.0, 0.98, NULL, RT },
-	{ "depth-temporal-reject", "streams: the depth history of a pixel restarts where a sample differs from it by more than this many sigma of the noise model", NULL,
-	  DAO_PARAM_FLOAT, OFF(depth_temporal_reject), 0.5, 100.0, NULL, RT },
-	{ "depth-temporal-persist", "streams: frames a pixel that lost its depth keeps the filtered value (0 = never invent depth)", "frames",
-	  DAO_PARAM_INT, OFF(depth_temporal_persist), 0, 30, NULL, RT },
-	{ "noise-interval", "noise-model=auto: frames between full measurements of the noise, with a check of every frame that measures the cells the scene moved in, and all after a cut (1 = every frame; streams of the CLI and daemon: 15)", "frames",
-	  DAO_PARAM_INT, OFF(noise_interval), 1, 3600, NULL, RT },
-	{ "threads", "threads per context (0 = one per available CPU)", NULL,
-	  DAO_PARAM_INT, OFF(threads), 0, 256, NULL, RT },
-	{ "simd", "kernels: auto (best for this CPU), reference (scalar oracle) or an instruction set", NULL,
-	  DAO_PARAM_ENUM, OFF(simd), 0, 0, dao_simd_names, RT },
-	{ "denoise", "spatial filter of the AO", NULL,
-	  DAO_PARAM_ENUM, OFF(denoise), 0, 0, denoise_names, RT },
-	{ "denoise-radius", "radius of the bilateral denoise", "px",
-	  DAO_PARAM_INT, OFF(denoise_radius), 1, 16, NULL, RT },
-	{ "denoise-sharpness", "depth tolerance of the denoise in units of the depth noise", NULL,
-	  DAO_PARAM_FLOAT, OFF(denoise_sharpness), 0.1, 100.0, NULL, RT },
-	{ "shade", "shaded image: lambert head light, depth colormap, or AO alone", NULL,
-	  DAO_PARAM_ENUM, OFF(shade), 0, 0, shade_names, SH },
-	{ "near", "colormap near depth; 0 = nearest depth in the frame", "m",
-	  DAO_PARAM_FLOAT, OFF(near_m), 0.0, 1000.0, NULL, SH },
-	{ "far", "colormap far depth; 0 = farthest depth in the frame", "m",
-	  DAO_PARAM_FLOAT, OFF(far_m), 0.0, 1000.0, NULL, SH },
-	{ "shade-power", "shaded = mix(occlusion colour, colour, AO^power)", NULL,
-	  DAO_PARAM_FLOAT, OFF(shade_power), 0.0, 8.0, NULL, SH },
-	{ "occlusion-color", "colour of full occlusion, RRGGBB", NULL,
-	  DAO_PARAM_COLOR, OFF(occlusion_color), 0, 0xffffff, NULL, SH },
+#include "params/param_rows.h"
 };
+#undef ROW
+
+/* The defaults: the last column of param_rows.h. */
+#define ROW(name, help, unit, type, field, min, max, names, flags, def) .field = def,
+const struct dao_params dao_param_defaults = {
+	.size = sizeof(struct dao_params),
+#include "params/param_rows.h"
+};
+#undef ROW
 
 size_t dao_params_size(void)
 {

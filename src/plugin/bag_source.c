@@ -47,7 +47,6 @@
 #include "plugin/builtin.h"
 #include "plugin/playback.h"
 
-#define BAG_MAX_QUERY 512
 
 struct bag_source {
 	struct dao_bag *bag;
@@ -68,8 +67,8 @@ struct bag_source {
 };
 
 /*
- * "FILE.bag?topic=T&unit=M" in parts; the options start at the last "?topic="
- * or "?unit=" (a file name may hold a '?').
+ * "FILE.bag?topic=T&unit=M&color=C" in parts; the options start at the last
+ * '?' followed by one of them (a file name may hold a '?'; dao_uri_path_len()).
  */
 struct bag_uri {
 	char *path;
@@ -78,15 +77,7 @@ struct bag_uri {
 	float unit;
 };
 
-static const char *query_start(const char *uri)
-{
-	const char *q = NULL;
-	for (const char *p = strchr(uri, '?'); p; p = strchr(p + 1, '?'))
-		if (!strncmp(p + 1, "topic=", 6) || !strncmp(p + 1, "unit=", 5) ||
-		    !strncmp(p + 1, "color=", 6))
-			q = p;
-	return q;
-}
+static const char *const bag_options[] = {"topic", "unit", "color", NULL};
 
 static int has_bag_suffix(const char *s, size_t n)
 {
@@ -95,45 +86,28 @@ static int has_bag_suffix(const char *s, size_t n)
 
 static int bag_probe(const char *uri)
 {
-	const char *q = query_start(uri);
-	return has_bag_suffix(uri, q ? (size_t)(q - uri) : strlen(uri)) ? 60 : 0;
+	return has_bag_suffix(uri, dao_uri_path_len(uri, bag_options)) ? 60 : 0;
 }
 
 static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
 {
-	const char *q = query_start(uri);
-	size_t plen = q ? (size_t)(q - uri) : strlen(uri);
+	size_t plen = dao_uri_path_len(uri, bag_options);
 	memset(u, 0, sizeof(*u));
 	if (!(u->path = strndup(uri, plen)))
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	if (!q)
+	if (!uri[plen])
 		return 0;
-	char query[BAG_MAX_QUERY];
-	if (strlen(q + 1) >= sizeof(query))
-		return dao_error_set(err, -EINVAL, "bag: the options '%s' are too long", q + 1);
-	snprintf(query, sizeof(query), "%s", q + 1);
-	char *save = NULL;
-	for (char *kv = strtok_r(query, "&", &save); kv; kv = strtok_r(NULL, "&", &save)) {
-		char *end;
-		if (!strncmp(kv, "topic=", 6) && kv[6] && strlen(kv + 6) < sizeof(u->topic)) {
-			snprintf(u->topic, sizeof(u->topic), "%s", kv + 6);
-		} else if (!strncmp(kv, "color=", 6) && kv[6] && strlen(kv + 6) < sizeof(u->color)) {
-			snprintf(u->color, sizeof(u->color), "%s", kv + 6);
-		} else if (!strncmp(kv, "unit=", 5)) {
-			double v = strtod(kv + 5, &end);
-			if (end == kv + 5 || *end || !(v > 0 && v <= 1))
-				return dao_error_set(err, -EINVAL,
-						     "bag: unit '%s' must be metres per count in (0, 1]",
-						     kv + 5);
-			u->unit = (float)v;
-		} else {
-			return dao_error_set(err, -EINVAL,
-					     "bag: unknown option '%s' (known: topic=NAME, unit=METRES, "
-					     "color=NAME)",
-					     kv);
-		}
-	}
-	return 0;
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "bag", uri + plen + 1, bag_options, err);
+	if (r < 0)
+		return r;
+	double unit = 0;
+	if ((r = dao_options_get_string(o, "topic", u->topic, sizeof u->topic, err)) >= 0 &&
+	    (r = dao_options_get_string(o, "color", u->color, sizeof u->color, err)) >= 0 &&
+	    (r = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE, &unit, err)) > 0)
+		u->unit = (float)unit; /* metres per count */
+	dao_options_free(o);
+	return r < 0 ? r : 0;
 }
 
 /* A depth encoding: 1 for 16-bit counts, 2 for float metres, 0 otherwise. */

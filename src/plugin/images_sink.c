@@ -47,48 +47,22 @@ struct images_sink {
 	struct keep_list files;  /* with keep: the sink's files in DIR, oldest first */
 };
 
-/* Length of the directory part of a URI: up to the last '?' if options ("k=v") follow. */
-static size_t dir_len(const char *uri)
-{
-	const char *q = strrchr(uri, '?');
-	return q && strchr(q, '=') ? (size_t)(q - uri) : strlen(uri);
-}
+static const char *const images_options[] = {"compression", "keep", NULL};
 
 /* "compression=N&keep=N" in any order; 0 or -EINVAL with a message. */
-static int parse_options(struct images_sink *s, const char *uri, const char *opts,
-			 struct dao_error *err)
+static int parse_options(struct images_sink *s, const char *opts, struct dao_error *err)
 {
-	while (*opts) {
-		size_t n = strcspn(opts, "&");
-		char key[16];
-		const char *eq = memchr(opts, '=', n);
-		size_t klen = eq ? (size_t)(eq - opts) : n;
-		snprintf(key, sizeof key, "%.*s", (int)(klen < sizeof key ? klen : sizeof key - 1), opts);
-		char *end = NULL;
-		unsigned long long v = 0;
-		if (eq && eq + 1 < opts + n && eq[1] >= '0' && eq[1] <= '9')
-			v = strtoull(eq + 1, &end, 10);
-		int ok = end == opts + n;
-		if (!strcmp(key, "compression") && klen == 11) {
-			if (!ok || v > 9)
-				return dao_error_set(err, -EINVAL,
-						     "images: '%s': compression must be 0..9 (0 = none, "
-						     "1 = fastest, the default; 9 = smallest)", uri);
-			s->compression = (int)v;
-		} else if (!strcmp(key, "keep") && klen == 4) {
-			if (!ok || v < 1 || v > IMAGES_SINK_MAX_KEEP)
-				return dao_error_set(err, -EINVAL,
-						     "images: '%s': keep must be a file count in 1..%d",
-						     uri, IMAGES_SINK_MAX_KEEP);
-			s->keep = (uint32_t)v;
-		} else {
-			return dao_error_set(err, -EINVAL,
-					     "images: '%s': unknown option '%.*s' (options: "
-					     IMAGES_SINK_OPTIONS_HELP ")", uri, (int)n, opts);
-		}
-		opts += n + (opts[n] == '&');
-	}
-	return 0;
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "images", opts, images_options, err);
+	if (r < 0)
+		return r;
+	int64_t level, keep;
+	if ((r = dao_options_get_int(o, "compression", 0, 9, &level, err)) > 0)
+		s->compression = (int)level; /* 0 = none, 1 = fastest, the default; 9 = smallest */
+	if (r >= 0 && (r = dao_options_get_int(o, "keep", 1, IMAGES_SINK_MAX_KEEP, &keep, err)) > 0)
+		s->keep = (uint32_t)keep;
+	dao_options_free(o);
+	return r < 0 ? r : 0;
 }
 
 /* The number of a name the sink writes ("%06llu.png"), or -1 for any other name. */
@@ -225,7 +199,7 @@ static int images_sink_open(const char *uri, void **state, struct dao_error *err
 {
 	struct stat st;
 	int r;
-	size_t n = dir_len(uri);
+	size_t n = dao_uri_path_len(uri, images_options);
 	if (n == 0)
 		return dao_error_set(err, -EINVAL,
 				     "images: no output directory given; use images:DIR"
@@ -237,7 +211,7 @@ static int images_sink_open(const char *uri, void **state, struct dao_error *err
 	}
 	s->compression = DAO_PNG_COMPRESSION_DEFAULT;
 	keep_list_init(&s->files);
-	if (uri[n] == '?' && (r = parse_options(s, uri, uri + n + 1, err)) < 0)
+	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
 		goto fail;
 	while (n > 1 && s->dir[n - 1] == '/') /* "out/" -> "out", "/" stays */
 		s->dir[--n] = '\0';

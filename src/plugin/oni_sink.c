@@ -63,42 +63,31 @@ struct oni_sink {
 	uint64_t last_ts_us;
 };
 
+static const char *const oni_sink_options[] = {"codec", "overwrite", NULL};
+
 static int oni_sink_probe(const char *uri)
 {
-	size_t n = dao_output_uri_path_len(uri);
+	size_t n = dao_uri_path_len(uri, oni_sink_options);
 	return n > 4 && !strncasecmp(uri + n - 4, ".oni", 4) ? 50 : 0;
 }
 
 /* "codec=X&overwrite=B" after the '?'. */
-static int parse_options(struct oni_sink *s, const char *uri, const char *opts,
-			 struct dao_error *err)
+static int parse_options(struct oni_sink *s, const char *opts, struct dao_error *err)
 {
-	char *copy = strdup(opts), *save = NULL;
-	int r = 0;
-	if (!copy)
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	for (char *kv = strtok_r(copy, "&", &save); kv && r == 0; kv = strtok_r(NULL, "&", &save)) {
-		char *v = strchr(kv, '=');
-		if (v)
-			*v++ = '\0';
-		if (!strcmp(kv, "overwrite")) {
-			r = dao_output_parse_overwrite("oni", uri, v, &s->overwrite, err);
-		} else if (strcmp(kv, "codec") != 0) {
-			r = dao_error_set(err, -EINVAL,
-					  "oni: unknown option '%s' in '%s'; the recorder takes "
-					  ONI_SINK_OPTIONS_HELP,
-					  kv, uri);
-		} else if (!v || dao_oni_codec_from_name(v, &s->codec) < 0 ||
-			   (s->codec != DAO_ONI_CODEC_NONE && s->codec != DAO_ONI_CODEC_16Z &&
-			    s->codec != DAO_ONI_CODEC_16ZT)) {
-			r = dao_error_set(err, -EINVAL,
-					  "oni: codec '%s' in '%s' cannot record depth; use none, "
-					  "16z or 16zt",
-					  v ? v : "", uri);
-		}
-	}
-	free(copy);
-	return r;
+	/* the codecs that record depth (16zp: another name of 16z) */
+	static const char *const codecs[] = {"none", "16z", "16zp", "16zt", NULL};
+	static const enum dao_oni_codec codec_of[] = {DAO_ONI_CODEC_NONE, DAO_ONI_CODEC_16Z,
+						      DAO_ONI_CODEC_16Z, DAO_ONI_CODEC_16ZT};
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "oni", opts, oni_sink_options, err);
+	if (r < 0)
+		return r;
+	int codec;
+	if ((r = dao_options_get_bool(o, "overwrite", &s->overwrite, err)) >= 0 &&
+	    (r = dao_options_get_enum(o, "codec", codecs, &codec, err)) > 0)
+		s->codec = codec_of[codec];
+	dao_options_free(o);
+	return r < 0 ? r : 0;
 }
 
 /* A file, or nothing, at `path`, in a directory that exists and is writable. */
@@ -130,7 +119,7 @@ static int check_dir(const char *path, struct dao_error *err)
 static int oni_sink_open(const char *uri, void **state, struct dao_error *err)
 {
 	int r;
-	size_t n = dao_output_uri_path_len(uri);
+	size_t n = dao_uri_path_len(uri, oni_sink_options);
 	if (n == 0)
 		return dao_error_set(err, -EINVAL,
 				     "oni: no output file given; use oni:PATH.oni" ONI_SINK_OPTIONS_HELP);
@@ -140,7 +129,7 @@ static int oni_sink_open(const char *uri, void **state, struct dao_error *err)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	}
 	s->codec = DAO_ONI_CODEC_16ZT;
-	if (uri[n] == '?' && (r = parse_options(s, uri, uri + n + 1, err)) < 0)
+	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
 		goto fail;
 	if ((r = check_dir(s->path, err)) < 0)
 		goto fail;

@@ -69,9 +69,11 @@ struct y4m_sink {
 	uint64_t last_sync_ns;
 };
 
+static const char *const y4m_options[] = {"overwrite", NULL};
+
 static int y4m_probe(const char *uri)
 {
-	size_t n = dao_output_uri_path_len(uri);
+	size_t n = dao_uri_path_len(uri, y4m_options);
 	struct stat st;
 	if (n > 4 && !strncasecmp(uri + n - 4, ".y4m", 4))
 		return 50;
@@ -83,27 +85,15 @@ static int y4m_probe(const char *uri)
 }
 
 /* "overwrite=B" after the '?'. */
-static int parse_options(const char *uri, const char *opts, int *overwrite,
-			 struct dao_error *err)
+static int parse_options(const char *opts, int *overwrite, struct dao_error *err)
 {
-	char *copy = strdup(opts), *save = NULL;
-	int r = 0;
-	if (!copy)
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	for (char *kv = strtok_r(copy, "&", &save); kv && r == 0; kv = strtok_r(NULL, "&", &save)) {
-		char *v = strchr(kv, '=');
-		if (v)
-			*v++ = '\0';
-		if (!strcmp(kv, "overwrite"))
-			r = dao_output_parse_overwrite("y4m", uri, v, overwrite, err);
-		else
-			r = dao_error_set(err, -EINVAL,
-					  "y4m: unknown option '%s' in '%s'; y4m takes "
-					  "?overwrite=true|false",
-					  kv, uri);
+	struct dao_options *o;
+	int r = dao_options_parse(&o, "y4m", opts, y4m_options, err);
+	if (r == 0) {
+		r = dao_options_get_bool(o, "overwrite", overwrite, err);
+		dao_options_free(o);
 	}
-	free(copy);
-	return r;
+	return r < 0 ? r : 0;
 }
 
 /* FIFOs and character devices: straight into them, never created or truncated. */
@@ -175,7 +165,7 @@ static int y4m_open(const char *uri, void **state, struct dao_error *err)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	s->fd = -1;
 	s->is_stdout = !strcmp(uri, "-");
-	size_t n = dao_output_uri_path_len(uri);
+	size_t n = dao_uri_path_len(uri, y4m_options);
 	if (!(s->name = s->is_stdout ? strdup("stdout") : strndup(uri, n))) {
 		r = dao_error_set(err, -ENOMEM, "out of memory");
 		goto fail;
@@ -185,7 +175,7 @@ static int y4m_open(const char *uri, void **state, struct dao_error *err)
 		*state = s;
 		return 0;
 	}
-	if (uri[n] == '?' && (r = parse_options(uri, uri + n + 1, &overwrite, err)) < 0)
+	if (uri[n] == '?' && (r = parse_options(uri + n + 1, &overwrite, err)) < 0)
 		goto fail;
 	char *path = strdup(s->name);
 	if (!path) {

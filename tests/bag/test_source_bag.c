@@ -178,9 +178,15 @@ static void test_prefix_and_options(void **state)
 	assert_int_equal(dao_source_read(s, &f, 1000, &err), DAO_SOURCE_EOS);
 	dao_source_close(s);
 	snprintf(uri, sizeof uri, "%s?unit=2", bag("d16_lz4.bag"));
-	expect_open_error(uri, -EINVAL, "unit '2'", NULL);
+	expect_open_error(uri, -EINVAL, "bag: 'unit' must be a number in (0, 1], got '2'", NULL);
 	snprintf(uri, sizeof uri, "%s?topic=/x&colour=1", bag("d16_lz4.bag"));
-	expect_open_error(uri, -EINVAL, "unknown option 'colour=1'", NULL);
+	expect_open_error(uri, -EINVAL, "bag: unknown option 'colour' (known: topic, unit, color)",
+			  NULL);
+	/* a misspelt key is an error, not part of the file's name */
+	snprintf(uri, sizeof uri, "%s?tpoic=/x", bag("d16_lz4.bag"));
+	expect_open_error(uri, -EINVAL, "bag: unknown option 'tpoic'", NULL);
+	snprintf(uri, sizeof uri, "%s?topic=/x&topic=/y", bag("d16_lz4.bag"));
+	expect_open_error(uri, -EINVAL, "bag: option 'topic' is given twice", NULL);
 	struct dao_source_options past = {.size = sizeof(struct dao_source_options), .start_frame = FRAMES};
 	struct dao_source *none = NULL;
 	assert_int_equal(dao_source_open(g_plugins, bag("d16_lz4.bag"), &past, &none, &err),

@@ -76,6 +76,80 @@ static void test_round_trips(void **state)
 	dao_frame_free(&g);
 }
 
+/* The file a path holds, malloc'ed; its length in *len. */
+static unsigned char *slurp(const char *file, size_t *len)
+{
+	FILE *fp = fopen(file, "rb");
+	assert_non_null(fp);
+	fseek(fp, 0, SEEK_END);
+	long n = ftell(fp);
+	rewind(fp);
+	unsigned char *b = malloc((size_t)n + 1);
+	assert_non_null(b);
+	assert_int_equal(fread(b, 1, (size_t)n, fp), (size_t)n);
+	fclose(fp);
+	*len = (size_t)n;
+	return b;
+}
+
+/* dao_png_encode() gives the bytes dao_png_write_compressed() stores, at every level,
+ * and they decode to the frame's pixels (strided source, every format). */
+static void test_encode_in_memory(void **state)
+{
+	(void)state;
+	static const enum dao_pixfmt fmts[] = { DAO_PIXFMT_GRAY8, DAO_PIXFMT_GRAY16,
+						DAO_PIXFMT_DEPTH16, DAO_PIXFMT_RGB24 };
+	for (int k = 0; k < 4; k++)
+		for (int level = 0; level <= 9; level += 3) {
+			size_t bpp = dao_pixfmt_bytes_per_pixel(fmts[k]);
+			int stride = (int)(41 * bpp + 5);
+			unsigned char *buf = calloc((size_t)stride, 19);
+			struct dao_frame f = { fmts[k], 41, 19, stride, buf, 0.001f, 0, 0 };
+			fill(&f);
+			void *png = NULL;
+			size_t n = 0;
+			struct dao_error err;
+			assert_int_equal(dao_png_encode(&f, level, &png, &n, &err), 0);
+			assert_non_null(png);
+			assert_true(n > 8 && !memcmp(png, "\x89PNG\r\n\x1a\n", 8));
+			assert_int_equal(dao_png_write_compressed(path("m.png"), &f, level, &err), 0);
+			size_t flen;
+			unsigned char *file = slurp(path("m.png"), &flen);
+			assert_int_equal(flen, n);
+			assert_memory_equal(file, png, n);
+			free(file);
+			/* and the bytes decode to the pixels */
+			FILE *fp = fopen(path("m2.png"), "wb");
+			assert_non_null(fp);
+			assert_int_equal(fwrite(png, 1, n, fp), n);
+			fclose(fp);
+			struct dao_frame g;
+			assert_int_equal(dao_png_read(path("m2.png"), &g, &err), 0);
+			assert_same_pixels(&f, &g);
+			dao_frame_free(&g);
+			free(png);
+			free(buf);
+		}
+	/* errors leave nothing allocated and say what is wrong */
+	uint8_t px[16] = { 0 };
+	struct dao_frame f = { DAO_PIXFMT_GRAY8, 4, 4, 4, px, 0, 0, 0 };
+	void *png = (void *)px;
+	size_t n = 99;
+	struct dao_error err;
+	assert_int_equal(dao_png_encode(&f, 10, &png, &n, &err), -EINVAL);
+	assert_null(png);
+	assert_int_equal(n, 0);
+	assert_non_null(strstr(err.message, "0..9"));
+	f.format = DAO_PIXFMT_GRAY_F32;
+	f.stride = 16;
+	assert_int_equal(dao_png_encode(&f, 1, &png, &n, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "gray-f32"));
+	f.format = DAO_PIXFMT_GRAY8;
+	f.stride = 2;
+	assert_int_equal(dao_png_encode(&f, 1, &png, &n, &err), -EINVAL);
+	assert_int_equal(dao_png_encode(&f, 1, NULL, &n, &err), -EINVAL);
+}
+
 static void expect_read_error(const char *file, int code, const char *needle, int depth)
 {
 	struct dao_frame f;
@@ -172,6 +246,7 @@ int main(void)
 		cmocka_unit_test(test_round_trips),
 		cmocka_unit_test(test_read_errors),
 		cmocka_unit_test(test_write_errors),
+		cmocka_unit_test(test_encode_in_memory),
 	};
 	int r = cmocka_run_group_tests(tests, NULL, NULL);
 	char cmd[700];

@@ -269,14 +269,15 @@ static void test_bad_options(void **state)
 	const struct {
 		const char *opts, *msg;
 	} bad[] = {
-		{"?compression=10", "compression must be 0..9"},
-		{"?compression=", "compression must be 0..9"},
-		{"?compression=1x", "compression must be 0..9"},
-		{"?keep=0", "keep must be a file count in 1..10000000"},
-		{"?keep=-3", "keep must be a file count"},
-		{"?keep=10000001", "keep must be a file count"},
-		{"?keep=5&colour=red", "unknown option 'colour=red' (options: ?compression=0..9&keep=N)"},
-		{"?compressionx=1", "unknown option 'compressionx=1'"},
+		{"?compression=10", "images: 'compression' must be an integer in 0..9, got '10'"},
+		{"?compression=", "images: option 'compression' has no value"},
+		{"?compression=1x", "'compression' must be an integer in 0..9, got '1x'"},
+		{"?keep=0", "'keep' must be an integer in 1..10000000, got '0'"},
+		{"?keep=-3", "'keep' must be an integer in 1..10000000, got '-3'"},
+		{"?keep=10000001", "'keep' must be an integer in 1..10000000"},
+		{"?keep=5&colour=red", "unknown option 'colour' (known: compression, keep)"},
+		{"?compressionx=1", "unknown option 'compressionx'"},
+		{"?keep=5&keep=6", "option 'keep' is given twice"},
 	};
 	for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
 		struct dao_sink *s = NULL;

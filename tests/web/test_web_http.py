@@ -12,6 +12,7 @@ import socket
 import struct
 import sys
 import time
+import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from webtest import Daemon, MjpegReader, fail  # noqa: E402
@@ -181,6 +182,17 @@ def check_token_and_connection_limit(depthaod, plugins):
         d.close()
 
 
+def png_pixels_raw(png):
+    """The inflated image data (IDAT chunks) of a PNG: filter bytes and rows."""
+    pos, idat = 8, b""
+    while pos + 8 <= len(png):
+        n, kind = struct.unpack(">I4s", png[pos:pos + 8])
+        if kind == b"IDAT":
+            idat += png[pos + 8:pos + 8 + n]
+        pos += 12 + n
+    return zlib.decompress(idat)
+
+
 def check_stats_snapshot_streams(d):
     s0 = d.stats()
     time.sleep(1.5)
@@ -200,6 +212,10 @@ def check_stats_snapshot_streams(d):
     w, hh, depth, ctype = struct.unpack(">IIBB", png[16:26])
     if (w, hh, depth, ctype) != (640, 480, 8, 2):
         fail("/snapshot.png is %dx%d depth %d type %d, not 640x480 RGB" % (w, hh, depth, ctype))
+    # complete: the image data inflates to a filter byte and 640 RGB pixels per row
+    raw = png_pixels_raw(png)
+    if len(raw) != hh * (1 + 3 * w):
+        fail("/snapshot.png: %d bytes of image data, not %d" % (len(raw), hh * (1 + 3 * w)))
     # every stream gives frames, each a complete JPEG; the ao one is gray (1 component)
     for name in ("shaded", "ao", "depth"):
         r = MjpegReader(d.port, name)

@@ -381,8 +381,7 @@ static int images_dir(const char *uri, char *dir, size_t cap)
 		p = uri + 7;
 	else if (stat(uri, &st) != 0 || !S_ISDIR(st.st_mode))
 		return -1;
-	const char *q = strrchr(p, '?');
-	size_t n = q && strchr(q, '=') ? (size_t)(q - p) : strlen(p);
+	size_t n = dao_uri_path_len(p, NULL); /* as the sink splits it */
 	while (n > 1 && p[n - 1] == '/')
 		n--;
 	if (n == 0 || n >= cap)

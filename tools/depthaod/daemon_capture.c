@@ -18,16 +18,13 @@
  */
 static int source_names_file(const char *uri)
 {
-	size_t p = 0;
-	while ((uri[p] >= 'a' && uri[p] <= 'z') || (uri[p] >= '0' && uri[p] <= '9') ||
-	       uri[p] == '-' || uri[p] == '_')
-		p++;
-	int prefixed = p > 1 && uri[p] == ':'; /* as the plugin registry reads a prefix */
+	size_t p = dao_uri_prefix_len(uri); /* as the plugin registry reads a prefix */
+	int prefixed = p > 0;
 	if (prefixed && ((p == 3 && (!strncmp(uri, "oni", 3) || !strncmp(uri, "bag", 3))) ||
 			 (p == 6 && !strncmp(uri, "images", 6))))
 		return 1;
 	const char *rest = prefixed ? uri + p + 1 : uri;
-	size_t n = strcspn(rest, "?");
+	size_t n = dao_uri_path_len(rest, NULL);
 	if (n > 4 && (!strncasecmp(rest + n - 4, ".oni", 4) || !strncasecmp(rest + n - 4, ".bag", 4) ||
 		      !strncasecmp(rest + n - 4, ".png", 4)))
 		return 1;

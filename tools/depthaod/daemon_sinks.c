@@ -225,16 +225,17 @@ static void sink_failed(struct sink_runner *s, int r, const char *msg)
 
 /*
  * The URI for opening the sink again, after it wrote frames in this run: an
- * "overwrite=true" (or =1) among the options after the last '?' becomes
+ * "overwrite=true" (or =1) among the options (dao_uri_path_len()) becomes
  * "overwrite=false", so that a reopen (after an error, or for a new frame size)
  * never replaces what this run recorded; "" when there is none.  overwrite
  * replaces a file that is there when the sink first opens, nothing after.
  */
 void make_reopen_uri(const char *uri, char *out, size_t cap)
 {
-	const char *q = strrchr(uri, '?');
+	static const char *const overwrite_key[] = {"overwrite", NULL};
+	const char *q = uri + dao_uri_path_len(uri, overwrite_key); /* as the sinks split it */
 	out[0] = '\0';
-	if (!q || !strchr(q, '='))
+	if (!*q)
 		return;
 	size_t n = (size_t)(q - uri) + 1, len = 0;
 	int changed = 0;
