@@ -142,12 +142,9 @@ static const char *option_value(int argc, char **argv, int *i, const char *name)
 	return argv[++*i];
 }
 
-static int parse_args(int argc, char **argv, struct process_options *o)
+/* The preset, wherever --quality appears (parameter options override it): 0 or the exit status. */
+static int preset_option(int argc, char **argv, enum dao_quality *q)
 {
-	memset(o, 0, sizeof *o);
-	o->depth_unit = 0.001;
-	/* the preset first, wherever --quality appears, so parameter options override it */
-	enum dao_quality q = DAO_QUALITY_DEFAULT;
 	for (int i = 1; i < argc; i++) {
 		const char *v = option_value(argc, argv, &i, "--quality");
 		if (!v)
@@ -155,110 +152,122 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 		struct dao_error err;
 		if (!*v)
 			return usage_error("process", "--quality needs a value");
-		if (dao_quality_parse(v, &q, &err))
+		if (dao_quality_parse(v, q, &err))
 			return usage_error("process", "%s", err.message);
 	}
-	dao_params_init(&o->params, q);
-	/* a recording or device is a stream of consecutive frames: the temporal
-	 * depth filter too (a directory of images may be anything: not there);
-	 * before the parameter options, so that --depth-temporal 0 turns it off */
+	return 0;
+}
+
+/*
+ * A recording or device is a stream of consecutive frames: the temporal
+ * depth filter too (a directory of images may be anything: not there);
+ * before the parameter options, so that --depth-temporal 0 turns it off.
+ */
+static void stream_defaults_for_input(int argc, char **argv, struct dao_params *p)
+{
 	for (int i = 1; i < argc; i++) {
 		const char *v = option_value(argc, argv, &i, "--input");
 		if (v && *v && process_input_is_stream(v) && strncmp(v, "images:", 7) != 0)
-			dao_params_stream_defaults(&o->params);
+			dao_params_stream_defaults(p);
 	}
+}
 
-	for (int i = 1; i < argc; i++) {
-		const char *a = argv[i], *v;
-		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-			usage(stdout);
-			exit(0);
+/*
+ * The options below parse the option at argv[*i] if it is theirs (moving *i
+ * past its value): -1 if it is not, 0 if parsed, else the exit status.
+ */
+
+/* --input, the outputs and the camera: kept as given. */
+static int string_option(int argc, char **argv, int *i, struct process_options *o)
+{
+	const struct {
+		const char *name;
+		const char **dst;
+	} strings[] = {
+		{ "--input", &o->input }, { "--ao-out", &o->ao_out },
+		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
+		{ "--cloud-out", &o->cloud_out },
+		{ "--intrinsics", &o->intrinsics },
+		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
+	};
+	for (size_t k = 0; k < sizeof strings / sizeof strings[0]; k++) {
+		int j = *i;
+		const char *v = option_value(argc, argv, &j, strings[k].name);
+		if (v) {
+			if (!*v)
+				return usage_error("process", "%s needs a value", strings[k].name);
+			*strings[k].dst = v;
+			*i = j;
+			return 0;
 		}
-		if (strcmp(a, "--quiet") == 0) {
-			o->quiet = 1;
-			continue;
-		}
-		struct {
-			const char *name;
-			const char **dst;
-		} strings[] = {
-			{ "--input", &o->input }, { "--ao-out", &o->ao_out },
-			{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
-			{ "--cloud-out", &o->cloud_out },
-			{ "--intrinsics", &o->intrinsics },
-			{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
-		};
-		int matched = 0;
-		for (size_t k = 0; k < sizeof strings / sizeof strings[0]; k++) {
-			int j = i;
-			if ((v = option_value(argc, argv, &j, strings[k].name))) {
-				if (!*v)
-					return usage_error("process", "%s needs a value", strings[k].name);
-				*strings[k].dst = v;
-				i = j;
-				matched = 1;
-				break;
-			}
-		}
-		if (matched)
-			continue;
-		int j = i;
-		if ((v = option_value(argc, argv, &j, "--quality"))) {
-			i = j; /* applied above */
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--depth-unit"))) {
-			if (!*v || parse_double(v, &o->depth_unit) || o->depth_unit <= 0 ||
-			    o->depth_unit > 1)
-				return usage_error("process",
-						   "--depth-unit '%s' must be a number in (0, 1] metres per count",
-						   v);
-			i = j;
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--max-pixels"))) {
-			if (pixel_limit_parse(v, &o->max_pixels))
-				return usage_error("process",
-						   "--max-pixels '%s' must be a pixel count or WxH, "
-						   "at most 16384x16384", v);
-			i = j;
-			continue;
-		}
-		if (strcmp(a, "--realtime") == 0) {
-			o->realtime = 1;
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--start")) ||
-		    (v = option_value(argc, argv, &j, "--frames"))) {
-			const char *name = strncmp(argv[i], "--start", 7) == 0 ? "--start" : "--frames";
-			char *end;
-			errno = 0;
-			unsigned long n = strtoul(v, &end, 10);
-			if (!*v || *end || errno || v[0] == '-' || n > UINT32_MAX ||
-			    (n == 0 && name[2] == 'f'))
-				return usage_error("process", "%s '%s' must be a %s integer", name, v,
-						   name[2] == 'f' ? "positive" : "non-negative");
-			*(name[2] == 's' ? &o->start : &o->max_frames) = (uint32_t)n;
-			i = j;
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--frame-index"))) {
-			char *end;
-			errno = 0;
-			unsigned long long n = strtoull(v, &end, 10);
-			if (!*v || *end || errno || v[0] == '-')
-				return usage_error("process", "--frame-index '%s' is not a non-negative integer", v);
-			o->frame_index = n;
-			i = j;
-			continue;
-		}
-		char msg[DAO_ERROR_MESSAGE_MAX];
-		int r = cli_apply_param_option(&o->params, argc, argv, &i, msg, sizeof msg);
-		if (r < 0)
-			return usage_error("process", "%s", msg);
-		if (r == 0)
-			return usage_error("process", "unknown option '%s'", a);
 	}
+	return -1;
+}
+
+/* --quality (applied before), --depth-unit and --max-pixels. */
+static int input_option(int argc, char **argv, int *i, struct process_options *o)
+{
+	int j = *i;
+	const char *v;
+	if ((v = option_value(argc, argv, &j, "--quality"))) {
+		*i = j; /* applied before */
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--depth-unit"))) {
+		if (!*v || parse_double(v, &o->depth_unit) || o->depth_unit <= 0 ||
+		    o->depth_unit > 1)
+			return usage_error("process",
+					   "--depth-unit '%s' must be a number in (0, 1] metres per count",
+					   v);
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--max-pixels"))) {
+		if (pixel_limit_parse(v, &o->max_pixels))
+			return usage_error("process",
+					   "--max-pixels '%s' must be a pixel count or WxH, "
+					   "at most 16384x16384", v);
+		*i = j;
+		return 0;
+	}
+	return -1;
+}
+
+/* --start, --frames and --frame-index. */
+static int frame_option(int argc, char **argv, int *i, struct process_options *o)
+{
+	int j = *i;
+	const char *v;
+	if ((v = option_value(argc, argv, &j, "--start")) ||
+	    (v = option_value(argc, argv, &j, "--frames"))) {
+		const char *name = strncmp(argv[*i], "--start", 7) == 0 ? "--start" : "--frames";
+		char *end;
+		errno = 0;
+		unsigned long n = strtoul(v, &end, 10);
+		if (!*v || *end || errno || v[0] == '-' || n > UINT32_MAX ||
+		    (n == 0 && name[2] == 'f'))
+			return usage_error("process", "%s '%s' must be a %s integer", name, v,
+					   name[2] == 'f' ? "positive" : "non-negative");
+		*(name[2] == 's' ? &o->start : &o->max_frames) = (uint32_t)n;
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--frame-index"))) {
+		char *end;
+		errno = 0;
+		unsigned long long n = strtoull(v, &end, 10);
+		if (!*v || *end || errno || v[0] == '-')
+			return usage_error("process", "--frame-index '%s' is not a non-negative integer", v);
+		o->frame_index = n;
+		*i = j;
+		return 0;
+	}
+	return -1;
+}
+
+/* What the options say together: an input, an output, one camera: 0 or the exit status. */
+static int check_options(struct process_options *o)
+{
 	if (!o->input)
 		return usage_error("process", "--input is required");
 	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out)
@@ -282,6 +291,48 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 	if (dao_params_validate(&o->params, &err))
 		return usage_error("process", "%s", err.message);
 	return 0;
+}
+
+static int parse_args(int argc, char **argv, struct process_options *o)
+{
+	memset(o, 0, sizeof *o);
+	o->depth_unit = 0.001;
+	enum dao_quality q = DAO_QUALITY_DEFAULT;
+	int status = preset_option(argc, argv, &q);
+	if (status)
+		return status;
+	dao_params_init(&o->params, q);
+	stream_defaults_for_input(argc, argv, &o->params);
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			usage(stdout);
+			exit(0);
+		}
+		if (strcmp(a, "--quiet") == 0) {
+			o->quiet = 1;
+			continue;
+		}
+		if (strcmp(a, "--realtime") == 0) {
+			o->realtime = 1;
+			continue;
+		}
+		if ((status = string_option(argc, argv, &i, o)) >= 0 ||
+		    (status = input_option(argc, argv, &i, o)) >= 0 ||
+		    (status = frame_option(argc, argv, &i, o)) >= 0) {
+			if (status)
+				return status;
+			continue;
+		}
+		/* the AO parameters, over the preset */
+		char msg[DAO_ERROR_MESSAGE_MAX];
+		int r = cli_apply_param_option(&o->params, argc, argv, &i, msg, sizeof msg);
+		if (r < 0)
+			return usage_error("process", "%s", msg);
+		if (r == 0)
+			return usage_error("process", "unknown option '%s'", a);
+	}
+	return check_options(o);
 }
 
 /* The camera for images of w x h, from the options, a camera.json beside the input, or a default. */
