@@ -543,6 +543,117 @@ static int probe_size(const char *path, uint64_t max_pixels, uint32_t *w, uint32
 	return 0;
 }
 
+/*
+ * The PNGs of a directory input (into files) and the output directories:
+ * 0, or the exit status (files freed).
+ */
+static int prepare_outputs(const struct process_options *o, int is_dir, struct file_list *files)
+{
+	int status;
+	if (is_dir) {
+		int r = file_list_pngs(o->input, files);
+		if (r) {
+			fprintf(stderr, "depthao: cannot list '%s': %s\n", o->input, strerror(-r));
+			return 1;
+		}
+		if (files->count == 0) {
+			fprintf(stderr, "depthao: no *.png files in '%s'\n", o->input);
+			return 1;
+		}
+		if ((status = process_check_cloud_frames(o, files->count, 0))) {
+			file_list_free(files);
+			return status;
+		}
+		if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
+		    (o->shaded_out && process_ensure_dir(o->shaded_out))) {
+			file_list_free(files);
+			return 1;
+		}
+	}
+	if (o->cloud_out && !process_cloud_is_file(o) && process_ensure_dir(o->cloud_out)) {
+		file_list_free(files);
+		return 1;
+	}
+	return 0;
+}
+
+/* The context and output frames for the size of the first input: 0 or the exit status. */
+static int open_run(const struct process_options *o, int is_dir, const struct file_list *files,
+		    struct run_state *st)
+{
+	char *first = is_dir ? path_join(o->input, files->names[0]) : strdup(o->input);
+	uint32_t w = 0, h = 0;
+	struct dao_camera cam;
+	struct dao_error err;
+	int status = !first ? 1 : probe_size(first, o->max_pixels, &w, &h);
+	free(first);
+	if (!status)
+		status = process_resolve_camera(o, is_dir, w, h, NULL, &cam);
+	if (!status && (dao_context_create(&st->ctx, &cam, &o->params, &err) ||
+			dao_frame_alloc(&st->ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
+			dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, w, h, &err))) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		status = 1;
+	}
+	return status;
+}
+
+/* One PNG input: the exit status. */
+static int process_file(const struct process_options *o, struct run_state *st)
+{
+	char *cloud = o->cloud_out && !process_cloud_is_file(o)
+			      ? process_cloud_name(o->cloud_out, o->input) : NULL;
+	struct process_paths out = { o->ao_out, o->shaded_out, NULL, cloud ? cloud : o->cloud_out };
+	int status = process_one(o, st, o->input, &out, o->frame_index);
+	free(cloud);
+	return status;
+}
+
+/* Every PNG of a directory, in name order, with a progress bar: the exit status. */
+static int process_files(const struct process_options *o, struct run_state *st,
+			 const struct file_list *files)
+{
+	struct progress bar;
+	int status = 0;
+	progress_begin(&bar, files->count, o->quiet);
+	for (size_t i = 0; i < files->count && !status; i++) {
+		char *in = path_join(o->input, files->names[i]);
+		char *ao = o->ao_out ? path_join(o->ao_out, files->names[i]) : NULL;
+		char *sh = o->shaded_out ? path_join(o->shaded_out, files->names[i]) : NULL;
+		char *pc = o->cloud_out ? (process_cloud_is_file(o)
+						   ? strdup(o->cloud_out)
+						   : process_cloud_name(o->cloud_out, files->names[i]))
+				       : NULL;
+		if (!in || (o->ao_out && !ao) || (o->shaded_out && !sh) || (o->cloud_out && !pc)) {
+			fprintf(stderr, "depthao: out of memory\n");
+			status = 1;
+		} else {
+			struct process_paths out = { ao, sh, NULL, pc };
+			status = process_one(o, st, in, &out, o->frame_index + i);
+		}
+		free(in);
+		free(ao);
+		free(sh);
+		free(pc);
+		progress_update(&bar, i + 1, st->ms_total / (double)(st->frames ? st->frames : 1));
+	}
+	progress_end(&bar);
+	return status;
+}
+
+static void print_summary(const struct process_options *o, const struct run_state *st)
+{
+	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st->frames,
+		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames);
+	if (o->ao_out)
+		fprintf(stderr, " %s", o->ao_out);
+	if (o->shaded_out)
+		fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
+	if (o->cloud_out)
+		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ", o->cloud_out);
+	fputc('\n', stderr);
+}
+
 int cmd_process(int argc, char **argv)
 {
 	struct process_options o;
@@ -561,92 +672,14 @@ int cmd_process(int argc, char **argv)
 		return 1;
 	}
 	struct file_list files = { 0 };
-	if (is_dir) {
-		int r = file_list_pngs(o.input, &files);
-		if (r) {
-			fprintf(stderr, "depthao: cannot list '%s': %s\n", o.input, strerror(-r));
-			return 1;
-		}
-		if (files.count == 0) {
-			fprintf(stderr, "depthao: no *.png files in '%s'\n", o.input);
-			return 1;
-		}
-		if ((status = process_check_cloud_frames(&o, files.count, 0))) {
-			file_list_free(&files);
-			return status;
-		}
-		if ((o.ao_out && process_ensure_dir(o.ao_out)) ||
-		    (o.shaded_out && process_ensure_dir(o.shaded_out))) {
-			file_list_free(&files);
-			return 1;
-		}
-	}
-	if (o.cloud_out && !process_cloud_is_file(&o) && process_ensure_dir(o.cloud_out)) {
-		file_list_free(&files);
-		return 1;
-	}
-	char *first = is_dir ? path_join(o.input, files.names[0]) : strdup(o.input);
-	uint32_t w = 0, h = 0;
-	struct dao_camera cam;
+	if ((status = prepare_outputs(&o, is_dir, &files)))
+		return status;
 	struct run_state st = { 0 };
-	struct dao_error err;
-	status = !first ? 1 : probe_size(first, o.max_pixels, &w, &h);
-	free(first);
+	status = open_run(&o, is_dir, &files, &st);
 	if (!status)
-		status = process_resolve_camera(&o, is_dir, w, h, NULL, &cam);
-	if (!status && (dao_context_create(&st.ctx, &cam, &o.params, &err) ||
-			dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
-			dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, w, h, &err))) {
-		fprintf(stderr, "depthao: %s\n", err.message);
-		status = 1;
-	}
-	if (status)
-		goto out;
-
-	if (!is_dir) {
-		char *cloud = o.cloud_out && !process_cloud_is_file(&o)
-				      ? process_cloud_name(o.cloud_out, o.input) : NULL;
-		struct process_paths out = { o.ao_out, o.shaded_out, NULL, cloud ? cloud : o.cloud_out };
-		status = process_one(&o, &st, o.input, &out, o.frame_index);
-		free(cloud);
-	} else {
-		struct progress bar;
-		progress_begin(&bar, files.count, o.quiet);
-		for (size_t i = 0; i < files.count && !status; i++) {
-			char *in = path_join(o.input, files.names[i]);
-			char *ao = o.ao_out ? path_join(o.ao_out, files.names[i]) : NULL;
-			char *sh = o.shaded_out ? path_join(o.shaded_out, files.names[i]) : NULL;
-			char *pc = o.cloud_out ? (process_cloud_is_file(&o)
-							  ? strdup(o.cloud_out)
-							  : process_cloud_name(o.cloud_out, files.names[i]))
-					       : NULL;
-			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh) || (o.cloud_out && !pc)) {
-				fprintf(stderr, "depthao: out of memory\n");
-				status = 1;
-			} else {
-				struct process_paths out = { ao, sh, NULL, pc };
-				status = process_one(&o, &st, in, &out, o.frame_index + i);
-			}
-			free(in);
-			free(ao);
-			free(sh);
-			free(pc);
-			progress_update(&bar, i + 1, st.ms_total / (double)(st.frames ? st.frames : 1));
-		}
-		progress_end(&bar);
-	}
-	if (!status && !o.quiet) {
-		fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st.frames,
-			st.frames == 1 ? "" : "s", st.ms_total / (double)st.frames);
-		if (o.ao_out)
-			fprintf(stderr, " %s", o.ao_out);
-		if (o.shaded_out)
-			fprintf(stderr, "%s%s", o.ao_out ? " and " : " ", o.shaded_out);
-		if (o.cloud_out)
-			fprintf(stderr, "%s%s", o.ao_out || o.shaded_out ? " and " : " ", o.cloud_out);
-		fputc('\n', stderr);
-	}
-out:
+		status = is_dir ? process_files(&o, &st, &files) : process_file(&o, &st);
+	if (!status && !o.quiet)
+		print_summary(&o, &st);
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);
 	dao_context_destroy(st.ctx);
