@@ -641,19 +641,6 @@ static int process_files(const struct process_options *o, struct run_state *st,
 	return status;
 }
 
-static void print_summary(const struct process_options *o, const struct run_state *st)
-{
-	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st->frames,
-		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames);
-	if (o->ao_out)
-		fprintf(stderr, " %s", o->ao_out);
-	if (o->shaded_out)
-		fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
-	if (o->cloud_out)
-		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ", o->cloud_out);
-	fputc('\n', stderr);
-}
-
 int cmd_process(int argc, char **argv)
 {
 	struct process_options o;
@@ -679,7 +666,7 @@ int cmd_process(int argc, char **argv)
 	if (!status)
 		status = is_dir ? process_files(&o, &st, &files) : process_file(&o, &st);
 	if (!status && !o.quiet)
-		print_summary(&o, &st);
+		process_print_summary(&o, &st); /* no overlay from PNG input */
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);
 	dao_context_destroy(st.ctx);

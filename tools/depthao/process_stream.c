@@ -206,7 +206,7 @@ static int prepare_run(const struct process_options *o, struct dao_source *src,
 	return 0;
 }
 
-static void print_summary(const struct process_options *o, const struct run_state *st)
+void process_print_summary(const struct process_options *o, const struct run_state *st)
 {
 	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st->frames,
 		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames);
@@ -243,7 +243,7 @@ int process_stream(const struct process_options *o)
 		status = 1;
 	}
 	if (!status && !o->quiet)
-		print_summary(o, &st);
+		process_print_summary(o, &st);
 	dao_source_close(src);
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);
