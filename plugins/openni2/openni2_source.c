@@ -219,8 +219,8 @@ static int set_speed(struct ni_source *s, float speed)
 		       : -EIO;
 }
 
-/* Opens the device and streams and fills s->info. */
-static int open_device(struct ni_source *s, struct dao_error *err)
+/* Opens the device (its info into di) and creates its depth and, if wanted, colour streams. */
+static int open_streams(struct ni_source *s, OniDeviceInfo *di, struct dao_error *err)
 {
 	const char *uri = strcmp(s->uri, "any") ? s->uri : NULL;
 	if (oniDeviceOpen(uri, &s->dev) != ONI_STATUS_OK) {
@@ -229,10 +229,9 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 		return dao_error_set(err, s->is_file ? -EINVAL : -ENODEV,
 				    "openni2: cannot open '%s': %s", s->uri, ni_error(e, sizeof(e)));
 	}
-	OniDeviceInfo di;
-	memset(&di, 0, sizeof(di));
-	if (oniDeviceGetInfo(s->dev, &di) == ONI_STATUS_OK)
-		snprintf(s->device_uri, sizeof(s->device_uri), "%s", di.uri);
+	memset(di, 0, sizeof(*di));
+	if (oniDeviceGetInfo(s->dev, di) == ONI_STATUS_OK)
+		snprintf(s->device_uri, sizeof(s->device_uri), "%s", di->uri);
 	if (!oniDeviceGetSensorInfo(s->dev, ONI_SENSOR_DEPTH))
 		return dao_error_set(err, -EINVAL, "openni2: '%s' has no depth sensor", s->uri);
 	if (s->is_file) {
@@ -253,9 +252,13 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 		if (oniDeviceCreateStream(s->dev, ONI_SENSOR_COLOR, &s->color) != ONI_STATUS_OK)
 			s->color = NULL; /* depth alone is still useful */
 	}
+	return 0;
+}
 
+/* The depth stream's size, unit, field of view, mirroring, registration and frame count. */
+static int read_depth_info(struct ni_source *s, struct dao_error *err)
+{
 	struct dao_source_info *in = &s->info;
-	memset(in, 0, sizeof(*in));
 	OniVideoMode vm;
 	int size = sizeof(vm);
 	if (oniStreamGetProperty(s->depth, ONI_STREAM_PROPERTY_VIDEO_MODE, &vm, &size) !=
@@ -306,19 +309,40 @@ static int open_device(struct ni_source *s, struct dao_error *err)
 		s->frame_count = n;
 		in->frame_count = n;
 	}
-	if (s->color) {
-		size = sizeof(vm);
-		if (oniStreamGetProperty(s->color, ONI_STREAM_PROPERTY_VIDEO_MODE, &vm, &size) ==
-			    ONI_STATUS_OK &&
-		    vm.pixelFormat == ONI_PIXEL_FORMAT_RGB888) {
-			in->has_color = 1;
-			in->color_width = (uint32_t)vm.resolutionX;
-			in->color_height = (uint32_t)vm.resolutionY;
-		} else {
-			oniStreamDestroy(s->color);
-			s->color = NULL;
-		}
+	return 0;
+}
+
+/* The colour stream's size if it delivers RGB888; else the stream is dropped. */
+static void read_color_info(struct ni_source *s)
+{
+	struct dao_source_info *in = &s->info;
+	OniVideoMode vm;
+	int size = sizeof(vm);
+	if (oniStreamGetProperty(s->color, ONI_STREAM_PROPERTY_VIDEO_MODE, &vm, &size) ==
+		    ONI_STATUS_OK &&
+	    vm.pixelFormat == ONI_PIXEL_FORMAT_RGB888) {
+		in->has_color = 1;
+		in->color_width = (uint32_t)vm.resolutionX;
+		in->color_height = (uint32_t)vm.resolutionY;
+	} else {
+		oniStreamDestroy(s->color);
+		s->color = NULL;
 	}
+}
+
+/* Opens the device and streams and fills s->info. */
+static int open_device(struct ni_source *s, struct dao_error *err)
+{
+	OniDeviceInfo di;
+	int r = open_streams(s, &di, err);
+	if (r)
+		return r;
+	struct dao_source_info *in = &s->info;
+	memset(in, 0, sizeof(*in));
+	if ((r = read_depth_info(s, err)))
+		return r;
+	if (s->color)
+		read_color_info(s);
 	snprintf(in->description, sizeof(in->description), "OpenNI2 %s%.100s: depth %ux%u@%.0f %s%s",
 		 s->is_file ? "file " : "", di.name[0] && !s->is_file ? di.name : s->uri,
 		 in->width, in->height, in->fps, in->depth_unit == 0.001f ? "1 mm" : "100 um",

@@ -280,104 +280,125 @@ static int zeros_to_end(struct dao_oni_reader *r, uint64_t pos)
 	return 1;
 }
 
+struct record_header {
+	uint32_t type, id, fsize, psize;   /* fsize: the header and fields; psize: the payload */
+};
+
+/*
+ * The header of the record at sc->pos, checked against the file: 0, or 1
+ * where the records end (sc->tail says how: no end record, cut short, zeros),
+ * or < 0 on errors.
+ */
+static int read_record_header(struct dao_oni_reader *r, struct scan *sc, size_t hsize,
+			      struct record_header *rec)
+{
+	uint8_t h[ONI_RECORD_HEADER_SIZE];
+	int ret;
+	/* an unfinished recording: stop at the last complete record */
+	if (sc->pos == r->file_size) {
+		sc->tail = TAIL_NO_END;
+		return 1;
+	}
+	if (r->file_size - sc->pos < hsize) {
+		sc->tail = TAIL_CUT;
+		sc->tail_need = hsize;
+		return 1;
+	}
+	if ((ret = read_at(r, h, hsize, sc->pos)) < 0)
+		return dao_error_set(sc->err, ret == -ENODATA ? -EIO : ret,
+				     "%s: cannot read: %s", sc->path, strerror(-ret));
+	uint32_t magic = oni_rd32(h);
+	rec->type = oni_rd32(h + 4), rec->id = oni_rd32(h + 8);
+	rec->fsize = oni_rd32(h + 12), rec->psize = oni_rd32(h + 16);
+	if (magic != ONI_RECORD_MAGIC) {
+		int z = zeros_to_end(r, sc->pos);
+		if (z == 1) {
+			sc->tail = TAIL_ZEROS;
+			return 1;
+		}
+		return z < 0 ? dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
+					     strerror(z == -ENODATA ? EIO : -z))
+			     : CORRUPT(sc, "bad record magic 0x%08x", AT(sc), magic);
+	}
+	if (rec->fsize < hsize || rec->fsize > ONI_MAX_FIELDS_SIZE)
+		return CORRUPT(sc, "impossible fields size %u", AT(sc), rec->fsize);
+	if ((uint64_t)rec->fsize + rec->psize > r->file_size - sc->pos) {
+		sc->tail = TAIL_CUT;
+		sc->tail_need = (uint64_t)rec->fsize + rec->psize;
+		return 1;
+	}
+	if (rec->type != ONI_REC_END && rec->id > r->max_node_id)
+		return CORRUPT(sc, "node id %u above the header's maximum %u", AT(sc), rec->id,
+			       r->max_node_id);
+	return 0;
+}
+
+/* The record's flen bytes of fields after its header, into *fields (grown as needed). */
+static int read_record_fields(struct dao_oni_reader *r, struct scan *sc, size_t hsize, size_t flen,
+			      uint8_t **fields, size_t *fields_cap)
+{
+	int ret;
+	if (flen > *fields_cap) {
+		uint8_t *nf = realloc(*fields, flen);
+		if (!nf)
+			return dao_error_set(sc->err, -ENOMEM, "out of memory reading %s", sc->path);
+		*fields = nf;
+		*fields_cap = flen;
+	}
+	if (flen && (ret = read_at(r, *fields, flen, sc->pos + hsize)) < 0)
+		return dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
+				     strerror(ret == -ENODATA ? EIO : -ret));
+	return 0;
+}
+
+/* What a record says: nodes, their properties and frames (*ended at the end record). */
+static int apply_record(struct dao_oni_reader *r, struct scan *sc, const struct record_header *rec,
+			const uint8_t *fields, size_t flen, int *ended)
+{
+	switch (rec->type) {
+	case ONI_REC_NODE_ADDED_1_0_0_4:
+	case ONI_REC_NODE_ADDED_1_0_0_5:
+	case ONI_REC_NODE_ADDED:
+		return add_node(r, sc, rec->id, rec->type, fields, flen);
+	case ONI_REC_INT_PROPERTY:
+	case ONI_REC_REAL_PROPERTY:
+	case ONI_REC_STRING_PROPERTY:
+	case ONI_REC_GENERAL_PROPERTY:
+		return add_property(r, sc, rec->type, rec->id, fields, flen);
+	case ONI_REC_NEW_DATA:
+		return add_frame(r, sc, rec->id, fields, flen, sc->pos + rec->fsize, rec->psize);
+	case ONI_REC_NODE_REMOVED:
+	case ONI_REC_NODE_DATA_BEGIN:
+	case ONI_REC_NODE_STATE_READY:
+	case ONI_REC_SEEK_TABLE:
+		return 0;
+	case ONI_REC_END:
+		*ended = 1;
+		return 0;
+	default:
+		return CORRUPT(sc, "unknown record type %u", AT(sc), rec->type);
+	}
+}
+
 static int scan_records(struct dao_oni_reader *r, struct scan *sc)
 {
 	const size_t hsize = r->old32 ? ONI_RECORD_HEADER_SIZE_OLD32 : ONI_RECORD_HEADER_SIZE;
-	uint8_t h[ONI_RECORD_HEADER_SIZE];
 	uint8_t *fields = NULL;
 	size_t fields_cap = 0;
 	int ret = 0, ended = 0;
 
 	sc->pos = ONI_FILE_HEADER_SIZE;
 	for (sc->index = 0; !ended; sc->index++) {
-		/* an unfinished recording: stop at the last complete record */
-		if (sc->pos == r->file_size) {
-			sc->tail = TAIL_NO_END;
+		struct record_header rec = { 0 };
+		if ((ret = read_record_header(r, sc, hsize, &rec)) != 0) {
+			ret = ret > 0 ? 0 : ret; /* > 0: the records end before an end record */
 			break;
 		}
-		if (r->file_size - sc->pos < hsize) {
-			sc->tail = TAIL_CUT;
-			sc->tail_need = hsize;
+		const size_t flen = rec.fsize - hsize;
+		if ((ret = read_record_fields(r, sc, hsize, flen, &fields, &fields_cap)) < 0 ||
+		    (ret = apply_record(r, sc, &rec, fields, flen, &ended)) < 0)
 			break;
-		}
-		if ((ret = read_at(r, h, hsize, sc->pos)) < 0) {
-			ret = dao_error_set(sc->err, ret == -ENODATA ? -EIO : ret,
-					    "%s: cannot read: %s", sc->path, strerror(-ret));
-			break;
-		}
-		uint32_t magic = oni_rd32(h), type = oni_rd32(h + 4), id = oni_rd32(h + 8);
-		uint32_t fsize = oni_rd32(h + 12), psize = oni_rd32(h + 16);
-		if (magic != ONI_RECORD_MAGIC) {
-			int z = zeros_to_end(r, sc->pos);
-			if (z == 1) {
-				sc->tail = TAIL_ZEROS;
-				break;
-			}
-			ret = z < 0 ? dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
-						    strerror(z == -ENODATA ? EIO : -z))
-				    : CORRUPT(sc, "bad record magic 0x%08x", AT(sc), magic);
-			break;
-		}
-		if (fsize < hsize || fsize > ONI_MAX_FIELDS_SIZE) {
-			ret = CORRUPT(sc, "impossible fields size %u", AT(sc), fsize);
-			break;
-		}
-		if ((uint64_t)fsize + psize > r->file_size - sc->pos) {
-			sc->tail = TAIL_CUT;
-			sc->tail_need = (uint64_t)fsize + psize;
-			break;
-		}
-		if (type != ONI_REC_END && id > r->max_node_id) {
-			ret = CORRUPT(sc, "node id %u above the header's maximum %u", AT(sc), id,
-				      r->max_node_id);
-			break;
-		}
-		size_t flen = fsize - hsize;
-		if (flen > fields_cap) {
-			uint8_t *nf = realloc(fields, flen);
-			if (!nf) {
-				ret = dao_error_set(sc->err, -ENOMEM, "out of memory reading %s",
-						    sc->path);
-				break;
-			}
-			fields = nf;
-			fields_cap = flen;
-		}
-		if (flen && (ret = read_at(r, fields, flen, sc->pos + hsize)) < 0) {
-			ret = dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
-					    strerror(ret == -ENODATA ? EIO : -ret));
-			break;
-		}
-		switch (type) {
-		case ONI_REC_NODE_ADDED_1_0_0_4:
-		case ONI_REC_NODE_ADDED_1_0_0_5:
-		case ONI_REC_NODE_ADDED:
-			ret = add_node(r, sc, id, type, fields, flen);
-			break;
-		case ONI_REC_INT_PROPERTY:
-		case ONI_REC_REAL_PROPERTY:
-		case ONI_REC_STRING_PROPERTY:
-		case ONI_REC_GENERAL_PROPERTY:
-			ret = add_property(r, sc, type, id, fields, flen);
-			break;
-		case ONI_REC_NEW_DATA:
-			ret = add_frame(r, sc, id, fields, flen, sc->pos + fsize, psize);
-			break;
-		case ONI_REC_NODE_REMOVED:
-		case ONI_REC_NODE_DATA_BEGIN:
-		case ONI_REC_NODE_STATE_READY:
-		case ONI_REC_SEEK_TABLE:
-			break;
-		case ONI_REC_END:
-			ended = 1;
-			break;
-		default:
-			ret = CORRUPT(sc, "unknown record type %u", AT(sc), type);
-			break;
-		}
-		if (ret < 0)
-			break;
-		sc->pos += (uint64_t)fsize + psize;
+		sc->pos += (uint64_t)rec.fsize + rec.psize;
 	}
 	free(fields);
 	return ret;

@@ -66,10 +66,9 @@ static int connect_by(int fd, const struct sockaddr_un *addr, long long deadline
 	}
 }
 
-int cmd_ctl(int argc, char **argv)
+/* The options before the command; *next: the command's index.  -1 to go on, else the exit status. */
+static int parse_options(int argc, char **argv, const char **sock, double *timeout_s, int *next)
 {
-	const char *sock = NULL;
-	double timeout_s = 5;
 	int i = 1;
 	for (; i < argc && !strncmp(argv[i], "--", 2); i++) {
 		if (!strcmp(argv[i], "--help")) {
@@ -77,34 +76,39 @@ int cmd_ctl(int argc, char **argv)
 			return 0;
 		}
 		if (!strcmp(argv[i], "--socket") && i + 1 < argc) {
-			sock = argv[++i];
+			*sock = argv[++i];
 		} else if (!strcmp(argv[i], "--timeout") && i + 1 < argc) {
 			char *end;
-			timeout_s = strtod(argv[++i], &end);
-			if (*end || !(timeout_s >= 0.01 && timeout_s <= 86400))
+			*timeout_s = strtod(argv[++i], &end);
+			if (*end || !(*timeout_s >= 0.01 && *timeout_s <= 86400))
 				return usage_error("ctl", "--timeout '%s' must be seconds in 0.01..86400",
 						   argv[i]);
 		} else
 			return usage_error("ctl", "unknown option '%s'", argv[i]);
 	}
-	if (!sock)
+	if (!*sock)
 		return usage_error("ctl", "--socket PATH is required");
 	if (i >= argc)
 		return usage_error("ctl", "no command given");
-	const char *cmd = argv[i++];
-	int nargs = argc - i;
+	*next = i;
+	return -1;
+}
+
+/* The JSON request of the command cmd with its nargs arguments args: 0 or the exit status. */
+static int build_request(const char *cmd, char **args, int nargs, struct json_object **out)
+{
 	struct json_object *req = json_object_new_object();
 	json_object_object_add(req, "cmd", json_object_new_string(cmd));
 	if (!strcmp(cmd, "get") && nargs <= 1) {
 		if (nargs)
-			json_object_object_add(req, "key", json_object_new_string(argv[i]));
+			json_object_object_add(req, "key", json_object_new_string(args[0]));
 	} else if (!strcmp(cmd, "set") && nargs == 2) {
-		json_object_object_add(req, "key", json_object_new_string(argv[i]));
-		json_object_object_add(req, "value", json_object_new_string(argv[i + 1]));
+		json_object_object_add(req, "key", json_object_new_string(args[0]));
+		json_object_object_add(req, "value", json_object_new_string(args[1]));
 	} else if (!strcmp(cmd, "snapshot") && nargs == 1) {
 		/* the daemon writes it: a relative path is made absolute here, where it was meant */
 		char cwd[4096], abs[8192];
-		const char *path = argv[i];
+		const char *path = args[0];
 		if (path[0] != '/') {
 			if (!getcwd(cwd, sizeof cwd)) {
 				fprintf(stderr, "depthao: ctl snapshot %s: cannot tell the current "
@@ -123,30 +127,19 @@ int cmd_ctl(int argc, char **argv)
 		json_object_put(req);
 		return usage_error("ctl", "bad command or arguments: '%s'", cmd);
 	}
-	struct sockaddr_un addr = {.sun_family = AF_UNIX};
-	if (strlen(sock) >= sizeof addr.sun_path) {
-		json_object_put(req);
-		return usage_error("ctl", "socket path '%s' is too long", sock);
-	}
-	memcpy(addr.sun_path, sock, strlen(sock) + 1);
-	long long deadline = now_ms() + (long long)(timeout_s * 1000);
-	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
-	int r = fd < 0 ? -errno : connect_by(fd, &addr, deadline);
-	if (r < 0) {
-		fprintf(stderr, "depthao: cannot connect to %s: %s (is depthaod running with this "
-			"socket?)\n", sock, strerror(-r));
-		json_object_put(req);
-		if (fd >= 0)
-			close(fd);
-		return 1;
-	}
+	*out = req;
+	return 0;
+}
+
+/* The request as one line on fd, by the deadline: 0 or the exit status. */
+static int send_request(int fd, struct json_object *req, const char *sock, long long deadline)
+{
 	const char *text = json_object_to_json_string_ext(req, JSON_C_TO_STRING_PLAIN);
-	int status = 1;
 	char line[8192];
 	size_t n = (size_t)snprintf(line, sizeof line, "%s\n", text), off = 0;
 	if (n >= sizeof line) {
 		fprintf(stderr, "depthao: the request is too long\n");
-		goto out;
+		return 1;
 	}
 	while (off < n) {
 		ssize_t w = send(fd, line + off, n - off, MSG_NOSIGNAL);
@@ -162,8 +155,14 @@ int cmd_ctl(int argc, char **argv)
 	if (off < n) {
 		fprintf(stderr, "depthao: cannot send to %s: %s\n", sock,
 			now_ms() >= deadline ? "timed out" : strerror(errno));
-		goto out;
+		return 1;
 	}
+	return 0;
+}
+
+/* The reply's line, printed: 0 if it says ok, else 1. */
+static int print_reply(int fd, const char *sock, double timeout_s, long long deadline)
+{
 	char buf[65536];
 	size_t len = 0;
 	int timed_out = 0;
@@ -183,20 +182,53 @@ int cmd_ctl(int argc, char **argv)
 	if (timed_out) {
 		fprintf(stderr, "depthao: no reply from %s within %g s (is the daemon stuck? "
 			"--timeout sets the wait)\n", sock, timeout_s);
-		goto out;
+		return 1;
 	}
 	buf[len] = '\0';
 	struct json_object *res = json_tokener_parse(buf);
 	struct json_object *ok;
 	if (!res) {
 		fprintf(stderr, "depthao: no reply from %s\n", sock);
-		goto out;
+		return 1;
 	}
 	printf("%s\n", json_object_to_json_string_ext(res, JSON_C_TO_STRING_PRETTY |
 							     JSON_C_TO_STRING_NOSLASHESCAPE));
-	status = json_object_object_get_ex(res, "ok", &ok) && json_object_get_boolean(ok) ? 0 : 1;
+	int status = json_object_object_get_ex(res, "ok", &ok) && json_object_get_boolean(ok) ? 0 : 1;
 	json_object_put(res);
-out:
+	return status;
+}
+
+int cmd_ctl(int argc, char **argv)
+{
+	const char *sock = NULL;
+	double timeout_s = 5;
+	int i = 0;
+	int status = parse_options(argc, argv, &sock, &timeout_s, &i);
+	if (status >= 0)
+		return status;
+	struct json_object *req;
+	if ((status = build_request(argv[i], argv + i + 1, argc - i - 1, &req)))
+		return status;
+	struct sockaddr_un addr = {.sun_family = AF_UNIX};
+	if (strlen(sock) >= sizeof addr.sun_path) {
+		json_object_put(req);
+		return usage_error("ctl", "socket path '%s' is too long", sock);
+	}
+	memcpy(addr.sun_path, sock, strlen(sock) + 1);
+	long long deadline = now_ms() + (long long)(timeout_s * 1000);
+	int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+	int r = fd < 0 ? -errno : connect_by(fd, &addr, deadline);
+	if (r < 0) {
+		fprintf(stderr, "depthao: cannot connect to %s: %s (is depthaod running with this "
+			"socket?)\n", sock, strerror(-r));
+		json_object_put(req);
+		if (fd >= 0)
+			close(fd);
+		return 1;
+	}
+	status = send_request(fd, req, sock, deadline);
+	if (!status)
+		status = print_reply(fd, sock, timeout_s, deadline);
 	json_object_put(req);
 	close(fd);
 	return status;

@@ -96,6 +96,143 @@ static int parse_list(char *arg, const char **out, int max)
 	return n;
 }
 
+static int parse_sensors(char *v, struct eval_options *o)
+{
+	const char *names[SYNTH_SENSOR_COUNT + 1];
+	int n = parse_list(v, names, SYNTH_SENSOR_COUNT);
+	if (n <= 0)
+		return usage_error("eval", "--sensors needs one to %d of clean, gaussian, "
+				   "structured-light, active-stereo, tof", SYNTH_SENSOR_COUNT);
+	for (int k = 0; k < n; k++) {
+		struct dao_error err;
+		if (synth_sensor_parse(names[k], &o->sensors[k], &err))
+			return usage_error("eval", "%s", err.message);
+		for (int m = 0; m < k; m++)
+			if (o->sensors[m] == o->sensors[k])
+				return usage_error("eval", "--sensors names %s twice", names[k]);
+	}
+	o->nsensors = n;
+	return 0;
+}
+
+static int parse_set(char *v, struct eval_options *o)
+{
+	struct dao_error err;
+	if (synth_set_parse(v, &o->set, &err))
+		return usage_error("eval", "%s", err.message);
+	return 0;
+}
+
+static int parse_variants(char *v, struct eval_options *o)
+{
+	char *end;
+	long n = strtol(v, &end, 10);
+	if (*end || !*v || n < 1 || n > 16)
+		return usage_error("eval", "--variants '%s' must be an integer in 1..16", v);
+	o->variants = (int)n;
+	return 0;
+}
+
+/* NAME[:PARAM=VALUE...] entries: each algorithm and the parameters of its own. */
+static int parse_algorithms(char *v, struct eval_options *o)
+{
+	char *names[EVAL_MAX_ALGORITHMS + 1];
+	int n = parse_list(v, (const char **)names, EVAL_MAX_ALGORITHMS);
+	if (n <= 0)
+		return usage_error("eval", "--algorithms needs one to four of gtao, vbao, hbao, ssao, edl");
+	for (int k = 0; k < n; k++) {
+		struct dao_params scratch;
+		struct dao_error err;
+		dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+		char *extra = strchr(names[k], ':');
+		if (extra)
+			*extra++ = '\0';
+		if (dao_params_set(&scratch, "algorithm", names[k], &err))
+			return usage_error("eval", "%s", err.message);
+		o->algorithms[k] = scratch.algorithm;
+		o->algorithm_params[k] = extra;
+		if (extra && cli_apply_param_list(extra, &scratch, &err))
+			return usage_error("eval", "%s", err.message);
+	}
+	o->na = n;
+	return 0;
+}
+
+static int parse_rays(char *v, struct eval_options *o)
+{
+	char *end;
+	long n = strtol(v, &end, 10);
+	long r = lrint(sqrt((double)n));
+	if (*end || n < 1 || r * r != n || n > 65536)
+		return usage_error("eval", "--rays %s must be a perfect square in 1..65536", v);
+	o->rays_sqrt = (int)r;
+	return 0;
+}
+
+static int parse_scenes(char *v, struct eval_options *o)
+{
+	int n = parse_list(v, o->scenes, SYNTH_SUITE_MAX_IMAGES);
+	if (n < 0)
+		return usage_error("eval", "too many scenes in --scenes");
+	o->scenes[n] = NULL;
+	return 0;
+}
+
+static int parse_qualities(char *v, struct eval_options *o)
+{
+	const char *names[DAO_QUALITY_COUNT + 1];
+	int n = parse_list(v, names, DAO_QUALITY_COUNT);
+	if (n <= 0)
+		return usage_error("eval", "--quality needs one to four presets");
+	for (int k = 0; k < n; k++) {
+		struct dao_error err;
+		if (dao_quality_parse(names[k], &o->qualities[k], &err))
+			return usage_error("eval", "%s", err.message);
+	}
+	o->nq = n;
+	return 0;
+}
+
+/* The options that take a value, each with its parser (0 or the exit status). */
+static const struct value_option {
+	const char *name;
+	int (*parse)(char *v, struct eval_options *o);
+} value_options[] = {
+	{ "--sensors", parse_sensors },
+	{ "--set", parse_set },
+	{ "--variants", parse_variants },
+	{ "--algorithms", parse_algorithms },
+	{ "--quality", parse_qualities },
+	{ "--scenes", parse_scenes },
+	{ "--rays", parse_rays },
+};
+
+static const struct value_option *value_option(const char *name)
+{
+	for (size_t k = 0; k < sizeof value_options / sizeof value_options[0]; k++)
+		if (strcmp(name, value_options[k].name) == 0)
+			return &value_options[k];
+	return NULL;
+}
+
+/* A parameter option at argv[*i], checked and remembered (they are applied per preset later). */
+static int remember_override(int argc, char **argv, int *i, struct eval_options *o)
+{
+	struct dao_params scratch;
+	dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+	int j = *i;
+	char msg[DAO_ERROR_MESSAGE_MAX];
+	int r = cli_apply_param_option(&scratch, argc, argv, &j, msg, sizeof msg);
+	if (r < 0)
+		return usage_error("eval", "%s", msg);
+	if (r == 0)
+		return usage_error("eval", "unknown option '%s'", argv[*i]);
+	for (int k = *i; k <= j && o->n_override < 64; k++)
+		o->override_args[o->n_override++] = argv[k];
+	*i = j;
+	return 0;
+}
+
 static int parse_args(int argc, char **argv, struct eval_options *o)
 {
 	o->rays_sqrt = 16;
@@ -107,6 +244,8 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 	o->variants = 1;
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
+		const struct value_option *vo;
+		int r;
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
 			usage(stdout);
 			exit(0);
@@ -115,108 +254,14 @@ static int parse_args(int argc, char **argv, struct eval_options *o)
 		} else if (strcmp(a, "--no-noise") == 0) {
 			o->sensors[0] = SYNTH_SENSOR_CLEAN;
 			o->nsensors = 1;
-		} else if (strcmp(a, "--sensors") == 0) {
+		} else if ((vo = value_option(a))) {
 			if (i + 1 >= argc)
 				return usage_error("eval", "%s needs a value", a);
-			const char *names[SYNTH_SENSOR_COUNT + 1];
-			int n = parse_list(argv[++i], names, SYNTH_SENSOR_COUNT);
-			if (n <= 0)
-				return usage_error("eval", "--sensors needs one to %d of clean, gaussian, "
-						   "structured-light, active-stereo, tof", SYNTH_SENSOR_COUNT);
-			for (int k = 0; k < n; k++) {
-				struct dao_error err;
-				if (synth_sensor_parse(names[k], &o->sensors[k], &err))
-					return usage_error("eval", "%s", err.message);
-				for (int m = 0; m < k; m++)
-					if (o->sensors[m] == o->sensors[k])
-						return usage_error("eval", "--sensors names %s twice", names[k]);
-			}
-			o->nsensors = n;
-		} else if (strcmp(a, "--set") == 0) {
-			struct dao_error err;
-			if (i + 1 >= argc)
-				return usage_error("eval", "%s needs a value", a);
-			if (synth_set_parse(argv[++i], &o->set, &err))
-				return usage_error("eval", "%s", err.message);
-		} else if (strcmp(a, "--variants") == 0) {
-			if (i + 1 >= argc)
-				return usage_error("eval", "%s needs a value", a);
-			char *end;
-			const char *v = argv[++i];
-			long n = strtol(v, &end, 10);
-			if (*end || !*v || n < 1 || n > 16)
-				return usage_error("eval", "--variants '%s' must be an integer in 1..16", v);
-			o->variants = (int)n;
-		} else if (strcmp(a, "--algorithms") == 0) {
-			if (i + 1 >= argc)
-				return usage_error("eval", "%s needs a value", a);
-			char *names[EVAL_MAX_ALGORITHMS + 1];
-			int n = parse_list(argv[++i], (const char **)names, EVAL_MAX_ALGORITHMS);
-			if (n <= 0)
-				return usage_error("eval", "--algorithms needs one to four of gtao, vbao, hbao, ssao, edl");
-			for (int k = 0; k < n; k++) {
-				struct dao_params scratch;
-				struct dao_error err;
-				dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
-				char *extra = strchr(names[k], ':');
-				if (extra)
-					*extra++ = '\0';
-				if (dao_params_set(&scratch, "algorithm", names[k], &err))
-					return usage_error("eval", "%s", err.message);
-				o->algorithms[k] = scratch.algorithm;
-				o->algorithm_params[k] = extra;
-				if (extra && cli_apply_param_list(extra, &scratch, &err))
-					return usage_error("eval", "%s", err.message);
-			}
-			o->na = n;
-		} else if (strcmp(a, "--quality") == 0 || strcmp(a, "--scenes") == 0 ||
-			   strcmp(a, "--rays") == 0) {
-			if (i + 1 >= argc) {
-				return usage_error("eval", "%s needs a value", a);
-			}
-			char *v = argv[++i];
-			if (strcmp(a, "--rays") == 0) {
-				char *end;
-				long n = strtol(v, &end, 10);
-				long r = lrint(sqrt((double)n));
-				if (*end || n < 1 || r * r != n || n > 65536) {
-					return usage_error("eval", "--rays %s must be a perfect square in 1..65536", v);
-				}
-				o->rays_sqrt = (int)r;
-			} else if (strcmp(a, "--scenes") == 0) {
-				int n = parse_list(v, o->scenes, SYNTH_SUITE_MAX_IMAGES);
-				if (n < 0) {
-					return usage_error("eval", "too many scenes in --scenes");
-				}
-				o->scenes[n] = NULL;
-			} else {
-				const char *names[DAO_QUALITY_COUNT + 1];
-				int n = parse_list(v, names, DAO_QUALITY_COUNT);
-				if (n <= 0) {
-					return usage_error("eval", "--quality needs one to four presets");
-				}
-				for (int k = 0; k < n; k++) {
-					struct dao_error err;
-					if (dao_quality_parse(names[k], &o->qualities[k], &err)) {
-						return usage_error("eval", "%s", err.message);
-					}
-				}
-				o->nq = n;
-			}
+			if ((r = vo->parse(argv[++i], o)))
+				return r;
 		} else if (strncmp(a, "--", 2) == 0) {
-			/* parameter options are applied per preset later; remember them */
-			struct dao_params scratch;
-			dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
-			int j = i;
-			char msg[DAO_ERROR_MESSAGE_MAX];
-			int r = cli_apply_param_option(&scratch, argc, argv, &j, msg, sizeof msg);
-			if (r < 0)
-				return usage_error("eval", "%s", msg);
-			if (r == 0)
-				return usage_error("eval", "unknown option '%s'", a);
-			for (int k = i; k <= j && o->n_override < 64; k++)
-				o->override_args[o->n_override++] = argv[k];
-			i = j;
+			if ((r = remember_override(argc, argv, &i, o)))
+				return r;
 		} else {
 			return usage_error("eval", "unexpected argument '%s'", a);
 		}

@@ -142,12 +142,9 @@ static const char *option_value(int argc, char **argv, int *i, const char *name)
 	return argv[++*i];
 }
 
-static int parse_args(int argc, char **argv, struct process_options *o)
+/* The preset, wherever --quality appears (parameter options override it): 0 or the exit status. */
+static int preset_option(int argc, char **argv, enum dao_quality *q)
 {
-	memset(o, 0, sizeof *o);
-	o->depth_unit = 0.001;
-	/* the preset first, wherever --quality appears, so parameter options override it */
-	enum dao_quality q = DAO_QUALITY_DEFAULT;
 	for (int i = 1; i < argc; i++) {
 		const char *v = option_value(argc, argv, &i, "--quality");
 		if (!v)
@@ -155,110 +152,122 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 		struct dao_error err;
 		if (!*v)
 			return usage_error("process", "--quality needs a value");
-		if (dao_quality_parse(v, &q, &err))
+		if (dao_quality_parse(v, q, &err))
 			return usage_error("process", "%s", err.message);
 	}
-	dao_params_init(&o->params, q);
-	/* a recording or device is a stream of consecutive frames: the temporal
-	 * depth filter too (a directory of images may be anything: not there);
-	 * before the parameter options, so that --depth-temporal 0 turns it off */
+	return 0;
+}
+
+/*
+ * A recording or device is a stream of consecutive frames: the temporal
+ * depth filter too (a directory of images may be anything: not there);
+ * before the parameter options, so that --depth-temporal 0 turns it off.
+ */
+static void stream_defaults_for_input(int argc, char **argv, struct dao_params *p)
+{
 	for (int i = 1; i < argc; i++) {
 		const char *v = option_value(argc, argv, &i, "--input");
 		if (v && *v && process_input_is_stream(v) && strncmp(v, "images:", 7) != 0)
-			dao_params_stream_defaults(&o->params);
+			dao_params_stream_defaults(p);
 	}
+}
 
-	for (int i = 1; i < argc; i++) {
-		const char *a = argv[i], *v;
-		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-			usage(stdout);
-			exit(0);
+/*
+ * The options below parse the option at argv[*i] if it is theirs (moving *i
+ * past its value): -1 if it is not, 0 if parsed, else the exit status.
+ */
+
+/* --input, the outputs and the camera: kept as given. */
+static int string_option(int argc, char **argv, int *i, struct process_options *o)
+{
+	const struct {
+		const char *name;
+		const char **dst;
+	} strings[] = {
+		{ "--input", &o->input }, { "--ao-out", &o->ao_out },
+		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
+		{ "--cloud-out", &o->cloud_out },
+		{ "--intrinsics", &o->intrinsics },
+		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
+	};
+	for (size_t k = 0; k < sizeof strings / sizeof strings[0]; k++) {
+		int j = *i;
+		const char *v = option_value(argc, argv, &j, strings[k].name);
+		if (v) {
+			if (!*v)
+				return usage_error("process", "%s needs a value", strings[k].name);
+			*strings[k].dst = v;
+			*i = j;
+			return 0;
 		}
-		if (strcmp(a, "--quiet") == 0) {
-			o->quiet = 1;
-			continue;
-		}
-		struct {
-			const char *name;
-			const char **dst;
-		} strings[] = {
-			{ "--input", &o->input }, { "--ao-out", &o->ao_out },
-			{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
-			{ "--cloud-out", &o->cloud_out },
-			{ "--intrinsics", &o->intrinsics },
-			{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
-		};
-		int matched = 0;
-		for (size_t k = 0; k < sizeof strings / sizeof strings[0]; k++) {
-			int j = i;
-			if ((v = option_value(argc, argv, &j, strings[k].name))) {
-				if (!*v)
-					return usage_error("process", "%s needs a value", strings[k].name);
-				*strings[k].dst = v;
-				i = j;
-				matched = 1;
-				break;
-			}
-		}
-		if (matched)
-			continue;
-		int j = i;
-		if ((v = option_value(argc, argv, &j, "--quality"))) {
-			i = j; /* applied above */
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--depth-unit"))) {
-			if (!*v || parse_double(v, &o->depth_unit) || o->depth_unit <= 0 ||
-			    o->depth_unit > 1)
-				return usage_error("process",
-						   "--depth-unit '%s' must be a number in (0, 1] metres per count",
-						   v);
-			i = j;
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--max-pixels"))) {
-			if (pixel_limit_parse(v, &o->max_pixels))
-				return usage_error("process",
-						   "--max-pixels '%s' must be a pixel count or WxH, "
-						   "at most 16384x16384", v);
-			i = j;
-			continue;
-		}
-		if (strcmp(a, "--realtime") == 0) {
-			o->realtime = 1;
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--start")) ||
-		    (v = option_value(argc, argv, &j, "--frames"))) {
-			const char *name = strncmp(argv[i], "--start", 7) == 0 ? "--start" : "--frames";
-			char *end;
-			errno = 0;
-			unsigned long n = strtoul(v, &end, 10);
-			if (!*v || *end || errno || v[0] == '-' || n > UINT32_MAX ||
-			    (n == 0 && name[2] == 'f'))
-				return usage_error("process", "%s '%s' must be a %s integer", name, v,
-						   name[2] == 'f' ? "positive" : "non-negative");
-			*(name[2] == 's' ? &o->start : &o->max_frames) = (uint32_t)n;
-			i = j;
-			continue;
-		}
-		if ((v = option_value(argc, argv, &j, "--frame-index"))) {
-			char *end;
-			errno = 0;
-			unsigned long long n = strtoull(v, &end, 10);
-			if (!*v || *end || errno || v[0] == '-')
-				return usage_error("process", "--frame-index '%s' is not a non-negative integer", v);
-			o->frame_index = n;
-			i = j;
-			continue;
-		}
-		char msg[DAO_ERROR_MESSAGE_MAX];
-		int r = cli_apply_param_option(&o->params, argc, argv, &i, msg, sizeof msg);
-		if (r < 0)
-			return usage_error("process", "%s", msg);
-		if (r == 0)
-			return usage_error("process", "unknown option '%s'", a);
 	}
+	return -1;
+}
+
+/* --quality (applied before), --depth-unit and --max-pixels. */
+static int input_option(int argc, char **argv, int *i, struct process_options *o)
+{
+	int j = *i;
+	const char *v;
+	if ((v = option_value(argc, argv, &j, "--quality"))) {
+		*i = j; /* applied before */
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--depth-unit"))) {
+		if (!*v || parse_double(v, &o->depth_unit) || o->depth_unit <= 0 ||
+		    o->depth_unit > 1)
+			return usage_error("process",
+					   "--depth-unit '%s' must be a number in (0, 1] metres per count",
+					   v);
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--max-pixels"))) {
+		if (pixel_limit_parse(v, &o->max_pixels))
+			return usage_error("process",
+					   "--max-pixels '%s' must be a pixel count or WxH, "
+					   "at most 16384x16384", v);
+		*i = j;
+		return 0;
+	}
+	return -1;
+}
+
+/* --start, --frames and --frame-index. */
+static int frame_option(int argc, char **argv, int *i, struct process_options *o)
+{
+	int j = *i;
+	const char *v;
+	if ((v = option_value(argc, argv, &j, "--start")) ||
+	    (v = option_value(argc, argv, &j, "--frames"))) {
+		const char *name = strncmp(argv[*i], "--start", 7) == 0 ? "--start" : "--frames";
+		char *end;
+		errno = 0;
+		unsigned long n = strtoul(v, &end, 10);
+		if (!*v || *end || errno || v[0] == '-' || n > UINT32_MAX ||
+		    (n == 0 && name[2] == 'f'))
+			return usage_error("process", "%s '%s' must be a %s integer", name, v,
+					   name[2] == 'f' ? "positive" : "non-negative");
+		*(name[2] == 's' ? &o->start : &o->max_frames) = (uint32_t)n;
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--frame-index"))) {
+		char *end;
+		errno = 0;
+		unsigned long long n = strtoull(v, &end, 10);
+		if (!*v || *end || errno || v[0] == '-')
+			return usage_error("process", "--frame-index '%s' is not a non-negative integer", v);
+		o->frame_index = n;
+		*i = j;
+		return 0;
+	}
+	return -1;
+}
+
+/* What the options say together: an input, an output, one camera: 0 or the exit status. */
+static int check_options(struct process_options *o)
+{
 	if (!o->input)
 		return usage_error("process", "--input is required");
 	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out)
@@ -282,6 +291,48 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 	if (dao_params_validate(&o->params, &err))
 		return usage_error("process", "%s", err.message);
 	return 0;
+}
+
+static int parse_args(int argc, char **argv, struct process_options *o)
+{
+	memset(o, 0, sizeof *o);
+	o->depth_unit = 0.001;
+	enum dao_quality q = DAO_QUALITY_DEFAULT;
+	int status = preset_option(argc, argv, &q);
+	if (status)
+		return status;
+	dao_params_init(&o->params, q);
+	stream_defaults_for_input(argc, argv, &o->params);
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i];
+		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+			usage(stdout);
+			exit(0);
+		}
+		if (strcmp(a, "--quiet") == 0) {
+			o->quiet = 1;
+			continue;
+		}
+		if (strcmp(a, "--realtime") == 0) {
+			o->realtime = 1;
+			continue;
+		}
+		if ((status = string_option(argc, argv, &i, o)) >= 0 ||
+		    (status = input_option(argc, argv, &i, o)) >= 0 ||
+		    (status = frame_option(argc, argv, &i, o)) >= 0) {
+			if (status)
+				return status;
+			continue;
+		}
+		/* the AO parameters, over the preset */
+		char msg[DAO_ERROR_MESSAGE_MAX];
+		int r = cli_apply_param_option(&o->params, argc, argv, &i, msg, sizeof msg);
+		if (r < 0)
+			return usage_error("process", "%s", msg);
+		if (r == 0)
+			return usage_error("process", "unknown option '%s'", a);
+	}
+	return check_options(o);
 }
 
 /* The camera for images of w x h, from the options, a camera.json beside the input, or a default. */
@@ -492,6 +543,104 @@ static int probe_size(const char *path, uint64_t max_pixels, uint32_t *w, uint32
 	return 0;
 }
 
+/*
+ * The PNGs of a directory input (into files) and the output directories:
+ * 0, or the exit status (files freed).
+ */
+static int prepare_outputs(const struct process_options *o, int is_dir, struct file_list *files)
+{
+	int status;
+	if (is_dir) {
+		int r = file_list_pngs(o->input, files);
+		if (r) {
+			fprintf(stderr, "depthao: cannot list '%s': %s\n", o->input, strerror(-r));
+			return 1;
+		}
+		if (files->count == 0) {
+			fprintf(stderr, "depthao: no *.png files in '%s'\n", o->input);
+			return 1;
+		}
+		if ((status = process_check_cloud_frames(o, files->count, 0))) {
+			file_list_free(files);
+			return status;
+		}
+		if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
+		    (o->shaded_out && process_ensure_dir(o->shaded_out))) {
+			file_list_free(files);
+			return 1;
+		}
+	}
+	if (o->cloud_out && !process_cloud_is_file(o) && process_ensure_dir(o->cloud_out)) {
+		file_list_free(files);
+		return 1;
+	}
+	return 0;
+}
+
+/* The context and output frames for the size of the first input: 0 or the exit status. */
+static int open_run(const struct process_options *o, int is_dir, const struct file_list *files,
+		    struct run_state *st)
+{
+	char *first = is_dir ? path_join(o->input, files->names[0]) : strdup(o->input);
+	uint32_t w = 0, h = 0;
+	struct dao_camera cam;
+	struct dao_error err;
+	int status = !first ? 1 : probe_size(first, o->max_pixels, &w, &h);
+	free(first);
+	if (!status)
+		status = process_resolve_camera(o, is_dir, w, h, NULL, &cam);
+	if (!status && (dao_context_create(&st->ctx, &cam, &o->params, &err) ||
+			dao_frame_alloc(&st->ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
+			dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, w, h, &err))) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		status = 1;
+	}
+	return status;
+}
+
+/* One PNG input: the exit status. */
+static int process_file(const struct process_options *o, struct run_state *st)
+{
+	char *cloud = o->cloud_out && !process_cloud_is_file(o)
+			      ? process_cloud_name(o->cloud_out, o->input) : NULL;
+	struct process_paths out = { o->ao_out, o->shaded_out, NULL, cloud ? cloud : o->cloud_out };
+	int status = process_one(o, st, o->input, &out, o->frame_index);
+	free(cloud);
+	return status;
+}
+
+/* Every PNG of a directory, in name order, with a progress bar: the exit status. */
+static int process_files(const struct process_options *o, struct run_state *st,
+			 const struct file_list *files)
+{
+	struct progress bar;
+	int status = 0;
+	progress_begin(&bar, files->count, o->quiet);
+	for (size_t i = 0; i < files->count && !status; i++) {
+		char *in = path_join(o->input, files->names[i]);
+		char *ao = o->ao_out ? path_join(o->ao_out, files->names[i]) : NULL;
+		char *sh = o->shaded_out ? path_join(o->shaded_out, files->names[i]) : NULL;
+		char *pc = o->cloud_out ? (process_cloud_is_file(o)
+						   ? strdup(o->cloud_out)
+						   : process_cloud_name(o->cloud_out, files->names[i]))
+				       : NULL;
+		if (!in || (o->ao_out && !ao) || (o->shaded_out && !sh) || (o->cloud_out && !pc)) {
+			fprintf(stderr, "depthao: out of memory\n");
+			status = 1;
+		} else {
+			struct process_paths out = { ao, sh, NULL, pc };
+			status = process_one(o, st, in, &out, o->frame_index + i);
+		}
+		free(in);
+		free(ao);
+		free(sh);
+		free(pc);
+		progress_update(&bar, i + 1, st->ms_total / (double)(st->frames ? st->frames : 1));
+	}
+	progress_end(&bar);
+	return status;
+}
+
 int cmd_process(int argc, char **argv)
 {
 	struct process_options o;
@@ -510,92 +659,14 @@ int cmd_process(int argc, char **argv)
 		return 1;
 	}
 	struct file_list files = { 0 };
-	if (is_dir) {
-		int r = file_list_pngs(o.input, &files);
-		if (r) {
-			fprintf(stderr, "depthao: cannot list '%s': %s\n", o.input, strerror(-r));
-			return 1;
-		}
-		if (files.count == 0) {
-			fprintf(stderr, "depthao: no *.png files in '%s'\n", o.input);
-			return 1;
-		}
-		if ((status = process_check_cloud_frames(&o, files.count, 0))) {
-			file_list_free(&files);
-			return status;
-		}
-		if ((o.ao_out && process_ensure_dir(o.ao_out)) ||
-		    (o.shaded_out && process_ensure_dir(o.shaded_out))) {
-			file_list_free(&files);
-			return 1;
-		}
-	}
-	if (o.cloud_out && !process_cloud_is_file(&o) && process_ensure_dir(o.cloud_out)) {
-		file_list_free(&files);
-		return 1;
-	}
-	char *first = is_dir ? path_join(o.input, files.names[0]) : strdup(o.input);
-	uint32_t w = 0, h = 0;
-	struct dao_camera cam;
+	if ((status = prepare_outputs(&o, is_dir, &files)))
+		return status;
 	struct run_state st = { 0 };
-	struct dao_error err;
-	status = !first ? 1 : probe_size(first, o.max_pixels, &w, &h);
-	free(first);
+	status = open_run(&o, is_dir, &files, &st);
 	if (!status)
-		status = process_resolve_camera(&o, is_dir, w, h, NULL, &cam);
-	if (!status && (dao_context_create(&st.ctx, &cam, &o.params, &err) ||
-			dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
-			dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, w, h, &err))) {
-		fprintf(stderr, "depthao: %s\n", err.message);
-		status = 1;
-	}
-	if (status)
-		goto out;
-
-	if (!is_dir) {
-		char *cloud = o.cloud_out && !process_cloud_is_file(&o)
-				      ? process_cloud_name(o.cloud_out, o.input) : NULL;
-		struct process_paths out = { o.ao_out, o.shaded_out, NULL, cloud ? cloud : o.cloud_out };
-		status = process_one(&o, &st, o.input, &out, o.frame_index);
-		free(cloud);
-	} else {
-		struct progress bar;
-		progress_begin(&bar, files.count, o.quiet);
-		for (size_t i = 0; i < files.count && !status; i++) {
-			char *in = path_join(o.input, files.names[i]);
-			char *ao = o.ao_out ? path_join(o.ao_out, files.names[i]) : NULL;
-			char *sh = o.shaded_out ? path_join(o.shaded_out, files.names[i]) : NULL;
-			char *pc = o.cloud_out ? (process_cloud_is_file(&o)
-							  ? strdup(o.cloud_out)
-							  : process_cloud_name(o.cloud_out, files.names[i]))
-					       : NULL;
-			if (!in || (o.ao_out && !ao) || (o.shaded_out && !sh) || (o.cloud_out && !pc)) {
-				fprintf(stderr, "depthao: out of memory\n");
-				status = 1;
-			} else {
-				struct process_paths out = { ao, sh, NULL, pc };
-				status = process_one(&o, &st, in, &out, o.frame_index + i);
-			}
-			free(in);
-			free(ao);
-			free(sh);
-			free(pc);
-			progress_update(&bar, i + 1, st.ms_total / (double)(st.frames ? st.frames : 1));
-		}
-		progress_end(&bar);
-	}
-	if (!status && !o.quiet) {
-		fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st.frames,
-			st.frames == 1 ? "" : "s", st.ms_total / (double)st.frames);
-		if (o.ao_out)
-			fprintf(stderr, " %s", o.ao_out);
-		if (o.shaded_out)
-			fprintf(stderr, "%s%s", o.ao_out ? " and " : " ", o.shaded_out);
-		if (o.cloud_out)
-			fprintf(stderr, "%s%s", o.ao_out || o.shaded_out ? " and " : " ", o.cloud_out);
-		fputc('\n', stderr);
-	}
-out:
+		status = is_dir ? process_files(&o, &st, &files) : process_file(&o, &st);
+	if (!status && !o.quiet)
+		process_print_summary(&o, &st); /* no overlay from PNG input */
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);
 	dao_context_destroy(st.ctx);

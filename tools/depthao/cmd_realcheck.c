@@ -144,12 +144,17 @@ out:
 	return status;
 }
 
-int cmd_realcheck(int argc, char **argv)
+struct realcheck_options {
+	const char *dir, *masks_out, *list;
+	enum dao_quality q;
+	char *overrides[128];   /* the parameter options, as given */
+	int noverride;
+};
+
+/* The options into o: -1 to go on, else the exit status (0 after --help). */
+static int parse_args(int argc, char **argv, struct realcheck_options *o)
 {
-	const char *dir = NULL, *masks_out = NULL, *list = NULL;
-	enum dao_quality q = DAO_QUALITY_DEFAULT;
-	char *overrides[128];
-	int noverride = 0;
+	*o = (struct realcheck_options){ .q = DAO_QUALITY_DEFAULT };
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -162,19 +167,19 @@ int cmd_realcheck(int argc, char **argv)
 				return usage_error("realcheck", "%s needs a value", a);
 			const char *v = argv[++i];
 			if (!strcmp(a, "--data")) {
-				dir = v;
+				o->dir = v;
 			} else if (!strcmp(a, "--frames")) {
-				list = v;
+				o->list = v;
 			} else if (!strcmp(a, "--masks-out")) {
-				masks_out = v;
+				o->masks_out = v;
 			} else {
 				struct dao_error err;
-				if (dao_quality_parse(v, &q, &err))
+				if (dao_quality_parse(v, &o->q, &err))
 					return usage_error("realcheck", "%s", err.message);
 			}
 			continue;
 		}
-		/* parameter options: checked now, applied over the preset below */
+		/* parameter options: checked now, applied over the preset later */
 		struct dao_params scratch;
 		dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
 		char msg[DAO_ERROR_MESSAGE_MAX];
@@ -183,61 +188,72 @@ int cmd_realcheck(int argc, char **argv)
 			return usage_error("realcheck", "%s", msg);
 		if (r == 0)
 			return usage_error("realcheck", "unknown option '%s'", a);
-		for (int k = i; k <= j && noverride < 128; k++)
-			overrides[noverride++] = argv[k];
+		for (int k = i; k <= j && o->noverride < 128; k++)
+			o->overrides[o->noverride++] = argv[k];
 		i = j;
 	}
-	struct dao_params p;
-	dao_params_init(&p, q);
-	{
-		char *args[130];
-		args[0] = "realcheck";
-		for (int k = 0; k < noverride; k++)
-			args[k + 1] = overrides[k];
-		char msg[DAO_ERROR_MESSAGE_MAX];
-		for (int k = 1; k <= noverride; k++)
-			if (cli_apply_param_option(&p, noverride + 1, args, &k, msg, sizeof msg) < 0)
-				return usage_error("realcheck", "%s", msg);
-		struct dao_error err;
-		if (dao_params_validate(&p, &err))
-			return usage_error("realcheck", "%s", err.message);
-	}
-	int n;
-	const struct synth_real_frame *frames = synth_real_frames(&n);
-	int selected[MAX_SELECTED], ns = 0;
-	if (list) {
-		char buf[1024];
-		snprintf(buf, sizeof buf, "%s", list);
-		char *save = NULL;
-		for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-			int k;
-			for (k = 0; k < n && strcmp(frames[k].name, tok); k++)
-				;
-			if (k == n)
-				return usage_error("realcheck", "unknown frame '%s'", tok);
-			if (ns < MAX_SELECTED)
-				selected[ns++] = k;
-		}
-	} else {
+	return -1;
+}
+
+/* The preset with the parameter options over it: 0 or the exit status. */
+static int make_params(const struct realcheck_options *o, struct dao_params *p)
+{
+	dao_params_init(p, o->q);
+	char *args[130];
+	args[0] = "realcheck";
+	for (int k = 0; k < o->noverride; k++)
+		args[k + 1] = o->overrides[k];
+	char msg[DAO_ERROR_MESSAGE_MAX];
+	for (int k = 1; k <= o->noverride; k++)
+		if (cli_apply_param_option(p, o->noverride + 1, args, &k, msg, sizeof msg) < 0)
+			return usage_error("realcheck", "%s", msg);
+	struct dao_error err;
+	if (dao_params_validate(p, &err))
+		return usage_error("realcheck", "%s", err.message);
+	return 0;
+}
+
+/* The indices of the frames named in list (all if NULL) into selected: 0 or the exit status. */
+static int select_frames(const char *list, const struct synth_real_frame *frames, int n,
+			 int selected[MAX_SELECTED], int *ns)
+{
+	*ns = 0;
+	if (!list) {
 		for (int k = 0; k < n && k < MAX_SELECTED; k++)
-			selected[ns++] = k;
+			selected[(*ns)++] = k;
+		return 0;
 	}
-	if (!dir)
-		dir = synth_real_data_dir();
-	if (masks_out && process_ensure_dir(masks_out))
-		return 1;
+	char buf[1024];
+	snprintf(buf, sizeof buf, "%s", list);
+	char *save = NULL;
+	for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+		int k;
+		for (k = 0; k < n && strcmp(frames[k].name, tok); k++)
+			;
+		if (k == n)
+			return usage_error("realcheck", "unknown frame '%s'", tok);
+		if (*ns < MAX_SELECTED)
+			selected[(*ns)++] = k;
+	}
+	return 0;
+}
+
+/* Checks the selected frames, a table row each, then the means: the exit status. */
+static int report_frames(const struct synth_real_frame *frames, const int *selected, int ns,
+			 const struct realcheck_options *o, const struct dao_params *p)
+{
 	struct frame_result res[MAX_SELECTED];
 	printf("| frame | sensor | open planar px | mean false occlusion | p90 | share < 0.9 |\n");
 	printf("|---|---|---:|---:|---:|---:|\n");
 	double sum = 0, sum_sl = 0;
 	int n_sl = 0, nm = 0;
 	for (int k = 0; k < ns; k++) {
-		if (check_frame(&frames[selected[k]], dir, &p, masks_out, &res[k]))
+		if (check_frame(&frames[selected[k]], o->dir, p, o->masks_out, &res[k]))
 			return 1;
 		const struct frame_result *r = &res[k];
 		if (!r->open_px) {
 			printf("| %s | %s | 0 | no open planar region at R = %g m | | |\n", r->f->name,
-			       r->f->sensor, p.radius);
+			       r->f->sensor, p->radius);
 			continue;
 		}
 		printf("| %s | %s | %ld | %.4f | %.3f | %.1f %% |\n", r->f->name, r->f->sensor,
@@ -253,4 +269,24 @@ int cmd_realcheck(int argc, char **argv)
 	if (n_sl && n_sl < nm)
 		printf("| **mean of those from structured light** | | | **%.4f** | | |\n", sum_sl / n_sl);
 	return 0;
+}
+
+int cmd_realcheck(int argc, char **argv)
+{
+	struct realcheck_options o;
+	struct dao_params p;
+	int status = parse_args(argc, argv, &o);
+	if (status >= 0)
+		return status;
+	if ((status = make_params(&o, &p)))
+		return status;
+	int n, selected[MAX_SELECTED], ns;
+	const struct synth_real_frame *frames = synth_real_frames(&n);
+	if ((status = select_frames(o.list, frames, n, selected, &ns)))
+		return status;
+	if (!o.dir)
+		o.dir = synth_real_data_dir();
+	if (o.masks_out && process_ensure_dir(o.masks_out))
+		return 1;
+	return report_frames(frames, selected, ns, &o, &p);
 }

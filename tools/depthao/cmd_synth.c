@@ -247,12 +247,107 @@ out:
 	return status;
 }
 
-/* One frame of a sequence: DIR/NAME/depth/NNNN.png and DIR/NAME/ao_gt/NNNN.png. */
+/* BASE.oni, the sequence's recording beside its directory; 1 on failure (reported). */
+static int open_sequence_oni(const struct synth_options *o, const struct dao_camera *cam,
+			     const char *base, char **oni_path, struct dao_oni_writer **oni)
+{
+	struct dao_error err;
+	size_t n = strlen(base);
+	struct dao_oni_writer_options wo = {
+		.width = cam->width, .height = cam->height, .fps = SYNTH_ONI_FPS,
+		.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
+		.overwrite = 1, /* made again, like the PNGs beside it */
+	};
+	dao_camera_fov(cam, &wo.hfov, &wo.vfov);
+	if (!(*oni_path = malloc(n + 5)))
+		return 1;
+	memcpy(*oni_path, base, n);
+	memcpy(*oni_path + n, ".oni", 5);
+	if (dao_oni_writer_open(*oni_path, &wo, oni, &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	return 0;
+}
+
+/* Frame i: rendered, simulated, written as PNGs (and to the recording); 1 on failure. */
+static int write_sequence_frame(const struct synth_options *o, const struct dao_camera *cam, int i,
+				const char *ddir, const char *gdir, struct dao_oni_writer *oni)
+{
+	struct synth_scene scene;
+	struct synth_image img;
+	struct synth_case c = { 0 };
+	struct dao_frame gt = { 0 };
+	struct dao_error err;
+	char file[32];
+	double t = o->frames > 1 ? (double)i / (double)(o->frames - 1) : 0.0;
+	int r = synth_scene_build_variant(o->scene, t, o->variant, &scene, &err);
+	if (!r)
+		r = synth_render(&scene, cam, o->radius, o->rays_sqrt, 2, &img, &err);
+	if (r) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	r = synth_case_simulate(&c, &scene, o->variant, cam, &img, o->sensor,
+				o->seed + (uint64_t)i, 2, &err);
+	if (!r)
+		r = dao_frame_alloc(&gt, DAO_PIXFMT_GRAY16, cam->width, cam->height, &err);
+	if (!r) {
+		for (size_t k = 0; k < (size_t)cam->width * cam->height; k++)
+			((uint16_t *)gt.data)[k] = (uint16_t)lrintf(img.gt[k] * 65535.0f);
+		struct dao_frame depth = {
+			.format = DAO_PIXFMT_DEPTH16, .width = cam->width, .height = cam->height,
+			.stride = (int32_t)(2 * cam->width), .data = c.depth_mm, .depth_unit = 0.001f,
+		};
+		snprintf(file, sizeof file, "%04d.png", i);
+		char *dp = path_join(ddir, file), *gp = path_join(gdir, file);
+		r = !dp || !gp ? set_oom(&err)
+			       : dao_png_write(dp, &depth, &err) || dao_png_write(gp, &gt, &err);
+		if (!r && oni)
+			r = dao_oni_writer_write_depth(oni, &depth,
+						       (uint64_t)i * 1000000u / SYNTH_ONI_FPS,
+						       &err) != 0;
+		free(dp);
+		free(gp);
+	}
+	dao_frame_free(&gt);
+	synth_case_free(&c);
+	synth_image_free(&img);
+	if (r) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	return 0;
+}
+
+/* The sequence's camera.json, with what made it; 1 on failure (reported). */
+static int write_sequence_camera(const struct synth_options *o, const struct dao_camera *cam,
+				 const char *cam_path)
+{
+	char msg[512];
+	struct json_object *extra = json_object_new_object();
+	json_object_object_add(extra, "depth_unit", json_object_new_double(0.001));
+	json_object_object_add(extra, "scene", json_object_new_string(o->scene));
+	json_object_object_add(extra, "variant", json_object_new_int(o->variant));
+	json_object_object_add(extra, "sensor", json_object_new_string(synth_sensor_name(o->sensor)));
+	json_object_object_add(extra, "seed", json_object_new_uint64(o->seed));
+	json_object_object_add(extra, "noise", json_object_new_boolean(o->sensor != SYNTH_SENSOR_CLEAN));
+	json_object_object_add(extra, "frames", json_object_new_int(o->frames));
+	int r = camera_file_write(cam_path, cam, extra, msg, sizeof msg);
+	json_object_put(extra);
+	if (r) {
+		fprintf(stderr, "depthao: %s\n", msg);
+		return 1;
+	}
+	return 0;
+}
+
+/* A sequence: DIR/NAME/depth/NNNN.png and DIR/NAME/ao_gt/NNNN.png (and DIR/NAME.oni). */
 static int write_sequence(const struct synth_options *o)
 {
 	struct dao_camera cam;
 	synth_default_camera(&cam);
-	char name[128], file[32], msg[512];
+	char name[128];
 	case_dir_name(name, sizeof name, o->scene, o->sensor);
 	char *base = path_join(o->out, name);
 	char *ddir = base ? path_join(base, "depth") : NULL;
@@ -263,82 +358,13 @@ static int write_sequence(const struct synth_options *o)
 	int status = 1;
 	if (!cam_path || make_dir(base) || make_dir(ddir) || make_dir(gdir))
 		goto out;
-	if (o->oni) {
-		struct dao_error err;
-		size_t n = strlen(base);
-		struct dao_oni_writer_options wo = {
-			.width = cam.width, .height = cam.height, .fps = SYNTH_ONI_FPS,
-			.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
-			.overwrite = 1, /* made again, like the PNGs beside it */
-		};
-		dao_camera_fov(&cam, &wo.hfov, &wo.vfov);
-		if (!(oni_path = malloc(n + 5)))
-			goto out;
-		memcpy(oni_path, base, n);
-		memcpy(oni_path + n, ".oni", 5);
-		if (dao_oni_writer_open(oni_path, &wo, &oni, &err)) {
-			fprintf(stderr, "depthao: %s\n", err.message);
-			goto out;
-		}
-	}
-	for (int i = 0; i < o->frames; i++) {
-		struct synth_scene scene;
-		struct synth_image img;
-		struct synth_case c = { 0 };
-		struct dao_frame gt = { 0 };
-		struct dao_error err;
-		double t = o->frames > 1 ? (double)i / (double)(o->frames - 1) : 0.0;
-		int r = synth_scene_build_variant(o->scene, t, o->variant, &scene, &err);
-		if (!r)
-			r = synth_render(&scene, &cam, o->radius, o->rays_sqrt, 2, &img, &err);
-		if (r) {
-			fprintf(stderr, "depthao: %s\n", err.message);
-			goto out;
-		}
-		r = synth_case_simulate(&c, &scene, o->variant, &cam, &img, o->sensor,
-					o->seed + (uint64_t)i, 2, &err);
-		if (!r)
-			r = dao_frame_alloc(&gt, DAO_PIXFMT_GRAY16, cam.width, cam.height, &err);
-		if (!r) {
-			for (size_t k = 0; k < (size_t)cam.width * cam.height; k++)
-				((uint16_t *)gt.data)[k] = (uint16_t)lrintf(img.gt[k] * 65535.0f);
-			struct dao_frame depth = {
-				.format = DAO_PIXFMT_DEPTH16, .width = cam.width, .height = cam.height,
-				.stride = (int32_t)(2 * cam.width), .data = c.depth_mm, .depth_unit = 0.001f,
-			};
-			snprintf(file, sizeof file, "%04d.png", i);
-			char *dp = path_join(ddir, file), *gp = path_join(gdir, file);
-			r = !dp || !gp ? set_oom(&err)
-				       : dao_png_write(dp, &depth, &err) || dao_png_write(gp, &gt, &err);
-			if (!r && oni)
-				r = dao_oni_writer_write_depth(oni, &depth,
-							       (uint64_t)i * 1000000u / SYNTH_ONI_FPS,
-							       &err) != 0;
-			free(dp);
-			free(gp);
-		}
-		dao_frame_free(&gt);
-		synth_case_free(&c);
-		synth_image_free(&img);
-		if (r) {
-			fprintf(stderr, "depthao: %s\n", err.message);
-			goto out;
-		}
-	}
-	struct json_object *extra = json_object_new_object();
-	json_object_object_add(extra, "depth_unit", json_object_new_double(0.001));
-	json_object_object_add(extra, "scene", json_object_new_string(o->scene));
-	json_object_object_add(extra, "variant", json_object_new_int(o->variant));
-	json_object_object_add(extra, "sensor", json_object_new_string(synth_sensor_name(o->sensor)));
-	json_object_object_add(extra, "seed", json_object_new_uint64(o->seed));
-	json_object_object_add(extra, "noise", json_object_new_boolean(o->sensor != SYNTH_SENSOR_CLEAN));
-	json_object_object_add(extra, "frames", json_object_new_int(o->frames));
-	int r = camera_file_write(cam_path, &cam, extra, msg, sizeof msg);
-	json_object_put(extra);
-	if (r) {
-		fprintf(stderr, "depthao: %s\n", msg);
+	if (o->oni && open_sequence_oni(o, &cam, base, &oni_path, &oni))
 		goto out;
-	}
+	for (int i = 0; i < o->frames; i++)
+		if (write_sequence_frame(o, &cam, i, ddir, gdir, oni))
+			goto out;
+	if (write_sequence_camera(o, &cam, cam_path))
+		goto out;
 	if (oni) {
 		struct dao_error err;
 		struct dao_oni_writer *w = oni;

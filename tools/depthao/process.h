@@ -77,5 +77,7 @@ int process_input_is_stream(const char *input);
 const char *process_input_path(const char *input);
 /* The whole run for such input; returns the exit status. */
 int process_stream(const struct process_options *o);
+/* "N frames, M ms/frame (AO), wrote OUTPUTS" on stderr, after a run. */
+void process_print_summary(const struct process_options *o, const struct run_state *st);
 
 #endif

@@ -107,14 +107,15 @@ static int run(const struct process_options *o, struct dao_source *src,
 	return status;
 }
 
-int process_stream(const struct process_options *o)
+/*
+ * The source of o->input: the built-in sources first (a recording then
+ * costs no plugin modules; OpenCV and OpenNI2 pull in tens of megabytes),
+ * the modules only when no built-in takes it.  0 or the exit status.
+ */
+static int open_source(const struct process_options *o, struct dao_plugins **plugins,
+		       struct dao_source **src)
 {
 	struct dao_error err;
-	struct dao_plugins *plugins = NULL;
-	struct dao_source *src = NULL;
-	struct run_state st = {0};
-	int status = 1;
-
 	struct dao_source_options so = {
 		.size = sizeof(struct dao_source_options),
 		.playback = o->realtime ? DAO_PLAYBACK_REALTIME : DAO_PLAYBACK_MANUAL,
@@ -122,100 +123,127 @@ int process_stream(const struct process_options *o)
 		.want_color = o->overlay_out != NULL,
 		.depth_unit = (float)o->depth_unit,
 	};
-	/* the built-in sources first: a recording then costs no plugin modules (OpenCV and
-	 * OpenNI2 pull in tens of megabytes); the modules only when no built-in takes it */
-	if (dao_plugins_load(&plugins, "", &err)) {
+	if (dao_plugins_load(plugins, "", &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	int r = dao_source_open_limited(plugins, o->input, &so, o->max_pixels, &src, &err);
+	int r = dao_source_open_limited(*plugins, o->input, &so, o->max_pixels, src, &err);
 	if (r == -ENOENT && !strncmp(err.message, "no source", 9)) {
 		/* no built-in source for this URI ("no source plugin ...", "no source
 		 * recognises ..."; not a missing file) */
-		dao_plugins_free(plugins);
-		plugins = NULL;
-		if (cli_plugins_load(&plugins, &err)) {
+		dao_plugins_free(*plugins);
+		*plugins = NULL;
+		if (cli_plugins_load(plugins, &err)) {
 			fprintf(stderr, "depthao: %s\n", err.message);
 			return 1;
 		}
-		r = dao_source_open_limited(plugins, o->input, &so, o->max_pixels, &src, &err);
+		r = dao_source_open_limited(*plugins, o->input, &so, o->max_pixels, src, &err);
 	}
 	if (r) {
 		process_print_error(&err);
-		goto out;
+		return 1;
 	}
-	struct dao_source_info si;
-	dao_source_get_info(src, &si);
-	if (si.live && !o->max_frames) {
+	return 0;
+}
+
+/* Does the source give what the options ask (frame limits, colour)?  0 or the exit status. */
+static int check_source(const struct process_options *o, const struct dao_source_info *si)
+{
+	struct dao_error err;
+	if (si->live && !o->max_frames) {
 		usage_error("process", "'%s' is a live source; give --frames N", o->input);
-		status = 2;
-		goto out;
+		return 2;
 	}
-	if (si.live && o->start) {
+	if (si->live && o->start) {
 		usage_error("process", "--start applies to recordings, '%s' is a live source",
 			    o->input);
-		status = 2;
-		goto out;
+		return 2;
 	}
 	if (!o->quiet)
-		fprintf(stderr, "depthao: %s\n", si.description);
-	if (si.warning[0])
-		fprintf(stderr, "depthao: warning: %s\n", si.warning);
-	if (o->overlay_out && !si.has_color) {
+		fprintf(stderr, "depthao: %s\n", si->description);
+	if (si->warning[0])
+		fprintf(stderr, "depthao: warning: %s\n", si->warning);
+	if (o->overlay_out && !si->has_color) {
 		fprintf(stderr, "depthao: --overlay-out needs colour, and '%s' delivers depth only "
 			"(%s): give a recording or device with a colour stream, or leave out "
-			"--overlay-out\n", o->input, si.description);
-		goto out;
+			"--overlay-out\n", o->input, si->description);
+		return 1;
 	}
-	if (o->overlay_out && dao_overlay_check(si.color_width, si.color_height, si.width,
-						si.height, &err) < 0) {
+	if (o->overlay_out && dao_overlay_check(si->color_width, si->color_height, si->width,
+						si->height, &err) < 0) {
 		fprintf(stderr, "depthao: %s\n", err.message);
-		goto out;
+		return 1;
 	}
-	if (o->overlay_out && !si.registered && !o->quiet)
+	if (o->overlay_out && !si->registered && !o->quiet)
 		fprintf(stderr, "depthao: warning: the depth is not registered to the colour camera "
 			"(or the source cannot tell): the overlay is offset by the parallax between "
 			"the two cameras\n");
-	if ((status = process_check_cloud_frames(o, frames_to_write(o, &si), 1)))
-		goto out;
+	return process_check_cloud_frames(o, frames_to_write(o, si), 1);
+}
+
+/* The camera, the output directories, the context and frames; the source started. */
+static int prepare_run(const struct process_options *o, struct dao_source *src,
+		       const struct dao_source_info *si, struct run_state *st)
+{
+	struct dao_error err;
 	struct dao_camera cam;
-	if ((status = process_resolve_camera(o, 0, si.width, si.height, &si, &cam)))
-		goto out;
-	status = 1;
+	int status;
+	if ((status = process_resolve_camera(o, 0, si->width, si->height, si, &cam)))
+		return status;
 	if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
 	    (o->shaded_out && process_ensure_dir(o->shaded_out)) ||
 	    (o->overlay_out && process_ensure_dir(o->overlay_out)) ||
 	    (o->cloud_out && !process_cloud_is_file(o) && process_ensure_dir(o->cloud_out)))
-		goto out;
-	if (dao_context_create(&st.ctx, &cam, &o->params, &err) ||
-	    dao_frame_alloc(&st.overlay, DAO_PIXFMT_RGB24, si.width, si.height, &err) ||
-	    dao_frame_alloc(&st.ao, DAO_PIXFMT_GRAY16, si.width, si.height, &err) ||
-	    dao_frame_alloc(&st.rgb, DAO_PIXFMT_RGB24, si.width, si.height, &err) ||
+		return 1;
+	if (dao_context_create(&st->ctx, &cam, &o->params, &err) ||
+	    dao_frame_alloc(&st->overlay, DAO_PIXFMT_RGB24, si->width, si->height, &err) ||
+	    dao_frame_alloc(&st->ao, DAO_PIXFMT_GRAY16, si->width, si->height, &err) ||
+	    dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, si->width, si->height, &err) ||
 	    dao_source_start(src, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
-		goto out;
+		return 1;
 	}
-	status = run(o, src, &si, &st);
+	return 0;
+}
+
+void process_print_summary(const struct process_options *o, const struct run_state *st)
+{
+	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st->frames,
+		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames);
+	if (o->ao_out)
+		fprintf(stderr, " %s", o->ao_out);
+	if (o->shaded_out)
+		fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
+	if (o->overlay_out)
+		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ",
+			o->overlay_out);
+	if (o->cloud_out)
+		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out ? " and " : " ",
+			o->cloud_out);
+	fputc('\n', stderr);
+}
+
+int process_stream(const struct process_options *o)
+{
+	struct dao_plugins *plugins = NULL;
+	struct dao_source *src = NULL;
+	struct run_state st = {0};
+	struct dao_source_info si;
+	int status = open_source(o, &plugins, &src);
+	if (!status) {
+		dao_source_get_info(src, &si);
+		status = check_source(o, &si);
+	}
+	if (!status)
+		status = prepare_run(o, src, &si, &st);
+	if (!status)
+		status = run(o, src, &si, &st);
 	if (!status && st.frames == 0) {
 		fprintf(stderr, "depthao: '%s' delivered no frames\n", o->input);
 		status = 1;
 	}
-	if (!status && !o->quiet) {
-		fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st.frames,
-			st.frames == 1 ? "" : "s", st.ms_total / (double)st.frames);
-		if (o->ao_out)
-			fprintf(stderr, " %s", o->ao_out);
-		if (o->shaded_out)
-			fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
-		if (o->overlay_out)
-			fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ",
-				o->overlay_out);
-		if (o->cloud_out)
-			fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out ? " and " : " ",
-				o->cloud_out);
-		fputc('\n', stderr);
-	}
-out:
+	if (!status && !o->quiet)
+		process_print_summary(o, &st);
 	dao_source_close(src);
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);

@@ -148,6 +148,129 @@ static void watchdog_ping(struct daemon *d)
 	notify_watchdog();
 }
 
+/*
+ * The next input frame into *in: 1, or 0 when there is none yet (or
+ * processing is paused), or -1 when processing ends (input closed, or a
+ * signal and no time left for queued input).
+ */
+static int next_input(struct daemon *d, struct fq_item **in)
+{
+	watchdog_ping(d); /* each round: per frame, or every 100 ms while idle */
+	if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
+		nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
+		return 0;
+	}
+	if (!(*in = fq_pop(d->input, 100)))
+		return fq_closed_and_empty(d->input) ? -1 : 0;
+	if (atomic_load(&d->stop) && tool_mono_ns() >= atomic_load(&d->process_deadline_ns)) {
+		/* a signal, and no time left for queued input (or drain_on_stop = false) */
+		fq_done(d->input, *in);
+		atomic_fetch_add(&d->input_dropped, fq_clear(d->input) + 1);
+		return -1;
+	}
+	return 1;
+}
+
+/*
+ * A context and output frames for w x h frames, with the current parameters
+ * (made again when the size changes): 0, or -1 (logged and counted).
+ */
+static int setup_pipeline(struct daemon *d, struct dao_context **ctx, struct outputs *o,
+			  uint32_t w, uint32_t h)
+{
+	struct dao_error err = {0};
+	struct dao_camera cam;
+	if (*ctx && dao_context_camera(*ctx)->width == w && dao_context_camera(*ctx)->height == h)
+		return 0;
+	dao_context_destroy(*ctx);
+	*ctx = NULL;
+	pthread_mutex_lock(&d->lock);
+	struct dao_params p = d->params;
+	d->params_pending = 0;
+	pthread_mutex_unlock(&d->lock);
+	if (make_camera(d, w, h, &cam) < 0 || dao_context_create(ctx, &cam, &p, &err) < 0 ||
+	    fq_frame_reserve(&o->ao16, DAO_PIXFMT_GRAY16, w, h) < 0 ||
+	    fq_frame_reserve(&o->ao8, DAO_PIXFMT_GRAY8, w, h) < 0 ||
+	    fq_frame_reserve(&o->rgb, DAO_PIXFMT_RGB24, w, h) < 0 ||
+	    fq_frame_reserve(&o->overlay, DAO_PIXFMT_RGB24, w, h) < 0) {
+		log_error("cannot set up the pipeline for %ux%u frames: %s", w, h,
+			  err.message[0] ? err.message : "bad camera or out of memory");
+		dao_context_destroy(*ctx);
+		*ctx = NULL;
+		atomic_fetch_add(&d->process_errors, 1);
+		return -1;
+	}
+	log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
+		 dao_simd_name(dao_context_simd(*ctx)));
+	pthread_mutex_lock(&d->lock);
+	dao_camera_fov(&cam, &d->cam_hfov, &d->cam_vfov);
+	d->have_cam = 1;
+	pthread_mutex_unlock(&d->lock);
+	return 0;
+}
+
+/*
+ * New AO parameters into the context, and what this frame must produce:
+ * the streams sinks ask for beyond the configured ones (*extra), and
+ * whether the shaded image is wanted (the return value).
+ */
+static int take_settings(struct daemon *d, struct dao_context *ctx, unsigned *extra)
+{
+	struct dao_error err = {0};
+	pthread_mutex_lock(&d->lock);
+	if (d->params_pending) {
+		if (dao_context_set_params(ctx, &d->params, &err) < 0)
+			log_error("new AO parameters refused: %s", err.message);
+		d->params_pending = 0;
+	}
+	*extra = sinks_wanted_streams(d);
+	int want_rgb = d->wants[STREAM_SHADED] || (*extra & (1u << STREAM_SHADED)) ||
+		       d->snapshot_state == SNAP_REQUESTED;
+	pthread_mutex_unlock(&d->lock);
+	return want_rgb;
+}
+
+/*
+ * The AO of the frame and the images derived from it into o (*have_overlay:
+ * the overlay was made); the CPU time counted.  0, or -1 (logged, counted).
+ */
+static int process_frame(struct daemon *d, struct dao_context *ctx, const struct fq_item *in,
+			 struct outputs *o, int want_rgb, unsigned extra, int *have_overlay,
+			 struct log_limit *error_log)
+{
+	struct dao_error err = {0};
+	uint64_t c0 = tool_thread_cpu_ns();
+	int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o->ao16, &err);
+	if (r == 0 && want_rgb)
+		r = dao_context_shade(ctx, &o->rgb, &err);
+	*have_overlay = 0;
+	if (r == 0) {
+		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
+			ao_to_8bit(&o->ao16, &o->ao8);
+		if ((d->wants[STREAM_OVERLAY] || (extra & (1u << STREAM_OVERLAY))) &&
+		    in->color.format == DAO_PIXFMT_RGB24)
+			*have_overlay = dao_overlay(&in->color, &o->ao16, &o->overlay, &err) == 0;
+	}
+	atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);
+	if (r < 0) {
+		atomic_fetch_add(&d->process_errors, 1);
+		log_limited(error_log, LOG_ERROR, "frame %llu: %s", (unsigned long long)in->index,
+			    err.message);
+		return -1;
+	}
+	return 0;
+}
+
+/* Processing ended: the sinks' queues closed (emptied on a signal without drain_on_stop). */
+static void close_sinks(struct daemon *d)
+{
+	if (atomic_load(&d->stop) && !d->cfg.drain_on_stop)
+		for (unsigned i = 0; i < d->nsinks; i++)
+			atomic_fetch_add(&d->sinks[i].dropped, fq_clear(d->sinks[i].q));
+	for (unsigned i = 0; i < d->nsinks; i++)
+		fq_close(d->sinks[i].q);
+}
+
 void *process_main(void *arg)
 {
 	struct daemon *d = arg;
@@ -156,80 +279,19 @@ void *process_main(void *arg)
 	struct fq_item *in;
 	struct log_limit error_log = LOG_LIMIT_INIT(60000, 5);
 	for (;;) {
-		watchdog_ping(d); /* each round: per frame, or every 100 ms while idle */
-		if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
-			nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
-			continue;
-		}
-		if (!(in = fq_pop(d->input, 100))) {
-			if (fq_closed_and_empty(d->input))
-				break;
-			continue;
-		}
-		if (atomic_load(&d->stop) && tool_mono_ns() >= atomic_load(&d->process_deadline_ns)) {
-			/* a signal, and no time left for queued input (or drain_on_stop = false) */
-			fq_done(d->input, in);
-			atomic_fetch_add(&d->input_dropped, fq_clear(d->input) + 1);
+		int got = next_input(d, &in);
+		if (got < 0)
 			break;
+		if (!got)
+			continue;
+		unsigned extra;
+		int have_overlay;
+		if (setup_pipeline(d, &ctx, &o, in->frame.width, in->frame.height) < 0) {
+			fq_done(d->input, in);
+			continue;
 		}
-		struct dao_error err = {0};
-		const uint32_t w = in->frame.width, h = in->frame.height;
-		if (!ctx || dao_context_camera(ctx)->width != w || dao_context_camera(ctx)->height != h) {
-			struct dao_camera cam;
-			dao_context_destroy(ctx);
-			ctx = NULL;
-			pthread_mutex_lock(&d->lock);
-			struct dao_params p = d->params;
-			d->params_pending = 0;
-			pthread_mutex_unlock(&d->lock);
-			if (make_camera(d, w, h, &cam) < 0 || dao_context_create(&ctx, &cam, &p, &err) < 0 ||
-			    fq_frame_reserve(&o.ao16, DAO_PIXFMT_GRAY16, w, h) < 0 ||
-			    fq_frame_reserve(&o.ao8, DAO_PIXFMT_GRAY8, w, h) < 0 ||
-			    fq_frame_reserve(&o.rgb, DAO_PIXFMT_RGB24, w, h) < 0 ||
-			    fq_frame_reserve(&o.overlay, DAO_PIXFMT_RGB24, w, h) < 0) {
-				log_error("cannot set up the pipeline for %ux%u frames: %s", w, h,
-					  err.message[0] ? err.message : "bad camera or out of memory");
-				dao_context_destroy(ctx);
-				ctx = NULL;
-				atomic_fetch_add(&d->process_errors, 1);
-				fq_done(d->input, in);
-				continue;
-			}
-			log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
-				 dao_simd_name(dao_context_simd(ctx)));
-			pthread_mutex_lock(&d->lock);
-			dao_camera_fov(&cam, &d->cam_hfov, &d->cam_vfov);
-			d->have_cam = 1;
-			pthread_mutex_unlock(&d->lock);
-		}
-		pthread_mutex_lock(&d->lock);
-		if (d->params_pending) {
-			if (dao_context_set_params(ctx, &d->params, &err) < 0)
-				log_error("new AO parameters refused: %s", err.message);
-			d->params_pending = 0;
-		}
-		const unsigned extra = sinks_wanted_streams(d);
-		int want_rgb = d->wants[STREAM_SHADED] || (extra & (1u << STREAM_SHADED)) ||
-			       d->snapshot_state == SNAP_REQUESTED;
-		pthread_mutex_unlock(&d->lock);
-
-		uint64_t c0 = tool_thread_cpu_ns();
-		int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o.ao16, &err);
-		if (r == 0 && want_rgb)
-			r = dao_context_shade(ctx, &o.rgb, &err);
-		int have_overlay = 0;
-		if (r == 0) {
-			if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
-				ao_to_8bit(&o.ao16, &o.ao8);
-			if ((d->wants[STREAM_OVERLAY] || (extra & (1u << STREAM_OVERLAY))) &&
-			    in->color.format == DAO_PIXFMT_RGB24)
-				have_overlay = dao_overlay(&in->color, &o.ao16, &o.overlay, &err) == 0;
-		}
-		atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);
-		if (r < 0) {
-			atomic_fetch_add(&d->process_errors, 1);
-			log_limited(&error_log, LOG_ERROR, "frame %llu: %s", (unsigned long long)in->index,
-				    err.message);
+		const int want_rgb = take_settings(d, ctx, &extra);
+		if (process_frame(d, ctx, in, &o, want_rgb, extra, &have_overlay, &error_log) < 0) {
 			fq_done(d->input, in);
 			continue;
 		}
@@ -245,11 +307,7 @@ void *process_main(void *arg)
 			break;
 		}
 	}
-	if (atomic_load(&d->stop) && !d->cfg.drain_on_stop)
-		for (unsigned i = 0; i < d->nsinks; i++)
-			atomic_fetch_add(&d->sinks[i].dropped, fq_clear(d->sinks[i].q));
-	for (unsigned i = 0; i < d->nsinks; i++)
-		fq_close(d->sinks[i].q);
+	close_sinks(d);
 	dao_context_destroy(ctx);
 	free_outputs(&o);
 	log_limit_flush(&error_log, LOG_ERROR, "frame errors");

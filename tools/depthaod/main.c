@@ -286,6 +286,112 @@ static void reload(const struct options *o, struct daemon *d)
 		 o->config);
 }
 
+/* depthaod --check FILE: the configuration read and checked, nothing started. */
+static int check_config(const struct options *o)
+{
+	struct daemon_config cfg;
+	char msg[700];
+	if (build_config(o, o->check, &cfg, msg, sizeof msg) < 0) {
+		fprintf(stderr, "depthaod: %s\n", msg);
+		return 2;
+	}
+	printf("%s: ok (source %s, %u sink%s)\n", o->check, cfg.source_uri, cfg.nsinks,
+	       cfg.nsinks == 1 ? "" : "s");
+	return 0;
+}
+
+/* Signals are taken by the main thread only (sigtimedwait); threads inherit the mask. */
+static void block_signals(sigset_t *set)
+{
+	sigemptyset(set);
+	sigaddset(set, SIGTERM);
+	sigaddset(set, SIGINT);
+	sigaddset(set, SIGHUP);
+	pthread_sigmask(SIG_BLOCK, set, NULL);
+	signal(SIGPIPE, SIG_IGN); /* a reader going away is an error return, not a death */
+}
+
+/* The daemon and its control socket, started: 0, or -1 (logged). */
+static int start_daemon(const struct daemon_config *cfg, struct dao_plugins *plugins,
+			struct daemon **d, struct control **ctl)
+{
+	char msg[700];
+	if (daemon_create(d, cfg, plugins, msg, sizeof msg) < 0) {
+		log_error("%s", msg);
+		return -1;
+	}
+	struct control_options co = {cfg->socket_path, cfg->socket_group, cfg->socket_idle_timeout_s};
+	if (cfg->socket_path[0] && control_start(ctl, &co, *d, msg, sizeof msg) < 0) {
+		log_error("%s", msg);
+		return -1;
+	}
+	if (daemon_start(*d, msg, sizeof msg) < 0) {
+		log_error("%s", msg);
+		return -1;
+	}
+	log_info("depthaod %s: %s -> %u sink%s%s%s", dao_version(), cfg->source_uri, cfg->nsinks,
+		 cfg->nsinks == 1 ? "" : "s", *ctl ? ", control socket " : "",
+		 *ctl ? cfg->socket_path : "");
+	return 0;
+}
+
+/*
+ * Until SIGTERM, SIGINT or the end of the pipeline: SIGHUP reloads, and
+ * every 100 ms the watchdog and status are told and the stats logged when due.
+ */
+static void serve(const struct options *o, const struct daemon_config *cfg, struct daemon *d,
+		  const sigset_t *set)
+{
+	struct timespec tick = {0, 100 * 1000 * 1000};
+	uint64_t last_stats_ns = tool_mono_ns();
+	for (;;) {
+		siginfo_t si;
+		int sig = sigtimedwait(set, &si, &tick);
+		if (sig == SIGTERM || sig == SIGINT) {
+			log_info("%s: stopping", sig == SIGTERM ? "SIGTERM" : "SIGINT");
+			notify_stopping(sig == SIGTERM ? "SIGTERM" : "SIGINT");
+			break;
+		}
+		if (sig == SIGHUP) {
+			notify_reloading();
+			reload(o, d);
+			notify_reloaded();
+			continue;
+		}
+		if (daemon_finished(d)) {
+			notify_stopping("the pipeline ended");
+			break;
+		}
+		notify_tick(d);
+		const uint64_t now_ns = tool_mono_ns();
+		if (cfg->stats_interval_s &&
+		    now_ns - last_stats_ns >= (uint64_t)cfg->stats_interval_s * 1000000000u) {
+			log_stats(d, cfg->stats_json);
+			last_stats_ns = now_ns;
+		}
+	}
+}
+
+/*
+ * The control socket closed, the daemon stopped and its last stats logged:
+ * the exit status (1 if it failed or a sink's output is unfinished).
+ */
+static int stop_daemon(struct daemon *d, struct control **ctl, const struct daemon_config *cfg)
+{
+	control_stop(*ctl);
+	*ctl = NULL;
+	daemon_stop(d);
+	log_stats(d, cfg->stats_json);
+	int status = daemon_failed(d) || daemon_sinks_unfinished(d) ? 1 : 0;
+	if (daemon_stragglers(d)) {
+		/* within the promised second, even if a frame or a write is stuck */
+		if (daemon_sinks_unfinished(d))
+			log_error("exiting with a sink's output unfinished");
+		_exit(status);
+	}
+	return status;
+}
+
 int main(int argc, char **argv)
 {
 	struct options o;
@@ -295,15 +401,8 @@ int main(int argc, char **argv)
 	int r = parse_args(argc, argv, &o);
 	if (r)
 		return r;
-	if (o.check) {
-		if (build_config(&o, o.check, &cfg, msg, sizeof msg) < 0) {
-			fprintf(stderr, "depthaod: %s\n", msg);
-			return 2;
-		}
-		printf("%s: ok (source %s, %u sink%s)\n", o.check, cfg.source_uri, cfg.nsinks,
-		       cfg.nsinks == 1 ? "" : "s");
-		return 0;
-	}
+	if (o.check)
+		return check_config(&o);
 	if (build_config(&o, o.config, &cfg, msg, sizeof msg) < 0) {
 		fprintf(stderr, "depthaod: %s\n", msg);
 		return 2;
@@ -313,15 +412,8 @@ int main(int argc, char **argv)
 		log_warn("stdout was closed when depthaod started; it is /dev/null now (a y4m:- "
 			 "sink writes nowhere)");
 	notify_init();
-
-	/* signals are taken by the main thread only (sigtimedwait); threads inherit the mask */
 	sigset_t set;
-	sigemptyset(&set);
-	sigaddset(&set, SIGTERM);
-	sigaddset(&set, SIGINT);
-	sigaddset(&set, SIGHUP);
-	pthread_sigmask(SIG_BLOCK, &set, NULL);
-	signal(SIGPIPE, SIG_IGN); /* a reader going away is an error return, not a death */
+	block_signals(&set);
 
 	struct dao_plugins *plugins = NULL;
 	struct daemon *d = NULL;
@@ -332,62 +424,10 @@ int main(int argc, char **argv)
 		log_error("%s", err.message);
 		return 1;
 	}
-	if (daemon_create(&d, &cfg, plugins, msg, sizeof msg) < 0) {
-		log_error("%s", msg);
-		goto out;
+	if (start_daemon(&cfg, plugins, &d, &ctl) == 0) {
+		serve(&o, &cfg, d, &set);
+		status = stop_daemon(d, &ctl, &cfg);
 	}
-	struct control_options co = {cfg.socket_path, cfg.socket_group, cfg.socket_idle_timeout_s};
-	if (cfg.socket_path[0] && control_start(&ctl, &co, d, msg, sizeof msg) < 0) {
-		log_error("%s", msg);
-		goto out;
-	}
-	if (daemon_start(d, msg, sizeof msg) < 0) {
-		log_error("%s", msg);
-		goto out;
-	}
-	log_info("depthaod %s: %s -> %u sink%s%s%s", dao_version(), cfg.source_uri, cfg.nsinks,
-		 cfg.nsinks == 1 ? "" : "s", ctl ? ", control socket " : "",
-		 ctl ? cfg.socket_path : "");
-	struct timespec tick = {0, 100 * 1000 * 1000};
-	uint64_t last_stats_ns = tool_mono_ns();
-	for (;;) {
-		siginfo_t si;
-		int sig = sigtimedwait(&set, &si, &tick);
-		if (sig == SIGTERM || sig == SIGINT) {
-			log_info("%s: stopping", sig == SIGTERM ? "SIGTERM" : "SIGINT");
-			notify_stopping(sig == SIGTERM ? "SIGTERM" : "SIGINT");
-			break;
-		}
-		if (sig == SIGHUP) {
-			notify_reloading();
-			reload(&o, d);
-			notify_reloaded();
-			continue;
-		}
-		if (daemon_finished(d)) {
-			notify_stopping("the pipeline ended");
-			break;
-		}
-		notify_tick(d);
-		const uint64_t now_ns = tool_mono_ns();
-		if (cfg.stats_interval_s &&
-		    now_ns - last_stats_ns >= (uint64_t)cfg.stats_interval_s * 1000000000u) {
-			log_stats(d, cfg.stats_json);
-			last_stats_ns = now_ns;
-		}
-	}
-	control_stop(ctl);
-	ctl = NULL;
-	daemon_stop(d);
-	log_stats(d, cfg.stats_json);
-	status = daemon_failed(d) || daemon_sinks_unfinished(d) ? 1 : 0;
-	if (daemon_stragglers(d)) {
-		/* within the promised second, even if a frame or a write is stuck */
-		if (daemon_sinks_unfinished(d))
-			log_error("exiting with a sink's output unfinished");
-		_exit(status);
-	}
-out:
 	control_stop(ctl);
 	daemon_destroy(d);
 	dao_plugins_free(plugins);

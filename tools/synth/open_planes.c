@@ -144,6 +144,191 @@ static int any_within(const struct grid *g, const double *C, double r)
 	return 0;
 }
 
+/*
+ * Each pixel's view-space point into pts (0 where there is no depth), its
+ * occluder samples (the point and two deeper along its ray) into
+ * g->samples, and the bounding box of the points with depth and of their
+ * samples.
+ */
+static void points_and_samples(const float *z, const struct dao_camera *cam, float *pts,
+			       struct grid *g, double lo[3], double hi[3])
+{
+	const int w = (int)cam->width, h = (int)cam->height;
+	for (int a = 0; a < 3; a++)
+		lo[a] = INFINITY, hi[a] = -INFINITY;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			double P[3] = { 0, 0, 0 };
+			if (z[i] > 0) {
+				dao_camera_pixel_to_view(cam, x, y, z[i], P);
+				for (int a = 0; a < 3; a++)
+					lo[a] = fmin(lo[a], P[a]), hi[a] = fmax(hi[a], P[a]);
+			}
+			for (int a = 0; a < 3; a++)
+				pts[3 * i + a] = (float)P[a];
+			const double len = sqrt(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+			for (int k = 0; k < SAMPLES; k++) {
+				const double t = len > 0 ? 1.0 + THICKNESS * k / (SAMPLES - 1) / len : 1.0;
+				for (int a = 0; a < 3; a++) {
+					double v = P[a] * t;
+					g->samples[(SAMPLES * i + (size_t)k) * 3 + (size_t)a] = (float)v;
+					if (z[i] > 0)
+						lo[a] = fmin(lo[a], v), hi[a] = fmax(hi[a], v);
+				}
+			}
+		}
+}
+
+/* The grid over the box lo..hi: cells of radius / 2, doubled until at most MAX_CELLS. */
+static int grid_alloc(struct grid *g, const double lo[3], const double hi[3], double radius,
+		      struct dao_error *err)
+{
+	g->cell = radius / 2;
+	for (;;) {
+		g->nx = (int)((hi[0] - lo[0]) / g->cell) + 1;
+		g->ny = (int)((hi[1] - lo[1]) / g->cell) + 1;
+		g->nz = (int)((hi[2] - lo[2]) / g->cell) + 1;
+		if ((double)g->nx * g->ny * g->nz <= MAX_CELLS)
+			break;
+		g->cell *= 2;
+	}
+	g->x0 = lo[0], g->y0 = lo[1], g->z0 = lo[2];
+	g->start = malloc(((size_t)g->nx * g->ny * g->nz + 1) * sizeof(int32_t));
+	g->queue = malloc(((size_t)g->nx * g->ny * g->nz + 1) * sizeof(int32_t));
+	if (!g->start || !g->queue)
+		return dao_error_set(err, -ENOMEM, "out of memory finding open planes");
+	return 0;
+}
+
+/* cand[i] = 1 where the point is in front of the plane by more than the tolerance. */
+static void occluders_in_front(const float *z, const float *pts, const int32_t *lab, size_t np,
+			       const struct synth_plane *pl, int p, uint8_t *cand)
+{
+	const double *n = pl->normal;
+	for (size_t i = 0; i < np; i++) {
+		cand[i] = 0;
+		if (!(z[i] > 0) || lab[i] == p)
+			continue;
+		const float *P = pts + 3 * i;
+		double above = n[0] * P[0] + n[1] * P[1] + n[2] * P[2] + pl->distance;
+		double zz = P[2], tol = fmax(MIN_TOLERANCE, SIGMAS * pl->sigma_w * zz * zz);
+		cand[i] = above > tol;
+	}
+}
+
+/*
+ * The plane's own noise is not an occluder: a morphological opening
+ * (3x3 erosion, then dilation) keeps surfaces and drops isolated
+ * outliers and the thin row patterns some sensors leave on planes.
+ */
+static void open_occluders(uint8_t *cand, int w, int h)
+{
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			int all = cand[i] && x > 0 && y > 0 && x < w - 1 && y < h - 1;
+			for (int k = -1; all && k <= 1; k++)
+				all = (cand[i + (size_t)((long)k * w) - 1] & 1) &&
+				      (cand[i + (size_t)((long)k * w)] & 1) &&
+				      (cand[i + (size_t)((long)k * w) + 1] & 1);
+			if (all)
+				cand[i] |= 2;   /* survives the erosion */
+		}
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			int any = 0;
+			for (int yy = y - 1; yy <= y + 1 && !any; yy++)
+				for (int xx = x - 1; xx <= x + 1 && !any; xx++)
+					any = xx >= 0 && yy >= 0 && xx < w && yy < h &&
+					      (cand[(size_t)yy * w + xx] & 2);
+			if (any && (cand[i] & 1))
+				cand[i] |= 4;   /* in the opening */
+		}
+	for (size_t i = 0; i < (size_t)w * h; i++)
+		cand[i] = (cand[i] & 4) != 0;
+}
+
+/* The pixels of plane p in the block at (bx, by) with no occluder within the radius. */
+static void mark_open_block(const struct grid *g, const float *pts, const int32_t *lab, int p,
+			    int bx, int by, int w, int h, double radius, uint8_t *mask, long *count)
+{
+	/* the block's pixels of this plane: their centre and extent */
+	double C[3] = { 0, 0, 0 }, ext = 0;
+	int nb = 0;
+	for (int y = by; y < by + BLOCK && y < h; y++)
+		for (int x = bx; x < bx + BLOCK && x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			if (lab[i] != p)
+				continue;
+			for (int a = 0; a < 3; a++)
+				C[a] += pts[3 * i + a];
+			nb++;
+		}
+	if (!nb)
+		return;
+	for (int a = 0; a < 3; a++)
+		C[a] /= nb;
+	for (int y = by; y < by + BLOCK && y < h; y++)
+		for (int x = bx; x < bx + BLOCK && x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			if (lab[i] != p)
+				continue;
+			const float *P = pts + 3 * i;
+			double dx = P[0] - C[0], dy = P[1] - C[1], dz = P[2] - C[2];
+			ext = fmax(ext, sqrt(dx * dx + dy * dy + dz * dz));
+		}
+	const int whole = !any_within(g, C, radius + ext);
+	for (int y = by; y < by + BLOCK && y < h; y++)
+		for (int x = bx; x < bx + BLOCK && x < w; x++) {
+			size_t i = (size_t)y * w + x;
+			if (lab[i] != p)
+				continue;
+			double Pi[3] = { pts[3 * i], pts[3 * i + 1], pts[3 * i + 2] };
+			if (whole || !any_within(g, Pi, radius)) {
+				mask[i] = 1;
+				(*count)++;
+			}
+		}
+}
+
+/*
+ * Drops the fragments, the 4-connected components of the mask below MIN_AREA
+ * (queue: np entries of scratch), and counts what is left.
+ */
+static long drop_small_fragments(uint8_t *mask, int w, int h, int32_t *queue)
+{
+	const size_t np = (size_t)w * h;
+	for (size_t s0 = 0; s0 < np; s0++) {
+		if (mask[s0] != 1)
+			continue;
+		long head = 0, tail = 0;
+		queue[tail++] = (int32_t)s0;
+		mask[s0] = 2;
+		while (head < tail) {
+			int32_t i = queue[head++];
+			int x = i % w, y = i / w;
+			const int32_t nb[4] = { x > 0 ? i - 1 : -1, x + 1 < w ? i + 1 : -1,
+						y > 0 ? i - w : -1, y + 1 < h ? i + w : -1 };
+			for (int k = 0; k < 4; k++)
+				if (nb[k] >= 0 && mask[nb[k]] == 1) {
+					mask[nb[k]] = 2;
+					queue[tail++] = nb[k];
+				}
+		}
+		if (tail < MIN_AREA)
+			for (long k = 0; k < tail; k++)
+				mask[queue[k]] = 3;
+	}
+	long count = 0;
+	for (size_t i = 0; i < np; i++) {
+		mask[i] = mask[i] == 2;
+		count += mask[i];
+	}
+	return count;
+}
+
 int synth_open_planes(const float *z, const struct dao_camera *cam, double depth_unit,
 		      double radius, uint8_t *mask, long *count, struct dao_error *err)
 {
@@ -170,161 +355,22 @@ int synth_open_planes(const float *z, const struct dao_camera *cam, double depth
 		ret = dao_error_set(err, -ENOMEM, "out of memory finding open planes");
 		goto out;
 	}
-	/* the points, and the grid over their bounding box */
-	double lo[3] = { INFINITY, INFINITY, INFINITY }, hi[3] = { -INFINITY, -INFINITY, -INFINITY };
-	for (int y = 0; y < h; y++)
-		for (int x = 0; x < w; x++) {
-			size_t i = (size_t)y * w + x;
-			double P[3] = { 0, 0, 0 };
-			if (z[i] > 0) {
-				dao_camera_pixel_to_view(cam, x, y, z[i], P);
-				for (int a = 0; a < 3; a++)
-					lo[a] = fmin(lo[a], P[a]), hi[a] = fmax(hi[a], P[a]);
-			}
-			for (int a = 0; a < 3; a++)
-				pts[3 * i + a] = (float)P[a];
-			/* the occluder samples: the point and two deeper along the ray */
-			const double len = sqrt(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
-			for (int k = 0; k < SAMPLES; k++) {
-				const double t = len > 0 ? 1.0 + THICKNESS * k / (SAMPLES - 1) / len : 1.0;
-				for (int a = 0; a < 3; a++) {
-					double v = P[a] * t;
-					g.samples[(SAMPLES * i + (size_t)k) * 3 + (size_t)a] = (float)v;
-					if (z[i] > 0)
-						lo[a] = fmin(lo[a], v), hi[a] = fmax(hi[a], v);
-				}
-			}
-		}
+	double lo[3], hi[3];
+	points_and_samples(z, cam, pts, &g, lo, hi);
 	if (!(hi[2] > 0))
 		goto out;
-	g.cell = radius / 2;
-	for (;;) {
-		g.nx = (int)((hi[0] - lo[0]) / g.cell) + 1;
-		g.ny = (int)((hi[1] - lo[1]) / g.cell) + 1;
-		g.nz = (int)((hi[2] - lo[2]) / g.cell) + 1;
-		if ((double)g.nx * g.ny * g.nz <= MAX_CELLS)
-			break;
-		g.cell *= 2;
-	}
-	g.x0 = lo[0], g.y0 = lo[1], g.z0 = lo[2];
-	g.start = malloc(((size_t)g.nx * g.ny * g.nz + 1) * sizeof(int32_t));
-	g.queue = malloc(((size_t)g.nx * g.ny * g.nz + 1) * sizeof(int32_t));
-	if (!g.start || !g.queue) {
-		ret = dao_error_set(err, -ENOMEM, "out of memory finding open planes");
+	if ((ret = grid_alloc(&g, lo, hi, radius, err)))
 		goto out;
-	}
 	for (int p = 0; p < nplanes; p++) {
-		const struct synth_plane *pl = &planes[p];
-		const double *n = pl->normal;
-		/* candidates: in front of this plane by more than the tolerance */
-		for (size_t i = 0; i < np; i++) {
-			cand[i] = 0;
-			if (!(z[i] > 0) || lab[i] == p)
-				continue;
-			const float *P = pts + 3 * i;
-			double above = n[0] * P[0] + n[1] * P[1] + n[2] * P[2] + pl->distance;
-			double zz = P[2], tol = fmax(MIN_TOLERANCE, SIGMAS * pl->sigma_w * zz * zz);
-			cand[i] = above > tol;
-		}
-		/*
-		 * The plane's own noise is not an occluder: a morphological opening
-		 * (3x3 erosion, then dilation) keeps surfaces and drops isolated
-		 * outliers and the thin row patterns some sensors leave on planes.
-		 */
-		for (int y = 0; y < h; y++)
-			for (int x = 0; x < w; x++) {
-				size_t i = (size_t)y * w + x;
-				int all = cand[i] && x > 0 && y > 0 && x < w - 1 && y < h - 1;
-				for (int k = -1; all && k <= 1; k++)
-					all = (cand[i + (size_t)((long)k * w) - 1] & 1) &&
-					      (cand[i + (size_t)((long)k * w)] & 1) &&
-					      (cand[i + (size_t)((long)k * w) + 1] & 1);
-				if (all)
-					cand[i] |= 2;   /* survives the erosion */
-			}
-		for (int y = 0; y < h; y++)
-			for (int x = 0; x < w; x++) {
-				size_t i = (size_t)y * w + x;
-				int any = 0;
-				for (int yy = y - 1; yy <= y + 1 && !any; yy++)
-					for (int xx = x - 1; xx <= x + 1 && !any; xx++)
-						any = xx >= 0 && yy >= 0 && xx < w && yy < h &&
-						      (cand[(size_t)yy * w + xx] & 2);
-				if (any && (cand[i] & 1))
-					cand[i] |= 4;   /* in the opening */
-			}
-		for (size_t i = 0; i < np; i++)
-			cand[i] = (cand[i] & 4) != 0;
+		occluders_in_front(z, pts, lab, np, &planes[p], p, cand);
+		open_occluders(cand, w, h);
 		grid_build(&g, cand, w, h);
 		for (int by = 0; by < h; by += BLOCK)
-			for (int bx = 0; bx < w; bx += BLOCK) {
-				/* the block's pixels of this plane: their centre and extent */
-				double C[3] = { 0, 0, 0 }, ext = 0;
-				int nb = 0;
-				for (int y = by; y < by + BLOCK && y < h; y++)
-					for (int x = bx; x < bx + BLOCK && x < w; x++) {
-						size_t i = (size_t)y * w + x;
-						if (lab[i] != p)
-							continue;
-						for (int a = 0; a < 3; a++)
-							C[a] += pts[3 * i + a];
-						nb++;
-					}
-				if (!nb)
-					continue;
-				for (int a = 0; a < 3; a++)
-					C[a] /= nb;
-				for (int y = by; y < by + BLOCK && y < h; y++)
-					for (int x = bx; x < bx + BLOCK && x < w; x++) {
-						size_t i = (size_t)y * w + x;
-						if (lab[i] != p)
-							continue;
-						const float *P = pts + 3 * i;
-						double dx = P[0] - C[0], dy = P[1] - C[1], dz = P[2] - C[2];
-						ext = fmax(ext, sqrt(dx * dx + dy * dy + dz * dz));
-					}
-				const int whole = !any_within(&g, C, radius + ext);
-				for (int y = by; y < by + BLOCK && y < h; y++)
-					for (int x = bx; x < bx + BLOCK && x < w; x++) {
-						size_t i = (size_t)y * w + x;
-						if (lab[i] != p)
-							continue;
-						double Pi[3] = { pts[3 * i], pts[3 * i + 1], pts[3 * i + 2] };
-						if (whole || !any_within(&g, Pi, radius)) {
-							mask[i] = 1;
-							(*count)++;
-						}
-					}
-			}
+			for (int bx = 0; bx < w; bx += BLOCK)
+				mark_open_block(&g, pts, lab, p, bx, by, w, h, radius, mask, count);
 	}
-	/* fragments: 4-connected components of the mask below MIN_AREA */
-	for (size_t s0 = 0; s0 < np; s0++) {
-		if (mask[s0] != 1)
-			continue;
-		long head = 0, tail = 0;
-		int32_t *queue = (int32_t *)g.samples; /* free by now: 9 np floats */
-		queue[tail++] = (int32_t)s0;
-		mask[s0] = 2;
-		while (head < tail) {
-			int32_t i = queue[head++];
-			int x = i % w, y = i / w;
-			const int32_t nb[4] = { x > 0 ? i - 1 : -1, x + 1 < w ? i + 1 : -1,
-						y > 0 ? i - w : -1, y + 1 < h ? i + w : -1 };
-			for (int k = 0; k < 4; k++)
-				if (nb[k] >= 0 && mask[nb[k]] == 1) {
-					mask[nb[k]] = 2;
-					queue[tail++] = nb[k];
-				}
-		}
-		if (tail < MIN_AREA)
-			for (long k = 0; k < tail; k++)
-				mask[queue[k]] = 3;
-	}
-	*count = 0;
-	for (size_t i = 0; i < np; i++) {
-		mask[i] = mask[i] == 2;
-		*count += mask[i];
-	}
+	/* g.samples is free by now: 9 np floats for the fragments' queue */
+	*count = drop_small_fragments(mask, w, h, (int32_t *)g.samples);
 out:
 	free(lab);
 	free(pts);
