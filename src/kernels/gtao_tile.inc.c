@@ -309,6 +309,13 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
 	const struct tile_tap tp = tile_tap_read(base, st);
+	/* the line the same lanes of the next block span (DAO_GTAO_BLOCK entries on,
+	 * after the span's other tile phases) add to these taps: the taps lie up to
+	 * max_r_px rows away, beyond the caches, and each load moves by a fixed step
+	 * from span to span, which the hardware's prefetchers do not follow (one
+	 * address per step and slice from the same instructions); as vbao_front */
+	__builtin_prefetch(base + st->o0 + DAO_GTAO_BLOCK + VN - 1);
+	__builtin_prefetch(base + st->o1 + DAO_GTAO_BLOCK + VN - 1);
 	const vf iz = tp.iz;
 	vm ok = tp.ok;
 	const vm edge = tp.edge;
@@ -566,13 +573,30 @@ static inline void tile_block_invalid(const struct dao_gtao_setup *s, float *ao,
 		ao[(size_t)y * s->width + x] = s->invalid_value;
 }
 
+/* Asks for the normals of the block span at column x of row y (-1: none),
+ * the one tile_row splits next: a row of normals is read once, 3 floats a
+ * pixel, and the first lines of each of its spans missed the caches. */
+static inline void tile_prefetch_normals(const struct dao_gtao_setup *s, const float *n, int y,
+					 int x)
+{
+	if (y < 0)
+		return;
+	const float *row = n + 3 * ((size_t)y * (size_t)s->width + (size_t)x);
+	const int count = 3 * (s->width - x < DAO_GTAO_BLOCK_SPAN ? s->width - x : DAO_GTAO_BLOCK_SPAN);
+	/* every line of the span's floats (16 a line), and its last float's: an
+	 * unaligned plane puts them on one line more */
+	for (int k = 0; k < count; k += 16)
+		__builtin_prefetch(row + k);
+	__builtin_prefetch(row + count - 1);
+}
+
 /* Columns [x_begin, x_end) of row y, block by block: the four tile phases of
  * DAO_GTAO_BLOCK_SPAN columns share one split of their normals (is_vbao, vb:
  * tile_lanes). */
 static inline __attribute__((always_inline)) void
 tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const float *n,
 	 float *ao, const struct tile_phase ph[4], struct dao_tile_scratch *sc,
-	 const struct tile_vbao *vb, int y, const int is_vbao)
+	 const struct tile_vbao *vb, int y, int y_next, const int is_vbao)
 {
 	float nb[4][3][DAO_GTAO_BLOCK];
 	struct vbao_pipe pipe;
@@ -592,6 +616,10 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
+				tile_prefetch_normals(s, n, xb + DAO_GTAO_BLOCK_SPAN < s->x_end ? y : y_next,
+						      xb + DAO_GTAO_BLOCK_SPAN < s->x_end
+							      ? xb + DAO_GTAO_BLOCK_SPAN
+							      : s->x_begin);
 			}
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
@@ -623,7 +651,7 @@ tile_rows(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, cons
 			tile_cache_reset(s, &sc->cache[a]);
 		}
 		for (int y = yc; y < y1; y += 4)
-			tile_row(s, pl, n, ao, ph, sc, vb, y, is_vbao);
+			tile_row(s, pl, n, ao, ph, sc, vb, y, y + 4 < y1 ? y + 4 : -1, is_vbao);
 	}
 }
 
