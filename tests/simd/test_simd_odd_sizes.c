@@ -207,6 +207,16 @@ static int optimised_sets(enum dao_simd *out)
 	return n;
 }
 
+/* The kernels of every optimised set this CPU can run. */
+static int kernel_sets(struct dao_kernels *out)
+{
+	enum dao_simd sets[DAO_SIMD_COUNT];
+	const int n = optimised_sets(sets);
+	for (int k = 0; k < n; k++)
+		dao_kernels_select(&out[k], sets[k]);
+	return n;
+}
+
 /* A band of rows in the middle (or the whole, for fewer than 3 rows). */
 static void band(int h, int *y0, int *y1)
 {
@@ -306,12 +316,11 @@ static void errs_done(struct errs *s, const char *what, const char *set, double 
 static void test_prefilter(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		struct errs e = { 0 };
 		FOR_SIZES(w, h)
 		{
@@ -367,13 +376,12 @@ static void test_prefilter(void **state)
 static void test_domain(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	static const char *const mode_name[] = { "2 px", "8 px", "cells", "8 px one-sided" };
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		for (int mode = 0; mode < 4; mode++) {
 			struct errs e = { 0 };
 			double sum = 0;
@@ -469,12 +477,11 @@ static void random_ao(float *ao, size_t n, unsigned seed, float lo, float hi)
 static void test_denoise(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		struct errs e = { 0 };
 		FOR_SIZES(w, h)
 		{
@@ -511,12 +518,11 @@ static void test_denoise(void **state)
 static void test_normals(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		struct errs e = { 0 };
 		FOR_SIZES(w, h)
 		{
@@ -566,12 +572,11 @@ static const float *phase_base(const struct dao_gtao_planes *pl)
 static void test_planes_fill(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		FOR_SIZES(w, h)
 		{
 			struct ginput gz;
@@ -625,12 +630,11 @@ static void test_planes_fill(void **state)
 static void test_shade(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		FOR_SIZES(w, h)
 		{
 			const size_t np = (size_t)w * h;
@@ -726,12 +730,11 @@ static void tframe(float *z, int w, int h, int f)
 static void test_temporal_depth(void **state)
 {
 	(void)state;
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	for (int k = 0; k < ns; k++) {
-		const char *set = dao_simd_name(sets[k]);
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const struct dao_kernels kr = sets[k];
+		const char *set = dao_simd_name(kr.simd);
 		FOR_SIZES(w, h)
 		{
 			const size_t np = (size_t)w * h;
@@ -882,21 +885,20 @@ static void ao_all_sizes(enum ao_kind kind, int noise, double mx, double mae, do
 	static const char *const kind_name[] = { "gtao", "vbao", "vbao plane", "hbao" };
 	static const char *const noise_name[] = { [DAO_NOISE_NONE] = "none", [DAO_NOISE_IGN] = "ign",
 						  [DAO_NOISE_R2] = "r2", [DAO_NOISE_TILE] = "tile" };
-	enum dao_simd sets[DAO_SIMD_COUNT];
-	const int ns = optimised_sets(sets);
+	struct dao_kernels sets[DAO_SIMD_COUNT];
+	const int ns = kernel_sets(sets);
 	struct dao_tile_scratch *scratch = malloc(sizeof *scratch);
 	assert_non_null(scratch);
 	char what[64];
 	snprintf(what, sizeof what, "%s noise %s", kind_name[kind], noise_name[noise]);
 	for (int k = 0; k < ns; k++) {
-		struct dao_kernels kr;
-		dao_kernels_select(&kr, sets[k]);
+		const char *set = dao_simd_name(sets[k].simd);
 		struct errs e = { 0 };
 		FOR_SIZES(w, h)
 		{
-			ao_size(&kr, dao_simd_name(sets[k]), kind, noise, w, h, &e, scratch);
+			ao_size(&sets[k], set, kind, noise, w, h, &e, scratch);
 		}
-		errs_done(&e, what, dao_simd_name(sets[k]), mx, mae, p999);
+		errs_done(&e, what, set, mx, mae, p999);
 	}
 	free(scratch);
 }
