@@ -9,8 +9,9 @@
 #   ./bootstrap.sh view   build, then serve the bundled recording in a loop to the browser viewer
 #                         (http://127.0.0.1:8080/) until Ctrl-C
 #   ./bootstrap.sh test   build, then run every test suite, the installed-library example included,
-#                         then the .oni/plugin/bag/daemon/ros suites and the http sink's
-#                         tests under ASan + UBSan
+#                         then the install suite again in a default `meson setup` outside the
+#                         source tree, then the .oni/plugin/bag/daemon/ros suites and the http
+#                         sink's tests under ASan + UBSan
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -20,6 +21,9 @@ DEMO_OUT=${DEMO_OUT:-out}
 # Where `./bootstrap.sh view` serves the viewer (HOST:PORT; every interface only when asked).
 VIEW_ADDR=${VIEW_ADDR:-127.0.0.1:8080}
 BUILD_DIR=${BUILD_DIR:-build}
+# `./bootstrap.sh test`'s second configuration, meson's defaults, outside the source tree
+# (one per checkout)
+DEFAULT_BUILD_DIR=${DEFAULT_BUILD_DIR:-${TMPDIR:-/tmp}/depthao-default-$(pwd -P | cksum | cut -d' ' -f1)}
 DEPTHAO=$BUILD_DIR/tools/depthao/depthao
 DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
@@ -53,10 +57,12 @@ usage: ./bootstrap.sh deps|build|demo|view|test
   view    build, then serve $DEMO_INPUT in a loop, in real time, to the browser viewer at
           http://$VIEW_ADDR/ (parameters may be changed from the page) until Ctrl-C
   test    build, then run every test suite (meson test), including the example built
-          against the installed library (suite 'install'); then the oni, plugin, bag,
-          daemon and ros suites and web-http again under ASan + UBSan (in $BUILD_DIR-asan)
+          against the installed library (suite 'install'); then the install suite and
+          simd-odd-sizes again in a default 'meson setup' outside the source tree
+          (in $DEFAULT_BUILD_DIR); then the oni, plugin, bag, daemon and ros suites and
+          web-http again under ASan + UBSan (in $BUILD_DIR-asan)
 
-environment: BUILD_DIR (default build), DEMO_INPUT, DEMO_OUT (default out),
+environment: BUILD_DIR (default build), DEFAULT_BUILD_DIR, DEMO_INPUT, DEMO_OUT (default out),
              VIEW_ADDR (default 127.0.0.1:8080; 0.0.0.0:8080 for other machines)
 USAGE
 }
@@ -167,8 +173,37 @@ run_tests() {
 	local status=0
 	meson test -C "$BUILD_DIR" --print-errorlogs || status=$?
 	summarize
+	default_build_tests || status=1
 	sanitized_tests || status=1
 	return "$status"
+}
+
+# The project as a plain `meson setup DIR` configures it -- its default build type
+# (debugoptimized: debug information, assertions on), every option at its default -- in a
+# build directory outside the source tree ($DEFAULT_BUILD_DIR), where $BUILD_DIR is the
+# release build inside it: built whole, then the suite that depends on how it is built
+# and installed rather than on the optimiser (install: nothing installed names the build
+# tree, the example against the installed library, exports, systemd unit, manual pages;
+# 20 s)
+# and every kernel set at odd sizes with assertions on (simd-odd-sizes, 8 s).  The rest
+# of the suite ran above; a second full run (33 min of tests on 2 cores) would not fit
+# CI's time.
+default_build_tests() {
+	local dir="$DEFAULT_BUILD_DIR"
+	mkdir -p "$dir" || return 1
+	case "$(cd "$dir" && pwd -P)/" in
+	"$(pwd -P)/"*) die "DEFAULT_BUILD_DIR ($dir) must be outside the source tree" ;;
+	esac
+	# (called after ||, so errexit is off in here: each status is kept by hand)
+	if [ ! -f "$dir/meson-private/coredata.dat" ]; then
+		meson setup "$dir" >/dev/null || return 1
+	fi
+	ninja -C "$dir" >/dev/null || return 1
+	say "the default configuration (meson setup $dir): the install suite, simd-odd-sizes"
+	local st=0
+	meson test -C "$dir" --suite install --print-errorlogs || st=1
+	meson test -C "$dir" simd-odd-sizes --print-errorlogs || st=1
+	return "$st"
 }
 
 # The parsers of untrusted files (.oni reader, 16z codecs) and the sources again, under
