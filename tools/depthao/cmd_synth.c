@@ -267,6 +267,7 @@ static int write_sequence(const struct synth_options *o)
 		struct dao_error err;
 		size_t n = strlen(base);
 		struct dao_oni_writer_options wo = {
+			.size = sizeof(struct dao_oni_writer_options),
 			.width = cam.width, .height = cam.height, .fps = SYNTH_ONI_FPS,
 			.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
 			.overwrite = 1, /* made again, like the PNGs beside it */
