@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 #include <errno.h>
 #include <math.h>
+#include <string.h>
 
 #include <depthao/camera.h>
 #include <depthao/frame.h>
@@ -49,14 +50,22 @@ int dao_camera_from_intrinsics_sized(struct dao_camera *cam, size_t size, uint32
 	if (!isfinite(cx) || !isfinite(cy))
 		return dao_error_set(err, -EINVAL,
 				     "principal point cx=%g, cy=%g must be finite (pixels)", cx, cy);
-	const struct dao_camera c = {
-		.size = sizeof(struct dao_camera),
-		.width = w, .height = h,
-		.fx = fx, .fy = fy, .cx = cx, .cy = cy,
-		/* UvToViewParams in pixel units: x = (u*ax + bx) z */
-		.ax = (float)(1.0 / fx), .bx = (float)(-cx / fx),
-		.ay = (float)(1.0 / fy), .by = (float)(-cy / fy),
-	};
+	/* field by field over zeros: the padding after `height` is copied out too, and
+	 * cameras made alike compare equal byte for byte */
+	struct dao_camera c;
+	memset(&c, 0, sizeof c);
+	c.size = sizeof(struct dao_camera);
+	c.width = w;
+	c.height = h;
+	c.fx = fx;
+	c.fy = fy;
+	c.cx = cx;
+	c.cy = cy;
+	/* UvToViewParams in pixel units: x = (u*ax + bx) z */
+	c.ax = (float)(1.0 / fx);
+	c.bx = (float)(-cx / fx);
+	c.ay = (float)(1.0 / fy);
+	c.by = (float)(-cy / fy);
 	return give(cam, size, &c, err);
 }
 
