@@ -28,7 +28,7 @@ DEPTHAO=$BUILD_DIR/tools/depthao/depthao
 DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
 PACKAGES=(
-	meson ninja-build pkg-config gcc g++
+	meson ninja-build pkg-config gcc g++ abigail-tools
 	doxygen
 	libpng-dev libjson-c-dev libcmocka-dev liblz4-dev libbz2-dev libturbojpeg0-dev
 	libopencv-dev libopencv-contrib-dev

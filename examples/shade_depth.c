@@ -17,7 +17,7 @@ static int number(const char *s, double *v) /* 0 if all of s is a number */
 int main(int argc, char **argv)
 {
 	struct dao_error err = { 0 };
-	struct dao_frame depth = { 0 }, rgb = { 0 };
+	struct dao_frame depth = DAO_FRAME_INIT, rgb = DAO_FRAME_INIT;
 	struct dao_context *ctx = NULL;
 	struct dao_camera cam;
 	double k[5] = { 525, 525, 0, 0, 0.001 }; /* fx fy cx cy, metres per count */

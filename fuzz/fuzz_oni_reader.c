@@ -93,8 +93,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			abort();
 		if (in->sensor == DAO_ONI_SENSOR_COLOR && in->width && in->height &&
 		    (uint64_t)in->width * in->height <= MAX_PIXELS) {
-			struct dao_frame c = {DAO_PIXFMT_RGB24, in->width, in->height,
-					      (int32_t)(in->width * 3), NULL, 0, 0, 0};
+			struct dao_frame c = {.format = DAO_PIXFMT_RGB24, .width = in->width,
+					.height = in->height,
+					      .stride = (int32_t)(in->width * 3)};
 			if (!(c.data = malloc((size_t)in->width * in->height * 3)))
 				abort();
 			for (uint32_t k = 0; k <= in->frame_count; k++) {
@@ -118,8 +119,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (in->width == 0 || in->height == 0 ||
 		    (uint64_t)in->width * in->height > MAX_PIXELS)
 			continue;
-		struct dao_frame f = {DAO_PIXFMT_DEPTH16, in->width, in->height,
-				      (int32_t)(in->width * 2), NULL, 0, 0, 0};
+		struct dao_frame f = {.format = DAO_PIXFMT_DEPTH16, .width = in->width,
+				.height = in->height,
+				      .stride = (int32_t)(in->width * 2)};
 		f.data = malloc((size_t)in->width * in->height * 2);
 		if (!f.data)
 			abort();

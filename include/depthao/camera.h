@@ -22,7 +22,15 @@ extern "C" {
 #endif
 
 /* A pinhole camera: intrinsics and the UvToViewParams derived from them. */
+/*
+ * Made by dao_camera_from_intrinsics(), _from_fov() or _from_camera_info(),
+ * which set `size` to the program's sizeof (docs/abi.md: fields are only
+ * appended; the library reads a field added after the first layout only when
+ * `size` covers it, and a camera with size 0, made by hand, as the first
+ * layout).
+ */
 struct dao_camera {
+	uint32_t size;           /* sizeof(struct dao_camera) of the program, set by the makers */
 	uint32_t width, height;  /* image size in pixels */
 	double fx, fy, cx, cy;   /* intrinsics in pixels */
 	float ax, ay, bx, by;    /* UvToViewParams, derived */
@@ -31,18 +39,35 @@ struct dao_camera {
 /*
  * Sets up a camera from intrinsics.  fx, fy must be finite and > 0, cx, cy
  * finite; width and height in 1..DAO_MAX_DIMENSION.  Returns 0 or -EINVAL.
+ * The _sized functions take the caller's sizeof(struct dao_camera) (for
+ * bindings): they write no byte past it, set cam->size to what they filled,
+ * and refuse (-EINVAL) a size smaller than the first layout's.  Programs
+ * call the inline functions without _sized.
  */
-DAO_API int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t width, uint32_t height,
-			       double fx, double fy, double cx, double cy,
-			       struct dao_error *err);
+DAO_API int dao_camera_from_intrinsics_sized(struct dao_camera *cam, size_t size, uint32_t width,
+					    uint32_t height, double fx, double fy, double cx,
+					    double cy, struct dao_error *err);
+static inline int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t width,
+					     uint32_t height, double fx, double fy, double cx,
+					     double cy, struct dao_error *err)
+{
+	return dao_camera_from_intrinsics_sized(cam, sizeof(*cam), width, height, fx, fy, cx, cy,
+						err);
+}
 
 /*
  * Sets up a camera from horizontal and vertical field of view (radians, in
  * (0, pi)), as OpenNI reports them: fx = (w/2) / tan(hfov/2),
  * cx = (w-1)/2, and the same for y.
  */
-DAO_API int dao_camera_from_fov(struct dao_camera *cam, uint32_t width, uint32_t height,
-			double hfov, double vfov, struct dao_error *err);
+DAO_API int dao_camera_from_fov_sized(struct dao_camera *cam, size_t size, uint32_t width,
+				     uint32_t height, double hfov, double vfov,
+				     struct dao_error *err);
+static inline int dao_camera_from_fov(struct dao_camera *cam, uint32_t width, uint32_t height,
+				      double hfov, double vfov, struct dao_error *err)
+{
+	return dao_camera_from_fov_sized(cam, sizeof(*cam), width, height, hfov, vfov, err);
+}
 
 /* Which of a CameraInfo's matrices dao_camera_from_camera_info() took. */
 enum dao_camera_info_matrix {
@@ -64,10 +89,20 @@ enum dao_camera_info_matrix {
  * Returns 0, or -EINVAL with a message naming the matrix (K's focal length
  * not > 0, a value not finite, a size out of range).
  */
-DAO_API int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t width, uint32_t height,
-					const double k[9], const double p[12], const double *d,
-					size_t d_count, enum dao_camera_info_matrix *from,
-					struct dao_error *err);
+DAO_API int dao_camera_from_camera_info_sized(struct dao_camera *cam, size_t size,
+					      uint32_t width, uint32_t height, const double k[9],
+					      const double p[12], const double *d, size_t d_count,
+					      enum dao_camera_info_matrix *from,
+					      struct dao_error *err);
+static inline int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t width,
+					      uint32_t height, const double k[9],
+					      const double p[12], const double *d, size_t d_count,
+					      enum dao_camera_info_matrix *from,
+					      struct dao_error *err)
+{
+	return dao_camera_from_camera_info_sized(cam, sizeof(*cam), width, height, k, p, d,
+						 d_count, from, err);
+}
 
 /* Field of view (radians) of a camera: hfov = 2 atan(w / (2 fx)). */
 DAO_API void dao_camera_fov(const struct dao_camera *cam, double *hfov, double *vfov);

@@ -10,6 +10,7 @@
 #ifndef DEPTHAO_CONTEXT_H
 #define DEPTHAO_CONTEXT_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include <depthao/camera.h>
@@ -124,8 +125,17 @@ DAO_API int dao_context_get_depth(const struct dao_context *ctx, struct dao_fram
 DAO_API int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
 					 struct dao_error *err);
 
-/* Wall-clock time of each stage of the last frame, milliseconds. */
+/*
+ * Wall-clock time of each stage of the last frame, milliseconds.
+ *
+ * Filled by the library into the caller's struct: `size` first, fields only
+ * ever appended (docs/abi.md).  dao_context_timings() passes the caller's
+ * sizeof, so a program built against an older, shorter struct gets the
+ * fields it knows and nothing past them is written; out->size tells how much
+ * was filled (less than the caller's sizeof when the library is older).
+ */
 struct dao_timings {
+	uint32_t size;        /* bytes filled, set by the library */
 	double decode_ms;     /* depth input to metres */
 	double prefilter_ms;  /* edge-preserving depth filter */
 	double normals_ms;    /* normals (and the kernels' depth layout; vbao with
@@ -139,17 +149,32 @@ struct dao_timings {
 	double noise_ms;      /* noise-model=auto: the frame's noise estimate and maps */
 };
 
-/* Copies the stage timings of the last frame into `out`. */
-DAO_API void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out);
+/* A struct dao_timings with its size set and every time 0. */
+#define DAO_TIMINGS_INIT { .size = sizeof(struct dao_timings) }
+
+/*
+ * Copies the timings into `out`, a struct dao_timings of `size` bytes: the
+ * fields that fit (min(size, this library's sizeof)), nothing past them, and
+ * out->size.  -EINVAL if ctx or out is NULL or `size` cannot hold `size`.
+ * Programs call dao_context_timings(); bindings pass their struct's size.
+ */
+DAO_API int dao_context_timings_sized(const struct dao_context *ctx, struct dao_timings *out,
+				      size_t size);
+
+static inline void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out)
+{
+	(void)dao_context_timings_sized(ctx, out, sizeof(*out));
+}
 
 /*
  * The noise the last frame was filtered for (noise-model=auto: measured in
  * the frame, or with noise-interval > 1 in a recent one; fixed: the
  * depth-noise parameter), as standard deviations of
  * inverse depth 1/z in 1/m (sigma(z) = value x z^2 m), and the settings it
- * gave.
+ * gave.  Filled like struct dao_timings: `size` first, fields appended.
  */
 struct dao_noise_info {
+	uint32_t size;          /* bytes filled, set by the library */
 	int measured;           /* 1: estimated from the frame; 0: the model (fixed, or
 				 * nothing measurable: no 8x8 block without holes) */
 	float sigma_area;       /* median over the frame: RMS about local planes (8x8 px) */
@@ -169,8 +194,17 @@ struct dao_noise_info {
 	int cells_measured;
 };
 
-/* Copies the noise the last frame was filtered for into `out`. */
-DAO_API void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out);
+/* A struct dao_noise_info with its size set and every field 0. */
+#define DAO_NOISE_INFO_INIT { .size = sizeof(struct dao_noise_info) }
+
+/* Copies the noise figures into `out` of `size` bytes, as dao_context_timings_sized(). */
+DAO_API int dao_context_noise_sized(const struct dao_context *ctx, struct dao_noise_info *out,
+				    size_t size);
+
+static inline void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out)
+{
+	(void)dao_context_noise_sized(ctx, out, sizeof(*out));
+}
 
 /* The kernel set the context runs (its "simd" parameter with AUTO resolved). */
 DAO_API enum dao_simd dao_context_simd(const struct dao_context *ctx);

@@ -34,7 +34,8 @@
 extern "C" {
 #endif
 
-/* Version of the library at run time ("0.1.0"). */
+/* Version of the library at run time ("1.0.0"); DAO_VERSION_STRING is that of the
+ * headers a program was built with (version.h). */
 DAO_API const char *dao_version(void);
 
 #ifdef __cplusplus

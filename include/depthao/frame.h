@@ -42,6 +42,15 @@ enum dao_pixfmt {
 };
 
 /* An image: format, size, row stride and caller-owned pixels. */
+/*
+ * A frame's sizeof never changes (it is embedded in other structs, e.g.
+ * struct dao_source_frame): fields a later version adds take the reserved
+ * space, and `size` says which of them a frame holds (docs/abi.md).  Start a
+ * frame from DAO_FRAME_INIT, dao_frame_alloc() or zeros (a positional or
+ * designated initialiser zeroes what it leaves out): size 0 is read as the
+ * first layout, whose fields end before `size`.  The library's own frames
+ * (dao_frame_alloc, dao_png_read) carry DAO_FRAME_SIZE.
+ */
 struct dao_frame {
 	/* the pixel format */
 	enum dao_pixfmt format;
@@ -53,7 +62,16 @@ struct dao_frame {
 	float depth_unit;        /* metres per count, DAO_PIXFMT_DEPTH16 only */
 	uint64_t timestamp_ns;   /* capture time, 0 if unknown */
 	uint64_t sequence;       /* frame number; gaps mean dropped frames */
+	uint32_t size;           /* 0 or DAO_FRAME_SIZE as the program was built */
+	uint32_t reserved0;      /* 0: room for later fields */
+	uint64_t reserved[4];    /* 0: room for later fields */
 };
+
+/* The bytes of struct dao_frame this header's fields occupy (the value of `size`). */
+#define DAO_FRAME_SIZE offsetof(struct dao_frame, reserved0)
+
+/* A frame with its size set and every field 0. */
+#define DAO_FRAME_INIT { .size = DAO_FRAME_SIZE }
 
 /* Bytes per pixel of a format, 0 for DAO_PIXFMT_NONE or unknown values. */
 DAO_API size_t dao_pixfmt_bytes_per_pixel(enum dao_pixfmt format);

@@ -19,6 +19,7 @@
 #ifndef DEPTHAO_ONI_H
 #define DEPTHAO_ONI_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include <depthao/error.h>
@@ -174,7 +175,9 @@ DAO_API int dao_oni_reader_match_frame(const struct dao_oni_reader *reader, uint
 /* --- writing ---------------------------------------------------------- */
 
 /* What dao_oni_writer_open() records: the depth stream's layout and codec. */
+/* Begins with `size` (docs/abi.md): start from DAO_ONI_WRITER_OPTIONS_INIT. */
 struct dao_oni_writer_options {
+	uint32_t size;              /* sizeof, DAO_ONI_WRITER_OPTIONS_INIT */
 	/* size of the depth images, pixels */
 	uint32_t width, height;
 	uint32_t fps;               /* nominal frame rate (1..1000) */
@@ -185,6 +188,11 @@ struct dao_oni_writer_options {
 	int mirrored;               /* recorded as xnMirror */
 	int overwrite;              /* replace a file already at path (else -EEXIST) */
 };
+
+/* Options with their size set and everything else 0 (the fields say which 0 is a
+ * default: max_depth); width, height, fps, codec, pixel_format, hfov and vfov
+ * must be given. */
+#define DAO_ONI_WRITER_OPTIONS_INIT { .size = sizeof(struct dao_oni_writer_options) }
 
 struct dao_oni_writer;
 
@@ -202,6 +210,9 @@ struct dao_oni_writer;
  * that OpenNI2 too plays an unfinished file up to its last sync.
  * A file already at `path` is left alone (-EEXIST) unless opts->overwrite;
  * only regular files are written (-EINVAL for devices, FIFOs, directories).
+ * opts->size must be set (DAO_ONI_WRITER_OPTIONS_INIT): -EINVAL with a
+ * message when it is smaller than the first layout or larger than this
+ * library's struct (a newer program's options it cannot honour).
  */
 DAO_API int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *opts,
 				struct dao_oni_writer **out, struct dao_error *err);
@@ -225,17 +236,32 @@ DAO_API int dao_oni_writer_write_depth(struct dao_oni_writer *writer,
 DAO_API int dao_oni_writer_sync(struct dao_oni_writer *writer, struct dao_error *err);
 
 /* How far a recording got: frames written, synced, and the error that ended it. */
+/* Filled by the library: `size` first, fields appended (docs/abi.md). */
 struct dao_oni_writer_status {
+	uint32_t size;              /* bytes filled, set by the library */
 	uint32_t frames;            /* in the file: write_depth returned 0 */
 	uint32_t synced_frames;     /* of those, synced and counted in the header */
 	uint32_t syncs;             /* fdatasync calls so far */
-	uint64_t bytes;             /* up to the end of the last complete record */
 	int error;                  /* the error that ended the recording, 0 if none */
+	uint64_t bytes;             /* up to the end of the last complete record */
 };
 
-/* Fills `status` with the writer's state. */
-DAO_API void dao_oni_writer_get_status(const struct dao_oni_writer *writer,
-				       struct dao_oni_writer_status *status);
+#define DAO_ONI_WRITER_STATUS_INIT { .size = sizeof(struct dao_oni_writer_status) }
+
+/*
+ * Copies the writer's status into `status`, a struct of `size` bytes: the
+ * fields that fit, nothing past them, and status->size (all 0 for a NULL
+ * writer).  -EINVAL if status is NULL or `size` cannot hold `size`.
+ * Programs call dao_oni_writer_get_status(); bindings pass their size.
+ */
+DAO_API int dao_oni_writer_get_status_sized(const struct dao_oni_writer *writer,
+					    struct dao_oni_writer_status *status, size_t size);
+
+static inline void dao_oni_writer_get_status(const struct dao_oni_writer *writer,
+					     struct dao_oni_writer_status *status)
+{
+	(void)dao_oni_writer_get_status_sized(writer, status, sizeof(*status));
+}
 
 /*
  * Finalises the file: seek table and end record after the last complete

@@ -25,20 +25,27 @@
 extern "C" {
 #endif
 
-/* A file being written: where to write, and where it goes when committed. */
-struct dao_output_file {
-	int fd;         /* write here; the caller closes it before commit/discard */
-	char *tmp;      /* the temporary file, NULL when written straight into the target */
-	char *target;   /* what tmp is renamed onto (a symlink resolved) */
-};
+/* Opaque: what is written where (the fd, a temporary name, the target). */
+struct dao_output_file;
 
-/* Opens `path` for writing as above; messages name `path`. */
-DAO_API int dao_output_file_open(struct dao_output_file *o, const char *path, struct dao_error *err);
+/*
+ * Opens `path` for writing as above into a new *out; messages name `path`.
+ * Write through dao_output_file_fd(), close that fd, then end with exactly
+ * one of dao_output_file_commit() or dao_output_file_discard(), which free
+ * *out.  0, or a negative errno with *out NULL.
+ */
+DAO_API int dao_output_file_open(struct dao_output_file **out, const char *path,
+				 struct dao_error *err);
 
-/* After the last byte was written and fd closed: renames into place (if temporary). */
-DAO_API int dao_output_file_commit(struct dao_output_file *o, const char *path, struct dao_error *err);
+/* The descriptor to write to; the caller closes it before commit or discard. */
+DAO_API int dao_output_file_fd(const struct dao_output_file *o);
 
-/* After a failure (fd closed): removes the temporary file; the target is untouched. */
+/* After the last byte was written and the fd closed: renames into place (if
+ * temporary) and frees `o`. */
+DAO_API int dao_output_file_commit(struct dao_output_file *o, struct dao_error *err);
+
+/* After a failure (fd closed): removes the temporary file (the target is
+ * untouched) and frees `o`; NULL-safe. */
 DAO_API void dao_output_file_discard(struct dao_output_file *o);
 
 #ifdef __cplusplus

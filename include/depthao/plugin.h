@@ -4,8 +4,9 @@
  *
  * A plugin is a shared module exporting one function,
  *     const struct dao_plugin *dao_plugin_entry(void);
- * that returns a static table: the ABI version it was built against, its
- * name, and a source and/or a sink vtable.  Modules are looked up in the
+ * that returns a static table: the ABI version it was built against, the
+ * table's size and version (DAO_PLUGIN_HEADER fills the three), its name,
+ * and a source and/or a sink vtable.  Modules are looked up in the
  * directories of $DEPTHAO_PLUGIN_PATH (colon-separated; for tests and
  * development), then in the install directory; the first module with a
  * given name wins.  Sources that need no extra dependency are built into
@@ -41,6 +42,12 @@
  *    A callback added later says "since version N"; the host calls it only
  *    when version >= N, and loads plugins built for newer versions than its
  *    own (it uses what it knows).
+ *  - struct dao_plugin, the descriptor, begins with abi_version, `size` and
+ *    `version` (DAO_PLUGIN_HEADER; DAO_PLUGIN_VERSION as the plugin was
+ *    built); fields are appended to it as to the structs above.  The loader
+ *    refuses, with a message saying what to do, a descriptor smaller than
+ *    the first one that carried a size, or of a version it does not know
+ *    (0, or newer than this library's DAO_PLUGIN_VERSION).
  *  - DAO_PLUGIN_ABI_VERSION changes only when the layout breaks; a plugin
  *    built for another one is refused with a message.
  */
@@ -60,10 +67,12 @@
 extern "C" {
 #endif
 
-/* 2: the structs carry `size` and the ops tables `version` (plugins built
- * for 1 are refused: rebuild them) */
-#define DAO_PLUGIN_ABI_VERSION 2
-/* The layout of struct dao_source_ops this header describes. */
+/* 2: the structs carry `size` and the ops tables `version`; 3 (depthao 1.0):
+ * the descriptor struct dao_plugin carries `size` and `version` too (plugins
+ * built for 1 or 2 are refused: rebuild them) */
+#define DAO_PLUGIN_ABI_VERSION 3
+/* The descriptor's own version: 1 is the first layout with `size` (ABI 3). */
+#define DAO_PLUGIN_VERSION 1
 #define DAO_SOURCE_OPS_VERSION 1
 /* The layout of struct dao_sink_ops this header describes. */
 #define DAO_SINK_OPS_VERSION 1
@@ -291,7 +300,9 @@ struct dao_sink_ops {
 
 /* What a plugin module returns from dao_plugin_entry(). */
 struct dao_plugin {
-	uint32_t abi_version;       /* DAO_PLUGIN_ABI_VERSION */
+	uint32_t abi_version;       /* DAO_PLUGIN_ABI_VERSION (at offset 0 in every ABI) */
+	uint32_t size;              /* sizeof(struct dao_plugin) as the plugin was built */
+	uint32_t version;           /* DAO_PLUGIN_VERSION as the plugin was built */
 	const char *name;           /* lower case, the URI prefix: "openni2" */
 	/* one line for `depthao devices` */
 	const char *description;
@@ -300,6 +311,18 @@ struct dao_plugin {
 };
 
 /* The type of dao_plugin_entry(). */
+/*
+ * The first fields of every descriptor, in a designated initialiser:
+ *     static const struct dao_plugin my_plugin = {
+ *             DAO_PLUGIN_HEADER,
+ *             .name = "mine",
+ *             ...
+ *     };
+ */
+#define DAO_PLUGIN_HEADER                                                       \
+	.abi_version = DAO_PLUGIN_ABI_VERSION, .size = sizeof(struct dao_plugin), \
+	.version = DAO_PLUGIN_VERSION
+
 typedef const struct dao_plugin *(*dao_plugin_entry_fn)(void);
 
 /*

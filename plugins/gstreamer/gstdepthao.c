@@ -729,6 +729,7 @@ static struct dao_frame depth_of(GstDepthao *self, GstVideoFrame *in, float unit
 	const uint32_t w = (uint32_t)GST_VIDEO_FRAME_WIDTH(in);
 	const uint32_t h = (uint32_t)GST_VIDEO_FRAME_HEIGHT(in);
 	struct dao_frame depth = {
+		.size = DAO_FRAME_SIZE,
 		.format = DAO_PIXFMT_DEPTH16,
 		.width = w,
 		.height = h,
@@ -764,7 +765,8 @@ static int render(GstDepthao *self, const struct dao_frame *depth, GstVideoFrame
 	gint os = GST_VIDEO_FRAME_PLANE_STRIDE(out, 0);
 	int r;
 	if (of == GST_VIDEO_FORMAT_GRAY8 || of == GST_VIDEO_FORMAT_GRAY16_LE) {
-		struct dao_frame ao = {.width = w, .height = h, .stride = os, .data = od};
+		struct dao_frame ao = {.size = DAO_FRAME_SIZE, .width = w, .height = h, .stride = os,
+				       .data = od};
 		ao.format = of == GST_VIDEO_FORMAT_GRAY8 ? DAO_PIXFMT_GRAY8 : DAO_PIXFMT_GRAY16;
 		r = dao_context_process(self->ctx, depth, NULL, self->frame_index, &ao, err);
 #if G_BYTE_ORDER == G_BIG_ENDIAN
@@ -777,7 +779,8 @@ static int render(GstDepthao *self, const struct dao_frame *depth, GstVideoFrame
 #endif
 		return r;
 	}
-	struct dao_frame rgb = {.format = DAO_PIXFMT_RGB24, .width = w, .height = h};
+	struct dao_frame rgb = {.size = DAO_FRAME_SIZE, .format = DAO_PIXFMT_RGB24, .width = w,
+				.height = h};
 	if (of == GST_VIDEO_FORMAT_RGB) {
 		rgb.stride = os;
 		rgb.data = od;
@@ -887,16 +890,18 @@ static GstFlowReturn render_overlay(GstDepthao *self, GstBaseTransform *bt,
 		return GST_FLOW_ERROR;
 	}
 	struct dao_frame color = {
+		.size = DAO_FRAME_SIZE,
 		.format = DAO_PIXFMT_RGB24,
 		.width = (uint32_t)GST_VIDEO_FRAME_WIDTH(&cf),
 		.height = (uint32_t)GST_VIDEO_FRAME_HEIGHT(&cf),
 		.stride = GST_VIDEO_FRAME_PLANE_STRIDE(&cf, 0),
 		.data = GST_VIDEO_FRAME_PLANE_DATA(&cf, 0),
 	};
-	struct dao_frame ao = {.format = DAO_PIXFMT_GRAY16, .width = w, .height = h,
-			       .stride = (int32_t)(w * 2), .data = self->ao16};
+	struct dao_frame ao = {.size = DAO_FRAME_SIZE, .format = DAO_PIXFMT_GRAY16, .width = w,
+			       .height = h, .stride = (int32_t)(w * 2), .data = self->ao16};
 	GstVideoFormat of = GST_VIDEO_FRAME_FORMAT(out);
-	struct dao_frame rgb = {.format = DAO_PIXFMT_RGB24, .width = w, .height = h};
+	struct dao_frame rgb = {.size = DAO_FRAME_SIZE, .format = DAO_PIXFMT_RGB24, .width = w,
+				.height = h};
 	if (of == GST_VIDEO_FORMAT_RGB) {
 		rgb.stride = GST_VIDEO_FRAME_PLANE_STRIDE(out, 0);
 		rgb.data = GST_VIDEO_FRAME_PLANE_DATA(out, 0);

@@ -473,7 +473,7 @@ static const struct dao_sink_ops http_sink_ops = {
 };
 
 static const struct dao_plugin http_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "http",
 	.description = "browser viewer (libmicrohttpd): live Motion-JPEG, AO parameter sliders and "
 		       "statistics, http:[HOST:]PORT",

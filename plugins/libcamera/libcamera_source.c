@@ -117,8 +117,9 @@ static int lc_read(void *state, struct dao_source_frame *f, int timeout_ms, stru
 		return dao_error_set(err, -ENODEV, "libcamera: the camera was disconnected");
 	if (r < 0)
 		return r;
-	f->depth = (struct dao_frame){DAO_PIXFMT_DEPTH16, s->w, s->h, (int32_t)stride,
-				      (void *)data, s->unit, ts, seq};
+	f->depth = (struct dao_frame){.format = DAO_PIXFMT_DEPTH16, .width = s->w, .height = s->h,
+			.stride = (int32_t)stride,
+				      .data = (void *)data, .depth_unit = s->unit, .timestamp_ns = ts, .sequence = seq};
 	f->color.format = DAO_PIXFMT_NONE;
 	f->index = s->delivered++;
 	return 0;
@@ -149,7 +150,7 @@ static const struct dao_source_ops lc_ops = {
 };
 
 static const struct dao_plugin lc_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "libcamera",
 	.description = "time-of-flight depth through libcamera (mono raw R12/R10/R8 streams)",
 	.source = &lc_ops,

@@ -313,7 +313,7 @@ static const struct dao_sink_ops opencv_sink_ops = {
 };
 
 static const struct dao_plugin opencv_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "opencv",
 	.description = "video files (cv::VideoWriter, MJPG .avi by default) and a window with "
 		       "fps and AO trackbars",

@@ -625,7 +625,7 @@ static const struct dao_source_ops openni2_source_ops = {
 };
 
 static const struct dao_plugin openni2_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "openni2",
 	.description = "OpenNI2 devices (PrimeSense, Xtion, Kinect via drivers, Orbbec) and .oni "
 		       "playback",

@@ -474,7 +474,7 @@ static const struct dao_sink_ops rtsp_sink_ops = {
 };
 
 static const struct dao_plugin rtsp_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "rtsp",
 	.description = "RTSP server (gst-rtsp-server): the stream as Motion-JPEG over RTP, "
 		       "rtsp:PORT/MOUNT",

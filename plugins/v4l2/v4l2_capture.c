@@ -462,11 +462,12 @@ int v4l2cap_read(struct v4l2cap *c, struct dao_source_frame *f, int timeout_ms,
 				return gone(c, err);
 			continue; /* a short or damaged frame: wait for the next */
 		}
-		f->depth = (struct dao_frame){DAO_PIXFMT_DEPTH16, c->width, c->height,
-					      (int32_t)(c->width * 2), c->depth, c->unit,
-					      (uint64_t)b.timestamp.tv_sec * 1000000000u +
+		f->depth = (struct dao_frame){.format = DAO_PIXFMT_DEPTH16, .width = c->width,
+				.height = c->height,
+					      .stride = (int32_t)(c->width * 2), .data = c->depth, .depth_unit = c->unit,
+					      .timestamp_ns = (uint64_t)b.timestamp.tv_sec * 1000000000u +
 						      (uint64_t)b.timestamp.tv_usec * 1000u,
-					      b.sequence};
+					      .sequence = b.sequence};
 		f->color.format = DAO_PIXFMT_NONE;
 		f->index = c->delivered++;
 		return 0;

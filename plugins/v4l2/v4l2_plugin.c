@@ -104,7 +104,7 @@ static const struct dao_sink_ops v4l2_sink_ops = {
 };
 
 static const struct dao_plugin v4l2_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "v4l2",
 	.description = "V4L2 depth cameras (Z16, Y16, Kinect Y10B) and v4l2loopback output (YUYV, "
 		       "RGB24, GREY)",

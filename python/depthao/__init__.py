@@ -24,9 +24,9 @@ from ._source import Source, read_png, read_png_depth, write_png
 
 open = _source.open
 
-__version__ = "0.1.0"
+__version__ = "1.0.0"
 
-#: Version of the loaded libdepthao ("0.1.0").
+#: Version of the loaded libdepthao ("1.0.0").
 library_version = _lib.text(_lib.lib.dao_version())
 #: Path (or name) of the loaded libdepthao.
 library_path = _lib.path

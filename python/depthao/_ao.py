@@ -37,8 +37,9 @@ class Camera:
     def __init__(self, fx, fy, cx, cy, width, height):
         c = _lib.dao_camera()
         err = _lib.new_error()
-        _lib.check(lib.dao_camera_from_intrinsics(
-            ctypes.byref(c), _dimension("width", width), _dimension("height", height),
+        _lib.check(lib.dao_camera_from_intrinsics_sized(
+            ctypes.byref(c), ctypes.sizeof(c),
+            _dimension("width", width), _dimension("height", height),
             float(fx), float(fy), float(cx), float(cy), ctypes.byref(err)), err)
         self._c = c
 
@@ -49,8 +50,9 @@ class Camera:
         self = cls.__new__(cls)
         c = _lib.dao_camera()
         err = _lib.new_error()
-        _lib.check(lib.dao_camera_from_fov(
-            ctypes.byref(c), _dimension("width", width), _dimension("height", height),
+        _lib.check(lib.dao_camera_from_fov_sized(
+            ctypes.byref(c), ctypes.sizeof(c),
+            _dimension("width", width), _dimension("height", height),
             float(hfov), float(vfov), ctypes.byref(err)), err)
         self._c = c
         return self
@@ -456,8 +458,9 @@ class AO:
         """Milliseconds per stage of the last frame (dao_context_timings)."""
         t = _lib.dao_timings()
         with self._lock:
-            lib.dao_context_timings(self._handle(), ctypes.byref(t))
-        return {name[:-3]: getattr(t, name) for name, _ in t._fields_}
+            _lib.check(lib.dao_context_timings_sized(self._handle(), ctypes.byref(t),
+                                                     ctypes.sizeof(t)), None)
+        return {name[:-3]: value for name, value in _lib.filled_fields(t)}
 
     @property
     def noise_info(self):
@@ -468,9 +471,10 @@ class AO:
         cells_measured (cells measured again this frame where the scene moved)."""
         n = _lib.dao_noise_info()
         with self._lock:
-            lib.dao_context_noise(self._handle(), ctypes.byref(n))
-        return {name: (bool(getattr(n, name)) if name == "measured" else getattr(n, name))
-                for name, _ in n._fields_}
+            _lib.check(lib.dao_context_noise_sized(self._handle(), ctypes.byref(n),
+                                                   ctypes.sizeof(n)), None)
+        return {name: (bool(value) if name == "measured" else value)
+                for name, value in _lib.filled_fields(n)}
 
     @property
     def simd(self):

@@ -44,6 +44,7 @@ def row_stride(arr, comps):
 
 def make_frame(arr, fmt, stride, unit=0.0):
     f = _lib.dao_frame()
+    f.size = _lib.DAO_FRAME_SIZE
     f.format = fmt
     f.height, f.width = arr.shape[0], arr.shape[1]
     f.stride = stride

@@ -91,7 +91,9 @@ class dao_error(ctypes.Structure):
 
 
 class dao_camera(ctypes.Structure):
-    _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
+    # `size` first, set by dao_camera_from_*_sized from the size passed (docs/abi.md)
+    _fields_ = [("size", ctypes.c_uint32),
+                ("width", ctypes.c_uint32), ("height", ctypes.c_uint32),
                 ("fx", ctypes.c_double), ("fy", ctypes.c_double),
                 ("cx", ctypes.c_double), ("cy", ctypes.c_double),
                 ("ax", ctypes.c_float), ("ay", ctypes.c_float),
@@ -116,7 +118,13 @@ class dao_frame(ctypes.Structure):
                 ("data", ctypes.c_void_p),
                 ("depth_unit", ctypes.c_float),
                 ("timestamp_ns", ctypes.c_uint64),
-                ("sequence", ctypes.c_uint64)]
+                ("sequence", ctypes.c_uint64),
+                # frame.h: sizeof never changes, `size` says which fields it holds
+                ("size", ctypes.c_uint32), ("reserved0", ctypes.c_uint32),
+                ("reserved", ctypes.c_uint64 * 4)]
+
+
+DAO_FRAME_SIZE = dao_frame.reserved0.offset
 
 
 # enum dao_param_type
@@ -138,14 +146,17 @@ class dao_param_info(ctypes.Structure):
                 ("flags", ctypes.c_uint)]
 
 
+# Structs the library fills begin with `size`: it writes no more than the size this
+# package passes (ctypes.sizeof) and says in `size` how much it filled (docs/abi.md).
 class dao_timings(ctypes.Structure):
-    _fields_ = [(n, ctypes.c_double) for n in (
+    _fields_ = [("size", ctypes.c_uint32)] + [(n, ctypes.c_double) for n in (
         "decode_ms", "prefilter_ms", "normals_ms", "gtao_ms", "denoise_ms", "output_ms",
         "process_ms", "shade_ms", "noise_ms")]
 
 
 class dao_noise_info(ctypes.Structure):
-    _fields_ = [("measured", ctypes.c_int), ("sigma_area", ctypes.c_float),
+    _fields_ = [("size", ctypes.c_uint32),
+                ("measured", ctypes.c_int), ("sigma_area", ctypes.c_float),
                 ("sigma_link", ctypes.c_float), ("prefilter_scale", ctypes.c_float),
                 ("normal_radius", ctypes.c_int), ("denoise_noise", ctypes.c_float),
                 ("sigma_slope", ctypes.c_float), ("age", ctypes.c_int),
@@ -199,8 +210,10 @@ _PROTOTYPES = {
     "dao_version": (_cp, []),
     "dao_strerror": (_cp, [_int]),
     "dao_pixfmt_name": (_cp, [_int]),
-    "dao_camera_from_intrinsics": (_int, [_P(dao_camera), _u32, _u32, _dbl, _dbl, _dbl, _dbl, _E]),
-    "dao_camera_from_fov": (_int, [_P(dao_camera), _u32, _u32, _dbl, _dbl, _E]),
+    "dao_camera_from_intrinsics_sized": (_int, [_P(dao_camera), ctypes.c_size_t, _u32, _u32,
+                                                _dbl, _dbl, _dbl, _dbl, _E]),
+    "dao_camera_from_fov_sized": (_int, [_P(dao_camera), ctypes.c_size_t, _u32, _u32, _dbl, _dbl,
+                                         _E]),
     "dao_camera_fov": (None, [_P(dao_camera), _P(_dbl), _P(_dbl)]),
     "dao_param_table": (_P(dao_param_info), [_P(ctypes.c_size_t)]),
     "dao_quality_parse": (_int, [_cp, _P(_int), _E]),
@@ -221,8 +234,8 @@ _PROTOTYPES = {
     "dao_overlay": (_int, [_P(dao_frame), _P(dao_frame), _P(dao_frame), _E]),
     "dao_context_get_depth": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_get_normals": (_int, [_vp, _P(dao_frame), _E]),
-    "dao_context_timings": (None, [_vp, _P(dao_timings)]),
-    "dao_context_noise": (None, [_vp, _P(dao_noise_info)]),
+    "dao_context_timings_sized": (_int, [_vp, _P(dao_timings), ctypes.c_size_t]),
+    "dao_context_noise_sized": (_int, [_vp, _P(dao_noise_info), ctypes.c_size_t]),
     "dao_context_simd": (_int, [_vp]),
     "dao_simd_name": (_cp, [_int]),
     "dao_frame_free": (None, [_P(dao_frame)]),
@@ -248,6 +261,16 @@ for _name, (_res, _args) in _PROTOTYPES.items():
                           "package or not libdepthao" % (path, _name)) from None
     _fn.restype = _res
     _fn.argtypes = _args
+
+
+
+def filled_fields(st):
+    """(name, value) of the fields of a sized struct the library filled (those
+    within st.size; an older library fills fewer), without `size` itself."""
+    return [(name, getattr(st, name)) for name, _ in st._fields_
+            if name != "size" and getattr(type(st), name).offset
+            + getattr(type(st), name).size <= st.size]
+
 
 # --- errors -----------------------------------------------------------------
 

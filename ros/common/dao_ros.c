@@ -243,6 +243,7 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		step = (uint32_t)row;
 	}
 	proc->depth = (struct dao_frame){
+		.size = DAO_FRAME_SIZE,
 		.format = fmt, .width = depth->width, .height = depth->height,
 		.stride = (int32_t)step, .data = (void *)(uintptr_t)data,
 		.depth_unit = fmt == DAO_PIXFMT_DEPTH16 ? proc->settings.depth_unit : 0.0f,
@@ -270,6 +271,7 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		dao_context_reset(proc->ctx);
 	proc->last_stamp = stamp_ns;
 	struct dao_frame out = {
+		.size = DAO_FRAME_SIZE,
 		.format = proc->settings.ao_encoding == DAO_ROS_AO_32FC1 ? DAO_PIXFMT_GRAY_F32
 									 : DAO_PIXFMT_GRAY16,
 		.width = ao->width, .height = ao->height, .stride = (int32_t)ao->step,
@@ -283,6 +285,7 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 	proc->frames++;
 	if (shaded && shaded->data) {
 		struct dao_frame rgb = {
+			.size = DAO_FRAME_SIZE,
 			.format = DAO_PIXFMT_RGB24, .width = shaded->width,
 			.height = shaded->height, .stride = (int32_t)shaded->step,
 			.data = shaded->data,

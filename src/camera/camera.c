@@ -1,12 +1,29 @@
 /* SPDX-License-Identifier: MIT */
 #include <errno.h>
 #include <math.h>
+#include <string.h>
 
 #include <depthao/camera.h>
 #include <depthao/frame.h>
 
 #include "core/error_internal.h"
 #include "core/math_util.h"
+#include "core/sized.h"
+
+/* The first struct dao_camera that carried `size` (depthao 1.0): never changes. */
+#define CAMERA_SIZE_FIRST DAO_END_OF(struct dao_camera, by)
+
+/* The made camera `c` into the caller's of `size` bytes (core/sized.h). */
+static int give(struct dao_camera *cam, size_t size, const struct dao_camera *c,
+		struct dao_error *err)
+{
+	if (size < CAMERA_SIZE_FIRST)
+		return dao_error_set(err, -EINVAL,
+				     "struct dao_camera of %zu bytes is smaller than the first "
+				     "layout (%zu): pass sizeof(struct dao_camera)",
+				     size, (size_t)CAMERA_SIZE_FIRST);
+	return dao_sized_copy_out(cam, size, c, sizeof(*c));
+}
 
 static int check_size(uint32_t w, uint32_t h, struct dao_error *err)
 {
@@ -17,8 +34,9 @@ static int check_size(uint32_t w, uint32_t h, struct dao_error *err)
 	return 0;
 }
 
-int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t w, uint32_t h, double fx,
-			       double fy, double cx, double cy, struct dao_error *err)
+int dao_camera_from_intrinsics_sized(struct dao_camera *cam, size_t size, uint32_t w, uint32_t h,
+				     double fx, double fy, double cx, double cy,
+				     struct dao_error *err)
 {
 	if (!cam)
 		return dao_error_set(err, -EINVAL, "camera is NULL");
@@ -32,18 +50,27 @@ int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t w, uint32_t h, d
 	if (!isfinite(cx) || !isfinite(cy))
 		return dao_error_set(err, -EINVAL,
 				     "principal point cx=%g, cy=%g must be finite (pixels)", cx, cy);
-	*cam = (struct dao_camera){
-		.width = w, .height = h,
-		.fx = fx, .fy = fy, .cx = cx, .cy = cy,
-		/* UvToViewParams in pixel units: x = (u*ax + bx) z */
-		.ax = (float)(1.0 / fx), .bx = (float)(-cx / fx),
-		.ay = (float)(1.0 / fy), .by = (float)(-cy / fy),
-	};
-	return 0;
+	/* field by field over zeros: the padding after `height` is copied out too, and
+	 * cameras made alike compare equal byte for byte */
+	struct dao_camera c;
+	memset(&c, 0, sizeof c);
+	c.size = sizeof(struct dao_camera);
+	c.width = w;
+	c.height = h;
+	c.fx = fx;
+	c.fy = fy;
+	c.cx = cx;
+	c.cy = cy;
+	/* UvToViewParams in pixel units: x = (u*ax + bx) z */
+	c.ax = (float)(1.0 / fx);
+	c.bx = (float)(-cx / fx);
+	c.ay = (float)(1.0 / fy);
+	c.by = (float)(-cy / fy);
+	return give(cam, size, &c, err);
 }
 
-int dao_camera_from_fov(struct dao_camera *cam, uint32_t w, uint32_t h, double hfov,
-			double vfov, struct dao_error *err)
+int dao_camera_from_fov_sized(struct dao_camera *cam, size_t size, uint32_t w, uint32_t h,
+			      double hfov, double vfov, struct dao_error *err)
 {
 	int r = check_size(w, h, err);
 	if (r)
@@ -55,12 +82,14 @@ int dao_camera_from_fov(struct dao_camera *cam, uint32_t w, uint32_t h, double h
 				     "converted to radians)", hfov, vfov);
 	double fx = (w / 2.0) / tan(hfov / 2.0);
 	double fy = (h / 2.0) / tan(vfov / 2.0);
-	return dao_camera_from_intrinsics(cam, w, h, fx, fy, (w - 1) / 2.0, (h - 1) / 2.0, err);
+	return dao_camera_from_intrinsics_sized(cam, size, w, h, fx, fy, (w - 1) / 2.0,
+						(h - 1) / 2.0, err);
 }
 
-int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t w, uint32_t h, const double k[9],
-				const double p[12], const double *d, size_t d_count,
-				enum dao_camera_info_matrix *from, struct dao_error *err)
+int dao_camera_from_camera_info_sized(struct dao_camera *cam, size_t size, uint32_t w, uint32_t h,
+				      const double k[9], const double p[12], const double *d,
+				      size_t d_count, enum dao_camera_info_matrix *from,
+				      struct dao_error *err)
 {
 	if (!cam)
 		return dao_error_set(err, -EINVAL, "camera is NULL");
@@ -86,7 +115,7 @@ int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t w, uint32_t h, 
 	if (r)
 		return r;
 	struct dao_error e;
-	if ((r = dao_camera_from_intrinsics(cam, w, h, fx, fy, cx, cy, &e)))
+	if ((r = dao_camera_from_intrinsics_sized(cam, size, w, h, fx, fy, cx, cy, &e)))
 		return dao_error_set(err, r, "the CameraInfo's %s: %s",
 				     use_p ? "P (projection_matrix)" : "K (camera_matrix)", e.message);
 	if (from)

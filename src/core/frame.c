@@ -89,6 +89,7 @@ int dao_frame_alloc(struct dao_frame *f, enum dao_pixfmt format, uint32_t width,
 		.height = height,
 		.stride = (int32_t)stride,
 		.data = data,
+		.size = DAO_FRAME_SIZE,
 	};
 	return 0;
 }

@@ -13,6 +13,7 @@
 
 #include "core/error_internal.h"
 #include "core/file_mode.h"
+#include "io/output_file_internal.h"
 
 static void release(struct dao_output_file *o)
 {
@@ -46,7 +47,7 @@ static int open_stream(struct dao_output_file *o, const char *path, int fifo,
 	return 0;
 }
 
-int dao_output_file_open(struct dao_output_file *o, const char *path, struct dao_error *err)
+int dao_output_file_begin(struct dao_output_file *o, const char *path, struct dao_error *err)
 {
 	struct stat st, lst;
 	o->fd = -1;
@@ -84,7 +85,7 @@ int dao_output_file_open(struct dao_output_file *o, const char *path, struct dao
 	return 0;
 }
 
-int dao_output_file_commit(struct dao_output_file *o, const char *path, struct dao_error *err)
+int dao_output_file_finish(struct dao_output_file *o, const char *path, struct dao_error *err)
 {
 	int r = 0;
 	if (o->tmp) {
@@ -100,9 +101,53 @@ int dao_output_file_commit(struct dao_output_file *o, const char *path, struct d
 	return r;
 }
 
-void dao_output_file_discard(struct dao_output_file *o)
+void dao_output_file_abandon(struct dao_output_file *o)
 {
 	if (o->tmp)
 		unlink(o->tmp);
 	release(o);
+}
+
+/* The public, opaque handle: the same struct on the heap, with the path its
+ * messages name. */
+int dao_output_file_open(struct dao_output_file **out, const char *path, struct dao_error *err)
+{
+	*out = NULL;
+	struct dao_output_file *o = calloc(1, sizeof *o);
+	if (!o || !(o->path = strdup(path))) {
+		free(o);
+		return dao_error_set(err, -ENOMEM, "out of memory writing '%s'", path);
+	}
+	int r = dao_output_file_begin(o, path, err);
+	if (r < 0) {
+		free(o->path);
+		free(o);
+		return r;
+	}
+	*out = o;
+	return 0;
+}
+
+int dao_output_file_fd(const struct dao_output_file *o)
+{
+	return o ? o->fd : -1;
+}
+
+int dao_output_file_commit(struct dao_output_file *o, struct dao_error *err)
+{
+	if (!o)
+		return dao_error_set(err, -EINVAL, "no output file to commit");
+	int r = dao_output_file_finish(o, o->path, err);
+	free(o->path);
+	free(o);
+	return r;
+}
+
+void dao_output_file_discard(struct dao_output_file *o)
+{
+	if (!o)
+		return;
+	dao_output_file_abandon(o);
+	free(o->path);
+	free(o);
 }

@@ -13,7 +13,7 @@
 #include <depthao/depthao.h>
 
 #include "core/error_internal.h"
-#include <depthao/output_file.h>
+#include "io/output_file_internal.h"
 
 /* x, y, z float; red, green, blue uchar; scalar_ao float */
 #define VERTEX_XYZ 12
@@ -142,13 +142,13 @@ int dao_ply_write(const char *path, const struct dao_camera *cam, const struct d
 		return r;
 	const uint64_t count = count_points(depth);
 	struct dao_output_file out;
-	if ((r = dao_output_file_open(&out, path, err)) < 0)
+	if ((r = dao_output_file_begin(&out, path, err)) < 0)
 		return r;
 	FILE *fp = fdopen(out.fd, "wb");
 	if (!fp) {
 		r = dao_error_set(err, -errno, "cannot write '%s': %s", path, strerror(errno));
 		close(out.fd);
-		dao_output_file_discard(&out);
+		dao_output_file_abandon(&out);
 		return r;
 	}
 	errno = 0;
@@ -177,10 +177,10 @@ int dao_ply_write(const char *path, const struct dao_camera *cam, const struct d
 		e = errno ? errno : EIO;
 	}
 	if (bad) {
-		dao_output_file_discard(&out);
+		dao_output_file_abandon(&out);
 		return dao_error_set(err, -e, "cannot write '%s': %s", path, strerror(e));
 	}
-	if ((r = dao_output_file_commit(&out, path, err)) < 0)
+	if ((r = dao_output_file_finish(&out, path, err)) < 0)
 		return r;
 	if (points)
 		*points = count;

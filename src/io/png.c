@@ -18,7 +18,7 @@
 #include <depthao/png.h>
 
 #include "core/error_internal.h"
-#include <depthao/output_file.h>
+#include "io/output_file_internal.h"
 
 struct png_err_ctx {
 	char message[160];
@@ -228,7 +228,7 @@ static void write_cleanup(struct write_state *st)
 		fclose(st->fp);
 	else if (st->out.fd >= 0)
 		close(st->out.fd);
-	dao_output_file_discard(&st->out);
+	dao_output_file_abandon(&st->out);
 	free(st->rows);
 	free(st);
 }
@@ -343,7 +343,7 @@ int dao_png_write_compressed(const char *path, const struct dao_frame *f, int co
 	struct write_state *const st = write_state_new(f, compression, color, depth);
 	if (!st)
 		return dao_error_set(err, -ENOMEM, "out of memory writing '%s'", path);
-	if ((r = dao_output_file_open(&st->out, path, err)) < 0) {
+	if ((r = dao_output_file_begin(&st->out, path, err)) < 0) {
 		write_cleanup(st);
 		return r;
 	}
@@ -382,7 +382,7 @@ int dao_png_write_compressed(const char *path, const struct dao_frame *f, int co
 		write_cleanup(st);
 		return dao_error_set(err, -e, "cannot write '%s': %s", path, strerror(e));
 	}
-	r = dao_output_file_commit(&st->out, path, err);
+	r = dao_output_file_finish(&st->out, path, err);
 	write_cleanup(st);
 	return r;
 }

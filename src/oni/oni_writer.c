@@ -35,6 +35,7 @@
 #include "core/clock.h"
 #include "core/error_internal.h"
 #include "core/math_util.h"
+#include "core/sized.h"
 #include "oni/codec_16z.h"
 #include "oni/oni_format.h"
 
@@ -190,6 +191,9 @@ static void file_header(uint8_t *h, uint64_t max_ts)
 	oni_wr64(h + 12, max_ts);
 	oni_wr32(h + 20, NODE_ID);
 }
+
+/* The first struct dao_oni_writer_options that carried `size` (depthao 1.0). */
+#define ONI_WRITER_OPTIONS_SIZE_FIRST DAO_END_OF(struct dao_oni_writer_options, overwrite)
 
 static int check_options(const struct dao_oni_writer_options *o, struct dao_error *err)
 {
@@ -356,13 +360,21 @@ int dao_oni_writer_open(const char *path, const struct dao_oni_writer_options *o
 	if (!path || !opts || !out)
 		return dao_error_set(err, -EINVAL, "dao_oni_writer_open: path, opts and out are required");
 	*out = NULL;
+	/* the caller's options, of its own size (core/sized.h) */
+	struct dao_oni_writer_options o;
+	if (dao_sized_copy_in(&o, sizeof o, opts, ONI_WRITER_OPTIONS_SIZE_FIRST) < 0)
+		return dao_error_set(err, -EINVAL,
+				     "oni writer: the options' size is %u, this library takes %zu "
+				     "to %zu: start them from DAO_ONI_WRITER_OPTIONS_INIT",
+				     opts->size, (size_t)ONI_WRITER_OPTIONS_SIZE_FIRST, sizeof o);
+	opts = &o;
 	if ((r = check_options(opts, err)) < 0)
 		return r;
 	w = calloc(1, sizeof(*w));
 	if (!w)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	w->fd = -1;
-	w->o = *opts;
+	w->o = o;
 	if (w->o.max_depth == 0)
 		w->o.max_depth = opts->pixel_format == DAO_ONI_PIXEL_DEPTH_1_MM ? 10000 : 65535;
 	w->unit = opts->pixel_format == DAO_ONI_PIXEL_DEPTH_1_MM ? 0.001f : 0.0001f;
@@ -582,16 +594,18 @@ int dao_oni_writer_sync(struct dao_oni_writer *w, struct dao_error *err)
 	return r < 0 ? fail(w, r, "sync", err) : 0;
 }
 
-void dao_oni_writer_get_status(const struct dao_oni_writer *w, struct dao_oni_writer_status *st)
+int dao_oni_writer_get_status_sized(const struct dao_oni_writer *w,
+				    struct dao_oni_writer_status *st, size_t size)
 {
-	memset(st, 0, sizeof(*st));
-	if (!w)
-		return;
-	st->frames = w->nframes;
-	st->synced_frames = w->synced;
-	st->syncs = w->syncs;
-	st->bytes = w->pos;
-	st->error = w->failed;
+	struct dao_oni_writer_status now = {0};
+	if (w) {
+		now.frames = w->nframes;
+		now.synced_frames = w->synced;
+		now.syncs = w->syncs;
+		now.bytes = w->pos;
+		now.error = w->failed;
+	}
+	return dao_sized_copy_out(st, size, &now, sizeof now);
 }
 
 /*

@@ -27,6 +27,7 @@
 #include "core/clock.h"
 #include "core/error_internal.h"
 #include "core/multiversion.h"
+#include "core/sized.h"
 #include "core/math_util.h"
 #include "denoise/denoise.h"
 #include "depth/decode.h"
@@ -1347,14 +1348,18 @@ int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  err);
 }
 
-void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out)
+/* The caller's struct may be shorter or longer than the library's: core/sized.h. */
+int dao_context_noise_sized(const struct dao_context *ctx, struct dao_noise_info *out,
+			    size_t size)
 {
-	*out = ctx->noise_info;
+	return ctx ? dao_sized_copy_out(out, size, &ctx->noise_info, sizeof(ctx->noise_info))
+		   : -EINVAL;
 }
 
-void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out)
+int dao_context_timings_sized(const struct dao_context *ctx, struct dao_timings *out,
+			      size_t size)
 {
-	*out = ctx->times;
+	return ctx ? dao_sized_copy_out(out, size, &ctx->times, sizeof(ctx->times)) : -EINVAL;
 }
 
 enum dao_simd dao_context_simd(const struct dao_context *ctx)

@@ -657,7 +657,7 @@ static const struct dao_source_ops bag_source_ops = {
 };
 
 const struct dao_plugin dao_builtin_bag_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "bag",
 	.description = "ROS 1 bags (format 2.0, chunks none/bz2/lz4) and RealSense .bag "
 		       "recordings: depth images 16UC1, mono16, 32FC1, colour rgb8, bgr8, rgba8, "

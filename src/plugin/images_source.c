@@ -238,7 +238,7 @@ static const struct dao_source_ops images_source_ops = {
 };
 
 const struct dao_plugin dao_builtin_images_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "images",
 	.description = "a 16-bit depth PNG or a directory of them (name order); "
 		       "writes DIR/NNNNNN.png",

@@ -215,6 +215,7 @@ static int oni_sink_negotiate(void *state, struct dao_sink_format *fmt, struct d
 				     "to the depth stream",
 				     dao_pixfmt_name(fmt->format));
 	struct dao_oni_writer_options o = {
+		.size = sizeof(struct dao_oni_writer_options),
 		.width = fmt->width,
 		.height = fmt->height,
 		.codec = s->codec,

@@ -230,7 +230,7 @@ static const struct dao_source_ops oni_source_ops = {
 };
 
 const struct dao_plugin dao_builtin_oni_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "oni",
 	.description = ".oni recordings (depth: NONE, 16zP, 16zT; colour: JPEG, RGB, YUV) "
 		       "through depthao's own reader and writer",

@@ -6,6 +6,7 @@
  * is never unmapped under its own feet when the registry is freed.
  */
 #define _GNU_SOURCE /* RTLD_NODELETE, secure_getenv */
+#include <depthao/depthao.h> /* dao_version */
 #include <depthao/plugin.h>
 
 #include <dirent.h>
@@ -94,8 +95,31 @@ static int load_module(struct dao_plugins *p, const char *path)
 		return add_skipped(p, path, "not a depthao plugin (no " DAO_PLUGIN_ENTRY_SYMBOL ")");
 	}
 	if (pl->abi_version != DAO_PLUGIN_ABI_VERSION) {
-		snprintf(why, sizeof(why), "built for plugin ABI %u, this library has %u; rebuild it",
-			 pl->abi_version, DAO_PLUGIN_ABI_VERSION);
+		snprintf(why, sizeof(why),
+			 "built for plugin ABI %u, this library (depthao %s) has %u; rebuild it "
+			 "against this depthao's headers",
+			 pl->abi_version, dao_version(), DAO_PLUGIN_ABI_VERSION);
+		dlclose(h);
+		return add_skipped(p, path, why);
+	}
+	/* the descriptor itself (its abi_version is at offset 0 in every ABI, the
+	 * rest only in ABI 3 on) */
+	if (pl->size < PLUGIN_SIZE_FIRST) {
+		snprintf(why, sizeof(why),
+			 "its struct dao_plugin says it is %u bytes, less than the %zu of the first "
+			 "sized descriptor; begin it with DAO_PLUGIN_HEADER and rebuild it",
+			 pl->size, (size_t)PLUGIN_SIZE_FIRST);
+		dlclose(h);
+		return add_skipped(p, path, why);
+	}
+	if (pl->version < PLUGIN_VERSION_FIRST || pl->version > DAO_PLUGIN_VERSION) {
+		snprintf(why, sizeof(why),
+			 "its struct dao_plugin has version %u, this library (depthao %s) knows "
+			 "%u to %u; %s",
+			 pl->version, dao_version(), PLUGIN_VERSION_FIRST, DAO_PLUGIN_VERSION,
+			 pl->version > DAO_PLUGIN_VERSION
+				 ? "update depthao, or rebuild the plugin against this one's headers"
+				 : "begin it with DAO_PLUGIN_HEADER and rebuild it");
 		dlclose(h);
 		return add_skipped(p, path, why);
 	}

@@ -11,13 +11,17 @@
 
 #include <depthao/plugin.h>
 
-#define DAO_END_OF(type, field) (offsetof(type, field) + sizeof(((type *)0)->field))
+#include "core/sized.h" /* DAO_END_OF */
 
 #define SOURCE_INFO_SIZE_FIRST DAO_END_OF(struct dao_source_info, cy)
 #define SOURCE_OPTIONS_SIZE_FIRST DAO_END_OF(struct dao_source_options, depth_unit)
 #define SINK_FORMAT_SIZE_FIRST DAO_END_OF(struct dao_sink_format, reserved)
 #define SINK_HOST_SIZE_FIRST DAO_END_OF(struct dao_sink_host, want_streams)
 #define SINK_FRAME_INFO_SIZE_FIRST DAO_END_OF(struct dao_sink_frame_info, capture_ns)
+
+/* The first descriptor that carried `size` and `version` (plugin ABI 3). */
+#define PLUGIN_SIZE_FIRST DAO_END_OF(struct dao_plugin, sink)
+#define PLUGIN_VERSION_FIRST 1
 
 /* The first ops tables carried `version` 1; 0 is a table that forgot it. */
 #define SOURCE_OPS_VERSION_FIRST 1

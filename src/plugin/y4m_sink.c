@@ -482,7 +482,7 @@ static const struct dao_sink_ops y4m_sink_ops = {
 };
 
 const struct dao_plugin dao_builtin_y4m_plugin = {
-	.abi_version = DAO_PLUGIN_ABI_VERSION,
+	DAO_PLUGIN_HEADER,
 	.name = "y4m",
 	.description = "YUV4MPEG2 stream (ffmpeg, ffplay, mpv) to stdout (-), a file or a FIFO",
 	.sink = &y4m_sink_ops,

@@ -79,9 +79,11 @@ float *dao_test_ao_of_depth(const struct dao_camera *cam, const float *depth, in
 		free(ao);
 		return NULL;
 	}
-	const struct dao_frame in = { DAO_PIXFMT_DEPTH_F32, w, h, (int32_t)w * 4,
-				      (void *)(uintptr_t)depth, 0, 0, 0 };
-	struct dao_frame out = { DAO_PIXFMT_GRAY_F32, w, h, (int32_t)w * 4, ao, 0, 0, 0 };
+	const struct dao_frame in = { .format = DAO_PIXFMT_DEPTH_F32, .width = w, .height = h,
+			.stride = (int32_t)w * 4,
+				      .data = (void *)(uintptr_t)depth};
+	struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = w, .height = h,
+			.stride = (int32_t)w * 4, .data = ao};
 	const int r = dao_context_process(ctx, &in, NULL, 0, &out, &err);
 	dao_context_destroy(ctx);
 	if (r) {

@@ -150,8 +150,9 @@ static int src_read(void *state, struct dao_source_frame *f, int timeout_ms, str
 		for (unsigned x = 0; x < s->w; x++)
 			s->pixels[y * s->w + x] =
 				(uint16_t)(x >= bx && x < bx + s->w / 4 && y > s->h / 3 ? 900 : 1500);
-	f->depth = (struct dao_frame){DAO_PIXFMT_DEPTH16, s->w, s->h, (int32_t)(2 * s->w), s->pixels,
-				      0.001f, 0, s->delivered + 1};
+	f->depth = (struct dao_frame){.format = DAO_PIXFMT_DEPTH16, .width = s->w, .height = s->h,
+			.stride = (int32_t)(2 * s->w), .data = s->pixels,
+				      .depth_unit = 0.001f, .sequence = s->delivered + 1};
 	f->index = s->delivered++;
 	return 0;
 }
@@ -173,7 +174,8 @@ static const struct dao_source_ops ops = {
 	.probe = no_probe, .open = src_open, .get_info = src_info, .start = src_start,
 	.read = src_read, .stop = src_stop, .close = src_close,
 };
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "testsrc", "test camera", &ops, 0};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "testsrc",
+					 .description = "test camera", .source = &ops};
 #else
 struct sink {
 	long ms;
@@ -280,8 +282,8 @@ static const struct dao_sink_ops ops = {
 	.probe = no_probe, .open = sink_open, .negotiate = sink_negotiate, .write = sink_write,
 	.flush = sink_flush, .close = sink_close,
 };
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "slowsink", "slow test sink", 0,
-					 &ops};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "slowsink",
+					 .description = "slow test sink", .sink = &ops};
 #endif
 
 EXPORT const struct dao_plugin *dao_plugin_entry(void);

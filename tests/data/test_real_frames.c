@@ -157,7 +157,8 @@ static int check_frame(const struct real_frame *rf)
 	dao_context_create(&ctx, &cam, &p, NULL);
 	float *a = malloc((size_t)w * h * sizeof(float)), *b = malloc((size_t)w * h * sizeof(float));
 	float *z = malloc((size_t)w * h * sizeof(float));
-	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, depth.width, depth.height, 4 * w, a, 0, 0, 0 };
+	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY_F32, .width = depth.width,
+			.height = depth.height, .stride = 4 * w, .data = a};
 	struct dao_frame ao2 = ao, zf = ao;
 	ao2.data = b;
 	zf.format = DAO_PIXFMT_DEPTH_F32;

@@ -123,8 +123,10 @@ static int check_real(const struct real_case *rc, const char *dir, int *skipped)
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
 	p.radius = (float)rc->radius;
 	struct dao_context *ctx = NULL;
-	struct dao_frame in = { DAO_PIXFMT_DEPTH_F32, cam.width, cam.height, (int32_t)(cam.width * 4), z, 0, 0, 0 };
-	struct dao_frame out = { DAO_PIXFMT_GRAY_F32, cam.width, cam.height, (int32_t)(cam.width * 4), ao, 0, 0, 0 };
+	struct dao_frame in = { .format = DAO_PIXFMT_DEPTH_F32, .width = cam.width,
+			.height = cam.height, .stride = (int32_t)(cam.width * 4), .data = z};
+	struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = cam.width,
+			.height = cam.height, .stride = (int32_t)(cam.width * 4), .data = ao};
 	if (synth_open_planes(z, &cam, unit, rc->radius, mask, &open_px, &err) ||
 	    (again && synth_open_planes(z, &cam, unit, rc->radius, again, &open2, &err)) ||
 	    dao_context_create(&ctx, &cam, &p, &err) || dao_context_process(ctx, &in, NULL, 0, &out, &err)) {

@@ -73,10 +73,12 @@ static void check_frame(const char *what, const struct dao_camera *cam, const ui
 		p.radius = (float)radius;
 		p.noise = variants[v].noise;
 		p.denoise = variants[v].denoise;
-		struct dao_frame in = { DAO_PIXFMT_DEPTH16, (uint32_t)w, (uint32_t)h, (size_t)w * 2,
-					(void *)mm, unit, 0, 0 };
-		struct dao_frame out = { DAO_PIXFMT_GRAY_F32, (uint32_t)w, (uint32_t)h, (size_t)w * 4,
-					 ao, 0, 0, 0 };
+		struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = (uint32_t)w,
+				.height = (uint32_t)h, .stride = (size_t)w * 2,
+					.data = (void *)mm, .depth_unit = unit};
+		struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = (uint32_t)w,
+				.height = (uint32_t)h, .stride = (size_t)w * 4,
+					 .data = ao};
 		if (dao_context_create(&ctx, cam, &p, &err) ||
 		    dao_context_process(ctx, &in, NULL, 0, &out, &err)) {
 			fprintf(stderr, "%s: %s\n", what, err.message);
@@ -129,8 +131,8 @@ static int check_oni(const char *path, const char *what, uint32_t frame, double 
 	int s = dao_oni_reader_depth_stream(rd, &err);
 	const struct dao_oni_stream_info *si = dao_oni_reader_stream(rd, (uint32_t)s);
 	uint16_t *mm = malloc((size_t)si->width * si->height * 2);
-	struct dao_frame f = { DAO_PIXFMT_DEPTH16, si->width, si->height, (size_t)si->width * 2, mm,
-			       0, 0, 0 };
+	struct dao_frame f = { .format = DAO_PIXFMT_DEPTH16, .width = si->width,
+			.height = si->height, .stride = (size_t)si->width * 2, .data = mm};
 	struct dao_camera cam;
 	if (!mm || dao_oni_reader_read_depth(rd, (uint32_t)s, frame, &f, &err) ||
 	    dao_camera_from_fov(&cam, si->width, si->height, si->hfov, si->vfov, &err)) {

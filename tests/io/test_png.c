@@ -48,7 +48,8 @@ static void test_round_trips(void **state)
 		size_t bpp = dao_pixfmt_bytes_per_pixel(fmts[k]);
 		int stride = (int)(37 * bpp + 6);
 		unsigned char *buf = calloc((size_t)stride, 23);
-		struct dao_frame f = { fmts[k], 37, 23, stride, buf, 0, 0, 0 };
+		struct dao_frame f = { .format = fmts[k], .width = 37, .height = 23,
+				.stride = stride, .data = buf};
 		fill(&f);
 		if (fmts[k] == DAO_PIXFMT_GRAY16) {
 			uint16_t *p = (uint16_t *)(void *)buf;
@@ -65,7 +66,8 @@ static void test_round_trips(void **state)
 	}
 	/* 16-bit samples are big-endian on disk: the first sample 0x1234 starts with 0x12 */
 	uint16_t px[2] = { 0x1234, 0x5678 };
-	struct dao_frame d = { DAO_PIXFMT_DEPTH16, 2, 1, 4, px, 0.001f, 0, 0 };
+	struct dao_frame d = { .format = DAO_PIXFMT_DEPTH16, .width = 2, .height = 1, .stride = 4,
+			.data = px, .depth_unit = 0.001f};
 	assert_int_equal(dao_png_write(path("d.png"), &d, NULL), 0);
 	struct dao_frame g;
 	assert_int_equal(dao_png_read_depth(path("d.png"), 0.0002f, &g, NULL), 0);
@@ -104,7 +106,8 @@ static void test_encode_in_memory(void **state)
 			size_t bpp = dao_pixfmt_bytes_per_pixel(fmts[k]);
 			int stride = (int)(41 * bpp + 5);
 			unsigned char *buf = calloc((size_t)stride, 19);
-			struct dao_frame f = { fmts[k], 41, 19, stride, buf, 0.001f, 0, 0 };
+			struct dao_frame f = { .format = fmts[k], .width = 41, .height = 19, .stride = stride,
+						 .data = buf, .depth_unit = 0.001f };
 			fill(&f);
 			void *png = NULL;
 			size_t n = 0;
@@ -132,7 +135,8 @@ static void test_encode_in_memory(void **state)
 		}
 	/* errors leave nothing allocated and say what is wrong */
 	uint8_t px[16] = { 0 };
-	struct dao_frame f = { DAO_PIXFMT_GRAY8, 4, 4, 4, px, 0, 0, 0 };
+	struct dao_frame f = { .format = DAO_PIXFMT_GRAY8, .width = 4, .height = 4, .stride = 4,
+				.data = px };
 	void *png = (void *)px;
 	size_t n = 99;
 	struct dao_error err;
@@ -173,7 +177,8 @@ static void test_read_errors(void **state)
 	uint8_t px[64 * 64];
 	for (int i = 0; i < 64 * 64; i++)
 		px[i] = (uint8_t)(i * 31 % 251);
-	struct dao_frame f = { DAO_PIXFMT_GRAY8, 64, 64, 64, px, 0, 0, 0 };
+	struct dao_frame f = { .format = DAO_PIXFMT_GRAY8, .width = 64, .height = 64, .stride = 64,
+			.data = px};
 	assert_int_equal(dao_png_write(path("g8.png"), &f, NULL), 0);
 	FILE *in = fopen(path("g8.png"), "rb");
 	unsigned char data[65536];
@@ -212,7 +217,8 @@ static void test_write_errors(void **state)
 {
 	(void)state;
 	uint8_t px[16] = { 0 };
-	struct dao_frame f = { DAO_PIXFMT_GRAY8, 4, 4, 4, px, 0, 0, 0 };
+	struct dao_frame f = { .format = DAO_PIXFMT_GRAY8, .width = 4, .height = 4, .stride = 4,
+			.data = px};
 	struct dao_error err;
 	int r = dao_png_write(path("no/such/dir/x.png"), &f, &err);
 	assert_int_equal(r, -ENOENT);

@@ -30,8 +30,10 @@ static void run(const struct dao_params *p, const float *z, float *ao)
 	struct dao_error err;
 	assert_int_equal(dao_camera_from_intrinsics(&cam, W, H, 100, 100, 63.5, 47.5, &err), 0);
 	assert_int_equal(dao_context_create(&ctx, &cam, p, &err), 0);
-	struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, W, H, W * 4, (void *)z, 0, 0, 0};
-	struct dao_frame out = {DAO_PIXFMT_GRAY_F32, W, H, W * 4, ao, 0, 0, 0};
+	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+			.stride = W * 4, .data = (void *)z};
+	struct dao_frame out = {.format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+			.stride = W * 4, .data = ao};
 	assert_int_equal(dao_context_process(ctx, &in, NULL, 0, &out, &err), 0);
 	dao_context_destroy(ctx);
 }
@@ -202,10 +204,13 @@ static void test_bent_normals(void **state)
 	struct dao_context *ctx;
 	assert_int_equal(dao_context_create(&ctx, &cam, &p, &err), 0);
 	float *bent = malloc(3 * W * H * sizeof(float)), *nrm = malloc(3 * W * H * sizeof(float));
-	struct dao_frame bf = {DAO_PIXFMT_NORMAL_F32, W, H, W * 12, bent, 0, 0, 0};
-	struct dao_frame nf = {DAO_PIXFMT_NORMAL_F32, W, H, W * 12, nrm, 0, 0, 0};
+	struct dao_frame bf = {.format = DAO_PIXFMT_NORMAL_F32, .width = W, .height = H,
+			.stride = W * 12, .data = bent};
+	struct dao_frame nf = {.format = DAO_PIXFMT_NORMAL_F32, .width = W, .height = H,
+			.stride = W * 12, .data = nrm};
 	assert_int_equal(dao_context_get_bent_normals(ctx, &bf, &err), -EAGAIN);
-	struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, W, H, W * 4, img.depth, 0, 0, 0};
+	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+			.stride = W * 4, .data = img.depth};
 	assert_int_equal(dao_context_process(ctx, &in, NULL, 0, NULL, &err), 0);
 	assert_int_equal(dao_context_get_bent_normals(ctx, &bf, &err), 0);
 	assert_int_equal(dao_context_get_normals(ctx, &nf, &err), 0);

@@ -159,8 +159,7 @@ static size_t find_record(const struct bytes *b, uint32_t type, int nth)
 
 static struct dao_oni_writer_options default_options(enum dao_oni_codec codec, int pf)
 {
-	struct dao_oni_writer_options o;
-	memset(&o, 0, sizeof(o));
+	struct dao_oni_writer_options o = DAO_ONI_WRITER_OPTIONS_INIT;
 	o.width = SW;
 	o.height = SH;
 	o.fps = 30;
@@ -226,7 +225,9 @@ static void write_frames(const char *path, const struct dao_oni_writer_options *
 		for (uint32_t y = 0; y < o->height; y++)
 			memcpy(buf + (size_t)y * (size_t)stride, frames[k] + (size_t)y * o->width,
 			       o->width * 2);
-		struct dao_frame f = {DAO_PIXFMT_DEPTH16, o->width, o->height, stride, buf, unit, 0, 0};
+		struct dao_frame f = {.format = DAO_PIXFMT_DEPTH16, .width = o->width,
+				.height = o->height, .stride = stride, .data = buf,
+				.depth_unit = unit};
 		r = dao_oni_writer_write_depth(w, &f, ts[k], &err);
 		if (r)
 			fail_msg("write_depth frame %d: %d %s", k, r, err.message);
@@ -479,11 +480,13 @@ static void test_unit_conversion(void **state)
 	struct dao_oni_writer *w;
 	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
 	uint16_t um[4] = {12340, 0, 12346, 12344};
-	struct dao_frame f = {DAO_PIXFMT_DEPTH16, 4, 1, 8, um, 0.0001f, 0, 0};
+	struct dao_frame f = {.format = DAO_PIXFMT_DEPTH16, .width = 4, .height = 1, .stride = 8,
+			.data = um, .depth_unit = 0.0001f};
 	assert_int_equal(dao_oni_writer_write_depth(w, &f, 10, &err), 0);
 	/* 2 mm counts */
 	uint16_t mm2[4] = {100, 0, 4999, 5000};
-	struct dao_frame g = {DAO_PIXFMT_DEPTH16, 4, 1, 8, mm2, 0.002f, 0, 0};
+	struct dao_frame g = {.format = DAO_PIXFMT_DEPTH16, .width = 4, .height = 1, .stride = 8,
+			.data = mm2, .depth_unit = 0.002f};
 	assert_int_equal(dao_oni_writer_write_depth(w, &g, 20, &err), 0);
 	/* 5001 * 2 mm is above the default 10 m */
 	mm2[3] = 5001;
@@ -515,7 +518,8 @@ static void test_unit_conversion(void **state)
 	o.width = 4, o.height = 1;
 	assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
 	uint16_t mm[4] = {1234, 0, 6553, 1};
-	struct dao_frame h = {DAO_PIXFMT_DEPTH16, 4, 1, 8, mm, 0.001f, 0, 0};
+	struct dao_frame h = {.format = DAO_PIXFMT_DEPTH16, .width = 4, .height = 1, .stride = 8,
+			.data = mm, .depth_unit = 0.001f};
 	assert_int_equal(dao_oni_writer_write_depth(w, &h, 0, &err), 0);
 	mm[3] = 6554; /* 65540 counts of 100 um */
 	assert_int_equal(dao_oni_writer_write_depth(w, &h, 1, &err), -ERANGE);
@@ -540,7 +544,8 @@ static void test_writer_rules(void **state)
 	struct dao_error err = {0};
 	struct dao_oni_writer *w;
 	uint16_t px[SW * SH];
-	struct dao_frame f = {DAO_PIXFMT_DEPTH16, SW, SH, SW * 2, px, 0.001f, 0, 0};
+	struct dao_frame f = {.format = DAO_PIXFMT_DEPTH16, .width = SW, .height = SH,
+			.stride = SW * 2, .data = px, .depth_unit = 0.001f};
 
 	/* -ERANGE above max_depth; the limit itself is fine */
 	fresh_subdir(sub, "range");
@@ -601,7 +606,8 @@ static void test_writer_rules(void **state)
 		assert_non_null(t);
 		for (size_t i = 0; i < TW * TH; i++)
 			t[i] = (uint16_t)i;
-		struct dao_frame tf = {DAO_PIXFMT_DEPTH16, TW, TH, TW * 2, t, 0.0001f, 0, 0};
+		struct dao_frame tf = {.format = DAO_PIXFMT_DEPTH16, .width = TW, .height = TH,
+				.stride = TW * 2, .data = t, .depth_unit = 0.0001f};
 		o = default_options(DAO_ONI_CODEC_16ZT, DAO_ONI_PIXEL_DEPTH_100_UM);
 		o.width = TW, o.height = TH;
 		assert_int_equal(dao_oni_writer_open(path, &o, &w, &err), 0);
@@ -750,13 +756,19 @@ static void test_write_failure(void **state)
 	char sub[PLEN], path[PLEN + 16];
 	fresh_subdir(sub, "full");
 	snprintf(path, sizeof path, "%s/x.oni", sub);
-	struct dao_oni_writer_options o = {200, 200, 30, DAO_ONI_CODEC_NONE,
-					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.8, 0, 0};
+	struct dao_oni_writer_options o = DAO_ONI_WRITER_OPTIONS_INIT;
+	o.width = o.height = 200;
+	o.fps = 30;
+	o.codec = DAO_ONI_CODEC_NONE;
+	o.pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM;
+	o.hfov = 1.0;
+	o.vfov = 0.8;
 	uint16_t *want[1] = {malloc(200 * 200 * 2)};
 	assert_non_null(want[0]);
 	for (int i = 0; i < 200 * 200; i++)
 		want[0][i] = (uint16_t)(500 + i % 3000);
-	struct dao_frame f = {DAO_PIXFMT_DEPTH16, 200, 200, 400, want[0], 0.001f, 0, 0};
+	struct dao_frame f = {.format = DAO_PIXFMT_DEPTH16, .width = 200, .height = 200,
+			.stride = 400, .data = want[0], .depth_unit = 0.001f};
 	struct rlimit old, lim;
 	assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
 	void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
@@ -821,7 +833,8 @@ static double now_s(void)
 /* A 37x23 frame for frame k through the writer (packed rows). */
 static int write_one(struct dao_oni_writer *w, uint16_t *px, uint64_t ts)
 {
-	struct dao_frame f = {DAO_PIXFMT_DEPTH16, SW, SH, SW * 2, px, 0.001f, 0, 0};
+	struct dao_frame f = {.format = DAO_PIXFMT_DEPTH16, .width = SW, .height = SH,
+			.stride = SW * 2, .data = px, .depth_unit = 0.001f};
 	struct dao_error err = {0};
 	int r = dao_oni_writer_write_depth(w, &f, ts, &err);
 	if (r)
@@ -1492,7 +1505,8 @@ static void test_kinect(void **state)
 	uint8_t *buf = malloc((size_t)stride * KH);
 	assert_non_null(buf);
 	memset(buf, 0xAB, (size_t)stride * KH);
-	struct dao_frame s = {DAO_PIXFMT_DEPTH16, KW, KH, stride, buf, 0, 0, 0};
+	struct dao_frame s = {.format = DAO_PIXFMT_DEPTH16, .width = KW, .height = KH,
+			.stride = stride, .data = buf};
 	assert_int_equal(dao_oni_reader_read_depth(r, 0, 7, &s, &err), 0);
 	for (uint32_t y = 0; y < KH; y++) {
 		const uint8_t *row = buf + (size_t)y * (size_t)stride;

@@ -27,6 +27,19 @@ static int failures = 0;
 		}                                \
 	} while (0)
 
+// A frame over caller memory (C++17 has no designated initialisers; the rest is 0)
+static dao_frame frame_of(dao_pixfmt format, uint32_t w, uint32_t h, int32_t stride, void *data)
+{
+	dao_frame f{};
+	f.size = DAO_FRAME_SIZE;
+	f.format = format;
+	f.width = w;
+	f.height = h;
+	f.stride = stride;
+	f.data = data;
+	return f;
+}
+
 static double angle_deg(const float *a, const cv::Vec3f &b)
 {
 	double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -75,8 +88,8 @@ static void check_geometry(const char *label, const char *path, double max_media
 	dao_context *ctx;
 	dao_context_create(&ctx, &cam, nullptr, nullptr);
 	std::vector<float> nrm(3 * (size_t)w * h), zf((size_t)w * h);
-	dao_frame nf = { DAO_PIXFMT_NORMAL_F32, depth.width, depth.height, 12 * w, nrm.data(), 0, 0, 0 };
-	dao_frame df = { DAO_PIXFMT_DEPTH_F32, depth.width, depth.height, 4 * w, zf.data(), 0, 0, 0 };
+	dao_frame nf = frame_of(DAO_PIXFMT_NORMAL_F32, depth.width, depth.height, 12 * w, nrm.data());
+	dao_frame df = frame_of(DAO_PIXFMT_DEPTH_F32, depth.width, depth.height, 4 * w, zf.data());
 	if (dao_context_process(ctx, &depth, nullptr, 0, nullptr, &err) ||
 	    dao_context_get_normals(ctx, &nf, &err) || dao_context_get_depth(ctx, &df, &err)) {
 		std::printf("FAIL: %s\n", err.message);

@@ -77,10 +77,12 @@ static void test_process_errors(void **state)
 	uint16_t mm[W * H];
 	fill_depth(mm);
 	float aof[W * H];
-	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, aof, 0, 0, 0 };
+	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+			.stride = 4 * W, .data = aof};
 	struct dao_frame d = depth_frame(mm);
 
-	expect_err(dao_context_shade(ctx, &(struct dao_frame){ DAO_PIXFMT_RGB24, W, H, 3 * W, aof, 0, 0, 0 }, &err),
+	expect_err(dao_context_shade(ctx, &(struct dao_frame){ .format = DAO_PIXFMT_RGB24,
+			.width = W, .height = H, .stride = 3 * W, .data = aof}, &err),
 		   -EAGAIN, &err, "process");
 	expect_err(dao_context_process(NULL, &d, NULL, 0, &ao, &err), -EINVAL, &err, "context");
 	expect_err(dao_context_process(ctx, NULL, NULL, 0, &ao, &err), -EINVAL, &err, "depth input");
@@ -115,7 +117,8 @@ static void test_process_errors(void **state)
 	float nrm[3 * W * H];
 	for (int i = 0; i < W * H; i++)
 		nrm[3 * i] = 0, nrm[3 * i + 1] = 0, nrm[3 * i + 2] = -1;
-	struct dao_frame nf = { DAO_PIXFMT_NORMAL_F32, W, H, 12 * W, nrm, 0, 0, 0 };
+	struct dao_frame nf = { .format = DAO_PIXFMT_NORMAL_F32, .width = W, .height = H,
+			.stride = 12 * W, .data = nrm};
 	struct dao_frame wrong = nf;
 	wrong.format = DAO_PIXFMT_GRAY_F32;
 	wrong.stride = 4 * W;
@@ -130,7 +133,8 @@ static void test_process_errors(void **state)
 	expect_err(dao_context_shade(ctx, &ao, &err), -EINVAL, &err, "rgb24");
 	expect_err(dao_context_shade(NULL, &ao, &err), -EINVAL, &err, "context");
 	float normals_out[3 * W * H];
-	struct dao_frame no = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, normals_out, 0, 0, 0 };
+	struct dao_frame no = { .format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+			.stride = 4 * W, .data = normals_out};
 	expect_err(dao_context_get_normals(ctx, &no, &err), -EINVAL, &err, "normal-f32");
 	/* set_params rejects and keeps the old ones */
 	struct dao_params p, before;
@@ -160,7 +164,8 @@ static void test_bounds_and_formats(void **state)
 	memset(dbuf, 0x5a, (size_t)dstride * H + 2 * PAD);
 	for (int y = 0; y < H; y++)
 		memcpy(dbuf + PAD + (size_t)y * dstride, mm + y * W, 2 * W);
-	struct dao_frame d = { DAO_PIXFMT_DEPTH16, W, H, dstride, dbuf + PAD, 0.001f, 0, 0 };
+	struct dao_frame d = { .format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
+			.stride = dstride, .data = dbuf + PAD, .depth_unit = 0.001f};
 
 	static const enum dao_pixfmt fmts[] = { DAO_PIXFMT_GRAY_F32, DAO_PIXFMT_GRAY16, DAO_PIXFMT_GRAY8 };
 	float ref[W * H];
@@ -170,7 +175,8 @@ static void test_bounds_and_formats(void **state)
 		size_t size = (size_t)stride * H + 2 * PAD;
 		unsigned char *buf = malloc(size);
 		memset(buf, 0xa5, size);
-		struct dao_frame ao = { fmts[k], W, H, stride, buf + PAD, 0, 0, 0 };
+		struct dao_frame ao = { .format = fmts[k], .width = W, .height = H,
+				.stride = stride, .data = buf + PAD};
 		assert_int_equal(dao_context_process(ctx, &d, NULL, 0, &ao, NULL), 0);
 		for (int i = 0; i < PAD; i++)
 			assert_true(buf[i] == 0xa5 && buf[size - 1 - i] == 0xa5);
@@ -206,7 +212,8 @@ static void test_bounds_and_formats(void **state)
 	int rs = 3 * W + 5;
 	unsigned char *rgb = malloc((size_t)rs * H + PAD);
 	memset(rgb, 0x33, (size_t)rs * H + PAD);
-	struct dao_frame out = { DAO_PIXFMT_RGB24, W, H, rs, rgb, 0, 0, 0 };
+	struct dao_frame out = { .format = DAO_PIXFMT_RGB24, .width = W, .height = H, .stride = rs,
+			.data = rgb};
 	assert_int_equal(dao_context_shade(ctx, &out, NULL), 0);
 	for (int y = 0; y < H; y++)
 		for (int i = 3 * W; i < rs; i++)
@@ -221,7 +228,8 @@ static void test_bounds_and_formats(void **state)
 static void process_f32(struct dao_context *ctx, uint16_t *mm, uint64_t index, float *out)
 {
 	struct dao_frame d = depth_frame(mm);
-	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, out, 0, 0, 0 };
+	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+			.stride = 4 * W, .data = out};
 	struct dao_error err;
 	if (dao_context_process(ctx, &d, NULL, index, &ao, &err))
 		fail_msg("%s", err.message);
@@ -349,8 +357,9 @@ static void test_small_sizes(void **state)
 		uint16_t mm[130 * 9];
 		for (int i = 0; i < w * h; i++) /* a slope with a step and a hole */
 			mm[i] = (uint16_t)(i % 11 == 7 ? 0 : 1500 + 20 * (i % w) + (i % w > w / 2) * 300);
-		struct dao_frame d = { DAO_PIXFMT_DEPTH16, (uint32_t)w, (uint32_t)h, 2 * w, mm,
-				       0.001f, 0, 0 };
+		struct dao_frame d = { .format = DAO_PIXFMT_DEPTH16, .width = (uint32_t)w,
+				.height = (uint32_t)h, .stride = 2 * w, .data = mm,
+				       .depth_unit = 0.001f};
 		for (int q = 0; q < DAO_QUALITY_COUNT; q++) {
 			float a[130 * 9], b[130 * 9];
 			for (int ref = 0; ref < 2; ref++) {
@@ -359,8 +368,9 @@ static void test_small_sizes(void **state)
 				p.simd = ref ? DAO_SIMD_REFERENCE : DAO_SIMD_AUTO;
 				struct dao_context *ctx;
 				assert_int_equal(dao_context_create(&ctx, &cam, &p, NULL), 0);
-				struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, (uint32_t)w, (uint32_t)h,
-							4 * w, ref ? b : a, 0, 0, 0 };
+				struct dao_frame ao = { .format = DAO_PIXFMT_GRAY_F32,
+						.width = (uint32_t)w, .height = (uint32_t)h,
+							.stride = 4 * w, .data = ref ? b : a};
 				assert_int_equal(dao_context_process(ctx, &d, NULL, 1, &ao, NULL), 0);
 				dao_context_destroy(ctx);
 			}
@@ -390,20 +400,25 @@ static void test_float_depth_and_normals(void **state)
 		z[i] = mm[i] ? mm[i] * 0.001f : NAN; /* NaN = no data */
 		nrm[3 * i] = 0, nrm[3 * i + 1] = 0, nrm[3 * i + 2] = -2.0f; /* normalised by the library */
 	}
-	struct dao_frame df = { DAO_PIXFMT_DEPTH_F32, W, H, 4 * W, z, 0, 0, 0 };
-	struct dao_frame nf = { DAO_PIXFMT_NORMAL_F32, W, H, 12 * W, nrm, 0, 0, 0 };
-	struct dao_frame ao = { DAO_PIXFMT_GRAY_F32, W, H, 4 * W, a, 0, 0, 0 };
+	struct dao_frame df = { .format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+			.stride = 4 * W, .data = z};
+	struct dao_frame nf = { .format = DAO_PIXFMT_NORMAL_F32, .width = W, .height = H,
+			.stride = 12 * W, .data = nrm};
+	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+			.stride = 4 * W, .data = a};
 	assert_int_equal(dao_context_process(ctx, &df, NULL, 0, &ao, NULL), 0);
 	process_f32(ctx, mm, 0, b);
 	assert_memory_equal(a, b, sizeof a);
 	assert_int_equal(dao_context_process(ctx, &df, &nf, 0, &ao, NULL), 0);
 	assert_true(a[3 * W + 5] == 1.0f);
 	float got[3 * W * H];
-	struct dao_frame no = { DAO_PIXFMT_NORMAL_F32, W, H, 12 * W, got, 0, 0, 0 };
+	struct dao_frame no = { .format = DAO_PIXFMT_NORMAL_F32, .width = W, .height = H,
+			.stride = 12 * W, .data = got};
 	assert_int_equal(dao_context_get_normals(ctx, &no, NULL), 0);
 	assert_true(fabsf(got[3 * 100 + 2] + 1.0f) < 1e-6f);
 	float zo[W * H];
-	struct dao_frame zf = { DAO_PIXFMT_DEPTH_F32, W, H, 4 * W, zo, 0, 0, 0 };
+	struct dao_frame zf = { .format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+			.stride = 4 * W, .data = zo};
 	assert_int_equal(dao_context_get_depth(ctx, &zf, NULL), 0);
 	assert_true(fabsf(zo[0] - 2.0f) < 1e-3f && zo[3 * W + 5] == 0.0f);
 	dao_context_destroy(ctx);

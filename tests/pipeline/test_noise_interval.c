@@ -379,9 +379,12 @@ static int test_real_kinect(void)
 	double sum = 0, max = 0, step = 0;
 	int frames = 0, fail = 0;
 	for (uint32_t f = 0; f < si->frame_count; f++) {
-		struct dao_frame in = { DAO_PIXFMT_DEPTH16, si->width, si->height, w * 2, mm, 0, 0, 0 };
-		struct dao_frame oa = { DAO_PIXFMT_GRAY_F32, si->width, si->height, w * 4, a, 0, 0, 0 };
-		struct dao_frame ob = { DAO_PIXFMT_GRAY_F32, si->width, si->height, w * 4, b, 0, 0, 0 };
+		struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = si->width,
+				.height = si->height, .stride = w * 2, .data = mm};
+		struct dao_frame oa = { .format = DAO_PIXFMT_GRAY_F32, .width = si->width,
+				.height = si->height, .stride = w * 4, .data = a};
+		struct dao_frame ob = { .format = DAO_PIXFMT_GRAY_F32, .width = si->width,
+				.height = si->height, .stride = w * 4, .data = b};
 		if (dao_oni_reader_read_depth(rd, (uint32_t)s, f, &in, &err) ||
 		    dao_context_process(sched, &in, NULL, f, &oa, &err) ||
 		    dao_context_process(every, &in, NULL, f, &ob, &err)) {

@@ -51,8 +51,10 @@ static struct measured run_sequence(const char *scene, int algorithm, float temp
 		struct synth_case c;
 		memset(&c, 0, sizeof c);
 		assert_int_equal(synth_case_make(&c, scene, 1, img.depth, img.gt, W, H, 100 + (uint64_t)f, &err), 0);
-		struct dao_frame in = {DAO_PIXFMT_DEPTH16, W, H, W * 2, c.depth_mm, 0.001f, 0, 0};
-		struct dao_frame out = {DAO_PIXFMT_GRAY_F32, W, H, W * 4, cur, 0, 0, 0};
+		struct dao_frame in = {.format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
+				.stride = W * 2, .data = c.depth_mm, .depth_unit = 0.001f};
+		struct dao_frame out = {.format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+				.stride = W * 4, .data = cur};
 		assert_int_equal(dao_context_process(ctx, &in, NULL, (uint64_t)f, &out, &err), 0);
 		if (f >= FRAMES / 2) { /* settled */
 			double d = 0, e = 0;
@@ -116,9 +118,12 @@ static void test_moved_object_not_smeared(void **state)
 	assert_int_equal(dao_context_create(&ctx, &cam, &p, &err), 0);
 	assert_int_equal(dao_context_create(&fresh, &cam, &p, &err), 0);
 	float z[64 * 48], a[64 * 48], b[64 * 48];
-	struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, 64, 48, 64 * 4, z, 0, 0, 0};
-	struct dao_frame oa = {DAO_PIXFMT_GRAY_F32, 64, 48, 64 * 4, a, 0, 0, 0};
-	struct dao_frame ob = {DAO_PIXFMT_GRAY_F32, 64, 48, 64 * 4, b, 0, 0, 0};
+	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = 64, .height = 48,
+			.stride = 64 * 4, .data = z};
+	struct dao_frame oa = {.format = DAO_PIXFMT_GRAY_F32, .width = 64, .height = 48,
+			.stride = 64 * 4, .data = a};
+	struct dao_frame ob = {.format = DAO_PIXFMT_GRAY_F32, .width = 64, .height = 48,
+			.stride = 64 * 4, .data = b};
 	for (int f = 0; f < 10; f++) { /* a box on the left for a while ... */
 		for (int i = 0; i < 64 * 48; i++)
 			z[i] = (i % 64) < 20 && (i / 64) > 10 && (i / 64) < 30 ? 1.5f : 2.0f;

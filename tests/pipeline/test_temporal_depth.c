@@ -116,9 +116,12 @@ static void process(struct dao_context *ctx, uint16_t *mm, int w, int h, uint64_
 		    float *ao, float *z)
 {
 	struct dao_error err;
-	struct dao_frame in = { DAO_PIXFMT_DEPTH16, (uint32_t)w, (uint32_t)h, w * 2, mm, 0.001f, 0, 0 };
-	struct dao_frame out = { DAO_PIXFMT_GRAY_F32, (uint32_t)w, (uint32_t)h, w * 4, ao, 0, 0, 0 };
-	struct dao_frame zf = { DAO_PIXFMT_DEPTH_F32, (uint32_t)w, (uint32_t)h, w * 4, z, 0, 0, 0 };
+	struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = (uint32_t)w,
+			.height = (uint32_t)h, .stride = w * 2, .data = mm, .depth_unit = 0.001f};
+	struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = (uint32_t)w,
+			.height = (uint32_t)h, .stride = w * 4, .data = ao};
+	struct dao_frame zf = { .format = DAO_PIXFMT_DEPTH_F32, .width = (uint32_t)w,
+			.height = (uint32_t)h, .stride = w * 4, .data = z};
 	if (dao_context_process(ctx, &in, NULL, index, &out, &err) ||
 	    dao_context_get_depth(ctx, &zf, &err))
 		fail_msg("%s", err.message);
@@ -282,9 +285,12 @@ static void run_still(const char *scene, enum order order, float alpha, float re
 		memset(&c, 0, sizeof c);
 		assert_int_equal(synth_case_make(&c, scene, 1, img.depth, img.gt, W, H, 100 + (uint64_t)f,
 						 &err), 0);
-		struct dao_frame in = { DAO_PIXFMT_DEPTH16, W, H, W * 2, c.depth_mm, 0.001f, 0, 0 };
-		struct dao_frame out = { DAO_PIXFMT_GRAY_F32, W, H, W * 4, ao, 0, 0, 0 };
-		struct dao_frame zf = { DAO_PIXFMT_DEPTH_F32, W, H, W * 4, z, 0, 0, 0 };
+		struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
+				.stride = W * 2, .data = c.depth_mm, .depth_unit = 0.001f};
+		struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+				.stride = W * 4, .data = ao};
+		struct dao_frame zf = { .format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+				.stride = W * 4, .data = z};
 		assert_int_equal(dao_context_process(ctx, &in, NULL, (uint64_t)f, &out, &err), 0);
 		assert_int_equal(dao_context_get_depth(ctx, &zf, &err), 0);
 		/* the filter's own output, on the decoded depth */
@@ -295,7 +301,8 @@ static void run_still(const char *scene, enum order order, float alpha, float re
 			/* the same filter on the prefiltered depth, AO from that */
 			memcpy(zt, z, n * 4);
 			dao_temporal_depth_ref(&ts, zt, hist, count, age, 0, H);
-			struct dao_frame zin = { DAO_PIXFMT_DEPTH_F32, W, H, W * 4, zt, 0, 0, 0 };
+			struct dao_frame zin = { .format = DAO_PIXFMT_DEPTH_F32, .width = W,
+					.height = H, .stride = W * 4, .data = zt};
 			assert_int_equal(dao_context_process(ao_ctx, &zin, NULL, (uint64_t)f, &out, &err), 0);
 			memcpy(z, zt, n * 4);
 		}
@@ -380,9 +387,12 @@ static double still_plane_rms(int auto_noise, double *first)
 		const double raw = plane_frame(z, clean, w * h, &seed, 0.005);
 		if (f == 0)
 			*first = raw;
-		struct dao_frame in = { DAO_PIXFMT_DEPTH_F32, w, h, w * 4, z, 0, 0, 0 };
-		struct dao_frame o = { DAO_PIXFMT_GRAY_F32, w, h, w * 4, ao, 0, 0, 0 };
-		struct dao_frame zf = { DAO_PIXFMT_DEPTH_F32, w, h, w * 4, out, 0, 0, 0 };
+		struct dao_frame in = { .format = DAO_PIXFMT_DEPTH_F32, .width = w, .height = h,
+				.stride = w * 4, .data = z};
+		struct dao_frame o = { .format = DAO_PIXFMT_GRAY_F32, .width = w, .height = h,
+				.stride = w * 4, .data = ao};
+		struct dao_frame zf = { .format = DAO_PIXFMT_DEPTH_F32, .width = w, .height = h,
+				.stride = w * 4, .data = out};
 		if (dao_context_process(ctx, &in, NULL, (uint64_t)f + 1, &o, &err) ||
 		    dao_context_get_depth(ctx, &zf, &err))
 			fail_msg("%s", err.message);
@@ -559,9 +569,12 @@ static struct moved run_moving(const char *scene, const struct moving *m, float 
 		memset(&c, 0, sizeof c);
 		assert_int_equal(synth_case_make(&c, scene, 1, m->clean[f], m->gt[f], W, H,
 						 200 + (uint64_t)f, &err), 0);
-		struct dao_frame in = { DAO_PIXFMT_DEPTH16, W, H, W * 2, c.depth_mm, 0.001f, 0, 0 };
-		struct dao_frame out = { DAO_PIXFMT_GRAY_F32, W, H, W * 4, ao, 0, 0, 0 };
-		struct dao_frame zf = { DAO_PIXFMT_DEPTH_F32, W, H, W * 4, z, 0, 0, 0 };
+		struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
+				.stride = W * 2, .data = c.depth_mm, .depth_unit = 0.001f};
+		struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+				.stride = W * 4, .data = ao};
+		struct dao_frame zf = { .format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+				.stride = W * 4, .data = z};
 		assert_int_equal(dao_context_process(ctx, &in, NULL, (uint64_t)f, &out, &err), 0);
 		assert_int_equal(dao_context_get_depth(ctx, &zf, &err), 0);
 		for (int i = 0; f >= MOVE_LOOKBACK && i < n; i++) {
@@ -724,10 +737,14 @@ static int test_real_kinect(void)
 					       .noise_k = p.depth_noise, .quantum = si->depth_unit };
 	double sum_raw = 0, sum_t = 0, sum_off = 0, sum_on = 0, sum_d = 0, first_t = 0;
 	for (int f = 0; f < REAL_FRAMES; f++) {
-		struct dao_frame in = { DAO_PIXFMT_DEPTH16, si->width, si->height, w * 2, mm, 0, 0, 0 };
-		struct dao_frame z1 = { DAO_PIXFMT_DEPTH_F32, si->width, si->height, w * 4, zoff, 0, 0, 0 };
-		struct dao_frame z2 = { DAO_PIXFMT_DEPTH_F32, si->width, si->height, w * 4, zon, 0, 0, 0 };
-		struct dao_frame z3 = { DAO_PIXFMT_DEPTH_F32, si->width, si->height, w * 4, zd, 0, 0, 0 };
+		struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = si->width,
+				.height = si->height, .stride = w * 2, .data = mm};
+		struct dao_frame z1 = { .format = DAO_PIXFMT_DEPTH_F32, .width = si->width,
+				.height = si->height, .stride = w * 4, .data = zoff};
+		struct dao_frame z2 = { .format = DAO_PIXFMT_DEPTH_F32, .width = si->width,
+				.height = si->height, .stride = w * 4, .data = zon};
+		struct dao_frame z3 = { .format = DAO_PIXFMT_DEPTH_F32, .width = si->width,
+				.height = si->height, .stride = w * 4, .data = zd};
 		if (dao_oni_reader_read_depth(rd, (uint32_t)s, (uint32_t)f, &in, &err) ||
 		    dao_context_process(off, &in, NULL, (uint64_t)f, NULL, &err) ||
 		    dao_context_process(on, &in, NULL, (uint64_t)f, NULL, &err) ||

@@ -9,6 +9,10 @@
  *   6: a sink "newersink" built for a newer sink interface and a larger
  *      struct dao_sink_format than this library's (must load and work: it
  *      reads only what DAO_STRUCT_HAS says is there)
+ *   7: a sink "smalldesc" whose descriptor says it is smaller than the first
+ *      sized one (must be skipped, with what to do)
+ *   8: a sink "futuredesc" whose descriptor has a version newer than this
+ *      library's (must be skipped, with what to do)
  */
 #include <depthao/plugin.h>
 
@@ -20,7 +24,8 @@
 
 #if FAKE_KIND == 1
 static const struct dao_source_ops ops;
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION + 98, "wrongabi", "", &ops, 0};
+static const struct dao_plugin plugin = {.abi_version = DAO_PLUGIN_ABI_VERSION + 98,
+					 .name = "wrongabi", .description = "", .source = &ops};
 EXPORT const struct dao_plugin *dao_plugin_entry(void);
 const struct dao_plugin *dao_plugin_entry(void)
 {
@@ -71,8 +76,8 @@ static void big_close(void *state)
 
 static const struct dao_source_ops ops = {.version = DAO_SOURCE_OPS_VERSION, .open = big_open,
 					  .get_info = big_info, .close = big_close};
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "fakebig", "a test source", &ops,
-					 0};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "fakebig",
+					 .description = "a test source", .source = &ops};
 EXPORT const struct dao_plugin *dao_plugin_entry(void);
 const struct dao_plugin *dao_plugin_entry(void)
 {
@@ -80,7 +85,8 @@ const struct dao_plugin *dao_plugin_entry(void)
 }
 #elif FAKE_KIND == 5
 static const struct dao_source_ops ops = {.open = NULL}; /* .version left 0 */
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "noversion", "", &ops, 0};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "noversion", .description = "",
+					 .source = &ops};
 DAO_PLUGIN_DEFINE(plugin)
 #elif FAKE_KIND == 6
 /* The struct a future depthao might hand over: today's, then a new field. */
@@ -127,7 +133,25 @@ static int ns_close(void *state, struct dao_error *err)
 static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION + 5, .open = ns_open,
 					.negotiate = ns_negotiate, .write = ns_write,
 					.close = ns_close};
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "newersink", "", 0, &ops};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "newersink", .description = "",
+					 .sink = &ops};
+DAO_PLUGIN_DEFINE(plugin)
+#elif FAKE_KIND == 7 || FAKE_KIND == 8
+static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION};
+static const struct dao_plugin plugin = {
+	.abi_version = DAO_PLUGIN_ABI_VERSION,
+#if FAKE_KIND == 7
+	.size = 8, /* a descriptor ending after abi_version and size */
+	.version = DAO_PLUGIN_VERSION,
+	.name = "smalldesc",
+#else
+	.size = sizeof(struct dao_plugin),
+	.version = DAO_PLUGIN_VERSION + 1,
+	.name = "futuredesc",
+#endif
+	.description = "",
+	.sink = &ops,
+};
 DAO_PLUGIN_DEFINE(plugin)
 #else
 static int fake_probe(const char *uri)
@@ -136,8 +160,8 @@ static int fake_probe(const char *uri)
 	return 0;
 }
 static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION, .probe = fake_probe};
-static const struct dao_plugin plugin = {DAO_PLUGIN_ABI_VERSION, "fakesink", "a test sink", 0,
-					 &ops};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "fakesink",
+					 .description = "a test sink", .sink = &ops};
 EXPORT const struct dao_plugin *dao_plugin_entry(void);
 const struct dao_plugin *dao_plugin_entry(void)
 {

@@ -23,8 +23,15 @@ static inline uint16_t test_depth(uint32_t f, uint32_t x, uint32_t y)
 /* Writes `frames` frames with codec `codec` to `path`; 0 or a negative code. */
 static inline int test_write_oni(const char *path, uint32_t frames, enum dao_oni_codec codec)
 {
-	struct dao_oni_writer_options o = {TEST_W, TEST_H, TEST_FPS, codec,
-					   DAO_ONI_PIXEL_DEPTH_1_MM, 0, 1.0, 0.75, 0, 1};
+	struct dao_oni_writer_options o = DAO_ONI_WRITER_OPTIONS_INIT;
+	o.width = TEST_W;
+	o.height = TEST_H;
+	o.fps = TEST_FPS;
+	o.codec = codec;
+	o.pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM;
+	o.hfov = 1.0;
+	o.vfov = 0.75;
+	o.overwrite = 1;
 	struct dao_oni_writer *w;
 	struct dao_frame d;
 	struct dao_error err;

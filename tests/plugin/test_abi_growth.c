@@ -35,10 +35,12 @@ struct frozen {
 
 #define F(st, field, off) { #st "." #field, offsetof(struct st, field), off }
 
-/* The first extensible layout (plugin ABI 2, DEPTHAO_0) on LP64 targets: a
- * field may be appended after the last one of its struct, never inserted,
- * moved or resized.  Adding one: append it to the struct and to this table,
- * give the struct explicit padding if it would end in padding. */
+/* The first extensible layouts (plugin ABI 2 for the plugin structs, depthao
+ * 1.0 and plugin ABI 3 for the rest; symbol version DEPTHAO_1) on LP64
+ * targets: a field may be appended after the last one of its struct (for
+ * dao_frame: into its reserved space), never inserted, moved or resized.
+ * Adding one: append it to the struct and to this table, give the struct
+ * explicit padding if it would end in padding. */
 static const struct frozen layout[] = {
 	F(dao_params, size, 0),
 	F(dao_params, depth_min, 4),
@@ -138,6 +140,72 @@ static const struct frozen layout[] = {
 	F(dao_sink_frame_info, size, 0),
 	F(dao_sink_frame_info, stream, 4),
 	F(dao_sink_frame_info, capture_ns, 8),
+	F(dao_timings, size, 0),
+	F(dao_timings, decode_ms, 8),
+	F(dao_timings, prefilter_ms, 16),
+	F(dao_timings, normals_ms, 24),
+	F(dao_timings, gtao_ms, 32),
+	F(dao_timings, denoise_ms, 40),
+	F(dao_timings, output_ms, 48),
+	F(dao_timings, process_ms, 56),
+	F(dao_timings, shade_ms, 64),
+	F(dao_timings, noise_ms, 72),
+	F(dao_noise_info, size, 0),
+	F(dao_noise_info, measured, 4),
+	F(dao_noise_info, sigma_area, 8),
+	F(dao_noise_info, sigma_link, 12),
+	F(dao_noise_info, prefilter_scale, 16),
+	F(dao_noise_info, normal_radius, 20),
+	F(dao_noise_info, denoise_noise, 24),
+	F(dao_noise_info, sigma_slope, 28),
+	F(dao_noise_info, age, 32),
+	F(dao_noise_info, cells_measured, 36),
+	F(dao_camera, size, 0),
+	F(dao_camera, width, 4),
+	F(dao_camera, height, 8),
+	F(dao_camera, fx, 16),
+	F(dao_camera, fy, 24),
+	F(dao_camera, cx, 32),
+	F(dao_camera, cy, 40),
+	F(dao_camera, ax, 48),
+	F(dao_camera, ay, 52),
+	F(dao_camera, bx, 56),
+	F(dao_camera, by, 60),
+	F(dao_frame, format, 0),
+	F(dao_frame, width, 4),
+	F(dao_frame, height, 8),
+	F(dao_frame, stride, 12),
+	F(dao_frame, data, 16),
+	F(dao_frame, depth_unit, 24),
+	F(dao_frame, timestamp_ns, 32),
+	F(dao_frame, sequence, 40),
+	F(dao_frame, size, 48),
+	F(dao_frame, reserved0, 52),
+	F(dao_frame, reserved, 56),
+	F(dao_oni_writer_options, size, 0),
+	F(dao_oni_writer_options, width, 4),
+	F(dao_oni_writer_options, height, 8),
+	F(dao_oni_writer_options, fps, 12),
+	F(dao_oni_writer_options, codec, 16),
+	F(dao_oni_writer_options, pixel_format, 20),
+	F(dao_oni_writer_options, max_depth, 24),
+	F(dao_oni_writer_options, hfov, 32),
+	F(dao_oni_writer_options, vfov, 40),
+	F(dao_oni_writer_options, mirrored, 48),
+	F(dao_oni_writer_options, overwrite, 52),
+	F(dao_oni_writer_status, size, 0),
+	F(dao_oni_writer_status, frames, 4),
+	F(dao_oni_writer_status, synced_frames, 8),
+	F(dao_oni_writer_status, syncs, 12),
+	F(dao_oni_writer_status, error, 16),
+	F(dao_oni_writer_status, bytes, 24),
+	F(dao_plugin, abi_version, 0),
+	F(dao_plugin, size, 4),
+	F(dao_plugin, version, 8),
+	F(dao_plugin, name, 16),
+	F(dao_plugin, description, 24),
+	F(dao_plugin, source, 32),
+	F(dao_plugin, sink, 40),
 };
 
 static void test_layout_frozen(void **state)
@@ -166,6 +234,19 @@ static void test_layout_frozen(void **state)
 	assert_int_equal(sizeof(struct dao_sink_host), DAO_END_OF(struct dao_sink_host, want_streams));
 	assert_int_equal(sizeof(struct dao_sink_frame_info),
 			 DAO_END_OF(struct dao_sink_frame_info, capture_ns));
+	assert_int_equal(sizeof(struct dao_timings), DAO_END_OF(struct dao_timings, noise_ms));
+	assert_int_equal(sizeof(struct dao_noise_info),
+			 DAO_END_OF(struct dao_noise_info, cells_measured));
+	assert_int_equal(sizeof(struct dao_camera), DAO_END_OF(struct dao_camera, by));
+	assert_int_equal(sizeof(struct dao_oni_writer_options),
+			 DAO_END_OF(struct dao_oni_writer_options, overwrite));
+	assert_int_equal(sizeof(struct dao_oni_writer_status),
+			 DAO_END_OF(struct dao_oni_writer_status, bytes));
+	assert_int_equal(sizeof(struct dao_plugin), DAO_END_OF(struct dao_plugin, sink));
+	/* dao_frame never changes its sizeof (embedded in dao_source_frame): later
+	 * fields go into its reserved space, and DAO_FRAME_SIZE moves past them */
+	assert_int_equal(sizeof(struct dao_frame), 88);
+	assert_int_equal(DAO_FRAME_SIZE, DAO_END_OF(struct dao_frame, size));
 	/* the smallest structs the library takes never change */
 	assert_int_equal(DAO_PARAMS_SIZE_FIRST, 184);
 	assert_int_equal(SOURCE_INFO_SIZE_FIRST, 536);
@@ -173,6 +254,7 @@ static void test_layout_frozen(void **state)
 	assert_int_equal(SINK_FORMAT_SIZE_FIRST, 56);
 	assert_int_equal(SINK_HOST_SIZE_FIRST, 64);
 	assert_int_equal(SINK_FRAME_INFO_SIZE_FIRST, 16);
+	assert_int_equal(PLUGIN_SIZE_FIRST, 48);
 }
 
 static int poisoned(const void *p, size_t from, size_t to)

@@ -110,14 +110,19 @@ static void test_synth_scene_round_trip(void **state)
 	for (int c = 0; c < 3; c++) {
 		char uri[600];
 		snprintf(uri, sizeof uri, "openni2:%s/spheres-%s.oni", g_dir, dao_oni_codec_name(codecs[c]));
-		struct dao_oni_writer_options o = {640, 480, 30, codecs[c], DAO_ONI_PIXEL_DEPTH_1_MM, 0,
-						   0, 0, 0, 0};
+		struct dao_oni_writer_options o = DAO_ONI_WRITER_OPTIONS_INIT;
+		o.width = 640;
+		o.height = 480;
+		o.fps = 30;
+		o.codec = codecs[c];
+		o.pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM;
 		dao_camera_fov(&cam, &o.hfov, &o.vfov);
 		struct dao_oni_writer *w;
 		assert_int_equal(dao_oni_writer_open(uri + 8, &o, &w, &err), 0);
 		for (int i = 0; i < N; i++) {
-			struct dao_frame d = {DAO_PIXFMT_DEPTH16, 640, 480, 1280, cases[i].depth_mm,
-					      0.001f, 0, 0};
+			struct dao_frame d = {.format = DAO_PIXFMT_DEPTH16, .width = 640,
+					.height = 480, .stride = 1280, .data = cases[i].depth_mm,
+					      .depth_unit = 0.001f};
 			assert_int_equal(dao_oni_writer_write_depth(w, &d, (uint64_t)i * 33333, &err), 0);
 		}
 		assert_int_equal(dao_oni_writer_finish(w, &err), 0);

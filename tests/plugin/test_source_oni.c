@@ -483,17 +483,26 @@ static void test_modules_skipped_with_reason(void **state)
 	assert_non_null(dao_plugins_find(p, "fakesink"));
 	assert_null(dao_plugins_find(p, "wrongabi"));
 	assert_null(dao_plugins_find(p, "noversion"));
-	int abi = 0, nosym = 0, nover = 0;
+	assert_null(dao_plugins_find(p, "smalldesc"));
+	assert_null(dao_plugins_find(p, "futuredesc"));
+	int abi = 0, nosym = 0, nover = 0, small = 0, future = 0;
 	for (size_t i = 0; i < dao_plugins_skipped_count(p); i++) {
 		const char *m = dao_plugins_skipped(p, i);
 		abi += strstr(m, "fake-wrongabi.so") && strstr(m, "ABI") ? 1 : 0;
 		nosym += strstr(m, "fake-nosymbol.so") && strstr(m, "not a depthao plugin") ? 1 : 0;
 		nover += strstr(m, "fake-noversion.so") && strstr(m, "DAO_SOURCE_OPS_VERSION") ? 1 : 0;
+		/* the descriptor's size and version, each with what to do */
+		small += strstr(m, "fake-smalldesc.so") && strstr(m, "8 bytes") &&
+				 strstr(m, "DAO_PLUGIN_HEADER") ? 1 : 0;
+		future += strstr(m, "fake-futuredesc.so") && strstr(m, "version 2") &&
+				  strstr(m, "update depthao") ? 1 : 0;
 	}
 	assert_int_equal(abi, 1);
 	assert_int_equal(nosym, 1);
 	assert_int_equal(nover, 1);
-	assert_int_equal(dao_plugins_skipped_count(p), 3);
+	assert_int_equal(small, 1);
+	assert_int_equal(future, 1);
+	assert_int_equal(dao_plugins_skipped_count(p), 5);
 	/* a sink is not a source */
 	struct dao_source *s;
 	assert_int_equal(dao_source_open(p, "fakesink:x", NULL, &s, &err), -ENOENT);

@@ -33,8 +33,10 @@ static struct fixture *make(int mode)
 		f->n[3 * i + 2] = -1.0f;
 		f->ao[i] = 1.0f;
 	}
-	f->out_rgb = (struct dao_frame){ DAO_PIXFMT_RGB24, W, H, 3 * W, f->rgb, 0, 0, 0 };
-	f->out_gray = (struct dao_frame){ DAO_PIXFMT_GRAY8, W, H, W, f->gray, 0, 0, 0 };
+	f->out_rgb = (struct dao_frame){ .format = DAO_PIXFMT_RGB24, .width = W, .height = H,
+			.stride = 3 * W, .data = f->rgb};
+	f->out_gray = (struct dao_frame){ .format = DAO_PIXFMT_GRAY8, .width = W, .height = H,
+			.stride = W, .data = f->gray};
 	return f;
 }
 

@@ -11,13 +11,13 @@
 
 int atomic_write_text(const char *path, const char *text, char *msg, size_t len)
 {
-	struct dao_output_file out;
+	struct dao_output_file *out;
 	struct dao_error err = {0};
 	if (dao_output_file_open(&out, path, &err) < 0) {
 		snprintf(msg, len, "%s", err.message);
 		return -1;
 	}
-	FILE *f = fdopen(out.fd, "w");
+	FILE *f = fdopen(dao_output_file_fd(out), "w");
 	int ok = f && fputs(text, f) >= 0 && fputc('\n', f) != EOF;
 	int e = errno;
 	if (f) {
@@ -26,14 +26,14 @@ int atomic_write_text(const char *path, const char *text, char *msg, size_t len)
 			e = errno;
 		}
 	} else {
-		close(out.fd);
+		close(dao_output_file_fd(out));
 	}
 	if (!ok) {
 		snprintf(msg, len, "cannot write '%s': %s", path, strerror(e));
-		dao_output_file_discard(&out);
+		dao_output_file_discard(out);
 		return -1;
 	}
-	if (dao_output_file_commit(&out, path, &err) < 0) {
+	if (dao_output_file_commit(out, &err) < 0) {
 		snprintf(msg, len, "%s", err.message);
 		return -1;
 	}

@@ -198,7 +198,7 @@ static int run(const struct config *c, const struct dao_camera *cam, const uint1
 		double t1 = now_s();
 		if (i < 0)
 			continue;
-		struct dao_timings tm;
+		struct dao_timings tm = DAO_TIMINGS_INIT;
 		dao_context_timings(ctx, &tm);
 		t[n] = (t1 - t0) * 1e3;
 		double s[NSTAGES] = { tm.decode_ms, tm.noise_ms, tm.prefilter_ms, tm.normals_ms,

@@ -224,8 +224,10 @@ static int algorithm_tiles(const char *list, const struct dao_camera *cam, float
 		const char *alg = name;
 		if (algorithm_entry(name, &p, &err)) /* checked before the rendering */
 			return usage_error("compare", "%s", err.message);
-		struct dao_frame in = {DAO_PIXFMT_DEPTH_F32, w, h, (int32_t)(w * 4), depth, 0, 0, 0};
-		struct dao_frame ao = {DAO_PIXFMT_GRAY_F32, w, h, (int32_t)(w * 4), plane, 0, 0, 0};
+		struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = w, .height = h,
+				.stride = (int32_t)(w * 4), .data = depth};
+		struct dao_frame ao = {.format = DAO_PIXFMT_GRAY_F32, .width = w, .height = h,
+				.stride = (int32_t)(w * 4), .data = plane};
 		if (dao_context_create(&ctx, cam, &p, &err) ||
 		    dao_context_process(ctx, &in, NULL, 0, &ao, &err)) {
 			fprintf(stderr, "depthao: %s: %s\n", alg, err.message);

@@ -112,8 +112,10 @@ static int check_frame(const struct synth_real_frame *f, const char *dir, const 
 		goto out;
 	}
 	long open_px;
-	struct dao_frame in = { DAO_PIXFMT_DEPTH_F32, w, h, (int32_t)(w * 4), z, 0, 0, 0 };
-	struct dao_frame out = { DAO_PIXFMT_GRAY_F32, w, h, (int32_t)(w * 4), ao, 0, 0, 0 };
+	struct dao_frame in = { .format = DAO_PIXFMT_DEPTH_F32, .width = w, .height = h,
+			.stride = (int32_t)(w * 4), .data = z};
+	struct dao_frame out = { .format = DAO_PIXFMT_GRAY_F32, .width = w, .height = h,
+			.stride = (int32_t)(w * 4), .data = ao};
 	if (synth_open_planes(z, &cam, unit, p->radius, mask, &open_px, &err) ||
 	    dao_context_create(&ctx, &cam, p, &err) ||
 	    dao_context_process(ctx, &in, NULL, 0, &out, &err)) {

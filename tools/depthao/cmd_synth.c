@@ -254,6 +254,7 @@ static int open_sequence_oni(const struct synth_options *o, const struct dao_cam
 	struct dao_error err;
 	size_t n = strlen(base);
 	struct dao_oni_writer_options wo = {
+		.size = sizeof(struct dao_oni_writer_options),
 		.width = cam->width, .height = cam->height, .fps = SYNTH_ONI_FPS,
 		.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
 		.overwrite = 1, /* made again, like the PNGs beside it */

@@ -14,7 +14,7 @@ int cmd_compare(int argc, char **argv);
 int cmd_sensorstats(int argc, char **argv);
 int cmd_realcheck(int argc, char **argv);
 
-/* The version with the build's `git describe`, e.g. "0.1.0 (git 6501cfb-dirty)". */
+/* The version with the build's `git describe`, e.g. "1.0.0 (git 6501cfb-dirty)". */
 const char *depthao_version_line(void);
 
 /* Prints "depthao: <reason> (see 'depthao <cmd> --help')" and returns 2. */
