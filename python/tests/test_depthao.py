@@ -81,6 +81,11 @@ def test_library_loaded():
     assert isinstance(depthao.library_version, str) and depthao.library_version.count(".") == 2
     if os.environ.get("DEPTHAO_LIBRARY"):
         assert depthao.library_path == os.environ["DEPTHAO_LIBRARY"]
+    if os.environ.get("DEPTHAO_IO_LIBRARY"):
+        # the io functions from libdepthao-io, the core's from libdepthao (not a copy in io)
+        assert depthao._lib.io_path == os.environ["DEPTHAO_IO_LIBRARY"]
+        assert not hasattr(depthao._lib._io, "dao_context_create") or \
+            depthao._lib._io is depthao._lib.lib
 
 
 @needs_cli

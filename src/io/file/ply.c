@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "core/error_internal.h"
 #include <depthao/output_file.h>
