@@ -65,16 +65,24 @@ def _build_root_of(where):
     return None
 
 
-def _load():
+def _first_loadable(cands, env):
+    """The first of cands that loads: (CDLL, path), or (None, what was tried).  A
+    candidate from the environment variable env is never second-guessed."""
     tried = []
-    cands = _candidates()
     for what, where in cands:
         try:
-            return ctypes.CDLL(where), where, _build_root_of(where)
+            return ctypes.CDLL(where), where
         except OSError as e:
             tried.append("%s (%s): %s" % (where, what, e))
-            if what == "$DEPTHAO_LIBRARY":
+            if what == "$" + env:
                 break
+    return None, tried
+
+
+def _load():
+    found, tried = _first_loadable(_candidates(), "DEPTHAO_LIBRARY")
+    if found is not None:
+        return found, tried, _build_root_of(tried)
     if not tried:
         tried.append("no DEPTHAO_LIBRARY, no %s under %s, and find_library('depthao') "
                      "found nothing" % (" or ".join(d + "/src/libdepthao.so" for d in _BUILD_DIRS),
@@ -109,14 +117,9 @@ def _io_candidates():
 def _load_io():
     if hasattr(lib, "dao_source_open") and not os.environ.get("DEPTHAO_IO_LIBRARY"):
         return lib, path  # both libraries in one file (the pip package)
-    tried = []
-    for what, where in _io_candidates():
-        try:
-            return ctypes.CDLL(where), where
-        except OSError as e:
-            tried.append("%s (%s): %s" % (where, what, e))
-            if what == "$DEPTHAO_IO_LIBRARY":
-                break
+    found, tried = _first_loadable(_io_candidates(), "DEPTHAO_IO_LIBRARY")
+    if found is not None:
+        return found, tried
     if not tried:
         tried.append("no DEPTHAO_IO_LIBRARY, no libdepthao-io beside %s, and "
                      "find_library('depthao-io') found nothing" % path)
