@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
-/* Shades one 16-bit depth PNG with ambient occlusion, using the installed libdepthao:
- *   cc shade_depth.c $(pkg-config --cflags --libs depthao) -o shade_depth
+/* Shades one 16-bit depth PNG with ambient occlusion, using the installed libdepthao (the AO)
+ * and libdepthao-io (the PNG files; its .pc brings libdepthao):
+ *   cc shade_depth.c $(pkg-config --cflags --libs depthao-io) -o shade_depth
  *   ./shade_depth depth.png out.png [fx fy cx cy [metres_per_count]] */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 static int number(const char *s, double *v) /* 0 if all of s is a number */
 {

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * libdepthao: depth frames to ambient occlusion, on the CPU.
+ * libdepthao: depth frames to ambient occlusion, on the CPU (the AO core:
+ * libc, libm and pthreads only; pkg-config depthao).  Files, recordings,
+ * sources and sinks are libdepthao-io's: <depthao/io.h>, pkg-config depthao-io.
  *
  *   struct dao_camera cam;
  *   dao_camera_from_intrinsics(&cam, 640, 480, 525, 525, 319.5, 239.5, &err);
@@ -21,12 +23,6 @@
 #include <depthao/cpu.h>
 #include <depthao/context.h>
 #include <depthao/overlay.h>
-#include <depthao/png.h>
-#include <depthao/ply.h>
-#include <depthao/oni.h>
-#include <depthao/plugin.h>
-#include <depthao/uri.h>
-#include <depthao/output_file.h>
 
 #include <depthao/api.h>
 

@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+/* Part of libdepthao-io (pkg-config depthao-io, <depthao/io.h>), not of the AO core libdepthao. */
 /*
  * Opening a path for a file written whole (a PNG, a small text file, a point
  * cloud), as depthao's own outputs are written; what

@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+/* Part of libdepthao-io (pkg-config depthao-io, <depthao/io.h>), not of the AO core libdepthao. */
 /*
  * Sources and sinks: the plugin interface.
  *

@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+/* Part of libdepthao-io (pkg-config depthao-io, <depthao/io.h>), not of the AO core libdepthao. */
 /*
  * PNG files through libpng.  16-bit samples are big-endian on disk and host
  * order in memory.  Writes go to a temporary file in the same directory that

@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+/* Part of libdepthao-io (pkg-config depthao-io, <depthao/io.h>), not of the AO core libdepthao. */
 /*
  * The URIs of sources and sinks:
  *     [NAME:]REST[?KEY=VALUE&KEY=VALUE...]

@@ -1,5 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""Loading libdepthao and declaring its C API for ctypes.
+"""Loading libdepthao and libdepthao-io and declaring their C API for ctypes.
+
+libdepthao is the AO core; libdepthao-io (files, recordings, sources) is found
+through $DEPTHAO_IO_LIBRARY, else beside libdepthao (BUILD/src/io/ in a build
+tree, the same directory when installed), else the system's library path.  The
+package installed with pip carries both in one file.  Every function is
+reached as an attribute of `lib`, whichever library exports it.
 
 The structures below mirror include/depthao/*.h field for field (the test
 suite compiles a C program that prints their sizes and offsets and compares
@@ -15,7 +21,7 @@ import errno as _errno
 import importlib.machinery
 import os
 
-__all__ = ["lib", "path", "build_root", "check", "error_from", "new_error", "text"]
+__all__ = ["lib", "path", "io_path", "build_root", "check", "error_from", "new_error", "text"]
 
 # --- locating the library ---------------------------------------------------
 
@@ -59,16 +65,24 @@ def _build_root_of(where):
     return None
 
 
-def _load():
+def _first_loadable(cands, env):
+    """The first of cands that loads: (CDLL, path), or (None, what was tried).  A
+    candidate from the environment variable env is never second-guessed."""
     tried = []
-    cands = _candidates()
     for what, where in cands:
         try:
-            return ctypes.CDLL(where), where, _build_root_of(where)
+            return ctypes.CDLL(where), where
         except OSError as e:
             tried.append("%s (%s): %s" % (where, what, e))
-            if what == "$DEPTHAO_LIBRARY":
+            if what == "$" + env:
                 break
+    return None, tried
+
+
+def _load():
+    found, tried = _first_loadable(_candidates(), "DEPTHAO_LIBRARY")
+    if found is not None:
+        return found, tried, _build_root_of(tried)
     if not tried:
         tried.append("no DEPTHAO_LIBRARY, no %s under %s, and find_library('depthao') "
                      "found nothing" % (" or ".join(d + "/src/libdepthao.so" for d in _BUILD_DIRS),
@@ -80,6 +94,42 @@ def _load():
 
 
 lib, path, build_root = _load()
+
+
+def _io_candidates():
+    """(description, path or name) of libdepthao-io, in the order they are tried."""
+    env = os.environ.get("DEPTHAO_IO_LIBRARY")
+    if env:
+        return [("$DEPTHAO_IO_LIBRARY", env)]
+    out = []
+    if os.sep in path:
+        d = os.path.dirname(os.path.abspath(path))
+        for p in (os.path.join(d, "io", "libdepthao-io.so"),  # build tree: BUILD/src/io/
+                  os.path.join(d, "libdepthao-io.so.1"), os.path.join(d, "libdepthao-io.so")):
+            if os.path.exists(p):
+                out.append(("beside %s" % path, p))
+    name = ctypes.util.find_library("depthao-io")
+    if name:
+        out.append(("ctypes.util.find_library('depthao-io')", name))
+    return out
+
+
+def _load_io():
+    if hasattr(lib, "dao_source_open") and not os.environ.get("DEPTHAO_IO_LIBRARY"):
+        return lib, path  # both libraries in one file (the pip package)
+    found, tried = _first_loadable(_io_candidates(), "DEPTHAO_IO_LIBRARY")
+    if found is not None:
+        return found, tried
+    if not tried:
+        tried.append("no DEPTHAO_IO_LIBRARY, no libdepthao-io beside %s, and "
+                     "find_library('depthao-io') found nothing" % path)
+    raise ImportError(
+        "depthao: cannot load libdepthao-io (files, recordings, sources): " + "; ".join(tried) +
+        ". Build or install it beside libdepthao, or set DEPTHAO_IO_LIBRARY to the path of "
+        "libdepthao-io.so")
+
+
+_io, io_path = _load_io()
 
 # --- structures -------------------------------------------------------------
 
@@ -254,13 +304,21 @@ _PROTOTYPES = {
 }
 
 for _name, (_res, _args) in _PROTOTYPES.items():
-    try:
-        _fn = getattr(lib, _name)
-    except AttributeError:
-        raise ImportError("depthao: %s does not export %s(): the library is older than this "
-                          "package or not libdepthao" % (path, _name)) from None
+    # the core's functions from libdepthao, the io ones from libdepthao-io (one copy of
+    # the core: libdepthao-io links the libdepthao loaded above), all as lib.<name>
+    _fn = None
+    for _l in (lib, _io):
+        try:
+            _fn = getattr(_l, _name)
+            break
+        except AttributeError:
+            pass
+    if _fn is None:
+        raise ImportError("depthao: neither %s nor %s exports %s(): the libraries are older "
+                          "than this package or not libdepthao" % (path, io_path, _name))
     _fn.restype = _res
     _fn.argtypes = _args
+    setattr(lib, _name, _fn)
 
 
 

@@ -81,6 +81,13 @@ def test_library_loaded():
     assert isinstance(depthao.library_version, str) and depthao.library_version.count(".") == 2
     if os.environ.get("DEPTHAO_LIBRARY"):
         assert depthao.library_path == os.environ["DEPTHAO_LIBRARY"]
+    if os.environ.get("DEPTHAO_IO_LIBRARY"):
+        # libdepthao-io uses the one libdepthao loaded (its dependency), not a copy of it:
+        # dao_context_create looked up through it is the core's own
+        assert depthao._lib.io_path == os.environ["DEPTHAO_IO_LIBRARY"]
+        addr = lambda f: ctypes.cast(f, ctypes.c_void_p).value  # noqa: E731
+        assert addr(depthao._lib._io.dao_context_create) == addr(depthao._lib.lib.dao_context_create)
+        assert addr(depthao._lib.lib.dao_png_read) == addr(depthao._lib._io.dao_png_read)
 
 
 @needs_cli

@@ -27,6 +27,7 @@
 #include <cmocka.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #define GUARD 0x5a
 #define W 64

@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 /* Exit code that makes meson report SKIP. */
 #define DAO_TEST_SKIP 77

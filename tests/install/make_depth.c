@@ -3,6 +3,7 @@
 #include <stdio.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 int main(int argc, char **argv)
 {

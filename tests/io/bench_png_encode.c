@@ -22,6 +22,7 @@
 #include <zlib.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 struct setting {
 	const char *name;

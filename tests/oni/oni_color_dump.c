@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 int main(int argc, char **argv)
 {

@@ -2,7 +2,7 @@
 """A small .oni (NI10) writer and record walker in Python, independent of
 depthao's C reader: the tests write recordings with colour nodes with it and
 read the JPEG bytes of real recordings with it (the layout is in
-src/oni/oni_format.h and OpenNI2's Source/Drivers/OniFile)."""
+src/io/oni/oni_format.h and OpenNI2's Source/Drivers/OniFile)."""
 import struct
 
 MAGIC = 0x0052494E

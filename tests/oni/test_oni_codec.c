@@ -4,7 +4,7 @@
  * and structured data, the documented error codes of the encoders, and the
  * decoder's handling of truncated, overlong, short and out-of-table streams.
  * Two byte streams are worked out by hand from the format description in
- * src/oni/codec_16z.h and checked value by value.
+ * src/io/oni/codec_16z.h and checked value by value.
  */
 #include <errno.h>
 #include <stdio.h>

@@ -29,7 +29,7 @@
 
 #define PLEN 700
 
-/* Record types and sizes of the NI10 format, spelled out here independently of src/oni. */
+/* Record types and sizes of the NI10 format, spelled out here independently of src/io/oni. */
 #define REC_NEW_DATA 0x0Au
 #define REC_END 0x0Bu
 #define REC_NODE_ADDED 0x0Du

@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #define TEST_W 37
 #define TEST_H 23

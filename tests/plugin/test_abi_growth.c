@@ -21,6 +21,7 @@
 #include <cmocka.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 #include <depthao/plugin.h>
 
 #include "params/params_abi.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * The playback cursor of the recording sources (src/plugin/playback.c): which
+ * The playback cursor of the recording sources (src/io/plugin/playback.c): which
  * frames a read delivers (start, step, the end, loop), frames that fail and are
  * skipped, a recording none of whose frames can be read, and the real-time
  * pacing decisions against a fake clock.

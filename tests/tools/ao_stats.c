@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 static int cmp_f(const void *a, const void *b)
 {

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "common/cli_plugins.h"
 #include "commands.h"

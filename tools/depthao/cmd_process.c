@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "common/tool_clock.h"
 #include "common/camera_file.h"

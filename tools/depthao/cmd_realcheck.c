@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "cli_params.h"
 #include "commands.h"

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "common/camera_file.h"
 #include "commands.h"

@@ -16,6 +16,7 @@
 #include <json-c/json.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "common/camera_file.h"
 #include "commands.h"

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 /* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
 #define DEG2RAD (3.14159265358979323846 / 180.0)

@@ -11,6 +11,7 @@
 #include <strings.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "common/cli_plugins.h"
 #include "commands.h"

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "sensor_compare.h"
 #include "synth/real_frames.h"

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #define DAOD_MAX_SINKS 16
 #define DAOD_MAX_URI 4096        /* a path of PATH_MAX and a plugin prefix fit */

@@ -14,6 +14,7 @@
 #include <json-c/json.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "config.h"
 

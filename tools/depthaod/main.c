@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "common/tool_clock.h"
 #include "common/cli_plugins.h"

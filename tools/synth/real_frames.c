@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include <depthao/error.h>
 #include "synth/real_frames.h"

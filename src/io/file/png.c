@@ -18,7 +18,7 @@
 #include <depthao/png.h>
 
 #include "core/error_internal.h"
-#include "io/output_file_internal.h"
+#include "file/output_file_internal.h"
 
 struct png_err_ctx {
 	char message[160];

@@ -13,7 +13,7 @@
 
 #include "core/error_internal.h"
 #include "core/file_mode.h"
-#include "io/output_file_internal.h"
+#include "file/output_file_internal.h"
 
 static void release(struct dao_output_file *o)
 {

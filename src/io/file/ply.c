@@ -11,9 +11,10 @@
 #include <unistd.h>
 
 #include <depthao/depthao.h>
+#include <depthao/io.h>
 
 #include "core/error_internal.h"
-#include "io/output_file_internal.h"
+#include "file/output_file_internal.h"
 
 /* x, y, z float; red, green, blue uchar; scalar_ao float */
 #define VERTEX_XYZ 12
