@@ -47,6 +47,7 @@ struct dao_camera {
 DAO_API int dao_camera_from_intrinsics_sized(struct dao_camera *cam, size_t size, uint32_t width,
 					    uint32_t height, double fx, double fy, double cx,
 					    double cy, struct dao_error *err);
+/* dao_camera_from_intrinsics_sized() for this program's struct dao_camera. */
 static inline int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t width,
 					     uint32_t height, double fx, double fy, double cx,
 					     double cy, struct dao_error *err)
@@ -63,6 +64,7 @@ static inline int dao_camera_from_intrinsics(struct dao_camera *cam, uint32_t wi
 DAO_API int dao_camera_from_fov_sized(struct dao_camera *cam, size_t size, uint32_t width,
 				     uint32_t height, double hfov, double vfov,
 				     struct dao_error *err);
+/* dao_camera_from_fov_sized() for this program's struct dao_camera. */
 static inline int dao_camera_from_fov(struct dao_camera *cam, uint32_t width, uint32_t height,
 				      double hfov, double vfov, struct dao_error *err)
 {
@@ -94,6 +96,7 @@ DAO_API int dao_camera_from_camera_info_sized(struct dao_camera *cam, size_t siz
 					      const double p[12], const double *d, size_t d_count,
 					      enum dao_camera_info_matrix *from,
 					      struct dao_error *err);
+/* dao_camera_from_camera_info_sized() for this program's struct dao_camera. */
 static inline int dao_camera_from_camera_info(struct dao_camera *cam, uint32_t width,
 					      uint32_t height, const double k[9],
 					      const double p[12], const double *d, size_t d_count,

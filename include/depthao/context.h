@@ -161,6 +161,7 @@ struct dao_timings {
 DAO_API int dao_context_timings_sized(const struct dao_context *ctx, struct dao_timings *out,
 				      size_t size);
 
+/* Copies the stage timings of the last frame into `out` (dao_context_timings_sized()). */
 static inline void dao_context_timings(const struct dao_context *ctx, struct dao_timings *out)
 {
 	(void)dao_context_timings_sized(ctx, out, sizeof(*out));
@@ -201,6 +202,7 @@ struct dao_noise_info {
 DAO_API int dao_context_noise_sized(const struct dao_context *ctx, struct dao_noise_info *out,
 				    size_t size);
 
+/* Copies the noise the last frame was filtered for into `out` (dao_context_noise_sized()). */
 static inline void dao_context_noise(const struct dao_context *ctx, struct dao_noise_info *out)
 {
 	(void)dao_context_noise_sized(ctx, out, sizeof(*out));

@@ -247,6 +247,7 @@ struct dao_oni_writer_status {
 	uint64_t bytes;             /* up to the end of the last complete record */
 };
 
+/* A struct dao_oni_writer_status with its size set and every field 0. */
 #define DAO_ONI_WRITER_STATUS_INIT { .size = sizeof(struct dao_oni_writer_status) }
 
 /*
@@ -258,6 +259,7 @@ struct dao_oni_writer_status {
 DAO_API int dao_oni_writer_get_status_sized(const struct dao_oni_writer *writer,
 					    struct dao_oni_writer_status *status, size_t size);
 
+/* Fills `status` with the writer's state (dao_oni_writer_get_status_sized()). */
 static inline void dao_oni_writer_get_status(const struct dao_oni_writer *writer,
 					     struct dao_oni_writer_status *status)
 {

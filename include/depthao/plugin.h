@@ -74,6 +74,7 @@ extern "C" {
 #define DAO_PLUGIN_ABI_VERSION 3
 /* The descriptor's own version: 1 is the first layout with `size` (ABI 3). */
 #define DAO_PLUGIN_VERSION 1
+/* The layout of struct dao_source_ops this header describes. */
 #define DAO_SOURCE_OPS_VERSION 1
 /* The layout of struct dao_sink_ops this header describes. */
 #define DAO_SINK_OPS_VERSION 1
@@ -311,7 +312,6 @@ struct dao_plugin {
 	const struct dao_sink_ops *sink;     /* NULL if not a sink */
 };
 
-/* The type of dao_plugin_entry(). */
 /*
  * The first fields of every descriptor, in a designated initialiser:
  *     static const struct dao_plugin my_plugin = {
@@ -324,6 +324,7 @@ struct dao_plugin {
 	.abi_version = DAO_PLUGIN_ABI_VERSION, .size = sizeof(struct dao_plugin), \
 	.version = DAO_PLUGIN_VERSION
 
+/* The type of dao_plugin_entry(). */
 typedef const struct dao_plugin *(*dao_plugin_entry_fn)(void);
 
 /*

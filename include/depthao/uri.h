@@ -66,6 +66,7 @@ struct dao_options;
  */
 DAO_API int dao_options_parse(struct dao_options **out, const char *who, const char *text,
 			      const char *const *known, struct dao_error *err);
+/* Frees what dao_options_parse() made (NULL is allowed). */
 DAO_API void dao_options_free(struct dao_options *opts);
 
 /*
@@ -86,7 +87,9 @@ DAO_API int dao_options_get_int(const struct dao_options *opts, const char *key,
 				int64_t max, int64_t *value, struct dao_error *err);
 
 /* Flags of dao_options_get_double(): the bound itself is outside the range. */
+/* dao_options_get_double(): the minimum itself is outside the range. */
 #define DAO_OPTIONS_MIN_EXCLUSIVE 1u
+/* dao_options_get_double(): the maximum itself is outside the range. */
 #define DAO_OPTIONS_MAX_EXCLUSIVE 2u
 
 /* A finite number (strtod's syntax, no inf or nan) in [min, max] (see the flags). */
