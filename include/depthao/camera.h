@@ -21,8 +21,9 @@
 extern "C" {
 #endif
 
-/* A pinhole camera: intrinsics and the UvToViewParams derived from them. */
 /*
+ * A pinhole camera: intrinsics and the UvToViewParams derived from them.
+ *
  * Made by dao_camera_from_intrinsics(), _from_fov() or _from_camera_info(),
  * which set `size` to the program's sizeof (docs/abi.md: fields are only
  * appended; the library reads a field added after the first layout only when

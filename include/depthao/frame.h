@@ -41,8 +41,9 @@ enum dao_pixfmt {
 	DAO_PIXFMT_NORMAL_F32, /* 3 x float unit normal, camera optical frame */
 };
 
-/* An image: format, size, row stride and caller-owned pixels. */
 /*
+ * An image: format, size, row stride and caller-owned pixels.
+ *
  * A frame's sizeof never changes (it is embedded in other structs, e.g.
  * struct dao_source_frame): fields a later version adds take the reserved
  * space, and `size` says which of them a frame holds (docs/abi.md).  Start a

@@ -175,8 +175,8 @@ DAO_API int dao_oni_reader_match_frame(const struct dao_oni_reader *reader, uint
 
 /* --- writing ---------------------------------------------------------- */
 
-/* What dao_oni_writer_open() records: the depth stream's layout and codec. */
-/* Begins with `size` (docs/abi.md): start from DAO_ONI_WRITER_OPTIONS_INIT. */
+/* What dao_oni_writer_open() records: the depth stream's layout and codec.  Begins
+ * with `size` (docs/abi.md): start from DAO_ONI_WRITER_OPTIONS_INIT. */
 struct dao_oni_writer_options {
 	uint32_t size;              /* sizeof, DAO_ONI_WRITER_OPTIONS_INIT */
 	/* size of the depth images, pixels */
@@ -236,8 +236,8 @@ DAO_API int dao_oni_writer_write_depth(struct dao_oni_writer *writer,
 /* Syncs now (fdatasync, then the synced frame count into the header). */
 DAO_API int dao_oni_writer_sync(struct dao_oni_writer *writer, struct dao_error *err);
 
-/* How far a recording got: frames written, synced, and the error that ended it. */
-/* Filled by the library: `size` first, fields appended (docs/abi.md). */
+/* How far a recording got: frames written, synced, and the error that ended it.
+ * Filled by the library: `size` first, fields appended (docs/abi.md). */
 struct dao_oni_writer_status {
 	uint32_t size;              /* bytes filled, set by the library */
 	uint32_t frames;            /* in the file: write_depth returned 0 */
