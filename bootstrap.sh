@@ -43,6 +43,7 @@ PACKAGES=(
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 	python3-gi gir1.2-gstreamer-1.0
 	libmicrohttpd-dev libturbojpeg0-dev chromium chromium-driver
+	libzstd-dev libsqlite3-dev libwebsockets-dev
 )
 
 usage() {
@@ -150,6 +151,18 @@ view() {
 		--sink web="http:$VIEW_ADDR?control=true"
 }
 
+# The independent reference implementations some tests check against (MCAP, Foxglove
+# WebSocket, rosbag2; tests/js/package-lock.json pins them), installed with npm ci into
+# tests/js/node_modules.  Without npm, or offline, the tests that need them skip.
+js_deps() {
+	if ! command -v npm >/dev/null 2>&1; then
+		say "npm not found: the tests against the npm reference implementations will skip"
+		return 0
+	fi
+	(cd tests/js && npm ci --no-audit --no-fund --loglevel=error) ||
+		say "npm ci in tests/js failed: the tests against the npm reference implementations will skip"
+}
+
 # One closing line a CI reader understands: "meson: N passed, N failed, N skipped".
 summarize() {
 	python3 - "$BUILD_DIR/meson-logs/testlog.json" <<'PY' || true
@@ -170,6 +183,7 @@ run_tests() {
 	tests=$(meson test -C "$BUILD_DIR" --list 2>/dev/null)
 	grep -q 'example-installed$' <<<"$tests" ||
 		die "the test 'example-installed' is not registered: add 'install' to the subdir list in tests/meson.build"
+	js_deps
 	local status=0
 	meson test -C "$BUILD_DIR" --print-errorlogs || status=$?
 	summarize
