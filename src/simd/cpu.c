@@ -32,6 +32,16 @@ const char *dao_simd_name(enum dao_simd simd)
 	return (unsigned)simd < DAO_SIMD_COUNT ? dao_simd_names[simd] : "invalid";
 }
 
+#if DAO_HAVE_X86_KERNELS
+/* F16C from CPUID leaf 1 (ECX bit 29): clang 14's __builtin_cpu_supports does not know
+ * "f16c".  Only asked together with avx2, whose check covers the OS saving the YMM state. */
+static int cpu_has_f16c(void)
+{
+	unsigned int a, b, c, d;
+	return __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C);
+}
+#endif
+
 int dao_simd_supported(enum dao_simd simd)
 {
 	switch (simd) {
@@ -45,10 +55,10 @@ int dao_simd_supported(enum dao_simd simd)
 		return __builtin_cpu_supports("sse4.1");
 	case DAO_SIMD_AVX2:
 		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-		       __builtin_cpu_supports("f16c");
+		       cpu_has_f16c();
 	case DAO_SIMD_AVX512:
 		return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-		       __builtin_cpu_supports("f16c") &&
+		       cpu_has_f16c() &&
 		       __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
 		       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
 #endif
