@@ -96,7 +96,10 @@ static inline vi vi_andnot(vi a, vi b) { return a & ~b; }
 /* the n lowest bits set, n in [0, 32] */
 static inline vi vi_low_bits(vi n)
 {
-	return ((vi_set1(1) << (n & 31)) - 1) | (vi)(n > 31);
+	/* in unsigned lanes: 1 << 31, and it minus 1, overflow int (UBSan) */
+	typedef uint32_t vu __attribute__((vector_size(16)));
+	const vu one = { 1, 1, 1, 1 };
+	return (vi)((one << (vu)(n & 31)) - one) | (vi)(n > 31);
 }
 /* lanes whose bit `bit` (a power of two) is set */
 static inline vm m_bit(vi a, int32_t bit) { return (a & bit) == bit; }
