@@ -28,7 +28,7 @@ DEPTHAO=$BUILD_DIR/tools/depthao/depthao
 DEPTHAOD=$BUILD_DIR/tools/depthaod/depthaod
 
 PACKAGES=(
-	meson ninja-build pkg-config gcc g++ abigail-tools
+	meson ninja-build pkg-config gcc g++ abigail-tools clang libclang-rt-dev
 	doxygen
 	libpng-dev libjson-c-dev libcmocka-dev liblz4-dev libbz2-dev libturbojpeg0-dev
 	libopencv-dev libopencv-contrib-dev
@@ -60,8 +60,9 @@ usage: ./bootstrap.sh deps|build|demo|view|test
   test    build, then run every test suite (meson test), including the example built
           against the installed library (suite 'install'); then the install suite and
           simd-odd-sizes again in a default 'meson setup' outside the source tree
-          (in $DEFAULT_BUILD_DIR); then the oni, plugin, bag, daemon and ros suites and
-          web-http again under ASan + UBSan (in $BUILD_DIR-asan)
+          (in $DEFAULT_BUILD_DIR); then the oni, plugin, bag, daemon and ros suites,
+          web-http and simd-odd-sizes again under ASan + UBSan (in $BUILD_DIR-asan);
+          then the fuzz targets with clang over their seed corpora (in $BUILD_DIR-fuzz)
 
 environment: BUILD_DIR (default build), DEFAULT_BUILD_DIR, DEMO_INPUT, DEMO_OUT (default out),
              VIEW_ADDR (default 127.0.0.1:8080; 0.0.0.0:8080 for other machines)
@@ -189,6 +190,7 @@ run_tests() {
 	summarize
 	default_build_tests || status=1
 	sanitized_tests || status=1
+	fuzz_tests || status=1
 	return "$status"
 }
 
@@ -238,6 +240,47 @@ sanitized_tests() {
 		--print-errorlogs || st=1
 	# the http sink parses what the network sends (its plain-HTTP tests; not the browser's)
 	meson test -C "$dir" web-http --print-errorlogs || st=1
+	# every kernel set at widths 1-67 against the reference, guard bytes and pages around
+	# their buffers: ASan sees reads and writes into the allocator's redzones as well
+	meson test -C "$dir" simd-odd-sizes --print-errorlogs || st=1
+	return "$st"
+}
+
+# The libFuzzer targets (fuzz/, -Dfuzzing=true: clang, ASan + UBSan) built in
+# $BUILD_DIR-fuzz and run once over each input of their seed corpus (fuzz/corpus/NAME;
+# the .oni reader also over tests/oni/regress): that they build with clang and that no
+# seed crashes.  Seconds; fuzzing for real is in fuzz/README.md.
+fuzz_tests() {
+	if ! command -v clang >/dev/null 2>&1; then
+		say "clang not found: the fuzz targets are not built (apt-get install clang libclang-rt-dev)"
+		return 0
+	fi
+	local dir="$BUILD_DIR-fuzz" src targets=() t
+	for src in fuzz/fuzz_*.c; do
+		t=$(basename "$src" .c)
+		targets+=("$t")
+	done
+	# (called after ||, so errexit is off in here: each status is kept by hand)
+	if [ ! -f "$dir/meson-private/coredata.dat" ]; then
+		CC=clang meson setup "$dir" -Dfuzzing=true -Dtests=disabled \
+			-Dwerror=true >/dev/null || return 1
+	fi
+	ninja -C "$dir" "${targets[@]/#/fuzz/}" >/dev/null || return 1
+	say "fuzz: ${targets[*]} over their seed corpora"
+	local st=0 corpus inputs
+	for t in "${targets[@]}"; do
+		corpus=${t#fuzz_}
+		corpus=fuzz/corpus/${corpus%_reader}
+		inputs=("$corpus"/*)
+		[ "$t" != fuzz_oni_reader ] || inputs+=(tests/oni/regress/*)
+		if [ ! -e "${inputs[0]}" ]; then
+			echo "bootstrap: error: $t has no seed corpus in $corpus" >&2
+			st=1
+			continue
+		fi
+		"$dir/fuzz/$t" "${inputs[@]}" >"$dir/$t.log" 2>&1 ||
+			{ echo "bootstrap: error: $t failed on its seeds (see $dir/$t.log)" >&2; st=1; }
+	done
 	return "$st"
 }
 

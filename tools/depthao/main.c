@@ -46,9 +46,14 @@ int usage_error(const char *cmd, const char *fmt, ...)
 const char *depthao_version_line(void)
 {
 	static char line[96];
-	if (!line[0])
-		snprintf(line, sizeof line, strcmp(DAO_BUILD_ID, "unknown") ? "%s (git %s)" : "%s",
-			 dao_version(), DAO_BUILD_ID);
+	/* two calls: outside a git checkout (a tarball) the choice of format folds to
+	 * "%s" at compile time, and gcc's -Wformat-extra-args fails -Dwerror=true */
+	if (line[0])
+		return line;
+	if (strcmp(DAO_BUILD_ID, "unknown"))
+		snprintf(line, sizeof line, "%s (git %s)", dao_version(), DAO_BUILD_ID);
+	else
+		snprintf(line, sizeof line, "%s", dao_version());
 	return line;
 }
 
