@@ -37,9 +37,11 @@ struct dao_camera {
 	float ax, ay, bx, by;    /* UvToViewParams, derived */
 };
 
-/* The plausible focal lengths: from the image's larger side divided by MIN_DIV
- * to it times MAX_MUL (dao_camera_from_intrinsics). */
+/* The smallest plausible focal length is the image's larger side divided by
+ * this (a field of view of about 179 degrees; dao_camera_from_intrinsics). */
 #define DAO_CAMERA_FOCAL_MIN_DIV 200
+/* The largest plausible focal length is the image's larger side times this (a
+ * field of view of about 0.03 degrees; dao_camera_from_intrinsics). */
 #define DAO_CAMERA_FOCAL_MAX_MUL 1000
 
 /*
