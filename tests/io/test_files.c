@@ -17,6 +17,7 @@
 #include "common/cmocka_all.h"
 #include "common/test_common.h"
 
+#include <depthao/oni.h>
 #include <depthao/output_file.h>
 
 static char dir[256];
@@ -153,6 +154,36 @@ static void test_output(void **state)
 	assert_int_equal(lstat("-", &st), -1);
 }
 
+/* The recorder's overwrite follows the same rule; a recording never goes to "-". */
+static void test_recorder(void **state)
+{
+	(void)state;
+	struct dao_error err;
+	struct dao_oni_writer *w = NULL;
+	struct dao_oni_writer_options o = DAO_ONI_WRITER_OPTIONS_INIT;
+	o.width = 8;
+	o.height = 6;
+	o.fps = 30;
+	o.codec = DAO_ONI_CODEC_16ZT;
+	o.pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM;
+	o.hfov = 1.0;
+	o.vfov = 0.8;
+	o.overwrite = 1;
+	put(at("ro.oni"), "keep", 0444);
+	assert_int_equal(dao_oni_writer_open(at("ro.oni"), &o, &w, &err), -EACCES);
+	assert_null(w);
+	has(&err, "is write-protected");
+	text_is(at("ro.oni"), "keep");
+	assert_int_equal(dao_oni_writer_open("-", &o, &w, &err), -EINVAL);
+	has(&err, "standard output");
+	struct stat st;
+	assert_int_equal(lstat("-", &st), -1);
+	/* a writable file is replaced with overwrite, as before */
+	put(at("rw.oni"), "old", 0644);
+	assert_int_equal(dao_oni_writer_open(at("rw.oni"), &o, &w, &err), 0);
+	dao_oni_writer_abort(w); /* no frames: the file is removed */
+}
+
 int main(void)
 {
 	snprintf(dir, sizeof dir, "%s/dao-test-files-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
@@ -160,6 +191,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_input),
 		cmocka_unit_test(test_output),
+		cmocka_unit_test(test_recorder),
 	};
 	int r = cmocka_run_group_tests(tests, NULL, NULL);
 	char cmd[300];
