@@ -37,9 +37,22 @@ struct dao_camera {
 	float ax, ay, bx, by;    /* UvToViewParams, derived */
 };
 
+/* The smallest plausible focal length is the image's larger side divided by
+ * this (a field of view of about 179 degrees; dao_camera_from_intrinsics). */
+#define DAO_CAMERA_FOCAL_MIN_DIV 200
+/* The largest plausible focal length is the image's larger side times this (a
+ * field of view of about 0.03 degrees; dao_camera_from_intrinsics). */
+#define DAO_CAMERA_FOCAL_MAX_MUL 1000
+
 /*
- * Sets up a camera from intrinsics.  fx, fy must be finite and > 0, cx, cy
- * finite; width and height in 1..DAO_MAX_DIMENSION.  Returns 0 or -EINVAL.
+ * Sets up a camera from intrinsics (pixels).  They must be plausible for the
+ * image: fx, fy finite, from max(width, height) / DAO_CAMERA_FOCAL_MIN_DIV to
+ * max(width, height) * DAO_CAMERA_FOCAL_MAX_MUL (a field of view of about
+ * 0.03 to 179 degrees); cx in -width..2*width, cy in -height..2*height (at
+ * most one image size outside the image); width and height in
+ * 1..DAO_MAX_DIMENSION.  Returns 0 or -EINVAL with a message naming the
+ * value.  Every camera the library makes (from a field of view, a
+ * CameraInfo) passes this check.
  * The _sized functions take the caller's sizeof(struct dao_camera) (for
  * bindings): they write no byte past it, set cam->size to what they filled,
  * and refuse (-EINVAL) a size smaller than the first layout's.  Programs

@@ -13,10 +13,18 @@
  *     /dev/null, a serial line): written straight into, opened without
  *     O_CREAT or O_TRUNC, never replaced; a FIFO without a reader is -ENXIO
  *     at once instead of a hang;
- *   - a directory: -EISDIR; a block device or a socket: -EINVAL.
+ *   - a directory: -EISDIR; a block device or a socket: -EINVAL;
+ *   - "-": standard output, written straight into like a FIFO; -EINVAL when
+ *     it is a terminal;
+ *   - a regular file that could not be written in place (no write bit in its
+ *     mode, even for root, or not writable by this user): -EACCES, never
+ *     replaced;
+ *   - a symlink to nothing (dangling): -ENOENT, nothing created.
  */
 #ifndef DEPTHAO_OUTPUT_FILE_H
 #define DEPTHAO_OUTPUT_FILE_H
+
+#include <stdint.h>
 
 #include <depthao/error.h>
 
@@ -48,6 +56,19 @@ DAO_API int dao_output_file_commit(struct dao_output_file *o, struct dao_error *
 /* After a failure (fd closed): removes the temporary file (the target is
  * untouched) and frees `o`; NULL-safe. */
 DAO_API void dao_output_file_discard(struct dao_output_file *o);
+
+/*
+ * Input files (every file depthao reads: PNG, .oni, bags, camera and
+ * configuration files) go through one gate: opens `path` for reading and
+ * returns the descriptor (O_CLOEXEC, blocking), or a negative errno with a
+ * message naming `what` ("camera file"), the path and what it is.  It must
+ * be a regular file (or a symlink to one): a FIFO, a directory, a device or
+ * a socket is -EINVAL, decided without reading (a FIFO never hangs the
+ * reader); with max_size > 0 a larger file is -EFBIG, unread.
+ * *size (may be NULL) gets the file's size.
+ */
+DAO_API int dao_input_file_open(const char *path, const char *what, uint64_t max_size,
+				uint64_t *size, struct dao_error *err);
 
 #ifdef __cplusplus
 }

@@ -34,6 +34,46 @@ static int check_size(uint32_t w, uint32_t h, struct dao_error *err)
 	return 0;
 }
 
+/*
+ * Plausible intrinsics for a w x h image: the one rule of every camera file,
+ * CameraInfo and option.  Focal lengths between 1/200 and 1000 times the
+ * image's larger side (a field of view from about 0.03 to 179 degrees across
+ * it), the principal point no further than one image size outside the image.
+ */
+static int check_focal(const char *name, double f, uint32_t w, uint32_t h, struct dao_error *err)
+{
+	const double side = w > h ? w : h, lo = side / DAO_CAMERA_FOCAL_MIN_DIV,
+		     hi = side * DAO_CAMERA_FOCAL_MAX_MUL;
+	if (!isfinite(f) || !(f >= lo && f <= hi))
+		return dao_error_set(err, -EINVAL,
+				     "focal length %s=%g is implausible for %ux%u images: give "
+				     "pixels, from %g to %g (fields of view of 0.03 to 179 "
+				     "degrees)",
+				     name, f, w, h, lo, hi);
+	return 0;
+}
+
+static int check_center(const char *name, double c, uint32_t side, uint32_t w, uint32_t h,
+			struct dao_error *err)
+{
+	if (!isfinite(c) || !(c >= -(double)side && c <= 2.0 * side))
+		return dao_error_set(err, -EINVAL,
+				     "principal point %s=%g is implausible for %ux%u images: give "
+				     "pixels, from %d to %u (at most one image size outside)",
+				     name, c, w, h, -(int)side, 2 * side);
+	return 0;
+}
+
+static int check_intrinsics(uint32_t w, uint32_t h, double fx, double fy, double cx, double cy,
+			    struct dao_error *err)
+{
+	int r;
+	if ((r = check_focal("fx", fx, w, h, err)) || (r = check_focal("fy", fy, w, h, err)) ||
+	    (r = check_center("cx", cx, w, w, h, err)) || (r = check_center("cy", cy, h, w, h, err)))
+		return r;
+	return 0;
+}
+
 int dao_camera_from_intrinsics_sized(struct dao_camera *cam, size_t size, uint32_t w, uint32_t h,
 				     double fx, double fy, double cx, double cy,
 				     struct dao_error *err)
@@ -43,13 +83,8 @@ int dao_camera_from_intrinsics_sized(struct dao_camera *cam, size_t size, uint32
 	int r = check_size(w, h, err);
 	if (r)
 		return r;
-	if (!isfinite(fx) || !isfinite(fy) || fx <= 0 || fy <= 0)
-		return dao_error_set(err, -EINVAL,
-				     "focal lengths fx=%g, fy=%g must be finite and > 0 (pixels)",
-				     fx, fy);
-	if (!isfinite(cx) || !isfinite(cy))
-		return dao_error_set(err, -EINVAL,
-				     "principal point cx=%g, cy=%g must be finite (pixels)", cx, cy);
+	if ((r = check_intrinsics(w, h, fx, fy, cx, cy, err)))
+		return r;
 	/* field by field over zeros: the padding after `height` is copied out too, and
 	 * cameras made alike compare equal byte for byte */
 	struct dao_camera c;

@@ -22,6 +22,7 @@ computes the same); 0 on the diagonal x == y (no data).  Files written:
                  twice the size on /camera/color/image_raw, at its own rate (one every
                  0.7 s from 99.9 s; depth at 100 + i s + i ms): colour_pixel() below
   colors.bag     d16 frames with two colour topics, rgba8 and mono8, of the depth's size
+  implausible.bag  d16 frames with a CameraInfo whose fx is 1e308 (refused)
   distorted.bag  d16 frames with a CameraInfo that has distortion and a P (P_RECT) other
                  than K: the rectified camera's intrinsics (also a seed)
   png/NNNNNN.png and png/camera.json  the frames of d16_*.bag as 16-bit PNGs
@@ -107,6 +108,17 @@ def write_d16(path, compression):
 def write_distorted(path):
     with rosbag.Bag(path, "w") as b:
         b.write("/camera/depth/camera_info", camera_info(True), stamp(0))
+        for i in range(FRAMES):
+            b.write("/camera/depth/image_raw", d16(i, stamp(i)), stamp(i))
+
+
+def write_implausible(path):
+    """A CameraInfo whose K has fx = 1e308 (finite, > 0, and no camera's)."""
+    with rosbag.Bag(path, "w") as b:
+        c = camera_info()
+        c.K = [1e308] + list(K[1:])
+        c.P = [1e308] + list(c.P[1:])
+        b.write("/camera/depth/camera_info", c, stamp(0))
         for i in range(FRAMES):
             b.write("/camera/depth/image_raw", d16(i, stamp(i)), stamp(i))
 
@@ -214,13 +226,17 @@ def write_png(path, counts):
 
 
 def main():
-    global W, H, FRAMES, CHUNK
+    global W, H, FRAMES, CHUNK, K, P_RECT
     seeds = len(sys.argv) == 3 and sys.argv[1] == "--seeds"
     if len(sys.argv) != 2 and not seeds:
         sys.exit(__doc__)
     out = sys.argv[-1]
     if seeds:
         W, H, FRAMES, CHUNK = 8, 6, 2, 300
+        # the intrinsics scaled to the small images: implausible ones (a principal
+        # point far outside the image) are refused (dao_camera_from_intrinsics)
+        K = [v * W / 64.0 if v not in (0.0, 1.0) else v for v in K]
+        P_RECT = [v * W / 64.0 if v not in (0.0, 1.0) else v for v in P_RECT]
     os.makedirs(out, exist_ok=True)
     for comp in ("none", "bz2", "lz4"):
         write_d16(os.path.join(out, "d16_%s.bag" % comp), comp)
@@ -230,6 +246,8 @@ def main():
         write_color(os.path.join(out, "color.bag"))
         write_colors(os.path.join(out, "colors.bag"))
     write_distorted(os.path.join(out, "distorted.bag"))
+    if not seeds:
+        write_implausible(os.path.join(out, "implausible.bag"))
     write_realsense(os.path.join(out, "realsense.bag"))
     write_unindexed(os.path.join(out, "finished.bag"), os.path.join(out, "unindexed.bag"))
     if seeds:

@@ -316,6 +316,16 @@ static void test_realsense(void **state)
  * rectified image's, as ROS's image_geometry and depthao's CameraInfo YAML
  * reader take them) and a warning that the depth must be rectified.
  */
+/* A CameraInfo with impossible numbers (fx = 1e308) is an error naming the value
+ * (issue 38: it was taken as the camera). */
+static void test_implausible_camera_info(void **state)
+{
+	(void)state;
+	expect_open_error(bag("implausible.bag"), -EINVAL, "implausible.bag",
+			  "/camera/depth/camera_info is damaged", "fx=1e+308 is implausible",
+			  "from 0.32 to 64000", NULL);
+}
+
 static void test_distorted(void **state)
 {
 	(void)state;
@@ -664,6 +674,7 @@ int main(void)
 		cmocka_unit_test(test_corrupt_chunk),
 		cmocka_unit_test(test_unindexed),
 		cmocka_unit_test(test_not_a_bag),
+		cmocka_unit_test(test_implausible_camera_info),
 		cmocka_unit_test(test_fuzz_corpus),
 		cmocka_unit_test(test_fuzz_regressions),
 	};

@@ -98,6 +98,28 @@ static void test_errors(void **state)
 	expect_invalid(dao_camera_from_fov(&cam, 640, 480, 1, PI, &err), &err, "field of view");
 	expect_invalid(dao_camera_from_fov(&cam, 640, 480, NAN, 1, &err), &err, "field of view");
 	double u, v, p[3] = { 1, 1, 0 };
+	/* implausible for the image (issue 38): named with the value and the range */
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 1e308, 525, 319.5, 239.5, &err),
+		       &err, "fx=1e+308 is implausible for 640x480 images");
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 525, 5e-324, 319.5, 239.5, &err),
+		       &err, "fy=4.94066e-324");
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 525, 525, 1e9, 239.5, &err),
+		       &err, "cx=1e+09");
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 525, 525, 319.5, -1e9, &err),
+		       &err, "cy=-1e+09");
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 525, 525, 319.5, 239.5 + 3 * 480,
+						  &err), &err, "from -480 to 960");
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 640 * 1000.5, 525, 319.5, 239.5,
+						  &err), &err, "from 3.2 to 640000");
+	expect_invalid(dao_camera_from_intrinsics(&cam, 640, 480, 3.1, 525, 319.5, 239.5, &err),
+		       &err, "fx=3.1");
+	/* the edges are inside: 1/200 and 1000 times the larger side, one image size out */
+	assert_int_equal(dao_camera_from_intrinsics(&cam, 640, 480, 3.2, 640000, -640, 960, &err), 0);
+	assert_int_equal(dao_camera_from_intrinsics(&cam, 640, 480, 525, 525, 1280, -480, &err), 0);
+	/* a CameraInfo goes through the same rule */
+	const double k_big[9] = { 1e308, 0, 319.5, 0, 525, 239.5, 0, 0, 1 };
+	expect_invalid(dao_camera_from_camera_info(&cam, 640, 480, k_big, NULL, NULL, 0, NULL, &err),
+		       &err, "fx=1e+308");
 	dao_camera_from_intrinsics(&cam, 640, 480, 525, 525, 319.5, 239.5, NULL);
 	assert_int_equal(dao_camera_view_to_pixel(&cam, p, &u, &v), -EDOM);
 	p[2] = -1;

@@ -57,7 +57,7 @@ set +e
 "$DAEMON" -c "$WORK/nonexistent.ini" >"$WORK/out" 2>&1
 st=$?
 set -e
-[ "$st" -eq 2 ] && grep -q "nonexistent.ini: cannot open" "$WORK/out" || fail "missing file: $st $(cat "$WORK/out")"
+[ "$st" -eq 2 ] && grep -q "cannot open configuration file '.*/nonexistent.ini': No such file" "$WORK/out" || fail "missing file: $st $(cat "$WORK/out")"
 set +e
 "$DAEMON" -c "$WORK/good.ini" --radius nine >"$WORK/out" 2>&1
 st=$?

@@ -81,6 +81,14 @@ n0=$(stat_of "$SOCK" frames_processed)
 wait_for 10 processed_beyond $((n0 + 1)) || fail "no frames after set"
 "$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/r150.png" >/dev/null || fail "snapshot 2"
 cmp -s "$WORK/r025.png" "$WORK/r150.png" && fail "radius 0.25 and 1.5 give the same image"
+# a write-protected PNG is not replaced by a snapshot (the output rule: issue 38)
+cp "$WORK/r025.png" "$WORK/ro.png"
+chmod 444 "$WORK/ro.png"
+if "$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/ro.png" >"$WORK/ro.out" 2>&1; then
+	fail "a snapshot replaced a write-protected PNG"
+fi
+grep -q "is write-protected" "$WORK/ro.out" || fail "write-protected snapshot: $(cat "$WORK/ro.out")"
+cmp -s "$WORK/ro.png" "$WORK/r025.png" || fail "the write-protected PNG changed"
 
 # SIGHUP: the file's radius comes back (0.5), the output changes
 sed -i 's/^radius = 0.5/radius = 0.1/' "$WORK/a.ini"

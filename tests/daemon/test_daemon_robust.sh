@@ -95,4 +95,24 @@ done
 [ -e "$WORK/corrupt-out/000001.png" ] && fail "a frame for the corrupt PNG"
 grep -q "a frame cannot be read and is skipped: .*0001.png" "$WORK/log4" || fail "no warning: $(cat "$WORK/log4")"
 [ "$(grep -c "is skipped" "$WORK/log4")" -le 5 ] || fail "the skip is logged per frame"
+
+# a damaged JPEG colour frame (issue 38: it decoded silently): skipped with its
+# libjpeg warning in the log, counted in source_bad_frames; the other frames go on
+DATA=${DAO_SHARED_DATA:-$ROOT/../shared/data}
+if [ -r "$DATA/oni/3DJ_test.oni" ] && command -v python3 >/dev/null; then
+	python3 "$ROOT/tests/tools/oni_damage.py" "$DATA/oni/3DJ_test.oni" "$WORK/zero.oni" zero
+	start_daemon "$WORK/log5" --source "$WORK/zero.oni" --loop --playback manual \
+		--sink ov=images:"$WORK/jpeg-out" --stream ov=overlay --socket "$SOCK" --stats-interval 0
+	wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log5")"
+	wait_for 30 sh -c "[ \$('$DEPTHAO' ctl --socket '$SOCK' stats | '$JSON_GET' stats.source_bad_frames) -ge 2 ]" ||
+		fail "the damaged JPEG frame was not counted: $(cat "$WORK/log5")"
+	b=$(stat_of "$SOCK" source_bad_frames)
+	n=$(stat_of "$SOCK" frames_in)
+	[ "$n" -ge $((11 * b - 11)) ] || fail "$n frames read for $b damaged ones (11 good per loop)"
+	stop_daemon || fail "exit status"
+	grep -q "is skipped: frame 0 of 'Image1' is corrupt: damaged JPEG data: Corrupt JPEG data" \
+		"$WORK/log5" || fail "no JPEG warning: $(cat "$WORK/log5")"
+else
+	echo "note: no $DATA/oni/3DJ_test.oni or python3; the JPEG part was skipped"
+fi
 finish

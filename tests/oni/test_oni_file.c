@@ -1009,6 +1009,11 @@ static void test_bad_files(void **state)
 	expect_open_error(good, -ENOENT, "missing.oni", "missing file");
 	expect_open_error(good, -ENOENT, "cannot open", "missing file");
 	expect_open_error(dir, -EINVAL, "not a regular file", "a directory");
+	/* a FIFO is refused without opening it for reading (that would wait for a writer) */
+	pathof(good, "fifo.oni");
+	assert_int_equal(mkfifo(good, 0600), 0);
+	expect_open_error(good, -EINVAL, "is a FIFO (named pipe), not a regular file", "a FIFO");
+	unlink(good);
 	save(path, "", 0);
 	expect_open_error(path, -EINVAL, "not an .oni file", "empty file");
 	save(path, "NI10", 4);
@@ -1163,9 +1168,24 @@ static void test_bad_files(void **state)
 	save(path, p, b.n);
 	expect_open_error(path, -EINVAL, "fields size", "huge fields size");
 	memcpy(p, b.p, b.n);
-	wr32(p + first_data + 16, 0xFFFFFFF0u); /* payload past the end of the file */
+	/* a payload size past the end of the file with records after it: damage, not
+	 * an interrupted recording (issue 38: it was recovered as one) */
+	wr32(p + first_data + 16, 0xFFFFFFF0u);
 	save(path, p, b.n);
-	expect_open_error(path, -EINVAL, "truncated", "huge payload size");
+	expect_open_error(path, -EINVAL, "yet a record follows", "huge payload size");
+	memcpy(p, b.p, b.n);
+	wr32(p + second_data + 16, 0xFFFFFFFFu); /* after a complete frame: still damage */
+	save(path, p, b.n);
+	expect_open_error(path, -EINVAL, "damage, not an interrupted recording",
+			  "huge payload size after a frame");
+	{
+		char cut[64];
+		snprintf(cut, sizeof cut, "head -c %zu keeps the 1 frame before", second_data);
+		expect_open_error(path, -EINVAL, cut, "the advice names the cut");
+	}
+	/* the same record cut short by the end of the file: recovered, as before */
+	save(path, p, second_data + REC_HEADER + 40);
+	expect_recovered(path, frames, 1, "not finalised", "huge payload size, file ends");
 	memcpy(p, b.p, b.n);
 	wr32(p + first_data + 12, REC_HEADER + 4); /* frame fields cut short */
 	save(path, p, b.n);

@@ -11,6 +11,7 @@ truncated files are errors naming the file and what is wrong.
 usage: test_cli_camera_info.py DEPTHAO_CLI DEPTHAOD
 """
 
+import json
 import os
 import subprocess
 import sys
@@ -47,6 +48,12 @@ def camera_info(k, d=(0.0, 0.0, 0.0, 0.0, 0.0), p=None, w=W, h=H, flow=None):
                                        0.0, 0.0, 1.0, 0.0]},
     }
     return yaml.safe_dump(info, default_flow_style=flow, sort_keys=False)
+
+
+def json_camera(fx, fy, cx, cy):
+    """Open3D's PinholeCameraIntrinsic JSON (column-major K) for W x H."""
+    return json.dumps({"width": W, "height": H,
+                       "intrinsic_matrix": [fx, 0, 0, 0, fy, 0, cx, cy, 1]})
 
 
 def run(args, expect=0, prog=None):
@@ -139,6 +146,22 @@ with tempfile.TemporaryDirectory() as tmp:
         "alias.yaml": ("a: &a [1, 2]\nimage_width: *a\nimage_height: 30\n", "image_width"),
         "big.yaml": ("# " + "x" * (2 << 20) + "\n" + good, "larger than"),
         "binary.yaml": ("\x00\xff\xfe garbage", "YAML"),
+        # implausible intrinsics (issue 38): the value named, whatever the format
+        "fxbig.yaml": (good.replace("41.5", "1.0e+308"), "fx=1e+308"),
+        "fxtiny.yaml": (good.replace("41.5", "5.0e-324"), "fx=4.94066e-324"),
+        "cxfar.yaml": (good.replace("19.75", "1.0e+9"), "cx=1e+09"),
+        "cyfar.yaml": (good.replace("14.5", "-1.0e+9"), "cy=-1e+09"),
+        "fxbig.json": (json_camera(1e308, 43.25, 19.75, 14.5), "fx=1e+308"),
+        "cxfar.json": (json_camera(41.5, 43.25, 1e9, 14.5), "cx=1e+09"),
+        "fyzero.json": (json_camera(41.5, 0, 19.75, 14.5), "fy=0"),
+        # one document, one value: a second document, duplicate keys, trailing data
+        "two.yaml": (good + "---\n" + camera_info((50.0, 50.0, 20.0, 15.0)),
+                     "second YAML document"),
+        "dup.yaml": ("image_width: 64\n" + good, "'image_width' appears twice"),
+        "dupdata.yaml": (good.replace("rows: 3", "rows: 3\n  rows: 3", 1),
+                         "'rows' appears twice"),
+        "nul.json": (json_camera(41.5, 43.25, 19.75, 14.5) + "\x00garbage", "a NUL byte"),
+        "trail.json": (json_camera(41.5, 43.25, 19.75, 14.5) + " {}", "data after the JSON"),
     }
     for name, (text, what) in bad.items():
         path = os.path.join(tmp, name)
@@ -150,6 +173,23 @@ with tempfile.TemporaryDirectory() as tmp:
     err = run(["process", "--input", png, "--intrinsics-file", os.path.join(tmp, "none.yaml"),
                "--ao-out", os.path.join(tmp, "ao.png")], expect=1)
     check("none.yaml" in err and "No such file" in err, "a missing file: " + err.strip())
+    # a FIFO: refused at once, not read (it hung forever: issue 38); a directory too
+    fifo = os.path.join(tmp, "fifo.yaml")
+    os.mkfifo(fifo)
+    for path, what in ((fifo, "is a FIFO (named pipe), not a regular file"),
+                       (tmp, "is a directory, not a regular file")):
+        p = subprocess.run([CLI, "process", "--input", png, "--intrinsics-file", path,
+                            "--ao-out", os.path.join(tmp, "ao.png")], capture_output=True,
+                           text=True, timeout=20)
+        check(p.returncode == 1 and path in p.stderr and what in p.stderr,
+              "intrinsics file that is not a file: %s" % p.stderr.strip())
+    # a plausible camera at the edges of the rule still works (fields of view near
+    # 179 degrees and a principal point an image size outside)
+    edge = os.path.join(tmp, "edge.json")
+    open(edge, "w").write(json_camera(W / 200.0 * 1.01, 30.0, -W + 0.5, 2 * H - 0.5))
+    run(["process", "--quiet", "--input", png, "--intrinsics-file", edge, "--ao-out",
+         os.path.join(tmp, "ao.png")])
+    check(True, "intrinsics at the edges of the plausible range are accepted")
 
     # depthaod: [source] intrinsics_file
     cam = os.path.join(tmp, "cam.yaml")
@@ -167,6 +207,17 @@ with tempfile.TemporaryDirectory() as tmp:
                "source.intrinsics_file=" + os.path.join(tmp, "dist.yml"), "--sink",
                "a=images:" + os.path.join(tmp, "sink")], prog=DAEMON)
     check("rectified" in err, "depthaod: distortion is logged")
+    # depthaod: a FIFO as configuration file or intrinsics_file is refused, not read
+    p = subprocess.run([DAEMON, "--check-config", fifo], capture_output=True, text=True,
+                       timeout=20)
+    check(p.returncode == 2 and "configuration file" in p.stderr and "FIFO" in p.stderr,
+          "depthaod: a FIFO configuration file: " + p.stderr.strip())
+    p = subprocess.run([DAEMON, "--check-config", "/dev/null", "--set", "source.uri=images:" + d,
+                        "--set", "source.intrinsics_file=" + fifo, "--sink",
+                        "a=images:" + os.path.join(tmp, "sink")], capture_output=True,
+                       text=True, timeout=20)
+    check(p.returncode == 2 and "FIFO" in p.stderr,
+          "depthaod: a FIFO intrinsics_file: " + p.stderr.strip())
     err = run(["--check-config", "/dev/null", "--set", "source.uri=images:" + d, "--set",
                "source.intrinsics_file=" + cam, "--set", "source.fov=60,45", "--sink",
                "a=images:" + os.path.join(tmp, "sink")], expect=2,

@@ -117,7 +117,49 @@ if [ -r "$DATA/oni/3DJ_test.oni" ]; then
 	expect_exit 0 "kinect recording" -- "$DEPTHAO" process --input "$DATA/oni/3DJ_test.oni" \
 		--frames 2 --shaded-out "$WORK/kinect" --quiet
 	png_is "$WORK/kinect/000001.png" "640 480 rgb24"
+	# a damaged JPEG colour frame is not decoded silently (issue 38): a warning for that
+	# frame, the others written, the count at the end and exit 1; the intact recording
+	# overlays all 12 frames with status 0
+	expect_exit 0 "kinect overlay" -- "$DEPTHAO" process --input "$DATA/oni/3DJ_test.oni" \
+		--overlay-out "$WORK/kov" --quiet
+	[ "$(ls "$WORK/kov" | wc -l)" -eq 12 ] || fail "kinect overlay: $(ls "$WORK/kov" | wc -l) files"
+	grep -q "warning" "$WORK/err" && fail "kinect overlay warns: $(cat "$WORK/err")"
+	if command -v python3 >/dev/null; then
+		for mode in zero arith; do
+			python3 "$ROOT/tests/tools/oni_damage.py" "$DATA/oni/3DJ_test.oni" \
+				"$WORK/$mode.oni" "$mode"
+			if expect_exit 1 "JPEG damage ($mode)" -- "$DEPTHAO" process \
+				--input "$WORK/$mode.oni" --overlay-out "$WORK/ov-$mode" --quiet; then
+				case $mode in
+				zero) want="frame 0 of 'Image1' is corrupt: damaged JPEG data: Corrupt JPEG data" ;;
+				arith) want="frame 0 of 'Image1' is corrupt: an arithmetic-coded JPEG (SOF9)" ;;
+				esac
+				grep -q "warning: a frame is skipped: $want" "$WORK/err" ||
+					fail "JPEG damage ($mode): no per-frame warning: $(cat "$WORK/err")"
+				grep -q "1 frame of '$WORK/$mode.oni' could not be read and was skipped" \
+					"$WORK/err" || fail "JPEG damage ($mode): no count: $(cat "$WORK/err")"
+				n=$(ls "$WORK/ov-$mode" | wc -l)
+				[ "$n" -eq 11 ] || fail "JPEG damage ($mode): $n overlays, expected 11"
+			fi
+		done
+	fi
 else
 	echo "note: $DATA/oni/3DJ_test.oni not found; the Kinect part was skipped"
+fi
+
+# .oni damage is not an interrupted recording (issue 38): a record whose size runs past
+# the end while records follow is an error naming it; the same record cut by the end
+# of the file is recovered with the warning, status 0
+RG=$ROOT/tests/oni/regress
+if expect_exit 1 "damaged record size" -- "$DEPTHAO" process \
+	--input "$RG/corrupt-payload-size-mid-file.oni" --fov 60,45 --ao-out "$WORK/dmg"; then
+	grep -q "corrupt .oni file: record 13 at byte 1228: size 4294967335 runs past the end, yet a record follows at byte 1750: damage, not an interrupted recording; head -c 1228" \
+		"$WORK/err" || fail "damaged record size: $(cat "$WORK/err")"
+	grep -q "not finalised" "$WORK/err" && fail "damage reported as an interrupted recording"
+fi
+if expect_exit 0 "cut record" -- "$DEPTHAO" process \
+	--input "$RG/cut-in-payload-mid-file.oni" --fov 60,45 --ao-out "$WORK/cut"; then
+	grep -q "warning: .*the recording was not finalised .*recovered 1 frame up to byte 1228" \
+		"$WORK/err" || fail "cut record: $(cat "$WORK/err")"
 fi
 finish

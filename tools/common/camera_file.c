@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include <errno.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +10,7 @@
 #include <json-c/json.h>
 
 #include <depthao/frame.h>
+#include <depthao/output_file.h>
 
 #include "common/atomic_file.h"
 #include "common/camera_file.h"
@@ -25,17 +27,48 @@ static int get_number(struct json_object *o, double *out)
 	return 0;
 }
 
-static int read_json(const char *path, struct dao_camera *cam, char *msg, size_t len)
+/* The JSON value of text[0..n), nothing but blanks after it; NULL with a message. */
+static struct json_object *parse_json(const char *path, const char *text, size_t n, char *msg,
+				      size_t len)
 {
-	struct json_object *root = json_object_from_file(path);
-	if (!root) {
-		if (access(path, R_OK) != 0)
-			snprintf(msg, len, "cannot read camera file '%s': %s", path, strerror(errno));
-		else
-			snprintf(msg, len, "camera file '%s' is not valid JSON: %s", path,
-				 json_util_get_last_err() ? json_util_get_last_err() : "parse error");
-		return -1;
+	struct json_tokener *tok = json_tokener_new();
+	if (!tok || n > INT_MAX) {
+		json_tokener_free(tok);
+		snprintf(msg, len, "cannot read camera file '%s': out of memory", path);
+		return NULL;
 	}
+	/* trailing characters allowed here to be named below, with their byte */
+	json_tokener_set_flags(tok, JSON_TOKENER_STRICT | JSON_TOKENER_ALLOW_TRAILING_CHARS |
+				    JSON_TOKENER_VALIDATE_UTF8);
+	struct json_object *root = json_tokener_parse_ex(tok, text, (int)n);
+	enum json_tokener_error e = json_tokener_get_error(tok);
+	size_t end = json_tokener_get_parse_end(tok);
+	json_tokener_free(tok);
+	if (!root || e != json_tokener_success) {
+		snprintf(msg, len, "camera file '%s' is not valid JSON: %s at byte %zu", path,
+			 e == json_tokener_continue ? "it ends inside the value"
+						    : json_tokener_error_desc(e), end);
+		json_object_put(root);
+		return NULL;
+	}
+	for (size_t i = end; i < n; i++)
+		if (!strchr(" \t\r\n", text[i]) || !text[i]) {
+			unsigned char c = (unsigned char)text[i];
+			snprintf(msg, len, "camera file '%s': data after the JSON value at byte %zu "
+				 "(%s0x%02x): a camera file holds one JSON object and nothing "
+				 "else", path, i, c ? "" : "a NUL byte, ", c);
+			json_object_put(root);
+			return NULL;
+		}
+	return root;
+}
+
+static int read_json(const char *path, const char *text, size_t n, struct dao_camera *cam,
+		     char *msg, size_t len)
+{
+	struct json_object *root = parse_json(path, text, n, msg, len);
+	if (!root)
+		return -1;
 	int rc = -1;
 	struct json_object *w, *h, *k;
 	double wd, hd, m[9];
@@ -145,9 +178,16 @@ int camera_file_load(const char *path, struct dao_camera *cam, char *warning, si
 {
 	if (warning && wlen)
 		warning[0] = '\0';
-	FILE *f = fopen(path, "rb");
+	struct dao_error err;
+	int fd = dao_input_file_open(path, "camera file", CAMERA_FILE_MAX_BYTES, NULL, &err);
+	FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
 	if (!f) {
-		snprintf(msg, len, "cannot read camera file '%s': %s", path, strerror(errno));
+		if (fd >= 0) {
+			snprintf(msg, len, "cannot read camera file '%s': %s", path, strerror(errno));
+			close(fd);
+		} else {
+			snprintf(msg, len, "%s", err.message);
+		}
 		return -1;
 	}
 	char *text = malloc(CAMERA_FILE_MAX_BYTES + 1);
@@ -165,7 +205,7 @@ int camera_file_load(const char *path, struct dao_camera *cam, char *warning, si
 	else if (is_yaml(path, text, n))
 		rc = read_yaml(path, text, n, cam, warning, wlen, msg, len);
 	else
-		rc = read_json(path, cam, msg, len);
+		rc = read_json(path, text, n, cam, msg, len);
 	free(text);
 	return rc;
 }

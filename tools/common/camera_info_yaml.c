@@ -134,6 +134,41 @@ static int get_text(struct parse *ps, yaml_node_t *root, const char *key, char *
 	return 0;
 }
 
+/* A CameraInfo's mappings hold a handful of keys. */
+#define MAX_MAPPING_KEYS 64
+
+/* Every mapping of the document: scalar keys only, each once (YAML forbids
+ * duplicates; a parser that took the first or the last would silently pick). */
+static int check_keys(struct parse *ps)
+{
+	for (yaml_node_t *n = ps->doc->nodes.start; n < ps->doc->nodes.top; n++) {
+		if (n->type != YAML_MAPPING_NODE)
+			continue;
+		yaml_node_pair_t *a = n->data.mapping.pairs.start, *top = n->data.mapping.pairs.top;
+		if (top - a > MAX_MAPPING_KEYS)
+			return fail(ps, "a mapping at line %zu has %ld keys, more than a CameraInfo "
+				    "has (%d)", n->start_mark.line + 1, (long)(top - a),
+				    MAX_MAPPING_KEYS);
+		for (; a < top; a++) {
+			yaml_node_t *ka = yaml_document_get_node(ps->doc, a->key);
+			if (!ka || ka->type != YAML_SCALAR_NODE)
+				return fail(ps, "a key at line %zu is not a plain name",
+					    ka ? ka->start_mark.line + 1 : n->start_mark.line + 1);
+			for (yaml_node_pair_t *b = a + 1; b < top; b++) {
+				yaml_node_t *kb = yaml_document_get_node(ps->doc, b->key);
+				if (kb && kb->type == YAML_SCALAR_NODE &&
+				    kb->data.scalar.length == ka->data.scalar.length &&
+				    !memcmp(kb->data.scalar.value, ka->data.scalar.value,
+					    ka->data.scalar.length))
+					return fail(ps, "key '%.40s' appears twice (lines %zu and %zu); "
+						    "keep one", (const char *)ka->data.scalar.value,
+						    ka->start_mark.line + 1, kb->start_mark.line + 1);
+			}
+		}
+	}
+	return 0;
+}
+
 static int read_document(struct parse *ps, struct camera_info *ci)
 {
 	yaml_node_t *root = yaml_document_get_root_node(ps->doc);
@@ -189,8 +224,24 @@ int camera_info_yaml_parse(const char *text, size_t len, const char *name, struc
 		return -1;
 	}
 	ps.doc = &doc;
-	int r = read_document(&ps, ci);
+	int r = check_keys(&ps);
+	if (!r)
+		r = read_document(&ps, ci);
 	yaml_document_delete(&doc);
+	/* one document: another after "---" would be ignored, so it is refused */
+	if (!r) {
+		yaml_document_t more;
+		size_t line = parser.mark.line + 1;
+		if (!yaml_parser_load(&parser, &more))
+			r = fail(&ps, "not valid YAML after the first document (line %zu): %s; a "
+				 "camera file holds one CameraInfo", parser.problem_mark.line + 1,
+				 parser.problem ? parser.problem : "parse error");
+		else if (yaml_document_get_root_node(&more))
+			r = fail(&ps, "has a second YAML document (after line %zu); a camera file "
+				 "holds one CameraInfo: remove the rest or split the file", line);
+		if (parser.error == YAML_NO_ERROR)
+			yaml_document_delete(&more);
+	}
 	yaml_parser_delete(&parser);
 	return r;
 }

@@ -348,7 +348,8 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 		return 0;
 	}
 	if (o->fov) {
-		dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, NULL);
+		if (dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, &err))
+			return usage_error("process", "--fov: %s", err.message);
 		return 0;
 	}
 	if (src && src->has_intrinsics && !o->intrinsics_file) {
@@ -413,6 +414,12 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 /* Creates an output directory and its missing parents (mkdir -p). */
 int process_ensure_dir(const char *path)
 {
+	if (!strcmp(path, "-")) {
+		fprintf(stderr, "depthao: '-' (standard output) takes one file, and this input "
+			"writes one file per frame or image: give a directory (./- for one named "
+			"'-')\n");
+		return 1;
+	}
 	int d = path_is_dir(path);
 	if (d == 1)
 		return 0;
@@ -443,8 +450,8 @@ int process_cloud_is_file(const struct process_options *o)
 {
 	size_t n = o->cloud_out ? strlen(o->cloud_out) : 0;
 	struct stat st;
-	if (n > 4 && !strcasecmp(o->cloud_out + n - 4, ".ply"))
-		return 1;
+	if ((n > 4 && !strcasecmp(o->cloud_out + n - 4, ".ply")) || (n == 1 && *o->cloud_out == '-'))
+		return 1; /* "-": one cloud to standard output */
 	/* a FIFO or character device (/dev/stdout on a pipe, /dev/null), an existing file */
 	return n && stat(o->cloud_out, &st) == 0 && !S_ISDIR(st.st_mode);
 }

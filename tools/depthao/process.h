@@ -35,6 +35,7 @@ struct run_state {
 	struct dao_frame ao, rgb, overlay;
 	double ms_total;
 	size_t frames;
+	size_t skipped;     /* a recording's frames that could not be read (warned, skipped) */
 };
 
 double process_now_ms(void);

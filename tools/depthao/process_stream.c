@@ -77,6 +77,15 @@ static int run(const struct process_options *o, struct dao_source *src,
 			status = 1;
 			break;
 		}
+		if (r < 0 && !si->live && r != -ENODEV && r != -ENOMEM) {
+			/* a recording's frame that cannot be decoded (corrupt depth, a damaged
+			 * JPEG colour frame): the source skips it; warned per frame, counted,
+			 * and the run ends with status 1 */
+			fprintf(stderr, "depthao: warning: a frame is skipped: %s\n", err.message);
+			st->skipped++;
+			done++;
+			continue;
+		}
 		if (r < 0) {
 			process_print_error(&err);
 			status = 1;
@@ -239,6 +248,13 @@ int process_stream(const struct process_options *o)
 		status = prepare_run(o, src, &si, &st);
 	if (!status)
 		status = run(o, src, &si, &st);
+	if (!status && st.skipped) {
+		fprintf(stderr, "depthao: %zu frame%s of '%s' could not be read and %s skipped "
+			"(the warnings above say why); the other %zu were written\n", st.skipped,
+			st.skipped == 1 ? "" : "s", o->input, st.skipped == 1 ? "was" : "were",
+			st.frames);
+		status = 1;
+	}
 	if (!status && st.frames == 0) {
 		fprintf(stderr, "depthao: '%s' delivered no frames\n", o->input);
 		status = 1;

@@ -9,6 +9,9 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <depthao/output_file.h>
 
 #include "common/camera_file.h"
 #include "common/pixel_limit.h"
@@ -100,6 +103,9 @@ static int copy_str(char *dst, size_t cap, const char *v)
 	memcpy(dst, v, n + 1);
 	return 0;
 }
+
+/* A configuration is a few kilobytes; anything far larger is not one. */
+#define CONFIG_MAX_BYTES (1 << 20)
 
 #define BAD(what) fail(msg, len, "[%s] %s: '%s' %s", section, key, value, what)
 
@@ -338,9 +344,18 @@ int config_load(struct daemon_config *c, const char *path, char *msg, size_t len
 	if (strlen(path) >= sizeof c->path)
 		return fail(msg, len, "%s: path too long", path);
 	snprintf(c->path, sizeof c->path, "%s", path);
-	FILE *f = fopen(path, "r");
-	if (!f)
-		return fail(msg, len, "%s: cannot open: %s", path, strerror(errno));
+	if (!strcmp(path, "/dev/null"))
+		return 0; /* an empty configuration: everything from --set, --source, --sink */
+	struct dao_error err;
+	int fd = dao_input_file_open(path, "configuration file", CONFIG_MAX_BYTES, NULL, &err);
+	if (fd < 0)
+		return fail(msg, len, "%s", err.message);
+	FILE *f = fdopen(fd, "r");
+	if (!f) {
+		int e = errno;
+		close(fd);
+		return fail(msg, len, "%s: cannot read: %s", path, strerror(e));
+	}
 	unsigned line;
 	char m[600];
 	int r = ini_file_parse(f, on_pair, c, &line, m, sizeof m);

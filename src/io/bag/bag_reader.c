@@ -18,6 +18,8 @@
  */
 #include "bag/bag_reader.h"
 
+#include <depthao/output_file.h>
+
 #include <bzlib.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -787,20 +789,12 @@ int dao_bag_open(const char *path, uint64_t max_chunk, struct dao_bag **out,
 	}
 	b->cached = -1;
 	b->max_chunk = max_chunk;
-	b->fd = open(path, O_RDONLY | O_CLOEXEC);
+	b->fd = dao_input_file_open(path, "bag", 0, &b->size, err);
 	int ret;
 	if (b->fd < 0) {
-		int e = errno;
-		ret = dao_error_set(err, e == ENOENT || e == EACCES ? -e : -EIO, "cannot open %s: %s",
-				    path, strerror(e));
+		ret = b->fd;
 		goto fail;
 	}
-	struct stat st;
-	if (fstat(b->fd, &st) < 0 || !S_ISREG(st.st_mode)) {
-		ret = dao_error_set(err, -EINVAL, "%s is not a regular file", path);
-		goto fail;
-	}
-	b->size = (uint64_t)st.st_size;
 	if ((ret = load_index(b, err)) < 0)
 		goto fail;
 	*out = b;

@@ -47,12 +47,50 @@ static int open_stream(struct dao_output_file *o, const char *path, int fifo,
 	return 0;
 }
 
+/* "-": standard output, written straight into like a FIFO (never a terminal). */
+static int open_stdout(struct dao_output_file *o, struct dao_error *err)
+{
+	if (isatty(STDOUT_FILENO))
+		return dao_error_set(err, -EINVAL, "will not write binary data to the terminal "
+				     "('-' is standard output): redirect it to a file or a pipe, "
+				     "or give a file name");
+	o->fd = fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 3);
+	if (o->fd < 0) {
+		int e = errno;
+		return dao_error_set(err, -e, "cannot write to standard output ('-'): %s",
+				     strerror(e));
+	}
+	return 0;
+}
+
+/* A regular file is replaced only if it could be written in place: not
+ * write-protected (no w bit at all, even for root, as rm -i asks) and
+ * writable by this user. */
+int dao_output_file_check_replaceable(const char *path, const struct stat *st,
+				      struct dao_error *err)
+{
+	if ((st->st_mode & 0222) && access(path, W_OK) == 0)
+		return 0;
+	return dao_error_set(err, -EACCES,
+			     "'%s' is write-protected (mode %04o, owner uid %u): depthao does not "
+			     "replace a file that could not be written; make it writable "
+			     "(chmod u+w) or remove it first, or give another name",
+			     path, (unsigned)(st->st_mode & 07777), (unsigned)st->st_uid);
+}
+
 int dao_output_file_begin(struct dao_output_file *o, const char *path, struct dao_error *err)
 {
 	struct stat st, lst;
 	o->fd = -1;
 	o->tmp = o->target = NULL;
+	if (!strcmp(path, "-"))
+		return open_stdout(o, err);
 	int have = stat(path, &st) == 0;
+	if (!have && lstat(path, &lst) == 0 && S_ISLNK(lst.st_mode))
+		return dao_error_set(err, -ENOENT,
+				     "'%s' is a symlink to something that does not exist: depthao "
+				     "writes through symlinks only to existing files; remove the "
+				     "link or create its target first", path);
 	if (have && S_ISDIR(st.st_mode))
 		return dao_error_set(err, -EISDIR, "cannot write '%s': it is a directory; give a file "
 				     "name", path);
@@ -63,6 +101,9 @@ int dao_output_file_begin(struct dao_output_file *o, const char *path, struct da
 				     "cannot write '%s': it is a %s, not a file, FIFO or character "
 				     "device",
 				     path, S_ISBLK(st.st_mode) ? "block device" : "socket");
+	int r;
+	if (have && (r = dao_output_file_check_replaceable(path, &st, err)) < 0)
+		return r;
 	/* a symlink to a file: replace the file it points to, keep the link */
 	if (have && lstat(path, &lst) == 0 && S_ISLNK(lst.st_mode))
 		o->target = realpath(path, NULL);

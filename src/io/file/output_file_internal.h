@@ -15,6 +15,16 @@ struct dao_output_file {
 	char *path;     /* the handle's path (dao_output_file_open); NULL inside the library */
 };
 
+struct stat;
+/*
+ * The one rule for replacing an existing regular file (st: stat of path):
+ * -EACCES with a message unless it could be written in place (a w bit in
+ * its mode, even for root, and access(W_OK)).  The recorders' overwrite
+ * applies it too.
+ */
+int dao_output_file_check_replaceable(const char *path, const struct stat *st,
+				      struct dao_error *err);
+
 /* dao_output_file_open() into `o` (not allocated); messages name `path`. */
 int dao_output_file_begin(struct dao_output_file *o, const char *path, struct dao_error *err);
 /* After the last byte was written and fd closed: renames into place (if temporary). */

@@ -111,10 +111,16 @@ int dao_png_read_limited(const char *path, uint64_t max_pixels, struct dao_frame
 	if (!st)
 		return dao_error_set(err, -ENOMEM, "out of memory reading '%s'", path);
 	st->max_pixels = max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS;
-	st->fp = fopen(path, "rb");
-	if (!st->fp) {
+	int fd = dao_input_file_open(path, "PNG file", 0, NULL, err);
+	if (fd < 0) {
 		free(st);
-		return open_error(err, path, "open");
+		return fd;
+	}
+	if (!(st->fp = fdopen(fd, "rb"))) {
+		int r = open_error(err, path, "read");
+		close(fd);
+		free(st);
+		return r;
 	}
 	unsigned char sig[8];
 	if (fread(sig, 1, sizeof sig, st->fp) != sizeof sig || png_sig_cmp(sig, 0, sizeof sig)) {

@@ -115,10 +115,43 @@ void dao_jpeg_destroy(struct dao_jpeg *j)
 	free(j);
 }
 
+/*
+ * The JPEG's frame type (SOFn) before its first scan: 0, or the n of an
+ * arithmetic-coded frame (SOF9..11, 13..15), which no depth camera writes;
+ * a Huffman stream under such a marker decodes to noise without a warning.
+ */
+static int arithmetic_sof(const uint8_t *d, size_t n)
+{
+	size_t i = 2; /* after SOI */
+	while (i + 4 <= n && d[i] == 0xFF) {
+		uint8_t m = d[i + 1];
+		if (m == 0xFF) { /* fill byte */
+			i++;
+			continue;
+		}
+		if (m == 0xDA || m == 0xD9) /* SOS, EOI: no arithmetic frame before */
+			return 0;
+		if (m >= 0xC9 && m <= 0xCF && m != 0xCC)
+			return m - 0xC0;
+		if ((m >= 0xD0 && m <= 0xD7) || m == 0x01) { /* no length */
+			i += 2;
+			continue;
+		}
+		i += 2 + (size_t)((d[i + 2] << 8) | d[i + 3]);
+	}
+	return 0;
+}
+
 int dao_jpeg_decode(struct dao_jpeg *j, const uint8_t *data, size_t size,
 		    struct dao_frame *out, char *why, size_t why_len)
 {
 	int w = 0, h = 0, sub = 0, cs = 0;
+	int sof = arithmetic_sof(data, size);
+	if (sof) {
+		snprintf(why, why_len, "an arithmetic-coded JPEG (SOF%d), which no camera writes "
+			 "and depthao does not accept", sof);
+		return -EINVAL;
+	}
 	if (tjDecompressHeader3(j->tj, data, (unsigned long)size, &w, &h, &sub, &cs) < 0) {
 		snprintf(why, why_len, "bad JPEG header: %s", tjGetErrorStr2(j->tj));
 		return -EINVAL;
@@ -128,11 +161,14 @@ int dao_jpeg_decode(struct dao_jpeg *j, const uint8_t *data, size_t size,
 			 out->width, out->height);
 		return -EINVAL;
 	}
-	/* accurate DCT and fancy upsampling: libjpeg's defaults, as other decoders use */
+	/* accurate DCT and fancy upsampling: libjpeg's defaults, as other decoders use.
+	 * A warning (corrupt entropy data, a premature end) leaves part of the image
+	 * grey or garbled: the frame is as corrupt as after an error, and says so. */
 	if (tjDecompress2(j->tj, data, (unsigned long)size, out->data, w, out->stride, h, TJPF_RGB,
-			  TJFLAG_ACCURATEDCT) < 0 &&
-	    tjGetErrorCode(j->tj) == TJERR_FATAL) {
-		snprintf(why, why_len, "corrupt JPEG data: %s", tjGetErrorStr2(j->tj));
+			  TJFLAG_ACCURATEDCT | TJFLAG_STOPONWARNING) < 0) {
+		snprintf(why, why_len, "%s JPEG data: %s",
+			 tjGetErrorCode(j->tj) == TJERR_WARNING ? "damaged" : "corrupt",
+			 tjGetErrorStr2(j->tj));
 		return -EINVAL;
 	}
 	return 0;

@@ -31,7 +31,9 @@ void dao_jpeg_destroy(struct dao_jpeg *j);
 
 /*
  * Decodes a JPEG into `out` (RGB24), which must have the image's size.
- * 0, or -EINVAL with `why` pointing at a static or the decoder's message.
+ * 0, or -EINVAL with `why` set: an error or a warning of libjpeg (damaged
+ * entropy data decodes to a partly grey image with only a warning), or an
+ * arithmetic-coded frame.
  */
 int dao_jpeg_decode(struct dao_jpeg *j, const uint8_t *data, size_t size,
 		    struct dao_frame *out, char *why, size_t why_len);

@@ -14,6 +14,7 @@
  * record (bad magic followed by non-zero bytes) is corruption, as before.
  */
 #include <depthao/oni.h>
+#include <depthao/output_file.h>
 
 #include <errno.h>
 #include <fcntl.h>
@@ -284,6 +285,59 @@ struct record_header {
 	uint32_t type, id, fsize, psize;   /* fsize: the header and fields; psize: the payload */
 };
 
+static const char *plural(uint64_t n)
+{
+	return n == 1 ? "" : "s";
+}
+
+static int known_type(uint32_t t)
+{
+	return (t >= ONI_REC_NODE_ADDED_1_0_0_4 && t <= ONI_REC_SEEK_TABLE);
+}
+
+/*
+ * Where a complete, plausible record header starts in [from, file end), or 0
+ * (< 0 on read errors).  A record whose size runs past the end of the file
+ * while records follow it was damaged (its size field); one that simply ends
+ * with the file was cut short by an interrupted recording.  The scan stops
+ * at the first hit, so it reads about one frame in a damaged file and the
+ * cut record's bytes in a truncated one.
+ */
+static int64_t record_after(struct dao_oni_reader *r, size_t hsize, uint64_t from)
+{
+	uint8_t buf[65536];
+	for (uint64_t pos = from; pos + hsize <= r->file_size;) {
+		uint64_t left = r->file_size - pos;
+		size_t n = left < sizeof(buf) ? (size_t)left : sizeof(buf);
+		int ret = read_at(r, buf, n, pos);
+		if (ret < 0)
+			return ret;
+		for (size_t i = 0; i + hsize <= n; i++) {
+			const uint8_t *h = buf + i;
+			if (h[0] != 'N' || oni_rd32(h) != ONI_RECORD_MAGIC)
+				continue;
+			uint32_t type = oni_rd32(h + 4), id = oni_rd32(h + 8);
+			uint32_t fsize = oni_rd32(h + 12), psize = oni_rd32(h + 16);
+			if (known_type(type) && (type == ONI_REC_END || id <= r->max_node_id) &&
+			    fsize >= hsize && fsize <= ONI_MAX_FIELDS_SIZE &&
+			    (uint64_t)fsize + psize <= r->file_size - (pos + i))
+				return (int64_t)(pos + i);
+		}
+		if (n < sizeof(buf))
+			break;
+		pos += n - (hsize - 1); /* a header across the buffer's end is seen next time */
+	}
+	return 0;
+}
+
+static uint64_t frames_indexed(const struct dao_oni_reader *r)
+{
+	uint64_t frames = 0;
+	for (uint32_t i = 0; i < r->nnodes; i++)
+		frames += r->nodes[i].nframes;
+	return frames;
+}
+
 /*
  * The header of the record at sc->pos, checked against the file: 0, or 1
  * where the records end (sc->tail says how: no end record, cut short, zeros),
@@ -323,6 +377,19 @@ static int read_record_header(struct dao_oni_reader *r, struct scan *sc, size_t 
 	if (rec->fsize < hsize || rec->fsize > ONI_MAX_FIELDS_SIZE)
 		return CORRUPT(sc, "impossible fields size %u", AT(sc), rec->fsize);
 	if ((uint64_t)rec->fsize + rec->psize > r->file_size - sc->pos) {
+		int64_t next = record_after(r, hsize, sc->pos + hsize);
+		if (next < 0)
+			return dao_error_set(sc->err, -EIO, "%s: cannot read: %s", sc->path,
+					     strerror(next == -ENODATA ? EIO : (int)-next));
+		if (next > 0) {
+			uint64_t frames = frames_indexed(r);
+			return CORRUPT(sc, "size %llu runs past the end, yet a record follows "
+				       "at byte %lld: damage, not an interrupted recording; "
+				       "head -c %llu keeps the %llu frame%s before it",
+				       AT(sc), (unsigned long long)rec->fsize + rec->psize,
+				       (long long)next, (unsigned long long)sc->pos,
+				       (unsigned long long)frames, plural(frames));
+		}
 		sc->tail = TAIL_CUT;
 		sc->tail_need = (uint64_t)rec->fsize + rec->psize;
 		return 1;
@@ -523,17 +590,10 @@ static int check_color_node(struct dao_oni_reader *r, struct node *n, const char
 	return 0;
 }
 
-static const char *plural(uint64_t n)
-{
-	return n == 1 ? "" : "s";
-}
-
 /* An unfinished file: the warning, or an error when not one frame is complete. */
 static int recovered(struct dao_oni_reader *r, const struct scan *sc)
 {
-	uint64_t frames = 0;
-	for (uint32_t i = 0; i < r->nnodes; i++)
-		frames += r->nodes[i].nframes;
+	uint64_t frames = frames_indexed(r);
 	const unsigned long long at = (unsigned long long)sc->pos;
 	const unsigned long long left = (unsigned long long)(r->file_size - sc->pos);
 	if (frames == 0)
@@ -568,7 +628,6 @@ int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
 				struct dao_oni_reader **out, struct dao_error *err)
 {
 	struct dao_oni_reader *r;
-	struct stat st;
 	uint8_t h[ONI_FILE_HEADER_SIZE];
 	int ret;
 
@@ -579,17 +638,12 @@ int dao_oni_reader_open_limited(const char *path, uint64_t max_pixels,
 	if (!r)
 		return dao_error_set(err, -ENOMEM, "out of memory opening %s", path);
 	r->max_pixels = max_pixels ? max_pixels : DAO_DEFAULT_MAX_PIXELS;
-	r->fd = open(path, O_RDONLY | O_CLOEXEC);
+	r->fd = dao_input_file_open(path, "recording", 0, &r->file_size, err);
 	if (r->fd < 0) {
-		ret = dao_error_set(err, -errno, "cannot open %s: %s", path, strerror(errno));
+		ret = r->fd;
 		free(r);
 		return ret;
 	}
-	if (fstat(r->fd, &st) < 0 || !S_ISREG(st.st_mode)) {
-		ret = dao_error_set(err, -EINVAL, "%s is not a regular file", path);
-		goto fail;
-	}
-	r->file_size = (uint64_t)st.st_size;
 	if (r->file_size < ONI_FILE_HEADER_SIZE || read_at(r, h, sizeof(h), 0) < 0) {
 		ret = dao_error_set(err, -EINVAL,
 				    "%s: not an .oni file (%llu bytes, shorter than the 24-byte "

@@ -36,6 +36,7 @@
 #include "core/error_internal.h"
 #include "core/math_util.h"
 #include "core/sized.h"
+#include "file/output_file_internal.h"
 #include "oni/codec_16z.h"
 #include "oni/oni_format.h"
 
@@ -318,6 +319,12 @@ static void sync_parent_dir(const char *path)
 static int create_file(struct dao_oni_writer *w, const char *path, struct dao_error *err)
 {
 	struct stat st;
+	int r;
+	if (!strcmp(path, "-"))
+		return dao_error_set(err, -EINVAL,
+				     "oni writer: a recording cannot go to standard output ('-'): "
+				     "its header and seek table are written last, in place; give a "
+				     "file name (./- for one named '-')");
 	if (stat(path, &st) == 0) {
 		if (S_ISDIR(st.st_mode))
 			return dao_error_set(err, -EISDIR,
@@ -334,6 +341,8 @@ static int create_file(struct dao_oni_writer *w, const char *path, struct dao_er
 					     "oni writer: %s exists; a recording never replaces a file "
 					     "(pick another name, remove it, or ask to overwrite)",
 					     path);
+		if ((r = dao_output_file_check_replaceable(path, &st, err)) < 0)
+			return r;
 	}
 	int flags = O_WRONLY | O_CREAT | O_CLOEXEC | (w->o.overwrite ? O_TRUNC : O_EXCL);
 	w->fd = open(path, flags, 0666);

@@ -13,7 +13,9 @@
  * beside ".../image_raw", or for a RealSense recording (realsense-viewer,
  * rs-record) "/device_0/sensor_N/Depth_0/info/camera_info" beside
  * "/device_0/sensor_N/Depth_0/image/data", whose unit is the std_msgs/
- * Float32 "/device_0/sensor_N/option/Depth Units/value".
+ * Float32 "/device_0/sensor_N/option/Depth Units/value".  A CameraInfo for
+ * another image size is ignored with a warning; one with implausible numbers
+ * (dao_camera_from_intrinsics' rule) is an error.
  *
  * Colour (want_color): a sensor_msgs/Image topic in rgb8, bgr8, rgba8, bgra8
  * or mono8 (?color= chooses; one such topic is taken, e.g. a RealSense
@@ -269,8 +271,10 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 				 ci.width, ci.height, s->info.width, s->info.height);
 		} else if (dao_camera_from_camera_info(&cam, ci.width, ci.height, ci.k, ci.p, ci.d, nd,
 						       &from, &e)) {
-			snprintf(s->info.warning, sizeof(s->info.warning), "%.90s: %.150s: not used",
-				 name, e.message);
+			/* impossible numbers are a damaged or forged calibration, not a camera */
+			return dao_error_set(err, -EINVAL,
+					     "%s: %s is damaged, fix or drop it: %s", path, name,
+					     e.message);
 		} else {
 			s->info.has_intrinsics = 1;
 			s->info.fx = cam.fx;

@@ -211,6 +211,12 @@ static int images_sink_open(const char *uri, void **state, struct dao_error *err
 	}
 	s->compression = DAO_PNG_COMPRESSION_DEFAULT;
 	keep_list_init(&s->files);
+	if (!strcmp(s->dir, "-")) {
+		r = dao_error_set(err, -EINVAL,
+				  "images: '-' (standard output) cannot hold a directory of PNG "
+				  "files; give a directory (./- for one named '-')");
+		goto fail;
+	}
 	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
 		goto fail;
 	while (n > 1 && s->dir[n - 1] == '/') /* "out/" -> "out", "/" stays */

@@ -43,6 +43,7 @@
 
 #include "core/clock.h"
 #include "core/error_internal.h"
+#include "file/output_file_internal.h"
 #include "plugin/builtin.h"
 #include "plugin/output_path.h"
 
@@ -122,7 +123,12 @@ static int open_stream(struct y4m_sink *s, const char *path, int fifo, struct da
 static int open_file(struct y4m_sink *s, const char *path, int overwrite, struct dao_error *err)
 {
 	const int flags = O_WRONLY | O_CREAT | O_CLOEXEC;
+	struct stat st;
+	int r;
 	s->regular = 1;
+	if (overwrite && stat(path, &st) == 0 && S_ISREG(st.st_mode) &&
+	    (r = dao_output_file_check_replaceable(path, &st, err)) < 0)
+		return r;
 	s->fd = open(path, flags | (overwrite ? O_TRUNC : O_EXCL), 0666);
 	for (unsigned k = 1; s->fd < 0 && errno == EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
 		char *name = dao_output_numbered(path, k);
