@@ -180,12 +180,12 @@ def flood(d, clients, seconds):
 
 def check_flood(d):
     time.sleep(3)  # the steady state
-    base = rss_kb(d.proc.pid)
     # the drops of this host without the flood, over as long: a loaded host drops
     # frames by itself, and the flood must add no more than 5 points to that
     q0 = d.stats()["daemon"]
     time.sleep(10)
     s0 = d.stats()["daemon"]
+    base = rss_kb(d.proc.pid)  # just before the flood
     quiet_in = s0["frames_in"] - q0["frames_in"]
     quiet_drop = s0["frames_dropped_in"] - q0["frames_dropped_in"]
     quiet_pct = 100.0 * quiet_drop / max(1, quiet_in)

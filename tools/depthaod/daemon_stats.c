@@ -30,8 +30,7 @@ void daemon_count_recent(struct daemon *d, uint64_t now_ns)
 }
 
 /* The frames of the RECENT_SECONDS whole seconds before the current one, per second
-   (with d->lock held).  Younger than that, the frames before the current second over
-   the time they took (the first second is partial). */
+   (with d->lock held).  Younger than that, every frame over the time since start. */
 static double fps_recent(const struct daemon *d, uint64_t now_ns)
 {
 	const uint64_t sec = now_ns / 1000000000u;
@@ -39,9 +38,9 @@ static double fps_recent(const struct daemon *d, uint64_t now_ns)
 	const uint64_t from = young ? 0 : sec - RECENT_SECONDS;
 	unsigned long long n = 0;
 	for (unsigned i = 0; i <= RECENT_SECONDS; i++)
-		if (d->recent_sec[i] < sec && d->recent_sec[i] >= from)
+		if ((young || d->recent_sec[i] < sec) && d->recent_sec[i] >= from)
 			n += d->recent_count[i];
-	const double secs = young ? (double)(sec * 1000000000u - d->start_ns) / 1e9 : RECENT_SECONDS;
+	const double secs = young ? (double)(now_ns - d->start_ns) / 1e9 : RECENT_SECONDS;
 	return secs > 0 ? (double)n / secs : 0;
 }
 
