@@ -137,6 +137,8 @@ def check_slowloris(d):
               (name, ok, tried, 100.0 * ok / tried, held[0], h.get("requests_cut_at_deadline"),
                h.get("requests_cut_for_room")))
         results.append((name, ok, tried))
+        if not h.get("requests_cut_at_deadline"):
+            fail("slowloris from %s: no request was cut at its deadline: %r" % (name, h))
     for name, ok, tried in results:
         if ok * 10 < tried * 9:
             fail("slowloris from %s: %d of %d requests answered (< 90 %%)" % (name, ok, tried))
