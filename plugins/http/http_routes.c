@@ -3,8 +3,10 @@
  * The viewer's routes, and nothing else: /, /stream.mjpg, /api/params,
  * /api/stats, /snapshot.png.  Anything else is 404, another method 405, a
  * body over HTTP_MAX_BODY 413, more than HTTP_MAX_HEADERS header lines 431;
- * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT);
- * connections beyond max_clients are closed as they come (accept_policy).  libmicrohttpd's own messages stay off:
+ * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT) and the
+ * connections per address (per_ip); beyond max_clients a new connection takes the
+ * slot of the oldest one still sending its request, or is closed (accept_policy,
+ * http_guard.c, which also cuts a request past its deadline).  libmicrohttpd's own messages stay off:
  * a viewer closing its tab would log a failed send every time.
  */
 #include <errno.h>
