@@ -3,15 +3,19 @@
  * The viewer's routes, and nothing else: /, /stream.mjpg, /api/params,
  * /api/stats, /snapshot.png.  Anything else is 404, another method 405, a
  * body over HTTP_MAX_BODY 413, more than HTTP_MAX_HEADERS header lines 431;
- * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT);
- * connections beyond max_clients are closed as they come (accept_policy).  libmicrohttpd's own messages stay off:
+ * libmicrohttpd bounds the request line and headers (HTTP_MEMORY_LIMIT) and the
+ * connections per address (per_ip); beyond max_clients a new connection takes the
+ * slot of the oldest one still sending its request, or is closed (accept_policy,
+ * http_guard.c, which also cuts a request past its deadline).  libmicrohttpd's own messages stay off:
  * a viewer closing its tab would log a failed send every time.
  */
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <json-c/json.h>
@@ -56,8 +60,10 @@ static enum MHD_Result reply_json(struct MHD_Connection *conn, unsigned status,
 
 static enum MHD_Result reply_error(struct MHD_Connection *conn, unsigned status, const char *msg)
 {
+	char safe[1024]; /* what the message echoes may be any bytes: sent as valid UTF-8 */
+	http_json_safe(safe, sizeof safe, msg);
 	struct json_object *j = json_object_new_object();
-	json_object_object_add(j, "error", json_object_new_string(msg));
+	json_object_object_add(j, "error", json_object_new_string(safe));
 	return reply_json(conn, status, j);
 }
 
@@ -136,6 +142,12 @@ static enum MHD_Result post_params(struct http_sink *s, struct MHD_Connection *c
 				   "the viewer is read-only: start the sink with ?control=true, or "
 				   "give it ?token=SECRET and send the header " HTTP_TOKEN_HEADER);
 	rq->body[rq->len] = '\0';
+	char why[256];
+	if (http_json_check(rq->body, rq->len, why, sizeof why) < 0) {
+		char msg[320];
+		snprintf(msg, sizeof msg, "not accepted as a JSON object of parameter changes: %s", why);
+		return reply_error(conn, MHD_HTTP_BAD_REQUEST, msg);
+	}
 	struct json_tokener *tk = json_tokener_new();
 	struct json_object *j = json_tokener_parse_ex(tk, rq->body, (int)rq->len);
 	int complete = json_tokener_get_error(tk) == json_tokener_success &&
@@ -207,9 +219,17 @@ static enum MHD_Result get_stats(struct http_sink *s, struct MHD_Connection *con
 	json_object_object_add(h, "sink_ms_median", json_object_new_double(n ? lat[n / 2] / 1000.0 : 0));
 	json_object_object_add(h, "sink_ms_p99",
 			       json_object_new_double(n ? lat[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0));
+	json_object_object_add(h, "snapshots_encoded", json_object_new_int64((int64_t)s->snap_encoded));
+	json_object_object_add(h, "snapshots_shared", json_object_new_int64((int64_t)s->snap_shared));
+	json_object_object_add(h, "streams_refused", json_object_new_int64((int64_t)s->streams_refused));
 	json_object_object_add(h, "encode_ms_mean",
 			       json_object_new_double(s->encoded ? (double)s->encode_ns / 1e6 / (double)s->encoded : 0));
 	pthread_mutex_unlock(&s->lock);
+	pthread_mutex_lock(&s->guard_lock);
+	json_object_object_add(h, "requests_cut_at_deadline", json_object_new_int64((int64_t)s->deadline_cuts));
+	json_object_object_add(h, "requests_cut_for_room", json_object_new_int64((int64_t)s->evicted));
+	json_object_object_add(h, "rate_limited", json_object_new_int64((int64_t)s->rate_limited));
+	pthread_mutex_unlock(&s->guard_lock);
 	struct json_object *streams = json_object_new_array();
 	for (int v = 0; v < VIEW_COUNT; v++)
 		if (v != VIEW_OVERLAY || atomic_load(&s->has_color))
@@ -229,38 +249,139 @@ static enum MHD_Result get_stats(struct http_sink *s, struct MHD_Connection *con
 	return reply_json(conn, MHD_HTTP_OK, j);
 }
 
-static enum MHD_Result get_snapshot(struct http_sink *s, struct MHD_Connection *conn,
-				    enum view_stream v)
+void http_png_unref(struct png_blob *b)
+{
+	if (b && atomic_fetch_sub(&b->refs, 1) == 1)
+		free(b);
+}
+
+static void png_reply_done(void *data)
+{
+	http_png_unref((struct png_blob *)((unsigned char *)data - offsetof(struct png_blob, data)));
+}
+
+/* The stream's last PNG with a reference taken, if it is of the current frame or
+   young enough to share (s->lock held). */
+static struct png_blob *fresh_png(struct http_sink *s, enum view_stream v, uint64_t now)
+{
+	struct png_blob *b = s->snap[v];
+	if (b && (s->snap_seq[v] == s->pic[v].sequence ||
+		  now - s->snap_ns[v] < (uint64_t)HTTP_SNAPSHOT_MIN_INTERVAL_MS * 1000000u)) {
+		atomic_fetch_add(&b->refs, 1);
+		return b;
+	}
+	return NULL;
+}
+
+/* A new PNG of stream v's picture (snap_lock held: one encoder at a time). */
+static struct png_blob *encode_png(struct http_sink *s, enum view_stream v)
 {
 	pthread_mutex_lock(&s->lock);
 	struct view_picture *p = &s->pic[v];
-	if (!p->valid) {
-		pthread_mutex_unlock(&s->lock);
-		return reply_error(conn, MHD_HTTP_SERVICE_UNAVAILABLE,
-				   "no frame of that stream yet: try again, or watch it first");
-	}
 	const size_t bytes = (size_t)p->width * p->height * (p->gray ? 1 : 3);
-	uint8_t *copy = malloc(bytes);
+	if (s->snap_rgb_cap < bytes) {
+		uint8_t *d = realloc(s->snap_rgb, bytes);
+		if (!d) {
+			pthread_mutex_unlock(&s->lock);
+			return NULL;
+		}
+		s->snap_rgb = d;
+		s->snap_rgb_cap = bytes;
+	}
+	memcpy(s->snap_rgb, p->rgb, bytes);
 	const uint32_t w = p->width, h = p->height;
 	const int gray = p->gray;
-	if (copy)
-		memcpy(copy, p->rgb, bytes);
+	const uint64_t seq = p->sequence;
 	pthread_mutex_unlock(&s->lock);
-	/* the library's writer, at its fastest level: a snapshot is for looking at */
+	/* the library's writer at its default (its fastest) level: a snapshot is for looking at */
 	const struct dao_frame f = {
 		.format = gray ? DAO_PIXFMT_GRAY8 : DAO_PIXFMT_RGB24, .width = w, .height = h,
-		.stride = (int32_t)(w * (gray ? 1 : 3)), .data = copy,
+		.stride = (int32_t)(w * (gray ? 1 : 3)), .data = s->snap_rgb,
 	};
 	void *png = NULL;
-	size_t png_len = 0;
-	if (!copy || dao_png_encode(&f, DAO_PNG_COMPRESSION_DEFAULT, &png, &png_len, NULL) < 0) {
-		free(copy);
-		return reply_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "cannot encode the PNG");
+	size_t len = 0;
+	if (dao_png_encode(&f, DAO_PNG_COMPRESSION_DEFAULT, &png, &len, NULL) < 0)
+		return NULL;
+	struct png_blob *b = malloc(sizeof(*b) + len);
+	if (b) {
+		atomic_init(&b->refs, 2); /* the cache's and the caller's */
+		b->len = len;
+		memcpy(b->data, png, len);
 	}
-	free(copy);
-	struct MHD_Response *r = MHD_create_response_from_buffer(png_len, png, MHD_RESPMEM_MUST_FREE);
+	free(png);
+	if (!b)
+		return NULL;
+	pthread_mutex_lock(&s->lock);
+	http_png_unref(s->snap[v]);
+	s->snap[v] = b;
+	s->snap_seq[v] = seq;
+	s->snap_ns[v] = http_now_ns();
+	s->snap_encoded++;
+	pthread_mutex_unlock(&s->lock);
+	return b;
+}
+
+static enum MHD_Result reply_busy(struct MHD_Connection *conn, unsigned status, unsigned retry,
+				  const char *msg)
+{
+	char safe[256], t[320], ra[16];
+	http_json_safe(safe, sizeof safe, msg);
+	struct json_object *j = json_object_new_object();
+	json_object_object_add(j, "error", json_object_new_string(safe));
+	snprintf(t, sizeof t, "%s", json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN));
+	json_object_put(j);
+	struct MHD_Response *r = MHD_create_response_from_buffer(strlen(t), t, MHD_RESPMEM_MUST_COPY);
+	if (!r)
+		return MHD_NO;
+	snprintf(ra, sizeof ra, "%u", retry);
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
+	MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
+	MHD_add_response_header(r, MHD_HTTP_HEADER_RETRY_AFTER, ra);
+	enum MHD_Result ret = MHD_queue_response(conn, status, r);
+	MHD_destroy_response(r);
+	return ret;
+}
+
+/*
+ * The snapshot: rate-limited (per address and for everyone: 429 with Retry-After),
+ * then the stream's last PNG when it is of the current frame or younger than
+ * HTTP_SNAPSHOT_MIN_INTERVAL_MS, else one new PNG that the requests waiting
+ * meanwhile share.  Never encoded per request; the writer is never waited on
+ * beyond the copy of the picture.
+ */
+static enum MHD_Result get_snapshot(struct http_sink *s, struct MHD_Connection *conn,
+				    enum view_stream v)
+{
+	unsigned retry;
+	if (!http_rate_take(s, conn, &retry))
+		return reply_busy(conn, MHD_HTTP_TOO_MANY_REQUESTS, retry,
+				  "too many snapshots: try again after Retry-After seconds");
+	pthread_mutex_lock(&s->lock);
+	const int valid = s->pic[v].valid;
+	struct png_blob *b = valid ? fresh_png(s, v, http_now_ns()) : NULL;
+	if (b)
+		s->snap_shared++;
+	pthread_mutex_unlock(&s->lock);
+	if (!valid)
+		return reply_error(conn, MHD_HTTP_SERVICE_UNAVAILABLE,
+				   "no frame of that stream yet: try again, or watch it first");
+	if (!b) {
+		pthread_mutex_lock(&s->snap_lock);
+		pthread_mutex_lock(&s->lock); /* another request may have encoded it meanwhile */
+		b = fresh_png(s, v, http_now_ns());
+		if (b)
+			s->snap_shared++;
+		pthread_mutex_unlock(&s->lock);
+		if (!b)
+			b = encode_png(s, v);
+		pthread_mutex_unlock(&s->snap_lock);
+	}
+	if (!b)
+		return reply_error(conn, MHD_HTTP_INTERNAL_SERVER_ERROR, "cannot encode the PNG");
+	struct MHD_Response *r =
+		MHD_create_response_from_buffer_with_free_callback(b->len, b->data, png_reply_done);
 	if (!r) {
-		free(png);
+		http_png_unref(b);
 		return MHD_NO;
 	}
 	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "image/png");
@@ -295,6 +416,14 @@ static void stream_free(void *cls)
 static enum MHD_Result get_stream(struct http_sink *s, struct MHD_Connection *conn,
 				  enum view_stream v)
 {
+	if (!http_guard_stream_slot(s, conn)) {
+		pthread_mutex_lock(&s->lock);
+		s->streams_refused++;
+		pthread_mutex_unlock(&s->lock);
+		return reply_busy(conn, MHD_HTTP_SERVICE_UNAVAILABLE, 2,
+				  "every stream slot is taken (the rest are kept for the page and "
+				  "the API): try again later");
+	}
 	struct stream_ctx *x = malloc(sizeof(*x));
 	if (!x)
 		return MHD_NO;
@@ -345,9 +474,9 @@ static int stream_arg(struct http_sink *s, struct MHD_Connection *conn, enum vie
 	return 0;
 }
 
-static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char *url,
-			      const char *method, const char *version, const char *upload,
-			      size_t *upload_size, void **con_cls)
+static enum MHD_Result route(void *cls, struct MHD_Connection *conn, const char *url,
+			     const char *method, const char *version, const char *upload,
+			     size_t *upload_size, void **con_cls)
 {
 	struct http_sink *s = cls;
 	(void)version;
@@ -417,8 +546,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
 				   "no such page (/, /stream.mjpg, /snapshot.png, /api/params, "
 				   "/api/stats)");
 	}
-	char msg[96];
-	snprintf(msg, sizeof msg, "method %.20s is not allowed here (allowed: %s)", method, allow);
+	char msg[160];
+	char m[64];
+	http_json_safe(m, 21, method);
+	snprintf(msg, sizeof msg, "method %s is not allowed here (allowed: %s)", m, allow);
 	struct json_object *j = json_object_new_object();
 	json_object_object_add(j, "error", json_object_new_string(msg));
 	const char *t = json_object_to_json_string_ext(j, JSON_C_TO_STRING_PLAIN);
@@ -434,12 +565,25 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
 	return ret;
 }
 
+/* The request's deadline ends when it is answered: the first call for requests
+   without a body, the last for a POST (the body in). */
+static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char *url,
+			      const char *method, const char *version, const char *upload,
+			      size_t *upload_size, void **con_cls)
+{
+	struct http_sink *s = cls;
+	const int had = *con_cls != NULL, chunk = *upload_size != 0;
+	enum MHD_Result r = route(cls, conn, url, method, version, upload, upload_size, con_cls);
+	if (!*con_cls || (had && !chunk)) /* replied now, or the last call of a POST */
+		http_guard_answered(s, conn);
+	return r;
+}
+
 static void request_done(void *cls, struct MHD_Connection *conn, void **con_cls,
 			 enum MHD_RequestTerminationCode code)
 {
-	(void)cls;
-	(void)conn;
 	(void)code;
+	http_guard_request_done(cls, conn);
 	free(*con_cls);
 	*con_cls = NULL;
 }
@@ -449,38 +593,79 @@ static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_
 			  enum MHD_ConnectionNotificationCode code)
 {
 	struct http_sink *s = cls;
-	(void)conn;
-	(void)socket_context;
-	if (code == MHD_CONNECTION_NOTIFY_STARTED)
+	if (code == MHD_CONNECTION_NOTIFY_STARTED) {
 		atomic_fetch_add(&s->connections, 1);
-	else if (code == MHD_CONNECTION_NOTIFY_CLOSED)
+		*socket_context = http_guard_opened(s, conn);
+	} else if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
 		atomic_fetch_sub(&s->connections, 1);
+		http_guard_closed(s, *socket_context);
+		*socket_context = NULL;
+	}
 }
 
 /*
- * Beyond max_clients a new connection is closed at once.  (libmicrohttpd's own
- * limit stops accepting instead: a client waited in the listen backlog, a
- * request for /api/stats hung for as long as the streams lasted.)
+ * At max_clients a new connection takes the slot of the oldest one still sending
+ * its request (cut: it goes in a moment, hence MHD's limit a little above ours);
+ * when every connection has its request in (streams, replies on their way), the
+ * new one is closed at once.  (libmicrohttpd's own limit stops accepting instead:
+ * a client waited in the listen backlog, a request for /api/stats hung for as
+ * long as the streams lasted.)
  */
+#define EVICTING_SLOTS 16
+
 static enum MHD_Result accept_policy(void *cls, const struct sockaddr *addr, socklen_t addrlen)
 {
 	struct http_sink *s = cls;
 	(void)addr;
 	(void)addrlen;
-	return atomic_load(&s->connections) < (int)s->max_clients ? MHD_YES : MHD_NO;
+	const int open = atomic_load(&s->connections);
+	if (open < (int)s->max_clients)
+		return MHD_YES;
+	if (open >= (int)s->max_clients + EVICTING_SLOTS)
+		return MHD_NO;
+	return http_guard_make_room(s) == 0 ? MHD_YES : MHD_NO;
 }
 
-int http_routes_start(struct http_sink *s, struct dao_error *err)
+#define SERVER_NICE 10 /* the niceness of the server's threads */
+
+static void *start_server(void *arg)
 {
+	struct http_sink *s = arg;
+	/* on Linux, PRIO_PROCESS 0 is the calling thread alone (nice is per thread) */
+	setpriority(PRIO_PROCESS, 0, SERVER_NICE);
+	/* libmicrohttpd's per-address limit counts against max_clients only below it */
+	const unsigned per_ip = s->per_ip && s->per_ip < s->max_clients ? s->per_ip : 0;
 	s->mhd = MHD_start_daemon(
 		MHD_USE_THREAD_PER_CONNECTION | MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_ITC,
 		0, accept_policy, s, handle, s, MHD_OPTION_LISTEN_SOCKET, s->listen_fd,
 		MHD_OPTION_NOTIFY_CONNECTION, on_connection, s,
-		MHD_OPTION_CONNECTION_LIMIT, s->max_clients + 8, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+		MHD_OPTION_CONNECTION_LIMIT, s->max_clients + EVICTING_SLOTS,
+		MHD_OPTION_PER_IP_CONNECTION_LIMIT, per_ip, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
 		(size_t)HTTP_MEMORY_LIMIT, MHD_OPTION_CONNECTION_TIMEOUT, 30u,
 		MHD_OPTION_NOTIFY_COMPLETED, request_done, s,
 		MHD_OPTION_END);
+	return NULL;
+}
+
+int http_routes_start(struct http_sink *s, struct dao_error *err)
+{
+	int gr = http_guard_start(s);
+	if (gr < 0) {
+		if (err) {
+			err->code = gr;
+			snprintf(err->message, sizeof err->message,
+				 "http: the connection watchdog does not start: %s", strerror(-gr));
+		}
+		return gr;
+	}
+	/* started from a thread of lower priority: libmicrohttpd's threads, and every
+	   connection's thread, inherit it (Linux: nice is per thread and inherited), so a
+	   flood of requests takes the CPU the pipeline leaves, not the pipeline's */
+	pthread_t t;
+	if (pthread_create(&t, NULL, start_server, s) == 0)
+		pthread_join(t, NULL);
 	if (!s->mhd) {
+		http_guard_stop(s);
 		if (err) {
 			err->code = -EIO;
 			snprintf(err->message, sizeof err->message,
@@ -500,6 +685,7 @@ void http_routes_stop(struct http_sink *s)
 	MHD_quiesce_daemon(s->mhd);
 	MHD_stop_daemon(s->mhd);
 	s->mhd = NULL;
+	http_guard_stop(s);
 	close(s->listen_fd);
 	s->listen_fd = -1;
 }

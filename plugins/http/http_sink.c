@@ -13,6 +13,8 @@
  *   quality=1..100   JPEG quality (default 80)
  *   max_clients=N    concurrent connections (1..1024, default 32)
  *   queue=1..8       frames queued per stream client (default 2)
+ *   per_ip=N         connections from one address (1..1024, default 16; 0 = no limit)
+ *   request_timeout=S  seconds for a whole request: line, headers, body (1..60, default 5)
  * Without control or token the viewer is read-only.
  *
  * The sink takes every frame through write_stream: the configured stream
@@ -114,7 +116,7 @@ static int parse_uint(const char *v, long lo, long hi, long *out)
 }
 
 static const char *const http_options[] = {"control", "token", "quality", "max_clients", "queue",
-					   NULL};
+					   "per_ip", "request_timeout", NULL};
 
 /* The options after the '?' (the library's parser: errors name the key and the value). */
 static int parse_options(struct http_sink *s, const char *text, struct dao_error *err)
@@ -124,11 +126,16 @@ static int parse_options(struct http_sink *s, const char *text, struct dao_error
 	if (r < 0)
 		return r;
 	int64_t quality = s->quality, clients = s->max_clients, queue = s->queue;
+	int64_t per_ip = s->per_ip, deadline = s->request_deadline_ms / 1000;
 	if ((r = dao_options_get_bool(o, "control", &s->control, err)) >= 0 &&
 	    (r = dao_options_get_string(o, "token", s->token, sizeof s->token, err)) >= 0 &&
 	    (r = dao_options_get_int(o, "quality", 1, 100, &quality, err)) >= 0 &&
 	    (r = dao_options_get_int(o, "max_clients", 1, 1024, &clients, err)) >= 0 &&
-	    (r = dao_options_get_int(o, "queue", 1, 8, &queue, err)) >= 0) {
+	    (r = dao_options_get_int(o, "queue", 1, 8, &queue, err)) >= 0 &&
+	    (r = dao_options_get_int(o, "per_ip", 0, 1024, &per_ip, err)) >= 0 &&
+	    (r = dao_options_get_int(o, "request_timeout", 1, 60, &deadline, err)) >= 0) {
+		s->per_ip = (unsigned)per_ip;
+		s->request_deadline_ms = (unsigned)deadline * 1000u;
 		s->quality = (int)quality;
 		s->max_clients = (unsigned)clients;
 		s->queue = (unsigned)queue;
@@ -146,6 +153,8 @@ static int parse_uri(struct http_sink *s, const char *uri, struct dao_error *err
 	s->quality = DEFAULT_QUALITY;
 	s->max_clients = HTTP_DEFAULT_CLIENTS;
 	s->queue = DEFAULT_QUEUE;
+	s->per_ip = HTTP_DEFAULT_PER_IP;
+	s->request_deadline_ms = HTTP_DEFAULT_DEADLINE_MS;
 	snprintf(s->bind_host, sizeof s->bind_host, "127.0.0.1");
 	char *p = buf;
 	size_t opts_at = dao_uri_path_len(buf, http_options);
@@ -179,6 +188,10 @@ static int parse_uri(struct http_sink *s, const char *uri, struct dao_error *err
 				    "http:8080 for 127.0.0.1, http:0.0.0.0:8080 for every interface)",
 				    uri);
 	s->port = (int)port;
+	/* a quarter of the slots (one at least, from two on) never go to streams: the
+	   page, its statistics and parameters stay reachable while streams take the rest */
+	const unsigned api = s->max_clients >= 4 ? s->max_clients / 4 : s->max_clients >= 2 ? 1 : 0;
+	s->max_streams = s->max_clients - api;
 	return 0;
 }
 
@@ -231,11 +244,15 @@ static void free_state(struct http_sink *s)
 	for (int v = 0; v < VIEW_COUNT; v++) {
 		free(s->pic[v].rgb);
 		tjFree(s->pic[v].jpeg);
+		http_png_unref(s->snap[v]);
 	}
+	free(s->snap_rgb);
 	if (s->tj)
 		tjDestroy(s->tj);
 	pthread_mutex_destroy(&s->lock);
 	pthread_mutex_destroy(&s->stats_lock);
+	pthread_mutex_destroy(&s->snap_lock);
+	pthread_mutex_destroy(&s->guard_lock);
 	pthread_cond_destroy(&s->frame_cond);
 	free(s);
 }
@@ -248,6 +265,8 @@ static int http_open(const char *uri, void **state, struct dao_error *err)
 	s->listen_fd = -1;
 	pthread_mutex_init(&s->lock, NULL);
 	pthread_mutex_init(&s->stats_lock, NULL);
+	pthread_mutex_init(&s->snap_lock, NULL);
+	pthread_mutex_init(&s->guard_lock, NULL);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);

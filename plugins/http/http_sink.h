@@ -14,6 +14,8 @@
 
 #include <depthao/plugin.h>
 
+struct MHD_Connection;
+
 /* The pictures the viewer offers: what ?stream= names. */
 enum view_stream { VIEW_SHADED = 0, VIEW_AO, VIEW_OVERLAY, VIEW_DEPTH, VIEW_COUNT };
 
@@ -23,6 +25,18 @@ enum view_stream { VIEW_SHADED = 0, VIEW_AO, VIEW_OVERLAY, VIEW_DEPTH, VIEW_COUN
 #define HTTP_MEMORY_LIMIT 16384     /* per connection, the request line and headers included */
 #define HTTP_DEFAULT_CLIENTS 32     /* concurrent connections (?max_clients=) */
 #define HTTP_TOKEN_HEADER "X-Depthao-Token"
+#define HTTP_DEFAULT_DEADLINE_MS 5000 /* a request's line, headers and body (?request_timeout=) */
+#define HTTP_DEFAULT_PER_IP 16      /* connections from one address (?per_ip=) */
+/* /snapshot.png: requests a second (and burst) per client address and for everyone;
+   beyond them 429 with Retry-After */
+#define HTTP_SNAPSHOT_RATE_CLIENT 5.0
+#define HTTP_SNAPSHOT_BURST_CLIENT 10.0
+#define HTTP_SNAPSHOT_RATE_ALL 20.0
+#define HTTP_SNAPSHOT_BURST_ALL 40.0
+/* a snapshot's PNG is encoded at most once a frame and this often (ms); the
+   requests meanwhile share the last one */
+#define HTTP_SNAPSHOT_MIN_INTERVAL_MS 200
+#define HTTP_RATE_CLIENTS 64        /* client addresses with a bucket (the least recent goes) */
 
 struct mjpeg_client;
 
@@ -38,6 +52,25 @@ struct view_picture {
 	unsigned long jpeg_cap;
 };
 
+/* A PNG shared by the snapshot replies that send it: freed with the last of them. */
+struct png_blob {
+	atomic_int refs;
+	size_t len;
+	unsigned char data[];
+};
+
+struct rate_bucket {
+	double tokens;
+	uint64_t last_ns;            /* 0: unused */
+};
+
+struct rate_client {
+	unsigned char key[16];       /* the address */
+	struct rate_bucket b;
+};
+
+struct guard_conn;
+
 struct http_sink {
 	/* from the URI */
 	char bind_host[64];
@@ -47,6 +80,9 @@ struct http_sink {
 	int quality;                 /* JPEG 1..100 */
 	unsigned max_clients;
 	unsigned queue;              /* frames queued per stream client */
+	unsigned per_ip;             /* connections from one address (0: no limit) */
+	unsigned request_deadline_ms; /* for a request's line, headers and body */
+	unsigned max_streams;        /* stream connections: the rest stay for the API */
 
 	const struct dao_sink_host *host;
 	struct MHD_Daemon *mhd;
@@ -72,6 +108,25 @@ struct http_sink {
 	pthread_mutex_t stats_lock;  /* one /api/stats reply at a time: stats_text */
 	char stats_text[65536];
 	uint64_t encode_ns, encoded;
+
+	/* /snapshot.png: the last PNG of each stream (s->lock), one encoder at a time */
+	pthread_mutex_t snap_lock;
+	struct png_blob *snap[VIEW_COUNT];
+	uint64_t snap_seq[VIEW_COUNT], snap_ns[VIEW_COUNT];
+	uint8_t *snap_rgb;           /* (snap_lock) the picture being encoded */
+	size_t snap_rgb_cap;
+	unsigned long long snap_encoded, snap_shared;
+
+	/* http_guard.c (guard_lock): connections, their deadlines, rate limits */
+	pthread_mutex_t guard_lock;
+	pthread_cond_t guard_cond;
+	pthread_t guard_thread;
+	int guard_running, guard_quit;
+	struct guard_conn *guard_conns;
+	unsigned guard_streams;
+	unsigned long long deadline_cuts, evicted, rate_limited, streams_refused;
+	struct rate_bucket rate_all;
+	struct rate_client rate_clients[HTTP_RATE_CLIENTS];
 };
 
 const char *view_stream_name(enum view_stream v);
@@ -83,6 +138,32 @@ void http_update_wanted(struct http_sink *s);
 void http_record_latency(struct http_sink *s, uint64_t capture_ns, uint64_t written_ns,
 			 uint64_t now_ns);
 uint64_t http_now_ns(void);
+
+/* json_strict.c: 0 if body is one JSON text with valid UTF-8, no NUL (raw or \u0000),
+   no escape inside a key and no key twice in an object; else -1 with msg saying where */
+int http_json_check(const char *body, size_t len, char *msg, size_t cap);
+/* Copies src into dst as valid UTF-8 (whole characters; a stray byte becomes the
+   text \xHH) to be echoed in a JSON reply; returns the length written. */
+size_t http_json_safe(char *dst, size_t cap, const char *src);
+
+/* Drops one reference (NULL: nothing). */
+void http_png_unref(struct png_blob *b);
+
+/* http_guard.c: the connection slots (see there).  A connection opened (its record,
+   the notify callback's socket context) and closed; its request is in (no deadline);
+   its request is done (the next one's deadline starts); a stream slot (0: none
+   left); the oldest connection still sending its request is cut to make room
+   (-1: none). */
+void *http_guard_opened(struct http_sink *s, struct MHD_Connection *conn);
+void http_guard_closed(struct http_sink *s, void *rec);
+void http_guard_answered(struct http_sink *s, struct MHD_Connection *conn);
+void http_guard_request_done(struct http_sink *s, struct MHD_Connection *conn);
+int http_guard_stream_slot(struct http_sink *s, struct MHD_Connection *conn);
+int http_guard_make_room(struct http_sink *s);
+int http_guard_start(struct http_sink *s);
+void http_guard_stop(struct http_sink *s);
+/* A snapshot token for the client and for everyone: 1, or 0 with the seconds to wait. */
+int http_rate_take(struct http_sink *s, struct MHD_Connection *conn, unsigned *retry_after);
 
 /* http_routes.c: starts serving on the listening socket; 0 or < 0 with err */
 int http_routes_start(struct http_sink *s, struct dao_error *err);

@@ -21,6 +21,7 @@
 #define DEFAULT_HFOV_DEG 58.5
 #define DEFAULT_VFOV_DEG 45.6
 #define LATENCY_RING 512
+#define RECENT_SECONDS 5 /* fps_recent: the rate over this many whole seconds */
 #define READ_TIMEOUT_MS 200
 /*
  * A signal stops the pipeline in one second (counted from the signal): the
@@ -138,7 +139,15 @@ struct daemon {
 	atomic_ullong cpu_ns_total;
 	uint64_t start_ns;
 	uint64_t interval_start_ns, interval_processed;
+	/* (lock) frames processed per whole second of the monotonic clock, the last
+	   RECENT_SECONDS + 1 of them: fps_recent, the rate of the last RECENT_SECONDS
+	   complete seconds (fps is the mean over the interval) */
+	uint64_t recent_sec[RECENT_SECONDS + 1];
+	unsigned recent_count[RECENT_SECONDS + 1];
 };
+
+/* daemon_stats.c: counts one processed frame for fps_recent */
+void daemon_count_recent(struct daemon *d, uint64_t now_ns);
 
 /* daemon.c: sleeps up to ms, returning early when the daemon stops */
 void nap(struct daemon *d, unsigned ms);

@@ -299,6 +299,7 @@ void *process_main(void *arg)
 			take_snapshot(d, &o.rgb);
 		/* counted before a sink can have it: the stats never show a sink ahead */
 		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
+		daemon_count_recent(d, tool_mono_ns());
 		fan_out(d, in, &o, have_overlay);
 		fq_done(d->input, in);
 		if (d->cfg.max_frames && n >= d->cfg.max_frames) {

@@ -16,6 +16,34 @@ static int cmp_u32(const void *a, const void *b)
 	return x < y ? -1 : x > y;
 }
 
+void daemon_count_recent(struct daemon *d, uint64_t now_ns)
+{
+	const uint64_t sec = now_ns / 1000000000u;
+	const unsigned slot = (unsigned)(sec % (RECENT_SECONDS + 1));
+	pthread_mutex_lock(&d->lock);
+	if (d->recent_sec[slot] != sec) {
+		d->recent_sec[slot] = sec;
+		d->recent_count[slot] = 0;
+	}
+	d->recent_count[slot]++;
+	pthread_mutex_unlock(&d->lock);
+}
+
+/* The frames of the RECENT_SECONDS whole seconds before the current one, per second
+   (with d->lock held).  Younger than that, every frame over the time since start. */
+static double fps_recent(const struct daemon *d, uint64_t now_ns)
+{
+	const uint64_t sec = now_ns / 1000000000u;
+	const uint64_t young = d->start_ns / 1000000000u + RECENT_SECONDS >= sec;
+	const uint64_t from = young ? 0 : sec - RECENT_SECONDS;
+	unsigned long long n = 0;
+	for (unsigned i = 0; i <= RECENT_SECONDS; i++)
+		if ((young || d->recent_sec[i] < sec) && d->recent_sec[i] >= from)
+			n += d->recent_count[i];
+	const double secs = young ? (double)(now_ns - d->start_ns) / 1e9 : RECENT_SECONDS;
+	return secs > 0 ? (double)n / secs : 0;
+}
+
 struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 {
 	uint64_t t = tool_mono_ns();
@@ -30,6 +58,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	pthread_mutex_lock(&d->lock);
 	double secs = (double)(t - d->interval_start_ns) / 1e9;
 	double fps = secs > 0 ? (double)(processed - d->interval_processed) / secs : 0;
+	const double fps_last = fps_recent(d, t);
 	if (reset_interval) {
 		d->interval_start_ns = t;
 		d->interval_processed = processed;
@@ -46,6 +75,8 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	json_object_object_add(j, "frames_processed", json_object_new_int64((int64_t)processed));
 	json_object_object_add(j, "process_errors", json_object_new_int64((int64_t)atomic_load(&d->process_errors)));
 	json_object_object_add(j, "fps", json_object_new_double(fps));
+	json_object_object_add(j, "fps_recent", json_object_new_double(fps_last));
+	json_object_object_add(j, "fps_recent_window_s", json_object_new_int(RECENT_SECONDS));
 	json_object_object_add(j, "cpu_ms_per_frame",
 			       json_object_new_double(processed ? (double)atomic_load(&d->cpu_ns_total) / 1e6 / (double)processed : 0));
 	struct json_object *sinks = json_object_new_array();
