@@ -46,6 +46,7 @@
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 #include "plugin/playback.h"
+#include "plugin/ros_image.h"
 
 
 struct bag_source {
@@ -110,26 +111,6 @@ static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
 	return r < 0 ? r : 0;
 }
 
-/* A depth encoding: 1 for 16-bit counts, 2 for float metres, 0 otherwise. */
-static int depth_kind(const char *enc)
-{
-	if (!strcmp(enc, "16UC1") || !strcmp(enc, "mono16"))
-		return 1;
-	if (!strcmp(enc, "32FC1"))
-		return 2;
-	return 0;
-}
-
-/* Bytes a pixel of a colour encoding, 0 if it is not one the source converts. */
-static uint32_t color_bytes(const char *enc)
-{
-	if (!strcmp(enc, "rgb8") || !strcmp(enc, "bgr8"))
-		return 3;
-	if (!strcmp(enc, "rgba8") || !strcmp(enc, "bgra8"))
-		return 4;
-	return !strcmp(enc, "mono8") ? 1 : 0;
-}
-
 static int is_image_topic(const struct dao_bag_topic *t)
 {
 	return !strcmp(t->type, "sensor_msgs/Image") && t->message_count > 0;
@@ -172,7 +153,7 @@ static int pick_topic(struct bag_source *s, const struct bag_uri *u, struct dao_
 			goto list;
 		if ((r = first_image(bag, (uint32_t)t, img, err)) < 0)
 			return r;
-		if (!depth_kind(img->encoding))
+		if (!dao_ros_depth_kind(img->encoding))
 			return dao_error_set(err, -EINVAL,
 					     "%s: topic '%s' has images of encoding '%s', not depth "
 					     "(16UC1, mono16 or 32FC1)", path, u->topic, img->encoding);
@@ -187,7 +168,7 @@ list:
 		struct dao_ros_image im;
 		if ((r = first_image(bag, t, &im, err)) < 0)
 			return r;
-		if (depth_kind(im.encoding)) {
+		if (dao_ros_depth_kind(im.encoding)) {
 			list_add(depth, sizeof(depth), tp->name, im.encoding);
 			if (ndepth++ == 0) {
 				found = (int)t;
@@ -258,35 +239,10 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 		if (dao_ros_camera_info_parse(d, n, &ci) < 0)
 			return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
 					     "sensor_msgs/CameraInfo", path, name);
-		struct dao_camera cam;
-		enum dao_camera_info_matrix from;
-		struct dao_error e;
 		uint32_t nd = ci.distortion_count < DAO_ROS_MAX_DISTORTION ? ci.distortion_count
 									   : DAO_ROS_MAX_DISTORTION;
-		if (ci.width != s->info.width || ci.height != s->info.height) {
-			snprintf(s->info.warning, sizeof(s->info.warning),
-				 "%.150s is for %ux%u images, the depth is %ux%u: not used", name,
-				 ci.width, ci.height, s->info.width, s->info.height);
-		} else if (dao_camera_from_camera_info(&cam, ci.width, ci.height, ci.k, ci.p, ci.d, nd,
-						       &from, &e)) {
-			snprintf(s->info.warning, sizeof(s->info.warning), "%.90s: %.150s: not used",
-				 name, e.message);
-		} else {
-			s->info.has_intrinsics = 1;
-			s->info.fx = cam.fx;
-			s->info.fy = cam.fy;
-			s->info.cx = cam.cx;
-			s->info.cy = cam.cy;
-			s->info.has_fov = 1;
-			dao_camera_fov(&cam, &s->info.hfov, &s->info.vfov);
-			if (from != DAO_CAMERA_INFO_K)
-				snprintf(s->info.warning, sizeof(s->info.warning),
-					 "%.120s has lens distortion: the depth must be rectified "
-					 "(depthao does not undistort; used as it is); intrinsics %s",
-					 name, from == DAO_CAMERA_INFO_P_RECTIFIED
-						       ? "from P, the rectified image's"
-						       : "from K (no usable P)");
-		}
+		dao_ros_camera_info_intrinsics(&s->info, name, ci.width, ci.height, ci.k, ci.p, ci.d,
+					       nd);
 	}
 	s->unit = u->unit;
 	if (rs && !s->unit) {
@@ -327,12 +283,12 @@ static int pick_color(struct bag_source *s, const struct bag_uri *u, uint64_t ma
 			continue;
 		if ((r = first_image(bag, t, &im, err)) < 0)
 			return r;
-		if (u->color[0] && !color_bytes(im.encoding))
+		if (u->color[0] && !dao_ros_color_bytes(im.encoding))
 			return dao_error_set(err, -EINVAL,
 					     "%s: topic '%s' has images of encoding '%s', not colour "
 					     "(rgb8, bgr8, rgba8, bgra8 or mono8)", path, u->color,
 					     im.encoding);
-		if (!color_bytes(im.encoding))
+		if (!dao_ros_color_bytes(im.encoding))
 			continue;
 		list_add(list, sizeof(list), tp->name, im.encoding);
 		if (n++ == 0) {
@@ -398,7 +354,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 		goto fail;
 	}
 	snprintf(s->encoding, sizeof(s->encoding), "%s", img.encoding);
-	s->is_float = depth_kind(img.encoding) == 2;
+	s->is_float = dao_ros_depth_kind(img.encoding) == 2;
 	s->info.width = img.width;
 	s->info.height = img.height;
 	if ((r = find_camera(s, &u, err)) < 0)
@@ -465,14 +421,6 @@ static int bag_start(void *state, struct dao_error *err)
 	return 0;
 }
 
-static int host_is_big_endian(void)
-{
-	const uint16_t one = 1;
-	uint8_t b;
-	memcpy(&b, &one, 1);
-	return b == 0;
-}
-
 /* Decodes message `i` into s->depth. */
 static int decode(struct bag_source *s, uint32_t i, struct dao_error *err)
 {
@@ -500,18 +448,8 @@ static int decode(struct bag_source *s, uint32_t i, struct dao_error *err)
 				     "%s: message %u of '%s': %u bytes of data for %u rows of step %u "
 				     "(%ux%u, %u bytes a pixel)", path, i, topic, img.data_len,
 				     img.height, img.step, img.width, img.height, bpp);
-	int swap = !!img.is_bigendian != host_is_big_endian();
-	for (uint32_t y = 0; y < img.height; y++) {
-		const uint8_t *src = img.data + (size_t)y * img.step;
-		uint8_t *dst = (uint8_t *)s->depth.data + (size_t)y * (size_t)s->depth.stride;
-		if (!swap) {
-			memcpy(dst, src, (size_t)img.width * bpp);
-			continue;
-		}
-		for (uint32_t x = 0; x < img.width; x++)
-			for (uint32_t k = 0; k < bpp; k++)
-				dst[x * bpp + k] = src[x * bpp + bpp - 1 - k];
-	}
+	dao_ros_copy_depth(&s->depth, img.data, img.step, bpp,
+			   !!img.is_bigendian != dao_ros_host_is_big_endian());
 	s->depth.depth_unit = s->is_float ? 0.0f : s->unit;
 	s->depth.timestamp_ns = img.header.stamp_ns ? img.header.stamp_ns : rec_ns;
 	s->depth.sequence = (uint64_t)i + 1;
@@ -534,7 +472,7 @@ static int color_message(struct bag_source *s, uint32_t i, struct dao_ros_image 
 	if (dao_ros_image_parse(d, n, img) < 0)
 		return dao_error_set(err, -EINVAL, "%s: message %u of '%s' is not a sensor_msgs/Image",
 				     path, i, topic);
-	uint32_t bpp = color_bytes(img->encoding);
+	uint32_t bpp = dao_ros_color_bytes(img->encoding);
 	if (img->width != s->color.width || img->height != s->color.height ||
 	    strcmp(img->encoding, s->color_encoding))
 		return dao_error_set(err, -EINVAL,
@@ -584,21 +522,7 @@ static int decode_color(struct bag_source *s, struct dao_error *err)
 	uint64_t ct;
 	if ((r = color_message(s, best, &img, &ct, err)) < 0)
 		return r;
-	const uint32_t bpp = color_bytes(img.encoding);
-	const int bgr = img.encoding[0] == 'b';
-	for (uint32_t y = 0; y < img.height; y++) {
-		const uint8_t *src = img.data + (size_t)y * img.step;
-		uint8_t *dst = (uint8_t *)s->color.data + (size_t)y * (size_t)s->color.stride;
-		for (uint32_t x = 0; x < img.width; x++, src += bpp, dst += 3) {
-			if (bpp == 1) {
-				dst[0] = dst[1] = dst[2] = src[0];
-				continue;
-			}
-			dst[0] = src[bgr ? 2 : 0];
-			dst[1] = src[1];
-			dst[2] = src[bgr ? 0 : 2];
-		}
-	}
+	dao_ros_color_to_rgb(&s->color, img.data, img.step, img.encoding);
 	s->color.timestamp_ns = ct;
 	s->color.sequence = (uint64_t)best + 1;
 	return 0;
