@@ -9,6 +9,8 @@
 //   png/NNNNNN.png, png/camera.json
 // Each with /camera/depth/camera_info (fx 60, fy 61, cx 31.5, cy 23.25).
 // usage: node make_mcaps.js OUTDIR   (exit 77 when tests/js/node_modules is absent)
+//        node make_mcaps.js OUTDIR --vga N: vga.mcap alone, N frames of 640x480 16UC1 at 30 fps
+//        (zstd chunks of 4 MiB, as ros2 bag record writes), for the measurement (docs/perf/mcapr.md)
 "use strict";
 const fs = require("fs");
 const path = require("path");
@@ -27,16 +29,19 @@ try {
   process.exit(77);
 }
 
-const W = 64, H = 48, FRAMES = 5;
+const VGA = process.argv[3] === "--vga";
+const W = VGA ? 640 : 64, H = VGA ? 480 : 48, FRAMES = VGA ? Number(process.argv[4]) : 5;
 const K = [60, 0, 31.5, 0, 61, 23.25, 0, 0, 1];
-const depthCount = (x, y, i) => (x === y ? 0 : 500 + 7 * x + 13 * y + 100 * i);
+const depthCount = VGA
+  ? (x, y, i) => ((x * 7 + y * 3 + i * 5) % 97 === 0 ? 0 : 800 + ((x * x + 3 * y * y) >> 7) % 900 + 20 * ((x + i * 4) >> 5 & 7))
+  : (x, y, i) => (x === y ? 0 : 500 + 7 * x + 13 * y + 100 * i);
 const pixels = (i) => {
   const a = new Uint16Array(W * H);
   for (let y = 0; y < H; y++) for (let x = 0; x < W; x++) a[y * W + x] = depthCount(x, y, i);
   return a;
 };
-const stamp = (i) => ({ sec: 1700000000, nanosec: i * 33000000 });
-const logTime = (i) => 1700000000n * 1000000000n + BigInt(i * 33000000);
+const stamp = (i) => ({ sec: 1700000000 + Math.floor(i / 30), nanosec: (i % 30) * 33333333 });
+const logTime = (i) => 1700000000n * 1000000000n + BigInt(i * 33333333);
 
 const TIME = "MSG: builtin_interfaces/Time\nint32 sec\nuint32 nanosec\n";
 const HEADER = "MSG: std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id\n";
@@ -169,6 +174,10 @@ const cdepth = (codec) => ({
   const out = process.argv[2];
   await zstd.isLoaded;
   fs.mkdirSync(path.join(out, "png"), { recursive: true });
+  if (VGA) {
+    await write(path.join(out, "vga.mcap"), { chunkSize: 4 << 20, compressChunk: compressors.zstd }, raw);
+    return;
+  }
   const small = { chunkSize: 10000 };
   await write(path.join(out, "d16_zstd.mcap"), { ...small, compressChunk: compressors.zstd }, raw);
   await write(path.join(out, "d16_lz4.mcap"), { ...small, compressChunk: compressors.lz4 }, raw);
