@@ -116,7 +116,7 @@ struct dao_mcap_chunk_index {
 	uint64_t message_start_time, message_end_time;
 	uint64_t chunk_start_offset;  /* of the chunk record in the file */
 	uint64_t chunk_length;        /* of the whole record */
-	const uint8_t *index_offsets; /* map<u16 channel, u64 offset of its Message Index>, 10 bytes each */
+	const uint8_t *index_offsets; /* map<u16 channel, u64 offset>, 10 bytes each */
 	uint32_t index_offsets_count;
 	uint64_t message_index_length; /* bytes of Message Index records after the chunk */
 	struct dao_mcap_str compression;

@@ -67,19 +67,6 @@ struct bag_source {
 	struct dao_playback_cursor play;
 };
 
-/*
- * "FILE.bag?topic=T&unit=M&color=C" in parts; the options start at the last
- * '?' followed by one of them (a file name may hold a '?'; dao_uri_path_len()).
- */
-struct bag_uri {
-	char *path;
-	char topic[256];
-	char color[256];
-	float unit;
-};
-
-static const char *const bag_options[] = {"topic", "unit", "color", NULL};
-
 static int has_bag_suffix(const char *s, size_t n)
 {
 	return n > 4 && !strncasecmp(s + n - 4, ".bag", 4);
@@ -87,28 +74,7 @@ static int has_bag_suffix(const char *s, size_t n)
 
 static int bag_probe(const char *uri)
 {
-	return has_bag_suffix(uri, dao_uri_path_len(uri, bag_options)) ? 60 : 0;
-}
-
-static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
-{
-	size_t plen = dao_uri_path_len(uri, bag_options);
-	memset(u, 0, sizeof(*u));
-	if (!(u->path = strndup(uri, plen)))
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	if (!uri[plen])
-		return 0;
-	struct dao_options *o;
-	int r = dao_options_parse(&o, "bag", uri + plen + 1, bag_options, err);
-	if (r < 0)
-		return r;
-	double unit = 0;
-	if ((r = dao_options_get_string(o, "topic", u->topic, sizeof u->topic, err)) >= 0 &&
-	    (r = dao_options_get_string(o, "color", u->color, sizeof u->color, err)) >= 0 &&
-	    (r = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE, &unit, err)) > 0)
-		u->unit = (float)unit; /* metres per count */
-	dao_options_free(o);
-	return r < 0 ? r : 0;
+	return has_bag_suffix(uri, dao_uri_path_len(uri, dao_ros_uri_options)) ? 60 : 0;
 }
 
 static int is_image_topic(const struct dao_bag_topic *t)
@@ -132,16 +98,8 @@ static int first_image(struct dao_bag *bag, uint32_t t, struct dao_ros_image *im
 	return 0;
 }
 
-/* Appends "name (encoding)" to a list. */
-static void list_add(char *buf, size_t cap, const char *name, const char *enc)
-{
-	size_t len = strlen(buf);
-	if (len + 8 < cap)
-		snprintf(buf + len, cap - len, "%s%s (%s)", len ? ", " : "", name, enc);
-}
-
-static int pick_topic(struct bag_source *s, const struct bag_uri *u, struct dao_ros_image *img,
-		      struct dao_error *err)
+static int pick_topic(struct bag_source *s, const struct dao_ros_uri *u,
+		      struct dao_ros_image *img, struct dao_error *err)
 {
 	struct dao_bag *bag = s->bag;
 	const char *path = dao_bag_path(bag);
@@ -169,13 +127,13 @@ list:
 		if ((r = first_image(bag, t, &im, err)) < 0)
 			return r;
 		if (dao_ros_depth_kind(im.encoding)) {
-			list_add(depth, sizeof(depth), tp->name, im.encoding);
+			dao_ros_topic_list_add(depth, sizeof(depth), tp->name, im.encoding);
 			if (ndepth++ == 0) {
 				found = (int)t;
 				*img = im;
 			}
 		} else {
-			list_add(other, sizeof(other), tp->name, im.encoding);
+			dao_ros_topic_list_add(other, sizeof(other), tp->name, im.encoding);
 		}
 	}
 	if (u->topic[0])
@@ -216,7 +174,8 @@ static int first_message(struct dao_bag *bag, const char *topic, const char *typ
 }
 
 /* Intrinsics from the CameraInfo beside the depth topic, if there is one; the unit. */
-static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao_error *err)
+static int find_camera(struct bag_source *s, const struct dao_ros_uri *u,
+		       struct dao_error *err)
 {
 	const char *topic = dao_bag_topic(s->bag, s->topic)->name;
 	const char *path = dao_bag_path(s->bag);
@@ -267,7 +226,7 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 }
 
 /* The colour topic: ?color=, else the one image topic in a colour encoding. */
-static int pick_color(struct bag_source *s, const struct bag_uri *u, uint64_t max_pixels,
+static int pick_color(struct bag_source *s, const struct dao_ros_uri *u, uint64_t max_pixels,
 		      struct dao_error *err)
 {
 	struct dao_bag *bag = s->bag;
@@ -290,7 +249,7 @@ static int pick_color(struct bag_source *s, const struct bag_uri *u, uint64_t ma
 					     im.encoding);
 		if (!dao_ros_color_bytes(im.encoding))
 			continue;
-		list_add(list, sizeof(list), tp->name, im.encoding);
+		dao_ros_topic_list_add(list, sizeof(list), tp->name, im.encoding);
 		if (n++ == 0) {
 			found = (int)t;
 			img = im;
@@ -327,7 +286,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			uint64_t max_pixels, void **state, struct dao_error *err)
 {
 	struct bag_source *s = calloc(1, sizeof(*s));
-	struct bag_uri u = {0};
+	struct dao_ros_uri u = {0};
 	struct dao_ros_image img;
 	int r;
 	if (!s)
@@ -338,7 +297,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 				  (double)opts->depth_unit);
 		goto fail;
 	}
-	if ((r = parse_uri(uri, &u, err)) < 0)
+	if ((r = dao_ros_uri_parse(uri, "bag", &u, err)) < 0)
 		goto fail;
 	/* a chunk holds at least one image (up to 4 bytes a pixel), maybe colour beside it */
 	if ((r = dao_bag_open(u.path, 8 * max_pixels + (16u << 20), &s->bag, err)) < 0)
@@ -389,11 +348,11 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	if ((r = dao_frame_alloc(&s->depth, s->info.format, img.width, img.height, err)) < 0)
 		goto fail;
 	dao_playback_init(&s->play, opts, s->count);
-	free(u.path);
+	dao_ros_uri_free(&u);
 	*state = s;
 	return 0;
 fail:
-	free(u.path);
+	dao_ros_uri_free(&u);
 	dao_frame_free(&s->depth);
 	dao_frame_free(&s->color);
 	dao_bag_close(s->bag);

@@ -75,40 +75,10 @@ struct mcap_source {
 	struct dao_playback_cursor play;
 };
 
-struct mcap_uri {
-	char *path;
-	char topic[256];
-	char color[256];
-	float unit;
-};
-
-static const char *const mcap_options[] = {"topic", "unit", "color", NULL};
-
 static int mcap_probe(const char *uri)
 {
-	size_t n = dao_uri_path_len(uri, mcap_options);
+	size_t n = dao_uri_path_len(uri, dao_ros_uri_options);
 	return n > 5 && !strncasecmp(uri + n - 5, ".mcap", 5) ? 60 : 0;
-}
-
-static int parse_uri(const char *uri, struct mcap_uri *u, struct dao_error *err)
-{
-	size_t plen = dao_uri_path_len(uri, mcap_options);
-	memset(u, 0, sizeof(*u));
-	if (!(u->path = strndup(uri, plen)))
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	if (!uri[plen])
-		return 0;
-	struct dao_options *o;
-	int r = dao_options_parse(&o, "mcap", uri + plen + 1, mcap_options, err);
-	if (r < 0)
-		return r;
-	double unit = 0;
-	if ((r = dao_options_get_string(o, "topic", u->topic, sizeof u->topic, err)) >= 0 &&
-	    (r = dao_options_get_string(o, "color", u->color, sizeof u->color, err)) >= 0 &&
-	    (r = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE, &unit, err)) > 0)
-		u->unit = (float)unit;
-	dao_options_free(o);
-	return r < 0 ? r : 0;
 }
 
 static int is_cdr_image_topic(const struct dao_mcap_topic *t)
@@ -198,14 +168,8 @@ static int is_color(const struct desc *d)
 	return d->kind == K_COLOR || d->kind == K_JPEG;
 }
 
-static void list_add(char *buf, size_t cap, const char *name, const char *enc)
-{
-	size_t len = strlen(buf);
-	if (len + 8 < cap)
-		snprintf(buf + len, cap - len, "%s%s (%s)", len ? ", " : "", name, enc);
-}
-
-static int pick_topic(struct mcap_source *s, const struct mcap_uri *u, struct dao_error *err)
+static int pick_topic(struct mcap_source *s, const struct dao_ros_uri *u,
+		      struct dao_error *err)
 {
 	struct dao_mcap *m = s->m;
 	const char *path = dao_mcap_path(m);
@@ -234,13 +198,13 @@ list:
 		if ((r = first_desc(m, t, &d, err)) < 0)
 			return r;
 		if (is_depth(&d)) {
-			list_add(depth, sizeof(depth), tp->name, d.encoding);
+			dao_ros_topic_list_add(depth, sizeof(depth), tp->name, d.encoding);
 			if (ndepth++ == 0) {
 				found = (int)t;
 				s->depth_desc = d;
 			}
 		} else {
-			list_add(other, sizeof(other), tp->name, d.encoding);
+			dao_ros_topic_list_add(other, sizeof(other), tp->name, d.encoding);
 		}
 	}
 	if (u->topic[0])
@@ -287,7 +251,8 @@ static int try_camera(struct mcap_source *s, const char *topic, size_t prefix_le
 	return 0;
 }
 
-static int find_camera(struct mcap_source *s, const struct mcap_uri *u, struct dao_error *err)
+static int find_camera(struct mcap_source *s, const struct dao_ros_uri *u,
+		       struct dao_error *err)
 {
 	const char *topic = dao_mcap_topic(s->m, s->topic)->name;
 	const char *slash = strrchr(topic, '/');
@@ -318,7 +283,7 @@ static int check_pixels(const char *path, const char *what, const char *topic,
 	return 0;
 }
 
-static int pick_color(struct mcap_source *s, const struct mcap_uri *u, uint64_t max_pixels,
+static int pick_color(struct mcap_source *s, const struct dao_ros_uri *u, uint64_t max_pixels,
 		      struct dao_error *err)
 {
 	struct dao_mcap *m = s->m;
@@ -341,7 +306,7 @@ static int pick_color(struct mcap_source *s, const struct mcap_uri *u, uint64_t 
 					     d.encoding);
 		if (!is_color(&d))
 			continue;
-		list_add(list, sizeof(list), tp->name, d.encoding);
+		dao_ros_topic_list_add(list, sizeof(list), tp->name, d.encoding);
 		if (n++ == 0) {
 			found = (int)t;
 			s->color_desc = d;
@@ -389,7 +354,7 @@ int dao_mcap_source_open(const char *uri, const struct dao_source_options *opts,
 			 uint64_t max_pixels, void **state, struct dao_error *err)
 {
 	struct mcap_source *s = calloc(1, sizeof(*s));
-	struct mcap_uri u = {0};
+	struct dao_ros_uri u = {0};
 	int r;
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
@@ -400,7 +365,7 @@ int dao_mcap_source_open(const char *uri, const struct dao_source_options *opts,
 				  (double)opts->depth_unit);
 		goto fail;
 	}
-	if ((r = parse_uri(uri, &u, err)) < 0)
+	if ((r = dao_ros_uri_parse(uri, "mcap", &u, err)) < 0)
 		goto fail;
 	/* a chunk holds at least one image (up to 4 bytes a pixel), maybe colour beside it */
 	if ((r = dao_mcap_open(u.path, 8 * max_pixels + (64u << 20), &s->m, err)) < 0 ||
@@ -443,11 +408,11 @@ int dao_mcap_source_open(const char *uri, const struct dao_source_options *opts,
 		goto fail;
 	}
 	dao_playback_init(&s->play, opts, s->count);
-	free(u.path);
+	dao_ros_uri_free(&u);
 	*state = s;
 	return 0;
 fail:
-	free(u.path);
+	dao_ros_uri_free(&u);
 	free_source(s);
 	return r;
 }

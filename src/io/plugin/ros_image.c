@@ -4,8 +4,51 @@
 
 #include <depthao/camera.h>
 
+#include <depthao/uri.h>
+
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "core/error_internal.h"
+
+const char *const dao_ros_uri_options[] = {"topic", "unit", "color", NULL};
+
+int dao_ros_uri_parse(const char *uri, const char *scheme, struct dao_ros_uri *u,
+		      struct dao_error *err)
+{
+	size_t plen = dao_uri_path_len(uri, dao_ros_uri_options);
+	memset(u, 0, sizeof(*u));
+	if (!(u->path = strndup(uri, plen)))
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	if (!uri[plen])
+		return 0;
+	struct dao_options *o;
+	int r = dao_options_parse(&o, scheme, uri + plen + 1, dao_ros_uri_options, err);
+	if (r < 0)
+		return r;
+	double unit = 0;
+	if ((r = dao_options_get_string(o, "topic", u->topic, sizeof u->topic, err)) >= 0 &&
+	    (r = dao_options_get_string(o, "color", u->color, sizeof u->color, err)) >= 0 &&
+	    (r = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE, &unit, err)) > 0)
+		u->unit = (float)unit;
+	dao_options_free(o);
+	return r < 0 ? r : 0;
+}
+
+void dao_ros_uri_free(struct dao_ros_uri *u)
+{
+	free(u->path);
+	u->path = NULL;
+}
+
+void dao_ros_topic_list_add(char *buf, size_t cap, const char *name, const char *enc)
+{
+	size_t len = strlen(buf);
+	if (len + 8 < cap)
+		snprintf(buf + len, cap - len, "%s%s (%s)", len ? ", " : "", name, enc);
+}
 
 int dao_ros_depth_kind(const char *enc)
 {

@@ -7,10 +7,34 @@
  * sensor_msgs Image or CameraInfo is parsed: the encodings they take, the
  * pixel copies into depthao's frames and the intrinsics from a CameraInfo.
  */
+#include <stddef.h>
 #include <stdint.h>
+
+#include <depthao/error.h>
 
 #include <depthao/frame.h>
 #include <depthao/plugin.h>
+
+/*
+ * "FILE?topic=T&unit=M&color=C" in parts (the options in any order, all
+ * optional); the options start at the last '?' followed by one of them (a
+ * file name may hold a '?'; dao_uri_path_len()).  `scheme` names the source
+ * in errors.  path is allocated: dao_ros_uri_free().
+ */
+struct dao_ros_uri {
+	char *path;
+	char topic[256];
+	char color[256];
+	float unit; /* metres per count, 0: not given */
+};
+
+extern const char *const dao_ros_uri_options[];
+int dao_ros_uri_parse(const char *uri, const char *scheme, struct dao_ros_uri *u,
+		      struct dao_error *err);
+void dao_ros_uri_free(struct dao_ros_uri *u);
+
+/* Appends "name (encoding)" to a comma-separated list of topics in buf (cap bytes). */
+void dao_ros_topic_list_add(char *buf, size_t cap, const char *name, const char *encoding);
 
 /* A depth encoding: 1 for 16-bit counts (16UC1, mono16), 2 for float metres (32FC1), else 0. */
 int dao_ros_depth_kind(const char *encoding);
