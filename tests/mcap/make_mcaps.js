@@ -6,6 +6,7 @@
 //   d16_none.mcap  unchunked (messages in the data section)
 //   d16_nosum.mcap chunked zstd, no summary, no indexes (read by a linear scan)
 //   cdepth_png.mcap / cdepth_rvl.mcap  CompressedImage "16UC1; compressedDepth png|rvl"
+//   color.mcap     d16_zstd's plus /camera/color/image_raw (bgr8, stamps 10 ms after the depth)
 //   png/NNNNNN.png, png/camera.json
 // Each with /camera/depth/camera_info (fx 60, fy 61, cx 31.5, cy 23.25).
 // usage: node make_mcaps.js OUTDIR   (exit 77 when tests/js/node_modules is absent)
@@ -134,7 +135,7 @@ const compressors = {
   lz4: (d) => ({ compression: "lz4", compressedData: execFileSync("lz4", ["-c", "-q"], { input: d }) }),
 };
 
-async function write(file, opts, depth) {
+async function write(file, opts, depth, color) {
   const w = new FileWritable();
   const mw = new McapWriter({ writable: w, ...opts });
   await mw.start({ profile: "ros2", library: "depthao tests (@mcap/core)" });
@@ -144,6 +145,9 @@ async function write(file, opts, depth) {
   const dch = await mw.registerChannel({ topic: depth.topic, messageEncoding: "cdr", schemaId: img, metadata: new Map() });
   const cch = await mw.registerChannel({ topic: "/camera/depth/camera_info", messageEncoding: "cdr", schemaId: ci, metadata: new Map() });
   const ciw = writer(CAMINFO), dw = writer(depth.def);
+  let colch;
+  if (color)
+    colch = await mw.registerChannel({ topic: "/camera/color/image_raw", messageEncoding: "cdr", schemaId: img, metadata: new Map() });
   for (let i = 0; i < FRAMES; i++) {
     const header = { stamp: stamp(i), frame_id: "camera_depth_optical_frame" };
     await mw.addMessage({ channelId: cch, sequence: i, logTime: logTime(i), publishTime: logTime(i),
@@ -153,6 +157,14 @@ async function write(file, opts, depth) {
         roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false } }) });
     await mw.addMessage({ channelId: dch, sequence: i, logTime: logTime(i) + 1000n,
       publishTime: logTime(i), data: dw.writeMessage(depth.msg(header, pixels(i))) });
+    if (color) {
+      const bgr = new Uint8Array(3 * W * H);
+      for (let k = 0; k < W * H; k++) { bgr[3 * k] = (k + i) & 255; bgr[3 * k + 1] = 40 * i; bgr[3 * k + 2] = 255 - (k & 255); }
+      const cs = { sec: header.stamp.sec, nanosec: header.stamp.nanosec + 10000000 };
+      await mw.addMessage({ channelId: colch, sequence: i, logTime: logTime(i) + 10000000n, publishTime: logTime(i),
+        data: dw.writeMessage({ header: { stamp: cs, frame_id: "color" }, height: H, width: W, encoding: "bgr8",
+          is_bigendian: 0, step: 3 * W, data: bgr }) });
+    }
   }
   await mw.end();
   fs.writeFileSync(file, Buffer.concat(w.parts));
@@ -185,6 +197,7 @@ const cdepth = (codec) => ({
   await write(path.join(out, "d16_nosum.mcap"), { ...small, compressChunk: compressors.zstd,
     useStatistics: false, useSummaryOffsets: false, useChunkIndex: false, useMessageIndex: false,
     repeatSchemas: false, repeatChannels: false, useAttachmentIndex: false, useMetadataIndex: false }, raw);
+  await write(path.join(out, "color.mcap"), { ...small, compressChunk: compressors.zstd }, raw, true);
   await write(path.join(out, "cdepth_png.mcap"), { compressChunk: compressors.zstd }, cdepth("png"));
   await write(path.join(out, "cdepth_rvl.mcap"), { compressChunk: compressors.lz4 }, cdepth("rvl"));
   for (let i = 0; i < FRAMES; i++)

@@ -77,6 +77,16 @@ open(sys.argv[2], "wb").write(d)
 PY
 expect_exit 1 "a flipped byte" -- "$DEPTHAO" process --input "$WORK/flip.mcap" --ao-out "$WORK/flip" --quiet
 grep -q "flip.mcap: byte [0-9]*: .*\(CRC\|zstd\|damaged\|record\)" "$WORK/err" || fail "flipped byte: $(cat "$WORK/err")"
+# a colour topic (bgr8): the overlay for each depth frame; the AO as without colour
+expect_exit 0 "colour" -- "$DEPTHAO" process --input "$M/color.mcap" --depth-temporal 0 \
+	--ao-out "$WORK/col-ao" --overlay-out "$WORK/col-ov" --quiet
+[ "$(ls "$WORK/col-ov" 2>/dev/null | wc -l)" -eq 5 ] || fail "colour: $(ls "$WORK/col-ov" 2>/dev/null | wc -l) overlays"
+cmp -s "$WORK/col-ao/000004.png" "$WORK/png-ao/000004.png" || fail "colour: AO 4 differs from the PNG run"
+png_is "$WORK/col-ov/000000.png" "64 48 rgb24"
+cmp -s "$WORK/col-ov/000000.png" "$WORK/col-ov/000001.png" && fail "colour: overlays 0 and 1 are the same"
+expect_exit 1 "?color= of a depth topic" -- "$DEPTHAO" process \
+	--input "$M/color.mcap?color=/camera/depth/camera_info" --ao-out "$WORK/c2" --overlay-out "$WORK/c2o" --quiet
+grep -q "no image topic '/camera/depth/camera_info' (color=)" "$WORK/err" || fail "?color=: $(cat "$WORK/err")"
 # two depth topics would be refused with both listed: ?topic= names a missing one here
 expect_exit 1 "missing topic" -- "$DEPTHAO" process --input "$M/d16_zstd.mcap?topic=/nope" \
 	--ao-out "$WORK/n" --quiet
