@@ -29,7 +29,8 @@ io_rules='
 file: core
 oni: core file
 bag: core
-plugin: core file oni bag
+mcap: core
+plugin: core file oni bag mcap
 '
 # what the core may not include: libdepthao-io's public headers, the container and
 # codec libraries, dlopen (the plugin registry is libdepthao-io's)

@@ -27,7 +27,8 @@ int process_input_is_stream(const char *input)
 {
 	size_t n = strlen(input);
 	return (n > 4 && (!strcasecmp(input + n - 4, ".oni") || !strcasecmp(input + n - 4, ".bag"))) ||
-	       strstr(input, ".bag?") || dao_uri_prefix_len(input) > 0;
+	       strstr(input, ".bag?") || (n > 5 && !strcasecmp(input + n - 5, ".mcap")) ||
+	       strstr(input, ".mcap?") || dao_uri_prefix_len(input) > 0;
 }
 
 const char *process_input_path(const char *input)

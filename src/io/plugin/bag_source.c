@@ -48,6 +48,7 @@
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 #include "plugin/playback.h"
+#include "plugin/ros_image.h"
 
 
 struct bag_source {
@@ -68,19 +69,6 @@ struct bag_source {
 	struct dao_playback_cursor play;
 };
 
-/*
- * "FILE.bag?topic=T&unit=M&color=C" in parts; the options start at the last
- * '?' followed by one of them (a file name may hold a '?'; dao_uri_path_len()).
- */
-struct bag_uri {
-	char *path;
-	char topic[256];
-	char color[256];
-	float unit;
-};
-
-static const char *const bag_options[] = {"topic", "unit", "color", NULL};
-
 static int has_bag_suffix(const char *s, size_t n)
 {
 	return n > 4 && !strncasecmp(s + n - 4, ".bag", 4);
@@ -88,48 +76,7 @@ static int has_bag_suffix(const char *s, size_t n)
 
 static int bag_probe(const char *uri)
 {
-	return has_bag_suffix(uri, dao_uri_path_len(uri, bag_options)) ? 60 : 0;
-}
-
-static int parse_uri(const char *uri, struct bag_uri *u, struct dao_error *err)
-{
-	size_t plen = dao_uri_path_len(uri, bag_options);
-	memset(u, 0, sizeof(*u));
-	if (!(u->path = strndup(uri, plen)))
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	if (!uri[plen])
-		return 0;
-	struct dao_options *o;
-	int r = dao_options_parse(&o, "bag", uri + plen + 1, bag_options, err);
-	if (r < 0)
-		return r;
-	double unit = 0;
-	if ((r = dao_options_get_string(o, "topic", u->topic, sizeof u->topic, err)) >= 0 &&
-	    (r = dao_options_get_string(o, "color", u->color, sizeof u->color, err)) >= 0 &&
-	    (r = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE, &unit, err)) > 0)
-		u->unit = (float)unit; /* metres per count */
-	dao_options_free(o);
-	return r < 0 ? r : 0;
-}
-
-/* A depth encoding: 1 for 16-bit counts, 2 for float metres, 0 otherwise. */
-static int depth_kind(const char *enc)
-{
-	if (!strcmp(enc, "16UC1") || !strcmp(enc, "mono16"))
-		return 1;
-	if (!strcmp(enc, "32FC1"))
-		return 2;
-	return 0;
-}
-
-/* Bytes a pixel of a colour encoding, 0 if it is not one the source converts. */
-static uint32_t color_bytes(const char *enc)
-{
-	if (!strcmp(enc, "rgb8") || !strcmp(enc, "bgr8"))
-		return 3;
-	if (!strcmp(enc, "rgba8") || !strcmp(enc, "bgra8"))
-		return 4;
-	return !strcmp(enc, "mono8") ? 1 : 0;
+	return has_bag_suffix(uri, dao_uri_path_len(uri, dao_ros_uri_options)) ? 60 : 0;
 }
 
 static int is_image_topic(const struct dao_bag_topic *t)
@@ -153,16 +100,8 @@ static int first_image(struct dao_bag *bag, uint32_t t, struct dao_ros_image *im
 	return 0;
 }
 
-/* Appends "name (encoding)" to a list. */
-static void list_add(char *buf, size_t cap, const char *name, const char *enc)
-{
-	size_t len = strlen(buf);
-	if (len + 8 < cap)
-		snprintf(buf + len, cap - len, "%s%s (%s)", len ? ", " : "", name, enc);
-}
-
-static int pick_topic(struct bag_source *s, const struct bag_uri *u, struct dao_ros_image *img,
-		      struct dao_error *err)
+static int pick_topic(struct bag_source *s, const struct dao_ros_uri *u,
+		      struct dao_ros_image *img, struct dao_error *err)
 {
 	struct dao_bag *bag = s->bag;
 	const char *path = dao_bag_path(bag);
@@ -174,7 +113,7 @@ static int pick_topic(struct bag_source *s, const struct bag_uri *u, struct dao_
 			goto list;
 		if ((r = first_image(bag, (uint32_t)t, img, err)) < 0)
 			return r;
-		if (!depth_kind(img->encoding))
+		if (!dao_ros_depth_kind(img->encoding))
 			return dao_error_set(err, -EINVAL,
 					     "%s: topic '%s' has images of encoding '%s', not depth "
 					     "(16UC1, mono16 or 32FC1)", path, u->topic, img->encoding);
@@ -189,14 +128,14 @@ list:
 		struct dao_ros_image im;
 		if ((r = first_image(bag, t, &im, err)) < 0)
 			return r;
-		if (depth_kind(im.encoding)) {
-			list_add(depth, sizeof(depth), tp->name, im.encoding);
+		if (dao_ros_depth_kind(im.encoding)) {
+			dao_ros_topic_list_add(depth, sizeof(depth), tp->name, im.encoding);
 			if (ndepth++ == 0) {
 				found = (int)t;
 				*img = im;
 			}
 		} else {
-			list_add(other, sizeof(other), tp->name, im.encoding);
+			dao_ros_topic_list_add(other, sizeof(other), tp->name, im.encoding);
 		}
 	}
 	if (u->topic[0])
@@ -237,7 +176,8 @@ static int first_message(struct dao_bag *bag, const char *topic, const char *typ
 }
 
 /* Intrinsics from the CameraInfo beside the depth topic, if there is one; the unit. */
-static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao_error *err)
+static int find_camera(struct bag_source *s, const struct dao_ros_uri *u,
+		       struct dao_error *err)
 {
 	const char *topic = dao_bag_topic(s->bag, s->topic)->name;
 	const char *path = dao_bag_path(s->bag);
@@ -260,37 +200,12 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 		if (dao_ros_camera_info_parse(d, n, &ci) < 0)
 			return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a "
 					     "sensor_msgs/CameraInfo", path, name);
-		struct dao_camera cam;
-		enum dao_camera_info_matrix from;
-		struct dao_error e;
 		uint32_t nd = ci.distortion_count < DAO_ROS_MAX_DISTORTION ? ci.distortion_count
 									   : DAO_ROS_MAX_DISTORTION;
-		if (ci.width != s->info.width || ci.height != s->info.height) {
-			snprintf(s->info.warning, sizeof(s->info.warning),
-				 "%.150s is for %ux%u images, the depth is %ux%u: not used", name,
-				 ci.width, ci.height, s->info.width, s->info.height);
-		} else if (dao_camera_from_camera_info(&cam, ci.width, ci.height, ci.k, ci.p, ci.d, nd,
-						       &from, &e)) {
-			/* impossible numbers are a damaged or forged calibration, not a camera */
-			return dao_error_set(err, -EINVAL,
-					     "%s: %s is damaged, fix or drop it: %s", path, name,
-					     e.message);
-		} else {
-			s->info.has_intrinsics = 1;
-			s->info.fx = cam.fx;
-			s->info.fy = cam.fy;
-			s->info.cx = cam.cx;
-			s->info.cy = cam.cy;
-			s->info.has_fov = 1;
-			dao_camera_fov(&cam, &s->info.hfov, &s->info.vfov);
-			if (from != DAO_CAMERA_INFO_K)
-				snprintf(s->info.warning, sizeof(s->info.warning),
-					 "%.120s has lens distortion: the depth must be rectified "
-					 "(depthao does not undistort; used as it is); intrinsics %s",
-					 name, from == DAO_CAMERA_INFO_P_RECTIFIED
-						       ? "from P, the rectified image's"
-						       : "from K (no usable P)");
-		}
+		int r = dao_ros_camera_info_intrinsics(&s->info, path, name, ci.width, ci.height,
+						       ci.k, ci.p, ci.d, nd, err);
+		if (r < 0)
+			return r;
 	}
 	s->unit = u->unit;
 	if (rs && !s->unit) {
@@ -315,7 +230,7 @@ static int find_camera(struct bag_source *s, const struct bag_uri *u, struct dao
 }
 
 /* The colour topic: ?color=, else the one image topic in a colour encoding. */
-static int pick_color(struct bag_source *s, const struct bag_uri *u, uint64_t max_pixels,
+static int pick_color(struct bag_source *s, const struct dao_ros_uri *u, uint64_t max_pixels,
 		      struct dao_error *err)
 {
 	struct dao_bag *bag = s->bag;
@@ -331,14 +246,14 @@ static int pick_color(struct bag_source *s, const struct bag_uri *u, uint64_t ma
 			continue;
 		if ((r = first_image(bag, t, &im, err)) < 0)
 			return r;
-		if (u->color[0] && !color_bytes(im.encoding))
+		if (u->color[0] && !dao_ros_color_bytes(im.encoding))
 			return dao_error_set(err, -EINVAL,
 					     "%s: topic '%s' has images of encoding '%s', not colour "
 					     "(rgb8, bgr8, rgba8, bgra8 or mono8)", path, u->color,
 					     im.encoding);
-		if (!color_bytes(im.encoding))
+		if (!dao_ros_color_bytes(im.encoding))
 			continue;
-		list_add(list, sizeof(list), tp->name, im.encoding);
+		dao_ros_topic_list_add(list, sizeof(list), tp->name, im.encoding);
 		if (n++ == 0) {
 			found = (int)t;
 			img = im;
@@ -375,7 +290,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			uint64_t max_pixels, void **state, struct dao_error *err)
 {
 	struct bag_source *s = calloc(1, sizeof(*s));
-	struct bag_uri u = {0};
+	struct dao_ros_uri u = {0};
 	struct dao_ros_image img;
 	int r;
 	if (!s)
@@ -386,7 +301,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 				  (double)opts->depth_unit);
 		goto fail;
 	}
-	if ((r = parse_uri(uri, &u, err)) < 0)
+	if ((r = dao_ros_uri_parse(uri, "bag", &u, err)) < 0)
 		goto fail;
 	/* a chunk holds at least one image (up to 4 bytes a pixel), maybe colour beside it */
 	if ((r = dao_bag_open(u.path, 8 * max_pixels + (16u << 20), &s->bag, err)) < 0)
@@ -402,7 +317,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 		goto fail;
 	}
 	snprintf(s->encoding, sizeof(s->encoding), "%s", img.encoding);
-	s->is_float = depth_kind(img.encoding) == 2;
+	s->is_float = dao_ros_depth_kind(img.encoding) == 2;
 	s->info.width = img.width;
 	s->info.height = img.height;
 	if ((r = find_camera(s, &u, err)) < 0)
@@ -437,11 +352,11 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	if ((r = dao_frame_alloc(&s->depth, s->info.format, img.width, img.height, err)) < 0)
 		goto fail;
 	dao_playback_init(&s->play, opts, s->count);
-	free(u.path);
+	dao_ros_uri_free(&u);
 	*state = s;
 	return 0;
 fail:
-	free(u.path);
+	dao_ros_uri_free(&u);
 	dao_frame_free(&s->depth);
 	dao_frame_free(&s->color);
 	dao_bag_close(s->bag);
@@ -467,14 +382,6 @@ static int bag_start(void *state, struct dao_error *err)
 	(void)err;
 	dao_playback_restart(&s->play);
 	return 0;
-}
-
-static int host_is_big_endian(void)
-{
-	const uint16_t one = 1;
-	uint8_t b;
-	memcpy(&b, &one, 1);
-	return b == 0;
 }
 
 /* Decodes message `i` into s->depth. */
@@ -504,18 +411,8 @@ static int decode(struct bag_source *s, uint32_t i, struct dao_error *err)
 				     "%s: message %u of '%s': %u bytes of data for %u rows of step %u "
 				     "(%ux%u, %u bytes a pixel)", path, i, topic, img.data_len,
 				     img.height, img.step, img.width, img.height, bpp);
-	int swap = !!img.is_bigendian != host_is_big_endian();
-	for (uint32_t y = 0; y < img.height; y++) {
-		const uint8_t *src = img.data + (size_t)y * img.step;
-		uint8_t *dst = (uint8_t *)s->depth.data + (size_t)y * (size_t)s->depth.stride;
-		if (!swap) {
-			memcpy(dst, src, (size_t)img.width * bpp);
-			continue;
-		}
-		for (uint32_t x = 0; x < img.width; x++)
-			for (uint32_t k = 0; k < bpp; k++)
-				dst[x * bpp + k] = src[x * bpp + bpp - 1 - k];
-	}
+	dao_ros_copy_depth(&s->depth, img.data, img.step, bpp,
+			   !!img.is_bigendian != dao_ros_host_is_big_endian());
 	s->depth.depth_unit = s->is_float ? 0.0f : s->unit;
 	s->depth.timestamp_ns = img.header.stamp_ns ? img.header.stamp_ns : rec_ns;
 	s->depth.sequence = (uint64_t)i + 1;
@@ -538,7 +435,7 @@ static int color_message(struct bag_source *s, uint32_t i, struct dao_ros_image 
 	if (dao_ros_image_parse(d, n, img) < 0)
 		return dao_error_set(err, -EINVAL, "%s: message %u of '%s' is not a sensor_msgs/Image",
 				     path, i, topic);
-	uint32_t bpp = color_bytes(img->encoding);
+	uint32_t bpp = dao_ros_color_bytes(img->encoding);
 	if (img->width != s->color.width || img->height != s->color.height ||
 	    strcmp(img->encoding, s->color_encoding))
 		return dao_error_set(err, -EINVAL,
@@ -588,21 +485,7 @@ static int decode_color(struct bag_source *s, struct dao_error *err)
 	uint64_t ct;
 	if ((r = color_message(s, best, &img, &ct, err)) < 0)
 		return r;
-	const uint32_t bpp = color_bytes(img.encoding);
-	const int bgr = img.encoding[0] == 'b';
-	for (uint32_t y = 0; y < img.height; y++) {
-		const uint8_t *src = img.data + (size_t)y * img.step;
-		uint8_t *dst = (uint8_t *)s->color.data + (size_t)y * (size_t)s->color.stride;
-		for (uint32_t x = 0; x < img.width; x++, src += bpp, dst += 3) {
-			if (bpp == 1) {
-				dst[0] = dst[1] = dst[2] = src[0];
-				continue;
-			}
-			dst[0] = src[bgr ? 2 : 0];
-			dst[1] = src[1];
-			dst[2] = src[bgr ? 0 : 2];
-		}
-	}
+	dao_ros_color_to_rgb(&s->color, img.data, img.step, img.encoding);
 	s->color.timestamp_ns = ct;
 	s->color.sequence = (uint64_t)best + 1;
 	return 0;

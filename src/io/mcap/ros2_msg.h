@@ -1,0 +1,55 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_MCAP_ROS2_MSG_H
+#define DAO_MCAP_ROS2_MSG_H
+
+/*
+ * The ROS 2 messages the MCAP source reads, from their CDR form (cdr.h):
+ * sensor_msgs/msg/Image, CompressedImage and CameraInfo.  A ROS 2
+ * std_msgs/msg/Header has no seq: stamp (builtin_interfaces/Time: sec
+ * int32, nanosec uint32) then frame_id.  The parsers return 0, -EINVAL
+ * for a message that does not fit its type, or -ENOTSUP for an
+ * encapsulation other than XCDR1.
+ */
+#include <stdint.h>
+
+struct dao_ros2_header {
+	uint64_t stamp_ns; /* 0 for a stamp before 1970 */
+};
+
+/* sensor_msgs/msg/Image; data points into the message. */
+struct dao_ros2_image {
+	struct dao_ros2_header header;
+	uint32_t height, width;
+	char encoding[32];
+	uint8_t is_bigendian;
+	uint32_t step;
+	const uint8_t *data;
+	uint32_t data_len;
+};
+
+/* sensor_msgs/msg/CompressedImage; data points into the message. */
+struct dao_ros2_compressed_image {
+	struct dao_ros2_header header;
+	char format[64]; /* "jpeg", "16UC1; compressedDepth png" ... */
+	const uint8_t *data;
+	uint32_t data_len;
+};
+
+#define DAO_ROS2_MAX_DISTORTION 16
+
+/* sensor_msgs/msg/CameraInfo: the parts used (K, R, P row-major). */
+struct dao_ros2_camera_info {
+	struct dao_ros2_header header;
+	uint32_t height, width;
+	char distortion_model[32];
+	uint32_t distortion_count;
+	double d[DAO_ROS2_MAX_DISTORTION];
+	double k[9], r[9], p[12];
+};
+
+int dao_ros2_image_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_image *img);
+int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
+				    struct dao_ros2_compressed_image *img);
+int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_camera_info *ci);
+
+#endif
