@@ -12,7 +12,7 @@
  * 4 cm wide on screen is taken to be 4 cm deep (on noisy depth whose
  * dropouts are not filled, a column's run of 5 px or more whose chord is
  * under half a spacing, with a hole of 2 px or more beside an end, gets the
- * bound instead: a board's face may lie hidden in the hole; thickness.c,
+ * bound instead: a board's face may lie hidden in the hole; thickness_run.c,
  * hidden_face).  Where a run ends at an occluder (a step to something
  * nearer) or at the image border, the surface goes on out of sight and its
  * extent is unknown.  Where a run in front
@@ -25,9 +25,10 @@
  * something farther and goes straight to its end (or to an edge face of a
  * few pixels), the face at right angles behind that end would show if the
  * object were thick: its absence bounds the thickness, even where the run's
- * other end is not an outline (a board standing on the floor; thickness.c,
- * face_bound), or at a short hole with something farther beyond it (the
- * hole can hide as many pixels of edge face: noisy sensors lose them).  The
+ * other end is not an outline (a board standing on the floor;
+ * thickness_bound.c, face_bound_at), or at a short hole with something
+ * farther beyond it (the hole can hide as many pixels of edge face: noisy
+ * sensors lose them).  The
  * thickness is the smaller of the row's and the column's value, at most the
  * bound.
  */
@@ -189,7 +190,7 @@ void dao_thickness_rows(const struct dao_thickness_setup *t, const float *z, flo
  * Columns [x0, x1), after the rows: thick = min(thick, the extent along the
  * column), and where pl is not NULL, pl->thick the same for those columns
  * (dao_gtao_planes_fill_thickness_cols).  Swept down and up the rows over
- * blocks of DAO_THICKNESS_COL_BLOCK columns side by side (thickness.c), with
+ * blocks of DAO_THICKNESS_COL_BLOCK columns side by side (thickness_passes.c), with
  * `scratch`: dao_thickness_cols_scratch(height) floats, which no other call uses at
  * the same time.
  */

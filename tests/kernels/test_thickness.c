@@ -267,7 +267,7 @@ static void test_run_holes(void **state)
 }
 
 /*
- * A face hidden in a hole across the baseline (thickness.c, hidden_face): on
+ * A face hidden in a hole across the baseline (thickness_run.c, hidden_face): on
  * noisy depth whose dropouts are not filled, a run of 10 px at 2 m (3.8 cm,
  * under half the 0.11 m spacing) ended along a column by a hole of 2 px or
  * more with something farther beyond it gets the bound, as the lowest board of
@@ -739,8 +739,8 @@ static void test_boards_grazing(void **state)
  * absence of a visible edge face every board pixel kept the bound, 0.5 m
  * (15 and 5 times 3 times its rays' length through the board).  The boards'
  * top faces show over less than a pixel or two in the columns: the bound
- * (thickness.c, face_bound) gives the boards about their thickness, and the
- * box, whose top face shows, is not made thin.  The same in the blocked
+ * (thickness_bound.c, face_bound_at) gives the boards about their thickness, and
+ * the box, whose top face shows, is not made thin.  The same in the blocked
  * passes as in the references.
  */
 static void upright_boards_scene(struct synth_scene *s)
@@ -858,7 +858,7 @@ static void test_boards_upright(void **state)
 	/* medians 1.11 and 1.15 with the value made for the middle of the bound's
 	 * interval (2.2 and 1.7 with the bound itself; 15.6 before it); at the
 	 * bound 0.7 % and 0 (the 1 cm board's far end, whose side face looks away:
-	 * 5.5 % before the bound carried across, thickness.c) */
+	 * 5.5 % before the bound carried across, thickness_bound_across.c) */
 	expect_upright_boards(&b.s, &b.cam, b.t, b.inside, "", 0.01);
 	expect_blocked_same(&b.cam, b.img.depth, 0.5f, 0.0f);
 	expect_blocked_same(&b.cam, b.img.depth, 0.5f, 0.11f);
@@ -866,9 +866,10 @@ static void test_boards_upright(void **state)
 }
 
 /*
- * A bound lent by the lines beside (thickness.c, neighbour_bound; docs/design/thickness.md,
- * "Noisy input"): under structured light a board's columns came out bimodal,
- * each column's face bound holding or failing on its own few noisy pixels,
+ * A bound lent by the lines beside (thickness_bound_across.c, neighbour_bound;
+ * docs/design/thickness.md, "Noisy input"): under structured light a board's
+ * columns came out bimodal, each column's face bound holding or failing on its
+ * own few noisy pixels,
  * and a third of the panels' board pixels kept the bound.  Here the upright
  * boards, clean, with the top pixel of every third column moved 3 cm towards
  * the camera (in front of the broad face by more than the noise allowed, so
@@ -1380,7 +1381,7 @@ static void test_chair_dropouts(void **state)
 }
 
 /*
- * Small images and their borders (thickness.c, dao_thickness_fill_rows and
+ * Small images and their borders (thickness_fill.c, dao_thickness_fill_rows and
  * neighbour_bound): widths and heights of 1 to 13 pixels (the fill looks at four
  * pixels at a time, then at the row's tail), holes of 0, NaN and negative depth up
  * to the borders, boards with a lip at their ends, noise.  The fill is its rule
