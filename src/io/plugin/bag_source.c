@@ -202,8 +202,8 @@ static int find_camera(struct bag_source *s, const struct dao_ros_uri *u,
 					     "sensor_msgs/CameraInfo", path, name);
 		uint32_t nd = ci.distortion_count < DAO_ROS_MAX_DISTORTION ? ci.distortion_count
 									   : DAO_ROS_MAX_DISTORTION;
-		int r = dao_ros_camera_info_intrinsics(&s->info, path, name, ci.width, ci.height,
-						       ci.k, ci.p, ci.d, nd, err);
+		r = dao_ros_camera_info_intrinsics(&s->info, path, name, ci.width, ci.height, ci.k,
+						   ci.p, ci.d, nd, err);
 		if (r < 0)
 			return r;
 	}
