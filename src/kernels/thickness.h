@@ -19,9 +19,7 @@
  * ends in a slab's edge face (a straight stretch, a convex crease, a straight broad
  * face), the slab's thickness is the edge's extent across the broad face
  * and each pixel of the run gets the length of its ray through the slab
- * (scaled, below).  Where the pixels beyond a run's end in front recede on
- * one plane (a board's face seen at a grazing angle, each pixel a step
- * farther), the run is that slab's edge face.  Where a run ends at a step to
+ * (scaled, below).  Where a run ends at a step to
  * something farther and goes straight to its end (or to an edge face of a
  * few pixels), the face at right angles behind that end would show if the
  * object were thick: its absence bounds the thickness, even where the run's
@@ -52,17 +50,6 @@
  * chosen on the tune split (README.md: 1, 2, 3 and 4 tried).
  */
 #define DAO_THICKNESS_SLAB_SCALE 3.0f
-
-/*
- * Where a pixel's ray meets a slab's broad face at a grazing angle (the sine
- * below this), the run's chord does not cap the slab's value: a board seen
- * almost along its plane shows a run no longer than its edge (a side panel:
- * 3 cm, as a post would give) or its depth (a shelf board edge-on: 32 cm),
- * while the rays run through it for up to 36 cm (0.5 m times 3).  Chosen on
- * shelves-below (README.md, "Thickness from the image": 0.05, 0.1, 0.15, 0.2
- * and 0.5 tried; from 0.2 the table-above bench's corner gets thicker).
- */
-#define DAO_SLAB_GRAZING_SIN 0.1f
 
 struct dao_thickness_setup {
 	int width, height;

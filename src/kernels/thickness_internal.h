@@ -140,9 +140,8 @@ static inline int cross_ok(const struct line_geom *g, int c)
  * (u0 + k du, v0 + k dv).  Its chord spans from the outer edge of its first
  * pixel to the outer edge of its last (a run of one pixel is a pixel wide),
  * each end at its own depth.  Where an end of the run is a slab's edge face
- * (slab_edge) or the run is the edge face of a slab receding beyond an end
- * (receding_face), each pixel's ray crosses the slab, of thickness t along
- * the face direction f, over t / sin(ray, f).
+ * (slab_edge), each pixel's ray crosses the slab, of thickness t along the
+ * face direction f, over t / sin(ray, f).
  */
 struct run_est {
 	float value; /* every pixel's, without slabs */
@@ -171,11 +170,8 @@ int face_bound_at(const struct line_geom *g, int n, int s, int e, int dir, int f
 		  struct vec p0, struct vec pf, struct vec pm, struct face_bound *b);
 void face_bound_pixels(const struct line_geom *g, int s, int e, int dir, struct face_bound *b);
 
-/* thickness_bound_across.c: a bound from the lines across, carried along the outline or
- * lent by the lines beside */
+/* thickness_bound_across.c: a bound from the lines across, carried along the outline */
 __attribute__((noinline)) int carried_bound(const struct line_geom *g, int n, int s, int e,
 					    int dir, struct face_bound *b);
-__attribute__((noinline)) int neighbour_bound(const struct line_geom *g, int n, int s, int e,
-					      int dir, struct face_bound *b);
 
 #endif

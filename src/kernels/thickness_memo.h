@@ -28,7 +28,6 @@
 struct fb_memo_entry {
 	int line, k, dir; /* dir 0: empty */
 	int len;          /* fb_memo_len of the run */
-	int full;         /* len from the whole run from k (else a cut of it: carried_bound) */
 	int ok;
 	struct face_bound b;
 };
@@ -59,7 +58,7 @@ static inline int fb_memo_len(const struct line_geom *g, int len)
 
 /* Whether the end of the run s..e (dir as face_bound's) can have a bound: a direct step
  * to farther, or a hole of at most DAO_BOUND_HOLE_PX px with something farther by a step
- * beyond it (*h its pixels; else 0).  carried_bound and neighbour_bound need it too. */
+ * beyond it (*h its pixels; else 0).  carried_bound needs it too. */
 static inline __attribute__((always_inline)) int end_beyond(const struct line_geom *g, int n,
 							    int end, int dir, int *h)
 {
@@ -92,11 +91,10 @@ static inline __attribute__((always_inline)) int bound_end(const struct line_geo
 }
 
 /* face_bound without b's pixels (k0, k1), through the memo, at an end that passed
- * bound_end (h: its hole); full: s..e is the whole run from the end inwards, or at
- * least FB_LOOKED_NOISY of it (fb_memo_entry). */
+ * bound_end (h: its hole). */
 static inline __attribute__((always_inline)) int face_bound_memo_at(const struct line_geom *g,
 								    int n, int s, int e,
-								    int dir, int h, int full,
+								    int dir, int h,
 								    struct face_bound *b)
 {
 	const int end = dir < 0 ? e : s;
@@ -151,7 +149,6 @@ static inline __attribute__((always_inline)) int face_bound_memo_at(const struct
 		me->k = end;
 		me->dir = dir;
 		me->len = mlen;
-		me->full = full;
 		me->ok = ok;
 		if (ok)
 			me->b = *b;
@@ -165,7 +162,7 @@ static inline __attribute__((always_inline)) int face_bound_memo(const struct li
 								 struct face_bound *b)
 {
 	int h;
-	return bound_end(g, n, s, e, dir, &h) && face_bound_memo_at(g, n, s, e, dir, h, 0, b);
+	return bound_end(g, n, s, e, dir, &h) && face_bound_memo_at(g, n, s, e, dir, h, b);
 }
 
 /* The bound at the end of the run s..e of a line of n pixels (dir as slab_edge's);

@@ -32,85 +32,29 @@ static inline int outline(const float *z, size_t step, int n, int k, int dir)
 }
 
 /* Noisy depth whose dropouts are not filled (structured light, active stereo, ToF): where
- * the bound lent by the lines beside and the hidden face apply. */
+ * the hidden face applies. */
 static inline int noisy_unfilled(const struct dao_thickness_setup *t)
 {
 	return t->noise_k > 0.0f && t->fill_px == 0;
 }
 
-/* Both ends of the run s..e: *count bounds in b (own, carried or lent). */
+/* Both ends of the run s..e: *count bounds in b (own or carried). */
 static void run_face_bounds(const struct line_geom *g, int n, int s, int e, int *count,
 			    struct face_bound b[2])
 {
-	/* (an end that fails bound_end has none of the three) */
-	const int lend = noisy_unfilled(g->t);
+	/* (an end that fails bound_end has neither) */
 	*count = 0;
 	for (int dir = -1; dir <= 1; dir += 2) {
 		int h;
 		if (!bound_end(g, n, s, e, dir, &h))
 			continue;
 		struct face_bound *bb = &b[*count];
-		if (face_bound_memo_at(g, n, s, e, dir, h, 1, bb))
+		if (face_bound_memo_at(g, n, s, e, dir, h, bb))
 			face_bound_pixels(g, s, e, dir, bb);
-		else if (!carried_bound(g, n, s, e, dir, bb) &&
-			 !(lend && neighbour_bound(g, n, s, e, dir, bb)))
+		else if (!carried_bound(g, n, s, e, dir, bb))
 			continue;
 		(*count)++;
 	}
-}
-
-/*
- * A board seen almost along its plane (README.md, "Thickness from the
- * image"): beyond the end of a run in front (dir = -1 before its first pixel,
- * +1 after its last) its broad face recedes at a grazing angle, each pixel a
- * step farther than the last, so the run is only the board's edge face and
- * the face's pixels are runs of their own.  On a plane 1/z is linear along
- * the line: the two pixels out, j1 and j2, must recede (1/z falling by sg a
- * pixel) faster than the run's face does by more than half of that (a
- * crease), the two lines must meet within 1.25 px of the end pixel, and a
- * third point must not put j1 and j2 on a background: the end pixel lies on
- * their line (within 5 % of sg), or the pixel after j2 is at least a step sg
- * farther (the face going on, or the background behind it; where it is
- * nearer or level, j2 was the background).  On success, as slab_edge: the
- * face's direction and the run's extent across it, t.
- */
-#define DAO_RECEDE_CREASE 0.5f
-#define DAO_RECEDE_MEET 1.25f
-#define DAO_RECEDE_TOL 0.05f
-
-static int receding_face(const struct line_geom *g, int n, int s, int e, int dir,
-			 struct vec *face, float *t)
-{
-	const int end = dir < 0 ? s : e, j1 = end + dir, j2 = end + 2 * dir, j3 = end + 3 * dir;
-	if (e - s < 2 || j2 < 0 || j2 >= n)
-		return 0;
-	const float *z = g->z;
-	const size_t st = g->step;
-	const float z1 = z[(size_t)j1 * st], z2 = z[(size_t)j2 * st];
-	if (!(z1 > 0.0f) || !(z2 > z1))
-		return 0;
-	const float wi1 = 1.0f / z[(size_t)(end - dir) * st];
-	const float wi2 = 1.0f / z[(size_t)(end - 2 * dir) * st];
-	const float wj1 = 1.0f / z1, wj2 = 1.0f / z2;
-	const float sr = wi1 - wi2, sg = wj2 - wj1, den = sr - sg;
-	if (!(den > DAO_RECEDE_CREASE * -sg))
-		return 0;
-	/* the lines meet m = num / den pixels out from the end */
-	const float num = wj1 - wi1 - sg - sr;
-	if (num < -DAO_RECEDE_MEET * den || num > DAO_RECEDE_MEET * den)
-		return 0;
-	const float tol = DAO_RECEDE_TOL * -sg;
-	int third = fabsf(wj1 - 1.0f / z[(size_t)end * st] - sg) <= tol;
-	if (!third && j3 >= 0 && j3 < n && z[(size_t)j3 * st] > 0.0f)
-		third = 1.0f / z[(size_t)j3 * st] - wj2 <= sg + tol;
-	if (!third)
-		return 0;
-	const int far = dir < 0 ? e : s;
-	const struct vec p1 = line_pos(g, (float)j1, z1), p2 = line_pos(g, (float)j2, z2);
-	const struct vec pout = line_pos(g, (float)far - 0.5f * (float)dir, z[(size_t)far * st]);
-	*face = vunit(vsub(p2, p1));
-	*t = vcross_len(vsub(pout, p1), *face);
-	return 1;
 }
 
 /*
@@ -191,9 +135,6 @@ __attribute__((noinline)) void run_estimate(const struct line_geom *lg, int n, i
 			r->slabs += slab_edge(&g, s, e, -1, &r->face[r->slabs], &r->slab_t[r->slabs]);
 			r->slabs += slab_edge(&g, s, e, 1, &r->face[r->slabs], &r->slab_t[r->slabs]);
 		}
-		for (int dir = -1; dir <= 1 && r->slabs < 2; dir += 2)
-			r->slabs += receding_face(&g, n, s, e, dir, &r->face[r->slabs],
-						  &r->slab_t[r->slabs]);
 	}
 	run_face_bounds(&g, n, s, e, &r->bounds, r->bound);
 }

@@ -123,15 +123,9 @@ __attribute__((noinline)) float run_slab_value(const struct line_geom *g,
 {
 	const struct vec p = line_pos(g, (float)k, g->z[(size_t)k * g->step]);
 	const float lp = sqrtf(vdot(p, p));
-	float vk = r->value, sns[2];
-	/* the chord caps no slab the ray meets at a grazing angle (thickness.h) */
-	for (int q = 0; q < r->slabs; q++) {
-		sns[q] = vcross_len(p, r->face[q]);
-		if (sns[q] < DAO_SLAB_GRAZING_SIN * lp)
-			vk = g->t->max;
-	}
+	float vk = r->value;
 	for (int q = 0; q < r->slabs; q++)
 		/* the ray crosses the slab over t / sin(ray, face) = t |p| / |p x f| */
-		vk = slab_cap(vk, r->slab_t[q], lp, sns[q], g->t->spacing);
+		vk = slab_cap(vk, r->slab_t[q], lp, vcross_len(p, r->face[q]), g->t->spacing);
 	return vk;
 }
