@@ -504,6 +504,46 @@ static int index_chunk(struct dao_mcap *m, uint32_t ci, const struct dao_mcap_ch
 }
 
 /*
+ * One chunk index record of the summary (content c, len bytes, at pos): the
+ * chunk it points at checked against it (place, size, compression, limits)
+ * and its messages indexed.  summary_start bounds the data section.
+ */
+static int summary_chunk_index(struct dao_mcap *m, uint64_t summary_start, const uint8_t *c,
+			       uint64_t len, uint64_t pos, struct dao_error *err)
+{
+	struct dao_mcap_chunk_index x;
+	struct chunk ch = {0};
+	int r;
+	if (dao_mcap_parse_chunk_index(c, len, &x) < 0)
+		return corrupt(m, pos, "a chunk index record is damaged", err);
+	/* the chunk record: opcode, length, fixed fields, compression, records */
+	uint64_t head = DAO_MCAP_RECORD_HEADER + DAO_MCAP_CHUNK_FIXED + 4 +
+			(uint64_t)x.compression.len + 8;
+	if (x.chunk_start_offset < DAO_MCAP_MAGIC_LEN || x.chunk_start_offset > summary_start ||
+	    x.chunk_length > summary_start - x.chunk_start_offset ||
+	    x.chunk_length != head + x.compressed_size)
+		return corrupt(m, pos, "a chunk index points outside the data section or at a "
+			       "chunk of another size", err);
+	ch.pos = x.chunk_start_offset;
+	ch.data_pos = ch.pos + head;
+	ch.data_len = x.compressed_size;
+	ch.size = x.uncompressed_size;
+	uint8_t h[DAO_MCAP_RECORD_HEADER + DAO_MCAP_CHUNK_FIXED];
+	if ((r = parse_compression(m, x.compression, &ch.comp, pos, err)) < 0 ||
+	    (r = check_chunk_size(m, &ch, err)) < 0 ||
+	    (r = read_at(m, ch.pos, h, sizeof h, err)) < 0)
+		return r;
+	if (h[0] != DAO_MCAP_OP_CHUNK ||
+	    dao_mcap_rd64(h + 1) != x.chunk_length - DAO_MCAP_RECORD_HEADER ||
+	    dao_mcap_rd64(h + DAO_MCAP_RECORD_HEADER + 16) != ch.size)
+		return corrupt(m, ch.pos, "a chunk index points at no chunk of its size", err);
+	ch.crc = dao_mcap_rd32(h + DAO_MCAP_RECORD_HEADER + 24);
+	if ((r = add_chunk(m, &ch, err)) < 0)
+		return r;
+	return index_chunk(m, m->nchunks - 1, &x, err);
+}
+
+/*
  * The summary section, when the footer has one: its schemas, channels and
  * chunk indexes.  1 if it indexes every message (chunk indexes present), 0
  * if the data section must be scanned.
@@ -566,44 +606,8 @@ static int read_summary(struct dao_mcap *m, struct dao_error *err)
 			else if (pass == 0 && op == DAO_MCAP_OP_CHANNEL)
 				r = add_channel(m, c, len, pos, err);
 			else if (pass == 1 && op == DAO_MCAP_OP_CHUNK_INDEX) {
-				struct dao_mcap_chunk_index x;
-				struct chunk ch = {0};
-				if (dao_mcap_parse_chunk_index(c, len, &x) < 0) {
-					r = corrupt(m, pos, "a chunk index record is damaged", err);
-					goto out;
-				}
-				/* the chunk record: opcode, length, fixed fields, compression, records */
-				uint64_t head = DAO_MCAP_RECORD_HEADER + DAO_MCAP_CHUNK_FIXED + 4 +
-						(uint64_t)x.compression.len + 8;
-				if (x.chunk_start_offset < DAO_MCAP_MAGIC_LEN ||
-				    x.chunk_start_offset > f.summary_start ||
-				    x.chunk_length > f.summary_start - x.chunk_start_offset ||
-				    x.chunk_length != head + x.compressed_size) {
-					r = corrupt(m, pos, "a chunk index points outside the data section "
-						    "or at a chunk of another size", err);
-					goto out;
-				}
-				ch.pos = x.chunk_start_offset;
-				ch.data_pos = ch.pos + head;
-				ch.data_len = x.compressed_size;
-				ch.size = x.uncompressed_size;
-				uint8_t h[DAO_MCAP_RECORD_HEADER + DAO_MCAP_CHUNK_FIXED];
-				if ((r = parse_compression(m, x.compression, &ch.comp, pos, err)) < 0 ||
-				    (r = check_chunk_size(m, &ch, err)) < 0 ||
-				    (r = read_at(m, ch.pos, h, sizeof h, err)) < 0)
-					goto out;
-				if (h[0] != DAO_MCAP_OP_CHUNK ||
-				    dao_mcap_rd64(h + 1) != x.chunk_length - DAO_MCAP_RECORD_HEADER ||
-				    dao_mcap_rd64(h + DAO_MCAP_RECORD_HEADER + 16) != ch.size) {
-					r = corrupt(m, ch.pos, "a chunk index points at no chunk of its "
-						    "size", err);
-					goto out;
-				}
-				ch.crc = dao_mcap_rd32(h + DAO_MCAP_RECORD_HEADER + 24);
-				if ((r = add_chunk(m, &ch, err)) < 0 ||
-				    (r = index_chunk(m, m->nchunks - 1, &x, err)) < 0)
-					goto out;
-				nindex++;
+				r = summary_chunk_index(m, f.summary_start, c, len, pos, err);
+				nindex += r >= 0;
 			}
 			if (r < 0)
 				goto out;
