@@ -43,7 +43,7 @@ PACKAGES=(
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good
 	python3-gi gir1.2-gstreamer-1.0
 	libmicrohttpd-dev libturbojpeg0-dev chromium chromium-driver
-	libzstd-dev libsqlite3-dev libwebsockets-dev protobuf-compiler
+	libzstd-dev libsqlite3-dev libwebsockets-dev protobuf-compiler lz4
 )
 
 usage() {

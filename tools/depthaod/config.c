@@ -341,9 +341,11 @@ static int on_pair(void *user, const char *section, const char *key, const char 
 
 int config_load(struct daemon_config *c, const char *path, char *msg, size_t len)
 {
-	if (strlen(path) >= sizeof c->path)
+	const size_t n = strlen(path);
+	if (n >= sizeof c->path)
 		return fail(msg, len, "%s: path too long", path);
-	snprintf(c->path, sizeof c->path, "%s", path);
+	/* (memcpy: gcc 12 with UBSan's checks saw a null %s argument in snprintf here) */
+	memcpy(c->path, path, n + 1);
 	if (!strcmp(path, "/dev/null"))
 		return 0; /* an empty configuration: everything from --set, --source, --sink */
 	struct dao_error err;
