@@ -69,14 +69,31 @@ struct dao_noise_grid {
 	float *scratch;           /* cw * ch floats for the filling of empty cells */
 	float frame_area, frame_link, frame_w, frame_slope; /* medians over the usable cells */
 	int usable_cells;         /* cells with enough blocks; 0: nothing measured */
+	/* the block statistics of one block row (dao_noise_row_ref or a kernel set's) */
+	void (*row)(const float *z, int stride, int nblocks, float *out);
+	/* the sorting networks of the cells' medians (noise_estimate.c): comparators */
+	unsigned char net_blocks[64][2], net_pairs[576][2];
+	int net_blocks_count, net_pairs_count;
 };
 
 /* Allocates the grid of a w x h frame (the only allocation). */
 int dao_noise_grid_init(struct dao_noise_grid *g, int width, int height);
 void dao_noise_grid_free(struct dao_noise_grid *g);
 
-/* Block statistics of the block rows [by0, by1) from depth z (m, 0 = no data). */
+/* Block statistics of the block rows [by0, by1) from depth z (m, 0 = no data),
+ * by g->row (the reference unless the caller set a kernel set's). */
 void dao_noise_blocks(struct dao_noise_grid *g, const float *z, int by0, int by1);
+/* The same by the scalar reference. */
+void dao_noise_blocks_ref(struct dao_noise_grid *g, const float *z, int by0, int by1);
+
+/* The statistics of the nblocks blocks of the 8 rows from z (stride floats
+ * apart) into out (DAO_NOISE_BLOCK_STATS per block): the scalar reference,
+ * and per kernel set (noise_blocks_simd.inc.c; bit-identical to it). */
+void dao_noise_row_ref(const float *z, int stride, int nblocks, float *out);
+void dao_noise_row_generic(const float *z, int stride, int nblocks, float *out);
+void dao_noise_row_sse41(const float *z, int stride, int nblocks, float *out);
+void dao_noise_row_avx2(const float *z, int stride, int nblocks, float *out);
+void dao_noise_row_avx512(const float *z, int stride, int nblocks, float *out);
 
 /* Cells from the blocks, and the frame's medians (after dao_noise_blocks on all rows). */
 void dao_noise_cells(struct dao_noise_grid *g);
@@ -85,6 +102,8 @@ void dao_noise_cells(struct dao_noise_grid *g);
  * in any order, on any thread), then, after all rows, the frame's medians
  * and the filling of the empty cells. */
 void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1);
+/* The same by ranks, a cell at a time: the oracle of dao_noise_cell_rows. */
+void dao_noise_cell_rows_ref(struct dao_noise_grid *g, int cy0, int cy1);
 void dao_noise_cells_finish(struct dao_noise_grid *g);
 
 /* One cell again from z (its blocks, then the medians; the other cells and

@@ -831,6 +831,7 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 		if (moved < 0)
 			dao_noise_reuse_restart(nr); /* a cut: all again */
 	}
+	g->row = job->k.noise_row;
 	if (p->noise_interval <= 1 || dao_noise_reuse_due(nr)) {
 		dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
 		dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);

@@ -1,4 +1,5 @@
 /* SPDX-License-Identifier: MIT */
+#include "depth/noise_estimate.h"
 #include "depth/prefilter.h"
 #include "kernels/gtao_simd.h"
 #include "normals/normals.h"
@@ -42,6 +43,7 @@ static void hbao_reference(const struct dao_variant_setup *v, const float *z,
 		.denoise_plane = dao_denoise_plane_##isa,                                    \
 		.normals = dao_normals_from_depth_##isa, .shade = dao_shade_##isa,           \
 		.temporal_depth = dao_temporal_depth_##isa,                                  \
+		.noise_row = dao_noise_row_##isa,                                            \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -74,6 +76,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.normals = dao_normals_from_depth,
 			.shade = dao_shade,
 			.temporal_depth = dao_temporal_depth_ref,
+			.noise_row = dao_noise_row_ref,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

@@ -42,6 +42,8 @@ struct dao_kernels {
 			int y1);
 	void (*shade)(const struct dao_shade_setup *s, const float *z, const float *n,
 		      const float *ao, const struct dao_frame *out, int y0, int y1);
+	/* noise-model=auto: the block statistics of a block row (noise_estimate.h) */
+	void (*noise_row)(const float *z, int stride, int nblocks, float *out);
 	void (*temporal_depth)(const struct dao_temporal_depth_setup *s, float *z, float *hist,
 			       uint8_t *count, uint8_t *age, int y0, int y1);
 };

@@ -9,11 +9,14 @@
  * any order, and prefilter=domain interpolates the cells bilinearly.  With
  * noise-interval (noise_reuse.h): a cell measured again on its own equals
  * the whole frame's measurement of it, and the check finds the cells the
- * scene moved in and calls a cut when most moved.
+ * scene moved in and calls a cut when most moved.  The fast block statistics
+ * and cell medians equal their scalar oracles bit for bit.
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <depthao/cpu.h>
 
 #include "common/cmocka_all.h"
 #include "common/noise_fields.h"
@@ -21,6 +24,7 @@
 #include "depth/domain.h"
 #include "depth/noise_estimate.h"
 #include "depth/noise_reuse.h"
+#include "pipeline/kernels.h"
 #include "synth/synth.h"
 
 enum { W = 640, H = 480 };
@@ -353,6 +357,93 @@ static void test_cells_again(void **state)
 	free(n);
 }
 
+/* 1 where a and b hold the same values (NaN where either is NaN) */
+static int same_floats(const float *a, const float *b, size_t n)
+{
+	for (size_t i = 0; i < n; i++)
+		if (!(a[i] == b[i] || (isnan(a[i]) && isnan(b[i]))))
+			return 0;
+	return 1;
+}
+
+/* depth of kind k at w x h: noisy planes with steps and holes, millimetre
+ * quanta (ties), and random values with zeros, negatives, NaN, +inf and
+ * denormals (what float input could hold) */
+static void oracle_field(float *z, int w, int h, int k, uint64_t seed)
+{
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			const double g = dao_test_gauss(&seed);
+			const double u = 0.5 + 0.5 * dao_test_gauss(&seed) / 4.0;
+			float v = (float)(1.0 / (0.5 + 0.0006 * x + 0.0004 * y + 0.001 * g));
+			if ((x / 40) & 1)
+				v += 0.05f;
+			if (k == 1)
+				v = roundf(v * 1000.0f) / 1000.0f;
+			if (k == 2) {
+				v = (float)(0.2 + 8.0 * u * u);
+				const uint64_t r = seed % 200;
+				v = r == 0 ? 0.0f : r == 1 ? -v : r == 2 ? NAN : r == 3 ? INFINITY
+				    : r == 4 ? 1e-40f : r == 5 ? 1e-30f : v;
+			}
+			if ((x * 31 + y * 17) % 211 == 0)
+				v = 0.0f;
+			z[y * w + x] = v;
+		}
+}
+
+/*
+ * The fast paths against their oracles: dao_noise_cell_rows (sorting
+ * networks across cells) against dao_noise_cell_rows_ref (rank medians),
+ * the same block statistics in, at sizes with partial cells and blocks
+ * (widths not a multiple of 8 cells); the same values bit for bit.
+ */
+static void test_oracle(void **state)
+{
+	(void)state;
+	static const int sizes[][2] = { { 640, 480 }, { 37, 45 }, { 8, 8 }, { 264, 136 },
+					{ 848, 480 }, { 100, 260 }, { 16, 300 } };
+	for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); si++)
+		for (int k = 0; k < 3; k++) {
+			const int w = sizes[si][0], h = sizes[si][1];
+			float *z = malloc((size_t)w * h * sizeof(float));
+			oracle_field(z, w, h, k, 1000 + si * 3 + k);
+			struct dao_noise_grid a, b;
+			assert_int_equal(dao_noise_grid_init(&a, w, h), 0);
+			assert_int_equal(dao_noise_grid_init(&b, w, h), 0);
+			const size_t nb = DAO_NOISE_BLOCK_STATS * (size_t)a.bw * a.bh;
+			const size_t nc = DAO_NOISE_CELL_STATS * (size_t)a.cw * a.ch;
+			dao_noise_blocks_ref(&a, z, 0, a.bh);
+			/* every kernel set this CPU runs, the reference set last */
+			for (int s = DAO_SIMD_GENERIC; s <= DAO_SIMD_COUNT; s++) {
+				const enum dao_simd set = s < DAO_SIMD_COUNT ? (enum dao_simd)s
+									     : DAO_SIMD_REFERENCE;
+				if (s < DAO_SIMD_COUNT && !dao_simd_supported(set))
+					continue;
+				struct dao_kernels kr;
+				dao_kernels_select(&kr, set);
+				b.row = kr.noise_row;
+				memset(b.block, 0, nb * sizeof(float));
+				dao_noise_blocks(&b, z, 0, b.bh);
+				if (!same_floats(a.block, b.block, nb))
+					fail_msg("%dx%d field %d: set %d's block statistics differ", w, h,
+						 k, s);
+			}
+			dao_noise_cell_rows_ref(&a, 0, a.ch);
+			dao_noise_cell_rows(&b, 0, b.ch);
+			assert_true(same_floats(a.cell, b.cell, nc));
+			dao_noise_cells_finish(&a);
+			dao_noise_cells_finish(&b);
+			assert_int_equal(a.usable_cells, b.usable_cells);
+			assert_true(same_floats(a.cell, b.cell, nc));
+			if (k < 2 && w >= 64 && h >= 64)
+				assert_true(a.usable_cells > 0);
+			dao_noise_grid_free(&a);
+			dao_noise_grid_free(&b);
+			free(z);
+		}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -363,6 +454,7 @@ int main(void)
 		cmocka_unit_test(test_clean_render),
 		cmocka_unit_test(test_cell_interpolation),
 		cmocka_unit_test(test_cells_again),
+		cmocka_unit_test(test_oracle),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
