@@ -10,10 +10,11 @@
 #include "depth/noise_estimate.h"
 
 #define B DAO_NOISE_BLOCK
+#define LANES 8 /* cells side by side in the medians */
 /* columns per chunk of a block row: the chunk's rows and sums live on the stack */
 #define CHUNK 256
 
-static int batcher(int n, unsigned char (*net)[2]);
+static int batcher(int n, int scale, unsigned short (*net)[2]);
 
 int dao_noise_grid_init(struct dao_noise_grid *g, int width, int height)
 {
@@ -34,8 +35,8 @@ int dao_noise_grid_init(struct dao_noise_grid *g, int width, int height)
 		return -ENOMEM;
 	}
 	g->row = dao_noise_row_ref;
-	g->net_blocks_count = batcher(DAO_NOISE_CELL * DAO_NOISE_CELL, g->net_blocks);
-	g->net_pairs_count = batcher(4 * DAO_NOISE_CELL * DAO_NOISE_CELL, g->net_pairs);
+	g->net_blocks_count = batcher(DAO_NOISE_CELL * DAO_NOISE_CELL, 3 * LANES, g->net_blocks);
+	g->net_pairs_count = batcher(4 * DAO_NOISE_CELL * DAO_NOISE_CELL, LANES, g->net_pairs);
 	return 0;
 }
 
@@ -360,11 +361,11 @@ void dao_noise_cell_rows_ref(struct dao_noise_grid *g, int cy0, int cy1)
  * float input) takes the reference's path.  callgrind, 640x480: the cells
  * 2.1 M -> 1.2 M instructions a frame (docs/perf/noise4.md).
  */
-#define LANES 8
 #define NP (4 * NB) /* slope pairs in a cell: 2 neighbours x 2 slopes per block */
 
-/* Batcher's odd-even merge sort of n = 2^p values: its comparators into net, their count */
-static int batcher(int n, unsigned char (*net)[2])
+/* Batcher's odd-even merge sort of n = 2^p values: its comparators into net
+ * (the indices times `scale`: offsets of rows), their count */
+static int batcher(int n, int scale, unsigned short (*net)[2])
 {
 	int c = 0;
 	for (int p = 1; p < n; p <<= 1)
@@ -372,8 +373,8 @@ static int batcher(int n, unsigned char (*net)[2])
 			for (int j = k % p; j + k < n; j += 2 * k)
 				for (int i = 0; i < k && i + j + k < n; i++)
 					if ((i + j) / (2 * p) == (i + j + k) / (2 * p)) {
-						net[c][0] = (unsigned char)(i + j);
-						net[c][1] = (unsigned char)(i + j + k);
+						net[c][0] = (unsigned short)((i + j) * scale);
+						net[c][1] = (unsigned short)((i + j + k) * scale);
 						c++;
 					}
 	return c;
@@ -402,18 +403,18 @@ static inline void compare_exchange(int32_t *pa, int32_t *pb)
 }
 
 DAO_MULTIVERSION
-static void sort_blocks(int32_t *v, const unsigned char (*net)[2], int count)
+static void sort_blocks(int32_t *v, const unsigned short (*net)[2], int count)
 {
 	for (int c = 0; c < count; c++)
 		for (int q = 0; q < 3; q++)
-			compare_exchange(v + (net[c][0] * 3 + q) * LANES, v + (net[c][1] * 3 + q) * LANES);
+			compare_exchange(v + net[c][0] + q * LANES, v + net[c][1] + q * LANES);
 }
 
 DAO_MULTIVERSION
-static void sort_pairs(int32_t *v, const unsigned char (*net)[2], int count)
+static void sort_pairs(int32_t *v, const unsigned short (*net)[2], int count)
 {
 	for (int c = 0; c < count; c++)
-		compare_exchange(v + net[c][0] * LANES, v + net[c][1] * LANES);
+		compare_exchange(v + net[c][0], v + net[c][1]);
 }
 
 /* the float of bits v */
@@ -432,11 +433,14 @@ static inline float lane_median(const int32_t *v, int lanes, int l, int n)
 	return n & 1 ? hi : 0.5f * (bits_float(v[(k - 1) * lanes + l]) + hi);
 }
 
-/* the bits of x >= +0 into *o; 1 where x is NaN or has its sign bit set */
-static inline int slot(int32_t *o, float x)
+/* the bits of x >= +0 into *o where `use`, else +inf; 1 where a used x is
+ * NaN or has its sign bit set */
+static inline int slot(int32_t *o, float x, int use)
 {
-	memcpy(o, &x, sizeof(x));
-	return *o < 0 || isnan(x);
+	int32_t v;
+	memcpy(&v, &x, sizeof(x));
+	*o = use ? v : 0x7f800000;
+	return use & ((v < 0) | isnan(x));
 }
 
 /*
@@ -462,12 +466,12 @@ static int cell_slots(const struct dao_noise_grid *g, int cx, int cy, int l, int
 		const float *b = g->block + DAO_NOISE_BLOCK_STATS * ((size_t)by * g->bw + bx);
 		if (isnan(b[0]))
 			continue;
-		bad |= slot(o, b[0]) | slot(o + LANES, b[1]) | slot(o + 2 * LANES, b[2]);
+		bad |= slot(o, b[0], 1) | slot(o + LANES, b[1], 1) | slot(o + 2 * LANES, b[2], 1);
 		(*n)++;
 		float pairs[4];
 		const int k = slope_pairs(g, bx, by, pairs);
 		for (int i = 0; i < k; i++)
-			bad |= slot(p + i * LANES, pairs[i]);
+			bad |= slot(p + i * LANES, pairs[i], 1);
 		*ns += k;
 	}
 	return bad;

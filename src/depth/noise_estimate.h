@@ -72,7 +72,7 @@ struct dao_noise_grid {
 	/* the block statistics of one block row (dao_noise_row_ref or a kernel set's) */
 	void (*row)(const float *z, int stride, int nblocks, float *out);
 	/* the sorting networks of the cells' medians (noise_estimate.c): comparators */
-	unsigned char net_blocks[64][2], net_pairs[576][2];
+	unsigned short net_blocks[64][2], net_pairs[576][2];
 	int net_blocks_count, net_pairs_count;
 };
 
