@@ -480,8 +480,6 @@ struct frame_job {
 	struct dao_temporal_depth_setup depth_temporal_setup;
 	struct dao_domain_pass dt_pass; /* the domain filter's pass being run */
 	_Atomic uint64_t output_ns;     /* stage_finish: the output's time, summed over bands */
-	int noise_in_decode;            /* the noise's blocks measured in stage_decode_noise */
-	_Atomic uint64_t noise_ns;      /* ... their time, summed over the bands */
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
 
@@ -500,39 +498,6 @@ static void stage_decode(void *arg, int y0, int y1)
 	if (j->temporal_in_decode)
 		j->k.temporal_depth(&j->depth_temporal_setup, c->z_raw, c->depth_hist, c->depth_count,
 				    c->depth_age, y0, y1);
-}
-
-/*
- * noise-model=auto, a frame measured in full: decoding and the noise's block
- * statistics in one dispatch, by units of a block row (8 rows; the last
- * unit holds the rows below the last block row) in chunks of
- * DECODE_NOISE_ROWS rows, each chunk's blocks measured right after it is
- * decoded, while its rows are in the core's cache (on one thread the band is
- * the whole frame, hence the chunks).  The blocks' time is summed over
- * the bands for dao_timings (as the output's in stage_finish).
- */
-#define DECODE_NOISE_ROWS 16 /* 2 block rows: 16 rows of 640 floats, 40 KB */
-
-static void stage_decode_noise(void *arg, int u0, int u1)
-{
-	struct frame_job *j = arg;
-	struct dao_context *c = j->ctx;
-	struct dao_noise_grid *g = &c->noise;
-	const int h = (int)c->cam.height, per = DECODE_NOISE_ROWS / DAO_NOISE_BLOCK;
-	uint64_t noise_ns = 0;
-	for (int a = u0; a < u1; a += per) {
-		const int b = a + per < u1 ? a + per : u1;
-		const int y1 = b * DAO_NOISE_BLOCK < h ? b * DAO_NOISE_BLOCK : h;
-		dao_decode_depth(j->depth, c->params.depth_min, c->params.depth_max, c->z_raw,
-				 a * DAO_NOISE_BLOCK, y1);
-		const int by1 = b < g->bh ? b : g->bh;
-		if (a < by1) {
-			const uint64_t t = dao_mono_ns();
-			dao_noise_blocks(g, c->z_raw, a, by1);
-			noise_ns += dao_mono_ns() - t;
-		}
-	}
-	atomic_fetch_add_explicit(&j->noise_ns, noise_ns, memory_order_relaxed);
 }
 
 /* the temporal depth filter on its own (after the noise measurement) */
@@ -866,9 +831,9 @@ static void estimate_noise(struct dao_context *ctx, struct frame_job *job,
 		if (moved < 0)
 			dao_noise_reuse_restart(nr); /* a cut: all again */
 	}
+	g->row = job->k.noise_row;
 	if (p->noise_interval <= 1 || dao_noise_reuse_due(nr)) {
-		if (!job->noise_in_decode) /* in stage_decode_noise already */
-			dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
+		dao_pool_run(ctx->pool, g->bh, 2, stage_noise_blocks, job);
 		dao_pool_run(ctx->pool, g->ch, 1, stage_noise_cells, job);
 		dao_noise_cells_finish(g);
 		dao_noise_reuse_store(nr, g, ctx->z_raw, p->noise_interval);
@@ -1147,7 +1112,6 @@ static void run_finish(struct dao_context *ctx, struct frame_job *job)
 	if (p->denoise == DAO_DENOISE_BILATERAL)
 		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, job);
 	atomic_init(&job->output_ns, 0);
-	atomic_init(&job->noise_ns, 0);
 	dao_pool_run(ctx->pool, h, 4, stage_finish, job);
 	ctx->hist_valid = p->temporal > 0.0f;
 }
@@ -1156,24 +1120,6 @@ static void run_finish(struct dao_context *ctx, struct frame_job *job)
  * finish, and after it */
 enum { T_DECODE, T_NOISE, T_TEMPORAL, T_PREFILTER, T_NORMALS, T_AO, T_FINISH, T_END };
 
-/* Decoding (stage_decode), and with it the noise's blocks where this frame
- * measures them all (stage_decode_noise). */
-static void decode(struct dao_context *ctx, struct frame_job *job)
-{
-	const struct dao_params *p = &ctx->params;
-	struct dao_noise_grid *g = &ctx->noise;
-	if (p->noise_model != DAO_NOISE_MODEL_FIXED) {
-		g->row = job->k.noise_row;
-		job->noise_in_decode = !job->temporal_in_decode && g->bh > 0 &&
-				       (p->noise_interval <= 1 || dao_noise_reuse_due(&ctx->noise_reuse));
-	}
-	if (job->noise_in_decode)
-		dao_pool_run(ctx->pool, (int)((ctx->cam.height + DAO_NOISE_BLOCK - 1) / DAO_NOISE_BLOCK),
-			     1, stage_decode_noise, job);
-	else
-		dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_decode, job);
-}
-
 static void record_timings(struct dao_context *ctx, struct frame_job *job, const double *t)
 {
 	struct dao_timings *tm = &ctx->times;
@@ -1181,12 +1127,8 @@ static void record_timings(struct dao_context *ctx, struct frame_job *job, const
 	const double out_ms = (double)atomic_load(&job->output_ns) * 1e-6 /
 			      (double)dao_pool_threads(ctx->pool);
 	const double finish_ms = t[T_END] - t[T_FINISH];
-	/* the noise's blocks measured in the decode's dispatch: their share of it */
-	double noise_ms = (double)atomic_load(&job->noise_ns) * 1e-6 /
-			  (double)dao_pool_threads(ctx->pool);
-	noise_ms = noise_ms < t[T_NOISE] - t[T_DECODE] ? noise_ms : t[T_NOISE] - t[T_DECODE];
-	tm->decode_ms = (t[T_NOISE] - t[T_DECODE]) - noise_ms + (t[T_PREFILTER] - t[T_TEMPORAL]);
-	tm->noise_ms = t[T_TEMPORAL] - t[T_NOISE] + noise_ms;
+	tm->decode_ms = (t[T_NOISE] - t[T_DECODE]) + (t[T_PREFILTER] - t[T_TEMPORAL]);
+	tm->noise_ms = t[T_TEMPORAL] - t[T_NOISE];
 	tm->prefilter_ms = t[T_NORMALS] - t[T_PREFILTER];
 	tm->normals_ms = t[T_AO] - t[T_NORMALS];
 	tm->gtao_ms = t[T_FINISH] - t[T_AO];
@@ -1217,7 +1159,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 
 	double t[T_END + 1];
 	t[T_DECODE] = now_ms();
-	decode(ctx, &job);
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_decode, &job);
 	ctx->depth_hist_valid = job.depth_temporal;
 	t[T_NOISE] = now_ms();
 	if (ctx->params.noise_model != DAO_NOISE_MODEL_FIXED)
