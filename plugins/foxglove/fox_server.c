@@ -5,8 +5,11 @@
  * bounded from its first byte:
  *  - FOX_PENDING_MAX connections may be in their handshake (FOX_PENDING_PER_ADDR
  *    from one address), each for FOX_HANDSHAKE_MS in total however it trickles
- *    (a deadline, not an idle timeout); then max-clients established clients;
- *  - a message is at most FOX_MAX_IN bytes (1009 above), strict JSON (fox_json.h),
+ *    (a deadline, not an idle timeout); a newcomer when they are all taken cuts
+ *    the oldest of the address holding the most (pending_evict); then max-clients
+ *    established clients (more are refused at the handshake);
+ *  - a message is at most FOX_MAX_IN bytes (1009 above), strict JSON (json_strict.h,
+ *    nested at most FOX_JSON_MAX_DEPTH),
  *    and FOX_RATE_PER_S of them a second (burst FOX_RATE_BURST); beyond, they are
  *    dropped with one status a second;
  *  - replies queue up to FOX_CTL_MAX; a client that asks more than it reads is
@@ -24,8 +27,8 @@
 
 #include <depthao/params.h>
 
-#include "fox_json.h"
 #include "fox_sink.h"
+#include "json_strict.h"
 #include "schemas_fds.h"
 
 #define SUBPROTOCOL "foxglove.websocket.v1"
@@ -480,8 +483,11 @@ static void on_set_parameters(struct fox_sink *s, struct fox_client *c, struct j
 static void handle_text(struct fox_sink *s, struct fox_client *c, const char *text, size_t len)
 {
 	char why[160];
-	if (fox_json_check(text, len, why, sizeof why) < 0)
+	char what[128];
+	if (json_strict_check(text, len, FOX_JSON_MAX_DEPTH, what, sizeof what) < 0) {
+		snprintf(why, sizeof why, "not strict JSON: %s", what);
 		return send_status(s, c, 2, why, NULL);
+	}
 	struct json_tokener *tk = json_tokener_new_ex(FOX_JSON_MAX_DEPTH + 2);
 	struct json_object *j = tk ? json_tokener_parse_ex(tk, text, (int)len) : NULL;
 	json_tokener_free(tk);
@@ -560,6 +566,31 @@ static void pending_remove(struct fox_server *srv, struct lws *wsi)
 			srv->pending[i] = srv->pending[--srv->npending];
 			return;
 		}
+}
+
+/*
+ * Room for a newcomer when every handshake slot is taken: the oldest connection of
+ * the address holding the most slots is cut.  Connections that trickle their upgrade
+ * request (slowloris) thus never lock a newcomer out, even before their deadline;
+ * and a client that owns one slot is cut last, however many addresses an attacker
+ * uses (each holds at most FOX_PENDING_PER_ADDR).
+ */
+static void pending_evict(struct fox_server *srv)
+{
+	unsigned victim = 0, most = 0;
+	for (unsigned i = 0; i < srv->npending; i++) {
+		unsigned n = 0;
+		for (unsigned k = 0; k < srv->npending; k++)
+			n += same_addr(&srv->pending[i].addr, &srv->pending[k].addr);
+		if (n > most || (n == most && srv->pending[i].deadline < srv->pending[victim].deadline)) {
+			most = n;
+			victim = i;
+		}
+	}
+	if (!srv->npending)
+		return;
+	lws_set_timeout(srv->pending[victim].wsi, PENDING_TIMEOUT_HOLDING_AH, LWS_TO_KILL_ASYNC);
+	srv->pending[victim] = srv->pending[--srv->npending];
 }
 
 /* Same-time comparison of a secret. */
@@ -798,6 +829,9 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
 		unsigned same = 0;
 		for (unsigned i = 0; a && i < srv->npending; i++)
 			same += same_addr(&srv->pending[i].addr, &a->cli_addr);
+		if (!atomic_load(&s->stopping) && same < FOX_PENDING_PER_ADDR &&
+		    srv->npending >= FOX_PENDING_MAX)
+			pending_evict(srv);
 		if (atomic_load(&s->stopping) || srv->npending >= FOX_PENDING_MAX ||
 		    same >= FOX_PENDING_PER_ADDR) {
 			pthread_mutex_lock(&s->lock);

@@ -32,6 +32,7 @@ enum fox_channel { CH_AO = 0, CH_SHADED, CH_CALIB, CH_CLOUD, CH_COUNT };
 #define FOX_RATE_PER_S 20.0        /* client messages per second, sustained */
 #define FOX_RATE_BURST 40.0        /* ... in a burst */
 #define FOX_LATENCY_RING 1024
+#define FOX_JSON_MAX_DEPTH 16      /* nested objects and arrays in a client message */
 #define FOX_HEADER 13              /* Message Data: opcode, subscription id, timestamp */
 
 /* One message, built once and shared by the clients' queues (refs under s->lock). */

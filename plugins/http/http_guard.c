@@ -33,6 +33,7 @@ struct guard_conn {
 	int answered;                /* its request is in: no deadline (streams, replies) */
 	int stream;                  /* a /stream.mjpg connection */
 	int cut;                     /* shut down by us: it goes soon */
+	int released;                /* no longer counted in s->connections */
 };
 
 /* Shuts the connection's socket down if it is still the one we saw open (the
@@ -71,12 +72,20 @@ void *http_guard_opened(struct http_sink *s, struct MHD_Connection *conn)
 	return c;
 }
 
-void http_guard_closed(struct http_sink *s, void *rec)
+static struct guard_conn *rec_of(struct MHD_Connection *conn)
+{
+	const union MHD_ConnectionInfo *ci =
+		MHD_get_connection_info(conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+	return ci ? ci->socket_context : NULL;
+}
+
+int http_guard_closed(struct http_sink *s, void *rec)
 {
 	struct guard_conn *c = rec;
 	if (!c)
-		return;
+		return 0;
 	pthread_mutex_lock(&s->guard_lock);
+	const int released = c->released;
 	if (c->prev)
 		c->prev->next = c->next;
 	else
@@ -87,13 +96,20 @@ void http_guard_closed(struct http_sink *s, void *rec)
 		s->guard_streams--;
 	pthread_mutex_unlock(&s->guard_lock);
 	free(c);
+	return released;
 }
 
-static struct guard_conn *rec_of(struct MHD_Connection *conn)
+void http_guard_release(struct http_sink *s, struct MHD_Connection *conn)
 {
-	const union MHD_ConnectionInfo *ci =
-		MHD_get_connection_info(conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
-	return ci ? ci->socket_context : NULL;
+	struct guard_conn *c = rec_of(conn);
+	if (!c)
+		return;
+	pthread_mutex_lock(&s->guard_lock);
+	if (!c->released) {
+		c->released = 1;
+		atomic_fetch_sub(&s->connections, 1);
+	}
+	pthread_mutex_unlock(&s->guard_lock);
 }
 
 void http_guard_answered(struct http_sink *s, struct MHD_Connection *conn)

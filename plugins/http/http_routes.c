@@ -25,6 +25,7 @@
 #include <depthao/png.h>
 
 #include "http_sink.h"
+#include "json_strict.h"
 #include "viewer_page.h"
 
 /* A request's state between the calls of the access handler (POST bodies). */
@@ -143,14 +144,14 @@ static enum MHD_Result post_params(struct http_sink *s, struct MHD_Connection *c
 				   "give it ?token=SECRET and send the header " HTTP_TOKEN_HEADER);
 	rq->body[rq->len] = '\0';
 	char why[256];
-	if (http_json_check(rq->body, rq->len, why, sizeof why) < 0) {
+	if (json_strict_check(rq->body, rq->len, HTTP_JSON_MAX_DEPTH, why, sizeof why) < 0) {
 		char msg[320];
 		snprintf(msg, sizeof msg, "not accepted as a JSON object of parameter changes: %s", why);
 		return reply_error(conn, MHD_HTTP_BAD_REQUEST, msg);
 	}
-	struct json_tokener *tk = json_tokener_new();
-	struct json_object *j = json_tokener_parse_ex(tk, rq->body, (int)rq->len);
-	int complete = json_tokener_get_error(tk) == json_tokener_success &&
+	struct json_tokener *tk = json_tokener_new_ex(HTTP_JSON_MAX_DEPTH + 2);
+	struct json_object *j = tk ? json_tokener_parse_ex(tk, rq->body, (int)rq->len) : NULL;
+	int complete = tk && json_tokener_get_error(tk) == json_tokener_success &&
 		       tk->char_offset == (int)rq->len;
 	json_tokener_free(tk);
 	if (!j || !complete || !json_object_is_type(j, json_type_object)) {
@@ -322,7 +323,7 @@ static struct png_blob *encode_png(struct http_sink *s, enum view_stream v)
 }
 
 static enum MHD_Result reply_busy(struct MHD_Connection *conn, unsigned status, unsigned retry,
-				  const char *msg)
+				  int close, const char *msg)
 {
 	char safe[256], t[320], ra[16];
 	http_json_safe(safe, sizeof safe, msg);
@@ -337,6 +338,8 @@ static enum MHD_Result reply_busy(struct MHD_Connection *conn, unsigned status, 
 	MHD_add_response_header(r, MHD_HTTP_HEADER_CONTENT_TYPE, "application/json");
 	MHD_add_response_header(r, MHD_HTTP_HEADER_CACHE_CONTROL, "no-store");
 	MHD_add_response_header(r, MHD_HTTP_HEADER_RETRY_AFTER, ra);
+	if (close)
+		MHD_add_response_header(r, MHD_HTTP_HEADER_CONNECTION, "close");
 	enum MHD_Result ret = MHD_queue_response(conn, status, r);
 	MHD_destroy_response(r);
 	return ret;
@@ -354,7 +357,7 @@ static enum MHD_Result get_snapshot(struct http_sink *s, struct MHD_Connection *
 {
 	unsigned retry;
 	if (!http_rate_take(s, conn, &retry))
-		return reply_busy(conn, MHD_HTTP_TOO_MANY_REQUESTS, retry,
+		return reply_busy(conn, MHD_HTTP_TOO_MANY_REQUESTS, retry, 0,
 				  "too many snapshots: try again after Retry-After seconds");
 	pthread_mutex_lock(&s->lock);
 	const int valid = s->pic[v].valid;
@@ -420,7 +423,10 @@ static enum MHD_Result get_stream(struct http_sink *s, struct MHD_Connection *co
 		pthread_mutex_lock(&s->lock);
 		s->streams_refused++;
 		pthread_mutex_unlock(&s->lock);
-		return reply_busy(conn, MHD_HTTP_SERVICE_UNAVAILABLE, 2,
+		/* its slot is free before the reply leaves (the connection closes after it):
+		   a request right after it is let in, not cut for want of a slot */
+		http_guard_release(s, conn);
+		return reply_busy(conn, MHD_HTTP_SERVICE_UNAVAILABLE, 2, 1,
 				  "every stream slot is taken (the rest are kept for the page and "
 				  "the API): try again later");
 	}
@@ -597,8 +603,8 @@ static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_
 		atomic_fetch_add(&s->connections, 1);
 		*socket_context = http_guard_opened(s, conn);
 	} else if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
-		atomic_fetch_sub(&s->connections, 1);
-		http_guard_closed(s, *socket_context);
+		if (!http_guard_closed(s, *socket_context))
+			atomic_fetch_sub(&s->connections, 1);
 		*socket_context = NULL;
 	}
 }

@@ -139,10 +139,10 @@ void http_record_latency(struct http_sink *s, uint64_t capture_ns, uint64_t writ
 			 uint64_t now_ns);
 uint64_t http_now_ns(void);
 
-/* json_strict.c: 0 if body is one JSON text with valid UTF-8, no NUL (raw or \u0000),
-   no escape inside a key and no key twice in an object; else -1 with msg saying where */
-int http_json_check(const char *body, size_t len, char *msg, size_t cap);
-/* Copies src into dst as valid UTF-8 (whole characters; a stray byte becomes the
+/* POST bodies are checked by json_strict_check (plugins/common/json_strict.h) nested
+   at most this deep; json-c parses them with room for as much */
+#define HTTP_JSON_MAX_DEPTH 32
+/* json_echo.c: copies src into dst as valid UTF-8 (whole characters; a stray byte becomes the
    text \xHH) to be echoed in a JSON reply; returns the length written. */
 size_t http_json_safe(char *dst, size_t cap, const char *src);
 
@@ -155,7 +155,10 @@ void http_png_unref(struct png_blob *b);
    left); the oldest connection still sending its request is cut to make room
    (-1: none). */
 void *http_guard_opened(struct http_sink *s, struct MHD_Connection *conn);
-void http_guard_closed(struct http_sink *s, void *rec);
+int http_guard_closed(struct http_sink *s, void *rec); /* 1: it was released */
+/* The connection stops counting against max_clients now (a refused stream, closed
+   after its reply). */
+void http_guard_release(struct http_sink *s, struct MHD_Connection *conn);
 void http_guard_answered(struct http_sink *s, struct MHD_Connection *conn);
 void http_guard_request_done(struct http_sink *s, struct MHD_Connection *conn);
 int http_guard_stream_slot(struct http_sink *s, struct MHD_Connection *conn);

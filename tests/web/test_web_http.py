@@ -137,18 +137,11 @@ def check_token_and_connection_limit(depthaod, plugins):
         st, h, _ = d.request("GET", "/stream.mjpg")
         if st != 503 or "retry-after" not in h:
             fail("a fourth stream with max_clients=4: %d %r, not 503 with Retry-After" % (st, h))
-        # the refused stream's connection holds its slot until the server has closed
-        # it; on a loaded host a request right after may be reset before that: it must
-        # be answered within a second, not necessarily on the first connection
-        answered = False
-        end = time.monotonic() + 1.0
-        while not answered and time.monotonic() < end:
-            try:
-                answered = d.request("GET", "/api/stats")[0] == 200
-            except ConnectionResetError:
-                time.sleep(0.05)
-        if not answered:
-            fail("/api/stats beside three streams with max_clients=4: not answered in 1 s")
+        # the refused stream's slot is freed before its reply leaves: the very next
+        # request is answered, on its first connection, however loaded the host
+        st = d.request("GET", "/api/stats")[0]
+        if st != 200:
+            fail("/api/stats beside three streams with max_clients=4: %d" % st)
         for r in readers:
             r.close()
         # until the server has seen them go (a stream's end is noticed at its next frame)
