@@ -15,7 +15,8 @@
  * Topics (the sensor_msgs/msg types, CDR):
  *   /depthao/ao           Image mono16: visibility x 65535
  *   /depthao/shaded       Image rgb8: the occlusion-shaded image
- *   /depthao/camera_info  CameraInfo: the pinhole of the field of view (one per AO frame)
+ *   /depthao/camera_info  CameraInfo: the pinhole of the field of view (one per AO frame,
+ *                         just before it)
  *   /depthao/points       PointCloud2 (cloud=true): the pixels with depth, x y z in
  *                         metres (x right, y down, z forward) and ao 0..1
  * The sink takes the stream it is configured for (ao, shaded or depth) and
@@ -291,22 +292,24 @@ static uint64_t stamp(const struct mcap_sink *s, const struct dao_frame *f)
 	return f->timestamp_ns ? f->timestamp_ns : (uint64_t)(f->sequence * 1e9 / s->fps);
 }
 
+/* An image; the AO's CameraInfo goes first, so that a message refused on a full disk
+ * never leaves an AO image without it. */
 static int put_image(struct mcap_sink *s, int ch, const char *encoding, const struct dao_frame *f,
 		     struct dao_error *err)
 {
 	uint8_t *p;
 	uint64_t t = stamp(s, f);
+	int r;
+	if (ch == CH_AO) {
+		size_t n = dao_ros2_camera_info_size(s->frame_id);
+		if ((r = dao_mcap_writer_message(s->w, s->ch[CH_INFO], t, t, n, &p, err)) < 0)
+			return r;
+		dao_ros2_camera_info_encode(p, t, s->frame_id, &s->cam);
+	}
 	size_t n = dao_ros2_image_size(s->frame_id, encoding, f);
-	int r = dao_mcap_writer_message(s->w, s->ch[ch], t, t, n, &p, err);
-	if (r < 0)
+	if ((r = dao_mcap_writer_message(s->w, s->ch[ch], t, t, n, &p, err)) < 0)
 		return r;
 	dao_ros2_image_encode(p, t, s->frame_id, encoding, f);
-	if (ch != CH_AO)
-		return 0;
-	n = dao_ros2_camera_info_size(s->frame_id);
-	if ((r = dao_mcap_writer_message(s->w, s->ch[CH_INFO], t, t, n, &p, err)) < 0)
-		return r;
-	dao_ros2_camera_info_encode(p, t, s->frame_id, &s->cam);
 	return 0;
 }
 
