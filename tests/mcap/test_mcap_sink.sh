@@ -62,12 +62,22 @@ if [ "$HAVE_NODE" -eq 1 ]; then
 	[ "$theirs" = "$ours" ] || fail "cut: @mcap/core reads $theirs AO frames, depthao $ours"
 fi
 
-# the CLI replaces its outputs, the MCAP too; errors
-expect_exit 0 "again over out.mcap" -- "$DEPTHAO" process --input "$REC" --frames 2 --quiet \
+# a recording never replaces a file: out-1.mcap, said on stderr; ?overwrite=true replaces
+expect_exit 0 "again to out.mcap" -- "$DEPTHAO" process --input "$REC" --frames 2 \
 	--mcap-out "$WORK/out.mcap" || true
+grep -q "out.mcap exists; recording to .*out-1.mcap instead" "$WORK/err" || fail "numbered: $(cat "$WORK/err")"
+check "$WORK/out-1.mcap"
+[ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 2 " "$WORK/check" || fail "out-1.mcap: $(cat "$WORK/check")"
 check "$WORK/out.mcap"
-[ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 2 " "$WORK/check" || fail "replaced: $(cat "$WORK/check")"
-[ ! -e "$WORK/out-1.mcap" ] || fail "the CLI wrote out-1.mcap instead of replacing out.mcap"
+[ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 16 " "$WORK/check" || fail "out.mcap changed: $(cat "$WORK/check")"
+expect_exit 0 "?overwrite=true" -- "$DEPTHAO" process --input "$REC" --frames 3 --quiet \
+	--mcap-out "$WORK/out.mcap?overwrite=true" || true
+check "$WORK/out.mcap"
+[ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 3 " "$WORK/check" || fail "overwrite: $(cat "$WORK/check")"
+chmod a-w "$WORK/out-1.mcap"
+expect_exit 1 "a write-protected file" -- "$DEPTHAO" process --input "$REC" --frames 1 \
+	--mcap-out "$WORK/out-1.mcap?overwrite=true" || true
+grep -q "chmod u+w" "$WORK/err" || fail "write-protected: $(cat "$WORK/err")"
 mkdir "$WORK/dir.mcap"
 expect_exit 1 "into a directory" -- "$DEPTHAO" process --input "$REC" --mcap-out "$WORK/dir.mcap"
 grep -q "mcap: .*dir.mcap is a directory" "$WORK/err" || fail "directory: $(cat "$WORK/err")"

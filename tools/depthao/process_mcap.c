@@ -2,9 +2,9 @@
 /*
  * depthao process --mcap-out FILE[?OPTIONS]: the AO, the shaded image, the
  * CameraInfo (and with ?cloud=true the point cloud) of every frame into one
- * MCAP file through the built-in "mcap" sink.  As the command's other
- * outputs, an existing FILE is replaced (?overwrite=true unless the options
- * say otherwise).
+ * MCAP file through the built-in "mcap" sink.  A recording: it never
+ * replaces a file (FILE-1.mcap ... instead, said on stderr) unless
+ * ?overwrite=true.
  */
 #include <errno.h>
 #include <stdio.h>
@@ -16,19 +16,11 @@
 
 #include "process.h"
 
-/* "mcap:FILE?...&overwrite=true" */
-static char *sink_uri(const char *out)
+/* The sink's notes (the numbered name it records to) on stderr. */
+static void host_log(void *user, int level, const char *message)
 {
-	const char *q = strchr(out, '?');
-	int has_opts = q && strchr(q, '=');
-	const char *ow = has_opts && !strstr(q, "overwrite=") ? "&overwrite=true"
-			 : has_opts			       ? ""
-							       : "?overwrite=true";
-	size_t n = strlen(out) + strlen(ow) + 8;
-	char *uri = malloc(n);
-	if (uri)
-		snprintf(uri, n, "mcap:%s%s", out, ow);
-	return uri;
+	(void)user;
+	fprintf(stderr, "depthao: %s%s\n", level == DAO_LOG_WARN ? "warning: " : "", message);
 }
 
 int process_mcap_open(const struct process_options *o, struct run_state *st,
@@ -37,11 +29,15 @@ int process_mcap_open(const struct process_options *o, struct run_state *st,
 	struct dao_error err;
 	if (!o->mcap_out)
 		return 0;
-	char *uri = sink_uri(o->mcap_out);
+	size_t n = strlen(o->mcap_out) + 6;
+	char *uri = malloc(n);
 	if (!uri) {
 		fprintf(stderr, "depthao: out of memory\n");
 		return 1;
 	}
+	snprintf(uri, n, "mcap:%s", o->mcap_out);
+	struct dao_sink_host host = DAO_SINK_HOST_INIT;
+	host.log = host_log;
 	struct dao_sink_format fmt = DAO_SINK_FORMAT_INIT;
 	fmt.format = DAO_PIXFMT_GRAY16;
 	fmt.width = cam->width;
@@ -52,8 +48,10 @@ int process_mcap_open(const struct process_options *o, struct run_state *st,
 	int r = dao_plugins_load(&st->mcap_plugins, "", &err);
 	if (r == 0)
 		r = dao_sink_open(st->mcap_plugins, uri, &st->mcap, &err);
-	if (r == 0)
+	if (r == 0) {
+		dao_sink_attach_host(st->mcap, &host);
 		r = dao_sink_negotiate(st->mcap, &fmt, &err);
+	}
 	free(uri);
 	if (r < 0) {
 		fprintf(stderr, "depthao: --mcap-out %s: %s\n", o->mcap_out, err.message);

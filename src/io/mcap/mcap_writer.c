@@ -18,7 +18,6 @@
 
 #include "core/clock.h"
 #include "core/error_internal.h"
-#include "file/output_file_internal.h"
 #include "mcap/mcap_format.h"
 
 /* Message record: header, then channel, sequence, log and publish time. */
@@ -351,12 +350,9 @@ static int create_file(struct dao_mcap_writer *w, const char *path, struct dao_e
 			return dao_error_set(err, -EINVAL,
 					     "mcap: %s is not a regular file (a device, FIFO or "
 					     "socket); recordings are written to files", path);
-		if (!w->o.overwrite)
+		if (!w->o.overwrite) /* (the caller applies the rule for replacing a file) */
 			return dao_error_set(err, -EEXIST,
 					     "mcap: %s exists; a recording never replaces a file", path);
-		int r = dao_output_file_check_replaceable(path, &st, err);
-		if (r < 0)
-			return r;
 	}
 	w->fd = open(path, O_WRONLY | O_CREAT | O_CLOEXEC | (w->o.overwrite ? O_TRUNC : O_EXCL),
 		     0666);

@@ -55,7 +55,8 @@ struct dao_mcap_writer_options {
 	enum dao_mcap_compression compression;
 	int zstd_level;         /* 0: 1 */
 	uint64_t chunk_size;    /* uncompressed bytes that close a chunk; 0: the default */
-	int overwrite;          /* replace an existing file (else -EEXIST) */
+	int overwrite;          /* replace an existing file (else -EEXIST); the caller checks
+				   dao_output_file_check_replaceable() first */
 	const char *profile;    /* Header profile ("ros2") */
 };
 

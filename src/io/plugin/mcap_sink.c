@@ -44,6 +44,7 @@
 
 #include "core/error_internal.h"
 #include "core/math_util.h"
+#include "file/output_file_internal.h"
 #include "mcap/mcap_writer.h"
 #include "mcap/ros2_encode.h"
 #include "plugin/builtin.h"
@@ -178,11 +179,17 @@ static void note(struct mcap_sink *s, int level, const char *fmt, ...)
 static int open_writer(struct mcap_sink *s, struct dao_error *err)
 {
 	char *name = s->path;
-	int r = dao_mcap_writer_open(name, &s->wo, &s->w, err);
+	struct stat st;
+	int r = 0;
+	/* the one rule for replacing a file (output_file.c) */
+	if (s->wo.overwrite && stat(name, &st) == 0 && S_ISREG(st.st_mode))
+		r = dao_output_file_check_replaceable(name, &st, err);
+	if (r < 0)
+		return r;
+	r = dao_mcap_writer_open(name, &s->wo, &s->w, err);
 	struct dao_mcap_writer_options o = s->wo;
 	o.overwrite = 0;
 	for (unsigned k = 1; r == -EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
-		struct stat st;
 		if (!(name = dao_output_numbered(s->path, k)))
 			return dao_error_set(err, -ENOMEM, "out of memory");
 		r = lstat(name, &st) == 0 ? -EEXIST : dao_mcap_writer_open(name, &o, &s->w, err);
