@@ -86,6 +86,8 @@ grep -q "compression" "$WORK/err" && grep -q "zstd" "$WORK/err" || fail "bad opt
 expect_exit 1 "a chunk too small" -- "$DEPTHAO" process --input "$REC" --mcap-out "$WORK/x.mcap?chunk=10"
 grep -q "chunk" "$WORK/err" || fail "chunk=10: $(cat "$WORK/err")"
 [ ! -e "$WORK/x.mcap" ] || fail "a refused recording left a file"
+expect_exit 1 "standard output" -- "$DEPTHAO" process --input "$REC" --mcap-out -
+grep -q "cannot go to standard output" "$WORK/err" || fail "-: $(cat "$WORK/err")"
 expect_exit 1 "a missing directory" -- "$DEPTHAO" process --input "$REC" --mcap-out "$WORK/no/x.mcap"
 grep -q "cannot record to .*no/x.mcap" "$WORK/err" || fail "missing directory: $(cat "$WORK/err")"
 finish

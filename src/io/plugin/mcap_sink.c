@@ -142,6 +142,13 @@ static int mcap_sink_open(const char *uri, void **state, struct dao_error *err)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	}
 	snprintf(s->frame_id, sizeof s->frame_id, "camera_depth_optical_frame");
+	if (!strcmp(s->path, "-")) {
+		r = dao_error_set(err, -EINVAL,
+				  "mcap: a recording cannot go to standard output ('-'): its summary "
+				  "and indexes are written at the end; give a file name (./- for one "
+				  "named '-')");
+		goto fail;
+	}
 	s->wo.profile = "ros2";
 	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
 		goto fail;
