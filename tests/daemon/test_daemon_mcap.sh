@@ -57,6 +57,20 @@ echo "SIGTERM: frames_out $n; @mcap/core: $(cat "$WORK/check" 2>/dev/null); dept
 grep -q "warning" "$WORK/err-ours" && fail "SIGTERM: the file is not finished: $(cat "$WORK/err-ours")"
 rm -f "$SOCK"
 
+# ---- 1b. configured for the shaded stream, with the point cloud: the AO and depth come
+# through want_streams; one cloud per AO frame
+"$DAEMON" --source "testsrc:fps=100,w=160,h=120" --max-frames 20 --stats-interval 0 \
+	--sink "rec=mcap:$WORK/cloud.mcap?cloud=true" --stream rec=shaded 2>"$WORK/log-cloud" ||
+	fail "cloud run: $(cat "$WORK/log-cloud")"
+if [ "$HAVE_NODE" -eq 1 ]; then
+	theirs "$WORK/cloud.mcap" >/dev/null
+	echo "shaded stream with ?cloud=true: $(cat "$WORK/check")"
+	set -- $(cat "$WORK/check") # ao N shaded N info N points N chunks N
+	[ "$4" -eq 20 ] || fail "cloud: $4 shaded frames of 20"
+	[ "$2" -ge 19 ] && [ "$8" -eq "$2" ] && [ "$6" -eq "$2" ] ||
+		fail "cloud: $2 AO, $6 CameraInfo, $8 clouds for $4 shaded frames"
+fi
+
 # ---- 2. kill -9: the complete chunks are there (at most 1 s or one chunk lost) ------
 # kill9 NAME URI-OPTIONS: runs, kills, sets w0 (frames 2.5 s before), w1 (just before), t, o
 kill9() {
