@@ -35,7 +35,8 @@ static void usage(FILE *out)
 	dao_params_stream_defaults(&stream);
 	fprintf(out,
 		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH]\n"
-		"                       [--overlay-out DIR] [--cloud-out DIR|FILE.ply] [options]\n"
+		"                       [--overlay-out DIR] [--cloud-out DIR|FILE.ply]\n"
+		"                       [--mcap-out FILE.mcap] [options]\n"
 		"\n"
 		"Computes ambient occlusion for a 16-bit depth PNG, for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
@@ -67,6 +68,10 @@ static void usage(FILE *out)
 		"                            the AO as grey colour and as the property scalar_ao;\n"
 		"                            a directory gets one file per frame (NAME.ply, or\n"
 		"                            000000.ply ... for recordings), FILE.ply one frame only\n"
+		"  --mcap-out FILE.mcap      the AO (Image mono16), shaded image (rgb8) and CameraInfo\n"
+		"                            of every frame as ROS 2 messages in one MCAP file (zstd\n"
+		"                            chunks); FILE.mcap?cloud=true adds the AO point cloud\n"
+		"                            (PointCloud2 x y z ao); options: docs/sinks.md\n"
 		"  --depth-unit M            PNG input and 16-bit bag topics: metres per count\n"
 		"                            (default 0.001; TUM: 0.0002); .oni and RealSense\n"
 		"                            recordings carry their own unit\n"
@@ -187,7 +192,7 @@ static int string_option(int argc, char **argv, int *i, struct process_options *
 	} strings[] = {
 		{ "--input", &o->input }, { "--ao-out", &o->ao_out },
 		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
-		{ "--cloud-out", &o->cloud_out },
+		{ "--cloud-out", &o->cloud_out }, { "--mcap-out", &o->mcap_out },
 		{ "--intrinsics", &o->intrinsics },
 		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 	};
@@ -271,9 +276,9 @@ static int check_options(struct process_options *o)
 {
 	if (!o->input)
 		return usage_error("process", "--input is required");
-	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out)
+	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out && !o->mcap_out)
 		return usage_error("process", "nothing to write: give --ao-out, --shaded-out, "
-				   "--overlay-out and/or --cloud-out");
+				   "--overlay-out, --cloud-out and/or --mcap-out");
 	if (o->overlay_out && !process_input_is_stream(o->input))
 		return usage_error("process", "--overlay-out needs colour, and '%s' is depth-only PNG "
 				   "input: give a recording or device with colour (.oni, .bag, "
@@ -519,7 +524,7 @@ int process_depth(const struct process_options *o, struct run_state *st,
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	return 0;
+	return process_mcap_write(st, depth, shaded_path != NULL, index);
 }
 
 static int process_one(const struct process_options *o, struct run_state *st, const char *in,
@@ -603,6 +608,8 @@ static int open_run(const struct process_options *o, int is_dir, const struct fi
 		fprintf(stderr, "depthao: %s\n", err.message);
 		status = 1;
 	}
+	if (!status)
+		status = process_mcap_open(o, st, &cam, 0);
 	return status;
 }
 
@@ -675,6 +682,7 @@ int cmd_process(int argc, char **argv)
 		status = is_dir ? process_files(&o, &st, &files) : process_file(&o, &st);
 	if (!status && !o.quiet)
 		process_print_summary(&o, &st); /* no overlay from PNG input */
+	status = process_mcap_close(&st, status);
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);
 	dao_context_destroy(st.ctx);

@@ -7,6 +7,7 @@
 
 #include <depthao/depthao.h>
 #include <depthao/io.h>
+#include <depthao/plugin.h>
 
 /* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
 #define DEG2RAD (3.14159265358979323846 / 180.0)
@@ -17,6 +18,7 @@ struct process_options {
 	const char *input;
 	const char *ao_out, *shaded_out, *overlay_out;
 	const char *cloud_out;  /* --cloud-out: a directory, or one FILE.ply */
+	const char *mcap_out;   /* --mcap-out: FILE.mcap[?sink options] */
 	double depth_unit;
 	const char *intrinsics, *fov, *intrinsics_file;
 	double k[4];   /* parsed --intrinsics */
@@ -36,6 +38,8 @@ struct run_state {
 	double ms_total;
 	size_t frames;
 	size_t skipped;     /* a recording's frames that could not be read (warned, skipped) */
+	struct dao_plugins *mcap_plugins; /* --mcap-out: the built-in sinks */
+	struct dao_sink *mcap;
 };
 
 double process_now_ms(void);
@@ -72,6 +76,15 @@ int process_cloud_is_file(const struct process_options *o);
 int process_check_cloud_frames(const struct process_options *o, uint64_t frames, int stream);
 /* DIR/BASE.ply for an input file name BASE.png (or any BASE.EXT, or BASE). */
 char *process_cloud_name(const char *dir, const char *input_name);
+
+/* --mcap-out: opens and negotiates the sink (0 or the exit status; nothing without the
+ * option), writes a frame's depth, AO and shaded image (the shading done here unless
+ * have_shaded), and closes it (finalises the file) keeping a non-zero status. */
+int process_mcap_open(const struct process_options *o, struct run_state *st,
+		      const struct dao_camera *cam, double fps);
+int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int have_shaded,
+		       uint64_t index);
+int process_mcap_close(struct run_state *st, int status);
 
 /* Input that goes through a source plugin: "NAME:URI" or a path ending in .oni. */
 int process_input_is_stream(const char *input);

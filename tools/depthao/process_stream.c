@@ -214,7 +214,7 @@ static int prepare_run(const struct process_options *o, struct dao_source *src,
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	return 0;
+	return process_mcap_open(o, st, &cam, si->fps);
 }
 
 void process_print_summary(const struct process_options *o, const struct run_state *st)
@@ -231,6 +231,9 @@ void process_print_summary(const struct process_options *o, const struct run_sta
 	if (o->cloud_out)
 		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out ? " and " : " ",
 			o->cloud_out);
+	if (o->mcap_out)
+		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out || o->cloud_out
+						? " and " : " ", o->mcap_out);
 	fputc('\n', stderr);
 }
 
@@ -262,6 +265,7 @@ int process_stream(const struct process_options *o)
 	}
 	if (!status && !o->quiet)
 		process_print_summary(o, &st);
+	status = process_mcap_close(&st, status);
 	dao_source_close(src);
 	dao_frame_free(&st.ao);
 	dao_frame_free(&st.rgb);

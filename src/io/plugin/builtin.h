@@ -30,5 +30,6 @@ int dao_mcap_source_open(const char *uri, const struct dao_source_options *opts,
 /* Sinks of the plugins above whose source lives in another file. */
 extern const struct dao_sink_ops dao_images_sink_ops; /* images_sink.c */
 extern const struct dao_sink_ops dao_oni_sink_ops;    /* oni_sink.c */
+extern const struct dao_sink_ops dao_mcap_sink_ops;   /* mcap_sink.c */
 
 #endif

@@ -613,6 +613,8 @@ const struct dao_plugin dao_builtin_mcap_plugin = {
 	.name = "mcap",
 	.description = "MCAP files (ROS 2 bags; chunks none/zstd/lz4), CDR messages: depth "
 		       "Image 16UC1, mono16, 32FC1 and compressedDepth (PNG, RVL), colour rgb8, "
-		       "bgr8, rgba8, bgra8, mono8, JPEG; FILE.mcap[?topic=T][&unit=M][&color=C]",
+		       "bgr8, rgba8, bgra8, mono8, JPEG; FILE.mcap[?topic=T][&unit=M][&color=C]; "
+		       "records the AO (Image mono16, rgb8, CameraInfo, PointCloud2) as a sink",
 	.source = &mcap_source_ops,
+	.sink = &dao_mcap_sink_ops,
 };

@@ -1,0 +1,106 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * depthao process --mcap-out FILE[?OPTIONS]: the AO, the shaded image, the
+ * CameraInfo (and with ?cloud=true the point cloud) of every frame into one
+ * MCAP file through the built-in "mcap" sink.  A recording: it never
+ * replaces a file (FILE-1.mcap ... instead, said on stderr) unless
+ * ?overwrite=true.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <depthao/depthao.h>
+#include <depthao/plugin.h>
+
+#include "process.h"
+
+/* The sink's notes (the numbered name it records to) on stderr. */
+static void host_log(void *user, int level, const char *message)
+{
+	(void)user;
+	fprintf(stderr, "depthao: %s%s\n", level == DAO_LOG_WARN ? "warning: " : "", message);
+}
+
+int process_mcap_open(const struct process_options *o, struct run_state *st,
+		      const struct dao_camera *cam, double fps)
+{
+	struct dao_error err;
+	if (!o->mcap_out)
+		return 0;
+	size_t n = strlen(o->mcap_out) + 6;
+	char *uri = malloc(n);
+	if (!uri) {
+		fprintf(stderr, "depthao: out of memory\n");
+		return 1;
+	}
+	snprintf(uri, n, "mcap:%s", o->mcap_out);
+	struct dao_sink_host host = DAO_SINK_HOST_INIT;
+	host.log = host_log;
+	struct dao_sink_format fmt = DAO_SINK_FORMAT_INIT;
+	fmt.format = DAO_PIXFMT_GRAY16;
+	fmt.width = cam->width;
+	fmt.height = cam->height;
+	fmt.fps = fps;
+	fmt.has_fov = 1;
+	dao_camera_fov(cam, &fmt.hfov, &fmt.vfov);
+	int r = dao_plugins_load(&st->mcap_plugins, "", &err);
+	if (r == 0)
+		r = dao_sink_open(st->mcap_plugins, uri, &st->mcap, &err);
+	if (r == 0) {
+		dao_sink_attach_host(st->mcap, &host);
+		r = dao_sink_negotiate(st->mcap, &fmt, &err);
+	}
+	free(uri);
+	if (r < 0) {
+		fprintf(stderr, "depthao: --mcap-out %s: %s\n", o->mcap_out, err.message);
+		return 1;
+	}
+	return 0;
+}
+
+static int put(struct run_state *st, enum dao_stream stream, const struct dao_frame *f,
+	       struct dao_error *err)
+{
+	const struct dao_sink_frame_info info = {sizeof(info), stream, 0};
+	return dao_sink_write_stream(st->mcap, &info, f, err);
+}
+
+int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int have_shaded,
+		       uint64_t index)
+{
+	struct dao_error err;
+	int r = 0;
+	if (!st->mcap)
+		return 0;
+	if (!have_shaded)
+		r = dao_context_shade(st->ctx, &st->rgb, &err);
+	struct dao_frame d = *depth;
+	d.sequence = st->ao.sequence = st->rgb.sequence = index;
+	st->ao.timestamp_ns = st->rgb.timestamp_ns = depth->timestamp_ns;
+	if (r == 0)
+		r = put(st, DAO_STREAM_DEPTH, &d, &err);
+	if (r == 0)
+		r = put(st, DAO_STREAM_AO, &st->ao, &err);
+	if (r == 0)
+		r = put(st, DAO_STREAM_SHADED, &st->rgb, &err);
+	if (r < 0) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	return 0;
+}
+
+int process_mcap_close(struct run_state *st, int status)
+{
+	struct dao_error err;
+	if (st->mcap && dao_sink_close(st->mcap, &err) < 0) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		status = status ? status : 1;
+	}
+	st->mcap = NULL;
+	dao_plugins_free(st->mcap_plugins);
+	st->mcap_plugins = NULL;
+	return status;
+}
