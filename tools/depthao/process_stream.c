@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include <depthao/depthao.h>
 #include <depthao/io.h>
@@ -23,12 +24,24 @@
 #define READ_TIMEOUT_MS 2000
 #define MAX_EMPTY_READS 5
 
+/* A rosbag2 directory: one with a metadata.yaml (the db3 source reads it). */
+static int is_rosbag2_dir(const char *input)
+{
+	char *meta = path_join(input, "metadata.yaml");
+	struct stat st;
+	int yes = meta && stat(meta, &st) == 0 && S_ISREG(st.st_mode);
+	free(meta);
+	return yes;
+}
+
 int process_input_is_stream(const char *input)
 {
 	size_t n = strlen(input);
-	return (n > 4 && (!strcasecmp(input + n - 4, ".oni") || !strcasecmp(input + n - 4, ".bag"))) ||
+	return (n > 4 && (!strcasecmp(input + n - 4, ".oni") || !strcasecmp(input + n - 4, ".bag") ||
+			  !strcasecmp(input + n - 4, ".db3"))) ||
 	       strstr(input, ".bag?") || (n > 5 && !strcasecmp(input + n - 5, ".mcap")) ||
-	       strstr(input, ".mcap?") || dao_uri_prefix_len(input) > 0;
+	       strstr(input, ".mcap?") || strstr(input, ".db3?") || dao_uri_prefix_len(input) > 0 ||
+	       is_rosbag2_dir(input);
 }
 
 const char *process_input_path(const char *input)
