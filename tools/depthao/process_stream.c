@@ -24,13 +24,16 @@
 #define READ_TIMEOUT_MS 2000
 #define MAX_EMPTY_READS 5
 
-/* A rosbag2 directory: one with a metadata.yaml (the db3 source reads it). */
+/* A rosbag2 directory: one with a metadata.yaml (the db3 source reads it), maybe with ?options. */
 static int is_rosbag2_dir(const char *input)
 {
-	char *meta = path_join(input, "metadata.yaml");
+	const char *q = strrchr(input, '?');
+	char *dir = strndup(input, q ? (size_t)(q - input) : strlen(input));
+	char *meta = dir ? path_join(dir, "metadata.yaml") : NULL;
 	struct stat st;
 	int yes = meta && stat(meta, &st) == 0 && S_ISREG(st.st_mode);
 	free(meta);
+	free(dir);
 	return yes;
 }
 

@@ -209,11 +209,14 @@ static struct topic *topic_by_id(struct dao_db3 *db, int64_t id)
 static int add_message(struct dao_db3 *db, sqlite3_stmt *st, uint64_t *total,
 		       struct dao_error *err)
 {
-	for (int c = 0; c < 3; c++)
+	if (sqlite3_column_type(st, 0) != SQLITE_INTEGER)
+		return dao_error_set(err, -EINVAL, "%s: table messages: an id that is not an integer",
+				     db->path);
+	for (int c = 1; c < 3; c++)
 		if (sqlite3_column_type(st, c) != SQLITE_INTEGER)
-			return dao_error_set(err, -EINVAL, "%s: table messages, row %llu: %s is not "
-					     "an integer", db->path, (unsigned long long)*total + 1,
-					     c == 0 ? "id" : c == 1 ? "topic_id" : "timestamp");
+			return dao_error_set(err, -EINVAL, "%s: table messages, id %lld: %s is not an "
+					     "integer", db->path, (long long)sqlite3_column_int64(st, 0),
+					     c == 1 ? "topic_id" : "timestamp");
 	int64_t id = sqlite3_column_int64(st, 0), tid = sqlite3_column_int64(st, 1);
 	int64_t ts = sqlite3_column_int64(st, 2);
 	struct topic *t = topic_by_id(db, tid);
