@@ -15,6 +15,8 @@
 //     bigblob.db3 (a 2 MiB message), split/ (metadata.yaml of two files), notsqlite.db3
 // usage: node make_db3.js OUTDIR   (exit 77 when tests/js/node_modules is absent)
 //        node make_db3.js OUTDIR --vga N: vga.db3 alone, N frames of 640x480 16UC1 at 30 fps
+//        node make_db3.js FUZZDIR --seeds: the seeds of fuzz_db3_message and fuzz_foxglove
+//        (FUZZDIR/corpus/db3_message, FUZZDIR/corpus/foxglove; the formats in those targets)
 "use strict";
 const fs = require("fs");
 const path = require("path");
@@ -139,8 +141,35 @@ async function damaged(SQL, out) {
   fs.writeFileSync(f("notsqlite.db3"), "not a database at all, just text\n");
 }
 
+// fuzz_db3_message: type byte, u16 + CameraInfo, u16 + depth message 0, depth message 1;
+// fuzz_foxglove: schema/encoding byte, message
+function seeds(dir) {
+  const db3 = path.join(dir, "corpus", "db3_message"), fg = path.join(dir, "corpus", "foxglove");
+  fs.mkdirSync(db3, { recursive: true });
+  fs.mkdirSync(fg, { recursive: true });
+  const u16 = (n) => Buffer.from([n & 255, n >> 8]);
+  const seed = (type, info, d0, d1) => Buffer.concat([Buffer.from([type]), u16(info.length), info,
+    u16(d0.length), d0, d1]);
+  fs.writeFileSync(path.join(db3, "image_16uc1.bin"), seed(0, camInfo(0), image(0), image(1)));
+  fs.writeFileSync(path.join(db3, "image_32fc1_mismatch.bin"), seed(0, camInfo(0), image(0), image(1, "32FC1")));
+  fs.writeFileSync(path.join(db3, "compressed_png.bin"), seed(1, camInfo(0), cdepth(0), cdepth(1)));
+  fs.writeFileSync(path.join(db3, "image_cut.bin"), seed(0, camInfo(0), image(0), image(1).subarray(0, 700)));
+  const root = M.foxgloveRoot();
+  const pb = (n, o) => Buffer.from(root.lookupType("foxglove." + n).encode(root.lookupType("foxglove." + n).fromObject(o)).finish());
+  const js = (o) => Buffer.from(JSON.stringify(o));
+  const put = (name, sel, msg) => fs.writeFileSync(path.join(fg, name), Buffer.concat([Buffer.from([sel]), msg]));
+  put("raw_pb.bin", 0, pb("RawImage", M.fgDepth(0, false, false)));
+  put("png_pb.bin", 1, pb("CompressedImage", M.fgDepth(0, false, true)));
+  put("calibration_pb.bin", 2, pb("CameraCalibration", M.fgCalibration(0, false)));
+  put("raw_json.bin", 4, js(M.fgDepth(0, true, false)));
+  put("png_json.bin", 5, js(M.fgDepth(0, true, true)));
+  put("calibration_json.bin", 6, js(M.fgCalibration(0, true)));
+}
+
 (async () => {
   const out = process.argv[2];
+  if (process.argv[3] === "--seeds")
+    return seeds(out);
   const SQL = await initSqlJs();
   // the reader's own SQLite build (@foxglove/sql.js), given its wasm (node has no fetch of files)
   await SqliteSqljs.Initialize({ wasmBinary: fs.readFileSync(path.join(M.mods, "@foxglove/sql.js/dist/sql-wasm.wasm")) });

@@ -243,7 +243,7 @@ async function writeFoxglove(file, encoding, png, bad = {}) {
 }
 
 module.exports = { W, H, K, FRAMES, VGA, pixels, png16, stamp, logTime, IMAGE, COMPRESSED, CAMINFO,
-  writer, mods, write, raw, zstd };
+  writer, mods, write, raw, zstd, foxgloveRoot, fgCalibration, fgDepth };
 
 if (require.main === module) (async () => {
   const out = process.argv[2];
