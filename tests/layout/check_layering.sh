@@ -30,12 +30,13 @@ file: core
 oni: core file
 bag: core
 mcap: core
-plugin: core file oni bag mcap
+db3: core
+plugin: core file oni bag mcap db3
 '
 # what the core may not include: libdepthao-io's public headers, the container and
 # codec libraries, dlopen (the plugin registry is libdepthao-io's)
 io_public='depthao/\(io\|png\|ply\|oni\|plugin\|output_file\)\.h'
-container='png\.h\|pngconf\.h\|lz4[a-z]*\.h\|bzlib\.h\|turbojpeg\.h\|jpeglib\.h\|zlib\.h\|dlfcn\.h'
+container='png\.h\|pngconf\.h\|lz4[a-z]*\.h\|sqlite3\.h\|yaml\.h\|json-c/[a-z_]*\.h\|bzlib\.h\|turbojpeg\.h\|jpeglib\.h\|zlib\.h\|dlfcn\.h'
 
 status=0
 # the private includes ("dir/file.h") of the C sources under a directory, as "file: dir"

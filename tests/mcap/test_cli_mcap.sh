@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 # depthao process on MCAP files that the reference implementation writes here
 # (make_mcaps.js: @mcap/core, CDR by @foxglove/rosmsg2-serialization): chunked zstd and
-# lz4, unchunked, without summary, compressedDepth PNG and RVL give the same AO as the same
-# frames as 16-bit PNGs; --start on the indexes; a file cut short; corrupt files.
+# lz4, unchunked, without summary, compressedDepth PNG and RVL, Foxglove RawImage in protobuf
+# and JSON and CompressedImage PNG (with CameraCalibration) give the same AO as the same
+# frames as 16-bit PNGs; damaged Foxglove messages; --start on the indexes; a file cut short; corrupt files.
 # usage: test_cli_mcap.sh DEPTHAO PNG_INFO NODE
 . "$(dirname "$0")/../tools/cli_lib.sh"
 NODE=$3
@@ -19,7 +20,7 @@ set -e
 
 expect_exit 0 "PNG frames" -- "$DEPTHAO" process --input "$M/png" --ao-out "$WORK/png-ao" \
 	--shaded-out "$WORK/png-sh" --quiet
-for f in d16_zstd d16_lz4 d16_none d16_nosum cdepth_png cdepth_rvl; do
+for f in d16_zstd d16_lz4 d16_none d16_nosum cdepth_png cdepth_rvl fg_proto fg_json fg_png; do
 	expect_exit 0 "$f" -- "$DEPTHAO" process --input "$M/$f.mcap" --depth-temporal 0 \
 		--ao-out "$WORK/$f-ao" --shaded-out "$WORK/$f-sh" || continue
 	grep -q "intrinsics from the source: fx 60.00 fy 61.00 cx 31.50 cy 23.25" "$WORK/err" ||
@@ -31,6 +32,16 @@ for f in d16_zstd d16_lz4 d16_none d16_nosum cdepth_png cdepth_rvl; do
 		cmp -s "$WORK/$f-sh/$i.png" "$WORK/png-sh/$i.png" || fail "$f: shaded $i differs"
 	done
 done
+
+# Foxglove schemas damaged: each error names the message and what was expected
+fg_error() { # FILE MESSAGE
+	expect_exit 1 "$1" -- "$DEPTHAO" process --input "$M/$1.mcap" --ao-out "$WORK/$1" --quiet
+	grep -qF "$2" "$WORK/err" || fail "$1: $(cat "$WORK/err")"
+}
+fg_error fg_yuv "no depth image topic (sensor_msgs/msg/Image in 16UC1, mono16 or 32FC1, or compressedDepth, in CDR; or foxglove.RawImage or 16-bit PNG foxglove.CompressedImage); image topics: /camera/depth/image_raw (yuv422)"
+fg_error fg_cut "message 0 of '/camera/depth/image_raw' is not a foxglove.RawImage (protobuf)"
+fg_error fg_type "message 0 of '/camera/depth/image_raw' is not a foxglove.RawImage (json)"
+fg_error fg_k4 "the first message of '/camera/depth/calibration' is not a foxglove.CameraCalibration (protobuf; K must have 9 values"
 
 # the frame count and --start/--frames through the URI (the chunk indexes of a summary)
 expect_exit 0 "mcap: URI, --start 2 --frames 2" -- "$DEPTHAO" process \

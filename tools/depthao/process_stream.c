@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include <depthao/depthao.h>
 #include <depthao/io.h>
@@ -23,12 +24,27 @@
 #define READ_TIMEOUT_MS 2000
 #define MAX_EMPTY_READS 5
 
+/* A rosbag2 directory: one with a metadata.yaml (the db3 source reads it), maybe with ?options. */
+static int is_rosbag2_dir(const char *input)
+{
+	const char *q = strrchr(input, '?');
+	char *dir = strndup(input, q ? (size_t)(q - input) : strlen(input));
+	char *meta = dir ? path_join(dir, "metadata.yaml") : NULL;
+	struct stat st;
+	int yes = meta && stat(meta, &st) == 0 && S_ISREG(st.st_mode);
+	free(meta);
+	free(dir);
+	return yes;
+}
+
 int process_input_is_stream(const char *input)
 {
 	size_t n = strlen(input);
-	return (n > 4 && (!strcasecmp(input + n - 4, ".oni") || !strcasecmp(input + n - 4, ".bag"))) ||
+	return (n > 4 && (!strcasecmp(input + n - 4, ".oni") || !strcasecmp(input + n - 4, ".bag") ||
+			  !strcasecmp(input + n - 4, ".db3"))) ||
 	       strstr(input, ".bag?") || (n > 5 && !strcasecmp(input + n - 5, ".mcap")) ||
-	       strstr(input, ".mcap?") || dao_uri_prefix_len(input) > 0;
+	       strstr(input, ".mcap?") || strstr(input, ".db3?") || dao_uri_prefix_len(input) > 0 ||
+	       is_rosbag2_dir(input);
 }
 
 const char *process_input_path(const char *input)

@@ -50,11 +50,12 @@ static uint32_t le32(const uint8_t *p)
 int dao_cdepth_size(const struct dao_cdepth_format *f, const uint8_t *data, size_t len,
 		    uint32_t *width, uint32_t *height)
 {
-	const uint8_t *p = data + DAO_CDEPTH_CONFIG_HEADER;
+	const size_t hdr = f->plain ? 0 : DAO_CDEPTH_CONFIG_HEADER;
+	const uint8_t *p = data + hdr;
 	*width = *height = 0;
-	if (len < DAO_CDEPTH_CONFIG_HEADER + 8)
+	if (len < hdr + 8)
 		return -EINVAL;
-	len -= DAO_CDEPTH_CONFIG_HEADER;
+	len -= hdr;
 	if (f->codec == DAO_CDEPTH_RVL) {
 		*width = le32(p);
 		*height = le32(p + 4);
@@ -62,6 +63,8 @@ int dao_cdepth_size(const struct dao_cdepth_format *f, const uint8_t *data, size
 		/* signature, IHDR length and type, width, height */
 		if (len < 24 || png_sig_cmp(p, 0, 8) || memcmp(p + 12, "IHDR", 4))
 			return -EINVAL;
+		if (f->plain && (len < 26 || p[24] != 16 || p[25] != 0))
+			return -EINVAL; /* not 16-bit grey: not depth */
 		*width = be32(p + 16);
 		*height = be32(p + 20);
 	}
@@ -203,15 +206,17 @@ int dao_cdepth_decode(const struct dao_cdepth_format *f, const uint8_t *data, si
 {
 	uint32_t w, h;
 	if (dao_cdepth_size(f, data, len, &w, &h) < 0) {
-		snprintf(why, why_len, "no compressedDepth header and image");
+		snprintf(why, why_len, "%s", f->plain ? "not a 16-bit grey PNG"
+						     : "no compressedDepth header and image");
 		return -EINVAL;
 	}
 	if (w != width || h != height) {
 		snprintf(why, why_len, "a %ux%u image, not %ux%u", w, h, width, height);
 		return -EINVAL;
 	}
-	const uint8_t *img = data + DAO_CDEPTH_CONFIG_HEADER;
-	size_t img_len = len - DAO_CDEPTH_CONFIG_HEADER;
+	const size_t hdr = f->plain ? 0 : DAO_CDEPTH_CONFIG_HEADER;
+	const uint8_t *img = data + hdr;
+	size_t img_len = len - hdr;
 	/* 16UC1 straight into the output; 32FC1 through the scratch image */
 	uint8_t *dst = f->is_float ? (uint8_t *)scratch : out;
 	size_t dst_stride = f->is_float ? (size_t)width * 2 : stride;

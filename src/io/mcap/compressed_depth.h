@@ -26,6 +26,8 @@ enum dao_cdepth_codec { DAO_CDEPTH_PNG, DAO_CDEPTH_RVL };
 struct dao_cdepth_format {
 	int is_float;               /* 32FC1 (quantised inverse depth) */
 	enum dao_cdepth_codec codec;
+	int plain;                  /* a PNG alone, without the ConfigHeader (16-bit
+				     * grey counts: foxglove.CompressedImage "png") */
 };
 
 #define DAO_CDEPTH_CONFIG_HEADER 12
@@ -33,7 +35,8 @@ struct dao_cdepth_format {
 /* 0, or -EINVAL if `format` is not a compressedDepth format depthao reads. */
 int dao_cdepth_parse_format(const char *format, struct dao_cdepth_format *f);
 
-/* The size of the image in `data` (from the PNG's IHDR or RVL's header): 0 or -EINVAL. */
+/* The size of the image in `data` (from the PNG's IHDR or RVL's header): 0 or -EINVAL
+ * (for a plain PNG, also when it is not 16-bit grey). */
 int dao_cdepth_size(const struct dao_cdepth_format *f, const uint8_t *data, size_t len,
 		    uint32_t *width, uint32_t *height);
 

@@ -12,6 +12,7 @@ extern const struct dao_plugin dao_builtin_images_plugin;
 extern const struct dao_plugin dao_builtin_y4m_plugin;
 extern const struct dao_plugin dao_builtin_bag_plugin;
 extern const struct dao_plugin dao_builtin_mcap_plugin;
+extern const struct dao_plugin dao_builtin_db3_plugin;
 
 /*
  * The built-in file sources' open with a pixel limit (width x height of the
@@ -26,6 +27,8 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 			uint64_t max_pixels, void **state, struct dao_error *err);
 int dao_mcap_source_open(const char *uri, const struct dao_source_options *opts,
 			 uint64_t max_pixels, void **state, struct dao_error *err);
+int dao_db3_source_open(const char *uri, const struct dao_source_options *opts,
+			uint64_t max_pixels, void **state, struct dao_error *err);
 
 /* Sinks of the plugins above whose source lives in another file. */
 extern const struct dao_sink_ops dao_images_sink_ops; /* images_sink.c */

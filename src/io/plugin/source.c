@@ -31,6 +31,8 @@ static int open_state(const struct dao_plugin *pl, const char *rest,
 		return dao_bag_source_open(rest, opts, max_pixels, state, err);
 	if (pl == &dao_builtin_mcap_plugin)
 		return dao_mcap_source_open(rest, opts, max_pixels, state, err);
+	if (pl == &dao_builtin_db3_plugin)
+		return dao_db3_source_open(rest, opts, max_pixels, state, err);
 	int r = pl->source->open(rest, opts, state, err);
 	if (r < 0)
 		return r;

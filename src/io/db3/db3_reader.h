@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_DB3_DB3_READER_H
+#define DAO_DB3_DB3_READER_H
+
+/*
+ * A reader of rosbag2's sqlite3 storage (.db3, ROS 2 Foxy to Humble's
+ * default), through libsqlite3.  The database holds two tables:
+ *   topics(id INTEGER, name TEXT, type TEXT, serialization_format TEXT,
+ *          offered_qos_profiles TEXT)
+ *   messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER,
+ *            data BLOB)      timestamp: ns, with an index on it
+ * The file is opened read-only and immutable (no lock, no journal: a file
+ * that changes under the reader is not supported).  Opening reads the
+ * topics and, through the timestamp index, the id and time of every message
+ * (16 bytes each; at most DAO_DB3_MAX_MESSAGES); a message's data is read
+ * when asked for, by id.  Every value's type is checked (a column of
+ * another type, a topic_id no topic has, a blob over the limit is an error
+ * naming the file, the table and the row).  One thread at a time per reader.
+ */
+#include <stddef.h>
+#include <stdint.h>
+
+#include <depthao/error.h>
+
+#define DAO_DB3_MAX_MESSAGES (1u << 25)
+#define DAO_DB3_MAX_TOPICS 4096
+
+struct dao_db3;
+
+struct dao_db3_topic {
+	const char *name;                 /* "/camera/depth/image_raw" */
+	const char *type;                 /* "sensor_msgs/msg/Image" */
+	const char *serialization_format; /* "cdr" */
+	uint32_t message_count;
+};
+
+/*
+ * Opens `path`; a message's data larger than `max_message` bytes is refused
+ * when read.  -ENOENT/-EACCES (cannot open), -EINVAL (not a rosbag2
+ * database: no such table or column, a value of another type), -EFBIG (over
+ * a limit), -EIO (sqlite could not read it), -ENOMEM.
+ */
+int dao_db3_open(const char *path, uint64_t max_message, struct dao_db3 **out,
+		 struct dao_error *err);
+void dao_db3_close(struct dao_db3 *db);
+
+const char *dao_db3_path(const struct dao_db3 *db);
+uint32_t dao_db3_topic_count(const struct dao_db3 *db);
+/* NULL if i >= count.  Topics are in the order of their id. */
+const struct dao_db3_topic *dao_db3_topic(const struct dao_db3 *db, uint32_t i);
+
+/*
+ * Message `i` (timestamp order, then id) of topic `topic`: its data, valid
+ * until the next call on the reader, and its timestamp (ns).
+ */
+int dao_db3_read_message(struct dao_db3 *db, uint32_t topic, uint32_t i, const uint8_t **data,
+			 uint64_t *len, uint64_t *log_time, struct dao_error *err);
+/* The timestamp of message `i` of a topic, without reading it; 0 if there is none. */
+uint64_t dao_db3_message_time(const struct dao_db3 *db, uint32_t topic, uint32_t i);
+
+/*
+ * The database files of a rosbag2 directory's metadata.yaml
+ * (rosbag2_bagfile_information: storage_identifier, relative_file_paths):
+ * its storage ("sqlite3", "mcap") into storage (cap bytes) and its first file
+ * (joined to `dir`) into file (fcap bytes).  -EINVAL with a message when the
+ * file is not such metadata, -ENOTSUP for a bag split into several files.
+ */
+int dao_rosbag2_metadata(const char *dir, char *storage, size_t cap, char *file, size_t fcap,
+			 struct dao_error *err);
+
+#endif

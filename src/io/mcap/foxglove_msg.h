@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_MCAP_FOXGLOVE_MSG_H
+#define DAO_MCAP_FOXGLOVE_MSG_H
+
+/*
+ * Foxglove's image schemas (github.com/foxglove/schemas), the messages an
+ * MCAP file written by Foxglove's SDKs holds, in their protobuf encoding
+ * (protobuf.h; the official .proto field numbers below) or their JSON one
+ * (an object of the fields by name; bytes in base64, a timestamp as
+ * {"sec", "nsec"}):
+ *   foxglove.RawImage: timestamp 1, frame_id 7, width 2 (fixed32), height 3
+ *     (fixed32), encoding 4, step 5 (fixed32), data 6;
+ *   foxglove.CompressedImage: timestamp 1, frame_id 4, data 2, format 3;
+ *   foxglove.CameraCalibration: timestamp 1, frame_id 9, width 2 (fixed32),
+ *     height 3 (fixed32), distortion_model 4, D 5, K 6, R 7, P 8 (repeated
+ *     double, packed or not).
+ * The timestamp is google.protobuf.Timestamp: seconds 1 (int64), nanos 2
+ * (int32).  Pixels are little-endian (RawImage has no byte-order field).
+ * The parsers return 0 or -EINVAL (a message that does not fit its type: a
+ * field of the wrong type, a K without 9 values ...); -ENOMEM or -EFBIG when
+ * the JSON's bytes do not fit the buffer's limit.
+ */
+#include <stddef.h>
+#include <stdint.h>
+
+enum dao_fg_encoding { DAO_FG_PROTOBUF, DAO_FG_JSON };
+
+/* foxglove.RawImage or foxglove.CompressedImage; data points into the
+ * message (protobuf) or into the buffer (JSON). */
+struct dao_fg_image {
+	uint64_t stamp_ns;              /* 0 for a stamp before 1970 */
+	uint32_t width, height, step;   /* RawImage's */
+	char encoding[64];              /* RawImage's encoding, CompressedImage's format */
+	const uint8_t *data;
+	size_t data_len;
+};
+
+#define DAO_FG_MAX_DISTORTION 16
+
+struct dao_fg_calibration {
+	uint64_t stamp_ns;
+	uint32_t width, height;
+	uint32_t d_count;               /* of D (the first DAO_FG_MAX_DISTORTION kept) */
+	double d[DAO_FG_MAX_DISTORTION];
+	double k[9], r[9], p[12];       /* P all 0 when the message has none */
+};
+
+/* Where the JSON encoding's base64 bytes are decoded: grows up to `max` bytes. */
+struct dao_fg_buf {
+	uint8_t *p;
+	size_t cap, max;
+};
+void dao_fg_buf_free(struct dao_fg_buf *b);
+
+int dao_fg_raw_image_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_t len,
+			   struct dao_fg_buf *buf, struct dao_fg_image *img);
+int dao_fg_compressed_image_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_t len,
+				  struct dao_fg_buf *buf, struct dao_fg_image *img);
+int dao_fg_calibration_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_t len,
+			     struct dao_fg_calibration *cal);
+
+/* Standard base64 (RFC 4648, padding optional) of `len` chars into out (cap bytes): bytes or -1. */
+long dao_base64_decode(const char *in, size_t len, uint8_t *out, size_t cap);
+
+#endif

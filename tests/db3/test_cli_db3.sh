@@ -1,0 +1,103 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# depthao process on rosbag2 sqlite3 bags written here by sql.js with CDR from
+# @foxglove/rosmsg2-serialization, each read back by @foxglove/rosbag2-web (make_db3.js): Image
+# 16UC1, compressedDepth PNG, a bag directory (metadata.yaml) of sqlite3 and of MCAP storage give
+# the same AO as the same frames as 16-bit PNGs, with the CameraInfo's intrinsics; --start and
+# the frame count; colour overlays equal to the same messages' in MCAP; damaged databases.
+# usage: test_cli_db3.sh DEPTHAO PNG_INFO NODE
+. "$(dirname "$0")/../tools/cli_lib.sh"
+NODE=$3
+B="$WORK/db3"
+command -v "$NODE" >/dev/null 2>&1 || { echo "SKIP: node is not installed"; exit 77; }
+
+set +e
+"$NODE" "${DAO_MAKE_DB3:?}" "$B"
+st=$?
+set -e
+[ "$st" -eq 77 ] && exit 77 # tests/js/node_modules is absent (the script said so)
+[ "$st" -eq 0 ] || { echo "make_db3.js failed ($st)"; exit 1; }
+
+expect_exit 0 "PNG frames" -- "$DEPTHAO" process --input "$B/png" --ao-out "$WORK/png-ao" \
+	--shaded-out "$WORK/png-sh" --quiet
+for f in d16.db3 cdepth.db3 bag bagmcap "db3:$B/d16.db3"; do
+	case "$f" in db3:*) in=$f; f=uri ;; *) in=$B/$f ;; esac
+	expect_exit 0 "$f" -- "$DEPTHAO" process --input "$in" --depth-temporal 0 \
+		--ao-out "$WORK/$f-ao" --shaded-out "$WORK/$f-sh" || continue
+	grep -q "intrinsics from the source: fx 60.00 fy 61.00 cx 31.50 cy 23.25" "$WORK/err" ||
+		fail "$f: intrinsics not from the CameraInfo: $(cat "$WORK/err")"
+	grep -q "warning" "$WORK/err" && fail "$f: a warning: $(cat "$WORK/err")"
+	[ "$(ls "$WORK/$f-ao" | wc -l)" -eq 5 ] || fail "$f: $(ls "$WORK/$f-ao" | wc -l) AO files"
+	for i in 000000 000001 000002 000003 000004; do
+		cmp -s "$WORK/$f-ao/$i.png" "$WORK/png-ao/$i.png" || fail "$f: AO $i differs from the PNG run"
+		cmp -s "$WORK/$f-sh/$i.png" "$WORK/png-sh/$i.png" || fail "$f: shaded $i differs"
+	done
+done
+
+# the frame count, --start/--frames, ?topic= and ?unit= through the URI
+expect_exit 0 "db3: URI, --start 2 --frames 2" -- "$DEPTHAO" process \
+	--input "$B/d16.db3?topic=/camera/depth/image_raw&unit=0.001" --start 2 --frames 2 \
+	--depth-temporal 0 --ao-out "$WORK/start"
+grep -q "d16.db3: /camera/depth/image_raw 64x48 16UC1, 5 frames" "$WORK/err" || fail "frame count: $(cat "$WORK/err")"
+[ "$(ls "$WORK/start" | tr '\n' ' ')" = "000002.png 000003.png " ] ||
+	fail "--start 2 --frames 2 wrote: $(ls "$WORK/start" | tr '\n' ' ')"
+for i in 000002 000003; do
+	cmp -s "$WORK/start/$i.png" "$WORK/png-ao/$i.png" || fail "--start: AO $i differs"
+done
+expect_exit 1 "--start past the end" -- "$DEPTHAO" process --input "$B/d16.db3" --start 5 \
+	--ao-out "$WORK/past" --quiet
+grep -q "start frame 5 is past the end (topic '/camera/depth/image_raw' has 5 frames)" "$WORK/err" ||
+	fail "--start 5: $(cat "$WORK/err")"
+expect_exit 0 "?unit=" -- "$DEPTHAO" process --input "$B/bag?unit=0.0001" --frames 1 \
+	--depth-temporal 0 --ao-out "$WORK/unit" --quiet
+expect_exit 0 "PNG at 0.1 mm" -- "$DEPTHAO" process --input "$B/png" --depth-unit 0.0001 \
+	--ao-out "$WORK/png-unit" --quiet
+cmp -s "$WORK/unit/000000.png" "$WORK/png-unit/000000.png" || fail "?unit=0.0001 differs from PNGs"
+expect_exit 1 "missing topic" -- "$DEPTHAO" process --input "$B/d16.db3?topic=/nope" \
+	--ao-out "$WORK/n" --quiet
+grep -q "no image topic '/nope'; depth topics: /camera/depth/image_raw (16UC1)" "$WORK/err" ||
+	fail "missing topic: $(cat "$WORK/err")"
+
+# colour (bgr8, 10 ms after the depth): the overlays are those of the same messages in MCAP
+for f in color.db3 color.mcap; do
+	expect_exit 0 "colour $f" -- "$DEPTHAO" process --input "$B/$f" --depth-temporal 0 \
+		--ao-out "$WORK/$f-ao" --overlay-out "$WORK/$f-ov" --quiet
+	[ "$(ls "$WORK/$f-ov" 2>/dev/null | wc -l)" -eq 5 ] || fail "$f: $(ls "$WORK/$f-ov" 2>/dev/null | wc -l) overlays"
+done
+for i in 000000 000001 000002 000003 000004; do
+	cmp -s "$WORK/color.db3-ov/$i.png" "$WORK/color.mcap-ov/$i.png" || fail "colour: overlay $i differs from MCAP's"
+	cmp -s "$WORK/color.db3-ao/$i.png" "$WORK/png-ao/$i.png" || fail "colour: AO $i differs from the PNG run"
+done
+cmp -s "$WORK/color.db3-ov/000000.png" "$WORK/color.db3-ov/000001.png" && fail "colour: overlays 0 and 1 are the same"
+
+# damaged databases: one line naming the file and what is wrong
+db3_error() { # INPUT MESSAGE [options]
+	in=$1 msg=$2
+	shift 2
+	expect_exit 1 "$in" -- "$DEPTHAO" process --input "$B/$in" --ao-out "$WORK/bad" --quiet "$@"
+	grep -qF "$B/$in: $msg" "$WORK/err" || fail "$in: $(cat "$WORK/err")"
+	[ "$(wc -l <"$WORK/err")" -eq 1 ] || fail "$in: more than one line: $(cat "$WORK/err")"
+}
+db3_error notopics.db3 "no table 'topics': not a rosbag2 database (its tables are topics and messages)"
+db3_error nocolumn.db3 "table messages (id, topic_id, timestamp, data): no such column: timestamp"
+db3_error texttime.db3 "table messages, id 4: timestamp is not an integer"
+db3_error textdata.db3 "table messages, id 2: data is text, not a blob"
+db3_error badtopic.db3 "table messages, id 3: topic_id 99 is not in table topics"
+db3_error cut.db3 "message 0 of '/camera/depth/image_raw' is not a sensor_msgs/msg/Image (cdr)"
+db3_error yuv.db3 "no depth image topic (sensor_msgs/msg/Image in 16UC1, mono16 or 32FC1, or compressedDepth, in CDR; or foxglove.RawImage or 16-bit PNG foxglove.CompressedImage); image topics: /camera/depth/image_raw (yuv422)"
+db3_error bigblob.db3 "table messages, id 2: 2103368 bytes of data, over the limit of 1052576" --max-pixels 1000
+db3_error notsqlite.db3 "not a rosbag2 .db3 file (no SQLite 3 header)"
+expect_exit 1 "split bag" -- "$DEPTHAO" process --input "$B/split" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/split/metadata.yaml: the bag is split into 2 files: play each file on its own" "$WORK/err" ||
+	fail "split: $(cat "$WORK/err")"
+# a directory whose metadata.yaml is not rosbag2's
+mkdir -p "$WORK/notbag" && printf 'hello: world\n' >"$WORK/notbag/metadata.yaml"
+expect_exit 1 "not rosbag2 metadata" -- "$DEPTHAO" process --input "$WORK/notbag" --ao-out "$WORK/bad" --quiet
+grep -qF "$WORK/notbag/metadata.yaml: no rosbag2_bagfile_information mapping" "$WORK/err" ||
+	fail "notbag: $(cat "$WORK/err")"
+# the file is never written: opened read-only and immutable
+sum=$(cksum <"$B/d16.db3")
+expect_exit 0 "read-only" -- "$DEPTHAO" process --input "$B/d16.db3" --frames 1 --ao-out "$WORK/ro" --quiet
+[ "$(cksum <"$B/d16.db3")" = "$sum" ] || fail "d16.db3 changed"
+ls "$B"/d16.db3-* 2>/dev/null && fail "a journal or WAL file beside d16.db3"
+finish
