@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 
 #include <json-c/json.h>
@@ -855,6 +856,7 @@ static const struct lws_protocols protocols[] = {
 static void *service(void *arg)
 {
 	struct fox_sink *s = arg;
+	prctl(PR_SET_NAME, "fox:lws", 0, 0, 0); /* its CPU, per thread: docs/perf/foxlat.md */
 	while (!atomic_load(&s->stopping))
 		if (lws_service(s->ctx, 0) < 0)
 			break;
