@@ -99,6 +99,7 @@ async function round(a, n) {
   await d.stop();
   const m = /latency capture -> socket median ([\d.]+) ms, p99 ([\d.]+) ms/.exec(d.text());
   const dropped = /(\d+) dropped/.exec(d.text());
+  const inSink = /of it in the sink median ([\d.]+) ms, p99 [\d.]+ ms; building the message median ([\d.]+) ms/.exec(d.text());
   const live = clients.filter((c) => !c.stalled);
   const lat = live.flatMap((c) => c.lat).sort((x, y) => x - y);
   const fps = live.map((c) => c.frames["/depthao/ao"] / secs);
@@ -111,6 +112,7 @@ async function round(a, n) {
     med: quantile(lat, 0.5), p95: quantile(lat, 0.95),
     sockMed: m ? Number(m[1]) : NaN, sockP99: m ? Number(m[2]) : NaN,
     dropped: dropped ? Number(dropped[1]) : NaN,
+    inSink: inSink ? Number(inSink[1]) : NaN, build: inSink ? Number(inSink[2]) : NaN,
     sinkCpu: (c1.sink - c0.sink) / secs, allCpu: (c1.all - c0.all) / secs,
   };
 }
@@ -126,14 +128,14 @@ async function main() {
     `${a.seconds} s per round after ${a.warmup} s warm-up; channels /depthao/ao (RawImage mono16) + /depthao/shaded (jpeg)` +
     (a.stall ? "; the last client of each round of 2 or more stalled (not counted in fps/latency)" : ""));
   console.log("| clients | AO fps per client (min-max) | shaded fps (min) | latency capture->receipt median | p95 | " +
-    "sink capture->socket median (p99) | dropped | sink threads CPU | daemon CPU |");
-  console.log("|---|---|---|---|---|---|---|---|---|");
+    "sink capture->socket median (p99) | of it in the sink (building) | dropped | sink threads CPU | daemon CPU |");
+  console.log("|---|---|---|---|---|---|---|---|---|---|");
   const rows = [];
   for (const n of a.clients) {
     const r = await round(a, n);
     rows.push(r);
     console.log(`| ${n}${r.stall ? " (1 stalled)" : ""} | ${f(r.aoFps)}-${f(r.aoFpsMax)} | ${f(r.shFps)} | ` +
-      `${f(r.med)} ms | ${f(r.p95)} ms | ${f(r.sockMed)} (${f(r.sockP99)}) ms | ${f(r.dropped, 0)} | ` +
+      `${f(r.med)} ms | ${f(r.p95)} ms | ${f(r.sockMed)} (${f(r.sockP99)}) ms | ${f(r.inSink)} (${f(r.build)}) ms | ${f(r.dropped, 0)} | ` +
       `${f(r.sinkCpu * 100)} % | ${f(r.allCpu * 100)} % |`);
   }
   const base = rows.find((r) => r.n === 0);

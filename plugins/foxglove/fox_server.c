@@ -59,7 +59,7 @@ struct fox_client {
 	double tokens;
 	uint64_t tokens_at, limit_noted_at;
 	int inflight;              /* lws holds the rest of a message */
-	uint64_t inflight_cap;
+	uint64_t inflight_cap, inflight_entered, inflight_published;
 };
 
 struct pending {
@@ -102,6 +102,7 @@ void fox_publish(struct fox_sink *s, struct fox_msg *m)
 {
 	pthread_mutex_lock(&s->lock);
 	m->refs = 1; /* ours until the loop is done */
+	m->published_ns = fox_now_ns();
 	const int ch = m->channel;
 	for (struct fox_client *c = s->clients; c; c = c->next) {
 		if (!c->subscribed[ch])
@@ -668,11 +669,21 @@ static void closed(struct fox_sink *s, struct pss *pss)
 	free(c);
 }
 
-static void record_latency(struct fox_sink *s, uint64_t capture_ns)
+static uint32_t us_between(uint64_t from, uint64_t to)
+{
+	const uint64_t us = to > from ? (to - from) / 1000u : 0;
+	return us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+}
+
+/* capture -> socket, and where it went: arrival in the sink -> socket, of which the
+ * message's building (docs/perf/foxlat.md) */
+static void record_latency(struct fox_sink *s, uint64_t capture_ns, uint64_t entered_ns,
+			   uint64_t published_ns)
 {
 	const uint64_t now = fox_now_ns();
-	uint64_t us = now > capture_ns ? (now - capture_ns) / 1000u : 0;
-	s->lat_us[s->lat_pos] = us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+	s->lat_us[s->lat_pos] = us_between(capture_ns, now);
+	s->lat_sink_us[s->lat_pos] = us_between(entered_ns, now);
+	s->lat_build_us[s->lat_pos] = us_between(entered_ns, published_ns);
 	s->lat_pos = (s->lat_pos + 1) % FOX_LATENCY_RING;
 	if (s->lat_n < FOX_LATENCY_RING)
 		s->lat_n++;
@@ -684,7 +695,7 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 	pthread_mutex_lock(&s->lock);
 	if (c->inflight) { /* lws has sent the rest of the last one */
 		c->inflight = 0;
-		record_latency(s, c->inflight_cap);
+		record_latency(s, c->inflight_cap, c->inflight_entered, c->inflight_published);
 	}
 	if (c->overflow) {
 		pthread_mutex_unlock(&s->lock);
@@ -724,8 +735,10 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 		if (lws_partial_buffered(c->wsi)) {
 			c->inflight = 1;
 			c->inflight_cap = m->capture_ns;
+			c->inflight_entered = m->entered_ns;
+			c->inflight_published = m->published_ns;
 		} else {
-			record_latency(s, m->capture_ns);
+			record_latency(s, m->capture_ns, m->entered_ns, m->published_ns);
 		}
 	}
 	fox_msg_unref(s, m);
@@ -865,19 +878,24 @@ static void *service(void *arg)
 
 void fox_latency(struct fox_sink *s, double *median, double *p99, unsigned *n)
 {
-	uint32_t sorted[FOX_LATENCY_RING];
 	*n = s->lat_n;
-	memcpy(sorted, s->lat_us, *n * sizeof sorted[0]);
+	fox_ring_stats(s->lat_us, *n, median, p99);
+}
+
+void fox_ring_stats(const uint32_t *ring, unsigned n, double *median, double *p99)
+{
+	uint32_t sorted[FOX_LATENCY_RING];
+	memcpy(sorted, ring, n * sizeof sorted[0]);
 	/* insertion sort: at most FOX_LATENCY_RING values, once at the end */
-	for (unsigned i = 1; i < *n; i++) {
+	for (unsigned i = 1; i < n; i++) {
 		uint32_t v = sorted[i];
 		unsigned k = i;
 		for (; k && sorted[k - 1] > v; k--)
 			sorted[k] = sorted[k - 1];
 		sorted[k] = v;
 	}
-	*median = *n ? sorted[*n / 2] / 1000.0 : 0;
-	*p99 = *n ? sorted[((size_t)*n * 99 + 99) / 100 - 1] / 1000.0 : 0;
+	*median = n ? sorted[n / 2] / 1000.0 : 0;
+	*p99 = n ? sorted[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0;
 }
 
 static char *advertise_text(void)
