@@ -44,7 +44,7 @@ function parseArgs(argv) {
 
 // CPU seconds of the daemon's threads: the sink's (by name) and all of them.
 function cpu(pid) {
-  const r = { sink: 0, all: 0 };
+  const r = { sink: 0, lws: 0, all: 0 };
   for (const tid of fs.readdirSync(`/proc/${pid}/task`)) {
     let comm, ns;
     try {
@@ -55,6 +55,7 @@ function cpu(pid) {
     }
     r.all += ns / 1e9;
     if (comm === "sink:fox" || comm === "fox:lws") r.sink += ns / 1e9;
+    if (comm === "fox:lws") r.lws += ns / 1e9;
   }
   return r;
 }
@@ -107,13 +108,14 @@ async function round(a, n) {
     n, secs, stall: clients.some((c) => c.stalled),
     aoFps: fps.length ? Math.min(...fps) : NaN, aoFpsMax: fps.length ? Math.max(...fps) : NaN,
     shFps: live.length ? Math.min(...live.map((c) => c.frames["/depthao/shaded"] / secs)) : NaN,
+    shFpsMax: live.length ? Math.max(...live.map((c) => c.frames["/depthao/shaded"] / secs)) : NaN,
     frames: live.map((c) => c.frames["/depthao/ao"] + c.frames["/depthao/shaded"]),
     stalledFrames: clients.filter((c) => c.stalled).map((c) => c.frames["/depthao/ao"] + c.frames["/depthao/shaded"]),
     med: quantile(lat, 0.5), p95: quantile(lat, 0.95),
     sockMed: m ? Number(m[1]) : NaN, sockP99: m ? Number(m[2]) : NaN,
     dropped: dropped ? Number(dropped[1]) : NaN,
     inSink: inSink ? Number(inSink[1]) : NaN, build: inSink ? Number(inSink[2]) : NaN,
-    sinkCpu: (c1.sink - c0.sink) / secs, allCpu: (c1.all - c0.all) / secs,
+    sinkCpu: (c1.sink - c0.sink) / secs, lwsCpu: (c1.lws - c0.lws) / secs, allCpu: (c1.all - c0.all) / secs,
   };
 }
 
@@ -127,16 +129,16 @@ async function main() {
   console.log(`fox-load: ${os.cpus().length} CPUs, load average ${load0.map((x) => x.toFixed(2)).join(" ")} at the start; ` +
     `${a.seconds} s per round after ${a.warmup} s warm-up; channels /depthao/ao (RawImage mono16) + /depthao/shaded (jpeg)` +
     (a.stall ? "; the last client of each round of 2 or more stalled (not counted in fps/latency)" : ""));
-  console.log("| clients | AO fps per client (min-max) | shaded fps (min) | latency capture->receipt median | p95 | " +
-    "sink capture->socket median (p99) | of it in the sink (building) | dropped | sink threads CPU | daemon CPU |");
+  console.log("| clients | AO fps per client (min-max) | shaded fps per client (min-max) | latency capture->receipt median | p95 | " +
+    "sink capture->socket median (p99) | of it in the sink (building) | dropped | sink threads CPU (of it fox:lws) | daemon CPU |");
   console.log("|---|---|---|---|---|---|---|---|---|---|");
   const rows = [];
   for (const n of a.clients) {
     const r = await round(a, n);
     rows.push(r);
-    console.log(`| ${n}${r.stall ? " (1 stalled)" : ""} | ${f(r.aoFps)}-${f(r.aoFpsMax)} | ${f(r.shFps)} | ` +
+    console.log(`| ${n}${r.stall ? " (1 stalled)" : ""} | ${f(r.aoFps)}-${f(r.aoFpsMax)} | ${f(r.shFps)}-${f(r.shFpsMax)} | ` +
       `${f(r.med)} ms | ${f(r.p95)} ms | ${f(r.sockMed)} (${f(r.sockP99)}) ms | ${f(r.inSink)} (${f(r.build)}) ms | ${f(r.dropped, 0)} | ` +
-      `${f(r.sinkCpu * 100)} % | ${f(r.allCpu * 100)} % |`);
+      `${f(r.sinkCpu * 100)} % (${f(r.lwsCpu * 100)} %) | ${f(r.allCpu * 100)} % |`);
   }
   const base = rows.find((r) => r.n === 0);
   const more = rows.filter((r) => r.n > 1);

@@ -689,6 +689,11 @@ static void record_latency(struct fox_sink *s, uint64_t capture_ns, uint64_t ent
 		s->lat_n++;
 }
 
+static int older_or_smaller(const struct fox_msg *a, const struct fox_msg *b)
+{
+	return a->capture_ns < b->capture_ns || (a->capture_ns == b->capture_ns && a->len < b->len);
+}
+
 /* One message to the client: a reply first, else the oldest frame of any channel. */
 static int writeable(struct fox_sink *s, struct fox_client *c)
 {
@@ -710,8 +715,11 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 		c->ctl_head = (c->ctl_head + 1) % FOX_CTL_MAX;
 		c->ctl_n--;
 	} else {
+		/* the oldest frame; of one frame's messages the smallest first, else a slow
+		 * client always starts with the 614 KB AO and drops the shaded JPEG waiting
+		 * behind it (docs/perf/foxlat.md) */
 		for (int k = 0; k < CH_COUNT; k++)
-			if (c->q_n[k] && (ch < 0 || c->q[k][0]->capture_ns < c->q[ch][0]->capture_ns))
+			if (c->q_n[k] && (ch < 0 || older_or_smaller(c->q[k][0], c->q[ch][0])))
 				ch = k;
 		if (ch >= 0) {
 			m = c->q[ch][0];
