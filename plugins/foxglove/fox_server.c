@@ -32,6 +32,7 @@
 #define SUBPROTOCOL "foxglove.websocket.v1"
 #define MAX_PARAMS 128
 #define TICK_US (200 * 1000)
+#define FOX_PIECE (64 * 1024) /* a message goes out in WebSocket fragments of this */
 #define PARAM_POLL_NS 1000000000ull
 
 static const char *const topics[CH_COUNT] = {"/depthao/ao", "/depthao/shaded",
@@ -60,6 +61,9 @@ struct fox_client {
 	uint64_t tokens_at, limit_noted_at;
 	int inflight;              /* lws holds the rest of a message */
 	uint64_t inflight_cap, inflight_entered, inflight_published;
+	struct fox_msg *cur;       /* being sent in fragments (a reference) */
+	size_t cur_off;            /* bytes of it sent */
+	int cur_ch;
 };
 
 struct pending {
@@ -664,6 +668,8 @@ static void closed(struct fox_sink *s, struct pss *pss)
 		drop_subscription(s, c, ch);
 	for (unsigned k = 0; k < c->ctl_n; k++)
 		fox_msg_unref(s, c->ctl[(c->ctl_head + k) % FOX_CTL_MAX]);
+	if (c->cur)
+		fox_msg_unref(s, c->cur);
 	fox_update_wanted(s);
 	pthread_mutex_unlock(&s->lock);
 	free(c);
@@ -694,7 +700,56 @@ static int older_or_smaller(const struct fox_msg *a, const struct fox_msg *b)
 	return a->capture_ns < b->capture_ns || (a->capture_ns == b->capture_ns && a->len < b->len);
 }
 
-/* One message to the client: a reply first, else the oldest frame of any channel. */
+/* The next message for c (s->lock held): a reply first, else the oldest frame of any
+ * channel; of one frame's messages the smallest first, else a slow client always starts
+ * with the 614 KB AO and drops the shaded JPEG waiting behind it (docs/perf/foxlat.md). */
+static struct fox_msg *next_msg(struct fox_client *c, int *chp)
+{
+	struct fox_msg *m = NULL;
+	int ch = -1;
+	if (c->ctl_n) {
+		m = c->ctl[c->ctl_head];
+		c->ctl_head = (c->ctl_head + 1) % FOX_CTL_MAX;
+		c->ctl_n--;
+	} else {
+		for (int k = 0; k < CH_COUNT; k++)
+			if (c->q_n[k] && (ch < 0 || older_or_smaller(c->q[k][0], c->q[ch][0])))
+				ch = k;
+		if (ch >= 0) {
+			m = c->q[ch][0];
+			memmove(c->q[ch], c->q[ch] + 1, (c->q_n[ch] - 1) * sizeof c->q[ch][0]);
+			c->q_n[ch]--;
+		}
+	}
+	*chp = ch;
+	return m;
+}
+
+/* The next fragment of c->cur, at most FOX_PIECE bytes: a large message goes out as the
+ * socket takes it, instead of lws copying what the kernel did not take into a buffer of
+ * its own (a 614 KB copy per client and frame when a client reads slowly). lws puts
+ * the fragment's header in the LWS_PRE bytes before it: message data that other clients
+ * still send, kept and put back (only this thread touches a message being sent). */
+static int write_piece(struct fox_client *c)
+{
+	struct fox_msg *m = c->cur;
+	const size_t off = c->cur_off, left = m->len - off;
+	const size_t n = left > FOX_PIECE ? FOX_PIECE : left;
+	int flags = off ? LWS_WRITE_CONTINUATION : m->text ? LWS_WRITE_TEXT : LWS_WRITE_BINARY;
+	if (n < left)
+		flags |= LWS_WRITE_NO_FIN;
+	unsigned char *p = m->buf + LWS_PRE + off;
+	unsigned char keep[LWS_PRE];
+	if (off)
+		memcpy(keep, p - LWS_PRE, LWS_PRE);
+	const int r = lws_write(c->wsi, p, n, (enum lws_write_protocol)flags);
+	if (off)
+		memcpy(p - LWS_PRE, keep, LWS_PRE);
+	c->cur_off += n;
+	return r;
+}
+
+/* One fragment of one message to the client. */
 static int writeable(struct fox_sink *s, struct fox_client *c)
 {
 	pthread_mutex_lock(&s->lock);
@@ -708,36 +763,23 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 				 (unsigned char *)"replies not read", 16);
 		return -1;
 	}
-	struct fox_msg *m = NULL;
-	int ch = -1;
-	if (c->ctl_n) {
-		m = c->ctl[c->ctl_head];
-		c->ctl_head = (c->ctl_head + 1) % FOX_CTL_MAX;
-		c->ctl_n--;
-	} else {
-		/* the oldest frame; of one frame's messages the smallest first, else a slow
-		 * client always starts with the 614 KB AO and drops the shaded JPEG waiting
-		 * behind it (docs/perf/foxlat.md) */
-		for (int k = 0; k < CH_COUNT; k++)
-			if (c->q_n[k] && (ch < 0 || older_or_smaller(c->q[k][0], c->q[ch][0])))
-				ch = k;
-		if (ch >= 0) {
-			m = c->q[ch][0];
-			memmove(c->q[ch], c->q[ch] + 1, (c->q_n[ch] - 1) * sizeof c->q[ch][0]);
-			c->q_n[ch]--;
-		}
+	if (!c->cur) {
+		c->cur = next_msg(c, &c->cur_ch);
+		c->cur_off = 0;
 	}
+	struct fox_msg *m = c->cur;
+	const int ch = c->cur_ch;
 	pthread_mutex_unlock(&s->lock);
 	if (!m)
 		return 0;
-	if (!m->text) { /* the subscription id is the client's own: only this thread writes it */
+	if (!m->text && !c->cur_off) { /* the subscription id is the client's own */
 		for (int i = 0; i < 4; i++)
 			m->buf[LWS_PRE + 1 + i] = (unsigned char)(c->sub_id[ch] >> (8 * i));
 	}
-	const int n = lws_write(c->wsi, m->buf + LWS_PRE, m->len,
-				m->text ? LWS_WRITE_TEXT : LWS_WRITE_BINARY);
+	const int n = write_piece(c);
+	const int done = c->cur_off >= m->len;
 	pthread_mutex_lock(&s->lock);
-	if (n >= 0 && !m->text) {
+	if (n >= 0 && done && !m->text) {
 		s->sent++;
 		s->bytes_sent[ch] += m->len;
 		if (lws_partial_buffered(c->wsi)) {
@@ -749,8 +791,11 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 			record_latency(s, m->capture_ns, m->entered_ns, m->published_ns);
 		}
 	}
-	fox_msg_unref(s, m);
-	const int more = queued(c) || c->inflight;
+	if (done || n < 0) {
+		fox_msg_unref(s, m);
+		c->cur = NULL;
+	}
+	const int more = c->cur || queued(c) || c->inflight;
 	pthread_mutex_unlock(&s->lock);
 	if (n < 0)
 		return -1;
