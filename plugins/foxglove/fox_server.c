@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 
 #include <json-c/json.h>
@@ -34,6 +35,7 @@
 #define SUBPROTOCOL "foxglove.websocket.v1"
 #define MAX_PARAMS 128
 #define TICK_US (200 * 1000)
+#define FOX_PIECE (64 * 1024) /* a message goes out in WebSocket fragments of this */
 #define PARAM_POLL_NS 1000000000ull
 
 static const char *const topics[CH_COUNT] = {"/depthao/ao", "/depthao/shaded",
@@ -61,7 +63,10 @@ struct fox_client {
 	double tokens;
 	uint64_t tokens_at, limit_noted_at;
 	int inflight;              /* lws holds the rest of a message */
-	uint64_t inflight_cap;
+	uint64_t inflight_cap, inflight_entered, inflight_published;
+	struct fox_msg *cur;       /* being sent in fragments (a reference) */
+	size_t cur_off;            /* bytes of it sent */
+	int cur_ch;
 };
 
 struct pending {
@@ -104,6 +109,7 @@ void fox_publish(struct fox_sink *s, struct fox_msg *m)
 {
 	pthread_mutex_lock(&s->lock);
 	m->refs = 1; /* ours until the loop is done */
+	m->published_ns = fox_now_ns();
 	const int ch = m->channel;
 	for (struct fox_client *c = s->clients; c; c = c->next) {
 		if (!c->subscribed[ch])
@@ -693,35 +699,43 @@ static void closed(struct fox_sink *s, struct pss *pss)
 		drop_subscription(s, c, ch);
 	for (unsigned k = 0; k < c->ctl_n; k++)
 		fox_msg_unref(s, c->ctl[(c->ctl_head + k) % FOX_CTL_MAX]);
+	if (c->cur)
+		fox_msg_unref(s, c->cur);
 	fox_update_wanted(s);
 	pthread_mutex_unlock(&s->lock);
 	free(c);
 }
 
-static void record_latency(struct fox_sink *s, uint64_t capture_ns)
+static uint32_t us_between(uint64_t from, uint64_t to)
+{
+	const uint64_t us = to > from ? (to - from) / 1000u : 0;
+	return us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+}
+
+/* capture -> socket, and where it went: arrival in the sink -> socket, of which the
+ * message's building (docs/perf/foxlat.md) */
+static void record_latency(struct fox_sink *s, uint64_t capture_ns, uint64_t entered_ns,
+			   uint64_t published_ns)
 {
 	const uint64_t now = fox_now_ns();
-	uint64_t us = now > capture_ns ? (now - capture_ns) / 1000u : 0;
-	s->lat_us[s->lat_pos] = us > UINT32_MAX ? UINT32_MAX : (uint32_t)us;
+	s->lat_us[s->lat_pos] = us_between(capture_ns, now);
+	s->lat_sink_us[s->lat_pos] = us_between(entered_ns, now);
+	s->lat_build_us[s->lat_pos] = us_between(entered_ns, published_ns);
 	s->lat_pos = (s->lat_pos + 1) % FOX_LATENCY_RING;
 	if (s->lat_n < FOX_LATENCY_RING)
 		s->lat_n++;
 }
 
-/* One message to the client: a reply first, else the oldest frame of any channel. */
-static int writeable(struct fox_sink *s, struct fox_client *c)
+static int older_or_smaller(const struct fox_msg *a, const struct fox_msg *b)
 {
-	pthread_mutex_lock(&s->lock);
-	if (c->inflight) { /* lws has sent the rest of the last one */
-		c->inflight = 0;
-		record_latency(s, c->inflight_cap);
-	}
-	if (c->overflow) {
-		pthread_mutex_unlock(&s->lock);
-		lws_close_reason(c->wsi, LWS_CLOSE_STATUS_POLICY_VIOLATION,
-				 (unsigned char *)"replies not read", 16);
-		return -1;
-	}
+	return a->capture_ns < b->capture_ns || (a->capture_ns == b->capture_ns && a->len < b->len);
+}
+
+/* The next message for c (s->lock held): a reply first, else the oldest frame of any
+ * channel; of one frame's messages the smallest first, else a slow client always starts
+ * with the 614 KB AO and drops the shaded JPEG waiting behind it (docs/perf/foxlat.md). */
+static struct fox_msg *next_msg(struct fox_client *c, int *chp)
+{
 	struct fox_msg *m = NULL;
 	int ch = -1;
 	if (c->ctl_n) {
@@ -730,7 +744,7 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 		c->ctl_n--;
 	} else {
 		for (int k = 0; k < CH_COUNT; k++)
-			if (c->q_n[k] && (ch < 0 || c->q[k][0]->capture_ns < c->q[ch][0]->capture_ns))
+			if (c->q_n[k] && (ch < 0 || older_or_smaller(c->q[k][0], c->q[ch][0])))
 				ch = k;
 		if (ch >= 0) {
 			m = c->q[ch][0];
@@ -738,28 +752,81 @@ static int writeable(struct fox_sink *s, struct fox_client *c)
 			c->q_n[ch]--;
 		}
 	}
+	*chp = ch;
+	return m;
+}
+
+/* The next fragment of c->cur, at most FOX_PIECE bytes: a large message goes out as the
+ * socket takes it, instead of lws copying what the kernel did not take into a buffer of
+ * its own (a 614 KB copy per client and frame when a client reads slowly). lws puts
+ * the fragment's header in the LWS_PRE bytes before it: message data that other clients
+ * still send, kept and put back (only this thread touches a message being sent). */
+static int write_piece(struct fox_client *c)
+{
+	struct fox_msg *m = c->cur;
+	const size_t off = c->cur_off, left = m->len - off;
+	const size_t n = left > FOX_PIECE ? FOX_PIECE : left;
+	int flags = off ? LWS_WRITE_CONTINUATION : m->text ? LWS_WRITE_TEXT : LWS_WRITE_BINARY;
+	if (n < left)
+		flags |= LWS_WRITE_NO_FIN;
+	unsigned char *p = m->buf + LWS_PRE + off;
+	unsigned char keep[LWS_PRE];
+	if (off)
+		memcpy(keep, p - LWS_PRE, LWS_PRE);
+	const int r = lws_write(c->wsi, p, n, (enum lws_write_protocol)flags);
+	if (off)
+		memcpy(p - LWS_PRE, keep, LWS_PRE);
+	c->cur_off += n;
+	return r;
+}
+
+/* One fragment of one message to the client. */
+static int writeable(struct fox_sink *s, struct fox_client *c)
+{
+	pthread_mutex_lock(&s->lock);
+	if (c->inflight) { /* lws has sent the rest of the last one */
+		c->inflight = 0;
+		record_latency(s, c->inflight_cap, c->inflight_entered, c->inflight_published);
+	}
+	if (c->overflow) {
+		pthread_mutex_unlock(&s->lock);
+		lws_close_reason(c->wsi, LWS_CLOSE_STATUS_POLICY_VIOLATION,
+				 (unsigned char *)"replies not read", 16);
+		return -1;
+	}
+	if (!c->cur) {
+		c->cur = next_msg(c, &c->cur_ch);
+		c->cur_off = 0;
+	}
+	struct fox_msg *m = c->cur;
+	const int ch = c->cur_ch;
 	pthread_mutex_unlock(&s->lock);
 	if (!m)
 		return 0;
-	if (!m->text) { /* the subscription id is the client's own: only this thread writes it */
+	if (!m->text && !c->cur_off) { /* the subscription id is the client's own */
 		for (int i = 0; i < 4; i++)
 			m->buf[LWS_PRE + 1 + i] = (unsigned char)(c->sub_id[ch] >> (8 * i));
 	}
-	const int n = lws_write(c->wsi, m->buf + LWS_PRE, m->len,
-				m->text ? LWS_WRITE_TEXT : LWS_WRITE_BINARY);
+	const int n = write_piece(c);
+	const int done = c->cur_off >= m->len;
 	pthread_mutex_lock(&s->lock);
-	if (n >= 0 && !m->text) {
+	if (n >= 0 && done && !m->text) {
 		s->sent++;
 		s->bytes_sent[ch] += m->len;
 		if (lws_partial_buffered(c->wsi)) {
 			c->inflight = 1;
 			c->inflight_cap = m->capture_ns;
+			c->inflight_entered = m->entered_ns;
+			c->inflight_published = m->published_ns;
 		} else {
-			record_latency(s, m->capture_ns);
+			record_latency(s, m->capture_ns, m->entered_ns, m->published_ns);
 		}
 	}
-	fox_msg_unref(s, m);
-	const int more = queued(c) || c->inflight;
+	if (done || n < 0) {
+		fox_msg_unref(s, m);
+		c->cur = NULL;
+	}
+	const int more = c->cur || queued(c) || c->inflight;
 	pthread_mutex_unlock(&s->lock);
 	if (n < 0)
 		return -1;
@@ -889,6 +956,7 @@ static const struct lws_protocols protocols[] = {
 static void *service(void *arg)
 {
 	struct fox_sink *s = arg;
+	prctl(PR_SET_NAME, "fox:lws", 0, 0, 0); /* its CPU, per thread: docs/perf/foxlat.md */
 	while (!atomic_load(&s->stopping))
 		if (lws_service(s->ctx, 0) < 0)
 			break;
@@ -897,19 +965,24 @@ static void *service(void *arg)
 
 void fox_latency(struct fox_sink *s, double *median, double *p99, unsigned *n)
 {
-	uint32_t sorted[FOX_LATENCY_RING];
 	*n = s->lat_n;
-	memcpy(sorted, s->lat_us, *n * sizeof sorted[0]);
+	fox_ring_stats(s->lat_us, *n, median, p99);
+}
+
+void fox_ring_stats(const uint32_t *ring, unsigned n, double *median, double *p99)
+{
+	uint32_t sorted[FOX_LATENCY_RING];
+	memcpy(sorted, ring, n * sizeof sorted[0]);
 	/* insertion sort: at most FOX_LATENCY_RING values, once at the end */
-	for (unsigned i = 1; i < *n; i++) {
+	for (unsigned i = 1; i < n; i++) {
 		uint32_t v = sorted[i];
 		unsigned k = i;
 		for (; k && sorted[k - 1] > v; k--)
 			sorted[k] = sorted[k - 1];
 		sorted[k] = v;
 	}
-	*median = *n ? sorted[*n / 2] / 1000.0 : 0;
-	*p99 = *n ? sorted[((size_t)*n * 99 + 99) / 100 - 1] / 1000.0 : 0;
+	*median = n ? sorted[n / 2] / 1000.0 : 0;
+	*p99 = n ? sorted[((size_t)n * 99 + 99) / 100 - 1] / 1000.0 : 0;
 }
 
 static char *advertise_text(void)

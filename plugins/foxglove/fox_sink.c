@@ -293,6 +293,7 @@ static void data_header(const struct fox_sink *s, struct fox_msg *m, uint64_t ca
 	const uint64_t ts = wall_ns(s, capture_ns);
 	h[0] = 0x01;
 	memset(h + 1, 0, 4);
+	m->entered_ns = s->entered_ns;
 	for (int i = 0; i < 8; i++)
 		h[5 + i] = (unsigned char)(ts >> (8 * i));
 	m->capture_ns = capture_ns;
@@ -486,6 +487,7 @@ static int fox_write_stream(void *state, const struct dao_sink_frame_info *info,
 			    const struct dao_frame *f, struct dao_error *err)
 {
 	struct fox_sink *s = state;
+	s->entered_ns = fox_now_ns();
 	const uint64_t cap = DAO_STRUCT_HAS(struct dao_sink_frame_info, info, capture_ns) &&
 				     info->capture_ns ? info->capture_ns : fox_now_ns();
 	pthread_mutex_lock(&s->lock);
@@ -553,16 +555,20 @@ static int fox_close(void *state, struct dao_error *err)
 	(void)err;
 	fox_server_stop(s);
 	if (s->host && s->host->log) {
-		double med, p99;
+		double med, p99, in_med, in_p99, b_med, b_p99;
 		unsigned n;
-		char line[400];
+		char line[512];
 		pthread_mutex_lock(&s->lock);
 		fox_latency(s, &med, &p99, &n);
+		fox_ring_stats(s->lat_sink_us, n, &in_med, &in_p99);
+		fox_ring_stats(s->lat_build_us, n, &b_med, &b_p99);
 		snprintf(line, sizeof line,
 			 "foxglove: %llu clients served, %llu messages sent, %llu dropped (slow "
 			 "clients), %llu connections refused; latency capture -> socket median "
-			 "%.2f ms, p99 %.2f ms (%u messages)",
-			 s->clients_served, s->sent, s->dropped, s->refused, med, p99, n);
+			 "%.2f ms, p99 %.2f ms (%u messages); of it in the sink median %.2f ms, "
+			 "p99 %.2f ms; building the message median %.2f ms, p99 %.2f ms",
+			 s->clients_served, s->sent, s->dropped, s->refused, med, p99, n, in_med,
+			 in_p99, b_med, b_p99);
 		pthread_mutex_unlock(&s->lock);
 		s->host->log(s->host->user, DAO_LOG_INFO, line);
 	}

@@ -42,6 +42,8 @@ struct fox_msg {
 	int text;                  /* 1: a JSON text message; 0: Message Data */
 	int channel;               /* enum fox_channel of Message Data */
 	uint64_t capture_ns;       /* CLOCK_MONOTONIC of the frame's capture */
+	uint64_t entered_ns;       /* ... of the frame's arrival in the sink */
+	uint64_t published_ns;     /* ... of the message's queueing to the clients */
 	size_t len;                /* bytes from LWS_PRE on (header and payload) */
 	size_t cap;
 	unsigned char *buf;        /* LWS_PRE + cap bytes */
@@ -92,7 +94,10 @@ struct fox_sink {
 	unsigned long long sent, dropped, clients_served, refused;
 	uint64_t bytes_sent[CH_COUNT], msgs_built[CH_COUNT];
 	uint32_t lat_us[FOX_LATENCY_RING]; /* capture -> the message's last byte to the kernel */
+	uint32_t lat_sink_us[FOX_LATENCY_RING]; /* arrival in the sink -> ... */
+	uint32_t lat_build_us[FOX_LATENCY_RING]; /* arrival -> queued (encoding, once) */
 	unsigned lat_n, lat_pos;
+	uint64_t entered_ns;       /* the frame being written arrived (the sink's thread) */
 };
 
 uint64_t fox_now_ns(void);
@@ -110,5 +115,7 @@ int fox_server_start(struct fox_sink *s, struct dao_error *err);
 void fox_server_stop(struct fox_sink *s);
 /* The median and 99th percentile latency in ms, and the count (s->lock held). */
 void fox_latency(struct fox_sink *s, double *median, double *p99, unsigned *n);
+/* The median and p99 in ms of the first n values of one of the rings (s->lock held). */
+void fox_ring_stats(const uint32_t *ring, unsigned n, double *median, double *p99);
 
 #endif
