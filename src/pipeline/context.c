@@ -1143,14 +1143,21 @@ static void record_timings(struct dao_context *ctx, struct frame_job *job, const
  * invalid_value elsewhere, through the output stage, so that a caller's `ao`
  * holds a defined image (a constant) rather than stale or uninitialised data.
  */
+static void stage_depth_only(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	const int w = (int)j->ctx->cam.width;
+	float *ao = j->ctx->ao;
+	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
+		ao[i] = 1.0f;
+	stage_output(arg, y0, y1);
+}
+
 static void run_depth_only(struct dao_context *ctx, struct frame_job *job)
 {
-	const size_t n = ctx->npix;
 	ctx->ao = ctx->ao_raw;
-	for (size_t i = 0; i < n; i++)
-		ctx->ao[i] = 1.0f;
 	atomic_init(&job->output_ns, 0);
-	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_output, job);
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_depth_only, job);
 	ctx->hist_valid = 0; /* the AO history no longer matches the depth */
 }
 
