@@ -77,6 +77,12 @@ DAO_API const struct dao_camera *dao_context_camera(const struct dao_context *ct
  *          params, frame_index); on the first frame of a history it is too.
  * ao:      NULL, or DAO_PIXFMT_GRAY_F32 / GRAY16 / GRAY8 visibility
  *          (1 = open); pixels without depth get params.invalid_value.
+ *          With params.algorithm DAO_ALGORITHM_NONE (depth only) no normals,
+ *          AO, denoise or shading are computed: `normals` is not read, `ao`
+ *          gets visibility 1 where the input has depth (invalid_value
+ *          elsewhere), and dao_context_shade(), _get_normals() and
+ *          _get_bent_normals() return -ENODATA; dao_context_get_depth()
+ *          gives the filtered depth, the same as with an AO algorithm.
  *
  * The frame's depth, normals and AO stay in the context for dao_context_shade().
  * The calling thread takes part in the work and needs about 80 KB of stack
@@ -100,18 +106,40 @@ DAO_API void dao_context_reset(struct dao_context *ctx);
 /*
  * Renders the occlusion-shaded image of the last processed frame into `out`
  * (DAO_PIXFMT_RGB24, or GRAY8 for the AO/gray modes), using the shading
- * parameters.  Returns -EAGAIN if no frame was processed yet.
+ * parameters.  Returns -EAGAIN if no frame was processed yet, -ENODATA after
+ * a frame processed with algorithm=none (no normals or AO to shade).
  */
 DAO_API int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err);
 
 /*
- * Copies the normals (DAO_PIXFMT_NORMAL_F32) or the view-space depth in
- * metres after prefiltering (DAO_PIXFMT_DEPTH_F32, 0 = no data) of the last
- * processed frame.
+ * Copies the normals (DAO_PIXFMT_NORMAL_F32, unit vectors in the optical
+ * frame) of the last processed frame into the caller's frame.  -EAGAIN before
+ * the first frame, -ENODATA after a frame processed with algorithm=none.
  */
 DAO_API int dao_context_get_normals(const struct dao_context *ctx, struct dao_frame *out,
 			    struct dao_error *err);
-/* The prefiltered depth of the last frame (see above). */
+
+/*
+ * The filtered depth of the last processed frame: the depth the normals and
+ * the AO were computed from, after the decode (depth-min/max), the temporal
+ * depth filter (depth-temporal) and the prefilter (docs/library.md, "The
+ * filtered depth").  It holds depth only where the input did (or, with
+ * depth-temporal-persist, where the history kept it); the filters fill no
+ * holes.  `out` is the caller's frame
+ * of the camera's size, rows `stride` bytes apart, in one of:
+ *
+ *   DAO_PIXFMT_DEPTH_F32  metres, 0 = no depth;
+ *   DAO_PIXFMT_DEPTH16    counts of out->depth_unit metres (positive and
+ *                         finite, e.g. the input's unit, or 0.001), 0 = no
+ *                         depth: rounded to the nearest count (ties to even);
+ *                         a depth below half a count gives 1 and one beyond
+ *                         65535 counts gives 65535, so a pixel with depth is
+ *                         never 0.  Depth16 input read back in its own unit
+ *                         keeps its counts where the filters left it alone.
+ *
+ * Returns 0; -EINVAL (NULL, wrong size, format or stride, a bad unit, with
+ * the message in `err`); -EAGAIN if no frame was processed yet.
+ */
 DAO_API int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  struct dao_error *err);
 

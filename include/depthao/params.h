@@ -45,6 +45,8 @@ enum dao_algorithm {
 	DAO_ALGORITHM_SSAO,     /* Crytek-style hemisphere kernel with a depth range check */
 	DAO_ALGORITHM_EDL,      /* eye-dome lighting: depth-only shading, not AO */
 	DAO_ALGORITHM_VBAO,     /* visibility bitmask (Therrien et al. 2023): finite thickness */
+	DAO_ALGORITHM_NONE,     /* depth only: decode, noise, temporal depth, prefilter; no
+				 * normals, AO or shading (dao_context_get_depth) */
 };
 
 /* Where VBAO's thickness of each occluder comes from (docs/algorithms.md). */

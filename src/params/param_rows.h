@@ -33,8 +33,8 @@ ROW("normals", "how normals are derived from depth", NULL,
     ENUM, normals, 0, 0, normals_names, RT, DAO_NORMALS_WIDE)
 ROW("normal-radius", "footprint of wide normals (noise-model=auto: from the measured noise)", "px",
     INT, normal_radius, 1, 8, NULL, RT, 4)
-ROW("algorithm", "gtao (ground-truth AO), vbao (visibility bitmask: finite thickness), hbao, ssao, or edl (eye-dome lighting, not AO)", NULL,
-    ENUM, algorithm, 0, 4, algorithm_names, RT, DAO_ALGORITHM_GTAO)
+ROW("algorithm", "gtao (ground-truth AO), vbao (visibility bitmask: finite thickness), hbao, ssao, edl (eye-dome lighting, not AO), or none (the filtered depth only: no normals, AO or shading)", NULL,
+    ENUM, algorithm, 0, 5, algorithm_names, RT, DAO_ALGORITHM_GTAO)
 ROW("radius", "world-space AO radius", "m",
     FLOAT, radius, 0.01, 100.0, NULL, RT, 0.5f)
 ROW("falloff", "fraction of the radius over which occluders fade out", NULL,

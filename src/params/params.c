@@ -19,7 +19,7 @@
 
 #define OFF(field) offsetof(struct dao_params, field)
 
-static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "vbao", NULL };
+static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "vbao", "none", NULL };
 static const char *const vbao_thickness_names[] = { "constant", "image", NULL };
 static const char *const prefilter_names[] = { "none", "bilateral", "domain", NULL };
 static const char *const noise_model_names[] = { "fixed", "auto", "auto-prefilter", NULL };

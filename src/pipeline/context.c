@@ -79,6 +79,7 @@ struct dao_context {
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
 	int have_frame;
+	int depth_only;    /* the last frame ran with algorithm=none: no normals, no AO */
 	float depth_unit;  /* metres per count of the last frame, 0 for float input */
 	struct dao_colormap cmap;
 	int cmap_mode;
@@ -944,7 +945,7 @@ static void frame_job_init(struct dao_context *ctx, struct frame_job *job,
 	};
 	dao_gtao_setup_init(&job->gtao, &ctx->cam, p, frame_index);
 	job->algorithm = p->algorithm;
-	if (p->algorithm != DAO_ALGORITHM_GTAO)
+	if (p->algorithm != DAO_ALGORITHM_GTAO && p->algorithm != DAO_ALGORITHM_NONE)
 		dao_variant_setup_init(&job->variant, &job->gtao, p);
 	if (p->algorithm == DAO_ALGORITHM_VBAO && p->vbao_thickness_mode == DAO_VBAO_THICKNESS_IMAGE) {
 		dao_thickness_setup_init(&job->thickness, &ctx->cam, p->vbao_thickness_max);
@@ -1137,6 +1138,30 @@ static void record_timings(struct dao_context *ctx, struct frame_job *job, const
 	tm->process_ms = t[T_END] - t[T_DECODE];
 }
 
+/*
+ * algorithm=none, after the prefilter: no normals, AO, denoise or shading.
+ * The AO plane is visibility 1 (fully open) where the input had depth and
+ * invalid_value elsewhere, through the output stage, so that a caller's `ao`
+ * holds a defined image (a constant) rather than stale or uninitialised data.
+ */
+static void stage_depth_only(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	const int w = (int)j->ctx->cam.width;
+	float *ao = j->ctx->ao;
+	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
+		ao[i] = 1.0f;
+	stage_output(arg, y0, y1);
+}
+
+static void run_depth_only(struct dao_context *ctx, struct frame_job *job)
+{
+	ctx->ao = ctx->ao_raw;
+	atomic_init(&job->output_ns, 0);
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_depth_only, job);
+	ctx->hist_valid = 0; /* the AO history no longer matches the depth */
+}
+
 int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 			const struct dao_frame *normals, uint64_t frame_index,
 			struct dao_frame *ao, struct dao_error *err)
@@ -1169,13 +1194,19 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	t[T_PREFILTER] = now_ms();
 	run_prefilter(ctx, &job, &dt);
 	t[T_NORMALS] = now_ms();
-	r = run_normals(ctx, &job, normals, err);
-	if (r)
-		return r;
-	t[T_AO] = now_ms();
-	run_ao(ctx, &job);
-	t[T_FINISH] = now_ms();
-	run_finish(ctx, &job);
+	ctx->depth_only = ctx->params.algorithm == DAO_ALGORITHM_NONE;
+	if (ctx->depth_only) {
+		t[T_AO] = t[T_FINISH] = t[T_NORMALS];
+		run_depth_only(ctx, &job);
+	} else {
+		r = run_normals(ctx, &job, normals, err);
+		if (r)
+			return r;
+		t[T_AO] = now_ms();
+		run_ao(ctx, &job);
+		t[T_FINISH] = now_ms();
+		run_finish(ctx, &job);
+	}
 	t[T_END] = now_ms();
 	record_timings(ctx, &job, t);
 	ctx->have_frame = 1;
@@ -1249,6 +1280,10 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 	if (!ctx->have_frame)
 		return dao_error_set(err, -EAGAIN,
 				     "no frame to shade: call dao_context_process() first");
+	if (ctx->depth_only)
+		return dao_error_set(err, -ENODATA,
+				     "no shaded image with algorithm=none (no normals or AO were "
+				     "computed): choose an AO algorithm, or take the depth");
 	const struct dao_params *p = &ctx->params;
 	if (ctx->cmap_mode != p->shade) {
 		dao_colormap_fill(&ctx->cmap, p->shade);
@@ -1301,6 +1336,10 @@ static int copy_plane(const struct dao_context *ctx, const float *src, size_t co
 				     dao_pixfmt_name(out->format), dao_pixfmt_name(fmt));
 	if (!ctx->have_frame)
 		return dao_error_set(err, -EAGAIN, "%s: no frame processed yet", what);
+	if (ctx->depth_only && fmt == DAO_PIXFMT_NORMAL_F32)
+		return dao_error_set(err, -ENODATA,
+				     "%s: algorithm=none computed no normals: choose an AO algorithm",
+				     what);
 	const size_t row = (size_t)ctx->cam.width * comps;
 	for (uint32_t y = 0; y < ctx->cam.height; y++)
 		memcpy((char *)out->data + (size_t)y * out->stride, src + y * row, row * sizeof(float));
@@ -1332,6 +1371,10 @@ int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
 		return dao_error_set(err, -EINVAL, "context is NULL");
 	if (!ctx->have_frame)
 		return dao_error_set(err, -EAGAIN, "bent normals: no frame processed yet");
+	if (ctx->depth_only)
+		return dao_error_set(err, -ENODATA,
+				     "bent normals: algorithm=none computed no normals: choose an AO "
+				     "algorithm");
 	if (!ctx->bent && !(ctx->bent = malloc(3 * ctx->npix * sizeof(float))))
 		return dao_error_set(err, -ENOMEM, "out of memory for bent normals");
 	struct bent_job job = {.ctx = ctx};
@@ -1342,11 +1385,47 @@ int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
 			  err);
 }
 
+/* metres -> counts of `unit`: 0 stays 0 (no depth), a depth below half a count
+ * is 1 (it has depth), one past the range 65535; nearest, ties to even */
+static void depth_to_counts(const float *z, int w, float unit, uint16_t *q)
+{
+	const float inv = 1.0f / unit;
+	for (int x = 0; x < w; x++) {
+		const float c = z[x] * inv; /* inf for a tiny unit: saturates */
+		const float s = c < 65535.0f ? c : 65535.0f;
+		const uint16_t v = (uint16_t)round_even(s > 0.0f ? s : 0.0f);
+		q[x] = z[x] > 0.0f ? (v ? v : 1) : 0;
+	}
+}
+
 int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  struct dao_error *err)
 {
-	return copy_plane(ctx, ctx ? ctx->z : NULL, 1, DAO_PIXFMT_DEPTH_F32, out, "depth output",
-			  err);
+	if (!ctx || !out || out->format != DAO_PIXFMT_DEPTH16)
+		return copy_plane(ctx, ctx ? ctx->z : NULL, 1, DAO_PIXFMT_DEPTH_F32, out,
+				  "depth output", err);
+	int r = dao_frame_check(out, "depth output", ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (!(out->depth_unit > 0.0f) || !isfinite(out->depth_unit))
+		return dao_error_set(err, -EINVAL,
+				     "depth output: depth16 needs depth_unit, the metres of one "
+				     "count, positive and finite (e.g. 0.001 for millimetres)");
+	if (!ctx->have_frame)
+		return dao_error_set(err, -EAGAIN, "depth output: no frame processed yet");
+	const int w = (int)ctx->cam.width;
+	for (uint32_t y = 0; y < ctx->cam.height; y++) {
+		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
+		const float *src = ctx->z + (size_t)y * w;
+		/* in chunks through an aligned buffer: the caller's rows need not be */
+		for (int x0 = 0; x0 < w; x0 += 256) {
+			uint16_t q[256];
+			const int n = w - x0 < 256 ? w - x0 : 256;
+			depth_to_counts(src + x0, n, out->depth_unit, q);
+			memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
+		}
+	}
+	return 0;
 }
 
 /* The caller's struct may be shorter or longer than the library's: core/sized.h. */

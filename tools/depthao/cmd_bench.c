@@ -86,7 +86,8 @@ static void usage(FILE *out)
 		"  --help              this text\n"
 		"\n"
 		"Any other algorithm parameter can be set as in `depthao process` (--radius ...),\n"
-		"among them --algorithm (gtao, vbao, hbao, ssao, edl): the AO stage is its kernel.\n"
+		"among them --algorithm (gtao, vbao, hbao, ssao, edl): the AO stage is its kernel;\n"
+		"--algorithm none times the depth filtering alone (no normals, AO or shading).\n"
 		"\n"
 		"Side by side: builds, or parameter sets, timed in one run:\n"
 		"  --compare OTHER     also time OTHER, a build directory (its\n"
@@ -191,7 +192,7 @@ static int run(const struct config *c, const struct dao_camera *cam, const uint1
 	for (int i = -warm; i < max_iter; i++) {
 		double t0 = now_s();
 		r = dao_context_process(ctx, &in, NULL, (uint64_t)(i + warm), &ao, err);
-		if (!r)
+		if (!r && c->params.algorithm != DAO_ALGORITHM_NONE) /* none: nothing to shade */
 			r = dao_context_shade(ctx, &sh, err);
 		if (r)
 			goto out;
