@@ -134,8 +134,14 @@ static int string(struct scan *s, int key, struct key *k)
 			s->p++;
 			continue;
 		}
-		if (key)
-			return fail(s, "an escape inside a key");
+		if (key) {
+			/* say so when the escape hides a NUL (a key cut short in C) */
+			uint32_t cp = 1;
+			if (s->end - s->p >= 6 && s->p[1] == 'u' && hex4(s->p + 2, &cp) < 0)
+				cp = 1;
+			return fail(s, cp ? "an escape inside a key"
+					  : "an escape inside a key (\\u0000, a NUL)");
+		}
 		if (s->end - s->p < 2)
 			return fail(s, "a string that does not end");
 		const unsigned e = s->p[1];

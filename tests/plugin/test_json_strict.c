@@ -59,7 +59,7 @@ static void test_nul(void **state)
 	bad_n("{\"a\":1}\0", 8, "NUL byte after the value", 7);
 	bad_n("\0", 1, "NUL", 0);
 	bad("\"hbao\\u0000junk\"", "\\u0000", 5);
-	bad("{\"radius\\u0000x\":0.77}", "escape inside a key", 8);
+	bad("{\"radius\\u0000x\":0.77}", "escape inside a key (\\u0000, a NUL)", 8);
 	bad_n("{\"ra\0\":1}", 9, "NUL", 4);
 }
 

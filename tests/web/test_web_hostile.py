@@ -36,7 +36,7 @@ def check_json(d):
     before = radius()
     for body, why in ((b'{"algorithm":"hbao\\u0000junk"}', "NUL"),
                       (b'{"radius\\u0000x":0.77}', "NUL"),
-                      (b'{"radius":0.77,"radius":0.66}', "twice"),
+                      (b'{"radius":0.77,"radius":0.66}', "duplicate key"),
                       (b'{"\xff":0.77}', "UTF-8"),
                       (b'{"algorithm":"hbao\xc3"}', "UTF-8"),
                       (b'{"algorithm":"\xed\xa0\x80"}', "UTF-8"),
