@@ -98,8 +98,15 @@ async function open(port, opts = {}) {
       const k = setTimeout(() => proc.kill("SIGKILL"), 5000);
       await done;
       clearTimeout(k);
-      fs.rmSync(profile, { recursive: true, force: true });
-      fs.rmSync(path.dirname(page), { recursive: true, force: true });
+      // chromium's helper processes may still write into the profile after the main
+      // process has gone: retry, and a directory left behind is a warning, not a failure
+      for (const dir of [profile, path.dirname(page)]) {
+        try {
+          fs.rmSync(dir, { recursive: true, force: true, maxRetries: 20, retryDelay: 100 });
+        } catch (e) {
+          console.error(`warning: could not remove ${dir}: ${e.message}`);
+        }
+      }
     },
   };
 }
