@@ -29,7 +29,7 @@ io_rules='
 file: core
 oni: core file
 bag: core
-mcap: core
+mcap: core file
 db3: core
 plugin: core file oni bag mcap db3
 '

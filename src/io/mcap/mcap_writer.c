@@ -18,6 +18,7 @@
 
 #include "core/clock.h"
 #include "core/error_internal.h"
+#include "file/write_fully.h"
 #include "mcap/mcap_format.h"
 
 /* Message record: header, then channel, sequence, log and publish time. */
@@ -94,35 +95,6 @@ static uint8_t *put_record_head(uint8_t *p, uint8_t op, uint64_t len)
 	return p + DAO_MCAP_RECORD_HEADER;
 }
 
-static int write_fully(int fd, struct iovec *iov, int n, uint64_t at)
-{
-	for (;;) {
-		while (n > 0 && iov->iov_len == 0) {
-			iov++;
-			n--;
-		}
-		if (n == 0)
-			return 0;
-		ssize_t k = pwritev(fd, iov, n, (off_t)at);
-		if (k < 0 && errno == EINTR)
-			continue;
-		if (k < 0)
-			return -errno;
-		if (k == 0)
-			return -EIO;
-		at += (uint64_t)k;
-		while (n > 0 && (size_t)k >= iov->iov_len) {
-			k -= (ssize_t)iov->iov_len;
-			iov++;
-			n--;
-		}
-		if (n > 0) {
-			iov->iov_base = (uint8_t *)iov->iov_base + k;
-			iov->iov_len -= (size_t)k;
-		}
-	}
-}
-
 /* Appends whole records at pos; a failure cuts off what it left (the file keeps its
  * complete records) and is sticky. */
 static int append(struct dao_mcap_writer *w, struct iovec *iov, int n, const char *what,
@@ -133,7 +105,7 @@ static int append(struct dao_mcap_writer *w, struct iovec *iov, int n, const cha
 		total += iov[i].iov_len;
 	struct iovec copy[4];
 	memcpy(copy, iov, (size_t)n * sizeof(*iov));
-	int r = write_fully(w->fd, copy, n, w->pos);
+	int r = dao_io_write_fully(w->fd, copy, n, w->pos);
 	if (r < 0) {
 		if (ftruncate(w->fd, (off_t)w->pos) != 0) {
 			/* the reader's linear scan stops at the partial record */

@@ -37,6 +37,7 @@
 #include "core/math_util.h"
 #include "core/sized.h"
 #include "file/output_file_internal.h"
+#include "file/write_fully.h"
 #include "oni/codec_16z.h"
 #include "oni/oni_format.h"
 
@@ -68,41 +69,11 @@ struct dao_oni_writer {
 	char fail_msg[DAO_ERROR_MESSAGE_MAX]; /* ... and what was said about it */
 };
 
-/* Writes all of iov at `at`: short writes continue, EINTR retries; -errno. */
-static int write_fully(int fd, struct iovec *iov, int n, uint64_t at)
-{
-	for (;;) {
-		while (n > 0 && iov->iov_len == 0) {
-			iov++;
-			n--;
-		}
-		if (n == 0)
-			return 0;
-		ssize_t k = pwritev(fd, iov, n, (off_t)at);
-		if (k < 0 && errno == EINTR)
-			continue;
-		if (k < 0)
-			return -errno;
-		if (k == 0)
-			return -EIO; /* a regular file takes something or says why not */
-		at += (uint64_t)k;
-		while (n > 0 && (size_t)k >= iov->iov_len) {
-			k -= (ssize_t)iov->iov_len;
-			iov++;
-			n--;
-		}
-		if (n > 0) {
-			iov->iov_base = (uint8_t *)iov->iov_base + k;
-			iov->iov_len -= (size_t)k;
-		}
-	}
-}
-
 /* Appends p[0..n) at w->pos (the preamble, record by record). */
 static int put(struct dao_oni_writer *w, const void *p, size_t n)
 {
 	struct iovec v = {(void *)p, n};
-	int r = write_fully(w->fd, &v, 1, w->pos);
+	int r = dao_io_write_fully(w->fd, &v, 1, w->pos);
 	if (r < 0)
 		return r;
 	w->pos += n;
@@ -112,7 +83,7 @@ static int put(struct dao_oni_writer *w, const void *p, size_t n)
 static int patch(struct dao_oni_writer *w, uint64_t at, const uint8_t *p, size_t n)
 {
 	struct iovec v = {(void *)p, n};
-	return write_fully(w->fd, &v, 1, at);
+	return dao_io_write_fully(w->fd, &v, 1, at);
 }
 
 /* Cuts off whatever a failed write left after the last complete record (best effort:
@@ -576,7 +547,7 @@ int dao_oni_writer_write_depth(struct dao_oni_writer *w, const struct dao_frame 
 	oni_wr64(h + ONI_RECORD_HEADER_SIZE, timestamp_us);
 	oni_wr32(h + ONI_RECORD_HEADER_SIZE + 8, w->nframes + 1); /* frame numbers start at 1 */
 	struct iovec v[2] = {{h, sizeof(h)}, {w->payload, (size_t)size}};
-	if ((r = write_fully(w->fd, v, 2, w->pos)) < 0)
+	if ((r = dao_io_write_fully(w->fd, v, 2, w->pos)) < 0)
 		return fail(w, r, "write a frame to", err);
 	w->seek[w->nframes].timestamp_us = timestamp_us;
 	w->seek[w->nframes].pos = w->pos;
@@ -646,7 +617,7 @@ static int write_tail(struct dao_oni_writer *w, int with_table, uint64_t *seek_p
 	}
 	record_header(p, ONI_REC_END, UINT32_MAX, ONI_RECORD_HEADER_SIZE, 0, 0);
 	struct iovec v = {t, n};
-	int r = write_fully(w->fd, &v, 1, w->pos);
+	int r = dao_io_write_fully(w->fd, &v, 1, w->pos);
 	free(t);
 	if (r < 0)
 		cut_partial(w);
