@@ -11,6 +11,14 @@
  *         RGB / RGBA / BGRx  the shaded image (dao_context_shade), or with a
  *                            linked color_sink the colour darkened by the AO
  *                            (dao_overlay)
+ *   depth_src: (request pad) GRAY16_LE, the filtered depth of each frame
+ *               (dao_context_get_depth) in counts of depth-unit, 0 = no depth
+ *
+ * depth_src is an optional output, so a request pad (as tee's src_%u or the
+ * colour input here): requested by name (d.depth_src), it gets the input's
+ * size and framerate, each input buffer's timestamps, the input's segment,
+ * and EOS and flushes.  While it is not linked nothing is computed for it; a
+ * branch that is not linked (or has ended) does not stop the AO output.
  *
  * AO over colour: each depth buffer is paired with the colour buffer whose
  * running time is nearest to its own (the earlier one on a tie; without
@@ -119,6 +127,15 @@ struct _GstDepthao {
 	gboolean color_info_set;
 	GstSegment color_segment;
 	gboolean color_eos, color_flushing, depth_flushing;
+
+	/* filtered-depth output (request pad depth_src); the pad under the object
+	 * lock, the rest in the streaming thread */
+	GstPad *depth_pad;
+	gboolean depth_started;      /* stream-start sent */
+	gboolean depth_caps_pending; /* the input's caps changed: new caps to send */
+	gboolean depth_seg_pending;  /* a new segment to send */
+	GstVideoInfo depth_info;     /* GRAY16_LE of the input's size */
+	GstBufferPool *depth_pool;
 };
 
 G_DEFINE_TYPE(GstDepthao, gst_depthao, GST_TYPE_VIDEO_FILTER)
@@ -152,6 +169,12 @@ static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
 static GstStaticPadTemplate color_template = GST_STATIC_PAD_TEMPLATE(
 	"color_sink", GST_PAD_SINK, GST_PAD_REQUEST,
 	GST_STATIC_CAPS("video/x-raw, format = (string) RGB, "
+			"width = (int) [ 1, 16384 ], height = (int) [ 1, 16384 ], "
+			"framerate = (fraction) [ 0, MAX ]"));
+
+static GstStaticPadTemplate depth_template = GST_STATIC_PAD_TEMPLATE(
+	"depth_src", GST_PAD_SRC, GST_PAD_REQUEST,
+	GST_STATIC_CAPS("video/x-raw, format = (string) GRAY16_LE, "
 			"width = (int) [ 1, 16384 ], height = (int) [ 1, 16384 ], "
 			"framerate = (fraction) [ 0, MAX ]"));
 
@@ -660,6 +683,13 @@ static gboolean gst_depthao_set_info(GstVideoFilter *filter, GstCaps *incaps,
 	g_clear_pointer(&self->ao16, g_free);
 	if (self->color_pad)
 		self->ao16 = g_new(guint16, (gsize)w * h);
+	/* the filtered depth: GRAY16_LE of the input's size, rate and aspect */
+	gst_video_info_set_format(&self->depth_info, GST_VIDEO_FORMAT_GRAY16_LE, w, h);
+	GST_VIDEO_INFO_FPS_N(&self->depth_info) = GST_VIDEO_INFO_FPS_N(in_info);
+	GST_VIDEO_INFO_FPS_D(&self->depth_info) = GST_VIDEO_INFO_FPS_D(in_info);
+	GST_VIDEO_INFO_PAR_N(&self->depth_info) = GST_VIDEO_INFO_PAR_N(in_info);
+	GST_VIDEO_INFO_PAR_D(&self->depth_info) = GST_VIDEO_INFO_PAR_D(in_info);
+	self->depth_caps_pending = TRUE;
 	GST_INFO_OBJECT(self, "%ux%u %s depth%s", w, h, gst_video_format_to_string(inf),
 			self->color_pad ? ", AO over colour" : "");
 	return TRUE;
@@ -794,6 +824,139 @@ static int render(GstDepthao *self, const struct dao_frame *depth, GstVideoFrame
 	if (r == 0 && of != GST_VIDEO_FORMAT_RGB)
 		repack_rgb(self->scratch, w, h, od, os, of == GST_VIDEO_FORMAT_BGRx);
 	return r;
+}
+
+/* ---- filtered depth (depth_src) ----------------------------------------- */
+
+/* stream-start, caps (and a buffer pool for them), segment: those not sent yet */
+static gboolean depth_events(GstDepthao *self, GstBaseTransform *bt, GstPad *pad)
+{
+	if (!self->depth_started) {
+		gchar *id = gst_pad_create_stream_id(pad, GST_ELEMENT(self), "depth");
+		gst_pad_push_event(pad, gst_event_new_stream_start(id));
+		g_free(id);
+		self->depth_started = TRUE;
+	}
+	if (self->depth_caps_pending) {
+		GstCaps *caps = gst_video_info_to_caps(&self->depth_info);
+		gboolean ok = gst_pad_push_event(pad, gst_event_new_caps(gst_caps_ref(caps)));
+		if (self->depth_pool) {
+			gst_buffer_pool_set_active(self->depth_pool, FALSE);
+			gst_clear_object(&self->depth_pool);
+		}
+		GstBufferPool *pool = gst_video_buffer_pool_new();
+		GstStructure *config = gst_buffer_pool_get_config(pool);
+		gst_buffer_pool_config_set_params(config, caps, (guint)self->depth_info.size, 2, 0);
+		if (gst_buffer_pool_set_config(pool, config) && gst_buffer_pool_set_active(pool, TRUE))
+			self->depth_pool = pool;
+		else
+			gst_object_unref(pool);
+		gst_caps_unref(caps);
+		if (!ok || !self->depth_pool)
+			return FALSE;
+		self->depth_caps_pending = FALSE;
+	}
+	if (self->depth_seg_pending) {
+		gst_pad_push_event(pad, gst_event_new_segment(&bt->segment));
+		self->depth_seg_pending = FALSE;
+	}
+	return TRUE;
+}
+
+/* The filtered depth of the frame just processed, out of depth_src in counts of
+ * `unit` with the input buffer's timestamps; nothing when the pad is not linked.
+ * Only errors of that branch (not-negotiated, error) stop the element. */
+static GstFlowReturn push_depth(GstDepthao *self, GstBaseTransform *bt, GstBuffer *inbuf,
+				float unit)
+{
+	GST_OBJECT_LOCK(self);
+	GstPad *pad = self->depth_pad ? gst_object_ref(self->depth_pad) : NULL;
+	GST_OBJECT_UNLOCK(self);
+	if (!pad)
+		return GST_FLOW_OK;
+	GstFlowReturn ret = GST_FLOW_OK;
+	GstBuffer *buf = NULL;
+	GstVideoFrame vf;
+	struct dao_error err = {0};
+	if (!gst_pad_is_linked(pad))
+		goto out;
+	if (!depth_events(self, bt, pad)) {
+		ret = GST_FLOW_NOT_NEGOTIATED;
+		GST_ELEMENT_ERROR(self, CORE, NEGOTIATION,
+				  ("depthao: downstream of depth_src does not take %ux%u GRAY16_LE",
+				   GST_VIDEO_INFO_WIDTH(&self->depth_info),
+				   GST_VIDEO_INFO_HEIGHT(&self->depth_info)), (NULL));
+		goto out;
+	}
+	if ((ret = gst_buffer_pool_acquire_buffer(self->depth_pool, &buf, NULL)) != GST_FLOW_OK)
+		goto out;
+	if (!gst_video_frame_map(&vf, &self->depth_info, buf, GST_MAP_WRITE)) {
+		ret = GST_FLOW_ERROR;
+		goto out;
+	}
+	struct dao_frame d = {
+		.size = DAO_FRAME_SIZE, .format = DAO_PIXFMT_DEPTH16,
+		.width = (uint32_t)GST_VIDEO_FRAME_WIDTH(&vf),
+		.height = (uint32_t)GST_VIDEO_FRAME_HEIGHT(&vf),
+		.stride = GST_VIDEO_FRAME_PLANE_STRIDE(&vf, 0),
+		.data = GST_VIDEO_FRAME_PLANE_DATA(&vf, 0), .depth_unit = unit,
+	};
+	int r = dao_context_get_depth(self->ctx, &d, &err);
+#if G_BYTE_ORDER == G_BIG_ENDIAN
+	for (uint32_t y = 0; r == 0 && y < d.height; y++) {
+		guint16 *row = (guint16 *)((guint8 *)d.data + (gsize)y * (gsize)d.stride);
+		for (uint32_t x = 0; x < d.width; x++)
+			row[x] = GUINT16_TO_LE(row[x]);
+	}
+#endif
+	gst_video_frame_unmap(&vf);
+	if (r < 0) {
+		GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: depth_src: %s", err.message),
+				  (NULL));
+		ret = GST_FLOW_ERROR;
+		goto out;
+	}
+	gst_buffer_copy_into(buf, inbuf, GST_BUFFER_COPY_TIMESTAMPS, 0, (gsize)-1);
+	if (GST_BUFFER_FLAG_IS_SET(inbuf, GST_BUFFER_FLAG_DISCONT))
+		GST_BUFFER_FLAG_SET(buf, GST_BUFFER_FLAG_DISCONT);
+	ret = gst_pad_push(pad, buf);
+	buf = NULL;
+	/* a branch that is unlinked, flushing or at its end leaves the AO alone */
+	if (ret == GST_FLOW_NOT_LINKED || ret == GST_FLOW_FLUSHING || ret == GST_FLOW_EOS)
+		ret = GST_FLOW_OK;
+out:
+	if (buf)
+		gst_buffer_unref(buf);
+	gst_object_unref(pad);
+	return ret;
+}
+
+/* The depth input's EOS and flushes go out of depth_src too; a new segment at the
+ * next buffer. */
+static void depth_sink_event(GstDepthao *self, GstEvent *event)
+{
+	GstEventType t = GST_EVENT_TYPE(event);
+	if (t == GST_EVENT_SEGMENT || t == GST_EVENT_FLUSH_STOP) {
+		self->depth_seg_pending = TRUE;
+		if (t == GST_EVENT_SEGMENT)
+			return;
+	}
+	if (t != GST_EVENT_EOS && t != GST_EVENT_FLUSH_START && t != GST_EVENT_FLUSH_STOP)
+		return;
+	GST_OBJECT_LOCK(self);
+	GstPad *pad = self->depth_pad ? gst_object_ref(self->depth_pad) : NULL;
+	GST_OBJECT_UNLOCK(self);
+	if (!pad)
+		return;
+	if (t == GST_EVENT_EOS && !self->depth_started && gst_pad_is_linked(pad)) {
+		gchar *id = gst_pad_create_stream_id(pad, GST_ELEMENT(self), "depth");
+		gst_pad_push_event(pad, gst_event_new_stream_start(id));
+		g_free(id);
+		self->depth_started = TRUE;
+	}
+	if (self->depth_started)
+		gst_pad_push_event(pad, gst_event_ref(event));
+	gst_object_unref(pad);
 }
 
 /* ---- colour ------------------------------------------------------------ */
@@ -1008,11 +1171,34 @@ static gboolean color_query(GstPad *pad, GstObject *parent, GstQuery *query)
 	}
 }
 
+/* depth_src: its caps fixed once known, queries and upstream events as the
+ * default handlers do (through the depth input) */
+static GstPad *request_depth_pad(GstDepthao *self, GstPadTemplate *templ)
+{
+	GST_OBJECT_LOCK(self);
+	if (self->depth_pad) {
+		GST_OBJECT_UNLOCK(self);
+		GST_WARNING_OBJECT(self, "depthao has one depth_src pad");
+		return NULL;
+	}
+	GstPad *pad = gst_pad_new_from_template(templ, "depth_src");
+	gst_pad_use_fixed_caps(pad);
+	self->depth_pad = pad;
+	self->depth_started = FALSE;
+	self->depth_caps_pending = TRUE;
+	self->depth_seg_pending = TRUE;
+	GST_OBJECT_UNLOCK(self);
+	gst_element_add_pad(GST_ELEMENT(self), pad);
+	return pad;
+}
+
 static GstPad *gst_depthao_request_new_pad(GstElement *element, GstPadTemplate *templ,
 					   const gchar *name, const GstCaps *caps)
 {
 	GstDepthao *self = GST_DEPTHAO(element);
 	(void)caps;
+	if (!strcmp(GST_PAD_TEMPLATE_NAME_TEMPLATE(templ), "depth_src"))
+		return request_depth_pad(self, templ);
 	/* only by name (d.color_sink): linking colour caps to the element without naming
 	 * a pad would otherwise take this pad and leave the depth input unlinked */
 	if (!name || strcmp(name, "color_sink") != 0) {
@@ -1041,11 +1227,15 @@ static void gst_depthao_release_pad(GstElement *element, GstPad *pad)
 {
 	GstDepthao *self = GST_DEPTHAO(element);
 	GST_OBJECT_LOCK(self);
-	if (self->color_pad == pad)
+	gboolean color = self->color_pad == pad;
+	if (color)
 		self->color_pad = NULL;
+	if (self->depth_pad == pad)
+		self->depth_pad = NULL;
 	GST_OBJECT_UNLOCK(self);
 	gst_element_remove_pad(element, pad);
-	gst_base_transform_reconfigure_src(GST_BASE_TRANSFORM(self));
+	if (color)
+		gst_base_transform_reconfigure_src(GST_BASE_TRANSFORM(self));
 }
 
 static GstStateChangeReturn gst_depthao_change_state(GstElement *element, GstStateChange t)
@@ -1069,6 +1259,8 @@ static GstStateChangeReturn gst_depthao_change_state(GstElement *element, GstSta
 		self->color_eos = self->color_flushing = self->depth_flushing = FALSE;
 		gst_segment_init(&self->color_segment, GST_FORMAT_TIME);
 		g_mutex_unlock(&self->color_lock);
+		self->depth_started = FALSE;
+		self->depth_caps_pending = self->depth_seg_pending = TRUE;
 	} else if (t == GST_STATE_CHANGE_PAUSED_TO_READY) {
 		/* a depth thread waiting for colour, a colour thread for room: both go */
 		g_mutex_lock(&self->color_lock);
@@ -1116,8 +1308,10 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 		if (ret == GST_FLOW_ERROR && err.message[0])
 			GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: %s", err.message),
 					  ("frame %" G_GUINT64_FORMAT, self->frame_index));
-		if (ret == GST_FLOW_OK)
+		if (ret == GST_FLOW_OK) {
 			self->frame_index++;
+			ret = push_depth(self, GST_BASE_TRANSFORM(filter), in->buffer, unit);
+		}
 		return ret;
 	}
 	if (render(self, &depth, out, &err) < 0) {
@@ -1126,7 +1320,7 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 		return GST_FLOW_ERROR;
 	}
 	self->frame_index++;
-	return GST_FLOW_OK;
+	return push_depth(self, GST_BASE_TRANSFORM(filter), in->buffer, unit);
 }
 
 /* ---- life cycle --------------------------------------------------------- */
@@ -1154,6 +1348,7 @@ static gboolean gst_depthao_sink_event(GstBaseTransform *bt, GstEvent *event)
 		g_cond_broadcast(&self->color_cond);
 		g_mutex_unlock(&self->color_lock);
 	}
+	depth_sink_event(self, event);
 	return GST_BASE_TRANSFORM_CLASS(gst_depthao_parent_class)->sink_event(bt, event);
 }
 
@@ -1168,6 +1363,11 @@ static void release_stream(GstDepthao *self)
 	self->scratch_size = 0;
 	g_clear_pointer(&self->swapped, g_free);
 	g_clear_pointer(&self->ao16, g_free);
+	if (self->depth_pool) {
+		gst_buffer_pool_set_active(self->depth_pool, FALSE);
+		gst_clear_object(&self->depth_pool);
+	}
+	self->depth_caps_pending = TRUE;
 }
 
 static gboolean gst_depthao_stop(GstBaseTransform *bt)
@@ -1286,11 +1486,12 @@ static void gst_depthao_class_init(GstDepthaoClass *klass)
 		ec, "Depth ambient occlusion", "Filter/Effect/Video",
 		"Ambient occlusion (GRAY8, GRAY16_LE), the occlusion-shaded image, or with colour "
 		"on color_sink the AO over colour (RGB, RGBA, BGRx) from 16-bit depth (GRAY16_LE, "
-		"GRAY16_BE), with libdepthao",
+		"GRAY16_BE), with libdepthao; the filtered depth (GRAY16_LE) on depth_src",
 		"depthao");
 	gst_element_class_add_static_pad_template(ec, &sink_template);
 	gst_element_class_add_static_pad_template(ec, &src_template);
 	gst_element_class_add_static_pad_template(ec, &color_template);
+	gst_element_class_add_static_pad_template(ec, &depth_template);
 	ec->request_new_pad = gst_depthao_request_new_pad;
 	ec->release_pad = gst_depthao_release_pad;
 	ec->change_state = gst_depthao_change_state;

@@ -445,9 +445,31 @@ class AO:
         _lib.check(r, err)
         return arr
 
-    def filtered_depth(self):
-        """The last frame's depth after the prefilter: float32 (H, W) metres, 0 = no data."""
-        return self._plane(lib.dao_context_get_depth, _lib.PIXFMT_DEPTH_F32, 1)
+    def filtered_depth(self, unit=None):
+        """The filtered depth of the last processed frame (dao_context_get_depth): the
+        depth the normals and the AO were computed from, after depth-min/max, the
+        temporal depth filter and the prefilter; 0 where there is no depth.
+
+        unit=None: float32 (H, W) metres.  unit (metres per count, e.g. the unit
+        process() was given): uint16 (H, W) counts of `unit`, rounded to the nearest
+        (ties to even); a depth below half a count is 1 and one beyond 65535 counts
+        65535, so a pixel with depth is never 0.  uint16 input read back in its own
+        unit keeps its counts where the filters left it alone.  Works with
+        algorithm="none" (depth only).  Before the first process(): OSError EAGAIN.
+        """
+        if unit is None:
+            return self._plane(lib.dao_context_get_depth, _lib.PIXFMT_DEPTH_F32, 1)
+        if isinstance(unit, bool) or not isinstance(unit, numbers.Real) or \
+                not (math.isfinite(unit) and unit > 0):
+            raise ValueError("unit must be a positive number of metres per count "
+                             "(0.001 for millimetres), got %r" % (unit,))
+        arr = np.empty(self._camera.shape, np.uint16)
+        frame = _frames.make_frame(arr, _lib.PIXFMT_DEPTH16, arr.strides[0], float(unit))
+        err = _lib.new_error()
+        with self._lock:
+            r = lib.dao_context_get_depth(self._handle(), ctypes.byref(frame), ctypes.byref(err))
+        _lib.check(r, err)
+        return arr
 
     def normals(self):
         """The last frame's unit normals: float32 (H, W, 3), optical frame."""

@@ -295,6 +295,41 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 	return r;
 }
 
+void dao_ros_proc_depth_layout(const struct dao_ros_proc *proc, struct dao_ros_output *out)
+{
+	if (proc->depth.format == DAO_PIXFMT_DEPTH_F32)
+		set_layout(out, "32FC1", proc->depth.width, proc->depth.height, 4);
+	else
+		set_layout(out, "16UC1", proc->depth.width, proc->depth.height, 2);
+}
+
+int dao_ros_proc_depth(struct dao_ros_proc *proc, struct dao_ros_output *out,
+		       struct dao_error *err)
+{
+	if (!proc->ctx || !proc->frames)
+		return fail(err, -EAGAIN, "dao_ros_proc_depth: no frame was run yet");
+	const int f32 = proc->depth.format == DAO_PIXFMT_DEPTH_F32;
+	if (!out->data || out->width != proc->depth.width || out->height != proc->depth.height ||
+	    out->step < out->width * (f32 ? 4u : 2u) || out->step > INT32_MAX)
+		return fail(err, -EINVAL, "dao_ros_proc_depth: no buffer of the depth's layout");
+	struct dao_frame d = {
+		.size = DAO_FRAME_SIZE,
+		.format = f32 ? DAO_PIXFMT_DEPTH_F32 : DAO_PIXFMT_DEPTH16,
+		.width = out->width, .height = out->height, .stride = (int32_t)out->step,
+		.data = out->data, .depth_unit = f32 ? 0.0f : proc->settings.depth_unit,
+	};
+	int r = dao_context_get_depth(proc->ctx, &d, err);
+	if (r || !f32)
+		return r;
+	for (uint32_t y = 0; y < out->height; y++) { /* REP 118: NaN = no depth */
+		float *row = (float *)((uint8_t *)out->data + (size_t)y * out->step);
+		for (uint32_t x = 0; x < out->width; x++)
+			if (row[x] == 0.0f)
+				row[x] = NAN;
+	}
+	return 0;
+}
+
 void dao_ros_proc_get_params(const struct dao_ros_proc *proc, struct dao_params *out)
 {
 	*out = proc->params;

@@ -124,6 +124,20 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		     uint64_t stamp_ns, struct dao_ros_output *ao, struct dao_ros_output *shaded,
 		     struct dao_error *err);
 
+/*
+ * The filtered depth of the frame last run (dao_context_get_depth: the depth
+ * the AO was computed from), as a depth image for depth_image_proc and the
+ * other image-pipeline nodes.  dao_ros_proc_depth_layout() gives its layout
+ * after dao_ros_proc_prepare(): "16UC1" counts of depth_unit (the input's
+ * unit) for 16UC1 and mono16 input, "32FC1" metres for 32FC1 input.
+ * dao_ros_proc_depth() fills out->data after dao_ros_proc_run(): 0 where
+ * there is no depth in 16UC1, NaN in 32FC1 (REP 118).  -EAGAIN before a
+ * frame was run.
+ */
+void dao_ros_proc_depth_layout(const struct dao_ros_proc *proc, struct dao_ros_output *out);
+int dao_ros_proc_depth(struct dao_ros_proc *proc, struct dao_ros_output *out,
+		       struct dao_error *err);
+
 /* The AO parameters now in use, and new ones (validated; applied at once). */
 void dao_ros_proc_get_params(const struct dao_ros_proc *proc, struct dao_params *out);
 int dao_ros_proc_set_params(struct dao_ros_proc *proc, const struct dao_params *params,

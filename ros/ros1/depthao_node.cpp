@@ -8,7 +8,12 @@
 // table, without its code generator.
 //
 //   in:  depth/image (16UC1, mono16, 32FC1) + depth/camera_info (image_transport)
-//   out: ao/image (mono16 or 32FC1), shaded/image (rgb8), the input's header
+//   out: ao/image (mono16 or 32FC1), shaded/image (rgb8), the input's header;
+//        depth_filtered/image (16UC1 in the input's unit, or 32FC1) with
+//        depth_filtered/camera_info, and depth_filtered/image/compressedDepth
+//        (image_transport's compressedDepth format, PNG or RVL), each computed
+//        only while it has subscribers.  Plain publishers, not image_transport's:
+//        an installed compressed_depth plugin would advertise the same topic.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -21,9 +26,11 @@
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 
 #include "dao_ros.h"
+#include "dao_ros_cdepth.h"
 
 namespace {
 
@@ -65,8 +72,12 @@ std::string text_of(XmlRpc::XmlRpcValue &v)
 
 class DepthaoNode {
 public:
-	DepthaoNode() : pnh_("~"), it_(nh_) {}
-	~DepthaoNode() { dao_ros_proc_destroy(proc_); }
+	DepthaoNode() : pnh_("~"), it_(nh_) { dao_ros_cdepth_init(&cdepth_); }
+	~DepthaoNode()
+	{
+		dao_ros_proc_destroy(proc_);
+		dao_ros_cdepth_free(&cdepth_);
+	}
 
 	bool start();
 
@@ -75,6 +86,9 @@ private:
 	bool on_set(dynamic_reconfigure::Reconfigure::Request &req,
 		    dynamic_reconfigure::Reconfigure::Response &res);
 	bool read_parameters(dao_ros_settings *s, dao_params *p);
+	bool read_cdepth_parameters();
+	void publish_depth(const sensor_msgs::ImageConstPtr &img,
+			   const sensor_msgs::CameraInfoConstPtr &info);
 	dynamic_reconfigure::Config config_of(const dao_params &p, int which) const;
 	void publish_config(const dao_params &p);
 	void log_error(const char *what, const dao_error &err);
@@ -89,6 +103,11 @@ private:
 	std::vector<dao_ros_param_desc> descs_;
 	dao_params defaults_{};
 	sensor_msgs::Image ao_msg_, shaded_msg_;  // reused: their data keep their capacity
+	ros::Publisher depth_pub_, depth_info_pub_, cdepth_pub_;
+	sensor_msgs::Image depth_msg_;
+	sensor_msgs::CameraInfo depth_info_msg_;
+	sensor_msgs::CompressedImage cdepth_msg_;
+	dao_ros_cdepth cdepth_;
 	bool warned_distortion_ = false;
 	std::string last_error_;
 	ros::WallTime last_error_time_;
@@ -158,6 +177,23 @@ bool DepthaoNode::read_parameters(dao_ros_settings *s, dao_params *p)
 			ROS_WARN("~%s is not a parameter of depthao_node: ignored (the AO parameters "
 				 "are those of depthao process --help, with '_' for '-')", n.c_str());
 		}
+	return true;
+}
+
+// compressed_depth_image_transport's parameters, where its publisher reads them:
+// IMAGE_TOPIC/compressedDepth/{format, png_level, depth_max, depth_quantization}
+bool DepthaoNode::read_cdepth_parameters()
+{
+	const char *names[] = { "format", "png_level", "depth_max", "depth_quantization" };
+	for (const char *name : names) {
+		XmlRpc::XmlRpcValue v;
+		const std::string key = "depth_filtered/image/compressedDepth/" + std::string(name);
+		dao_error err{};
+		if (nh_.getParam(key, v) && dao_ros_cdepth_set(&cdepth_, name, text_of(v).c_str(), &err)) {
+			ROS_FATAL("%s: %s", nh_.resolveName(key).c_str(), err.message);
+			return false;
+		}
+	}
 	return true;
 }
 
@@ -254,6 +290,12 @@ bool DepthaoNode::start()
 	}
 	ao_pub_ = it_.advertise("ao/image", queue);
 	shaded_pub_ = it_.advertise("shaded/image", queue);
+	if (!read_cdepth_parameters())
+		return false;
+	depth_pub_ = nh_.advertise<sensor_msgs::Image>("depth_filtered/image", queue);
+	depth_info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("depth_filtered/camera_info", queue);
+	cdepth_pub_ = nh_.advertise<sensor_msgs::CompressedImage>("depth_filtered/image/compressedDepth",
+								   queue);
 
 	dynamic_reconfigure::ConfigDescription descr;
 	dynamic_reconfigure::Group g;
@@ -365,6 +407,49 @@ void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
 	ao_pub_.publish(ao_msg_);
 	if (want_shaded)
 		shaded_pub_.publish(shaded_msg_);
+	publish_depth(img, info);
+}
+
+// The filtered depth of the frame just run, on the topics that have subscribers.
+void DepthaoNode::publish_depth(const sensor_msgs::ImageConstPtr &img,
+				const sensor_msgs::CameraInfoConstPtr &info)
+{
+	const bool want_image = depth_pub_.getNumSubscribers() > 0;
+	const bool want_compressed = cdepth_pub_.getNumSubscribers() > 0;
+	if (depth_info_pub_.getNumSubscribers() > 0) {
+		depth_info_msg_ = *info;
+		depth_info_msg_.header = img->header; // the image's stamp: they pair exactly
+		depth_info_pub_.publish(depth_info_msg_);
+	}
+	if (!want_image && !want_compressed)
+		return;
+	dao_ros_output d;
+	dao_error err{};
+	dao_ros_proc_depth_layout(proc_, &d);
+	depth_msg_.header = img->header;
+	depth_msg_.width = d.width;
+	depth_msg_.height = d.height;
+	depth_msg_.encoding = d.encoding;
+	depth_msg_.is_bigendian = 0;
+	depth_msg_.step = d.step;
+	depth_msg_.data.resize(d.size);
+	d.data = depth_msg_.data.data();
+	if (dao_ros_proc_depth(proc_, &d, &err)) {
+		log_error(depth_pub_.getTopic().c_str(), err);
+		return;
+	}
+	if (want_image)
+		depth_pub_.publish(depth_msg_);
+	if (!want_compressed)
+		return;
+	if (dao_ros_cdepth_encode(&cdepth_, &d, &err)) {
+		log_error(cdepth_pub_.getTopic().c_str(), err);
+		return;
+	}
+	cdepth_msg_.header = img->header;
+	cdepth_msg_.format = cdepth_.format;
+	cdepth_msg_.data.assign(cdepth_.buf, cdepth_.buf + cdepth_.len);
+	cdepth_pub_.publish(cdepth_msg_);
 }
 
 } // namespace

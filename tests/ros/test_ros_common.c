@@ -5,6 +5,9 @@
  * the errors name what is wrong), the camera followed, time going back starts
  * the temporal filters over, the parameter table as node parameters, and no
  * allocation per frame (the C allocator interposed, as test_no_alloc.c does).
+ * The filtered depth (16UC1 in the input's unit, 32FC1 with NaN) equals the
+ * library's of the same frames; RVL of a hand-worked example; the
+ * compressedDepth header, settings and errors.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -17,6 +20,7 @@
 #include "common/cmocka_all.h"
 #include "common/test_common.h"
 #include "dao_ros.h"
+#include "dao_ros_cdepth.h"
 
 
 #define W 64
@@ -167,6 +171,143 @@ static void test_encodings_agree(void **state)
 	}
 	if (worst > 64)
 		fail_msg("32FC1 metres and 16UC1 counts differ by %d / 65535", worst);
+}
+
+/* the filtered depth equals dao_context_get_depth of a context of our own on the
+ * same frames (stream defaults, indices from 0); 16UC1 in the input's unit, 32FC1
+ * metres with NaN where there is no depth */
+static void test_filtered_depth(void **state)
+{
+	(void)state;
+	static uint16_t got16[W * H], ref16[W * H];
+	static float got32[W * H], ref32[W * H];
+	struct dao_ros_image img;
+	struct dao_error err;
+	struct dao_camera cam;
+	struct dao_params p;
+	struct dao_context *ctx;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&p);
+	assert_int_equal(dao_camera_from_intrinsics(&cam, W, H, K[0], K[4], K[2], K[5], &err), 0);
+	for (int f32 = 0; f32 < 2; f32++) {
+		struct dao_ros_proc *proc = make_proc("mono16", NULL);
+		struct dao_ros_output d;
+		assert_int_equal(dao_context_create(&ctx, &cam, &p, &err), 0);
+		for (int i = 0; i < 3; i++) {
+			make_image(in_buf, &img, f32 ? "32FC1" : "16UC1", i == 1, 0, i);
+			if (i == 0) {
+				struct dao_ros_output ao, sh;
+				int dist;
+				assert_int_equal(dao_ros_proc_prepare(proc, &img, &info, &ao, &sh, &dist,
+								      &err), 0);
+				dao_ros_proc_depth_layout(proc, &d);
+				d.data = f32 ? (void *)got32 : (void *)got16;
+				assert_int_equal(dao_ros_proc_depth(proc, &d, &err), -EAGAIN);
+			}
+			if (run_frame(proc, &img, 10 + (uint64_t)i, &err))
+				fail_msg("frame %d: %s", i, err.message);
+			dao_ros_proc_depth_layout(proc, &d);
+			assert_string_equal(d.encoding, f32 ? "32FC1" : "16UC1");
+			assert_int_equal(d.step, W * (f32 ? 4 : 2));
+			d.data = f32 ? (void *)got32 : (void *)got16;
+			assert_int_equal(dao_ros_proc_depth(proc, &d, &err), 0);
+			/* the same frame, host order, into our own context */
+			make_image(in_buf, &img, f32 ? "32FC1" : "16UC1", 0, 0, i);
+			struct dao_frame in = { .size = DAO_FRAME_SIZE, .width = W, .height = H,
+						.stride = (int32_t)img.step, .data = in_buf,
+						.format = f32 ? DAO_PIXFMT_DEPTH_F32 : DAO_PIXFMT_DEPTH16,
+						.depth_unit = f32 ? 0.0f : 0.001f };
+			struct dao_frame out = { .size = DAO_FRAME_SIZE, .width = W, .height = H,
+						 .format = f32 ? DAO_PIXFMT_DEPTH_F32 : DAO_PIXFMT_DEPTH16,
+						 .stride = W * (f32 ? 4 : 2), .depth_unit = 0.001f,
+						 .data = f32 ? (void *)ref32 : (void *)ref16 };
+			assert_int_equal(dao_context_process(ctx, &in, NULL, (uint64_t)i, NULL, &err), 0);
+			assert_int_equal(dao_context_get_depth(ctx, &out, &err), 0);
+			int holes = 0, changed = 0;
+			for (int k = 0; k < W * H; k++) {
+				if (!f32) {
+					assert_int_equal(got16[k], ref16[k]);
+					holes += got16[k] == 0;
+					changed += got16[k] && got16[k] != count_at(k % W, k / W, i);
+				} else if (ref32[k] == 0.0f) {
+					assert_true(isnan(got32[k]));
+					holes++;
+				} else {
+					assert_true(got32[k] == ref32[k]);
+				}
+			}
+			assert_true(holes > 0 && holes < W * H / 10);
+			assert_true(f32 || changed > W * H / 10); /* the filter did something */
+		}
+		dao_context_destroy(ctx);
+		dao_ros_proc_destroy(proc);
+	}
+}
+
+/* RVL of a worked example: 0 0 5 6 0 is the numbers 2 (zeros), 2 (non-zeros),
+ * zig-zag(5) = 10 = 3-bit groups 2, 1 (nibbles 0xA 0x1), zig-zag(1) = 2, 1 (zeros),
+ * 0 (non-zeros): nibbles 2 2 A 1 2 1 0, then one 0 to fill the word 0x22A12100,
+ * stored little-endian */
+static void test_rvl(void **state)
+{
+	(void)state;
+	const uint16_t in[] = { 0, 0, 5, 6, 0 };
+	uint8_t out[64];
+	const uint8_t want[] = { 0x00, 0x21, 0xA1, 0x22 };
+	assert_int_equal(dao_ros_rvl_encode(in, 5, out), 4);
+	assert_memory_equal(out, want, 4);
+	/* 9 values 0x7fff apart: 9 words' worth of nibbles, within the bound */
+	uint16_t big[9];
+	for (int i = 0; i < 9; i++)
+		big[i] = (uint16_t)(i % 2 ? 65535 : 1);
+	size_t n = dao_ros_rvl_encode(big, 9, out);
+	assert_true(n % 4 == 0 && n <= dao_ros_rvl_bound(9));
+	assert_int_equal(dao_ros_rvl_encode(big, 0, out), 0);
+}
+
+static void test_compressed_depth(void **state)
+{
+	(void)state;
+	struct dao_ros_cdepth c;
+	struct dao_error err;
+	dao_ros_cdepth_init(&c);
+	assert_true(c.codec == DAO_ROS_CDEPTH_PNG && c.png_level == 1 && c.depth_max == 10.0 &&
+		    c.depth_quantization == 100.0);
+	assert_int_equal(dao_ros_cdepth_set(&c, "format", "jpeg", &err), -EINVAL);
+	assert_non_null(strstr(err.message, "compressedDepth/format: 'jpeg' is not png or rvl"));
+	assert_int_equal(dao_ros_cdepth_set(&c, "png_level", "0", &err), -EINVAL);
+	assert_int_equal(dao_ros_cdepth_set(&c, "png_level", "2.5", &err), -EINVAL);
+	assert_int_equal(dao_ros_cdepth_set(&c, "depth_max", "101", &err), -EINVAL);
+	assert_non_null(strstr(err.message, "depth_max: '101' is not a number in [1, 100]"));
+	assert_int_equal(dao_ros_cdepth_set(&c, "quality", "1", &err), -ENOENT);
+	uint16_t px[W * H];
+	for (int k = 0; k < W * H; k++)
+		px[k] = count_at(k % W, k / W, 0);
+	struct dao_ros_output d = { "16UC1", W, H, W * 2, sizeof px, px };
+	for (int codec = 0; codec < 2; codec++) {
+		assert_int_equal(dao_ros_cdepth_set(&c, "format", codec ? "rvl" : "png", &err), 0);
+		assert_int_equal(dao_ros_cdepth_encode(&c, &d, &err), 0);
+		assert_string_equal(c.format, codec ? "16UC1; compressedDepth rvl"
+						     : "16UC1; compressedDepth png");
+		const uint8_t zeros[12] = {0};
+		assert_memory_equal(c.buf, zeros, 12); /* format 0, A = B = 0 */
+		if (codec) {
+			assert_true(c.buf[12] == W && c.buf[16] == H && c.len > 20 && c.len < W * H * 2);
+		} else {
+			assert_memory_equal(c.buf + 12, "\x89PNG", 4);
+		}
+	}
+	float z[4] = { 1.0f, NAN, 0.0f, 20.0f };
+	struct dao_ros_output f = { "32FC1", 4, 1, 16, 16, z };
+	assert_int_equal(dao_ros_cdepth_encode(&c, &f, &err), 0);
+	assert_string_equal(c.format, "32FC1; compressedDepth rvl");
+	float a, b;
+	memcpy(&a, c.buf + 4, 4);
+	memcpy(&b, c.buf + 8, 4);
+	assert_true(a == 10100.0f && b == 1.0f - 10100.0f / 10.0f);
+	struct dao_ros_output bad = { "mono8", W, H, W, W * H, px };
+	assert_int_equal(dao_ros_cdepth_encode(&c, &bad, &err), -EINVAL);
+	dao_ros_cdepth_free(&c);
 }
 
 static void test_errors(void **state)
@@ -470,6 +611,9 @@ int main(void)
 		cmocka_unit_test(test_time_back_resets),
 		cmocka_unit_test(test_params),
 		cmocka_unit_test(test_no_allocation),
+		cmocka_unit_test(test_filtered_depth),
+		cmocka_unit_test(test_rvl),
+		cmocka_unit_test(test_compressed_depth),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,6 +18,12 @@ encoding and a camera info of another size are logged as errors naming what is w
 and the bag played again (time goes back: the temporal filter starts over) equals
 `depthao process` with the new parameters; played with a camera info that has
 distortion, `depthao process` with the intrinsics of its P (the rectified image's).  Parameters refused at start stop the node.
+The filtered depth (issue #36): depth_filtered/image of a (16UC1) and b (32FC1, NaN = no
+depth) equals the library's filtered depth of the same frames (the Python binding over the
+build's libdepthao, in a child process), with its camera_info; its compressedDepth topic
+(a: 16UC1 PNG, b: 32FC1 RVL, c: 16UC1 RVL), decoded here by a decoder written from the
+format's description (ConfigHeader, PNG through PIL, RVL), gives the same depth (32FC1:
+the quantised inverse depth recomputed here, and within its step of the depth).
 Exits 77 when ROS (roscore, rosbag, rospy, the node) is absent.  Every process
 started here is killed on every exit path.
 """
@@ -33,6 +39,7 @@ import tempfile
 import threading
 import time
 import zlib
+import io
 
 W, H, FRAMES = 80, 60, 6
 K = [70.0, 0.0, 39.5, 0.0, 71.0, 29.25, 0.0, 0.0, 1.0]
@@ -71,7 +78,7 @@ try:
     import rosgraph
     import rospy
     import dynamic_reconfigure.client
-    from sensor_msgs.msg import CameraInfo, Image
+    from sensor_msgs.msg import CameraInfo, CompressedImage, Image
 except ImportError as e:
     skip("ROS Python modules missing (python3-rospy, python3-rosbag, python3-sensor-msgs, "
          "python3-dynamic-reconfigure): %s" % e)
@@ -271,10 +278,10 @@ def read_png(path):
 
 # ---------------------------------------------------------------- outputs
 class Collector:
-    def __init__(self, topic):
+    def __init__(self, topic, kind=None):
         self.msgs = []
         self.lock = threading.Lock()
-        self.sub = rospy.Subscriber(topic, Image, self.cb, queue_size=None)
+        self.sub = rospy.Subscriber(topic, kind or Image, self.cb, queue_size=None)
         self.topic = topic
 
     def cb(self, m):
@@ -344,6 +351,163 @@ def check_run(name, col, bag, frames, encoding, opts, first):
     print("%s: %d frames equal to depthao process %s" % (name, frames, " ".join(opts)))
 
 
+# ---------------------------------------------------------------- filtered depth
+REFERENCE = r"""
+import os, sys
+import numpy as np
+sys.path.insert(0, os.path.join(os.environ["DAO_SOURCE_ROOT"], "python"))
+import depthao
+frames, unit, quality, out = sys.argv[1], float(sys.argv[2]), sys.argv[3], sys.argv[4]
+K = [float(v) for v in sys.argv[5].split(",")]
+d = np.load(frames)
+ao = depthao.AO(depthao.Camera(K[0], K[4], K[2], K[5], d.shape[2], d.shape[1]),
+                quality=quality, stream=True)
+res = []
+for i in range(d.shape[0]):
+    ao.process(d[i], unit=unit, frame_index=i)
+    res.append(ao.filtered_depth() if d.dtype == np.float32 else ao.filtered_depth(unit))
+np.save(out, np.stack(res))
+"""
+
+
+def reference_depth(name, frames, unit, quality="default"):
+    """The library's filtered depth of frames (the node's settings: stream, index i)."""
+    src, out = os.path.join(WORK, name + "-in.npy"), os.path.join(WORK, name + "-ref.npy")
+    np.save(src, frames)
+    env = dict(os.environ, ASAN_OPTIONS="detect_leaks=0")
+    # a sanitizer build's library loads into python only after its runtimes
+    lib = os.environ.get("DEPTHAO_LIBRARY", "")
+    ldd = subprocess.run(["ldd", lib], capture_output=True, text=True).stdout if lib else ""
+    pre = [w for line in ldd.splitlines() for w in line.split()
+           if w.startswith("/") and ("libasan" in w or "libubsan" in w)]
+    if pre:
+        env["LD_PRELOAD"] = " ".join(pre)
+    r = subprocess.run([sys.executable, "-c", REFERENCE, src, repr(unit), quality, out,
+                        ",".join(repr(k) for k in K)], capture_output=True, text=True, env=env)
+    if r.returncode:
+        fail("the reference filtered depth (Python binding): %s" % r.stderr[-1500:])
+    return np.load(out)
+
+
+def rvl_decode(data, n):
+    """RVL (Wilson 2017) as compressed_depth_image_transport stores it: little-endian
+    32-bit words read from their top nibble; numbers of 3-bit groups, least significant
+    first, bit 4 = more; zero runs, non-zero runs, zig-zag deltas."""
+    words = struct.unpack("<%dI" % (len(data) // 4), data[:len(data) // 4 * 4])
+    state = {"w": 0, "left": 0, "at": 0}
+
+    def number():
+        v, shift = 0, 0
+        while True:
+            if not state["left"]:
+                if state["at"] == len(words):
+                    fail("RVL data ends early")
+                state["w"], state["left"] = words[state["at"]], 8
+                state["at"] += 1
+            nib = state["w"] >> 28
+            state["w"] = (state["w"] << 4) & 0xFFFFFFFF
+            state["left"] -= 1
+            v |= (nib & 7) << shift
+            shift += 3
+            if not nib & 8:
+                return v
+
+    out, prev = [], 0
+    while len(out) < n:
+        out.extend([0] * number())
+        for _ in range(number()):
+            z = number()
+            prev = (prev + ((z >> 1) ^ -(z & 1))) & 0xFFFF
+            out.append(prev)
+    if len(out) != n or state["at"] != len(words):
+        fail("RVL: %d values (expected %d), %d of %d words read" % (len(out), n, state["at"],
+                                                                      len(words)))
+    return np.array(out, dtype=np.uint16).reshape(H, W)
+
+
+def decode_compressed_depth(m):
+    """(encoding, codec, A, B, 16-bit values) of a compressedDepth CompressedImage."""
+    enc, _, rest = m.format.partition(";")
+    codec = rest.strip().split(" ")[1]
+    data = bytes(m.data)
+    fmt, qa, qb = struct.unpack("<iff", data[:12])
+    if fmt != 0:
+        fail("compressedDepth header format %d, not 0 (inverse depth)" % fmt)
+    if codec == "png":
+        try:
+            from PIL import Image as PILImage
+            img = PILImage.open(io.BytesIO(data[12:]))
+            if img.mode not in ("I;16", "I;16B", "I"):
+                fail("compressedDepth PNG of mode %s" % img.mode)
+            v = np.asarray(img).astype(np.uint16)
+        except ImportError:
+            path = os.path.join(WORK, "cdepth.png")
+            with open(path, "wb") as f:
+                f.write(data[12:])
+            v = read_png(path)
+    else:
+        cols, rows = struct.unpack("<II", data[12:20])
+        if (cols, rows) != (W, H):
+            fail("RVL image of %dx%d" % (cols, rows))
+        v = rvl_decode(data[20:], W * H)
+    return enc, codec, qa, qb, v
+
+
+def check_depth(name, col, ref, enc, codec):
+    """depth_filtered/image, camera_info and compressedDepth of one node, first FRAMES."""
+    with col["depth"].lock, col["cdepth"].lock:
+        imgs, cds = col["depth"].msgs[:FRAMES], col["cdepth"].msgs[:FRAMES]
+    infos = col["info"].msgs[:FRAMES] if "info" in col else None
+    if len(imgs) < FRAMES or len(cds) < FRAMES:
+        fail("%s: %d filtered depth images, %d compressed" % (name, len(imgs), len(cds)))
+    for i in range(FRAMES):
+        m = imgs[i]
+        if (m.encoding, m.width, m.height, m.is_bigendian, m.header.stamp) != \
+                (enc, W, H, 0, stamp(i)):
+            fail("%s frame %d: %s %dx%d be %d stamp %s" % (name, i, m.encoding, m.width,
+                                                            m.height, m.is_bigendian,
+                                                            m.header.stamp))
+        got = np.frombuffer(m.data, "<u2" if enc == "16UC1" else "<f4").reshape(H, W)
+        if enc == "16UC1":
+            same = np.array_equal(got, ref[i])
+        else:
+            same = np.array_equal(np.isnan(got), ref[i] == 0) and \
+                np.array_equal(got[ref[i] > 0], ref[i][ref[i] > 0])
+        if not same:
+            fail("%s frame %d: the filtered depth differs from the library's" % (name, i))
+        if np.count_nonzero(ref[i]) < W * H // 2:
+            fail("%s frame %d: the reference has little depth: tests nothing" % (name, i))
+        if infos is not None and (infos[i].header.stamp != stamp(i) or list(infos[i].K) != K
+                                  or infos[i].header.frame_id != m.header.frame_id):
+            fail("%s frame %d: camera_info %s" % (name, i, infos[i]))
+        c = cds[i]
+        if c.format != "%s; compressedDepth %s" % (enc, codec) or c.header.stamp != stamp(i):
+            fail("%s frame %d: compressedDepth format '%s'" % (name, i, c.format))
+        _, _, qa, qb, v = decode_compressed_depth(c)
+        if enc == "16UC1":
+            if (qa, qb) != (0.0, 0.0) or not np.array_equal(v, ref[i]):
+                fail("%s frame %d: compressedDepth %s gives other counts (A %g B %g)"
+                     % (name, i, codec, qa, qb))
+            continue
+        # 32FC1: the publisher's defaults depth_max 10, depth_quantization 100
+        a32 = np.float32(100.0 * 101.0)
+        b32 = np.float32(1.0) - a32 / np.float32(10.0)
+        if (qa, qb) != (float(a32), float(b32)):
+            fail("%s: compressedDepth A %r B %r" % (name, qa, qb))
+        z = ref[i]
+        with np.errstate(divide="ignore"):
+            want = np.where((z > 0) & (z < 10), a32 / z + b32, 0).astype(np.float32)
+        want = np.minimum(want, 65535).astype(np.uint16)
+        back = np.where(v > 0, a32 / (v.astype(np.float32) - b32), 0)
+        step = z * z / a32 * 1.001 + 1e-6
+        if not np.array_equal(v, want) or np.any(np.abs(back - z)[z > 0] > step[z > 0]):
+            fail("%s frame %d: compressedDepth 32FC1 %s: %d values differ, max depth error "
+                 "%g m" % (name, i, codec, np.count_nonzero(v != want),
+                           np.abs(back - z)[z > 0].max()))
+    print("%s: %d filtered depth frames (%s) equal to the library's, compressedDepth %s "
+          "decoded to the same" % (name, FRAMES, enc, codec))
+
+
 def play(*bags):
     r = subprocess.run(["rosbag", "play", "--wait-for-subscribers", "-q"] + list(bags),
                        capture_output=True, text=True, timeout=TIMEOUT)
@@ -392,6 +556,10 @@ def main():
                               stdout=open(os.path.join(WORK, "a.log"), "wb"),
                               stderr=subprocess.STDOUT, start_new_session=True, env=env)
     procs.append(node_a)
+    master = rosgraph.Master("/dao_test_probe")
+    master.setParam("/b/depth_filtered/image/compressedDepth/format", "rvl")
+    master.setParam("/c/depth_filtered/image/compressedDepth/format", "rvl")
+    master.setParam("/c/depth_filtered/image/compressedDepth/png_level", 3)
     node_b = start([NODE, "__ns:=/b", "__name:=depthao", "depth/image:=/cam32/depth/image",
                     "_queue_size:=50", "_ao_encoding:=32FC1"], os.path.join(WORK, "b.log"))
     # node c: a's input with counts of 0.1 mm and the low preset
@@ -402,7 +570,14 @@ def main():
     col_a = {"ao": Collector("/a/ao/image"), "sh": Collector("/a/shaded/image")}
     col_b = {"ao": Collector("/b/ao/image")}
     col_c = {"ao": Collector("/c/ao/image")}
-    for c in list(col_a.values()) + list(col_b.values()) + list(col_c.values()):
+    depth_cols = {}
+    for n in "abc":
+        depth_cols[n] = {"depth": Collector("/%s/depth_filtered/image" % n),
+                         "cdepth": Collector("/%s/depth_filtered/image/compressedDepth" % n,
+                                             CompressedImage)}
+    depth_cols["a"]["info"] = Collector("/a/depth_filtered/camera_info", CameraInfo)
+    for c in list(col_a.values()) + list(col_b.values()) + list(col_c.values()) + \
+            [c for d in depth_cols.values() for c in d.values()]:
         wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
     note_pid(rosgraph.Master("/dao_test_probe"), "/a/depthao", "depthao_node")
     if rospy.get_param("/a/depthao/occlusion_color") != "203040":
@@ -417,6 +592,14 @@ def main():
     check_run("a", col_a, bag_a, FRAMES, "mono16", ["--occlusion-color", "203040"], 0)
     check_run("b", col_b, bag_b, FRAMES, "32FC1", [], 0)
     check_run("c", col_c, bag_a, FRAMES, "mono16", ["--depth-unit", "0.0001", "--quality", "low"], 0)
+    wait_for("the filtered depth", lambda: all(
+        c.count() >= FRAMES for d in depth_cols.values() for c in d.values()))
+    counts = np.stack([np.frombuffer(d16(i).data, "<u2").reshape(H, W) for i in range(FRAMES)])
+    metres = np.stack([np.frombuffer(f32_be(i).data, ">f4").reshape(H, W).astype(np.float32)
+                       for i in range(FRAMES)])
+    check_depth("a", depth_cols["a"], reference_depth("a", counts, 0.001), "16UC1", "png")
+    check_depth("b", depth_cols["b"], reference_depth("b", metres, 0.0), "32FC1", "rvl")
+    check_depth("c", depth_cols["c"], reference_depth("c", counts, 0.0001, "low"), "16UC1", "rvl")
 
     # dynamic_reconfigure: names for enums, ranges checked, the parameter server follows
     client = dynamic_reconfigure.client.Client("/a/depthao", timeout=TIMEOUT)
