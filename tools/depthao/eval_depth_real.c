@@ -274,7 +274,7 @@ int eval_depth_picture(const char *path, const float *raw, const float *filt, co
 				panel_pixel((uint8_t *)pic.data + (size_t)y * pic.stride +
 						    3 * (size_t)(k * pw + x),
 					    img, truth, k, (size_t)(2 * y) * w + 2 * x, zmin, zmax);
-	int r = dao_png_write(path, &pic, &err);
+	int r = dao_png_write_compressed(path, &pic, 9, &err);   /* a picture for the docs: small */
 	if (r)
 		fprintf(stderr, "depthao: %s\n", err.message);
 	dao_frame_free(&pic);
