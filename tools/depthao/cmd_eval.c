@@ -16,6 +16,7 @@
 
 #include "cli_params.h"
 #include "commands.h"
+#include "eval_depth.h"
 #include "synth/suite.h"
 
 /* Accuracy bars for the default preset at R = 0.5 m (docs/accuracy.md, issue #2). */
@@ -81,6 +82,7 @@ static void usage(FILE *out)
 		"                    seeds) to report defaults tuned on the other\n"
 		"  --variants N      scene variants per scene from the family (default 1)\n"
 		"  --check           exit 1 unless the default preset meets the accuracy bars\n"
+		"  --depth           measure the filtered depth instead (depthao eval --depth --help)\n"
 		"  --help            this text\n"
 		"Parameter options (e.g. --radius 0.5) override every preset.\n");
 }
@@ -561,6 +563,9 @@ static int check_results(const struct eval_run *run)
 int cmd_eval(int argc, char **argv)
 {
 	struct eval_options o = { 0 };
+	for (int i = 1; i < argc; i++)
+		if (strcmp(argv[i], "--depth") == 0)
+			return cmd_eval_depth(argc, argv);
 	if (parse_args(argc, argv, &o))
 		return 2;
 	/* validate the scene names before the long render */

@@ -1,0 +1,49 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# depthao eval --depth on one small case (boxes, Gaussian noise: no ray-traced sensor, a few
+# seconds): the filtered depth beats the raw in the interior, the reference chain fills the
+# holes, the picture is written; and the usage errors of its options.
+. "$(dirname "$0")/cli_lib.sh"
+
+expect_exit 0 "eval --depth" -- "$DEPTHAO" eval --depth --scenes boxes --sensors gaussian \
+	--set tune --picture "$WORK/p.png" --picture-case boxes:gaussian
+row=$(grep '^| tune | boxes #0 | gaussian |' "$WORK/out") || fail "no row for boxes: $(cat "$WORK/out")"
+# | set | scene | input | raw / depthao / ref | red. | RMSE | edge | filled | flying | CPU |
+mae=$(echo "$row" | awk -F'|' '{ print $5 }')
+raw=$(echo "$mae" | awk -F'/' '{ print $1 + 0 }')
+filt=$(echo "$mae" | awk -F'/' '{ print $2 + 0 }')
+awk -v r="$raw" -v f="$filt" 'BEGIN { exit !(r > 0.5 && f > 0 && f < 0.8 * r) }' ||
+	fail "interior MAE: filtered $filt mm not 20 % below raw $raw mm"
+# Gaussian noise drops 2 % of the pixels: depthao fills none, the reference chain some
+filled=$(echo "$row" | awk -F'|' '{ print $9 }')
+case "$filled" in
+" 0 (0 %) / "[1-9]*) ;;
+*) fail "filled pixels '$filled': depthao should fill none, the reference some" ;;
+esac
+grep -q '^| tune | gaussian | 1 |' "$WORK/out" || fail "no summary row: $(cat "$WORK/out")"
+png_is "$WORK/p.png" "1600 240 rgb24"
+
+# --check: active stereo on the plane holds the 35 % bar with a wide margin (57 % measured);
+# ToF on boxes does not hold its 20 % (3 %: the model's multipath bias, which no depth filter
+# removes, docs/depth-accuracy.md) and --check says so with exit 1
+expect_exit 0 "eval --depth --check active stereo" -- "$DEPTHAO" eval --depth --scenes plane \
+	--sensors active-stereo --set tune --check
+grep -q "^Bars .*: all hold" "$WORK/out" || fail "bars line: $(tail -n 1 "$WORK/out")"
+expect_exit 1 "eval --depth --check tof" -- "$DEPTHAO" eval --depth --scenes boxes \
+	--sensors tof --set tune --check
+grep -q "^Bars .*: NOT all hold" "$WORK/out" || fail "bars line: $(tail -n 1 "$WORK/out")"
+grep -q '^| tune | tof | 1 | .* | >= 20 % | 0/1 |' "$WORK/out" || fail "ToF summary: $(cat "$WORK/out")"
+
+# a picture of a case the run does not hold is an error, not a silent no-op
+expect_exit 1 "eval --depth picture not in the run" -- "$DEPTHAO" eval --depth --scenes plane \
+	--sensors clean --set tune --picture "$WORK/q.png"
+grep -q "picture-case" "$WORK/err" || fail "message: $(cat "$WORK/err")"
+[ ! -e "$WORK/q.png" ] || fail "a picture of another case was written"
+
+expect_usage_error "eval --depth frames 0" -- "$DEPTHAO" eval --depth --frames 0
+expect_usage_error "eval --depth bad set" -- "$DEPTHAO" eval --depth --set train
+expect_usage_error "eval --depth bad case" -- "$DEPTHAO" eval --depth --picture-case boxes
+expect_usage_error "eval --depth bad sensor" -- "$DEPTHAO" eval --depth --sensors lidar
+expect_usage_error "eval --depth unknown option" -- "$DEPTHAO" eval --depth --radius 0.5
+grep -q "unknown option '--radius'" "$WORK/err" || fail "message: $(cat "$WORK/err")"
+finish
