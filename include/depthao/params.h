@@ -186,6 +186,9 @@ struct dao_params {
 				   * noise (1 = every frame, the presets; streams:
 				   * dao_params_stream_defaults), with a check of every frame
 				   * that measures again where the scene moved */
+	int depth_fill;           /* filtered depth output (dao_context_get_depth) only: holes
+				   * of at most this many px along a row filled where both
+				   * sides lie on one surface (0 = off, the default) */
 };
 
 /* Types of the parameters in the table. */
