@@ -84,8 +84,11 @@ void depth_acc_add(const float *truth, const float *raw, const float *filt, cons
 			continue;
 		if (!(r > 0.0f)) {
 			if (f > 0.0f) {
+				const int ok = fabsf(f - t) <= (float)DEPTH_ACC_FILL_TOL;
 				acc->filled++;
-				acc->filled_ok += fabsf(f - t) <= (float)DEPTH_ACC_FILL_TOL;
+				acc->filled_ok += ok;
+				acc->filled_in += dist[i] >= DEPTH_ACC_EDGE_PX;
+				acc->filled_in_ok += ok && dist[i] >= DEPTH_ACC_EDGE_PX;
 			}
 			continue;
 		}
@@ -93,6 +96,8 @@ void depth_acc_add(const float *truth, const float *raw, const float *filt, cons
 			acc->dropped++;
 			continue;
 		}
+		acc->kept++;
+		acc->kept_ok += fabsf(f - t) <= (float)DEPTH_ACC_FILL_TOL;
 		if (dist[i] >= DEPTH_ACC_EDGE_PX) {
 			err_add(&acc->raw_in, (double)r - t);
 			err_add(&acc->filt_in, (double)f - t);
