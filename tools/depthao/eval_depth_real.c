@@ -33,6 +33,7 @@
 
 struct real_result {
 	int shift_x, shift_y;  /* stream: the raw frame's best shift from the previous one, px */
+	int drift_x, drift_y;  /* ... and from the stream's first frame (the motion summed) */
 	double moved;          /* ... share of pixels whose depth changed by > 3 % unshifted */
 	struct dao_noise_info noise; /* depthao's noise state for the frame */
 	int planes;
@@ -51,6 +52,7 @@ struct real_stream {
 	struct rs_ref rs;
 	int open;
 	float *prev;          /* a stream's previous raw frame (its motion), prev_px pixels */
+	float *first;         /* ... and its first (the motion summed over the stream) */
 	size_t prev_px;
 };
 
@@ -59,6 +61,7 @@ static void stream_close(struct real_stream *st)
 	dao_context_destroy(st->ctx);
 	rs_ref_free(&st->rs);
 	free(st->prev);
+	free(st->first);
 	*st = (struct real_stream){ .filter = st->filter };
 }
 
@@ -133,22 +136,30 @@ static double shift_cost(const float *a, const float *b, int w, int h, int dx, i
 	return n * 10 >= all && n ? s / (double)n : MOTION_CAP;
 }
 
-/* The camera's motion between two raw frames, as the best global image shift
- * (a handheld camera's small rotation moves the image nearly uniformly), and
- * the share of pixels whose depth changed by more than 3 % where they stand. */
-static void frame_motion(const float *prev, const float *z, int w, int h,
-			 struct real_result *res)
+/* The best global image shift of z against a (a handheld camera's small
+ * rotation moves the image nearly uniformly). */
+static void best_shift(const float *a, const float *z, int w, int h, int *sx, int *sy)
 {
 	double best = INFINITY;
 	for (int dy = -MOTION_MAX_PX; dy <= MOTION_MAX_PX; dy++)
 		for (int dx = -MOTION_MAX_PX; dx <= MOTION_MAX_PX; dx++) {
-			const double c = shift_cost(prev, z, w, h, dx, dy);
+			const double c = shift_cost(a, z, w, h, dx, dy);
 			if (c < best) {
 				best = c;
-				res->shift_x = dx;
-				res->shift_y = dy;
+				*sx = dx;
+				*sy = dy;
 			}
 		}
+}
+
+/* The camera's motion between two raw frames and from the first: the best
+ * shifts, and the share of pixels whose depth changed by more than 3 % from
+ * the previous frame where they stand. */
+static void frame_motion(const float *first, const float *prev, const float *z, int w, int h,
+			 struct real_result *res)
+{
+	best_shift(prev, z, w, h, &res->shift_x, &res->shift_y);
+	best_shift(first, z, w, h, &res->drift_x, &res->drift_y);
 	long n = 0, moved = 0;
 	for (size_t i = 0; i < (size_t)w * h; i++)
 		if (prev[i] > 0.0f && z[i] > 0.0f) {
@@ -249,11 +260,19 @@ static int real_frame(const struct synth_real_frame *f, const char *dir, struct 
 		r = plane_residuals(img, &cam, unit, res, &err);
 	if (r)
 		fprintf(stderr, "depthao: %s: %s\n", f->name, err.message);
-	if (!r && st->prev && st->prev_px == np)
-		frame_motion(st->prev, z, (int)cam.width, (int)cam.height, res);
-	free(st->prev);   /* the stream keeps the raw frame for the next one's motion */
+	if (!r && st->prev && st->first && st->prev_px == np)
+		frame_motion(st->first, st->prev, z, (int)cam.width, (int)cam.height, res);
+	if (!st->first) {   /* the stream keeps its first raw frame ... */
+		st->first = z;
+		z = NULL;
+		if (!(z = malloc(np * sizeof(float))))
+			fprintf(stderr, "depthao: %s: out of memory (no motion)\n", f->name);
+		else
+			memcpy(z, st->first, np * sizeof(float));
+	}
+	free(st->prev);   /* ... and the last, for the next one's motion */
 	st->prev = z;
-	st->prev_px = np;
+	st->prev_px = z ? np : 0;
 	free(filt);
 	free(ref);
 	return r ? -1 : 0;
@@ -279,8 +298,8 @@ static void print_real_row(const struct synth_real_frame *f, const struct real_r
 	       1e3 * rms[2], ratio, rms[2] > 0.0 ? rms[0] / rms[2] : INFINITY, 1e3 * tile[0],
 	       1e3 * tile[1], 1e3 * tile[2], tratio, res->ms_filt, res->ms_ref);
 	if (stream)
-		printf(" %+d, %+d | %.1f %% | %d / %d / %.1f |", res->shift_x, res->shift_y,
-		       100.0 * res->moved, res->noise.age, res->noise.cells_measured,
+		printf(" %+d, %+d | %+d, %+d | %.1f %% | %d / %d / %.1f |", res->shift_x,
+		       res->shift_y, res->drift_x, res->drift_y, 100.0 * res->moved, res->noise.age, res->noise.cells_measured,
 		       (double)res->noise.prefilter_scale);
 	putchar('\n');
 }
@@ -299,14 +318,15 @@ static int real_stream_table(const struct synth_real_frame *frames, int n, const
 	int measured = 0, below = 0, tiles_below = 0, status = 0;
 	printf("\nThe recording's frames in order, as a stream (depthao's temporal depth filter, "
 	       "the reference's temporal filter); the camera's motion from the previous frame: "
-	       "the raw frame's best global shift (+-%d px) and the share of pixels whose depth "
+	       "the raw frame's best global shift (+-%d px; also from the first frame) and the "
+	       "share of pixels whose depth "
 	       "changed by > 3 %% in place; depthao's noise state (dao_noise_info: frames since "
 	       "the full measurement, cells measured again, the prefilter's scale)\n\n",
 	       MOTION_MAX_PX);
 	for (const char *c = real_header; *c != '\n'; c++)
 		putchar(*c);
-	printf(" shift px | depth moved | noise age / cells measured / prefilter scale px |\n"
-	       "|---|---|---:|---:|---|---:|---:|---|---:|---|---|---:|---|\n");
+	printf(" shift px | from frame 0 px | depth moved | noise age / cells measured / "
+	       "prefilter scale px |\n|---|---|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---|\n");
 	for (int i = 0; i < n && !status; i++) {
 		struct real_result res;
 		if (frames[i].frame < 0)
