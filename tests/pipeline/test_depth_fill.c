@@ -166,12 +166,49 @@ static void test_ao_unchanged(void **state)
 	free(a1);
 }
 
+/* depth-fill is a runtime parameter: turned on and off on a running context, the next
+ * frame's output follows (its plane allocated when it is first turned on). */
+static void test_fill_runtime(void **state)
+{
+	(void)state;
+	float *in = malloc(sizeof(float) * W * H), *out = malloc(sizeof(float) * W * H);
+	assert_non_null(in);
+	assert_non_null(out);
+	make_scene(in);
+	struct dao_camera cam;
+	dao_camera_from_intrinsics(&cam, W, H, 110, 110, 63.5, 47.5, NULL);
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.threads = 1;
+	p.algorithm = DAO_ALGORITHM_NONE;
+	struct dao_context *ctx = NULL;
+	struct dao_error err;
+	struct dao_frame d = f32_frame(in), o = f32_frame(out);
+	static const int fills[] = { 0, 8, 0 };
+	for (int k = 0; k < 3; k++) {
+		p.depth_fill = fills[k];
+		if ((k == 0 ? dao_context_create(&ctx, &cam, &p, &err)
+			    : dao_context_set_params(ctx, &p, &err)) ||
+		    dao_context_process(ctx, &d, NULL, (uint64_t)k, NULL, &err) ||
+		    dao_context_get_depth(ctx, &o, &err))
+			fail_msg("frame %d: %s", k, err.message);
+		if (fills[k])
+			assert_true(fabsf(out[20 * W + 32] - truth(32)) < 0.5e-3f);
+		else
+			assert_true(out[20 * W + 32] == 0.0f);
+	}
+	dao_context_destroy(ctx);
+	free(in);
+	free(out);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_fill_rule),
 		cmocka_unit_test(test_fill_counts),
 		cmocka_unit_test(test_ao_unchanged),
+		cmocka_unit_test(test_fill_runtime),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
