@@ -45,6 +45,9 @@ struct depth_acc {
 	/* pixels with raw and filtered depth, and those within FILL_TOL: the precision
 	 * of the filtered depth a fill starts from, the most a fill can hope for */
 	long kept, kept_ok;
+	/* ... of them those beside a hole along their row (the samples a row fill starts
+	 * from) */
+	long rim, rim_ok;
 	long dropped;            /* pixels with raw depth (and truth) the filter emptied */
 	/* flying pixels within FLY_PX of a discontinuity, both with depth */
 	long fly_raw, fly_filt, fly_created;
