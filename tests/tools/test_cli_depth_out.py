@@ -140,6 +140,32 @@ def test_dir_and_recording(tmp):
         check(abs((fa[both] - fr[both]).mean()) < 2, "%s: the recording's unit kept" % n)
 
 
+def test_bags(tmp):
+    """Bags (tests/bag/make_bags.py, rosbag's writer): 32FC1 metres are written in mm (or
+    --depth-out-unit), NaN as 0; a RealSense bag keeps its 0.1 mm counts."""
+    make = os.path.join(ROOT, "tests", "bag", "make_bags.py")
+    bags = os.path.join(tmp, "bags")
+    p = subprocess.run([sys.executable, make, bags], capture_output=True, text=True)
+    if p.returncode == 77:
+        print("skip - bags: %s" % p.stdout.strip())
+        return
+    check(p.returncode == 0, "make_bags.py wrote the test bags")
+    v, u = np.mgrid[0:48, 0:64]
+    plain = ["--algorithm", "none", "--prefilter", "none", "--depth-temporal", "0",
+             "--depth-min", "0", "--depth-max", "60"]
+    for bag, unit_args, scale in (("f32_be.bag", [], 1), ("f32_be.bag",
+                                  ["--depth-out-unit", "0.0005"], 2), ("realsense.bag", [], 1)):
+        out = os.path.join(tmp, "bag_%s_%d" % (bag, scale))
+        run("--input", os.path.join(bags, bag), "--frames", "2", *plain, *unit_args,
+            "--depth-out", out)
+        for i in range(2):
+            want = np.where(u == v, 0, 500 + 7 * u + 13 * v + 100 * i) * scale
+            got = read_pil(os.path.join(out, "%06d.png" % i))
+            check(np.array_equal(got, want), "%s%s frame %d: the counts of the bag%s, 0 where "
+                  "it has none" % (bag, " " + " ".join(unit_args) if unit_args else "", i,
+                                   " in %s mm" % (1 / scale) if bag.startswith("f32") else " (0.1 mm)"))
+
+
 def test_cloud_depth(tmp):
     src = os.path.join(NOISY, "0000.png")
     raw = read_pil(src)
@@ -193,6 +219,7 @@ def main():
     try:
         test_png_file(tmp)
         test_dir_and_recording(tmp)
+        test_bags(tmp)
         test_cloud_depth(tmp)
         test_errors(tmp)
     finally:
