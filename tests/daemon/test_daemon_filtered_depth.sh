@@ -34,6 +34,15 @@ for f in 000000 000002; do
 		fail "algorithm none: filtered-depth $f differs from the AO run's"
 done
 grep -q "error" "$WORK/log-none" && fail "algorithm none logged errors: $(cat "$WORK/log-none")"
+# ... also beside a sink of the shaded stream: it gets nothing (said once), the depth goes on
+"$DAEMON" --source "$REC" --playback manual --max-frames 3 --algorithm none \
+	--sink sh=images:"$WORK/none-shaded" \
+	--sink fd=images:"$WORK/none2" --stream fd=filtered-depth 2>"$WORK/log-none2" ||
+	fail "algorithm none with a shaded sink: exit $?: $(cat "$WORK/log-none2")"
+[ "$(ls "$WORK/none2" | wc -l)" -eq 3 ] || fail "algorithm none beside a shaded sink: $(ls "$WORK/none2" | wc -l) depth frames, expected 3: $(cat "$WORK/log-none2")"
+[ "$(ls "$WORK/none-shaded" 2>/dev/null | wc -l)" -eq 0 ] || fail "shaded frames with algorithm none"
+[ "$(grep -c "algorithm none computes no AO" "$WORK/log-none2")" -eq 1 ] ||
+	fail "algorithm none with a shaded sink is not said once: $(cat "$WORK/log-none2")"
 # the raw depth (filters off) has a hole wherever the filtered depth has one and more
 "$DEPTHAO" process --input "$REC" --frames $N --algorithm none --prefilter none \
 	--depth-temporal 0 --depth-min 0 --depth-max 60 --depth-out "$WORK/raw" --quiet

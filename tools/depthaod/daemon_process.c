@@ -48,6 +48,8 @@ struct outputs {
 	struct dao_frame ao16, ao8, rgb, overlay;
 	struct dao_frame fdepth; /* the filtered depth (DEPTH16), made when a sink wants it */
 	int have_fdepth;         /* ... for this frame */
+	int have_rgb;            /* the shaded image of this frame (none with algorithm=none) */
+	int said_no_shading;     /* algorithm=none with a sink that wants shading: logged */
 };
 
 static void free_outputs(struct outputs *o)
@@ -73,7 +75,7 @@ static const struct dao_frame *stream_frame(int stream, const struct fq_item *in
 					    const struct outputs *o, int have_overlay)
 {
 	switch (stream) {
-	case STREAM_SHADED: return &o->rgb;
+	case STREAM_SHADED: return o->have_rgb ? &o->rgb : NULL;
 	case STREAM_AO: return &o->ao16;
 	case STREAM_AO8: return &o->ao8;
 	case STREAM_DEPTH: return &in->frame;
@@ -262,8 +264,17 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 	struct dao_error err = {0};
 	uint64_t c0 = tool_thread_cpu_ns();
 	int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o->ao16, &err);
-	if (r == 0 && want_rgb)
+	o->have_rgb = 0;
+	if (r == 0 && want_rgb) {
 		r = dao_context_shade(ctx, &o->rgb, &err);
+		o->have_rgb = r == 0;
+		if (r == -ENODATA) { /* algorithm=none: the depth streams go on, nothing to shade */
+			if (!o->said_no_shading++)
+				log_warn("algorithm none computes no AO: the sinks of the shaded "
+					 "stream get no frames while it is set (%s)", err.message);
+			r = 0;
+		}
+	}
 	*have_overlay = 0;
 	if (r == 0) {
 		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
@@ -321,7 +332,7 @@ void *process_main(void *arg)
 			fq_done(d->input, in);
 			continue;
 		}
-		if (want_rgb)
+		if (o.have_rgb)
 			take_snapshot(d, &o.rgb);
 		/* counted before a sink can have it: the stats never show a sink ahead */
 		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;
