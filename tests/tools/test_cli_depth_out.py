@@ -138,6 +138,18 @@ def test_dir_and_recording(tmp):
         check(not fa[fr == 0].any(), "%s: 0 where the recording has no depth" % n)
         both = (fr > 0) & (fa > 0)
         check(abs((fa[both] - fr[both]).mean()) < 2, "%s: the recording's unit kept" % n)
+    # --mcap-out ?filtered_depth=true: the same depth on /depthao/depth_filtered (16UC1),
+    # read back by the mcap source with the filters off
+    mc = os.path.join(tmp, "fd.mcap")
+    run("--input", ONI, "--frames", "3", "--mcap-out", mc + "?filtered_depth=true")
+    back = os.path.join(tmp, "mcap_back")
+    run("--input", mc + "?topic=/depthao/depth_filtered", "--algorithm", "none", "--prefilter",
+        "none", "--depth-temporal", "0", "--depth-min", "0", "--depth-max", "60",
+        "--depth-out", back)
+    check(sorted(os.listdir(back)) == want, "--mcap-out ?filtered_depth=true: every frame")
+    for n in want:
+        check(np.array_equal(read_pil(os.path.join(back, n)), read_pil(os.path.join(a, n))),
+              "%s: the MCAP topic holds --depth-out's counts" % n)
 
 
 def test_bags(tmp):
