@@ -152,6 +152,25 @@ def test_dir_and_recording(tmp):
               "%s: the MCAP topic holds --depth-out's counts" % n)
 
 
+def test_mcap_metres(tmp):
+    """--mcap-out ?filtered_depth=true of 0.5 mm input: 32FC1 metres (16UC1 is mm in ROS),
+    read back in 0.5 mm counts by the mcap source: --depth-out's counts."""
+    d = os.path.join(tmp, "half_dir")
+    mc = os.path.join(tmp, "half.mcap")
+    run("--input", NOISY, "--intrinsics", K, "--depth-unit", "0.0005", "--depth-out", d,
+        "--mcap-out", mc + "?filtered_depth=true")
+    back = os.path.join(tmp, "half_back")
+    run("--input", mc + "?topic=/depthao/depth_filtered", "--intrinsics", K, "--algorithm", "none",
+        "--prefilter", "none", "--depth-temporal", "0", "--depth-min", "0", "--depth-max", "60",
+        "--depth-out-unit", "0.0005", "--depth-out", back)
+    got = sorted(os.listdir(back))
+    check(len(got) == 4, "a 0.5 mm recording to MCAP: 4 frames (%s)" % got)
+    names = sorted(n for n in os.listdir(NOISY) if n.endswith(".png"))
+    for g, n in zip(got, names):
+        check(np.array_equal(read_pil(os.path.join(back, g)), read_pil(os.path.join(d, n))),
+              "%s: 32FC1 metres on the topic, the counts of --depth-out in 0.5 mm" % n)
+
+
 def test_bags(tmp):
     """Bags (tests/bag/make_bags.py, rosbag's writer): 32FC1 metres are written in mm (or
     --depth-out-unit), NaN as 0; a RealSense bag keeps its 0.1 mm counts."""
@@ -232,6 +251,7 @@ def main():
         test_png_file(tmp)
         test_dir_and_recording(tmp)
         test_bags(tmp)
+        test_mcap_metres(tmp)
         test_cloud_depth(tmp)
         test_errors(tmp)
     finally:
