@@ -100,4 +100,16 @@ sum=$(cksum <"$B/d16.db3")
 expect_exit 0 "read-only" -- "$DEPTHAO" process --input "$B/d16.db3" --frames 1 --ao-out "$WORK/ro" --quiet
 [ "$(cksum <"$B/d16.db3")" = "$sum" ] || fail "d16.db3 changed"
 ls "$B"/d16.db3-* 2>/dev/null && fail "a journal or WAL file beside d16.db3"
+
+# --depth-out: the filtered depth of a db3 bag is that of the same frames as PNGs (the
+# temporal filter off, which PNG input does not run); with --algorithm none as well
+expect_exit 0 "PNG depth" -- "$DEPTHAO" process --input "$B/png" --depth-out "$WORK/png-d" --quiet
+for alg in gtao none; do
+	expect_exit 0 "db3 --depth-out ($alg)" -- "$DEPTHAO" process --input "$B/d16.db3" \
+		--depth-temporal 0 --algorithm $alg --depth-out "$WORK/db3-d-$alg" --quiet
+	for i in 000000 000004; do
+		cmp -s "$WORK/db3-d-$alg/$i.png" "$WORK/png-d/$i.png" ||
+			fail "db3 --depth-out ($alg): $i differs from the PNG run's"
+	done
+done
 finish

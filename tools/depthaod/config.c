@@ -18,7 +18,8 @@
 #include "ini_file.h"
 #include "log.h"
 
-static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay"};
+static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay",
+								"filtered-depth"};
 
 const char *stream_name(enum stream_kind k)
 {
@@ -257,7 +258,7 @@ static int set_sink(struct daemon_config *c, const char *section, const char *ke
 				return 0;
 			}
 		}
-		return BAD("must be shaded, ao, ao8, depth or overlay");
+		return BAD("must be shaded, ao, ao8, depth, overlay or filtered-depth");
 	}
 	if (!strcmp(key, "queue")) {
 		if (parse_uint(value, 1, 64, &n))

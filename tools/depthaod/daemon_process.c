@@ -46,6 +46,10 @@ static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_came
 
 struct outputs {
 	struct dao_frame ao16, ao8, rgb, overlay;
+	struct dao_frame fdepth; /* the filtered depth (DEPTH16), made when a sink wants it */
+	int have_fdepth;         /* ... for this frame */
+	int have_rgb;            /* the shaded image of this frame (none with algorithm=none) */
+	int said_no_shading;     /* algorithm=none with a sink that wants shading: logged */
 };
 
 static void free_outputs(struct outputs *o)
@@ -54,6 +58,7 @@ static void free_outputs(struct outputs *o)
 	dao_frame_free(&o->ao8);
 	dao_frame_free(&o->rgb);
 	dao_frame_free(&o->overlay);
+	dao_frame_free(&o->fdepth);
 }
 
 static void ao_to_8bit(const struct dao_frame *a, struct dao_frame *b)
@@ -70,11 +75,12 @@ static const struct dao_frame *stream_frame(int stream, const struct fq_item *in
 					    const struct outputs *o, int have_overlay)
 {
 	switch (stream) {
-	case STREAM_SHADED: return &o->rgb;
+	case STREAM_SHADED: return o->have_rgb ? &o->rgb : NULL;
 	case STREAM_AO: return &o->ao16;
 	case STREAM_AO8: return &o->ao8;
 	case STREAM_DEPTH: return &in->frame;
 	case STREAM_OVERLAY: return have_overlay ? &o->overlay : NULL;
+	case STREAM_FILTERED_DEPTH: return o->have_fdepth ? &o->fdepth : NULL;
 	default: return NULL;
 	}
 }
@@ -96,7 +102,9 @@ static void push_frame(struct daemon *d, struct sink_runner *s, int stream,
 	}
 	it->frame.sequence = in->index;
 	it->frame.timestamp_ns = in->frame.timestamp_ns;
-	it->frame.depth_unit = in->frame.depth_unit;
+	/* the filtered depth has its own unit (float-metre input: millimetres) */
+	it->frame.depth_unit = stream == STREAM_FILTERED_DEPTH ? f->depth_unit
+							       : in->frame.depth_unit;
 	it->index = in->index;
 	it->t_capture_ns = in->t_capture_ns;
 	it->stream = stream;
@@ -231,6 +239,21 @@ static int take_settings(struct daemon *d, struct dao_context *ctx, unsigned *ex
 }
 
 /*
+ * The filtered depth of the frame just processed into `out` (DEPTH16, allocated at the
+ * first frame that wants it, again only for a new size): counts of the input's unit,
+ * millimetres for float-metre input.  Only when a sink wants it: a copy and a rounding
+ * per pixel.
+ */
+static int get_filtered_depth(struct dao_context *ctx, const struct dao_frame *in,
+			      struct dao_frame *out, struct dao_error *err)
+{
+	if (fq_frame_reserve(out, DAO_PIXFMT_DEPTH16, in->width, in->height) < 0)
+		return dao_error_set(err, -ENOMEM, "out of memory for the filtered depth");
+	out->depth_unit = in->format == DAO_PIXFMT_DEPTH16 ? in->depth_unit : 0.001f;
+	return dao_context_get_depth(ctx, out, err);
+}
+
+/*
  * The AO of the frame and the images derived from it into o (*have_overlay:
  * the overlay was made); the CPU time counted.  0, or -1 (logged, counted).
  */
@@ -241,8 +264,17 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 	struct dao_error err = {0};
 	uint64_t c0 = tool_thread_cpu_ns();
 	int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o->ao16, &err);
-	if (r == 0 && want_rgb)
+	o->have_rgb = 0;
+	if (r == 0 && want_rgb) {
 		r = dao_context_shade(ctx, &o->rgb, &err);
+		o->have_rgb = r == 0;
+		if (r == -ENODATA) { /* algorithm=none: the depth streams go on, nothing to shade */
+			if (!o->said_no_shading++)
+				log_warn("algorithm none computes no AO: the sinks of the shaded "
+					 "stream get no frames while it is set (%s)", err.message);
+			r = 0;
+		}
+	}
 	*have_overlay = 0;
 	if (r == 0) {
 		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
@@ -250,6 +282,11 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 		if ((d->wants[STREAM_OVERLAY] || (extra & (1u << STREAM_OVERLAY))) &&
 		    in->color.format == DAO_PIXFMT_RGB24)
 			*have_overlay = dao_overlay(&in->color, &o->ao16, &o->overlay, &err) == 0;
+		o->have_fdepth = 0;
+		if (d->wants[STREAM_FILTERED_DEPTH] || (extra & (1u << STREAM_FILTERED_DEPTH))) {
+			r = get_filtered_depth(ctx, &in->frame, &o->fdepth, &err);
+			o->have_fdepth = r == 0;
+		}
 	}
 	atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);
 	if (r < 0) {
@@ -295,7 +332,7 @@ void *process_main(void *arg)
 			fq_done(d->input, in);
 			continue;
 		}
-		if (want_rgb)
+		if (o.have_rgb)
 			take_snapshot(d, &o.rgb);
 		/* counted before a sink can have it: the stats never show a sink ahead */
 		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;

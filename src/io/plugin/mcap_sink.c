@@ -8,6 +8,7 @@
  *   chunk=BYTES                uncompressed bytes a chunk holds (default 4 MiB,
  *                              4096 .. 1 GiB); what kill -9 can lose at most
  *   cloud=true                 also the AO point cloud (PointCloud2 x y z ao)
+ *   filtered_depth=true        also the filtered depth (the host's filtered-depth stream)
  *   frame_id=NAME              the messages' header.frame_id (default
  *                              camera_depth_optical_frame)
  *   overwrite=true             replace PATH (else PATH-1.mcap, PATH-2.mcap ...)
@@ -19,6 +20,8 @@
  *                         just before it)
  *   /depthao/points       PointCloud2 (cloud=true): the pixels with depth, x y z in
  *                         metres (x right, y down, z forward) and ao 0..1
+ *   /depthao/depth_filtered  Image (filtered_depth=true): the filtered depth, 16UC1
+ *                         millimetres (REP 118) when its unit is 1 mm, else 32FC1 metres
  * The sink takes the stream it is configured for (ao, shaded or depth) and
  * asks its host for the others it records (want_streams); without a host
  * (depthao process) the program hands every stream to write_stream.  The
@@ -54,15 +57,17 @@
 #define MCAP_SINK_DEFAULT_HFOV_DEG 58.5
 #define MCAP_SINK_DEFAULT_VFOV_DEG 45.6
 #define MCAP_SINK_HELP                                                                  \
-	"?compression=zstd|lz4|none&level=1..19&chunk=BYTES&cloud=true&frame_id=NAME"     \
-	"&overwrite=true"
+	"?compression=zstd|lz4|none&level=1..19&chunk=BYTES&cloud=true&filtered_depth=true" \
+	"&frame_id=NAME&overwrite=true"
 
-enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_COUNT };
+enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_FDEPTH, CH_COUNT };
 
 struct mcap_sink {
 	char *path, *file;
 	struct dao_mcap_writer_options wo;
 	int cloud;
+	int fdepth;           /* filtered_depth=true */
+	struct dao_frame fdepth_m; /* its 32FC1 metres when the unit is not 1 mm */
 	char frame_id[64];
 	struct dao_mcap_writer *w;
 	struct dao_sink_host host;
@@ -78,7 +83,7 @@ struct mcap_sink {
 };
 
 static const char *const mcap_sink_options[] = {"compression", "level", "chunk", "cloud",
-						"frame_id", "overwrite", NULL};
+						"frame_id", "overwrite", "filtered_depth", NULL};
 
 static int mcap_sink_probe(const char *uri)
 {
@@ -100,6 +105,7 @@ static int parse_options(struct mcap_sink *s, const char *text, struct dao_error
 	    (r = dao_options_get_int(o, "chunk", 4096, (int64_t)DAO_MCAP_MAX_MESSAGE, &chunk,
 				     err)) >= 0 &&
 	    (r = dao_options_get_bool(o, "cloud", &s->cloud, err)) >= 0 &&
+	    (r = dao_options_get_bool(o, "filtered_depth", &s->fdepth, err)) >= 0 &&
 	    (r = dao_options_get_bool(o, "overwrite", &s->wo.overwrite, err)) >= 0)
 		r = dao_options_get_string(o, "frame_id", s->frame_id, sizeof s->frame_id, err);
 	s->wo.compression = (enum dao_mcap_compression)comp;
@@ -239,6 +245,9 @@ static int add_channels(struct mcap_sink *s, struct dao_error *err)
 	    (r = dao_mcap_writer_add_channel(w, info, "/depthao/camera_info", "cdr",
 					     &s->ch[CH_INFO], err)) < 0)
 		return r;
+	if (s->fdepth && (r = dao_mcap_writer_add_channel(w, img, "/depthao/depth_filtered", "cdr",
+							  &s->ch[CH_FDEPTH], err)) < 0)
+		return r;
 	if (!s->cloud)
 		return 0;
 	if ((r = dao_mcap_writer_add_schema(w, "sensor_msgs/msg/PointCloud2", "ros2msg",
@@ -256,6 +265,7 @@ static void drop_writer(struct mcap_sink *s)
 	free(s->depth);
 	free(s->ao);
 	s->depth = s->ao = NULL;
+	dao_frame_free(&s->fdepth_m);
 	s->have_depth = s->have_ao = 0;
 }
 
@@ -294,7 +304,8 @@ static int mcap_sink_negotiate(void *state, struct dao_sink_format *fmt, struct 
 	if (r < 0)
 		return r;
 	unsigned want = (1u << DAO_STREAM_AO) | (1u << DAO_STREAM_SHADED) |
-			(s->cloud ? 1u << DAO_STREAM_DEPTH : 0);
+			(s->cloud ? 1u << DAO_STREAM_DEPTH : 0) |
+			(s->fdepth ? 1u << DAO_STREAM_FILTERED_DEPTH : 0);
 	want &= ~(1u << s->configured);
 	if (s->host.want_streams && want)
 		s->host.want_streams(s->host.user, want);
@@ -367,13 +378,38 @@ static int put_cloud(struct mcap_sink *s, struct dao_error *err)
 	return 0;
 }
 
+/*
+ * The filtered depth: 16UC1 as it is when its counts are millimetres (what ROS
+ * consumers take 16UC1 to be), else 32FC1 metres (0 stays 0: no depth).
+ */
+static int put_filtered_depth(struct mcap_sink *s, const struct dao_frame *f,
+			      struct dao_error *err)
+{
+	if (fabsf(f->depth_unit - 0.001f) <= 1e-9f)
+		return put_image(s, CH_FDEPTH, "16UC1", f, err);
+	if (!s->fdepth_m.data &&
+	    dao_frame_alloc(&s->fdepth_m, DAO_PIXFMT_DEPTH_F32, f->width, f->height, err) < 0)
+		return -ENOMEM;
+	for (uint32_t y = 0; y < f->height; y++) {
+		const uint16_t *src = (const uint16_t *)((const uint8_t *)f->data +
+							  (size_t)y * (size_t)f->stride);
+		float *dst = (float *)((uint8_t *)s->fdepth_m.data +
+				       (size_t)y * (size_t)s->fdepth_m.stride);
+		for (uint32_t x = 0; x < f->width; x++)
+			dst[x] = (float)src[x] * f->depth_unit;
+	}
+	s->fdepth_m.sequence = f->sequence;
+	s->fdepth_m.timestamp_ns = f->timestamp_ns;
+	return put_image(s, CH_FDEPTH, "32FC1", &s->fdepth_m, err);
+}
+
 static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info *info,
 				  const struct dao_frame *f, struct dao_error *err)
 {
 	struct mcap_sink *s = state;
 	static const enum dao_pixfmt want[DAO_STREAM_COUNT] = {
 		DAO_PIXFMT_RGB24, DAO_PIXFMT_GRAY16, DAO_PIXFMT_GRAY8, DAO_PIXFMT_DEPTH16,
-		DAO_PIXFMT_RGB24};
+		DAO_PIXFMT_RGB24, DAO_PIXFMT_DEPTH16};
 	if (!s->w)
 		return dao_error_set(err, -EINVAL, "mcap: write before negotiate");
 	enum dao_stream st = info->stream;
@@ -393,6 +429,8 @@ static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info 
 		}
 	} else if (st == DAO_STREAM_SHADED) {
 		r = put_image(s, CH_SHADED, "rgb8", f, err);
+	} else if (st == DAO_STREAM_FILTERED_DEPTH && s->fdepth) {
+		r = put_filtered_depth(s, f, err);
 	} else if (st == DAO_STREAM_DEPTH && s->cloud) {
 		copy_rows(s->depth, f);
 		s->depth_seq = f->sequence;
@@ -428,6 +466,7 @@ static int mcap_sink_close(void *state, struct dao_error *err)
 		r = dao_mcap_writer_finish(s->w, err); /* also after a failed write */
 	free(s->depth);
 	free(s->ao);
+	dao_frame_free(&s->fdepth_m);
 	free(s->file);
 	free(s->path);
 	free(s);
