@@ -16,6 +16,7 @@
 
 #include "cli_params.h"
 #include "commands.h"
+#include "eval_sequence.h"
 #include "synth/suite.h"
 
 /* Accuracy bars for the default preset at R = 0.5 m (docs/accuracy.md, issue #2). */
@@ -81,6 +82,8 @@ static void usage(FILE *out)
 		"                    seeds) to report defaults tuned on the other\n"
 		"  --variants N      scene variants per scene from the family (default 1)\n"
 		"  --check           exit 1 unless the default preset meets the accuracy bars\n"
+		"  --sequence PATH   a depth sequence instead: temporal filters off and on against\n"
+		"                    per-frame truth (see 'depthao eval --sequence X --help')\n"
 		"  --help            this text\n"
 		"Parameter options (e.g. --radius 0.5) override every preset.\n");
 }
@@ -560,6 +563,9 @@ static int check_results(const struct eval_run *run)
 
 int cmd_eval(int argc, char **argv)
 {
+	for (int i = 1; i < argc; i++)
+		if (strcmp(argv[i], "--sequence") == 0)
+			return cmd_eval_sequence(argc, argv);
 	struct eval_options o = { 0 };
 	if (parse_args(argc, argv, &o))
 		return 2;
