@@ -308,6 +308,68 @@ static void test_sequence_metrics(void **state)
 	synth_seq_masks_free(&m);
 }
 
+/*
+ * The tracked flicker: a wall at 2 m, the camera moving right by exactly one pixel's
+ * footprint (2 / fx) a frame, the AO pattern moving one pixel left with the wall: zero
+ * per surface point, not per pixel; with a still camera, the per-pixel value.
+ */
+static void test_tracked_flicker(void **state)
+{
+	(void)state;
+	enum { W = 8, H = 4, F = 3 };
+	const double fx = 10.0, cx = 3.5, cy = 1.5;
+	struct synth_seq_masks m;
+	struct synth_seq_track t;
+	struct synth_seq_column moving, still;
+	assert_int_equal(synth_seq_masks_init(&m, W, H, 1), 0);
+	assert_int_equal(synth_seq_track_init(&t, W, H, fx, fx, cx, cy), 0);
+	assert_int_equal(synth_seq_column_init(&moving, W, H), 0);
+	assert_int_equal(synth_seq_column_init(&still, W, H), 0);
+	float depth[W * H], ao[W * H];
+	for (int i = 0; i < W * H; i++)
+		depth[i] = 2.0f;
+	for (int k = 0; k < F; k++) {
+		struct synth_pose p = { .R = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
+					.t = { k * 2.0 / fx, 0, 0 } };
+		for (int y = 0; y < H; y++)
+			for (int x = 0; x < W; x++)
+				ao[y * W + x] = 0.1f * (float)((x + k) % 5); /* the wall's pattern */
+		synth_seq_masks_add(&m, depth, depth);
+		synth_seq_track_frame(&t, depth, &p);
+		synth_seq_column_add(&moving, &m, ao, NULL, depth, NULL);
+		synth_seq_column_track(&moving, &t, ao, depth, depth, &p);
+	}
+	long n;
+	assert_true(synth_seq_flicker_tracked(&moving, &t, &n) < 1e-7);
+	assert_int_equal(n, (W - 2) * H); /* the two right columns leave the image */
+	assert_true(synth_seq_flicker(&moving, &m, &n) > 0.05);
+	/* still: tracked = per pixel */
+	struct synth_seq_track ts;
+	struct synth_seq_masks ms;
+	assert_int_equal(synth_seq_masks_init(&ms, W, H, 1), 0);
+	assert_int_equal(synth_seq_track_init(&ts, W, H, fx, fx, cx, cy), 0);
+	const struct synth_pose id = { .R = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } } };
+	for (int k = 0; k < F; k++) {
+		for (int i = 0; i < W * H; i++)
+			ao[i] = 0.5f + 0.1f * (float)(((i + 1) * (k + 2)) % 3);
+		synth_seq_masks_add(&ms, depth, depth);
+		synth_seq_track_frame(&ts, depth, &id);
+		synth_seq_column_add(&still, &ms, ao, NULL, depth, NULL);
+		synth_seq_column_track(&still, &ts, ao, depth, depth, &id);
+	}
+	long n2;
+	double a = synth_seq_flicker_tracked(&still, &ts, &n), b = synth_seq_flicker(&still, &ms, &n2);
+	assert_int_equal(n, W * H);
+	assert_int_equal(n2, W * H);
+	assert_true(a > 0.01 && fabs(a - b) < 1e-9);
+	synth_seq_column_free(&moving);
+	synth_seq_column_free(&still);
+	synth_seq_track_free(&t);
+	synth_seq_track_free(&ts);
+	synth_seq_masks_free(&m);
+	synth_seq_masks_free(&ms);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -318,6 +380,7 @@ int main(void)
 		cmocka_unit_test(test_tum_errors),
 		cmocka_unit_test(test_render_from_pose),
 		cmocka_unit_test(test_sequence_metrics),
+		cmocka_unit_test(test_tracked_flicker),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -81,9 +81,16 @@ def synth_pan(cli, tmp):
         rate = math.degrees(quat_angle(a[4:], b[4:])) / dt
         check(abs(dt - 1 / 30) < 2e-6 and abs(rate - 30.0) < 0.01, "pan rate %.4f deg/s" % rate)
         check(max(abs(x) for x in b[1:4]) < 1e-9, "a pan moved the camera: %s" % b)
-    # eval --sequence on it: a moving camera, trails measured, no flicker
+    # eval --sequence on it: a moving camera, trails measured, flicker followed over the poses
     text = run(cli, "eval", "--sequence", base, "--quality", "low")
-    check("camera: moves" in text and "flicker: - (the camera moves" in text, text)
+    check("camera: moves" in text, text)
+    m = re.search(r"flicker \(tracked over the true poses, (\d+) surface points", text)
+    # 2 degrees of pan: most of the first frame stays in view
+    check(m and int(m.group(1)) > 640 * 480 // 2, text)
+    # without depth_gt/, a moving camera's flicker cannot be measured
+    os.rename(os.path.join(base, "depth_gt"), os.path.join(base, "depth_gt.off"))
+    text = run(cli, "eval", "--sequence", base, "--quality", "low")
+    check("flicker: - (the camera moves" in text and "trail band: no" in text, text)
     check(re.search(r"mean MAE: off 0\.\d+, depth 0\.\d+, depth\+AO 0\.\d+", text), text)
     # the held-out family: odd variants
     run(cli, "synth", "--scene", "thin-pole", "--trajectory", "still", "--frames", "2",
@@ -123,8 +130,8 @@ def hand_made(cli, tmp):
     m = re.search(r"trail MAE \((\d+) px\): off ([\d.]+), depth ([\d.]+), depth\+AO ([\d.]+)", text)
     check(m and int(m.group(1)) == 10 * H + 20 * H, "trail band: " + text)
     check(all(abs(float(v) - 0.5) < 0.005 for v in m.groups()[1:]), "trail MAE: " + text)
-    m = re.search(r"flicker \((\d+) static px\): off ([\d.]+), depth ([\d.]+), depth\+AO ([\d.]+)",
-                  text)
+    m = re.search(r"flicker \(tracked over the true poses, (\d+) surface points seen in every "
+                  r"frame\): off ([\d.]+), depth ([\d.]+), depth\+AO ([\d.]+)", text)
     check(m and int(m.group(1)) == (W - 20) * H, "static pixels: " + text)
     check(all(float(v) < 1e-3 for v in m.groups()[1:]), "flicker of a still wall: " + text)
     check("frames worse than off (by > 1e-05): depth 0, depth+AO 0 (of 3)" in text, text)
@@ -133,6 +140,11 @@ def hand_made(cli, tmp):
         f.write("0 0 0 0 0 0 0 3\n")
     err = run(cli, "eval", "--sequence", base, expect=1)
     check("poses.txt:1: the quaternion" in err, err)
+    # without poses: per-pixel flicker on the pixels whose true depth stays
+    os.remove(os.path.join(base, "poses.txt"))
+    text = run(cli, "eval", "--sequence", base)
+    m = re.search(r"flicker \((\d+) static px\): off ([\d.]+)", text)
+    check(m and int(m.group(1)) == (W - 20) * H and float(m.group(2)) < 1e-3, text)
 
 
 def real_recording(cli):

@@ -66,8 +66,9 @@ static void usage(FILE *out)
 		"the depth filter and the AO history on (--depth-temporal 0.8 --temporal 0.8), and\n"
 		"prints per frame the MAE against the truth and the trail MAE (in the band that a\n"
 		"depth discontinuity swept in the last %d frames), then the means, the frames where\n"
-		"a filter is worse than off, the flicker (per-pixel temporal std of the AO on static\n"
-		"surfaces; only with a still camera) and the mean frame-to-frame AO change.\n"
+		"a filter is worse than off, the flicker (temporal std of the AO on static surfaces:\n"
+		"per surface point, followed with depth_gt/ and poses.txt, else per pixel) and the\n"
+		"mean frame-to-frame AO change.\n"
 		"\n"
 		"PATH: a sequence of 'depthao synth --trajectory' (depth/, ao_gt/, depth_gt/,\n"
 		"poses.txt; all but depth/ optional), a directory of 16-bit depth PNGs with a\n"
@@ -311,6 +312,8 @@ struct seq_run {
 	struct dao_context *ctx[NCOLS];
 	struct synth_seq_masks masks;
 	struct synth_seq_column cols[NCOLS];
+	struct synth_seq_track track;
+	int tracking;                   /* true depth and poses: flicker per surface point */
 	struct synth_seq_frame (*res)[NCOLS];
 	uint16_t *depth16;
 	float *depth, *gt, *truth, *ao;
@@ -354,6 +357,9 @@ static int run_frames(struct seq_run *run)
 			return 1;
 		}
 		synth_seq_masks_add(&run->masks, run->depth, run->in.have_truth ? run->truth : NULL);
+		const struct synth_pose *pose = run->tracking ? &run->in.poses.pose[k] : NULL;
+		if (pose)
+			synth_seq_track_frame(&run->track, run->truth, pose);
 		for (int c = 0; c < NCOLS; c++) {
 			if (dao_context_process(run->ctx[c], &depth, NULL, (uint64_t)k, &ao, &err)) {
 				fprintf(stderr, "depthao: frame %ld: %s\n", k, err.message);
@@ -361,6 +367,9 @@ static int run_frames(struct seq_run *run)
 			}
 			synth_seq_column_add(&run->cols[c], &run->masks, run->ao,
 					     run->in.have_gt ? run->gt : NULL, run->depth, &run->res[k][c]);
+			if (pose)
+				synth_seq_column_track(&run->cols[c], &run->track, run->ao, run->depth,
+						       run->truth, pose);
 		}
 	}
 	return 0;
@@ -422,10 +431,16 @@ static void print_summary(const struct seq_run *run)
 	long n;
 	double fl[NCOLS];
 	for (int c = 0; c < NCOLS; c++)
-		fl[c] = synth_seq_flicker(&run->cols[c], &run->masks, &n);
-	if (in->camera_moves)
-		printf("flicker: - (the camera moves: per-pixel std is measured on still-camera "
-		       "sequences only)\n");
+		fl[c] = run->tracking ? synth_seq_flicker_tracked(&run->cols[c], &run->track, &n)
+				      : synth_seq_flicker(&run->cols[c], &run->masks, &n);
+	if (run->tracking && n && in->frames > 1)
+		printf("flicker (tracked over the true poses, %ld surface points seen in every frame): "
+		       "off %.6f, depth %.6f, depth+AO %.6f (off/depth %.2fx, off/depth+AO %.2fx)\n", n,
+		       fl[0], fl[1], fl[2], fl[1] > 1e-6 ? fl[0] / fl[1] : 1.0,
+		       fl[2] > 1e-6 ? fl[0] / fl[2] : 1.0);
+	else if (in->camera_moves)
+		printf("flicker: - (the camera moves: without depth_gt/ the surface points cannot be "
+		       "followed)\n");
 	else if (n == 0 || in->frames < 2)
 		printf("flicker: - (no pixel is static with depth in every frame)\n");
 	else
@@ -455,6 +470,13 @@ static int setup_run(struct seq_run *run)
 				       in->have_truth);
 	for (int c = 0; c < NCOLS && !bad; c++)
 		bad = synth_seq_column_init(&run->cols[c], (int)in->cam.width, (int)in->cam.height);
+	run->tracking = in->have_truth && in->have_poses && (long)in->poses.count >= in->frames;
+	if (in->have_poses && (long)in->poses.count < in->frames)
+		fprintf(stderr, "depthao: warning: %s has %zu poses for %ld frames: not used\n",
+			in->pose_path, in->poses.count, in->frames);
+	if (!bad && run->tracking)
+		bad = synth_seq_track_init(&run->track, (int)in->cam.width, (int)in->cam.height,
+					   in->cam.fx, in->cam.fy, in->cam.cx, in->cam.cy);
 	if (bad) {
 		fprintf(stderr, "depthao: out of memory\n");
 		return 1;
@@ -479,6 +501,7 @@ static void free_run(struct seq_run *run)
 		synth_seq_column_free(&run->cols[c]);
 	}
 	synth_seq_masks_free(&run->masks);
+	synth_seq_track_free(&run->track);
 	free(run->depth16);
 	free(run->depth);
 	free(run->gt);

@@ -16,6 +16,13 @@
  *   depth that never moves more than SYNTH_STATIC_TOL_M from frame 0 (without
  *   truth: an input depth within SYNTH_STATIC_REL of its frame-0 value).  It
  *   is only meaningful where the camera stands still (the caller decides).
+ * - Tracked flicker: with the true depth and pose of every frame, the same
+ *   per surface point instead of per pixel: each pixel of frame 0 with a
+ *   surface is a point in the world, projected into every frame (nearest
+ *   pixel) where its true depth there agrees within SYNTH_TRACK_REL and the
+ *   sensor delivered depth; the std over the frames of the AO there, averaged
+ *   over the points seen in every frame.  With a still camera it is the
+ *   per-pixel flicker; with a moving one it follows the surface.
  * - Change: the mean |ao_k - ao_k-1| over the pixels with depth in both
  *   frames, at the same pixel (what issue #37 quotes for the real recording).
  */
@@ -24,10 +31,13 @@
 
 #include <stdint.h>
 
+#include "synth/trajectory.h"
+
 #define SYNTH_TRAIL_FRAMES 4
 #define SYNTH_TRAIL_REL 0.05
 #define SYNTH_STATIC_TOL_M 0.001
 #define SYNTH_STATIC_REL 0.03
+#define SYNTH_TRACK_REL 0.01
 
 /* What the columns of a sequence share: the trail band and the static mask. */
 struct synth_seq_masks {
@@ -49,6 +59,16 @@ struct synth_seq_column {
 	uint8_t *prev_valid;
 	double change_sum;
 	long change_n;
+	double *tsum, *tsumsq;  /* per point of frame 0 (tracked flicker) */
+	int32_t *tn;            /* frames the point was seen in */
+};
+
+/* The surface points of frame 0, in the world, for the tracked flicker. */
+struct synth_seq_track {
+	int width, height;
+	double fx, fy, cx, cy;
+	long frames;            /* frames seen */
+	float *X;               /* 3 per pixel; NaN where frame 0 has no surface */
 };
 
 struct synth_seq_frame {
@@ -87,6 +107,23 @@ void synth_seq_column_add(struct synth_seq_column *c, const struct synth_seq_mas
 /* Mean per-pixel temporal std over the static pixels (their number in *count). */
 double synth_seq_flicker(const struct synth_seq_column *c, const struct synth_seq_masks *m,
 			 long *count);
+
+int synth_seq_track_init(struct synth_seq_track *t, int width, int height, double fx, double fy,
+			 double cx, double cy);
+void synth_seq_track_free(struct synth_seq_track *t);
+
+/* Frame k's true depth (m) and pose: frame 0 sets the points; call before the columns'. */
+void synth_seq_track_frame(struct synth_seq_track *t, const float *true_depth,
+			   const struct synth_pose *pose);
+
+/* One frame's AO of a column at the points of frame 0 (see above). */
+void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_track *t,
+			    const float *ao, const float *depth, const float *true_depth,
+			    const struct synth_pose *pose);
+
+/* Mean temporal std of the AO over the points seen in every frame (their number in *count). */
+double synth_seq_flicker_tracked(const struct synth_seq_column *c, const struct synth_seq_track *t,
+				 long *count);
 
 /* Mean frame-to-frame |change| of the AO (0 with fewer than two frames). */
 double synth_seq_change(const struct synth_seq_column *c);
