@@ -458,6 +458,10 @@ static int setup_run(struct seq_run *run)
 	struct seq_input *in = &run->in;
 	if (o->max_frames && in->frames > o->max_frames)
 		in->frames = o->max_frames;
+	if (in->frames < 1) {
+		fprintf(stderr, "depthao: %s: no depth frames\n", o->path);
+		return 1;
+	}
 	const size_t np = (size_t)in->cam.width * in->cam.height;
 	run->depth16 = malloc(np * sizeof *run->depth16);
 	run->depth = malloc(np * sizeof(float));
