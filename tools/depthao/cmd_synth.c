@@ -32,7 +32,7 @@ static int set_oom(struct dao_error *err)
 	return 1;
 }
 
-/* Frame rate of synthetic .oni recordings. */
+/* Frame rate of synthetic sequences and their .oni recordings unless --fps says. */
 #define SYNTH_ONI_FPS 30
 
 struct synth_options {
@@ -86,9 +86,9 @@ static void usage(FILE *out)
 		"                 depth/, ao_gt/, depth_gt/ (the true depth, mm) and poses.txt (the\n"
 		"                 true pose per frame, TUM: timestamp tx ty tz qx qy qz qw);\n"
 		"                 odd --variant numbers are the held-out family (docs/motion.md)\n"
-		"  --fps N        frame rate of a trajectory, 1..240 (default 30)\n"
+		"  --fps N        frame rate of a sequence and its .oni, 1..240 (default 30)\n"
 		"  --moving       with --trajectory: the scene's object moves too\n"
-		"  --oni CODEC    also write the depth sequence as DIR/NAME.oni (30 fps, 1 mm,\n"
+		"  --oni CODEC    also write the depth sequence as DIR/NAME.oni (--fps, 1 mm,\n"
 		"                 the camera's field of view) with codec none, 16z or 16zt\n"
 		"  --help         this text\n", synth_trajectory_names());
 }
@@ -97,7 +97,8 @@ static int check_args(struct synth_options *o);
 
 static int parse_args(int argc, char **argv, struct synth_options *o)
 {
-	*o = (struct synth_options){ .rays_sqrt = 16, .radius = 0.5, .seed = 1, .frames = 1, .fps = 30 };
+	*o = (struct synth_options){ .rays_sqrt = 16, .radius = 0.5, .seed = 1, .frames = 1,
+				     .fps = SYNTH_ONI_FPS };
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -175,9 +176,9 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 		}
 		case 9: o->trajectory = v; break;
 		case 10:
-			o->fps = strtod(v, &end);
+			o->fps = (double)strtol(v, &end, 10);
 			if (*end || !*v || !(o->fps >= 1.0 && o->fps <= 240.0))
-				return usage_error("synth", "--fps '%s' must be a number in 1..240", v);
+				return usage_error("synth", "--fps '%s' must be an integer in 1..240", v);
 			break;
 		}
 	}
@@ -297,7 +298,7 @@ static int open_sequence_oni(const struct synth_options *o, const struct dao_cam
 	size_t n = strlen(base);
 	struct dao_oni_writer_options wo = {
 		.size = sizeof(struct dao_oni_writer_options),
-		.width = cam->width, .height = cam->height, .fps = SYNTH_ONI_FPS,
+		.width = cam->width, .height = cam->height, .fps = (uint32_t)o->fps,
 		.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
 		.overwrite = 1, /* made again, like the PNGs beside it */
 	};
@@ -358,7 +359,7 @@ static int write_sequence_frame(const struct synth_options *o, const struct dao_
 			       : dao_png_write(dp, &depth, &err) || dao_png_write(gp, &gt, &err);
 		if (!r && oni)
 			r = dao_oni_writer_write_depth(oni, &depth,
-						       (uint64_t)i * 1000000u / SYNTH_ONI_FPS,
+						       (uint64_t)i * 1000000u / (uint64_t)o->fps,
 						       &err) != 0;
 		free(dp);
 		free(gp);
