@@ -87,7 +87,8 @@ static void usage(FILE *out)
 		"                 true pose per frame, TUM: timestamp tx ty tz qx qy qz qw);\n"
 		"                 odd --variant numbers are the held-out family (docs/motion.md)\n"
 		"  --fps N        frame rate of a sequence and its .oni, 1..240 (default 30)\n"
-		"  --moving       with --trajectory: the scene's object moves too\n"
+		"  --moving       with --trajectory: the scene's object moves too (plane,\n"
+		"                 room-corner, stairs and boxes have none)\n"
 		"  --oni CODEC    also write the depth sequence as DIR/NAME.oni (--fps, 1 mm,\n"
 		"                 the camera's field of view) with codec none, 16z or 16zt\n"
 		"  --help         this text\n", synth_trajectory_names());
