@@ -10,12 +10,15 @@
 //   bag/           a rosbag2 directory: metadata.yaml and bag_0.db3 (d16's)
 //   split2/        a split rosbag2 directory: d16's messages in split2_0.db3 (frames 0-1) and
 //                  split2_1.db3 (frames 2-4)
+//   zfile/, zmsg/  rosbag2 directories compressed by rosbag2's rules: d16.db3 as zfile_0.db3.zstd
+//                  (compression_mode FILE); each message zstd-compressed (MESSAGE)
 //   bagmcap/       a rosbag2 directory of MCAP storage: metadata.yaml and bagmcap_0.mcap
 //   damaged: notopics.db3 (no topics table), nocolumn.db3 (messages without timestamp),
 //     texttime.db3 (a timestamp that is text), textdata.db3 (data that is text), badtopic.db3
 //     (a topic_id no topic has), cut.db3 (a CDR message cut short), yuv.db3 (encoding yuv422),
 //     bigblob.db3 (a 2 MiB message), split/ (metadata.yaml of two files, neither there), splitmiss/ (its second file missing),
-//     splitorder/ (its files listed out of time order), zfile/ (compression_format zstd),
+//     splitorder/ (its files listed out of time order), zbomb/ and zmbomb/ (zstd bombs: a file,
+//     a message), znotz/ (a .zstd that is not), zlz4/ (compression_format lz4),
 //     notsqlite.db3
 // usage: node make_db3.js OUTDIR   (exit 77 when tests/js/node_modules is absent)
 //        node make_db3.js OUTDIR --vga N: vga.db3 alone, N frames of 640x480 16UC1 at 30 fps
@@ -149,9 +152,16 @@ async function damaged(SQL, out) {
   metadata(f("splitorder"), "sqlite3", ["s_1.db3", "s_0.db3"]);
   save(bag(SQL, [INFO, DEPTH], 0, 2), path.join(f("splitorder"), "s_0.db3"));
   save(bag(SQL, [INFO, DEPTH], 2, FRAMES), path.join(f("splitorder"), "s_1.db3"));
-  // rosbag2's own compression, not read: a clear refusal
-  metadata(f("zfile"), "sqlite3", ["zfile_0.db3.zstd"], "zstd", "file");
-  fs.writeFileSync(path.join(f("zfile"), "zfile_0.db3.zstd"), Buffer.from([0x28, 0xb5, 0x2f, 0xfd]));
+  // rosbag2's compression, hostile: zstd bombs (a file of 100 MiB of zeros, a message of
+  // 8 MiB), a file that is not zstd, another format
+  metadata(f("zbomb"), "sqlite3", ["zbomb_0.db3.zstd"], "zstd", "FILE");
+  fs.writeFileSync(path.join(f("zbomb"), "zbomb_0.db3.zstd"), Buffer.from(M.zstd.compress(Buffer.alloc(100 << 20), 19)));
+  metadata(f("zmbomb"), "sqlite3", ["zmbomb_0.db3"], "zstd", "MESSAGE");
+  save(bag(SQL, [INFO, { ...DEPTH, msg: () => Buffer.from(M.zstd.compress(Buffer.alloc(8 << 20), 3)) }]),
+    path.join(f("zmbomb"), "zmbomb_0.db3"));
+  metadata(f("znotz"), "sqlite3", ["znotz_0.db3.zstd"], "zstd", "FILE");
+  fs.writeFileSync(path.join(f("znotz"), "znotz_0.db3.zstd"), "not zstd\n");
+  metadata(f("zlz4"), "sqlite3", ["zlz4_0.db3"], "lz4", "FILE");
   fs.writeFileSync(f("notsqlite.db3"), "not a database at all, just text\n");
 }
 
@@ -207,6 +217,13 @@ function seeds(dir) {
   save(bag(SQL, [INFO, DEPTH], 2, FRAMES), path.join(out, "split2", "split2_1.db3"));
   metadata(path.join(out, "bagmcap"), "mcap", ["bagmcap_0.mcap"]);
   await M.zstd.isLoaded;
+  // rosbag2's compression: the whole file (compression_mode FILE), or each message (MESSAGE)
+  const zc = (b) => Buffer.from(M.zstd.compress(b, 3));
+  metadata(path.join(out, "zfile"), "sqlite3", ["zfile_0.db3.zstd"], "zstd", "FILE");
+  fs.writeFileSync(path.join(out, "zfile", "zfile_0.db3.zstd"), zc(fs.readFileSync(path.join(out, "d16.db3"))));
+  metadata(path.join(out, "zmsg"), "sqlite3", ["zmsg_0.db3"], "zstd", "MESSAGE");
+  save(bag(SQL, [{ ...INFO, msg: (i) => zc(camInfo(i)) }, { ...DEPTH, msg: (i) => zc(image(i)) }]),
+    path.join(out, "zmsg", "zmsg_0.db3"));
   await M.write(path.join(out, "bagmcap", "bagmcap_0.mcap"), { chunkSize: 10000 }, M.raw);
   await M.write(path.join(out, "color.mcap"), { chunkSize: 10000 }, M.raw, true);
   await damaged(SQL, out);

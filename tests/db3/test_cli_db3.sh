@@ -21,7 +21,7 @@ set -e
 
 expect_exit 0 "PNG frames" -- "$DEPTHAO" process --input "$B/png" --ao-out "$WORK/png-ao" \
 	--shaded-out "$WORK/png-sh" --quiet
-for f in d16.db3 cdepth.db3 bag split2 bagmcap "db3:$B/d16.db3"; do
+for f in d16.db3 cdepth.db3 bag split2 zfile zmsg bagmcap "db3:$B/d16.db3"; do
 	case "$f" in db3:*) in=$f; f=uri ;; *) in=$B/$f ;; esac
 	expect_exit 0 "$f" -- "$DEPTHAO" process --input "$in" --depth-temporal 0 \
 		--ao-out "$WORK/$f-ao" --shaded-out "$WORK/$f-sh" || continue
@@ -106,9 +106,18 @@ grep -qF "$B/splitmiss: file 2 of the 2 its metadata.yaml lists (a split bag pla
 expect_exit 1 "split bag out of order" -- "$DEPTHAO" process --input "$B/splitorder" --ao-out "$WORK/bad" --quiet
 grep -qF "$B/splitorder: $B/splitorder/s_0.db3 starts before the file before it ends on topic /camera/depth/camera_info: the files are not in the order of their messages' times" "$WORK/err" ||
 	fail "splitorder: $(cat "$WORK/err")"
-expect_exit 1 "compressed bag" -- "$DEPTHAO" process --input "$B/zfile" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/zfile/metadata.yaml: compression_format 'zstd' (mode 'file'): depthao does not read compressed rosbag2 bags; record without compression, or decompress the bag first" "$WORK/err" ||
-	fail "zfile: $(cat "$WORK/err")"
+# rosbag2's compression, hostile: a bomb of each mode, data that is not zstd, another format
+expect_exit 1 "zstd bomb, file" -- "$DEPTHAO" process --input "$B/zbomb" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/zbomb/zbomb_0.db3.zstd: decompresses to more than 67108864 bytes (the limit for a file of its size): refused (if it is genuine, decompress it with zstd -d first)" "$WORK/err" ||
+	fail "zbomb: $(cat "$WORK/err")"
+expect_exit 1 "zstd bomb, message" -- "$DEPTHAO" process --input "$B/zmbomb" --ao-out "$WORK/bad" --quiet --max-pixels 1000
+grep -qF "$B/zmbomb/zmbomb_0.db3: message 0 of '/camera/depth/image_raw' (zstd, compression_mode message): decompresses to 8388608 bytes, over the limit of 1052576 (--max-pixels raises the limit)" "$WORK/err" ||
+	fail "zmbomb: $(cat "$WORK/err")"
+expect_exit 1 "not zstd" -- "$DEPTHAO" process --input "$B/znotz" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/znotz/znotz_0.db3.zstd: not zstd data, or damaged: " "$WORK/err" || fail "znotz: $(cat "$WORK/err")"
+expect_exit 1 "lz4 bag" -- "$DEPTHAO" process --input "$B/zlz4" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/zlz4/metadata.yaml: compression_format 'lz4' (mode 'FILE'): depthao reads rosbag2's zstd, in file or message mode; decompress the bag first" "$WORK/err" ||
+	fail "zlz4: $(cat "$WORK/err")"
 # a directory whose metadata.yaml is not rosbag2's
 mkdir -p "$WORK/notbag" && printf 'hello: world\n' >"$WORK/notbag/metadata.yaml"
 expect_exit 1 "not rosbag2 metadata" -- "$DEPTHAO" process --input "$WORK/notbag" --ao-out "$WORK/bad" --quiet

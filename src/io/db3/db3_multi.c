@@ -18,6 +18,9 @@ struct dao_db3_multi {
 	int32_t *local;               /* [topic * nfiles + file]: its index there, or -1 */
 	uint32_t *first;              /* [topic * (nfiles + 1) + file]: its messages before */
 	char *path;
+	uint64_t zstd_max; /* messages compressed one by one: their limit; 0 = not */
+	uint8_t *buf;      /* a decompressed message */
+	uint64_t cap;
 };
 
 void dao_db3_multi_close(struct dao_db3_multi *m)
@@ -30,6 +33,7 @@ void dao_db3_multi_close(struct dao_db3_multi *m)
 	free(m->topics);
 	free(m->local);
 	free(m->first);
+	free(m->buf);
 	free(m->path);
 	free(m);
 }
@@ -180,8 +184,21 @@ int dao_db3_multi_read_message(struct dao_db3_multi *m, uint32_t topic, uint32_t
 				     topic);
 	uint32_t k;
 	const uint32_t f = locate(m, topic, i, &k);
-	return dao_db3_read_message(m->db[f], (uint32_t)m->local[(size_t)topic * m->nfiles + f], k,
-				    data, len, log_time, err);
+	int r = dao_db3_read_message(m->db[f], (uint32_t)m->local[(size_t)topic * m->nfiles + f],
+				     k, data, len, log_time, err);
+	if (r < 0 || !m->zstd_max)
+		return r;
+	struct dao_error e;
+	if ((r = dao_db3_unzstd_message(*data, *len, m->zstd_max, &m->buf, &m->cap, len, &e)) < 0)
+		return dao_error_set(err, r, "%s: message %u of '%s' (zstd, compression_mode "
+				     "message): %s", m->path, i, m->topics[topic].name, e.message);
+	*data = m->buf;
+	return 0;
+}
+
+void dao_db3_multi_zstd_messages(struct dao_db3_multi *m, uint64_t max)
+{
+	m->zstd_max = max;
 }
 
 uint64_t dao_db3_multi_message_time(const struct dao_db3_multi *m, uint32_t topic, uint32_t i)

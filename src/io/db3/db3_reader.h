@@ -89,6 +89,11 @@ void dao_rosbag2_meta_free(struct dao_rosbag2_meta *m);
 struct dao_db3_multi;
 int dao_db3_multi_open(struct dao_db3 **dbs, uint32_t n, const char *path,
 		       struct dao_db3_multi **out, struct dao_error *err);
+/*
+ * Messages compressed one by one (rosbag2's compression_mode message, zstd):
+ * each decompressed when read, to at most max bytes.
+ */
+void dao_db3_multi_zstd_messages(struct dao_db3_multi *m, uint64_t max);
 void dao_db3_multi_close(struct dao_db3_multi *m);
 const char *dao_db3_multi_path(const struct dao_db3_multi *m);
 uint32_t dao_db3_multi_topic_count(const struct dao_db3_multi *m);
@@ -97,5 +102,22 @@ int dao_db3_multi_read_message(struct dao_db3_multi *m, uint32_t topic, uint32_t
 			       const uint8_t **data, uint64_t *len, uint64_t *log_time,
 			       struct dao_error *err);
 uint64_t dao_db3_multi_message_time(const struct dao_db3_multi *m, uint32_t topic, uint32_t i);
+
+/*
+ * rosbag2's zstd compression (db3_zstd.c).  dao_db3_unzstd_file decompresses
+ * the file src into a new temporary file in $TMPDIR (or /tmp), its name into
+ * tmp (cap bytes), to at most dao_db3_unzstd_limit(its size) bytes:
+ * -EOVERFLOW beyond (a zstd bomb), -EINVAL for data that is not zstd or cut short; the
+ * caller unlinks tmp.  dao_db3_unzstd_message decompresses one message into
+ * *buf (grown as needed, *cap its size) when its frame says a size of at most
+ * max bytes.
+ */
+#define DAO_DB3_UNZSTD_RATIO 64             /* decompressed per compressed byte, at most */
+#define DAO_DB3_UNZSTD_MIN (64ull << 20)    /* ... but this much for any file */
+#define DAO_DB3_UNZSTD_MAX (16ull << 30)    /* ... and never more */
+uint64_t dao_db3_unzstd_limit(uint64_t compressed);
+int dao_db3_unzstd_file(const char *src, char *tmp, size_t cap, struct dao_error *err);
+int dao_db3_unzstd_message(const uint8_t *in, uint64_t len, uint64_t max, uint8_t **buf,
+			   uint64_t *cap, uint64_t *out, struct dao_error *err);
 
 #endif

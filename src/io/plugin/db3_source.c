@@ -17,6 +17,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/error_internal.h"
 #include "db3/db3_reader.h"
@@ -139,17 +140,47 @@ static const struct dao_ros2_store_ops db3_multi_store = {
 	.close = multi_close,
 };
 
+/* rosbag2's compression_mode: 'f' (file), 'm' (message), 0 (none or another). */
+static int compression_mode(const struct dao_rosbag2_meta *m)
+{
+	if (!m->compression_format[0])
+		return 0;
+	if (!strcasecmp(m->compression_mode, "file"))
+		return 'f';
+	return !strcasecmp(m->compression_mode, "message") ? 'm' : 0;
+}
+
+/* One file of a bag; a whole-file zstd one decompressed into a temporary file first. */
+static int open_one(const char *file, int zstd_file, uint64_t max_message, struct dao_db3 **db,
+		    struct dao_error *err)
+{
+	char tmp[4096];
+	if (!zstd_file)
+		return dao_db3_open(file, max_message, db, err);
+	int r = dao_db3_unzstd_file(file, tmp, sizeof tmp, err);
+	if (r < 0)
+		return r;
+	r = dao_db3_open(tmp, max_message, db, err);
+	unlink(tmp); /* sqlite keeps it open: it goes when the bag is closed */
+	return r;
+}
+
 /* What of a rosbag2 directory's metadata depthao does not play: 0, or -ENOTSUP said. */
 static int check_meta(const char *dir, const struct dao_rosbag2_meta *m, struct dao_error *err)
 {
 	if (strcmp(m->storage, "sqlite3") && strcmp(m->storage, "mcap"))
 		return dao_error_set(err, -ENOTSUP, "%s/metadata.yaml: storage '%s': depthao reads "
 				     "sqlite3 and mcap", dir, m->storage);
-	if (m->compression_format[0])
+	if (m->compression_format[0] &&
+	    (strcmp(m->compression_format, "zstd") || !compression_mode(m)))
 		return dao_error_set(err, -ENOTSUP, "%s/metadata.yaml: compression_format '%s' "
-				     "(mode '%s'): depthao does not read compressed rosbag2 bags; "
-				     "record without compression, or decompress the bag first",
+				     "(mode '%s'): depthao reads rosbag2's zstd, in file or "
+				     "message mode; decompress the bag first",
 				     dir, m->compression_format, m->compression_mode);
+	if (m->compression_format[0] && !strcmp(m->storage, "mcap"))
+		return dao_error_set(err, -ENOTSUP, "%s/metadata.yaml: an MCAP bag compressed by "
+				     "rosbag2: decompress the bag first (MCAP's own chunk "
+				     "compression is read)", dir);
 	if (!strcmp(m->storage, "mcap") && m->file_count > 1)
 		return dao_error_set(err, -ENOTSUP, "%s/metadata.yaml: an MCAP bag split into %u "
 				     "files: play each file on its own", dir, m->file_count);
@@ -166,8 +197,8 @@ static int open_split(const char *dir, const struct dao_rosbag2_meta *m, uint64_
 	int r = 0;
 	uint32_t n = 0;
 	for (; n < m->file_count && r == 0; n++)
-		if ((r = dao_db3_open(m->files[n], max_message, &dbs[n], err)) < 0 &&
-		    m->file_count > 1) {
+		if ((r = open_one(m->files[n], compression_mode(m) == 'f', max_message, &dbs[n],
+				  err)) < 0 && m->file_count > 1) {
 			char why[sizeof err->message];
 			memcpy(why, err->message, sizeof why);
 			dao_error_set(err, r, "%s: file %u of the %u its metadata.yaml lists (a split bag plays only "
@@ -180,6 +211,8 @@ static int open_split(const char *dir, const struct dao_rosbag2_meta *m, uint64_
 	} else {
 		r = dao_db3_multi_open(dbs, m->file_count,
 				       m->file_count > 1 ? dir : m->files[0], out, err);
+		if (r == 0 && compression_mode(m) == 'm')
+			dao_db3_multi_zstd_messages(*out, max_message);
 	}
 	free(dbs);
 	return r;
