@@ -5,43 +5,64 @@
  */
 
 #include <errno.h>
+#include <stdio.h>
+#include <string.h>
 
 #include "notify.h"
 #include "daemon_internal.h"
 
-static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_camera *cam)
+/* err's message with what it is about before it ("[source] intrinsics: ..."). */
+static int camera_error(struct dao_error *err, int r, const char *what)
 {
-	struct dao_error err;
+	char m[sizeof err->message + 64];
+	snprintf(m, sizeof m, "%s: %s", what, err->message);
+	const size_t n = strnlen(m, sizeof err->message - 1);
+	memcpy(err->message, m, n);
+	err->message[n] = '\0';
+	err->code = r;
+	return r;
+}
+
+/* The camera of w x h frames from the config or the source: 0, or negative with err set. */
+static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_camera *cam,
+		       struct dao_error *err)
+{
 	const struct daemon_config *c = &d->cfg;
+	int r;
 	if (c->has_intrinsics_file) {
-		if (w != c->file_width || h != c->file_height) {
-			log_error("camera file '%s' is for %ux%u images, the source delivers %ux%u: "
-				  "give the camera file of this stream ([source] intrinsics_file)",
-				  c->intrinsics_file, c->file_width, c->file_height, w, h);
-			return -EINVAL;
-		}
+		if (w != c->file_width || h != c->file_height)
+			return dao_error_set(err, -EINVAL,
+					     "[source] intrinsics_file is for %ux%u images, the "
+					     "source delivers %ux%u: give the camera file of this "
+					     "stream (not '%s')",
+					     c->file_width, c->file_height, w, h, c->intrinsics_file);
 		return dao_camera_from_intrinsics(cam, w, h, c->file_intrinsics[0],
 						  c->file_intrinsics[1], c->file_intrinsics[2],
-						  c->file_intrinsics[3], &err);
+						  c->file_intrinsics[3], err);
 	}
-	if (c->has_intrinsics)
-		return dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
-						  c->intrinsics[2], c->intrinsics[3], &err);
+	if (c->has_intrinsics) {
+		r = dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
+					       c->intrinsics[2], c->intrinsics[3], err);
+		return r ? camera_error(err, r, "[source] intrinsics") : 0;
+	}
 	if (c->has_fov)
 		return dao_camera_from_fov(cam, w, h, c->fov_deg[0] * DEG2RAD, c->fov_deg[1] * DEG2RAD,
-					   &err);
+					   err);
 	pthread_mutex_lock(&d->lock);
 	struct dao_source_info in = d->src_info;
 	pthread_mutex_unlock(&d->lock);
-	if (in.has_intrinsics)
-		return dao_camera_from_intrinsics(cam, w, h, in.fx, in.fy, in.cx, in.cy, &err);
+	if (in.has_intrinsics) {
+		r = dao_camera_from_intrinsics(cam, w, h, in.fx, in.fy, in.cx, in.cy, err);
+		return r ? camera_error(err, r, "the source's intrinsics ([source] intrinsics "
+					"overrides them)") : 0;
+	}
 	if (in.has_fov)
-		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, &err);
+		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, err);
 	log_warn("no intrinsics: the source has no field of view and the config gives none; "
 		 "assuming %.1f x %.1f degrees ([source] intrinsics or fov)",
 		 DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
 	return dao_camera_from_fov(cam, w, h, DEFAULT_HFOV_DEG * DEG2RAD, DEFAULT_VFOV_DEG * DEG2RAD,
-				   &err);
+				   err);
 }
 
 struct outputs {
@@ -196,7 +217,7 @@ static int setup_pipeline(struct daemon *d, struct dao_context **ctx, struct out
 	struct dao_params p = d->params;
 	d->params_pending = 0;
 	pthread_mutex_unlock(&d->lock);
-	if (make_camera(d, w, h, &cam) < 0 || dao_context_create(ctx, &cam, &p, &err) < 0 ||
+	if (make_camera(d, w, h, &cam, &err) < 0 || dao_context_create(ctx, &cam, &p, &err) < 0 ||
 	    fq_frame_reserve(&o->ao16, DAO_PIXFMT_GRAY16, w, h) < 0 ||
 	    fq_frame_reserve(&o->ao8, DAO_PIXFMT_GRAY8, w, h) < 0 ||
 	    fq_frame_reserve(&o->rgb, DAO_PIXFMT_RGB24, w, h) < 0 ||

@@ -37,7 +37,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,7 +50,7 @@
 #include "mcap/mcap_writer.h"
 #include "mcap/ros2_encode.h"
 #include "plugin/builtin.h"
-#include "plugin/output_path.h"
+#include "plugin/recorder_sink.h"
 
 #define MCAP_SINK_DEFAULT_FPS 30
 #define MCAP_SINK_DEFAULT_HFOV_DEG 58.5
@@ -63,14 +62,13 @@
 enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_FDEPTH, CH_COUNT };
 
 struct mcap_sink {
-	char *path, *file;
+	struct dao_recorder rec; /* the path, the file written, the host */
 	struct dao_mcap_writer_options wo;
 	int cloud;
 	int fdepth;           /* filtered_depth=true */
 	struct dao_frame fdepth_m; /* its 32FC1 metres when the unit is not 1 mm */
 	char frame_id[64];
 	struct dao_mcap_writer *w;
-	struct dao_sink_host host;
 	uint16_t ch[CH_COUNT];
 	struct dao_ros2_pinhole cam;
 	double fps;
@@ -115,118 +113,58 @@ static int parse_options(struct mcap_sink *s, const char *text, struct dao_error
 	return r < 0 ? r : 0;
 }
 
-/* A file, or nothing, at `path`, in a directory that exists and is writable. */
-static int check_dir(const char *path, struct dao_error *err)
-{
-	struct stat st;
-	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-		return dao_error_set(err, -EISDIR,
-				     "mcap: %s is a directory; give the path of the .mcap file to "
-				     "write", path);
-	const char *slash = strrchr(path, '/');
-	char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-	if (!dir)
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	int r = 0;
-	if (access(dir, W_OK | X_OK) != 0)
-		r = dao_error_set(err, -errno, "mcap: cannot record to %s: directory %s: %s", path,
-				  dir, strerror(errno));
-	free(dir);
-	return r;
-}
-
 static int mcap_sink_open(const char *uri, void **state, struct dao_error *err)
 {
-	int r;
 	size_t n = dao_uri_path_len(uri, mcap_sink_options);
-	if (n == 0)
-		return dao_error_set(err, -EINVAL,
-				     "mcap: no output file given; use mcap:PATH.mcap" MCAP_SINK_HELP);
 	struct mcap_sink *s = calloc(1, sizeof(*s));
-	if (!s || !(s->path = strndup(uri, n))) {
-		free(s);
+	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	}
 	snprintf(s->frame_id, sizeof s->frame_id, "camera_depth_optical_frame");
-	if (!strcmp(s->path, "-")) {
+	s->wo.profile = "ros2";
+	int r = dao_recorder_init(&s->rec, "mcap", uri, n, MCAP_SINK_HELP, err);
+	if (r == 0 && !strcmp(s->rec.path, "-"))
 		r = dao_error_set(err, -EINVAL,
 				  "mcap: a recording cannot go to standard output ('-'): its summary "
 				  "and indexes are written at the end; give a file name (./- for one "
 				  "named '-')");
-		goto fail;
+	if (r == 0 && uri[n] == '?')
+		r = parse_options(s, uri + n + 1, err);
+	if (r == 0)
+		r = dao_recorder_check_dir(&s->rec, 0, err);
+	if (r < 0) {
+		dao_recorder_free(&s->rec);
+		free(s);
+		return r;
 	}
-	s->wo.profile = "ros2";
-	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
-		goto fail;
-	if ((r = check_dir(s->path, err)) < 0)
-		goto fail;
 	*state = s;
 	return 0;
-fail:
-	free(s->path);
-	free(s);
-	return r;
 }
 
 static void mcap_sink_attach_host(void *state, const struct dao_sink_host *host)
 {
 	struct mcap_sink *s = state;
-	s->host = *host;
+	s->rec.host = *host;
 }
 
-static void note(struct mcap_sink *s, int level, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static void note(struct mcap_sink *s, int level, const char *fmt, ...)
+static int open_at(void *ctx, const char *name, int overwrite, struct dao_error *err)
 {
-	char msg[DAO_ERROR_MESSAGE_MAX + 256];
-	va_list ap;
-	if (!s->host.log)
-		return;
-	va_start(ap, fmt);
-	vsnprintf(msg, sizeof(msg), fmt, ap);
-	va_end(ap);
-	s->host.log(s->host.user, level, msg);
+	struct mcap_sink *s = ctx;
+	struct dao_mcap_writer_options o = s->wo;
+	o.overwrite = overwrite;
+	return dao_mcap_writer_open(name, &o, &s->w, err);
 }
 
 /* Opens the writer at the path, or at the first free numbered name beside it. */
 static int open_writer(struct mcap_sink *s, struct dao_error *err)
 {
-	char *name = s->path;
 	struct stat st;
-	int r = 0;
 	/* the one rule for replacing a file (output_file.c) */
-	if (s->wo.overwrite && stat(name, &st) == 0 && S_ISREG(st.st_mode))
-		r = dao_output_file_check_replaceable(name, &st, err);
-	if (r < 0)
-		return r;
-	r = dao_mcap_writer_open(name, &s->wo, &s->w, err);
-	struct dao_mcap_writer_options o = s->wo;
-	o.overwrite = 0;
-	for (unsigned k = 1; r == -EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
-		if (!(name = dao_output_numbered(s->path, k)))
-			return dao_error_set(err, -ENOMEM, "out of memory");
-		r = lstat(name, &st) == 0 ? -EEXIST : dao_mcap_writer_open(name, &o, &s->w, err);
-		if (r == 0)
-			break;
-		free(name);
-		name = s->path;
+	if (s->wo.overwrite && stat(s->rec.path, &st) == 0 && S_ISREG(st.st_mode)) {
+		int r = dao_output_file_check_replaceable(s->rec.path, &st, err);
+		if (r < 0)
+			return r;
 	}
-	if (r == -EEXIST)
-		return dao_error_set(err, r,
-				     "mcap: %s and its numbered names up to -%u exist; a recording "
-				     "never replaces a file (add ?overwrite=true to replace it)",
-				     s->path, DAO_OUTPUT_NUMBERED_MAX);
-	if (r < 0)
-		return r;
-	if (name != s->path) {
-		note(s, DAO_LOG_INFO,
-		     "mcap: %s exists; recording to %s instead (a recording never replaces a "
-		     "file; add ?overwrite=true to replace it)",
-		     s->path, name);
-		free(s->file);
-		s->file = name;
-	}
-	return 0;
+	return dao_recorder_open_numbered(&s->rec, s->wo.overwrite, open_at, s, err);
 }
 
 /* The schemas and channels, all before the first message. */
@@ -260,8 +198,7 @@ static void drop_writer(struct mcap_sink *s)
 {
 	dao_mcap_writer_abort(s->w); /* no messages yet: the file goes */
 	s->w = NULL;
-	free(s->file);
-	s->file = NULL;
+	dao_recorder_forget_file(&s->rec);
 	free(s->depth);
 	free(s->ao);
 	s->depth = s->ao = NULL;
@@ -307,8 +244,8 @@ static int mcap_sink_negotiate(void *state, struct dao_sink_format *fmt, struct 
 			(s->cloud ? 1u << DAO_STREAM_DEPTH : 0) |
 			(s->fdepth ? 1u << DAO_STREAM_FILTERED_DEPTH : 0);
 	want &= ~(1u << s->configured);
-	if (s->host.want_streams && want)
-		s->host.want_streams(s->host.user, want);
+	if (s->rec.host.want_streams && want)
+		s->rec.host.want_streams(s->rec.host.user, want);
 	return 0;
 }
 
@@ -467,8 +404,7 @@ static int mcap_sink_close(void *state, struct dao_error *err)
 	free(s->depth);
 	free(s->ao);
 	dao_frame_free(&s->fdepth_m);
-	free(s->file);
-	free(s->path);
+	dao_recorder_free(&s->rec);
 	free(s);
 	return r;
 }
