@@ -30,7 +30,7 @@ struct scene_fixture {
 	float *z0, *z1, *inv0;
 };
 
-static void fixture_init(struct scene_fixture *f)
+static inline void fixture_init(struct scene_fixture *f)
 {
 	struct dao_error err = {0};
 	if (dao_camera_from_intrinsics(&f->cam, W, H, 525.0, 525.0, 319.5, 239.5, &err))
@@ -43,7 +43,7 @@ static void fixture_init(struct scene_fixture *f)
 		abort();
 }
 
-static void fixture_free(struct scene_fixture *f)
+static inline void fixture_free(struct scene_fixture *f)
 {
 	free(f->z0);
 	free(f->z1);
@@ -51,7 +51,7 @@ static void fixture_free(struct scene_fixture *f)
 }
 
 /* camera-to-world: R = Ry(yaw) Rx(pitch), t */
-static void pose_from(struct dao_pose *p, double yaw_deg, double pitch_deg, double tx, double ty,
+static inline void pose_from(struct dao_pose *p, double yaw_deg, double pitch_deg, double tx, double ty,
 		      double tz)
 {
 	const double a = yaw_deg * M_PI / 180.0, b = pitch_deg * M_PI / 180.0;
@@ -65,7 +65,7 @@ static void pose_from(struct dao_pose *p, double yaw_deg, double pitch_deg, doub
 }
 
 /* the motion from the current camera to the previous one: prev^-1 cur */
-static void relative(const struct dao_pose *prev, const struct dao_pose *cur, struct dao_pose *out)
+static inline void relative(const struct dao_pose *prev, const struct dao_pose *cur, struct dao_pose *out)
 {
 	for (int i = 0; i < 3; i++) {
 		for (int j = 0; j < 3; j++) {
@@ -82,7 +82,7 @@ static void relative(const struct dao_pose *prev, const struct dao_pose *cur, st
 }
 
 /* distance along d from o to the exit of the box [lo, hi] (o inside) */
-static double box_exit(const double o[3], const double d[3], const double lo[3],
+static inline double box_exit(const double o[3], const double d[3], const double lo[3],
 		       const double hi[3])
 {
 	double s = INFINITY;
@@ -96,7 +96,7 @@ static double box_exit(const double o[3], const double d[3], const double lo[3],
 }
 
 /* distance along d from o to the entry of the box [lo, hi], or INFINITY */
-static double box_entry(const double o[3], const double d[3], const double lo[3],
+static inline double box_entry(const double o[3], const double d[3], const double lo[3],
 			const double hi[3])
 {
 	double a = 0.0, b = INFINITY;
@@ -117,7 +117,7 @@ static double box_entry(const double o[3], const double d[3], const double lo[3]
 	return a <= b && a > 0.0 ? a : INFINITY;
 }
 
-static double gauss(uint64_t *st)
+static inline double gauss(uint64_t *st)
 {
 	double u[2];
 	for (int k = 0; k < 2; k++) {
@@ -128,7 +128,7 @@ static double gauss(uint64_t *st)
 }
 
 /* depth seen by camera pose c; room: the room and its box, else a wall at z = 2 m */
-static void render(const struct scene_fixture *f, const struct dao_pose *c, int room,
+static inline void render(const struct scene_fixture *f, const struct dao_pose *c, int room,
 		   double noise, uint64_t seed, float *z)
 {
 	static const double rlo[3] = {-1.2, -1.2, -1.0}, rhi[3] = {1.3, 1.0, 3.0};
