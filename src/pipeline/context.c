@@ -1499,6 +1499,31 @@ int dao_context_noise_sized(const struct dao_context *ctx, struct dao_noise_info
 		   : -EINVAL;
 }
 
+int dao_context_motion_sized(const struct dao_context *ctx, struct dao_motion_info *out,
+			     size_t size)
+{
+	if (!ctx)
+		return -EINVAL;
+	struct dao_motion_info m = {.size = sizeof m};
+	const struct dao_icp_result *r = &ctx->motion;
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	const struct dao_pose *pose = ctx->motion_ran ? &r->pose : &id;
+	memcpy(m.rotation, pose->r, sizeof m.rotation);
+	memcpy(m.translation, pose->t, sizeof m.translation);
+	if (ctx->motion_ran) {
+		m.state = !r->valid ? DAO_MOTION_REFUSED
+				    : ctx->motion_applied ? DAO_MOTION_APPLIED : DAO_MOTION_STILL;
+		m.reason = r->valid ? 0 : (int)r->reason;
+		m.points = r->points;
+		m.pairs = r->inliers;
+		m.rms = r->rms;
+		m.condition = r->cond;
+		m.iterations = r->iterations;
+	}
+	return dao_sized_copy_out(out, size, &m, sizeof m);
+}
+
 int dao_context_timings_sized(const struct dao_context *ctx, struct dao_timings *out,
 			      size_t size)
 {

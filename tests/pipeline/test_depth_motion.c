@@ -67,11 +67,20 @@ static void test_still_identical(void **state)
 	for (unsigned k = 0; k < 6; k++) {
 		if (k == 0 || k == 3)
 			render(&f, &still, 1, k ? 1.0 : 0.0, 100u + k, f.z0);
+		if (k == 3) { /* a new history for the noisy frame */
+			dao_context_reset(off);
+			dao_context_reset(icp);
+		}
 		memcpy(f.z1, f.z0, f.npix * 4);
 		run(off, f.z0, k, ao0, za);
 		run(icp, f.z1, k, ao1, zb);
 		assert_memory_equal(za, zb, f.npix * 4);
 		assert_memory_equal(ao0, ao1, f.npix * 4);
+		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		dao_context_motion(icp, &mi);
+		assert_int_equal(mi.size, sizeof mi);
+		/* no history in frames 0 and 3 */
+		assert_int_equal(mi.state, k % 3 == 0 ? DAO_MOTION_NONE : DAO_MOTION_STILL);
 	}
 	dao_context_destroy(off);
 	dao_context_destroy(icp);
@@ -81,6 +90,31 @@ static void test_still_identical(void **state)
 
 /* mean |z - truth| / truth over the pixels where both have depth */
 static double rel_mae(const float *z, const float *truth, size_t n);
+
+/* after processing the frame of camera `cur`: the motion the context reports
+ * against the truth (from `cur` to `prev`); it must have been applied */
+static void check_motion(struct dao_context *ctx, const struct dao_pose *prev,
+			 const struct dao_pose *cur, double *worst_deg, double *worst_mm)
+{
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(ctx, &mi);
+	assert_int_equal(mi.state, DAO_MOTION_APPLIED);
+	struct dao_pose truth, est, e;
+	relative(prev, cur, &truth);
+	memcpy(est.r, mi.rotation, sizeof est.r);
+	memcpy(est.t, mi.translation, sizeof est.t);
+	/* e = truth^-1 est */
+	for (int i = 0; i < 3; i++) {
+		for (int j = 0; j < 3; j++)
+			e.r[i * 3 + j] = truth.r[i] * est.r[j] + truth.r[3 + i] * est.r[3 + j] +
+					 truth.r[6 + i] * est.r[6 + j];
+		e.t[i] = 0.0;
+		for (int k = 0; k < 3; k++)
+			e.t[i] += truth.r[k * 3 + i] * (est.t[k] - truth.t[k]);
+	}
+	*worst_deg = fmax(*worst_deg, dao_pose_angle(&e) * 180.0 / M_PI);
+	*worst_mm = fmax(*worst_mm, dao_pose_distance(&e) * 1e3);
+}
 
 /* a still camera, new noise in every frame: the estimate's own scatter
  * (hundredths of a degree) may move the history by a fraction of a pixel;
@@ -156,7 +190,9 @@ static void test_pan(void **state)
 	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_ICP, &ctx[2]);
 	float *truth = malloc(f.npix * 4), *zo = malloc(f.npix * 4);
 	assert_true(truth && zo);
-	double mae[3] = {0, 0, 0};
+	double mae[3] = {0, 0, 0}, worst_deg = 0.0, worst_mm = 0.0;
+	struct dao_pose last;
+	dao_pose_identity(&last);
 	/* 1 degree a frame (30 degrees/s at 30 fps) and 10 mm sideways */
 	for (unsigned k = 0; k < 10; k++) {
 		struct dao_pose c;
@@ -169,9 +205,17 @@ static void test_pan(void **state)
 			if (k >= 3)
 				mae[m] += rel_mae(zo, truth, f.npix) / 7.0;
 		}
+		if (k)
+			check_motion(ctx[2], &last, &c, &worst_deg, &worst_mm);
+		last = c;
 	}
 	printf("pan 1 deg/frame, frames 3-9: relative depth MAE raw %.5f, filter %.5f, "
-	       "filter + icp %.5f\n", mae[0], mae[1], mae[2]);
+	       "filter + icp %.5f; motion error at most %.4f deg, %.3f mm\n", mae[0], mae[1],
+	       mae[2], worst_deg, worst_mm);
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(ctx[1], &mi);
+	assert_int_equal(mi.state, DAO_MOTION_NONE);
+	assert_true(mi.rotation[0] == 1.0 && mi.translation[0] == 0.0);
 	assert_true(mae[2] < mae[1]);
 	assert_true(mae[2] < mae[0]);
 	for (int m = 0; m < 3; m++)
@@ -203,6 +247,10 @@ static void test_refused_falls_back(void **state)
 		run(off, f.z0, k, NULL, za);
 		run(icp, f.z1, k, NULL, zb);
 		assert_memory_equal(za, zb, f.npix * 4);
+		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		dao_context_motion(icp, &mi);
+		assert_int_equal(mi.state, k == 0 ? DAO_MOTION_NONE : DAO_MOTION_REFUSED);
+		assert_int_equal(mi.reason, k == 0 ? 0 : 2); /* ill-posed */
 	}
 	dao_context_destroy(off);
 	dao_context_destroy(icp);
