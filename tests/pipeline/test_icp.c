@@ -185,6 +185,39 @@ static void test_cut_and_holes(void **state)
 	fixture_free(&f);
 }
 
+/* hostile depth (random values, NaN, infinities, negative): refused, finite */
+static void test_garbage(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	static const float odd[4] = {NAN, INFINITY, -1.0f, -INFINITY};
+	uint64_t st = 77u;
+	for (size_t i = 0; i < f.npix; i++) {
+		f.z1[i] = (float)(2.0 + gauss(&st));
+		f.inv0[i] = (float)(0.5 + 0.2 * gauss(&st));
+		if (i % 17 == 0)
+			f.z1[i] = odd[(i / 17) % 4];
+		if (i % 19 == 0)
+			f.inv0[i] = odd[(i / 19) % 4];
+	}
+	struct dao_icp_setup s;
+	dao_icp_setup_default(&s);
+	float *scratch = malloc(dao_icp_scratch_floats(&s, W, H) * sizeof(float));
+	assert_non_null(scratch);
+	struct dao_icp_result r;
+	dao_icp_estimate(&s, &f.cam, f.inv0, NULL, f.z1, NULL, scratch, &r);
+	printf("garbage: valid %d reason %d, %d/%d pairs\n", r.valid, (int)r.reason, r.inliers,
+	       r.points);
+	assert_false(r.valid);
+	for (int k = 0; k < 9; k++)
+		assert_true(isfinite(r.pose.r[k]));
+	for (int k = 0; k < 3; k++)
+		assert_true(isfinite(r.pose.t[k]));
+	free(scratch);
+	fixture_free(&f);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -192,6 +225,7 @@ int main(void)
 		cmocka_unit_test(test_still),
 		cmocka_unit_test(test_flat_wall),
 		cmocka_unit_test(test_cut_and_holes),
+		cmocka_unit_test(test_garbage),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -164,11 +164,57 @@ static void test_against_truth(void **state)
 	fixture_free(&f);
 }
 
+/* random and hostile poses (huge, behind the camera, NaN, infinite): every
+ * output pixel is either empty or a source's history, nothing else written */
+static void test_fuzzed_poses(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p;
+	planes_init(&p, f.npix);
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	render(&f, &id, 1, 1.0, 9u, f.z0);
+	for (size_t i = 0; i < f.npix; i++) {
+		p.hist[i] = 1.0f / f.z0[i];
+		p.count[i] = 7;
+		p.age[i] = 1;
+	}
+	uint64_t st = 12345u;
+	for (int k = 0; k < 40; k++) {
+		struct dao_pose m;
+		const double scale = k < 20 ? 0.2 : 50.0;
+		pose_from(&m, scale * 100.0 * gauss(&st), scale * 100.0 * gauss(&st),
+			  scale * gauss(&st), scale * gauss(&st), scale * gauss(&st));
+		if (k == 37)
+			m.t[2] = NAN;
+		if (k == 38)
+			m.r[0] = INFINITY;
+		if (k == 39)
+			m.t[0] = -INFINITY;
+		dao_history_reproject(&f.cam, &m, p.hist, p.count, p.age, p.out, p.count_out,
+				      p.age_out);
+		for (size_t i = 0; i < f.npix; i++) {
+			if (p.count_out[i]) {
+				assert_int_equal(p.count_out[i], 7);
+				assert_int_equal(p.age_out[i], 1);
+				assert_true(p.out[i] > 0.0f && isfinite(p.out[i]));
+			} else {
+				assert_true(p.out[i] == 0.0f && p.age_out[i] == 255);
+			}
+		}
+	}
+	planes_free(&p);
+	fixture_free(&f);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_against_reference),
 		cmocka_unit_test(test_against_truth),
+		cmocka_unit_test(test_fuzzed_poses),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
