@@ -238,6 +238,49 @@ static inline void dao_context_noise(const struct dao_context *ctx, struct dao_n
 	(void)dao_context_noise_sized(ctx, out, sizeof(*out));
 }
 
+/* What became of the camera-motion estimate of the last frame (dao_motion_info.state). */
+enum dao_motion_state {
+	DAO_MOTION_NONE = 0, /* not estimated: depth-temporal-motion off, the depth filter off,
+			      * or no history to compare with (a first frame, a cut) */
+	DAO_MOTION_REFUSED,  /* estimated and not trusted (`reason`): the history stayed */
+	DAO_MOTION_STILL,    /* accepted, moving no surface by 0.02 px: the history stayed */
+	DAO_MOTION_APPLIED,  /* accepted: the history followed the motion */
+};
+
+/*
+ * The camera's motion from the last frame to the one before, as
+ * depth-temporal-motion=icp estimated it: p_prev = R p + t for a view
+ * position p of the last frame (optical frame: x right, y down, z forward;
+ * metres).  Filled like struct dao_timings: `size` first, fields appended.
+ */
+struct dao_motion_info {
+	uint32_t size;         /* bytes filled, set by the library */
+	int state;             /* enum dao_motion_state */
+	double rotation[9];    /* R, row-major (the identity with state NONE) */
+	double translation[3]; /* t, m */
+	int reason;            /* REFUSED: 1 too few pairs, 2 ill-posed (a flat wall),
+				* 3 residual too large (a cut), 4 motion beyond 15 degrees or
+				* 0.25 m, 5 the solve broke down; else 0 */
+	int points;            /* source points (every 4th pixel with depth and a normal) */
+	int pairs;             /* pairs of the last Gauss-Newton step */
+	float rms;             /* their RMS point-to-plane residual, m */
+	float condition;       /* smallest / largest eigenvalue of the scaled 6x6 system */
+	int iterations;        /* Gauss-Newton steps run */
+};
+
+/* A struct dao_motion_info with its size set and every field 0. */
+#define DAO_MOTION_INFO_INIT { .size = sizeof(struct dao_motion_info) }
+
+/* Copies the motion figures into `out` of `size` bytes, as dao_context_timings_sized(). */
+DAO_API int dao_context_motion_sized(const struct dao_context *ctx, struct dao_motion_info *out,
+				     size_t size);
+
+/* Copies the last frame's camera motion into `out` (dao_context_motion_sized()). */
+static inline void dao_context_motion(const struct dao_context *ctx, struct dao_motion_info *out)
+{
+	(void)dao_context_motion_sized(ctx, out, sizeof(*out));
+}
+
 /* The kernel set the context runs (its "simd" parameter with AUTO resolved). */
 DAO_API enum dao_simd dao_context_simd(const struct dao_context *ctx);
 

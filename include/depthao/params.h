@@ -72,6 +72,14 @@ enum dao_noise_model {
 	DAO_NOISE_MODEL_AUTO_PREFILTER, /* measured, drives the prefilter only */
 };
 
+/* How the temporal depth filter follows the camera's motion (`depth-temporal-motion`). */
+enum dao_depth_motion {
+	DAO_DEPTH_MOTION_OFF = 0, /* the history stays where it was (a still camera) */
+	DAO_DEPTH_MOTION_ICP,     /* the motion estimated from the depth (point-to-plane ICP)
+				   * carries the history into the new view; where the
+				   * estimate is refused, as OFF */
+};
+
 /* How normals are derived from depth (`normals`). */
 enum dao_normals {
 	DAO_NORMALS_SMALLER_DELTA = 0, /* per axis the smaller one-sided difference (1 px) */
@@ -186,6 +194,7 @@ struct dao_params {
 				   * noise (1 = every frame, the presets; streams:
 				   * dao_params_stream_defaults), with a check of every frame
 				   * that measures again where the scene moved */
+	int depth_temporal_motion; /* enum dao_depth_motion (default OFF) */
 	int depth_fill;           /* filtered depth output (dao_context_get_depth) only: holes
 				   * of at most this many px along a row filled where both
 				   * sides lie on one surface (0 = off, the default) */

@@ -209,6 +209,8 @@ enum dao_stream {
 	DAO_STREAM_AO8,             /* GRAY8: visibility x 255 */
 	DAO_STREAM_DEPTH,           /* DEPTH16: the input depth */
 	DAO_STREAM_OVERLAY,         /* RGB24: the source's colour x AO (colour sources only) */
+	DAO_STREAM_FILTERED_DEPTH,  /* DEPTH16: the filtered depth (dao_context_get_depth) in
+				       the input's unit (float-metre input: millimetres) */
 	DAO_STREAM_COUNT,
 };
 

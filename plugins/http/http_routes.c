@@ -632,13 +632,20 @@ static enum MHD_Result accept_policy(void *cls, const struct sockaddr *addr, soc
 	return http_guard_make_room(s) == 0 ? MHD_YES : MHD_NO;
 }
 
-#define SERVER_NICE 10 /* the niceness of the server's threads */
+#define SERVER_NICE 10 /* the server's threads: this much nicer than the pipeline's */
 
 static void *start_server(void *arg)
 {
 	struct http_sink *s = arg;
-	/* on Linux, PRIO_PROCESS 0 is the calling thread alone (nice is per thread) */
-	setpriority(PRIO_PROCESS, 0, SERVER_NICE);
+	/* on Linux, PRIO_PROCESS 0 is the calling thread alone (nice is per thread).
+	   Relative to the daemon's own niceness: one started nice 10 (a loaded host's test
+	   run, or Nice= in its unit) had its server threads at the pipeline's priority, and
+	   a snapshot flood then cost it a quarter of its input frames */
+	errno = 0;
+	int nice = getpriority(PRIO_PROCESS, 0);
+	if (nice == -1 && errno)
+		nice = 0;
+	setpriority(PRIO_PROCESS, 0, nice + SERVER_NICE > 19 ? 19 : nice + SERVER_NICE);
 	/* libmicrohttpd's per-address limit counts against max_clients only below it */
 	const unsigned per_ip = s->per_ip && s->per_ip < s->max_clients ? s->per_ip : 0;
 	s->mhd = MHD_start_daemon(

@@ -276,9 +276,12 @@ static int rtsp_negotiate(void *state, struct dao_sink_format *fmt, struct dao_e
 	}
 	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8)
 		return dao_error_set(err, -ENOTSUP,
-				    "rtsp: serves pictures (the shaded, overlay or ao8 stream), not %s "
-				    "frames",
-				    fmt->format == DAO_PIXFMT_DEPTH16 ? "depth" : "these");
+				    "rtsp: serves 8-bit JPEG pictures (the shaded, overlay or ao8 "
+				    "stream), not %s frames%s",
+				    fmt->format == DAO_PIXFMT_DEPTH16 ? "16-bit depth" : "these",
+				    fmt->format == DAO_PIXFMT_DEPTH16
+					    ? " (JPEG has no 16-bit grey: record the depth with an "
+					      "images: or oni: sink, or send it to v4l2 as Y16)" : "");
 	if (fmt->width > 2040 || fmt->height > 2040) /* RFC 2435: at most 255 x 8 pixels */
 		return dao_error_set(err, -ENOTSUP,
 				    "rtsp: %ux%u is too large for RTP/JPEG (2040x2040 at most)",

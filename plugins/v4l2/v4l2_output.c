@@ -16,6 +16,7 @@ struct v4l2out {
 	int fd;
 	char path[256];
 	uint32_t pixfmt, fps, width, height, sizeimage, bytesperline;
+	int format_given;   /* ?format= named one (else YUYV for pictures, Y16 for depth) */
 	enum dao_pixfmt in;
 	uint8_t *buf;
 	uint64_t dropped;
@@ -48,6 +49,21 @@ void v4l2_gray_to_yuyv(const uint8_t *p, uint32_t w, uint8_t *o)
 	}
 }
 
+/* One row of 16-bit pixels as Y16: little-endian whatever the host's order. */
+static void copy_y16(const uint8_t *src, uint32_t w, uint8_t *dst)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+	memcpy(dst, src, (size_t)w * 2);
+#else
+	for (uint32_t x = 0; x < w; x++) {
+		uint16_t v;
+		memcpy(&v, src + 2 * (size_t)x, 2);
+		dst[2 * x] = (uint8_t)(v & 0xff);
+		dst[2 * x + 1] = (uint8_t)(v >> 8);
+	}
+#endif
+}
+
 int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out,
 		 struct dao_error *err)
 {
@@ -59,8 +75,9 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 	o->pixfmt = V4L2_PIX_FMT_YUYV;
 	o->fps = 30;
 	static const char *const known[] = {"format", "fps", NULL};
-	static const char *const formats[] = {"YUYV", "RGB24", "GREY", NULL};
-	static const uint32_t pixfmts[] = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_RGB24, V4L2_PIX_FMT_GREY};
+	static const char *const formats[] = {"YUYV", "RGB24", "GREY", "Y16", NULL};
+	static const uint32_t pixfmts[] = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_RGB24, V4L2_PIX_FMT_GREY,
+					   V4L2_PIX_FMT_Y16};
 	size_t n = dao_uri_path_len(uri, known);
 	int r;
 	if (n == 0 || n >= sizeof o->path) {
@@ -74,8 +91,10 @@ int v4l2out_open(const struct v4l2_io *io, const char *uri, struct v4l2out **out
 		goto fail;
 	int format = 0;
 	int64_t fps = o->fps;
-	if ((r = dao_options_get_enum(opts, "format", formats, &format, err)) > 0)
+	if ((r = dao_options_get_enum(opts, "format", formats, &format, err)) > 0) {
 		o->pixfmt = pixfmts[format];
+		o->format_given = 1;
+	}
 	if (r >= 0 && (r = dao_options_get_int(opts, "fps", 1, 1000, &fps, err)) >= 0)
 		o->fps = (uint32_t)fps;
 	dao_options_free(opts);
@@ -110,15 +129,46 @@ fail:
 	return r;
 }
 
+/*
+ * The 16-bit streams (depth, filtered-depth; the AO with ?format=Y16) go out as Y16,
+ * 16-bit little-endian grey, unchanged: 0 or the error, *done when fmt was changed
+ * (the host asks again).
+ */
+static int negotiate_y16(struct v4l2out *o, struct dao_sink_format *fmt, int *done,
+			 struct dao_error *err)
+{
+	*done = 0;
+	if (!o->format_given) /* negotiated again before the first write: start over */
+		o->pixfmt = V4L2_PIX_FMT_YUYV;
+	if (fmt->format == DAO_PIXFMT_DEPTH16 && o->format_given && o->pixfmt != V4L2_PIX_FMT_Y16)
+		return dao_error_set(err, -ENOTSUP,
+				    "v4l2 output: depth is 16-bit and YUYV, RGB24 and GREY carry 8-bit "
+				    "pictures: give ?format=Y16 (or leave format out) for the depth "
+				    "and filtered-depth streams");
+	if (fmt->format == DAO_PIXFMT_DEPTH16)
+		o->pixfmt = V4L2_PIX_FMT_Y16;
+	if (o->pixfmt == V4L2_PIX_FMT_Y16 && fmt->format != DAO_PIXFMT_DEPTH16 &&
+	    fmt->format != DAO_PIXFMT_GRAY16) {
+		fmt->format = DAO_PIXFMT_GRAY16; /* the 16-bit AO is the nearest */
+		*done = 1;
+	}
+	return 0;
+}
+
 int v4l2out_negotiate(struct v4l2out *o, struct dao_sink_format *fmt, struct dao_error *err)
 {
-	if (fmt->format == DAO_PIXFMT_GRAY16) {
+	int done, r = negotiate_y16(o, fmt, &done, err);
+	if (r < 0 || done)
+		return r;
+	if (fmt->format == DAO_PIXFMT_GRAY16 && o->pixfmt != V4L2_PIX_FMT_Y16) {
 		fmt->format = DAO_PIXFMT_GRAY8; /* cameras carry 8-bit pictures: the ao8 stream */
 		return 0;
 	}
-	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8)
+	if (fmt->format != DAO_PIXFMT_RGB24 && fmt->format != DAO_PIXFMT_GRAY8 &&
+	    o->pixfmt != V4L2_PIX_FMT_Y16)
 		return dao_error_set(err, -ENOTSUP,
-				    "v4l2 output: takes the shaded, overlay or ao8 stream, not %s",
+				    "v4l2 output: takes the shaded, overlay or ao8 stream, or with "
+				    "?format=Y16 the ao, depth or filtered-depth stream, not %s",
 				    dao_pixfmt_name(fmt->format));
 	if (o->pixfmt == V4L2_PIX_FMT_YUYV && (fmt->width & 1))
 		return dao_error_set(err, -EINVAL,
@@ -179,6 +229,8 @@ int v4l2out_write(struct v4l2out *o, const struct dao_frame *f, struct dao_error
 				v4l2_rgb_to_yuyv(src, o->width, dst);
 			else
 				v4l2_gray_to_yuyv(src, o->width, dst);
+		} else if (o->pixfmt == V4L2_PIX_FMT_Y16) {
+			copy_y16(src, o->width, dst);
 		} else {
 			memcpy(dst, src, (size_t)o->width * (o->pixfmt == V4L2_PIX_FMT_RGB24 ? 3 : 1));
 		}

@@ -107,7 +107,7 @@ static const struct dao_plugin v4l2_plugin = {
 	DAO_PLUGIN_HEADER,
 	.name = "v4l2",
 	.description = "V4L2 depth cameras (Z16, Y16, Kinect Y10B) and v4l2loopback output (YUYV, "
-		       "RGB24, GREY)",
+		       "RGB24, GREY; Y16 for the depth streams)",
 	.source = &v4l2_source_ops,
 	.sink = &v4l2_sink_ops,
 };

@@ -5,7 +5,6 @@
  */
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,18 +24,6 @@ struct dao_ros_proc {
 	uint64_t last_stamp;
 };
 
-static int fail(struct dao_error *err, int code, const char *fmt, ...)
-{
-	if (err) {
-		va_list ap;
-		va_start(ap, fmt);
-		vsnprintf(err->message, sizeof err->message, fmt, ap);
-		va_end(ap);
-		err->code = code;
-	}
-	return code;
-}
-
 void dao_ros_settings_init(struct dao_ros_settings *s)
 {
 	s->depth_unit = 0.001f;
@@ -52,12 +39,12 @@ int dao_ros_settings_set(struct dao_ros_settings *s, const char *name, const cha
 			 struct dao_error *err)
 {
 	if (!name || !value)
-		return fail(err, -EINVAL, "a node setting needs a name and a value");
+		return dao_error_set(err, -EINVAL, "a node setting needs a name and a value");
 	if (strcmp(name, "depth_unit") == 0) {
 		char *end;
 		double v = strtod(value, &end);
 		if (*end || end == value || !isfinite(v) || v <= 0.0 || v > 1.0)
-			return fail(err, -EINVAL,
+			return dao_error_set(err, -EINVAL,
 				    "depth_unit: '%s' is not a unit in metres per count in (0, 1] "
 				    "(0.001 for millimetres, 0.0001 for a D405)", value);
 		s->depth_unit = (float)v;
@@ -69,17 +56,17 @@ int dao_ros_settings_set(struct dao_ros_settings *s, const char *name, const cha
 		else if (strcmp(value, "32FC1") == 0)
 			s->ao_encoding = DAO_ROS_AO_32FC1;
 		else
-			return fail(err, -EINVAL, "ao_encoding: '%s' is not mono16 or 32FC1", value);
+			return dao_error_set(err, -EINVAL, "ao_encoding: '%s' is not mono16 or 32FC1", value);
 		return 0;
 	}
-	return fail(err, -ENOENT, "'%s' is not a node setting", name);
+	return dao_error_set(err, -ENOENT, "'%s' is not a node setting", name);
 }
 
 int dao_ros_proc_create(struct dao_ros_proc **out, const struct dao_ros_settings *s,
 			const struct dao_params *params, struct dao_error *err)
 {
 	if (!out || !s)
-		return fail(err, -EINVAL, "dao_ros_proc_create: NULL argument");
+		return dao_error_set(err, -EINVAL, "dao_ros_proc_create: NULL argument");
 	*out = NULL;
 	struct dao_params p;
 	if (params) {
@@ -92,11 +79,11 @@ int dao_ros_proc_create(struct dao_ros_proc **out, const struct dao_ros_settings
 	if (r)
 		return r;
 	if (!isfinite(s->depth_unit) || s->depth_unit <= 0.0f)
-		return fail(err, -EINVAL, "depth_unit %g is not a positive number of metres",
+		return dao_error_set(err, -EINVAL, "depth_unit %g is not a positive number of metres",
 			    (double)s->depth_unit);
 	struct dao_ros_proc *proc = calloc(1, sizeof *proc);
 	if (!proc)
-		return fail(err, -ENOMEM, "out of memory");
+		return dao_error_set(err, -ENOMEM, "out of memory");
 	proc->settings = *s;
 	proc->params = p;
 	*out = proc;
@@ -134,21 +121,21 @@ static int check_image(const struct dao_ros_image *img, enum dao_pixfmt *fmt,
 		       struct dao_error *err)
 {
 	if (!img->encoding || depth_format(img->encoding, fmt))
-		return fail(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 			    "depth image encoding '%s' is not accepted: depthao takes 16UC1 or "
 			    "mono16 (counts of depth_unit metres) or 32FC1 (metres)",
 			    img->encoding ? img->encoding : "");
 	if (!img->width || !img->height || img->width > DAO_MAX_DIMENSION ||
 	    img->height > DAO_MAX_DIMENSION)
-		return fail(err, -EINVAL, "depth image of %ux%u: width and height must be 1..%d",
+		return dao_error_set(err, -EINVAL, "depth image of %ux%u: width and height must be 1..%d",
 			    img->width, img->height, DAO_MAX_DIMENSION);
 	size_t bpp = dao_pixfmt_bytes_per_pixel(*fmt);
 	if ((size_t)img->step < img->width * bpp)
-		return fail(err, -EINVAL, "depth image %ux%u %s: step %u is below width x %zu bytes",
+		return dao_error_set(err, -EINVAL, "depth image %ux%u %s: step %u is below width x %zu bytes",
 			    img->width, img->height, img->encoding, img->step, bpp);
 	if (img->step > INT32_MAX || !img->data ||
 	    img->size < (size_t)img->step * img->height)
-		return fail(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 			    "depth image %ux%u %s: %zu bytes of data, step %u x height needs %zu",
 			    img->width, img->height, img->encoding, img->size, img->step,
 			    (size_t)img->step * img->height);
@@ -159,16 +146,16 @@ static int check_info(const struct dao_ros_camera_info *info, const struct dao_r
 		      struct dao_error *err)
 {
 	if (!info->k)
-		return fail(err, -EINVAL, "the camera info has no K matrix");
+		return dao_error_set(err, -EINVAL, "the camera info has no K matrix");
 	if (info->width != img->width || info->height != img->height)
-		return fail(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 			    "the camera info is for %ux%u, the depth image is %ux%u: publish the "
 			    "camera info of the depth image (binned or cropped images are not handled)",
 			    info->width, info->height, img->width, img->height);
 	const double *k = info->k;
 	if (!(k[0] > 0.0) || !(k[4] > 0.0) || !isfinite(k[0]) || !isfinite(k[4]) ||
 	    !isfinite(k[2]) || !isfinite(k[5]))
-		return fail(err, -EINVAL,
+		return dao_error_set(err, -EINVAL,
 			    "the camera info's K has fx %g, fy %g, cx %g, cy %g: a calibrated "
 			    "camera has fx, fy > 0 (an uncalibrated driver publishes zeros)",
 			    k[0], k[4], k[2], k[5]);
@@ -227,7 +214,7 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		if (need > proc->swapped_size) {
 			uint8_t *b = realloc(proc->swapped, need);
 			if (!b)
-				return fail(err, -ENOMEM, "out of memory for a %zu-byte depth image",
+				return dao_error_set(err, -ENOMEM, "out of memory for a %zu-byte depth image",
 					    need);
 			proc->swapped = b;
 			proc->swapped_size = need;
@@ -262,9 +249,9 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 {
 	if (!proc->ctx || !proc->depth.data || proc->depth.width != depth->width ||
 	    proc->depth.height != depth->height)
-		return fail(err, -EINVAL, "dao_ros_proc_run: the image was not prepared");
+		return dao_error_set(err, -EINVAL, "dao_ros_proc_run: the image was not prepared");
 	if (!ao->data)
-		return fail(err, -EINVAL, "dao_ros_proc_run: no AO buffer");
+		return dao_error_set(err, -EINVAL, "dao_ros_proc_run: no AO buffer");
 	/* the camera is the same and frames follow each other (the indices say
 	 * so to the temporal filters), unless time went back: a bag played again */
 	if (proc->frames && stamp_ns < proc->last_stamp)
@@ -307,11 +294,11 @@ int dao_ros_proc_depth(struct dao_ros_proc *proc, struct dao_ros_output *out,
 		       struct dao_error *err)
 {
 	if (!proc->ctx || !proc->frames)
-		return fail(err, -EAGAIN, "dao_ros_proc_depth: no frame was run yet");
+		return dao_error_set(err, -EAGAIN, "dao_ros_proc_depth: no frame was run yet");
 	const int f32 = proc->depth.format == DAO_PIXFMT_DEPTH_F32;
 	if (!out->data || out->width != proc->depth.width || out->height != proc->depth.height ||
 	    out->step < out->width * (f32 ? 4u : 2u) || out->step > INT32_MAX)
-		return fail(err, -EINVAL, "dao_ros_proc_depth: no buffer of the depth's layout");
+		return dao_error_set(err, -EINVAL, "dao_ros_proc_depth: no buffer of the depth's layout");
 	struct dao_frame d = {
 		.size = DAO_FRAME_SIZE,
 		.format = f32 ? DAO_PIXFMT_DEPTH_F32 : DAO_PIXFMT_DEPTH16,
@@ -415,7 +402,7 @@ int dao_ros_param_get_string(const struct dao_params *p, const struct dao_param_
 	if (pi->type == DAO_PARAM_FLOAT) {
 		/* %.9g: the float back exactly (dao_params_get's %g keeps 6 digits) */
 		int n = snprintf(buf, len, "%.9g", (double)*(const float *)field(p, pi));
-		return n < 0 || (size_t)n >= len ? fail(err, -EOVERFLOW, "%s: buffer too small",
+		return n < 0 || (size_t)n >= len ? dao_error_set(err, -EOVERFLOW, "%s: buffer too small",
 							 pi->name) : 0;
 	}
 	return dao_params_get(p, pi->name, buf, len, err);
@@ -427,7 +414,7 @@ int dao_ros_param_set_double(struct dao_params *p, const struct dao_param_info *
 	char text[64];
 	if (pi->type != DAO_PARAM_FLOAT) {
 		if (v != floor(v) || fabs(v) > 1e9)
-			return fail(err, -EINVAL, "%s: %g is not an integer", pi->name, v);
+			return dao_error_set(err, -EINVAL, "%s: %g is not an integer", pi->name, v);
 		return dao_ros_param_set_int(p, pi, (long)v, err);
 	}
 	snprintf(text, sizeof text, "%.17g", v);
@@ -448,13 +435,13 @@ int dao_ros_param_set_int(struct dao_params *p, const struct dao_param_info *pi,
 			for (int i = 0; i < n && used < sizeof list; i++)
 				used += (size_t)snprintf(list + used, sizeof list - used, "%s%d %s",
 							 i ? ", " : "", i, pi->enum_names[i]);
-			return fail(err, -EINVAL, "%s: %ld is not one of: %s", pi->name, v, list);
+			return dao_error_set(err, -EINVAL, "%s: %ld is not one of: %s", pi->name, v, list);
 		}
 		return dao_params_set(p, pi->name, pi->enum_names[v], err);
 	}
 	case DAO_PARAM_COLOR:
 		if (v < 0 || v > 0xffffff)
-			return fail(err, -EINVAL, "%s: %ld is not a colour 0xRRGGBB", pi->name, v);
+			return dao_error_set(err, -EINVAL, "%s: %ld is not a colour 0xRRGGBB", pi->name, v);
 		snprintf(text, sizeof text, "%06lx", (unsigned long)v);
 		return dao_params_set(p, pi->name, text, err);
 	default:

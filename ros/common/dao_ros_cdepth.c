@@ -8,7 +8,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,18 +15,6 @@
 #include <depthao/png.h>
 
 #define CONFIG_HEADER 12
-
-static int fail(struct dao_error *err, int code, const char *fmt, ...)
-{
-	if (err) {
-		va_list ap;
-		va_start(ap, fmt);
-		vsnprintf(err->message, sizeof err->message, fmt, ap);
-		va_end(ap);
-		err->code = code;
-	}
-	return code;
-}
 
 void dao_ros_cdepth_init(struct dao_ros_cdepth *c)
 {
@@ -51,7 +38,7 @@ static int number(const char *name, const char *value, double lo, double hi, dou
 	char *end;
 	double v = strtod(value, &end);
 	if (end == value || *end || !(v >= lo && v <= hi))
-		return fail(err, -EINVAL, "compressedDepth/%s: '%s' is not a number in [%g, %g]",
+		return dao_error_set(err, -EINVAL, "compressedDepth/%s: '%s' is not a number in [%g, %g]",
 			    name, value, lo, hi);
 	*out = v;
 	return 0;
@@ -68,7 +55,7 @@ int dao_ros_cdepth_set(struct dao_ros_cdepth *c, const char *name, const char *v
 		else if (!strcmp(value, "rvl"))
 			c->codec = DAO_ROS_CDEPTH_RVL;
 		else
-			return fail(err, -EINVAL, "compressedDepth/format: '%s' is not png or rvl",
+			return dao_error_set(err, -EINVAL, "compressedDepth/format: '%s' is not png or rvl",
 				    value);
 		return 0;
 	}
@@ -76,7 +63,7 @@ int dao_ros_cdepth_set(struct dao_ros_cdepth *c, const char *name, const char *v
 		if ((r = number(name, value, 1, 9, &v, err)))
 			return r;
 		if (v != floor(v))
-			return fail(err, -EINVAL, "compressedDepth/png_level: '%s' is not an "
+			return dao_error_set(err, -EINVAL, "compressedDepth/png_level: '%s' is not an "
 				    "integer in [1, 9]", value);
 		c->png_level = (int)v;
 		return 0;
@@ -85,7 +72,7 @@ int dao_ros_cdepth_set(struct dao_ros_cdepth *c, const char *name, const char *v
 		return number(name, value, 1, 100, &c->depth_max, err);
 	if (!strcmp(name, "depth_quantization"))
 		return number(name, value, 1, 150, &c->depth_quantization, err);
-	return fail(err, -ENOENT, "'%s' is not a compressedDepth setting", name);
+	return dao_error_set(err, -ENOENT, "'%s' is not a compressedDepth setting", name);
 }
 
 /* RVL's writer: nibbles into a 32-bit word from the bottom up, the word stored
@@ -162,7 +149,7 @@ static int reserve(struct dao_ros_cdepth *c, size_t need, struct dao_error *err)
 		return 0;
 	uint8_t *b = realloc(c->buf, need);
 	if (!b)
-		return fail(err, -ENOMEM, "compressedDepth: out of memory for %zu bytes", need);
+		return dao_error_set(err, -ENOMEM, "compressedDepth: out of memory for %zu bytes", need);
 	c->buf = b;
 	c->cap = need;
 	return 0;
@@ -197,7 +184,7 @@ int dao_ros_cdepth_encode(struct dao_ros_cdepth *c, const struct dao_ros_output 
 	if (!depth->data || !depth->width || !depth->height || !depth->encoding ||
 	    (!f32 && strcmp(depth->encoding, "16UC1")) ||
 	    depth->step < depth->width * (f32 ? 4u : 2u))
-		return fail(err, -EINVAL, "compressedDepth: not a 16UC1 or 32FC1 depth image");
+		return dao_error_set(err, -EINVAL, "compressedDepth: not a 16UC1 or 32FC1 depth image");
 	const size_t n = (size_t)depth->width * depth->height;
 	/* the values first, at the end of the buffer, then the header and data before them */
 	const size_t vals = CONFIG_HEADER + 8 + dao_ros_rvl_bound(n);

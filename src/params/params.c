@@ -23,6 +23,7 @@ static const char *const algorithm_names[] = { "gtao", "hbao", "ssao", "edl", "v
 static const char *const vbao_thickness_names[] = { "constant", "image", NULL };
 static const char *const prefilter_names[] = { "none", "bilateral", "domain", NULL };
 static const char *const noise_model_names[] = { "fixed", "auto", "auto-prefilter", NULL };
+static const char *const depth_motion_names[] = { "off", "icp", NULL };
 static const char *const normals_names[] = { "smaller-delta", "wide", NULL };
 static const char *const noise_names[] = { "ign", "r2", "none", "tile", NULL };
 static const char *const denoise_names[] = { "none", "plane", "bilateral", NULL };

@@ -44,6 +44,8 @@
 #include "params/params_abi.h"
 #include "pipeline/kernels.h"
 #include "pipeline/temporal_depth.h"
+#include "motion/icp.h"
+#include "motion/reproject.h"
 #include "pipeline/threadpool.h"
 #include "shade/colormap.h"
 #include "shade/shade.h"
@@ -79,6 +81,17 @@ struct dao_context {
 	uint8_t *depth_count;   /* ... samples in it, frames since the pixel had data */
 	uint8_t *depth_age;
 	int depth_hist_valid;
+	/* depth-temporal-motion=icp: the camera's motion (motion/icp.h) and the
+	 * history's second planes (motion/reproject.h); one block, motion_mem,
+	 * of the estimate's scratch and the planes, whose pointers swap with
+	 * depth_hist, depth_count and depth_age */
+	struct dao_icp_setup icp;
+	float *motion_mem, *icp_scratch;
+	float *motion_hist;
+	uint8_t *motion_count, *motion_age;
+	struct dao_icp_result motion; /* the last frame's estimate */
+	int motion_ran;               /* ... made for the last frame */
+	int motion_applied;           /* ... and the history carried by it */
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -191,6 +204,18 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		free(ctx->thick_scratch);
 		ctx->thick_scratch = s;
 		ctx->thick_slots = dao_pool_threads(ctx->pool);
+	}
+	if (p->depth_temporal_motion == DAO_DEPTH_MOTION_ICP && !ctx->motion_mem) {
+		dao_icp_setup_default(&ctx->icp);
+		const size_t sf = dao_icp_scratch_floats(&ctx->icp, w, h);
+		/* scratch, 1/z, then the count and age bytes (rounded to floats) */
+		const size_t floats = sf + ctx->npix + (2 * ctx->npix + 3) / 4;
+		if (ctx->npix > SIZE_MAX / 16 || !(ctx->motion_mem = malloc(floats * sizeof(float))))
+			return dao_error_set(err, -ENOMEM, "out of memory for depth-temporal-motion");
+		ctx->icp_scratch = ctx->motion_mem;
+		ctx->motion_hist = ctx->motion_mem + sf;
+		ctx->motion_count = (uint8_t *)(ctx->motion_hist + ctx->npix);
+		ctx->motion_age = ctx->motion_count + ctx->npix;
 	}
 	if (p->depth_fill > 0 && !ctx->z_fill && !(ctx->z_fill = malloc(ctx->npix * sizeof(float))))
 		return dao_error_set(err, -ENOMEM, "out of memory for the filled depth (depth-fill)");
@@ -305,6 +330,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx->z_fill);
 	free(ctx->row_range);
 	free(ctx->dt_scratch);
+	free(ctx->motion_mem);
 	if (ctx->have_noise_grid)
 		dao_noise_grid_free(&ctx->noise);
 	free(ctx->noise_cells);
@@ -975,7 +1001,8 @@ static void frame_job_init(struct dao_context *ctx, struct frame_job *job,
 	 * (tests/pipeline/test_temporal_depth.c: still boxes AO MAE 0.0335
 	 * against 0.0346 without the filter, thin poles moving +0.0084).
 	 */
-	job->temporal_in_decode = job->depth_temporal && p->noise_model == DAO_NOISE_MODEL_FIXED;
+	job->temporal_in_decode = job->depth_temporal && p->noise_model == DAO_NOISE_MODEL_FIXED &&
+				  p->depth_temporal_motion == DAO_DEPTH_MOTION_OFF;
 }
 
 /* The histories (AO, depth, noise) go on only from one frame to one of the
@@ -1020,6 +1047,41 @@ static void noise_and_filter_init(struct dao_context *ctx, struct frame_job *job
 		.prefilter_scale = p->prefilter_scale, .normal_radius = job->normal_radius,
 		.denoise_noise = p->depth_noise,
 	};
+}
+
+/*
+ * depth-temporal-motion=icp: the motion from this frame to the last, from
+ * the decoded depth against the history (motion/icp.h), seeded with the last
+ * frame's; where accepted and it moves a pixel of the nearest surface by
+ * 0.02 px or more, the history is carried into this view (motion/reproject.h)
+ * before the filter runs.  Refused or too small, the history stays as it is:
+ * the filter as without motion, bit for bit.  On the calling thread.
+ */
+static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
+{
+	const struct dao_pose *prior = ctx->motion_ran && ctx->motion.valid ? &ctx->motion.pose : NULL;
+	struct dao_pose seed;
+	if (prior)
+		seed = *prior;
+	ctx->motion_applied = 0;
+	ctx->motion_ran = 0;
+	if (!job->depth_temporal || ctx->params.depth_temporal_motion != DAO_DEPTH_MOTION_ICP ||
+	    job->depth_temporal_setup.fresh || !ctx->motion_mem)
+		return;
+	dao_icp_estimate(&ctx->icp, &ctx->cam, ctx->depth_hist, ctx->depth_count, ctx->z_raw,
+			 prior ? &seed : NULL, ctx->icp_scratch, &ctx->motion);
+	ctx->motion_ran = 1;
+	if (!ctx->motion.valid ||
+	    dao_pose_pixel_extent(&ctx->motion.pose, &ctx->cam, ctx->motion.near_z) < 0.02)
+		return;
+	dao_history_reproject(&ctx->cam, &ctx->motion.pose, ctx->depth_hist, ctx->depth_count,
+			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age);
+	float *h = ctx->depth_hist;
+	uint8_t *c = ctx->depth_count, *a = ctx->depth_age;
+	ctx->depth_hist = ctx->motion_hist, ctx->motion_hist = h;
+	ctx->depth_count = ctx->motion_count, ctx->motion_count = c;
+	ctx->depth_age = ctx->motion_age, ctx->motion_age = a;
+	ctx->motion_applied = 1;
 }
 
 /* the temporal depth filter when it could not run in the decode (the noise is
@@ -1208,6 +1270,7 @@ int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
 	if (ctx->params.noise_model != DAO_NOISE_MODEL_FIXED)
 		estimate_noise(ctx, &job, &dt);
 	t[T_TEMPORAL] = now_ms();
+	follow_motion(ctx, &job);
 	run_temporal_depth(ctx, &job, &dt);
 	t[T_PREFILTER] = now_ms();
 	run_prefilter(ctx, &job, &dt);
@@ -1452,6 +1515,31 @@ int dao_context_noise_sized(const struct dao_context *ctx, struct dao_noise_info
 {
 	return ctx ? dao_sized_copy_out(out, size, &ctx->noise_info, sizeof(ctx->noise_info))
 		   : -EINVAL;
+}
+
+int dao_context_motion_sized(const struct dao_context *ctx, struct dao_motion_info *out,
+			     size_t size)
+{
+	if (!ctx)
+		return -EINVAL;
+	struct dao_motion_info m = {.size = sizeof m};
+	const struct dao_icp_result *r = &ctx->motion;
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	const struct dao_pose *pose = ctx->motion_ran ? &r->pose : &id;
+	memcpy(m.rotation, pose->r, sizeof m.rotation);
+	memcpy(m.translation, pose->t, sizeof m.translation);
+	if (ctx->motion_ran) {
+		m.state = !r->valid ? DAO_MOTION_REFUSED
+				    : ctx->motion_applied ? DAO_MOTION_APPLIED : DAO_MOTION_STILL;
+		m.reason = r->valid ? 0 : (int)r->reason;
+		m.points = r->points;
+		m.pairs = r->inliers;
+		m.rms = r->rms;
+		m.condition = r->cond;
+		m.iterations = r->iterations;
+	}
+	return dao_sized_copy_out(out, size, &m, sizeof m);
 }
 
 int dao_context_timings_sized(const struct dao_context *ctx, struct dao_timings *out,

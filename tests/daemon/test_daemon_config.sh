@@ -46,6 +46,37 @@ check garbage "this is not ini" "garbage.ini:5: not 'key = value'"
 check both_camera "[source]
 fov = 60,45
 intrinsics = 500,500,320,240" "give intrinsics or fov, not both"
+# [source] intrinsics (issue 38): the error names the value and what to give instead
+check intr_huge "[source]
+intrinsics = 1e308,1e308,320,240" "intr_huge.ini:6: \[source\] intrinsics: focal length fx=1e+308 is implausible: give pixels in (0, 1.6384e+07\]"
+check intr_zero_fy "[source]
+intrinsics = 500,0,320,240" "intrinsics: focal length fy=0 is implausible"
+check intr_center "[source]
+intrinsics = 500,500,320,-1e9" "intrinsics: principal point cy=-1e+09 is implausible: give pixels, near the image centre (from -16384 to 32768"
+check intr_denormal "[source]
+intrinsics = 5e-324,500,320,240" "intrinsics: '5e-324,500,320,240' must be four numbers fx,fy,cx,cy in pixels"
+check intr_three "[source]
+intrinsics = 500,500,320" "intrinsics: '500,500,320' must be four numbers"
+check intr_nan "[source]
+intrinsics = nan,500,320,240" "intrinsics: 'nan,500,320,240' must be four numbers"
+check intr_path "[source]
+intrinsics = cam/kinect.yaml" "intrinsics: 'cam/kinect.yaml' is not four numbers: a camera file goes in intrinsics_file = PATH"
+# a camera file that is not one: refused when the config is read, saying why
+mkfifo "$WORK/cam.fifo"
+check intr_fifo "[source]
+intrinsics_file = $WORK/cam.fifo" "intrinsics_file: camera file '.*cam.fifo' is a FIFO (named pipe), not a regular file"
+printf 'image_width: 640\nimage_height: 480\ncamera_matrix:\n  rows: 3\n  cols: 3\n  data: [500, 0, 1e9, 0, 500, 240, 0, 0, 1]\n' >"$WORK/cx.yaml"
+check intr_file_center "[source]
+intrinsics_file = $WORK/cx.yaml" "intrinsics_file: camera file '.*cx.yaml': .*principal point cx=1e+09 is implausible for 640x480 images"
+# plausible for some image but not for the source's 640x480: the pipeline's error says
+# which setting and the range for this size (it said 'bad camera or out of memory')
+printf '%s\n[source]\nintrinsics = 1000000,1000000,320,240\n' "$good" >"$WORK/intr_run.ini"
+"$DAEMON" --check-config "$WORK/intr_run.ini" >"$WORK/out" 2>&1 || fail "intr_run: --check-config: $(cat "$WORK/out")"
+set +e
+timeout 20 "$DAEMON" -c "$WORK/intr_run.ini" >"$WORK/out" 2>&1
+set -e
+grep -q "cannot set up the pipeline for 640x480 frames: \[source\] intrinsics: focal length fx=1e+06 is implausible for 640x480 images: give pixels, from 3.2 to 640000" "$WORK/out" ||
+	fail "intr_run: the pipeline's error lacks the setting and its range: $(head -5 "$WORK/out")"
 printf '[sink.a]\nuri = images:x\n' >"$WORK/nosource.ini"
 set +e
 "$DAEMON" --check-config "$WORK/nosource.ini" >"$WORK/out" 2>&1

@@ -8,11 +8,18 @@
 //   color.db3      d16's plus /camera/color/image_raw (bgr8, stamps 10 ms after the depth);
 //                  color.mcap the same messages in MCAP (make_mcaps.js's)
 //   bag/           a rosbag2 directory: metadata.yaml and bag_0.db3 (d16's)
+//   split2/        a split rosbag2 directory: d16's messages in split2_0.db3 (frames 0-1) and
+//                  split2_1.db3 (frames 2-4)
+//   zfile/, zmsg/  rosbag2 directories compressed by rosbag2's rules: d16.db3 as zfile_0.db3.zstd
+//                  (compression_mode FILE); each message zstd-compressed (MESSAGE)
 //   bagmcap/       a rosbag2 directory of MCAP storage: metadata.yaml and bagmcap_0.mcap
 //   damaged: notopics.db3 (no topics table), nocolumn.db3 (messages without timestamp),
 //     texttime.db3 (a timestamp that is text), textdata.db3 (data that is text), badtopic.db3
 //     (a topic_id no topic has), cut.db3 (a CDR message cut short), yuv.db3 (encoding yuv422),
-//     bigblob.db3 (a 2 MiB message), split/ (metadata.yaml of two files), notsqlite.db3
+//     bigblob.db3 (a 2 MiB message), split/ (metadata.yaml of two files, neither there), splitmiss/ (its second file missing),
+//     splitorder/ (its files listed out of time order), zbomb/ and zmbomb/ (zstd bombs: a file,
+//     a message), znotz/ (a .zstd that is not), zlz4/ (compression_format lz4),
+//     notsqlite.db3
 // usage: node make_db3.js OUTDIR   (exit 77 when tests/js/node_modules is absent)
 //        node make_db3.js OUTDIR --vga N: vga.db3 alone, N frames of 640x480 16UC1 at 30 fps
 //        node make_db3.js FUZZDIR --seeds: the seeds of fuzz_db3_message and fuzz_foxglove
@@ -62,11 +69,12 @@ const color = (i) => {
 };
 
 // topics: [{ name, type, msg(i) -> bytes, dt: ns after the frame's time }]
-function bag(SQL, topics) {
+// (frames from..to-1: one file of a split bag)
+function bag(SQL, topics, from = 0, to = FRAMES) {
   const db = new SQL.Database();
   db.run(SCHEMA);
   topics.forEach((t, k) => db.run("INSERT INTO topics VALUES (?, ?, ?, 'cdr', ?)", [k + 1, t.name, t.type, QOS]));
-  for (let i = 0; i < FRAMES; i++)
+  for (let i = from; i < to; i++)
     topics.forEach((t, k) => db.run("INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)",
       [k + 1, logTime(i) + BigInt(t.dt || 0), t.msg(i)]));
   return db;
@@ -92,7 +100,7 @@ async function check(file, topic) {
   if (n !== FRAMES) throw new Error(`${file}: @foxglove/rosbag2-web read ${n} messages of ${topic}`);
 }
 
-function metadata(dir, storage, files) {
+function metadata(dir, storage, files, compression = "", mode = "") {
   fs.mkdirSync(dir, { recursive: true });
   fs.writeFileSync(path.join(dir, "metadata.yaml"), `rosbag2_bagfile_information:
   version: 5
@@ -109,8 +117,8 @@ function metadata(dir, storage, files) {
         serialization_format: cdr
         offered_qos_profiles: ""
       message_count: ${FRAMES}
-  compression_format: ""
-  compression_mode: ""
+  compression_format: "${compression}"
+  compression_mode: "${mode}"
   relative_file_paths:
 ${files.map((f) => "    - " + f).join("\n")}
   files: []
@@ -138,6 +146,22 @@ async function damaged(SQL, out) {
   save(bag(SQL, [INFO, { ...DEPTH, msg: (i) => image(i, "yuv422") }]), f("yuv.db3"));
   save(bag(SQL, [INFO, { ...DEPTH, msg: (i) => Buffer.concat([image(i), Buffer.alloc(2 << 20)]) }]), f("bigblob.db3"));
   metadata(f("split"), "sqlite3", ["split_0.db3", "split_1.db3"]);
+  // split bags: the second file missing; the files listed out of time order
+  metadata(f("splitmiss"), "sqlite3", ["s_0.db3", "s_1.db3"]);
+  save(bag(SQL, [INFO, DEPTH], 0, 2), path.join(f("splitmiss"), "s_0.db3"));
+  metadata(f("splitorder"), "sqlite3", ["s_1.db3", "s_0.db3"]);
+  save(bag(SQL, [INFO, DEPTH], 0, 2), path.join(f("splitorder"), "s_0.db3"));
+  save(bag(SQL, [INFO, DEPTH], 2, FRAMES), path.join(f("splitorder"), "s_1.db3"));
+  // rosbag2's compression, hostile: zstd bombs (a file of 100 MiB of zeros, a message of
+  // 8 MiB), a file that is not zstd, another format
+  metadata(f("zbomb"), "sqlite3", ["zbomb_0.db3.zstd"], "zstd", "FILE");
+  fs.writeFileSync(path.join(f("zbomb"), "zbomb_0.db3.zstd"), Buffer.from(M.zstd.compress(Buffer.alloc(100 << 20), 19)));
+  metadata(f("zmbomb"), "sqlite3", ["zmbomb_0.db3"], "zstd", "MESSAGE");
+  save(bag(SQL, [INFO, { ...DEPTH, msg: () => Buffer.from(M.zstd.compress(Buffer.alloc(8 << 20), 3)) }]),
+    path.join(f("zmbomb"), "zmbomb_0.db3"));
+  metadata(f("znotz"), "sqlite3", ["znotz_0.db3.zstd"], "zstd", "FILE");
+  fs.writeFileSync(path.join(f("znotz"), "znotz_0.db3.zstd"), "not zstd\n");
+  metadata(f("zlz4"), "sqlite3", ["zlz4_0.db3"], "lz4", "FILE");
   fs.writeFileSync(f("notsqlite.db3"), "not a database at all, just text\n");
 }
 
@@ -187,8 +211,19 @@ function seeds(dir) {
     dt: 10000000 }]), path.join(out, "color.db3"));
   metadata(path.join(out, "bag"), "sqlite3", ["bag_0.db3"]);
   fs.copyFileSync(path.join(out, "d16.db3"), path.join(out, "bag", "bag_0.db3"));
+  // a split bag: frames 0-1 in its first file, 2-4 in its second, the CameraInfo in both
+  metadata(path.join(out, "split2"), "sqlite3", ["split2_0.db3", "split2_1.db3"]);
+  save(bag(SQL, [INFO, DEPTH], 0, 2), path.join(out, "split2", "split2_0.db3"));
+  save(bag(SQL, [INFO, DEPTH], 2, FRAMES), path.join(out, "split2", "split2_1.db3"));
   metadata(path.join(out, "bagmcap"), "mcap", ["bagmcap_0.mcap"]);
   await M.zstd.isLoaded;
+  // rosbag2's compression: the whole file (compression_mode FILE), or each message (MESSAGE)
+  const zc = (b) => Buffer.from(M.zstd.compress(b, 3));
+  metadata(path.join(out, "zfile"), "sqlite3", ["zfile_0.db3.zstd"], "zstd", "FILE");
+  fs.writeFileSync(path.join(out, "zfile", "zfile_0.db3.zstd"), zc(fs.readFileSync(path.join(out, "d16.db3"))));
+  metadata(path.join(out, "zmsg"), "sqlite3", ["zmsg_0.db3"], "zstd", "MESSAGE");
+  save(bag(SQL, [{ ...INFO, msg: (i) => zc(camInfo(i)) }, { ...DEPTH, msg: (i) => zc(image(i)) }]),
+    path.join(out, "zmsg", "zmsg_0.db3"));
   await M.write(path.join(out, "bagmcap", "bagmcap_0.mcap"), { chunkSize: 10000 }, M.raw);
   await M.write(path.join(out, "color.mcap"), { chunkSize: 10000 }, M.raw, true);
   await damaged(SQL, out);

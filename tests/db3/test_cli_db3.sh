@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # depthao process on rosbag2 sqlite3 bags written here by sql.js with CDR from
 # @foxglove/rosmsg2-serialization, each read back by @foxglove/rosbag2-web (make_db3.js): Image
-# 16UC1, compressedDepth PNG, a bag directory (metadata.yaml) of sqlite3 and of MCAP storage give
+# 16UC1, compressedDepth PNG, a bag directory (metadata.yaml) of sqlite3 (one file, and split
+# in two) and of MCAP storage give
 # the same AO as the same frames as 16-bit PNGs, with the CameraInfo's intrinsics; --start and
 # the frame count; colour overlays equal to the same messages' in MCAP; damaged databases.
 # usage: test_cli_db3.sh DEPTHAO PNG_INFO NODE
@@ -20,7 +21,7 @@ set -e
 
 expect_exit 0 "PNG frames" -- "$DEPTHAO" process --input "$B/png" --ao-out "$WORK/png-ao" \
 	--shaded-out "$WORK/png-sh" --quiet
-for f in d16.db3 cdepth.db3 bag bagmcap "db3:$B/d16.db3"; do
+for f in d16.db3 cdepth.db3 bag split2 zfile zmsg bagmcap "db3:$B/d16.db3"; do
 	case "$f" in db3:*) in=$f; f=uri ;; *) in=$B/$f ;; esac
 	expect_exit 0 "$f" -- "$DEPTHAO" process --input "$in" --depth-temporal 0 \
 		--ao-out "$WORK/$f-ao" --shaded-out "$WORK/$f-sh" || continue
@@ -87,9 +88,36 @@ db3_error cut.db3 "message 0 of '/camera/depth/image_raw' is not a sensor_msgs/m
 db3_error yuv.db3 "no depth image topic (sensor_msgs/msg/Image in 16UC1, mono16 or 32FC1, or compressedDepth, in CDR; or foxglove.RawImage or 16-bit PNG foxglove.CompressedImage); image topics: /camera/depth/image_raw (yuv422)"
 db3_error bigblob.db3 "table messages, id 2: 2103368 bytes of data, over the limit of 1052576" --max-pixels 1000
 db3_error notsqlite.db3 "not a rosbag2 .db3 file (no SQLite 3 header)"
-expect_exit 1 "split bag" -- "$DEPTHAO" process --input "$B/split" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/split/metadata.yaml: the bag is split into 2 files: play each file on its own" "$WORK/err" ||
-	fail "split: $(cat "$WORK/err")"
+# a split bag: the frame count and --start across its files; files missing or out of order
+expect_exit 0 "split: --start 1 --frames 3" -- "$DEPTHAO" process --input "$B/split2" --start 1 \
+	--frames 3 --depth-temporal 0 --ao-out "$WORK/split-start"
+grep -q "split2: /camera/depth/image_raw 64x48 16UC1, 5 frames" "$WORK/err" || fail "split frame count: $(cat "$WORK/err")"
+[ "$(ls "$WORK/split-start" | tr '\n' ' ')" = "000001.png 000002.png 000003.png " ] ||
+	fail "split --start 1 --frames 3 wrote: $(ls "$WORK/split-start" | tr '\n' ' ')"
+for i in 000001 000002 000003; do
+	cmp -s "$WORK/split-start/$i.png" "$WORK/png-ao/$i.png" || fail "split --start: AO $i differs"
+done
+expect_exit 1 "split bag, no files" -- "$DEPTHAO" process --input "$B/split" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/split: file 1 of the 2 its metadata.yaml lists (a split bag plays only with all its files): " "$WORK/err" || fail "split: $(cat "$WORK/err")"
+grep -qF "split_0.db3" "$WORK/err" || fail "split: the file is not named: $(cat "$WORK/err")"
+expect_exit 1 "split bag, second file missing" -- "$DEPTHAO" process --input "$B/splitmiss" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/splitmiss: file 2 of the 2 its metadata.yaml lists (a split bag plays only with all its files): " "$WORK/err" &&
+	grep -qF "s_1.db3" "$WORK/err" || fail "splitmiss: $(cat "$WORK/err")"
+expect_exit 1 "split bag out of order" -- "$DEPTHAO" process --input "$B/splitorder" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/splitorder: $B/splitorder/s_0.db3 starts before the file before it ends on topic /camera/depth/camera_info: the files are not in the order of their messages' times" "$WORK/err" ||
+	fail "splitorder: $(cat "$WORK/err")"
+# rosbag2's compression, hostile: a bomb of each mode, data that is not zstd, another format
+expect_exit 1 "zstd bomb, file" -- "$DEPTHAO" process --input "$B/zbomb" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/zbomb/zbomb_0.db3.zstd: decompresses to more than 67108864 bytes (the limit for a file of its size): refused (if it is genuine, decompress it with zstd -d first)" "$WORK/err" ||
+	fail "zbomb: $(cat "$WORK/err")"
+expect_exit 1 "zstd bomb, message" -- "$DEPTHAO" process --input "$B/zmbomb" --ao-out "$WORK/bad" --quiet --max-pixels 1000
+grep -qF "$B/zmbomb/zmbomb_0.db3: message 0 of '/camera/depth/image_raw' (zstd, compression_mode message): decompresses to 8388608 bytes, over the limit of 1052576 (--max-pixels raises the limit)" "$WORK/err" ||
+	fail "zmbomb: $(cat "$WORK/err")"
+expect_exit 1 "not zstd" -- "$DEPTHAO" process --input "$B/znotz" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/znotz/znotz_0.db3.zstd: not zstd data, or damaged: " "$WORK/err" || fail "znotz: $(cat "$WORK/err")"
+expect_exit 1 "lz4 bag" -- "$DEPTHAO" process --input "$B/zlz4" --ao-out "$WORK/bad" --quiet
+grep -qF "$B/zlz4/metadata.yaml: compression_format 'lz4' (mode 'FILE'): depthao reads rosbag2's zstd, in file or message mode; decompress the bag first" "$WORK/err" ||
+	fail "zlz4: $(cat "$WORK/err")"
 # a directory whose metadata.yaml is not rosbag2's
 mkdir -p "$WORK/notbag" && printf 'hello: world\n' >"$WORK/notbag/metadata.yaml"
 expect_exit 1 "not rosbag2 metadata" -- "$DEPTHAO" process --input "$WORK/notbag" --ao-out "$WORK/bad" --quiet
@@ -100,4 +128,16 @@ sum=$(cksum <"$B/d16.db3")
 expect_exit 0 "read-only" -- "$DEPTHAO" process --input "$B/d16.db3" --frames 1 --ao-out "$WORK/ro" --quiet
 [ "$(cksum <"$B/d16.db3")" = "$sum" ] || fail "d16.db3 changed"
 ls "$B"/d16.db3-* 2>/dev/null && fail "a journal or WAL file beside d16.db3"
+
+# --depth-out: the filtered depth of a db3 bag is that of the same frames as PNGs (the
+# temporal filter off, which PNG input does not run); with --algorithm none as well
+expect_exit 0 "PNG depth" -- "$DEPTHAO" process --input "$B/png" --depth-out "$WORK/png-d" --quiet
+for alg in gtao none; do
+	expect_exit 0 "db3 --depth-out ($alg)" -- "$DEPTHAO" process --input "$B/d16.db3" \
+		--depth-temporal 0 --algorithm $alg --depth-out "$WORK/db3-d-$alg" --quiet
+	for i in 000000 000004; do
+		cmp -s "$WORK/db3-d-$alg/$i.png" "$WORK/png-d/$i.png" ||
+			fail "db3 --depth-out ($alg): $i differs from the PNG run's"
+	done
+done
 finish

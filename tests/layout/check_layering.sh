@@ -21,7 +21,8 @@ normals: core simd
 kernels: core simd
 denoise: core simd
 shade: core simd
-pipeline: core simd camera params depth normals kernels denoise shade
+motion: core simd
+pipeline: core simd camera params depth normals kernels denoise shade motion
 '
 # libdepthao-io (src/io/<concern>/), on top of the whole core (its public API; of
 # src/ only the header-only core/ helpers)

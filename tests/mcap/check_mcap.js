@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Reads an MCAP file depthao wrote with the reference implementation (@mcap/core; CDR by
 // @foxglove/rosmsg2-serialization, the schemas parsed by @foxglove/rosmsg) and checks it.
-//   node check_mcap.js FILE [--ao DIR] [--shaded DIR] [--compression C] [--cloud]
+//   node check_mcap.js FILE [--ao DIR] [--shaded DIR] [--depth DIR] [--compression C] [--cloud]
 //     the indexed reader (footer, summary, statistics, chunk indexes, CRCs) and the
 //     stream reader (CRCs of chunks and the data section) agree; every message decodes
 //     with its schema; with --ao/--shaded the images equal the PNGs of those directories
-//     (in name order); the chunks use compression C.
+//     (in name order), with --depth the 16UC1 filtered depth (/depthao/depth_filtered)
+//     those of DIR (then "depth N" is printed too); the chunks use compression C.
 //   node check_mcap.js FILE --cut
 //     a file cut short (no footer): the stream reader alone, up to where it ends.
 // Prints "ao N shaded N info N points N chunks N"; exit 1 on a failed check, 77 without
@@ -85,9 +86,9 @@ function decoders(schemas) {
 function check(topic, msg, n, ref, logTime) {
   const stamp = BigInt(msg.header.stamp.sec) * 1000000000n + BigInt(msg.header.stamp.nanosec);
   if (stamp !== logTime) fail(`${topic}: header stamp ${stamp} != log time ${logTime}`);
-  if (topic === "/depthao/ao" || topic === "/depthao/shaded") {
-    const ao = topic === "/depthao/ao", k = ao ? "ao" : "shaded";
-    const enc = ao ? "mono16" : "rgb8", bpp = ao ? 2 : 3;
+  if (topic === "/depthao/ao" || topic === "/depthao/shaded" || topic === "/depthao/depth_filtered") {
+    const ao = topic !== "/depthao/shaded", k = topic === "/depthao/ao" ? "ao" : ao ? "depth" : "shaded";
+    const enc = k === "depth" ? "16UC1" : ao ? "mono16" : "rgb8", bpp = ao ? 2 : 3;
     if (msg.encoding !== enc || msg.step !== msg.width * bpp || msg.data.length !== msg.step * msg.height)
       fail(`${topic}: ${msg.encoding} ${msg.width}x${msg.height} step ${msg.step}`);
     const list = ref[k];
@@ -121,7 +122,7 @@ function check(topic, msg, n, ref, logTime) {
 function streamRead(buf, ref, cut) {
   const r = new core.McapStreamReader({ decompressHandlers: handlers, validateCrcs: true });
   r.append(buf);
-  const schemas = new Map(), channels = new Map(), n = { ao: 0, shaded: 0, info: 0, points: 0, chunks: 0 };
+  const schemas = new Map(), channels = new Map(), n = { ao: 0, shaded: 0, info: 0, points: 0, depth: 0, chunks: 0 };
   let dec = null, rec, end = false;
   while ((rec = r.nextRecord()) !== undefined) {
     if (rec.type === "Schema") schemas.set(rec.id, rec);
@@ -141,7 +142,7 @@ let handlers;
 (async () => {
   handlers = await support.loadDecompressHandlers();
   const buf = fs.readFileSync(file);
-  const ref = { ao: pngs(opt("--ao")), shaded: pngs(opt("--shaded")) };
+  const ref = { ao: pngs(opt("--ao")), shaded: pngs(opt("--shaded")), depth: pngs(opt("--depth")) };
   if (args.includes("--cut")) {
     const n = streamRead(buf, {}, true);
     console.log(`ao ${n.ao} shaded ${n.shaded} info ${n.info} points ${n.points} chunks -`);
@@ -158,7 +159,7 @@ let handlers;
   const comp = opt("--compression");
   if (comp !== undefined && !rd.chunkIndexes.every((c) => c.compression === (comp === "none" ? "" : comp)))
     fail(`chunk compression: ${rd.chunkIndexes.map((c) => c.compression)}`);
-  const dec = decoders(rd.schemasById), n = { ao: 0, shaded: 0, info: 0, points: 0, chunks: rd.chunkIndexes.length };
+  const dec = decoders(rd.schemasById), n = { ao: 0, shaded: 0, info: 0, points: 0, depth: 0, chunks: rd.chunkIndexes.length };
   let count = 0n;
   for await (const m of rd.readMessages({ validateCrcs: true })) {
     const ch = rd.channelsById.get(m.channelId);
@@ -167,9 +168,10 @@ let handlers;
   }
   if (count !== st.messageCount || Number(st.chunkCount) !== rd.chunkIndexes.length)
     fail(`statistics: ${st.messageCount} messages, ${st.chunkCount} chunks; read ${count}, ${rd.chunkIndexes.length}`);
-  for (const k of ["ao", "shaded", "info", "points"])
+  for (const k of ["ao", "shaded", "info", "points", "depth"])
     if (n[k] !== s[k]) fail(`${k}: the indexed reader read ${n[k]}, the stream reader ${s[k]}`);
-  for (const k of ["ao", "shaded"])
+  for (const k of ["ao", "shaded", "depth"])
     if (ref[k] && n[k] !== ref[k].length) fail(`${k}: ${n[k]} messages, ${ref[k].length} PNGs`);
-  console.log(`ao ${n.ao} shaded ${n.shaded} info ${n.info} points ${n.points} chunks ${n.chunks}`);
+  console.log(`ao ${n.ao} shaded ${n.shaded} info ${n.info} points ${n.points} chunks ${n.chunks}` +
+              (ref.depth ? ` depth ${n.depth}` : ""));
 })().catch((e) => fail(e.stack || String(e)));

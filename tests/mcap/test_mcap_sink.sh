@@ -41,6 +41,14 @@ for c in lz4 none; do
 		fail "$c: $(cat "$WORK/check")"
 done
 
+# ?filtered_depth=true: the filtered depth on /depthao/depth_filtered (16UC1 for 1 mm), read by
+# @mcap/core, equal to --depth-out's PNGs
+expect_exit 0 "?filtered_depth=true" -- "$DEPTHAO" process --input "$REC" --quiet --frames 4 \
+	--depth-out "$WORK/fd" --mcap-out "$WORK/fd.mcap?filtered_depth=true" || true
+check "$WORK/fd.mcap" --depth "$WORK/fd"
+[ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 4 shaded 4 info 4 points 0 chunks .* depth 4$" "$WORK/check" ||
+	fail "filtered_depth: $(cat "$WORK/check")"
+
 # depthao's own source: the AO topic's pixels are the AO PNGs', its timestamps the
 # recording's, the CameraInfo the pinhole of the recording's field of view
 out=$("${DAO_MCAP_ROUNDTRIP:?}" "$WORK/out.mcap" "$WORK/ao" "$REC" 2>&1) || fail "round trip: $out"

@@ -54,6 +54,10 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	p.noise = noise;
 	p.prefilter = prefilter;
 	p.noise_model = noise_model;
+	/* the camera-motion estimate with the measured noise (with the fixed
+	 * model the temporal filter runs fused in the decode, as by default) */
+	if (noise_model != DAO_NOISE_MODEL_FIXED)
+		p.depth_temporal_motion = DAO_DEPTH_MOTION_ICP;
 	if (vbao_image) {
 		p.algorithm = DAO_ALGORITHM_VBAO;
 		p.vbao_thickness_mode = DAO_VBAO_THICKNESS_IMAGE;

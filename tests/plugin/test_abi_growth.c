@@ -236,6 +236,8 @@ static void test_layout_frozen(void **state)
 	assert_int_equal(sizeof(struct dao_sink_frame_info),
 			 DAO_END_OF(struct dao_sink_frame_info, capture_ns));
 	assert_int_equal(sizeof(struct dao_timings), DAO_END_OF(struct dao_timings, noise_ms));
+	assert_int_equal(sizeof(struct dao_motion_info),
+			 DAO_END_OF(struct dao_motion_info, iterations));
 	assert_int_equal(sizeof(struct dao_noise_info),
 			 DAO_END_OF(struct dao_noise_info, cells_measured));
 	assert_int_equal(sizeof(struct dao_camera), DAO_END_OF(struct dao_camera, by));

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * v4l2loopback output against the emulated driver: format negotiation
- * (YUYV default, RGB24, GREY; even widths), the bytes that reach the
+ * (YUYV default, RGB24, GREY; Y16 for depth; even widths), the bytes that reach the
  * device, colour conversion, a device without room, and refusing nodes
  * that are not outputs.
  */
@@ -146,8 +146,12 @@ static void test_negotiation_rules(void **state)
 	fmt = FMT(DAO_PIXFMT_GRAY16, 32, 8, 0);
 	assert_int_equal(v4l2out_negotiate(o, &fmt, &err), 0);
 	assert_int_equal(fmt.format, DAO_PIXFMT_GRAY8);
+	v4l2out_close(o);
+	/* depth with an 8-bit format named: refused, saying to use Y16 */
+	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video10?format=GREY", &o, &err), 0);
 	fmt = FMT(DAO_PIXFMT_DEPTH16, 32, 8, 0);
 	assert_int_equal(v4l2out_negotiate(o, &fmt, &err), -ENOTSUP);
+	assert_non_null(strstr(err.message, "format=Y16"));
 	v4l2out_close(o);
 	/* a capture node is not an output */
 	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video2", &o, &err), -ENOTSUP);
@@ -155,6 +159,64 @@ static void test_negotiation_rules(void **state)
 	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video99", &o, &err), -ENODEV);
 	assert_non_null(strstr(err.message, "v4l2loopback"));
 	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video10?format=MJPG", &o, &err), -EINVAL);
+	emu_destroy(e);
+}
+
+/* The depth and filtered-depth streams (DEPTH16) go out as Y16 without ?format; with
+ * ?format=Y16 the 16-bit AO too, and pictures are asked to come as the 16-bit AO. */
+static void test_y16(void **state)
+{
+	(void)state;
+	struct emu *e = rig();
+	struct dao_error err;
+	struct dao_sink_format fmt = FMT(DAO_PIXFMT_DEPTH16, 33, 5, 30); /* odd width is fine */
+	struct v4l2out *o = open_neg(e, "/dev/video10", &fmt);
+	struct dao_frame f;
+	assert_int_equal(dao_frame_alloc(&f, DAO_PIXFMT_DEPTH16, 33, 5, NULL), 0);
+	for (uint32_t y = 0; y < 5; y++)
+		for (uint32_t x = 0; x < 33; x++)
+			((uint16_t *)((uint8_t *)f.data + y * (size_t)f.stride))[x] =
+				(uint16_t)(x == 3 ? 0 : 0x1234 + 257 * x + 4099 * y);
+	assert_int_equal(v4l2out_write(o, &f, &err), 0);
+	size_t size;
+	uint32_t pf, w, h;
+	const uint8_t *got = emu_output_last(e, "/dev/video10", &size, &pf, &w, &h);
+	assert_int_equal(pf, V4L2_PIX_FMT_Y16);
+	assert_int_equal(w, 33);
+	assert_int_equal(size, 33 * 5 * 2);
+	for (uint32_t y = 0; y < 5; y++)
+		for (uint32_t x = 0; x < 33; x++) {
+			uint16_t want = ((const uint16_t *)((const uint8_t *)f.data +
+							    y * (size_t)f.stride))[x];
+			const uint8_t *p = got + 2 * ((size_t)y * 33 + x);
+			assert_int_equal(p[0] | p[1] << 8, want); /* little-endian, 0 kept */
+		}
+	dao_frame_free(&f);
+	v4l2out_close(o);
+	/* ?format=Y16: the 16-bit AO as it is; a picture is asked to come as it */
+	struct dao_sink_format g = FMT(DAO_PIXFMT_GRAY16, 16, 4, 0);
+	o = open_neg(e, "/dev/video10?format=Y16", &g);
+	v4l2out_close(o);
+	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video10?format=Y16", &o, &err), 0);
+	g = FMT(DAO_PIXFMT_RGB24, 16, 4, 0);
+	assert_int_equal(v4l2out_negotiate(o, &g, &err), 0);
+	assert_int_equal(g.format, DAO_PIXFMT_GRAY16);
+	v4l2out_close(o);
+	/* negotiated again before a write: depth, then a picture, gets YUYV back */
+	assert_int_equal(v4l2out_open(emu_io(e), "/dev/video10", &o, &err), 0);
+	g = FMT(DAO_PIXFMT_DEPTH16, 16, 4, 0);
+	assert_int_equal(v4l2out_negotiate(o, &g, &err), 0);
+	g = FMT(DAO_PIXFMT_RGB24, 16, 4, 0);
+	assert_int_equal(v4l2out_negotiate(o, &g, &err), 0);
+	assert_int_equal(g.format, DAO_PIXFMT_RGB24);
+	const uint8_t grey[3] = {9, 9, 9};
+	f = rgb_frame(16, 4, grey);
+	assert_int_equal(v4l2out_write(o, &f, &err), 0);
+	emu_output_last(e, "/dev/video10", &size, &pf, &w, &h);
+	assert_int_equal(pf, V4L2_PIX_FMT_YUYV);
+	dao_frame_free(&f);
+	v4l2out_close(o);
+	assert_int_equal(emu_protocol_errors(e), 0);
 	emu_destroy(e);
 }
 
@@ -186,6 +248,7 @@ int main(void)
 		cmocka_unit_test(test_yuyv_default),
 		cmocka_unit_test(test_rgb24_and_grey_round_trip),
 		cmocka_unit_test(test_negotiation_rules),
+		cmocka_unit_test(test_y16),
 		cmocka_unit_test(test_no_room),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -493,14 +493,15 @@ void emu_add_capture(struct emu *e, const char *path, const char *card, const ch
 
 void emu_add_output(struct emu *e, const char *path, const char *card)
 {
-	static const uint32_t f[] = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_RGB24, V4L2_PIX_FMT_GREY};
+	static const uint32_t f[] = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_RGB24, V4L2_PIX_FMT_GREY,
+				     V4L2_PIX_FMT_Y16};
 	struct node *n = &e->nodes[e->nnodes++];
 	memset(n, 0, sizeof *n);
 	snprintf(n->path, sizeof n->path, "%s", path);
 	snprintf(n->card, sizeof n->card, "%s", card);
 	snprintf(n->bus, sizeof n->bus, "platform:v4l2loopback-000");
 	memcpy(n->formats, f, sizeof f);
-	n->nformats = 3;
+	n->nformats = 4;
 	n->output = 1;
 	n->fps = 30;
 }

@@ -6,7 +6,8 @@ not UTF-8 and duplicate keys (400, nothing changed, every reply strict JSON);
 from 40 addresses and from one) beside a client that must get >= 90 % of its
 answers; a 30-client snapshot flood beside a 30 fps source (<= 5 % of the input
 frames dropped, counted by the daemon; 429 with Retry-After; RSS back within 5 MB).
-usage: test_web_hostile.py DEPTHAOD PLUGIN_DIR [json|slowloris|flood ...]"""
+usage: test_web_hostile.py DEPTHAOD PLUGIN_DIR [json|slowloris|flood ...]
+(meson runs each part as a test of its own: web-hostile-json, -slowloris, -flood)"""
 import json
 import os
 import socket
@@ -180,18 +181,31 @@ def flood(d, clients, seconds):
     return counts
 
 
-def check_flood(d):
-    time.sleep(3)  # the steady state
-    # the drops of this host without the flood, over as long: a loaded host drops
-    # frames by itself, and the flood must add no more than 5 points to that
-    q0 = d.stats()["daemon"]
-    time.sleep(10)
-    s0 = d.stats()["daemon"]
+def cpu_s(pid):
+    """The daemon's CPU seconds (utime + stime, threads that ended included)."""
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def quiet(d, seconds):
+    """The input frames, those dropped and the daemon's CPU seconds over `seconds`."""
+    q0, c0 = d.stats()["daemon"], cpu_s(d.proc.pid)
+    time.sleep(seconds)
+    q1, c1 = d.stats()["daemon"], cpu_s(d.proc.pid)
+    return (q1["frames_in"] - q0["frames_in"], q1["frames_dropped_in"] - q0["frames_dropped_in"],
+            c1 - c0)
+
+
+def pct(dropped, frames):
+    return 100.0 * dropped / max(1, frames)
+
+
+def flood_round(d):
+    """One 10 s flood of 30 clients: (replies, input frames, dropped, daemon CPU s, RSS kB
+    before, at the peak)."""
     base = rss_kb(d.proc.pid)  # just before the flood
-    quiet_in = s0["frames_in"] - q0["frames_in"]
-    quiet_drop = s0["frames_dropped_in"] - q0["frames_dropped_in"]
-    quiet_pct = 100.0 * quiet_drop / max(1, quiet_in)
-    print("without the flood: input %d frames, %d dropped (%.1f %%)" % (quiet_in, quiet_drop, quiet_pct))
+    s0, c0 = d.stats()["daemon"], cpu_s(d.proc.pid)
     # the 30 clients in a process of their own at nice 19: on this 2-core host the
     # clients' Python would otherwise take a core from the daemon (an attacker's CPU is
     # not the daemon's host's); what is measured is what serving them costs the daemon
@@ -209,26 +223,64 @@ def check_flood(d):
     with os.fdopen(r) as f:
         counts = json.loads(f.read() or "{}")
     os.waitpid(pid, 0)
-    s1 = d.stats()["daemon"]
-    time.sleep(3)
-    after = rss_kb(d.proc.pid)
-    frames_in = s1["frames_in"] - s0["frames_in"]
-    dropped = s1["frames_dropped_in"] - s0["frames_dropped_in"]
-    h = d.stats()["http"]
-    print("flood: 30 clients x 10 s: replies %r; input %d frames, %d dropped (%.1f %%); "
-          "RSS %d -> %d (peak) -> %d kB; PNGs encoded %s, shared %s, rate-limited %s" %
-          (counts, frames_in, dropped, 100.0 * dropped / max(1, frames_in), base, peak, after,
-           h.get("snapshots_encoded"), h.get("snapshots_shared"), h.get("rate_limited")))
-    if frames_in < 100:
-        fail("only %d frames came in during the flood" % frames_in)
-    pct = 100.0 * dropped / max(1, frames_in)
-    if pct > quiet_pct + 5.0:
-        fail("the flood made the daemon drop %d of %d input frames (%.1f %%, %.1f %% without it)"
-             % (dropped, frames_in, pct, quiet_pct))
-    if not counts.get("200") or not counts.get("429") or set(counts) - {"200", "429", "error"}:
-        fail("the flood: not 200 PNGs and 429s with Retry-After only: %r" % counts)
-    if after > base + 5 * 1024:
-        fail("RSS %d kB after the flood, baseline %d kB (> 5 MB more)" % (after, base))
+    s1, c1 = d.stats()["daemon"], cpu_s(d.proc.pid)
+    return (counts, s1["frames_in"] - s0["frames_in"],
+            s1["frames_dropped_in"] - s0["frames_dropped_in"], c1 - c0, base, peak)
+
+
+# A loaded host drops frames by itself, and its load changes from one 10 s to the
+# next (one run saw 28 % dropped during the flood on a host shared with other builds,
+# then 0 % twice).  So each round measures the host's own drops over 10 s before and
+# 10 s after the flood, and the flood may add at most 5 points to the larger; a round
+# that misses the bar is run again, up to three: a flood that makes the daemon drop
+# frames does so in every round and still fails.  (The 28 % was real: the server's
+# threads were at nice 10 from a daemon started at nice 0, but at the pipeline's own
+# priority when the daemon was started nice 10, as tests on this host are; they are now
+# 10 nicer than the daemon: 0 % dropped at a load of 18 on 2 cores.)  The daemon's CPU
+# per request beyond its quiet rate (CPU time: the host's load changes it little; measured
+# 0.15-0.25 ms, a PNG encoded per request would be tens of ms) is bounded too.
+FLOOD_ROUNDS = 3
+FLOOD_CPU_PER_REQUEST = 1e-3  # seconds
+
+
+def check_flood(d):
+    time.sleep(3)  # the steady state
+    before = quiet(d, 10.0)
+    for rnd in range(1, FLOOD_ROUNDS + 1):
+        counts, frames_in, dropped, cpu, base, peak = flood_round(d)
+        after = quiet(d, 10.0)  # the host without the flood again; RSS settles meanwhile
+        rss_after = rss_kb(d.proc.pid)
+        host_pct = max(pct(before[1], before[0]), pct(after[1], after[0]))
+        quiet_cpu = (before[2] + after[2]) / 20.0
+        h = d.stats()["http"]
+        print("round %d: without the flood %d/%d and %d/%d input frames dropped (%.1f %%, "
+              "%.1f %%); flood: 30 clients x 10 s: replies %r; input %d frames, %d dropped "
+              "(%.1f %%); the daemon's CPU %.2f of a core (%.2f without); RSS %d -> %d (peak) "
+              "-> %d kB; PNGs encoded %s, shared %s, rate-limited %s" %
+              (rnd, before[1], before[0], after[1], after[0], pct(before[1], before[0]),
+               pct(after[1], after[0]), counts, frames_in, dropped, pct(dropped, frames_in),
+               cpu / 10.0, quiet_cpu, base, peak, rss_after, h.get("snapshots_encoded"),
+               h.get("snapshots_shared"), h.get("rate_limited")))
+        # what does not depend on the host's load: fail at once
+        if frames_in < 100:
+            fail("only %d frames came in during the flood" % frames_in)
+        if not counts.get("200") or not counts.get("429") or set(counts) - {"200", "429", "error"}:
+            fail("the flood: not 200 PNGs and 429s with Retry-After only: %r" % counts)
+        if rss_after > base + 5 * 1024:
+            fail("RSS %d kB after the flood, baseline %d kB (> 5 MB more)" % (rss_after, base))
+        per_request = (cpu - quiet_cpu * 10.0) / max(1, sum(counts.values()))
+        print("round %d: %.3f ms of the daemon's CPU per request" % (rnd, per_request * 1e3))
+        if per_request > FLOOD_CPU_PER_REQUEST:
+            fail("serving the flood cost the daemon %.2f ms CPU per request (> %.1f ms)"
+                 % (per_request * 1e3, FLOOD_CPU_PER_REQUEST * 1e3))
+        if pct(dropped, frames_in) <= host_pct + 5.0:
+            return
+        print("round %d: %.1f %% dropped during the flood, more than 5 points over the "
+              "host's own %.1f %%%s" % (rnd, pct(dropped, frames_in), host_pct,
+                                         ": again" if rnd < FLOOD_ROUNDS else ""))
+        before = after
+    fail("the flood made the daemon drop more than 5 points over the host's own drops in "
+         "each of %d rounds (see above)" % FLOOD_ROUNDS)
 
 
 def main():
@@ -241,6 +293,9 @@ def main():
         if "flood" in PARTS:
             check_flood(d)
         d.stop()
+        # under ASan (bootstrap.sh) a report at exit is a nonzero status: not lost
+        if d.proc.returncode != 0:
+            fail("depthaod exited %d after SIGTERM: %s" % (d.proc.returncode, d.text()[-3000:]))
     finally:
         d.close()
     print("ok")

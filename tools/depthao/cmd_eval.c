@@ -17,6 +17,7 @@
 #include "cli_params.h"
 #include "commands.h"
 #include "eval_depth.h"
+#include "eval_sequence.h"
 #include "synth/suite.h"
 
 /* Accuracy bars for the default preset at R = 0.5 m (docs/accuracy.md, issue #2). */
@@ -83,6 +84,8 @@ static void usage(FILE *out)
 		"  --variants N      scene variants per scene from the family (default 1)\n"
 		"  --check           exit 1 unless the default preset meets the accuracy bars\n"
 		"  --depth           measure the filtered depth instead (depthao eval --depth --help)\n"
+		"  --sequence PATH   a depth sequence instead: temporal filters off and on against\n"
+		"                    per-frame truth (see 'depthao eval --sequence X --help')\n"
 		"  --help            this text\n"
 		"Parameter options (e.g. --radius 0.5) override every preset.\n");
 }
@@ -562,10 +565,14 @@ static int check_results(const struct eval_run *run)
 
 int cmd_eval(int argc, char **argv)
 {
-	struct eval_options o = { 0 };
-	for (int i = 1; i < argc; i++)
+	/* the other measures have their own options */
+	for (int i = 1; i < argc; i++) {
+		if (strcmp(argv[i], "--sequence") == 0)
+			return cmd_eval_sequence(argc, argv);
 		if (strcmp(argv[i], "--depth") == 0)
 			return cmd_eval_depth(argc, argv);
+	}
+	struct eval_options o = { 0 };
 	if (parse_args(argc, argv, &o))
 		return 2;
 	/* validate the scene names before the long render */

@@ -36,7 +36,7 @@ static void usage(FILE *out)
 	fprintf(out,
 		"usage: depthao process --input PATH|URI [--ao-out PATH] [--shaded-out PATH]\n"
 		"                       [--overlay-out DIR] [--cloud-out DIR|FILE.ply]\n"
-		"                       [--mcap-out FILE.mcap] [options]\n"
+		"                       [--mcap-out FILE.mcap] [--depth-out PATH] [options]\n"
 		"\n"
 		"Computes ambient occlusion for a 16-bit depth PNG, for every *.png of a\n"
 		"directory (sorted by name; then the outputs are directories with the same file\n"
@@ -72,6 +72,14 @@ static void usage(FILE *out)
 		"                            of every frame as ROS 2 messages in one MCAP file (zstd\n"
 		"                            chunks); FILE.mcap?cloud=true adds the AO point cloud\n"
 		"                            (PointCloud2 x y z ao); options: docs/sinks.md\n"
+		"  --depth-out PATH          the filtered depth (the depth the AO was computed from,\n"
+		"                            after depth-min/max, the temporal filter and the\n"
+		"                            prefilter) as 16-bit PNG in the input's unit, 0 = no\n"
+		"                            depth; with --algorithm none the only work done\n"
+		"  --depth-out-unit M        --depth-out in counts of M metres (default: the\n"
+		"                            input's unit; 0.001 = mm for float-metre input)\n"
+		"  --cloud-depth raw|filtered  --cloud-out from the input depth (raw, the default:\n"
+		"                            the sensor's measurement) or the filtered depth\n"
 		"  --depth-unit M            PNG input and 16-bit bag topics: metres per count\n"
 		"                            (default 0.001; TUM: 0.0002); .oni and RealSense\n"
 		"                            recordings carry their own unit\n"
@@ -193,6 +201,7 @@ static int string_option(int argc, char **argv, int *i, struct process_options *
 		{ "--input", &o->input }, { "--ao-out", &o->ao_out },
 		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
 		{ "--cloud-out", &o->cloud_out }, { "--mcap-out", &o->mcap_out },
+		{ "--depth-out", &o->depth_out },
 		{ "--intrinsics", &o->intrinsics },
 		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 	};
@@ -225,6 +234,21 @@ static int input_option(int argc, char **argv, int *i, struct process_options *o
 			return usage_error("process",
 					   "--depth-unit '%s' must be a number in (0, 1] metres per count",
 					   v);
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--depth-out-unit"))) {
+		if (!*v || parse_double(v, &o->depth_out_unit) || !(o->depth_out_unit > 0) ||
+		    o->depth_out_unit > 1)
+			return usage_error("process", "--depth-out-unit '%s' must be a number in "
+					   "(0, 1] metres per count (0.001 = mm)", v);
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--cloud-depth"))) {
+		if (strcmp(v, "raw") != 0 && strcmp(v, "filtered") != 0)
+			return usage_error("process", "--cloud-depth '%s' must be raw or filtered", v);
+		o->cloud_filtered = v[0] == 'f';
 		*i = j;
 		return 0;
 	}
@@ -276,9 +300,16 @@ static int check_options(struct process_options *o)
 {
 	if (!o->input)
 		return usage_error("process", "--input is required");
-	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out && !o->mcap_out)
+	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out && !o->mcap_out &&
+	    !o->depth_out)
 		return usage_error("process", "nothing to write: give --ao-out, --shaded-out, "
-				   "--overlay-out, --cloud-out and/or --mcap-out");
+				   "--overlay-out, --cloud-out, --mcap-out and/or --depth-out");
+	if (o->params.algorithm == DAO_ALGORITHM_NONE &&
+	    (o->shaded_out || o->overlay_out || o->mcap_out))
+		return usage_error("process", "--algorithm none computes the filtered depth only (no "
+				   "AO to shade or record): give --depth-out, or an AO algorithm "
+				   "for %s", o->shaded_out ? "--shaded-out" : o->overlay_out
+				   ? "--overlay-out" : "--mcap-out");
 	if (o->overlay_out && !process_input_is_stream(o->input))
 		return usage_error("process", "--overlay-out needs colour, and '%s' is depth-only PNG "
 				   "input: give a recording or device with colour (.oni, .bag, "
@@ -484,6 +515,42 @@ char *process_cloud_name(const char *dir, const char *input_name)
 	return path_join(dir, name);
 }
 
+/*
+ * The filtered depth of the frame just processed, to `path` as a 16-bit PNG: counts of
+ * --depth-out-unit, else of the input's unit, else (float-metre input) millimetres.
+ */
+static int write_filtered_depth(const struct process_options *o, struct run_state *st,
+				const struct dao_frame *depth, const char *path,
+				struct dao_error *err)
+{
+	double unit = o->depth_out_unit > 0 ? o->depth_out_unit
+		      : depth->format == DAO_PIXFMT_DEPTH16 ? (double)depth->depth_unit
+		      : PROCESS_FLOAT_DEPTH_OUT_UNIT;
+	st->depth16.depth_unit = (float)unit;
+	int r = dao_context_get_depth(st->ctx, &st->depth16, err);
+	return r ? r : dao_png_write(path, &st->depth16, err);
+}
+
+int process_alloc_depth_outputs(const struct process_options *o, struct run_state *st,
+				uint32_t w, uint32_t h, struct dao_error *err)
+{
+	int r = 0;
+	if (o->depth_out)
+		r = dao_frame_alloc(&st->depth16, DAO_PIXFMT_DEPTH16, w, h, err);
+	if (!r && o->cloud_out && o->cloud_filtered)
+		r = dao_frame_alloc(&st->depth_m, DAO_PIXFMT_DEPTH_F32, w, h, err);
+	return r;
+}
+
+void process_free_outputs(struct run_state *st)
+{
+	dao_frame_free(&st->ao);
+	dao_frame_free(&st->rgb);
+	dao_frame_free(&st->overlay);
+	dao_frame_free(&st->depth16);
+	dao_frame_free(&st->depth_m);
+}
+
 int process_depth(const struct process_options *o, struct run_state *st,
 		  const struct dao_frame *depth, const struct dao_frame *color,
 		  const struct process_paths *paths, uint64_t index)
@@ -518,8 +585,13 @@ int process_depth(const struct process_options *o, struct run_state *st,
 		if (!r)
 			r = dao_png_write(paths->overlay, &st->overlay, &err);
 	}
+	if (!r && paths->depth)
+		r = write_filtered_depth(o, st, depth, paths->depth, &err);
+	if (!r && paths->cloud && o->cloud_filtered)
+		r = dao_context_get_depth(st->ctx, &st->depth_m, &err);
 	if (!r && paths->cloud)
-		r = dao_ply_write(paths->cloud, cam, depth, &st->ao, NULL, &err);
+		r = dao_ply_write(paths->cloud, cam, o->cloud_filtered ? &st->depth_m : depth,
+				  &st->ao, NULL, &err);
 	if (r) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
@@ -578,7 +650,8 @@ static int prepare_outputs(const struct process_options *o, int is_dir, struct f
 			return status;
 		}
 		if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
-		    (o->shaded_out && process_ensure_dir(o->shaded_out))) {
+		    (o->shaded_out && process_ensure_dir(o->shaded_out)) ||
+		    (o->depth_out && process_ensure_dir(o->depth_out))) {
 			file_list_free(files);
 			return 1;
 		}
@@ -604,7 +677,8 @@ static int open_run(const struct process_options *o, int is_dir, const struct fi
 		status = process_resolve_camera(o, is_dir, w, h, NULL, &cam);
 	if (!status && (dao_context_create(&st->ctx, &cam, &o->params, &err) ||
 			dao_frame_alloc(&st->ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
-			dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, w, h, &err))) {
+			dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, w, h, &err) ||
+			process_alloc_depth_outputs(o, st, w, h, &err))) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		status = 1;
 	}
@@ -618,7 +692,8 @@ static int process_file(const struct process_options *o, struct run_state *st)
 {
 	char *cloud = o->cloud_out && !process_cloud_is_file(o)
 			      ? process_cloud_name(o->cloud_out, o->input) : NULL;
-	struct process_paths out = { o->ao_out, o->shaded_out, NULL, cloud ? cloud : o->cloud_out };
+	struct process_paths out = { o->ao_out, o->shaded_out, NULL, cloud ? cloud : o->cloud_out,
+				     o->depth_out };
 	int status = process_one(o, st, o->input, &out, o->frame_index);
 	free(cloud);
 	return status;
@@ -635,21 +710,24 @@ static int process_files(const struct process_options *o, struct run_state *st,
 		char *in = path_join(o->input, files->names[i]);
 		char *ao = o->ao_out ? path_join(o->ao_out, files->names[i]) : NULL;
 		char *sh = o->shaded_out ? path_join(o->shaded_out, files->names[i]) : NULL;
+		char *dp = o->depth_out ? path_join(o->depth_out, files->names[i]) : NULL;
 		char *pc = o->cloud_out ? (process_cloud_is_file(o)
 						   ? strdup(o->cloud_out)
 						   : process_cloud_name(o->cloud_out, files->names[i]))
 				       : NULL;
-		if (!in || (o->ao_out && !ao) || (o->shaded_out && !sh) || (o->cloud_out && !pc)) {
+		if (!in || (o->ao_out && !ao) || (o->shaded_out && !sh) || (o->cloud_out && !pc) ||
+		    (o->depth_out && !dp)) {
 			fprintf(stderr, "depthao: out of memory\n");
 			status = 1;
 		} else {
-			struct process_paths out = { ao, sh, NULL, pc };
+			struct process_paths out = { ao, sh, NULL, pc, dp };
 			status = process_one(o, st, in, &out, o->frame_index + i);
 		}
 		free(in);
 		free(ao);
 		free(sh);
 		free(pc);
+		free(dp);
 		progress_update(&bar, i + 1, st->ms_total / (double)(st->frames ? st->frames : 1));
 	}
 	progress_end(&bar);
@@ -683,8 +761,7 @@ int cmd_process(int argc, char **argv)
 	if (!status && !o.quiet)
 		process_print_summary(&o, &st); /* no overlay from PNG input */
 	status = process_mcap_close(&st, status);
-	dao_frame_free(&st.ao);
-	dao_frame_free(&st.rgb);
+	process_free_outputs(&st);
 	dao_context_destroy(st.ctx);
 	file_list_free(&files);
 	return status;

@@ -22,6 +22,7 @@
 #include "commands.h"
 #include "file_list.h"
 #include "synth/suite.h"
+#include "synth_motion.h"
 
 /* Sets an out-of-memory error and returns 1 (for expressions). */
 static int set_oom(struct dao_error *err)
@@ -31,7 +32,7 @@ static int set_oom(struct dao_error *err)
 	return 1;
 }
 
-/* Frame rate of synthetic .oni recordings. */
+/* Frame rate of synthetic sequences and their .oni recordings unless --fps says. */
 #define SYNTH_ONI_FPS 30
 
 struct synth_options {
@@ -42,6 +43,10 @@ struct synth_options {
 	enum dao_oni_codec codec;
 	double radius;
 	unsigned long long seed;
+	const char *trajectory;  /* a moving camera (synth_motion.h), or NULL */
+	int frames_given, moving;
+	double fps;
+	struct synth_trajectory tr;
 };
 
 static void usage(FILE *out)
@@ -75,14 +80,26 @@ static void usage(FILE *out)
 		"  --radius R     AO radius in metres (default 0.5)\n"
 		"  --frames N     a sequence of N frames with the scene's object moving, written as\n"
 		"                 DIR/NAME/depth/NNNN.png (+ camera.json) and DIR/NAME/ao_gt/NNNN.png\n"
-		"  --oni CODEC    also write the depth sequence as DIR/NAME.oni (30 fps, 1 mm,\n"
+		"  --trajectory T a moving camera: %s;\n"
+		"                 a sequence (--frames, default 16) of the still scene (its object\n"
+		"                 moves with --moving) written as DIR/NAME-T[-MODEL]/ with\n"
+		"                 depth/, ao_gt/, depth_gt/ (the true depth, mm) and poses.txt (the\n"
+		"                 true pose per frame, TUM: timestamp tx ty tz qx qy qz qw);\n"
+		"                 odd --variant numbers are the held-out family (docs/motion.md)\n"
+		"  --fps N        frame rate of a sequence and its .oni, 1..240 (default 30)\n"
+		"  --moving       with --trajectory: the scene's object moves too (plane,\n"
+		"                 room-corner, stairs and boxes have none)\n"
+		"  --oni CODEC    also write the depth sequence as DIR/NAME.oni (--fps, 1 mm,\n"
 		"                 the camera's field of view) with codec none, 16z or 16zt\n"
-		"  --help         this text\n");
+		"  --help         this text\n", synth_trajectory_names());
 }
+
+static int check_args(struct synth_options *o);
 
 static int parse_args(int argc, char **argv, struct synth_options *o)
 {
-	*o = (struct synth_options){ .rays_sqrt = 16, .radius = 0.5, .seed = 1, .frames = 1 };
+	*o = (struct synth_options){ .rays_sqrt = 16, .radius = 0.5, .seed = 1, .frames = 1,
+				     .fps = SYNTH_ONI_FPS };
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -94,12 +111,16 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			o->sensor_given = 1;
 			continue;
 		}
+		if (strcmp(a, "--moving") == 0) {
+			o->moving = 1;
+			continue;
+		}
 		const char *names[] = { "--scene", "--out", "--seed", "--rays", "--radius", "--frames",
-					 "--oni", "--sensor", "--variant" };
+					 "--oni", "--sensor", "--variant", "--trajectory", "--fps" };
 		size_t k;
-		for (k = 0; k < 9 && strcmp(a, names[k]) != 0; k++)
+		for (k = 0; k < 11 && strcmp(a, names[k]) != 0; k++)
 			;
-		if (k == 9)
+		if (k == 11)
 			return usage_error("synth", "unknown option '%s'", a);
 		if (i + 1 >= argc)
 			return usage_error("synth", "%s needs a value", a);
@@ -132,6 +153,7 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			if (*end || !*v || n < 1 || n > 10000)
 				return usage_error("synth", "--frames '%s' must be an integer in 1..10000", v);
 			o->frames = (int)n;
+			o->frames_given = 1;
 			break;
 		}
 		case 6:
@@ -153,20 +175,41 @@ static int parse_args(int argc, char **argv, struct synth_options *o)
 			o->variant = (int)n;
 			break;
 		}
+		case 9: o->trajectory = v; break;
+		case 10:
+			o->fps = (double)strtol(v, &end, 10);
+			if (*end || !*v || !(o->fps >= 1.0 && o->fps <= 240.0))
+				return usage_error("synth", "--fps '%s' must be an integer in 1..240", v);
+			break;
 		}
 	}
+	return check_args(o);
+}
+
+/* What the options say together; 0 or the usage error's status. */
+static int check_args(struct synth_options *o)
+{
 	if (!o->scene)
 		return usage_error("synth", "--scene is required");
 	if (!o->out)
 		return usage_error("synth", "--out is required");
-	if ((o->frames > 1 || o->oni) && strcmp(o->scene, "all") == 0)
-		return usage_error("synth", "--frames and --oni need a single --scene");
+	if ((o->frames > 1 || o->oni || o->trajectory) && strcmp(o->scene, "all") == 0)
+		return usage_error("synth", "--frames, --oni and --trajectory need a single --scene");
+	if (o->moving && !o->trajectory)
+		return usage_error("synth", "--moving needs --trajectory (without one, --frames moves "
+				   "the object)");
 	if (strcmp(o->scene, "all") != 0) {
 		struct synth_scene s;
 		struct dao_error err;
 		if (synth_scene_build_variant(o->scene, 0.0, o->variant, &s, &err))
 			return usage_error("synth", "%s", err.message);
+		if (o->trajectory &&
+		    synth_trajectory_init(&o->tr, o->trajectory, &s,
+					  synth_motion_seed(o->seed, o->variant), &err))
+			return usage_error("synth", "%s", err.message);
 	}
+	if (o->trajectory && !o->frames_given)
+		o->frames = 16;
 	return 0;
 }
 
@@ -256,7 +299,7 @@ static int open_sequence_oni(const struct synth_options *o, const struct dao_cam
 	size_t n = strlen(base);
 	struct dao_oni_writer_options wo = {
 		.size = sizeof(struct dao_oni_writer_options),
-		.width = cam->width, .height = cam->height, .fps = SYNTH_ONI_FPS,
+		.width = cam->width, .height = cam->height, .fps = (uint32_t)o->fps,
 		.codec = o->codec, .pixel_format = DAO_ONI_PIXEL_DEPTH_1_MM,
 		.overwrite = 1, /* made again, like the PNGs beside it */
 	};
@@ -274,7 +317,8 @@ static int open_sequence_oni(const struct synth_options *o, const struct dao_cam
 
 /* Frame i: rendered, simulated, written as PNGs (and to the recording); 1 on failure. */
 static int write_sequence_frame(const struct synth_options *o, const struct dao_camera *cam, int i,
-				const char *ddir, const char *gdir, struct dao_oni_writer *oni)
+				const char *ddir, const char *gdir, const char *tdir,
+				struct dao_oni_writer *oni)
 {
 	struct synth_scene scene;
 	struct synth_image img;
@@ -283,9 +327,18 @@ static int write_sequence_frame(const struct synth_options *o, const struct dao_
 	struct dao_error err;
 	char file[32];
 	double t = o->frames > 1 ? (double)i / (double)(o->frames - 1) : 0.0;
+	if (o->trajectory && !o->moving)
+		t = 0.0;
 	int r = synth_scene_build_variant(o->scene, t, o->variant, &scene, &err);
+	if (!r && o->trajectory) {
+		struct synth_pose pose;
+		synth_trajectory_pose(&o->tr, (double)i / o->fps, &pose);
+		synth_scene_view_from(&scene, &pose);
+	}
 	if (!r)
 		r = synth_render(&scene, cam, o->radius, o->rays_sqrt, 2, &img, &err);
+	if (!r && o->trajectory)
+		r = synth_motion_write_depth_gt(tdir, i, &img, &err);
 	if (r) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
@@ -307,7 +360,7 @@ static int write_sequence_frame(const struct synth_options *o, const struct dao_
 			       : dao_png_write(dp, &depth, &err) || dao_png_write(gp, &gt, &err);
 		if (!r && oni)
 			r = dao_oni_writer_write_depth(oni, &depth,
-						       (uint64_t)i * 1000000u / SYNTH_ONI_FPS,
+						       (uint64_t)i * 1000000u / (uint64_t)o->fps,
 						       &err) != 0;
 		free(dp);
 		free(gp);
@@ -335,6 +388,12 @@ static int write_sequence_camera(const struct synth_options *o, const struct dao
 	json_object_object_add(extra, "seed", json_object_new_uint64(o->seed));
 	json_object_object_add(extra, "noise", json_object_new_boolean(o->sensor != SYNTH_SENSOR_CLEAN));
 	json_object_object_add(extra, "frames", json_object_new_int(o->frames));
+	if (o->trajectory) {
+		json_object_object_add(extra, "trajectory", json_object_new_string(o->tr.name));
+		json_object_object_add(extra, "fps", json_object_new_double(o->fps));
+		json_object_object_add(extra, "moving_object", json_object_new_boolean(o->moving));
+		json_object_object_add(extra, "set", json_object_new_string(synth_motion_set(o->variant)));
+	}
 	int r = camera_file_write(cam_path, cam, extra, msg, sizeof msg);
 	json_object_put(extra);
 	if (r) {
@@ -349,21 +408,28 @@ static int write_sequence(const struct synth_options *o)
 {
 	struct dao_camera cam;
 	synth_default_camera(&cam);
-	char name[128];
-	case_dir_name(name, sizeof name, o->scene, o->sensor);
+	char name[128], scene_traj[96];
+	snprintf(scene_traj, sizeof scene_traj, "%s%s%s", o->scene, o->trajectory ? "-" : "",
+		 o->trajectory ? o->tr.name : "");
+	case_dir_name(name, sizeof name, scene_traj, o->sensor);
 	char *base = path_join(o->out, name);
 	char *ddir = base ? path_join(base, "depth") : NULL;
 	char *gdir = base ? path_join(base, "ao_gt") : NULL;
+	char *tdir = base ? path_join(base, "depth_gt") : NULL;
+	char *pose_path = base ? path_join(base, "poses.txt") : NULL;
 	char *cam_path = ddir ? path_join(ddir, "camera.json") : NULL;
 	char *oni_path = NULL;
 	struct dao_oni_writer *oni = NULL;
 	int status = 1;
-	if (!cam_path || make_dir(base) || make_dir(ddir) || make_dir(gdir))
+	if (!cam_path || !tdir || !pose_path || make_dir(base) || make_dir(ddir) || make_dir(gdir))
+		goto out;
+	if (o->trajectory && (make_dir(tdir) || synth_motion_write_poses(pose_path, &o->tr, o->frames,
+									 o->fps, o->scene, o->variant)))
 		goto out;
 	if (o->oni && open_sequence_oni(o, &cam, base, &oni_path, &oni))
 		goto out;
 	for (int i = 0; i < o->frames; i++)
-		if (write_sequence_frame(o, &cam, i, ddir, gdir, oni))
+		if (write_sequence_frame(o, &cam, i, ddir, gdir, tdir, oni))
 			goto out;
 	if (write_sequence_camera(o, &cam, cam_path))
 		goto out;
@@ -386,6 +452,8 @@ out:
 	free(base);
 	free(ddir);
 	free(gdir);
+	free(tdir);
+	free(pose_path);
 	free(cam_path);
 	return status;
 }
@@ -398,7 +466,7 @@ int cmd_synth(int argc, char **argv)
 		return status;
 	if (make_dir(o.out))
 		return 1;
-	if (o.frames > 1 || o.oni)
+	if (o.frames > 1 || o.oni || o.trajectory)
 		return write_sequence(&o);
 	int all = strcmp(o.scene, "all") == 0;
 	const char *one[2] = { o.scene, NULL };

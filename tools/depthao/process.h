@@ -14,11 +14,18 @@
 #define DEFAULT_HFOV_DEG 58.5
 #define DEFAULT_VFOV_DEG 45.6
 
+/* --depth-out of float-metre input (32FC1 topics) without --depth-out-unit: millimetres,
+ * the unit of most 16-bit depth cameras and of ROS's 16UC1 depth. */
+#define PROCESS_FLOAT_DEPTH_OUT_UNIT 0.001
+
 struct process_options {
 	const char *input;
 	const char *ao_out, *shaded_out, *overlay_out;
 	const char *cloud_out;  /* --cloud-out: a directory, or one FILE.ply */
 	const char *mcap_out;   /* --mcap-out: FILE.mcap[?sink options] */
+	const char *depth_out;  /* --depth-out: the filtered depth, 16-bit PNGs */
+	double depth_out_unit;  /* --depth-out-unit: metres per count written (0 = the input's) */
+	int cloud_filtered;     /* --cloud-depth filtered: clouds of the filtered depth */
 	double depth_unit;
 	const char *intrinsics, *fov, *intrinsics_file;
 	double k[4];   /* parsed --intrinsics */
@@ -35,11 +42,14 @@ struct process_options {
 struct run_state {
 	struct dao_context *ctx;
 	struct dao_frame ao, rgb, overlay;
+	struct dao_frame depth16;   /* --depth-out: the filtered depth in counts */
+	struct dao_frame depth_m;   /* --cloud-depth filtered: the filtered depth in metres */
 	double ms_total;
 	size_t frames;
 	size_t skipped;     /* a recording's frames that could not be read (warned, skipped) */
 	struct dao_plugins *mcap_plugins; /* --mcap-out: the built-in sinks */
 	struct dao_sink *mcap;
+	unsigned mcap_streams; /* the streams it asked for besides (1u << enum dao_stream) */
 };
 
 double process_now_ms(void);
@@ -57,7 +67,7 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 
 /* The output paths of one frame; NULL where that output is not wanted. */
 struct process_paths {
-	const char *ao, *shaded, *overlay, *cloud;
+	const char *ao, *shaded, *overlay, *cloud, *depth;
 };
 
 /*
@@ -67,6 +77,12 @@ struct process_paths {
 int process_depth(const struct process_options *o, struct run_state *st,
 		  const struct dao_frame *depth, const struct dao_frame *color,
 		  const struct process_paths *paths, uint64_t index);
+
+/* The frames of the options' outputs besides the AO and shaded image (the filtered depth
+ * in counts and in metres), w x h: 0 or a negative errno (err set). */
+int process_alloc_depth_outputs(const struct process_options *o, struct run_state *st,
+				uint32_t w, uint32_t h, struct dao_error *err);
+void process_free_outputs(struct run_state *st);
 
 /* --cloud-out names one file (a name ending in .ply, or anything there that is not a
  * directory: /dev/stdout, a FIFO), else a directory of them. */

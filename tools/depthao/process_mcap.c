@@ -23,6 +23,14 @@ static void host_log(void *user, int level, const char *message)
 	fprintf(stderr, "depthao: %s%s\n", level == DAO_LOG_WARN ? "warning: " : "", message);
 }
 
+/* The streams the sink asks for besides the AO (?filtered_depth=true: the filtered depth). */
+static int host_want_streams(void *user, unsigned mask)
+{
+	struct run_state *st = user;
+	st->mcap_streams = mask;
+	return 0;
+}
+
 int process_mcap_open(const struct process_options *o, struct run_state *st,
 		      const struct dao_camera *cam, double fps)
 {
@@ -38,6 +46,8 @@ int process_mcap_open(const struct process_options *o, struct run_state *st,
 	snprintf(uri, n, "mcap:%s", o->mcap_out);
 	struct dao_sink_host host = DAO_SINK_HOST_INIT;
 	host.log = host_log;
+	host.want_streams = host_want_streams;
+	host.user = st;
 	struct dao_sink_format fmt = DAO_SINK_FORMAT_INIT;
 	fmt.format = DAO_PIXFMT_GRAY16;
 	fmt.width = cam->width;
@@ -67,6 +77,23 @@ static int put(struct run_state *st, enum dao_stream stream, const struct dao_fr
 	return dao_sink_write_stream(st->mcap, &info, f, err);
 }
 
+/* The filtered depth in the input's unit (float-metre input: mm), as depthaod sends it. */
+static int put_filtered_depth(struct run_state *st, const struct dao_frame *depth,
+			      uint64_t index, struct dao_error *err)
+{
+	const struct dao_camera *cam = dao_context_camera(st->ctx);
+	int r = 0;
+	if (!st->depth16.data)
+		r = dao_frame_alloc(&st->depth16, DAO_PIXFMT_DEPTH16, cam->width, cam->height, err);
+	st->depth16.depth_unit = depth->format == DAO_PIXFMT_DEPTH16
+					 ? depth->depth_unit : (float)PROCESS_FLOAT_DEPTH_OUT_UNIT;
+	if (r == 0)
+		r = dao_context_get_depth(st->ctx, &st->depth16, err);
+	st->depth16.sequence = index;
+	st->depth16.timestamp_ns = depth->timestamp_ns;
+	return r ? r : put(st, DAO_STREAM_FILTERED_DEPTH, &st->depth16, err);
+}
+
 int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int have_shaded,
 		       uint64_t index)
 {
@@ -85,6 +112,8 @@ int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int 
 		r = put(st, DAO_STREAM_AO, &st->ao, &err);
 	if (r == 0)
 		r = put(st, DAO_STREAM_SHADED, &st->rgb, &err);
+	if (r == 0 && (st->mcap_streams & (1u << DAO_STREAM_FILTERED_DEPTH)))
+		r = put_filtered_depth(st, depth, index, &err);
 	if (r < 0) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;

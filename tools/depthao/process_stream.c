@@ -112,20 +112,22 @@ static int run(const struct process_options *o, struct dao_source *src,
 		uint64_t index = si->live ? done : f.index;
 		char *ao = numbered(o->ao_out, index, "png"), *sh = numbered(o->shaded_out, index, "png");
 		char *ov = numbered(o->overlay_out, index, "png");
+		char *dp = numbered(o->depth_out, index, "png");
 		char *pc = process_cloud_is_file(o) ? strdup(o->cloud_out)
 						    : numbered(o->cloud_out, index, "ply");
 		if ((o->ao_out && !ao) || (o->shaded_out && !sh) || (o->overlay_out && !ov) ||
-		    (o->cloud_out && !pc)) {
+		    (o->cloud_out && !pc) || (o->depth_out && !dp)) {
 			fprintf(stderr, "depthao: out of memory\n");
 			status = 1;
 		} else {
-			struct process_paths paths = { ao, sh, ov, pc };
+			struct process_paths paths = { ao, sh, ov, pc, dp };
 			status = process_depth(o, st, &f.depth, &f.color, &paths, o->frame_index + index);
 		}
 		free(ao);
 		free(sh);
 		free(ov);
 		free(pc);
+		free(dp);
 		dao_source_release(src, &f);
 		done++;
 		progress_update(&bar, (size_t)done, st->ms_total / (double)(st->frames ? st->frames : 1));
@@ -220,12 +222,14 @@ static int prepare_run(const struct process_options *o, struct dao_source *src,
 	if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
 	    (o->shaded_out && process_ensure_dir(o->shaded_out)) ||
 	    (o->overlay_out && process_ensure_dir(o->overlay_out)) ||
+	    (o->depth_out && process_ensure_dir(o->depth_out)) ||
 	    (o->cloud_out && !process_cloud_is_file(o) && process_ensure_dir(o->cloud_out)))
 		return 1;
 	if (dao_context_create(&st->ctx, &cam, &o->params, &err) ||
 	    dao_frame_alloc(&st->overlay, DAO_PIXFMT_RGB24, si->width, si->height, &err) ||
 	    dao_frame_alloc(&st->ao, DAO_PIXFMT_GRAY16, si->width, si->height, &err) ||
 	    dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, si->width, si->height, &err) ||
+	    process_alloc_depth_outputs(o, st, si->width, si->height, &err) ||
 	    dao_source_start(src, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
@@ -235,21 +239,15 @@ static int prepare_run(const struct process_options *o, struct dao_source *src,
 
 void process_print_summary(const struct process_options *o, const struct run_state *st)
 {
-	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (AO), wrote", st->frames,
-		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames);
-	if (o->ao_out)
-		fprintf(stderr, " %s", o->ao_out);
-	if (o->shaded_out)
-		fprintf(stderr, "%s%s", o->ao_out ? " and " : " ", o->shaded_out);
-	if (o->overlay_out)
-		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out ? " and " : " ",
-			o->overlay_out);
-	if (o->cloud_out)
-		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out ? " and " : " ",
-			o->cloud_out);
-	if (o->mcap_out)
-		fprintf(stderr, "%s%s", o->ao_out || o->shaded_out || o->overlay_out || o->cloud_out
-						? " and " : " ", o->mcap_out);
+	const char *outs[] = { o->ao_out, o->shaded_out, o->overlay_out, o->cloud_out,
+			       o->mcap_out, o->depth_out };
+	int n = 0;
+	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (%s), wrote", st->frames,
+		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames,
+		o->params.algorithm == DAO_ALGORITHM_NONE ? "depth only" : "AO");
+	for (size_t k = 0; k < sizeof outs / sizeof outs[0]; k++)
+		if (outs[k])
+			fprintf(stderr, "%s%s", n++ ? " and " : " ", outs[k]);
 	fputc('\n', stderr);
 }
 
@@ -283,9 +281,7 @@ int process_stream(const struct process_options *o)
 		process_print_summary(o, &st);
 	status = process_mcap_close(&st, status);
 	dao_source_close(src);
-	dao_frame_free(&st.ao);
-	dao_frame_free(&st.rgb);
-	dao_frame_free(&st.overlay);
+	process_free_outputs(&st);
 	dao_context_destroy(st.ctx);
 	dao_plugins_free(plugins);
 	return status;

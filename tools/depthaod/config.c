@@ -18,7 +18,8 @@
 #include "ini_file.h"
 #include "log.h"
 
-static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay"};
+static const char *const stream_names[STREAM_COUNT] = {"shaded", "ao", "ao8", "depth", "overlay",
+								"filtered-depth"};
 
 const char *stream_name(enum stream_kind k)
 {
@@ -109,6 +110,41 @@ static int copy_str(char *dst, size_t cap, const char *v)
 
 #define BAD(what) fail(msg, len, "[%s] %s: '%s' %s", section, key, value, what)
 
+/*
+ * [source] intrinsics = fx,fy,cx,cy: four numbers in pixels, plausible for some image
+ * of at most DAO_MAX_DIMENSION pixels a side (the library checks them against the
+ * source's size at its first frame); a camera file given here is pointed to
+ * intrinsics_file.
+ */
+static int set_intrinsics(struct daemon_config *c, const char *section, const char *key,
+			  const char *value, char *msg, size_t len)
+{
+	double *v = c->intrinsics;
+	if (parse_doubles(value, v, 4)) {
+		if (strchr(value, '/') || strstr(value, ".yaml") || strstr(value, ".yml") ||
+		    strstr(value, ".json"))
+			return BAD("is not four numbers: a camera file goes in intrinsics_file = PATH");
+		return BAD("must be four numbers fx,fy,cx,cy in pixels, separated by commas, none "
+			   "out of range or infinite "
+			   "(e.g. 525,525,319.5,239.5)");
+	}
+	const double fmax = (double)DAO_MAX_DIMENSION * DAO_CAMERA_FOCAL_MAX_MUL,
+		     cmin = -(double)DAO_MAX_DIMENSION, cmax = 2.0 * DAO_MAX_DIMENSION;
+	for (int i = 0; i < 2; i++)
+		if (!(v[i] > 0 && v[i] <= fmax))
+			return fail(msg, len, "[%s] %s: focal length %s=%g is implausible: give "
+				    "pixels in (0, %g], the camera's own (its CameraInfo's K, or "
+				    "intrinsics_file = PATH with its camera file)",
+				    section, key, i ? "fy" : "fx", v[i], fmax);
+	for (int i = 2; i < 4; i++)
+		if (!(v[i] >= cmin && v[i] <= cmax))
+			return fail(msg, len, "[%s] %s: principal point %s=%g is implausible: give "
+				    "pixels, near the image centre (from %g to %g at most)",
+				    section, key, i == 2 ? "cx" : "cy", v[i], cmin, cmax);
+	c->has_intrinsics = 1;
+	return 0;
+}
+
 static int set_source(struct daemon_config *c, const char *section, const char *key,
 		      const char *value, char *msg, size_t len)
 {
@@ -140,13 +176,8 @@ static int set_source(struct daemon_config *c, const char *section, const char *
 		c->depth_unit = (float)u;
 		return 0;
 	}
-	if (!strcmp(key, "intrinsics")) {
-		if (parse_doubles(value, c->intrinsics, 4) || !(c->intrinsics[0] > 0) ||
-		    !(c->intrinsics[1] > 0))
-			return BAD("must be fx,fy,cx,cy in pixels (fx, fy > 0)");
-		c->has_intrinsics = 1;
-		return 0;
-	}
+	if (!strcmp(key, "intrinsics"))
+		return set_intrinsics(c, section, key, value, msg, len);
 	if (!strcmp(key, "intrinsics_file")) {
 		struct dao_camera cam;
 		char m[560];
@@ -257,7 +288,7 @@ static int set_sink(struct daemon_config *c, const char *section, const char *ke
 				return 0;
 			}
 		}
-		return BAD("must be shaded, ao, ao8, depth or overlay");
+		return BAD("must be shaded, ao, ao8, depth, overlay or filtered-depth");
 	}
 	if (!strcmp(key, "queue")) {
 		if (parse_uint(value, 1, 64, &n))

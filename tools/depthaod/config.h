@@ -24,6 +24,7 @@ enum stream_kind {
 	STREAM_AO8,        /* GRAY8: round(visibility x 255) */
 	STREAM_DEPTH,      /* DEPTH16: the input depth (recorders) */
 	STREAM_OVERLAY,    /* RGB24: the source's colour x AO (colour sources only) */
+	STREAM_FILTERED_DEPTH, /* DEPTH16: the filtered depth, in the input's unit */
 	STREAM_COUNT,
 };
 

@@ -5,47 +5,72 @@
  */
 
 #include <errno.h>
+#include <stdio.h>
+#include <string.h>
 
 #include "notify.h"
 #include "daemon_internal.h"
 
-static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_camera *cam)
+/* err's message with what it is about before it ("[source] intrinsics: ..."). */
+static int camera_error(struct dao_error *err, int r, const char *what)
 {
-	struct dao_error err;
+	char m[sizeof err->message + 64];
+	snprintf(m, sizeof m, "%s: %s", what, err->message);
+	const size_t n = strnlen(m, sizeof err->message - 1);
+	memcpy(err->message, m, n);
+	err->message[n] = '\0';
+	err->code = r;
+	return r;
+}
+
+/* The camera of w x h frames from the config or the source: 0, or negative with err set. */
+static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_camera *cam,
+		       struct dao_error *err)
+{
 	const struct daemon_config *c = &d->cfg;
+	int r;
 	if (c->has_intrinsics_file) {
-		if (w != c->file_width || h != c->file_height) {
-			log_error("camera file '%s' is for %ux%u images, the source delivers %ux%u: "
-				  "give the camera file of this stream ([source] intrinsics_file)",
-				  c->intrinsics_file, c->file_width, c->file_height, w, h);
-			return -EINVAL;
-		}
+		if (w != c->file_width || h != c->file_height)
+			return dao_error_set(err, -EINVAL,
+					     "[source] intrinsics_file is for %ux%u images, the "
+					     "source delivers %ux%u: give the camera file of this "
+					     "stream (not '%s')",
+					     c->file_width, c->file_height, w, h, c->intrinsics_file);
 		return dao_camera_from_intrinsics(cam, w, h, c->file_intrinsics[0],
 						  c->file_intrinsics[1], c->file_intrinsics[2],
-						  c->file_intrinsics[3], &err);
+						  c->file_intrinsics[3], err);
 	}
-	if (c->has_intrinsics)
-		return dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
-						  c->intrinsics[2], c->intrinsics[3], &err);
+	if (c->has_intrinsics) {
+		r = dao_camera_from_intrinsics(cam, w, h, c->intrinsics[0], c->intrinsics[1],
+					       c->intrinsics[2], c->intrinsics[3], err);
+		return r ? camera_error(err, r, "[source] intrinsics") : 0;
+	}
 	if (c->has_fov)
 		return dao_camera_from_fov(cam, w, h, c->fov_deg[0] * DEG2RAD, c->fov_deg[1] * DEG2RAD,
-					   &err);
+					   err);
 	pthread_mutex_lock(&d->lock);
 	struct dao_source_info in = d->src_info;
 	pthread_mutex_unlock(&d->lock);
-	if (in.has_intrinsics)
-		return dao_camera_from_intrinsics(cam, w, h, in.fx, in.fy, in.cx, in.cy, &err);
+	if (in.has_intrinsics) {
+		r = dao_camera_from_intrinsics(cam, w, h, in.fx, in.fy, in.cx, in.cy, err);
+		return r ? camera_error(err, r, "the source's intrinsics ([source] intrinsics "
+					"overrides them)") : 0;
+	}
 	if (in.has_fov)
-		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, &err);
+		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, err);
 	log_warn("no intrinsics: the source has no field of view and the config gives none; "
 		 "assuming %.1f x %.1f degrees ([source] intrinsics or fov)",
 		 DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
 	return dao_camera_from_fov(cam, w, h, DEFAULT_HFOV_DEG * DEG2RAD, DEFAULT_VFOV_DEG * DEG2RAD,
-				   &err);
+				   err);
 }
 
 struct outputs {
 	struct dao_frame ao16, ao8, rgb, overlay;
+	struct dao_frame fdepth; /* the filtered depth (DEPTH16), made when a sink wants it */
+	int have_fdepth;         /* ... for this frame */
+	int have_rgb;            /* the shaded image of this frame (none with algorithm=none) */
+	int said_no_shading;     /* algorithm=none with a sink that wants shading: logged */
 };
 
 static void free_outputs(struct outputs *o)
@@ -54,6 +79,7 @@ static void free_outputs(struct outputs *o)
 	dao_frame_free(&o->ao8);
 	dao_frame_free(&o->rgb);
 	dao_frame_free(&o->overlay);
+	dao_frame_free(&o->fdepth);
 }
 
 static void ao_to_8bit(const struct dao_frame *a, struct dao_frame *b)
@@ -70,11 +96,12 @@ static const struct dao_frame *stream_frame(int stream, const struct fq_item *in
 					    const struct outputs *o, int have_overlay)
 {
 	switch (stream) {
-	case STREAM_SHADED: return &o->rgb;
+	case STREAM_SHADED: return o->have_rgb ? &o->rgb : NULL;
 	case STREAM_AO: return &o->ao16;
 	case STREAM_AO8: return &o->ao8;
 	case STREAM_DEPTH: return &in->frame;
 	case STREAM_OVERLAY: return have_overlay ? &o->overlay : NULL;
+	case STREAM_FILTERED_DEPTH: return o->have_fdepth ? &o->fdepth : NULL;
 	default: return NULL;
 	}
 }
@@ -96,7 +123,9 @@ static void push_frame(struct daemon *d, struct sink_runner *s, int stream,
 	}
 	it->frame.sequence = in->index;
 	it->frame.timestamp_ns = in->frame.timestamp_ns;
-	it->frame.depth_unit = in->frame.depth_unit;
+	/* the filtered depth has its own unit (float-metre input: millimetres) */
+	it->frame.depth_unit = stream == STREAM_FILTERED_DEPTH ? f->depth_unit
+							       : in->frame.depth_unit;
 	it->index = in->index;
 	it->t_capture_ns = in->t_capture_ns;
 	it->stream = stream;
@@ -188,7 +217,7 @@ static int setup_pipeline(struct daemon *d, struct dao_context **ctx, struct out
 	struct dao_params p = d->params;
 	d->params_pending = 0;
 	pthread_mutex_unlock(&d->lock);
-	if (make_camera(d, w, h, &cam) < 0 || dao_context_create(ctx, &cam, &p, &err) < 0 ||
+	if (make_camera(d, w, h, &cam, &err) < 0 || dao_context_create(ctx, &cam, &p, &err) < 0 ||
 	    fq_frame_reserve(&o->ao16, DAO_PIXFMT_GRAY16, w, h) < 0 ||
 	    fq_frame_reserve(&o->ao8, DAO_PIXFMT_GRAY8, w, h) < 0 ||
 	    fq_frame_reserve(&o->rgb, DAO_PIXFMT_RGB24, w, h) < 0 ||
@@ -231,6 +260,21 @@ static int take_settings(struct daemon *d, struct dao_context *ctx, unsigned *ex
 }
 
 /*
+ * The filtered depth of the frame just processed into `out` (DEPTH16, allocated at the
+ * first frame that wants it, again only for a new size): counts of the input's unit,
+ * millimetres for float-metre input.  Only when a sink wants it: a copy and a rounding
+ * per pixel.
+ */
+static int get_filtered_depth(struct dao_context *ctx, const struct dao_frame *in,
+			      struct dao_frame *out, struct dao_error *err)
+{
+	if (fq_frame_reserve(out, DAO_PIXFMT_DEPTH16, in->width, in->height) < 0)
+		return dao_error_set(err, -ENOMEM, "out of memory for the filtered depth");
+	out->depth_unit = in->format == DAO_PIXFMT_DEPTH16 ? in->depth_unit : 0.001f;
+	return dao_context_get_depth(ctx, out, err);
+}
+
+/*
  * The AO of the frame and the images derived from it into o (*have_overlay:
  * the overlay was made); the CPU time counted.  0, or -1 (logged, counted).
  */
@@ -241,8 +285,17 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 	struct dao_error err = {0};
 	uint64_t c0 = tool_thread_cpu_ns();
 	int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o->ao16, &err);
-	if (r == 0 && want_rgb)
+	o->have_rgb = 0;
+	if (r == 0 && want_rgb) {
 		r = dao_context_shade(ctx, &o->rgb, &err);
+		o->have_rgb = r == 0;
+		if (r == -ENODATA) { /* algorithm=none: the depth streams go on, nothing to shade */
+			if (!o->said_no_shading++)
+				log_warn("algorithm none computes no AO: the sinks of the shaded "
+					 "stream get no frames while it is set (%s)", err.message);
+			r = 0;
+		}
+	}
 	*have_overlay = 0;
 	if (r == 0) {
 		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
@@ -250,6 +303,11 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 		if ((d->wants[STREAM_OVERLAY] || (extra & (1u << STREAM_OVERLAY))) &&
 		    in->color.format == DAO_PIXFMT_RGB24)
 			*have_overlay = dao_overlay(&in->color, &o->ao16, &o->overlay, &err) == 0;
+		o->have_fdepth = 0;
+		if (d->wants[STREAM_FILTERED_DEPTH] || (extra & (1u << STREAM_FILTERED_DEPTH))) {
+			r = get_filtered_depth(ctx, &in->frame, &o->fdepth, &err);
+			o->have_fdepth = r == 0;
+		}
 	}
 	atomic_fetch_add(&d->cpu_ns_total, tool_thread_cpu_ns() - c0);
 	if (r < 0) {
@@ -295,7 +353,7 @@ void *process_main(void *arg)
 			fq_done(d->input, in);
 			continue;
 		}
-		if (want_rgb)
+		if (o.have_rgb)
 			take_snapshot(d, &o.rgb);
 		/* counted before a sink can have it: the stats never show a sink ahead */
 		unsigned long long n = atomic_fetch_add(&d->processed, 1) + 1;

@@ -103,6 +103,7 @@ void sink_host_init(struct sink_runner *s)
 			       (int)STREAM_AO8 == (int)DAO_STREAM_AO8 &&
 			       (int)STREAM_DEPTH == (int)DAO_STREAM_DEPTH &&
 			       (int)STREAM_OVERLAY == (int)DAO_STREAM_OVERLAY &&
+			       (int)STREAM_FILTERED_DEPTH == (int)DAO_STREAM_FILTERED_DEPTH &&
 			       (int)STREAM_COUNT == (int)DAO_STREAM_COUNT,
 		       "depthaod's streams are numbered as enum dao_stream");
 	s->control_log = (struct log_limit)LOG_LIMIT_INIT(10000, 10);

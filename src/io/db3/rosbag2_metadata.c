@@ -3,7 +3,9 @@
 #include "db3/db3_reader.h"
 
 #include <errno.h>
+#include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <yaml.h>
 
@@ -35,39 +37,71 @@ static int scalar(const yaml_node_t *n, char *dst, size_t cap)
 	return 0;
 }
 
-/* The storage and first file of a loaded document; a message in err on failure. */
-static int from_document(yaml_document_t *doc, const char *dir, const char *name, char *storage,
-			 size_t cap, char *file, size_t fcap, struct dao_error *err)
+/* One of relative_file_paths joined to dir, into a new string; a message on failure. */
+static int file_path(yaml_document_t *doc, yaml_node_item_t item, const char *dir,
+		     const char *name, char **out, struct dao_error *err)
+{
+	char rel[1024], path[4096];
+	if (scalar(yaml_document_get_node(doc, item), rel, sizeof rel) < 0 || !rel[0] ||
+	    rel[0] == '/' || strstr(rel, ".."))
+		return dao_error_set(err, -EINVAL, "%s: relative_file_paths: not a file name inside "
+				     "the directory", name);
+	if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, rel) >= sizeof path)
+		return dao_error_set(err, -ENAMETOOLONG, "%s: the path of %s is too long", name, rel);
+	if (!(*out = strdup(path)))
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	return 0;
+}
+
+/* The storage, compression and files of a loaded document; a message in err on failure. */
+static int from_document(yaml_document_t *doc, const char *dir, const char *name,
+			 struct dao_rosbag2_meta *m, struct dao_error *err)
 {
 	yaml_node_t *info = map_get(doc, yaml_document_get_root_node(doc),
 				    "rosbag2_bagfile_information");
 	if (!info)
 		return dao_error_set(err, -EINVAL, "%s: no rosbag2_bagfile_information mapping: not "
 				     "a rosbag2 metadata.yaml", name);
-	if (scalar(map_get(doc, info, "storage_identifier"), storage, cap) < 0)
+	if (scalar(map_get(doc, info, "storage_identifier"), m->storage, sizeof m->storage) < 0)
 		return dao_error_set(err, -EINVAL, "%s: no storage_identifier (sqlite3 or mcap)", name);
+	/* absent in bags older than compression (empty: none) */
+	yaml_node_t *cf = map_get(doc, info, "compression_format"),
+		    *cm = map_get(doc, info, "compression_mode");
+	if ((cf && scalar(cf, m->compression_format, sizeof m->compression_format) < 0) ||
+	    (cm && scalar(cm, m->compression_mode, sizeof m->compression_mode) < 0))
+		return dao_error_set(err, -EINVAL, "%s: compression_format or compression_mode is "
+				     "not a short text", name);
 	yaml_node_t *files = map_get(doc, info, "relative_file_paths");
 	if (!files || files->type != YAML_SEQUENCE_NODE ||
 	    files->data.sequence.items.top == files->data.sequence.items.start)
 		return dao_error_set(err, -EINVAL, "%s: no relative_file_paths list", name);
-	if (files->data.sequence.items.top - files->data.sequence.items.start > 1)
-		return dao_error_set(err, -ENOTSUP, "%s: the bag is split into %d files: play each "
-				     "file on its own", name,
-				     (int)(files->data.sequence.items.top -
-					   files->data.sequence.items.start));
-	char rel[1024];
-	if (scalar(yaml_document_get_node(doc, *files->data.sequence.items.start), rel,
-		   sizeof rel) < 0 || !rel[0] || rel[0] == '/' || strstr(rel, ".."))
-		return dao_error_set(err, -EINVAL, "%s: relative_file_paths: not a file name inside "
-				     "the directory", name);
-	if ((size_t)snprintf(file, fcap, "%s/%s", dir, rel) >= fcap)
-		return dao_error_set(err, -ENAMETOOLONG, "%s: the path of %s is too long", name, rel);
+	const ptrdiff_t n = files->data.sequence.items.top - files->data.sequence.items.start;
+	if (n > DAO_ROSBAG2_MAX_FILES)
+		return dao_error_set(err, -EFBIG, "%s: the bag is split into %td files, more than "
+				     "the %d depthao plays", name, n, DAO_ROSBAG2_MAX_FILES);
+	if (!(m->files = calloc((size_t)n, sizeof *m->files)))
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	for (ptrdiff_t i = 0; i < n; i++) {
+		int r = file_path(doc, files->data.sequence.items.start[i], dir, name, &m->files[i],
+				  err);
+		if (r < 0)
+			return r;
+		m->file_count = (uint32_t)i + 1;
+	}
 	return 0;
 }
 
-int dao_rosbag2_metadata(const char *dir, char *storage, size_t cap, char *file, size_t fcap,
-			 struct dao_error *err)
+void dao_rosbag2_meta_free(struct dao_rosbag2_meta *m)
 {
+	for (uint32_t i = 0; m->files && i < m->file_count; i++)
+		free(m->files[i]);
+	free(m->files);
+	memset(m, 0, sizeof *m);
+}
+
+int dao_rosbag2_metadata(const char *dir, struct dao_rosbag2_meta *m, struct dao_error *err)
+{
+	memset(m, 0, sizeof *m);
 	char name[4096];
 	if ((size_t)snprintf(name, sizeof name, "%s/metadata.yaml", dir) >= sizeof name)
 		return dao_error_set(err, -ENAMETOOLONG, "%s: the path is too long", dir);
@@ -92,8 +126,10 @@ int dao_rosbag2_metadata(const char *dir, char *storage, size_t cap, char *file,
 				  parser.problem ? parser.problem : "not YAML");
 		goto out;
 	}
-	r = from_document(&doc, dir, name, storage, cap, file, fcap, err);
+	r = from_document(&doc, dir, name, m, err);
 	yaml_document_delete(&doc);
+	if (r < 0)
+		dao_rosbag2_meta_free(m);
 out:
 	yaml_parser_delete(&parser);
 	fclose(f);

@@ -257,13 +257,16 @@ static int png_layout(enum dao_pixfmt format, int *color, int *depth)
  * than the deflate itself at level 1; at level 1 zlib's run-length matching
  * for gray images (AO maps: runs of equal bytes, noise between them that
  * longer matches do not find; twice as fast for 16 bits and no larger), but
- * not for RGB, where it made files 50 % larger.
+ * not for RGB, where it made files 50 % larger, nor for depth (DEPTH16: smooth
+ * surfaces, which the Up filter leaves as small repeating differences that longer
+ * matches find: 2.6x faster and 4.6x smaller on clean depth, 1.1x and 1.6x on
+ * noisy depth without it; docs/perf/png-output.md, "Depth").
  */
-static void set_compression(png_structp png, int compression, int color)
+static void set_compression(png_structp png, int compression, int color, enum dao_pixfmt format)
 {
 	png_set_compression_level(png, compression);
 	png_set_filter(png, PNG_FILTER_TYPE_BASE, compression ? PNG_FILTER_UP : PNG_FILTER_NONE);
-	if (compression == 1 && color == PNG_COLOR_TYPE_GRAY)
+	if (compression == 1 && color == PNG_COLOR_TYPE_GRAY && format != DAO_PIXFMT_DEPTH16)
 		png_set_compression_strategy(png, Z_RLE);
 }
 
@@ -300,7 +303,7 @@ static int encode_image(struct write_state *st, const struct dao_frame *f)
 		return -1;
 	png_set_IHDR(st->png, st->info, f->width, f->height, st->depth, st->color,
 		     PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-	set_compression(st->png, st->compression, st->color);
+	set_compression(st->png, st->compression, st->color, f->format);
 	png_write_info(st->png, st->info);
 	const uint16_t one = 1;
 	if (st->depth == 16 && *(const unsigned char *)&one == 1)

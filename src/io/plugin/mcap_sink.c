@@ -8,6 +8,7 @@
  *   chunk=BYTES                uncompressed bytes a chunk holds (default 4 MiB,
  *                              4096 .. 1 GiB); what kill -9 can lose at most
  *   cloud=true                 also the AO point cloud (PointCloud2 x y z ao)
+ *   filtered_depth=true        also the filtered depth (the host's filtered-depth stream)
  *   frame_id=NAME              the messages' header.frame_id (default
  *                              camera_depth_optical_frame)
  *   overwrite=true             replace PATH (else PATH-1.mcap, PATH-2.mcap ...)
@@ -19,6 +20,8 @@
  *                         just before it)
  *   /depthao/points       PointCloud2 (cloud=true): the pixels with depth, x y z in
  *                         metres (x right, y down, z forward) and ao 0..1
+ *   /depthao/depth_filtered  Image (filtered_depth=true): the filtered depth, 16UC1
+ *                         millimetres (REP 118) when its unit is 1 mm, else 32FC1 metres
  * The sink takes the stream it is configured for (ao, shaded or depth) and
  * asks its host for the others it records (want_streams); without a host
  * (depthao process) the program hands every stream to write_stream.  The
@@ -34,7 +37,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,24 +50,25 @@
 #include "mcap/mcap_writer.h"
 #include "mcap/ros2_encode.h"
 #include "plugin/builtin.h"
-#include "plugin/output_path.h"
+#include "plugin/recorder_sink.h"
 
 #define MCAP_SINK_DEFAULT_FPS 30
 #define MCAP_SINK_DEFAULT_HFOV_DEG 58.5
 #define MCAP_SINK_DEFAULT_VFOV_DEG 45.6
 #define MCAP_SINK_HELP                                                                  \
-	"?compression=zstd|lz4|none&level=1..19&chunk=BYTES&cloud=true&frame_id=NAME"     \
-	"&overwrite=true"
+	"?compression=zstd|lz4|none&level=1..19&chunk=BYTES&cloud=true&filtered_depth=true" \
+	"&frame_id=NAME&overwrite=true"
 
-enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_COUNT };
+enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_FDEPTH, CH_COUNT };
 
 struct mcap_sink {
-	char *path, *file;
+	struct dao_recorder rec; /* the path, the file written, the host */
 	struct dao_mcap_writer_options wo;
 	int cloud;
+	int fdepth;           /* filtered_depth=true */
+	struct dao_frame fdepth_m; /* its 32FC1 metres when the unit is not 1 mm */
 	char frame_id[64];
 	struct dao_mcap_writer *w;
-	struct dao_sink_host host;
 	uint16_t ch[CH_COUNT];
 	struct dao_ros2_pinhole cam;
 	double fps;
@@ -78,7 +81,7 @@ struct mcap_sink {
 };
 
 static const char *const mcap_sink_options[] = {"compression", "level", "chunk", "cloud",
-						"frame_id", "overwrite", NULL};
+						"frame_id", "overwrite", "filtered_depth", NULL};
 
 static int mcap_sink_probe(const char *uri)
 {
@@ -100,6 +103,7 @@ static int parse_options(struct mcap_sink *s, const char *text, struct dao_error
 	    (r = dao_options_get_int(o, "chunk", 4096, (int64_t)DAO_MCAP_MAX_MESSAGE, &chunk,
 				     err)) >= 0 &&
 	    (r = dao_options_get_bool(o, "cloud", &s->cloud, err)) >= 0 &&
+	    (r = dao_options_get_bool(o, "filtered_depth", &s->fdepth, err)) >= 0 &&
 	    (r = dao_options_get_bool(o, "overwrite", &s->wo.overwrite, err)) >= 0)
 		r = dao_options_get_string(o, "frame_id", s->frame_id, sizeof s->frame_id, err);
 	s->wo.compression = (enum dao_mcap_compression)comp;
@@ -109,118 +113,58 @@ static int parse_options(struct mcap_sink *s, const char *text, struct dao_error
 	return r < 0 ? r : 0;
 }
 
-/* A file, or nothing, at `path`, in a directory that exists and is writable. */
-static int check_dir(const char *path, struct dao_error *err)
-{
-	struct stat st;
-	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-		return dao_error_set(err, -EISDIR,
-				     "mcap: %s is a directory; give the path of the .mcap file to "
-				     "write", path);
-	const char *slash = strrchr(path, '/');
-	char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-	if (!dir)
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	int r = 0;
-	if (access(dir, W_OK | X_OK) != 0)
-		r = dao_error_set(err, -errno, "mcap: cannot record to %s: directory %s: %s", path,
-				  dir, strerror(errno));
-	free(dir);
-	return r;
-}
-
 static int mcap_sink_open(const char *uri, void **state, struct dao_error *err)
 {
-	int r;
 	size_t n = dao_uri_path_len(uri, mcap_sink_options);
-	if (n == 0)
-		return dao_error_set(err, -EINVAL,
-				     "mcap: no output file given; use mcap:PATH.mcap" MCAP_SINK_HELP);
 	struct mcap_sink *s = calloc(1, sizeof(*s));
-	if (!s || !(s->path = strndup(uri, n))) {
-		free(s);
+	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	}
 	snprintf(s->frame_id, sizeof s->frame_id, "camera_depth_optical_frame");
-	if (!strcmp(s->path, "-")) {
+	s->wo.profile = "ros2";
+	int r = dao_recorder_init(&s->rec, "mcap", uri, n, MCAP_SINK_HELP, err);
+	if (r == 0 && !strcmp(s->rec.path, "-"))
 		r = dao_error_set(err, -EINVAL,
 				  "mcap: a recording cannot go to standard output ('-'): its summary "
 				  "and indexes are written at the end; give a file name (./- for one "
 				  "named '-')");
-		goto fail;
+	if (r == 0 && uri[n] == '?')
+		r = parse_options(s, uri + n + 1, err);
+	if (r == 0)
+		r = dao_recorder_check_dir(&s->rec, 0, err);
+	if (r < 0) {
+		dao_recorder_free(&s->rec);
+		free(s);
+		return r;
 	}
-	s->wo.profile = "ros2";
-	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
-		goto fail;
-	if ((r = check_dir(s->path, err)) < 0)
-		goto fail;
 	*state = s;
 	return 0;
-fail:
-	free(s->path);
-	free(s);
-	return r;
 }
 
 static void mcap_sink_attach_host(void *state, const struct dao_sink_host *host)
 {
 	struct mcap_sink *s = state;
-	s->host = *host;
+	s->rec.host = *host;
 }
 
-static void note(struct mcap_sink *s, int level, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static void note(struct mcap_sink *s, int level, const char *fmt, ...)
+static int open_at(void *ctx, const char *name, int overwrite, struct dao_error *err)
 {
-	char msg[DAO_ERROR_MESSAGE_MAX + 256];
-	va_list ap;
-	if (!s->host.log)
-		return;
-	va_start(ap, fmt);
-	vsnprintf(msg, sizeof(msg), fmt, ap);
-	va_end(ap);
-	s->host.log(s->host.user, level, msg);
+	struct mcap_sink *s = ctx;
+	struct dao_mcap_writer_options o = s->wo;
+	o.overwrite = overwrite;
+	return dao_mcap_writer_open(name, &o, &s->w, err);
 }
 
 /* Opens the writer at the path, or at the first free numbered name beside it. */
 static int open_writer(struct mcap_sink *s, struct dao_error *err)
 {
-	char *name = s->path;
 	struct stat st;
-	int r = 0;
 	/* the one rule for replacing a file (output_file.c) */
-	if (s->wo.overwrite && stat(name, &st) == 0 && S_ISREG(st.st_mode))
-		r = dao_output_file_check_replaceable(name, &st, err);
-	if (r < 0)
-		return r;
-	r = dao_mcap_writer_open(name, &s->wo, &s->w, err);
-	struct dao_mcap_writer_options o = s->wo;
-	o.overwrite = 0;
-	for (unsigned k = 1; r == -EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
-		if (!(name = dao_output_numbered(s->path, k)))
-			return dao_error_set(err, -ENOMEM, "out of memory");
-		r = lstat(name, &st) == 0 ? -EEXIST : dao_mcap_writer_open(name, &o, &s->w, err);
-		if (r == 0)
-			break;
-		free(name);
-		name = s->path;
+	if (s->wo.overwrite && stat(s->rec.path, &st) == 0 && S_ISREG(st.st_mode)) {
+		int r = dao_output_file_check_replaceable(s->rec.path, &st, err);
+		if (r < 0)
+			return r;
 	}
-	if (r == -EEXIST)
-		return dao_error_set(err, r,
-				     "mcap: %s and its numbered names up to -%u exist; a recording "
-				     "never replaces a file (add ?overwrite=true to replace it)",
-				     s->path, DAO_OUTPUT_NUMBERED_MAX);
-	if (r < 0)
-		return r;
-	if (name != s->path) {
-		note(s, DAO_LOG_INFO,
-		     "mcap: %s exists; recording to %s instead (a recording never replaces a "
-		     "file; add ?overwrite=true to replace it)",
-		     s->path, name);
-		free(s->file);
-		s->file = name;
-	}
-	return 0;
+	return dao_recorder_open_numbered(&s->rec, s->wo.overwrite, open_at, s, err);
 }
 
 /* The schemas and channels, all before the first message. */
@@ -239,6 +183,9 @@ static int add_channels(struct mcap_sink *s, struct dao_error *err)
 	    (r = dao_mcap_writer_add_channel(w, info, "/depthao/camera_info", "cdr",
 					     &s->ch[CH_INFO], err)) < 0)
 		return r;
+	if (s->fdepth && (r = dao_mcap_writer_add_channel(w, img, "/depthao/depth_filtered", "cdr",
+							  &s->ch[CH_FDEPTH], err)) < 0)
+		return r;
 	if (!s->cloud)
 		return 0;
 	if ((r = dao_mcap_writer_add_schema(w, "sensor_msgs/msg/PointCloud2", "ros2msg",
@@ -251,11 +198,11 @@ static void drop_writer(struct mcap_sink *s)
 {
 	dao_mcap_writer_abort(s->w); /* no messages yet: the file goes */
 	s->w = NULL;
-	free(s->file);
-	s->file = NULL;
+	dao_recorder_forget_file(&s->rec);
 	free(s->depth);
 	free(s->ao);
 	s->depth = s->ao = NULL;
+	dao_frame_free(&s->fdepth_m);
 	s->have_depth = s->have_ao = 0;
 }
 
@@ -294,10 +241,11 @@ static int mcap_sink_negotiate(void *state, struct dao_sink_format *fmt, struct 
 	if (r < 0)
 		return r;
 	unsigned want = (1u << DAO_STREAM_AO) | (1u << DAO_STREAM_SHADED) |
-			(s->cloud ? 1u << DAO_STREAM_DEPTH : 0);
+			(s->cloud ? 1u << DAO_STREAM_DEPTH : 0) |
+			(s->fdepth ? 1u << DAO_STREAM_FILTERED_DEPTH : 0);
 	want &= ~(1u << s->configured);
-	if (s->host.want_streams && want)
-		s->host.want_streams(s->host.user, want);
+	if (s->rec.host.want_streams && want)
+		s->rec.host.want_streams(s->rec.host.user, want);
 	return 0;
 }
 
@@ -367,13 +315,38 @@ static int put_cloud(struct mcap_sink *s, struct dao_error *err)
 	return 0;
 }
 
+/*
+ * The filtered depth: 16UC1 as it is when its counts are millimetres (what ROS
+ * consumers take 16UC1 to be), else 32FC1 metres (0 stays 0: no depth).
+ */
+static int put_filtered_depth(struct mcap_sink *s, const struct dao_frame *f,
+			      struct dao_error *err)
+{
+	if (fabsf(f->depth_unit - 0.001f) <= 1e-9f)
+		return put_image(s, CH_FDEPTH, "16UC1", f, err);
+	if (!s->fdepth_m.data &&
+	    dao_frame_alloc(&s->fdepth_m, DAO_PIXFMT_DEPTH_F32, f->width, f->height, err) < 0)
+		return -ENOMEM;
+	for (uint32_t y = 0; y < f->height; y++) {
+		const uint16_t *src = (const uint16_t *)((const uint8_t *)f->data +
+							  (size_t)y * (size_t)f->stride);
+		float *dst = (float *)((uint8_t *)s->fdepth_m.data +
+				       (size_t)y * (size_t)s->fdepth_m.stride);
+		for (uint32_t x = 0; x < f->width; x++)
+			dst[x] = (float)src[x] * f->depth_unit;
+	}
+	s->fdepth_m.sequence = f->sequence;
+	s->fdepth_m.timestamp_ns = f->timestamp_ns;
+	return put_image(s, CH_FDEPTH, "32FC1", &s->fdepth_m, err);
+}
+
 static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info *info,
 				  const struct dao_frame *f, struct dao_error *err)
 {
 	struct mcap_sink *s = state;
 	static const enum dao_pixfmt want[DAO_STREAM_COUNT] = {
 		DAO_PIXFMT_RGB24, DAO_PIXFMT_GRAY16, DAO_PIXFMT_GRAY8, DAO_PIXFMT_DEPTH16,
-		DAO_PIXFMT_RGB24};
+		DAO_PIXFMT_RGB24, DAO_PIXFMT_DEPTH16};
 	if (!s->w)
 		return dao_error_set(err, -EINVAL, "mcap: write before negotiate");
 	enum dao_stream st = info->stream;
@@ -393,6 +366,8 @@ static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info 
 		}
 	} else if (st == DAO_STREAM_SHADED) {
 		r = put_image(s, CH_SHADED, "rgb8", f, err);
+	} else if (st == DAO_STREAM_FILTERED_DEPTH && s->fdepth) {
+		r = put_filtered_depth(s, f, err);
 	} else if (st == DAO_STREAM_DEPTH && s->cloud) {
 		copy_rows(s->depth, f);
 		s->depth_seq = f->sequence;
@@ -428,8 +403,8 @@ static int mcap_sink_close(void *state, struct dao_error *err)
 		r = dao_mcap_writer_finish(s->w, err); /* also after a failed write */
 	free(s->depth);
 	free(s->ao);
-	free(s->file);
-	free(s->path);
+	dao_frame_free(&s->fdepth_m);
+	dao_recorder_free(&s->rec);
 	free(s);
 	return r;
 }

@@ -33,18 +33,15 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "core/error_internal.h"
 #include "core/math_util.h"
 #include "plugin/builtin.h"
-#include "plugin/output_path.h"
+#include "plugin/recorder_sink.h"
 
 #define ONI_SINK_DEFAULT_FPS 30
 #define ONI_SINK_DEFAULT_HFOV_DEG 58.5
@@ -52,15 +49,14 @@
 #define ONI_SINK_OPTIONS_HELP "?codec=none|16z|16zt&overwrite=true|false"
 
 struct oni_sink {
-	char *path;                    /* as given */
-	char *file;                    /* the file being written (path or path-N.oni) */
+	struct dao_recorder rec;       /* the path, the file written, the host */
 	enum dao_oni_codec codec;
 	int overwrite;
 	struct dao_oni_writer *writer; /* from negotiate on */
-	struct dao_sink_host host;
 	uint32_t fps;
 	uint64_t nframes;
 	uint64_t last_ts_us;
+	struct dao_oni_writer_options *opts; /* during open_writer */
 };
 
 static const char *const oni_sink_options[] = {"codec", "overwrite", NULL};
@@ -90,113 +86,50 @@ static int parse_options(struct oni_sink *s, const char *opts, struct dao_error 
 	return r < 0 ? r : 0;
 }
 
-/* A file, or nothing, at `path`, in a directory that exists and is writable. */
-static int check_dir(const char *path, struct dao_error *err)
-{
-	struct stat st;
-	if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-		return dao_error_set(err, -EISDIR,
-				     "oni: %s is a directory; give the path of the .oni file "
-				     "to write",
-				     path);
-	if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
-		return dao_error_set(err, -EINVAL,
-				     "oni: %s is not a regular file (a device, FIFO or socket); "
-				     "the recorder writes .oni files",
-				     path);
-	const char *slash = strrchr(path, '/');
-	char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-	if (!dir)
-		return dao_error_set(err, -ENOMEM, "out of memory");
-	int r = 0;
-	if (access(dir, W_OK | X_OK) != 0)
-		r = dao_error_set(err, -errno, "oni: cannot record to %s: directory %s: %s", path,
-				  dir, strerror(errno));
-	free(dir);
-	return r;
-}
-
 static int oni_sink_open(const char *uri, void **state, struct dao_error *err)
 {
-	int r;
 	size_t n = dao_uri_path_len(uri, oni_sink_options);
-	if (n == 0)
-		return dao_error_set(err, -EINVAL,
-				     "oni: no output file given; use oni:PATH.oni" ONI_SINK_OPTIONS_HELP);
 	struct oni_sink *s = calloc(1, sizeof(*s));
-	if (!s || !(s->path = strndup(uri, n))) {
-		free(s);
+	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	}
 	s->codec = DAO_ONI_CODEC_16ZT;
-	if (uri[n] == '?' && (r = parse_options(s, uri + n + 1, err)) < 0)
-		goto fail;
-	if ((r = check_dir(s->path, err)) < 0)
-		goto fail;
+	int r = dao_recorder_init(&s->rec, "oni", uri, n, ONI_SINK_OPTIONS_HELP, err);
+	if (r == 0 && uri[n] == '?')
+		r = parse_options(s, uri + n + 1, err);
+	if (r == 0)
+		r = dao_recorder_check_dir(&s->rec, 1, err);
+	if (r < 0) {
+		dao_recorder_free(&s->rec);
+		free(s);
+		return r;
+	}
 	*state = s;
 	return 0;
-fail:
-	free(s->path);
-	free(s);
-	return r;
 }
 
 static void oni_sink_attach_host(void *state, const struct dao_sink_host *host)
 {
 	struct oni_sink *s = state;
-	s->host = *host;
+	s->rec.host = *host;
 }
 
-static void note(struct oni_sink *s, int level, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static void note(struct oni_sink *s, int level, const char *fmt, ...)
+static int open_at(void *ctx, const char *name, int overwrite, struct dao_error *err)
 {
-	char msg[DAO_ERROR_MESSAGE_MAX + 256];
-	va_list ap;
-	if (!s->host.log)
-		return;
-	va_start(ap, fmt);
-	vsnprintf(msg, sizeof(msg), fmt, ap);
-	va_end(ap);
-	s->host.log(s->host.user, level, msg);
+	struct oni_sink *s = ctx;
+	s->opts->overwrite = overwrite;
+	return dao_oni_writer_open(name, s->opts, &s->writer, err);
 }
 
 /* Opens the writer at the path, or at the first free numbered name beside it. */
 static int open_writer(struct oni_sink *s, struct dao_oni_writer_options *o,
 		       struct dao_error *err)
 {
-	char *name = s->path;
-	o->overwrite = s->overwrite;
-	int r = dao_oni_writer_open(name, o, &s->writer, err);
-	o->overwrite = 0;
-	for (unsigned k = 1; r == -EEXIST && k <= DAO_OUTPUT_NUMBERED_MAX; k++) {
-		struct stat st;
-		if (!(name = dao_output_numbered(s->path, k)))
-			return dao_error_set(err, -ENOMEM, "out of memory");
-		r = lstat(name, &st) == 0 ? -EEXIST : dao_oni_writer_open(name, o, &s->writer, err);
-		if (r == 0)
-			break;
-		free(name);
-		name = s->path;
-	}
-	if (r == -EEXIST)
-		return dao_error_set(err, r,
-				     "oni: %s and its numbered names up to -%u exist; a recording "
-				     "never replaces a file (add ?overwrite=true to replace it)",
-				     s->path, DAO_OUTPUT_NUMBERED_MAX);
-	if (r < 0) {
+	s->opts = o;
+	int r = dao_recorder_open_numbered(&s->rec, s->overwrite, open_at, s, err);
+	s->opts = NULL;
+	if (r < 0)
 		s->writer = NULL;
-		return r;
-	}
-	if (name != s->path) {
-		note(s, DAO_LOG_INFO,
-		     "oni: %s exists; recording to %s instead (a recording never replaces a "
-		     "file; add ?overwrite=true to replace it)",
-		     s->path, name);
-		free(s->file);
-		s->file = name;
-	}
-	return 0;
+	return r;
 }
 
 static int oni_sink_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
@@ -206,8 +139,7 @@ static int oni_sink_negotiate(void *state, struct dao_sink_format *fmt, struct d
 		dao_oni_writer_abort(s->writer); /* no frames: the file goes */
 		s->writer = NULL;
 		s->nframes = 0;
-		free(s->file);
-		s->file = NULL;
+		dao_recorder_forget_file(&s->rec);
 	}
 	if (fmt->format != DAO_PIXFMT_DEPTH16)
 		return dao_error_set(err, -ENOTSUP,
@@ -255,7 +187,7 @@ static int oni_sink_write(void *state, const struct dao_frame *frame, struct dao
 	if (r < 0) {
 		if (e.code != r) /* the writer returned without a message */
 			dao_error_set(&e, r, "oni: writing frame %llu to %s failed: %s",
-				      (unsigned long long)s->nframes, s->file ? s->file : s->path,
+				      (unsigned long long)s->nframes, dao_recorder_file(&s->rec),
 				      strerror(-r));
 		if (err)
 			*err = e;
@@ -281,8 +213,7 @@ static int oni_sink_close(void *state, struct dao_error *err)
 		dao_oni_writer_abort(s->writer); /* nothing to save: no file */
 	else if (s->writer)
 		r = dao_oni_writer_finish(s->writer, err); /* also after a failed write */
-	free(s->file);
-	free(s->path);
+	dao_recorder_free(&s->rec);
 	free(s);
 	return r;
 }

@@ -1,0 +1,244 @@
+/* SPDX-License-Identifier: MIT */
+/* Metrics of an AO sequence against per-frame truth (sequence_metrics.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "synth/sequence_metrics.h"
+
+#define NEVER (-1000)
+
+int synth_seq_masks_init(struct synth_seq_masks *m, int width, int height, int with_truth)
+{
+	memset(m, 0, sizeof *m);
+	const size_t np = (size_t)width * (size_t)height;
+	m->width = width, m->height = height, m->with_truth = with_truth;
+	m->last_swept = malloc(np * sizeof *m->last_swept);
+	m->ref = malloc(np * sizeof *m->ref);
+	m->prev_true = calloc(np, sizeof *m->prev_true);
+	m->is_static = malloc(np);
+	if (!m->last_swept || !m->ref || !m->prev_true || !m->is_static) {
+		synth_seq_masks_free(m);
+		return -ENOMEM;
+	}
+	for (size_t i = 0; i < np; i++)
+		m->last_swept[i] = NEVER;
+	memset(m->is_static, 1, np);
+	return 0;
+}
+
+void synth_seq_masks_free(struct synth_seq_masks *m)
+{
+	free(m->last_swept);
+	free(m->ref);
+	free(m->prev_true);
+	free(m->is_static);
+	memset(m, 0, sizeof *m);
+}
+
+/* A discontinuity passed: the surface changed by more than SYNTH_TRAIL_REL, or appeared/vanished. */
+static int swept(float a, float b)
+{
+	if ((a > 0.0f) != (b > 0.0f))
+		return 1;
+	return a > 0.0f && fabsf(a - b) > SYNTH_TRAIL_REL * fminf(a, b);
+}
+
+void synth_seq_masks_add(struct synth_seq_masks *m, const float *depth, const float *true_depth)
+{
+	const size_t np = (size_t)m->width * (size_t)m->height;
+	const int32_t k = (int32_t)m->frame;
+	const float *ref_now = m->with_truth && true_depth ? true_depth : depth;
+	for (size_t i = 0; i < np; i++) {
+		if (!(depth[i] > 0.0f))
+			m->is_static[i] = 0;
+		if (k == 0) {
+			m->ref[i] = ref_now[i];
+		} else if (m->with_truth && true_depth) {
+			if (fabsf(true_depth[i] - m->ref[i]) > SYNTH_STATIC_TOL_M)
+				m->is_static[i] = 0;
+			if (swept(m->prev_true[i], true_depth[i]))
+				m->last_swept[i] = k;
+		} else if (fabsf(depth[i] - m->ref[i]) > SYNTH_STATIC_REL * m->ref[i]) {
+			m->is_static[i] = 0;
+		}
+		if (true_depth)
+			m->prev_true[i] = true_depth[i];
+	}
+	m->frame++;
+}
+
+int synth_seq_column_init(struct synth_seq_column *c, int width, int height)
+{
+	memset(c, 0, sizeof *c);
+	const size_t np = (size_t)width * (size_t)height;
+	c->width = width, c->height = height;
+	c->sum = calloc(np, sizeof *c->sum);
+	c->sumsq = calloc(np, sizeof *c->sumsq);
+	c->prev = calloc(np, sizeof *c->prev);
+	c->prev_valid = calloc(np, 1);
+	c->tsum = calloc(np, sizeof *c->tsum);
+	c->tsumsq = calloc(np, sizeof *c->tsumsq);
+	c->tn = calloc(np, sizeof *c->tn);
+	if (!c->sum || !c->sumsq || !c->prev || !c->prev_valid || !c->tsum || !c->tsumsq || !c->tn) {
+		synth_seq_column_free(c);
+		return -ENOMEM;
+	}
+	return 0;
+}
+
+void synth_seq_column_free(struct synth_seq_column *c)
+{
+	free(c->sum);
+	free(c->sumsq);
+	free(c->prev);
+	free(c->prev_valid);
+	free(c->tsum);
+	free(c->tsumsq);
+	free(c->tn);
+	memset(c, 0, sizeof *c);
+}
+
+void synth_seq_column_add(struct synth_seq_column *c, const struct synth_seq_masks *m,
+			  const float *ao, const float *gt, const float *depth,
+			  struct synth_seq_frame *out)
+{
+	const size_t np = (size_t)c->width * (size_t)c->height;
+	double e_sum = 0.0, t_sum = 0.0;
+	long n = 0, tn = 0;
+	for (size_t i = 0; i < np; i++) {
+		const int valid = depth[i] > 0.0f;
+		const double a = ao[i];
+		c->sum[i] += a;
+		c->sumsq[i] += a * a;
+		if (valid && c->prev_valid[i]) {
+			c->change_sum += fabs(a - c->prev[i]);
+			c->change_n++;
+		}
+		c->prev[i] = ao[i];
+		c->prev_valid[i] = (uint8_t)valid;
+		if (!gt || !valid)
+			continue;
+		const double e = fabs(a - gt[i]);
+		e_sum += e;
+		n++;
+		if (m && m->with_truth && synth_seq_in_band(m, (long)i)) {
+			t_sum += e;
+			tn++;
+		}
+	}
+	c->frames++;
+	if (out)
+		*out = (struct synth_seq_frame){ .mae = n ? e_sum / n : 0.0, .count = n,
+						 .trail_mae = tn ? t_sum / tn : 0.0, .trail_count = tn };
+}
+
+double synth_seq_flicker(const struct synth_seq_column *c, const struct synth_seq_masks *m,
+			 long *count)
+{
+	const size_t np = (size_t)c->width * (size_t)c->height;
+	double s = 0.0;
+	long n = 0;
+	for (size_t i = 0; i < np && c->frames > 1; i++) {
+		if (!m->is_static[i])
+			continue;
+		const double mean = c->sum[i] / c->frames;
+		const double var = c->sumsq[i] / c->frames - mean * mean;
+		s += sqrt(var > 0.0 ? var : 0.0);
+		n++;
+	}
+	if (count)
+		*count = n;
+	return n ? s / n : 0.0;
+}
+
+double synth_seq_change(const struct synth_seq_column *c)
+{
+	return c->change_n ? c->change_sum / c->change_n : 0.0;
+}
+
+int synth_seq_track_init(struct synth_seq_track *t, int width, int height, double fx, double fy,
+			 double cx, double cy)
+{
+	*t = (struct synth_seq_track){ .width = width, .height = height, .fx = fx, .fy = fy,
+				       .cx = cx, .cy = cy };
+	t->X = malloc((size_t)width * (size_t)height * 3 * sizeof *t->X);
+	return t->X ? 0 : -ENOMEM;
+}
+
+void synth_seq_track_free(struct synth_seq_track *t)
+{
+	free(t->X);
+	memset(t, 0, sizeof *t);
+}
+
+void synth_seq_track_frame(struct synth_seq_track *t, const float *true_depth,
+			   const struct synth_pose *pose)
+{
+	if (t->frames++ > 0)
+		return;
+	for (int y = 0; y < t->height; y++)
+		for (int x = 0; x < t->width; x++) {
+			const size_t i = (size_t)y * t->width + x;
+			const double z = true_depth[i];
+			const double c[3] = { (x - t->cx) / t->fx * z, (y - t->cy) / t->fy * z, z };
+			for (int k = 0; k < 3; k++)
+				t->X[3 * i + k] = z > 0.0 ? (float)(pose->R[k][0] * c[0] + pose->R[k][1] * c[1] +
+								    pose->R[k][2] * c[2] + pose->t[k])
+							  : NAN;
+		}
+}
+
+/* The pixel where frame `pose` sees world point X, if its true depth there agrees; else -1. */
+static long track_pixel(const struct synth_seq_track *t, const float *X, const float *true_depth,
+			const struct synth_pose *pose)
+{
+	double d[3] = { X[0] - pose->t[0], X[1] - pose->t[1], X[2] - pose->t[2] }, c[3];
+	for (int k = 0; k < 3; k++) /* x_c = R^T (x_w - t) */
+		c[k] = pose->R[0][k] * d[0] + pose->R[1][k] * d[1] + pose->R[2][k] * d[2];
+	if (!(c[2] > 0.0))
+		return -1;
+	const double u = floor(t->fx * c[0] / c[2] + t->cx + 0.5);
+	const double v = floor(t->fy * c[1] / c[2] + t->cy + 0.5);
+	if (!(u >= 0 && v >= 0 && u < t->width && v < t->height))
+		return -1;
+	const long q = (long)v * t->width + (long)u;
+	return fabs(true_depth[q] - c[2]) <= SYNTH_TRACK_REL * c[2] ? q : -1;
+}
+
+void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_track *t,
+			    const float *ao, const float *depth, const float *true_depth,
+			    const struct synth_pose *pose)
+{
+	const size_t np = (size_t)t->width * (size_t)t->height;
+	for (size_t i = 0; i < np; i++) {
+		if (isnan(t->X[3 * i]))
+			continue;
+		long q = track_pixel(t, &t->X[3 * i], true_depth, pose);
+		if (q < 0 || !(depth[q] > 0.0f))
+			continue;
+		c->tsum[i] += ao[q];
+		c->tsumsq[i] += (double)ao[q] * ao[q];
+		c->tn[i]++;
+	}
+}
+
+double synth_seq_flicker_tracked(const struct synth_seq_column *c, const struct synth_seq_track *t,
+				 long *count)
+{
+	const size_t np = (size_t)t->width * (size_t)t->height;
+	double s = 0.0;
+	long n = 0;
+	for (size_t i = 0; i < np && t->frames > 1; i++) {
+		if (c->tn[i] != t->frames)
+			continue;
+		const double mean = c->tsum[i] / c->tn[i];
+		const double var = c->tsumsq[i] / c->tn[i] - mean * mean;
+		s += sqrt(var > 0.0 ? var : 0.0);
+		n++;
+	}
+	if (count)
+		*count = n;
+	return n ? s / n : 0.0;
+}
