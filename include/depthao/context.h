@@ -125,7 +125,9 @@ DAO_API int dao_context_get_normals(const struct dao_context *ctx, struct dao_fr
  * depth filter (depth-temporal) and the prefilter (docs/library.md, "The
  * filtered depth").  It holds depth only where the input did (or, with
  * depth-temporal-persist, where the history kept it); the filters fill no
- * holes.  `out` is the caller's frame
+ * holes, unless depth-fill N > 0 asks this output (not the normals or AO) to
+ * fill each hole of at most N px along a row whose two sides lie on one
+ * surface, linearly between them.  `out` is the caller's frame
  * of the camera's size, rows `stride` bytes apart, in one of:
  *
  *   DAO_PIXFMT_DEPTH_F32  metres, 0 = no depth;

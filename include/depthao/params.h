@@ -195,6 +195,9 @@ struct dao_params {
 				   * dao_params_stream_defaults), with a check of every frame
 				   * that measures again where the scene moved */
 	int depth_temporal_motion; /* enum dao_depth_motion (default OFF) */
+	int depth_fill;           /* filtered depth output (dao_context_get_depth) only: holes
+				   * of at most this many px along a row filled where both
+				   * sides lie on one surface (0 = off, the default) */
 };
 
 /* Types of the parameters in the table. */

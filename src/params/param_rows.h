@@ -87,6 +87,8 @@ ROW("depth-temporal-persist", "streams: frames a pixel that lost its depth keeps
     INT, depth_temporal_persist, 0, 30, NULL, RT, 0)
 ROW("depth-temporal-motion", "streams: follow the camera's motion with the 1/z history: off, or icp (the motion estimated from the depth; where refused, as off)", NULL,
     ENUM, depth_temporal_motion, 0, 0, depth_motion_names, RT, DAO_DEPTH_MOTION_OFF)
+ROW("depth-fill", "filtered depth output only (dao_context_get_depth, algorithm none): holes of at most this many pixels along a row filled linearly where the depths on both sides lie on one surface, within 3 %; the normals and AO never read them (0 = off)", "px",
+    INT, depth_fill, 0, 64, NULL, RT, 0)
 ROW("noise-interval", "noise-model=auto: frames between full measurements of the noise, with a check of every frame that measures the cells the scene moved in, and all after a cut (1 = every frame; streams of the CLI and daemon: 15)", "frames",
     INT, noise_interval, 1, 3600, NULL, RT, 1)
 ROW("threads", "threads per context (0 = one per available CPU)", NULL,

@@ -36,6 +36,7 @@
 #include "depth/noise_reuse.h"
 #include "depth/prefilter.h"
 #include "kernels/ao_variants.h"
+#include "kernels/depth_fill.h"
 #include "kernels/thickness.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
@@ -66,6 +67,9 @@ struct dao_context {
 	float *thick;   /* VBAO: thickness estimated from the image, m (made when first needed) */
 	float *thick_scratch; /* ... its column pass's, one per pool thread */
 	float *thick_z; /* ... the depth its passes read: dropouts filled (dao_thickness_fill_rows) */
+	float *z_fill;  /* depth-fill > 0: ctx->z with its one-surface holes filled, the depth
+			 * output's (dao_context_get_depth); nothing else reads it */
+	int have_fill;  /* z_fill holds the last frame's */
 	int thick_slots;
 	float *row_range; /* per row: nearest and farthest depth (shading's automatic range) */
 	uint64_t last_frame_index;
@@ -213,6 +217,8 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		ctx->motion_count = (uint8_t *)(ctx->motion_hist + ctx->npix);
 		ctx->motion_age = ctx->motion_count + ctx->npix;
 	}
+	if (p->depth_fill > 0 && !ctx->z_fill && !(ctx->z_fill = malloc(ctx->npix * sizeof(float))))
+		return dao_error_set(err, -ENOMEM, "out of memory for the filled depth (depth-fill)");
 	if (p->noise_model != DAO_NOISE_MODEL_FIXED && !ctx->have_noise_grid) {
 		if (dao_noise_grid_init(&ctx->noise, w, h))
 			return dao_error_set(err, -ENOMEM, "out of memory for the noise estimate");
@@ -321,6 +327,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx->thick);
 	free(ctx->thick_scratch);
 	free(ctx->thick_z);
+	free(ctx->z_fill);
 	free(ctx->row_range);
 	free(ctx->dt_scratch);
 	free(ctx->motion_mem);
@@ -1088,6 +1095,14 @@ static void run_temporal_depth(struct dao_context *ctx, struct frame_job *job,
 	side_noise_after_temporal(ctx, job, dt);
 }
 
+/* depth-fill: the depth output's holes, ctx->z -> ctx->z_fill (the AO reads ctx->z) */
+static void stage_depth_fill(void *arg, int y0, int y1)
+{
+	const struct dao_context *ctx = ((struct frame_job *)arg)->ctx;
+	dao_depth_fill_rows(ctx->z, ctx->z_fill, (int)ctx->cam.width, y0, y1,
+			    ctx->params.depth_fill);
+}
+
 /* z_raw -> ctx->z: the prefilter's output, or z_raw itself without one */
 static void run_prefilter(struct dao_context *ctx, struct frame_job *job,
 			  const struct dao_domain_setup *dt)
@@ -1103,6 +1118,9 @@ static void run_prefilter(struct dao_context *ctx, struct frame_job *job,
 	} else {
 		ctx->z = ctx->z_raw;
 	}
+	ctx->have_fill = ctx->params.depth_fill > 0;
+	if (ctx->have_fill)
+		dao_pool_run(ctx->pool, h, 8, stage_depth_fill, job);
 }
 
 /* The normals (computed, or the caller's), and VBAO's thickness inputs that
@@ -1464,9 +1482,9 @@ static void depth_to_counts(const float *z, int w, float unit, uint16_t *q)
 int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 			  struct dao_error *err)
 {
+	const float *z = !ctx ? NULL : ctx->have_fill ? ctx->z_fill : ctx->z;
 	if (!ctx || !out || out->format != DAO_PIXFMT_DEPTH16)
-		return copy_plane(ctx, ctx ? ctx->z : NULL, 1, DAO_PIXFMT_DEPTH_F32, out,
-				  "depth output", err);
+		return copy_plane(ctx, z, 1, DAO_PIXFMT_DEPTH_F32, out, "depth output", err);
 	int r = dao_frame_check(out, "depth output", ctx->cam.width, ctx->cam.height, err);
 	if (r)
 		return r;
@@ -1479,7 +1497,7 @@ int dao_context_get_depth(const struct dao_context *ctx, struct dao_frame *out,
 	const int w = (int)ctx->cam.width;
 	for (uint32_t y = 0; y < ctx->cam.height; y++) {
 		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
-		const float *src = ctx->z + (size_t)y * w;
+		const float *src = z + (size_t)y * w;
 		/* in chunks through an aligned buffer: the caller's rows need not be */
 		for (int x0 = 0; x0 < w; x0 += 256) {
 			uint16_t q[256];

@@ -49,6 +49,7 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	dao_params_stream_defaults(&p); /* both temporal filters too */
 	p.temporal = 0.8f;
 	p.depth_temporal_persist = 2;
+	p.depth_fill = 8; /* the depth output's fill: its plane allocated once */
 	p.threads = 2;
 	p.noise = noise;
 	p.prefilter = prefilter;

@@ -226,7 +226,7 @@ static void test_layout_frozen(void **state)
 	/* no tail padding: each struct ends with its last field (name the new last
 	 * field here when appending one) */
 	assert_int_equal(sizeof(struct dao_params),
-			 DAO_END_OF(struct dao_params, depth_temporal_motion));
+			 DAO_END_OF(struct dao_params, depth_fill));
 	assert_int_equal(sizeof(struct dao_source_info), DAO_END_OF(struct dao_source_info, cy));
 	assert_int_equal(sizeof(struct dao_source_options),
 			 DAO_END_OF(struct dao_source_options, depth_unit));

@@ -40,6 +40,7 @@ struct ed_options {
 	int variants, frames, check, real;
 	const char *data_dir, *picture, *picture_scene;
 	enum synth_sensor picture_sensor;
+	struct eval_depth_filter filter;
 };
 
 struct ed_row {
@@ -92,6 +93,10 @@ static void usage(FILE *out)
 		"  --data DIR        the real frames (default $DAO_SHARED_DATA, else ../shared/data)\n"
 		"  --picture PATH    PNG of raw, filtered, truth and both errors of one case\n"
 		"  --picture-case SCENE:SENSOR  that case (default boxes:structured-light, tune)\n"
+		"  --depth-fill N    depthao's filter with depth-fill N (px; default 0: off,\n"
+		"                    depthao fills no hole)\n"
+		"  --depth-temporal X  depthao's temporal depth filter (default 0.8, the\n"
+		"                    stream default; 0 = off)\n"
 		"  --check           exit 1 unless issue #36's bars hold on structured light,\n"
 		"                    active stereo and ToF (interior MAE >= 35 %%/35 %%/20 %% below\n"
 		"                    raw on every scene, edge band no worse, fill precision >= 95 %%)\n"
@@ -186,6 +191,17 @@ static int parse_value(const char *a, char *v, struct ed_options *o)
 	}
 	if (!strcmp(a, "--picture-case"))
 		return parse_picture_case(v, o);
+	if (!strcmp(a, "--depth-fill"))
+		return parse_int(a, v, 0, 64, &o->filter.fill);
+	if (!strcmp(a, "--depth-temporal")) {
+		char *end;
+		double t = strtod(v, &end);
+		if (end == v || *end || !(t >= 0.0 && t <= 0.98))
+			return usage_error("eval", "--depth-temporal '%s' must be a number from 0 to "
+					   "0.98", v);
+		o->filter.temporal = (float)t;
+		return 0;
+	}
 	/* --set */
 	if (!strcmp(v, "both")) {
 		o->sets = 3;
@@ -203,10 +219,12 @@ static int parse_value(const char *a, char *v, struct ed_options *o)
 static int parse_args(int argc, char **argv, struct ed_options *o)
 {
 	static const char *const valued[] = { "--scenes", "--sensors", "--set", "--variants",
-					      "--frames", "--data", "--picture", "--picture-case" };
+					      "--frames", "--data", "--picture", "--picture-case",
+					      "--depth-fill", "--depth-temporal" };
 	*o = (struct ed_options){ .sets = 3, .variants = 1, .frames = 1, .nsensors = SYNTH_SENSOR_COUNT,
 				  .picture_scene = "boxes",
-				  .picture_sensor = SYNTH_SENSOR_STRUCTURED_LIGHT };
+				  .picture_sensor = SYNTH_SENSOR_STRUCTURED_LIGHT,
+				  .filter = { .fill = 0, .temporal = -1.0f } };
 	memcpy(o->scenes, default_scenes, sizeof default_scenes);
 	for (int k = 0; k < SYNTH_SENSOR_COUNT; k++)
 		o->sensors[k] = (enum synth_sensor)k;
@@ -245,18 +263,21 @@ double eval_thread_ms(void)
 	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
-void eval_depth_params(struct dao_params *p)
+void eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f)
 {
 	dao_params_init(p, DAO_QUALITY_DEFAULT);
 	dao_params_stream_defaults(p);
 	p->algorithm = DAO_ALGORITHM_NONE;
 	p->threads = 1;
+	p->depth_fill = f->fill;
+	if (f->temporal >= 0.0f)
+		p->depth_temporal = f->temporal;
 }
 
 static int run_alloc(struct ed_run *e, struct dao_error *err)
 {
 	struct dao_params p;
-	eval_depth_params(&p);
+	eval_depth_params(&p, &e->o->filter);
 	synth_default_camera(&e->cam);
 	const size_t np = (size_t)e->cam.width * e->cam.height;
 	struct rs_ref_options ro;
@@ -437,6 +458,7 @@ struct ed_bars {
 	int cases, interior_ok, edge_ok, beat_ref;
 	double min_red, sum_red, sum_red_ref, ms_filt, ms_ref;
 	long filled, filled_ok, fly_created, fly_created_ref, fly_px;
+	long filled_in, filled_in_ok, kept, kept_ok, rim, rim_ok;
 };
 
 static double bar_reduction(enum synth_sensor s)
@@ -463,6 +485,12 @@ static void gather(const struct ed_run *e, enum synth_set set, enum synth_sensor
 			       depth_err_mae(&f->filt_edge) <= depth_err_mae(&q->filt_edge);
 		b->filled += f->filled;
 		b->filled_ok += f->filled_ok;
+		b->filled_in += f->filled_in;
+		b->filled_in_ok += f->filled_in_ok;
+		b->kept += f->kept;
+		b->kept_ok += f->kept_ok;
+		b->rim += f->rim;
+		b->rim_ok += f->rim_ok;
 		b->fly_created += f->fly_created;
 		b->fly_created_ref += q->fly_created;
 		b->fly_px += f->fly_px;
@@ -477,6 +505,8 @@ static int print_summary(const struct ed_run *e)
 	int failed = 0;
 	printf("\n| set | input | cases | interior MAE reduction mean (min) depthao / ref "
 	       "| bar | interior bar holds | edge band <= raw | fill precision depthao "
+	       "(filled px within 1 cm; interior; the measured px within 1 cm, all and beside a "
+	       "hole in their row) "
 	       "| flying px created depthao / ref | beats ref (interior and edge) "
 	       "| CPU ms/frame depthao / ref |\n|---|---|---:|---|---:|---|---|---|---|---|---|\n");
 	for (int set = 0; set < 2; set++)
@@ -487,10 +517,13 @@ static int print_summary(const struct ed_run *e)
 			if (!b.cases)
 				continue;
 			const int barred = sn >= SYNTH_SENSOR_STRUCTURED_LIGHT;
-			char fill[64];
+			char fill[128];
 			if (b.filled)
-				snprintf(fill, sizeof fill, "%.1f %% of %ld", pct(b.filled_ok, b.filled),
-					 b.filled);
+				snprintf(fill, sizeof fill, "%.1f %% of %ld (interior %.1f %% of %ld; "
+					 "measured px %.1f %%, beside a hole %.1f %%)",
+					 pct(b.filled_ok, b.filled), b.filled,
+					 pct(b.filled_in_ok, b.filled_in), b.filled_in,
+					 pct(b.kept_ok, b.kept), pct(b.rim_ok, b.rim));
 			else
 				snprintf(fill, sizeof fill, "n/a (no pixel filled)");
 			printf("| %s | %s | %d | %.0f %% (%.0f %%) / %.0f %% | %s | %d/%d | %d/%d | %s "
@@ -566,8 +599,12 @@ int cmd_eval_depth(int argc, char **argv)
 			synth_sensor_name(o.picture_sensor));
 		status = 1;
 	} else {
-		printf("Depth filter: default preset, stream defaults, algorithm none, 1 thread; "
-		       "%d frame%s of a static camera per case (%s).\n\n", o.frames,
+		struct dao_params p;
+		eval_depth_params(&p, &o.filter);
+		printf("Depth filter: default preset, stream defaults, algorithm none, 1 thread, "
+		       "depth-fill %d, depth-temporal %.2f; "
+		       "%d frame%s of a static camera per case (%s).\n\n", p.depth_fill,
+		       (double)p.depth_temporal, o.frames,
 		       o.frames > 1 ? "s" : "", o.frames > 1 ? "spatial and temporal filters" :
 		       "the spatial filters; the temporal ones need a sequence");
 		print_rows(e);
@@ -580,6 +617,6 @@ int cmd_eval_depth(int argc, char **argv)
 	run_free(e);
 	free(e);
 	if (!status && o.real)
-		status = eval_depth_real(o.data_dir, o.check);
+		status = eval_depth_real(o.data_dir, o.check, &o.filter);
 	return status;
 }

@@ -15,15 +15,23 @@
 /* `depthao eval --depth [options]` (argv[0] is "eval"); the exit status. */
 int cmd_eval_depth(int argc, char **argv);
 
+/* What the options change of depthao's filter: depth-fill (px, 0 = off) and
+ * depth-temporal (< 0: the stream default). */
+struct eval_depth_filter {
+	int fill;
+	float temporal;
+};
+
 /* The depthao filter as a stream runs it (the default preset, the stream defaults,
- * algorithm none) on one thread, so that the thread's CPU time is the filter's. */
-void eval_depth_params(struct dao_params *p);
+ * algorithm none) on one thread, so that the thread's CPU time is the filter's;
+ * with `f`'s changes. */
+void eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f);
 
 /* CPU time of the calling thread, ms. */
 double eval_thread_ms(void);
 
 /* The real frames' plane-fit residuals, raw, filtered and reference; the exit status. */
-int eval_depth_real(const char *data_dir, int check);
+int eval_depth_real(const char *data_dir, int check, const struct eval_depth_filter *f);
 
 /*
  * Writes a PNG of five w/2 x h/2 panels side by side: raw, filtered, truth

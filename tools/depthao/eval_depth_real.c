@@ -32,6 +32,10 @@
 #define REAL_TILE_PX 16      /* the local residual: planes fitted to 16 x 16 tiles */
 
 struct real_result {
+	int shift_x, shift_y;  /* stream: the raw frame's best shift from the previous one, px */
+	int drift_x, drift_y;  /* ... and from the stream's first frame (the motion summed) */
+	double moved;          /* ... share of pixels whose depth changed by > 3 % unshifted */
+	struct dao_noise_info noise; /* depthao's noise state for the frame */
 	int planes;
 	long px;
 	double sq[3];          /* raw, filtered, reference: sum of rms^2 * n */
@@ -43,16 +47,22 @@ struct real_result {
 /* depthao's filter and the reference chain with their histories: one frame alone, or the
  * frames of a recording in order (a stream). */
 struct real_stream {
+	const struct eval_depth_filter *filter;
 	struct dao_context *ctx;
 	struct rs_ref rs;
 	int open;
+	float *prev;          /* a stream's previous raw frame (its motion), prev_px pixels */
+	float *first;         /* ... and its first (the motion summed over the stream) */
+	size_t prev_px;
 };
 
 static void stream_close(struct real_stream *st)
 {
 	dao_context_destroy(st->ctx);
 	rs_ref_free(&st->rs);
-	*st = (struct real_stream){ 0 };
+	free(st->prev);
+	free(st->first);
+	*st = (struct real_stream){ .filter = st->filter };
 }
 
 /* Frame z (frame_index `index`) through both filters of `st`, opened on first use. */
@@ -77,7 +87,7 @@ static int filter_frame(const float *z, const struct dao_camera *cam, double uni
 	if (!st->open) {
 		struct dao_params p;
 		struct rs_ref_options ro;
-		eval_depth_params(&p);
+		eval_depth_params(&p, st->filter);
 		rs_ref_options_default(&ro);
 		r = dao_context_create(&st->ctx, cam, &p, err);
 		if (!r)
@@ -94,11 +104,69 @@ static int filter_frame(const float *z, const struct dao_camera *cam, double uni
 		r = dao_context_get_depth(st->ctx, &out, err);
 	double t1 = eval_thread_ms();
 	if (!r)
+		dao_context_noise(st->ctx, &res->noise);
+	if (!r)
 		rs_ref_process(&st->rs, z, ref);
 	res->ms_ref = eval_thread_ms() - t1;
 	res->ms_filt = t1 - t0;
 	free(counts);
 	return r;
+}
+
+#define MOTION_MAX_PX 16   /* the frame-to-frame shift searched, +-px */
+#define MOTION_STEP_PX 4   /* every 4th pixel of every 4th row compared */
+#define MOTION_CAP 0.1     /* a relative difference counts at most this much */
+
+/* Robust mismatch of raw frame b shifted by (dx, dy) against a: the mean of
+ * min(|za - zb| / za, MOTION_CAP) over the compared pixels with depth in both
+ * (MOTION_CAP where fewer than a tenth of them have). */
+static double shift_cost(const float *a, const float *b, int w, int h, int dx, int dy)
+{
+	double s = 0.0;
+	long n = 0, all = 0;
+	for (int y = MOTION_MAX_PX; y < h - MOTION_MAX_PX; y += MOTION_STEP_PX)
+		for (int x = MOTION_MAX_PX; x < w - MOTION_MAX_PX; x += MOTION_STEP_PX) {
+			const float za = a[(size_t)y * w + x], zb = b[(size_t)(y + dy) * w + x + dx];
+			all++;
+			if (!(za > 0.0f) || !(zb > 0.0f))
+				continue;
+			s += fmin(fabs((double)za - zb) / za, MOTION_CAP);
+			n++;
+		}
+	return n * 10 >= all && n ? s / (double)n : MOTION_CAP;
+}
+
+/* The best global image shift of z against a (a handheld camera's small
+ * rotation moves the image nearly uniformly). */
+static void best_shift(const float *a, const float *z, int w, int h, int *sx, int *sy)
+{
+	double best = INFINITY;
+	for (int dy = -MOTION_MAX_PX; dy <= MOTION_MAX_PX; dy++)
+		for (int dx = -MOTION_MAX_PX; dx <= MOTION_MAX_PX; dx++) {
+			const double c = shift_cost(a, z, w, h, dx, dy);
+			if (c < best) {
+				best = c;
+				*sx = dx;
+				*sy = dy;
+			}
+		}
+}
+
+/* The camera's motion between two raw frames and from the first: the best
+ * shifts, and the share of pixels whose depth changed by more than 3 % from
+ * the previous frame where they stand. */
+static void frame_motion(const float *first, const float *prev, const float *z, int w, int h,
+			 struct real_result *res)
+{
+	best_shift(prev, z, w, h, &res->shift_x, &res->shift_y);
+	best_shift(first, z, w, h, &res->drift_x, &res->drift_y);
+	long n = 0, moved = 0;
+	for (size_t i = 0; i < (size_t)w * h; i++)
+		if (prev[i] > 0.0f && z[i] > 0.0f) {
+			n++;
+			moved += fabsf(prev[i] - z[i]) > 0.03f * prev[i];
+		}
+	res->moved = n ? (double)moved / (double)n : 0.0;
 }
 
 /* The local residual: a plane fitted to each tile wholly inside the mask (the sensor's
@@ -192,7 +260,19 @@ static int real_frame(const struct synth_real_frame *f, const char *dir, struct 
 		r = plane_residuals(img, &cam, unit, res, &err);
 	if (r)
 		fprintf(stderr, "depthao: %s: %s\n", f->name, err.message);
-	free(z);
+	if (!r && st->prev && st->first && st->prev_px == np)
+		frame_motion(st->first, st->prev, z, (int)cam.width, (int)cam.height, res);
+	if (!st->first) {   /* the stream keeps its first raw frame ... */
+		st->first = z;
+		z = NULL;
+		if (!(z = malloc(np * sizeof(float))))
+			fprintf(stderr, "depthao: %s: out of memory (no motion)\n", f->name);
+		else
+			memcpy(z, st->first, np * sizeof(float));
+	}
+	free(st->prev);   /* ... and the last, for the next one's motion */
+	st->prev = z;
+	st->prev_px = z ? np : 0;
 	free(filt);
 	free(ref);
 	return r ? -1 : 0;
@@ -200,7 +280,7 @@ static int real_frame(const struct synth_real_frame *f, const char *dir, struct 
 
 /* One row of a table; adds to the counts of frames below the bar. */
 static void print_real_row(const struct synth_real_frame *f, const struct real_result *res,
-			   int *measured, int *below, int *tiles_below)
+			   int stream, int *measured, int *below, int *tiles_below)
 {
 	double rms[3], tile[3];
 	for (int k = 0; k < 3; k++) {
@@ -213,10 +293,15 @@ static void print_real_row(const struct synth_real_frame *f, const struct real_r
 	*below += ratio < BAR_REAL_RATIO;
 	*tiles_below += tratio < BAR_REAL_RATIO;
 	printf("| %s | %s | %d | %ld | %.2f / %.2f / %.2f | %.2f | %.2f "
-	       "| %.2f / %.2f / %.2f | %.2f | %.1f / %.1f |\n",
+	       "| %.2f / %.2f / %.2f | %.2f | %.1f / %.1f |",
 	       f->name, f->sensor, res->planes, res->px, 1e3 * rms[0], 1e3 * rms[1],
 	       1e3 * rms[2], ratio, rms[2] > 0.0 ? rms[0] / rms[2] : INFINITY, 1e3 * tile[0],
 	       1e3 * tile[1], 1e3 * tile[2], tratio, res->ms_filt, res->ms_ref);
+	if (stream)
+		printf(" %+d, %+d | %+d, %+d | %.1f %% | %d / %d / %.1f |", res->shift_x,
+		       res->shift_y, res->drift_x, res->drift_y, 100.0 * res->moved, res->noise.age, res->noise.cells_measured,
+		       (double)res->noise.prefilter_scale);
+	putchar('\n');
 }
 
 static const char real_header[] =
@@ -226,12 +311,22 @@ static const char real_header[] =
 	"|---|---|---:|---:|---|---:|---:|---|---:|---|\n";
 
 /* The frames of the recording (frame >= 0) in order through one pair of filters. */
-static int real_stream_table(const struct synth_real_frame *frames, int n, const char *dir)
+static int real_stream_table(const struct synth_real_frame *frames, int n, const char *dir,
+			     const struct eval_depth_filter *f)
 {
-	struct real_stream st = { 0 };
+	struct real_stream st = { .filter = f };
 	int measured = 0, below = 0, tiles_below = 0, status = 0;
 	printf("\nThe recording's frames in order, as a stream (depthao's temporal depth filter, "
-	       "the reference's temporal filter)\n\n%s", real_header);
+	       "the reference's temporal filter); the camera's motion from the previous frame: "
+	       "the raw frame's best global shift (+-%d px; also from the first frame) and the "
+	       "share of pixels whose depth "
+	       "changed by > 3 %% in place; depthao's noise state (dao_noise_info: frames since "
+	       "the full measurement, cells measured again, the prefilter's scale)\n\n",
+	       MOTION_MAX_PX);
+	for (const char *c = real_header; *c != '\n'; c++)
+		putchar(*c);
+	printf(" shift px | from frame 0 px | depth moved | noise age / cells measured / "
+	       "prefilter scale px |\n|---|---|---:|---:|---|---:|---:|---|---:|---|---|---|---:|---|\n");
 	for (int i = 0; i < n && !status; i++) {
 		struct real_result res;
 		if (frames[i].frame < 0)
@@ -239,13 +334,13 @@ static int real_stream_table(const struct synth_real_frame *frames, int n, const
 		int r = real_frame(&frames[i], dir, &st, &res);
 		status = r < 0;
 		if (!r && res.px)
-			print_real_row(&frames[i], &res, &measured, &below, &tiles_below);
+			print_real_row(&frames[i], &res, 1, &measured, &below, &tiles_below);
 	}
 	stream_close(&st);
 	return status;
 }
 
-int eval_depth_real(const char *data_dir, int check)
+int eval_depth_real(const char *data_dir, int check, const struct eval_depth_filter *f)
 {
 	const char *dir = data_dir ? data_dir : synth_real_data_dir();
 	int n, measured = 0, below = 0, tiles_below = 0;
@@ -255,20 +350,20 @@ int eval_depth_real(const char *data_dir, int check)
 	       "planes, and %d x %d px tiles of them each fitted alone; each frame alone\n\n%s",
 	       dir, REAL_MIN_PLANE_PX, REAL_ERODE_PX, REAL_TILE_PX, REAL_TILE_PX, real_header);
 	for (int i = 0; i < n; i++) {
-		struct real_stream st = { 0 };
+		struct real_stream st = { .filter = f };
 		struct real_result res;
 		int r = real_frame(&frames[i], dir, &st, &res);
 		stream_close(&st);
 		if (r < 0)
 			return 1;
 		if (!r && res.px)
-			print_real_row(&frames[i], &res, &measured, &below, &tiles_below);
+			print_real_row(&frames[i], &res, 0, &measured, &below, &tiles_below);
 	}
 	printf("\nBar (issue #36, residual >= %.0fx lower than raw, frames alone): whole planes "
 	       "%s (%d of %d frames), tiles %s (%d of %d)\n", BAR_REAL_RATIO,
 	       measured && !below ? "holds" : "does NOT hold", measured - below, measured,
 	       measured && !tiles_below ? "hold" : "do NOT hold", measured - tiles_below, measured);
-	if (measured && real_stream_table(frames, n, dir))
+	if (measured && real_stream_table(frames, n, dir, f))
 		return 1;
 	return check && (below || !measured);
 }

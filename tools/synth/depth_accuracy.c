@@ -84,14 +84,25 @@ void depth_acc_add(const float *truth, const float *raw, const float *filt, cons
 			continue;
 		if (!(r > 0.0f)) {
 			if (f > 0.0f) {
+				const int ok = fabsf(f - t) <= (float)DEPTH_ACC_FILL_TOL;
 				acc->filled++;
-				acc->filled_ok += fabsf(f - t) <= (float)DEPTH_ACC_FILL_TOL;
+				acc->filled_ok += ok;
+				acc->filled_in += dist[i] >= DEPTH_ACC_EDGE_PX;
+				acc->filled_in_ok += ok && dist[i] >= DEPTH_ACC_EDGE_PX;
 			}
 			continue;
 		}
 		if (!(f > 0.0f)) {
 			acc->dropped++;
 			continue;
+		}
+		const int ok = fabsf(f - t) <= (float)DEPTH_ACC_FILL_TOL;
+		const size_t x = i % (size_t)w;
+		acc->kept++;
+		acc->kept_ok += ok;
+		if ((x > 0 && !(raw[i - 1] > 0.0f)) || (x + 1 < (size_t)w && !(raw[i + 1] > 0.0f))) {
+			acc->rim++;
+			acc->rim_ok += ok;
 		}
 		if (dist[i] >= DEPTH_ACC_EDGE_PX) {
 			err_add(&acc->raw_in, (double)r - t);

@@ -41,6 +41,13 @@ struct depth_acc {
 	struct depth_err raw_edge, filt_edge;   /* edge band */
 	/* filling: pixels without raw depth that got depth, and those within FILL_TOL */
 	long filled, filled_ok;
+	long filled_in, filled_in_ok;  /* ... of them in the interior (>= EDGE_PX) */
+	/* pixels with raw and filtered depth, and those within FILL_TOL: the precision
+	 * of the filtered depth a fill starts from, the most a fill can hope for */
+	long kept, kept_ok;
+	/* ... of them those beside a hole along their row (the samples a row fill starts
+	 * from) */
+	long rim, rim_ok;
 	long dropped;            /* pixels with raw depth (and truth) the filter emptied */
 	/* flying pixels within FLY_PX of a discontinuity, both with depth */
 	long fly_raw, fly_filt, fly_created;
