@@ -137,7 +137,7 @@ void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int la
 									   : p->inv_scale;
 				x = link_exponent(p, w, sigma, inv_scale);
 			}
-			const float l = x < DAO_DOMAIN_MAX_EXPONENT ? expf(-x) : 0.0f;
+			const float l = x < DAO_DOMAIN_MAX_EXPONENT ? dao_domain_link_weight(x) : 0.0f;
 			const float valid = w[2] > 0.0f ? 1.0f : 0.0f;
 			const float dw = w[1] - w[2];
 			const float ls0 = l * s0, ls1 = l * s1;

@@ -6,16 +6,14 @@
  * causal sweep keeps its moments in the scratch, the anticausal sweep fits
  * and collects VN samples of VN lines in registers, transposes them
  * (v_transpose) and stores them as rows of the transposed output.  Same
- * maths as the reference, with the link weight's exp from simd/fastmath.h
- * (v_exp_neg, 1.4e-7 relative: a sample's weight is a product of the links
- * on the way to it, so their errors add up).  Included by domain_<isa>.c after the
- * SIMD vocabulary.
+ * maths as the reference, the link weight included (dao_domain_link_weight:
+ * the same operations, fused multiply-adds where the set has them).
+ * Included by domain_<isa>.c after the SIMD vocabulary.
  */
 #include <stddef.h>
 #include <string.h>
 
 #include "depth/domain.h"
-#include "simd/fastmath.h"
 
 /* samples per block of the causal sweep (its links, then its moments) */
 #define DT_BLOCK 32
@@ -25,22 +23,15 @@ static inline vf dt_med3(vf a, vf b, vf c)
 	return v_max(v_min(a, b), v_min(v_max(a, b), c));
 }
 
-/* e^-x for 0 <= x (v_exp_neg with the range of links: beyond
- * DAO_DOMAIN_MAX_EXPONENT the caller zeroes the link, and the clamp keeps the
- * exponent in range for v_ldexp, whose generic build adds it to the bits) */
-static inline vf dt_exp_neg(vf x)
+/* dao_domain_link_weight (domain.h) for x < DAO_DOMAIN_MAX_EXPONENT (the
+ * caller zeroes the link beyond) */
+static inline vf dt_link_weight(vf x)
 {
-	x = v_min(x, v_set1(DAO_DOMAIN_MAX_EXPONENT));
-	const vf n = v_round(v_mul(x, v_set1(-1.44269504088896f)));
-	vf r = v_fma(n, v_set1(0.693145751953125f), x);
-	r = v_neg(v_fma(n, v_set1(1.428606820309417e-6f), r));
-	vf q = v_set1(8.297644556e-03f);
-	q = v_fma(q, r, v_set1(4.191537946e-02f));
-	q = v_fma(q, r, v_set1(1.666757464e-01f));
-	q = v_fma(q, r, v_set1(4.999889433e-01f));
-	q = v_fma(q, r, v_set1(9.999997020e-01f));
-	q = v_fma(q, r, v_set1(1.000000119e+00f));
-	return v_ldexp(q, n);
+	vf q = v_fma(v_set1(DAO_DOMAIN_LINK_C3), x, v_set1(DAO_DOMAIN_LINK_C2));
+	q = v_fma(q, x, v_set1(DAO_DOMAIN_LINK_C1));
+	q = v_fma(q, x, v_set1(1.0f));
+	q = v_mul(q, q), q = v_mul(q, q), q = v_mul(q, q), q = v_mul(q, q);
+	return v_mul(q, q);
 }
 
 /* What a strip's sweeps read, in registers and locals (the stores to the
@@ -128,7 +119,7 @@ static inline vf dt_link(const struct dt_ctx *c, vf wm2, vf wm1, vf w0, vf wp1, 
 	const vf r2 = v_mul(r, r);
 	const vf x = v_fma(c->range, r2, spatial_term);
 	const vm on = m_and(ok, v_lt(x, v_set1(DAO_DOMAIN_MAX_EXPONENT)));
-	return v_sel(on, dt_exp_neg(x), zero);
+	return v_sel(on, dt_link_weight(x), zero);
 }
 
 /*

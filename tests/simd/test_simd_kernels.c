@@ -34,8 +34,8 @@
 /* bounds, optimised vs reference (measured on this project's machine in brackets) */
 #define PREFILTER_MAX_REL 2e-6    /* prefiltered depth, relative [1.2e-6] */
 /* prefilter=domain, filtered depth relative to the reference: float rounding
- * (the exp's 1.4e-7, the refined hardware reciprocal of sigma, fused or
- * separate multiply-adds), which a local linear fit from few, one-sided
+ * (the refined hardware reciprocal of sigma, fused or separate
+ * multiply-adds, the link weight's among them), which a local linear fit from few, one-sided
  * samples amplifies where the depth is ragged (1/z in and out are divisions:
  * with the refined 12-bit estimate there, a jumble of edges in the RealSense
  * frame reached 2.2e-5); with side windows the blend of the one-sided fits
@@ -44,9 +44,10 @@
  * is near the side test's threshold the blend moves with it (clean stairs,
  * at a crease: 1.8e-5; since the side test's 1 / sigma^2 is the link's
  * refined reciprocal squared, not a division, 2.2e-5 there with AVX2 and
- * 2.4e-5 on the RealSense frame with AVX-512) */
-#define DOMAIN_MAX_REL 1e-4       /* largest [2.4e-5] */
-#define DOMAIN_MEAN_REL 2e-8      /* mean over the pixels [1.6e-9] */
+ * 2.4e-5 on the RealSense frame with AVX-512; 1.05e-5 since the reference
+ * computes the link weight as the kernels do, not with libm's exp) */
+#define DOMAIN_MAX_REL 1e-4       /* largest [1.05e-5] */
+#define DOMAIN_MEAN_REL 2e-8      /* mean over the pixels [5.4e-9] */
 #define DENOISE_MAX_ABS 1e-6      /* plane denoise output [2.4e-7] */
 #define NORMALS_MAX_ABS 1e-5      /* normal components (FMA contraction differs) */
 #define GTAO_MAE 2e-6             /* GTAO kernel on identical inputs [3.9e-7] */
