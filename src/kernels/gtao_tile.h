@@ -48,9 +48,6 @@ struct tile_cache {
 	 * dc_hi and the largest dc_lo of its steps, so that a block tells once per
 	 * side whether tile_skip could skip any of them (tile_side_checks) */
 	int32_t side_lim[TILE_TABLES][2 * DAO_MAX_SLICES][4];
-	/* per table and slice: whether a step of either side has TAP_ONLY flags
-	 * (rare: GTAO's steps without any skip the per-step test of them) */
-	unsigned char slice_only[TILE_TABLES][DAO_MAX_SLICES];
 	struct tile_step st[TILE_STEPS_MAX];
 };
 

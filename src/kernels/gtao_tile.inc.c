@@ -180,13 +180,9 @@ static void tile_cache_reach(struct tile_cache *c, int slot, int side_lims)
 	for (int side = 0; side_lims && side * c->steps < c->per; side++) {
 		const struct tile_step *o = st + (size_t)side * (size_t)c->steps;
 		int32_t *lim = c->side_lim[slot][side];
-		unsigned char *only = &c->slice_only[slot][side / 2];
 		lim[0] = lim[2] = INT32_MAX;
 		lim[1] = lim[3] = INT32_MIN;
-		if (!(side & 1))
-			*only = 0;
 		for (int k = 0; k < c->steps; k++) {
-			*only |= (o[k].flags & (TAP_ONLY0 | TAP_ONLY1)) != 0;
 			lim[0] = o[k].dr_hi < lim[0] ? o[k].dr_hi : lim[0];
 			lim[1] = o[k].dr_lo > lim[1] ? o[k].dr_lo : lim[1];
 			lim[2] = o[k].dc_hi < lim[2] ? o[k].dc_hi : lim[2];
@@ -203,7 +199,7 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 					      const struct dao_gtao_planes *pl,
 					      const struct tile_phase *ph, float rp,
 					      struct tile_cache *c, int *reach_r, int *reach_c,
-					      const int32_t (**lim)[4], const unsigned char **only)
+					      const int32_t (**lim)[4])
 {
 	int i, fresh;
 	struct tile_step *st = tile_cache_slot(c, rp, &i, &fresh);
@@ -217,7 +213,6 @@ static const struct tile_step *tile_cache_get(const struct dao_gtao_setup *s,
 	*reach_r = c->reach_r[i];
 	*reach_c = c->reach_c[i];
 	*lim = (const int32_t (*)[4])c->side_lim[i];
-	*only = c->slice_only[i];
 	return st;
 }
 
@@ -271,9 +266,8 @@ struct tile_tap {
 	vm only;     /* on a tap without data on the other: it alone (TAP_ONLY*) */
 };
 
-/* only_k 0: the caller knows that no step of this side has TAP_ONLY flags */
 static inline __attribute__((always_inline)) struct tile_tap
-tile_tap_read_k(const float *base, const struct tile_step *st, const int only_k)
+tile_tap_read(const float *base, const struct tile_step *st)
 {
 	const vf zero = v_zero();
 	const vf iz0 = v_load(base + st->o0), iz1 = v_load(base + st->o1);
@@ -286,19 +280,13 @@ tile_tap_read_k(const float *base, const struct tile_step *st, const int only_k)
 	/* no sample (a tap without data): iz = 0 */
 	r.iz = v_sel(r.edge, v_load(base + st->oe), v_sel(r.ok, v_fma(v_set1(st->f), d01, iz0), zero));
 	r.only = v_gt(zero, zero);
-	if (only_k && (st->flags & (TAP_ONLY0 | TAP_ONLY1))) { /* on a tap: it alone will do */
+	if (st->flags & (TAP_ONLY0 | TAP_ONLY1)) { /* on a tap: it alone will do */
 		const vm has0 = v_gt(iz0, zero), has1 = v_gt(iz1, zero);
 		r.only = (st->flags & TAP_ONLY0) ? m_andnot(has0, has1) : m_andnot(has1, has0);
 		r.iz = v_sel(r.only, (st->flags & TAP_ONLY0) ? iz0 : iz1, r.iz);
 		r.ok = m_or(r.ok, r.only);
 	}
 	return r;
-}
-
-static inline __attribute__((always_inline)) struct tile_tap
-tile_tap_read(const float *base, const struct tile_step *st)
-{
-	return tile_tap_read_k(base, st, 1);
 }
 
 /* The same interpolation of a plane of halves (the thickness) at a step whose
@@ -316,11 +304,11 @@ tile_tap_follow(const uint16_t *base, const struct tile_step *st, const struct t
 
 static inline __attribute__((always_inline)) vf
 tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
-	    const struct tile_step *st, vf lowk, vm *okp, const int major_x, const int only_k)
+	    const struct tile_step *st, vf lowk, vm *okp, const int major_x)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
-	const struct tile_tap tp = tile_tap_read_k(base, st, only_k);
+	const struct tile_tap tp = tile_tap_read(base, st);
 	/* the line the same lanes of the next block span (DAO_GTAO_BLOCK entries on,
 	 * after the span's other tile phases) add to these taps: the taps lie up to
 	 * max_r_px rows away, beyond the caches, and each load moves by a fixed step
@@ -359,8 +347,7 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 static inline __attribute__((always_inline)) void
 tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
 	   const struct tile_step *st, vf low_pos, vf low_neg, vf *hc_pos, vf *hc_neg,
-	   const int use_max, const int major_x, const int check_p, const int check_n,
-	   const int only_k)
+	   const int use_max, const int major_x, const int check_p, const int check_n)
 {
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
@@ -369,7 +356,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
 		if (!check_p || !tile_skip(t, &st[i])) {
-			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x, only_k);
+			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x);
 			if (use_max)
 				bp = v_min(bp, cp);
 			else /* thickness heuristic (UE4): a lower sample after a higher one
@@ -378,7 +365,7 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 					   bp);
 		}
 		if (!check_n || !tile_skip(t, &sn[i])) {
-			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x, only_k);
+			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x);
 			if (use_max)
 				bn = v_min(bn, cn);
 			else
@@ -391,32 +378,17 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 }
 
 /* tile_sides specialised on the heuristic, the major axis and which sides may
- * have steps to skip (chk_p, chk_n: tile_lanes' side checks), for slices
- * without TAP_ONLY steps (only: a step has them; then the side checks are
- * not specialised: such slices are few). */
+ * have steps to skip (chk_p, chk_n: tile_lanes' side checks). */
 static void tile_sides_any(const struct dao_gtao_setup *s, const float *base,
 			   const struct tile_px *t, const struct tile_step *st, vf low_pos,
-			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int chk_p, int chk_n,
-			   int only)
+			   vf low_neg, vf *hc_pos, vf *hc_neg, int major_x, int chk_p, int chk_n)
 {
 #define TILE_SIDES(k)                                                                    \
 	case k:                                                                          \
 		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, (k) >> 3,  \
-			   ((k) >> 2) & 1, ((k) >> 1) & 1, (k) & 1, 0);                  \
-		break;
-#define TILE_SIDES_ONLY(k)                                                               \
-	case k:                                                                          \
-		tile_sides(s, base, t, st, low_pos, low_neg, hc_pos, hc_neg, (k) >> 1,  \
-			   (k) & 1, chk_p, chk_n, 1);                                    \
+			   ((k) >> 2) & 1, ((k) >> 1) & 1, (k) & 1);                     \
 		break;
 	const int use_max = s->decay == 1.0f;
-	if (only) {
-		switch (use_max * 2 + major_x) {
-		TILE_SIDES_ONLY(0) TILE_SIDES_ONLY(1) TILE_SIDES_ONLY(2) default: TILE_SIDES_ONLY(3)
-		}
-		return;
-	}
-#undef TILE_SIDES_ONLY
 	switch (use_max * 8 + major_x * 4 + chk_p * 2 + chk_n) {
 	TILE_SIDES(0) TILE_SIDES(1) TILE_SIDES(2) TILE_SIDES(3)
 	TILE_SIDES(4) TILE_SIDES(5) TILE_SIDES(6) TILE_SIDES(7)
@@ -467,8 +439,7 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
 static inline __attribute__((always_inline)) void
 tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 	   const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
-	   const struct tile_step *tsteps, const int32_t (*lim)[4],
-	   const unsigned char *slice_only, int reach_r, int reach_c,
+	   const struct tile_step *tsteps, const int32_t (*lim)[4], int reach_r, int reach_c,
 	   float rp, int y, int jb, int h, struct dao_tile_scratch *sc,
 	   const struct tile_vbao *vb, struct vbao_pipe *pipe, const int is_vbao)
 {
@@ -553,7 +524,7 @@ tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 			}
 			vf hc_pos, hc_neg;
 			tile_sides_any(s, base, &t, st, v_neg(g.sin_n), g.sin_n, &hc_pos, &hc_neg,
-				       major_x, chk_p, chk_n, !tsteps || slice_only[sl]);
+				       major_x, chk_p, chk_n);
 			slice_accumulate(&g, hc_pos, hc_neg, &sum, &norm, 1);
 		}
 		if (vp && vp->n)
@@ -640,9 +611,8 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 			}
 			int reach_r = 0, reach_c = 0;
 			const int32_t (*lim)[4] = NULL;
-			const unsigned char *slice_only = NULL;
-			const struct tile_step *tsteps = tile_cache_get(
-				s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c, &lim, &slice_only);
+			const struct tile_step *tsteps =
+				tile_cache_get(s, pl, &ph[a], rp, &sc->cache[a], &reach_r, &reach_c, &lim);
 			if (!split) {
 				tile_group_normals(n, s->width, y, xb, nb);
 				split = 1;
@@ -654,7 +624,7 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
 					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
-						   tsteps, lim, slice_only, reach_r, reach_c, rp, y, jb, h, sc, vb,
+						   tsteps, lim, reach_r, reach_c, rp, y, jb, h, sc, vb,
 						   is_vbao ? &pipe : NULL, is_vbao);
 		}
 	}
