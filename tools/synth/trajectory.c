@@ -133,7 +133,7 @@ int synth_trajectory_init(struct synth_trajectory *tr, const char *name,
 	return 0;
 }
 
-void synth_rotation(const double a[3], double angle, double R[3][3])
+void synth_rotation(const double a[3], double angle, double (*R)[3])
 {
 	const double c = cos(angle), s = sin(angle), C = 1.0 - c;
 	R[0][0] = c + a[0] * a[0] * C;
@@ -163,7 +163,7 @@ static double shake_channel(const struct synth_trajectory *tr, int c, double tim
 }
 
 /* The rotation by the small-angle vector w (axis w/|w|, angle |w|). */
-static void rotation_vector(const double w[3], double R[3][3])
+static void rotation_vector(const double w[3], double (*R)[3])
 {
 	double a = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
 	double axis[3] = { 1, 0, 0 };

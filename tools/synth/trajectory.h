@@ -83,7 +83,7 @@ void synth_trajectory_pose(const struct synth_trajectory *tr, double time, struc
 void synth_scene_view_from(struct synth_scene *scene, const struct synth_pose *pose);
 
 /* Rotation by `angle` radians about the unit axis a (Rodrigues). */
-void synth_rotation(const double a[3], double angle, double R[3][3]);
+void synth_rotation(const double a[3], double angle, double (*R)[3]);
 
 /* Unit quaternion (x, y, z, w; w >= 0) of a rotation matrix, and back (q need not be unit). */
 void synth_quat_from_matrix(const double R[3][3], double q[4]);
