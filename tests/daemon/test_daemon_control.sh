@@ -162,6 +162,12 @@ ask 1000 '{"cmd":"snapshot","path":"'"$WORK/snap2.png"'"}' | grep -q "paused" ||
 	fail "snapshot while paused: $(tail -n 2 "$WORK/ask.log")"
 [ -e "$WORK/snap2.png" ] && fail "a snapshot was written while paused"
 "$DEPTHAO" ctl --socket "$SOCK" resume >/dev/null || fail "resume"
+# with algorithm none there is no shaded image: refused at once, not after the timeout
+"$DEPTHAO" ctl --socket "$SOCK" set algorithm none >/dev/null || fail "set algorithm none"
+ask 1000 '{"cmd":"snapshot","path":"'"$WORK/snap3.png"'"}' | grep -q "algorithm is none" ||
+	fail "snapshot with algorithm none: $(tail -n 2 "$WORK/ask.log")"
+[ -e "$WORK/snap3.png" ] && fail "a snapshot was written with algorithm none"
+"$DEPTHAO" ctl --socket "$SOCK" set algorithm gtao >/dev/null || fail "set algorithm gtao"
 stop_daemon || fail "exit status with misbehaving clients: $(cat "$WORK/log-abuse")"
 kill "$flood" "$flood2" "$hold" 2>/dev/null || true
 

@@ -123,6 +123,13 @@ int daemon_snapshot_request(struct daemon *d, const char *path, int notify_fd, c
 		return -ENAMETOOLONG;
 	}
 	pthread_mutex_lock(&d->lock);
+	if (d->params.algorithm == DAO_ALGORITHM_NONE) {
+		/* no frame would ever bring a shaded image: say so now, not at the timeout */
+		pthread_mutex_unlock(&d->lock);
+		snprintf(msg, len, "algorithm is none (the depth only): there is no shaded image; "
+			 "set algorithm to gtao (or another) first");
+		return -ENODATA;
+	}
 	if (d->snapshot_state == SNAP_REQUESTED || d->snapshot_state == SNAP_WRITING) {
 		pthread_mutex_unlock(&d->lock);
 		snprintf(msg, len, "another snapshot is in progress");
