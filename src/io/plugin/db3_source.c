@@ -43,56 +43,11 @@ static int db3_probe(const char *uri)
 	return is_bag_dir(uri, n) ? 60 : 0;
 }
 
-static const char *store_path(const void *db)
+static const char *store_warning(const void *m)
 {
-	return dao_db3_path(db);
-}
-
-static const char *store_warning(const void *db)
-{
-	(void)db;
+	(void)m;
 	return NULL;
 }
-
-static uint32_t store_topic_count(const void *db)
-{
-	return dao_db3_topic_count(db);
-}
-
-static void store_topic(const void *db, uint32_t i, struct dao_ros2_topic *t)
-{
-	const struct dao_db3_topic *dt = dao_db3_topic(db, i);
-	t->name = dt->name;
-	t->schema = dt->type;
-	t->encoding = dt->serialization_format;
-	t->message_count = dt->message_count;
-}
-
-static int store_read(void *db, uint32_t topic, uint32_t i, const uint8_t **data, uint64_t *len,
-		      uint64_t *log_time, struct dao_error *err)
-{
-	return dao_db3_read_message(db, topic, i, data, len, log_time, err);
-}
-
-static uint64_t store_time(const void *db, uint32_t topic, uint32_t i)
-{
-	return dao_db3_message_time(db, topic, i);
-}
-
-static void store_close(void *db)
-{
-	dao_db3_close(db);
-}
-
-static const struct dao_ros2_store_ops db3_store = {
-	.path = store_path,
-	.warning = store_warning,
-	.topic_count = store_topic_count,
-	.topic = store_topic,
-	.read_message = store_read,
-	.message_time = store_time,
-	.close = store_close,
-};
 
 static const char *multi_path(const void *m)
 {
@@ -129,7 +84,8 @@ static void multi_close(void *m)
 	dao_db3_multi_close(m);
 }
 
-/* A split bag's files played in their order as one (db3/db3_multi.c). */
+/* A bag's files played in their order as one (db3/db3_multi.c); a lone .db3 is a
+ * bag of one file. */
 static const struct dao_ros2_store_ops db3_multi_store = {
 	.path = multi_path,
 	.warning = store_warning,
@@ -251,12 +207,15 @@ int dao_db3_source_open(const char *uri, const struct dao_source_options *opts,
 	struct dao_ros_uri u;
 	struct stat st;
 	struct dao_db3 *db;
+	struct dao_db3_multi *bag;
 	int r = dao_ros_uri_parse(uri, "db3", &u, err);
 	if (r == 0 && stat(u.path, &st) == 0 && S_ISDIR(st.st_mode))
 		r = open_dir(&u, opts, max_pixels, state, err);
 	/* a message holds one image (up to 4 bytes a pixel) and its header */
-	else if (r == 0 && (r = dao_db3_open(u.path, 4 * max_pixels + (1u << 20), &db, err)) == 0)
-		r = dao_ros2_source_open(&db3_store, db, &u, "db3", opts, max_pixels, state, err);
+	else if (r == 0 && (r = dao_db3_open(u.path, 4 * max_pixels + (1u << 20), &db, err)) == 0 &&
+		 (r = dao_db3_multi_open(&db, 1, u.path, &bag, err)) == 0)
+		r = dao_ros2_source_open(&db3_multi_store, bag, &u, "db3", opts, max_pixels, state,
+					 err);
 	dao_ros_uri_free(&u);
 	return r;
 }
