@@ -30,11 +30,15 @@ static inline vf gradient(vf m1, vf m2, vf p1, vf p2, vf zc)
 
 /* The taps' sums of weights and weighted AO, rows j0 .. j1 of -2 .. 2 (the
  * others are off the image); holes: whether a tap without depth must be
- * tested for (else it weighs 0 by itself).  The rows are unrolled, so that
- * each tap's spatial weight (denoise.h: 1 inside, 1/2 on the border rows and
- * columns, 1/4 at the corners) is a constant folded into its tap weight:
+ * tested for (else it weighs 0 by itself).  Each tap's spatial weight
+ * (denoise.h: 1 inside, 1/2 on the border rows and columns, 1/4 at the
+ * corners) is folded into its tap weight (a constant where unrolled):
  * c (1 - saturate(|plane - t| / tol)) = max(c - |plane - t| (c / tol), 0),
- * the same operations as without it (c is a power of two: exact). */
+ * the same operations as without it (c is a power of two: exact).
+ * The columns are unrolled; the rows too except with AVX-512, where the
+ * kernel's code twice as long ran 10-13 % slower (thread CPU time,
+ * docs/perf/fuse.md); with 16 vector registers the unrolled rows are the
+ * faster.  Either way the same operations in the same order: the same bits. */
 static inline __attribute__((always_inline)) void
 plane_taps(const float *zr, const float *ar, int w, int j0, int j1, const vf ak[5], vf gy,
 	   vf inv_tol, const int holes, vf *sum_out, vf *wsum_out)
@@ -43,7 +47,11 @@ plane_taps(const float *zr, const float *ar, int w, int j0, int j1, const vf ak[
 	const vf c[3] = { v_set1(1.0f), v_set1(0.5f), v_set1(0.25f) };
 	const vf inv_tol_c[3] = { inv_tol, v_mul(inv_tol, c[1]), v_mul(inv_tol, c[2]) };
 	vf sum = zero, wsum = zero;
+#if VN >= 16
+#pragma GCC unroll 1
+#else
 #pragma GCC unroll 5
+#endif
 	for (int j = -2; j <= 2; j++) {
 		if (j < j0 || j > j1)
 			continue;
