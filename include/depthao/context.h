@@ -112,6 +112,22 @@ DAO_API void dao_context_reset(struct dao_context *ctx);
 DAO_API int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err);
 
 /*
+ * dao_context_process() and then dao_context_shade() into `shaded`, in one
+ * call: the same AO and the same shaded image, byte for byte, with the
+ * shading done on each band of rows while its AO is still in the core's
+ * cache (one pass over the frame and one hand-off to the threads fewer).
+ * `shaded` (RGB24 or GRAY8, the camera's size) is checked before the frame
+ * is processed; NULL: as dao_context_process().  With algorithm=none the
+ * frame is processed as by dao_context_process() and -ENODATA is returned,
+ * as dao_context_shade() would.  dao_timings.shade_ms is then the shading's
+ * share of the last stage, like output_ms.
+ */
+DAO_API int dao_context_process_shaded(struct dao_context *ctx, const struct dao_frame *depth,
+				       const struct dao_frame *normals, uint64_t frame_index,
+				       struct dao_frame *ao, struct dao_frame *shaded,
+				       struct dao_error *err);
+
+/*
  * Copies the normals (DAO_PIXFMT_NORMAL_F32, unit vectors in the optical
  * frame) of the last processed frame into the caller's frame.  -EAGAIN before
  * the first frame, -ENODATA after a frame processed with algorithm=none.
@@ -175,7 +191,8 @@ struct dao_timings {
 	double denoise_ms;
 	double output_ms;     /* AO to the caller's format */
 	double process_ms;    /* all of the last dao_context_process() */
-	double shade_ms;      /* the last dao_context_shade() */
+	double shade_ms;      /* the last dao_context_shade() (or the shading's share
+			       * of dao_context_process_shaded()) */
 	double noise_ms;      /* noise-model=auto: the frame's noise estimate and maps */
 };
 

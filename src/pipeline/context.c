@@ -514,6 +514,9 @@ struct frame_job {
 	struct dao_temporal_depth_setup depth_temporal_setup;
 	struct dao_domain_pass dt_pass; /* the domain filter's pass being run */
 	_Atomic uint64_t output_ns;     /* stage_finish: the output's time, summed over bands */
+	const struct dao_frame *shade_out; /* dao_context_process_shaded's image, or NULL */
+	struct dao_shade_setup shade;      /* ... its settings (shade_setup) */
+	_Atomic uint64_t shade_ns;         /* stage_finish: the shading's time, summed over bands */
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
 
@@ -819,15 +822,19 @@ static void stage_output(void *arg, int y0, int y1)
  * output, each of which reads only the rows it writes once the denoise's
  * input is complete (the GTAO stage; the bilateral's horizontal pass).  One
  * dispatch to the pool instead of three, and the AO plane is not read back
- * from the shared cache twice (docs/performance.md).  The output's share
- * of the time is summed over the bands for dao_timings.
+ * from the shared cache twice (docs/performance.md).  With
+ * dao_context_process_shaded the shading too: it reads the rows' final AO,
+ * depth and normals only (shade.h), so the same bytes as
+ * dao_context_shade after the frame.  The output's and the shading's
+ * shares of the time are summed over the bands for dao_timings.
  */
 #define FINISH_CHUNK_ROWS 16 /* 16 rows of 3 planes of 640 floats: 120 KB */
 
 static void stage_finish(void *arg, int y0, int y1)
 {
 	struct frame_job *j = arg;
-	uint64_t out_ns = 0;
+	const struct dao_context *c = j->ctx;
+	uint64_t out_ns = 0, shade_ns = 0;
 	/* in chunks, so that the rows are still in cache on one thread too
 	 * (its band is the whole frame) */
 	for (int a = y0; a < y1; a += FINISH_CHUNK_ROWS) {
@@ -841,9 +848,15 @@ static void stage_finish(void *arg, int y0, int y1)
 			stage_temporal(arg, a, b);
 		const uint64_t t = dao_mono_ns();
 		stage_output(arg, a, b);
-		out_ns += dao_mono_ns() - t;
+		const uint64_t t1 = dao_mono_ns();
+		out_ns += t1 - t;
+		if (j->shade_out) {
+			j->k.shade(&j->shade, c->z_raw, c->n, c->ao, j->shade_out, a, b);
+			shade_ns += dao_mono_ns() - t1;
+		}
 	}
 	atomic_fetch_add_explicit(&j->output_ns, out_ns, memory_order_relaxed);
+	atomic_fetch_add_explicit(&j->shade_ns, shade_ns, memory_order_relaxed);
 }
 
 /*
@@ -1182,120 +1195,6 @@ static void run_ao(struct dao_context *ctx, struct frame_job *job)
 		dao_pool_run_threads(ctx->pool, h, 2, stage_gtao, job);
 }
 
-/* The denoise, the temporal AO and the output (stage_finish fuses them). */
-static void run_finish(struct dao_context *ctx, struct frame_job *job)
-{
-	const struct dao_params *p = &ctx->params;
-	const int h = (int)ctx->cam.height;
-	ctx->ao = p->denoise == DAO_DENOISE_PLANE || p->denoise == DAO_DENOISE_BILATERAL
-			  ? ctx->ao_buf
-			  : ctx->ao_raw;
-	if (p->denoise == DAO_DENOISE_BILATERAL)
-		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, job);
-	atomic_init(&job->output_ns, 0);
-	dao_pool_run(ctx->pool, h, 4, stage_finish, job);
-	ctx->hist_valid = p->temporal > 0.0f;
-}
-
-/* t[]: the clock before decode, noise, temporal depth, prefilter, normals, AO,
- * finish, and after it */
-enum { T_DECODE, T_NOISE, T_TEMPORAL, T_PREFILTER, T_NORMALS, T_AO, T_FINISH, T_END };
-
-static void record_timings(struct dao_context *ctx, struct frame_job *job, const double *t)
-{
-	struct dao_timings *tm = &ctx->times;
-	/* the output's share: its time summed over the bands, over the threads */
-	const double out_ms = (double)atomic_load(&job->output_ns) * 1e-6 /
-			      (double)dao_pool_threads(ctx->pool);
-	const double finish_ms = t[T_END] - t[T_FINISH];
-	tm->decode_ms = (t[T_NOISE] - t[T_DECODE]) + (t[T_PREFILTER] - t[T_TEMPORAL]);
-	tm->noise_ms = t[T_TEMPORAL] - t[T_NOISE];
-	tm->prefilter_ms = t[T_NORMALS] - t[T_PREFILTER];
-	tm->normals_ms = t[T_AO] - t[T_NORMALS];
-	tm->gtao_ms = t[T_FINISH] - t[T_AO];
-	tm->output_ms = out_ms < finish_ms ? out_ms : finish_ms;
-	tm->denoise_ms = finish_ms - tm->output_ms;
-	tm->process_ms = t[T_END] - t[T_DECODE];
-}
-
-/*
- * algorithm=none, after the prefilter: no normals, AO, denoise or shading.
- * The AO plane is visibility 1 (fully open) where the input had depth and
- * invalid_value elsewhere, through the output stage, so that a caller's `ao`
- * holds a defined image (a constant) rather than stale or uninitialised data.
- */
-static void stage_depth_only(void *arg, int y0, int y1)
-{
-	struct frame_job *j = arg;
-	const int w = (int)j->ctx->cam.width;
-	float *ao = j->ctx->ao;
-	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
-		ao[i] = 1.0f;
-	stage_output(arg, y0, y1);
-}
-
-static void run_depth_only(struct dao_context *ctx, struct frame_job *job)
-{
-	ctx->ao = ctx->ao_raw;
-	atomic_init(&job->output_ns, 0);
-	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_depth_only, job);
-	ctx->hist_valid = 0; /* the AO history no longer matches the depth */
-}
-
-int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
-			const struct dao_frame *normals, uint64_t frame_index,
-			struct dao_frame *ao, struct dao_error *err)
-{
-	if (!ctx)
-		return dao_error_set(err, -EINVAL, "context is NULL");
-	int r = check_depth(ctx, depth, err);
-	if (!r && ao)
-		r = check_ao_out(ctx, ao, err);
-	if (r)
-		return r;
-
-	struct frame_job job;
-	struct dao_domain_setup dt;
-	frame_job_init(ctx, &job, depth, ao, frame_index);
-	continue_histories(ctx, frame_index);
-	noise_and_filter_init(ctx, &job, &dt);
-	ctx->have_frame = 0;
-	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
-
-	double t[T_END + 1];
-	t[T_DECODE] = now_ms();
-	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_decode, &job);
-	ctx->depth_hist_valid = job.depth_temporal;
-	t[T_NOISE] = now_ms();
-	if (ctx->params.noise_model != DAO_NOISE_MODEL_FIXED)
-		estimate_noise(ctx, &job, &dt);
-	t[T_TEMPORAL] = now_ms();
-	follow_motion(ctx, &job);
-	run_temporal_depth(ctx, &job, &dt);
-	t[T_PREFILTER] = now_ms();
-	run_prefilter(ctx, &job, &dt);
-	t[T_NORMALS] = now_ms();
-	ctx->depth_only = ctx->params.algorithm == DAO_ALGORITHM_NONE;
-	if (ctx->depth_only) {
-		t[T_AO] = t[T_FINISH] = t[T_NORMALS];
-		run_depth_only(ctx, &job);
-	} else {
-		r = run_normals(ctx, &job, normals, err);
-		if (r)
-			return r;
-		t[T_AO] = now_ms();
-		run_ao(ctx, &job);
-		t[T_FINISH] = now_ms();
-		run_finish(ctx, &job);
-	}
-	t[T_END] = now_ms();
-	record_timings(ctx, &job, t);
-	ctx->have_frame = 1;
-	ctx->have_index = 1;
-	ctx->last_frame_index = frame_index;
-	return 0;
-}
-
 /* Per row, the nearest and farthest depth of the last frame (0 and 0 when the
  * row has none); rows in parallel. */
 DAO_MULTIVERSION
@@ -1335,36 +1234,10 @@ static void depth_range(struct dao_context *ctx, float *lo, float *hi)
 	*hi = b;
 }
 
-struct shade_job {
-	const struct dao_shade_setup *setup;
-	const struct dao_context *ctx;
-	const struct dao_frame *out;
-	struct dao_kernels k;
-};
-
-static void stage_shade(void *arg, int y0, int y1)
+/* The shaded image's settings for the last frame: the colormap, and the
+ * depth range where the mode needs it and the parameters leave it open. */
+static void shade_setup(struct dao_context *ctx, struct dao_shade_setup *ss)
 {
-	const struct shade_job *j = arg;
-	j->k.shade(j->setup, j->ctx->z_raw, j->ctx->n, j->ctx->ao, j->out, y0, y1);
-}
-
-int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err)
-{
-	if (!ctx)
-		return dao_error_set(err, -EINVAL, "context is NULL");
-	int r = dao_frame_check(out, "shaded output", ctx->cam.width, ctx->cam.height, err);
-	if (r)
-		return r;
-	if (out->format != DAO_PIXFMT_RGB24 && out->format != DAO_PIXFMT_GRAY8)
-		return dao_error_set(err, -EINVAL, "shaded output: format %s is not rgb24 or gray8",
-				     dao_pixfmt_name(out->format));
-	if (!ctx->have_frame)
-		return dao_error_set(err, -EAGAIN,
-				     "no frame to shade: call dao_context_process() first");
-	if (ctx->depth_only)
-		return dao_error_set(err, -ENODATA,
-				     "no shaded image with algorithm=none (no normals or AO were "
-				     "computed): choose an AO algorithm, or take the depth");
 	const struct dao_params *p = &ctx->params;
 	if (ctx->cmap_mode != p->shade) {
 		dao_colormap_fill(&ctx->cmap, p->shade);
@@ -1385,7 +1258,7 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 		if (hi <= lo)
 			hi = lo + 0.001f;
 	}
-	struct dao_shade_setup ss = {
+	*ss = (struct dao_shade_setup){
 		.width = (int)ctx->cam.width, .height = (int)ctx->cam.height,
 		.ax = ctx->cam.ax, .ay = ctx->cam.ay, .bx = ctx->cam.bx, .by = ctx->cam.by,
 		.mode = p->shade,
@@ -1395,6 +1268,201 @@ int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao
 			 (float)(p->occlusion_color & 255) },
 		.map = &ctx->cmap,
 	};
+}
+
+/* The shaded image's frame: the camera's size, RGB24 or GRAY8. */
+static int shade_check(const struct dao_context *ctx, const struct dao_frame *out,
+		       struct dao_error *err)
+{
+	int r = dao_frame_check(out, "shaded output", ctx->cam.width, ctx->cam.height, err);
+	if (r)
+		return r;
+	if (out->format != DAO_PIXFMT_RGB24 && out->format != DAO_PIXFMT_GRAY8)
+		return dao_error_set(err, -EINVAL, "shaded output: format %s is not rgb24 or gray8",
+				     dao_pixfmt_name(out->format));
+	return 0;
+}
+
+/* The denoise, the temporal AO, the output and the shading (stage_finish
+ * fuses them). */
+static void run_finish(struct dao_context *ctx, struct frame_job *job)
+{
+	const struct dao_params *p = &ctx->params;
+	const int h = (int)ctx->cam.height;
+	ctx->ao = p->denoise == DAO_DENOISE_PLANE || p->denoise == DAO_DENOISE_BILATERAL
+			  ? ctx->ao_buf
+			  : ctx->ao_raw;
+	if (p->denoise == DAO_DENOISE_BILATERAL)
+		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, job);
+	atomic_init(&job->output_ns, 0);
+	atomic_init(&job->shade_ns, 0);
+	if (job->shade_out)
+		shade_setup(ctx, &job->shade);
+	dao_pool_run(ctx->pool, h, 4, stage_finish, job);
+	ctx->hist_valid = p->temporal > 0.0f;
+}
+
+/* t[]: the clock before decode, noise, temporal depth, prefilter, normals, AO,
+ * finish, and after it */
+enum { T_DECODE, T_NOISE, T_TEMPORAL, T_PREFILTER, T_NORMALS, T_AO, T_FINISH, T_END };
+
+static void record_timings(struct dao_context *ctx, struct frame_job *job, const double *t)
+{
+	struct dao_timings *tm = &ctx->times;
+	/* the output's and the shading's shares: their times summed over the
+	 * bands, over the threads */
+	const double threads = (double)dao_pool_threads(ctx->pool);
+	const double out_ms = (double)atomic_load(&job->output_ns) * 1e-6 / threads;
+	const double finish_ms = t[T_END] - t[T_FINISH];
+	double shade_ms = (double)atomic_load(&job->shade_ns) * 1e-6 / threads;
+	shade_ms = shade_ms < finish_ms ? shade_ms : finish_ms;
+	tm->decode_ms = (t[T_NOISE] - t[T_DECODE]) + (t[T_PREFILTER] - t[T_TEMPORAL]);
+	tm->noise_ms = t[T_TEMPORAL] - t[T_NOISE];
+	tm->prefilter_ms = t[T_NORMALS] - t[T_PREFILTER];
+	tm->normals_ms = t[T_AO] - t[T_NORMALS];
+	tm->gtao_ms = t[T_FINISH] - t[T_AO];
+	tm->output_ms = out_ms < finish_ms - shade_ms ? out_ms : finish_ms - shade_ms;
+	tm->denoise_ms = finish_ms - shade_ms - tm->output_ms;
+	if (job->shade_out)
+		tm->shade_ms = shade_ms;
+	tm->process_ms = t[T_END] - t[T_DECODE];
+}
+
+/*
+ * algorithm=none, after the prefilter: no normals, AO, denoise or shading.
+ * The AO plane is visibility 1 (fully open) where the input had depth and
+ * invalid_value elsewhere, through the output stage, so that a caller's `ao`
+ * holds a defined image (a constant) rather than stale or uninitialised data.
+ */
+static void stage_depth_only(void *arg, int y0, int y1)
+{
+	struct frame_job *j = arg;
+	const int w = (int)j->ctx->cam.width;
+	float *ao = j->ctx->ao;
+	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
+		ao[i] = 1.0f;
+	stage_output(arg, y0, y1);
+}
+
+static void run_depth_only(struct dao_context *ctx, struct frame_job *job)
+{
+	ctx->ao = ctx->ao_raw;
+	atomic_init(&job->output_ns, 0);
+	atomic_init(&job->shade_ns, 0);
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_depth_only, job);
+	ctx->hist_valid = 0; /* the AO history no longer matches the depth */
+}
+
+/* dao_context_process, and with `shaded` the shading in its last pass */
+static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
+			 const struct dao_frame *normals, uint64_t frame_index,
+			 struct dao_frame *ao, const struct dao_frame *shaded, struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	int r = check_depth(ctx, depth, err);
+	if (!r && ao)
+		r = check_ao_out(ctx, ao, err);
+	if (!r && shaded)
+		r = shade_check(ctx, shaded, err);
+	if (r)
+		return r;
+
+	struct frame_job job;
+	struct dao_domain_setup dt;
+	frame_job_init(ctx, &job, depth, ao, frame_index);
+	job.shade_out = shaded;
+	continue_histories(ctx, frame_index);
+	noise_and_filter_init(ctx, &job, &dt);
+	ctx->have_frame = 0;
+	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
+
+	double t[T_END + 1];
+	t[T_DECODE] = now_ms();
+	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_decode, &job);
+	ctx->depth_hist_valid = job.depth_temporal;
+	t[T_NOISE] = now_ms();
+	if (ctx->params.noise_model != DAO_NOISE_MODEL_FIXED)
+		estimate_noise(ctx, &job, &dt);
+	t[T_TEMPORAL] = now_ms();
+	follow_motion(ctx, &job);
+	run_temporal_depth(ctx, &job, &dt);
+	t[T_PREFILTER] = now_ms();
+	run_prefilter(ctx, &job, &dt);
+	t[T_NORMALS] = now_ms();
+	ctx->depth_only = ctx->params.algorithm == DAO_ALGORITHM_NONE;
+	if (ctx->depth_only) {
+		t[T_AO] = t[T_FINISH] = t[T_NORMALS];
+		run_depth_only(ctx, &job);
+	} else {
+		r = run_normals(ctx, &job, normals, err);
+		if (r)
+			return r;
+		t[T_AO] = now_ms();
+		run_ao(ctx, &job);
+		t[T_FINISH] = now_ms();
+		run_finish(ctx, &job);
+	}
+	t[T_END] = now_ms();
+	record_timings(ctx, &job, t);
+	ctx->have_frame = 1;
+	ctx->have_index = 1;
+	ctx->last_frame_index = frame_index;
+	return 0;
+}
+
+/* no normals or AO after a frame with algorithm=none */
+static int no_shading(struct dao_error *err)
+{
+	return dao_error_set(err, -ENODATA,
+			     "no shaded image with algorithm=none (no normals or AO were "
+			     "computed): choose an AO algorithm, or take the depth");
+}
+
+int dao_context_process(struct dao_context *ctx, const struct dao_frame *depth,
+			const struct dao_frame *normals, uint64_t frame_index,
+			struct dao_frame *ao, struct dao_error *err)
+{
+	return process_frame(ctx, depth, normals, frame_index, ao, NULL, err);
+}
+
+int dao_context_process_shaded(struct dao_context *ctx, const struct dao_frame *depth,
+			       const struct dao_frame *normals, uint64_t frame_index,
+			       struct dao_frame *ao, struct dao_frame *shaded, struct dao_error *err)
+{
+	int r = process_frame(ctx, depth, normals, frame_index, ao, shaded, err);
+	if (!r && shaded && ctx->depth_only)
+		return no_shading(err);
+	return r;
+}
+
+struct shade_job {
+	const struct dao_shade_setup *setup;
+	const struct dao_context *ctx;
+	const struct dao_frame *out;
+	struct dao_kernels k;
+};
+
+static void stage_shade(void *arg, int y0, int y1)
+{
+	const struct shade_job *j = arg;
+	j->k.shade(j->setup, j->ctx->z_raw, j->ctx->n, j->ctx->ao, j->out, y0, y1);
+}
+
+int dao_context_shade(struct dao_context *ctx, struct dao_frame *out, struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	int r = shade_check(ctx, out, err);
+	if (r)
+		return r;
+	if (!ctx->have_frame)
+		return dao_error_set(err, -EAGAIN,
+				     "no frame to shade: call dao_context_process() first");
+	if (ctx->depth_only)
+		return no_shading(err);
+	struct dao_shade_setup ss;
+	shade_setup(ctx, &ss);
 	const double t0 = now_ms();
 	struct shade_job sj = { .setup = &ss, .ctx = ctx, .out = out };
 	sj.k = ctx->kernels;

@@ -62,8 +62,8 @@ static void usage(FILE *out)
 	fprintf(out,
 		"usage: depthao bench [options]\n"
 		"\n"
-		"Times the per-frame pipeline (dao_context_process with 16-bit AO output, then\n"
-		"dao_context_shade to RGB) and each of its stages on a synthetic 16-bit depth\n"
+		"Times the per-frame pipeline (dao_context_process_shaded: 16-bit AO output and\n"
+		"the shaded RGB image) and each of its stages on a synthetic 16-bit depth\n"
 		"frame (the \"boxes\" scene with Kinect-like noise), for every size x quality x\n"
 		"thread count, after a warm-up.  Prints the median and 95th percentile per frame,\n"
 		"frames per second (1000 / median), megapixels per second, and the speedup over\n"
@@ -191,9 +191,10 @@ static int run(const struct config *c, const struct dao_camera *cam, const uint1
 	const double start = now_s();
 	for (int i = -warm; i < max_iter; i++) {
 		double t0 = now_s();
-		r = dao_context_process(ctx, &in, NULL, (uint64_t)(i + warm), &ao, err);
-		if (!r && c->params.algorithm != DAO_ALGORITHM_NONE) /* none: nothing to shade */
-			r = dao_context_shade(ctx, &sh, err);
+		/* the AO and the shaded image in one pass; none: nothing to shade */
+		r = dao_context_process_shaded(ctx, &in, NULL, (uint64_t)(i + warm), &ao,
+					       c->params.algorithm != DAO_ALGORITHM_NONE ? &sh : NULL,
+					       err);
 		if (r)
 			goto out;
 		double t1 = now_s();
@@ -593,8 +594,8 @@ static void print_header(int resolved, int simd)
 	printf("depthao %s bench: %s, %d CPUs, kernels %s%s\n", depthao_version_line(), model,
 	       dao_cpu_count(), dao_simd_name((enum dao_simd)resolved),
 	       simd == DAO_SIMD_AUTO ? " (auto)" : "");
-	printf("frame = dao_context_process (depth16 in, gray16 AO out) + dao_context_shade "
-	       "(RGB); synthetic \"boxes\" scene with sensor noise\n");
+	printf("frame = dao_context_process_shaded (depth16 in, gray16 AO and RGB out); "
+	       "synthetic \"boxes\" scene with sensor noise\n");
 	printf("times in ms per frame; fps = 1000 / median; ref = scalar reference kernels "
 	       "(simd=reference), same settings\n\n");
 	printf("%-10s %-15s %2s %8s %8s %7s %8s %8s %7s |", "size", "quality", "th", "median", "p95",

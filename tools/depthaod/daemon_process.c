@@ -284,17 +284,16 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 {
 	struct dao_error err = {0};
 	uint64_t c0 = tool_thread_cpu_ns();
-	int r = dao_context_process(ctx, &in->frame, NULL, in->index, &o->ao16, &err);
-	o->have_rgb = 0;
-	if (r == 0 && want_rgb) {
-		r = dao_context_shade(ctx, &o->rgb, &err);
-		o->have_rgb = r == 0;
-		if (r == -ENODATA) { /* algorithm=none: the depth streams go on, nothing to shade */
-			if (!o->said_no_shading++)
-				log_warn("algorithm none computes no AO: the sinks of the shaded "
-					 "stream get no frames while it is set (%s)", err.message);
-			r = 0;
-		}
+	/* the AO and the shaded image in one pass over the rows */
+	int r = dao_context_process_shaded(ctx, &in->frame, NULL, in->index, &o->ao16,
+					   want_rgb ? &o->rgb : NULL, &err);
+	o->have_rgb = r == 0 && want_rgb;
+	/* algorithm=none: the depth streams go on, nothing to shade */
+	if (want_rgb && r == -ENODATA) {
+		if (!o->said_no_shading++)
+			log_warn("algorithm none computes no AO: the sinks of the shaded "
+				 "stream get no frames while it is set (%s)", err.message);
+		r = 0;
 	}
 	*have_overlay = 0;
 	if (r == 0) {
