@@ -3,11 +3,14 @@
  * The 5x5 plane denoise of denoise_plane.c over SIMD lanes (pixels along a
  * row), with its tile-cancelling spatial weights; included by
  * denoise_plane_<isa>.c.  Same arithmetic; the two border
- * columns of each side use the reference per-pixel code, rows near the top
- * and bottom leave out the rows off the image as it does.
+ * columns of each side run the reference's arithmetic on lanes (its bytes,
+ * border_lanes), or its per-pixel code on images narrower than a vector and
+ * four columns; rows near the top and bottom leave out the rows off the
+ * image as it does.
  */
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "denoise/denoise.h"
 
@@ -74,16 +77,93 @@ plane_taps(const float *zr, const float *ar, int w, int j0, int j1, const vf ak[
 	*wsum_out = wsum;
 }
 
+/*
+ * The border columns: five rows (j = -2 .. 2) of BORDER_W floats, each the
+ * image's columns 0 .. 3 at 2 .. 5 and w - 4 .. w - 1 at 6 .. 9, 0 around
+ * them and for rows off the image, so that positions 2, 3, 8, 9 are the
+ * pixels x = 0, 1, w - 2, w - 1 with their taps where the reference finds
+ * them (zat: 0 off the image).  Lanes from position p on, with
+ * dao_denoise_plane_pixel's arithmetic: no fused multiply-add, the taps in
+ * its order, a tap it skips (no depth) adding exact zeros; the same bytes.
+ */
+#define BORDER_W (VN + 12)
+
+static vf border_lanes(const struct dao_denoise_setup *s, const float zb[5][BORDER_W],
+		       const float ab[5][BORDER_W], int p)
+{
+	const vf zero = v_zero(), one = v_set1(1.0f);
+	const float *zr = zb[2] + p;
+	const vf zc = v_load(zr);
+	const vm has = v_gt(zc, zero);
+	const vf gx = gradient(v_load(zr - 1), v_load(zr - 2), v_load(zr + 1), v_load(zr + 2), zc);
+	const vf gy = gradient(v_load(zb[1] + p), v_load(zb[0] + p), v_load(zb[3] + p),
+			       v_load(zb[4] + p), zc);
+	const vf sig = v_mul(v_mul(v_set1(s->noise_k), zc), zc);
+	const vf tol = v_mul(v_set1(s->sharpness), v_max(sig, v_mul(v_set1(0.002f), zc)));
+	const vf inv_tol = v_div(one, v_sel(has, tol, one));
+	vf sum = zero, wsum = zero;
+	for (int j = -2; j <= 2; j++) {
+		const vf jg = v_mul(v_set1((float)j), gy);
+		for (int k = -2; k <= 2; k++) {
+			const vf t = v_load(zb[j + 2] + p + k);
+			/* (zc + k gx) + j gy; c (1 - saturate(|plane - t| / tol)) */
+			const vf plane = v_add(v_add(zc, v_mul(v_set1((float)k), gx)), jg);
+			const vf sat = v_min(v_max(v_mul(v_abs(v_sub(plane, t)), inv_tol), zero), one);
+			const vf c = v_set1(dao_denoise_plane_tap_weight(j) *
+					    dao_denoise_plane_tap_weight(k));
+			const vm use = v_gt(t, zero);
+			const vf wt = v_sel(use, v_mul(c, v_sub(one, sat)), zero);
+			sum = v_add(sum, v_sel(use, v_mul(wt, v_load(ab[j + 2] + p + k)), zero));
+			wsum = v_add(wsum, wt);
+		}
+	}
+	return v_sel(has, v_div(sum, v_sel(has, wsum, one)), v_set1(s->invalid_value));
+}
+
+/* Row y's two border columns each side into o (w >= 8) */
+static void border_row(const struct dao_denoise_setup *s, const float *z, const float *ao_in,
+		       float zb[5][BORDER_W], float ab[5][BORDER_W], int y, float *o)
+{
+	const int w = s->width, h = s->height;
+	for (int j = -2; j <= 2; j++) {
+		float *zd = zb[j + 2] + 2, *ad = ab[j + 2] + 2;
+		const int yy = y + j;
+		if (yy < 0 || yy >= h) {
+			memset(zd, 0, 8 * sizeof *zd);
+			memset(ad, 0, 8 * sizeof *ad);
+			continue;
+		}
+		const float *zs = z + (size_t)yy * w, *as = ao_in + (size_t)yy * w;
+		memcpy(zd, zs, 4 * sizeof *zd);
+		memcpy(zd + 4, zs + w - 4, 4 * sizeof *zd);
+		memcpy(ad, as, 4 * sizeof *ad);
+		memcpy(ad + 4, as + w - 4, 4 * sizeof *ad);
+	}
+	float r[2 * VN];
+	for (int p = 2; p < 10; p += VN) /* one vector from VN = 8 on, two at 4 */
+		v_store(r + p - 2, border_lanes(s, zb, ab, p));
+	o[0] = r[0], o[1] = r[1], o[w - 2] = r[6], o[w - 1] = r[7];
+}
+
 void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const float *z,
 				   const float *ao_in, float *ao_out, int y0, int y1)
 {
 	const int w = s->width, h = s->height;
 	const vf zero = v_zero(), one = v_set1(1.0f);
+	/* the vectors of the interior reach the border columns from VN + 4 columns on */
+	const int lanes_at_borders = w >= VN + 4;
+	float zb[5][BORDER_W], ab[5][BORDER_W];
+	memset(zb, 0, sizeof zb);
+	memset(ab, 0, sizeof ab);
 	for (int y = y0; y < y1; y++) {
 		float *o = ao_out + (size_t)y * w;
 		/* rows off the image have no depth (0), as in the reference */
 		const int j0 = y < 2 ? -y : -2, j1 = y + 2 >= h ? h - 1 - y : 2;
 		int x = 0;
+		if (lanes_at_borders) {
+			border_row(s, z, ao_in, zb, ab, y, o);
+			x = 2;
+		}
 		for (; x < 2 && x < w; x++)
 			o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
 		/* the last vector ends at the border, overlapping the one before: each
@@ -119,7 +199,7 @@ void DAO_ISA_FN(dao_denoise_plane)(const struct dao_denoise_setup *s, const floa
 			vf r = v_sel(has, v_div(sum, v_sel(has, wsum, one)), v_set1(s->invalid_value));
 			v_store(o + x, r);
 		}
-		for (; x < w; x++)
+		for (; x < w - 2 * lanes_at_borders; x++)
 			o[x] = dao_denoise_plane_pixel(s, z, ao_in, x, y);
 	}
 }
