@@ -181,17 +181,20 @@ static vf search_side(const struct dao_gtao_setup *s, const float *izp, int pw,
 	return best;
 }
 
-/* acos, and sin t from cos t (t in [0, pi]): the precise polynomials, or with
- * `fast` the short acos and square roots from the hardware 1/sqrt estimate */
+/* acos, and sin t from cos t (t in [0, pi]), of c in [-1, 1] (every caller
+ * clamps it): the precise polynomials, or with `fast` the short acos and
+ * square roots from the hardware 1/sqrt estimate, without clamps of their own
+ * (1 - c^2 >= 0 when |c| <= 1, the product rounded or fused) */
 static inline vf acos_lanes(vf c, const int fast)
 {
-	return fast ? v_acos_fast(c) : v_acos(c);
+	return fast ? v_acos_fast_unit(c) : v_acos(c);
 }
 
 static inline vf sin_of_cos(vf c, const int fast)
 {
-	const vf s2 = v_max(v_fnma(c, c, v_set1(1.0f)), v_zero());
-	return fast ? v_sqrt_fast(s2) : v_sqrt(s2);
+	if (fast)
+		return v_sqrt_fast(v_fnma(c, c, v_set1(1.0f)));
+	return v_sqrt(v_max(v_fnma(c, c, v_set1(1.0f)), v_zero()));
 }
 
 /* One slice's frame at every lane: the projected normal's angle n from V, its

@@ -304,7 +304,7 @@ tile_tap_follow(const uint16_t *base, const struct tile_step *st, const struct t
 
 static inline __attribute__((always_inline)) vf
 tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile_px *t,
-	    const struct tile_step *st, vf lowk, vm *okp, const int major_x)
+	    const struct tile_step *st, vf lowk, vm *okp, const int major_x, const int use_max)
 {
 	const vf one = v_set1(1.0f), zero = v_zero();
 	const struct px *p = &t->p;
@@ -329,9 +329,22 @@ tile_sample(const struct dao_gtao_setup *s, const float *base, const struct tile
 	const vf rg = v_rsqrt_fast(g2); /* G is never 0: the sample is off the pixel's ray */
 	/* |D| for the falloff weight: the estimate of 1/iz is plenty there */
 	const vf len = v_mul(v_mul(g2, rg), v_rcp_fast(iz));
-	const vf wgt = v_min(v_max(v_fma(len, v_set1(s->falloff_mul), v_set1(s->falloff_add)),
-				   zero), one);
+	const vf w = v_fma(len, v_set1(s->falloff_mul), v_set1(s->falloff_add));
 	*okp = ok;
+	if (use_max) {
+		/* The sample's value lowk + (c - lowk) clamp(w, 0, 1) matters to the
+		 * minimum only where it is below lowk (the search starts there), and
+		 * then lowk minus it is min(e w, e) with e = lowk - c, w unclamped:
+		 * e > 0 and w >= 1 give e, 0 < w < 1 give e w, w <= 0 gives at most 0
+		 * (no change), and e <= 0 gives at most 0 for any w.  A lane without a
+		 * sample has w = -inf (iz = 0): e w is -inf, or NaN where e = 0, and
+		 * min then returns its second operand, 0.  tile_sides keeps the
+		 * largest of these (lowk minus the horizon): two operations fewer a
+		 * step than clamping w. */
+		const vf e = v_fnma(GU, rg, lowk);
+		return v_min(v_mul(e, w), e);
+	}
+	const vf wgt = v_min(v_max(w, zero), one);
 	return v_fma(v_sub(v_mul(GU, rg), lowk), wgt, lowk);
 }
 
@@ -352,26 +365,31 @@ tile_sides(const struct dao_gtao_setup *s, const float *base, const struct tile_
 	const vf decay = v_set1(s->decay);
 	const struct tile_step *sn = st + s->steps;
 	const vf lp = v_mul(low_pos, t->nu), ln = v_mul(low_neg, t->nu);
-	vf bp = lp, bn = ln;
+	/* use_max: how far below lp, ln the horizons are (tile_sample) */
+	vf bp = use_max ? v_zero() : lp, bn = use_max ? v_zero() : ln;
 	for (int i = 0; i < s->steps; i++) {
 		vm okp, okn;
 		if (!check_p || !tile_skip(t, &st[i])) {
-			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x);
+			const vf cp = tile_sample(s, base, t, &st[i], lp, &okp, major_x, use_max);
 			if (use_max)
-				bp = v_min(bp, cp);
+				bp = v_max(bp, cp);
 			else /* thickness heuristic (UE4): a lower sample after a higher one
 			      * pulls the horizon towards it */
 				bp = v_sel(okp, v_sel(v_lt(cp, bp), cp, v_fma(v_sub(bp, cp), decay, cp)),
 					   bp);
 		}
 		if (!check_n || !tile_skip(t, &sn[i])) {
-			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x);
+			const vf cn = tile_sample(s, base, t, &sn[i], ln, &okn, major_x, use_max);
 			if (use_max)
-				bn = v_min(bn, cn);
+				bn = v_max(bn, cn);
 			else
 				bn = v_sel(okn, v_sel(v_lt(cn, bn), cn, v_fma(v_sub(bn, cn), decay, cn)),
 					   bn);
 		}
+	}
+	if (use_max) {
+		bp = v_sub(lp, bp);
+		bn = v_sub(ln, bn);
 	}
 	*hc_pos = v_mul(bp, t->inu);
 	*hc_neg = v_mul(bn, t->inu);
@@ -438,15 +456,12 @@ static void tile_group_normals(const float *n, int w, int y, int x0,
  * own copy, and GTAO's has none of VBAO's code (nor its registers). */
 static inline __attribute__((always_inline)) void
 tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
-	   const float (*nq)[DAO_GTAO_BLOCK], float *ao, const struct tile_phase *ph,
+	   const float (*nq)[DAO_GTAO_BLOCK], float *ob, const struct tile_phase *ph,
 	   const struct tile_step *tsteps, const int32_t (*lim)[4], int reach_r, int reach_c,
 	   float rp, int y, int jb, int h, struct dao_tile_scratch *sc,
 	   const struct tile_vbao *vb, struct vbao_pipe *pipe, const int is_vbao)
 {
-	const int w = s->width, x0 = 4 * (jb + h) + ph->a;
-	float out[VN];
-	/* the lanes before x_end (x0 < x_end: at least one) */
-	const int lanes = (s->x_end - x0 + 3) / 4 < VN ? (s->x_end - x0 + 3) / 4 : VN;
+	const int x0 = 4 * (jb + h) + ph->a;
 	struct tile_px t;
 	struct px *p = &t.p; /* the tile kernel sets x, Pz, V and active */
 	t.Y0 = v_set1((float)y * s->ay + s->by);
@@ -532,15 +547,7 @@ tile_lanes(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl,
 		const vm has = v_gt(norm, v_zero());
 		vis = v_sel(has, v_div(sum, v_sel(has, norm, one)), one);
 	}
-	v_store(out, v_sel(has_z, finish_lanes(s, vis), v_set1(s->invalid_value)));
-	float *dst = ao + (size_t)y * w + x0;
-	if (lanes == VN) { /* a fixed count: unrolled */
-		for (int k = 0; k < VN; k++)
-			dst[4 * k] = out[k];
-	} else {
-		for (int k = 0; k < lanes; k++)
-			dst[4 * k] = out[k];
-	}
+	v_store(ob + h, v_sel(has_z, finish_lanes(s, vis), v_set1(s->invalid_value)));
 }
 
 /* The largest 1/z of the block of phase a at entry jb of row y (0: no depth);
@@ -573,6 +580,35 @@ static inline void tile_block_invalid(const struct dao_gtao_setup *s, float *ao,
 		ao[(size_t)y * s->width + x] = s->invalid_value;
 }
 
+/* The same into tile_row's buffer (ob: the block's phase's entries). */
+static inline void tile_block_invalid_buf(const struct dao_gtao_setup *s, float *ob)
+{
+	for (int e = 0; e < DAO_GTAO_BLOCK; e += VN)
+		v_store(ob + e, v_set1(s->invalid_value));
+}
+
+/* The AO of a block span from tile_row's buffer (ob[a][e]: column xb + 4 e + a)
+ * into row y, the columns before x_end: contiguous stores, where each block
+ * wrote every 4th column one float at a time. */
+static inline void tile_span_store(const struct dao_gtao_setup *s, float *ao, int y, int xb,
+				   const float ob[4][DAO_GTAO_BLOCK])
+{
+	float *dst = ao + (size_t)y * s->width + xb;
+	if (xb + DAO_GTAO_BLOCK_SPAN <= s->x_end) {
+		for (int e = 0; e < DAO_GTAO_BLOCK; e += VN) {
+			vf v[4], q[4];
+			for (int a = 0; a < 4; a++)
+				v[a] = v_load(ob[a] + e);
+			v_interleave4(v, q);
+			for (int a = 0; a < 4; a++)
+				v_store(dst + 4 * e + a * VN, q[a]);
+		}
+		return;
+	}
+	for (int x = 0; xb + x < s->x_end; x++)
+		dst[x] = ob[x & 3][x >> 2];
+}
+
 /* Asks for the normals of the block span at column x of row y (-1: none),
  * the one tile_row splits next: a row of normals is read once, 3 floats a
  * pixel, and the first lines of each of its spans missed the caches. */
@@ -599,6 +635,7 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 	 const struct tile_vbao *vb, int y, int y_next, const int is_vbao)
 {
 	float nb[4][3][DAO_GTAO_BLOCK];
+	float ob[4][DAO_GTAO_BLOCK] __attribute__((aligned(64)));
 	struct vbao_pipe pipe;
 	for (int xb = s->x_begin; xb < s->x_end; xb += DAO_GTAO_BLOCK_SPAN) {
 		const int jb = xb / 4;
@@ -606,7 +643,7 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 		for (int a = 0; a < 4 && xb + a < s->x_end; a++) {
 			const float rp = tile_block_rp(s, pl, y, a, jb);
 			if (rp < 0.0f) {
-				tile_block_invalid(s, ao, y, xb + a);
+				tile_block_invalid_buf(s, ob[a]);
 				continue;
 			}
 			int reach_r = 0, reach_c = 0;
@@ -623,10 +660,11 @@ tile_row(const struct dao_gtao_setup *s, const struct dao_gtao_planes *pl, const
 			}
 			for (int h = 0; h < DAO_GTAO_BLOCK; h += VN)
 				if (4 * (jb + h) + a < s->x_end)
-					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ao, &ph[a],
+					tile_lanes(s, pl, (const float (*)[DAO_GTAO_BLOCK])nb[a], ob[a], &ph[a],
 						   tsteps, lim, reach_r, reach_c, rp, y, jb, h, sc, vb,
 						   is_vbao ? &pipe : NULL, is_vbao);
 		}
+		tile_span_store(s, ao, y, xb, (const float (*)[DAO_GTAO_BLOCK])ob);
 	}
 }
 

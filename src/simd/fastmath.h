@@ -41,15 +41,26 @@ static inline vf v_sqrt_fast(vf a)
 	return v_sel(v_gt(a, v_zero()), v_mul(a, v_rsqrt_fast(a)), v_zero());
 }
 
-static inline vf v_acos_fast(vf x)
+/* v_acos_fast of |x| = ax <= 1 (x's sign decides the reflection) */
+static inline vf v_acos_fast_abs(vf x, vf ax)
 {
-	vf ax = v_min(v_abs(x), v_set1(1.0f));
 	vf p = v_set1(-0.0187293f);
 	p = v_fma(p, ax, v_set1(0.0742610f));
 	p = v_fma(p, ax, v_set1(-0.2121144f));
 	p = v_fma(p, ax, v_set1(1.5707288f));
 	vf r = v_mul(v_sqrt_fast(v_sub(v_set1(1.0f), ax)), p);
 	return v_sel(v_lt(x, v_zero()), v_sub(v_set1(3.14159265358979f), r), r);
+}
+
+static inline vf v_acos_fast(vf x)
+{
+	return v_acos_fast_abs(x, v_min(v_abs(x), v_set1(1.0f)));
+}
+
+/* v_acos_fast(x) for x already in [-1, 1]: the same, without the clamp */
+static inline vf v_acos_fast_unit(vf x)
+{
+	return v_acos_fast_abs(x, v_abs(x));
 }
 
 /*

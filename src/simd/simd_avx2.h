@@ -196,6 +196,25 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 }
 
 /*
+ * Four-way interleave, v_deinterleave4's inverse: v[k] holds p[k], p[k + 4],
+ * ...; q[0..3] get the 4 VN values p in order.  A 4 x 4 transpose per 128-bit
+ * half gives p[0..3] | p[16..19] and so on; swapping halves restores the order.
+ */
+static inline void v_interleave4(const vf v[4], vf q[4])
+{
+	const vf t0 = _mm256_unpacklo_ps(v[0], v[1]), t1 = _mm256_unpackhi_ps(v[0], v[1]);
+	const vf t2 = _mm256_unpacklo_ps(v[2], v[3]), t3 = _mm256_unpackhi_ps(v[2], v[3]);
+	const vf a = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+	const vf b = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+	const vf c = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+	const vf d = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+	q[0] = _mm256_permute2f128_ps(a, b, 0x20);
+	q[1] = _mm256_permute2f128_ps(c, d, 0x20);
+	q[2] = _mm256_permute2f128_ps(a, b, 0x31);
+	q[3] = _mm256_permute2f128_ps(c, d, 0x31);
+}
+
+/*
  * VN x VN transpose in registers: lane j of r[i] <-> lane i of r[j]
  * (unpack by 32 bits, shuffle by 64, then swap 128-bit halves: 24 shuffles).
  */

@@ -173,6 +173,25 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 }
 
 /*
+ * Four-way interleave, v_deinterleave4's inverse: v[k] holds p[k], p[k + 4],
+ * ...; q[0..3] get the 4 VN values p in order (pairs of v[0], v[1] and of
+ * v[2], v[3] interleaved, then the pairs' pairs: two rounds of permutes).
+ */
+static inline void v_interleave4(const vf v[4], vf q[4])
+{
+	const __m512i lo = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+	const __m512i hi = _mm512_setr_epi32(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31);
+	const __m512i p0 = _mm512_setr_epi32(0, 1, 16, 17, 2, 3, 18, 19, 4, 5, 20, 21, 6, 7, 22, 23);
+	const __m512i p1 = _mm512_setr_epi32(8, 9, 24, 25, 10, 11, 26, 27, 12, 13, 28, 29, 14, 15, 30, 31);
+	const vf xl = _mm512_permutex2var_ps(v[0], lo, v[1]), xh = _mm512_permutex2var_ps(v[0], hi, v[1]);
+	const vf yl = _mm512_permutex2var_ps(v[2], lo, v[3]), yh = _mm512_permutex2var_ps(v[2], hi, v[3]);
+	q[0] = _mm512_permutex2var_ps(xl, p0, yl);
+	q[1] = _mm512_permutex2var_ps(xl, p1, yl);
+	q[2] = _mm512_permutex2var_ps(xh, p0, yh);
+	q[3] = _mm512_permutex2var_ps(xh, p1, yh);
+}
+
+/*
  * VN x VN transpose in registers: lane j of r[i] <-> lane i of r[j].  Pairs
  * of rows interleave by 32 then 64 bits (each 128-bit lane then holds one
  * column of four rows), and two rounds of 128-bit shuffles gather a column's

@@ -159,6 +159,16 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	}
 }
 
+/* Four-way interleave, v_deinterleave4's inverse: v[k] holds p[k], p[k + 4],
+ * ...; q[0..3] get the 4 VN values p in order. */
+static inline void v_interleave4(const vf v[4], vf q[4])
+{
+	float t[4 * VN];
+	for (int i = 0; i < 4 * VN; i++)
+		t[i] = v[i % 4][i / 4];
+	memcpy(q, t, sizeof t);
+}
+
 /* VN x VN transpose: lane j of r[i] <-> lane i of r[j] */
 static inline void v_transpose(vf r[4])
 {

@@ -178,6 +178,12 @@ static inline void v_deinterleave4(const vf v[4], vf q[4])
 	q[3] = _mm_movehl_ps(t3, t1);
 }
 
+/* Four-way interleave, v_deinterleave4's inverse (the same 4 x 4 transpose). */
+static inline void v_interleave4(const vf v[4], vf q[4])
+{
+	v_deinterleave4(v, q);
+}
+
 /* VN x VN transpose in registers: lane j of r[i] <-> lane i of r[j] */
 static inline void v_transpose(vf r[4])
 {
