@@ -229,6 +229,27 @@ static float median_pairs(float *v, int n)
 	return median_by_rank(v, n, 4 * NB);
 }
 
+/*
+ * The cell's link: the median over its blocks with a non-zero link when
+ * there are DAO_NOISE_MIN_BLOCKS of them, else over all n.  A block with no
+ * non-zero difference lies on one band of quantised depth (a Kinect's
+ * disparity step is 50 mm at 4 m): it has no link to measure, as a zero
+ * difference has none inside a block.  Counted as 0, such blocks moved the
+ * median between 0 and the step with the share of a cell the bands' edges
+ * cross, which flickers from frame to frame (noise_estimate.h).  Reorders vl.
+ */
+static float median_links(float *vl, int n)
+{
+	int k = 0;
+	for (int i = 0; i < n; i++) {
+		const float t = vl[i];
+		vl[i] = vl[k], vl[k] = t;
+		k += t != 0.0f;
+	}
+	/* vl[0 .. k) the non-zero links */
+	return k >= DAO_NOISE_MIN_BLOCKS ? median_blocks(vl, k) : median_blocks(vl, n);
+}
+
 /* median of n values (reordered in place) */
 static float median(float *v, int n)
 {
@@ -337,7 +358,7 @@ static void cell_rank_medians(struct dao_noise_grid *g, int cx, int cy)
 		return;
 	}
 	area[i] = median_blocks(va, n);
-	link[i] = median_blocks(vl, n);
+	link[i] = median_links(vl, n);
 	wm[i] = median_blocks(vw, n);
 }
 
@@ -446,15 +467,15 @@ static inline int slot(int32_t *o, float x, int use)
 /*
  * The slots of cell (cx, cy) as lane l: its blocks' area, link and mean 1/z
  * into vb (rows of 3 LANES: area lanes, link lanes, w lanes), their slope
- * pairs into vp (rows of LANES); *n, *ns: the counts.  0, or 1 where a value
- * is NaN.
+ * pairs into vp (rows of LANES); *n, *ns: the counts, *nz: the blocks whose
+ * link is 0.  0, or 1 where a value is NaN.
  */
 static int cell_slots(const struct dao_noise_grid *g, int cx, int cy, int l, int32_t *vb,
-		      int32_t *vp, int *n, int *ns)
+		      int32_t *vp, int *n, int *ns, int *nz)
 {
 	const int32_t inf = 0x7f800000; /* +inf */
 	int bad = 0;
-	*n = *ns = 0;
+	*n = *ns = *nz = 0;
 	for (int s = 0; s < NB; s++) {
 		const int bx = cx * DAO_NOISE_CELL + s % DAO_NOISE_CELL;
 		const int by = cy * DAO_NOISE_CELL + s / DAO_NOISE_CELL;
@@ -468,6 +489,7 @@ static int cell_slots(const struct dao_noise_grid *g, int cx, int cy, int l, int
 			continue;
 		bad |= slot(o, b[0], 1) | slot(o + LANES, b[1], 1) | slot(o + 2 * LANES, b[2], 1);
 		(*n)++;
+		*nz += b[1] == 0.0f;
 		float pairs[4];
 		const int k = slope_pairs(g, bx, by, pairs);
 		for (int i = 0; i < k; i++)
@@ -483,11 +505,11 @@ void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 	float *area = g->cell, *link = g->cell + nc, *wm = g->cell + 2 * nc;
 	float *slope = g->cell + 3 * nc;
 	int32_t vb[NB * 3 * LANES], vp[NP * LANES];
-	int n[LANES], ns[LANES], odd[LANES];
+	int n[LANES], ns[LANES], nz[LANES], odd[LANES];
 	for (int cy = cy0; cy < cy1; cy++)
 		for (int cx0 = 0; cx0 < cw; cx0 += LANES) {
 			for (int l = 0; l < LANES; l++)
-				odd[l] = cell_slots(g, cx0 + l, cy, l, vb, vp, &n[l], &ns[l]);
+				odd[l] = cell_slots(g, cx0 + l, cy, l, vb, vp, &n[l], &ns[l], &nz[l]);
 			sort_blocks(vb, g->net_blocks, g->net_blocks_count);
 			sort_pairs(vp, g->net_pairs, g->net_pairs_count);
 			for (int l = 0; l < LANES && cx0 + l < cw; l++) {
@@ -504,7 +526,11 @@ void dao_noise_cell_rows(struct dao_noise_grid *g, int cy0, int cy1)
 						   ? lane_median(vp, LANES, l, ns[l]) / DAO_NOISE_SLOPE_IID
 						   : NAN;
 				area[i] = lane_median(vb, 3 * LANES, l, n[l]);
-				link[i] = lane_median(vb + LANES, 3 * LANES, l, n[l]);
+				/* the zero links sort first: the non-zero ones from row nz
+				 * (median_links) */
+				const int nl = n[l] - nz[l], z0 = nl >= DAO_NOISE_MIN_BLOCKS ? nz[l] : 0;
+				link[i] = lane_median(vb + LANES + (size_t)z0 * 3 * LANES, 3 * LANES, l,
+						      n[l] - z0);
 				wm[i] = lane_median(vb + 2 * LANES, 3 * LANES, l, n[l]);
 			}
 		}
@@ -522,7 +548,7 @@ int dao_noise_cell_measure(struct dao_noise_grid *g, const float *z, int cx, int
 	const int n = cell_blocks(g, cx, cy, va, vl, vw, NULL, NULL);
 	if (n < DAO_NOISE_MIN_BLOCKS)
 		return 0;
-	*link = median_blocks(vl, n);
+	*link = median_links(vl, n);
 	*w = median_blocks(vw, n);
 	return 1;
 }

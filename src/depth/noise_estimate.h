@@ -27,7 +27,9 @@
  *   whole blocks, which their residual does not see and their slopes do.
  * Per cell of 4 x 4 blocks (32 x 32 px): the median over the cell's blocks
  * (robust to the few blocks a depth edge, a crease or a hole boundary runs
- * through); cells with fewer than DAO_NOISE_MIN_BLOCKS blocks take the mean
+ * through; `link` over the blocks with a non-zero link when at least
+ * DAO_NOISE_MIN_BLOCKS have one: a block inside one quantised band has no
+ * link to measure); cells with fewer than DAO_NOISE_MIN_BLOCKS blocks take the mean
  * of their neighbours, repeatedly, and the frame's median when none has any.
  * Per pixel: bilinear between cell centres (where prefilter=domain's passes
  * need a value, dao_domain_cell_knots in domain.h).

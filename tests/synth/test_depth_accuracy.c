@@ -2,7 +2,8 @@
 /*
  * The measures of `depthao eval --depth` on hand-made frames whose answers
  * are known (synth/depth_accuracy.h), the librealsense-style reference
- * chain's stages on hand-made inputs (synth/rs_reference.h), and depthao's
+ * chain's stages and the crude 9 x 9 anchor on hand-made inputs
+ * (synth/rs_reference.h, depth_box_mean), and depthao's
  * own filter against the truth on a noisy plane.
  */
 #include <math.h>
@@ -137,6 +138,27 @@ static void test_plane_residual(void **state)
 	assert_int_equal(depth_plane_residual(z, m, &cam, &rms, &n), -1);
 }
 
+/* The crude 9 x 9 anchor: a step stays a step, a hole a hole, and a
+ * checkerboard of +-5 mm on a plane at 1 m averages out away from the border. */
+static void test_box_mean(void **state)
+{
+	(void)state;
+	float z[W * H], out[W * H];
+	step(z);
+	z[5 * W + 5] = 0.0f;
+	depth_box_mean(z, out, W, H);
+	for (int i = 0; i < W * H; i++)
+		assert_true(out[i] == z[i]); /* each side one value, the other side > 3 % off */
+	for (int y = 0; y < H; y++)
+		for (int x = 0; x < W; x++)
+			z[y * W + x] = 1.0f + ((x + y) & 1 ? 0.005f : -0.005f);
+	depth_box_mean(z, out, W, H);
+	/* 81 pixels, 41 of one sign: |mean - 1| = 0.01 / 81 */
+	for (int y = 4; y < H - 4; y++)
+		for (int x = 4; x < W - 4; x++)
+			assert_true(fabsf(out[y * W + x] - 1.0f) < 0.01f / 81.0f + 1e-6f);
+}
+
 static void test_reference_spatial(void **state)
 {
 	(void)state;
@@ -248,6 +270,7 @@ int main(void)
 		cmocka_unit_test(test_errors_and_fill),
 		cmocka_unit_test(test_flying_created),
 		cmocka_unit_test(test_plane_residual),
+		cmocka_unit_test(test_box_mean),
 		cmocka_unit_test(test_reference_spatial),
 		cmocka_unit_test(test_reference_hole_fill),
 		cmocka_unit_test(test_reference_temporal),

@@ -50,6 +50,7 @@ struct ed_row {
 	enum synth_sensor sensor;
 	struct depth_acc filt, ref;   /* depthao's filter, the reference chain */
 	struct depth_acc cv;          /* OpenCV's DepthCleaner (depthao-eval-cv only) */
+	struct depth_acc box;         /* the crude 9 x 9 edge-aware mean (depth_box_mean) */
 	double ms_filt, ms_ref, ms_cv;   /* thread CPU time per frame */
 };
 
@@ -59,7 +60,7 @@ struct ed_run {
 	struct dao_camera cam;
 	struct dao_context *ctx;
 	struct rs_ref ref;
-	float *sim, *raw, *filt, *refout, *cvout;
+	float *sim, *raw, *filt, *refout, *cvout, *boxout;
 	uint16_t *raw_mm;
 	int warm;        /* the first frame was processed once untimed (lazy set-up) */
 	int pictured;    /* --picture was written */
@@ -76,7 +77,9 @@ static void usage(FILE *out)
 		"Renders the synthetic scenes (640x480, true depth by ray tracing), simulates each\n"
 		"sensor, and measures depthao's filtered depth (the default preset with the stream\n"
 		"defaults, algorithm none) and a librealsense-style reference chain (spatial,\n"
-		"temporal, hole filling, as documented by Intel) against the true depth: MAE and\n"
+		"temporal, hole filling, as documented by Intel) against the true depth, beside\n"
+		"a crude anchor (9x9: the mean of a 9 x 9 window's pixels within 3 %% of the\n"
+		"centre's depth, on the last frame alone): MAE and\n"
 		"RMSE where the truth, raw and filtered depth all have depth, in the interior\n"
 		"(>= %d px from a true discontinuity) and the edge band; fill precision (filled\n"
 		"pixels within %.0f cm of the truth); flying pixels within %d px of a discontinuity.\n"
@@ -287,9 +290,10 @@ static int run_alloc(struct ed_run *e, struct dao_error *err)
 	e->filt = malloc(np * sizeof(float));
 	e->refout = malloc(np * sizeof(float));
 	e->cvout = malloc(np * sizeof(float));
+	e->boxout = malloc(np * sizeof(float));
 	e->raw_mm = malloc(np * sizeof(uint16_t));
 	e->dist = malloc(np);
-	if (!e->sim || !e->raw || !e->filt || !e->refout || !e->cvout || !e->raw_mm || !e->dist)
+	if (!e->sim || !e->raw || !e->filt || !e->refout || !e->cvout || !e->boxout || !e->raw_mm || !e->dist)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	int r = rs_ref_init(&e->ref, &ro, (int)e->cam.width, (int)e->cam.height, e->cam.fx, err);
 	return r ? r : dao_context_create(&e->ctx, &e->cam, &p, err);
@@ -304,6 +308,7 @@ static void run_free(struct ed_run *e)
 	free(e->filt);
 	free(e->refout);
 	free(e->cvout);
+	free(e->boxout);
 	free(e->raw_mm);
 	free(e->dist);
 }
@@ -373,6 +378,8 @@ static int run_scene(struct ed_run *e, const struct synth_scene *sc, int scene_i
 		}
 		depth_acc_add(img->depth, e->raw, e->filt, e->dist, w, h, &row->filt);
 		depth_acc_add(img->depth, e->raw, e->refout, e->dist, w, h, &row->ref);
+		depth_box_mean(e->raw, e->boxout, w, h); /* the last frame alone */
+		depth_acc_add(img->depth, e->raw, e->boxout, e->dist, w, h, &row->box);
 #ifdef DAO_EVAL_OPENCV
 		depth_acc_add(img->depth, e->raw, e->cvout, e->dist, w, h, &row->cv);
 #endif
@@ -428,22 +435,24 @@ static double pct(long a, long b)
 
 static void print_rows(const struct ed_run *e)
 {
-	printf("| set | scene | input | interior MAE mm raw / depthao / ref | reduction depthao / ref "
+	printf("| set | scene | input | interior MAE mm raw / depthao / ref / 9x9 "
+	       "| reduction depthao / ref / 9x9 "
 	       "| interior RMSE mm raw / depthao / ref | edge-band MAE mm raw / depthao / ref "
 	       "| filled px depthao (prec.) / ref (prec.) | flying px raw / depthao / ref "
 	       "| CPU ms/frame depthao / ref |\n");
 	printf("|---|---|---|---|---|---|---|---|---|---|\n");
 	for (int i = 0; i < e->nrows; i++) {
 		const struct ed_row *r = &e->rows[i];
-		const struct depth_acc *f = &r->filt, *q = &r->ref;
-		printf("| %s | %s #%d | %s | %.2f / %.2f / %.2f | %.0f %% / %.0f %% "
+		const struct depth_acc *f = &r->filt, *q = &r->ref, *m = &r->box;
+		printf("| %s | %s #%d | %s | %.2f / %.2f / %.2f / %.2f | %.0f %% / %.0f %% / %.0f %% "
 		       "| %.2f / %.2f / %.2f | %.2f / %.2f / %.2f "
 		       "| %ld (%.0f %%) / %ld (%.0f %%) | %ld / %ld / %ld | %.1f / %.1f |\n",
 		       synth_set_name(r->set), r->scene, r->variant, synth_sensor_name(r->sensor),
 		       1e3 * depth_err_mae(&f->raw_in), 1e3 * depth_err_mae(&f->filt_in),
-		       1e3 * depth_err_mae(&q->filt_in),
+		       1e3 * depth_err_mae(&q->filt_in), 1e3 * depth_err_mae(&m->filt_in),
 		       100.0 * depth_acc_reduction(&f->raw_in, &f->filt_in),
 		       100.0 * depth_acc_reduction(&q->raw_in, &q->filt_in),
+		       100.0 * depth_acc_reduction(&m->raw_in, &m->filt_in),
 		       1e3 * depth_err_rmse(&f->raw_in), 1e3 * depth_err_rmse(&f->filt_in),
 		       1e3 * depth_err_rmse(&q->filt_in),
 		       1e3 * depth_err_mae(&f->raw_edge), 1e3 * depth_err_mae(&f->filt_edge),
@@ -456,7 +465,7 @@ static void print_rows(const struct ed_run *e)
 /* The bars of one sensor and set: the counts that hold and the worst values. */
 struct ed_bars {
 	int cases, interior_ok, edge_ok, beat_ref;
-	double min_red, sum_red, sum_red_ref, ms_filt, ms_ref;
+	double min_red, sum_red, sum_red_ref, min_red_box, sum_red_box, ms_filt, ms_ref;
 	long filled, filled_ok, fly_created, fly_created_ref, fly_px;
 	long filled_in, filled_in_ok, kept, kept_ok, rim, rim_ok;
 };
@@ -468,7 +477,7 @@ static double bar_reduction(enum synth_sensor s)
 
 static void gather(const struct ed_run *e, enum synth_set set, enum synth_sensor sn, struct ed_bars *b)
 {
-	*b = (struct ed_bars){ .min_red = INFINITY };
+	*b = (struct ed_bars){ .min_red = INFINITY, .min_red_box = INFINITY };
 	for (int i = 0; i < e->nrows; i++) {
 		const struct ed_row *r = &e->rows[i];
 		if (r->set != set || r->sensor != sn)
@@ -479,6 +488,9 @@ static void gather(const struct ed_run *e, enum synth_set set, enum synth_sensor
 		b->min_red = fmin(b->min_red, red);
 		b->sum_red += red;
 		b->sum_red_ref += depth_acc_reduction(&q->raw_in, &q->filt_in);
+		const double red_box = depth_acc_reduction(&r->box.raw_in, &r->box.filt_in);
+		b->sum_red_box += red_box;
+		b->min_red_box = fmin(b->min_red_box, red_box);
 		b->interior_ok += red >= bar_reduction(sn);
 		b->edge_ok += depth_err_mae(&f->filt_edge) <= depth_err_mae(&f->raw_edge);
 		b->beat_ref += depth_err_mae(&f->filt_in) < depth_err_mae(&q->filt_in) &&
@@ -503,7 +515,8 @@ static void gather(const struct ed_run *e, enum synth_set set, enum synth_sensor
 static int print_summary(const struct ed_run *e)
 {
 	int failed = 0;
-	printf("\n| set | input | cases | interior MAE reduction mean (min) depthao / ref "
+	printf("\n| set | input | cases | interior MAE reduction mean (min) depthao / ref / "
+	       "9x9 mean (min) "
 	       "| bar | interior bar holds | edge band <= raw | fill precision depthao "
 	       "(filled px within 1 cm; interior; the measured px within 1 cm, all and beside a "
 	       "hole in their row) "
@@ -526,11 +539,13 @@ static int print_summary(const struct ed_run *e)
 					 pct(b.kept_ok, b.kept), pct(b.rim_ok, b.rim));
 			else
 				snprintf(fill, sizeof fill, "n/a (no pixel filled)");
-			printf("| %s | %s | %d | %.0f %% (%.0f %%) / %.0f %% | %s | %d/%d | %d/%d | %s "
+			printf("| %s | %s | %d | %.0f %% (%.0f %%) / %.0f %% / %.0f %% (%.0f %%) | %s "
+			       "| %d/%d | %d/%d | %s "
 			       "| %ld / %ld of %ld | %d/%d | %.1f / %.1f |\n",
 			       synth_set_name((enum synth_set)set), synth_sensor_name(sn), b.cases,
 			       100.0 * b.sum_red / b.cases, 100.0 * b.min_red,
-			       100.0 * b.sum_red_ref / b.cases,
+			       100.0 * b.sum_red_ref / b.cases, 100.0 * b.sum_red_box / b.cases,
+			       100.0 * b.min_red_box,
 			       barred ? (sn == SYNTH_SENSOR_TOF ? ">= 20 %" : ">= 35 %") : "-",
 			       b.interior_ok, b.cases, b.edge_ok, b.cases, fill, b.fly_created,
 			       b.fly_created_ref, b.fly_px, b.beat_ref, b.cases, b.ms_filt / b.cases,

@@ -170,3 +170,28 @@ int depth_plane_residual_rect(const float *z, const uint8_t *mask, const struct 
 	*rms = sqrt(sq / (double)count);
 	return 0;
 }
+
+void depth_box_mean(const float *in, float *out, int w, int h)
+{
+	const int r = DEPTH_BOX_SIDE / 2;
+	for (int y = 0; y < h; y++)
+		for (int x = 0; x < w; x++) {
+			const float c = in[(size_t)y * w + x];
+			float *o = &out[(size_t)y * w + x];
+			*o = 0.0f;
+			if (!(c > 0.0f))
+				continue;
+			const double tol = DEPTH_ACC_JUMP_REL * c;
+			double sum = 0.0;
+			int n = 0;
+			for (int v = y - r; v <= y + r; v++)
+				for (int u = x - r; u <= x + r; u++) {
+					if (u < 0 || v < 0 || u >= w || v >= h)
+						continue;
+					const float d = in[(size_t)v * w + u];
+					if (d > 0.0f && fabs(d - c) <= tol)
+						sum += d, n++;
+				}
+			*o = (float)(sum / n); /* n >= 1: the pixel itself */
+		}
+}

@@ -78,6 +78,18 @@ void depth_acc_add(const float *truth, const float *raw, const float *filt, cons
 /* The reduction of the filtered error against the raw, 1 - filt/raw (0 if raw is 0). */
 double depth_acc_reduction(const struct depth_err *raw, const struct depth_err *filt);
 
+/* The crude anchor's window, px per side (odd) */
+#define DEPTH_BOX_SIDE 9
+
+/*
+ * A crude edge-aware mean, the anchor a noise-scaled filter has to beat
+ * (issue #36): each pixel with depth takes the plain mean of the pixels of
+ * the DEPTH_BOX_SIDE x DEPTH_BOX_SIDE window around it that have depth
+ * within DEPTH_ACC_JUMP_REL of its own (itself included); pixels without
+ * depth stay without.  `in` and `out` metres (0 = none), w x h, distinct.
+ */
+void depth_box_mean(const float *in, float *out, int w, int h);
+
 /*
  * The plane-fit residual of `z` (metres, 0 = none) over the pixels i with
  * mask[i] and z[i] > 0: the least-squares plane in 1/z (1/z = a + b x' + c y',
