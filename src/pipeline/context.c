@@ -1068,6 +1068,12 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	if (!job->depth_temporal || ctx->params.depth_temporal_motion != DAO_DEPTH_MOTION_ICP ||
 	    job->depth_temporal_setup.fresh || !ctx->motion_mem)
 		return;
+	/* the pairs weighed by the noise the filter uses (measured, or the
+	 * model's), on this context's kernels and threads */
+	ctx->icp.noise_k = job->depth_temporal_setup.noise_k;
+	ctx->icp.quantum = job->depth_temporal_setup.quantum;
+	ctx->icp.pairs = ctx->kernels.icp_pairs;
+	ctx->icp.pool = ctx->pool;
 	dao_icp_estimate(&ctx->icp, &ctx->cam, ctx->depth_hist, ctx->depth_count, ctx->z_raw,
 			 prior ? &seed : NULL, ctx->icp_scratch, &ctx->motion);
 	ctx->motion_ran = 1;
