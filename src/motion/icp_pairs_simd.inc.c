@@ -15,6 +15,23 @@
 
 enum { NSUM = 21 + 6 + 4 };
 
+/* the lanes' pairs into the per-lane sums (lanes not `ok` add 0) */
+static inline void DAO_ISA_FN(icp_sum)(vf acc[NSUM], vm ok, vf wgt, vf res, vf bw, vf e, vf j[6])
+{
+	int n = 0;
+	for (int a = 0; a < 6; a++) {
+		j[a] = v_keep(ok, j[a]);
+		const vf wj = v_mul(wgt, j[a]);
+		for (int b = a; b < 6; b++, n++)
+			acc[n] = v_fma(wj, j[b], acc[n]);
+		acc[21 + a] = v_fnma(wj, res, acc[21 + a]);
+	}
+	acc[27] = v_fma(res, res, acc[27]);
+	acc[28] = v_fma(v_mul(bw, e), e, acc[28]);
+	acc[29] = v_add(acc[29], bw);
+	acc[30] = v_add(acc[30], v_keep(ok, v_set1(1.0f)));
+}
+
 static void DAO_ISA_FN(icp_block)(const struct dao_icp_step *st, int i0, int i1, vf acc[NSUM])
 {
 	const size_t cap = st->cap;
@@ -106,18 +123,7 @@ static void DAO_ISA_FN(icp_block)(const struct dao_icp_step *st, int i0, int i1,
 		vf j[6] = {v_mul(v_sub(v_mul(cy, m2), v_mul(cz, m1)), isc),
 			   v_mul(v_sub(v_mul(cz, m0), v_mul(cx, m2)), isc),
 			   v_mul(v_sub(v_mul(cx, m1), v_mul(cy, m0)), isc), m0, m1, m2};
-		int n = 0;
-		for (int a = 0; a < 6; a++) {
-			j[a] = v_keep(ok, j[a]);
-			const vf wj = v_mul(wgt, j[a]);
-			for (int b = a; b < 6; b++, n++)
-				acc[n] = v_fma(wj, j[b], acc[n]);
-			acc[21 + a] = v_fnma(wj, res, acc[21 + a]);
-		}
-		acc[27] = v_fma(res, res, acc[27]);
-		acc[28] = v_fma(v_mul(bw, e), e, acc[28]);
-		acc[29] = v_add(acc[29], bw);
-		acc[30] = v_add(acc[30], v_keep(ok, one));
+		DAO_ISA_FN(icp_sum)(acc, ok, wgt, res, bw, e, j);
 	}
 }
 
