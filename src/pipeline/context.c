@@ -1081,7 +1081,8 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	    dao_pose_pixel_extent(&ctx->motion.pose, &ctx->cam, ctx->motion.near_z) < 0.02)
 		return;
 	dao_history_reproject(&ctx->cam, &ctx->motion.pose, ctx->depth_hist, ctx->depth_count,
-			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age);
+			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age,
+			      (int32_t *)(void *)ctx->icp_scratch);
 	float *h = ctx->depth_hist;
 	uint8_t *c = ctx->depth_count, *a = ctx->depth_age;
 	ctx->depth_hist = ctx->motion_hist, ctx->motion_hist = h;

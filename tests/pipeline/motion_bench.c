@@ -88,7 +88,8 @@ int main(int argc, char **argv)
 			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i], NULL, scratch, &res);
 			ang += dao_pose_angle(&res.pose);
 #ifndef MOTION_BENCH_MAIN
-			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2);
+			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2,
+					      (int32_t *)(void *)scratch);
 #else
 			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2);
 #endif
