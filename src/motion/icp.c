@@ -9,6 +9,8 @@
 #include <string.h>
 
 #include "motion/icp.h"
+#include "motion/icp_pairs.h"
+#include "pipeline/threadpool.h"
 
 enum { SOA = 6 }; /* x, y, z, nx, ny, nz */
 
@@ -36,54 +38,61 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 {
 	*s = (struct dao_icp_setup){
 		.step = 4,
-		.iterations = 6,
+		.coarse_iterations = 4,
+		.iterations = 3,
 		.normal_radius = 6,
 		.dist_gate = 0.10f,
 		.cos_gate = 0.8660254f, /* 30 degrees */
-		.huber = 0.01f,
+		.tukey = 4.685f,
+		.noise_k = 0.0028f,
+		.quantum = 0.001f,
 		.max_angle = 0.2618f, /* 15 degrees a frame */
 		.max_dist = 0.25f,
 		.min_inlier_share = 0.3f,
 		.min_inliers = 200,
 		.min_cond = 1e-2f,
 		.max_rms = 0.03f,
+		.edge = 0.03f,
+		.prior_angle = 0.00524f, /* 0.3 degrees */
+		.prior_dist = 0.003f,
 	};
+}
+
+static size_t grid_cap(const struct dao_icp_setup *s, int w, int h)
+{
+	const size_t gx = (size_t)(w + s->step - 1) / (size_t)s->step;
+	const size_t gy = (size_t)(h + s->step - 1) / (size_t)s->step;
+	return (gx * gy + DAO_ICP_PAD - 1) / DAO_ICP_PAD * DAO_ICP_PAD;
+}
+
+static size_t sums_floats(size_t cap)
+{
+	return (cap + DAO_ICP_CHUNK - 1) / DAO_ICP_CHUNK * (sizeof(struct dao_icp_sums) + 7) / 8 * 2;
 }
 
 size_t dao_icp_scratch_floats(const struct dao_icp_setup *s, int w, int h)
 {
-	const size_t gx = (size_t)(w + s->step - 1) / (size_t)s->step;
-	const size_t gy = (size_t)(h + s->step - 1) / (size_t)s->step;
-	return SOA * gx * gy;
-}
-
-/* Depth of pixel i of a plane: metres, or 1/inverse; 0 = none. */
-static float depth_at(const float *plane, const uint8_t *count, int inverse, size_t i)
-{
-	const float v = plane[i];
-	if (!(v > 0.0f) || (count && !count[i]))
-		return 0.0f;
-	return inverse ? 1.0f / v : v;
+	const size_t cap = grid_cap(s, w, h), npix = (size_t)w * (size_t)h;
+	const size_t work = SOA * cap + npix;
+	return sums_floats(cap) + (work > 2 * npix ? work : 2 * npix);
 }
 
 /*
- * Position and normal of pixel (x, y): the normal from central differences
- * over `r` pixels, refused at a depth edge (a neighbour more than 3 r %
- * off the centre's depth) or where a neighbour has no data.  Returns 0 or -1.
+ * Position and normal of pixel (x, y) of the depth plane z (m, 0 = none):
+ * the normal from central differences over `r` pixels, refused at a depth
+ * edge (a neighbour more than 3 r % off the centre's depth) or where a
+ * neighbour has no data.  Returns 0 or -1.
  */
-static int point_normal(const struct dao_camera *cam, const float *plane, const uint8_t *count,
-			int inverse, int r, int x, int y, float p[3], float n[3])
+static int point_normal(const struct dao_camera *cam, const float *plane, int r, float edge, int x, int y,
+			float p[3], float n[3])
 {
 	const int w = (int)cam->width, h = (int)cam->height;
 	if (x < r || y < r || x >= w - r || y >= h - r)
 		return -1;
 	const size_t i = (size_t)y * (size_t)w + (size_t)x;
-	const float z = depth_at(plane, count, inverse, i);
-	const float zl = depth_at(plane, count, inverse, i - (size_t)r);
-	const float zr = depth_at(plane, count, inverse, i + (size_t)r);
-	const float zu = depth_at(plane, count, inverse, i - (size_t)r * (size_t)w);
-	const float zd = depth_at(plane, count, inverse, i + (size_t)r * (size_t)w);
-	const float tol = 0.03f * (float)r * z;
+	const float z = plane[i], zl = plane[i - (size_t)r], zr = plane[i + (size_t)r];
+	const float zu = plane[i - (size_t)r * (size_t)w], zd = plane[i + (size_t)r * (size_t)w];
+	const float tol = edge * (float)r * z;
 	if (!(z > 0.0f) || !(fabsf(zl - z) <= tol) || !(fabsf(zr - z) <= tol) ||
 	    !(fabsf(zu - z) <= tol) || !(fabsf(zd - z) <= tol))
 		return -1;
@@ -108,91 +117,117 @@ static int point_normal(const struct dao_camera *cam, const float *plane, const 
 	return 0;
 }
 
-/* The source grid into scratch (SoA, compacted); returns the count. */
+/*
+ * The source grid into scratch (SoA, compacted, zero-padded to a multiple of
+ * DAO_ICP_PAD): first the coarse grid's points (every second row and column
+ * of the grid), then the others; *coarse gets the first part's count.
+ */
 static int gather_source(const struct dao_icp_setup *s, const struct dao_camera *cam,
-			 const float *cur_z, float *scratch, size_t cap, float *near_z,
+			 const float *cur_z, float *src, size_t cap, int *coarse, float *near_z,
 			 float *mean_z)
 {
-	float *sx = scratch, *sy = scratch + cap, *sz = scratch + 2 * cap;
-	float *nx = scratch + 3 * cap, *ny = scratch + 4 * cap, *nz = scratch + 5 * cap;
 	int k = 0;
 	double sum = 0.0;
 	float near = INFINITY;
-	for (int y = 0; y < (int)cam->height; y += s->step)
-		for (int x = 0; x < (int)cam->width; x += s->step) {
-			float p[3], n[3];
-			if (point_normal(cam, cur_z, NULL, 0, s->normal_radius, x, y, p, n))
-				continue;
-			sx[k] = p[0], sy[k] = p[1], sz[k] = p[2];
-			nx[k] = n[0], ny[k] = n[1], nz[k] = n[2];
-			sum += p[2];
-			near = fminf(near, p[2]);
-			k++;
-		}
+	const int step = s->step;
+	for (int pass = 0; pass < 2; pass++) {
+		for (int y = 0; y < (int)cam->height; y += step)
+			for (int x = 0; x < (int)cam->width; x += step) {
+				const int c = (x / step) % 2 == 0 && (y / step) % 2 == 0;
+				float p[3], n[3];
+				if (c != (pass == 0) ||
+				    point_normal(cam, cur_z, s->normal_radius, s->edge, x, y, p, n))
+					continue;
+				for (int j = 0; j < 3; j++) {
+					src[(size_t)j * cap + (size_t)k] = p[j];
+					src[(size_t)(3 + j) * cap + (size_t)k] = n[j];
+				}
+				sum += p[2];
+				near = fminf(near, p[2]);
+				k++;
+			}
+		if (pass == 0)
+			*coarse = k;
+	}
+	for (size_t j = 0; j < SOA; j++)
+		for (size_t i = (size_t)k; i < ((size_t)k + DAO_ICP_PAD - 1) / DAO_ICP_PAD * DAO_ICP_PAD; i++)
+			src[j * cap + i] = 0.0f;
 	*near_z = k ? near : 0.0f;
 	*mean_z = k ? (float)(sum / k) : 1.0f;
 	return k;
 }
 
+/* the target's depth, m (0 = none), from its 1/z and count */
+struct target_job {
+	const float *inv;
+	const uint8_t *count;
+	float *tz;
+	int w;
+};
+
+static void target_rows(void *arg, int y0, int y1)
+{
+	const struct target_job *j = arg;
+	const size_t i0 = (size_t)y0 * (size_t)j->w, i1 = (size_t)y1 * (size_t)j->w;
+	for (size_t i = i0; i < i1; i++) {
+		const float v = j->inv[i];
+		const int has = v > 0.0f && (!j->count || j->count[i]);
+		j->tz[i] = has ? 1.0f / v : 0.0f;
+	}
+}
+
+/* one step's chunks on the pool: chunk c into sums[c] */
+struct pairs_job {
+	const struct dao_icp_step *st;
+	dao_icp_pairs_fn fn;
+	struct dao_icp_sums *sums;
+	int count;
+};
+
+static void pairs_chunks(void *arg, int c0, int c1)
+{
+	const struct pairs_job *j = arg;
+	for (int c = c0; c < c1; c++) {
+		const int i1 = (c + 1) * DAO_ICP_CHUNK < j->count ? (c + 1) * DAO_ICP_CHUNK : j->count;
+		j->fn(j->st, c * DAO_ICP_CHUNK, i1, &j->sums[c]);
+	}
+}
+
+static void run_rows(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg)
+{
+	if (pool)
+		dao_pool_run(pool, rows, min_rows, fn, arg);
+	else
+		fn(arg, 0, rows);
+}
+
 /* The normal equations of one step: A (6x6, rotation columns scaled by 1/scale) and b. */
 struct normal_eq {
-	double a[36], b[6], r2;
+	double a[36], b[6], r2, e2w, wsum;
 	int n;
 };
 
-static void pair_and_accumulate(const struct dao_icp_setup *s, const struct dao_camera *cam,
-				const float *prev_inv, const uint8_t *prev_count,
-				const float *scratch, size_t cap, int count,
-				const struct dao_pose *T, double scale, float gate, struct normal_eq *eq)
+/* the step's pairs over the first `count` source points, chunk by chunk, the
+ * chunks' sums added in their order whatever the threads */
+static void accumulate(const struct dao_icp_setup *s, struct dao_icp_step *st,
+		       struct dao_icp_sums *sums, int count, struct normal_eq *eq)
 {
-	const float *sx = scratch, *sy = scratch + cap, *sz = scratch + 2 * cap;
-	const float *nx = scratch + 3 * cap, *ny = scratch + 4 * cap, *nz = scratch + 5 * cap;
-	float R[9], t[3];
-	for (int k = 0; k < 9; k++)
-		R[k] = (float)T->r[k];
-	for (int k = 0; k < 3; k++)
-		t[k] = (float)T->t[k];
-	const float inv_ax = 1.0f / cam->ax, inv_ay = 1.0f / cam->ay;
-	const float g2 = gate * gate;
+	const int chunks = (count + DAO_ICP_CHUNK - 1) / DAO_ICP_CHUNK;
+	struct pairs_job job = {.st = st, .fn = s->pairs ? s->pairs : dao_icp_pairs_ref,
+				.sums = sums, .count = count};
+	run_rows(s->pool, chunks, 1, pairs_chunks, &job);
 	memset(eq, 0, sizeof *eq);
-	for (int i = 0; i < count; i++) {
-		const float p[3] = {R[0] * sx[i] + R[1] * sy[i] + R[2] * sz[i] + t[0],
-				    R[3] * sx[i] + R[4] * sy[i] + R[5] * sz[i] + t[1],
-				    R[6] * sx[i] + R[7] * sy[i] + R[8] * sz[i] + t[2]};
-		if (!(p[2] > 0.0f))
-			continue;
-		const float u = (p[0] / p[2] - cam->bx) * inv_ax;
-		const float v = (p[1] / p[2] - cam->by) * inv_ay;
-		if (!(u > -0.5f && v > -0.5f && u < (float)cam->width && v < (float)cam->height))
-			continue;
-		float q[3], m[3];
-		if (point_normal(cam, prev_inv, prev_count, 1, s->normal_radius, (int)lrintf(u),
-				 (int)lrintf(v), q, m))
-			continue;
-		const float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-		if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > g2)
-			continue;
-		const float rn[3] = {R[0] * nx[i] + R[1] * ny[i] + R[2] * nz[i],
-				     R[3] * nx[i] + R[4] * ny[i] + R[5] * nz[i],
-				     R[6] * nx[i] + R[7] * ny[i] + R[8] * nz[i]};
-		if (rn[0] * m[0] + rn[1] * m[1] + rn[2] * m[2] < s->cos_gate)
-			continue;
-		const double r = (double)m[0] * d[0] + (double)m[1] * d[1] + (double)m[2] * d[2];
-		const double w = fabs(r) <= s->huber ? 1.0 : s->huber / fabs(r);
-		/* d r / d omega = p x m, d r / d v = m; the lever arm taken at
-		 * the pair's midpoint c: at p, its noise along the ray would
-		 * correlate with r's and bias the rotation (errors in variables) */
-		const float c[3] = {0.5f * (p[0] + q[0]), 0.5f * (p[1] + q[1]), 0.5f * (p[2] + q[2])};
-		const double j[6] = {(c[1] * m[2] - c[2] * m[1]) / scale,
-				     (c[2] * m[0] - c[0] * m[2]) / scale,
-				     (c[0] * m[1] - c[1] * m[0]) / scale, m[0], m[1], m[2]};
+	for (int c = 0; c < chunks; c++) {
+		int k = 0;
 		for (int a = 0; a < 6; a++) {
 			for (int b = a; b < 6; b++)
-				eq->a[a * 6 + b] += w * j[a] * j[b];
-			eq->b[a] -= w * j[a] * r;
+				eq->a[a * 6 + b] += sums[c].a[k++];
+			eq->b[a] += sums[c].b[a];
 		}
-		eq->r2 += r * r;
-		eq->n++;
+		eq->r2 += sums[c].r2;
+		eq->e2w += sums[c].e2w;
+		eq->wsum += sums[c].wsum;
+		eq->n += sums[c].n;
 	}
 	for (int a = 0; a < 6; a++)
 		for (int b = 0; b < a; b++)
@@ -310,56 +345,153 @@ static enum dao_icp_verdict verdict(const struct dao_icp_setup *s, const struct 
 	return DAO_ICP_OK;
 }
 
-void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *cam,
-		      const float *prev_inv, const uint8_t *prev_count, const float *cur_z,
-		      const struct dao_pose *prior, float *scratch, struct dao_icp_result *out)
+static void step_setup(const struct dao_icp_setup *s, const struct dao_camera *cam,
+		       const float *tz, const float *src, size_t cap, double scale,
+		       struct dao_icp_step *st)
 {
-	const size_t cap = dao_icp_scratch_floats(s, (int)cam->width, (int)cam->height) / SOA;
-	float mean_z;
-	memset(out, 0, sizeof *out);
-	if (prior)
-		out->pose = *prior;
-	else
-		dao_pose_identity(&out->pose);
-	out->points = gather_source(s, cam, cur_z, scratch, cap, &out->near_z, &mean_z);
-	out->reason = DAO_ICP_FEW_POINTS;
-	if (out->points < s->min_inliers)
-		return;
-	/* rotation in units of the motion it gives at the mean depth, so that
-	 * the system's eigenvalues compare */
-	const double scale = mean_z;
-	struct normal_eq eq = {0};
-	for (int it = 0; it < s->iterations; it++) {
-		/* the distance gate from 4 times its value down to it: a first
-		 * step from a far start pairs the surfaces that constrain it */
-		const float gate = s->dist_gate * (float)(it < 2 ? 4 >> it : 1);
-		pair_and_accumulate(s, cam, prev_inv, prev_count, scratch, cap, out->points,
-				    &out->pose, scale, gate, &eq);
-		out->iterations = it + 1;
-		out->inliers = eq.n;
-		if (eq.n < s->min_inliers)
-			break;
+	*st = (struct dao_icp_step){
+		.tz = tz, .w = (int)cam->width, .h = (int)cam->height, .r = s->normal_radius,
+		.ax = cam->ax, .bx = cam->bx, .ay = cam->ay, .by = cam->by,
+		.inv_ax = 1.0f / cam->ax, .inv_ay = 1.0f / cam->ay, .src = src, .cap = cap,
+		.inv_scale = (float)(1.0 / scale), .cos_gate = s->cos_gate,
+		.k2 = s->noise_k * s->noise_k, .q2 = s->quantum * s->quantum / 12.0f,
+		.edge = s->edge,
+	};
+	st->noise_weight = 1;
+	/* float depth without a noise figure: a floor of 0.1 mm */
+	if (!(st->q2 >= 1e-8f))
+		st->q2 = 1e-8f;
+}
+
+/*
+ * The motion prior: d = log(T P^-1) (small angles), in the step's units
+ * (rotation times `scale`), so that the prior term adds lambda (x + d)^2.
+ */
+static void prior_deviation(const struct dao_pose *T, const struct dao_pose *P, double scale,
+			    double d[6])
+{
+	double Rd[9];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			Rd[i * 3 + j] = T->r[i * 3] * P->r[j * 3] + T->r[i * 3 + 1] * P->r[j * 3 + 1] +
+					T->r[i * 3 + 2] * P->r[j * 3 + 2];
+	d[0] = 0.5 * (Rd[7] - Rd[5]) * scale;
+	d[1] = 0.5 * (Rd[2] - Rd[6]) * scale;
+	d[2] = 0.5 * (Rd[3] - Rd[1]) * scale;
+	for (int i = 0; i < 3; i++)
+		d[3 + i] = T->t[i] - (Rd[i * 3] * P->t[0] + Rd[i * 3 + 1] * P->t[1] +
+				      Rd[i * 3 + 2] * P->t[2]);
+}
+
+/* Gauss-Newton steps on the first `count` points; 1 to go on, 0 done, -1 refused. */
+static int level(const struct dao_icp_setup *s, struct dao_icp_step *st, struct dao_icp_sums *sums,
+		 int count, int steps, int first, double scale, double tol, double *sigma,
+		 const struct dao_pose *prior, struct normal_eq *eq, struct dao_icp_result *out)
+{
+	for (int it = 0; it < steps; it++) {
+		/* the distance gate from 4 times its value down to it, and the
+		 * residuals' scale from 10 sigma down to what the last step
+		 * measured (at least the noise model's): a first step from a
+		 * far start pairs the surfaces that constrain it */
+		const int k = first + it;
+		const float gate = s->dist_gate * (float)(k < 2 ? 4 >> k : 1);
+		st->gate2 = gate * gate;
+		st->tukey_c = s->tukey * (float)*sigma;
+		for (int i = 0; i < 9; i++)
+			st->R[i] = (float)out->pose.r[i];
+		for (int i = 0; i < 3; i++)
+			st->t[i] = (float)out->pose.t[i];
+		accumulate(s, st, sums, count, eq);
+		out->iterations++;
+		out->inliers = eq->n;
+		if (eq->n < s->min_inliers)
+			return 0;
+		/* the biweight's mean square of e is 0.828 of a normal's variance */
+		*sigma = eq->wsum > 0.0 ? sqrt(eq->e2w / (0.828 * eq->wsum)) : 10.0;
+		*sigma = fmin(fmax(*sigma, 1.0), 10.0);
 		/* a flat wall leaves in-plane motion free: stop rather than take a
 		 * wild step (the first steps, from a poor start, may be worse
 		 * conditioned than the last: the verdict takes the last's) */
-		out->cond = (float)condition(eq.a);
-		double x[6];
-		if (!(out->cond >= 1e-3f * s->min_cond) || cholesky_solve(eq.a, eq.b, x)) {
+		out->cond = (float)condition(eq->a);
+		/* the prior (the last frame's motion: the camera keeps its
+		 * speed but for a hand's or a robot's acceleration) after the
+		 * condition, which is the data's alone */
+		double a[36], b[6], x[6];
+		memcpy(a, eq->a, sizeof a);
+		memcpy(b, eq->b, sizeof b);
+		if (prior && s->prior_angle > 0.0f && s->prior_dist > 0.0f) {
+			double d[6];
+			prior_deviation(&out->pose, prior, scale, d);
+			for (int i = 0; i < 6; i++) {
+				const double sd = i < 3 ? s->prior_angle * scale : s->prior_dist;
+				a[i * 7] += 1.0 / (sd * sd);
+				b[i] -= d[i] / (sd * sd);
+			}
+		}
+		if (!(out->cond >= 1e-3f * s->min_cond) || cholesky_solve(a, b, x)) {
 			out->reason = DAO_ICP_DEGENERATE;
-			return;
+			return -1;
 		}
 		const double w[3] = {x[0] / scale, x[1] / scale, x[2] / scale};
 		pose_update(&out->pose, w, x + 3);
 		if (!isfinite(out->pose.t[0] + out->pose.t[1] + out->pose.t[2] + out->pose.r[0])) {
 			out->reason = DAO_ICP_NOT_FINITE;
-			return;
+			return -1;
 		}
-		/* converged: the step moves no point by more than a micrometre */
-		if (fabs(x[0]) + fabs(x[1]) + fabs(x[2]) + fabs(x[3]) + fabs(x[4]) + fabs(x[5]) <
-		    1e-6)
+		/* converged: the step moves no point at the mean depth by more than tol */
+		double big = 0.0;
+		for (int i = 0; i < 6; i++)
+			big = fmax(big, fabs(x[i]));
+		if (big < tol)
 			break;
 	}
+	return 1;
+}
+
+void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *cam,
+		      const float *prev_inv, const uint8_t *prev_count, const float *cur_z,
+		      const struct dao_pose *prior, float *scratch, struct dao_icp_result *out)
+{
+	const int w = (int)cam->width, h = (int)cam->height;
+	const size_t cap = grid_cap(s, w, h);
+	struct dao_icp_sums *sums = (struct dao_icp_sums *)(void *)scratch;
+	float *src = scratch + sums_floats(cap), *tz = src + SOA * cap;
+	float mean_z;
+	int coarse = 0;
+	memset(out, 0, sizeof *out);
+	if (prior)
+		out->pose = *prior;
+	else
+		dao_pose_identity(&out->pose);
+	out->points = gather_source(s, cam, cur_z, src, cap, &coarse, &out->near_z, &mean_z);
+	out->reason = DAO_ICP_FEW_POINTS;
+	if (out->points < s->min_inliers)
+		return;
+	struct target_job tj = {.inv = prev_inv, .count = prev_count, .tz = tz, .w = w};
+	run_rows(s->pool, h, 16, target_rows, &tj);
+	/* rotation in units of the motion it gives at the mean depth, so that
+	 * the system's eigenvalues compare */
+	const double scale = mean_z;
+	struct dao_icp_step st;
+	step_setup(s, cam, tz, src, cap, scale, &st);
+	struct normal_eq eq = {0};
+	double sigma = 10.0;
+	/* coarse to fine: the coarse grid's points first, where there are
+	 * enough of them, then all (steps below 0.1 mm, then 0.01 mm, end a level) */
+	const int n0 = coarse >= 4 * s->min_inliers ? coarse : out->points;
+	int go = level(s, &st, sums, n0, s->coarse_iterations, 0, scale, 1e-4, &sigma, prior, &eq, out);
+	if (go > 0)
+		go = level(s, &st, sums, out->points, s->iterations, s->coarse_iterations, scale, 1e-5, &sigma, prior,
+			   &eq, out);
+	if (go < 0)
+		return;
+	out->inliers = eq.n;
 	out->rms = eq.n ? (float)sqrt(eq.r2 / eq.n) : INFINITY;
+	/* the verdict's condition is the geometry's: the last step's pairs
+	 * unweighted by the noise (which leans on the near and the grazing
+	 * surfaces and would hide a flat wall's free directions) */
+	st.noise_weight = 0;
+	accumulate(s, &st, sums, out->points, &eq);
 	out->cond = eq.n ? (float)condition(eq.a) : 0.0f;
 	out->reason = verdict(s, out);
 	out->valid = out->reason == DAO_ICP_OK;

@@ -21,6 +21,10 @@
 
 #include <depthao/camera.h>
 
+#include "motion/icp_pairs.h"
+
+struct dao_pool;
+
 struct dao_pose {
 	double r[9]; /* row-major rotation */
 	double t[3]; /* metres */
@@ -33,17 +37,30 @@ double dao_pose_distance(const struct dao_pose *p);
 
 struct dao_icp_setup {
 	int step;          /* grid stride in pixels (source points), >= 1 */
-	int iterations;    /* Gauss-Newton steps, >= 1 */
+	int coarse_iterations; /* Gauss-Newton steps on the coarse grid (every 2 step px), >= 1 */
+	int iterations;    /* ... then on the whole grid, >= 1 (both end early on a tiny step) */
 	int normal_radius; /* pixels between the neighbours of a normal's differences */
 	float dist_gate;   /* pairs farther apart than this (m) are not used */
 	float cos_gate;    /* ... nor pairs whose normals differ by more (cosine) */
-	float huber;       /* Huber threshold of the point-to-plane residual (m) */
+	float edge;        /* a normal's neighbour at r px off by more than edge r z: a
+			    * depth edge, no normal */
+	float tukey;       /* Tukey's biweight cut, in units of the residual's sigma */
+	float noise_k;     /* the depth noise: sigma(z) = noise_k z^2 (m) ... */
+	float quantum;     /* ... and the depth's step (m, rounding: q^2 / 12) */
 	float max_angle;   /* bounded motion: larger rotations (rad) are rejected */
 	float max_dist;    /* ... and larger translations (m) */
 	float min_inlier_share; /* share of the source points that must pair */
 	int min_inliers;        /* and at least this many */
 	float min_cond;    /* smallest / largest eigenvalue of the scaled 6x6 system */
 	float max_rms;     /* largest RMS point-to-plane residual of the inliers (m) */
+	/* the prior: how much the motion may change from one frame to the next
+	 * (rad, m; one sigma; 0 = no prior, the previous motion seeds only) */
+	float prior_angle, prior_dist;
+	/* the pair kernel (NULL: the reference, motion/icp_pairs.h) and the
+	 * threads that run its chunks (NULL: the caller); neither changes the
+	 * result but by the kernel's float rounding */
+	dao_icp_pairs_fn pairs;
+	struct dao_pool *pool;
 };
 
 /* Defaults for a VGA-class sensor at 30 fps. */

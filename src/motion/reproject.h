@@ -27,11 +27,13 @@
  * hist, count, age: the previous frame's history (cam->width x cam->height);
  * cur_to_prev: the motion (motion/icp.h's convention, p_prev = R p_cur + t).
  * Writes the history as the current view sees it to hist_out, count_out,
- * age_out (no pixel without history: count 0, 1/z 0, age 255).  No
- * allocation; the outputs must not alias the inputs.
+ * age_out (no pixel without history: count 0, 1/z 0, age 255).  `scratch`
+ * holds 2 w h int32 (where each pixel lands).  No allocation; the outputs
+ * must not alias the inputs.  A pixel goes to the nearest pixel, a tie
+ * (u + 0.5 whole) to the right and down.
  */
 void dao_history_reproject(const struct dao_camera *cam, const struct dao_pose *cur_to_prev,
 			   const float *hist, const uint8_t *count, const uint8_t *age,
-			   float *hist_out, uint8_t *count_out, uint8_t *age_out);
+			   float *hist_out, uint8_t *count_out, uint8_t *age_out, int32_t *scratch);
 
 #endif

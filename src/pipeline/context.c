@@ -1081,6 +1081,12 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	if (!job->depth_temporal || ctx->params.depth_temporal_motion != DAO_DEPTH_MOTION_ICP ||
 	    job->depth_temporal_setup.fresh || !ctx->motion_mem)
 		return;
+	/* the pairs weighed by the noise the filter uses (measured, or the
+	 * model's), on this context's kernels and threads */
+	ctx->icp.noise_k = job->depth_temporal_setup.noise_k;
+	ctx->icp.quantum = job->depth_temporal_setup.quantum;
+	ctx->icp.pairs = ctx->kernels.icp_pairs;
+	ctx->icp.pool = ctx->pool;
 	dao_icp_estimate(&ctx->icp, &ctx->cam, ctx->depth_hist, ctx->depth_count, ctx->z_raw,
 			 prior ? &seed : NULL, ctx->icp_scratch, &ctx->motion);
 	ctx->motion_ran = 1;
@@ -1088,7 +1094,8 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	    dao_pose_pixel_extent(&ctx->motion.pose, &ctx->cam, ctx->motion.near_z) < 0.02)
 		return;
 	dao_history_reproject(&ctx->cam, &ctx->motion.pose, ctx->depth_hist, ctx->depth_count,
-			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age);
+			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age,
+			      (int32_t *)(void *)ctx->icp_scratch);
 	float *h = ctx->depth_hist;
 	uint8_t *c = ctx->depth_count, *a = ctx->depth_age;
 	ctx->depth_hist = ctx->motion_hist, ctx->motion_hist = h;

@@ -44,6 +44,7 @@ static void hbao_reference(const struct dao_variant_setup *v, const float *z,
 		.normals = dao_normals_from_depth_##isa, .shade = dao_shade_##isa,           \
 		.temporal_depth = dao_temporal_depth_##isa,                                  \
 		.noise_row = dao_noise_row_##isa,                                            \
+		.icp_pairs = dao_icp_pairs_##isa,                                            \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -77,6 +78,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.shade = dao_shade,
 			.temporal_depth = dao_temporal_depth_ref,
 			.noise_row = dao_noise_row_ref,
+			.icp_pairs = dao_icp_pairs_ref,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

@@ -12,6 +12,7 @@
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 #include "kernels/gtao_tile.h"
+#include "motion/icp_pairs.h"
 #include "pipeline/temporal_depth.h"
 #include "shade/shade.h"
 
@@ -46,6 +47,8 @@ struct dao_kernels {
 	void (*noise_row)(const float *z, int stride, int nblocks, float *out);
 	void (*temporal_depth)(const struct dao_temporal_depth_setup *s, float *z, float *hist,
 			       uint8_t *count, uint8_t *age, int y0, int y1);
+	/* depth-temporal-motion=icp: one step's pairs (motion/icp_pairs.h) */
+	dao_icp_pairs_fn icp_pairs;
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

@@ -82,7 +82,7 @@ static void test_pairs(void **state)
 	 * yaw with a sideways step, held by the side walls' and boxes' few
 	 * points) scatters by 1-2 mm with the grid's every 4th pixel: the
 	 * same seeds in every case, so the same error each time */
-	static const double bar_deg[3] = {0.02, 0.1, 0.1}, bar_mm[3] = {0.5, 2.5, 2.0};
+	static const double bar_deg[3] = {0.02, 0.1, 0.1}, bar_mm[3] = {1.0, 2.5, 2.0};
 	for (int noisy = 0; noisy < 3; noisy++) {
 		double worst_a = 0.0, worst_d = 0.0;
 		for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {

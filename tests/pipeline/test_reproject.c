@@ -25,6 +25,7 @@ struct planes {
 	uint8_t *count, *age, *count_out, *age_out;
 	double *ref;   /* reference 1/z, 0 = none */
 	long *ref_src; /* reference: the source pixel that won */
+	int32_t *scratch;
 };
 
 static void planes_init(struct planes *p, size_t n)
@@ -37,14 +38,16 @@ static void planes_init(struct planes *p, size_t n)
 	p->age_out = calloc(n, 1);
 	p->ref = calloc(n, sizeof(double));
 	p->ref_src = calloc(n, sizeof(long));
+	p->scratch = calloc(2 * n, sizeof(int32_t));
 	assert_true(p->hist && p->out && p->count && p->age && p->count_out && p->age_out &&
-		    p->ref && p->ref_src);
+		    p->ref && p->ref_src && p->scratch);
 }
 
 static void planes_free(struct planes *p)
 {
 	free(p->hist), free(p->out), free(p->count), free(p->age);
 	free(p->count_out), free(p->age_out), free(p->ref), free(p->ref_src);
+	free(p->scratch);
 }
 
 /* every source pixel through the inverse pose in double, z-buffered */
@@ -96,7 +99,7 @@ static void test_against_reference(void **state)
 		p.age[i] = (uint8_t)(i % 7);
 	}
 	dao_history_reproject(&f.cam, &motion, p.hist, p.count, p.age, p.out, p.count_out,
-			      p.age_out);
+			      p.age_out, p.scratch);
 	reference(&f.cam, &motion, &p);
 	size_t filled = 0, differ = 0, value_off = 0;
 	for (size_t i = 0; i < f.npix; i++) {
@@ -149,7 +152,7 @@ static void test_against_truth(void **state)
 		p.count[i] = 1;
 	}
 	dao_history_reproject(&f.cam, &motion, p.hist, p.count, p.age, p.out, p.count_out,
-			      p.age_out);
+			      p.age_out, p.scratch);
 	size_t have = 0, close = 0;
 	for (size_t i = 0; i < f.npix; i++) {
 		if (!p.count_out[i])
@@ -194,7 +197,7 @@ static void test_fuzzed_poses(void **state)
 		if (k == 39)
 			m.t[0] = -INFINITY;
 		dao_history_reproject(&f.cam, &m, p.hist, p.count, p.age, p.out, p.count_out,
-				      p.age_out);
+				      p.age_out, p.scratch);
 		for (size_t i = 0; i < f.npix; i++) {
 			if (p.count_out[i]) {
 				assert_int_equal(p.count_out[i], 7);

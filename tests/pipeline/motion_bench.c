@@ -1,0 +1,101 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * motion-bench: the CPU time of the motion estimate and the history's
+ * reprojection (src/motion) per frame pair of a depth sequence, with
+ * CLOCK_PROCESS_CPUTIME_ID (the pool's threads included).  A measuring tool
+ * (docs/perf/icp2.md), not a test.
+ *
+ *   motion-bench DIR SIMD THREADS ROUNDS
+ *
+ * DIR/depth/NNNN.png (mm) with camera.json's 640x480 at 525 px (synth's);
+ * the previous frame is given as 1/z (the history's form).  Prints the mean
+ * CPU ms per pair over ROUNDS passes of the sequence.  Built against main
+ * with -DMOTION_BENCH_MAIN (no kernel or pool in the setup there).
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <depthao/camera.h>
+#include <depthao/png.h>
+
+#include "motion/icp.h"
+#include "motion/reproject.h"
+#ifndef MOTION_BENCH_MAIN
+#include "pipeline/kernels.h"
+#include "pipeline/threadpool.h"
+#endif
+
+enum { MAXF = 64 };
+
+static double cpu_ms(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+	return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 5) {
+		fprintf(stderr, "usage: motion-bench DIR SIMD THREADS ROUNDS\n");
+		return 2;
+	}
+	struct dao_camera cam;
+	struct dao_error err;
+	if (dao_camera_from_intrinsics(&cam, 640, 480, 525.0, 525.0, 319.5, 239.5, &err))
+		return 1;
+	const size_t npix = 640 * 480;
+	static float *z[MAXF], *inv[MAXF];
+	int n = 0;
+	for (; n < MAXF; n++) {
+		char path[4096];
+		struct dao_frame f;
+		snprintf(path, sizeof path, "%s/depth/%04d.png", argv[1], n);
+		if (dao_png_read_depth(path, 0.001f, &f, &err))
+			break;
+		z[n] = malloc(npix * 4), inv[n] = malloc(npix * 4);
+		for (size_t i = 0; i < npix; i++) {
+			const uint16_t v = ((const uint16_t *)f.data)[i];
+			z[n][i] = v * 0.001f;
+			inv[n][i] = v ? 1.0f / z[n][i] : 0.0f;
+		}
+		dao_frame_free(&f);
+	}
+	if (n < 2)
+		return 1;
+	struct dao_icp_setup s;
+	dao_icp_setup_default(&s);
+#ifndef MOTION_BENCH_MAIN
+	struct dao_kernels k;
+	dao_kernels_select(&k, (enum dao_simd)atoi(argv[2]));
+	s.pairs = k.icp_pairs;
+	struct dao_pool *pool = NULL;
+	if (atoi(argv[3]) > 1 && dao_pool_create(&pool, atoi(argv[3])))
+		return 1;
+	s.pool = pool;
+#endif
+	float *scratch = malloc(dao_icp_scratch_floats(&s, 640, 480) * sizeof(float));
+	float *h = malloc(npix * 4);
+	uint8_t *count = malloc(npix), *age = calloc(npix, 1), *c2 = malloc(npix), *a2 = malloc(npix);
+	memset(count, 1, npix);
+	const int rounds = atoi(argv[4]);
+	double t0 = cpu_ms(), ang = 0;
+	for (int r = 0; r < rounds; r++)
+		for (int i = 1; i < n; i++) {
+			struct dao_icp_result res;
+			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i], NULL, scratch, &res);
+			ang += dao_pose_angle(&res.pose);
+#ifndef MOTION_BENCH_MAIN
+			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2,
+					      (int32_t *)(void *)scratch);
+#else
+			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2);
+#endif
+		}
+	const double t = cpu_ms() - t0;
+	printf("%.3f ms CPU per frame pair (%d pairs x %d rounds; check %.6f)\n",
+	       t / ((n - 1) * rounds), n - 1, rounds, ang / rounds);
+	return 0;
+}
