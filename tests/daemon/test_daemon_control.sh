@@ -60,6 +60,32 @@ stat_of "$SOCK" sinks.0.latency_ms_p99 >/dev/null || fail "no latency in stats"
 "$DEPTHAO" ctl --socket "$SOCK" get depth-temporal | "$JSON_GET" params.depth-temporal | grep -qx 0 ||
 	fail "depth-temporal 0 did not stick"
 
+# the camera's motion and pose in the stats: "none" while depth-temporal-motion is off;
+# with icp (and the depth filter on) every frame is estimated, and the still camera of
+# the recording stays within a centimetre of its first frame's pose
+[ "$(stat_of "$SOCK" motion.state)" = none ] || fail "motion state with motion off"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal 0.8 >/dev/null || fail "set depth-temporal 0.8"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion icp >/dev/null ||
+	fail "set depth-temporal-motion icp"
+motion_accepted() {
+	[ "$(stat_of "$SOCK" motion.frames_accepted)" -ge 3 ]
+}
+wait_for 20 motion_accepted ||
+	fail "no camera motion accepted: $("$DEPTHAO" ctl --socket "$SOCK" stats)"
+"$DEPTHAO" ctl --socket "$SOCK" stats >"$WORK/stats.json" || fail "ctl stats"
+case $("$JSON_GET" stats.motion.state <"$WORK/stats.json") in
+still | applied | refused | none) ;;
+*) fail "motion state: $(cat "$WORK/stats.json")" ;;
+esac
+for k in 0 1 2; do
+	"$JSON_GET" stats.motion.position_m.$k <"$WORK/stats.json" |
+		awk '{ exit !($1 > -0.01 && $1 < 0.01) }' || fail "position $k: $(cat "$WORK/stats.json")"
+done
+"$JSON_GET" stats.motion.orientation_xyzw.3 <"$WORK/stats.json" | awk '{ exit !($1 > 0.9999) }' ||
+	fail "orientation: $(cat "$WORK/stats.json")"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion off >/dev/null
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal 0 >/dev/null
+
 # set/get round trip; a bad value and a bad command are errors, and the daemon carries on
 "$DEPTHAO" ctl --socket "$SOCK" set radius 0.25 >/dev/null || fail "set radius"
 "$DEPTHAO" ctl --socket "$SOCK" get radius | "$JSON_GET" params.radius | grep -qx 0.25 || fail "get radius"
