@@ -348,6 +348,7 @@ struct seq_run {
 	/* depth+ICP's accepted motion against the true one (poses.txt): frames, sums, maxima */
 	long pose_n;
 	double rot_sum, rot_max, tr_sum, tr_max;
+	double px_sum, px_max; /* ... and the image displacement the difference makes */
 	long pic_k;      /* the picture's frame, or -1 */
 	float *pic;      /* its planes: input depth, truth, then the columns of pic_col */
 };
@@ -377,6 +378,35 @@ static int load_frame(struct seq_run *run, long k, struct dao_frame *frame, stru
 	return r;
 }
 
+/* The mean distance (px) between where the estimate and the truth move this frame's
+ * surface points (depth_gt/) in the last view: what the difference of the two motions
+ * does to the reprojected histories (rotation and translation errors can cancel). */
+static double pixel_error(const struct seq_run *run, const double *er, const double *et,
+			  const double (*mr)[3], const double *mt)
+{
+	const struct dao_camera *cam = &run->in.cam;
+	double sum = 0.0;
+	long n = 0;
+	for (uint32_t y = 0; y < cam->height; y += 4)
+		for (uint32_t x = 0; x < cam->width; x += 4) {
+			const double z = run->truth[(size_t)y * cam->width + x];
+			if (!(z > 0.0))
+				continue;
+			const double p[3] = { (x - cam->cx) / cam->fx * z, (y - cam->cy) / cam->fy * z, z };
+			double a[3], b[3];
+			for (int i = 0; i < 3; i++) {
+				a[i] = er[i * 3] * p[0] + er[i * 3 + 1] * p[1] + er[i * 3 + 2] * p[2] + et[i];
+				b[i] = mr[i][0] * p[0] + mr[i][1] * p[1] + mr[i][2] * p[2] + mt[i];
+			}
+			if (!(a[2] > 0.0) || !(b[2] > 0.0))
+				continue;
+			sum += hypot(cam->fx * (a[0] / a[2] - b[0] / b[2]),
+				     cam->fy * (a[1] / a[2] - b[1] / b[2]));
+			n++;
+		}
+	return n ? sum / n : 0.0;
+}
+
 /* The motion column c's context accepted for frame k against poses.txt's, and its state. */
 static void check_motion(struct seq_run *run, int c, long k)
 {
@@ -388,17 +418,21 @@ static void check_motion(struct seq_run *run, int c, long k)
 		return;
 	/* the truth from this camera to the last: M = P^T C (camera-to-world poses) */
 	const struct synth_pose *P = &run->in.poses.pose[k - 1], *C = &run->in.poses.pose[k];
-	double tr = 0.0, d2 = 0.0;
+	double tr = 0.0, d2 = 0.0, mr[3][3], mt[3];
 	for (int i = 0; i < 3; i++) {
-		double mt = 0.0;
+		mt[i] = 0.0;
 		for (int j = 0; j < 3; j++) {
-			double m = 0.0;
+			mr[i][j] = 0.0;
 			for (int l = 0; l < 3; l++)
-				m += P->R[l][i] * C->R[l][j];
-			tr += m * mi.rotation[i * 3 + j]; /* trace(M^T E) */
-			mt += P->R[j][i] * (C->t[j] - P->t[j]);
+				mr[i][j] += P->R[l][i] * C->R[l][j];
+			tr += mr[i][j] * mi.rotation[i * 3 + j]; /* trace(M^T E) */
+			mt[i] += P->R[j][i] * (C->t[j] - P->t[j]);
 		}
-		d2 += (mi.translation[i] - mt) * (mi.translation[i] - mt);
+		d2 += (mi.translation[i] - mt[i]) * (mi.translation[i] - mt[i]);
+	}
+	if (run->in.have_truth) {
+		const double px = pixel_error(run, mi.rotation, mi.translation, mr, mt);
+		run->px_sum += px, run->px_max = fmax(run->px_max, px);
 	}
 	const double deg = acos(fmin(1.0, fmax(-1.0, 0.5 * (tr - 1.0)))) * 180.0 / M_PI;
 	const double mm = sqrt(d2) * 1e3;
@@ -624,6 +658,9 @@ static void print_summary(const struct seq_run *run)
 		       "mean %.4f, max %.4f deg; translation mean %.3f, max %.3f mm\n", run->pose_n,
 		       run->rot_sum / run->pose_n, run->rot_max, run->tr_sum / run->pose_n,
 		       run->tr_max);
+	if (run->pose_n && run->in.have_truth)
+		printf("image displacement of that error (mean over the true surface points): mean "
+		       "%.3f, max %.3f px\n", run->px_sum / run->pose_n, run->px_max);
 }
 
 static int setup_run(struct seq_run *run)
