@@ -11,30 +11,39 @@
 static int fetch(const float *hist_ao, const float *hist_z, int w, int h, double u, double v,
 		 double qz, double reject, double *ao, double *hz)
 {
-	const double ru = rint(u), rv = rint(v);
-	if (fabs(u - ru) < SNAP_PX && fabs(v - rv) < SNAP_PX) {
-		const size_t j = (size_t)rv * (size_t)w + (size_t)ru;
+	/* u, v > -0.5 (the caller's test): truncating u + 1 floors it, without a libm
+	 * call where the baseline has no rounding instruction */
+	const int x0 = (int)(u + 1.0) - 1, y0 = (int)(v + 1.0) - 1;
+	const double a = u - x0, b = v - y0;
+	const int xn = x0 + (a >= 0.5), yn = y0 + (b >= 0.5); /* the nearest pixel */
+	if (fabs(u - xn) < SNAP_PX && fabs(v - yn) < SNAP_PX) {
+		const size_t j = (size_t)yn * (size_t)w + (size_t)xn;
 		if (!(hist_z[j] > 0.0f) || !(fabs(hist_z[j] - qz) <= reject * qz))
 			return 0;
 		*ao = hist_ao[j];
 		*hz = hist_z[j];
 		return 1;
 	}
-	const double fu = floor(u), fv = floor(v);
-	const double a = u - fu, b = v - fv;
-	const int x0 = (int)fu, y0 = (int)fv;
+	const double rq = reject * qz;
+	const double wx[2] = {1.0 - a, a}, wy[2] = {1.0 - b, b};
 	double sw = 0.0, sao = 0.0, sz = 0.0;
-	for (int k = 0; k < 4; k++) {
-		const int x = x0 + (k & 1), y = y0 + (k >> 1);
-		const double wt = ((k & 1) ? a : 1.0 - a) * ((k >> 1) ? b : 1.0 - b);
-		if (x < 0 || y < 0 || x >= w || y >= h || !(wt > 0.0))
+	for (int dy = 0; dy < 2; dy++) {
+		const int y = y0 + dy;
+		if (y < 0 || y >= h || !(wy[dy] > 0.0))
 			continue;
-		const size_t j = (size_t)y * (size_t)w + (size_t)x;
-		if (!(hist_z[j] > 0.0f) || !(fabs(hist_z[j] - qz) <= reject * qz))
-			continue;
-		sw += wt;
-		sao += wt * hist_ao[j];
-		sz += wt * hist_z[j];
+		const float *rz = hist_z + (size_t)y * (size_t)w, *ra = hist_ao + (size_t)y * (size_t)w;
+		for (int dx = 0; dx < 2; dx++) {
+			const int x = x0 + dx;
+			if (x < 0 || x >= w || !(wx[dx] > 0.0))
+				continue;
+			const double hzt = rz[x];
+			if (!(hzt > 0.0) || !(fabs(hzt - qz) <= rq))
+				continue;
+			const double wt = wy[dy] * wx[dx];
+			sw += wt;
+			sao += wt * ra[x];
+			sz += wt * hzt;
+		}
 	}
 	if (!(sw > 1e-6))
 		return 0;
@@ -52,8 +61,15 @@ void dao_ao_history_reproject_rows(const struct dao_camera *cam,
 	const double *R = cur_to_prev->r, *t = cur_to_prev->t;
 	/* the z of R^T t: where the previous camera's offset lies along the current view */
 	const double c = R[2] * t[0] + R[5] * t[1] + R[8] * t[2];
+	const double ax = 1.0 / cam->fx, bx = -cam->cx / cam->fx;
 	for (int y = y0; y < y1; y++) {
 		const double ry = ((double)y - cam->cy) / cam->fy;
+		/* R times the ray of pixel (x, y), (x ax + bx, ry, 1): rb + x rd */
+		double rb[3], rd[3];
+		for (int k = 0; k < 3; k++) {
+			rb[k] = R[k * 3] * bx + R[k * 3 + 1] * ry + R[k * 3 + 2];
+			rd[k] = R[k * 3] * ax;
+		}
 		for (int x = 0; x < w; x++) {
 			const size_t i = (size_t)y * (size_t)w + (size_t)x;
 			const double zc = z[i];
@@ -61,10 +77,10 @@ void dao_ao_history_reproject_rows(const struct dao_camera *cam,
 			z_out[i] = 0.0f;
 			if (!(zc > 0.0))
 				continue;
-			const double p[3] = {((double)x - cam->cx) / cam->fx * zc, ry * zc, zc};
-			const double qx = R[0] * p[0] + R[1] * p[1] + R[2] * p[2] + t[0];
-			const double qy = R[3] * p[0] + R[4] * p[1] + R[5] * p[2] + t[1];
-			const double qz = R[6] * p[0] + R[7] * p[1] + R[8] * p[2] + t[2];
+			/* q = R p + t, p = zc ray */
+			const double qx = zc * (rb[0] + x * rd[0]) + t[0];
+			const double qy = zc * (rb[1] + x * rd[1]) + t[1];
+			const double qz = zc * (rb[2] + x * rd[2]) + t[2];
 			if (!(qz > 0.0))
 				continue; /* behind the previous camera */
 			const double u = cam->fx * qx / qz + cam->cx, v = cam->fy * qy / qz + cam->cy;
