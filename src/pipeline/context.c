@@ -46,6 +46,7 @@
 #include "pipeline/temporal_depth.h"
 #include "motion/icp.h"
 #include "motion/reproject.h"
+#include "motion/ao_reproject.h"
 #include "pipeline/threadpool.h"
 #include "shade/colormap.h"
 #include "shade/shade.h"
@@ -92,6 +93,9 @@ struct dao_context {
 	struct dao_icp_result motion; /* the last frame's estimate */
 	int motion_ran;               /* ... made for the last frame */
 	int motion_applied;           /* ... and the history carried by it */
+	/* ... and with temporal > 0 the AO history's second planes
+	 * (motion/ao_reproject.h), which swap with hist_ao and hist_z */
+	float *ao_motion_mem, *ao_motion_ao, *ao_motion_z;
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -217,6 +221,13 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		ctx->motion_count = (uint8_t *)(ctx->motion_hist + ctx->npix);
 		ctx->motion_age = ctx->motion_count + ctx->npix;
 	}
+	if (p->depth_temporal_motion == DAO_DEPTH_MOTION_ICP && p->temporal > 0.0f &&
+	    !ctx->ao_motion_mem) {
+		if (!(ctx->ao_motion_mem = malloc(2 * ctx->npix * sizeof(float))))
+			return dao_error_set(err, -ENOMEM, "out of memory for depth-temporal-motion");
+		ctx->ao_motion_ao = ctx->ao_motion_mem;
+		ctx->ao_motion_z = ctx->ao_motion_mem + ctx->npix;
+	}
 	if (p->depth_fill > 0 && !ctx->z_fill && !(ctx->z_fill = malloc(ctx->npix * sizeof(float))))
 		return dao_error_set(err, -ENOMEM, "out of memory for the filled depth (depth-fill)");
 	if (p->noise_model != DAO_NOISE_MODEL_FIXED && !ctx->have_noise_grid) {
@@ -331,6 +342,7 @@ void dao_context_destroy(struct dao_context *ctx)
 	free(ctx->row_range);
 	free(ctx->dt_scratch);
 	free(ctx->motion_mem);
+	free(ctx->ao_motion_mem);
 	if (ctx->have_noise_grid)
 		dao_noise_grid_free(&ctx->noise);
 	free(ctx->noise_cells);
@@ -1202,6 +1214,14 @@ static void run_ao(struct dao_context *ctx, struct frame_job *job)
 		dao_pool_run_threads(ctx->pool, h, 2, stage_gtao, job);
 }
 
+/* the AO history moved into this view by the motion the depth history followed */
+static void stage_ao_reproject(void *arg, int y0, int y1)
+{
+	struct dao_context *c = ((struct frame_job *)arg)->ctx;
+	dao_ao_history_reproject_rows(&c->cam, &c->motion.pose, c->params.temporal_reject, c->z,
+				      c->hist_ao, c->hist_z, c->ao_motion_ao, c->ao_motion_z, y0, y1);
+}
+
 /* Per row, the nearest and farthest depth of the last frame (0 and 0 when the
  * row has none); rows in parallel. */
 DAO_MULTIVERSION
@@ -1294,6 +1314,13 @@ static int shade_check(const struct dao_context *ctx, const struct dao_frame *ou
  * fuses them). */
 static void run_finish(struct dao_context *ctx, struct frame_job *job)
 {
+	if (ctx->motion_applied && ctx->hist_valid && ctx->params.temporal > 0.0f &&
+	    ctx->ao_motion_mem) {
+		float *a = ctx->hist_ao, *z = ctx->hist_z;
+		dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_ao_reproject, job);
+		ctx->hist_ao = ctx->ao_motion_ao, ctx->ao_motion_ao = a;
+		ctx->hist_z = ctx->ao_motion_z, ctx->ao_motion_z = z;
+	}
 	const struct dao_params *p = &ctx->params;
 	const int h = (int)ctx->cam.height;
 	ctx->ao = p->denoise == DAO_DENOISE_PLANE || p->denoise == DAO_DENOISE_BILATERAL

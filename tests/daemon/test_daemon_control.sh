@@ -60,6 +60,46 @@ stat_of "$SOCK" sinks.0.latency_ms_p99 >/dev/null || fail "no latency in stats"
 "$DEPTHAO" ctl --socket "$SOCK" get depth-temporal | "$JSON_GET" params.depth-temporal | grep -qx 0 ||
 	fail "depth-temporal 0 did not stick"
 
+# processed_beyond N: more than N frames processed
+processed_beyond() {
+	[ "$(stat_of "$SOCK" frames_processed)" -gt "$1" ]
+}
+
+# the camera's motion and pose in the stats: "none" while depth-temporal-motion is off;
+# with icp (and the depth filter on) the frames are estimated and the pose moves from the
+# identity (the recording's camera stands still: within 10 cm, a unit quaternion); turned
+# off again, the state is "none" and the pose stays where it was
+[ "$(stat_of "$SOCK" motion.state)" = none ] || fail "motion state with motion off"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal 0.8 >/dev/null || fail "set depth-temporal 0.8"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion icp >/dev/null ||
+	fail "set depth-temporal-motion icp"
+motion_accepted() {
+	[ "$(stat_of "$SOCK" motion.frames_accepted)" -ge 3 ]
+}
+wait_for 20 motion_accepted ||
+	fail "no camera motion accepted: $("$DEPTHAO" ctl --socket "$SOCK" stats)"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion off >/dev/null
+n0=$(stat_of "$SOCK" frames_processed)
+wait_for 10 processed_beyond $((n0 + 2)) || fail "no frames after depth-temporal-motion off"
+"$DEPTHAO" ctl --socket "$SOCK" stats >"$WORK/stats.json" || fail "ctl stats"
+sleep 0.3
+"$DEPTHAO" ctl --socket "$SOCK" stats >"$WORK/stats2.json" || fail "ctl stats"
+[ "$("$JSON_GET" stats.motion.state <"$WORK/stats2.json")" = none ] ||
+	fail "motion state after off: $(cat "$WORK/stats2.json")"
+for k in 0 1 2; do
+	p=$("$JSON_GET" stats.motion.position_m.$k <"$WORK/stats.json")
+	[ "$p" = "$("$JSON_GET" stats.motion.position_m.$k <"$WORK/stats2.json")" ] ||
+		fail "the pose moved with the motion off"
+	echo "$p" | awk '{ exit !($1 > -0.1 && $1 < 0.1) }' || fail "position $k: $p"
+done
+q=""
+for k in 0 1 2 3; do
+	q="$q $("$JSON_GET" stats.motion.orientation_xyzw.$k <"$WORK/stats.json")"
+done
+echo "$q" | awk '{ n = $1*$1 + $2*$2 + $3*$3 + $4*$4; exit !(n > 0.999999 && n < 1.000001 && $4 > 0.99) }' ||
+	fail "orientation:$q"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal 0 >/dev/null
+
 # set/get round trip; a bad value and a bad command are errors, and the daemon carries on
 "$DEPTHAO" ctl --socket "$SOCK" set radius 0.25 >/dev/null || fail "set radius"
 "$DEPTHAO" ctl --socket "$SOCK" get radius | "$JSON_GET" params.radius | grep -qx 0.25 || fail "get radius"
@@ -68,11 +108,6 @@ if "$DEPTHAO" ctl --socket "$SOCK" set radius -3 >"$WORK/r" 2>&1; then fail "set
 if "$DEPTHAO" ctl --socket "$SOCK" get nosuch >"$WORK/r" 2>&1; then fail "get nosuch accepted"; fi
 printf 'not json\n' | timeout 5 sh -c "cat >/dev/null" # (ctl only sends JSON; see below)
 kill -0 "$PID" || fail "daemon died after bad commands"
-
-# processed_beyond N: more than N frames processed
-processed_beyond() {
-	[ "$(stat_of "$SOCK" frames_processed)" -gt "$1" ]
-}
 
 # snapshots with two radii differ: the parameter reaches the running pipeline
 "$DEPTHAO" ctl --socket "$SOCK" snapshot "$WORK/r025.png" >/dev/null || fail "snapshot"

@@ -12,6 +12,10 @@
    the flicker (0), the still camera, are known answers.
 3. The real Kinect recording in ../shared/data (skipped without it): no truth,
    flicker and change are printed.
+4. depthao process --pose-out on a synthetic pan and a sideways move: the
+   estimated poses against the true poses.txt (timestamps equal, within
+   0.05 degrees and 3 mm on every frame, and the camera seen to move);
+   eval --sequence --picture: the strip's size read from its header.
 
 usage: test_cli_motion.py DEPTHAO_CLI
 """
@@ -134,7 +138,11 @@ def hand_made(cli, tmp):
                   r"frame\): off ([\d.]+), depth ([\d.]+), depth\+AO ([\d.]+)", text)
     check(m and int(m.group(1)) == (W - 20) * H, "static pixels: " + text)
     check(all(float(v) < 1e-3 for v in m.groups()[1:]), "flicker of a still wall: " + text)
-    check("frames worse than off (by > 1e-05): depth 0, depth+AO 0 (of 3)" in text, text)
+    check("frames worse than off (by > 1e-05): depth 0, depth+AO 0, depth+ICP 0, "
+          "depth+AO+ICP 0 (of 3)" in text, text)
+    m = re.search(r"mean MAE: off [\d.]+, depth [\d.]+, depth\+AO [\d.]+, depth\+ICP ([\d.]+), "
+                  r"depth\+AO\+ICP ([\d.]+)", text)
+    check(m and all(abs(float(v) - 0.25) < 0.005 for v in m.groups()), "ICP columns: " + text)
     # a poses.txt that is not one
     with open(os.path.join(base, "poses.txt"), "w") as f:
         f.write("0 0 0 0 0 0 0 3\n")
@@ -158,12 +166,55 @@ def real_recording(cli):
     check(re.search(r"change \(mean \|AO_k - AO_k-1\|\): off 0\.\d+", text), text)
 
 
+def read_poses(path):
+    return [list(map(float, l.split())) for l in open(path)
+            if l.strip() and not l.startswith("#")]
+
+
+def pose_out(cli, tmp):
+    out = os.path.join(tmp, "p")
+    for traj, moved in (("pan-30", 2.9), ("sideways", 0.045)):
+        run(cli, "synth", "--scene", "boxes", "--trajectory", traj, "--frames", "4", "--rays", "1",
+            "--out", out)
+        base = os.path.join(out, "boxes-" + traj)
+        est_path = os.path.join(tmp, traj + ".txt")
+        run(cli, "process", "--input", os.path.join(base, "depth"), "--depth-temporal", "0.8",
+            "--depth-temporal-motion", "icp", "--pose-out", est_path, "--quiet")
+        truth, est = read_poses(os.path.join(base, "poses.txt")), read_poses(est_path)
+        check(len(est) == 4 and all(len(p) == 8 for p in est), "%s: %s" % (est_path, est))
+        for t, e in zip(truth, est):
+            deg = math.degrees(quat_angle(t[4:], e[4:]))
+            mm = 1e3 * math.dist(t[1:4], e[1:4])
+            check(abs(t[0] - e[0]) < 2e-6 and deg < 0.05 and mm < 3.0,
+                  "%s: pose %s against the truth %s (%.4f deg, %.3f mm)" % (traj, e, t, deg, mm))
+        # the camera moved: an identity written every frame would fail
+        last = est[-1]
+        check(math.degrees(quat_angle([0, 0, 0, 1], last[4:])) > moved
+              if traj.startswith("pan") else math.dist([0, 0, 0], last[1:4]) > moved,
+              "%s: the estimate did not move: %s" % (traj, last))
+        if traj == "pan-30":
+            pic = os.path.join(tmp, "strip.png")
+            text = run(cli, "eval", "--sequence", base, "--quality", "low", "--picture", pic,
+                       "--picture-frame", "2")
+            check("picture: %s (frame 2: truth, off, depth+AO, depth+AO+ICP" % pic in text, text)
+            with open(pic, "rb") as f:
+                head = f.read(24)
+            check(struct.unpack(">II", head[16:24]) == (4 * 320, 2 * 240), "strip size")
+            err = run(cli, "eval", "--sequence", base, "--picture", pic, "--picture-frame", "4",
+                      expect=2)
+            check("--picture-frame 4: the sequence has 4 frames" in err, err)
+    err = run(cli, "process", "--input", os.path.join(out, "boxes-pan-30", "depth"),
+              "--pose-out", os.path.join(tmp, "x.txt"), expect=2)
+    check("give --depth-temporal-motion icp and the temporal depth filter" in err, err)
+
+
 def main():
     cli = sys.argv[1]
     with tempfile.TemporaryDirectory() as tmp:
         hand_made(cli, tmp)
         synth_pan(cli, tmp)
         real_recording(cli)
+        pose_out(cli, tmp)
     print("ok")
 
 

@@ -76,6 +76,12 @@ static void usage(FILE *out)
 		"                            after depth-min/max, the temporal filter and the\n"
 		"                            prefilter) as 16-bit PNG in the input's unit, 0 = no\n"
 		"                            depth; with --algorithm none the only work done\n"
+		"  --pose-out FILE           the camera pose of every frame as estimated from the\n"
+		"                            depth (needs --depth-temporal-motion icp), TUM format:\n"
+		"                            timestamp tx ty tz qx qy qz qw, camera to the first\n"
+		"                            frame's optical frame (docs/motion.md)\n"
+		"  --pose-fps N              --pose-out of PNG input: timestamps frame / N s\n"
+		"                            (default 30)\n"
 		"  --depth-out-unit M        --depth-out in counts of M metres (default: the\n"
 		"                            input's unit; 0.001 = mm for float-metre input)\n"
 		"  --cloud-depth raw|filtered  --cloud-out from the input depth (raw, the default:\n"
@@ -201,7 +207,7 @@ static int string_option(int argc, char **argv, int *i, struct process_options *
 		{ "--input", &o->input }, { "--ao-out", &o->ao_out },
 		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
 		{ "--cloud-out", &o->cloud_out }, { "--mcap-out", &o->mcap_out },
-		{ "--depth-out", &o->depth_out },
+		{ "--depth-out", &o->depth_out }, { "--pose-out", &o->pose_out },
 		{ "--intrinsics", &o->intrinsics },
 		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 	};
@@ -233,6 +239,13 @@ static int input_option(int argc, char **argv, int *i, struct process_options *o
 		    o->depth_unit > 1)
 			return usage_error("process",
 					   "--depth-unit '%s' must be a number in (0, 1] metres per count",
+					   v);
+		*i = j;
+		return 0;
+	}
+	if ((v = option_value(argc, argv, &j, "--pose-fps"))) {
+		if (!*v || parse_double(v, &o->pose_fps) || !(o->pose_fps > 0) || o->pose_fps > 1e6)
+			return usage_error("process", "--pose-fps '%s' must be a frame rate in (0, 1e6]",
 					   v);
 		*i = j;
 		return 0;
@@ -301,9 +314,16 @@ static int check_options(struct process_options *o)
 	if (!o->input)
 		return usage_error("process", "--input is required");
 	if (!o->ao_out && !o->shaded_out && !o->overlay_out && !o->cloud_out && !o->mcap_out &&
-	    !o->depth_out)
+	    !o->depth_out && !o->pose_out)
 		return usage_error("process", "nothing to write: give --ao-out, --shaded-out, "
-				   "--overlay-out, --cloud-out, --mcap-out and/or --depth-out");
+				   "--overlay-out, --cloud-out, --mcap-out, --depth-out and/or "
+				   "--pose-out");
+	if (o->pose_out && (o->params.depth_temporal_motion != DAO_DEPTH_MOTION_ICP ||
+			    !(o->params.depth_temporal > 0.0f)))
+		return usage_error("process", "--pose-out writes the camera motion that "
+				   "depth-temporal-motion estimates: give --depth-temporal-motion icp%s",
+				   o->params.depth_temporal > 0.0f ? ""
+				   : " and the temporal depth filter (--depth-temporal 0.8)");
 	if (o->params.algorithm == DAO_ALGORITHM_NONE &&
 	    (o->shaded_out || o->overlay_out || o->mcap_out))
 		return usage_error("process", "--algorithm none computes the filtered depth only (no "
@@ -334,6 +354,7 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 {
 	memset(o, 0, sizeof *o);
 	o->depth_unit = 0.001;
+	o->pose_fps = 30.0;
 	enum dao_quality q = DAO_QUALITY_DEFAULT;
 	int status = preset_option(argc, argv, &q);
 	if (status)
@@ -568,6 +589,8 @@ int process_depth(const struct process_options *o, struct run_state *st,
 	int r = dao_context_process(st->ctx, depth, NULL, index, &st->ao, &err);
 	st->ms_total += process_now_ms() - t0;
 	st->frames++;
+	if (!r && process_pose_write(o, st, depth, st->frames - 1))
+		return 1;
 	if (!r && ao_path)
 		r = dao_png_write(ao_path, &st->ao, &err);
 	if (!r && shaded_path) {
@@ -684,6 +707,8 @@ static int open_run(const struct process_options *o, int is_dir, const struct fi
 	}
 	if (!status)
 		status = process_mcap_open(o, st, &cam, 0);
+	if (!status)
+		status = process_pose_open(o, st);
 	return status;
 }
 
@@ -761,6 +786,7 @@ int cmd_process(int argc, char **argv)
 	if (!status && !o.quiet)
 		process_print_summary(&o, &st); /* no overlay from PNG input */
 	status = process_mcap_close(&st, status);
+	status = process_pose_close(&o, &st, status);
 	process_free_outputs(&st);
 	dao_context_destroy(st.ctx);
 	file_list_free(&files);

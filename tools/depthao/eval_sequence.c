@@ -28,18 +28,31 @@
 #include "synth/sequence_metrics.h"
 #include "synth/trajectory.h"
 
-#define NCOLS 3
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#define NCOLS 5
 #define ON_DEPTH_TEMPORAL 0.8f   /* the streams' default (dao_params_stream_defaults) */
 #define ON_AO_TEMPORAL 0.8f      /* the AO history's documented setting ("settles in ~5 frames") */
 #define MOVE_EPS 1e-4            /* m and rad: a pose this close to frame 0's is still */
 #define WORSE_EPS 1e-5           /* a frame is worse than off by more than rounding */
 
-static const char *const col_names[NCOLS] = { "off", "depth", "depth+AO" };
+static const char *const col_names[NCOLS] = { "off", "depth", "depth+AO", "depth+ICP",
+					       "depth+AO+ICP" };
+/* the columns' settings: the depth filter, the AO history, depth-temporal-motion=icp */
+static const int col_depth[NCOLS] = { 0, 1, 1, 1, 1 };
+static const int col_ao[NCOLS] = { 0, 0, 1, 0, 1 };
+static const int col_icp[NCOLS] = { 0, 0, 0, 1, 1 };
+/* the picture's panels: the truth, then these columns */
+#define PIC_COLS 3
+static const int pic_col[PIC_COLS] = { 0, 2, 4 };
 
 struct seq_options {
 	const char *path, *camera;
 	float depth_unit;
 	long max_frames;
+	const char *picture;
+	long picture_frame; /* -1: the last */
 	enum dao_quality quality;
 	char *overrides[64];
 	int n_override;
@@ -61,10 +74,11 @@ static void usage(FILE *out)
 	fprintf(out,
 		"usage: depthao eval --sequence PATH [options] [parameter options]\n"
 		"\n"
-		"Runs a depth sequence through the library three times: temporal filters off\n"
-		"(--depth-temporal 0 --temporal 0), the depth filter on (--depth-temporal 0.8), and\n"
+		"Runs a depth sequence through the library five times: temporal filters off\n"
+		"(--depth-temporal 0 --temporal 0), the depth filter on (--depth-temporal 0.8),\n"
 		"the depth filter and the AO history on (--depth-temporal 0.8 --temporal 0.8), and\n"
-		"prints per frame the MAE against the truth and the trail MAE (in the band that a\n"
+		"those two again with the histories following the camera's motion\n"
+		"(--depth-temporal-motion icp: depth+ICP, depth+AO+ICP), and prints per frame the MAE against the truth and the trail MAE (in the band that a\n"
 		"depth discontinuity swept in the last %d frames), then the means, the frames where\n"
 		"a filter is worse than off, the flicker (temporal std of the AO on static surfaces:\n"
 		"per surface point, followed with depth_gt/ and poses.txt, else per pixel) and the\n"
@@ -78,7 +92,10 @@ static void usage(FILE *out)
 		"  --depth-unit M    metres per PNG count (default 0.001)\n"
 		"  --frames N        at most N frames\n"
 		"  --quality NAME    the preset (default medium); parameter options override it in\n"
-		"                    all three runs, except the two temporal settings\n"
+		"                    all five runs, except the three temporal settings\n"
+		"  --picture PATH    PNG of one frame: the truth, off, depth+AO and depth+AO+ICP;\n"
+		"                    above the AO, below the input depth and each one's error\n"
+		"  --picture-frame K that frame (default: the last)\n"
 		"  --help            this text\n",
 		SYNTH_TRAIL_FRAMES);
 }
@@ -95,6 +112,13 @@ static int parse_value(struct seq_options *o, const char *a, const char *v)
 		o->depth_unit = strtof(v, &end);
 		if (*end || !*v || !(o->depth_unit > 0.0f && o->depth_unit <= 1.0f))
 			return usage_error("eval", "--depth-unit '%s' must be a number in (0, 1] metres", v);
+	} else if (strcmp(a, "--picture") == 0) {
+		o->picture = v;
+	} else if (strcmp(a, "--picture-frame") == 0) {
+		o->picture_frame = strtol(v, &end, 10);
+		if (*end || !*v || errno || o->picture_frame < 0 || o->picture_frame > 100000)
+			return usage_error("eval", "--picture-frame '%s' must be an integer in 0..100000",
+					   v);
 	} else if (strcmp(a, "--frames") == 0) {
 		o->max_frames = strtol(v, &end, 10);
 		if (*end || !*v || errno || o->max_frames < 1 || o->max_frames > 100000)
@@ -109,9 +133,11 @@ static int parse_value(struct seq_options *o, const char *a, const char *v)
 
 static int parse_args(int argc, char **argv, struct seq_options *o)
 {
-	*o = (struct seq_options){ .depth_unit = 0.001f, .quality = DAO_QUALITY_DEFAULT };
+	*o = (struct seq_options){ .depth_unit = 0.001f, .quality = DAO_QUALITY_DEFAULT,
+				   .picture_frame = -1 };
 	static const char *const valued[] = { "--sequence", "--camera", "--depth-unit", "--frames",
-					      "--quality" };
+					      "--quality", "--picture", "--picture-frame" };
+	const size_t nvalued = sizeof valued / sizeof valued[0];
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
 		size_t k;
@@ -119,9 +145,9 @@ static int parse_args(int argc, char **argv, struct seq_options *o)
 			usage(stdout);
 			exit(0);
 		}
-		for (k = 0; k < 5 && strcmp(a, valued[k]) != 0; k++)
+		for (k = 0; k < nvalued && strcmp(a, valued[k]) != 0; k++)
 			;
-		if (k < 5) {
+		if (k < nvalued) {
 			if (i + 1 >= argc)
 				return usage_error("eval", "%s needs a value", a);
 			int r = parse_value(o, a, argv[++i]);
@@ -161,8 +187,9 @@ static int column_params(const struct seq_options *o, int col, struct dao_params
 			fprintf(stderr, "depthao: %s\n", msg);
 			return 1;
 		}
-	p->depth_temporal = col == 0 ? 0.0f : ON_DEPTH_TEMPORAL;
-	p->temporal = col == 2 ? ON_AO_TEMPORAL : 0.0f;
+	p->depth_temporal = col_depth[col] ? ON_DEPTH_TEMPORAL : 0.0f;
+	p->temporal = col_ao[col] ? ON_AO_TEMPORAL : 0.0f;
+	p->depth_temporal_motion = col_icp[col] ? DAO_DEPTH_MOTION_ICP : DAO_DEPTH_MOTION_OFF;
 	struct dao_error err;
 	if (dao_params_validate(p, &err)) {
 		fprintf(stderr, "depthao: %s\n", err.message);
@@ -317,6 +344,13 @@ struct seq_run {
 	struct synth_seq_frame (*res)[NCOLS];
 	uint16_t *depth16;
 	float *depth, *gt, *truth, *ao;
+	long motion[NCOLS][4]; /* the ICP columns' frames per enum dao_motion_state */
+	/* depth+ICP's accepted motion against the true one (poses.txt): frames, sums, maxima */
+	long pose_n;
+	double rot_sum, rot_max, tr_sum, tr_max;
+	double px_sum, px_max; /* ... and the image displacement the difference makes */
+	long pic_k;      /* the picture's frame, or -1 */
+	float *pic;      /* its planes: input depth, truth, then the columns of pic_col */
 };
 
 /* Frame k: the input (as DEPTH16 in run->depth16 and metres), the truth where there is some. */
@@ -344,6 +378,69 @@ static int load_frame(struct seq_run *run, long k, struct dao_frame *frame, stru
 	return r;
 }
 
+/* The mean distance (px) between where the estimate and the truth move this frame's
+ * surface points (depth_gt/) in the last view: what the difference of the two motions
+ * does to the reprojected histories (rotation and translation errors can cancel). */
+static double pixel_error(const struct seq_run *run, const double *er, const double *et,
+			  const double (*mr)[3], const double *mt)
+{
+	const struct dao_camera *cam = &run->in.cam;
+	double sum = 0.0;
+	long n = 0;
+	for (uint32_t y = 0; y < cam->height; y += 4)
+		for (uint32_t x = 0; x < cam->width; x += 4) {
+			const double z = run->truth[(size_t)y * cam->width + x];
+			if (!(z > 0.0))
+				continue;
+			const double p[3] = { (x - cam->cx) / cam->fx * z, (y - cam->cy) / cam->fy * z, z };
+			double a[3], b[3];
+			for (int i = 0; i < 3; i++) {
+				a[i] = er[i * 3] * p[0] + er[i * 3 + 1] * p[1] + er[i * 3 + 2] * p[2] + et[i];
+				b[i] = mr[i][0] * p[0] + mr[i][1] * p[1] + mr[i][2] * p[2] + mt[i];
+			}
+			if (!(a[2] > 0.0) || !(b[2] > 0.0))
+				continue;
+			sum += hypot(cam->fx * (a[0] / a[2] - b[0] / b[2]),
+				     cam->fy * (a[1] / a[2] - b[1] / b[2]));
+			n++;
+		}
+	return n ? sum / n : 0.0;
+}
+
+/* The motion column c's context accepted for frame k against poses.txt's, and its state. */
+static void check_motion(struct seq_run *run, int c, long k)
+{
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(run->ctx[c], &mi);
+	run->motion[c][mi.state >= 0 && mi.state < 4 ? mi.state : 0]++;
+	if (c != 3 || !run->in.have_poses || k < 1 || (long)run->in.poses.count <= k ||
+	    (mi.state != DAO_MOTION_APPLIED && mi.state != DAO_MOTION_STILL))
+		return;
+	/* the truth from this camera to the last: M = P^T C (camera-to-world poses) */
+	const struct synth_pose *P = &run->in.poses.pose[k - 1], *C = &run->in.poses.pose[k];
+	double tr = 0.0, d2 = 0.0, mr[3][3], mt[3];
+	for (int i = 0; i < 3; i++) {
+		mt[i] = 0.0;
+		for (int j = 0; j < 3; j++) {
+			mr[i][j] = 0.0;
+			for (int l = 0; l < 3; l++)
+				mr[i][j] += P->R[l][i] * C->R[l][j];
+			tr += mr[i][j] * mi.rotation[i * 3 + j]; /* trace(M^T E) */
+			mt[i] += P->R[j][i] * (C->t[j] - P->t[j]);
+		}
+		d2 += (mi.translation[i] - mt[i]) * (mi.translation[i] - mt[i]);
+	}
+	if (run->in.have_truth) {
+		const double px = pixel_error(run, mi.rotation, mi.translation, mr, mt);
+		run->px_sum += px, run->px_max = fmax(run->px_max, px);
+	}
+	const double deg = acos(fmin(1.0, fmax(-1.0, 0.5 * (tr - 1.0)))) * 180.0 / M_PI;
+	const double mm = sqrt(d2) * 1e3;
+	run->pose_n++;
+	run->rot_sum += deg, run->rot_max = fmax(run->rot_max, deg);
+	run->tr_sum += mm, run->tr_max = fmax(run->tr_max, mm);
+}
+
 static int run_frames(struct seq_run *run)
 {
 	struct dao_error err;
@@ -365,28 +462,113 @@ static int run_frames(struct seq_run *run)
 				fprintf(stderr, "depthao: frame %ld: %s\n", k, err.message);
 				return 1;
 			}
+			if (col_icp[c])
+				check_motion(run, c, k);
 			synth_seq_column_add(&run->cols[c], &run->masks, run->ao,
 					     run->in.have_gt ? run->gt : NULL, run->depth, &run->res[k][c]);
 			if (pose)
 				synth_seq_column_track(&run->cols[c], &run->track, run->ao, run->depth,
 						       run->truth, pose);
+			for (int j = 0; j < PIC_COLS && k == run->pic_k; j++)
+				if (pic_col[j] == c)
+					memcpy(run->pic + (size_t)(2 + j) * w * h, run->ao,
+					       (size_t)w * h * sizeof(float));
+		}
+		if (k == run->pic_k) {
+			memcpy(run->pic, run->depth, (size_t)w * h * sizeof(float));
+			memcpy(run->pic + (size_t)w * h, run->gt, (size_t)w * h * sizeof(float));
 		}
 	}
 	return 0;
 }
 
+/*
+ * The picture (--picture): half-size panels, the truth and the columns of
+ * pic_col side by side; above the AO (black 0, white 1), below the input
+ * depth under the truth (near bright) and each column's |error| (white 0,
+ * black >= 0.25).  Pixels without input depth are dark blue.
+ */
+static void picture_pixel(uint8_t *rgb, const float *pic, size_t np, int row, int k, size_t i,
+			  float zmin, float zmax)
+{
+	static const uint8_t none[3] = { 20, 30, 90 };
+	const float z = pic[i], gt = pic[np + i];
+	const float v = pic[(size_t)(k == 0 ? 1 : 1 + k) * np + i];
+	float g;
+	if (!(z > 0.0f)) {
+		memcpy(rgb, none, 3);
+		return;
+	}
+	if (row == 0)
+		g = v;
+	else if (k == 0)
+		g = 1.0f - 0.85f * (z - zmin) / (zmax - zmin);
+	else
+		g = 1.0f - fabsf(v - gt) / 0.25f;
+	g = fminf(fmaxf(g, 0.0f), 1.0f);
+	rgb[0] = rgb[1] = rgb[2] = (uint8_t)lrintf(255.0f * g);
+}
+
+static int write_picture(const struct seq_run *run)
+{
+	const int w = (int)run->in.cam.width, h = (int)run->in.cam.height;
+	const int pw = w / 2, ph = h / 2, panels = 1 + PIC_COLS;
+	const size_t np = (size_t)w * h;
+	struct dao_frame pic = { 0 };
+	struct dao_error err;
+	float zmin = INFINITY, zmax = 0.0f;
+	for (size_t i = 0; i < np; i++)
+		if (run->pic[i] > 0.0f) {
+			zmin = fminf(zmin, run->pic[i]);
+			zmax = fmaxf(zmax, run->pic[i]);
+		}
+	if (!(zmax > zmin))
+		zmax = zmin + 1.0f;
+	if (dao_frame_alloc(&pic, DAO_PIXFMT_RGB24, (uint32_t)(panels * pw), (uint32_t)(2 * ph),
+			    &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		return 1;
+	}
+	for (int y = 0; y < 2 * ph; y++)
+		for (int k = 0; k < panels; k++)
+			for (int x = 0; x < pw; x++)
+				picture_pixel((uint8_t *)pic.data + (size_t)y * pic.stride +
+						      3 * (size_t)(k * pw + x),
+					      run->pic, np, y >= ph, k,
+					      (size_t)(2 * (y % ph)) * w + 2 * x, zmin, zmax);
+	int r = dao_png_write_compressed(run->o->picture, &pic, 9, &err);
+	if (r)
+		fprintf(stderr, "depthao: %s\n", err.message);
+	else
+		printf("picture: %s (frame %ld: truth, %s, %s, %s; below: input depth, errors)\n",
+		       run->o->picture, run->pic_k, col_names[pic_col[0]], col_names[pic_col[1]],
+		       col_names[pic_col[2]]);
+	dao_frame_free(&pic);
+	return r ? 1 : 0;
+}
+
 static void print_frames(const struct seq_run *run)
 {
-	printf("| frame | MAE off | MAE depth | MAE depth+AO | trail off | trail depth | "
-	       "trail depth+AO | trail px |\n|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+	printf("| frame |");
+	for (int c = 0; c < NCOLS; c++)
+		printf(" MAE %s |", col_names[c]);
+	for (int c = 0; c < NCOLS; c++)
+		printf(" trail %s |", col_names[c]);
+	printf(" trail px |\n|---:|");
+	for (int c = 0; c < 2 * NCOLS + 1; c++)
+		printf("---:|");
+	printf("\n");
 	for (long k = 0; k < run->in.frames; k++) {
 		const struct synth_seq_frame *r = run->res[k];
-		printf("| %ld | %.4f | %.4f | %.4f |", k, r[0].mae, r[1].mae, r[2].mae);
-		if (r[0].trail_count)
-			printf(" %.4f | %.4f | %.4f | %ld |\n", r[0].trail_mae, r[1].trail_mae,
-			       r[2].trail_mae, r[0].trail_count);
-		else
-			printf(" - | - | - | 0 |\n");
+		printf("| %ld |", k);
+		for (int c = 0; c < NCOLS; c++)
+			printf(" %.4f |", r[c].mae);
+		for (int c = 0; c < NCOLS; c++)
+			if (r[0].trail_count)
+				printf(" %.4f |", r[c].trail_mae);
+			else
+				printf(" - |");
+		printf(" %ld |\n", r[0].trail_count);
 	}
 }
 
@@ -407,11 +589,14 @@ static void print_truth_summary(const struct seq_run *run)
 	printf("mean MAE:");
 	for (int c = 0; c < NCOLS; c++)
 		printf(" %s %.6f%s", col_names[c], mae[c], c + 1 < NCOLS ? "," : "\n");
-	printf("gain over off: depth %.1f %%, depth+AO %.1f %%\n",
-	       mae[0] > 0 ? 100.0 * (mae[0] - mae[1]) / mae[0] : 0.0,
-	       mae[0] > 0 ? 100.0 * (mae[0] - mae[2]) / mae[0] : 0.0);
-	printf("frames worse than off (by > %g): depth %ld, depth+AO %ld (of %ld)\n", WORSE_EPS,
-	       worse[1], worse[2], run->in.frames);
+	printf("gain over off:");
+	for (int c = 1; c < NCOLS; c++)
+		printf(" %s %.1f %%%s", col_names[c],
+		       mae[0] > 0 ? 100.0 * (mae[0] - mae[c]) / mae[0] : 0.0, c + 1 < NCOLS ? "," : "\n");
+	printf("frames worse than off (by > %g):", WORSE_EPS);
+	for (int c = 1; c < NCOLS; c++)
+		printf(" %s %ld%s", col_names[c], worse[c], c + 1 < NCOLS ? "," : "");
+	printf(" (of %ld)\n", run->in.frames);
 	if (tn) {
 		printf("trail MAE (%ld px):", tn);
 		for (int c = 0; c < NCOLS; c++)
@@ -419,6 +604,18 @@ static void print_truth_summary(const struct seq_run *run)
 	} else if (run->in.have_truth) {
 		printf("trail MAE: no discontinuity moved\n");
 	}
+}
+
+/* "off A, depth B, ... (off/depth Nx, ...)" of one figure per column */
+static void print_columns(const double *v, int ratios)
+{
+	for (int c = 0; c < NCOLS; c++)
+		printf("%s %s %.6f", c ? "," : "", col_names[c], v[c]);
+	if (ratios)
+		for (int c = 1; c < NCOLS; c++)
+			printf("%soff/%s %.2fx", c == 1 ? " (" : ", ", col_names[c],
+			       v[c] > 1e-6 ? v[0] / v[c] : 1.0);
+	printf("%s\n", ratios ? ")" : "");
 }
 
 static void print_summary(const struct seq_run *run)
@@ -429,27 +626,41 @@ static void print_summary(const struct seq_run *run)
 		print_truth_summary(run);
 	}
 	long n;
-	double fl[NCOLS];
-	for (int c = 0; c < NCOLS; c++)
+	double fl[NCOLS], ch[NCOLS];
+	for (int c = 0; c < NCOLS; c++) {
 		fl[c] = run->tracking ? synth_seq_flicker_tracked(&run->cols[c], &run->track, &n)
 				      : synth_seq_flicker(&run->cols[c], &run->masks, &n);
-	if (run->tracking && n && in->frames > 1)
-		printf("flicker (tracked over the true poses, %ld surface points seen in every frame): "
-		       "off %.6f, depth %.6f, depth+AO %.6f (off/depth %.2fx, off/depth+AO %.2fx)\n", n,
-		       fl[0], fl[1], fl[2], fl[1] > 1e-6 ? fl[0] / fl[1] : 1.0,
-		       fl[2] > 1e-6 ? fl[0] / fl[2] : 1.0);
-	else if (in->camera_moves)
+		ch[c] = synth_seq_change(&run->cols[c]);
+	}
+	if (run->tracking && n && in->frames > 1) {
+		printf("flicker (tracked over the true poses, %ld surface points seen in every frame):",
+		       n);
+		print_columns(fl, 1);
+	} else if (in->camera_moves) {
 		printf("flicker: - (the camera moves: without depth_gt/ the surface points cannot be "
 		       "followed)\n");
-	else if (n == 0 || in->frames < 2)
+	} else if (n == 0 || in->frames < 2) {
 		printf("flicker: - (no pixel is static with depth in every frame)\n");
-	else
-		printf("flicker (%ld static px): off %.6f, depth %.6f, depth+AO %.6f "
-		       "(off/depth %.2fx, off/depth+AO %.2fx)\n", n, fl[0], fl[1], fl[2],
-		       fl[1] > 1e-6 ? fl[0] / fl[1] : 1.0, fl[2] > 1e-6 ? fl[0] / fl[2] : 1.0);
-	printf("change (mean |AO_k - AO_k-1|): off %.6f, depth %.6f, depth+AO %.6f\n",
-	       synth_seq_change(&run->cols[0]), synth_seq_change(&run->cols[1]),
-	       synth_seq_change(&run->cols[2]));
+	} else {
+		printf("flicker (%ld static px):", n);
+		print_columns(fl, 1);
+	}
+	printf("change (mean |AO_k - AO_k-1|):");
+	print_columns(ch, 0);
+	for (int c = 0; c < NCOLS; c++)
+		if (col_icp[c])
+			printf("motion %s: applied %ld, still %ld, refused %ld, none %ld (frames)\n",
+			       col_names[c], run->motion[c][DAO_MOTION_APPLIED],
+			       run->motion[c][DAO_MOTION_STILL], run->motion[c][DAO_MOTION_REFUSED],
+			       run->motion[c][DAO_MOTION_NONE]);
+	if (run->pose_n)
+		printf("motion error of depth+ICP against poses.txt (%ld accepted frames): rotation "
+		       "mean %.4f, max %.4f deg; translation mean %.3f, max %.3f mm\n", run->pose_n,
+		       run->rot_sum / run->pose_n, run->rot_max, run->tr_sum / run->pose_n,
+		       run->tr_max);
+	if (run->pose_n && run->in.have_truth)
+		printf("image displacement of that error (mean over the true surface points): mean "
+		       "%.3f, max %.3f px\n", run->px_sum / run->pose_n, run->px_max);
 }
 
 static int setup_run(struct seq_run *run)
@@ -469,7 +680,20 @@ static int setup_run(struct seq_run *run)
 	run->truth = malloc(np * sizeof(float));
 	run->ao = malloc(np * sizeof(float));
 	run->res = calloc((size_t)in->frames, sizeof *run->res);
+	run->pic_k = !o->picture ? -1 : o->picture_frame < 0 ? in->frames - 1 : o->picture_frame;
+	if (run->pic_k >= in->frames) {
+		fprintf(stderr, "depthao: --picture-frame %ld: the sequence has %ld frames\n",
+			run->pic_k, in->frames);
+		return 2;
+	}
+	if (o->picture && !in->have_gt) {
+		fprintf(stderr, "depthao: --picture needs the truth (ao_gt/ beside depth/)\n");
+		return 2;
+	}
+	if (run->pic_k >= 0)
+		run->pic = malloc((2 + PIC_COLS) * np * sizeof(float));
 	int bad = !run->depth16 || !run->depth || !run->gt || !run->truth || !run->ao || !run->res ||
+		  (run->pic_k >= 0 && !run->pic) ||
 		  synth_seq_masks_init(&run->masks, (int)in->cam.width, (int)in->cam.height,
 				       in->have_truth);
 	for (int c = 0; c < NCOLS && !bad; c++)
@@ -512,6 +736,7 @@ static void free_run(struct seq_run *run)
 	free(run->truth);
 	free(run->ao);
 	free(run->res);
+	free(run->pic);
 	close_input(&run->in);
 }
 
@@ -537,6 +762,8 @@ int cmd_eval_sequence(int argc, char **argv)
 	}
 	if (!status)
 		print_summary(&run);
+	if (!status && run.pic)
+		status = write_picture(&run);
 	free_run(&run);
 	return status;
 }

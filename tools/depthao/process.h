@@ -4,10 +4,13 @@
 #define DAO_TOOLS_PROCESS_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include <depthao/depthao.h>
 #include <depthao/io.h>
 #include <depthao/plugin.h>
+
+#include "common/pose_track.h"
 
 /* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
 #define DEG2RAD (3.14159265358979323846 / 180.0)
@@ -36,6 +39,8 @@ struct process_options {
 	int realtime;          /* --realtime: pace a recording by its timestamps */
 	int quiet;
 	uint64_t max_pixels;   /* --max-pixels: largest decoded depth image (0 = the default) */
+	const char *pose_out;  /* --pose-out: the estimated camera poses (pose_out.c) */
+	double pose_fps;       /* --pose-fps: their timestamps without the source's clock */
 	struct dao_params params;
 };
 
@@ -50,6 +55,9 @@ struct run_state {
 	struct dao_plugins *mcap_plugins; /* --mcap-out: the built-in sinks */
 	struct dao_sink *mcap;
 	unsigned mcap_streams; /* the streams it asked for besides (1u << enum dao_stream) */
+	FILE *pose;            /* --pose-out: the file, the camera-to-world pose so far */
+	struct pose_track track;
+	uint64_t pose_t0;      /* the first frame's timestamp_ns */
 };
 
 double process_now_ms(void);
@@ -101,6 +109,14 @@ int process_mcap_open(const struct process_options *o, struct run_state *st,
 int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int have_shaded,
 		       uint64_t index);
 int process_mcap_close(struct run_state *st, int status);
+
+/* --pose-out (pose_out.c): opens the file (0 or the exit status; nothing without the
+ * option), writes the line of the frame just processed, the n-th of the run (0-based),
+ * and closes it keeping a non-zero status. */
+int process_pose_open(const struct process_options *o, struct run_state *st);
+int process_pose_write(const struct process_options *o, struct run_state *st,
+		       const struct dao_frame *depth, uint64_t n);
+int process_pose_close(const struct process_options *o, struct run_state *st, int status);
 
 /* Input that goes through a source plugin: "NAME:URI" or a path ending in .oni. */
 int process_input_is_stream(const char *input);

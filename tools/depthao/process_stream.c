@@ -234,13 +234,14 @@ static int prepare_run(const struct process_options *o, struct dao_source *src,
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	return process_mcap_open(o, st, &cam, si->fps);
+	int status2 = process_mcap_open(o, st, &cam, si->fps);
+	return status2 ? status2 : process_pose_open(o, st);
 }
 
 void process_print_summary(const struct process_options *o, const struct run_state *st)
 {
 	const char *outs[] = { o->ao_out, o->shaded_out, o->overlay_out, o->cloud_out,
-			       o->mcap_out, o->depth_out };
+			       o->mcap_out, o->depth_out, o->pose_out };
 	int n = 0;
 	fprintf(stderr, "depthao: %zu frame%s, %.1f ms/frame (%s), wrote", st->frames,
 		st->frames == 1 ? "" : "s", st->ms_total / (double)st->frames,
@@ -280,6 +281,7 @@ int process_stream(const struct process_options *o)
 	if (!status && !o->quiet)
 		process_print_summary(o, &st);
 	status = process_mcap_close(&st, status);
+	status = process_pose_close(o, &st, status);
 	dao_source_close(src);
 	process_free_outputs(&st);
 	dao_context_destroy(st.ctx);

@@ -43,6 +43,7 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->snapshot_notify_fd = -1;
 	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
 	pthread_mutex_init(&d->lock, NULL);
+	pose_track_reset(&d->pose);
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);

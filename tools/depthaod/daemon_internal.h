@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <time.h>
 
+#include "common/pose_track.h"
 #include "common/tool_clock.h"
 #include "daemon.h"
 #include "frame_queue.h"
@@ -144,6 +145,8 @@ struct daemon {
 	   complete seconds (fps is the mean over the interval) */
 	uint64_t recent_sec[RECENT_SECONDS + 1];
 	unsigned recent_count[RECENT_SECONDS + 1];
+	/* (lock) the camera's pose from depth-temporal-motion (stats "motion") */
+	struct pose_track pose;
 };
 
 /* daemon_stats.c: counts one processed frame for fps_recent */

@@ -297,6 +297,11 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 	}
 	*have_overlay = 0;
 	if (r == 0) {
+		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		dao_context_motion(ctx, &mi);
+		pthread_mutex_lock(&d->lock);
+		pose_track_add(&d->pose, &mi);
+		pthread_mutex_unlock(&d->lock);
 		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
 			ao_to_8bit(&o->ao16, &o->ao8);
 		if ((d->wants[STREAM_OVERLAY] || (extra & (1u << STREAM_OVERLAY))) &&

@@ -1,0 +1,454 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The AO history carried by the camera's motion (src/motion/ao_reproject.c):
+ * against a brute-force reference written here independently (double
+ * precision, through the world frame with the two cameras' own poses, every
+ * tap of every pixel tested); the identity motion copies the history bit for
+ * bit; surfaces the previous view did not see (disocclusions) and pixels the
+ * previous image did not cover get no history; hostile poses write nothing
+ * but history values.  In the pipeline: a still camera with the AO history
+ * on gives the same AO with and without depth-temporal-motion=icp, bit for
+ * bit, and a panning one follows the motion (its AO closer to the frame's
+ * own AO without history than with the history left in place).
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include <depthao/context.h>
+#include <depthao/params.h>
+
+#include "motion/ao_reproject.h"
+#include "test_icp_scene.h"
+
+#define REJECT 0.02f
+
+struct planes {
+	float *ao, *hz, *ao_out, *z_out;
+	double *ref_ao, *ref_z; /* the reference: ref_z 0 = no history */
+};
+
+static void planes_init(struct planes *p, size_t n)
+{
+	p->ao = calloc(n, sizeof(float));
+	p->hz = calloc(n, sizeof(float));
+	p->ao_out = calloc(n, sizeof(float));
+	p->z_out = calloc(n, sizeof(float));
+	p->ref_ao = calloc(n, sizeof(double));
+	p->ref_z = calloc(n, sizeof(double));
+	assert_true(p->ao && p->hz && p->ao_out && p->z_out && p->ref_ao && p->ref_z);
+}
+
+static void planes_free(struct planes *p)
+{
+	free(p->ao), free(p->hz), free(p->ao_out), free(p->z_out), free(p->ref_ao), free(p->ref_z);
+}
+
+/* camera-to-world of pose c applied to a, and its inverse */
+static void to_world(const struct dao_pose *c, const double a[3], double w[3])
+{
+	for (int i = 0; i < 3; i++)
+		w[i] = c->r[i * 3] * a[0] + c->r[i * 3 + 1] * a[1] + c->r[i * 3 + 2] * a[2] + c->t[i];
+}
+
+static void from_world(const struct dao_pose *c, const double w[3], double a[3])
+{
+	for (int i = 0; i < 3; i++)
+		a[i] = c->r[i] * (w[0] - c->t[0]) + c->r[3 + i] * (w[1] - c->t[1]) +
+		       c->r[6 + i] * (w[2] - c->t[2]);
+}
+
+/* Every current pixel through the world into the previous camera, its four
+ * bilinear taps weighed one by one (a tap counts where its depth agrees
+ * within REJECT), the history's point moved back into the current camera. */
+static void reference(const struct dao_camera *cam, const struct dao_pose *prev_c,
+		      const struct dao_pose *cur_c, const float *z, struct planes *p)
+{
+	for (size_t i = 0; i < (size_t)W * H; i++) {
+		p->ref_ao[i] = p->ref_z[i] = 0.0;
+		if (!(z[i] > 0.0f))
+			continue;
+		double a[3], w[3], q[3], u, v;
+		dao_camera_pixel_to_view(cam, (double)(i % W), (double)(i / W), z[i], a);
+		to_world(cur_c, a, w);
+		from_world(prev_c, w, q);
+		if (dao_camera_view_to_pixel(cam, q, &u, &v) || u <= -0.5 || v <= -0.5 ||
+		    u >= W - 0.5 || v >= H - 0.5)
+			continue;
+		double sw = 0.0, sa = 0.0, sz = 0.0;
+		for (int dy = 0; dy < 2; dy++)
+			for (int dx = 0; dx < 2; dx++) {
+				const int x = (int)floor(u) + dx, y = (int)floor(v) + dy;
+				const double wt = (1.0 - fabs(u - x)) * (1.0 - fabs(v - y));
+				if (x < 0 || y < 0 || x >= W || y >= H || wt <= 0.0)
+					continue;
+				const double hz = p->hz[(size_t)y * W + x];
+				if (hz > 0.0 && fabs(hz - q[2]) <= REJECT * q[2])
+					sw += wt, sa += wt * p->ao[(size_t)y * W + x], sz += wt * hz;
+			}
+		if (sw <= 1e-6)
+			continue;
+		/* the history's point: on the previous camera's ray through q, at depth sz / sw */
+		double hp[3], hw[3], hc[3];
+		for (int k = 0; k < 3; k++)
+			hp[k] = q[k] * (sz / sw) / q[2];
+		to_world(prev_c, hp, hw);
+		from_world(cur_c, hw, hc);
+		p->ref_ao[i] = sa / sw;
+		p->ref_z[i] = hc[2];
+	}
+}
+
+/* the history of the previous view: its depth, and an AO that varies over the image */
+static void make_history(const struct scene_fixture *f, struct planes *p)
+{
+	for (size_t i = 0; i < f->npix; i++) {
+		p->hz[i] = f->z0[i];
+		p->ao[i] = (float)(0.5 + 0.4 * sin(0.05 * (double)(i % W)) * cos(0.07 * (double)(i / W)));
+	}
+}
+
+static void run_rows(const struct scene_fixture *f, const struct dao_pose *m, const float *z,
+		     struct planes *p)
+{
+	/* in three bands, as the pool would split it */
+	dao_ao_history_reproject_rows(&f->cam, m, REJECT, z, p->ao, p->hz, p->ao_out, p->z_out, 0,
+				      100);
+	dao_ao_history_reproject_rows(&f->cam, m, REJECT, z, p->ao, p->hz, p->ao_out, p->z_out, 100,
+				      101);
+	dao_ao_history_reproject_rows(&f->cam, m, REJECT, z, p->ao, p->hz, p->ao_out, p->z_out, 101,
+				      H);
+}
+
+static void test_against_reference(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p;
+	planes_init(&p, f.npix);
+	struct dao_pose prev_c, cur_c, motion;
+	pose_from(&prev_c, 0.3, 0.2, 0.0, 0.0, 0.0);
+	pose_from(&cur_c, 2.1, -0.6, 0.03, 0.004, -0.01);
+	relative(&prev_c, &cur_c, &motion);
+	render(&f, &prev_c, 1, 1.0, 3u, f.z0);
+	render(&f, &cur_c, 1, 1.0, 4u, f.z1);
+	make_history(&f, &p);
+	run_rows(&f, &motion, f.z1, &p);
+	reference(&f.cam, &prev_c, &cur_c, f.z1, &p);
+	size_t filled = 0, differ = 0, off = 0;
+	for (size_t i = 0; i < f.npix; i++) {
+		const int have = p.z_out[i] > 0.0f, ref_have = p.ref_z[i] > 0.0;
+		filled += (size_t)ref_have;
+		if (!have)
+			assert_true(p.ao_out[i] == 0.0f && p.z_out[i] == 0.0f);
+		if (have != ref_have) {
+			differ++; /* a tap at the gate's edge, or a landing point at the border */
+			continue;
+		}
+		if (have && (fabs(p.ao_out[i] - p.ref_ao[i]) > 1e-5 ||
+			     fabs(p.z_out[i] - p.ref_z[i]) > 1e-5 * p.ref_z[i]))
+			off++;
+	}
+	printf("AO history: %zu of %zu pixels with history, %zu differ from the reference, "
+	       "%zu values off\n", filled, f.npix, differ, off);
+	assert_true(filled > f.npix * 8 / 10);
+	assert_true(differ * 10000 < filled); /* under 0.01 % */
+	assert_true(off * 10000 < filled);
+	planes_free(&p);
+	fixture_free(&f);
+}
+
+/* the identity motion: the history as it was, bit for bit, where the depth agrees */
+static void test_identity_bit_identical(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p;
+	planes_init(&p, f.npix);
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	render(&f, &id, 1, 1.0, 5u, f.z0);
+	render(&f, &id, 1, 1.0, 6u, f.z1); /* new noise: the depths differ by millimetres */
+	make_history(&f, &p);
+	run_rows(&f, &id, f.z1, &p);
+	size_t same = 0;
+	for (size_t i = 0; i < f.npix; i++) {
+		if (!(f.z1[i] > 0.0f) || !(f.z0[i] > 0.0f) ||
+		    !(fabsf(f.z0[i] - f.z1[i]) <= REJECT * f.z1[i]))
+			continue;
+		assert_memory_equal(&p.ao_out[i], &p.ao[i], sizeof(float));
+		assert_memory_equal(&p.z_out[i], &p.hz[i], sizeof(float));
+		same++;
+	}
+	assert_true(same > f.npix * 9 / 10);
+	planes_free(&p);
+	fixture_free(&f);
+}
+
+/*
+ * A step sideways past the box: the wall the box hid before is seen now.
+ * The history's AO is a function of its depth (z / 10), so a value taken
+ * from the wrong surface shows.  Every current pixel whose surface the
+ * previous camera did not see (its point lands on a surface nearer by more
+ * than 10 %, all four taps) has no history; every pixel with history took it
+ * from its own surface.
+ */
+static void test_disocclusion(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p;
+	planes_init(&p, f.npix);
+	struct dao_pose prev_c, cur_c, motion;
+	pose_from(&prev_c, 0.0, 0.0, -0.10, 0.0, 0.0);
+	pose_from(&cur_c, 0.0, 0.0, 0.10, 0.0, 0.0);
+	relative(&prev_c, &cur_c, &motion);
+	render(&f, &prev_c, 1, 0.0, 0u, f.z0);
+	render(&f, &cur_c, 1, 0.0, 0u, f.z1);
+	for (size_t i = 0; i < f.npix; i++) {
+		p.hz[i] = f.z0[i];
+		p.ao[i] = f.z0[i] / 10.0f;
+	}
+	run_rows(&f, &motion, f.z1, &p);
+	size_t hidden = 0, with = 0;
+	for (size_t i = 0; i < f.npix; i++) {
+		double a[3], w[3], q[3], u, v;
+		dao_camera_pixel_to_view(&f.cam, (double)(i % W), (double)(i / W), f.z1[i], a);
+		to_world(&cur_c, a, w);
+		from_world(&prev_c, w, q);
+		if (dao_camera_view_to_pixel(&f.cam, q, &u, &v) || u < 1.0 || v < 1.0 ||
+		    u > W - 2.0 || v > H - 2.0)
+			continue;
+		int nearer = 0;
+		for (int k = 0; k < 4; k++) {
+			const float hz = f.z0[(size_t)((int)v + (k >> 1)) * W + (size_t)((int)u + (k & 1))];
+			nearer += hz < 0.9 * q[2];
+		}
+		if (nearer == 4) {
+			hidden++;
+			assert_true(p.z_out[i] == 0.0f);
+		}
+		if (p.z_out[i] > 0.0f) {
+			with++;
+			assert_true(fabs(10.0 * p.ao_out[i] - q[2]) <= REJECT * q[2] + 1e-4);
+		}
+	}
+	printf("disocclusion: %zu pixels uncovered (no history), %zu with history\n", hidden, with);
+	assert_true(hidden > 1000);
+	assert_true(with > f.npix * 8 / 10);
+	planes_free(&p);
+	fixture_free(&f);
+}
+
+/* a pan of 4 degrees: the columns the previous image did not cover have no
+ * history, the others have it */
+static void test_out_of_frame(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p;
+	planes_init(&p, f.npix);
+	struct dao_pose prev_c, cur_c, motion;
+	pose_from(&prev_c, 0.0, 0.0, 0.0, 0.0, 0.0);
+	pose_from(&cur_c, 4.0, 0.0, 0.0, 0.0, 0.0);
+	relative(&prev_c, &cur_c, &motion);
+	render(&f, &prev_c, 1, 0.0, 0u, f.z0);
+	render(&f, &cur_c, 1, 0.0, 0u, f.z1);
+	make_history(&f, &p);
+	run_rows(&f, &motion, f.z1, &p);
+	size_t outside = 0, inside = 0, inside_with = 0;
+	for (size_t i = 0; i < f.npix; i++) {
+		double a[3], q[3], u, v;
+		dao_camera_pixel_to_view(&f.cam, (double)(i % W), (double)(i / W), f.z1[i], a);
+		for (int k = 0; k < 3; k++)
+			q[k] = motion.r[k * 3] * a[0] + motion.r[k * 3 + 1] * a[1] +
+			       motion.r[k * 3 + 2] * a[2] + motion.t[k];
+		if (dao_camera_view_to_pixel(&f.cam, q, &u, &v))
+			continue;
+		if (u < -0.501 || u > W - 0.499) {
+			outside++;
+			assert_true(p.z_out[i] == 0.0f && p.ao_out[i] == 0.0f);
+		} else if (u > 0.0 && u < W - 1.0) {
+			inside++;
+			inside_with += p.z_out[i] > 0.0f;
+		}
+	}
+	printf("out of frame: %zu pixels outside the previous image, %zu of %zu inside with "
+	       "history\n", outside, inside_with, inside);
+	/* 4 degrees at f = 525 px: 48 columns at the image's edge, 31.3 degrees off the axis
+	 * (525 tan(35.3 degrees) - 319.5); a pixel whose four taps straddle a depth edge has
+	 * none either */
+	assert_true(outside >= 47 * H && outside <= 49 * H);
+	assert_true(inside_with > inside * 98 / 100);
+	planes_free(&p);
+	fixture_free(&f);
+}
+
+/* random and hostile poses: every output is no history or a history value */
+static void test_fuzzed_poses(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p;
+	planes_init(&p, f.npix);
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	render(&f, &id, 1, 1.0, 9u, f.z0);
+	make_history(&f, &p);
+	uint64_t st = 777u;
+	for (int k = 0; k < 30; k++) {
+		struct dao_pose m;
+		const double scale = k < 15 ? 0.2 : 50.0;
+		pose_from(&m, scale * 100.0 * gauss(&st), scale * 100.0 * gauss(&st),
+			  scale * gauss(&st), scale * gauss(&st), scale * gauss(&st));
+		if (k == 27)
+			m.t[2] = NAN;
+		if (k == 28)
+			m.r[0] = INFINITY;
+		if (k == 29)
+			m.t[0] = -INFINITY;
+		run_rows(&f, &m, f.z0, &p);
+		for (size_t i = 0; i < f.npix; i++) {
+			if (p.z_out[i] == 0.0f) {
+				assert_true(p.ao_out[i] == 0.0f);
+				continue;
+			}
+			assert_true(isfinite(p.z_out[i]) && p.z_out[i] > 0.0f);
+			assert_true(p.ao_out[i] >= 0.1f - 1e-6f && p.ao_out[i] <= 0.9f + 1e-6f);
+		}
+	}
+	planes_free(&p);
+	fixture_free(&f);
+}
+
+static void process(struct dao_context *ctx, float *z, uint64_t index, float *ao)
+{
+	struct dao_error err;
+	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
+			       .stride = W * 4, .data = z};
+	struct dao_frame out = {.format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
+				.stride = W * 4, .data = ao};
+	if (dao_context_process(ctx, &in, NULL, index, &out, &err))
+		fail_msg("%s", err.message);
+}
+
+static struct dao_context *make(const struct dao_camera *cam, int motion, float temporal)
+{
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_LOW);
+	dao_params_stream_defaults(&p);
+	p.temporal = temporal;
+	p.depth_temporal_motion = motion;
+	struct dao_context *ctx;
+	struct dao_error err;
+	if (dao_context_create(&ctx, cam, &p, &err))
+		fail_msg("%s", err.message);
+	return ctx;
+}
+
+/* the same frame again and again with the AO history on: the motion is the
+ * identity (still), so the AO is that without motion, bit for bit */
+static void test_pipeline_still(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct dao_context *off = make(&f.cam, DAO_DEPTH_MOTION_OFF, 0.8f);
+	struct dao_context *icp = make(&f.cam, DAO_DEPTH_MOTION_ICP, 0.8f);
+	float *a0 = malloc(f.npix * 4), *a1 = malloc(f.npix * 4);
+	assert_true(a0 && a1);
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	render(&f, &id, 1, 1.0, 11u, f.z0);
+	for (unsigned k = 0; k < 4; k++) {
+		memcpy(f.z1, f.z0, f.npix * 4);
+		process(off, f.z0, k, a0);
+		process(icp, f.z1, k, a1);
+		assert_memory_equal(a0, a1, f.npix * 4);
+	}
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(icp, &mi);
+	assert_int_equal(mi.state, DAO_MOTION_STILL);
+	dao_context_destroy(off);
+	dao_context_destroy(icp);
+	free(a0), free(a1);
+	fixture_free(&f);
+}
+
+/* mean |a - b| over the pixels with depth */
+static double ao_mae(const float *a, const float *b, const float *z)
+{
+	double s = 0.0;
+	size_t n = 0;
+	for (size_t i = 0; i < (size_t)W * H; i++)
+		if (z[i] > 0.0f)
+			s += fabs(a[i] - b[i]), n++;
+	return n ? s / n : 0.0;
+}
+
+/* a pan of 1 degree a frame on clean depth: the frame's own AO (the same
+ * depth, no AO history) is the reference; the history left in place smears,
+ * carried it does not */
+static void test_pipeline_pan(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct dao_context *ref = make(&f.cam, DAO_DEPTH_MOTION_ICP, 0.0f);
+	struct dao_context *off = make(&f.cam, DAO_DEPTH_MOTION_OFF, 0.8f);
+	struct dao_context *icp = make(&f.cam, DAO_DEPTH_MOTION_ICP, 0.8f);
+	float *ar = malloc(f.npix * 4), *a0 = malloc(f.npix * 4), *a1 = malloc(f.npix * 4);
+	float *z = malloc(f.npix * 4);
+	assert_true(ar && a0 && a1 && z);
+	double e_off = 0.0, e_icp = 0.0;
+	for (unsigned k = 0; k < 6; k++) {
+		struct dao_pose c;
+		pose_from(&c, 1.0 * k, 0.0, 0.0, 0.0, 0.0);
+		render(&f, &c, 1, 0.0, 0u, f.z0);
+		memcpy(z, f.z0, f.npix * 4), process(ref, z, k, ar);
+		memcpy(z, f.z0, f.npix * 4), process(off, z, k, a0);
+		memcpy(z, f.z0, f.npix * 4), process(icp, z, k, a1);
+		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		dao_context_motion(icp, &mi);
+		if (k >= 1)
+			assert_int_equal(mi.state, DAO_MOTION_APPLIED);
+		if (k >= 2) {
+			e_off += ao_mae(a0, ar, f.z0);
+			e_icp += ao_mae(a1, ar, f.z0);
+		}
+	}
+	printf("pan 1 deg/frame, AO against the frame's own: history in place %.5f, carried "
+	       "%.5f\n", e_off / 4, e_icp / 4);
+	assert_true(e_icp < 0.5 * e_off);
+	dao_context_destroy(ref);
+	dao_context_destroy(off);
+	dao_context_destroy(icp);
+	free(ar), free(a0), free(a1), free(z);
+	fixture_free(&f);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_against_reference),
+		cmocka_unit_test(test_identity_bit_identical),
+		cmocka_unit_test(test_disocclusion),
+		cmocka_unit_test(test_out_of_frame),
+		cmocka_unit_test(test_fuzzed_poses),
+		cmocka_unit_test(test_pipeline_still),
+		cmocka_unit_test(test_pipeline_pan),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

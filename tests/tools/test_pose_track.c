@@ -1,0 +1,113 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * tools/common/pose_track.c (depthao process --pose-out, depthaod's stats):
+ * the pose accumulated from per-frame motions against poses composed here
+ * independently (a turn of 1 degree a frame about the vertical with a step
+ * along the view: after 90 frames a quarter turn, the camera on a known
+ * arc); refused, still-less and non-finite motions hold the pose; the
+ * quaternion round trip on every kind of rotation (trace above and below 0).
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "common/pose_track.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* the motion of a camera that turns by `deg` about its y axis and then steps `step` m
+ * along its new z: p_prev = R p + t with t = R (0, 0, step) */
+static void step_motion(struct dao_motion_info *mi, double deg, double step, int state)
+{
+	const double a = deg * M_PI / 180.0;
+	memset(mi, 0, sizeof *mi);
+	mi->size = sizeof *mi;
+	mi->state = state;
+	const double r[9] = {cos(a), 0, sin(a), 0, 1, 0, -sin(a), 0, cos(a)};
+	memcpy(mi->rotation, r, sizeof r);
+	mi->translation[0] = sin(a) * step;
+	mi->translation[2] = cos(a) * step;
+}
+
+static void test_accumulates(void **state)
+{
+	(void)state;
+	struct pose_track p;
+	pose_track_reset(&p);
+	struct dao_motion_info mi;
+	step_motion(&mi, 0.0, 0.0, DAO_MOTION_NONE);
+	pose_track_add(&p, &mi); /* the first frame */
+	for (int k = 1; k <= 90; k++) {
+		step_motion(&mi, 1.0, 0.01, k % 2 ? DAO_MOTION_APPLIED : DAO_MOTION_STILL);
+		pose_track_add(&p, &mi);
+		/* refused, none and broken estimates in between change nothing */
+		step_motion(&mi, 30.0, 1.0, DAO_MOTION_REFUSED);
+		pose_track_add(&p, &mi);
+		step_motion(&mi, 30.0, 1.0, DAO_MOTION_NONE);
+		pose_track_add(&p, &mi);
+		step_motion(&mi, 1.0, 0.01, DAO_MOTION_APPLIED);
+		mi.translation[1] = NAN;
+		pose_track_add(&p, &mi);
+	}
+	assert_int_equal(p.frames, 1 + 4 * 90);
+	assert_int_equal(p.accepted, 90);
+	assert_int_equal(p.refused, 90);
+	/* after k frames the heading is k degrees; the camera's position is the sum of
+	 * steps of 1 cm along the heading after each turn */
+	double x = 0.0, z = 0.0;
+	for (int k = 1; k <= 90; k++) {
+		x += 0.01 * sin(k * M_PI / 180.0);
+		z += 0.01 * cos(k * M_PI / 180.0);
+	}
+	assert_true(fabs(p.t[0] - x) < 1e-9 && fabs(p.t[1]) < 1e-12 && fabs(p.t[2] - z) < 1e-9);
+	/* a quarter turn about y: R = [[0,0,1],[0,1,0],[-1,0,0]] */
+	const double want[9] = {0, 0, 1, 0, 1, 0, -1, 0, 0};
+	for (int i = 0; i < 9; i++)
+		assert_true(fabs(p.r[i] - want[i]) < 1e-9);
+	double q[4];
+	pose_track_quat(p.r, q);
+	assert_true(fabs(q[1] - sin(M_PI / 4)) < 1e-9 && fabs(q[3] - cos(M_PI / 4)) < 1e-9);
+	assert_true(fabs(q[0]) < 1e-12 && fabs(q[2]) < 1e-12);
+}
+
+/* rotation -> quaternion -> rotation on axes and angles up to 180 degrees */
+static void test_quat_round_trip(void **state)
+{
+	(void)state;
+	const double axes[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.48, -0.6, 0.64}};
+	const double angles[5] = {0.0, 0.3, 2.0, 3.0, M_PI};
+	for (int a = 0; a < 4; a++)
+		for (int b = 0; b < 5; b++) {
+			const double s = sin(angles[b] / 2), n = sqrt(axes[a][0] * axes[a][0] +
+								      axes[a][1] * axes[a][1] +
+								      axes[a][2] * axes[a][2]);
+			const double q0[4] = {s * axes[a][0] / n, s * axes[a][1] / n, s * axes[a][2] / n,
+					      cos(angles[b] / 2)};
+			double r[9], q[4], r2[9];
+			pose_track_matrix(q0, r);
+			pose_track_quat(r, q);
+			assert_true(q[3] >= 0.0);
+			pose_track_matrix(q, r2);
+			for (int i = 0; i < 9; i++)
+				assert_true(fabs(r[i] - r2[i]) < 1e-12);
+			/* the same rotation as q0 (q or -q) */
+			const double d = fabs(q[0] * q0[0] + q[1] * q0[1] + q[2] * q0[2] + q[3] * q0[3]);
+			assert_true(fabs(d - 1.0) < 1e-12);
+		}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_accumulates),
+		cmocka_unit_test(test_quat_round_trip),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

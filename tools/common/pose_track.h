@@ -1,0 +1,34 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The camera's pose accumulated from the per-frame motion that
+ * depth-temporal-motion=icp estimates (dao_context_motion): camera to world,
+ * the world being the optical frame of the first frame (x right, y down,
+ * z forward; metres), so that x_world = R x_camera + t, as the TUM RGB-D
+ * trajectory format and `depthao synth`'s poses.txt have it.  A frame whose
+ * estimate was accepted (state APPLIED or STILL) moves the pose by it; any
+ * other (NONE: no history to compare with; REFUSED) keeps it, the motion
+ * taken as none, as the filter takes it.  What depthao process --pose-out
+ * and depthaod's stats share.
+ */
+#ifndef DAO_TOOLS_POSE_TRACK_H
+#define DAO_TOOLS_POSE_TRACK_H
+
+#include <depthao/context.h>
+
+struct pose_track {
+	double r[9];  /* row-major rotation, camera to world */
+	double t[3];  /* the optical centre in the world, m */
+	unsigned long long frames, accepted, refused; /* frames added; estimates used, refused */
+	int state, reason; /* the last frame's (enum dao_motion_state, dao_motion_info.reason) */
+};
+
+/* The identity, no frames. */
+void pose_track_reset(struct pose_track *p);
+/* One processed frame's motion. */
+void pose_track_add(struct pose_track *p, const struct dao_motion_info *mi);
+/* The rotation as a unit quaternion x, y, z, w (w >= 0). */
+void pose_track_quat(const double r[9], double q[4]);
+/* The rotation of a unit quaternion x, y, z, w. */
+void pose_track_matrix(const double q[4], double r[9]);
+
+#endif

@@ -1,0 +1,69 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * depthao process --pose-out FILE: the camera pose of every frame as
+ * depth-temporal-motion=icp estimated it, accumulated from frame to frame
+ * (common/pose_track.h), one line a frame in the TUM RGB-D trajectory format
+ * that `depthao synth --trajectory` writes as poses.txt.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <depthao/depthao.h>
+
+#include "process.h"
+
+int process_pose_open(const struct process_options *o, struct run_state *st)
+{
+	if (!o->pose_out)
+		return 0;
+	st->pose = fopen(o->pose_out, "w");
+	if (!st->pose) {
+		fprintf(stderr, "depthao: cannot write --pose-out '%s': %s\n", o->pose_out,
+			strerror(errno));
+		return 1;
+	}
+	fprintf(st->pose, "# depthao process: the camera pose estimated from the depth "
+		"(depth-temporal-motion icp)\n# timestamp tx ty tz qx qy qz qw\n");
+	pose_track_reset(&st->track);
+	return 0;
+}
+
+int process_pose_write(const struct process_options *o, struct run_state *st,
+		       const struct dao_frame *depth, uint64_t n)
+{
+	if (!st->pose)
+		return 0;
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(st->ctx, &mi);
+	pose_track_add(&st->track, &mi);
+	if (n == 0)
+		st->pose_t0 = depth->timestamp_ns;
+	/* the recording's clock from its first frame, else the frame number at --pose-fps */
+	const double time = depth->timestamp_ns && st->pose_t0
+				    ? (double)(depth->timestamp_ns - st->pose_t0) * 1e-9
+				    : (double)n / o->pose_fps;
+	double q[4];
+	const double *t = st->track.t;
+	pose_track_quat(st->track.r, q);
+	if (fprintf(st->pose, "%.6f %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", time, t[0], t[1],
+		    t[2], q[0], q[1], q[2], q[3]) < 0) {
+		fprintf(stderr, "depthao: cannot write --pose-out '%s': %s\n", o->pose_out,
+			strerror(errno));
+		return 1;
+	}
+	return 0;
+}
+
+int process_pose_close(const struct process_options *o, struct run_state *st, int status)
+{
+	if (!st->pose)
+		return status;
+	if (fclose(st->pose) && !status) {
+		fprintf(stderr, "depthao: cannot write --pose-out '%s': %s\n", o->pose_out,
+			strerror(errno));
+		status = 1;
+	}
+	st->pose = NULL;
+	return status;
+}
