@@ -240,10 +240,10 @@ def main():
 
         # errors
         bad = os.path.join(tmp, "bad.txt")
-        cases = [("1.0 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n", "time order"),
+        cases = [("1.0 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n", "bad.txt:2: timestamp 0.500000 does not follow"),
                  ("1.0 0 0 0 0 0 0 2\n", "norm 2"),
-                 ("1.0 0 0 0 0 0 1\n", "found 7"),
-                 ("1.0 0 0 0 nan 0 0 1\n", "found 4"),
+                 ("1.0 0 0 0 0 0 1\n", "number 8 is missing"),
+                 ("1.0 0 0 0 nan 0 0 1\n", "not finite"),
                  ("# nothing\n", "no poses")]
         for text, want in cases:
             with open(bad, "w") as f:
@@ -255,7 +255,7 @@ def main():
         check("--depth-temporal" in err, "--poses without the temporal filter: %r" % err.strip())
         err = process(cli, seq, os.path.join(tmp, "x"), "--poses", os.path.join(tmp, "missing"),
                       expect=1)
-        check("cannot open poses file" in err, "a missing poses file: %r" % err.strip())
+        check("--poses: cannot open" in err, "a missing poses file: %r" % err.strip())
 
 
 if __name__ == "__main__":

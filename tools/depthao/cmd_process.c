@@ -724,9 +724,9 @@ struct run_poses {
 /* The trajectory and camera.json's fps (default 30): 0 or the exit status. */
 static int load_poses(const struct process_options *o, struct run_poses *rp)
 {
-	char msg[512];
-	if (poses_file_read(o->poses, &rp->pf, msg, sizeof msg)) {
-		fprintf(stderr, "depthao: %s\n", msg);
+	struct dao_error err;
+	if (poses_file_read(o->poses, &rp->pf, &err)) {
+		fprintf(stderr, "depthao: --poses: %s\n", err.message);
 		return 1;
 	}
 	rp->fps = 30.0;

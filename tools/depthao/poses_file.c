@@ -7,120 +7,27 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Entries at most (a day at 1 kHz is 86 M: this is a file of some GB). */
-#define POSES_MAX_ENTRIES 100000000u
-
 void poses_file_free(struct poses_file *pf)
 {
-	free(pf->t);
-	free(pf->pose);
+	synth_pose_list_free(&pf->list);
+	free(pf->q);
 	memset(pf, 0, sizeof *pf);
 }
 
-static int grow(struct poses_file *pf, size_t *cap)
-{
-	if (pf->n < *cap)
-		return 0;
-	const size_t c = *cap ? 2 * *cap : 256;
-	if (c > POSES_MAX_ENTRIES)
-		return -1;
-	double *t = realloc(pf->t, c * sizeof *t);
-	if (t)
-		pf->t = t;
-	double *p = t ? realloc(pf->pose, c * 7 * sizeof *p) : NULL;
-	if (!p)
-		return -1;
-	pf->pose = p;
-	*cap = c;
-	return 0;
-}
-
-/* One data line into v[8]: 0, or -1 with the reason in msg. */
-static int parse_line(const char *s, double v[8], char *msg, size_t len)
-{
-	for (int k = 0; k < 8; k++) {
-		char *end;
-		errno = 0;
-		v[k] = strtod(s, &end);
-		if (end == s || errno == ERANGE || !isfinite(v[k])) {
-			snprintf(msg, len, "expected 8 finite numbers (timestamp tx ty tz qx qy qz qw), "
-				 "found %d", k);
-			return -1;
-		}
-		s = end;
-	}
-	s += strspn(s, " \t\r\n");
-	if (*s) {
-		snprintf(msg, len, "more than 8 values");
-		return -1;
-	}
-	const double n = sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
-	if (fabs(n - 1.0) > 1e-3) {
-		snprintf(msg, len, "the quaternion qx qy qz qw has norm %g, not 1", n);
-		return -1;
-	}
-	for (int k = 4; k < 8; k++)
-		v[k] /= n;
-	return 0;
-}
-
-static int read_lines(FILE *f, const char *path, struct poses_file *pf, char *msg, size_t len)
-{
-	char line[1024], why[160];
-	size_t cap = 0;
-	for (unsigned long no = 1; fgets(line, sizeof line, f); no++) {
-		if (!strchr(line, '\n') && !feof(f)) {
-			snprintf(msg, len, "%s:%lu: line longer than %zu bytes", path, no,
-				 sizeof line - 2);
-			return -1;
-		}
-		const char *s = line + strspn(line, " \t\r\n");
-		if (!*s || *s == '#')
-			continue;
-		double v[8];
-		if (parse_line(s, v, why, sizeof why)) {
-			snprintf(msg, len, "%s:%lu: %s", path, no, why);
-			return -1;
-		}
-		if (pf->n && !(v[0] > pf->t[pf->n - 1])) {
-			snprintf(msg, len, "%s:%lu: timestamp %.6f does not follow %.6f: the poses "
-				 "must be in time order", path, no, v[0], pf->t[pf->n - 1]);
-			return -1;
-		}
-		if (grow(pf, &cap)) {
-			snprintf(msg, len, "%s: out of memory or more than %u poses", path,
-				 POSES_MAX_ENTRIES);
-			return -1;
-		}
-		pf->t[pf->n] = v[0];
-		memcpy(pf->pose + 7 * pf->n, v + 1, 7 * sizeof(double));
-		pf->n++;
-	}
-	if (ferror(f)) {
-		snprintf(msg, len, "%s: read error", path);
-		return -1;
-	}
-	if (!pf->n) {
-		snprintf(msg, len, "%s: no poses (expected lines 'timestamp tx ty tz qx qy qz qw')",
-			 path);
-		return -1;
-	}
-	return 0;
-}
-
-int poses_file_read(const char *path, struct poses_file *pf, char *msg, size_t len)
+int poses_file_read(const char *path, struct poses_file *pf, struct dao_error *err)
 {
 	memset(pf, 0, sizeof *pf);
-	FILE *f = fopen(path, "r");
-	if (!f) {
-		snprintf(msg, len, "cannot open poses file '%s': %s", path, strerror(errno));
-		return -1;
-	}
-	int r = read_lines(f, path, pf, msg, len);
-	fclose(f);
+	int r = synth_poses_read(path, &pf->list, err);
 	if (r)
+		return r;
+	pf->q = malloc(pf->list.count * 4 * sizeof(double));
+	if (!pf->q) {
 		poses_file_free(pf);
-	return r;
+		return dao_error_set(err, -ENOMEM, "out of memory for the poses of '%s'", path);
+	}
+	for (size_t k = 0; k < pf->list.count; k++)
+		synth_quat_from_matrix(pf->list.pose[k].R, pf->q + 4 * k);
+	return 0;
 }
 
 static void slerp(const double a[4], const double b_in[4], double u, double out[4])
@@ -147,32 +54,34 @@ static void slerp(const double a[4], const double b_in[4], double u, double out[
 
 int poses_file_at(const struct poses_file *pf, double t, double q[4], double p[3])
 {
-	if (!pf->n || !isfinite(t))
+	const size_t n = pf->list.count;
+	const double *ts = pf->list.time;
+	if (!n || !isfinite(t))
 		return 0;
 	/* the last pose at or before t */
-	size_t lo = 0, hi = pf->n;
+	size_t lo = 0, hi = n;
 	while (hi - lo > 1) {
 		const size_t mid = lo + (hi - lo) / 2;
-		if (pf->t[mid] <= t)
+		if (ts[mid] <= t)
 			lo = mid;
 		else
 			hi = mid;
 	}
-	const double *a = pf->pose + 7 * lo;
 	size_t near = lo;
-	if (lo + 1 < pf->n && fabs(pf->t[lo + 1] - t) < fabs(pf->t[lo] - t))
+	if (lo + 1 < n && fabs(ts[lo + 1] - t) < fabs(ts[lo] - t))
 		near = lo + 1;
-	if (fabs(pf->t[near] - t) <= POSES_EXACT) {
-		memcpy(p, pf->pose + 7 * near, 3 * sizeof(double));
-		memcpy(q, pf->pose + 7 * near + 3, 4 * sizeof(double));
+	if (fabs(ts[near] - t) <= POSES_EXACT) {
+		memcpy(p, pf->list.pose[near].t, 3 * sizeof(double));
+		memcpy(q, pf->q + 4 * near, 4 * sizeof(double));
 		return 1;
 	}
-	if (t < pf->t[0] || lo + 1 >= pf->n || pf->t[lo + 1] - pf->t[lo] > POSES_MAX_GAP)
+	if (t < ts[0] || lo + 1 >= n || ts[lo + 1] - ts[lo] > POSES_MAX_GAP)
 		return 0;
-	const double *b = a + 7, u = (t - pf->t[lo]) / (pf->t[lo + 1] - pf->t[lo]);
+	const double u = (t - ts[lo]) / (ts[lo + 1] - ts[lo]);
+	const double *a = pf->list.pose[lo].t, *b = pf->list.pose[lo + 1].t;
 	for (int k = 0; k < 3; k++)
 		p[k] = a[k] + u * (b[k] - a[k]);
-	slerp(a + 3, b + 3, u, q);
+	slerp(pf->q + 4 * lo, pf->q + 4 * lo + 4, u, q);
 	return 1;
 }
 

@@ -11,19 +11,22 @@
 
 #include <stddef.h>
 
+#include <depthao/error.h>
+
+#include "synth/trajectory.h"
+
 /* Poses more than this apart in time (s) are not interpolated between. */
 #define POSES_MAX_GAP 0.25
 /* A timestamp within this (s) of a pose takes it as it is. */
 #define POSES_EXACT 1e-6
 
 struct poses_file {
-	size_t n;
-	double *t;       /* seconds, strictly increasing */
-	double *pose;    /* 7 per entry: tx ty tz qx qy qz qw (unit quaternion) */
+	struct synth_pose_list list; /* read by tools/synth/trajectory_file.c */
+	double *q;                   /* its rotations as quaternions x, y, z, w */
 };
 
-/* 0, or -1 with what is wrong (and where) in msg. */
-int poses_file_read(const char *path, struct poses_file *pf, char *msg, size_t len);
+/* 0, or a negative errno with what is wrong (and where) in err. */
+int poses_file_read(const char *path, struct poses_file *pf, struct dao_error *err);
 void poses_file_free(struct poses_file *pf);
 
 /* 1 and the pose at time t (q = x, y, z, w; p = translation), or 0 where the
