@@ -283,6 +283,18 @@ struct dao_motion_info {
 	float rms;             /* their RMS point-to-plane residual, m */
 	float condition;       /* smallest / largest eigenvalue of the scaled 6x6 system */
 	int iterations;        /* Gauss-Newton steps run */
+	/* where the motion came from: 0 the depth (ICP, or nothing with state NONE),
+	 * 1 the poses given with dao_context_set_pose (depth-temporal-motion=source),
+	 * 2 ICP seeded with them (source+icp) */
+	int origin;
+	uint32_t reserved;     /* 0; no tail padding a later field could fall into */
+};
+
+/* dao_motion_info.origin */
+enum dao_motion_origin {
+	DAO_MOTION_FROM_DEPTH = 0,
+	DAO_MOTION_FROM_SOURCE,
+	DAO_MOTION_FROM_SOURCE_ICP,
 };
 
 /* A struct dao_motion_info with its size set and every field 0. */
@@ -297,6 +309,23 @@ static inline void dao_context_motion(const struct dao_context *ctx, struct dao_
 {
 	(void)dao_context_motion_sized(ctx, out, sizeof(*out));
 }
+
+/*
+ * The camera's pose for the next dao_context_process() call, from the source
+ * (a recording's tf or odometry, a trajectory file, a tracker): `rotation` a
+ * unit quaternion x, y, z, w (w last) of the rotation from the camera's
+ * optical frame (x right, y down, z forward) to a fixed world frame,
+ * `translation` the optical centre in that frame, metres; x_world =
+ * R x_camera + t.  rotation NULL: no pose for that frame.  The pose is used
+ * by one process call, the next, and then forgotten; the motion between the
+ * poses of two consecutive frames drives depth-temporal-motion=source (as is)
+ * and source+icp (ICP's seed); the other modes ignore it.  -EINVAL with a
+ * message for a NULL context, a non-finite value, a quaternion whose norm
+ * is not 1 within 1e-3 (it is normalised), or a translation beyond 1e6 m;
+ * the context then has no pose for the next frame.
+ */
+DAO_API int dao_context_set_pose(struct dao_context *ctx, const double rotation[4],
+				 const double translation[3], struct dao_error *err);
 
 /* The kernel set the context runs (its "simd" parameter with AUTO resolved). */
 DAO_API enum dao_simd dao_context_simd(const struct dao_context *ctx);

@@ -78,6 +78,11 @@ enum dao_depth_motion {
 	DAO_DEPTH_MOTION_ICP,     /* the motion estimated from the depth (point-to-plane ICP)
 				   * carries the history into the new view; where the
 				   * estimate is refused, as OFF */
+	DAO_DEPTH_MOTION_SOURCE,  /* the motion between the poses the caller gives
+				   * (dao_context_set_pose) carries the history, as is;
+				   * without a pose for this frame and the last, as OFF */
+	DAO_DEPTH_MOTION_SOURCE_ICP, /* ICP seeded with the given poses' motion; without
+				      * them, as ICP */
 };
 
 /* How normals are derived from depth (`normals`). */

@@ -85,7 +85,7 @@ ROW("depth-temporal-reject", "streams: the depth history of a pixel restarts whe
     FLOAT, depth_temporal_reject, 0.5, 100.0, NULL, RT, 3.0f)
 ROW("depth-temporal-persist", "streams: frames a pixel that lost its depth keeps the filtered value (0 = never invent depth)", "frames",
     INT, depth_temporal_persist, 0, 30, NULL, RT, 0)
-ROW("depth-temporal-motion", "streams: follow the camera's motion with the 1/z history: off, or icp (the motion estimated from the depth; where refused, as off)", NULL,
+ROW("depth-temporal-motion", "streams: follow the camera's motion with the 1/z history: off, icp (the motion estimated from the depth; where refused, as off), source (the motion between the poses given with the frames), or source+icp (ICP seeded with it)", NULL,
     ENUM, depth_temporal_motion, 0, 0, depth_motion_names, RT, DAO_DEPTH_MOTION_OFF)
 ROW("depth-fill", "filtered depth output only (dao_context_get_depth, algorithm none): holes of at most this many pixels along a row filled linearly where the depths on both sides lie on one surface, within 3 %; the normals and AO never read them (0 = off)", "px",
     INT, depth_fill, 0, 64, NULL, RT, 0)

@@ -45,6 +45,7 @@
 #include "pipeline/kernels.h"
 #include "pipeline/temporal_depth.h"
 #include "motion/icp.h"
+#include "motion/pose_prior.h"
 #include "motion/reproject.h"
 #include "motion/ao_reproject.h"
 #include "pipeline/threadpool.h"
@@ -96,6 +97,8 @@ struct dao_context {
 	/* ... and with temporal > 0 the AO history's second planes
 	 * (motion/ao_reproject.h), which swap with hist_ao and hist_z */
 	float *ao_motion_mem, *ao_motion_ao, *ao_motion_z;
+	int motion_origin;            /* ... enum dao_motion_origin */
+	struct dao_pose_prior poses;  /* dao_context_set_pose (motion/pose_prior.h) */
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -209,7 +212,7 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		ctx->thick_scratch = s;
 		ctx->thick_slots = dao_pool_threads(ctx->pool);
 	}
-	if (p->depth_temporal_motion == DAO_DEPTH_MOTION_ICP && !ctx->motion_mem) {
+	if (p->depth_temporal_motion != DAO_DEPTH_MOTION_OFF && !ctx->motion_mem) {
 		dao_icp_setup_default(&ctx->icp);
 		const size_t sf = dao_icp_scratch_floats(&ctx->icp, w, h);
 		/* scratch, 1/z, then the count and age bytes (rounded to floats) */
@@ -221,7 +224,7 @@ static int ensure_buffers(struct dao_context *ctx, const struct dao_params *p,
 		ctx->motion_count = (uint8_t *)(ctx->motion_hist + ctx->npix);
 		ctx->motion_age = ctx->motion_count + ctx->npix;
 	}
-	if (p->depth_temporal_motion == DAO_DEPTH_MOTION_ICP && p->temporal > 0.0f &&
+	if (p->depth_temporal_motion != DAO_DEPTH_MOTION_OFF && p->temporal > 0.0f &&
 	    !ctx->ao_motion_mem) {
 		if (!(ctx->ao_motion_mem = malloc(2 * ctx->npix * sizeof(float))))
 			return dao_error_set(err, -ENOMEM, "out of memory for depth-temporal-motion");
@@ -401,6 +404,15 @@ void dao_context_reset(struct dao_context *ctx)
 	ctx->hist_valid = 0;
 	ctx->depth_hist_valid = 0;
 	dao_noise_reuse_restart(&ctx->noise_reuse);
+	dao_pose_prior_clear(&ctx->poses);
+}
+
+int dao_context_set_pose(struct dao_context *ctx, const double rotation[4],
+			 const double translation[3], struct dao_error *err)
+{
+	if (!ctx)
+		return dao_error_set(err, -EINVAL, "context is NULL");
+	return dao_pose_prior_set(&ctx->poses, rotation, translation, err);
 }
 
 int dao_context_get_params_sized(const struct dao_context *ctx, struct dao_params *out,
@@ -1090,7 +1102,9 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 		seed = *prior;
 	ctx->motion_applied = 0;
 	ctx->motion_ran = 0;
-	if (!job->depth_temporal || ctx->params.depth_temporal_motion != DAO_DEPTH_MOTION_ICP ||
+	ctx->motion_origin = DAO_MOTION_FROM_DEPTH;
+	const int mode = ctx->params.depth_temporal_motion;
+	if (!job->depth_temporal || mode == DAO_DEPTH_MOTION_OFF ||
 	    job->depth_temporal_setup.fresh || !ctx->motion_mem)
 		return;
 	/* the pairs weighed by the noise the filter uses (measured, or the
@@ -1099,8 +1113,21 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	ctx->icp.quantum = job->depth_temporal_setup.quantum;
 	ctx->icp.pairs = ctx->kernels.icp_pairs;
 	ctx->icp.pool = ctx->pool;
-	dao_icp_estimate(&ctx->icp, &ctx->cam, ctx->depth_hist, ctx->depth_count, ctx->z_raw,
-			 prior ? &seed : NULL, ctx->icp_scratch, &ctx->motion);
+	/* source, source+icp: the motion between the poses given (motion/pose_prior.h) */
+	struct dao_pose given;
+	const int have_given = mode != DAO_DEPTH_MOTION_ICP &&
+			       dao_pose_prior_relative(&ctx->poses, &given);
+	if (mode == DAO_DEPTH_MOTION_SOURCE && !have_given)
+		return;
+	if (mode == DAO_DEPTH_MOTION_SOURCE) {
+		dao_pose_prior_result(&ctx->icp, &ctx->cam, ctx->z_raw, &given, &ctx->motion);
+		ctx->motion_origin = DAO_MOTION_FROM_SOURCE;
+	} else {
+		if (have_given)
+			seed = given, prior = &seed, ctx->motion_origin = DAO_MOTION_FROM_SOURCE_ICP;
+		dao_icp_estimate(&ctx->icp, &ctx->cam, ctx->depth_hist, ctx->depth_count,
+				 ctx->z_raw, prior ? &seed : NULL, ctx->icp_scratch, &ctx->motion);
+	}
 	ctx->motion_ran = 1;
 	if (!ctx->motion.valid ||
 	    dao_pose_pixel_extent(&ctx->motion.pose, &ctx->cam, ctx->motion.near_z) < 0.02)
@@ -1407,6 +1434,7 @@ static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
 	frame_job_init(ctx, &job, depth, ao, frame_index);
 	job.shade_out = shaded;
 	continue_histories(ctx, frame_index);
+	dao_pose_prior_begin(&ctx->poses);
 	noise_and_filter_init(ctx, &job, &dt);
 	ctx->have_frame = 0;
 	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
@@ -1442,6 +1470,7 @@ static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
 	ctx->have_frame = 1;
 	ctx->have_index = 1;
 	ctx->last_frame_index = frame_index;
+	dao_pose_prior_end(&ctx->poses);
 	return 0;
 }
 
@@ -1640,6 +1669,7 @@ int dao_context_motion_sized(const struct dao_context *ctx, struct dao_motion_in
 		m.rms = r->rms;
 		m.condition = r->cond;
 		m.iterations = r->iterations;
+		m.origin = ctx->motion_origin;
 	}
 	return dao_sized_copy_out(out, size, &m, sizeof m);
 }

@@ -23,6 +23,15 @@
 static int vbao_image;
 /* HBAO instead of GTAO (its tile kernel, in strips at 640 wide) */
 static int hbao;
+/* depth-temporal-motion with the measured noise: icp, or source / source+icp with a
+ * pose given before every frame (1 mm sideways a frame) */
+static int motion_mode = DAO_DEPTH_MOTION_ICP;
+
+static int give_pose(struct dao_context *ctx, int i, struct dao_error *err)
+{
+	const double q[4] = {0, 0, 0, 1}, t[3] = {0.001 * i, 0, 0};
+	return motion_mode == DAO_DEPTH_MOTION_ICP ? 0 : dao_context_set_pose(ctx, q, t, err);
+}
 
 /* frames of W x H (at most 640 x 480: the noise estimate's cells are then
  * more than a small sort keeps on the stack) */
@@ -57,7 +66,7 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	/* the camera-motion estimate with the measured noise (with the fixed
 	 * model the temporal filter runs fused in the decode, as by default) */
 	if (noise_model != DAO_NOISE_MODEL_FIXED)
-		p.depth_temporal_motion = DAO_DEPTH_MOTION_ICP;
+		p.depth_temporal_motion = motion_mode;
 	if (vbao_image) {
 		p.algorithm = DAO_ALGORITHM_VBAO;
 		p.vbao_thickness_mode = DAO_VBAO_THICKNESS_IMAGE;
@@ -83,11 +92,15 @@ static int run_size(int W, int H, enum dao_quality q, int noise, int prefilter, 
 	int r = 0;
 	/* warm-up: the first frames may fill lazily built tables */
 	for (int i = 0; i < 3 && !r; i++)
-		r = dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
+		r = give_pose(ctx, i, &err) ||
+		    dao_context_process(ctx, &in, NULL, (uint64_t)i, &ao, &err) ||
 		    dao_context_shade(ctx, &sh, &err);
 	dao_test_alloc_start();
 	for (int i = 3; i < 103 && !r; i++) {
 		/* every other frame the AO and the shading in one call */
+		r = give_pose(ctx, i, &err);
+		if (r)
+			break;
 		if (i & 1)
 			r = dao_context_process_shaded(ctx, &in, NULL, (uint64_t)i, &ao, &sh, &err);
 		else
@@ -142,6 +155,10 @@ int main(void)
 	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_BILATERAL, DAO_NOISE_MODEL_AUTO);
 	r |= run_size(640, 480, DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_DOMAIN,
 		      DAO_NOISE_MODEL_AUTO);
+	for (motion_mode = DAO_DEPTH_MOTION_SOURCE; motion_mode <= DAO_DEPTH_MOTION_SOURCE_ICP;
+	     motion_mode++)
+		r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_DOMAIN, DAO_NOISE_MODEL_AUTO);
+	motion_mode = DAO_DEPTH_MOTION_ICP;
 	vbao_image = 1;
 	r |= run(DAO_QUALITY_DEFAULT, DAO_NOISE_TILE, DAO_PREFILTER_DOMAIN, DAO_NOISE_MODEL_AUTO);
 	vbao_image = 0;

@@ -207,6 +207,8 @@ static const struct frozen layout[] = {
 	F(dao_plugin, description, 24),
 	F(dao_plugin, source, 32),
 	F(dao_plugin, sink, 40),
+	F(dao_motion_info, origin, 128),
+	F(dao_motion_info, reserved, 132),
 };
 
 static void test_layout_frozen(void **state)
@@ -237,7 +239,7 @@ static void test_layout_frozen(void **state)
 			 DAO_END_OF(struct dao_sink_frame_info, capture_ns));
 	assert_int_equal(sizeof(struct dao_timings), DAO_END_OF(struct dao_timings, noise_ms));
 	assert_int_equal(sizeof(struct dao_motion_info),
-			 DAO_END_OF(struct dao_motion_info, iterations));
+			 DAO_END_OF(struct dao_motion_info, reserved));
 	assert_int_equal(sizeof(struct dao_noise_info),
 			 DAO_END_OF(struct dao_noise_info, cells_measured));
 	assert_int_equal(sizeof(struct dao_camera), DAO_END_OF(struct dao_camera, by));

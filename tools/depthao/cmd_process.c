@@ -23,7 +23,9 @@
 #include "file_list.h"
 #include "common/pixel_limit.h"
 #include "process.h"
+#include "poses_file.h"
 #include "progress.h"
+#include <json-c/json.h>
 
 
 
@@ -57,6 +59,11 @@ static void usage(FILE *out)
 		"  --start N                 recordings: first frame, 0-based (default 0)\n"
 		"  --frames N                at most N frames (required for live devices)\n"
 		"  --realtime                recordings: pace frames by their timestamps\n"
+		"  --poses FILE              PNG directory: the camera's pose per frame, TUM format\n"
+		"                            ('timestamp tx ty tz qx qy qz qw'); a frame's time is\n"
+		"                            its file name (1305031102.160407.png) or its index /\n"
+		"                            camera.json's fps (default 30).  Sets\n"
+		"                            --depth-temporal-motion source unless given\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
 		"  --overlay-out DIR         recordings and devices with colour: the colour image\n"
@@ -208,6 +215,7 @@ static int string_option(int argc, char **argv, int *i, struct process_options *
 		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
 		{ "--cloud-out", &o->cloud_out }, { "--mcap-out", &o->mcap_out },
 		{ "--depth-out", &o->depth_out }, { "--pose-out", &o->pose_out },
+		{ "--poses", &o->poses },
 		{ "--intrinsics", &o->intrinsics },
 		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 	};
@@ -318,10 +326,11 @@ static int check_options(struct process_options *o)
 		return usage_error("process", "nothing to write: give --ao-out, --shaded-out, "
 				   "--overlay-out, --cloud-out, --mcap-out, --depth-out and/or "
 				   "--pose-out");
-	if (o->pose_out && (o->params.depth_temporal_motion != DAO_DEPTH_MOTION_ICP ||
+	if (o->pose_out && ((o->params.depth_temporal_motion == DAO_DEPTH_MOTION_OFF && !o->poses) ||
 			    !(o->params.depth_temporal > 0.0f)))
 		return usage_error("process", "--pose-out writes the camera motion that "
-				   "depth-temporal-motion estimates: give --depth-temporal-motion icp%s",
+				   "depth-temporal-motion follows: give --depth-temporal-motion icp "
+				   "(or --poses FILE)%s",
 				   o->params.depth_temporal > 0.0f ? ""
 				   : " and the temporal depth filter (--depth-temporal 0.8)");
 	if (o->params.algorithm == DAO_ALGORITHM_NONE &&
@@ -344,6 +353,14 @@ static int check_options(struct process_options *o)
 		       !(o->f[1] > 0 && o->f[1] < 180)))
 		return usage_error("process", "--fov '%s' must be two angles H,V in (0, 180) degrees",
 				   o->fov);
+	if (o->poses && process_input_is_stream(o->input))
+		return usage_error("process", "--poses applies to PNG directories; a recording's "
+				   "tf or odometry is not read yet (docs/motion.md)");
+	if (o->poses && !(o->params.depth_temporal > 0.0f))
+		return usage_error("process", "--poses moves the temporal depth filter's history "
+				   "with the camera: give --depth-temporal X (e.g. 0.8) too");
+	if (o->poses && o->params.depth_temporal_motion == DAO_DEPTH_MOTION_OFF)
+		o->params.depth_temporal_motion = DAO_DEPTH_MOTION_SOURCE;
 	struct dao_error err;
 	if (dao_params_validate(&o->params, &err))
 		return usage_error("process", "%s", err.message);
@@ -724,9 +741,53 @@ static int process_file(const struct process_options *o, struct run_state *st)
 	return status;
 }
 
+/* --poses: the trajectory and the frames' rate (for names that are not times) */
+struct run_poses {
+	struct poses_file pf;
+	double fps;
+	size_t missing; /* frames the file had no pose for */
+};
+
+/* The trajectory and camera.json's fps (default 30): 0 or the exit status. */
+static int load_poses(const struct process_options *o, struct run_poses *rp)
+{
+	struct dao_error err;
+	if (poses_file_read(o->poses, &rp->pf, &err)) {
+		fprintf(stderr, "depthao: --poses: %s\n", err.message);
+		return 1;
+	}
+	rp->fps = 30.0;
+	char *cj = path_join(o->input, "camera.json");
+	struct json_object *root = cj ? json_object_from_file(cj) : NULL, *v;
+	if (root && json_object_object_get_ex(root, "fps", &v)) {
+		const double f = json_object_get_double(v);
+		if (f > 0.0 && f <= 1e6)
+			rp->fps = f;
+	}
+	json_object_put(root);
+	free(cj);
+	return 0;
+}
+
+/* The pose of frame i (file `name`) for the context, or none where the file has none. */
+static int give_pose(struct run_state *st, struct run_poses *rp, const char *name, size_t i)
+{
+	double t, q[4], p[3];
+	if (!poses_name_time(name, &t))
+		t = (double)i / rp->fps;
+	const int have = poses_file_at(&rp->pf, t, q, p);
+	rp->missing += !have;
+	struct dao_error err;
+	if (dao_context_set_pose(st->ctx, have ? q : NULL, p, &err)) {
+		fprintf(stderr, "depthao: frame %s: %s\n", name, err.message);
+		return 1;
+	}
+	return 0;
+}
+
 /* Every PNG of a directory, in name order, with a progress bar: the exit status. */
 static int process_files(const struct process_options *o, struct run_state *st,
-			 const struct file_list *files)
+			 const struct file_list *files, struct run_poses *rp)
 {
 	struct progress bar;
 	int status = 0;
@@ -746,7 +807,9 @@ static int process_files(const struct process_options *o, struct run_state *st,
 			status = 1;
 		} else {
 			struct process_paths out = { ao, sh, NULL, pc, dp };
-			status = process_one(o, st, in, &out, o->frame_index + i);
+			status = o->poses ? give_pose(st, rp, files->names[i], i) : 0;
+			if (!status)
+				status = process_one(o, st, in, &out, o->frame_index + i);
 		}
 		free(in);
 		free(ao);
@@ -780,9 +843,19 @@ int cmd_process(int argc, char **argv)
 	if ((status = prepare_outputs(&o, is_dir, &files)))
 		return status;
 	struct run_state st = { 0 };
-	status = open_run(&o, is_dir, &files, &st);
+	struct run_poses rp = { 0 };
+	if (o.poses && !is_dir)
+		status = usage_error("process", "--poses needs a directory of PNG frames");
+	if (!status && o.poses)
+		status = load_poses(&o, &rp);
 	if (!status)
-		status = is_dir ? process_files(&o, &st, &files) : process_file(&o, &st);
+		status = open_run(&o, is_dir, &files, &st);
+	if (!status)
+		status = is_dir ? process_files(&o, &st, &files, &rp) : process_file(&o, &st);
+	if (!status && o.poses && rp.missing)
+		fprintf(stderr, "depthao: %s had no pose for %zu of %zu frames (filtered without "
+			"motion)\n", o.poses, rp.missing, files.count);
+	poses_file_free(&rp.pf);
 	if (!status && !o.quiet)
 		process_print_summary(&o, &st); /* no overlay from PNG input */
 	status = process_mcap_close(&st, status);

@@ -27,6 +27,7 @@ struct process_options {
 	const char *cloud_out;  /* --cloud-out: a directory, or one FILE.ply */
 	const char *mcap_out;   /* --mcap-out: FILE.mcap[?sink options] */
 	const char *depth_out;  /* --depth-out: the filtered depth, 16-bit PNGs */
+	const char *poses;      /* --poses: a TUM-format trajectory beside PNG input */
 	double depth_out_unit;  /* --depth-out-unit: metres per count written (0 = the input's) */
 	int cloud_filtered;     /* --cloud-depth filtered: clouds of the filtered depth */
 	double depth_unit;
