@@ -10,7 +10,7 @@
 
 #include "motion/icp.h"
 #include "motion/icp_pairs.h"
-#include "pipeline/threadpool.h"
+#include "core/threadpool.h"
 
 enum { SOA = 6 }; /* x, y, z, nx, ny, nz */
 
@@ -358,9 +358,12 @@ static void step_setup(const struct dao_icp_setup *s, const struct dao_camera *c
 		.edge = s->edge,
 	};
 	st->noise_weight = 1;
-	/* float depth without a noise figure: a floor of 0.1 mm */
-	if (!(st->q2 >= 1e-8f))
-		st->q2 = 1e-8f;
+	/* float depth without a noise figure (clean, rendered depth): a floor
+	 * of 1 mm, the order of the residual a pixel's sampling leaves on a
+	 * slanted surface at a few metres (0.1 mm kept only the surfaces
+	 * facing the camera, and a room became a flat wall) */
+	if (!(st->q2 >= 1e-6f))
+		st->q2 = 1e-6f;
 }
 
 /*

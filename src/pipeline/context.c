@@ -48,7 +48,7 @@
 #include "motion/pose_prior.h"
 #include "motion/reproject.h"
 #include "motion/ao_reproject.h"
-#include "pipeline/threadpool.h"
+#include "core/threadpool.h"
 #include "shade/colormap.h"
 #include "shade/shade.h"
 #include "simd/cpu_internal.h"

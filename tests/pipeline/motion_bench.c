@@ -24,7 +24,7 @@
 #include "motion/reproject.h"
 #ifndef MOTION_BENCH_MAIN
 #include "pipeline/kernels.h"
-#include "pipeline/threadpool.h"
+#include "core/threadpool.h"
 #endif
 
 enum { MAXF = 64 };

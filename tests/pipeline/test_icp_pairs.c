@@ -30,7 +30,7 @@
 #include "motion/icp.h"
 #include "motion/icp_pairs.h"
 #include "pipeline/kernels.h"
-#include "pipeline/threadpool.h"
+#include "core/threadpool.h"
 #include "test_icp_scene.h"
 
 enum { STEP = 4, R = 6 };

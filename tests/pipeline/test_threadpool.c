@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "common/cmocka_all.h"
-#include "pipeline/threadpool.h"
+#include "core/threadpool.h"
 
 #define ROWS 4000
 

@@ -4,7 +4,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 
-#include "pipeline/threadpool.h"
+#include "core/threadpool.h"
 
 struct dao_pool {
 	int nworkers;
