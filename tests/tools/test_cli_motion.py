@@ -205,7 +205,7 @@ def pose_out(cli, tmp):
             check("--picture-frame 4: the sequence has 4 frames" in err, err)
     err = run(cli, "process", "--input", os.path.join(out, "boxes-pan-30", "depth"),
               "--pose-out", os.path.join(tmp, "x.txt"), expect=2)
-    check("give --depth-temporal-motion icp and the temporal depth filter" in err, err)
+    check("give --depth-temporal-motion icp (or --poses FILE) and the temporal depth filter" in err, err)
 
 
 def main():
