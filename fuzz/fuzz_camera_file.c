@@ -7,16 +7,13 @@
  * crash, a sanitizer report, an error without a message, or a camera that
  * dao_camera_from_intrinsics() would refuse.
  */
-#define _GNU_SOURCE /* memfd_create */
 #include <math.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include "common/camera_file.h"
 #include "common/camera_info_yaml.h"
+#include "harness.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -33,21 +30,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		abort();
 	}
 
-	int fd = memfd_create("fuzz-camera", MFD_CLOEXEC);
-	if (fd < 0)
-		abort();
-	if (size && write(fd, data, size) != (ssize_t)size)
-		abort();
-	char path[64];
-	snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+	static struct fuzz_file file;
+	fuzz_file_store(&file, "fuzz-camera", NULL, data, size);
 	struct dao_camera cam;
 	msg[0] = '\0';
-	if (camera_file_load(path, &cam, warning, sizeof warning, msg, sizeof msg)) {
+	if (camera_file_load(file.path, &cam, warning, sizeof warning, msg, sizeof msg)) {
 		if (!msg[0])
 			abort();
 	} else if (!(cam.fx > 0 && cam.fy > 0 && isfinite(cam.cx) && isfinite(cam.cy))) {
 		abort();
 	}
-	close(fd);
 	return 0;
 }

@@ -6,29 +6,17 @@
  * config_load() + config_check() as the daemon reads it.  Any outcome is fine
  * except a crash, a sanitizer report, or an error without a message or line.
  */
-#define _GNU_SOURCE /* memfd_create, fmemopen */
+#define _GNU_SOURCE /* fmemopen */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include "../tools/depthaod/config.h"
 #include "../tools/depthaod/ini_file.h"
+#include "harness.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-static int fd = -1;
-static char path[64];
-
-static void setup(void)
-{
-	fd = memfd_create("fuzz-ini", MFD_CLOEXEC);
-	if (fd < 0)
-		abort();
-	snprintf(path, sizeof(path), "/proc/self/fd/%d", fd);
-}
 
 static int blank(char c)
 {
@@ -55,8 +43,6 @@ static int check_pair(void *user, const char *section, const char *key, const ch
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	if (fd == -1)
-		setup();
 	char msg[600] = "";
 	unsigned line = 0, n = 0;
 	FILE *f = fmemopen((void *)data, size ? size : 1, "r");
@@ -69,14 +55,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (r == -1 && (!line || !msg[0]))
 		abort();
 
-	if (ftruncate(fd, 0) < 0 || pwrite(fd, data, size, 0) != (ssize_t)size)
-		abort();
+	static struct fuzz_file file;
+	fuzz_file_store(&file, "fuzz-ini", NULL, data, size);
 	struct daemon_config *c = malloc(sizeof *c);
 	if (!c)
 		abort();
 	config_defaults(c);
 	msg[0] = 0;
-	r = config_load(c, path, msg, sizeof msg);
+	r = config_load(c, file.path, msg, sizeof msg);
 	if (r < 0 && !msg[0])
 		abort();
 	if (r == 0) {

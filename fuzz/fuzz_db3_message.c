@@ -17,17 +17,15 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
 
-#include <depthao/plugin.h>
+#include "harness.h"
 
 #define MAX_PIXELS (1024u * 1024u)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static char path[64], uri[80];
-static struct dao_plugins *plugins;
+static char path[128], uri[160];
+static const int codes[] = { -EINVAL, -EIO, -ENOMEM, -ENOENT, -EFBIG, 0 };
 
 static const char *const schema =
 	"CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
@@ -41,13 +39,9 @@ static const char *const schema =
 
 static void setup(void)
 {
-	struct dao_error err;
 	sqlite3 *db;
-	if (dao_plugins_load(&plugins, "", &err) < 0)
-		abort();
-	snprintf(path, sizeof(path), "/tmp/fuzz-db3-%ld.db3", (long)getpid());
+	snprintf(path, sizeof(path), "%s/fuzz.db3", fuzz_temp_dir());
 	snprintf(uri, sizeof(uri), "db3:%s", path);
-	unlink(path);
 	if (sqlite3_open(path, &db) != SQLITE_OK || sqlite3_exec(db, schema, NULL, NULL, NULL))
 		abort();
 	sqlite3_close(db);
@@ -98,58 +92,11 @@ static int store(const uint8_t *d, size_t n)
 	return 0;
 }
 
-static void check_error(int ret, const struct dao_error *err)
-{
-	if (ret != -EINVAL && ret != -EIO && ret != -ENOMEM && ret != -ENOENT && ret != -EFBIG)
-		abort();
-	if (!err->message[0] || err->code != ret)
-		abort();
-}
-
-static void play(void)
-{
-	struct dao_source *s = NULL;
-	struct dao_error err = {0};
-	int ret = dao_source_open_limited(plugins, uri, NULL, MAX_PIXELS, &s, &err);
-	if (ret < 0) {
-		if (s)
-			abort();
-		check_error(ret, &err);
-		return;
-	}
-	struct dao_source_info in;
-	dao_source_get_info(s, &in);
-	if ((uint64_t)in.width * in.height > MAX_PIXELS || in.frame_count != 2)
-		abort();
-	if (dao_source_start(s, &err) < 0)
-		abort();
-	for (int pass = 0; pass < 2; pass++) {
-		for (;;) {
-			struct dao_source_frame f;
-			err.message[0] = 0;
-			ret = dao_source_read(s, &f, 0, &err);
-			if (ret == DAO_SOURCE_EOS)
-				break;
-			if (ret < 0) {
-				check_error(ret, &err);
-				continue;
-			}
-			if (f.depth.width != in.width || f.depth.height != in.height ||
-			    f.depth.format != in.format)
-				abort();
-			dao_source_release(s, &f);
-		}
-		if (pass == 0 && dao_source_seek(s, 0, &err) < 0)
-			abort();
-	}
-	dao_source_close(s);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	if (!plugins)
+	if (!path[0])
 		setup();
 	if (store(data, size) == 0)
-		play();
+		fuzz_play_source(uri, MAX_PIXELS, 2, codes);
 	return 0;
 }

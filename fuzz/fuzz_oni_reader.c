@@ -7,79 +7,36 @@
  * Any outcome is fine except a crash, a sanitizer report, an error without
  * a message, or an error code the API does not document.
  */
-#define _GNU_SOURCE /* memfd_create */
 #include <errno.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <unistd.h>
 
 #include <depthao/frame.h>
 #include <depthao/oni.h>
+
+#include "harness.h"
 
 /* Output frames larger than this are not allocated (the reader itself caps sizes at 16384). */
 #define MAX_PIXELS (4096u * 4096u)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static int fd = -1;
-static char path[64];
-
-static void setup(void)
-{
-#ifdef MFD_CLOEXEC
-	fd = memfd_create("fuzz-oni", MFD_CLOEXEC);
-	if (fd >= 0) {
-		snprintf(path, sizeof(path), "/proc/self/fd/%d", fd);
-		if (access(path, R_OK) == 0)
-			return;
-		close(fd);
-	}
-#endif
-	snprintf(path, sizeof(path), "/tmp/fuzz-oni-%ld.oni", (long)getpid());
-	fd = -2; /* plain file, rewritten for every input */
-}
-
-static int store(const uint8_t *data, size_t size)
-{
-	if (fd >= 0) {
-		if (ftruncate(fd, 0) != 0)
-			return -1;
-		return pwrite(fd, data, size, 0) == (ssize_t)size ? 0 : -1;
-	}
-	FILE *f = fopen(path, "wb");
-	if (!f)
-		return -1;
-	size_t n = size ? fwrite(data, 1, size, f) : 0;
-	return fclose(f) == 0 && n == size ? 0 : -1;
-}
-
-static void check_error(int ret, const struct dao_error *err)
-{
-	/* documented codes only, always with a message */
-	if (ret != -EINVAL && ret != -EIO && ret != -ENOMEM && ret != -ENOENT && ret != -EACCES &&
-	    ret != -ENOTSUP)
-		abort();
-	if (!err->message[0] || err->code != ret)
-		abort();
-}
+/* documented codes only, always with a message */
+static const int codes[] = { -EINVAL, -EIO, -ENOMEM, -ENOENT, -EACCES, -ENOTSUP, 0 };
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	if (path[0] == 0)
-		setup();
-	if (store(data, size) != 0)
-		abort();
+	static struct fuzz_file file;
+	fuzz_file_store(&file, "fuzz.oni", NULL, data, size);
 
 	struct dao_oni_reader *r = NULL;
 	struct dao_error err = {0};
-	int ret = dao_oni_reader_open(path, &r, &err);
+	int ret = dao_oni_reader_open(file.path, &r, &err);
 	if (ret < 0) {
 		if (r)
 			abort();
-		check_error(ret, &err);
+		fuzz_check_error(ret, &err, codes);
 		return 0;
 	}
 	uint32_t n = dao_oni_reader_stream_count(r);
@@ -102,7 +59,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 				err.message[0] = 0;
 				ret = dao_oni_reader_read_color(r, s, k, &c, &err);
 				if (ret < 0)
-					check_error(ret, &err);
+					fuzz_check_error(ret, &err, codes);
 				else if (k == in->frame_count)
 					abort();
 			}
@@ -129,7 +86,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			err.message[0] = 0;
 			ret = dao_oni_reader_read_depth(r, s, k, &f, &err);
 			if (ret < 0)
-				check_error(ret, &err);
+				fuzz_check_error(ret, &err, codes);
 			else if (k == in->frame_count)
 				abort(); /* one past the end must fail */
 		}

@@ -10,25 +10,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "db3/db3_reader.h"
+#include "harness.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	static char dir[64]; /* one directory for the whole run */
-	if (!dir[0]) {
-		snprintf(dir, sizeof dir, "%s", "/tmp/fuzz-rosbag2.XXXXXX");
-		if (!mkdtemp(dir))
-			abort();
-	}
+	const char *dir = fuzz_temp_dir(); /* one directory for the whole run */
 	char name[96];
 	snprintf(name, sizeof name, "%s/metadata.yaml", dir);
-	FILE *f = fopen(name, "wb");
-	if (!f || (size && fwrite(data, 1, size, f) != size) || fclose(f))
-		abort();
+	fuzz_write_file(name, data, size);
 	struct dao_rosbag2_meta m;
 	struct dao_error err = {0};
 	if (dao_rosbag2_metadata(dir, &m, &err) < 0) {

@@ -5,57 +5,29 @@
 # frames as 16-bit PNGs with the same intrinsics; the errors a user can cause.
 # usage: test_cli_bag.sh DEPTHAO PNG_INFO DEPTHAOD
 . "$(dirname "$0")/../tools/cli_lib.sh"
+. "$(dirname "$0")/../tools/recording_lib.sh"
 DAEMON=$3
 BAGS="$WORK/bags"
-
-set +e
-/usr/bin/python3 "${DAO_MAKE_BAGS:?}" "$BAGS"
-st=$?
-set -e
-[ "$st" -eq 77 ] && exit 77 # python3-rosbag is not installed (the script said so)
-[ "$st" -eq 0 ] || { echo "make_bags.py failed ($st)"; exit 1; }
+make_recordings /usr/bin/python3 "${DAO_MAKE_BAGS:?}" "$BAGS"
 
 # the reference: the PNG frames with camera.json beside them (no temporal filter on PNGs)
-expect_exit 0 "PNG frames" -- "$DEPTHAO" process --input "$BAGS/png" --ao-out "$WORK/png-ao" \
-	--shaded-out "$WORK/png-sh"
-grep -q "using intrinsics from" "$WORK/err" || fail "PNG run did not use camera.json: $(cat "$WORK/err")"
-[ "$(ls "$WORK/png-ao" | wc -l)" -eq 5 ] || fail "PNG run: $(ls "$WORK/png-ao" | wc -l) AO files"
-
-# a bag is a stream (the temporal depth filter is on by default): off to compare frame by frame
+png_reference "$BAGS"
 for comp in none bz2 lz4; do
-	expect_exit 0 "$comp bag" -- "$DEPTHAO" process --input "$BAGS/d16_$comp.bag" \
-		--depth-temporal 0 --ao-out "$WORK/$comp-ao" --shaded-out "$WORK/$comp-sh"
-	grep -q "intrinsics from the source: fx 60.00 fy 61.00 cx 31.50 cy 23.25" "$WORK/err" ||
-		fail "$comp: intrinsics not from the CameraInfo: $(cat "$WORK/err")"
-	[ "$(ls "$WORK/$comp-ao" | wc -l)" -eq 5 ] || fail "$comp: $(ls "$WORK/$comp-ao" | wc -l) AO files"
-	for f in 000000 000001 000002 000003 000004; do
-		cmp -s "$WORK/$comp-ao/$f.png" "$WORK/png-ao/$f.png" || fail "$comp: AO $f differs from the PNG run"
-		cmp -s "$WORK/$comp-sh/$f.png" "$WORK/png-sh/$f.png" || fail "$comp: shaded $f differs"
-	done
+	same_as_png "$comp" "$BAGS/d16_$comp.bag"
 done
 png_is "$WORK/lz4-ao/000004.png" "64 48 gray16"
 
-# RealSense layout: counts of 0.1 mm, the same as the PNGs read with --depth-unit 0.0001
-expect_exit 0 "PNG frames at 0.1 mm" -- "$DEPTHAO" process --input "$BAGS/png" --depth-unit 0.0001 \
-	--ao-out "$WORK/png-rs" --quiet
-expect_exit 0 "RealSense bag" -- "$DEPTHAO" process --input "$BAGS/realsense.bag" --depth-temporal 0 \
-	--ao-out "$WORK/rs-ao" --quiet
-for f in 000000 000004; do
-	cmp -s "$WORK/rs-ao/$f.png" "$WORK/png-rs/$f.png" || fail "RealSense: AO $f differs from 0.1 mm PNGs"
-done
-cmp -s "$WORK/rs-ao/000000.png" "$WORK/png-ao/000000.png" && fail "RealSense: the 0.1 mm unit changed nothing"
+# RealSense layout: counts of 0.1 mm, the same as the PNGs read with --depth-unit 0.0001;
 # a plain ROS bag's 16UC1 counts take --depth-unit (and ?unit=) like PNGs
+unit_as_png "$BAGS" "$BAGS/realsense.bag"
+unit_as_png "$BAGS" "$BAGS/d16_bz2.bag?unit=0.0001"
 expect_exit 0 "--depth-unit on a bag" -- "$DEPTHAO" process --input "$BAGS/d16_bz2.bag" \
 	--depth-unit 0.0001 --depth-temporal 0 --frames 1 --ao-out "$WORK/unit-opt" --quiet
-expect_exit 0 "?unit= on a bag" -- "$DEPTHAO" process --input "$BAGS/d16_bz2.bag?unit=0.0001" \
-	--depth-temporal 0 --frames 1 --ao-out "$WORK/unit-uri" --quiet
-cmp -s "$WORK/unit-opt/000000.png" "$WORK/png-rs/000000.png" || fail "--depth-unit 0.0001 on a bag"
-cmp -s "$WORK/unit-uri/000000.png" "$WORK/png-rs/000000.png" || fail "?unit=0.0001 on a bag"
+cmp -s "$WORK/unit-opt/000000.png" "$WORK/png-unit/000000.png" || fail "--depth-unit 0.0001 on a bag"
 
 # two depth topics: refused with the candidates; ?topic= picks one (--start/--frames by index)
-expect_exit 1 "two topics" -- "$DEPTHAO" process --input "$BAGS/two.bag" --ao-out "$WORK/two" --quiet
-grep -q "choose one with ?topic=NAME: /cam1/depth/image_raw (16UC1), /cam2/depth/image_raw (16UC1)" \
-	"$WORK/err" || fail "two topics: $(cat "$WORK/err")"
+process_fails "$BAGS/two.bag" \
+	"choose one with ?topic=NAME: /cam1/depth/image_raw (16UC1), /cam2/depth/image_raw (16UC1)"
 expect_exit 0 "?topic=" -- "$DEPTHAO" process --input "bag:$BAGS/two.bag?topic=/cam2/depth/image_raw" \
 	--start 2 --frames 2 --depth-temporal 0 --ao-out "$WORK/cam2" --quiet
 [ "$(ls "$WORK/cam2" | tr '\n' ' ')" = "000002.png 000003.png " ] ||
@@ -63,9 +35,7 @@ expect_exit 0 "?topic=" -- "$DEPTHAO" process --input "bag:$BAGS/two.bag?topic=/
 # cam1 has the PNGs' frames (and no camera_info: given here), cam2 other ones
 expect_exit 0 "?topic= cam1" -- "$DEPTHAO" process --input "$BAGS/two.bag?topic=/cam1/depth/image_raw" \
 	--start 2 --frames 2 --depth-temporal 0 --intrinsics 60,61,31.5,23.25 --ao-out "$WORK/cam1" --quiet
-for f in 000002 000003; do
-	cmp -s "$WORK/cam1/$f.png" "$WORK/png-ao/$f.png" || fail "?topic= cam1: AO $f differs from the PNG run"
-done
+frames_as_png "?topic= cam1 --start 2 --frames 2" "$WORK/cam1" 000002 000003
 cmp -s "$WORK/cam1/000002.png" "$WORK/cam2/000002.png" && fail "?topic=: cam1 and cam2 gave the same AO"
 
 # a CameraInfo with distortion and a P other than K: P's intrinsics (the rectified image's,
@@ -85,8 +55,8 @@ cmp -s "$WORK/dist-ao/000000.png" "$WORK/png-ao/000000.png" && fail "distorted: 
 
 # a truncated bag: an error naming the file and the byte
 head -c 20000 "$BAGS/d16_none.bag" >"$WORK/cut.bag"
-expect_exit 1 "truncated bag" -- "$DEPTHAO" process --input "$WORK/cut.bag" --ao-out "$WORK/cut" --quiet
-grep -q "$WORK/cut.bag: byte 13: .*truncated" "$WORK/err" || fail "truncated bag: $(cat "$WORK/err")"
+process_fails "$WORK/cut.bag" "$WORK/cut.bag: byte 13: "
+grep -q "byte 13: .*truncated" "$WORK/err" || fail "truncated bag: $(cat "$WORK/err")"
 
 # the daemon: a .bag as its source, outputs equal to depthao process
 "$DAEMON" --source "$BAGS/d16_lz4.bag" --playback manual --set ao.depth-temporal=0 \

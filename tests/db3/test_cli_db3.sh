@@ -8,56 +8,24 @@
 # the frame count; colour overlays equal to the same messages' in MCAP; damaged databases.
 # usage: test_cli_db3.sh DEPTHAO PNG_INFO NODE
 . "$(dirname "$0")/../tools/cli_lib.sh"
+. "$(dirname "$0")/../tools/recording_lib.sh"
 NODE=$3
 B="$WORK/db3"
-command -v "$NODE" >/dev/null 2>&1 || { echo "SKIP: node is not installed"; exit 77; }
+need_program "$NODE"
+make_recordings "$NODE" "${DAO_MAKE_DB3:?}" "$B"
 
-set +e
-"$NODE" "${DAO_MAKE_DB3:?}" "$B"
-st=$?
-set -e
-[ "$st" -eq 77 ] && exit 77 # tests/js/node_modules is absent (the script said so)
-[ "$st" -eq 0 ] || { echo "make_db3.js failed ($st)"; exit 1; }
-
-expect_exit 0 "PNG frames" -- "$DEPTHAO" process --input "$B/png" --ao-out "$WORK/png-ao" \
-	--shaded-out "$WORK/png-sh" --quiet
+png_reference "$B"
 for f in d16.db3 cdepth.db3 bag split2 zfile zmsg bagmcap "db3:$B/d16.db3"; do
-	case "$f" in db3:*) in=$f; f=uri ;; *) in=$B/$f ;; esac
-	expect_exit 0 "$f" -- "$DEPTHAO" process --input "$in" --depth-temporal 0 \
-		--ao-out "$WORK/$f-ao" --shaded-out "$WORK/$f-sh" || continue
-	grep -q "intrinsics from the source: fx 60.00 fy 61.00 cx 31.50 cy 23.25" "$WORK/err" ||
-		fail "$f: intrinsics not from the CameraInfo: $(cat "$WORK/err")"
-	grep -q "warning" "$WORK/err" && fail "$f: a warning: $(cat "$WORK/err")"
-	[ "$(ls "$WORK/$f-ao" | wc -l)" -eq 5 ] || fail "$f: $(ls "$WORK/$f-ao" | wc -l) AO files"
-	for i in 000000 000001 000002 000003 000004; do
-		cmp -s "$WORK/$f-ao/$i.png" "$WORK/png-ao/$i.png" || fail "$f: AO $i differs from the PNG run"
-		cmp -s "$WORK/$f-sh/$i.png" "$WORK/png-sh/$i.png" || fail "$f: shaded $i differs"
-	done
+	case "$f" in db3:*) same_as_png uri "$f" ;; *) same_as_png "$f" "$B/$f" ;; esac
 done
 
 # the frame count, --start/--frames, ?topic= and ?unit= through the URI
-expect_exit 0 "db3: URI, --start 2 --frames 2" -- "$DEPTHAO" process \
-	--input "$B/d16.db3?topic=/camera/depth/image_raw&unit=0.001" --start 2 --frames 2 \
-	--depth-temporal 0 --ao-out "$WORK/start"
-grep -q "d16.db3: /camera/depth/image_raw 64x48 16UC1, 5 frames" "$WORK/err" || fail "frame count: $(cat "$WORK/err")"
-[ "$(ls "$WORK/start" | tr '\n' ' ')" = "000002.png 000003.png " ] ||
-	fail "--start 2 --frames 2 wrote: $(ls "$WORK/start" | tr '\n' ' ')"
-for i in 000002 000003; do
-	cmp -s "$WORK/start/$i.png" "$WORK/png-ao/$i.png" || fail "--start: AO $i differs"
-done
-expect_exit 1 "--start past the end" -- "$DEPTHAO" process --input "$B/d16.db3" --start 5 \
-	--ao-out "$WORK/past" --quiet
-grep -q "start frame 5 is past the end (topic '/camera/depth/image_raw' has 5 frames)" "$WORK/err" ||
-	fail "--start 5: $(cat "$WORK/err")"
-expect_exit 0 "?unit=" -- "$DEPTHAO" process --input "$B/bag?unit=0.0001" --frames 1 \
-	--depth-temporal 0 --ao-out "$WORK/unit" --quiet
-expect_exit 0 "PNG at 0.1 mm" -- "$DEPTHAO" process --input "$B/png" --depth-unit 0.0001 \
-	--ao-out "$WORK/png-unit" --quiet
-cmp -s "$WORK/unit/000000.png" "$WORK/png-unit/000000.png" || fail "?unit=0.0001 differs from PNGs"
-expect_exit 1 "missing topic" -- "$DEPTHAO" process --input "$B/d16.db3?topic=/nope" \
-	--ao-out "$WORK/n" --quiet
-grep -q "no image topic '/nope'; depth topics: /camera/depth/image_raw (16UC1)" "$WORK/err" ||
-	fail "missing topic: $(cat "$WORK/err")"
+start_frames "$B/d16.db3?topic=/camera/depth/image_raw&unit=0.001" \
+	"d16.db3: /camera/depth/image_raw 64x48 16UC1, 5 frames"
+process_fails "$B/d16.db3" "start frame 5 is past the end (topic '/camera/depth/image_raw' has 5 frames)" \
+	--start 5
+unit_as_png "$B" "$B/bag?unit=0.0001"
+process_fails "$B/d16.db3?topic=/nope" "no image topic '/nope'; depth topics: /camera/depth/image_raw (16UC1)"
 
 # colour (bgr8, 10 ms after the depth): the overlays are those of the same messages in MCAP
 for f in color.db3 color.mcap; do
@@ -75,8 +43,7 @@ cmp -s "$WORK/color.db3-ov/000000.png" "$WORK/color.db3-ov/000001.png" && fail "
 db3_error() { # INPUT MESSAGE [options]
 	in=$1 msg=$2
 	shift 2
-	expect_exit 1 "$in" -- "$DEPTHAO" process --input "$B/$in" --ao-out "$WORK/bad" --quiet "$@"
-	grep -qF "$B/$in: $msg" "$WORK/err" || fail "$in: $(cat "$WORK/err")"
+	process_fails "$B/$in" "$B/$in: $msg" "$@"
 	[ "$(wc -l <"$WORK/err")" -eq 1 ] || fail "$in: more than one line: $(cat "$WORK/err")"
 }
 db3_error notopics.db3 "no table 'topics': not a rosbag2 database (its tables are topics and messages)"
@@ -92,37 +59,20 @@ db3_error notsqlite.db3 "not a rosbag2 .db3 file (no SQLite 3 header)"
 expect_exit 0 "split: --start 1 --frames 3" -- "$DEPTHAO" process --input "$B/split2" --start 1 \
 	--frames 3 --depth-temporal 0 --ao-out "$WORK/split-start"
 grep -q "split2: /camera/depth/image_raw 64x48 16UC1, 5 frames" "$WORK/err" || fail "split frame count: $(cat "$WORK/err")"
-[ "$(ls "$WORK/split-start" | tr '\n' ' ')" = "000001.png 000002.png 000003.png " ] ||
-	fail "split --start 1 --frames 3 wrote: $(ls "$WORK/split-start" | tr '\n' ' ')"
-for i in 000001 000002 000003; do
-	cmp -s "$WORK/split-start/$i.png" "$WORK/png-ao/$i.png" || fail "split --start: AO $i differs"
-done
-expect_exit 1 "split bag, no files" -- "$DEPTHAO" process --input "$B/split" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/split: file 1 of the 2 its metadata.yaml lists (a split bag plays only with all its files): " "$WORK/err" || fail "split: $(cat "$WORK/err")"
+frames_as_png "split --start 1 --frames 3" "$WORK/split-start" 000001 000002 000003
+process_fails "$B/split" "$B/split: file 1 of the 2 its metadata.yaml lists (a split bag plays only with all its files): "
 grep -qF "split_0.db3" "$WORK/err" || fail "split: the file is not named: $(cat "$WORK/err")"
-expect_exit 1 "split bag, second file missing" -- "$DEPTHAO" process --input "$B/splitmiss" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/splitmiss: file 2 of the 2 its metadata.yaml lists (a split bag plays only with all its files): " "$WORK/err" &&
-	grep -qF "s_1.db3" "$WORK/err" || fail "splitmiss: $(cat "$WORK/err")"
-expect_exit 1 "split bag out of order" -- "$DEPTHAO" process --input "$B/splitorder" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/splitorder: $B/splitorder/s_0.db3 starts before the file before it ends on topic /camera/depth/camera_info: the files are not in the order of their messages' times" "$WORK/err" ||
-	fail "splitorder: $(cat "$WORK/err")"
+process_fails "$B/splitmiss" "$B/splitmiss: file 2 of the 2 its metadata.yaml lists (a split bag plays only with all its files): "
+grep -qF "s_1.db3" "$WORK/err" || fail "splitmiss: $(cat "$WORK/err")"
+process_fails "$B/splitorder" "$B/splitorder: $B/splitorder/s_0.db3 starts before the file before it ends on topic /camera/depth/camera_info: the files are not in the order of their messages' times"
 # rosbag2's compression, hostile: a bomb of each mode, data that is not zstd, another format
-expect_exit 1 "zstd bomb, file" -- "$DEPTHAO" process --input "$B/zbomb" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/zbomb/zbomb_0.db3.zstd: decompresses to more than 67108864 bytes (the limit for a file of its size): refused (if it is genuine, decompress it with zstd -d first)" "$WORK/err" ||
-	fail "zbomb: $(cat "$WORK/err")"
-expect_exit 1 "zstd bomb, message" -- "$DEPTHAO" process --input "$B/zmbomb" --ao-out "$WORK/bad" --quiet --max-pixels 1000
-grep -qF "$B/zmbomb/zmbomb_0.db3: message 0 of '/camera/depth/image_raw' (zstd, compression_mode message): decompresses to 8388608 bytes, over the limit of 1052576 (--max-pixels raises the limit)" "$WORK/err" ||
-	fail "zmbomb: $(cat "$WORK/err")"
-expect_exit 1 "not zstd" -- "$DEPTHAO" process --input "$B/znotz" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/znotz/znotz_0.db3.zstd: not zstd data, or damaged: " "$WORK/err" || fail "znotz: $(cat "$WORK/err")"
-expect_exit 1 "lz4 bag" -- "$DEPTHAO" process --input "$B/zlz4" --ao-out "$WORK/bad" --quiet
-grep -qF "$B/zlz4/metadata.yaml: compression_format 'lz4' (mode 'FILE'): depthao reads rosbag2's zstd, in file or message mode; decompress the bag first" "$WORK/err" ||
-	fail "zlz4: $(cat "$WORK/err")"
+process_fails "$B/zbomb" "$B/zbomb/zbomb_0.db3.zstd: decompresses to more than 67108864 bytes (the limit for a file of its size): refused (if it is genuine, decompress it with zstd -d first)"
+process_fails "$B/zmbomb" "$B/zmbomb/zmbomb_0.db3: message 0 of '/camera/depth/image_raw' (zstd, compression_mode message): decompresses to 8388608 bytes, over the limit of 1052576 (--max-pixels raises the limit)" --max-pixels 1000
+process_fails "$B/znotz" "$B/znotz/znotz_0.db3.zstd: not zstd data, or damaged: "
+process_fails "$B/zlz4" "$B/zlz4/metadata.yaml: compression_format 'lz4' (mode 'FILE'): depthao reads rosbag2's zstd, in file or message mode; decompress the bag first"
 # a directory whose metadata.yaml is not rosbag2's
 mkdir -p "$WORK/notbag" && printf 'hello: world\n' >"$WORK/notbag/metadata.yaml"
-expect_exit 1 "not rosbag2 metadata" -- "$DEPTHAO" process --input "$WORK/notbag" --ao-out "$WORK/bad" --quiet
-grep -qF "$WORK/notbag/metadata.yaml: no rosbag2_bagfile_information mapping" "$WORK/err" ||
-	fail "notbag: $(cat "$WORK/err")"
+process_fails "$WORK/notbag" "$WORK/notbag/metadata.yaml: no rosbag2_bagfile_information mapping"
 # the file is never written: opened read-only and immutable
 sum=$(cksum <"$B/d16.db3")
 expect_exit 0 "read-only" -- "$DEPTHAO" process --input "$B/d16.db3" --frames 1 --ao-out "$WORK/ro" --quiet

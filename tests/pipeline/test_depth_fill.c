@@ -21,21 +21,67 @@ static float truth(int x)
 	return 1.0f + 0.002f * (float)x + (x >= STEP_X ? 0.3f : 0.0f);
 }
 
-/* The holes: row 20 x 30..34 (5 px, inside the plane), row 40 x 50..59
- * (10 px), row 60 x 93..98 (across the step), row 70 x 0..2 (at the border). */
-static void make_scene(float *z)
+/* The holes of the scene, one row each, and the smallest limit that fills them
+ * (0: none does). */
+static const struct hole {
+	int y, x0, x1, fill_from;
+	const char *what;
+} holes[] = {
+	{ 20, 30, 34, 5, "5 px inside the plane" },
+	{ 40, 50, 59, 10, "10 px inside the plane" },
+	{ 60, 93, 98, 0, "across the depth step" },
+	{ 70, 0, 2, 0, "at the border" },
+};
+#define NHOLES (sizeof holes / sizeof holes[0])
+
+static int filled_at(const struct hole *h, int limit)
 {
+	return h->fill_from && limit >= h->fill_from;
+}
+
+/* What every case uses: the scene, outputs for it, the camera and parameters
+ * (one thread, no AO). */
+struct fixture {
+	float *in, *out, *off;
+	uint16_t *ao0, *ao1, *counts;
+	struct dao_camera cam;
+	struct dao_params p;
+	struct dao_context *ctx;
+};
+
+static int setup(void **state)
+{
+	struct fixture *fx = calloc(1, sizeof *fx);
+	assert_non_null(fx);
+	fx->in = malloc(3 * sizeof(float) * W * H); /* in, out, off */
+	fx->ao0 = malloc(3 * sizeof(uint16_t) * W * H); /* ao0, ao1, counts */
+	assert_true(fx->in && fx->ao0);
+	fx->out = fx->in + W * H;
+	fx->off = fx->out + W * H;
+	fx->ao1 = fx->ao0 + W * H;
+	fx->counts = fx->ao1 + W * H;
 	for (int y = 0; y < H; y++)
 		for (int x = 0; x < W; x++)
-			z[y * W + x] = truth(x);
-	for (int x = 30; x <= 34; x++)
-		z[20 * W + x] = 0.0f;
-	for (int x = 50; x <= 59; x++)
-		z[40 * W + x] = 0.0f;
-	for (int x = 93; x <= 98; x++)
-		z[60 * W + x] = 0.0f;
-	for (int x = 0; x <= 2; x++)
-		z[70 * W + x] = 0.0f;
+			fx->in[y * W + x] = truth(x);
+	for (size_t k = 0; k < NHOLES; k++)
+		for (int x = holes[k].x0; x <= holes[k].x1; x++)
+			fx->in[holes[k].y * W + x] = 0.0f;
+	assert_int_equal(dao_camera_from_intrinsics(&fx->cam, W, H, 110, 110, 63.5, 47.5, NULL), 0);
+	dao_params_init(&fx->p, DAO_QUALITY_DEFAULT);
+	fx->p.threads = 1;
+	fx->p.algorithm = DAO_ALGORITHM_NONE;
+	*state = fx;
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	struct fixture *fx = *state;
+	dao_context_destroy(fx->ctx);
+	free(fx->in);
+	free(fx->ao0);
+	free(fx);
+	return 0;
 }
 
 static struct dao_frame f32_frame(float *z)
@@ -44,171 +90,124 @@ static struct dao_frame f32_frame(float *z)
 				   .stride = 4 * W, .data = z };
 }
 
-/* The filtered depth of `in` (and the AO into `ao` unless NULL). */
-static void run(int algorithm, int fill, float *in, float *out, uint16_t *ao)
+/* Frame `t` of the scene with depth-fill FILL through the fixture's context
+ * (made at the first frame, its parameters set after): the filtered depth into
+ * `depth`, the AO into `ao` unless NULL. */
+static void process(struct fixture *fx, int fill, uint64_t t, struct dao_frame *depth,
+		    uint16_t *ao)
 {
-	struct dao_camera cam;
-	dao_camera_from_intrinsics(&cam, W, H, 110, 110, 63.5, 47.5, NULL);
-	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	p.threads = 1;
-	p.algorithm = algorithm;
-	p.depth_fill = fill;
-	struct dao_context *ctx = NULL;
 	struct dao_error err;
-	if (dao_context_create(&ctx, &cam, &p, &err))
-		fail_msg("create: %s", err.message);
-	struct dao_frame d = f32_frame(in), o = f32_frame(out);
+	struct dao_frame d = f32_frame(fx->in);
 	struct dao_frame a = { .format = DAO_PIXFMT_GRAY16, .width = W, .height = H,
 			       .stride = 2 * W, .data = ao };
-	if (dao_context_process(ctx, &d, NULL, 0, ao ? &a : NULL, &err) ||
-	    dao_context_get_depth(ctx, &o, &err))
-		fail_msg("process: %s", err.message);
-	dao_context_destroy(ctx);
+	fx->p.depth_fill = fill;
+	if ((fx->ctx ? dao_context_set_params(fx->ctx, &fx->p, &err)
+		     : dao_context_create(&fx->ctx, &fx->cam, &fx->p, &err)) ||
+	    dao_context_process(fx->ctx, &d, NULL, t, ao ? &a : NULL, &err) ||
+	    dao_context_get_depth(fx->ctx, depth, &err))
+		fail_msg("fill %d, frame %d: %s", fill, (int)t, err.message);
 }
 
+/* The filtered depth of a fresh context into `out` (and the AO into `ao` unless NULL). */
+static void run(struct fixture *fx, int algorithm, int fill, float *out, uint16_t *ao)
+{
+	struct dao_frame o = f32_frame(out);
+	dao_context_destroy(fx->ctx);
+	fx->ctx = NULL;
+	fx->p.algorithm = algorithm;
+	process(fx, fill, 0, &o, ao);
+}
+
+static int in_hole(int i, const struct hole *h)
+{
+	return i / W == h->y && i % W >= h->x0 && i % W <= h->x1;
+}
+
+/* Each limit fills the holes it reaches with the plane's depth (the samples beside
+ * them are the prefilter's, exact on a noise-free plane to well within a millimetre),
+ * leaves the others holes, and changes nothing else: the unfilled output, bit for bit. */
 static void test_fill_rule(void **state)
 {
-	(void)state;
-	float *in = malloc(sizeof(float) * W * H), *off = malloc(sizeof(float) * W * H),
-	      *out = malloc(sizeof(float) * W * H);
-	assert_non_null(in);
-	assert_non_null(off);
-	assert_non_null(out);
-	make_scene(in);
-	run(DAO_ALGORITHM_NONE, 0, in, off, NULL);
-	run(DAO_ALGORITHM_NONE, 8, in, out, NULL);
-	/* off: every hole stays */
-	assert_true(off[20 * W + 32] == 0.0f && off[40 * W + 55] == 0.0f);
-	/* the 5 px hole inside the plane: the plane's depth (the samples beside it are
-	 * the prefilter's, exact on a noise-free plane to well within a millimetre) */
-	for (int x = 30; x <= 34; x++)
-		if (!(fabsf(out[20 * W + x] - truth(x)) < 0.5e-3f))
-			fail_msg("x = %d: filled %.5f m, the plane %.5f m", x, (double)out[20 * W + x],
-				 (double)truth(x));
-	/* 10 px > 8: not filled; across the step: not filled; at the border: not filled */
-	for (int x = 50; x <= 59; x++)
-		assert_true(out[40 * W + x] == 0.0f);
-	for (int x = 93; x <= 98; x++)
-		assert_true(out[60 * W + x] == 0.0f);
-	for (int x = 0; x <= 2; x++)
-		assert_true(out[70 * W + x] == 0.0f);
-	/* everything else is the unfilled output, bit for bit */
-	for (int i = 0; i < W * H; i++)
-		if (!(i / W == 20 && i % W >= 30 && i % W <= 34))
-			assert_memory_equal(&out[i], &off[i], sizeof(float));
-	/* a limit of 10 fills the 10 px hole, with the plane's depth */
-	run(DAO_ALGORITHM_NONE, 10, in, out, NULL);
-	for (int x = 50; x <= 59; x++)
-		assert_true(fabsf(out[40 * W + x] - truth(x)) < 0.5e-3f);
-	assert_true(out[60 * W + 95] == 0.0f);
-	free(in);
-	free(off);
-	free(out);
+	struct fixture *fx = *state;
+	static const int limits[] = { 0, 4, 8, 10, 16 };
+	run(fx, DAO_ALGORITHM_NONE, 0, fx->off, NULL);
+	for (size_t l = 0; l < sizeof limits / sizeof limits[0]; l++) {
+		run(fx, DAO_ALGORITHM_NONE, limits[l], fx->out, NULL);
+		for (size_t k = 0; k < NHOLES; k++) {
+			const struct hole *h = &holes[k];
+			for (int x = h->x0; x <= h->x1; x++) {
+				const float got = fx->out[h->y * W + x];
+				if (filled_at(h, limits[l]) ? !(fabsf(got - truth(x)) < 0.5e-3f)
+							    : got != 0.0f)
+					fail_msg("limit %d, hole %s, x = %d: %.5f m (the plane %.5f m)",
+						 limits[l], h->what, x, (double)got, (double)truth(x));
+			}
+		}
+		for (int i = 0; i < W * H; i++) {
+			int filled = 0;
+			for (size_t k = 0; k < NHOLES; k++)
+				filled |= in_hole(i, &holes[k]) && filled_at(&holes[k], limits[l]);
+			if (!filled)
+				assert_memory_equal(&fx->out[i], &fx->off[i], sizeof(float));
+		}
+	}
 }
 
 /* The counts output is filled too: it is the same plane converted. */
 static void test_fill_counts(void **state)
 {
-	(void)state;
-	float *in = malloc(sizeof(float) * W * H);
-	uint16_t *q = malloc(2 * W * H);
-	assert_non_null(in);
-	assert_non_null(q);
-	make_scene(in);
-	struct dao_camera cam;
-	dao_camera_from_intrinsics(&cam, W, H, 110, 110, 63.5, 47.5, NULL);
-	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	p.threads = 1;
-	p.algorithm = DAO_ALGORITHM_NONE;
-	p.depth_fill = 8;
-	struct dao_context *ctx = NULL;
-	struct dao_error err;
-	struct dao_frame d = f32_frame(in);
+	struct fixture *fx = *state;
 	struct dao_frame o = { .format = DAO_PIXFMT_DEPTH16, .width = W, .height = H,
-			       .stride = 2 * W, .data = q, .depth_unit = 0.001f };
-	if (dao_context_create(&ctx, &cam, &p, &err) ||
-	    dao_context_process(ctx, &d, NULL, 0, NULL, &err) ||
-	    dao_context_get_depth(ctx, &o, &err))
-		fail_msg("%s", err.message);
-	for (int x = 30; x <= 34; x++)
-		assert_true(abs((int)q[20 * W + x] - (int)lrintf(truth(x) * 1000.0f)) <= 1);
-	assert_int_equal(q[60 * W + 95], 0);
-	dao_context_destroy(ctx);
-	free(in);
-	free(q);
+			       .stride = 2 * W, .data = fx->counts, .depth_unit = 0.001f };
+	process(fx, 8, 0, &o, NULL);
+	for (size_t k = 0; k < NHOLES; k++)
+		for (int x = holes[k].x0; x <= holes[k].x1; x++) {
+			const int got = fx->counts[holes[k].y * W + x];
+			if (filled_at(&holes[k], 8))
+				assert_true(abs(got - (int)lrintf(truth(x) * 1000.0f)) <= 1);
+			else
+				assert_int_equal(got, 0);
+		}
 }
 
 /* The AO (GTAO; VBAO with the thickness from the image, whose own dropout fill
  * is the same rule) is the same to the bit with and without depth-fill. */
 static void test_ao_unchanged(void **state)
 {
-	(void)state;
+	struct fixture *fx = *state;
 	static const int algos[] = { DAO_ALGORITHM_GTAO, DAO_ALGORITHM_VBAO };
-	float *in = malloc(sizeof(float) * W * H), *out = malloc(sizeof(float) * W * H);
-	uint16_t *a0 = malloc(2 * W * H), *a1 = malloc(2 * W * H);
-	assert_non_null(in);
-	assert_non_null(out);
-	assert_non_null(a0);
-	assert_non_null(a1);
-	make_scene(in);
 	for (size_t k = 0; k < sizeof algos / sizeof algos[0]; k++) {
-		run(algos[k], 0, in, out, a0);
-		assert_true(out[20 * W + 32] == 0.0f);
-		run(algos[k], 16, in, out, a1);
-		assert_true(out[20 * W + 32] > 0.0f); /* the fill ran ... */
-		assert_memory_equal(a0, a1, 2 * W * H); /* ... and the AO did not see it */
+		run(fx, algos[k], 0, fx->out, fx->ao0);
+		assert_true(fx->out[20 * W + 32] == 0.0f);
+		run(fx, algos[k], 16, fx->out, fx->ao1);
+		assert_true(fx->out[20 * W + 32] > 0.0f);         /* the fill ran ... */
+		assert_memory_equal(fx->ao0, fx->ao1, 2 * W * H); /* ... and the AO did not see it */
 	}
-	free(in);
-	free(out);
-	free(a0);
-	free(a1);
 }
 
 /* depth-fill is a runtime parameter: turned on and off on a running context, the next
  * frame's output follows (its plane allocated when it is first turned on). */
 static void test_fill_runtime(void **state)
 {
-	(void)state;
-	float *in = malloc(sizeof(float) * W * H), *out = malloc(sizeof(float) * W * H);
-	assert_non_null(in);
-	assert_non_null(out);
-	make_scene(in);
-	struct dao_camera cam;
-	dao_camera_from_intrinsics(&cam, W, H, 110, 110, 63.5, 47.5, NULL);
-	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	p.threads = 1;
-	p.algorithm = DAO_ALGORITHM_NONE;
-	struct dao_context *ctx = NULL;
-	struct dao_error err;
-	struct dao_frame d = f32_frame(in), o = f32_frame(out);
+	struct fixture *fx = *state;
 	static const int fills[] = { 0, 8, 0 };
+	struct dao_frame o = f32_frame(fx->out);
 	for (int k = 0; k < 3; k++) {
-		p.depth_fill = fills[k];
-		if ((k == 0 ? dao_context_create(&ctx, &cam, &p, &err)
-			    : dao_context_set_params(ctx, &p, &err)) ||
-		    dao_context_process(ctx, &d, NULL, (uint64_t)k, NULL, &err) ||
-		    dao_context_get_depth(ctx, &o, &err))
-			fail_msg("frame %d: %s", k, err.message);
+		process(fx, fills[k], (uint64_t)k, &o, NULL);
 		if (fills[k])
-			assert_true(fabsf(out[20 * W + 32] - truth(32)) < 0.5e-3f);
+			assert_true(fabsf(fx->out[20 * W + 32] - truth(32)) < 0.5e-3f);
 		else
-			assert_true(out[20 * W + 32] == 0.0f);
+			assert_true(fx->out[20 * W + 32] == 0.0f);
 	}
-	dao_context_destroy(ctx);
-	free(in);
-	free(out);
 }
 
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(test_fill_rule),
-		cmocka_unit_test(test_fill_counts),
-		cmocka_unit_test(test_ao_unchanged),
-		cmocka_unit_test(test_fill_runtime),
+		cmocka_unit_test_setup_teardown(test_fill_rule, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_fill_counts, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_ao_unchanged, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_fill_runtime, setup, teardown),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
