@@ -229,9 +229,10 @@ void dao_domain_pass_init(struct dao_domain_pass *p, const struct dao_domain_set
 
 size_t dao_domain_scratch_floats(int width, int height)
 {
-	/* and two per sample of a line: where it is between the knots */
+	/* and three per sample of a line: where it is between the knots, and
+	 * the causal sweep's blocks */
 	const size_t len = (size_t)(width > height ? width : height);
-	return ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 2) * len;
+	return ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 3) * len;
 }
 
 void dao_domain_filter(const struct dao_domain_setup *s, dao_domain_pass_fn pass, const float *z,

@@ -201,7 +201,7 @@ static inline void dao_domain_cell_pos(int n, int cells, int span, int *k, float
 void dao_domain_pass_ref(const struct dao_domain_pass *p, float *scratch, int lane0, int lane1);
 
 /* Lanes the optimised passes process together: a scratch of
- * ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 2) *
+ * ((DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * DAO_DOMAIN_STRIP + 3) *
  * len floats serves every set (dao_domain_scratch_floats). */
 #define DAO_DOMAIN_STRIP 16
 

@@ -152,22 +152,23 @@ dt_causal(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const
 		 * moments (the links' long chains overlap without the moments'
 		 * recursion in the way; the block stays in L1 between the loops) */
 		const size_t k = maps ? (size_t)c.pos[2 * b] : 0;
-		int e = b + 1;
-		while (e < len && e - b < DT_BLOCK && (!maps || (size_t)c.pos[2 * e] == k))
-			e++;
+		/* the block's end: the pass's setup stored it at its first sample
+		 * (dt_pos) */
+		const int e = maps ? (int)c.pos[2 * b + 1] : (len - b < DT_BLOCK ? len : b + DT_BLOCK);
 		const vf na = noise_map ? v_load(c.noise_knots + k) : c.noise;
 		const vf nd = noise_map ? v_load(c.noise_knots + k + VN) : zero;
-		const vf sa = scale_map ? v_load(c.scale_knots + k) : zero;
-		const vf sd = scale_map ? v_load(c.scale_knots + k + VN) : zero;
+		/* the spatial factor folded into the scale's knot and difference */
+		const vf sa = scale_map ? v_mul(c.spatial, v_load(c.scale_knots + k)) : zero;
+		const vf sd = scale_map ? v_mul(c.spatial, v_load(c.scale_knots + k + VN)) : zero;
 		for (int n = b; n < e; n++) {
 			const size_t at = (size_t)n * c.stride;
 			wm2 = wm1, wm1 = w0, w0 = wp1;
 			wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
-			const vf u = maps ? v_set1(c.pos[2 * n + 1]) : zero;
-			/* cell_value in domain.c: a + (b - a) u */
-			const vf noise = noise_map ? v_add(na, v_mul(nd, u)) : na;
-			const vf sp = scale_map ? v_mul(c.spatial, v_add(sa, v_mul(sd, u)))
-						: c.spatial_term;
+			const vf u = maps ? v_set1(c.pos[2 * len + n]) : zero;
+			/* cell_value in domain.c, a + (b - a) u, as one multiply-add
+			 * (the reference rounds the product: within an ulp) */
+			const vf noise = noise_map ? v_fma(nd, u, na) : na;
+			const vf sp = scale_map ? v_fma(sd, u, sa) : c.spatial_term;
 			vf inv_sigma;
 			const vf l = dt_link(&c, wm2, wm1, w0, wp1, noise, sp, &inv_sigma);
 			float *o = sc + (size_t)n * DAO_DOMAIN_SCRATCH * VN;
@@ -363,6 +364,32 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *po
 		dt_strip_sides(p, sc, pos, lane0, skip, 0);
 }
 
+/*
+ * Where each sample of a line is between the cells' knots, the same for every
+ * line: pos[2 len + n] = u of sample n; at the first sample b of each block of
+ * the causal sweep (at most DT_BLOCK samples between the same two knots)
+ * pos[2 b] = the knots' offset (k 2 VN) and pos[2 b + 1] = the block's end.
+ */
+static void dt_pos(const struct dao_domain_pass *p, float *pos)
+{
+	const int len = p->len;
+	int b = 0, kb = -1;
+	for (int n = 0; n <= len; n++) {
+		int k = -2;
+		float u = 0.0f;
+		if (n < len) {
+			dao_domain_cell_pos(n, p->line_cells, p->cell_span, &k, &u);
+			pos[2 * len + n] = u;
+		}
+		if (n > b && (k != kb || n - b == DT_BLOCK)) {
+			pos[2 * b] = (float)(kb * 2 * VN), pos[2 * b + 1] = (float)n;
+			b = n;
+		}
+		if (n == b)
+			kb = k;
+	}
+}
+
 void DAO_ISA_FN(dao_domain_pass)(const struct dao_domain_pass *p, float *scratch, int lane0,
 				 int lane1)
 {
@@ -370,12 +397,7 @@ void DAO_ISA_FN(dao_domain_pass)(const struct dao_domain_pass *p, float *scratch
 	 * for every line: after the largest scratch a strip uses */
 	float *pos = scratch + (size_t)(DAO_DOMAIN_SCRATCH + DAO_DOMAIN_KNOT_SCRATCH) * VN * p->len;
 	if (p->noise_cells || p->inv_scale_cells)
-		for (int n = 0; n < p->len; n++) {
-			int k;
-			float u;
-			dao_domain_cell_pos(n, p->line_cells, p->cell_span, &k, &u);
-			pos[2 * n] = (float)(k * 2 * VN), pos[2 * n + 1] = u;
-		}
+		dt_pos(p, pos);
 	int l0 = lane0;
 	for (; l0 + VN <= lane1; l0 += VN)
 		dt_strip(p, scratch, pos, l0, 0);
