@@ -373,20 +373,18 @@ static void dt_strip(const struct dao_domain_pass *p, float *sc, const float *po
 static void dt_pos(const struct dao_domain_pass *p, float *pos)
 {
 	const int len = p->len;
-	int b = 0, kb = -1;
-	for (int n = 0; n <= len; n++) {
-		int k = -2;
-		float u = 0.0f;
-		if (n < len) {
-			dao_domain_cell_pos(n, p->line_cells, p->cell_span, &k, &u);
-			pos[2 * len + n] = u;
-		}
-		if (n > b && (k != kb || n - b == DT_BLOCK)) {
-			pos[2 * b] = (float)(kb * 2 * VN), pos[2 * b + 1] = (float)n;
-			b = n;
-		}
-		if (n == b)
-			kb = k;
+	/* a loop the compiler vectorises, then the blocks' scan */
+	for (int n = 0; n < len; n++) {
+		int k;
+		float u;
+		dao_domain_cell_pos(n, p->line_cells, p->cell_span, &k, &u);
+		pos[2 * n] = (float)(k * 2 * VN), pos[2 * len + n] = u;
+	}
+	for (int b = 0, e; b < len; b = e) {
+		e = b + 1;
+		while (e < len && e - b < DT_BLOCK && pos[2 * e] == pos[2 * b])
+			e++;
+		pos[2 * b + 1] = (float)e;
 	}
 }
 
