@@ -114,6 +114,7 @@ static const struct dao_source_ops mcap_source_ops = {
 	.read = dao_ros2_source_read,
 	.seek = dao_ros2_source_seek,
 	.close = dao_ros2_source_close,
+	.frame_pose = dao_ros2_source_frame_pose,
 };
 
 const struct dao_plugin dao_builtin_mcap_plugin = {
