@@ -34,7 +34,11 @@ Checks, through the public API (source_poses.c: dao_source_frame_pose):
 4. error paths: split with --pose-frame map (not connected, the frames listed); a
    missing --pose-topic; a recording without /tf; PNG input with --pose-frame; an .oni.
 
-usage: test_cli_tf_poses.py DEPTHAO SOURCE_POSES MAKE_TF_BAG MAKE_TF_MCAP NODE
+5. depthaod with depth-temporal-motion source (manual playback, the filtered-depth
+   stream) gives process' filtered depth on each recording; on an .oni it says once that
+   the source has no poses and runs on.
+
+usage: test_cli_tf_poses.py DEPTHAO SOURCE_POSES MAKE_TF_BAG MAKE_TF_MCAP NODE DEPTHAOD
 """
 import json
 import math
@@ -47,7 +51,7 @@ import tempfile
 import numpy as np
 from PIL import Image
 
-DEPTHAO, SOURCE_POSES, MAKE_BAG, MAKE_MCAP, NODE = sys.argv[1:6]
+DEPTHAO, SOURCE_POSES, MAKE_BAG, MAKE_MCAP, NODE, DEPTHAOD = sys.argv[1:7]
 START_NS = 1700000000 * 10**9
 FRAME_ID = "camera_depth_optical_frame"
 FAILURES = []
@@ -332,6 +336,35 @@ def check_process(work, recs, plans_):
                 fail("%s %s: no warning of the skipped transform: %s" % (fmt, mode, err))
 
 
+def daemon_depth(work, tag, source):
+    out = os.path.join(work, "daemon-" + tag)
+    r = run([DEPTHAOD, "--source", source, "--playback", "manual", "--sink", "d=images:" + out,
+             "--stream", "d=filtered-depth", "--depth-temporal", "0.8", "--noise-interval", "15",
+             "--depth-temporal-motion", "source", "--algorithm", "none", "--stats-interval",
+             "0"], timeout=120)
+    if r.returncode or not os.path.isdir(out):
+        fail("depthaod %s: exit %d: %s" % (tag, r.returncode, r.stderr))
+        return None, r.stderr
+    return [np.asarray(Image.open(os.path.join(out, n))).astype(np.int32)
+            for n in sorted(os.listdir(out))], r.stderr
+
+
+def check_daemon(work, recs):
+    for fmt, paths in recs.items():
+        want, _ = depth_out(work, fmt + "-d", ["--input", paths["pan"], "--depth-temporal-motion",
+                                               "source", "--quiet"])
+        got, err = daemon_depth(work, fmt, paths["pan"])
+        if want is None or got is None:
+            continue
+        if len(got) != len(want) or any((a != b).any() for a, b in zip(got, want)):
+            fail("depthaod %s: the filtered depth differs from process' (%d frames)" %
+                 (fmt, len(got)))
+        else:
+            print("depthaod %s: %d frames, the filtered depth of process" % (fmt, len(got)))
+        if "skipped as malformed" not in err:
+            fail("depthaod %s: no warning of the skipped transform: %s" % (fmt, err))
+
+
 def expect_fail(tag, args, want, status=1):
     r = run([DEPTHAO, "process", "--algorithm", "none", "--depth-out",
              os.path.join(tempfile.gettempdir(), "unused")] + args)
@@ -369,6 +402,9 @@ def check_errors(work, recs, plans_):
         return fail("synth --oni: " + r.stderr)
     expect_fail("oni", ["--input", onis[0], "--depth-temporal-motion", "source"],
                 "source 'oni' carries no camera poses")
+    got, err = daemon_depth(work, "oni", onis[0])
+    if got is None or err.count("carries no camera poses") != 1:
+        fail("depthaod on an .oni with source motion: %s" % err)
 
 
 def main():
@@ -382,6 +418,7 @@ def main():
         check_sources(recs, plans_)
         check_process(work, recs, plans_)
         check_errors(work, recs, plans_)
+        check_daemon(work, recs)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     if FAILURES:
