@@ -75,39 +75,46 @@ def main():
     tf_types = generate_dynamic("tf2_msgs/TFMessage", TF_MESSAGE)
     odom_cls = generate_dynamic("nav_msgs/Odometry", ODOMETRY)["nav_msgs/Odometry"]
     w, h = plan["width"], plan["height"]
-    with rosbag.Bag(out, "w") as bag:
-        for group in plan["tf_static_messages"]:
-            m = tf_types["tf2_msgs/TFMessage"]()
-            m.transforms = [transform(tf_types, t) for t in group]
-            bag.write("/tf_static", m, stamp(int(plan["start_ns"])))
-        for group in plan["tf_messages"]:
-            m = tf_types["tf2_msgs/TFMessage"]()
-            m.transforms = [transform(tf_types, t) for t in group]
-            bag.write("/tf", m, stamp(int(group[0]["stamp_ns"])))
-        for t in plan["odometry"]:
-            bag.write(plan["odometry_topic"], odometry(odom_cls, t), stamp(int(t["stamp_ns"])))
-        for i, f in enumerate(plan["frames"]):
-            ns = int(f["stamp_ns"])
-            info = CameraInfo()
-            info.header.stamp = stamp(ns)
-            info.header.frame_id = plan["frame_id"]
-            info.height, info.width = h, w
-            info.distortion_model = "plumb_bob"
-            info.D = [0.0] * 5
-            info.K = plan["K"]
-            info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
-            info.P = plan["K"][0:3] + [0.0] + plan["K"][3:6] + [0.0] + plan["K"][6:9] + [0.0]
-            bag.write("/camera/depth/camera_info", info, stamp(ns))
-            img = Image()
-            img.header.seq = i
-            img.header.stamp = stamp(ns)
-            img.header.frame_id = plan["frame_id"]
-            img.height, img.width = h, w
-            img.encoding = "16UC1"
-            img.is_bigendian = 0
-            img.step = 2 * w
-            img.data = raw[i * 2 * w * h:(i + 1) * 2 * w * h]
-            bag.write("/camera/depth/image_raw", img, stamp(ns))
+    msgs = []  # (record time in ns, topic, message), written in time order as a recorder does
+
+    def put(topic, m, t):
+        msgs.append((t.to_nsec(), len(msgs), topic, m))
+
+    for group in plan["tf_static_messages"]:
+        m = tf_types["tf2_msgs/TFMessage"]()
+        m.transforms = [transform(tf_types, t) for t in group]
+        put("/tf_static", m, stamp(int(plan["start_ns"])))
+    for group in plan["tf_messages"]:
+        m = tf_types["tf2_msgs/TFMessage"]()
+        m.transforms = [transform(tf_types, t) for t in group]
+        put("/tf", m, stamp(int(group[0]["stamp_ns"])))
+    for t in plan["odometry"]:
+        put(plan["odometry_topic"], odometry(odom_cls, t), stamp(int(t["stamp_ns"])))
+    for i, f in enumerate(plan["frames"]):
+        ns = int(f["stamp_ns"])
+        info = CameraInfo()
+        info.header.stamp = stamp(ns)
+        info.header.frame_id = plan["frame_id"]
+        info.height, info.width = h, w
+        info.distortion_model = "plumb_bob"
+        info.D = [0.0] * 5
+        info.K = plan["K"]
+        info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+        info.P = plan["K"][0:3] + [0.0] + plan["K"][3:6] + [0.0] + plan["K"][6:9] + [0.0]
+        put("/camera/depth/camera_info", info, stamp(ns))
+        img = Image()
+        img.header.seq = i
+        img.header.stamp = stamp(ns)
+        img.header.frame_id = plan["frame_id"]
+        img.height, img.width = h, w
+        img.encoding = "16UC1"
+        img.is_bigendian = 0
+        img.step = 2 * w
+        img.data = raw[i * 2 * w * h:(i + 1) * 2 * w * h]
+        put("/camera/depth/image_raw", img, stamp(ns))
+    with rosbag.Bag(out, "w") as rec:
+        for t, _, topic, m in sorted(msgs, key=lambda x: (x[0], x[1])):
+            rec.write(topic, m, genpy.Time(t // 1000000000, t % 1000000000))
 
 
 if __name__ == "__main__":
