@@ -15,16 +15,17 @@ static void header(struct dao_cdr *c, struct dao_ros2_header *h)
 	h->stamp_ns = sec < 0 ? 0 : (uint64_t)sec * 1000000000u + nsec;
 }
 
-static int start(struct dao_cdr *c, const uint8_t *msg, uint64_t len)
+/* The reader on msg, and *out (size bytes) zeroed: 0 or dao_cdr_init's error. */
+static int start(struct dao_cdr *c, const uint8_t *msg, uint64_t len, void *out, size_t size)
 {
+	memset(out, 0, size);
 	return dao_cdr_init(c, msg, len > SIZE_MAX ? SIZE_MAX : (size_t)len);
 }
 
 int dao_ros2_image_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_image *img)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(img, 0, sizeof(*img));
+	int r = start(&c, msg, len, img, sizeof(*img));
 	if (r < 0)
 		return r;
 	header(&c, &img->header);
@@ -42,8 +43,7 @@ int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 				    struct dao_ros2_compressed_image *img)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(img, 0, sizeof(*img));
+	int r = start(&c, msg, len, img, sizeof(*img));
 	if (r < 0)
 		return r;
 	header(&c, &img->header);
@@ -56,8 +56,7 @@ int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_camera_info *ci)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(ci, 0, sizeof(*ci));
+	int r = start(&c, msg, len, ci, sizeof(*ci));
 	if (r < 0)
 		return r;
 	header(&c, &ci->header);
@@ -101,7 +100,7 @@ int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *
 {
 	for (int pass = 0; pass < 2; pass++) { /* check all, then deliver */
 		struct dao_cdr c;
-		int r = start(&c, msg, len);
+		int r = dao_cdr_init(&c, msg, len > SIZE_MAX ? SIZE_MAX : (size_t)len);
 		if (r < 0)
 			return r;
 		uint32_t n = dao_cdr_seq(&c, 72); /* a TransformStamped takes at least 72 bytes */
@@ -121,8 +120,7 @@ int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *
 int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(out, 0, sizeof(*out));
+	int r = start(&c, msg, len, out, sizeof(*out));
 	if (r < 0)
 		return r;
 	if (stamped_pose(&c, out) < 0)
