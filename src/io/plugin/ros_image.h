@@ -18,7 +18,7 @@
 #include "tf/tf_buffer.h"
 
 /*
- * "FILE?topic=T&unit=M&color=C" in parts (the options in any order, all
+ * "FILE?topic=T&unit=M&color=C&pose_frame=F&pose_topic=O&pose_gap=S" in parts (the options in any order, all
  * optional); the options start at the last '?' followed by one of them (a
  * file name may hold a '?'; dao_uri_path_len()).  `scheme` names the source
  * in errors.  path is allocated: dao_ros_uri_free().
