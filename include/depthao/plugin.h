@@ -74,8 +74,8 @@ extern "C" {
 #define DAO_PLUGIN_ABI_VERSION 3
 /* The descriptor's own version: 1 is the first layout with `size` (ABI 3). */
 #define DAO_PLUGIN_VERSION 1
-/* The layout of struct dao_source_ops this header describes. */
-#define DAO_SOURCE_OPS_VERSION 1
+/* The layout of struct dao_source_ops this header describes (2: frame_pose). */
+#define DAO_SOURCE_OPS_VERSION 2
 /* The layout of struct dao_sink_ops this header describes. */
 #define DAO_SINK_OPS_VERSION 1
 /* The symbol a plugin module exports (DAO_PLUGIN_DEFINE). */
@@ -144,6 +144,30 @@ struct dao_source_frame {
 	uint64_t index;             /* 0-based position in a recording; count for live */
 };
 
+/*
+ * The camera's pose for one frame, from what the source carries (a ROS
+ * recording's tf or odometry): dao_source_frame_pose().  Filled by the
+ * library up to the caller's size (docs/abi.md).
+ */
+struct dao_source_pose {
+	uint32_t size;              /* sizeof: DAO_SOURCE_POSE_INIT */
+	uint32_t reserved;          /* 0 */
+	/* the rotation from the depth image's frame (its header.frame_id, an optical
+	 * frame: x right, y down, z forward) to the fixed frame: a unit quaternion x,
+	 * y, z, w, as dao_context_set_pose() takes it */
+	double rotation[4];
+	double translation[3];      /* the optical centre in the fixed frame, metres */
+	/* one line: the frames and where the poses come from, e.g. "'camera_depth_optical_frame'
+	 * in 'odom' from /tf, /tf_static (1200 transforms)" */
+	char description[160];
+	/* empty, or a line to show once (set with the first pose only): transforms
+	 * skipped as malformed, the odometry's frame taken for the camera's */
+	char warning[256];
+};
+
+/* A pose with its size set and everything else 0. */
+#define DAO_SOURCE_POSE_INIT { .size = sizeof(struct dao_source_pose) }
+
 /* One entry of a device listing. */
 struct dao_device_entry {
 	char uri[256];              /* what to pass to open (without the plugin prefix) */
@@ -179,6 +203,16 @@ struct dao_source_ops {
 	void (*stop)(void *state);
 	/* frees the state */
 	void (*close)(void *state);
+	/*
+	 * since version 2, optional: the camera's pose for `frame`, the frame
+	 * the last read delivered (before its release), into `pose` (its size
+	 * set by the host; DAO_STRUCT_HAS for later fields).  0; -ENOENT: this
+	 * frame has none (a gap in the poses), the message says why; -ENOTSUP:
+	 * the source carries no poses; other < 0: it cannot give any (the
+	 * message says what is wrong and what to do), every call the same.
+	 */
+	int (*frame_pose)(void *state, const struct dao_source_frame *frame,
+			  struct dao_source_pose *pose, struct dao_error *err);
 };
 
 /* The format a sink negotiates (dao_sink_negotiate()). */
@@ -424,6 +458,30 @@ DAO_API int dao_source_read(struct dao_source *src, struct dao_source_frame *fra
 DAO_API void dao_source_release(struct dao_source *src, struct dao_source_frame *frame);
 /* -ENOTSUP for sources that cannot seek (live devices). */
 DAO_API int dao_source_seek(struct dao_source *src, uint64_t index, struct dao_error *err);
+/*
+ * The camera's pose for `frame`, the frame dao_source_read() last
+ * delivered (before dao_source_release()), into `pose` of `size` bytes
+ * (filled up to min(size, the library's sizeof); pose->size set to that).
+ * The built-in "bag", "mcap" and "db3" sources take it from the
+ * recording's tf or odometry (docs/sources.md, "Camera poses"): their
+ * first call reads the recording's transforms (it may take a while on a
+ * large recording).  0; -ENOENT: this frame has no pose (a gap, a time
+ * outside the transforms), the message says why; -ENOTSUP: the source
+ * carries no poses (other sources, plugins built before ops version 2);
+ * other < 0: the poses cannot be had (no tf topic, the depth frame not
+ * connected, ...), every call the same, with what to do in the message.
+ */
+DAO_API int dao_source_frame_pose_sized(struct dao_source *src,
+					const struct dao_source_frame *frame,
+					struct dao_source_pose *pose, size_t size,
+					struct dao_error *err);
+/* dao_source_frame_pose_sized() with the size of this header's struct. */
+static inline int dao_source_frame_pose(struct dao_source *src,
+					const struct dao_source_frame *frame,
+					struct dao_source_pose *pose, struct dao_error *err)
+{
+	return dao_source_frame_pose_sized(src, frame, pose, sizeof(*pose), err);
+}
 /* Stops (if started) and closes; NULL-safe. */
 DAO_API void dao_source_close(struct dao_source *src);
 

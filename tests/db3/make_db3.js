@@ -190,7 +190,9 @@ function seeds(dir) {
   put("calibration_json.bin", 6, js(M.fgCalibration(0, true)));
 }
 
-(async () => {
+module.exports = { SCHEMA, QOS };
+
+if (require.main === module) (async () => {
   const out = process.argv[2];
   if (process.argv[3] === "--seeds")
     return seeds(out);

@@ -29,10 +29,11 @@ pipeline: core simd camera params depth normals kernels denoise shade motion
 io_rules='
 file: core
 oni: core file
-bag: core
-mcap: core file
+tf: core
+bag: core tf
+mcap: core file tf
 db3: core
-plugin: core file oni bag mcap db3
+plugin: core file oni bag mcap db3 tf
 '
 # what the core may not include: libdepthao-io's public headers, the container and
 # codec libraries, dlopen (the plugin registry is libdepthao-io's)

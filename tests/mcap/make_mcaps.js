@@ -243,7 +243,8 @@ async function writeFoxglove(file, encoding, png, bad = {}) {
 }
 
 module.exports = { W, H, K, FRAMES, VGA, pixels, png16, stamp, logTime, IMAGE, COMPRESSED, CAMINFO,
-  writer, mods, write, raw, zstd, foxgloveRoot, fgCalibration, fgDepth };
+  writer, mods, write, raw, zstd, foxgloveRoot, fgCalibration, fgDepth, FileWritable, compressors,
+  McapWriter, HEADER, TIME, SEP };
 
 if (require.main === module) (async () => {
   const out = process.argv[2];

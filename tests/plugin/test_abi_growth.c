@@ -112,6 +112,13 @@ static const struct frozen layout[] = {
 	F(dao_source_info, fy, 512),
 	F(dao_source_info, cx, 520),
 	F(dao_source_info, cy, 528),
+	F(dao_source_pose, size, 0),
+	F(dao_source_pose, reserved, 4),
+	F(dao_source_pose, rotation, 8),
+	F(dao_source_pose, translation, 40),
+	F(dao_source_pose, description, 64),
+	F(dao_source_pose, warning, 224),
+	F(dao_source_ops, frame_pose, 88),
 	F(dao_source_options, size, 0),
 	F(dao_source_options, playback, 4),
 	F(dao_source_options, loop, 8),
@@ -230,6 +237,9 @@ static void test_layout_frozen(void **state)
 	assert_int_equal(sizeof(struct dao_params),
 			 DAO_END_OF(struct dao_params, depth_fill));
 	assert_int_equal(sizeof(struct dao_source_info), DAO_END_OF(struct dao_source_info, cy));
+	assert_int_equal(sizeof(struct dao_source_pose), DAO_END_OF(struct dao_source_pose, warning));
+	assert_int_equal(sizeof(struct dao_source_ops),
+			 DAO_END_OF(struct dao_source_ops, frame_pose));
 	assert_int_equal(sizeof(struct dao_source_options),
 			 DAO_END_OF(struct dao_source_options, depth_unit));
 	assert_int_equal(sizeof(struct dao_sink_format),

@@ -64,6 +64,14 @@ static void usage(FILE *out)
 		"                            its file name (1305031102.160407.png) or its index /\n"
 		"                            camera.json's fps (default 30).  Sets\n"
 		"                            --depth-temporal-motion source unless given\n"
+		"  --pose-frame NAME         ROS recordings with --depth-temporal-motion source or\n"
+		"                            source+icp: the fixed frame of the camera poses\n"
+		"                            taken from the tf (default: the root of the depth\n"
+		"                            frame's tree, e.g. odom or map)\n"
+		"  --pose-topic TOPIC        ... from this nav_msgs/Odometry topic (and the static\n"
+		"                            tf from its child to the camera) instead of the tf\n"
+		"  --pose-gap S              ... the longest time between two transforms that a\n"
+		"                            pose is interpolated over (default 0.5 s)\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
 		"  --shaded-out PATH         occlusion-shaded 8-bit RGB PNG\n"
 		"  --overlay-out DIR         recordings and devices with colour: the colour image\n"
@@ -215,7 +223,8 @@ static int string_option(int argc, char **argv, int *i, struct process_options *
 		{ "--shaded-out", &o->shaded_out }, { "--overlay-out", &o->overlay_out },
 		{ "--cloud-out", &o->cloud_out }, { "--mcap-out", &o->mcap_out },
 		{ "--depth-out", &o->depth_out }, { "--pose-out", &o->pose_out },
-		{ "--poses", &o->poses },
+		{ "--poses", &o->poses }, { "--pose-frame", &o->pose_frame },
+		{ "--pose-topic", &o->pose_topic }, { "--pose-gap", &o->pose_gap },
 		{ "--intrinsics", &o->intrinsics },
 		{ "--fov", &o->fov }, { "--intrinsics-file", &o->intrinsics_file },
 	};
@@ -354,8 +363,14 @@ static int check_options(struct process_options *o)
 		return usage_error("process", "--fov '%s' must be two angles H,V in (0, 180) degrees",
 				   o->fov);
 	if (o->poses && process_input_is_stream(o->input))
-		return usage_error("process", "--poses applies to PNG directories; a recording's "
-				   "tf or odometry is not read yet (docs/motion.md)");
+		return usage_error("process", "--poses applies to PNG directories; a ROS "
+				   "recording's own tf or odometry is used with "
+				   "--depth-temporal-motion source (docs/motion.md)");
+	if ((o->pose_frame || o->pose_topic || o->pose_gap) &&
+	    (!process_input_is_stream(o->input) || !process_wants_source_poses(o)))
+		return usage_error("process", "--pose-frame, --pose-topic and --pose-gap say how a "
+				   "ROS recording's (.bag, .mcap, .db3) poses are read: give such "
+				   "a recording and --depth-temporal-motion source or source+icp");
 	if (o->poses && !(o->params.depth_temporal > 0.0f))
 		return usage_error("process", "--poses moves the temporal depth filter's history "
 				   "with the camera: give --depth-temporal X (e.g. 0.8) too");

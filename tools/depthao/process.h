@@ -28,6 +28,9 @@ struct process_options {
 	const char *mcap_out;   /* --mcap-out: FILE.mcap[?sink options] */
 	const char *depth_out;  /* --depth-out: the filtered depth, 16-bit PNGs */
 	const char *poses;      /* --poses: a TUM-format trajectory beside PNG input */
+	/* --pose-frame, --pose-topic, --pose-gap: how a ROS recording's poses are read
+	 * (its source's URI options pose_frame, pose_topic, pose_gap) */
+	const char *pose_frame, *pose_topic, *pose_gap;
 	double depth_out_unit;  /* --depth-out-unit: metres per count written (0 = the input's) */
 	int cloud_filtered;     /* --cloud-depth filtered: clouds of the filtered depth */
 	double depth_unit;
@@ -59,6 +62,9 @@ struct run_state {
 	FILE *pose;            /* --pose-out: the file, the camera-to-world pose so far */
 	struct pose_track track;
 	uint64_t pose_t0;      /* the first frame's timestamp_ns */
+	size_t source_posed;   /* frames the source gave a pose (depth-temporal-motion source) */
+	size_t source_unposed; /* ... and frames it had none for (a gap) */
+	char first_gap[256];   /* why the first of those had none */
 };
 
 double process_now_ms(void);
@@ -118,6 +124,16 @@ int process_pose_open(const struct process_options *o, struct run_state *st);
 int process_pose_write(const struct process_options *o, struct run_state *st,
 		       const struct dao_frame *depth, uint64_t n);
 int process_pose_close(const struct process_options *o, struct run_state *st, int status);
+
+/* process_source_poses.c: does the run take the source's poses (depth-temporal-motion
+ * source or source+icp on a recording)?  The source's URI with the --pose-* options
+ * (allocated; NULL for out of memory).  The pose of frame f given to the context
+ * (0, or the exit status when the source cannot give poses), and the run's report. */
+int process_wants_source_poses(const struct process_options *o);
+char *process_source_uri(const struct process_options *o);
+int process_source_pose(const struct process_options *o, struct run_state *st,
+			struct dao_source *src, const struct dao_source_frame *f);
+void process_source_poses_report(const struct process_options *o, const struct run_state *st);
 
 /* Input that goes through a source plugin: "NAME:URI" or a path ending in .oni. */
 int process_input_is_stream(const char *input);

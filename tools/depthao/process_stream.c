@@ -121,7 +121,11 @@ static int run(const struct process_options *o, struct dao_source *src,
 			status = 1;
 		} else {
 			struct process_paths paths = { ao, sh, ov, pc, dp };
-			status = process_depth(o, st, &f.depth, &f.color, &paths, o->frame_index + index);
+			if (process_wants_source_poses(o))
+				status = process_source_pose(o, st, src, &f);
+			if (!status)
+				status = process_depth(o, st, &f.depth, &f.color, &paths,
+						       o->frame_index + index);
 		}
 		free(ao);
 		free(sh);
@@ -152,11 +156,17 @@ static int open_source(const struct process_options *o, struct dao_plugins **plu
 		.want_color = o->overlay_out != NULL,
 		.depth_unit = (float)o->depth_unit,
 	};
-	if (dao_plugins_load(plugins, "", &err)) {
-		fprintf(stderr, "depthao: %s\n", err.message);
+	char *uri = process_source_uri(o);
+	if (!uri) {
+		fprintf(stderr, "depthao: out of memory\n");
 		return 1;
 	}
-	int r = dao_source_open_limited(*plugins, o->input, &so, o->max_pixels, src, &err);
+	if (dao_plugins_load(plugins, "", &err)) {
+		fprintf(stderr, "depthao: %s\n", err.message);
+		free(uri);
+		return 1;
+	}
+	int r = dao_source_open_limited(*plugins, uri, &so, o->max_pixels, src, &err);
 	if (r == -ENOENT && !strncmp(err.message, "no source", 9)) {
 		/* no built-in source for this URI ("no source plugin ...", "no source
 		 * recognises ..."; not a missing file) */
@@ -164,10 +174,12 @@ static int open_source(const struct process_options *o, struct dao_plugins **plu
 		*plugins = NULL;
 		if (cli_plugins_load(plugins, &err)) {
 			fprintf(stderr, "depthao: %s\n", err.message);
+			free(uri);
 			return 1;
 		}
-		r = dao_source_open_limited(*plugins, o->input, &so, o->max_pixels, src, &err);
+		r = dao_source_open_limited(*plugins, uri, &so, o->max_pixels, src, &err);
 	}
+	free(uri);
 	if (r) {
 		process_print_error(&err);
 		return 1;
@@ -278,6 +290,8 @@ int process_stream(const struct process_options *o)
 		fprintf(stderr, "depthao: '%s' delivered no frames\n", o->input);
 		status = 1;
 	}
+	if (!status)
+		process_source_poses_report(o, &st);
 	if (!status && !o->quiet)
 		process_print_summary(o, &st);
 	status = process_mcap_close(&st, status);

@@ -114,6 +114,44 @@ static struct dao_source *open_source(struct daemon *d, unsigned *backoff, int f
 	return src;
 }
 
+/*
+ * The source's camera pose for frame f into it, when depth-temporal-motion takes poses
+ * (source, source+icp): 1 with a pose, else 0 (a gap counted and warned, rate-limited;
+ * a source without poses said once, and not asked again until it is reopened).
+ */
+static int capture_pose(struct daemon *d, struct dao_source *src, const struct dao_source_frame *f,
+			struct fq_item *it)
+{
+	pthread_mutex_lock(&d->lock);
+	const enum dao_depth_motion m = d->params.depth_temporal_motion;
+	pthread_mutex_unlock(&d->lock);
+	if (d->poses_off || (m != DAO_DEPTH_MOTION_SOURCE && m != DAO_DEPTH_MOTION_SOURCE_ICP))
+		return 0;
+	struct dao_source_pose pose = DAO_SOURCE_POSE_INIT;
+	struct dao_error err = {0};
+	int r = dao_source_frame_pose(src, f, &pose, &err);
+	if (r == -ENOENT) {
+		log_limited(&d->source_log, LOG_WARN, "source %s: frame %llu has no camera pose "
+			    "(%llu so far; filtered without motion): %s", d->cfg.source_uri,
+			    (unsigned long long)f->index, (unsigned long long)++d->pose_gaps,
+			    err.message);
+		return 0;
+	}
+	if (r < 0) {
+		log_warn("source %s: depth-temporal-motion %s takes the camera's poses from the "
+			 "source, and it has none: %s; the motion falls back as without poses "
+			 "(icp estimates it from the depth)", d->cfg.source_uri,
+			 m == DAO_DEPTH_MOTION_SOURCE ? "source" : "source+icp", err.message);
+		d->poses_off = 1;
+		return 0;
+	}
+	if (pose.warning[0])
+		log_warn("source %s: %s", d->cfg.source_uri, pose.warning);
+	memcpy(it->pose_q, pose.rotation, sizeof it->pose_q);
+	memcpy(it->pose_t, pose.translation, sizeof it->pose_t);
+	return 1;
+}
+
 void *capture_main(void *arg)
 {
 	struct daemon *d = arg;
@@ -129,6 +167,7 @@ void *capture_main(void *arg)
 				continue;
 			}
 			opened = 1;
+			d->poses_off = 0;
 			live = d->src_info.live;
 			frame_count = d->src_info.frame_count;
 			bad_in_a_row = 0;
@@ -190,6 +229,7 @@ void *capture_main(void *arg)
 		else
 			it->color.format = DAO_PIXFMT_NONE;
 		it->index = f.index;
+		it->has_pose = ok && capture_pose(d, src, &f, it);
 		it->t_capture_ns = tool_mono_ns();
 		dao_source_release(src, &f);
 		if (ok)

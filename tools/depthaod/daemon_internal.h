@@ -135,6 +135,10 @@ struct daemon {
 	atomic_ullong captured, input_dropped, processed, process_errors, source_opens,
 		source_failures, source_bad_frames;
 	struct log_limit source_log;  /* the capture thread's repeated warnings */
+	/* (capture thread) the source's camera poses, for depth-temporal-motion source and
+	   source+icp: given up (the source has none, said once), frames without one */
+	int poses_off;
+	uint64_t pose_gaps;
 	atomic_ullong source_call_ns; /* when the capture thread entered a source call, 0 = none */
 	int watchdog_withheld;        /* (processing thread) pings stopped for a hung source */
 	atomic_ullong cpu_ns_total;

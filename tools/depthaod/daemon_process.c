@@ -284,8 +284,14 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 {
 	struct dao_error err = {0};
 	uint64_t c0 = tool_thread_cpu_ns();
+	/* the source's camera pose (depth-temporal-motion source, source+icp; the other modes
+	 * ignore it), or none */
+	int r = dao_context_set_pose(ctx, in->has_pose ? in->pose_q : NULL, in->pose_t, &err);
+	if (r < 0)
+		log_limited(error_log, LOG_WARN, "frame %llu: its camera pose: %s",
+			    (unsigned long long)in->index, err.message);
 	/* the AO and the shaded image in one pass over the rows */
-	int r = dao_context_process_shaded(ctx, &in->frame, NULL, in->index, &o->ao16,
+	r = dao_context_process_shaded(ctx, &in->frame, NULL, in->index, &o->ao16,
 					   want_rgb ? &o->rgb : NULL, &err);
 	o->have_rgb = r == 0 && want_rgb;
 	/* algorithm=none: the depth streams go on, nothing to shade */

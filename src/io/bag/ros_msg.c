@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Deserializing sensor_msgs/Image, sensor_msgs/CameraInfo and std_msgs/Float32. */
+/* Deserializing sensor_msgs/Image, CameraInfo, std_msgs/Float32, tf2_msgs/TFMessage and
+ * nav_msgs/Odometry. */
 #include "bag/ros_msg.h"
 
 #include <errno.h>
@@ -51,11 +52,10 @@ static const uint8_t *bytes(struct cursor *c, uint32_t *n)
 
 static void header(struct cursor *c, struct dao_ros_header *h)
 {
-	uint32_t n;
 	h->seq = u32(c);
 	uint64_t sec = u32(c);
 	h->stamp_ns = sec * 1000000000u + u32(c);
-	(void)bytes(c, &n); /* frame_id */
+	h->frame_id = (const char *)bytes(c, &h->frame_id_len);
 }
 
 int dao_ros_image_parse(const uint8_t *msg, uint32_t len, struct dao_ros_image *img)
@@ -112,4 +112,53 @@ int dao_ros_float32_parse(const uint8_t *msg, uint32_t len, float *value)
 		     (uint32_t)msg[3] << 24;
 	memcpy(value, &v, sizeof(*value));
 	return 0;
+}
+
+/* Header, child_frame_id, then a translation (or position) and a rotation: 0 or -EINVAL. */
+static int stamped_pose(struct cursor *c, struct dao_tf_msg_transform *t)
+{
+	(void)u32(c); /* seq */
+	uint64_t sec = u32(c);
+	uint32_t nsec = u32(c);
+	if (nsec >= 1000000000u)
+		c->bad = 1;
+	t->stamp_ns = sec * 1000000000u + nsec;
+	t->parent = (const char *)bytes(c, &t->parent_len);
+	t->child = (const char *)bytes(c, &t->child_len);
+	for (int i = 0; i < 3; i++)
+		t->tr.t[i] = f64(c);
+	for (int i = 0; i < 4; i++)
+		t->tr.q[i] = f64(c);
+	return c->bad ? -EINVAL : 0;
+}
+
+int dao_ros_tf_parse(const uint8_t *msg, uint32_t len, dao_tf_msg_cb cb, void *user)
+{
+	for (int pass = 0; pass < 2; pass++) { /* check all, then deliver */
+		struct cursor c = {msg, len, 0};
+		uint32_t n = u32(&c);
+		if (c.bad || n > c.left / 76) /* a TransformStamped takes at least 76 bytes */
+			return -EINVAL;
+		for (uint32_t i = 0; i < n; i++) {
+			struct dao_tf_msg_transform t;
+			if (stamped_pose(&c, &t) < 0)
+				return -EINVAL;
+			int r = pass ? cb(user, &t) : 0;
+			if (r < 0)
+				return r;
+		}
+		if (c.left)
+			return -EINVAL;
+	}
+	return 0;
+}
+
+int dao_ros_odometry_parse(const uint8_t *msg, uint32_t len, struct dao_tf_msg_transform *out)
+{
+	struct cursor c = {msg, len, 0};
+	memset(out, 0, sizeof(*out));
+	if (stamped_pose(&c, out) < 0)
+		return -EINVAL;
+	(void)take(&c, 8 * (36 + 6 + 36)); /* covariance, twist, its covariance */
+	return c.bad || c.left ? -EINVAL : 0;
 }

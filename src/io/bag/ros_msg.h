@@ -10,10 +10,14 @@
  */
 #include <stdint.h>
 
+#include "tf/tf_msg.h"
+
 /* std_msgs/Header (seq u32, stamp: sec u32 + nsec u32, frame_id string). */
 struct dao_ros_header {
 	uint32_t seq;
 	uint64_t stamp_ns;
+	const char *frame_id;       /* into the message, frame_id_len bytes, no NUL */
+	uint32_t frame_id_len;
 };
 
 /* sensor_msgs/Image; data points into the message. */
@@ -45,5 +49,22 @@ int dao_ros_image_parse(const uint8_t *msg, uint32_t len, struct dao_ros_image *
 int dao_ros_camera_info_parse(const uint8_t *msg, uint32_t len, struct dao_ros_camera_info *ci);
 /* std_msgs/Float32 */
 int dao_ros_float32_parse(const uint8_t *msg, uint32_t len, float *value);
+
+/*
+ * tf2_msgs/TFMessage (or tf/tfMessage, the same layout): a u32 count of
+ * geometry_msgs/TransformStamped (Header, child_frame_id string, Transform:
+ * translation Vector3 and rotation Quaternion x, y, z, w, float64 each).  The
+ * whole message is checked first, then `cb` gets each transform: 0, -EINVAL
+ * (a message that does not fit the layout, or a nanosecond field of 1e9 or
+ * more: nothing delivered), or cb's value.
+ */
+int dao_ros_tf_parse(const uint8_t *msg, uint32_t len, dao_tf_msg_cb cb, void *user);
+/*
+ * nav_msgs/Odometry: Header, child_frame_id, PoseWithCovariance (Pose:
+ * position Point, orientation Quaternion; covariance float64[36]),
+ * TwistWithCovariance (the twist and its covariance: read past, checked for
+ * length).  0 or -EINVAL.
+ */
+int dao_ros_odometry_parse(const uint8_t *msg, uint32_t len, struct dao_tf_msg_transform *out);
 
 #endif

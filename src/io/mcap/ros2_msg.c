@@ -11,21 +11,21 @@ static void header(struct dao_cdr *c, struct dao_ros2_header *h)
 {
 	int32_t sec = dao_cdr_i32(c);
 	uint32_t nsec = dao_cdr_u32(c);
-	uint32_t n;
-	(void)dao_cdr_string(c, &n); /* frame_id */
+	h->frame_id = dao_cdr_string(c, &h->frame_id_len);
 	h->stamp_ns = sec < 0 ? 0 : (uint64_t)sec * 1000000000u + nsec;
 }
 
-static int start(struct dao_cdr *c, const uint8_t *msg, uint64_t len)
+/* The reader on msg, and *out (size bytes) zeroed: 0 or dao_cdr_init's error. */
+static int start(struct dao_cdr *c, const uint8_t *msg, uint64_t len, void *out, size_t size)
 {
+	memset(out, 0, size);
 	return dao_cdr_init(c, msg, len > SIZE_MAX ? SIZE_MAX : (size_t)len);
 }
 
 int dao_ros2_image_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_image *img)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(img, 0, sizeof(*img));
+	int r = start(&c, msg, len, img, sizeof(*img));
 	if (r < 0)
 		return r;
 	header(&c, &img->header);
@@ -43,8 +43,7 @@ int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 				    struct dao_ros2_compressed_image *img)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(img, 0, sizeof(*img));
+	int r = start(&c, msg, len, img, sizeof(*img));
 	if (r < 0)
 		return r;
 	header(&c, &img->header);
@@ -57,8 +56,7 @@ int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_camera_info *ci)
 {
 	struct dao_cdr c;
-	int r = start(&c, msg, len);
-	memset(ci, 0, sizeof(*ci));
+	int r = start(&c, msg, len, ci, sizeof(*ci));
 	if (r < 0)
 		return r;
 	header(&c, &ci->header);
@@ -78,5 +76,56 @@ int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2
 	for (int i = 0; i < 12; i++)
 		ci->p[i] = dao_cdr_f64(&c);
 	/* binning_x, binning_y, roi (x_offset, y_offset, height, width, do_rectify): not used */
+	return dao_cdr_ok(&c) ? 0 : -EINVAL;
+}
+
+/* Header, child_frame_id, a translation (or position) and a rotation: 0 or -EINVAL. */
+static int stamped_pose(struct dao_cdr *c, struct dao_tf_msg_transform *t)
+{
+	int32_t sec = dao_cdr_i32(c);
+	uint32_t nsec = dao_cdr_u32(c);
+	if (sec < 0 || nsec >= 1000000000u)
+		return -EINVAL;
+	t->stamp_ns = (uint64_t)sec * 1000000000u + nsec;
+	t->parent = dao_cdr_string(c, &t->parent_len);
+	t->child = dao_cdr_string(c, &t->child_len);
+	for (int i = 0; i < 3; i++)
+		t->tr.t[i] = dao_cdr_f64(c);
+	for (int i = 0; i < 4; i++)
+		t->tr.q[i] = dao_cdr_f64(c);
+	return dao_cdr_ok(c) ? 0 : -EINVAL;
+}
+
+int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user)
+{
+	for (int pass = 0; pass < 2; pass++) { /* check all, then deliver */
+		struct dao_cdr c;
+		int r = dao_cdr_init(&c, msg, len > SIZE_MAX ? SIZE_MAX : (size_t)len);
+		if (r < 0)
+			return r;
+		uint32_t n = dao_cdr_seq(&c, 72); /* a TransformStamped takes at least 72 bytes */
+		for (uint32_t i = 0; i < n && dao_cdr_ok(&c); i++) {
+			struct dao_tf_msg_transform t;
+			if (stamped_pose(&c, &t) < 0)
+				return -EINVAL;
+			if (pass && (r = cb(user, &t)) < 0)
+				return r;
+		}
+		if (!dao_cdr_ok(&c))
+			return -EINVAL;
+	}
+	return 0;
+}
+
+int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out)
+{
+	struct dao_cdr c;
+	int r = start(&c, msg, len, out, sizeof(*out));
+	if (r < 0)
+		return r;
+	if (stamped_pose(&c, out) < 0)
+		return -EINVAL;
+	for (int i = 0; i < 36 + 6 + 36; i++) /* covariance, twist, its covariance */
+		(void)dao_cdr_f64(&c);
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }

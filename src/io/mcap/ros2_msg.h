@@ -12,8 +12,12 @@
  */
 #include <stdint.h>
 
+#include "tf/tf_msg.h"
+
 struct dao_ros2_header {
 	uint64_t stamp_ns; /* 0 for a stamp before 1970 */
+	const char *frame_id; /* into the message, frame_id_len bytes (NUL after them) */
+	uint32_t frame_id_len;
 };
 
 /* sensor_msgs/msg/Image; data points into the message. */
@@ -51,5 +55,17 @@ int dao_ros2_image_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_image
 int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 				    struct dao_ros2_compressed_image *img);
 int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_camera_info *ci);
+
+/*
+ * tf2_msgs/msg/TFMessage: a sequence of geometry_msgs/msg/TransformStamped
+ * (Header, child_frame_id, Transform: translation Vector3, rotation
+ * Quaternion x, y, z, w).  The whole message is checked first (a stamp
+ * before 1970 or a nanosec of 1e9 or more refuses it), then `cb` gets each
+ * transform: 0, -EINVAL, -ENOTSUP (encapsulation) or cb's value.
+ */
+int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user);
+/* nav_msgs/msg/Odometry: its pose (child_frame_id in header.frame_id); the covariances and
+ * the twist are read past.  0, -EINVAL or -ENOTSUP. */
+int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out);
 
 #endif

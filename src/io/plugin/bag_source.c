@@ -2,7 +2,8 @@
 /*
  * Built-in source "bag": depth images from a ROS 1 bag (format 2.0) through
  * depthao's own reader (bag/bag_reader.c).  URI:
- * FILE.bag[?topic=T][&unit=M][&color=C] (the options in any order).
+ * FILE.bag[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O][&pose_gap=S]
+ * (the options in any order).
  *
  * The depth topic is a sensor_msgs/Image topic whose encoding is 16UC1 or
  * mono16 (counts of `unit` metres: ?unit=, else the RealSense option topic
@@ -31,6 +32,9 @@
  * Frames are the topic's messages in time order; a frame's time is its
  * header stamp, or the time it was recorded when the stamp is 0; real-time
  * playback waits for it (relative to the first frame delivered).
+ *
+ * Camera poses (frame_pose): the depth frame's header.frame_id in the tf or
+ * odometry of the bag at the frame's time (source_poses.h, pose_feeds.h).
  */
 #include <depthao/camera.h>
 #include <depthao/plugin.h>
@@ -48,7 +52,9 @@
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
 #include "plugin/playback.h"
+#include "plugin/pose_feeds.h"
 #include "plugin/ros_image.h"
+#include "plugin/source_poses.h"
 
 
 struct bag_source {
@@ -67,6 +73,9 @@ struct bag_source {
 	char color_encoding[32];
 	struct dao_frame color;
 	struct dao_playback_cursor play;
+	struct dao_source_poses *poses;
+	char frame_id[DAO_TF_NAME_MAX + 1]; /* the depth frame's header.frame_id */
+	uint32_t frame_id_len;              /* > DAO_TF_NAME_MAX: too long to keep */
 };
 
 static int has_bag_suffix(const char *s, size_t n)
@@ -301,7 +310,8 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 				  (double)opts->depth_unit);
 		goto fail;
 	}
-	if ((r = dao_ros_uri_parse(uri, "bag", &u, err)) < 0)
+	if ((r = dao_ros_uri_parse(uri, "bag", &u, err)) < 0 ||
+	    (r = dao_source_poses_create(&s->poses, &u, err)) < 0)
 		goto fail;
 	/* a chunk holds at least one image (up to 4 bytes a pixel), maybe colour beside it */
 	if ((r = dao_bag_open(u.path, 8 * max_pixels + (16u << 20), &s->bag, err)) < 0)
@@ -357,6 +367,7 @@ int dao_bag_source_open(const char *uri, const struct dao_source_options *opts,
 	return 0;
 fail:
 	dao_ros_uri_free(&u);
+	dao_source_poses_free(s->poses);
 	dao_frame_free(&s->depth);
 	dao_frame_free(&s->color);
 	dao_bag_close(s->bag);
@@ -417,6 +428,8 @@ static int decode(struct bag_source *s, uint32_t i, struct dao_error *err)
 	s->depth.timestamp_ns = img.header.stamp_ns ? img.header.stamp_ns : rec_ns;
 	s->depth.sequence = (uint64_t)i + 1;
 	s->depth_rec_ns = rec_ns;
+	dao_ros_keep_frame_id(s->frame_id, &s->frame_id_len, img.header.frame_id,
+			      img.header.frame_id_len);
 	return 0;
 }
 
@@ -523,9 +536,20 @@ static int bag_seek(void *state, uint64_t index, struct dao_error *err)
 	return 0;
 }
 
+static int bag_frame_pose(void *state, const struct dao_source_frame *f,
+			  struct dao_source_pose *pose, struct dao_error *err)
+{
+	struct bag_source *s = state;
+	struct dao_pose_feed feed;
+	dao_bag_pose_feed(s->bag, &feed);
+	return dao_source_poses_get(s->poses, &feed, s->frame_id, s->frame_id_len,
+				    f->depth.timestamp_ns, pose, err);
+}
+
 static void bag_close(void *state)
 {
 	struct bag_source *s = state;
+	dao_source_poses_free(s->poses);
 	dao_frame_free(&s->depth);
 	dao_frame_free(&s->color);
 	dao_bag_close(s->bag);
@@ -541,6 +565,7 @@ static const struct dao_source_ops bag_source_ops = {
 	.read = bag_read,
 	.seek = bag_seek,
 	.close = bag_close,
+	.frame_pose = bag_frame_pose,
 };
 
 const struct dao_plugin dao_builtin_bag_plugin = {
@@ -548,6 +573,7 @@ const struct dao_plugin dao_builtin_bag_plugin = {
 	.name = "bag",
 	.description = "ROS 1 bags (format 2.0, chunks none/bz2/lz4) and RealSense .bag "
 		       "recordings: depth images 16UC1, mono16, 32FC1, colour rgb8, bgr8, rgba8, "
-		       "bgra8, mono8; FILE.bag[?topic=T][&unit=M][&color=C]",
+		       "bgra8, mono8; camera poses from tf or odometry; "
+		       "FILE.bag[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]",
 	.source = &bag_source_ops,
 };

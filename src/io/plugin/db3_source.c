@@ -235,6 +235,7 @@ static const struct dao_source_ops db3_source_ops = {
 	.read = dao_ros2_source_read,
 	.seek = dao_ros2_source_seek,
 	.close = dao_ros2_source_close,
+	.frame_pose = dao_ros2_source_frame_pose,
 };
 
 const struct dao_plugin dao_builtin_db3_plugin = {
@@ -242,6 +243,7 @@ const struct dao_plugin dao_builtin_db3_plugin = {
 	.name = "db3",
 	.description = "rosbag2 sqlite3 bags (.db3, or a bag directory with metadata.yaml): the "
 		       "mcap source's messages (CDR Image, compressedDepth, CameraInfo, colour; "
-		       "Foxglove schemas); FILE.db3|DIR[?topic=T][&unit=M][&color=C]",
+		       "Foxglove schemas; camera poses from tf or odometry); "
+		       "FILE.db3|DIR[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]",
 	.source = &db3_source_ops,
 };

@@ -114,6 +114,7 @@ static const struct dao_source_ops mcap_source_ops = {
 	.read = dao_ros2_source_read,
 	.seek = dao_ros2_source_seek,
 	.close = dao_ros2_source_close,
+	.frame_pose = dao_ros2_source_frame_pose,
 };
 
 const struct dao_plugin dao_builtin_mcap_plugin = {
@@ -122,7 +123,8 @@ const struct dao_plugin dao_builtin_mcap_plugin = {
 	.description = "MCAP files (ROS 2 bags; chunks none/zstd/lz4): CDR depth Image 16UC1, "
 		       "mono16, 32FC1 and compressedDepth (PNG, RVL), colour rgb8, bgr8, rgba8, "
 		       "bgra8, mono8, JPEG; Foxglove RawImage, CompressedImage (16-bit PNG, JPEG), "
-		       "CameraCalibration in protobuf or JSON; FILE.mcap[?topic=T][&unit=M][&color=C]; "
+		       "CameraCalibration in protobuf or JSON; camera poses from tf or odometry; "
+		       "FILE.mcap[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]; "
 		       "records the AO (Image mono16, rgb8, CameraInfo, PointCloud2) as a sink",
 	.source = &mcap_source_ops,
 	.sink = &dao_mcap_sink_ops,

@@ -25,6 +25,10 @@
  *
  * Frames are the topic's messages in log-time order; a frame's time is its
  * header stamp (timestamp), or its log time when the stamp is 0.
+ *
+ * Camera poses (frame_pose): the depth frame's header.frame_id in the tf
+ * or odometry of the store at the frame's time (source_poses.h; ROS 2
+ * messages in CDR only: a Foxglove image has no frame the tf would know).
  */
 #include "plugin/ros2_source.h"
 
@@ -39,6 +43,8 @@
 #include "mcap/ros2_msg.h"
 #include "oni/oni_color.h"
 #include "plugin/playback.h"
+#include "plugin/pose_feeds.h"
+#include "plugin/source_poses.h"
 
 /* What a topic's schema and encoding make of its messages. */
 enum schema { S_NONE, S_IMAGE, S_COMPRESSED, S_CAMERA_INFO, S_FG_RAW, S_FG_COMPRESSED, S_FG_CALIB };
@@ -49,6 +55,8 @@ enum kind { K_NONE, K_DEPTH, K_CDEPTH, K_COLOR, K_JPEG };
 /* An image message of any schema, parsed; data points into the message or the JSON buffer. */
 struct img {
 	uint64_t stamp_ns;
+	const char *frame_id;        /* header.frame_id (ROS 2 messages), frame_id_len bytes */
+	uint32_t frame_id_len;
 	char encoding[64];           /* Image encoding or CompressedImage format */
 	uint32_t width, height, step;
 	int big_endian, compressed;
@@ -84,6 +92,10 @@ struct ros2_source {
 	struct dao_jpeg *jpeg;
 	struct dao_fg_buf buf;       /* the bytes of a JSON message */
 	struct dao_playback_cursor play;
+	struct dao_source_poses *poses;
+	struct dao_ros2_store_ref ref;      /* the store, for the poses */
+	char frame_id[DAO_TF_NAME_MAX + 1]; /* the depth frame's header.frame_id */
+	uint32_t frame_id_len;
 };
 
 static const char *path_of(const struct ros2_source *s)
@@ -162,6 +174,8 @@ static int parse_image(struct ros2_source *s, const struct dao_ros2_topic *t, co
 		if ((r = dao_ros2_image_parse(d, n, &im)) < 0)
 			return -EINVAL;
 		out->stamp_ns = im.header.stamp_ns;
+		out->frame_id = im.header.frame_id;
+		out->frame_id_len = im.header.frame_id_len;
 		snprintf(out->encoding, sizeof out->encoding, "%s", im.encoding);
 		out->width = im.width;
 		out->height = im.height;
@@ -174,6 +188,8 @@ static int parse_image(struct ros2_source *s, const struct dao_ros2_topic *t, co
 		if ((r = dao_ros2_compressed_image_parse(d, n, &ci)) < 0)
 			return -EINVAL;
 		out->stamp_ns = ci.header.stamp_ns;
+		out->frame_id = ci.header.frame_id;
+		out->frame_id_len = ci.header.frame_id_len;
 		snprintf(out->encoding, sizeof out->encoding, "%s", ci.format);
 		out->compressed = 1;
 		out->data = ci.data;
@@ -496,6 +512,7 @@ static void free_source(struct ros2_source *s)
 		dao_jpeg_destroy(s->jpeg);
 	free(s->scratch);
 	dao_fg_buf_free(&s->buf);
+	dao_source_poses_free(s->poses);
 	if (s->store)
 		s->ops->close(s->store);
 	free(s);
@@ -546,6 +563,7 @@ int dao_ros2_source_open(const struct dao_ros2_store_ops *ops, void *impl,
 	s->ops = ops;
 	s->store = impl;
 	s->scheme = scheme;
+	s->ref = (struct dao_ros2_store_ref){ ops, impl };
 	s->opts = *opts;
 	s->color_topic = -1;
 	/* a JSON message's bytes: an image of up to 4 bytes a pixel, and room */
@@ -555,7 +573,7 @@ int dao_ros2_source_open(const struct dao_ros2_store_ops *ops, void *impl,
 				  (double)opts->depth_unit);
 		goto fail;
 	}
-	if ((r = pick_topic(s, u, err)) < 0)
+	if ((r = dao_source_poses_create(&s->poses, u, err)) < 0 || (r = pick_topic(s, u, err)) < 0)
 		goto fail;
 	const struct dao_ros2_topic tp = topic_of(s, s->topic);
 	const struct desc *dd = &s->depth_desc;
@@ -647,6 +665,7 @@ static int decode(struct ros2_source *s, uint32_t i, struct dao_error *err)
 	s->depth.depth_unit = s->is_float ? 0.0f : s->unit;
 	s->depth.timestamp_ns = t_ns;
 	s->depth.sequence = (uint64_t)i + 1;
+	dao_ros_keep_frame_id(s->frame_id, &s->frame_id_len, im.frame_id, im.frame_id_len);
 	return 0;
 }
 
@@ -733,4 +752,14 @@ int dao_ros2_source_seek(void *state, uint64_t index, struct dao_error *err)
 void dao_ros2_source_close(void *state)
 {
 	free_source(state);
+}
+
+int dao_ros2_source_frame_pose(void *state, const struct dao_source_frame *f,
+			       struct dao_source_pose *pose, struct dao_error *err)
+{
+	struct ros2_source *s = state;
+	struct dao_pose_feed feed;
+	dao_ros2_pose_feed(&s->ref, &feed);
+	return dao_source_poses_get(s->poses, &feed, s->frame_id, s->frame_id_len,
+				    f->depth.timestamp_ns, pose, err);
 }

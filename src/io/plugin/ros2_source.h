@@ -64,5 +64,8 @@ int dao_ros2_source_read(void *state, struct dao_source_frame *f, int timeout_ms
 			 struct dao_error *err);
 int dao_ros2_source_seek(void *state, uint64_t index, struct dao_error *err);
 void dao_ros2_source_close(void *state);
+/* The camera pose of the frame last read (source_poses.h). */
+int dao_ros2_source_frame_pose(void *state, const struct dao_source_frame *f,
+			       struct dao_source_pose *pose, struct dao_error *err);
 
 #endif

@@ -13,13 +13,15 @@
 
 #include "core/error_internal.h"
 
-const char *const dao_ros_uri_options[] = {"topic", "unit", "color", NULL};
+const char *const dao_ros_uri_options[] = {"topic", "unit", "color", "pose_frame", "pose_topic",
+					    "pose_gap", NULL};
 
 int dao_ros_uri_parse(const char *uri, const char *scheme, struct dao_ros_uri *u,
 		      struct dao_error *err)
 {
 	size_t plen = dao_uri_path_len(uri, dao_ros_uri_options);
 	memset(u, 0, sizeof(*u));
+	u->pose_gap = 0.5;
 	if (!(u->path = strndup(uri, plen)))
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	if (!uri[plen])
@@ -31,6 +33,12 @@ int dao_ros_uri_parse(const char *uri, const char *scheme, struct dao_ros_uri *u
 	double unit = 0;
 	if ((r = dao_options_get_string(o, "topic", u->topic, sizeof u->topic, err)) >= 0 &&
 	    (r = dao_options_get_string(o, "color", u->color, sizeof u->color, err)) >= 0 &&
+	    (r = dao_options_get_string(o, "pose_frame", u->pose_frame, sizeof u->pose_frame,
+					err)) >= 0 &&
+	    (r = dao_options_get_string(o, "pose_topic", u->pose_topic, sizeof u->pose_topic,
+					err)) >= 0 &&
+	    (r = dao_options_get_double(o, "pose_gap", 0, 60, DAO_OPTIONS_MIN_EXCLUSIVE,
+					&u->pose_gap, err)) >= 0 &&
 	    (r = dao_options_get_double(o, "unit", 0, 1, DAO_OPTIONS_MIN_EXCLUSIVE, &unit, err)) > 0)
 		u->unit = (float)unit;
 	dao_options_free(o);
@@ -41,6 +49,15 @@ void dao_ros_uri_free(struct dao_ros_uri *u)
 {
 	free(u->path);
 	u->path = NULL;
+}
+
+void dao_ros_keep_frame_id(char *buf, uint32_t *len, const char *id, uint32_t n)
+{
+	*len = n;
+	if (n <= DAO_TF_NAME_MAX && id)
+		memcpy(buf, id, n);
+	else if (!id)
+		*len = 0;
 }
 
 void dao_ros_topic_list_add(char *buf, size_t cap, const char *name, const char *enc)

@@ -15,8 +15,10 @@
 #include <depthao/frame.h>
 #include <depthao/plugin.h>
 
+#include "tf/tf_buffer.h"
+
 /*
- * "FILE?topic=T&unit=M&color=C" in parts (the options in any order, all
+ * "FILE?topic=T&unit=M&color=C&pose_frame=F&pose_topic=O&pose_gap=S" in parts (the options in any order, all
  * optional); the options start at the last '?' followed by one of them (a
  * file name may hold a '?'; dao_uri_path_len()).  `scheme` names the source
  * in errors.  path is allocated: dao_ros_uri_free().
@@ -26,12 +28,19 @@ struct dao_ros_uri {
 	char topic[256];
 	char color[256];
 	float unit; /* metres per count, 0: not given */
+	char pose_frame[256]; /* the fixed frame of the poses, "": the depth frame's tf root */
+	char pose_topic[256]; /* an odometry topic instead of /tf, "": none */
+	double pose_gap;      /* seconds: the longest interpolation between transforms */
 };
 
 extern const char *const dao_ros_uri_options[];
 int dao_ros_uri_parse(const char *uri, const char *scheme, struct dao_ros_uri *u,
 		      struct dao_error *err);
 void dao_ros_uri_free(struct dao_ros_uri *u);
+
+/* A header.frame_id of n bytes kept in buf (DAO_TF_NAME_MAX + 1 bytes); *len = n (longer
+ * than DAO_TF_NAME_MAX: not copied, the length says it was too long). */
+void dao_ros_keep_frame_id(char *buf, uint32_t *len, const char *id, uint32_t n);
 
 /* Appends "name (encoding)" to a comma-separated list of topics in buf (cap bytes). */
 void dao_ros_topic_list_add(char *buf, size_t cap, const char *name, const char *encoding);

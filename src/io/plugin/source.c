@@ -153,6 +153,27 @@ int dao_source_seek(struct dao_source *s, uint64_t index, struct dao_error *err)
 	return s->plugin->source->seek(s->state, index, err);
 }
 
+int dao_source_frame_pose_sized(struct dao_source *s, const struct dao_source_frame *frame,
+				struct dao_source_pose *pose, size_t size, struct dao_error *err)
+{
+	const struct dao_source_ops *ops = s ? s->plugin->source : NULL;
+	if (!s || !frame || !pose)
+		return dao_error_set(err, -EINVAL, "dao_source_frame_pose: NULL argument");
+	if (size < offsetof(struct dao_source_pose, description))
+		return dao_error_set(err, -EINVAL, "dao_source_frame_pose: a struct of %zu bytes is "
+				     "smaller than the first layout (DAO_SOURCE_POSE_INIT)", size);
+	if (ops->version < 2 || !ops->frame_pose)
+		return dao_error_set(err, -ENOTSUP, "source '%s' carries no camera poses",
+				     s->plugin->name);
+	struct dao_source_pose full = DAO_SOURCE_POSE_INIT;
+	int r = ops->frame_pose(s->state, frame, &full, err);
+	if (r < 0)
+		return r;
+	full.size = (uint32_t)(size < sizeof(full) ? size : sizeof(full));
+	memcpy(pose, &full, full.size);
+	return 0;
+}
+
 void dao_source_close(struct dao_source *s)
 {
 	if (!s)

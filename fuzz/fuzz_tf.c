@@ -1,0 +1,100 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * libFuzzer target: the tf and odometry parsers (ROS 1 in bag/ros_msg.c,
+ * ROS 2 CDR in mcap/ros2_msg.c) and the tf buffer they fill.  The first
+ * byte picks the parser (0 ROS 1 TFMessage, 1 ROS 1 Odometry, 2 ROS 2
+ * TFMessage, 3 ROS 2 Odometry; its bit 2 marks the transforms static), the
+ * rest is the message.  Every transform delivered goes into a small buffer
+ * (so its limits are met); then every pair of frames is looked up at the
+ * stamps seen.  Aborts on a name pointing outside the input, or a pose
+ * that is not finite and unit.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bag/ros_msg.h"
+#include "mcap/ros2_msg.h"
+#include "tf/tf_buffer.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+struct ctx {
+	struct dao_tf_buffer *b;
+	const uint8_t *d;
+	size_t size;
+	int is_static;
+	uint64_t stamps[8];
+	int n;
+};
+
+static void inside(const char *p, uint32_t n, const struct ctx *c)
+{
+	const uint8_t *u = (const uint8_t *)p;
+	if (n && (u < c->d || u + n > c->d + c->size))
+		abort();
+}
+
+static int add(void *user, const struct dao_tf_msg_transform *t)
+{
+	struct ctx *c = user;
+	struct dao_error err;
+	inside(t->parent, t->parent_len, c);
+	inside(t->child, t->child_len, c);
+	if (c->n < 8)
+		c->stamps[c->n++] = t->stamp_ns;
+	int r = dao_tf_buffer_add(c->b, t->parent, t->parent_len, t->child, t->child_len,
+				  t->stamp_ns, &t->tr, c->is_static, &err);
+	return r < 0 ? r : 0;
+}
+
+static void lookups(struct ctx *c)
+{
+	struct dao_error err;
+	uint32_t n = dao_tf_buffer_frame_count(c->b);
+	for (uint32_t a = 0; a < n; a++)
+		for (uint32_t s = 0; s < n; s++)
+			for (int k = 0; k < c->n; k++) {
+				struct dao_rigid r;
+				if (dao_tf_buffer_lookup(c->b, (int)a, (int)s, c->stamps[k] + 1000 * k,
+							 500000000u, &r, &err) < 0)
+					continue;
+				double q = 0;
+				for (int i = 0; i < 4; i++)
+					q += r.q[i] * r.q[i];
+				if (!(fabs(q - 1.0) < 1e-6) || !isfinite(r.t[0] + r.t[1] + r.t[2]))
+					abort();
+			}
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	struct ctx c = { 0 };
+	struct dao_error err;
+	struct dao_tf_msg_transform t;
+	if (size < 1 || dao_tf_buffer_create(&c.b, 6, 16, &err) < 0)
+		return 0;
+	c.d = data + 1;
+	c.size = size - 1;
+	c.is_static = data[0] & 4;
+	switch (data[0] & 3) {
+	case 0:
+		(void)dao_ros_tf_parse(c.d, (uint32_t)c.size, add, &c);
+		break;
+	case 1:
+		if (dao_ros_odometry_parse(c.d, (uint32_t)c.size, &t) == 0)
+			(void)add(&c, &t);
+		break;
+	case 2:
+		(void)dao_ros2_tf_parse(c.d, c.size, add, &c);
+		break;
+	default:
+		if (dao_ros2_odometry_parse(c.d, c.size, &t) == 0)
+			(void)add(&c, &t);
+	}
+	if (dao_tf_buffer_finish(c.b, &err) == 0)
+		lookups(&c);
+	dao_tf_buffer_free(c.b);
+	return 0;
+}

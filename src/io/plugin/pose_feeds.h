@@ -1,0 +1,26 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_PLUGIN_POSE_FEEDS_H
+#define DAO_PLUGIN_POSE_FEEDS_H
+
+/*
+ * The recordings as feeds of source_poses.h: a ROS 1 bag (tf2_msgs/
+ * TFMessage or tf/tfMessage, nav_msgs/Odometry, ROS 1 serialization) and a
+ * ROS 2 store of the mcap and db3 sources (tf2_msgs/msg/TFMessage,
+ * nav_msgs/msg/Odometry in CDR).  A tf topic whose name ends in "tf_static"
+ * is static.
+ */
+#include "bag/bag_reader.h"
+#include "plugin/ros2_source.h"
+#include "plugin/source_poses.h"
+
+void dao_bag_pose_feed(struct dao_bag *bag, struct dao_pose_feed *feed);
+
+/* A ROS 2 store as the feed's impl (it lives as long as the feed is used). */
+struct dao_ros2_store_ref {
+	const struct dao_ros2_store_ops *ops;
+	void *store;
+};
+
+void dao_ros2_pose_feed(struct dao_ros2_store_ref *ref, struct dao_pose_feed *feed);
+
+#endif

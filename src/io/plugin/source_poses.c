@@ -1,0 +1,281 @@
+/* SPDX-License-Identifier: MIT */
+/* A ROS recording's camera poses from its tf or odometry (source_poses.h). */
+#include "plugin/source_poses.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error_internal.h"
+#include "tf/tf_buffer.h"
+
+struct dao_source_poses {
+	char frame[256], topic[256];
+	uint64_t gap_ns;
+	int loaded;                 /* 0 not yet, 1 loaded, < 0 failed for good (failure) */
+	struct dao_error failure;
+	struct dao_tf_buffer *tf;
+	char topics[120];           /* the topics read, for messages */
+	uint64_t skipped;           /* transforms and messages refused */
+	char skip_reason[200];      /* the first one's */
+	char odom_child[256];       /* odometry: the first message's child_frame_id */
+	char odom_frame[256];       /* ... and its header.frame_id (the default fixed frame) */
+	char depth_frame[256];      /* the frame resolved for (the depth images' frame_id) */
+	int resolved, source, target;
+	char description[160];
+	char warning[256];
+	int warned;
+};
+
+/* What one message's transforms are added with. */
+struct loading {
+	struct dao_source_poses *p;
+	const char *topic;
+	uint32_t index;
+	int is_static;
+	struct dao_error *err;
+};
+
+int dao_source_poses_create(struct dao_source_poses **out, const struct dao_ros_uri *u,
+			    struct dao_error *err)
+{
+	struct dao_source_poses *p = calloc(1, sizeof(*p));
+	if (!p)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	snprintf(p->frame, sizeof p->frame, "%s", u->pose_frame);
+	snprintf(p->topic, sizeof p->topic, "%s", u->pose_topic);
+	p->gap_ns = (uint64_t)(u->pose_gap * 1e9 + 0.5);
+	*out = p;
+	return 0;
+}
+
+void dao_source_poses_free(struct dao_source_poses *p)
+{
+	if (!p)
+		return;
+	dao_tf_buffer_free(p->tf);
+	free(p);
+}
+
+static void skip(struct dao_source_poses *p, const char *topic, uint32_t i, const char *why)
+{
+	if (p->skipped++ == 0)
+		snprintf(p->skip_reason, sizeof p->skip_reason, "message %u of '%.50s': %.120s", i, topic,
+			 why);
+}
+
+static int add(void *user, const struct dao_tf_msg_transform *t)
+{
+	struct loading *l = user;
+	struct dao_error e;
+	int r = dao_tf_buffer_add(l->p->tf, t->parent, t->parent_len, t->child, t->child_len,
+				  t->stamp_ns, &t->tr, l->is_static, &e);
+	if (r == 1)
+		skip(l->p, l->topic, l->index, e.message);
+	if (r < 0)
+		*l->err = e;
+	return r < 0 ? r : 0;
+}
+
+static void list_add(char *buf, size_t cap, const char *name)
+{
+	size_t n = strlen(buf);
+	if (n + 4 < cap)
+		snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", name);
+}
+
+/* Every message of topic t into the buffer. */
+static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed, uint32_t t,
+		      enum dao_pose_topic kind, struct dao_error *err)
+{
+	const char *name;
+	uint32_t count;
+	enum dao_pose_topic k;
+	feed->topic(feed->impl, t, &name, &count, &k);
+	list_add(p->topics, sizeof p->topics, name);
+	struct loading l = { p, name, 0, kind == DAO_POSE_TOPIC_TF_STATIC, err };
+	for (uint32_t i = 0; i < count; i++) {
+		const uint8_t *d;
+		uint64_t len;
+		int r = feed->read(feed->impl, t, i, &d, &len, err);
+		if (r < 0)
+			return r;
+		l.index = i;
+		if (kind == DAO_POSE_TOPIC_ODOMETRY) {
+			struct dao_tf_msg_transform tr;
+			if ((r = feed->parse_odometry(d, len, &tr)) == 0) {
+				if (!p->odom_child[0] && tr.child_len < sizeof p->odom_child &&
+				    tr.parent_len < sizeof p->odom_frame) {
+					memcpy(p->odom_child, tr.child, tr.child_len);
+					memcpy(p->odom_frame, tr.parent, tr.parent_len);
+				}
+				r = add(&l, &tr);
+			}
+		} else {
+			r = feed->parse_tf(d, len, add, &l);
+		}
+		if (r == -EINVAL || r == -ENOTSUP)
+			skip(p, name, i, kind == DAO_POSE_TOPIC_ODOMETRY
+				 ? "not a nav_msgs/Odometry" : "not a tf2_msgs/TFMessage");
+		else if (r < 0)
+			return r;
+	}
+	return 0;
+}
+
+/* The odometry topic named by pose_topic: its index, or < 0 with the topics there are. */
+static int odometry_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+			  struct dao_error *err)
+{
+	char list[200] = "";
+	int found = -1;
+	for (uint32_t t = 0; t < feed->topic_count; t++) {
+		const char *name;
+		uint32_t count;
+		enum dao_pose_topic kind;
+		feed->topic(feed->impl, t, &name, &count, &kind);
+		if (kind != DAO_POSE_TOPIC_ODOMETRY)
+			continue;
+		list_add(list, sizeof list, name);
+		if (!strcmp(name, p->topic))
+			found = (int)t;
+	}
+	if (found < 0)
+		return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry topic '%s' (pose_topic); "
+				     "odometry topics: %s", feed->path, p->topic,
+				     list[0] ? list : "none");
+	return found;
+}
+
+/* The topics (tf, tf_static; or the odometry and tf_static) read into a new buffer. */
+static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+		struct dao_error *err)
+{
+	int odom = -1, ntf = 0, r;
+	if (p->topic[0] && (odom = odometry_topic(p, feed, err)) < 0)
+		return odom;
+	if ((r = dao_tf_buffer_create(&p->tf, DAO_POSES_MAX_FRAMES, DAO_POSES_MAX_SAMPLES, err)) < 0)
+		return r;
+	if (odom >= 0 && (r = read_topic(p, feed, (uint32_t)odom, DAO_POSE_TOPIC_ODOMETRY, err)) < 0)
+		return r;
+	for (uint32_t t = 0; t < feed->topic_count; t++) {
+		const char *name;
+		uint32_t count;
+		enum dao_pose_topic kind;
+		feed->topic(feed->impl, t, &name, &count, &kind);
+		if (kind != DAO_POSE_TOPIC_TF_STATIC && (kind != DAO_POSE_TOPIC_TF || odom >= 0))
+			continue;
+		ntf += kind == DAO_POSE_TOPIC_TF;
+		if ((r = read_topic(p, feed, t, kind, err)) < 0)
+			return r;
+	}
+	if (odom < 0 && ntf == 0)
+		return dao_error_set(err, -ENODATA, "%s: no tf topic (tf2_msgs/TFMessage, such as "
+				     "/tf) to take the camera's poses from%s%s; name a "
+				     "nav_msgs/Odometry topic (pose_topic, --pose-topic), or leave "
+				     "depth-temporal-motion at icp or off", feed->path,
+				     p->topics[0] ? ", only " : "", p->topics);
+	if (p->skipped)
+		snprintf(p->warning, sizeof p->warning, "%llu transforms or messages of %.40s skipped "
+			 "as malformed (the first: %.120s)", (unsigned long long)p->skipped, p->topics,
+			 p->skip_reason);
+	return dao_tf_buffer_finish(p->tf, err);
+}
+
+/* Frame `name` of the buffer, or an error saying which frames there are. */
+static int frame_of(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+		    const char *name, const char *what, struct dao_error *err)
+{
+	int f = dao_tf_buffer_find(p->tf, name);
+	if (f >= 0)
+		return f;
+	char list[300];
+	dao_tf_buffer_list(p->tf, list, sizeof list);
+	return dao_error_set(err, -EINVAL, "%s: %s '%s' is not in %s; frames seen: %s", feed->path,
+			     what, name, p->topics, list[0] ? list : "none");
+}
+
+/* Odometry whose child the depth frame is not connected to: the child taken for the camera. */
+static int odometry_fallback(struct dao_source_poses *p, const char *depth, struct dao_error *err)
+{
+	int c = dao_tf_buffer_find(p->tf, p->odom_child), r;
+	if (c < 0 || (r = dao_tf_buffer_connected(p->tf, c, p->target, err)) <= 0)
+		return -1;
+	snprintf(p->warning, sizeof p->warning, "%.40s: no transform from the odometry's "
+		 "'%.50s' to the depth frame '%.50s': the odometry's pose is taken as the "
+		 "camera's", p->topics, p->odom_child, depth);
+	p->warned = 0;
+	return c;
+}
+
+/* The source and target frames for the depth images' frame `depth`. */
+static int resolve(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+		   const char *depth, struct dao_error *err)
+{
+	int r, s = dao_tf_buffer_find(p->tf, depth);
+	/* the fixed frame: pose_frame, the odometry's frame, the root of the depth frame's tree */
+	const char *fixed = p->frame[0] ? p->frame : p->odom_frame[0] ? p->odom_frame : depth;
+	p->resolved = 0;
+	if ((p->target = frame_of(p, feed, fixed, p->frame[0] ? "the fixed frame (pose_frame)"
+				  : p->odom_frame[0] ? "the odometry's frame"
+				  : "the depth frame", err)) < 0 ||
+	    (fixed == depth && (r = dao_tf_buffer_root(p->tf, p->target, &p->target, err)) < 0))
+		return p->target < 0 ? p->target : r;
+	r = s < 0 ? 0 : dao_tf_buffer_connected(p->tf, s, p->target, err);
+	if (r < 0)
+		return r;
+	if (!r && p->odom_child[0])
+		r = (s = odometry_fallback(p, depth, err)) >= 0;
+	const char *tn = dao_tf_buffer_frame_name(p->tf, (uint32_t)p->target);
+	if (!r) {
+		char list[300];
+		dao_tf_buffer_list(p->tf, list, sizeof list);
+		return dao_error_set(err, -ENOTCONN, "%s: the depth frame '%s' is %s '%s' in %s; "
+				     "frames seen: %s", feed->path, depth,
+				     s < 0 ? "not in the tf, so not connected to" : "not connected to",
+				     tn, p->topics, list);
+	}
+	p->source = s;
+	p->resolved = 1;
+	snprintf(p->depth_frame, sizeof p->depth_frame, "%s", depth);
+	snprintf(p->description, sizeof p->description, "'%.50s' in '%.40s' from %.40s (%llu "
+		 "transforms)", dao_tf_buffer_frame_name(p->tf, (uint32_t)s), tn, p->topics,
+		 (unsigned long long)dao_tf_buffer_samples(p->tf));
+	return 0;
+}
+
+int dao_source_poses_get(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+			 const char *frame_id, uint32_t len, uint64_t stamp_ns,
+			 struct dao_source_pose *pose, struct dao_error *err)
+{
+	char depth[DAO_TF_NAME_MAX + 1];
+	int r;
+	if (p->loaded == 0 && (r = load(p, feed, &p->failure)) < 0)
+		p->loaded = r;
+	else if (p->loaded == 0)
+		p->loaded = 1;
+	if (p->loaded < 0) {
+		*err = p->failure;
+		return p->loaded;
+	}
+	if (len == 0 || len > DAO_TF_NAME_MAX)
+		return dao_error_set(err, -EINVAL, "%s: the depth image's header.frame_id is %s: "
+				     "its frame in the tf is unknown", feed->path,
+				     len ? "too long" : "empty");
+	memcpy(depth, frame_id, len);
+	depth[len] = 0;
+	if ((!p->resolved || strcmp(depth, p->depth_frame)) && (r = resolve(p, feed, depth, err)) < 0)
+		return r;
+	struct dao_rigid tr;
+	if ((r = dao_tf_buffer_lookup(p->tf, p->target, p->source, stamp_ns, p->gap_ns, &tr, err)) < 0)
+		return r;
+	memcpy(pose->rotation, tr.q, sizeof tr.q);
+	memcpy(pose->translation, tr.t, sizeof tr.t);
+	snprintf(pose->description, sizeof pose->description, "%s", p->description);
+	pose->warning[0] = 0;
+	if (!p->warned && p->warning[0])
+		snprintf(pose->warning, sizeof pose->warning, "%s", p->warning);
+	p->warned = 1;
+	return 0;
+}

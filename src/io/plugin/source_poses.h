@@ -1,0 +1,61 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_PLUGIN_SOURCE_POSES_H
+#define DAO_PLUGIN_SOURCE_POSES_H
+
+/*
+ * The camera poses of a ROS recording (the bag, mcap and db3 sources'
+ * frame_pose): read at the first call from the recording's tf
+ * (tf2_msgs/TFMessage topics: those named .../tf_static static, the others
+ * dynamic) or, with ?pose_topic=, from a nav_msgs/Odometry topic and the
+ * static tf; then the pose of each depth frame's header.frame_id in the
+ * fixed frame (?pose_frame=, default the root of the depth frame's tree)
+ * at its stamp (tf/tf_buffer.h; ?pose_gap= seconds, default 0.5, the
+ * longest interpolation).  A load that fails (no tf topic, a frame not
+ * connected, too many transforms) fails every later call the same way.
+ */
+#include <stdint.h>
+
+#include <depthao/error.h>
+#include <depthao/plugin.h>
+
+#include "plugin/ros_image.h"
+#include "tf/tf_msg.h"
+
+/* At most this many frames and dynamic transforms are held (about 150 MB). */
+#define DAO_POSES_MAX_FRAMES 4096
+#define DAO_POSES_MAX_SAMPLES (1u << 21)
+
+enum dao_pose_topic { DAO_POSE_TOPIC_NONE, DAO_POSE_TOPIC_TF, DAO_POSE_TOPIC_TF_STATIC,
+		      DAO_POSE_TOPIC_ODOMETRY };
+
+/* What a recording gives the poses: its topics, messages and parsers. */
+struct dao_pose_feed {
+	void *impl;
+	const char *path;
+	uint32_t topic_count;
+	/* topic i: its name, message count and what it is for poses */
+	void (*topic)(void *impl, uint32_t i, const char **name, uint32_t *count,
+		      enum dao_pose_topic *kind);
+	/* message i of a topic, valid until the next call */
+	int (*read)(void *impl, uint32_t topic, uint32_t i, const uint8_t **data, uint64_t *len,
+		    struct dao_error *err);
+	int (*parse_tf)(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user);
+	int (*parse_odometry)(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out);
+};
+
+struct dao_source_poses;
+
+/* The options of u (pose_frame, pose_topic, pose_gap) kept; nothing read yet. */
+int dao_source_poses_create(struct dao_source_poses **out, const struct dao_ros_uri *u,
+			    struct dao_error *err);
+void dao_source_poses_free(struct dao_source_poses *p);
+
+/*
+ * The pose of the frame named frame_id (len bytes; the depth image's
+ * header.frame_id) at stamp_ns, as frame_pose returns it (plugin.h).
+ */
+int dao_source_poses_get(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+			 const char *frame_id, uint32_t len, uint64_t stamp_ns,
+			 struct dao_source_pose *pose, struct dao_error *err);
+
+#endif

@@ -1,0 +1,29 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef DAO_TF_TF_MSG_H
+#define DAO_TF_TF_MSG_H
+
+/*
+ * A transform as the message parsers deliver it (ROS 1 in bag/ros_msg.h,
+ * ROS 2 CDR in mcap/ros2_msg.h): geometry_msgs/TransformStamped of a
+ * tf2_msgs/TFMessage, or the pose of a nav_msgs/Odometry (its
+ * child_frame_id in its header's frame_id).  The names point into the
+ * message (not NUL-terminated); the values are as read, unchecked
+ * (dao_tf_buffer_add checks them).
+ */
+#include <stdint.h>
+
+#include "tf/rigid.h"
+
+struct dao_tf_msg_transform {
+	uint64_t stamp_ns;
+	const char *parent;         /* header.frame_id */
+	uint32_t parent_len;
+	const char *child;          /* child_frame_id */
+	uint32_t child_len;
+	struct dao_rigid tr;        /* child -> parent */
+};
+
+/* Called per transform of a message; a value < 0 stops the parser, which returns it. */
+typedef int (*dao_tf_msg_cb)(void *user, const struct dao_tf_msg_transform *t);
+
+#endif

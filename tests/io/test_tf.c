@@ -1,0 +1,281 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The tf buffer (src/io/tf): composition against poses composed by hand,
+ * interpolation (slerp exact on a constant-rate turn, lerp on a line),
+ * static against dynamic transforms, gaps, two parents, cycles, frames not
+ * connected, quaternions normalised or refused, the limits; and the ROS 1
+ * and ROS 2 tf / odometry parsers on hand-made and truncated messages.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <cmocka.h>
+#include <errno.h>
+#include <math.h>
+
+#include "bag/ros_msg.h"
+#include "mcap/ros2_msg.h"
+#include "tf/tf_buffer.h"
+
+#define S 1000000000ull
+
+static struct dao_rigid yaw(double deg, double x, double y, double z)
+{
+	double h = deg * 3.14159265358979323846 / 360.0;
+	return (struct dao_rigid){ { 0, 0, sin(h), cos(h) }, { x, y, z } };
+}
+
+static int add(struct dao_tf_buffer *b, const char *p, const char *c, uint64_t t,
+	       struct dao_rigid tr, int st)
+{
+	struct dao_error err;
+	return dao_tf_buffer_add(b, p, strlen(p), c, strlen(c), t, &tr, st, &err);
+}
+
+static void near(const struct dao_rigid *a, const struct dao_rigid *b, double tol)
+{
+	double s = a->q[0] * b->q[0] + a->q[1] * b->q[1] + a->q[2] * b->q[2] + a->q[3] * b->q[3];
+	assert_true(fabs(fabs(s) - 1.0) < tol);
+	for (int i = 0; i < 3; i++)
+		assert_true(fabs(a->t[i] - b->t[i]) < tol);
+}
+
+static struct dao_tf_buffer *tree(void)
+{
+	struct dao_tf_buffer *b;
+	struct dao_error err;
+	assert_int_equal(dao_tf_buffer_create(&b, 16, 100, &err), 0);
+	/* map -> odom static; odom -> base dynamic, turning 90 deg/s about z at 1 m/s in x;
+	 * base -> cam static ("/" prefixes as ROS 1 writes them) */
+	assert_int_equal(add(b, "/map", "odom", 0, yaw(90, 1, 2, 0), 1), 0);
+	for (int i = 0; i <= 4; i++)
+		assert_int_equal(add(b, "odom", "base", (uint64_t)i * S / 4,
+				     yaw(22.5 * i, 0.25 * i, 0, 0), 0), 0);
+	assert_int_equal(add(b, "base", "/cam", 0, yaw(-90, 0, 0, 0.5), 1), 0);
+	assert_int_equal(dao_tf_buffer_finish(b, &err), 0);
+	return b;
+}
+
+static void test_compose_interpolate(void **state)
+{
+	(void)state;
+	struct dao_tf_buffer *b = tree();
+	struct dao_error err;
+	struct dao_rigid got, want, base;
+	int map = dao_tf_buffer_find(b, "map"), cam = dao_tf_buffer_find(b, "cam"), root;
+	assert_true(map >= 0 && cam >= 0);
+	assert_int_equal(dao_tf_buffer_root(b, cam, &root, &err), 0);
+	assert_int_equal(root, map);
+	/* at 0.3 s, between the samples of 0.25 and 0.5 s: yaw 27 deg, x 0.3 m (exact) */
+	base = yaw(27, 0.3, 0, 0);
+	struct dao_rigid m = yaw(90, 1, 2, 0), c = yaw(-90, 0, 0, 0.5);
+	dao_rigid_compose(&m, &base, &want);
+	dao_rigid_compose(&want, &c, &want);
+	assert_int_equal(dao_tf_buffer_lookup(b, map, cam, 3 * S / 10, S, &got, &err), 0);
+	near(&got, &want, 1e-12);
+	/* the camera in base: static only, any time */
+	assert_int_equal(dao_tf_buffer_lookup(b, dao_tf_buffer_find(b, "base"), cam, 99 * S, 1, &got,
+					      &err), 0);
+	near(&got, &c, 1e-15);
+	/* cam in cam; odom in cam (the inverse) */
+	assert_int_equal(dao_tf_buffer_lookup(b, cam, dao_tf_buffer_find(b, "odom"), S / 2, S, &got,
+					      &err), 0);
+	base = yaw(45, 0.5, 0, 0);
+	dao_rigid_compose(&base, &c, &want);
+	dao_rigid_inverse(&want, &want);
+	near(&got, &want, 1e-12);
+	dao_tf_buffer_free(b);
+}
+
+static void test_gaps(void **state)
+{
+	(void)state;
+	struct dao_tf_buffer *b = tree();
+	struct dao_error err;
+	struct dao_rigid got;
+	int map = dao_tf_buffer_find(b, "map"), cam = dao_tf_buffer_find(b, "cam");
+	/* samples 0.25 s apart: a limit of 0.2 s refuses between them, not at them */
+	assert_int_equal(dao_tf_buffer_lookup(b, map, cam, 3 * S / 10, S / 5, &got, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "no transform 'odom' -> 'base' at 0.300000 s"));
+	assert_non_null(strstr(err.message, "farther apart than 0.200 s"));
+	assert_int_equal(dao_tf_buffer_lookup(b, map, cam, S / 4 + 500, S / 5, &got, &err), 0);
+	/* no extrapolation */
+	assert_int_equal(dao_tf_buffer_lookup(b, map, cam, S + 2000, S, &got, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "after its last (1.000000 s)"));
+	dao_tf_buffer_free(b);
+}
+
+static void test_structure(void **state)
+{
+	(void)state;
+	struct dao_tf_buffer *b = tree();
+	struct dao_error err;
+	struct dao_rigid got, id;
+	dao_rigid_identity(&id);
+	/* a second parent is refused; a frame its own parent skipped */
+	assert_int_equal(dao_tf_buffer_add(b, "map", 3, "base", 4, 0, &id, 1, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "frame 'base' has two parents in the tf, 'odom' and 'map'"));
+	assert_int_equal(add(b, "x", "x", 0, id, 1), 1);
+	/* another tree: not connected */
+	assert_int_equal(add(b, "world", "other", 0, id, 1), 0);
+	assert_int_equal(dao_tf_buffer_lookup(b, dao_tf_buffer_find(b, "world"),
+					      dao_tf_buffer_find(b, "cam"), 0, S, &got, &err), -ENOTCONN);
+	char list[200];
+	dao_tf_buffer_list(b, list, sizeof list);
+	assert_string_equal(list, "'map', 'odom', 'base', 'cam', 'x', 'world', 'other'");
+	dao_tf_buffer_free(b);
+	/* a cycle */
+	assert_int_equal(dao_tf_buffer_create(&b, 4, 4, &err), 0);
+	assert_int_equal(add(b, "a", "b", 0, id, 1), 0);
+	assert_int_equal(add(b, "b", "c", 0, id, 1), 0);
+	assert_int_equal(add(b, "c", "a", 0, id, 1), 0);
+	int root;
+	assert_int_equal(dao_tf_buffer_root(b, 0, &root, &err), -ELOOP);
+	assert_non_null(strstr(err.message, "the tf has a cycle"));
+	assert_int_equal(dao_tf_buffer_lookup(b, 0, 1, 0, S, &got, &err), -ELOOP);
+	/* the limits: frames, samples */
+	assert_int_equal(add(b, "a", "d", 0, id, 1), 0);
+	assert_int_equal(add(b, "a", "e", 0, id, 1), -E2BIG);
+	for (int i = 0; i < 4; i++)
+		assert_int_equal(add(b, "a", "d", (uint64_t)i, id, 0), 0);
+	assert_int_equal(add(b, "a", "d", 9, id, 0), -E2BIG);
+	dao_tf_buffer_free(b);
+}
+
+static void test_values(void **state)
+{
+	(void)state;
+	struct dao_tf_buffer *b;
+	struct dao_error err;
+	struct dao_rigid got, tr = yaw(30, 1, 0, 0), want = tr;
+	assert_int_equal(dao_tf_buffer_create(&b, 8, 8, &err), 0);
+	for (int i = 0; i < 4; i++)
+		tr.q[i] *= 1 + 5e-4; /* drift: normalised */
+	assert_int_equal(add(b, "w", "c", 5, tr, 0), 0);
+	tr.q[3] *= 1.5; /* refused */
+	assert_int_equal(add(b, "w", "c", 6, tr, 0), 1);
+	tr = want;
+	tr.t[1] = NAN;
+	assert_int_equal(add(b, "w", "c", 7, tr, 0), 1);
+	assert_int_equal(add(b, "", "c", 7, want, 0), 1);
+	/* out of order and a repeated stamp: sorted, the later one kept */
+	assert_int_equal(add(b, "w", "c", 1, yaw(0, 0, 0, 0), 0), 0);
+	assert_int_equal(add(b, "w", "c", 1, yaw(10, 0, 0, 0), 0), 0);
+	assert_int_equal(dao_tf_buffer_finish(b, &err), 0);
+	assert_int_equal(dao_tf_buffer_samples(b), 2);
+	assert_int_equal(dao_tf_buffer_lookup(b, 0, 1, 5, S, &got, &err), 0);
+	near(&got, &want, 1e-12);
+	struct dao_rigid ten = yaw(10, 0, 0, 0);
+	assert_int_equal(dao_tf_buffer_lookup(b, 0, 1, 1, S, &got, &err), 0);
+	near(&got, &ten, 1e-12);
+	dao_tf_buffer_free(b);
+}
+
+/* ROS 1: a TFMessage of two transforms; then every truncation refused. */
+static size_t put(uint8_t *p, const void *v, size_t n)
+{
+	memcpy(p, v, n);
+	return n;
+}
+
+static size_t ros1_transform(uint8_t *p, const char *parent, const char *child, uint32_t nsec)
+{
+	size_t n = 0;
+	uint32_t u[3] = { 7, 100, nsec }, len = (uint32_t)strlen(parent);
+	n += put(p + n, u, 12);
+	n += put(p + n, &len, 4);
+	n += put(p + n, parent, len);
+	len = (uint32_t)strlen(child);
+	n += put(p + n, &len, 4);
+	n += put(p + n, child, len);
+	double v[7] = { 1, 2, 3, 0, 0, 0, 1 };
+	return n + put(p + n, v, sizeof v);
+}
+
+static int count_cb(void *user, const struct dao_tf_msg_transform *t)
+{
+	int *n = user;
+	assert_int_equal(t->stamp_ns, 100 * S + 5);
+	assert_true(t->tr.t[2] == 3.0 && t->tr.q[3] == 1.0);
+	(*n)++;
+	return 0;
+}
+
+static void test_ros1_messages(void **state)
+{
+	(void)state;
+	uint8_t m[1024];
+	uint32_t two = 2;
+	size_t n = put(m, &two, 4);
+	n += ros1_transform(m + n, "/odom", "base_link", 5);
+	n += ros1_transform(m + n, "base_link", "cam", 5);
+	int got = 0;
+	assert_int_equal(dao_ros_tf_parse(m, (uint32_t)n, count_cb, &got), 0);
+	assert_int_equal(got, 2);
+	for (size_t cut = 0; cut < n; cut++) {
+		got = 0;
+		assert_int_equal(dao_ros_tf_parse(m, (uint32_t)cut, count_cb, &got), -EINVAL);
+		assert_int_equal(got, 0); /* nothing delivered from a bad message */
+	}
+	two = 0x40000000u; /* a count the bytes cannot hold */
+	memcpy(m, &two, 4);
+	assert_int_equal(dao_ros_tf_parse(m, (uint32_t)n, count_cb, &got), -EINVAL);
+	/* a nanosecond field of 1e9 */
+	two = 1;
+	n = put(m, &two, 4) + ros1_transform(m + 4, "a", "b", 1000000000u);
+	assert_int_equal(dao_ros_tf_parse(m, (uint32_t)n, count_cb, &got), -EINVAL);
+	/* Odometry: the pose, then 78 float64 */
+	struct dao_tf_msg_transform t;
+	n = ros1_transform(m, "odom", "base_link", 5);
+	memset(m + n, 0, 8 * 78);
+	assert_int_equal(dao_ros_odometry_parse(m, (uint32_t)(n + 8 * 78), &t), 0);
+	assert_int_equal(t.child_len, 9);
+	assert_memory_equal(t.child, "base_link", 9);
+	assert_int_equal(dao_ros_odometry_parse(m, (uint32_t)(n + 8 * 78 - 1), &t), -EINVAL);
+}
+
+/* ROS 2 CDR: an encapsulation header, then the fields aligned. */
+static void test_ros2_messages(void **state)
+{
+	(void)state;
+	uint8_t m[256] = { 0, 1, 0, 0 };
+	size_t n = 4;
+	uint32_t one = 1;
+	int32_t sec = 100;
+	uint32_t nsec = 5, l1 = 5, l2 = 4;
+	n += put(m + n, &one, 4);
+	n += put(m + n, &sec, 4);
+	n += put(m + n, &nsec, 4);
+	n += put(m + n, &l1, 4);
+	n += put(m + n, "odom", 5);
+	n = 4 + ((n - 4 + 3) & ~(size_t)3);
+	n += put(m + n, &l2, 4);
+	n += put(m + n, "cam", 4);
+	n = 4 + ((n - 4 + 7) & ~(size_t)7);
+	double v[7] = { 1, 2, 3, 0, 0, 0, 1 };
+	n += put(m + n, v, sizeof v);
+	int got = 0;
+	assert_int_equal(dao_ros2_tf_parse(m, n, count_cb, &got), 0);
+	assert_int_equal(got, 1);
+	for (size_t cut = 0; cut < n; cut++)
+		assert_true(dao_ros2_tf_parse(m, cut, count_cb, &got) < 0);
+	assert_int_equal(got, 1);
+	sec = -1;
+	memcpy(m + 8, &sec, 4);
+	assert_int_equal(dao_ros2_tf_parse(m, n, count_cb, &got), -EINVAL);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_compose_interpolate),
+		cmocka_unit_test(test_gaps),
+		cmocka_unit_test(test_structure),
+		cmocka_unit_test(test_values),
+		cmocka_unit_test(test_ros1_messages),
+		cmocka_unit_test(test_ros2_messages),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

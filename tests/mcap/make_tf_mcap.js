@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: MIT
+// Writes a plan of test_cli_tf_poses.py as MCAP (@mcap/core, zstd chunks) and as a rosbag2
+// sqlite3 .db3 (sql.js), the messages in CDR by @foxglove/rosmsg2-serialization: the depth
+// (sensor_msgs/msg/Image 16UC1) and its camera_info, /tf and /tf_static
+// (tf2_msgs/msg/TFMessage) and an odometry topic (nav_msgs/msg/Odometry) when the plan has
+// them.  PLAN_DIR/plan.json says what, PLAN_DIR/depth.raw holds the 16-bit frames.
+// usage: node make_tf_mcap.js PLAN_DIR OUT.mcap OUT.db3  (exit 77 without tests/js/node_modules)
+"use strict";
+const fs = require("fs");
+const path = require("path");
+
+const M = require(path.join(__dirname, "make_mcaps.js"));
+const D = require(path.join(__dirname, "..", "db3", "make_db3.js"));
+const initSqlJs = require(path.join(M.mods, "sql.js"));
+const { SEP, HEADER, TIME, IMAGE, CAMINFO, writer } = M;
+
+const VECTOR3 = "MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n";
+const QUATERNION = "MSG: geometry_msgs/Quaternion\nfloat64 x\nfloat64 y\nfloat64 z\nfloat64 w\n";
+const TF = "geometry_msgs/TransformStamped[] transforms\n" + SEP +
+  "MSG: geometry_msgs/TransformStamped\nstd_msgs/Header header\nstring child_frame_id\n" +
+  "geometry_msgs/Transform transform\n" + SEP + HEADER + SEP + TIME + SEP +
+  "MSG: geometry_msgs/Transform\ngeometry_msgs/Vector3 translation\n" +
+  "geometry_msgs/Quaternion rotation\n" + SEP + VECTOR3 + SEP + QUATERNION;
+const ODOMETRY = "std_msgs/Header header\nstring child_frame_id\n" +
+  "geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n" + SEP +
+  HEADER + SEP + TIME + SEP +
+  "MSG: geometry_msgs/PoseWithCovariance\ngeometry_msgs/Pose pose\nfloat64[36] covariance\n" + SEP +
+  "MSG: geometry_msgs/Pose\ngeometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n" +
+  SEP + "MSG: geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z\n" + SEP + QUATERNION + SEP +
+  "MSG: geometry_msgs/TwistWithCovariance\ngeometry_msgs/Twist twist\nfloat64[36] covariance\n" +
+  SEP + "MSG: geometry_msgs/Twist\ngeometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n" +
+  SEP + VECTOR3;
+
+const planDir = process.argv[2];
+const plan = JSON.parse(fs.readFileSync(path.join(planDir, "plan.json"), "utf8"));
+const raw = fs.readFileSync(path.join(planDir, "depth.raw"));
+const W = plan.width, H = plan.height;
+
+const stampOf = (ns) => ({ sec: Number(BigInt(ns) / 1000000000n), nanosec: Number(BigInt(ns) % 1000000000n) });
+const header = (ns, frame) => ({ stamp: stampOf(ns), frame_id: frame });
+const xyz = (v) => ({ x: v[0], y: v[1], z: v[2] });
+const xyzw = (q) => ({ x: q[0], y: q[1], z: q[2], w: q[3] });
+const transform = (t) => ({ header: header(t.stamp_ns, t.parent), child_frame_id: t.child,
+  transform: { translation: xyz(t.t), rotation: xyzw(t.q) } });
+const zeros = () => new Float64Array(36);
+
+// every message of the recording: { topic, type, def, time (ns, BigInt), bytes }
+function messages() {
+  const out = [];
+  const put = (topic, type, def, time, value) =>
+    out.push({ topic, type, def, time: BigInt(time), bytes: writer(def).writeMessage(value) });
+  for (const g of plan.tf_static_messages)
+    put("/tf_static", "tf2_msgs/msg/TFMessage", TF, plan.start_ns, { transforms: g.map(transform) });
+  for (const g of plan.tf_messages)
+    put("/tf", "tf2_msgs/msg/TFMessage", TF, g[0].stamp_ns, { transforms: g.map(transform) });
+  for (const t of plan.odometry)
+    put(plan.odometry_topic, "nav_msgs/msg/Odometry", ODOMETRY, t.stamp_ns, {
+      header: header(t.stamp_ns, t.parent), child_frame_id: t.child,
+      pose: { pose: { position: xyz(t.t), orientation: xyzw(t.q) }, covariance: zeros() },
+      twist: { twist: { linear: xyz([0, 0, 0]), angular: xyz([0, 0, 0]) }, covariance: zeros() } });
+  const K = plan.K;
+  plan.frames.forEach((f, i) => {
+    put("/camera/depth/camera_info", "sensor_msgs/msg/CameraInfo", CAMINFO, f.stamp_ns, {
+      header: header(f.stamp_ns, plan.frame_id), height: H, width: W, distortion_model: "plumb_bob",
+      d: [0, 0, 0, 0, 0], k: K, r: [1, 0, 0, 0, 1, 0, 0, 0, 1],
+      p: [K[0], K[1], K[2], 0, K[3], K[4], K[5], 0, K[6], K[7], K[8], 0], binning_x: 0, binning_y: 0,
+      roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false } });
+    put("/camera/depth/image_raw", "sensor_msgs/msg/Image", IMAGE, BigInt(f.stamp_ns) + 1000n, {
+      header: header(f.stamp_ns, plan.frame_id), height: H, width: W, encoding: "16UC1",
+      is_bigendian: 0, step: 2 * W, data: raw.subarray(i * 2 * W * H, (i + 1) * 2 * W * H) });
+  });
+  return out.sort((a, b) => (a.time < b.time ? -1 : a.time > b.time ? 1 : 0));
+}
+
+async function writeMcap(file, msgs) {
+  await M.zstd.isLoaded;
+  const w = new M.FileWritable();
+  const mw = new M.McapWriter({ writable: w, chunkSize: 1 << 20, compressChunk: M.compressors.zstd });
+  await mw.start({ profile: "ros2", library: "depthao tests (@mcap/core)" });
+  const enc = new TextEncoder(), channels = new Map();
+  let seq = 0;
+  for (const m of msgs) {
+    if (!channels.has(m.topic)) {
+      const sid = await mw.registerSchema({ name: m.type, encoding: "ros2msg", data: enc.encode(m.def) });
+      channels.set(m.topic, await mw.registerChannel({ topic: m.topic, messageEncoding: "cdr",
+        schemaId: sid, metadata: new Map() }));
+    }
+    await mw.addMessage({ channelId: channels.get(m.topic), sequence: seq++, logTime: m.time,
+      publishTime: m.time, data: m.bytes });
+  }
+  await mw.end();
+  fs.writeFileSync(file, Buffer.concat(w.parts));
+}
+
+async function writeDb3(file, msgs) {
+  const SQL = await initSqlJs();
+  const db = new SQL.Database();
+  db.run(D.SCHEMA);
+  const ids = new Map();
+  for (const m of msgs) {
+    if (!ids.has(m.topic)) {
+      ids.set(m.topic, ids.size + 1);
+      db.run("INSERT INTO topics VALUES (?, ?, ?, 'cdr', ?)", [ids.size, m.topic, m.type, D.QOS]);
+    }
+    db.run("INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)",
+      [ids.get(m.topic), m.time, m.bytes]);
+  }
+  fs.writeFileSync(file, db.export());
+  db.close();
+}
+
+(async () => {
+  const msgs = messages();
+  await writeMcap(process.argv[3], msgs);
+  await writeDb3(process.argv[4], msgs);
+})().catch((e) => { console.error(e); process.exit(1); });

@@ -1,0 +1,430 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Camera poses from a ROS recording's tf or odometry (issue #37, item 3).
+
+A synth --trajectory sequence (640x480, structured light) is written as a ROS 1 bag by
+rosbag (make_tf_bag.py), and as MCAP and a rosbag2 .db3 by @mcap/core and sql.js with
+CDR from @foxglove/rosmsg2-serialization (make_tf_mcap.js), with a tf tree around the
+camera: map -> odom (static, not the identity), odom -> base_link (dynamic), base_link ->
+camera_link (static: a mount with a tilt and an offset), camera_link ->
+camera_depth_optical_frame (static: ROS's optical rotation).  The depth images carry
+header.frame_id camera_depth_optical_frame.  Variants (each in every format):
+
+  pan    pan-30, /tf at the frames' stamps, /tf_static in two messages; one transform
+         with a quaternion of norm 1.5 (skipped, a warning) and one of norm 1 + 4e-4
+         (normalised)
+  slide  sideways (0.5 m/s, level), /tf 12 ms after each frame's stamp (and one before
+         the first): every pose is interpolated (exact for a linear path)
+  odom   pan-30 as nav_msgs/Odometry on /odom (odom -> base_link) and /tf_static; no /tf
+         (the fixed frame is the odometry's, odom)
+  gap    pan-30 with /tf at frames 0, 1 and 5 only
+  split  pan-30 without the mount (base_link -> camera_link) in /tf_static
+  bare   odometry whose child base_link has no static transform to the camera
+
+Checks, through the public API (source_poses.c: dao_source_frame_pose):
+1. pan: every frame's pose in map is map->odom x the truth of poses.txt within 1e-6,
+   the skipped transform warned once; slide with pose_frame=odom: the truth itself
+   within 1e-6 (interpolated); odom: the truth (odom is the odometry's root);
+2. gap with pose_gap=0.1: frames 2-4 have none, with a message naming the transform and
+   the times; bare: base_link's pose and a warning;
+3. depthao process --depth-temporal-motion source on each recording gives the filtered
+   depth of depthao process --poses poses.txt on the PNG frames (--algorithm none
+   --depth-out; at most 1 count apart on at most 0.05 % of the pixels), and differs from
+   the filter without motion;
+4. error paths: split with --pose-frame map (not connected, the frames listed); a
+   missing --pose-topic; a recording without /tf; PNG input with --pose-frame; an .oni.
+
+5. depthaod with depth-temporal-motion source (manual playback, the filtered-depth
+   stream) gives process' filtered depth on each recording; on an .oni it says once that
+   the source has no poses and runs on.
+
+usage: test_cli_tf_poses.py DEPTHAO SOURCE_POSES MAKE_TF_BAG MAKE_TF_MCAP NODE DEPTHAOD
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+from PIL import Image
+
+DEPTHAO, SOURCE_POSES, MAKE_BAG, MAKE_MCAP, NODE, DEPTHAOD = sys.argv[1:7]
+START_NS = 1700000000 * 10**9
+FRAME_ID = "camera_depth_optical_frame"
+FAILURES = []
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    FAILURES.append(msg)
+
+
+# rigid transforms: (q = [x, y, z, w], t = [x, y, z]), p_parent = R(q) p_child + t
+def qmul(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return [aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz]
+
+
+def qrot(q, v):
+    p = qmul(qmul(q, [v[0], v[1], v[2], 0.0]), [-q[0], -q[1], -q[2], q[3]])
+    return p[:3]
+
+
+def compose(a, b):
+    return (qmul(a[0], b[0]), [x + y for x, y in zip(qrot(a[0], b[1]), a[1])])
+
+
+def inverse(a):
+    qi = [-a[0][0], -a[0][1], -a[0][2], a[0][3]]
+    return (qi, [-x for x in qrot(qi, a[1])])
+
+
+def axis_angle(axis, deg):
+    s = math.sin(math.radians(deg) / 2)
+    n = math.sqrt(sum(x * x for x in axis))
+    return [axis[0] / n * s, axis[1] / n * s, axis[2] / n * s, math.cos(math.radians(deg) / 2)]
+
+
+MAP_ODOM = (axis_angle([0, 0, 1], 30), [1.0, 2.0, 0.5])
+MOUNT = (axis_angle([0, 1, 0], 10), [0.2, 0.05, 0.4])     # base_link -> camera_link
+OPTICAL = ([-0.5, 0.5, -0.5, 0.5], [0.0, 0.0, 0.0])       # camera_link -> optical
+CAM = compose(MOUNT, OPTICAL)                              # base_link -> optical
+
+
+def tf(stamp_ns, parent, child, tr):
+    return {"stamp_ns": str(stamp_ns), "parent": parent, "child": child, "q": list(tr[0]),
+            "t": list(tr[1])}
+
+
+def run(args, **kw):
+    return subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+
+
+def synth(work, trajectory):
+    out = os.path.join(work, "synth")
+    r = run([DEPTHAO, "synth", "--scene", "boxes", "--trajectory", trajectory, "--frames", "6",
+             "--rays", "4", "--sensor", "structured-light", "--out", out])
+    if r.returncode:
+        sys.exit("synth failed: " + r.stderr)
+    seq = os.path.join(out, "boxes-%s-structured-light" % trajectory)
+    poses = []
+    for line in open(os.path.join(seq, "poses.txt")):
+        if line.startswith("#"):
+            continue
+        v = [float(x) for x in line.split()]
+        poses.append((v[4:8], v[1:4]))
+    return seq, poses
+
+
+def stamp(i):
+    return START_NS + round(i * 1e9 / 30)
+
+
+def plan_dir(work, name, seq, plan):
+    d = os.path.join(work, "plan-" + name)
+    os.makedirs(d, exist_ok=True)
+    cam = json.load(open(os.path.join(seq, "depth", "camera.json")))
+    names = sorted(os.listdir(os.path.join(seq, "depth")))
+    frames = [n for n in names if n.endswith(".png")]
+    with open(os.path.join(d, "depth.raw"), "wb") as f:
+        for n in frames:
+            f.write(np.asarray(Image.open(os.path.join(seq, "depth", n))).astype("<u2").tobytes())
+    m = cam["intrinsic_matrix"]  # column-major
+    plan.update({"width": cam["width"], "height": cam["height"], "frame_id": FRAME_ID,
+                 "K": [m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]],
+                 "start_ns": str(START_NS),
+                 "frames": [{"stamp_ns": str(stamp(i))} for i in range(len(frames))]})
+    for k in ("tf_messages", "tf_static_messages", "odometry"):
+        plan.setdefault(k, [])
+    plan.setdefault("odometry_topic", "/odom")
+    json.dump(plan, open(os.path.join(d, "plan.json"), "w"), indent=1)
+    return d
+
+
+def statics(mount=True):
+    first = [tf(START_NS, "map", "odom", MAP_ODOM)] + \
+        ([tf(START_NS, "base_link", "camera_link", MOUNT)] if mount else [])
+    return [first, [tf(START_NS, "camera_link", FRAME_ID, OPTICAL)]]
+
+
+def base(pose):
+    return compose(pose, inverse(CAM))  # odom -> base_link for a camera pose in odom
+
+
+def plans(work):
+    seq_pan, pan = synth(work, "pan-30")
+    seq_slide, slide = synth(work, "sideways")
+    out = {}
+    msgs = [[tf(stamp(i), "odom", "base_link", base(p))] for i, p in enumerate(pan)]
+    msgs[3][0]["q"] = [x * (1 + 4e-4) for x in msgs[3][0]["q"]]
+    bad = tf(stamp(1) + 10**7, "odom", "base_link", base(pan[1]))
+    bad["q"] = [x * 1.5 for x in bad["q"]]
+    msgs.insert(2, [bad])
+    out["pan"] = (seq_pan, pan, plan_dir(work, "pan", seq_pan,
+                                         {"tf_messages": msgs, "tf_static_messages": statics()}))
+    # sideways: linear in time; samples 12 ms after each frame, and one before the first
+    v = [(b - a) * 30 for a, b in zip(slide[0][1], slide[1][1])]
+    for i, p in enumerate(slide):
+        want = [a + x * i / 30 for a, x in zip(slide[0][1], v)]
+        if max(abs(a - b) for a, b in zip(want, p[1])) > 1e-8 or p[0] != slide[0][0]:
+            sys.exit("the sideways trajectory is not linear at frame %d" % i)
+    def at(t_s):
+        return (slide[0][0], [a + x * t_s for a, x in zip(slide[0][1], v)])
+    smsgs = [[tf(stamp(i) + 12 * 10**6, "odom", "base_link", base(at(i / 30 + 0.012)))]
+             for i in range(-1, len(slide))]
+    out["slide"] = (seq_slide, slide, plan_dir(work, "slide", seq_slide,
+                                               {"tf_messages": smsgs,
+                                                "tf_static_messages": statics()}))
+    odo = [tf(stamp(i), "odom", "base_link", base(p)) for i, p in enumerate(pan)]
+    out["odom"] = (seq_pan, pan, plan_dir(work, "odom", seq_pan,
+                                          {"odometry": odo, "tf_static_messages": statics()}))
+    out["gap"] = (seq_pan, pan, plan_dir(work, "gap", seq_pan, {
+        "tf_messages": [m for i, m in enumerate(msgs) if m[0] is not bad and
+                        int(m[0]["stamp_ns"]) in (stamp(0), stamp(1), stamp(5))],
+        "tf_static_messages": statics()}))
+    out["split"] = (seq_pan, pan, plan_dir(work, "split", seq_pan, {
+        "tf_messages": [m for m in msgs if m[0] is not bad],
+        "tf_static_messages": statics(mount=False)}))
+    out["bare"] = (seq_pan, pan, plan_dir(work, "bare", seq_pan, {"odometry": odo}))
+    return out
+
+
+def write_recordings(work, plans_):
+    """{format: {variant: path}}; a format whose writer is missing is left out (noted)."""
+    recs = {"bag": {}, "mcap": {}, "db3": {}}
+    for name, (_, _, d) in plans_.items():
+        path = os.path.join(work, name + ".bag")
+        r = run(["/usr/bin/python3", MAKE_BAG, d, path])
+        if r.returncode == 77:
+            print("note: no ROS 1 bags: " + r.stdout.strip())
+            recs.pop("bag", None)
+            break
+        if r.returncode:
+            sys.exit("make_tf_bag.py failed: " + r.stdout + r.stderr)
+        recs["bag"][name] = path
+    if not shutil.which(NODE):
+        print("note: no MCAP or .db3: node is not installed")
+        recs.pop("mcap")
+        recs.pop("db3")
+        return recs
+    for name, (_, _, d) in plans_.items():
+        m, b = os.path.join(work, name + ".mcap"), os.path.join(work, name + ".db3")
+        r = run([NODE, MAKE_MCAP, d, m, b])
+        if r.returncode == 77:
+            print("note: no MCAP or .db3: " + r.stdout.strip())
+            recs.pop("mcap")
+            recs.pop("db3")
+            break
+        if r.returncode:
+            sys.exit("make_tf_mcap.js failed: " + r.stdout + r.stderr)
+        recs["mcap"][name], recs["db3"][name] = m, b
+    return recs
+
+
+def source_poses(uri):
+    r = run([SOURCE_POSES, uri])
+    lines = r.stdout.splitlines()
+    frames = {}
+    info = {"description": [], "warning": [], "error": []}
+    for line in lines:
+        w = line.split(" ", 3)
+        if w[0] in info:
+            info[w[0]].append(line.split(" ", 1)[1])
+        elif w[2] == "pose":
+            v = [float(x) for x in line.split()[3:]]
+            frames[int(w[0])] = (v[3:7], v[0:3])
+        else:
+            frames[int(w[0])] = w[3]
+    return r.returncode, frames, info
+
+
+def close(a, b, tol=1e-6):
+    dq = min(max(abs(x - y) for x, y in zip(a[0], b[0])),
+             max(abs(x + y) for x, y in zip(a[0], b[0])))
+    return dq <= tol and max(abs(x - y) for x, y in zip(a[1], b[1])) <= tol
+
+
+def check_truth(fmt, name, uri, want, gaps=(), warning=None):
+    rc, frames, info = source_poses(uri)
+    if rc:
+        return fail("%s %s: source_poses failed: %s" % (fmt, name, info["error"]))
+    worst = 0.0
+    for i, w in enumerate(want):
+        got = frames.get(i)
+        if i in gaps:
+            if not isinstance(got, str) or "no transform 'odom' -> 'base_link'" not in got:
+                fail("%s %s: frame %d should have no pose: %s" % (fmt, name, i, got))
+            continue
+        if not isinstance(got, tuple) or not close(got, w):
+            fail("%s %s: frame %d: %s, want %s" % (fmt, name, i, got, w))
+            continue
+        worst = max(worst, max(abs(x - y) for x, y in zip(got[1], w[1])))
+    if warning and not any(warning in x for x in info["warning"]):
+        fail("%s %s: no warning '%s': %s" % (fmt, name, warning, info["warning"]))
+    if not warning and info["warning"]:
+        fail("%s %s: a warning: %s" % (fmt, name, info["warning"]))
+    if len(info["warning"]) > 1:
+        fail("%s %s: the warning more than once" % (fmt, name))
+    print("%s %s: %d frames, largest translation difference %.2e m; %s" %
+          (fmt, name, len(want), worst, info["description"]))
+
+
+def check_sources(recs, plans_):
+    for fmt, paths in recs.items():
+        pan = plans_["pan"][1]
+        check_truth(fmt, "pan", paths["pan"], [compose(MAP_ODOM, p) for p in pan],
+                    warning="skipped as malformed")
+        check_truth(fmt, "slide", paths["slide"] + "?pose_frame=odom", plans_["slide"][1])
+        check_truth(fmt, "odom", paths["odom"] + "?pose_topic=/odom", pan)
+        check_truth(fmt, "gap", paths["gap"] + "?pose_gap=0.1",
+                    [compose(MAP_ODOM, p) for p in pan], gaps=(2, 3, 4))
+        check_truth(fmt, "bare", paths["bare"] + "?pose_topic=/odom", [base(p) for p in pan],
+                    warning="the odometry's pose is taken as the camera's")
+
+
+def depth_out(work, tag, args):
+    out = os.path.join(work, "out-" + tag)
+    r = run([DEPTHAO, "process", "--algorithm", "none", "--depth-temporal", "0.8",
+             "--noise-interval", "15", "--depth-out", out] + args)
+    if r.returncode:
+        fail("process %s: exit %d: %s" % (tag, r.returncode, r.stderr))
+        return None, r.stderr
+    return [np.asarray(Image.open(os.path.join(out, n))).astype(np.int32)
+            for n in sorted(os.listdir(out))], r.stderr
+
+
+def check_process(work, recs, plans_):
+    seq = plans_["pan"][0]
+    ref, _ = depth_out(work, "png", ["--input", os.path.join(seq, "depth"), "--poses",
+                                     os.path.join(seq, "poses.txt")])
+    still, _ = depth_out(work, "png-still", ["--input", os.path.join(seq, "depth")])
+    if ref is None or still is None:
+        return
+    for fmt, paths in recs.items():
+        for mode in ("source", "source+icp"):
+            got, err = depth_out(work, fmt + mode, ["--input", paths["pan"],
+                                                    "--depth-temporal-motion", mode, "--quiet"])
+            if got is None:
+                continue
+            if mode == "source":
+                want = ref
+            else:
+                want, _ = depth_out(work, "png-" + mode, [
+                    "--input", os.path.join(seq, "depth"), "--poses",
+                    os.path.join(seq, "poses.txt"), "--depth-temporal-motion", mode])
+            if want is None or len(got) != len(want):
+                fail("%s %s: %s frames" % (fmt, mode, len(got)))
+                continue
+            diff = [np.abs(a - b) for a, b in zip(got, want)]
+            big = max(int(d.max()) for d in diff)
+            share = max(float((d > 0).mean()) for d in diff)
+            moved = sum(int((a != b).sum()) for a, b in zip(got, still))
+            print("%s %s: filtered depth against --poses: largest difference %d counts, "
+                  "%.4f %% of the pixels differ; %d pixels differ from the filter without "
+                  "motion" % (fmt, mode, big, 100 * share, moved))
+            if big > 1 or share > 5e-4:
+                fail("%s %s: the filtered depth differs from --poses' (%d counts, %.4f %%)" %
+                     (fmt, mode, big, 100 * share))
+            if moved == 0:
+                fail("%s %s: the same as without motion" % (fmt, mode))
+            if "skipped as malformed" not in err:
+                fail("%s %s: no warning of the skipped transform: %s" % (fmt, mode, err))
+
+
+def daemon_depth(work, tag, source):
+    out = os.path.join(work, "daemon-" + tag)
+    r = run([DEPTHAOD, "--source", source, "--playback", "manual", "--sink", "d=images:" + out,
+             "--stream", "d=filtered-depth", "--depth-temporal", "0.8", "--noise-interval", "15",
+             "--depth-temporal-motion", "source", "--algorithm", "none", "--stats-interval",
+             "0"], timeout=120)
+    if r.returncode or not os.path.isdir(out):
+        fail("depthaod %s: exit %d: %s" % (tag, r.returncode, r.stderr))
+        return None, r.stderr
+    return [np.asarray(Image.open(os.path.join(out, n))).astype(np.int32)
+            for n in sorted(os.listdir(out))], r.stderr
+
+
+def check_daemon(work, recs):
+    for fmt, paths in recs.items():
+        want, _ = depth_out(work, fmt + "-d", ["--input", paths["pan"], "--depth-temporal-motion",
+                                               "source", "--quiet"])
+        got, err = daemon_depth(work, fmt, paths["pan"])
+        if want is None or got is None:
+            continue
+        if len(got) != len(want) or any((a != b).any() for a, b in zip(got, want)):
+            fail("depthaod %s: the filtered depth differs from process' (%d frames)" %
+                 (fmt, len(got)))
+        else:
+            print("depthaod %s: %d frames, the filtered depth of process" % (fmt, len(got)))
+        if "skipped as malformed" not in err:
+            fail("depthaod %s: no warning of the skipped transform: %s" % (fmt, err))
+
+
+def expect_fail(tag, args, want, status=1):
+    r = run([DEPTHAO, "process", "--algorithm", "none", "--depth-out",
+             os.path.join(tempfile.gettempdir(), "unused")] + args)
+    wants = want if isinstance(want, list) else [want]
+    if r.returncode != status or any(w not in r.stderr for w in wants):
+        fail("%s: exit %d, want %d and '%s': %s" % (tag, r.returncode, status, want, r.stderr))
+
+
+def check_errors(work, recs, plans_):
+    for fmt, paths in recs.items():
+        expect_fail(fmt + " split", ["--input", paths["split"], "--depth-temporal-motion",
+                                     "source", "--pose-frame", "map"],
+                    ["the depth frame '%s' is not connected to 'map' in /tf" % FRAME_ID,
+                     "frames seen: 'map', 'odom', 'camera_link', '%s', 'base_link'" % FRAME_ID])
+        expect_fail(fmt + " no topic", ["--input", paths["pan"], "--depth-temporal-motion",
+                                        "source", "--pose-topic", "/nope"],
+                    "no nav_msgs/Odometry topic '/nope' (pose_topic); odometry topics: none")
+        expect_fail(fmt + " no tf", ["--input", paths["odom"], "--depth-temporal-motion",
+                                     "source"], "no tf topic (tf2_msgs/TFMessage, such as /tf)")
+        r = run([DEPTHAO, "process", "--algorithm", "none", "--depth-out",
+                 os.path.join(work, "gapout"), "--input", paths["gap"],
+                 "--depth-temporal-motion", "source", "--pose-gap", "0.1"])
+        if r.returncode or "no camera pose for 3 of 6 frames" not in r.stderr or \
+                "farther apart than 0.100 s" not in r.stderr:
+            fail("%s gap: exit %d: %s" % (fmt, r.returncode, r.stderr))
+    seq = plans_["pan"][0]
+    expect_fail("png --pose-frame", ["--input", os.path.join(seq, "depth"), "--depth-temporal",
+                                     "0.8", "--pose-frame", "odom"],
+                "--pose-frame, --pose-topic and --pose-gap say how a ROS recording's", 2)
+    oni = os.path.join(work, "oni")
+    r = run([DEPTHAO, "synth", "--scene", "plane", "--frames", "2", "--rays", "4", "--oni",
+             "none", "--out", oni])
+    onis = [os.path.join(oni, n) for n in os.listdir(oni) if n.endswith(".oni")]
+    if r.returncode or not onis:
+        return fail("synth --oni: " + r.stderr)
+    expect_fail("oni", ["--input", onis[0], "--depth-temporal-motion", "source"],
+                "source 'oni' carries no camera poses")
+    got, err = daemon_depth(work, "oni", onis[0])
+    if got is None or err.count("carries no camera poses") != 1:
+        fail("depthaod on an .oni with source motion: %s" % err)
+
+
+def main():
+    work = tempfile.mkdtemp(prefix="dao-tf-poses-")
+    try:
+        plans_ = plans(work)
+        recs = write_recordings(work, plans_)
+        if not recs:
+            print("SKIP: neither rosbag nor node's @mcap/core is there to write recordings")
+            sys.exit(77)
+        check_sources(recs, plans_)
+        check_process(work, recs, plans_)
+        check_errors(work, recs, plans_)
+        check_daemon(work, recs)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    if FAILURES:
+        sys.exit("%d failures" % len(FAILURES))
+    print("ok")
+
+
+if __name__ == "__main__":
+    main()
