@@ -213,15 +213,17 @@ static int odometry_fallback(struct dao_source_poses *p, const char *depth, stru
 static int resolve(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		   const char *depth, struct dao_error *err)
 {
-	int r, s = dao_tf_buffer_find(p->tf, depth);
+	int s = dao_tf_buffer_find(p->tf, depth);
 	/* the fixed frame: pose_frame, the odometry's frame, the root of the depth frame's tree */
 	const char *fixed = p->frame[0] ? p->frame : p->odom_frame[0] ? p->odom_frame : depth;
 	p->resolved = 0;
-	if ((p->target = frame_of(p, feed, fixed, p->frame[0] ? "the fixed frame (pose_frame)"
-				  : p->odom_frame[0] ? "the odometry's frame"
-				  : "the depth frame", err)) < 0 ||
-	    (fixed == depth && (r = dao_tf_buffer_root(p->tf, p->target, &p->target, err)) < 0))
-		return p->target < 0 ? p->target : r;
+	p->target = frame_of(p, feed, fixed, p->frame[0] ? "the fixed frame (pose_frame)"
+			     : p->odom_frame[0] ? "the odometry's frame" : "the depth frame", err);
+	if (p->target < 0)
+		return p->target;
+	int r = fixed == depth ? dao_tf_buffer_root(p->tf, p->target, &p->target, err) : 0;
+	if (r < 0)
+		return r;
 	r = s < 0 ? 0 : dao_tf_buffer_connected(p->tf, s, p->target, err);
 	if (r < 0)
 		return r;
