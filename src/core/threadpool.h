@@ -23,8 +23,10 @@ int dao_pool_threads(const struct dao_pool *pool);
 
 /*
  * Runs fn over [0, rows) in bands of at least `min_rows` rows and waits for
- * completion.  Bands are handed out dynamically, so a slow core does not hold
- * up the others.  Not re-entrant: one dao_pool_run at a time per pool.
+ * completion.  Bands are handed out dynamically, large first and shrinking
+ * to min_rows (guided self-scheduling), so a slow core does not hold up the
+ * others and the threads finish together.  Bands start at multiples of
+ * min_rows.  Not re-entrant: one dao_pool_run at a time per pool.
  */
 void dao_pool_run(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg);
 
