@@ -22,6 +22,7 @@
 #include <depthao/camera.h>
 
 #include "motion/icp_pairs.h"
+#include "motion/icp_source.h"
 
 struct dao_pool;
 
@@ -61,6 +62,10 @@ struct dao_icp_setup {
 	 * result but by the kernel's float rounding */
 	dao_icp_pairs_fn pairs;
 	struct dao_pool *pool;
+	/* the source grid's and the target's kernels (NULL: the references,
+	 * motion/icp_source.h; the same result to the bit) */
+	dao_icp_source_fn source;
+	dao_icp_target_fn target;
 };
 
 /* Defaults for a VGA-class sensor at 30 fps. */

@@ -1112,6 +1112,8 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	ctx->icp.noise_k = job->depth_temporal_setup.noise_k;
 	ctx->icp.quantum = job->depth_temporal_setup.quantum;
 	ctx->icp.pairs = ctx->kernels.icp_pairs;
+	ctx->icp.source = ctx->kernels.icp_source;
+	ctx->icp.target = ctx->kernels.icp_target;
 	ctx->icp.pool = ctx->pool;
 	/* source, source+icp: the motion between the poses given (motion/pose_prior.h) */
 	struct dao_pose given;

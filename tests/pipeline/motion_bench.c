@@ -71,6 +71,8 @@ int main(int argc, char **argv)
 	struct dao_kernels k;
 	dao_kernels_select(&k, (enum dao_simd)atoi(argv[2]));
 	s.pairs = k.icp_pairs;
+	s.source = k.icp_source;
+	s.target = k.icp_target;
 	struct dao_pool *pool = NULL;
 	if (atoi(argv[3]) > 1 && dao_pool_create(&pool, atoi(argv[3])))
 		return 1;
