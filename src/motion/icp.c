@@ -85,7 +85,9 @@ size_t dao_icp_scratch_floats(const struct dao_icp_setup *s, int w, int h)
 	const size_t cap = grid_cap(s, w, h), npix = (size_t)w * (size_t)h;
 	/* the source arrays, the target's depth, the grid's rows */
 	const size_t work = SOA * cap + npix + 6 * (size_t)grid_h(s, h) * grid_stride(s, w);
-	return sums_floats(cap) + (work > 2 * npix ? work : 2 * npix);
+	/* ... or the history's reprojection (motion/reproject.h), which shares it */
+	const size_t rp = 2 * npix + 2 * (size_t)h;
+	return sums_floats(cap) + (work > rp ? work : rp);
 }
 
 /* the frame's inputs in one dispatch: items [0, gh) are the source grid's

@@ -1092,7 +1092,8 @@ static void noise_and_filter_init(struct dao_context *ctx, struct frame_job *job
  * frame's; where accepted and it moves a pixel of the nearest surface by
  * 0.02 px or more, the history is carried into this view (motion/reproject.h)
  * before the filter runs.  Refused or too small, the history stays as it is:
- * the filter as without motion, bit for bit.  On the calling thread.
+ * the filter as without motion, bit for bit.  The estimate and the
+ * reprojection run on the context's threads.
  */
 static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 {
@@ -1136,7 +1137,8 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 		return;
 	dao_history_reproject(&ctx->cam, &ctx->motion.pose, ctx->depth_hist, ctx->depth_count,
 			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age,
-			      (int32_t *)(void *)ctx->icp_scratch);
+			      (int32_t *)(void *)ctx->icp_scratch, ctx->kernels.reproject_land,
+			      ctx->pool);
 	float *h = ctx->depth_hist;
 	uint8_t *c = ctx->depth_count, *a = ctx->depth_age;
 	ctx->depth_hist = ctx->motion_hist, ctx->motion_hist = h;

@@ -46,6 +46,7 @@ static void hbao_reference(const struct dao_variant_setup *v, const float *z,
 		.noise_row = dao_noise_row_##isa,                                            \
 		.icp_pairs = dao_icp_pairs_##isa,                                            \
 		.icp_source = dao_icp_source_##isa, .icp_target = dao_icp_target_##isa,      \
+		.reproject_land = dao_reproject_land_##isa,                                  \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -82,6 +83,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.icp_pairs = dao_icp_pairs_ref,
 			.icp_source = dao_icp_source_ref,
 			.icp_target = dao_icp_target_ref,
+			.reproject_land = dao_reproject_land_ref,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

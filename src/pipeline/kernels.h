@@ -14,6 +14,7 @@
 #include "kernels/gtao_tile.h"
 #include "motion/icp_pairs.h"
 #include "motion/icp_source.h"
+#include "motion/reproject.h"
 #include "pipeline/temporal_depth.h"
 #include "shade/shade.h"
 
@@ -53,6 +54,8 @@ struct dao_kernels {
 	/* ... its source grid and target depth (motion/icp_source.h) */
 	dao_icp_source_fn icp_source;
 	dao_icp_target_fn icp_target;
+	/* ... and the history's landing pass (motion/reproject.h) */
+	dao_reproject_land_fn reproject_land;
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

@@ -91,7 +91,7 @@ int main(int argc, char **argv)
 			ang += dao_pose_angle(&res.pose);
 #ifndef MOTION_BENCH_MAIN
 			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2,
-					      (int32_t *)(void *)scratch);
+					      (int32_t *)(void *)scratch, k.reproject_land, pool);
 #else
 			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2);
 #endif
