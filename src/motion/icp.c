@@ -5,6 +5,7 @@
  * the normal, compacted), so the per-step loop reads them in order and is
  * ready for SIMD lanes; the target side is a gather from the previous plane.
  */
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -56,6 +57,10 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 		.edge = 0.03f,
 		.prior_angle = 0.00524f, /* 0.3 degrees */
 		.prior_dist = 0.003f,
+		/* every step on the calling thread: a step's pairs are 0.1-0.2 ms of
+		 * work, and handing them to the pool cost more CPU time than it
+		 * saved (docs/perf/motion2.md) */
+		.pool_min_points = INT_MAX,
 	};
 }
 
@@ -200,7 +205,11 @@ static void accumulate(const struct dao_icp_setup *s, struct dao_icp_step *st,
 	const int chunks = (count + DAO_ICP_CHUNK - 1) / DAO_ICP_CHUNK;
 	struct pairs_job job = {.st = st, .fn = s->pairs ? s->pairs : dao_icp_pairs_ref,
 				.sums = sums, .count = count};
-	run_rows(s->pool, chunks, 1, pairs_chunks, &job);
+	/* a step of few points on the calling thread (waking the pool's
+	 * workers costs more than they would save); else one band per thread */
+	struct dao_pool *pool = count >= s->pool_min_points ? s->pool : NULL;
+	const int threads = pool ? dao_pool_threads(pool) : 1;
+	run_rows(pool, chunks, (chunks + threads - 1) / threads, pairs_chunks, &job);
 	memset(eq, 0, sizeof *eq);
 	for (int c = 0; c < chunks; c++) {
 		int k = 0;

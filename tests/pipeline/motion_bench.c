@@ -2,7 +2,8 @@
 /*
  * motion-bench: the CPU time of the motion estimate and the history's
  * reprojection (src/motion) per frame pair of a depth sequence, with
- * CLOCK_PROCESS_CPUTIME_ID (the pool's threads included).  A measuring tool
+ * CLOCK_PROCESS_CPUTIME_ID (the pool's threads included; then the calling
+ * thread's alone, CLOCK_THREAD_CPUTIME_ID, and the wall time).  A measuring tool
  * (docs/perf/icp2.md), not a test.
  *
  *   motion-bench DIR SIMD THREADS ROUNDS
@@ -29,11 +30,16 @@
 
 enum { MAXF = 64 };
 
-static double cpu_ms(void)
+static double clock_ms(clockid_t c)
 {
 	struct timespec t;
-	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+	clock_gettime(c, &t);
 	return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+
+static double cpu_ms(void)
+{
+	return clock_ms(CLOCK_PROCESS_CPUTIME_ID);
 }
 
 int main(int argc, char **argv)
@@ -77,6 +83,8 @@ int main(int argc, char **argv)
 	if (atoi(argv[3]) > 1 && dao_pool_create(&pool, atoi(argv[3])))
 		return 1;
 	s.pool = pool;
+	if (argc > 5)
+		s.pool_min_points = atoi(argv[5]);
 #endif
 	float *scratch = malloc(dao_icp_scratch_floats(&s, 640, 480) * sizeof(float));
 	float *h = malloc(npix * 4);
@@ -84,6 +92,7 @@ int main(int argc, char **argv)
 	memset(count, 1, npix);
 	const int rounds = atoi(argv[4]);
 	double t0 = cpu_ms(), ang = 0;
+	const double c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID), w0 = clock_ms(CLOCK_MONOTONIC);
 	for (int r = 0; r < rounds; r++)
 		for (int i = 1; i < n; i++) {
 			struct dao_icp_result res;
@@ -97,7 +106,10 @@ int main(int argc, char **argv)
 #endif
 		}
 	const double t = cpu_ms() - t0;
-	printf("%.3f ms CPU per frame pair (%d pairs x %d rounds; check %.6f)\n",
-	       t / ((n - 1) * rounds), n - 1, rounds, ang / rounds);
+	const double tc = clock_ms(CLOCK_THREAD_CPUTIME_ID) - c0, tw = clock_ms(CLOCK_MONOTONIC) - w0;
+	const double per = (n - 1) * rounds;
+	printf("%.3f ms CPU per frame pair (%d pairs x %d rounds; check %.6f); the calling "
+	       "thread %.3f ms, wall %.3f ms\n",
+	       t / per, n - 1, rounds, ang / rounds, tc / per, tw / per);
 	return 0;
 }
