@@ -1249,8 +1249,8 @@ static void run_ao(struct dao_context *ctx, struct frame_job *job)
 static void stage_ao_reproject(void *arg, int y0, int y1)
 {
 	struct dao_context *c = ((struct frame_job *)arg)->ctx;
-	dao_ao_history_reproject_rows(&c->cam, &c->motion.pose, c->params.temporal_reject, c->z,
-				      c->hist_ao, c->hist_z, c->ao_motion_ao, c->ao_motion_z, y0, y1);
+	c->kernels.ao_reproject(&c->cam, &c->motion.pose, c->params.temporal_reject, c->z,
+				c->hist_ao, c->hist_z, c->ao_motion_ao, c->ao_motion_z, y0, y1);
 }
 
 /* Per row, the nearest and farthest depth of the last frame (0 and 0 when the

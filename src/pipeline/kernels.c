@@ -47,6 +47,7 @@ static void hbao_reference(const struct dao_variant_setup *v, const float *z,
 		.icp_pairs = dao_icp_pairs_##isa,                                            \
 		.icp_source = dao_icp_source_##isa, .icp_target = dao_icp_target_##isa,      \
 		.reproject_land = dao_reproject_land_##isa,                                  \
+		.ao_reproject = dao_ao_history_reproject_rows_##isa,                         \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -84,6 +85,7 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.icp_source = dao_icp_source_ref,
 			.icp_target = dao_icp_target_ref,
 			.reproject_land = dao_reproject_land_ref,
+			.ao_reproject = dao_ao_history_reproject_rows,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

@@ -12,6 +12,7 @@
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 #include "kernels/gtao_tile.h"
+#include "motion/ao_reproject.h"
 #include "motion/icp_pairs.h"
 #include "motion/icp_source.h"
 #include "motion/reproject.h"
@@ -56,6 +57,8 @@ struct dao_kernels {
 	dao_icp_target_fn icp_target;
 	/* ... and the history's landing pass (motion/reproject.h) */
 	dao_reproject_land_fn reproject_land;
+	/* the AO history's (motion/ao_reproject.h) */
+	dao_ao_reproject_fn ao_reproject;
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

@@ -6,7 +6,10 @@
  * thread's alone, CLOCK_THREAD_CPUTIME_ID, and the wall time).  A measuring tool
  * (docs/perf/icp2.md), not a test.
  *
- *   motion-bench DIR SIMD THREADS ROUNDS
+ *   motion-bench DIR SIMD THREADS ROUNDS [POOL_MIN_POINTS [ao]]
+ *
+ * (POOL_MIN_POINTS: dao_icp_setup's; "ao": the AO history's reprojection
+ * alone instead, by the estimated motions, on the calling thread)
  *
  * DIR/depth/NNNN.png (mm) with camera.json's 640x480 at 525 px (synth's);
  * the previous frame is given as 1/z (the history's form).  Prints the mean
@@ -91,6 +94,31 @@ int main(int argc, char **argv)
 	uint8_t *count = malloc(npix), *age = calloc(npix, 1), *c2 = malloc(npix), *a2 = malloc(npix);
 	memset(count, 1, npix);
 	const int rounds = atoi(argv[4]);
+#ifndef MOTION_BENCH_MAIN
+	if (argc > 6 && !strcmp(argv[6], "ao")) {
+		/* the AO history's reprojection alone (on the calling thread), by the
+		 * estimated motions, the previous depth as the history's depth */
+		static struct dao_pose pose[MAXF];
+		float *hao = malloc(npix * 4), *oao = malloc(npix * 4), *oz = malloc(npix * 4);
+		for (size_t i = 0; i < npix; i++)
+			hao[i] = 0.5f + 0.4f * (float)((i * 2654435761u) % 1000u) / 1000.0f;
+		for (int i = 1; i < n; i++) {
+			struct dao_icp_result res;
+			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i], NULL, scratch, &res);
+			pose[i] = res.pose;
+		}
+		double sum = 0.0;
+		const double a0 = cpu_ms();
+		for (int r = 0; r < rounds; r++)
+			for (int i = 1; i < n; i++) {
+				k.ao_reproject(&cam, &pose[i], 0.02f, z[i], hao, z[i - 1], oao, oz, 0, 480);
+				sum += oao[npix / 2 + 320];
+			}
+		printf("%.3f ms CPU per frame (AO history reprojection; check %.6f)\n",
+		       (cpu_ms() - a0) / ((n - 1) * rounds), sum / rounds);
+		return 0;
+	}
+#endif
 	double t0 = cpu_ms(), ang = 0;
 	const double c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID), w0 = clock_ms(CLOCK_MONOTONIC);
 	for (int r = 0; r < rounds; r++)
