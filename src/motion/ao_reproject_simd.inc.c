@@ -74,10 +74,15 @@ void DAO_ISA_FN(dao_ao_history_reproject_rows)(const struct dao_camera *cam,
 				/* a landing point at a pixel centre: that pixel alone */
 				const vm ms = m_and(ok, near);
 				const vi js = vi_add(vi_mul(vi_from_whole(yn), vw), vi_from_whole(xn));
-				const vf hzs = v_gather(hist_z, js, ms);
-				const vm gs = m_and(m_and(ms, v_gt(hzs, zero)),
-						    v_le(v_abs(v_sub(hzs, qz)), rq));
-				const vf aos = v_gather(hist_ao, js, gs);
+				vf hzs = zero, aos = zero;
+				vm gs = ms;
+				if (m_any(ms)) {
+					/* both at once: the AO's gather does not wait for the test */
+					hzs = v_gather(hist_z, js, ms);
+					aos = v_gather(hist_ao, js, ms);
+					gs = m_and(m_and(ms, v_gt(hzs, zero)),
+						   v_le(v_abs(v_sub(hzs, qz)), rq));
+				}
 				/* else bilinear over the taps whose depth agrees */
 				const vm mb = m_andnot(ok, near);
 				const vf wx[2] = {v_sub(one, a), a}, wy[2] = {v_sub(one, b), b};
@@ -98,11 +103,12 @@ void DAO_ISA_FN(dao_ao_history_reproject_rows)(const struct dao_camera *cam,
 						if (dy)
 							j = vi_add(j, vw);
 						const vf hz = v_gather(hist_z, j, m);
+						const vf tao = v_gather(hist_ao, j, m);
 						const vm g = m_and(m_and(m, v_gt(hz, zero)),
 								   v_le(v_abs(v_sub(hz, qz)), rq));
 						const vf wt = v_keep(g, v_mul(wy[dy], wx[dx]));
 						sw = v_add(sw, wt);
-						sao = v_add(sao, v_mul(wt, v_gather(hist_ao, j, g)));
+						sao = v_add(sao, v_mul(wt, v_keep(g, tao)));
 						sz = v_add(sz, v_mul(wt, v_keep(g, hz)));
 					}
 				const vm gb = m_and(mb, v_gt(sw, tiny));
