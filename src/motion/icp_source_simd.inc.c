@@ -5,12 +5,22 @@
  * icp_source_<isa>.c.  The reference's float operations in its order (no
  * FMA: the project builds as ISO C, so the compiler contracts nothing;
  * division and square root are IEEE), hence its output to the bit.  A grid
- * row's taps are gathers (the points are `step` pixels apart).
+ * row's taps are gathers (the points are `step` pixels apart), or at step 4
+ * away from the row's ends four loads de-interleaved.
  */
 #include <string.h>
 
 #include "motion/icp_pairs.h"
 #include "motion/icp_source.h"
+
+/* p[0], p[4], p[8], ... (VN values) */
+static inline vf DAO_ISA_FN(every4th)(const float *p)
+{
+	const vf v[4] = {v_load(p), v_load(p + VN), v_load(p + 2 * VN), v_load(p + 3 * VN)};
+	vf q[4];
+	v_deinterleave4(v, q);
+	return q[0];
+}
 
 void DAO_ISA_FN(dao_icp_source)(const struct dao_icp_grid *g, int y, float *out)
 {
@@ -40,10 +50,24 @@ void DAO_ISA_FN(dao_icp_source)(const struct dao_icp_grid *g, int y, float *out)
 				v_store(o + (size_t)k * st, zero);
 			continue;
 		}
-		const vi k = vi_from_whole(v_sel(ok, xf, rf));
-		const vf z = v_gather(row, k, ok);
-		const vf zl = v_gather(row, vi_add(k, ml), ok), zr = v_gather(row, vi_add(k, mr), ok);
-		const vf zu = v_gather(up, k, ok), zd = v_gather(down, k, ok);
+		vf z, zl, zr, zu, zd;
+		const int x0 = gx * g->step;
+		if (g->step == 4 && x0 >= r && x0 + r + 4 * VN <= w) {
+			/* every 4th pixel: four vectors' loads de-interleaved, no gathers
+			 * (the lanes' values are the gathers', all inside the row) */
+			z = DAO_ISA_FN(every4th)(row + x0);
+			zl = DAO_ISA_FN(every4th)(row + x0 - r);
+			zr = DAO_ISA_FN(every4th)(row + x0 + r);
+			zu = DAO_ISA_FN(every4th)(up + x0);
+			zd = DAO_ISA_FN(every4th)(down + x0);
+		} else {
+			const vi k = vi_from_whole(v_sel(ok, xf, rf));
+			z = v_gather(row, k, ok);
+			zl = v_gather(row, vi_add(k, ml), ok);
+			zr = v_gather(row, vi_add(k, mr), ok);
+			zu = v_gather(up, k, ok);
+			zd = v_gather(down, k, ok);
+		}
 		const vf tol = v_mul(edge, z);
 		ok = m_and(ok, m_and(v_gt(z, zero), m_and(v_le(v_abs(v_sub(zl, z)), tol),
 							 v_le(v_abs(v_sub(zr, z)), tol))));
