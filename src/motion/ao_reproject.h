@@ -41,4 +41,20 @@ void dao_ao_history_reproject_rows(const struct dao_camera *cam,
 				   const float *hist_ao, const float *hist_z, float *ao_out,
 				   float *z_out, int y0, int y1);
 
+/* The same per instruction set (motion/ao_reproject_simd.inc.c: floats, within
+ * the bound tests/pipeline/test_ao_history.c states of the reference above). */
+typedef void (*dao_ao_reproject_fn)(const struct dao_camera *cam,
+				    const struct dao_pose *cur_to_prev, float reject,
+				    const float *z, const float *hist_ao, const float *hist_z,
+				    float *ao_out, float *z_out, int y0, int y1);
+#define DAO_AO_REPROJECT_PROTO(isa)                                                           \
+	void dao_ao_history_reproject_rows_##isa(                                             \
+		const struct dao_camera *cam, const struct dao_pose *cur_to_prev, float reject, \
+		const float *z, const float *hist_ao, const float *hist_z, float *ao_out,      \
+		float *z_out, int y0, int y1)
+DAO_AO_REPROJECT_PROTO(generic);
+DAO_AO_REPROJECT_PROTO(sse41);
+DAO_AO_REPROJECT_PROTO(avx2);
+DAO_AO_REPROJECT_PROTO(avx512);
+
 #endif

@@ -5,11 +5,13 @@
  * the normal, compacted), so the per-step loop reads them in order and is
  * ready for SIMD lanes; the target side is a gather from the previous plane.
  */
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
 #include "motion/icp.h"
 #include "motion/icp_pairs.h"
+#include "motion/icp_source.h"
 #include "core/threadpool.h"
 
 enum { SOA = 6 }; /* x, y, z, nx, ny, nz */
@@ -55,7 +57,20 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 		.edge = 0.03f,
 		.prior_angle = 0.00524f, /* 0.3 degrees */
 		.prior_dist = 0.003f,
+		/* every step on the calling thread: a step's pairs are 0.1-0.2 ms of
+		 * work, and handing them to the pool cost more CPU time than it
+		 * saved (docs/perf/motion2.md) */
+		.pool_min_points = INT_MAX,
 	};
+}
+
+/* grid columns and rows, and the floats from one plane of a grid row's
+ * output (motion/icp_source.h) to the next */
+static int grid_w(const struct dao_icp_setup *s, int w) { return (w + s->step - 1) / s->step; }
+static int grid_h(const struct dao_icp_setup *s, int h) { return (h + s->step - 1) / s->step; }
+static size_t grid_stride(const struct dao_icp_setup *s, int w)
+{
+	return ((size_t)grid_w(s, w) + DAO_ICP_PAD - 1) / DAO_ICP_PAD * DAO_ICP_PAD;
 }
 
 static size_t grid_cap(const struct dao_icp_setup *s, int w, int h)
@@ -73,79 +88,73 @@ static size_t sums_floats(size_t cap)
 size_t dao_icp_scratch_floats(const struct dao_icp_setup *s, int w, int h)
 {
 	const size_t cap = grid_cap(s, w, h), npix = (size_t)w * (size_t)h;
-	const size_t work = SOA * cap + npix;
-	return sums_floats(cap) + (work > 2 * npix ? work : 2 * npix);
+	/* the source arrays, the target's depth, the grid's rows */
+	const size_t work = SOA * cap + npix + 6 * (size_t)grid_h(s, h) * grid_stride(s, w);
+	/* ... or the history's reprojection (motion/reproject.h), which shares it */
+	const size_t rp = 2 * npix + 2 * (size_t)h;
+	return sums_floats(cap) + (work > rp ? work : rp);
 }
 
-/*
- * Position and normal of pixel (x, y) of the depth plane z (m, 0 = none):
- * the normal from central differences over `r` pixels, refused at a depth
- * edge (a neighbour more than 3 r % off the centre's depth) or where a
- * neighbour has no data.  Returns 0 or -1.
- */
-static int point_normal(const struct dao_camera *cam, const float *plane, int r, float edge, int x, int y,
-			float p[3], float n[3])
+/* the frame's inputs in one dispatch: items [0, gh) are the source grid's
+ * rows, the others bands of TARGET_ROWS rows of the target's depth */
+enum { TARGET_ROWS = 16 };
+struct prep_job {
+	const struct dao_icp_grid *grid;
+	dao_icp_source_fn source;
+	dao_icp_target_fn target;
+	float *rows; /* grid row j at rows + 6 j stride */
+	int gh;
+	const float *inv;
+	const uint8_t *count;
+	float *tz;
+	int w, h;
+};
+
+static void prep_items(void *arg, int i0, int i1)
 {
-	const int w = (int)cam->width, h = (int)cam->height;
-	if (x < r || y < r || x >= w - r || y >= h - r)
-		return -1;
-	const size_t i = (size_t)y * (size_t)w + (size_t)x;
-	const float z = plane[i], zl = plane[i - (size_t)r], zr = plane[i + (size_t)r];
-	const float zu = plane[i - (size_t)r * (size_t)w], zd = plane[i + (size_t)r * (size_t)w];
-	const float tol = edge * (float)r * z;
-	if (!(z > 0.0f) || !(fabsf(zl - z) <= tol) || !(fabsf(zr - z) <= tol) ||
-	    !(fabsf(zu - z) <= tol) || !(fabsf(zd - z) <= tol))
-		return -1;
-	const float ux = (float)x * cam->ax + cam->bx, vy = (float)y * cam->ay + cam->by;
-	const float ul = ux - (float)r * cam->ax, ur = ux + (float)r * cam->ax;
-	const float vu = vy - (float)r * cam->ay, vd = vy + (float)r * cam->ay;
-	p[0] = ux * z;
-	p[1] = vy * z;
-	p[2] = z;
-	/* dx = P(x+r) - P(x-r), dy = P(y+r) - P(y-r) */
-	const float dx[3] = {ur * zr - ul * zl, vy * (zr - zl), zr - zl};
-	const float dy[3] = {ux * (zd - zu), vd * zd - vu * zu, zd - zu};
-	float c[3] = {dx[1] * dy[2] - dx[2] * dy[1], dx[2] * dy[0] - dx[0] * dy[2],
-		      dx[0] * dy[1] - dx[1] * dy[0]};
-	const float len = sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-	if (!(len > 0.0f))
-		return -1;
-	/* towards the camera */
-	const float sgn = (c[0] * p[0] + c[1] * p[1] + c[2] * p[2]) > 0.0f ? -1.0f : 1.0f;
-	for (int k = 0; k < 3; k++)
-		n[k] = sgn * c[k] / len;
-	return 0;
+	const struct prep_job *j = arg;
+	for (int i = i0; i < i1; i++) {
+		if (i < j->gh) {
+			j->source(j->grid, i * j->grid->step, j->rows + (size_t)i * 6 * j->grid->stride);
+			continue;
+		}
+		const int y0 = (i - j->gh) * TARGET_ROWS;
+		const int y1 = y0 + TARGET_ROWS < j->h ? y0 + TARGET_ROWS : j->h;
+		j->target(j->inv, j->count, j->tz, (size_t)y0 * (size_t)j->w, (size_t)y1 * (size_t)j->w);
+	}
 }
 
 /*
- * The source grid into scratch (SoA, compacted, zero-padded to a multiple of
- * DAO_ICP_PAD): first the coarse grid's points (every second row and column
- * of the grid), then the others; *coarse gets the first part's count.
+ * The source grid's rows (rows: each six planes `stride` apart, z > 0
+ * marking a point) into scratch (SoA, compacted, zero-padded to a multiple
+ * of DAO_ICP_PAD): first the coarse grid's points (every second row and
+ * column of the grid), then the others; *coarse gets the first part's count.
  */
-static int gather_source(const struct dao_icp_setup *s, const struct dao_camera *cam,
-			 const float *cur_z, float *src, size_t cap, int *coarse, float *near_z,
-			 float *mean_z)
+static int gather_source(const float *rows, int gw, int gh, size_t stride, float *src, size_t cap,
+			 int *coarse, float *near_z, float *mean_z)
 {
 	int k = 0;
 	double sum = 0.0;
 	float near = INFINITY;
-	const int step = s->step;
 	for (int pass = 0; pass < 2; pass++) {
-		for (int y = 0; y < (int)cam->height; y += step)
-			for (int x = 0; x < (int)cam->width; x += step) {
-				const int c = (x / step) % 2 == 0 && (y / step) % 2 == 0;
-				float p[3], n[3];
-				if (c != (pass == 0) ||
-				    point_normal(cam, cur_z, s->normal_radius, s->edge, x, y, p, n))
+		for (int gy = 0; gy < gh; gy++) {
+			const float *row = rows + (size_t)gy * 6 * stride;
+			/* the coarse grid: even rows, even columns; then the rest */
+			const int c_row = gy % 2 == 0;
+			if (pass == 0 && !c_row)
+				continue;
+			const int x0 = pass == 0 || !c_row ? 0 : 1, dx = pass == 0 || c_row ? 2 : 1;
+			for (int gx = x0; gx < gw; gx += dx) {
+				const float z = row[2 * stride + (size_t)gx];
+				if (!(z > 0.0f))
 					continue;
-				for (int j = 0; j < 3; j++) {
-					src[(size_t)j * cap + (size_t)k] = p[j];
-					src[(size_t)(3 + j) * cap + (size_t)k] = n[j];
-				}
-				sum += p[2];
-				near = fminf(near, p[2]);
+				for (int j = 0; j < SOA; j++)
+					src[(size_t)j * cap + (size_t)k] = row[(size_t)j * stride + (size_t)gx];
+				sum += z;
+				near = z < near ? z : near; /* z > 0 and finite: fminf */
 				k++;
 			}
+		}
 		if (pass == 0)
 			*coarse = k;
 	}
@@ -155,25 +164,6 @@ static int gather_source(const struct dao_icp_setup *s, const struct dao_camera 
 	*near_z = k ? near : 0.0f;
 	*mean_z = k ? (float)(sum / k) : 1.0f;
 	return k;
-}
-
-/* the target's depth, m (0 = none), from its 1/z and count */
-struct target_job {
-	const float *inv;
-	const uint8_t *count;
-	float *tz;
-	int w;
-};
-
-static void target_rows(void *arg, int y0, int y1)
-{
-	const struct target_job *j = arg;
-	const size_t i0 = (size_t)y0 * (size_t)j->w, i1 = (size_t)y1 * (size_t)j->w;
-	for (size_t i = i0; i < i1; i++) {
-		const float v = j->inv[i];
-		const int has = v > 0.0f && (!j->count || j->count[i]);
-		j->tz[i] = has ? 1.0f / v : 0.0f;
-	}
 }
 
 /* one step's chunks on the pool: chunk c into sums[c] */
@@ -215,7 +205,11 @@ static void accumulate(const struct dao_icp_setup *s, struct dao_icp_step *st,
 	const int chunks = (count + DAO_ICP_CHUNK - 1) / DAO_ICP_CHUNK;
 	struct pairs_job job = {.st = st, .fn = s->pairs ? s->pairs : dao_icp_pairs_ref,
 				.sums = sums, .count = count};
-	run_rows(s->pool, chunks, 1, pairs_chunks, &job);
+	/* a step of few points on the calling thread (waking the pool's
+	 * workers costs more than they would save); else one band per thread */
+	struct dao_pool *pool = count >= s->pool_min_points ? s->pool : NULL;
+	const int threads = pool ? dao_pool_threads(pool) : 1;
+	run_rows(pool, chunks, (chunks + threads - 1) / threads, pairs_chunks, &job);
 	memset(eq, 0, sizeof *eq);
 	for (int c = 0; c < chunks; c++) {
 		int k = 0;
@@ -466,12 +460,26 @@ void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *ca
 		out->pose = *prior;
 	else
 		dao_pose_identity(&out->pose);
-	out->points = gather_source(s, cam, cur_z, src, cap, &coarse, &out->near_z, &mean_z);
+	/* the source grid's rows and the target's depth in one dispatch */
+	const int gw = grid_w(s, w), gh = grid_h(s, h);
+	const size_t stride = grid_stride(s, w);
+	float *rows = tz + (size_t)w * (size_t)h;
+	const struct dao_icp_grid grid = {
+		.z = cur_z, .w = w, .h = h, .r = s->normal_radius, .step = s->step, .gw = gw,
+		.stride = stride, .edge_r = s->edge * (float)s->normal_radius,
+		.ax = cam->ax, .bx = cam->bx, .ay = cam->ay, .by = cam->by,
+		.rax = (float)s->normal_radius * cam->ax, .ray = (float)s->normal_radius * cam->ay,
+	};
+	struct prep_job pj = {
+		.grid = &grid, .source = s->source ? s->source : dao_icp_source_ref,
+		.target = s->target ? s->target : dao_icp_target_ref, .rows = rows, .gh = gh,
+		.inv = prev_inv, .count = prev_count, .tz = tz, .w = w, .h = h,
+	};
+	run_rows(s->pool, gh + (h + TARGET_ROWS - 1) / TARGET_ROWS, 1, prep_items, &pj);
+	out->points = gather_source(rows, gw, gh, stride, src, cap, &coarse, &out->near_z, &mean_z);
 	out->reason = DAO_ICP_FEW_POINTS;
 	if (out->points < s->min_inliers)
 		return;
-	struct target_job tj = {.inv = prev_inv, .count = prev_count, .tz = tz, .w = w};
-	run_rows(s->pool, h, 16, target_rows, &tj);
 	/* rotation in units of the motion it gives at the mean depth, so that
 	 * the system's eigenvalues compare */
 	const double scale = mean_z;

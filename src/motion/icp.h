@@ -22,6 +22,7 @@
 #include <depthao/camera.h>
 
 #include "motion/icp_pairs.h"
+#include "motion/icp_source.h"
 
 struct dao_pool;
 
@@ -57,10 +58,18 @@ struct dao_icp_setup {
 	 * (rad, m; one sigma; 0 = no prior, the previous motion seeds only) */
 	float prior_angle, prior_dist;
 	/* the pair kernel (NULL: the reference, motion/icp_pairs.h) and the
-	 * threads that run its chunks (NULL: the caller); neither changes the
-	 * result but by the kernel's float rounding */
+	 * threads that run its chunks (NULL: the caller), one band a thread;
+	 * neither changes the result but by the kernel's float rounding */
 	dao_icp_pairs_fn pairs;
 	struct dao_pool *pool;
+	/* a step over fewer source points runs on the calling thread (the
+	 * default: every step; the source grid, the target and the
+	 * reprojection still run on the pool) */
+	int pool_min_points;
+	/* the source grid's and the target's kernels (NULL: the references,
+	 * motion/icp_source.h; the same result to the bit) */
+	dao_icp_source_fn source;
+	dao_icp_target_fn target;
 };
 
 /* Defaults for a VGA-class sensor at 30 fps. */

@@ -1,70 +1,121 @@
 /* SPDX-License-Identifier: MIT */
-#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #include "motion/reproject.h"
+#include "motion/reproject_px.h"
+#include "core/threadpool.h"
+
+size_t dao_history_reproject_scratch(int w, int h)
+{
+	return 2 * (size_t)w * (size_t)h + 2 * (size_t)h;
+}
+
+void dao_reproject_land_ref(const struct dao_reproject_land *s, int y0, int y1)
+{
+	const int w = s->w;
+	const float dg[3] = {s->R[0] * s->ax, s->R[3] * s->ax, s->R[6] * s->ax};
+	for (int y = y0; y < y1; y++) {
+		float g0[3];
+		dao_reproject_row_g0(s, y, g0);
+		int32_t lo = s->h, hi = -1;
+		const size_t row = (size_t)y * (size_t)w;
+		for (int x = 0; x < w; x++) {
+			const int32_t r = dao_reproject_px(s, g0, dg, x, row + (size_t)x);
+			if (r >= 0) {
+				lo = r < lo ? r : lo;
+				hi = r > hi ? r : hi;
+			}
+		}
+		s->rows[2 * y] = lo;
+		s->rows[2 * y + 1] = hi;
+	}
+}
+
+struct reproject_job {
+	const struct dao_reproject_land *l;
+	dao_reproject_land_fn land;
+	const uint8_t *count, *age;
+	float *hist_out;
+	uint8_t *count_out, *age_out;
+};
+
+static void land_rows(void *arg, int y0, int y1)
+{
+	const struct reproject_job *j = arg;
+	j->land(j->l, y0, y1);
+}
+
+/* output rows [y0, y1): cleared, then every source pixel landing there, in
+ * row order, the nearer winning (on a tie the first) */
+static void splat_rows(void *arg, int y0, int y1)
+{
+	const struct reproject_job *j = arg;
+	const struct dao_reproject_land *l = j->l;
+	const size_t w = (size_t)l->w, o0 = (size_t)y0 * w, n = (size_t)(y1 - y0) * w;
+	/* locals: the byte stores below could alias the job's pointers */
+	const int32_t *dest = l->dest, *rows = l->rows;
+	const float *zinv = l->zinv;
+	const uint8_t *count = j->count, *age = j->age;
+	float *hist_out = j->hist_out + o0;
+	uint8_t *count_out = j->count_out + o0, *age_out = j->age_out + o0;
+	const int h = l->h;
+	memset(hist_out, 0, n * sizeof(float));
+	memset(count_out, 0, n);
+	memset(age_out, 255, n);
+	for (int sy = 0; sy < h; sy++) {
+		if (rows[2 * sy + 1] < y0 || rows[2 * sy] >= y1)
+			continue;
+		const size_t row = (size_t)sy * w;
+		for (size_t i = row; i < row + w; i++) {
+			/* -1 and the other bands' pixels wrap to n or more */
+			const size_t o = (size_t)(int64_t)dest[i] - o0;
+			if (o >= n)
+				continue;
+			const float iz = zinv[i];
+			if (count_out[o] && !(iz > hist_out[o]))
+				continue;
+			hist_out[o] = iz;
+			count_out[o] = count[i];
+			age_out[o] = age[i];
+		}
+	}
+}
+
+static void run_rows(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg)
+{
+	if (pool)
+		dao_pool_run(pool, rows, min_rows, fn, arg);
+	else
+		fn(arg, 0, rows);
+}
 
 void dao_history_reproject(const struct dao_camera *cam, const struct dao_pose *cur_to_prev,
 			   const float *hist, const uint8_t *count, const uint8_t *age,
-			   float *hist_out, uint8_t *count_out, uint8_t *age_out, int32_t *scratch)
+			   float *hist_out, uint8_t *count_out, uint8_t *age_out, int32_t *scratch,
+			   dao_reproject_land_fn land, struct dao_pool *pool)
 {
 	const int w = (int)cam->width, h = (int)cam->height;
 	const size_t npix = (size_t)w * (size_t)h;
+	struct dao_reproject_land l = {
+		.hist = hist, .count = count, .dest = scratch, .zinv = (float *)(scratch + npix),
+		.rows = scratch + 2 * npix, .w = w, .h = h,
+		.ax = cam->ax, .bx = cam->bx, .ay = cam->ay, .by = cam->by,
+	};
 	/* prev -> cur: R^T, -R^T t */
 	const double *r = cur_to_prev->r, *t = cur_to_prev->t;
-	float R[9], T[3];
 	for (int i = 0; i < 3; i++) {
 		for (int j = 0; j < 3; j++)
-			R[i * 3 + j] = (float)r[j * 3 + i];
-		T[i] = (float)-(r[i] * t[0] + r[3 + i] * t[1] + r[6 + i] * t[2]);
+			l.R[i * 3 + j] = (float)r[j * 3 + i];
+		l.T[i] = (float)-(r[i] * t[0] + r[3 + i] * t[1] + r[6 + i] * t[2]);
 	}
-	const float inv_ax = 1.0f / cam->ax, inv_ay = 1.0f / cam->ay;
-	memset(hist_out, 0, npix * sizeof(float));
-	memset(count_out, 0, npix);
-	memset(age_out, 255, npix);
-	/* pixel (x, y) at 1/z = h is z (ray(x, y)) with ray = (x ax + bx, y ay + by, 1);
-	 * moved, q = z (R ray + T h) = z (g + T h) where g = R ray is linear in x
-	 * along a row: g = g0 + x dg.  So u = (g_0 + T_0 h) / (g_2 + T_2 h) and
-	 * 1/q_z = h / (g_2 + T_2 h): one division a pixel */
-	const float dg[3] = {R[0] * cam->ax, R[3] * cam->ax, R[6] * cam->ax};
-	const float ub = cam->bx * inv_ax, vb = cam->by * inv_ay;
-	const float umax = (float)w - 0.5f, vmax = (float)h - 0.5f;
-	int32_t *dest = scratch;
-	float *zinv = (float *)(scratch + npix);
-	/* where every pixel lands (branch-free, so that the compiler runs it
-	 * over vector lanes), then the splat in row order */
-	for (int y = 0; y < h; y++) {
-		const float vy = (float)y * cam->ay + cam->by;
-		const float g0[3] = {R[0] * cam->bx + R[1] * vy + R[2], R[3] * cam->bx + R[4] * vy + R[5],
-				     R[6] * cam->bx + R[7] * vy + R[8]};
-		const size_t row = (size_t)y * (size_t)w;
-		for (int x = 0; x < w; x++) {
-			const size_t i = row + (size_t)x;
-			const float hv = hist[i];
-			const float fx = (float)x;
-			const float den = g0[2] + fx * dg[2] + T[2] * hv;
-			const float d = 1.0f / (den > 0.0f ? den : 1.0f);
-			const float u = (g0[0] + fx * dg[0] + T[0] * hv) * d * inv_ax - ub;
-			const float v = (g0[1] + fx * dg[1] + T[1] * hv) * d * inv_ay - vb;
-			const int ok = (count[i] != 0) & (hv > 0.0f) & (den > 0.0f) & (u > -0.5f) &
-				       (v > -0.5f) & (u < umax) & (v < vmax);
-			/* nearest pixel: u > -0.5, so floor(u + 0.5) is the truncation */
-			const int32_t xu = (int32_t)(ok ? u + 0.5f : 0.0f);
-			const int32_t yv = (int32_t)(ok ? v + 0.5f : 0.0f);
-			dest[i] = ok && xu < w && yv < h ? yv * w + xu : -1;
-			zinv[i] = hv * d;
-		}
-	}
-	for (size_t i = 0; i < npix; i++) {
-		const int32_t o = dest[i];
-		if (o < 0)
-			continue;
-		const float iz = zinv[i];
-		if (count_out[o] && !(iz > hist_out[o]))
-			continue;
-		hist_out[o] = iz;
-		count_out[o] = count[i];
-		age_out[o] = age[i];
-	}
+	l.inv_ax = 1.0f / cam->ax, l.inv_ay = 1.0f / cam->ay;
+	l.ub = cam->bx * l.inv_ax, l.vb = cam->by * l.inv_ay;
+	struct reproject_job j = {
+		.l = &l, .land = land ? land : dao_reproject_land_ref, .count = count, .age = age,
+		.hist_out = hist_out, .count_out = count_out, .age_out = age_out,
+	};
+	/* where every pixel lands, then the splat by output bands */
+	run_rows(pool, h, 8, land_rows, &j);
+	run_rows(pool, h, 8, splat_rows, &j);
 }

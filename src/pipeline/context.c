@@ -1092,7 +1092,8 @@ static void noise_and_filter_init(struct dao_context *ctx, struct frame_job *job
  * frame's; where accepted and it moves a pixel of the nearest surface by
  * 0.02 px or more, the history is carried into this view (motion/reproject.h)
  * before the filter runs.  Refused or too small, the history stays as it is:
- * the filter as without motion, bit for bit.  On the calling thread.
+ * the filter as without motion, bit for bit.  The estimate and the
+ * reprojection run on the context's threads.
  */
 static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 {
@@ -1112,6 +1113,8 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 	ctx->icp.noise_k = job->depth_temporal_setup.noise_k;
 	ctx->icp.quantum = job->depth_temporal_setup.quantum;
 	ctx->icp.pairs = ctx->kernels.icp_pairs;
+	ctx->icp.source = ctx->kernels.icp_source;
+	ctx->icp.target = ctx->kernels.icp_target;
 	ctx->icp.pool = ctx->pool;
 	/* source, source+icp: the motion between the poses given (motion/pose_prior.h) */
 	struct dao_pose given;
@@ -1134,7 +1137,8 @@ static void follow_motion(struct dao_context *ctx, const struct frame_job *job)
 		return;
 	dao_history_reproject(&ctx->cam, &ctx->motion.pose, ctx->depth_hist, ctx->depth_count,
 			      ctx->depth_age, ctx->motion_hist, ctx->motion_count, ctx->motion_age,
-			      (int32_t *)(void *)ctx->icp_scratch);
+			      (int32_t *)(void *)ctx->icp_scratch, ctx->kernels.reproject_land,
+			      ctx->pool);
 	float *h = ctx->depth_hist;
 	uint8_t *c = ctx->depth_count, *a = ctx->depth_age;
 	ctx->depth_hist = ctx->motion_hist, ctx->motion_hist = h;
@@ -1245,8 +1249,8 @@ static void run_ao(struct dao_context *ctx, struct frame_job *job)
 static void stage_ao_reproject(void *arg, int y0, int y1)
 {
 	struct dao_context *c = ((struct frame_job *)arg)->ctx;
-	dao_ao_history_reproject_rows(&c->cam, &c->motion.pose, c->params.temporal_reject, c->z,
-				      c->hist_ao, c->hist_z, c->ao_motion_ao, c->ao_motion_z, y0, y1);
+	c->kernels.ao_reproject(&c->cam, &c->motion.pose, c->params.temporal_reject, c->z,
+				c->hist_ao, c->hist_z, c->ao_motion_ao, c->ao_motion_z, y0, y1);
 }
 
 /* Per row, the nearest and farthest depth of the last frame (0 and 0 when the

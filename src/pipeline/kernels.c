@@ -45,6 +45,9 @@ static void hbao_reference(const struct dao_variant_setup *v, const float *z,
 		.temporal_depth = dao_temporal_depth_##isa,                                  \
 		.noise_row = dao_noise_row_##isa,                                            \
 		.icp_pairs = dao_icp_pairs_##isa,                                            \
+		.icp_source = dao_icp_source_##isa, .icp_target = dao_icp_target_##isa,      \
+		.reproject_land = dao_reproject_land_##isa,                                  \
+		.ao_reproject = dao_ao_history_reproject_rows_##isa,                         \
 	}
 
 void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
@@ -79,6 +82,10 @@ void dao_kernels_select(struct dao_kernels *k, enum dao_simd simd)
 			.temporal_depth = dao_temporal_depth_ref,
 			.noise_row = dao_noise_row_ref,
 			.icp_pairs = dao_icp_pairs_ref,
+			.icp_source = dao_icp_source_ref,
+			.icp_target = dao_icp_target_ref,
+			.reproject_land = dao_reproject_land_ref,
+			.ao_reproject = dao_ao_history_reproject_rows,
 		};
 		simd = DAO_SIMD_REFERENCE;
 		break;

@@ -12,7 +12,10 @@
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 #include "kernels/gtao_tile.h"
+#include "motion/ao_reproject.h"
 #include "motion/icp_pairs.h"
+#include "motion/icp_source.h"
+#include "motion/reproject.h"
 #include "pipeline/temporal_depth.h"
 #include "shade/shade.h"
 
@@ -49,6 +52,13 @@ struct dao_kernels {
 			       uint8_t *count, uint8_t *age, int y0, int y1);
 	/* depth-temporal-motion=icp: one step's pairs (motion/icp_pairs.h) */
 	dao_icp_pairs_fn icp_pairs;
+	/* ... its source grid and target depth (motion/icp_source.h) */
+	dao_icp_source_fn icp_source;
+	dao_icp_target_fn icp_target;
+	/* ... and the history's landing pass (motion/reproject.h) */
+	dao_reproject_land_fn reproject_land;
+	/* the AO history's (motion/ao_reproject.h) */
+	dao_ao_reproject_fn ao_reproject;
 };
 
 /* The kernels of `simd` (AUTO resolved by the caller; must be supported). */

@@ -14,6 +14,7 @@
  * reference's double sum by 1e-5 of the sum of the magnitudes of its terms
  * (2^-24 per addition times a chunk's 32 lanes' depth, with margin).
  */
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -216,12 +217,18 @@ static void test_threads_identical(void **state)
 		struct dao_pool *pool;
 		assert_int_equal(dao_pool_create(&pool, t), 0);
 		s.pool = pool;
-		struct dao_icp_result r;
-		dao_icp_estimate(&s, &f.cam, f.inv0, NULL, f.z1, NULL, scratch, &r);
-		printf("%d threads: %d pairs, %d steps\n", t, r.inliers, r.iterations);
-		assert_memory_equal(&r.pose, &one.pose, sizeof r.pose);
-		assert_int_equal(r.inliers, one.inliers);
-		assert_int_equal(r.iterations, one.iterations);
+		/* every step's chunks on the threads, then the default (the steps on
+		 * the caller, the source grid and the target on the threads) */
+		for (int all = 1; all >= 0; all--) {
+			s.pool_min_points = all ? 0 : INT_MAX;
+			struct dao_icp_result r;
+			dao_icp_estimate(&s, &f.cam, f.inv0, NULL, f.z1, NULL, scratch, &r);
+			printf("%d threads%s: %d pairs, %d steps\n", t, all ? ", every step" : "",
+			       r.inliers, r.iterations);
+			assert_memory_equal(&r.pose, &one.pose, sizeof r.pose);
+			assert_int_equal(r.inliers, one.inliers);
+			assert_int_equal(r.iterations, one.iterations);
+		}
 		dao_pool_destroy(pool);
 	}
 	free(scratch);

@@ -17,7 +17,11 @@
 
 #include <cmocka.h>
 
+#include <depthao/cpu.h>
+
 #include "motion/reproject.h"
+#include "pipeline/kernels.h"
+#include "core/threadpool.h"
 #include "test_icp_scene.h"
 
 struct planes {
@@ -38,7 +42,7 @@ static void planes_init(struct planes *p, size_t n)
 	p->age_out = calloc(n, 1);
 	p->ref = calloc(n, sizeof(double));
 	p->ref_src = calloc(n, sizeof(long));
-	p->scratch = calloc(2 * n, sizeof(int32_t));
+	p->scratch = calloc(dao_history_reproject_scratch(W, H), sizeof(int32_t));
 	assert_true(p->hist && p->out && p->count && p->age && p->count_out && p->age_out &&
 		    p->ref && p->ref_src && p->scratch);
 }
@@ -99,7 +103,7 @@ static void test_against_reference(void **state)
 		p.age[i] = (uint8_t)(i % 7);
 	}
 	dao_history_reproject(&f.cam, &motion, p.hist, p.count, p.age, p.out, p.count_out,
-			      p.age_out, p.scratch);
+			      p.age_out, p.scratch, NULL, NULL);
 	reference(&f.cam, &motion, &p);
 	size_t filled = 0, differ = 0, value_off = 0;
 	for (size_t i = 0; i < f.npix; i++) {
@@ -152,7 +156,7 @@ static void test_against_truth(void **state)
 		p.count[i] = 1;
 	}
 	dao_history_reproject(&f.cam, &motion, p.hist, p.count, p.age, p.out, p.count_out,
-			      p.age_out, p.scratch);
+			      p.age_out, p.scratch, NULL, NULL);
 	size_t have = 0, close = 0;
 	for (size_t i = 0; i < f.npix; i++) {
 		if (!p.count_out[i])
@@ -197,7 +201,7 @@ static void test_fuzzed_poses(void **state)
 		if (k == 39)
 			m.t[0] = -INFINITY;
 		dao_history_reproject(&f.cam, &m, p.hist, p.count, p.age, p.out, p.count_out,
-				      p.age_out, p.scratch);
+				      p.age_out, p.scratch, NULL, NULL);
 		for (size_t i = 0; i < f.npix; i++) {
 			if (p.count_out[i]) {
 				assert_int_equal(p.count_out[i], 7);
@@ -212,12 +216,89 @@ static void test_fuzzed_poses(void **state)
 	fixture_free(&f);
 }
 
+/* the landing pass of every kernel set, and the splat by output bands on 1, 2
+ * and 3 threads: the reference's output to the bit, on the noisy room moved
+ * by small and fuzzed poses, with holes */
+static void test_kernels_threads(void **state)
+{
+	(void)state;
+	struct scene_fixture f;
+	fixture_init(&f);
+	struct planes p, q;
+	planes_init(&p, f.npix);
+	planes_init(&q, f.npix);
+	struct dao_pose id;
+	dao_pose_identity(&id);
+	render(&f, &id, 1, 1.0, 5u, f.z0);
+	for (size_t i = 0; i < f.npix; i++) {
+		const int hole = (i * 2654435761u) % 11u == 0;
+		p.hist[i] = f.z0[i] > 0.0f ? 1.0f / f.z0[i] : 0.0f;
+		p.count[i] = hole ? 0 : (uint8_t)(1 + i % 200);
+		p.age[i] = (uint8_t)(i % 7);
+	}
+	struct dao_pool *pools[3];
+	for (int t = 0; t < 3; t++)
+		assert_int_equal(dao_pool_create(&pools[t], t + 1), 0);
+	const size_t n = f.npix;
+	int32_t *dest = q.scratch;
+	float *zinv = (float *)(q.scratch + n);
+	uint64_t st = 777u;
+	int sets = 0;
+	for (int k = 0; k < 12; k++) {
+		struct dao_pose m;
+		const double sc = k < 8 ? 0.02 : 1.0;
+		pose_from(&m, sc * 100.0 * gauss(&st), sc * 100.0 * gauss(&st), sc * gauss(&st),
+			  sc * gauss(&st), sc * gauss(&st));
+		if (k == 0)
+			dao_pose_identity(&m);
+		dao_history_reproject(&f.cam, &m, p.hist, p.count, p.age, p.out, p.count_out,
+				      p.age_out, p.scratch, NULL, NULL);
+		sets = 0;
+		for (int s = DAO_SIMD_REFERENCE; s < DAO_SIMD_COUNT; s++) {
+			if (s != DAO_SIMD_REFERENCE &&
+			    (s < DAO_SIMD_GENERIC || !dao_simd_supported((enum dao_simd)s)))
+				continue;
+			struct dao_kernels kern;
+			dao_kernels_select(&kern, (enum dao_simd)s);
+			for (int t = 0; t < 3; t++) {
+				memset(q.out, 0x55, n * sizeof(float));
+				memset(q.count_out, 0x55, n);
+				memset(q.age_out, 0x55, n);
+				dao_history_reproject(&f.cam, &m, p.hist, p.count, p.age, q.out,
+						      q.count_out, q.age_out, q.scratch,
+						      kern.reproject_land, pools[t]);
+				assert_memory_equal(q.out, p.out, n * sizeof(float));
+				assert_memory_equal(q.count_out, p.count_out, n);
+				assert_memory_equal(q.age_out, p.age_out, n);
+				/* the landing pass itself */
+				assert_memory_equal(dest, p.scratch, n * sizeof(int32_t));
+				assert_memory_equal(q.scratch + 2 * n, p.scratch + 2 * n,
+						    2 * (size_t)H * sizeof(int32_t));
+				for (size_t i = 0; i < n; i++)
+					if (dest[i] >= 0 &&
+					    memcmp(zinv + i, (float *)(p.scratch + n) + i, sizeof(float)))
+						fail_msg("simd %d pose %d: 1/z of pixel %zu differs", s, k,
+							 i);
+			}
+			sets++;
+		}
+	}
+	printf("%d kernel sets (the reference included) on 1, 2 and 3 threads\n", sets);
+	assert_true(sets >= 2);
+	for (int t = 0; t < 3; t++)
+		dao_pool_destroy(pools[t]);
+	planes_free(&p);
+	planes_free(&q);
+	fixture_free(&f);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_against_reference),
 		cmocka_unit_test(test_against_truth),
 		cmocka_unit_test(test_fuzzed_poses),
+		cmocka_unit_test(test_kernels_threads),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
