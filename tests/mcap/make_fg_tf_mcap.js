@@ -13,7 +13,8 @@
 // message cut short inside its rotation), "nan" (w NaN; JSON: the literal NaN, as json-c
 // reads it) or "nochild" (child_frame_id left out).
 // usage: node make_fg_tf_mcap.js PLAN_DIR OUT.mcap protobuf|json
-//        node make_fg_tf_mcap.js --seeds DIR   (fuzz_tf's Foxglove seeds, fuzz/corpus/tf)
+//        node make_fg_tf_mcap.js --seeds TF_DIR [MCAP_DIR]   (the Foxglove seeds of fuzz_tf,
+//        fuzz/corpus/tf, and of fuzz_mcap_reader, fuzz/corpus/mcap)
 // (exit 77 without tests/js/node_modules)
 "use strict";
 const fs = require("fs");
@@ -67,9 +68,7 @@ function transformsBytes(enc, name, ts, json) {
   return ts.some((t) => t.fg === "truncate") ? b.subarray(0, b.length - 5) : b;
 }
 
-async function writeFile(planDir, out, encoding) {
-  const plan = JSON.parse(fs.readFileSync(path.join(planDir, "plan.json"), "utf8"));
-  const raw = fs.readFileSync(path.join(planDir, "depth.raw"));
+async function writeFile(plan, raw, out, encoding) {
   const W = plan.width, H = plan.height, K = plan.K, fg = plan.fg || {};
   const json = encoding === "json", enc = encoder(json);
   const msgs = []; // { topic, type, time (BigInt), bytes }
@@ -119,8 +118,23 @@ async function writeFile(planDir, out, encoding) {
 }
 
 // fuzz_tf's seeds: a tag byte (8 | parser: 0 FrameTransform protobuf, 1 FrameTransforms
-// protobuf, 2 FrameTransform JSON, 3 FrameTransforms JSON; 16 for DAO_TF_STATIC_IF_ALONE)
-function seeds(dir) {
+// protobuf, 2 FrameTransform JSON, 3 FrameTransforms JSON; 16 for DAO_TF_STATIC_IF_ALONE);
+// and with mcapDir fuzz_mcap_reader's: 8x6 depth, 2 frames, map -> odom (stamped 0, on
+// /tf_static), odom -> cam on /tf, in protobuf and JSON
+async function seeds(dir, mcapDir) {
+  if (mcapDir) {
+    const start = 1700000000000000000n, W = 8, H = 6;
+    const tr = (ns, parent, child, fgFlag) => ({ stamp_ns: String(ns), parent, child, t: [0.5, 0, 0],
+      q: [0, 0, 0.3826834323650898, 0.9238795325112867], fg: fgFlag });
+    const plan = { width: W, height: H, frame_id: "cam", K: [5, 0, 3.5, 0, 5, 2.5, 0, 0, 1],
+      start_ns: String(start), frames: [{ stamp_ns: String(start) }, { stamp_ns: String(start + 33333333n) }],
+      tf_static_messages: [[tr(start, "map", "odom", "stamp0")]],
+      tf_messages: [[tr(start, "odom", "cam")], [tr(start + 33333333n, "odom", "cam")]] };
+    const raw = Buffer.alloc(2 * W * H * 2);
+    for (let i = 0; i < W * H * 2; i++) raw.writeUInt16LE(500 + 3 * i, 2 * i);
+    for (const e of ["protobuf", "json"])
+      await writeFile(plan, raw, path.join(mcapDir, `fg_tf_${e === "json" ? "json" : "proto"}.mcap`), e);
+  }
   fs.mkdirSync(dir, { recursive: true });
   const t = (child, ns, q) => ({ stamp_ns: String(ns), parent: child === "base" ? "odom" : "base",
     child, t: [1, 2, 3], q });
@@ -137,11 +151,10 @@ function seeds(dir) {
   }
 }
 
-if (process.argv[2] === "--seeds") {
-  seeds(process.argv[3]);
-} else {
-  writeFile(process.argv[2], process.argv[3], process.argv[4]).catch((e) => {
-    console.error(e);
-    process.exit(1);
-  });
-}
+const main = process.argv[2] === "--seeds" ? () => seeds(process.argv[3], process.argv[4])
+  : () => writeFile(JSON.parse(fs.readFileSync(path.join(process.argv[2], "plan.json"), "utf8")),
+    fs.readFileSync(path.join(process.argv[2], "depth.raw")), process.argv[3], process.argv[4]);
+main().catch((e) => {
+  console.error(e);
+  process.exit(1);
+});
