@@ -279,6 +279,11 @@ def write_recordings(work, plans_):
                 json.dump(plan, open(os.path.join(d, "plan.json"), "w"))
             path = os.path.join(work, "%s-%s.mcap" % (name, fmt))
             r = run([NODE, MAKE_FG, d, path, encoding])
+            if r.returncode == 77:
+                print("note: no Foxglove MCAP: " + r.stdout.strip())
+                for f in FG_FORMATS:
+                    recs.pop(f, None)
+                return recs
             if r.returncode:
                 sys.exit("make_fg_tf_mcap.js failed: " + r.stdout + r.stderr)
             recs[fmt][name] = path
