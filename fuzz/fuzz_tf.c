@@ -1,13 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * libFuzzer target: the tf and odometry parsers (ROS 1 in bag/ros_msg.c,
- * ROS 2 CDR in mcap/ros2_msg.c) and the tf buffer they fill.  The first
- * byte picks the parser (0 ROS 1 TFMessage, 1 ROS 1 Odometry, 2 ROS 2
- * TFMessage, 3 ROS 2 Odometry; its bit 2 marks the transforms static), the
- * rest is the message.  Every transform delivered goes into a small buffer
- * (so its limits are met); then every pair of frames is looked up at the
- * stamps seen.  Aborts on a name pointing outside the input, or a pose
- * that is not finite and unit.
+ * ROS 2 CDR in mcap/ros2_msg.c, Foxglove's FrameTransform(s) in
+ * mcap/foxglove_msg.c) and the tf buffer they fill.  The first byte picks
+ * the parser: without bit 3, bits 0-1 are 0 ROS 1 TFMessage, 1 ROS 1
+ * Odometry, 2 ROS 2 TFMessage, 3 ROS 2 Odometry; with bit 3 (8), 0
+ * FrameTransform in protobuf, 1 FrameTransforms in protobuf, 2
+ * FrameTransform in JSON, 3 FrameTransforms in JSON.  Bit 2 marks the
+ * transforms static, else bit 4 static if alone (DAO_TF_STATIC_IF_ALONE).
+ * The rest is the message.  Every transform delivered goes into a small
+ * buffer (so its limits are met); then every pair of frames is looked up
+ * at the stamps seen.  Aborts on a name pointing outside the input (JSON's
+ * names are in the parsed text: NUL-terminated at their length instead),
+ * or a pose that is not finite and unit.
  */
 #include <math.h>
 #include <stdint.h>
@@ -15,6 +20,7 @@
 #include <string.h>
 
 #include "bag/ros_msg.h"
+#include "mcap/foxglove_msg.h"
 #include "mcap/ros2_msg.h"
 #include "tf/tf_buffer.h"
 
@@ -24,7 +30,7 @@ struct ctx {
 	struct dao_tf_buffer *b;
 	const uint8_t *d;
 	size_t size;
-	int is_static;
+	int time, json;
 	uint64_t stamps[8];
 	int n;
 };
@@ -32,7 +38,7 @@ struct ctx {
 static void inside(const char *p, uint32_t n, const struct ctx *c)
 {
 	const uint8_t *u = (const uint8_t *)p;
-	if (n && (u < c->d || u + n > c->d + c->size))
+	if (c->json ? p[n] != 0 : n && (u < c->d || u + n > c->d + c->size))
 		abort();
 }
 
@@ -45,7 +51,7 @@ static int add(void *user, const struct dao_tf_msg_transform *t)
 	if (c->n < 8)
 		c->stamps[c->n++] = t->stamp_ns;
 	int r = dao_tf_buffer_add(c->b, t->parent, t->parent_len, t->child, t->child_len,
-				  t->stamp_ns, &t->tr, c->is_static, &err);
+				  t->stamp_ns, &t->tr, c->time, &err);
 	return r < 0 ? r : 0;
 }
 
@@ -77,8 +83,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	c.d = data + 1;
 	c.size = size - 1;
-	c.is_static = data[0] & 4;
-	switch (data[0] & 3) {
+	c.time = data[0] & 4 ? DAO_TF_STATIC : data[0] & 16 ? DAO_TF_STATIC_IF_ALONE : DAO_TF_DYNAMIC;
+	c.json = (data[0] & 8) && (data[0] & 2);
+	switch (data[0] & 11) {
 	case 0:
 		(void)dao_ros_tf_parse(c.d, (uint32_t)c.size, add, &c);
 		break;
@@ -89,9 +96,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	case 2:
 		(void)dao_ros2_tf_parse(c.d, c.size, add, &c);
 		break;
-	default:
+	case 3:
 		if (dao_ros2_odometry_parse(c.d, c.size, &t) == 0)
 			(void)add(&c, &t);
+		break;
+	default: /* 8-11: Foxglove */
+		(void)dao_fg_frame_transforms_parse(c.json ? DAO_FG_JSON : DAO_FG_PROTOBUF,
+						    data[0] & 1, c.d, c.size, add, &c);
 	}
 	if (dao_tf_buffer_finish(c.b, &err) == 0)
 		lookups(&c);

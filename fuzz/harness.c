@@ -3,6 +3,8 @@
 #define _GNU_SOURCE /* memfd_create */
 #include "harness.h"
 
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,6 +82,28 @@ static struct dao_plugins *builtin_plugins(void)
 	return plugins;
 }
 
+/* The frame's camera pose: finite and unit, or an error of the poses' codes. */
+static void check_pose(struct dao_source *s, const struct dao_source_frame *f)
+{
+	static const int pose_codes[] = { -ENOENT, -ENOTSUP, -EINVAL, -ENODATA, -ENOTCONN, -ELOOP,
+					  -E2BIG, -ENOMEM, -EIO, -EFBIG, 0 };
+	struct dao_source_pose pose = DAO_SOURCE_POSE_INIT;
+	struct dao_error err = {0};
+	int ret = dao_source_frame_pose(s, f, &pose, &err);
+	if (ret < 0) {
+		fuzz_check_error(ret, &err, pose_codes);
+		return;
+	}
+	double n = 0;
+	for (int i = 0; i < 4; i++)
+		n += pose.rotation[i] * pose.rotation[i];
+	if (ret != 0 || !(fabs(n - 1.0) < 1e-6) ||
+	    !isfinite(pose.translation[0] + pose.translation[1] + pose.translation[2]) ||
+	    !memchr(pose.description, 0, sizeof pose.description) ||
+	    !memchr(pose.warning, 0, sizeof pose.warning))
+		abort();
+}
+
 /* Reads frames until the end: each one as `in` says, or an error by the rules. */
 static void read_to_end(struct dao_source *s, const struct dao_source_info *in, const int *codes)
 {
@@ -96,6 +120,7 @@ static void read_to_end(struct dao_source *s, const struct dao_source_info *in, 
 		if (f.depth.width != in->width || f.depth.height != in->height ||
 		    f.depth.format != in->format)
 			abort();
+		check_pose(s, &f);
 		dao_source_release(s, &f);
 	}
 }

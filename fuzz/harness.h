@@ -41,7 +41,10 @@ void fuzz_check_error(int ret, const struct dao_error *err, const int *codes);
  * fails must fail by fuzz_check_error(); an open that succeeds must report
  * FRAMES frames (or at least one when FRAMES is 0), a size within the limit
  * and a terminated description, start, give frames of that size and format
- * (or errors by fuzz_check_error()) and seek. */
+ * (or errors by fuzz_check_error()) and seek.  Every frame's camera pose is
+ * asked for (dao_source_frame_pose: the recording's tf, odometry or Foxglove
+ * transforms): a finite unit pose, or an error with a message and one of
+ * the codes the poses document. */
 void fuzz_play_source(const char *uri, uint64_t max_pixels, int64_t frames, const int *codes);
 
 #endif

@@ -3,8 +3,10 @@
  * The tf buffer (src/io/tf): composition against poses composed by hand,
  * interpolation (slerp exact on a constant-rate turn, lerp on a line),
  * static against dynamic transforms, gaps, two parents, cycles, frames not
- * connected, quaternions normalised or refused, the limits; and the ROS 1
- * and ROS 2 tf / odometry parsers on hand-made and truncated messages.
+ * connected, quaternions normalised or refused, the limits, a lone
+ * Foxglove transform made static; and the ROS 1 and ROS 2 tf / odometry
+ * parsers and Foxglove's FrameTransform(s) (protobuf, JSON) on hand-made,
+ * damaged and truncated messages.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -16,6 +18,7 @@
 #include <math.h>
 
 #include "bag/ros_msg.h"
+#include "mcap/foxglove_msg.h"
 #include "mcap/ros2_msg.h"
 #include "tf/tf_buffer.h"
 
@@ -267,6 +270,216 @@ static void test_ros2_messages(void **state)
 	assert_int_equal(dao_ros2_tf_parse(m, n, count_cb, &got), -EINVAL);
 }
 
+/* DAO_TF_STATIC_IF_ALONE: static when it is its frame's only stamp, else dynamic. */
+static void test_lone_static(void **state)
+{
+	(void)state;
+	struct dao_tf_buffer *b;
+	struct dao_error err;
+	struct dao_rigid got, tr = yaw(30, 1, 0, 0), other = yaw(40, 0, 1, 0);
+	assert_int_equal(dao_tf_buffer_create(&b, 8, 8, &err), 0);
+	assert_int_equal(add(b, "w", "lone", 10 * S, tr, DAO_TF_STATIC_IF_ALONE), 0);
+	assert_int_equal(add(b, "w", "twice", 10 * S, other, DAO_TF_STATIC_IF_ALONE), 0);
+	assert_int_equal(add(b, "w", "twice", 10 * S, tr, DAO_TF_STATIC_IF_ALONE), 0);
+	assert_int_equal(add(b, "w", "moving", 10 * S, tr, DAO_TF_STATIC_IF_ALONE), 0);
+	assert_int_equal(add(b, "w", "moving", 11 * S, tr, DAO_TF_STATIC_IF_ALONE), 0);
+	assert_int_equal(add(b, "w", "ros", 10 * S, tr, DAO_TF_DYNAMIC), 0);
+	assert_int_equal(dao_tf_buffer_finish(b, &err), 0);
+	assert_int_equal(dao_tf_buffer_samples(b), 3); /* moving's two, ros' one */
+	int w = dao_tf_buffer_find(b, "w");
+	/* the lone ones hold at every time, the later of one stamp */
+	assert_int_equal(dao_tf_buffer_lookup(b, w, dao_tf_buffer_find(b, "lone"), 0, S, &got,
+					      &err), 0);
+	near(&got, &tr, 1e-12);
+	assert_int_equal(dao_tf_buffer_lookup(b, w, dao_tf_buffer_find(b, "twice"), 99 * S, S,
+					      &got, &err), 0);
+	near(&got, &tr, 1e-12);
+	/* two stamps, or a ROS sample: dynamic, no extrapolation */
+	assert_int_equal(dao_tf_buffer_lookup(b, w, dao_tf_buffer_find(b, "moving"), 12 * S, S,
+					      &got, &err), -ENOENT);
+	assert_int_equal(dao_tf_buffer_lookup(b, w, dao_tf_buffer_find(b, "ros"), 0, S, &got, &err),
+			 -ENOENT);
+	dao_tf_buffer_free(b);
+}
+
+/* The protobuf wire format, written by hand (field numbers of foxglove_msg.h). */
+static size_t pb_varint(uint8_t *p, uint64_t v)
+{
+	size_t n = 0;
+	do {
+		p[n++] = (uint8_t)((v & 0x7F) | (v > 0x7F ? 0x80 : 0));
+		v >>= 7;
+	} while (v);
+	return n;
+}
+
+static size_t pb_f64(uint8_t *p, uint32_t field, double v)
+{
+	size_t n = pb_varint(p, field << 3 | 1);
+	return n + put(p + n, &v, 8);
+}
+
+static size_t pb_len(uint8_t *p, uint32_t field, const void *d, size_t len)
+{
+	size_t n = pb_varint(p, field << 3 | 2);
+	n += pb_varint(p + n, len);
+	return n + put(p + n, d, len);
+}
+
+/* A FrameTransform of count_cb's values: 100 s + 5 ns, odom -> cam, (1, 2, 3), identity. */
+static size_t pb_transform(uint8_t *p, int rotation)
+{
+	uint8_t ts[16], v[64];
+	size_t n = 0, k = pb_varint(ts, 1 << 3);
+	k += pb_varint(ts + k, 100);
+	k += pb_varint(ts + k, 2 << 3);
+	k += pb_varint(ts + k, 5);
+	n += pb_len(p + n, 1, ts, k);
+	n += pb_len(p + n, 2, "odom", 4);
+	n += pb_len(p + n, 3, "cam", 3);
+	k = pb_f64(v, 1, 1) + pb_f64(v + 9, 2, 2);
+	k += pb_f64(v + k, 3, 3);
+	n += pb_len(p + n, 4, v, k);
+	if (rotation) { /* w alone (x, y, z left out: 0) */
+		k = pb_f64(v, 4, 1);
+		n += pb_len(p + n, 5, v, k);
+	}
+	return n;
+}
+
+static int any_cb(void *user, const struct dao_tf_msg_transform *t)
+{
+	(void)t;
+	(*(int *)user)++;
+	return 0;
+}
+
+static int keep_cb(void *user, const struct dao_tf_msg_transform *t)
+{
+	*(struct dao_tf_msg_transform *)user = *t;
+	return 0;
+}
+
+static void test_foxglove_protobuf(void **state)
+{
+	(void)state;
+	uint8_t m[512], l[1024];
+	int got = 0;
+	size_t n = pb_transform(m, 1);
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, n, count_cb, &got), 0);
+	assert_int_equal(got, 1);
+	/* cut short inside the rotation (its length past the end): refused */
+	for (size_t cut = n - 9; cut < n; cut++)
+		assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, cut, count_cb,
+							       &got), -EINVAL);
+	/* any cut: refused or a shorter message, never more */
+	for (size_t cut = 0; cut < n; cut++) {
+		int k = 0;
+		int r = dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, cut, any_cb, &k);
+		assert_true((r == 0 && k == 1) || (r == -EINVAL && k == 0));
+	}
+	/* no rotation: the identity; a rotation of x alone: w 0 */
+	struct dao_tf_msg_transform t;
+	n = pb_transform(m, 0);
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), 0);
+	assert_true(t.tr.q[3] == 1.0 && t.tr.q[0] == 0.0 && t.child_len == 3);
+	uint8_t x[16];
+	n += pb_len(m + n, 5, x, pb_f64(x, 1, 1));
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), 0);
+	assert_true(t.tr.q[3] == 0.0 && t.tr.q[0] == 1.0);
+	/* a component of the wrong wire type; a translation as a varint */
+	x[0] = 3 << 3;
+	x[1] = 1;
+	n = pb_transform(m, 0);
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, n + pb_len(m + n, 5, x, 2),
+						       keep_cb, &t), -EINVAL);
+	n += pb_varint(m + n, 4 << 3);
+	n += pb_varint(m + n, 7);
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), -EINVAL);
+	/* FrameTransforms: two delivered; with a third cut short, none */
+	size_t k = pb_transform(m, 1), ln = pb_len(l, 1, m, k);
+	ln += pb_len(l + ln, 1, m, k);
+	got = 0;
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 1, l, ln, count_cb, &got), 0);
+	assert_int_equal(got, 2);
+	size_t bad = ln + pb_len(l + ln, 1, m, k - 3);
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 1, l, bad, count_cb, &got),
+			 -EINVAL);
+	assert_int_equal(got, 2);
+	/* nanoseconds of 1e9 */
+	uint8_t ts[16];
+	size_t tn = pb_varint(ts, 2 << 3);
+	tn += pb_varint(ts + tn, 1000000000u);
+	n = pb_len(m, 1, ts, tn);
+	assert_int_equal(dao_fg_frame_transforms_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), -EINVAL);
+}
+
+static int json(const char *text, int list, dao_tf_msg_cb cb, void *user)
+{
+	return dao_fg_frame_transforms_parse(DAO_FG_JSON, list, (const uint8_t *)text, strlen(text),
+					     cb, user);
+}
+
+#define FT "{\"timestamp\": {\"sec\": 100, \"nsec\": 5}, \"parent_frame_id\": \"odom\", " \
+	"\"child_frame_id\": \"cam\", \"translation\": {\"x\": 1, \"y\": 2.0, \"z\": 3}, " \
+	"\"rotation\": {\"x\": 0, \"y\": 0, \"z\": 0, \"w\": 1}}"
+
+/* Adds a transform to a buffer while its names are valid (a JSON message's: in the call). */
+struct adding {
+	struct dao_tf_buffer *b;
+	int ret;
+	struct dao_error err;
+	struct dao_tf_msg_transform t;
+};
+
+static int add_cb(void *user, const struct dao_tf_msg_transform *t)
+{
+	struct adding *a = user;
+	a->t = *t;
+	a->ret = dao_tf_buffer_add(a->b, t->parent, t->parent_len, t->child, t->child_len, 1,
+				   &t->tr, DAO_TF_DYNAMIC, &a->err);
+	return 0;
+}
+
+static void test_foxglove_json(void **state)
+{
+	(void)state;
+	int got = 0;
+	assert_int_equal(json(FT, 0, count_cb, &got), 0);
+	assert_int_equal(got, 1);
+	assert_int_equal(json("{\"transforms\": [" FT ", " FT "]}", 1, count_cb, &got), 0);
+	assert_int_equal(got, 3);
+	/* cut short anywhere: not JSON; nothing delivered from a list with a bad member */
+	char cut[sizeof(FT)];
+	for (size_t k = 0; k + 1 < sizeof(FT); k++) {
+		memcpy(cut, FT, k);
+		cut[k] = 0;
+		assert_int_equal(json(cut, 0, count_cb, &got), -EINVAL);
+	}
+	assert_int_equal(json("{\"transforms\": [" FT ", 5]}", 1, count_cb, &got), -EINVAL);
+	assert_int_equal(json("{\"transforms\": " FT "}", 1, count_cb, &got), -EINVAL);
+	assert_int_equal(got, 3);
+	/* a number as a string; nanoseconds of 1e9 */
+	assert_int_equal(json("{\"translation\": {\"x\": \"1\"}}", 0, any_cb, &got), -EINVAL);
+	assert_int_equal(json("{\"timestamp\": {\"sec\": 1, \"nsec\": 1000000000}}", 0, any_cb,
+			      &got), -EINVAL);
+	/* left out: 0, "", the identity; NaN read as it is, then refused by the buffer */
+	struct adding a = { 0 };
+	assert_int_equal(dao_tf_buffer_create(&a.b, 8, 8, &a.err), 0);
+	assert_int_equal(json("{\"parent_frame_id\": \"odom\"}", 0, add_cb, &a), 0);
+	assert_true(a.t.stamp_ns == 0 && a.t.child_len == 0 && a.t.tr.q[3] == 1.0 &&
+		    a.t.tr.t[0] == 0.0);
+	assert_int_equal(a.ret, 1);
+	assert_non_null(strstr(a.err.message, "empty"));
+	assert_int_equal(json("{\"parent_frame_id\": \"odom\", \"child_frame_id\": \"c\", "
+			      "\"rotation\": {\"x\": 0, \"y\": 0, \"z\": 0, \"w\": NaN}}", 0,
+			      add_cb, &a), 0);
+	assert_true(isnan(a.t.tr.q[3]));
+	assert_int_equal(a.ret, 1);
+	assert_non_null(strstr(a.err.message, "not a finite number"));
+	dao_tf_buffer_free(a.b);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -276,6 +489,9 @@ int main(void)
 		cmocka_unit_test(test_values),
 		cmocka_unit_test(test_ros1_messages),
 		cmocka_unit_test(test_ros2_messages),
+		cmocka_unit_test(test_lone_static),
+		cmocka_unit_test(test_foxglove_protobuf),
+		cmocka_unit_test(test_foxglove_json),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Camera poses from a ROS recording's tf or odometry (issue #37, item 3).
+"""Camera poses from a recording's tf, odometry or Foxglove transforms (issue #37, item 3).
 
 A synth --trajectory sequence (640x480, structured light) is written as a ROS 1 bag by
 rosbag (make_tf_bag.py), and as MCAP and a rosbag2 .db3 by @mcap/core and sql.js with
@@ -38,7 +38,26 @@ Checks, through the public API (source_poses.c: dao_source_frame_pose):
    stream) gives process' filtered depth on each recording; on an .oni it says once that
    the source has no poses and runs on.
 
+Foxglove (make_fg_tf_mcap.js: @mcap/core, protobufjs with @foxglove/schemas' .proto, or
+JSON): the same plans as MCAP files of foxglove.RawImage depth (frame_id the optical
+frame), foxglove.CameraCalibration, /tf as foxglove.FrameTransform and /tf_static as
+foxglove.FrameTransforms, in protobuf (format fgproto) and JSON (fgjson); pan, slide, gap
+and split go through 1-5 (no odometry: Foxglove has none), and process on pan must give
+the filtered depth of the ROS 2 MCAP to the pixel.  Foxglove-only variants:
+
+  fgstatic   the static transforms on /mount (not .../tf_static): map -> odom stamped 0,
+             the mount and the optical rotation each once: static all the same
+  fgtopic    a decoy odom -> base_link on /tf_decoy at the frames' stamps: pose_topic=/tf
+             reads the truth, without it the decoy wins
+  fgnan      a /tf transform with w NaN (skipped, the warning says why)
+  fgcut      a /tf message cut short (skipped, the warning says which)
+  fgnochild  the mount without child_frame_id: skipped; with --pose-frame map the error
+             says the depth frame is not connected and why
+  fgenc      /tf in the message encoding cbor (fgproto), or JSON messages under a protobuf
+             schema (fgjson): refused, saying what was found and what is read
+
 usage: test_cli_tf_poses.py DEPTHAO SOURCE_POSES MAKE_TF_BAG MAKE_TF_MCAP NODE DEPTHAOD
+                            MAKE_FG_TF_MCAP
 """
 import json
 import math
@@ -51,7 +70,9 @@ import tempfile
 import numpy as np
 from PIL import Image
 
-DEPTHAO, SOURCE_POSES, MAKE_BAG, MAKE_MCAP, NODE, DEPTHAOD = sys.argv[1:7]
+DEPTHAO, SOURCE_POSES, MAKE_BAG, MAKE_MCAP, NODE, DEPTHAOD, MAKE_FG = sys.argv[1:8]
+FG_FORMATS = {"fgproto": "protobuf", "fgjson": "json"}
+FG_SHARED = ("pan", "slide", "gap", "split")  # the plans written in the Foxglove formats too
 START_NS = 1700000000 * 10**9
 FRAME_ID = "camera_depth_optical_frame"
 FAILURES = []
@@ -191,13 +212,35 @@ def plans(work):
         "tf_messages": [m for m in msgs if m[0] is not bad],
         "tf_static_messages": statics(mount=False)}))
     out["bare"] = (seq_pan, pan, plan_dir(work, "bare", seq_pan, {"odometry": odo}))
+    # Foxglove only (plan["fg"] and the transforms' "fg": make_fg_tf_mcap.js)
+    clean = [m for m in msgs if m[0] is not bad]
+    st = statics()
+    st[0][0] = dict(st[0][0], fg="stamp0")
+    out["fgstatic"] = (seq_pan, pan, plan_dir(work, "fgstatic", seq_pan, {
+        "tf_messages": clean, "tf_static_messages": st, "fg": {"static_topic": "/mount"}}))
+    decoy = [{"topic": "/tf_decoy", "stamp_ns": str(stamp(i)), "transforms": [
+        tf(stamp(i), "odom", "base_link", ([0.0, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0]))]}
+        for i in range(len(pan))]
+    out["fgtopic"] = (seq_pan, pan, plan_dir(work, "fgtopic", seq_pan, {
+        "tf_messages": clean, "tf_static_messages": statics(), "fg": {"extra": decoy}}))
+    for name, damage in (("fgnan", "nan"), ("fgcut", "truncate")):
+        hurt = dict(tf(stamp(1) + 10**7, "odom", "base_link", base(pan[1])), fg=damage)
+        out[name] = (seq_pan, pan, plan_dir(work, name, seq_pan, {
+            "tf_messages": clean[:2] + [[hurt]] + clean[2:], "tf_static_messages": statics()}))
+    st = statics()
+    st[0][1] = dict(st[0][1], fg="nochild")
+    out["fgnochild"] = (seq_pan, pan, plan_dir(work, "fgnochild", seq_pan, {
+        "tf_messages": clean, "tf_static_messages": st}))
+    out["fgenc"] = (seq_pan, pan, plan_dir(work, "fgenc", seq_pan, {
+        "tf_messages": clean, "tf_static_messages": statics()}))
     return out
 
 
 def write_recordings(work, plans_):
     """{format: {variant: path}}; a format whose writer is missing is left out (noted)."""
     recs = {"bag": {}, "mcap": {}, "db3": {}}
-    for name, (_, _, d) in plans_.items():
+    ros_plans = {k: v for k, v in plans_.items() if not k.startswith("fg")}
+    for name, (_, _, d) in ros_plans.items():
         path = os.path.join(work, name + ".bag")
         r = run(["/usr/bin/python3", MAKE_BAG, d, path])
         if r.returncode == 77:
@@ -208,21 +251,42 @@ def write_recordings(work, plans_):
             sys.exit("make_tf_bag.py failed: " + r.stdout + r.stderr)
         recs["bag"][name] = path
     if not shutil.which(NODE):
-        print("note: no MCAP or .db3: node is not installed")
+        print("note: no MCAP, .db3 or Foxglove MCAP: node is not installed")
         recs.pop("mcap")
         recs.pop("db3")
         return recs
-    for name, (_, _, d) in plans_.items():
+    for name, (_, _, d) in ros_plans.items():
         m, b = os.path.join(work, name + ".mcap"), os.path.join(work, name + ".db3")
         r = run([NODE, MAKE_MCAP, d, m, b])
         if r.returncode == 77:
-            print("note: no MCAP or .db3: " + r.stdout.strip())
+            print("note: no MCAP, .db3 or Foxglove MCAP: " + r.stdout.strip())
             recs.pop("mcap")
             recs.pop("db3")
-            break
+            return recs
         if r.returncode:
             sys.exit("make_tf_mcap.js failed: " + r.stdout + r.stderr)
         recs["mcap"][name], recs["db3"][name] = m, b
+    for fmt, encoding in FG_FORMATS.items():
+        recs[fmt] = {}
+        for name, (_, _, d) in plans_.items():
+            if name not in FG_SHARED and not name.startswith("fg"):
+                continue
+            if name == "fgenc":  # this file's own encoding under the other's name
+                plan = json.load(open(os.path.join(d, "plan.json")))
+                plan["fg"] = {"encoding": {"topic": "/tf", "message": "cbor", "schema": "protobuf"}
+                              if encoding == "protobuf" else
+                              {"topic": "/tf", "message": "json", "schema": "protobuf"}}
+                json.dump(plan, open(os.path.join(d, "plan.json"), "w"))
+            path = os.path.join(work, "%s-%s.mcap" % (name, fmt))
+            r = run([NODE, MAKE_FG, d, path, encoding])
+            if r.returncode == 77:
+                print("note: no Foxglove MCAP: " + r.stdout.strip())
+                for f in FG_FORMATS:
+                    recs.pop(f, None)
+                return recs
+            if r.returncode:
+                sys.exit("make_fg_tf_mcap.js failed: " + r.stdout + r.stderr)
+            recs[fmt][name] = path
     return recs
 
 
@@ -280,9 +344,11 @@ def check_sources(recs, plans_):
         check_truth(fmt, "pan", paths["pan"], [compose(MAP_ODOM, p) for p in pan],
                     warning="skipped as malformed")
         check_truth(fmt, "slide", paths["slide"] + "?pose_frame=odom", plans_["slide"][1])
-        check_truth(fmt, "odom", paths["odom"] + "?pose_topic=/odom", pan)
         check_truth(fmt, "gap", paths["gap"] + "?pose_gap=0.1",
                     [compose(MAP_ODOM, p) for p in pan], gaps=(2, 3, 4))
+        if "odom" not in paths:  # Foxglove: no odometry
+            continue
+        check_truth(fmt, "odom", paths["odom"] + "?pose_topic=/odom", pan)
         check_truth(fmt, "bare", paths["bare"] + "?pose_topic=/odom", [base(p) for p in pan],
                     warning="the odometry's pose is taken as the camera's")
 
@@ -305,12 +371,22 @@ def check_process(work, recs, plans_):
     still, _ = depth_out(work, "png-still", ["--input", os.path.join(seq, "depth")])
     if ref is None or still is None:
         return
+    outs = {}
     for fmt, paths in recs.items():
         for mode in ("source", "source+icp"):
             got, err = depth_out(work, fmt + mode, ["--input", paths["pan"],
                                                     "--depth-temporal-motion", mode, "--quiet"])
             if got is None:
                 continue
+            outs[fmt, mode] = got
+            ros2 = outs.get(("mcap", mode))
+            if fmt in FG_FORMATS and ros2 is not None:
+                n = sum(int((a != b).sum()) for a, b in zip(got, ros2))
+                print("%s %s: %d pixels of the filtered depth differ from the ROS 2 MCAP's" %
+                      (fmt, mode, n))
+                if n or len(got) != len(ros2):
+                    fail("%s %s: %d pixels differ from the ROS 2 MCAP's (%d frames, %d)" %
+                         (fmt, mode, n, len(got), len(ros2)))
             if mode == "source":
                 want = ref
             else:
@@ -381,9 +457,12 @@ def check_errors(work, recs, plans_):
                      "frames seen: 'map', 'odom', 'camera_link', '%s', 'base_link'" % FRAME_ID])
         expect_fail(fmt + " no topic", ["--input", paths["pan"], "--depth-temporal-motion",
                                         "source", "--pose-topic", "/nope"],
-                    "no nav_msgs/Odometry topic '/nope' (pose_topic); odometry topics: none")
-        expect_fail(fmt + " no tf", ["--input", paths["odom"], "--depth-temporal-motion",
-                                     "source"], "no tf topic (tf2_msgs/TFMessage, such as /tf)")
+                    ["no nav_msgs/Odometry topic '/nope' (pose_topic), nor transforms; "
+                     "odometry topics: none; transform topics: /tf", "/tf_static"])
+        if "odom" in paths:
+            expect_fail(fmt + " no tf", ["--input", paths["odom"], "--depth-temporal-motion",
+                                         "source"],
+                        "no tf topic (tf2_msgs/TFMessage such as /tf, or foxglove.FrameTransform(s))")
         r = run([DEPTHAO, "process", "--algorithm", "none", "--depth-out",
                  os.path.join(work, "gapout"), "--input", paths["gap"],
                  "--depth-temporal-motion", "source", "--pose-gap", "0.1"])
@@ -393,7 +472,8 @@ def check_errors(work, recs, plans_):
     seq = plans_["pan"][0]
     expect_fail("png --pose-frame", ["--input", os.path.join(seq, "depth"), "--depth-temporal",
                                      "0.8", "--pose-frame", "odom"],
-                "--pose-frame, --pose-topic and --pose-gap say how a ROS recording's", 2)
+                "--pose-frame, --pose-topic and --pose-gap say how a ROS or Foxglove "
+                "recording's", 2)
     oni = os.path.join(work, "oni")
     r = run([DEPTHAO, "synth", "--scene", "plane", "--frames", "2", "--rays", "4", "--oni",
              "none", "--out", oni])
@@ -407,6 +487,43 @@ def check_errors(work, recs, plans_):
         fail("depthaod on an .oni with source motion: %s" % err)
 
 
+def check_foxglove(recs, plans_):
+    pan = plans_["pan"][1]
+    truth = [compose(MAP_ODOM, p) for p in pan]
+    for fmt, encoding in FG_FORMATS.items():
+        paths = recs.get(fmt)
+        if not paths:
+            continue
+        check_truth(fmt, "fgstatic", paths["fgstatic"], truth)
+        check_truth(fmt, "fgtopic", paths["fgtopic"] + "?pose_topic=/tf", truth)
+        rc, frames, info = source_poses(paths["fgtopic"])
+        wrong = sum(1 for i, w in enumerate(truth)
+                    if isinstance(frames.get(i), tuple) and not close(frames[i], w))
+        print("%s fgtopic without pose_topic: %d of %d poses are the decoy's" %
+              (fmt, wrong, len(truth)))
+        if rc or wrong != len(truth):
+            fail("%s fgtopic: without pose_topic the decoy should win: %d of %d (%s)" %
+                 (fmt, wrong, len(truth), info["error"]))
+        what = "not a foxglove.FrameTransform (%s)" % encoding
+        check_truth(fmt, "fgnan", paths["fgnan"], truth,
+                    warning="1 transforms or messages of /tf_static, /tf skipped as malformed "
+                    "(the first: message 2 of '/tf': a rotation that is not a finite number)")
+        check_truth(fmt, "fgcut", paths["fgcut"], truth,
+                    warning="skipped as malformed (the first: message 2 of '/tf': " + what + ")")
+        expect_fail(fmt + " fgnochild", ["--input", paths["fgnochild"], "--depth-temporal-motion",
+                                         "source", "--pose-frame", "map"],
+                    ["the depth frame '%s' is not connected to 'map' in /tf_static, /tf "
+                     "(1 skipped as malformed, the first: message 0 of '/tf_static': a frame "
+                     "name that is empty" % FRAME_ID])
+        found = ("'cbor' (schema encoding 'protobuf')" if encoding == "protobuf"
+                 else "'json' (schema encoding 'protobuf')")
+        expect_fail(fmt + " fgenc", ["--input", paths["fgenc"], "--depth-temporal-motion",
+                                     "source"],
+                    ["topic '/tf' is foxglove.FrameTransform in message encoding " + found,
+                     "poses are read from Foxglove transforms in protobuf (schema encoding "
+                     "protobuf) or json (jsonschema)"])
+
+
 def main():
     work = tempfile.mkdtemp(prefix="dao-tf-poses-")
     try:
@@ -418,6 +535,7 @@ def main():
         check_sources(recs, plans_)
         check_process(work, recs, plans_)
         check_errors(work, recs, plans_)
+        check_foxglove(recs, plans_)
         check_daemon(work, recs)
     finally:
         shutil.rmtree(work, ignore_errors=True)

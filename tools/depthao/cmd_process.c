@@ -64,12 +64,14 @@ static void usage(FILE *out)
 		"                            its file name (1305031102.160407.png) or its index /\n"
 		"                            camera.json's fps (default 30).  Sets\n"
 		"                            --depth-temporal-motion source unless given\n"
-		"  --pose-frame NAME         ROS recordings with --depth-temporal-motion source or\n"
-		"                            source+icp: the fixed frame of the camera poses\n"
-		"                            taken from the tf (default: the root of the depth\n"
-		"                            frame's tree, e.g. odom or map)\n"
+		"  --pose-frame NAME         ROS and Foxglove recordings with --depth-temporal-motion\n"
+		"                            source or source+icp: the fixed frame of the camera\n"
+		"                            poses taken from the tf or foxglove.FrameTransform(s)\n"
+		"                            (default: the root of the depth frame's tree, e.g. odom\n"
+		"                            or map)\n"
 		"  --pose-topic TOPIC        ... from this nav_msgs/Odometry topic (and the static\n"
-		"                            tf from its child to the camera) instead of the tf\n"
+		"                            tf from its child to the camera) instead of the tf, or\n"
+		"                            from this one topic of transforms (and the static ones)\n"
 		"  --pose-gap S              ... the longest time between two transforms that a\n"
 		"                            pose is interpolated over (default 0.5 s)\n"
 		"  --ao-out PATH             AO as 16-bit PNG: round(visibility x 65535), 65535 = open\n"
@@ -369,8 +371,9 @@ static int check_options(struct process_options *o)
 	if ((o->pose_frame || o->pose_topic || o->pose_gap) &&
 	    (!process_input_is_stream(o->input) || !process_wants_source_poses(o)))
 		return usage_error("process", "--pose-frame, --pose-topic and --pose-gap say how a "
-				   "ROS recording's (.bag, .mcap, .db3) poses are read: give such "
-				   "a recording and --depth-temporal-motion source or source+icp");
+				   "ROS or Foxglove recording's (.bag, .mcap, .db3) poses are read: "
+				   "give such a recording and --depth-temporal-motion source or "
+				   "source+icp");
 	if (o->poses && !(o->params.depth_temporal > 0.0f))
 		return usage_error("process", "--poses moves the temporal depth filter's history "
 				   "with the camera: give --depth-temporal X (e.g. 0.8) too");

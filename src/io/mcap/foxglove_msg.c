@@ -112,7 +112,6 @@ static int pb_raw_image(const uint8_t *msg, size_t len, struct dao_fg_image *img
 {
 	struct dao_pb r;
 	uint32_t f, w;
-	char frame_id[256];
 	dao_pb_init(&r, msg, len);
 	while (dao_pb_next(&r, &f, &w)) {
 		switch (f) {
@@ -122,7 +121,7 @@ static int pb_raw_image(const uint8_t *msg, size_t len, struct dao_fg_image *img
 		case 4: pb_string(&r, w, img->encoding, sizeof img->encoding); break;
 		case 5: img->step = pb_u32(&r, w); break;
 		case 6: img->data = pb_data(&r, w, &img->data_len); break;
-		case 7: pb_string(&r, w, frame_id, sizeof frame_id); break;
+		case 7: pb_string(&r, w, img->frame_id, sizeof img->frame_id); break;
 		default: dao_pb_skip(&r, w);
 		}
 	}
@@ -133,18 +132,114 @@ static int pb_compressed_image(const uint8_t *msg, size_t len, struct dao_fg_ima
 {
 	struct dao_pb r;
 	uint32_t f, w;
-	char frame_id[256];
 	dao_pb_init(&r, msg, len);
 	while (dao_pb_next(&r, &f, &w)) {
 		switch (f) {
 		case 1: img->stamp_ns = pb_timestamp(&r, w); break;
 		case 2: img->data = pb_data(&r, w, &img->data_len); break;
 		case 3: pb_string(&r, w, img->encoding, sizeof img->encoding); break;
-		case 4: pb_string(&r, w, frame_id, sizeof frame_id); break;
+		case 4: pb_string(&r, w, img->frame_id, sizeof img->frame_id); break;
 		default: dao_pb_skip(&r, w);
 		}
 	}
 	return r.bad ? -EINVAL : 0;
+}
+
+/* A foxglove.Vector3 or foxglove.Quaternion (n doubles, fields 1..n) merged into v. */
+static void pb_vector(struct dao_pb *r, uint32_t wire, double *v, uint32_t n)
+{
+	size_t len;
+	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &len) : NULL;
+	if (!p) {
+		r->bad = 1;
+		return;
+	}
+	struct dao_pb s;
+	uint32_t f, w;
+	dao_pb_init(&s, p, len);
+	while (dao_pb_next(&s, &f, &w)) {
+		if (f >= 1 && f <= n && w == DAO_PB_I64)
+			v[f - 1] = dao_pb_double(&s);
+		else if (f >= 1 && f <= n)
+			s.bad = 1; /* a component of another type */
+		else
+			dao_pb_skip(&s, w);
+	}
+	if (s.bad)
+		r->bad = 1;
+}
+
+/* A name: its bytes in the message (a string field). */
+static void pb_name(struct dao_pb *r, uint32_t wire, const char **name, uint32_t *len)
+{
+	size_t n = 0;
+	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &n) : NULL;
+	if (!p || n > UINT32_MAX) {
+		r->bad = 1;
+		return;
+	}
+	*name = (const char *)p;
+	*len = (uint32_t)n;
+}
+
+/* One foxglove.FrameTransform of len bytes into t (its rotation the identity when left out). */
+static int pb_frame_transform(const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t)
+{
+	struct dao_pb r;
+	uint32_t f, w;
+	int rotation = 0;
+	memset(t, 0, sizeof(*t));
+	t->parent = t->child = "";
+	t->tr.q[3] = 1.0;
+	dao_pb_init(&r, msg, len);
+	while (dao_pb_next(&r, &f, &w)) {
+		switch (f) {
+		case 1: t->stamp_ns = pb_timestamp(&r, w); break;
+		case 2: pb_name(&r, w, &t->parent, &t->parent_len); break;
+		case 3: pb_name(&r, w, &t->child, &t->child_len); break;
+		case 4: pb_vector(&r, w, t->tr.t, 3); break;
+		case 5:
+			if (!rotation++) /* present: its components are 0 unless given */
+				t->tr.q[3] = 0.0;
+			pb_vector(&r, w, t->tr.q, 4);
+			break;
+		default: dao_pb_skip(&r, w);
+		}
+	}
+	return r.bad ? -EINVAL : 0;
+}
+
+static int pb_frame_transforms(int list, const uint8_t *msg, size_t len, dao_tf_msg_cb cb,
+			       void *user)
+{
+	struct dao_tf_msg_transform t;
+	int r;
+	if (!list) {
+		if ((r = pb_frame_transform(msg, len, &t)) < 0)
+			return r;
+		return (r = cb(user, &t)) < 0 ? r : 0;
+	}
+	for (int pass = 0; pass < 2; pass++) { /* check all, then deliver */
+		struct dao_pb m;
+		uint32_t f, w;
+		dao_pb_init(&m, msg, len);
+		while (dao_pb_next(&m, &f, &w)) {
+			size_t n;
+			const uint8_t *p;
+			if (f != 1) {
+				dao_pb_skip(&m, w);
+				continue;
+			}
+			if (w != DAO_PB_LEN || !(p = dao_pb_bytes(&m, &n)) ||
+			    pb_frame_transform(p, n, &t) < 0)
+				return -EINVAL;
+			if (pass && (r = cb(user, &t)) < 0)
+				return r;
+		}
+		if (m.bad)
+			return -EINVAL;
+	}
+	return 0;
 }
 
 static int pb_calibration(const uint8_t *msg, size_t len, struct dao_fg_calibration *c)
@@ -321,6 +416,7 @@ static int json_image(const uint8_t *msg, size_t len, int raw, struct dao_fg_buf
 		img->step = (uint32_t)jint(o, "step", 0, UINT32_MAX, &bad);
 	}
 	jstring(o, raw ? "encoding" : "format", img->encoding, sizeof img->encoding, &bad);
+	jstring(o, "frame_id", img->frame_id, sizeof img->frame_id, &bad);
 	r = jbytes(o, "data", buf, img, &bad);
 	json_object_put(o);
 	return r < 0 ? r : bad ? -EINVAL : 0;
@@ -359,6 +455,76 @@ static int json_calibration(const uint8_t *msg, size_t len, struct dao_fg_calibr
 	jdoubles(o, "P", c->p, 12, &np, &bad);
 	json_object_put(o);
 	return bad || nk != 9 || (nr != 0 && nr != 9) || (np != 0 && np != 12) ? -EINVAL : 0;
+}
+
+/* A number field into *out (left as it is when absent or null). */
+static void jnumber(struct json_object *o, const char *name, double *out, int *bad)
+{
+	struct json_object *v;
+	if (!json_object_object_get_ex(o, name, &v) || !v)
+		return;
+	if (json_object_is_type(v, json_type_double) || json_object_is_type(v, json_type_int))
+		*out = json_object_get_double(v);
+	else
+		*bad = 1;
+}
+
+/* A string field's bytes (in o), or "" when absent. */
+static void jname(struct json_object *o, const char *name, const char **s, uint32_t *len,
+		  int *bad)
+{
+	struct json_object *v = jfield(o, name, json_type_string, bad);
+	*s = v ? json_object_get_string(v) : "";
+	*len = v ? (uint32_t)json_object_get_string_len(v) : 0;
+}
+
+static int json_frame_transform(struct json_object *o, struct dao_tf_msg_transform *t)
+{
+	static const char *const xyzw[] = { "x", "y", "z", "w" };
+	int bad = 0;
+	memset(t, 0, sizeof(*t));
+	t->tr.q[3] = 1.0; /* a rotation left out */
+	if (!json_object_is_type(o, json_type_object))
+		return -EINVAL;
+	t->stamp_ns = jstamp(o, &bad);
+	jname(o, "parent_frame_id", &t->parent, &t->parent_len, &bad);
+	jname(o, "child_frame_id", &t->child, &t->child_len, &bad);
+	struct json_object *v = jfield(o, "translation", json_type_object, &bad);
+	for (int i = 0; v && i < 3; i++)
+		jnumber(v, xyzw[i], &t->tr.t[i], &bad);
+	if ((v = jfield(o, "rotation", json_type_object, &bad)) != NULL)
+		t->tr.q[3] = 0.0;
+	for (int i = 0; v && i < 4; i++)
+		jnumber(v, xyzw[i], &t->tr.q[i], &bad);
+	return bad ? -EINVAL : 0;
+}
+
+static int json_frame_transforms(int list, const uint8_t *msg, size_t len, dao_tf_msg_cb cb,
+				 void *user)
+{
+	struct json_object *o = json_parse(msg, len);
+	struct dao_tf_msg_transform t;
+	int bad = 0, r = 0;
+	if (!o)
+		return -EINVAL;
+	struct json_object *a = list ? jfield(o, "transforms", json_type_array, &bad) : NULL;
+	size_t n = !list ? 1 : a ? json_object_array_length(a) : 0;
+	for (int pass = 0; pass < 2 && !bad && r == 0; pass++) /* check all, then deliver */
+		for (size_t i = 0; i < n && !bad && r == 0; i++) {
+			if (json_frame_transform(list ? json_object_array_get_idx(a, i) : o, &t) < 0)
+				bad = 1;
+			else if (pass)
+				r = cb(user, &t);
+		}
+	json_object_put(o);
+	return bad ? -EINVAL : r < 0 ? r : 0;
+}
+
+int dao_fg_frame_transforms_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg,
+				  size_t len, dao_tf_msg_cb cb, void *user)
+{
+	return enc == DAO_FG_JSON ? json_frame_transforms(list, msg, len, cb, user)
+				  : pb_frame_transforms(list, msg, len, cb, user);
 }
 
 int dao_fg_raw_image_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_t len,

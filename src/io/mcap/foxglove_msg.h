@@ -14,6 +14,10 @@
  *   foxglove.CameraCalibration: timestamp 1, frame_id 9, width 2 (fixed32),
  *     height 3 (fixed32), distortion_model 4, D 5, K 6, R 7, P 8 (repeated
  *     double, packed or not).
+ *   foxglove.FrameTransform: timestamp 1, parent_frame_id 2,
+ *     child_frame_id 3, translation 4 (foxglove.Vector3: x 1, y 2, z 3,
+ *     double), rotation 5 (foxglove.Quaternion: x 1, y 2, z 3, w 4, double);
+ *   foxglove.FrameTransforms: transforms 1 (repeated FrameTransform).
  * The timestamp is google.protobuf.Timestamp: seconds 1 (int64), nanos 2
  * (int32).  Pixels are little-endian (RawImage has no byte-order field).
  * The parsers return 0 or -EINVAL (a message that does not fit its type: a
@@ -23,12 +27,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "tf/tf_msg.h"
+
 enum dao_fg_encoding { DAO_FG_PROTOBUF, DAO_FG_JSON };
 
 /* foxglove.RawImage or foxglove.CompressedImage; data points into the
  * message (protobuf) or into the buffer (JSON). */
 struct dao_fg_image {
 	uint64_t stamp_ns;              /* 0 for a stamp before 1970 */
+	char frame_id[256];             /* "" when the message has none */
 	uint32_t width, height, step;   /* RawImage's */
 	char encoding[64];              /* RawImage's encoding, CompressedImage's format */
 	const uint8_t *data;
@@ -58,6 +65,21 @@ int dao_fg_compressed_image_parse(enum dao_fg_encoding enc, const uint8_t *msg, 
 				  struct dao_fg_buf *buf, struct dao_fg_image *img);
 int dao_fg_calibration_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_t len,
 			     struct dao_fg_calibration *cal);
+
+/*
+ * foxglove.FrameTransform (list 0) or foxglove.FrameTransforms (list 1): the
+ * whole message checked, then cb called for each transform in order (the
+ * transform of child_frame_id in parent_frame_id at its timestamp).  As
+ * Foxglove reads them: a field left out is 0 or "" (a timestamp left out is
+ * 0), but a rotation left out is the identity.  The values are passed on
+ * unchecked (dao_tf_buffer_add checks them); JSON numbers may be NaN or
+ * Infinity, as json-c reads them.  The names point into the message
+ * (protobuf) or into the parsed JSON, valid during the call only.  0,
+ * -EINVAL (not the type: cut short, not JSON, a field of the wrong type,
+ * nanoseconds out of range), or cb's value < 0, which stops it.
+ */
+int dao_fg_frame_transforms_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg,
+				  size_t len, dao_tf_msg_cb cb, void *user);
 
 /* Standard base64 (RFC 4648, padding optional) of `len` chars into out (cap bytes): bytes or -1. */
 long dao_base64_decode(const char *in, size_t len, uint8_t *out, size_t cap);

@@ -65,6 +65,7 @@ static void multi_topic(const void *m, uint32_t i, struct dao_ros2_topic *t)
 	t->name = dt->name;
 	t->schema = dt->type;
 	t->encoding = dt->serialization_format;
+	t->schema_encoding = ""; /* rosbag2's sqlite3 storage has none */
 	t->message_count = dt->message_count;
 }
 

@@ -48,6 +48,7 @@ static void store_topic(const void *m, uint32_t i, struct dao_ros2_topic *t)
 	t->name = mt->name;
 	t->schema = mt->schema;
 	t->encoding = mt->encoding;
+	t->schema_encoding = mt->schema_encoding;
 	t->message_count = mt->message_count;
 }
 
@@ -123,7 +124,8 @@ const struct dao_plugin dao_builtin_mcap_plugin = {
 	.description = "MCAP files (ROS 2 bags; chunks none/zstd/lz4): CDR depth Image 16UC1, "
 		       "mono16, 32FC1 and compressedDepth (PNG, RVL), colour rgb8, bgr8, rgba8, "
 		       "bgra8, mono8, JPEG; Foxglove RawImage, CompressedImage (16-bit PNG, JPEG), "
-		       "CameraCalibration in protobuf or JSON; camera poses from tf or odometry; "
+		       "CameraCalibration in protobuf or JSON; camera poses from tf, odometry or "
+		       "Foxglove FrameTransform(s) in protobuf or JSON; "
 		       "FILE.mcap[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]; "
 		       "records the AO (Image mono16, rgb8, CameraInfo, PointCloud2) as a sink",
 	.source = &mcap_source_ops,

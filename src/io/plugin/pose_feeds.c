@@ -1,31 +1,37 @@
 /* SPDX-License-Identifier: MIT */
-/* A ROS 1 bag and a ROS 2 store as feeds of camera poses (pose_feeds.h). */
+/* A ROS 1 bag and a ROS 2 or Foxglove store as feeds of camera poses (pose_feeds.h). */
 #include "plugin/pose_feeds.h"
 
 #include <errno.h>
 #include <string.h>
 
 #include "bag/ros_msg.h"
+#include "mcap/foxglove_msg.h"
 #include "mcap/ros2_msg.h"
+
+static int ends_static(const char *name)
+{
+	size_t n = strlen(name);
+	return n >= 9 && !strcmp(name + n - 9, "tf_static");
+}
 
 static enum dao_pose_topic kind_of(const char *name, int tf, int odometry)
 {
-	size_t n = strlen(name);
 	if (tf)
-		return n >= 9 && !strcmp(name + n - 9, "tf_static") ? DAO_POSE_TOPIC_TF_STATIC
-								    : DAO_POSE_TOPIC_TF;
+		return ends_static(name) ? DAO_POSE_TOPIC_TF_STATIC : DAO_POSE_TOPIC_TF;
 	return odometry ? DAO_POSE_TOPIC_ODOMETRY : DAO_POSE_TOPIC_NONE;
 }
 
-static void bag_topic(void *impl, uint32_t i, const char **name, uint32_t *count,
-		      enum dao_pose_topic *kind)
+static void bag_topic(void *impl, uint32_t i, struct dao_pose_topic_info *out)
 {
 	const struct dao_bag_topic *t = dao_bag_topic(impl, i);
-	*name = t->name;
-	*count = t->message_count;
-	*kind = kind_of(t->name, !strcmp(t->type, "tf2_msgs/TFMessage") ||
-				 !strcmp(t->type, "tf/tfMessage"),
-			!strcmp(t->type, "nav_msgs/Odometry"));
+	*out = (struct dao_pose_topic_info){ .name = t->name, .count = t->message_count,
+					     .type = t->type, .encoding = "",
+					     .schema_encoding = "",
+					     .static_name = ends_static(t->name) };
+	out->kind = kind_of(t->name, !strcmp(t->type, "tf2_msgs/TFMessage") ||
+				     !strcmp(t->type, "tf/tfMessage"),
+			    !strcmp(t->type, "nav_msgs/Odometry"));
 }
 
 static int bag_read(void *impl, uint32_t topic, uint32_t i, const uint8_t **data, uint64_t *len,
@@ -37,8 +43,11 @@ static int bag_read(void *impl, uint32_t topic, uint32_t i, const uint8_t **data
 	return r;
 }
 
-static int bag_tf(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user)
+static int bag_tf(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb,
+		  void *user)
 {
+	(void)impl;
+	(void)topic;
 	return len > UINT32_MAX ? -EINVAL : dao_ros_tf_parse(msg, (uint32_t)len, cb, user);
 }
 
@@ -53,17 +62,39 @@ void dao_bag_pose_feed(struct dao_bag *bag, struct dao_pose_feed *feed)
 					bag_read, bag_tf, bag_odometry };
 }
 
-static void ros2_topic(void *impl, uint32_t i, const char **name, uint32_t *count,
-		       enum dao_pose_topic *kind)
+/* Foxglove's transforms: 1 FrameTransform, 2 FrameTransforms, else 0. */
+static int foxglove_tf(const char *schema)
+{
+	return !strcmp(schema, "foxglove.FrameTransform")    ? 1
+	       : !strcmp(schema, "foxglove.FrameTransforms") ? 2
+							      : 0;
+}
+
+/* The encodings of Foxglove's transforms read: 0 protobuf, 1 JSON, -1 neither. */
+static int foxglove_encoding(const struct dao_ros2_topic *t)
+{
+	const char *se = t->schema_encoding ? t->schema_encoding : "";
+	if (!strcmp(t->encoding, "protobuf") && !strcmp(se, "protobuf"))
+		return 0;
+	return !strcmp(t->encoding, "json") && !strcmp(se, "jsonschema") ? 1 : -1;
+}
+
+static void ros2_topic(void *impl, uint32_t i, struct dao_pose_topic_info *out)
 {
 	const struct dao_ros2_store_ref *ref = impl;
 	struct dao_ros2_topic t;
 	ref->ops->topic(ref->store, i, &t);
 	int cdr = !strcmp(t.encoding, "cdr");
-	*name = t.name;
-	*count = t.message_count;
-	*kind = kind_of(t.name, cdr && !strcmp(t.schema, "tf2_msgs/msg/TFMessage"),
-			cdr && !strcmp(t.schema, "nav_msgs/msg/Odometry"));
+	*out = (struct dao_pose_topic_info){ .name = t.name, .count = t.message_count,
+					     .type = t.schema, .encoding = t.encoding,
+					     .schema_encoding = t.schema_encoding ? t.schema_encoding : "",
+					     .static_name = ends_static(t.name) };
+	out->kind = kind_of(t.name, cdr && !strcmp(t.schema, "tf2_msgs/msg/TFMessage"),
+			    cdr && !strcmp(t.schema, "nav_msgs/msg/Odometry"));
+	if (foxglove_tf(t.schema))
+		out->kind = foxglove_encoding(&t) < 0 ? DAO_POSE_TOPIC_REFUSED
+			    : out->static_name        ? DAO_POSE_TOPIC_TF_STATIC
+						      : DAO_POSE_TOPIC_FOXGLOVE;
 }
 
 static int ros2_read(void *impl, uint32_t topic, uint32_t i, const uint8_t **data, uint64_t *len,
@@ -73,9 +104,24 @@ static int ros2_read(void *impl, uint32_t topic, uint32_t i, const uint8_t **dat
 	return ref->ops->read_message(ref->store, topic, i, data, len, NULL, err);
 }
 
+static int ros2_tf(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb,
+		   void *user)
+{
+	const struct dao_ros2_store_ref *ref = impl;
+	struct dao_ros2_topic t;
+	ref->ops->topic(ref->store, topic, &t);
+	int fg = foxglove_tf(t.schema), enc = foxglove_encoding(&t);
+	if (!fg)
+		return dao_ros2_tf_parse(msg, len, cb, user);
+	if (enc < 0 || len > SIZE_MAX)
+		return -EINVAL;
+	return dao_fg_frame_transforms_parse(enc ? DAO_FG_JSON : DAO_FG_PROTOBUF, fg == 2, msg,
+					     (size_t)len, cb, user);
+}
+
 void dao_ros2_pose_feed(struct dao_ros2_store_ref *ref, struct dao_pose_feed *feed)
 {
 	*feed = (struct dao_pose_feed){ ref, ref->ops->path(ref->store),
 					ref->ops->topic_count(ref->store), ros2_topic, ros2_read,
-					dao_ros2_tf_parse, dao_ros2_odometry_parse };
+					ros2_tf, dao_ros2_odometry_parse };
 }

@@ -26,9 +26,11 @@
  * Frames are the topic's messages in log-time order; a frame's time is its
  * header stamp (timestamp), or its log time when the stamp is 0.
  *
- * Camera poses (frame_pose): the depth frame's header.frame_id in the tf
- * or odometry of the store at the frame's time (source_poses.h; ROS 2
- * messages in CDR only: a Foxglove image has no frame the tf would know).
+ * Camera poses (frame_pose): the depth frame's header.frame_id (a Foxglove
+ * image's frame_id) in the store's transforms or odometry at the frame's
+ * time (source_poses.h, pose_feeds.h: tf2_msgs/msg/TFMessage and
+ * nav_msgs/msg/Odometry in CDR, foxglove.FrameTransform(s) in protobuf or
+ * JSON).
  */
 #include "plugin/ros2_source.h"
 
@@ -55,8 +57,9 @@ enum kind { K_NONE, K_DEPTH, K_CDEPTH, K_COLOR, K_JPEG };
 /* An image message of any schema, parsed; data points into the message or the JSON buffer. */
 struct img {
 	uint64_t stamp_ns;
-	const char *frame_id;        /* header.frame_id (ROS 2 messages), frame_id_len bytes */
+	const char *frame_id;        /* header.frame_id (ROS 2), frame_id (Foxglove); frame_id_len bytes */
 	uint32_t frame_id_len;
+	char fg_frame_id[256];       /* a Foxglove image's, where frame_id points */
 	char encoding[64];           /* Image encoding or CompressedImage format */
 	uint32_t width, height, step;
 	int big_endian, compressed;
@@ -152,6 +155,9 @@ static int is_image_topic(const struct dao_ros2_topic *t)
 static void from_fg(struct img *out, const struct dao_fg_image *fi)
 {
 	out->stamp_ns = fi->stamp_ns;
+	memcpy(out->fg_frame_id, fi->frame_id, sizeof out->fg_frame_id);
+	out->frame_id = out->fg_frame_id;
+	out->frame_id_len = (uint32_t)strlen(out->fg_frame_id);
 	memcpy(out->encoding, fi->encoding, sizeof out->encoding);
 	out->width = fi->width;
 	out->height = fi->height;

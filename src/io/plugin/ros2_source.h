@@ -25,6 +25,7 @@ struct dao_ros2_topic {
 	const char *name;     /* "/camera/depth/image_raw" */
 	const char *schema;   /* "sensor_msgs/msg/Image", "foxglove.RawImage" */
 	const char *encoding; /* message encoding: "cdr", "protobuf", "json" */
+	const char *schema_encoding; /* "ros2msg", "protobuf", "jsonschema"; "" where unknown */
 	uint32_t message_count;
 };
 

@@ -29,7 +29,7 @@ struct dao_ros_uri {
 	char color[256];
 	float unit; /* metres per count, 0: not given */
 	char pose_frame[256]; /* the fixed frame of the poses, "": the depth frame's tf root */
-	char pose_topic[256]; /* an odometry topic instead of /tf, "": none */
+	char pose_topic[256]; /* an odometry topic instead of /tf, or the transform topic to read */
 	double pose_gap;      /* seconds: the longest interpolation between transforms */
 };
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* A ROS recording's camera poses from its tf or odometry (source_poses.h). */
+/* A recording's camera poses from its tf, Foxglove transforms or odometry (source_poses.h). */
 #include "plugin/source_poses.h"
 
 #include <errno.h>
@@ -33,7 +33,7 @@ struct loading {
 	struct dao_source_poses *p;
 	const char *topic;
 	uint32_t index;
-	int is_static;
+	enum dao_pose_topic kind;
 	struct dao_error *err;
 };
 
@@ -69,8 +69,14 @@ static int add(void *user, const struct dao_tf_msg_transform *t)
 {
 	struct loading *l = user;
 	struct dao_error e;
+	/* Foxglove has no /tf_static: a transform stamped 0 holds at every time, and so does
+	 * a child frame's only transform (as Foxglove's 3D panel applies it) */
+	int time = l->kind == DAO_POSE_TOPIC_TF_STATIC ? DAO_TF_STATIC
+		   : l->kind != DAO_POSE_TOPIC_FOXGLOVE ? DAO_TF_DYNAMIC
+		   : t->stamp_ns == 0                   ? DAO_TF_STATIC
+							: DAO_TF_STATIC_IF_ALONE;
 	int r = dao_tf_buffer_add(l->p->tf, t->parent, t->parent_len, t->child, t->child_len,
-				  t->stamp_ns, &t->tr, l->is_static, &e);
+				  t->stamp_ns, &t->tr, time, &e);
 	if (r == 1)
 		skip(l->p, l->topic, l->index, e.message);
 	if (r < 0)
@@ -87,15 +93,18 @@ static void list_add(char *buf, size_t cap, const char *name)
 
 /* Every message of topic t into the buffer. */
 static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed, uint32_t t,
-		      enum dao_pose_topic kind, struct dao_error *err)
+		      struct dao_error *err)
 {
-	const char *name;
-	uint32_t count;
-	enum dao_pose_topic k;
-	feed->topic(feed->impl, t, &name, &count, &k);
+	struct dao_pose_topic_info ti;
+	feed->topic(feed->impl, t, &ti);
+	const char *name = ti.name;
+	const enum dao_pose_topic kind = ti.kind;
+	char why[120];
+	snprintf(why, sizeof why, "not a %.60s%s%.20s%s", ti.type, ti.encoding[0] ? " (" : "",
+		 ti.encoding, ti.encoding[0] ? ")" : "");
 	list_add(p->topics, sizeof p->topics, name);
-	struct loading l = { p, name, 0, kind == DAO_POSE_TOPIC_TF_STATIC, err };
-	for (uint32_t i = 0; i < count; i++) {
+	struct loading l = { p, name, 0, kind, err };
+	for (uint32_t i = 0; i < ti.count; i++) {
 		const uint8_t *d;
 		uint64_t len;
 		int r = feed->read(feed->impl, t, i, &d, &len, err);
@@ -113,74 +122,108 @@ static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 				r = add(&l, &tr);
 			}
 		} else {
-			r = feed->parse_tf(d, len, add, &l);
+			r = feed->parse_tf(feed->impl, t, d, len, add, &l);
 		}
 		if (r == -EINVAL || r == -ENOTSUP)
-			skip(p, name, i, kind == DAO_POSE_TOPIC_ODOMETRY
-				 ? "not a nav_msgs/Odometry" : "not a tf2_msgs/TFMessage");
+			skip(p, name, i, why);
 		else if (r < 0)
 			return r;
 	}
 	return 0;
 }
 
-/* The odometry topic named by pose_topic: its index, or < 0 with the topics there are. */
-static int odometry_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed,
-			  struct dao_error *err)
+static int is_transforms(enum dao_pose_topic kind)
 {
-	char list[200] = "";
-	int found = -1;
-	for (uint32_t t = 0; t < feed->topic_count; t++) {
-		const char *name;
-		uint32_t count;
-		enum dao_pose_topic kind;
-		feed->topic(feed->impl, t, &name, &count, &kind);
-		if (kind != DAO_POSE_TOPIC_ODOMETRY)
-			continue;
-		list_add(list, sizeof list, name);
-		if (!strcmp(name, p->topic))
-			found = (int)t;
-	}
-	if (found < 0)
-		return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry topic '%s' (pose_topic); "
-				     "odometry topics: %s", feed->path, p->topic,
-				     list[0] ? list : "none");
-	return found;
+	return kind == DAO_POSE_TOPIC_TF || kind == DAO_POSE_TOPIC_TF_STATIC ||
+	       kind == DAO_POSE_TOPIC_FOXGLOVE;
 }
 
-/* The topics (tf, tf_static; or the odometry and tf_static) read into a new buffer. */
+/* A Foxglove transform topic in an encoding not read. */
+static int refused(const struct dao_pose_feed *feed, const struct dao_pose_topic_info *ti,
+		   struct dao_error *err)
+{
+	return dao_error_set(err, -EINVAL, "%s: topic '%s' is %s in message encoding '%s' "
+			     "(schema encoding '%s'); poses are read from Foxglove transforms in "
+			     "protobuf (schema encoding protobuf) or json (jsonschema)", feed->path,
+			     ti->name, ti->type, ti->encoding, ti->schema_encoding);
+}
+
+/* The topic named by pose_topic (odometry or transforms): its index, or < 0 with the topics
+ * there are. */
+static int pose_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+		      struct dao_error *err)
+{
+	char odom[100] = "", tf[100] = "";
+	for (uint32_t t = 0; t < feed->topic_count; t++) {
+		struct dao_pose_topic_info ti;
+		feed->topic(feed->impl, t, &ti);
+		if (!strcmp(ti.name, p->topic) && ti.kind == DAO_POSE_TOPIC_REFUSED)
+			return refused(feed, &ti, err);
+		if (!strcmp(ti.name, p->topic) &&
+		    (ti.kind == DAO_POSE_TOPIC_ODOMETRY || is_transforms(ti.kind)))
+			return (int)t;
+		if (ti.kind == DAO_POSE_TOPIC_ODOMETRY)
+			list_add(odom, sizeof odom, ti.name);
+		else if (is_transforms(ti.kind))
+			list_add(tf, sizeof tf, ti.name);
+	}
+	return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry topic '%s' (pose_topic), nor "
+			     "transforms; odometry topics: %s; transform topics: %s", feed->path,
+			     p->topic, odom[0] ? odom : "none", tf[0] ? tf : "none");
+}
+
+/*
+ * The topics read into a new buffer: every transform topic; or, with pose_topic, that
+ * topic (odometry or transforms) and the static transform topics.
+ */
 static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		struct dao_error *err)
 {
-	int odom = -1, ntf = 0, r;
-	if (p->topic[0] && (odom = odometry_topic(p, feed, err)) < 0)
-		return odom;
+	int sel = -1, ndynamic = 0, r;
+	if (p->topic[0] && (sel = pose_topic(p, feed, err)) < 0)
+		return sel;
 	if ((r = dao_tf_buffer_create(&p->tf, DAO_POSES_MAX_FRAMES, DAO_POSES_MAX_SAMPLES, err)) < 0)
 		return r;
-	if (odom >= 0 && (r = read_topic(p, feed, (uint32_t)odom, DAO_POSE_TOPIC_ODOMETRY, err)) < 0)
-		return r;
-	for (uint32_t t = 0; t < feed->topic_count; t++) {
-		const char *name;
-		uint32_t count;
-		enum dao_pose_topic kind;
-		feed->topic(feed->impl, t, &name, &count, &kind);
-		if (kind != DAO_POSE_TOPIC_TF_STATIC && (kind != DAO_POSE_TOPIC_TF || odom >= 0))
-			continue;
-		ntf += kind == DAO_POSE_TOPIC_TF;
-		if ((r = read_topic(p, feed, t, kind, err)) < 0)
+	for (uint32_t t = 0; t < feed->topic_count; t++) { /* the odometry first */
+		struct dao_pose_topic_info ti;
+		feed->topic(feed->impl, t, &ti);
+		if (ti.kind == DAO_POSE_TOPIC_REFUSED && (sel < 0 || ti.static_name))
+			return refused(feed, &ti, err);
+		if ((int)t == sel && ti.kind == DAO_POSE_TOPIC_ODOMETRY &&
+		    (r = read_topic(p, feed, t, err)) < 0)
 			return r;
 	}
-	if (odom < 0 && ntf == 0)
-		return dao_error_set(err, -ENODATA, "%s: no tf topic (tf2_msgs/TFMessage, such as "
-				     "/tf) to take the camera's poses from%s%s; name a "
-				     "nav_msgs/Odometry topic (pose_topic, --pose-topic), or leave "
-				     "depth-temporal-motion at icp or off", feed->path,
-				     p->topics[0] ? ", only " : "", p->topics);
+	for (uint32_t t = 0; t < feed->topic_count; t++) {
+		struct dao_pose_topic_info ti;
+		feed->topic(feed->impl, t, &ti);
+		if (!is_transforms(ti.kind) ||
+		    (ti.kind != DAO_POSE_TOPIC_TF_STATIC && sel >= 0 && (int)t != sel))
+			continue;
+		ndynamic += ti.kind != DAO_POSE_TOPIC_TF_STATIC;
+		if ((r = read_topic(p, feed, t, err)) < 0)
+			return r;
+	}
+	if (sel < 0 && ndynamic == 0)
+		return dao_error_set(err, -ENODATA, "%s: no tf topic (tf2_msgs/TFMessage such as "
+				     "/tf, or foxglove.FrameTransform(s)) to take the camera's poses "
+				     "from%s%s; name a nav_msgs/Odometry topic (pose_topic, "
+				     "--pose-topic), or leave depth-temporal-motion at icp or off",
+				     feed->path, p->topics[0] ? ", only " : "", p->topics);
 	if (p->skipped)
 		snprintf(p->warning, sizeof p->warning, "%llu transforms or messages of %.40s skipped "
 			 "as malformed (the first: %.120s)", (unsigned long long)p->skipped, p->topics,
 			 p->skip_reason);
 	return dao_tf_buffer_finish(p->tf, err);
+}
+
+/* "", or what was skipped (a transform left out may be why a frame is missing). */
+static const char *skipped_note(const struct dao_source_poses *p, char *buf, size_t cap)
+{
+	if (!p->skipped)
+		return "";
+	snprintf(buf, cap, " (%llu skipped as malformed, the first: %.100s)",
+		 (unsigned long long)p->skipped, p->skip_reason);
+	return buf;
 }
 
 /* Frame `name` of the buffer, or an error saying which frames there are. */
@@ -190,10 +233,11 @@ static int frame_of(struct dao_source_poses *p, const struct dao_pose_feed *feed
 	int f = dao_tf_buffer_find(p->tf, name);
 	if (f >= 0)
 		return f;
-	char list[300];
+	char list[300], note[160];
 	dao_tf_buffer_list(p->tf, list, sizeof list);
-	return dao_error_set(err, -EINVAL, "%s: %s '%s' is not in %s; frames seen: %s", feed->path,
-			     what, name, p->topics, list[0] ? list : "none");
+	return dao_error_set(err, -EINVAL, "%s: %s '%s' is not in %s%s; frames seen: %s",
+			     feed->path, what, name, p->topics, skipped_note(p, note, sizeof note),
+			     list[0] ? list : "none");
 }
 
 /* Odometry whose child the depth frame is not connected to: the child taken for the camera. */
@@ -231,12 +275,12 @@ static int resolve(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		r = (s = odometry_fallback(p, depth, err)) >= 0;
 	const char *tn = dao_tf_buffer_frame_name(p->tf, (uint32_t)p->target);
 	if (!r) {
-		char list[300];
+		char list[300], note[160];
 		dao_tf_buffer_list(p->tf, list, sizeof list);
-		return dao_error_set(err, -ENOTCONN, "%s: the depth frame '%s' is %s '%s' in %s; "
+		return dao_error_set(err, -ENOTCONN, "%s: the depth frame '%s' is %s '%s' in %s%s; "
 				     "frames seen: %s", feed->path, depth,
 				     s < 0 ? "not in the tf, so not connected to" : "not connected to",
-				     tn, p->topics, list);
+				     tn, p->topics, skipped_note(p, note, sizeof note), list);
 	}
 	p->source = s;
 	p->resolved = 1;
@@ -262,7 +306,7 @@ int dao_source_poses_get(struct dao_source_poses *p, const struct dao_pose_feed 
 		return p->loaded;
 	}
 	if (len == 0 || len > DAO_TF_NAME_MAX)
-		return dao_error_set(err, -EINVAL, "%s: the depth image's header.frame_id is %s: "
+		return dao_error_set(err, -EINVAL, "%s: the depth image's frame_id is %s: "
 				     "its frame in the tf is unknown", feed->path,
 				     len ? "too long" : "empty");
 	memcpy(depth, frame_id, len);

@@ -3,15 +3,19 @@
 #define DAO_PLUGIN_SOURCE_POSES_H
 
 /*
- * The camera poses of a ROS recording (the bag, mcap and db3 sources'
- * frame_pose): read at the first call from the recording's tf
+ * The camera poses of a recording (the bag, mcap and db3 sources'
+ * frame_pose): read at the first call from the recording's transforms
  * (tf2_msgs/TFMessage topics: those named .../tf_static static, the others
- * dynamic) or, with ?pose_topic=, from a nav_msgs/Odometry topic and the
- * static tf; then the pose of each depth frame's header.frame_id in the
- * fixed frame (?pose_frame=, default the root of the depth frame's tree)
- * at its stamp (tf/tf_buffer.h; ?pose_gap= seconds, default 0.5, the
- * longest interpolation).  A load that fails (no tf topic, a frame not
- * connected, too many transforms) fails every later call the same way.
+ * dynamic; foxglove.FrameTransform and FrameTransforms topics: named
+ * .../tf_static static, else a transform stamped 0, or the only stamp of
+ * its child frame, static, the others dynamic) or, with ?pose_topic=, from
+ * a nav_msgs/Odometry topic or one transform topic, and the static ones;
+ * then the pose of each depth frame's frame_id in the fixed frame
+ * (?pose_frame=, default the root of the depth frame's tree) at its stamp
+ * (tf/tf_buffer.h; ?pose_gap= seconds, default 0.5, the longest
+ * interpolation).  A load that fails (no transform topic, one in an
+ * encoding not read, a frame not connected, too many transforms) fails
+ * every later call the same way.
  */
 #include <stdint.h>
 
@@ -25,8 +29,25 @@
 #define DAO_POSES_MAX_FRAMES 4096
 #define DAO_POSES_MAX_SAMPLES (1u << 21)
 
-enum dao_pose_topic { DAO_POSE_TOPIC_NONE, DAO_POSE_TOPIC_TF, DAO_POSE_TOPIC_TF_STATIC,
-		      DAO_POSE_TOPIC_ODOMETRY };
+/* What a topic is for the poses. */
+enum dao_pose_topic {
+	DAO_POSE_TOPIC_NONE,
+	DAO_POSE_TOPIC_TF,          /* ROS tf: dynamic transforms */
+	DAO_POSE_TOPIC_TF_STATIC,   /* static transforms (a ROS or Foxglove .../tf_static) */
+	DAO_POSE_TOPIC_ODOMETRY,    /* nav_msgs/Odometry */
+	DAO_POSE_TOPIC_FOXGLOVE,    /* Foxglove transforms: stamped 0 or alone static */
+	DAO_POSE_TOPIC_REFUSED,     /* transforms in an encoding not read */
+};
+
+struct dao_pose_topic_info {
+	const char *name;
+	uint32_t count;             /* messages */
+	enum dao_pose_topic kind;
+	const char *type;           /* the schema: "tf2_msgs/msg/TFMessage" ... */
+	const char *encoding;       /* the message encoding ("" where the format has one) */
+	const char *schema_encoding; /* "" where the format has none */
+	int static_name;            /* the name ends in "tf_static" */
+};
 
 /* What a recording gives the poses: its topics, messages and parsers. */
 struct dao_pose_feed {
@@ -34,12 +55,13 @@ struct dao_pose_feed {
 	const char *path;
 	uint32_t topic_count;
 	/* topic i: its name, message count and what it is for poses */
-	void (*topic)(void *impl, uint32_t i, const char **name, uint32_t *count,
-		      enum dao_pose_topic *kind);
+	void (*topic)(void *impl, uint32_t i, struct dao_pose_topic_info *out);
 	/* message i of a topic, valid until the next call */
 	int (*read)(void *impl, uint32_t topic, uint32_t i, const uint8_t **data, uint64_t *len,
 		    struct dao_error *err);
-	int (*parse_tf)(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user);
+	/* a message of a transform topic: cb per transform; -EINVAL when it is not its type */
+	int (*parse_tf)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
+			dao_tf_msg_cb cb, void *user);
 	int (*parse_odometry)(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out);
 };
 

@@ -21,6 +21,7 @@ struct frame {
 	char *name;
 	int parent;                 /* -1: a root */
 	int has_static;
+	int strict;                 /* a DAO_TF_DYNAMIC sample came: never made static */
 	struct dao_rigid fixed;     /* the static transform to the parent */
 	struct sample *samples;     /* dynamic, sorted by dao_tf_buffer_finish */
 	uint64_t count, cap;
@@ -156,7 +157,7 @@ static int push_sample(struct dao_tf_buffer *b, struct frame *f, uint64_t stamp_
 
 int dao_tf_buffer_add(struct dao_tf_buffer *b, const char *parent, size_t plen,
 		      const char *child, size_t clen, uint64_t stamp_ns,
-		      const struct dao_rigid *tr, int is_static, struct dao_error *err)
+		      const struct dao_rigid *tr, int time, struct dao_error *err)
 {
 	struct dao_rigid t = *tr;
 	const char *why;
@@ -177,8 +178,10 @@ int dao_tf_buffer_add(struct dao_tf_buffer *b, const char *parent, size_t plen,
 				     "'%s' (a tf tree gives each frame one)", f->name,
 				     b->frames[f->parent].name, b->frames[p].name);
 	f->parent = p;
-	if (!is_static)
+	if (time != DAO_TF_STATIC) {
+		f->strict |= time == DAO_TF_DYNAMIC;
 		return push_sample(b, f, stamp_ns, &t, err);
+	}
 	f->has_static = 1;
 	f->fixed = t;
 	return 0;
@@ -231,6 +234,12 @@ int dao_tf_buffer_finish(struct dao_tf_buffer *b, struct dao_error *err)
 		}
 		b->samples -= f->count - w;
 		f->count = w;
+		if (w == 1 && !f->strict) { /* a lone DAO_TF_STATIC_IF_ALONE: static */
+			f->fixed = f->samples[0].tr;
+			f->has_static = 1;
+			f->count = 0;
+			b->samples--;
+		}
 	}
 	return 0;
 }

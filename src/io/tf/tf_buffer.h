@@ -32,17 +32,32 @@ int dao_tf_buffer_create(struct dao_tf_buffer **out, uint32_t max_frames, uint64
 			 struct dao_error *err);
 void dao_tf_buffer_free(struct dao_tf_buffer *b);
 
+/* What a transform added is. */
+enum dao_tf_time {
+	DAO_TF_DYNAMIC = 0,         /* a sample at its stamp (ROS /tf) */
+	DAO_TF_STATIC = 1,          /* one value at any time (ROS /tf_static) */
+	/* a sample, unless it is (at finish) the only stamp of its frame, every sample
+	 * of which came this way: then static (Foxglove applies a frame's one
+	 * transform at every time) */
+	DAO_TF_STATIC_IF_ALONE = 2,
+};
+
 /*
  * Adds the transform of `child` in `parent` (names of plen and clen bytes,
- * not NUL-terminated) at stamp_ns, static or dynamic.  0 added; 1 skipped,
- * with the reason in err (a bad quaternion or translation, an empty name, a
- * name too long, a frame its own parent); < 0 the buffer cannot hold the
- * recording's tf: -EINVAL for a frame given two parents, -E2BIG past a limit.
+ * not NUL-terminated) at stamp_ns, as `time` says (enum dao_tf_time).  0
+ * added; 1 skipped, with the reason in err (a bad quaternion or translation,
+ * an empty name, a name too long, a frame its own parent); < 0 the buffer
+ * cannot hold the recording's tf: -EINVAL for a frame given two parents,
+ * -E2BIG past a limit.
  */
 int dao_tf_buffer_add(struct dao_tf_buffer *b, const char *parent, size_t plen,
 		      const char *child, size_t clen, uint64_t stamp_ns,
-		      const struct dao_rigid *tr, int is_static, struct dao_error *err);
-/* Sorts every frame's samples by stamp (a later sample of an equal stamp wins); 0 or -ENOMEM. */
+		      const struct dao_rigid *tr, int time, struct dao_error *err);
+/*
+ * Sorts every frame's samples by stamp (a later sample of an equal stamp
+ * wins) and makes the lone DAO_TF_STATIC_IF_ALONE samples static; 0 or
+ * -ENOMEM.
+ */
 int dao_tf_buffer_finish(struct dao_tf_buffer *b, struct dao_error *err);
 
 uint32_t dao_tf_buffer_frame_count(const struct dao_tf_buffer *b);

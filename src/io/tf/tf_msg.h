@@ -4,11 +4,13 @@
 
 /*
  * A transform as the message parsers deliver it (ROS 1 in bag/ros_msg.h,
- * ROS 2 CDR in mcap/ros2_msg.h): geometry_msgs/TransformStamped of a
- * tf2_msgs/TFMessage, or the pose of a nav_msgs/Odometry (its
- * child_frame_id in its header's frame_id).  The names point into the
- * message (not NUL-terminated); the values are as read, unchecked
- * (dao_tf_buffer_add checks them).
+ * ROS 2 CDR in mcap/ros2_msg.h, Foxglove in mcap/foxglove_msg.h):
+ * geometry_msgs/TransformStamped of a tf2_msgs/TFMessage, the pose of a
+ * nav_msgs/Odometry (its child_frame_id in its header's frame_id), or a
+ * foxglove.FrameTransform.  The names point into the message (not
+ * NUL-terminated; a JSON message's into its parsed form, valid during the
+ * callback only); the values are as read, unchecked (dao_tf_buffer_add
+ * checks them).
  */
 #include <stdint.h>
 
