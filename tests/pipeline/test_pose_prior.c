@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * dao_context_set_pose and depth-temporal-motion=source / source+icp
- * (public API, with the motion/pose_prior.h helpers for the quaternions):
+ * (public API; the quaternions of <depthao/pose.h>, tested in
+ * tests/motion/test_pose_math.c):
  * the boundary refuses bad poses with a message; without poses, source is
  * the filter without motion and source+icp is icp, bit for bit; given the
  * true poses of a pan, the motion reported is the true one and the history
@@ -22,8 +23,8 @@
 
 #include <depthao/context.h>
 #include <depthao/params.h>
+#include <depthao/pose.h>
 
-#include "motion/pose_prior.h"
 #include "test_icp_scene.h"
 
 static void run(struct dao_context *ctx, const float *z, uint64_t index, float *zout)
@@ -61,7 +62,7 @@ static void give(struct dao_context *ctx, const struct dao_pose *c)
 {
 	double q[4];
 	struct dao_error err;
-	dao_rot_to_quat(c->r, q);
+	dao_pose_matrix_to_quat(c->r, q);
 	if (dao_context_set_pose(ctx, q, c->t, &err))
 		fail_msg("%s", err.message);
 }
@@ -104,31 +105,6 @@ static void test_boundary(void **state)
 	assert_int_equal(dao_context_set_pose(ctx, NULL, NULL, &err), 0);
 	dao_context_destroy(ctx);
 	fixture_free(&f);
-}
-
-/* quaternion -> matrix -> quaternion (up to sign), and the matrix is a rotation */
-static void test_quaternions(void **state)
-{
-	(void)state;
-	uint64_t st = 7;
-	for (int k = 0; k < 2000; k++) {
-		double q[4], n = 0.0, r[9], b[4];
-		for (int i = 0; i < 4; i++)
-			q[i] = gauss(&st), n += q[i] * q[i];
-		for (int i = 0; i < 4; i++)
-			q[i] /= sqrt(n);
-		dao_quat_to_rot(q, r);
-		for (int i = 0; i < 3; i++)
-			for (int j = 0; j < 3; j++) {
-				const double d = r[i * 3] * r[j * 3] + r[i * 3 + 1] * r[j * 3 + 1] +
-						 r[i * 3 + 2] * r[j * 3 + 2];
-				assert_true(fabs(d - (i == j)) < 1e-12);
-			}
-		dao_rot_to_quat(r, b);
-		const double s = q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3] < 0 ? -1 : 1;
-		for (int i = 0; i < 4; i++)
-			assert_true(fabs(q[i] - s * b[i]) < 1e-12);
-	}
 }
 
 /* without poses: source = off and source+icp = icp, bit for bit */
@@ -328,7 +304,6 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_boundary),
-		cmocka_unit_test(test_quaternions),
 		cmocka_unit_test(test_without_poses),
 		cmocka_unit_test(test_pan_true_poses),
 		cmocka_unit_test(test_source_matches_icp),
