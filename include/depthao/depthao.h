@@ -23,6 +23,7 @@
 #include <depthao/cpu.h>
 #include <depthao/context.h>
 #include <depthao/overlay.h>
+#include <depthao/pose.h>
 
 #include <depthao/api.h>
 

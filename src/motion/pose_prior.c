@@ -3,43 +3,14 @@
 #include <math.h>
 #include <string.h>
 
+#include <depthao/pose.h>
+
 #include "core/error_internal.h"
 #include "motion/pose_prior.h"
 
 void dao_pose_prior_clear(struct dao_pose_prior *pp)
 {
 	memset(pp, 0, sizeof *pp);
-}
-
-void dao_quat_to_rot(const double q[4], double r[9])
-{
-	const double x = q[0], y = q[1], z = q[2], w = q[3];
-	r[0] = 1 - 2 * (y * y + z * z), r[1] = 2 * (x * y - z * w), r[2] = 2 * (x * z + y * w);
-	r[3] = 2 * (x * y + z * w), r[4] = 1 - 2 * (x * x + z * z), r[5] = 2 * (y * z - x * w);
-	r[6] = 2 * (x * z - y * w), r[7] = 2 * (y * z + x * w), r[8] = 1 - 2 * (x * x + y * y);
-}
-
-/* Shepperd's method: the largest of the four squared components is taken first. */
-void dao_rot_to_quat(const double r[9], double q[4])
-{
-	const double tr = r[0] + r[4] + r[8];
-	if (tr >= r[0] && tr >= r[4] && tr >= r[8]) {
-		const double s = 2.0 * sqrt(fmax(1.0 + tr, 0.0));
-		q[3] = 0.25 * s;
-		q[0] = (r[7] - r[5]) / s, q[1] = (r[2] - r[6]) / s, q[2] = (r[3] - r[1]) / s;
-	} else if (r[0] >= r[4] && r[0] >= r[8]) {
-		const double s = 2.0 * sqrt(fmax(1.0 + r[0] - r[4] - r[8], 0.0));
-		q[0] = 0.25 * s;
-		q[3] = (r[7] - r[5]) / s, q[1] = (r[1] + r[3]) / s, q[2] = (r[2] + r[6]) / s;
-	} else if (r[4] >= r[8]) {
-		const double s = 2.0 * sqrt(fmax(1.0 - r[0] + r[4] - r[8], 0.0));
-		q[1] = 0.25 * s;
-		q[3] = (r[2] - r[6]) / s, q[0] = (r[1] + r[3]) / s, q[2] = (r[5] + r[7]) / s;
-	} else {
-		const double s = 2.0 * sqrt(fmax(1.0 - r[0] - r[4] + r[8], 0.0));
-		q[2] = 0.25 * s;
-		q[3] = (r[3] - r[1]) / s, q[0] = (r[2] + r[6]) / s, q[1] = (r[5] + r[7]) / s;
-	}
 }
 
 int dao_pose_prior_set(struct dao_pose_prior *pp, const double q[4], const double t[3],
@@ -68,7 +39,7 @@ int dao_pose_prior_set(struct dao_pose_prior *pp, const double q[4], const doubl
 				     "world's origin, more than %g m: check its unit (metres)", d,
 				     DAO_POSE_MAX_TRANSLATION);
 	const double u[4] = {q[0] / n, q[1] / n, q[2] / n, q[3] / n};
-	dao_quat_to_rot(u, pp->next.r);
+	dao_pose_quat_to_matrix(u, pp->next.r);
 	memcpy(pp->next.t, t, sizeof pp->next.t);
 	pp->have_next = 1;
 	return 0;

@@ -56,8 +56,4 @@ int dao_pose_prior_relative(const struct dao_pose_prior *pp, struct dao_pose *cu
 void dao_pose_prior_result(const struct dao_icp_setup *s, const struct dao_camera *cam,
 			   const float *z, const struct dao_pose *given, struct dao_icp_result *out);
 
-/* Rotation matrix (row-major) of a unit quaternion x, y, z, w, and back. */
-void dao_quat_to_rot(const double q[4], double r[9]);
-void dao_rot_to_quat(const double r[9], double q[4]);
-
 #endif

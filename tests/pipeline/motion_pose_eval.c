@@ -23,19 +23,11 @@
 #include <depthao/context.h>
 #include <depthao/params.h>
 #include <depthao/png.h>
+#include <depthao/pose.h>
 
 struct pose {
 	double r[9], t[3];
 };
-
-static void quat_to_r(const double q[4], double r[9])
-{
-	const double x = q[0], y = q[1], z = q[2], w = q[3];
-	const double m[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
-			     2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
-			     2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)};
-	memcpy(r, m, sizeof m);
-}
 
 static int read_poses(const char *path, struct pose *out, int cap)
 {
@@ -51,7 +43,7 @@ static int read_poses(const char *path, struct pose *out, int cap)
 		if (sscanf(line, "%lf %lf %lf %lf %lf %lf %lf %lf", &ts, &t[0], &t[1], &t[2], &q[0],
 			   &q[1], &q[2], &q[3]) != 8)
 			continue;
-		quat_to_r(q, out[n].r);
+		dao_pose_quat_to_matrix(q, out[n].r);
 		memcpy(out[n].t, t, sizeof t);
 		n++;
 	}

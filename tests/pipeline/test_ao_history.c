@@ -32,7 +32,7 @@
 
 #include "motion/ao_reproject.h"
 #include "pipeline/kernels.h"
-#include "test_icp_scene.h"
+#include "motion_fixture.h"
 
 #define REJECT 0.02f
 
@@ -57,20 +57,6 @@ static void planes_free(struct planes *p)
 	free(p->ao), free(p->hz), free(p->ao_out), free(p->z_out), free(p->ref_ao), free(p->ref_z);
 }
 
-/* camera-to-world of pose c applied to a, and its inverse */
-static void to_world(const struct dao_pose *c, const double a[3], double w[3])
-{
-	for (int i = 0; i < 3; i++)
-		w[i] = c->r[i * 3] * a[0] + c->r[i * 3 + 1] * a[1] + c->r[i * 3 + 2] * a[2] + c->t[i];
-}
-
-static void from_world(const struct dao_pose *c, const double w[3], double a[3])
-{
-	for (int i = 0; i < 3; i++)
-		a[i] = c->r[i] * (w[0] - c->t[0]) + c->r[3 + i] * (w[1] - c->t[1]) +
-		       c->r[6 + i] * (w[2] - c->t[2]);
-}
-
 /* Every current pixel through the world into the previous camera, its four
  * bilinear taps weighed one by one (a tap counts where its depth agrees
  * within REJECT), the history's point moved back into the current camera. */
@@ -83,8 +69,8 @@ static void reference(const struct dao_camera *cam, const struct dao_pose *prev_
 			continue;
 		double a[3], w[3], q[3], u, v;
 		dao_camera_pixel_to_view(cam, (double)(i % W), (double)(i / W), z[i], a);
-		to_world(cur_c, a, w);
-		from_world(prev_c, w, q);
+		pose_apply(cur_c, a, w);
+		pose_apply_inverse(prev_c, w, q);
 		if (dao_camera_view_to_pixel(cam, q, &u, &v) || u <= -0.5 || v <= -0.5 ||
 		    u >= W - 0.5 || v >= H - 0.5)
 			continue;
@@ -105,8 +91,8 @@ static void reference(const struct dao_camera *cam, const struct dao_pose *prev_
 		double hp[3], hw[3], hc[3];
 		for (int k = 0; k < 3; k++)
 			hp[k] = q[k] * (sz / sw) / q[2];
-		to_world(prev_c, hp, hw);
-		from_world(cur_c, hw, hc);
+		pose_apply(prev_c, hp, hw);
+		pose_apply_inverse(cur_c, hw, hc);
 		p->ref_ao[i] = sa / sw;
 		p->ref_z[i] = hc[2];
 	}
@@ -140,15 +126,13 @@ static void test_against_reference(void **state)
 	fixture_init(&f);
 	struct planes p;
 	planes_init(&p, f.npix);
-	struct dao_pose prev_c, cur_c, motion;
-	pose_from(&prev_c, 0.3, 0.2, 0.0, 0.0, 0.0);
-	pose_from(&cur_c, 2.1, -0.6, 0.03, 0.004, -0.01);
-	relative(&prev_c, &cur_c, &motion);
-	render(&f, &prev_c, 1, 1.0, 3u, f.z0);
-	render(&f, &cur_c, 1, 1.0, 4u, f.z1);
+	struct two_views tv;
+	two_views_make(&tv, (const double[5]){0.3, 0.2, 0.0, 0.0, 0.0},
+		       (const double[5]){2.1, -0.6, 0.03, 0.004, -0.01});
+	two_views_render(&f, &tv, 1.0, 3u, 4u);
 	make_history(&f, &p);
-	run_rows(&f, &motion, f.z1, &p);
-	reference(&f.cam, &prev_c, &cur_c, f.z1, &p);
+	run_rows(&f, &tv.motion, f.z1, &p);
+	reference(&f.cam, &tv.prev, &tv.cur, f.z1, &p);
 	size_t filled = 0, differ = 0, off = 0;
 	for (size_t i = 0; i < f.npix; i++) {
 		const int have = p.z_out[i] > 0.0f, ref_have = p.ref_z[i] > 0.0;
@@ -215,23 +199,21 @@ static void test_disocclusion(void **state)
 	fixture_init(&f);
 	struct planes p;
 	planes_init(&p, f.npix);
-	struct dao_pose prev_c, cur_c, motion;
-	pose_from(&prev_c, 0.0, 0.0, -0.10, 0.0, 0.0);
-	pose_from(&cur_c, 0.0, 0.0, 0.10, 0.0, 0.0);
-	relative(&prev_c, &cur_c, &motion);
-	render(&f, &prev_c, 1, 0.0, 0u, f.z0);
-	render(&f, &cur_c, 1, 0.0, 0u, f.z1);
+	struct two_views tv;
+	two_views_make(&tv, (const double[5]){0.0, 0.0, -0.10, 0.0, 0.0},
+		       (const double[5]){0.0, 0.0, 0.10, 0.0, 0.0});
+	two_views_render(&f, &tv, 0.0, 0u, 0u);
 	for (size_t i = 0; i < f.npix; i++) {
 		p.hz[i] = f.z0[i];
 		p.ao[i] = f.z0[i] / 10.0f;
 	}
-	run_rows(&f, &motion, f.z1, &p);
+	run_rows(&f, &tv.motion, f.z1, &p);
 	size_t hidden = 0, with = 0;
 	for (size_t i = 0; i < f.npix; i++) {
 		double a[3], w[3], q[3], u, v;
 		dao_camera_pixel_to_view(&f.cam, (double)(i % W), (double)(i / W), f.z1[i], a);
-		to_world(&cur_c, a, w);
-		from_world(&prev_c, w, q);
+		pose_apply(&tv.cur, a, w);
+		pose_apply_inverse(&tv.prev, w, q);
 		if (dao_camera_view_to_pixel(&f.cam, q, &u, &v) || u < 1.0 || v < 1.0 ||
 		    u > W - 2.0 || v > H - 2.0)
 			continue;
@@ -265,21 +247,17 @@ static void test_out_of_frame(void **state)
 	fixture_init(&f);
 	struct planes p;
 	planes_init(&p, f.npix);
-	struct dao_pose prev_c, cur_c, motion;
-	pose_from(&prev_c, 0.0, 0.0, 0.0, 0.0, 0.0);
-	pose_from(&cur_c, 4.0, 0.0, 0.0, 0.0, 0.0);
-	relative(&prev_c, &cur_c, &motion);
-	render(&f, &prev_c, 1, 0.0, 0u, f.z0);
-	render(&f, &cur_c, 1, 0.0, 0u, f.z1);
+	struct two_views tv;
+	two_views_make(&tv, (const double[5]){0.0, 0.0, 0.0, 0.0, 0.0},
+		       (const double[5]){4.0, 0.0, 0.0, 0.0, 0.0});
+	two_views_render(&f, &tv, 0.0, 0u, 0u);
 	make_history(&f, &p);
-	run_rows(&f, &motion, f.z1, &p);
+	run_rows(&f, &tv.motion, f.z1, &p);
 	size_t outside = 0, inside = 0, inside_with = 0;
 	for (size_t i = 0; i < f.npix; i++) {
 		double a[3], q[3], u, v;
 		dao_camera_pixel_to_view(&f.cam, (double)(i % W), (double)(i / W), f.z1[i], a);
-		for (int k = 0; k < 3; k++)
-			q[k] = motion.r[k * 3] * a[0] + motion.r[k * 3 + 1] * a[1] +
-			       motion.r[k * 3 + 2] * a[2] + motion.t[k];
+		pose_apply(&tv.motion, a, q);
 		if (dao_camera_view_to_pixel(&f.cam, q, &u, &v))
 			continue;
 		if (u < -0.501 || u > W - 0.499) {
@@ -316,15 +294,7 @@ static void test_fuzzed_poses(void **state)
 	uint64_t st = 777u;
 	for (int k = 0; k < 30; k++) {
 		struct dao_pose m;
-		const double scale = k < 15 ? 0.2 : 50.0;
-		pose_from(&m, scale * 100.0 * gauss(&st), scale * 100.0 * gauss(&st),
-			  scale * gauss(&st), scale * gauss(&st), scale * gauss(&st));
-		if (k == 27)
-			m.t[2] = NAN;
-		if (k == 28)
-			m.r[0] = INFINITY;
-		if (k == 29)
-			m.t[0] = -INFINITY;
+		fuzzed_motion(&st, k, 30, &m);
 		run_rows(&f, &m, f.z0, &p);
 		for (size_t i = 0; i < f.npix; i++) {
 			if (p.z_out[i] == 0.0f) {
@@ -339,29 +309,13 @@ static void test_fuzzed_poses(void **state)
 	fixture_free(&f);
 }
 
-static void process(struct dao_context *ctx, float *z, uint64_t index, float *ao)
-{
-	struct dao_error err;
-	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
-			       .stride = W * 4, .data = z};
-	struct dao_frame out = {.format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
-				.stride = W * 4, .data = ao};
-	if (dao_context_process(ctx, &in, NULL, index, &out, &err))
-		fail_msg("%s", err.message);
-}
-
 static struct dao_context *make(const struct dao_camera *cam, int motion, float temporal)
 {
 	struct dao_params p;
 	dao_params_init(&p, DAO_QUALITY_LOW);
 	dao_params_stream_defaults(&p);
 	p.temporal = temporal;
-	p.depth_temporal_motion = motion;
-	struct dao_context *ctx;
-	struct dao_error err;
-	if (dao_context_create(&ctx, cam, &p, &err))
-		fail_msg("%s", err.message);
-	return ctx;
+	return motion_context(cam, &p, motion);
 }
 
 /* the same frame again and again with the AO history on: the motion is the
@@ -380,8 +334,8 @@ static void test_pipeline_still(void **state)
 	render(&f, &id, 1, 1.0, 11u, f.z0);
 	for (unsigned k = 0; k < 4; k++) {
 		memcpy(f.z1, f.z0, f.npix * 4);
-		process(off, f.z0, k, a0);
-		process(icp, f.z1, k, a1);
+		run_frame(off, f.z0, k, a0, NULL);
+		run_frame(icp, f.z1, k, a1, NULL);
 		assert_memory_equal(a0, a1, f.npix * 4);
 	}
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
@@ -423,9 +377,9 @@ static void test_pipeline_pan(void **state)
 		struct dao_pose c;
 		pose_from(&c, 1.0 * k, 0.0, 0.0, 0.0, 0.0);
 		render(&f, &c, 1, 0.0, 0u, f.z0);
-		memcpy(z, f.z0, f.npix * 4), process(ref, z, k, ar);
-		memcpy(z, f.z0, f.npix * 4), process(off, z, k, a0);
-		memcpy(z, f.z0, f.npix * 4), process(icp, z, k, a1);
+		memcpy(z, f.z0, f.npix * 4), run_frame(ref, z, k, ar, NULL);
+		memcpy(z, f.z0, f.npix * 4), run_frame(off, z, k, a0, NULL);
+		memcpy(z, f.z0, f.npix * 4), run_frame(icp, z, k, a1, NULL);
 		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 		dao_context_motion(icp, &mi);
 		if (k >= 1)

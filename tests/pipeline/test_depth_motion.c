@@ -20,31 +20,7 @@
 #include <depthao/context.h>
 #include <depthao/params.h>
 
-#include "test_icp_scene.h"
-
-static void run(struct dao_context *ctx, float *z, uint64_t index, float *ao, float *zout)
-{
-	struct dao_error err;
-	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
-			       .stride = W * 4, .data = z};
-	struct dao_frame out = {.format = DAO_PIXFMT_GRAY_F32, .width = W, .height = H,
-				.stride = W * 4, .data = ao};
-	struct dao_frame zf = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
-			       .stride = W * 4, .data = zout};
-	if (dao_context_process(ctx, &in, NULL, index, ao ? &out : NULL, &err) ||
-	    dao_context_get_depth(ctx, &zf, &err))
-		fail_msg("%s", err.message);
-}
-
-static void make_pair(const struct dao_camera *cam, struct dao_params *p, int motion,
-		      struct dao_context **ctx)
-{
-	struct dao_params q = *p;
-	q.depth_temporal_motion = motion;
-	struct dao_error err;
-	if (dao_context_create(ctx, cam, &q, &err))
-		fail_msg("%s", err.message);
-}
+#include "motion_fixture.h"
 
 static void test_still_identical(void **state)
 {
@@ -55,8 +31,8 @@ static void test_still_identical(void **state)
 	dao_params_init(&p, DAO_QUALITY_DEFAULT);
 	dao_params_stream_defaults(&p);
 	struct dao_context *off, *icp;
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_OFF, &off);
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_ICP, &icp);
+	off = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_OFF);
+	icp = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_ICP);
 	float *ao0 = malloc(f.npix * 4), *ao1 = malloc(f.npix * 4);
 	float *za = malloc(f.npix * 4), *zb = malloc(f.npix * 4);
 	assert_true(ao0 && ao1 && za && zb);
@@ -72,8 +48,8 @@ static void test_still_identical(void **state)
 			dao_context_reset(icp);
 		}
 		memcpy(f.z1, f.z0, f.npix * 4);
-		run(off, f.z0, k, ao0, za);
-		run(icp, f.z1, k, ao1, zb);
+		run_frame(off, f.z0, k, ao0, za);
+		run_frame(icp, f.z1, k, ao1, zb);
 		assert_memory_equal(za, zb, f.npix * 4);
 		assert_memory_equal(ao0, ao1, f.npix * 4);
 		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
@@ -88,19 +64,14 @@ static void test_still_identical(void **state)
 	fixture_free(&f);
 }
 
-/* mean |z - truth| / truth over the pixels where both have depth */
-static double rel_mae(const float *z, const float *truth, size_t n);
-
 /* after processing the frame of camera `cur`: the motion the context reports
  * against the truth (from `cur` to `prev`); it must have been applied */
 static void check_motion(struct dao_context *ctx, const struct dao_pose *prev,
 			 const struct dao_pose *cur, double *worst_deg, double *worst_mm)
 {
-	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
-	dao_context_motion(ctx, &mi);
-	assert_int_equal(mi.state, DAO_MOTION_APPLIED);
+	struct dao_motion_info mi;
 	struct dao_pose truth, est, e;
-	relative(prev, cur, &truth);
+	applied_motion(ctx, prev, cur, &mi, &truth);
 	memcpy(est.r, mi.rotation, sizeof est.r);
 	memcpy(est.t, mi.translation, sizeof est.t);
 	/* e = truth^-1 est */
@@ -125,16 +96,13 @@ static void test_still_noisy(void **state)
 	struct scene_fixture f;
 	fixture_init(&f);
 	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	dao_params_stream_defaults(&p);
-	p.algorithm = DAO_ALGORITHM_NONE;
-	p.prefilter = DAO_PREFILTER_NONE;
+	depth_only_params(&p, DAO_QUALITY_DEFAULT);
 	struct dao_params raw = p;
 	raw.depth_temporal = 0.0f;
 	struct dao_context *ctx[3];
-	make_pair(&f.cam, &raw, DAO_DEPTH_MOTION_OFF, &ctx[0]);
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_OFF, &ctx[1]);
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_ICP, &ctx[2]);
+	ctx[0] = motion_context(&f.cam, &raw, DAO_DEPTH_MOTION_OFF);
+	ctx[1] = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_OFF);
+	ctx[2] = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_ICP);
 	float *truth = malloc(f.npix * 4), *zo = malloc(f.npix * 4);
 	assert_true(truth && zo);
 	struct dao_pose still;
@@ -145,7 +113,7 @@ static void test_still_noisy(void **state)
 		render(&f, &still, 1, 1.0, 400u + k, f.z0);
 		for (int m = 0; m < 3; m++) {
 			memcpy(f.z1, f.z0, f.npix * 4);
-			run(ctx[m], f.z1, k, NULL, zo);
+			run_frame(ctx[m], f.z1, k, NULL, zo);
 			if (k >= 3)
 				mae[m] += rel_mae(zo, truth, f.npix) / 7.0;
 		}
@@ -160,34 +128,19 @@ static void test_still_noisy(void **state)
 	fixture_free(&f);
 }
 
-static double rel_mae(const float *z, const float *truth, size_t n)
-{
-	double s = 0.0;
-	size_t c = 0;
-	for (size_t i = 0; i < n; i++)
-		if (z[i] > 0.0f && truth[i] > 0.0f) {
-			s += fabs(z[i] - truth[i]) / truth[i];
-			c++;
-		}
-	return c ? s / (double)c : 0.0;
-}
-
 static void test_pan(void **state)
 {
 	(void)state;
 	struct scene_fixture f;
 	fixture_init(&f);
 	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	dao_params_stream_defaults(&p);
-	p.algorithm = DAO_ALGORITHM_NONE; /* the depth alone */
-	p.prefilter = DAO_PREFILTER_NONE; /* the temporal filter's effect alone */
+	depth_only_params(&p, DAO_QUALITY_DEFAULT);
 	struct dao_params raw = p;
 	raw.depth_temporal = 0.0f;
 	struct dao_context *ctx[3];
-	make_pair(&f.cam, &raw, DAO_DEPTH_MOTION_OFF, &ctx[0]);
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_OFF, &ctx[1]);
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_ICP, &ctx[2]);
+	ctx[0] = motion_context(&f.cam, &raw, DAO_DEPTH_MOTION_OFF);
+	ctx[1] = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_OFF);
+	ctx[2] = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_ICP);
 	float *truth = malloc(f.npix * 4), *zo = malloc(f.npix * 4);
 	assert_true(truth && zo);
 	double mae[3] = {0, 0, 0}, worst_deg = 0.0, worst_mm = 0.0;
@@ -201,7 +154,7 @@ static void test_pan(void **state)
 		render(&f, &c, 1, 1.0, 200u + k, f.z0);
 		for (int m = 0; m < 3; m++) {
 			memcpy(f.z1, f.z0, f.npix * 4);
-			run(ctx[m], f.z1, k, NULL, zo);
+			run_frame(ctx[m], f.z1, k, NULL, zo);
 			if (k >= 3)
 				mae[m] += rel_mae(zo, truth, f.npix) / 7.0;
 		}
@@ -235,8 +188,8 @@ static void test_refused_falls_back(void **state)
 	dao_params_stream_defaults(&p);
 	p.algorithm = DAO_ALGORITHM_NONE;
 	struct dao_context *off, *icp;
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_OFF, &off);
-	make_pair(&f.cam, &p, DAO_DEPTH_MOTION_ICP, &icp);
+	off = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_OFF);
+	icp = motion_context(&f.cam, &p, DAO_DEPTH_MOTION_ICP);
 	float *za = malloc(f.npix * 4), *zb = malloc(f.npix * 4);
 	assert_true(za && zb);
 	for (unsigned k = 0; k < 4; k++) {
@@ -244,8 +197,8 @@ static void test_refused_falls_back(void **state)
 		pose_from(&c, 0.0, 0.0, 0.02 * k, 0.0, 0.0);
 		render(&f, &c, 0, 1.0, 300u + k, f.z0);
 		memcpy(f.z1, f.z0, f.npix * 4);
-		run(off, f.z0, k, NULL, za);
-		run(icp, f.z1, k, NULL, zb);
+		run_frame(off, f.z0, k, NULL, za);
+		run_frame(icp, f.z1, k, NULL, zb);
 		assert_memory_equal(za, zb, f.npix * 4);
 		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 		dao_context_motion(icp, &mi);

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * dao_context_set_pose and depth-temporal-motion=source / source+icp
- * (public API, with the motion/pose_prior.h helpers for the quaternions):
+ * (public API; the quaternions of <depthao/pose.h>, tested in
+ * tests/motion/test_pose_math.c):
  * the boundary refuses bad poses with a message; without poses, source is
  * the filter without motion and source+icp is icp, bit for bit; given the
  * true poses of a pan, the motion reported is the true one and the history
@@ -22,60 +23,34 @@
 
 #include <depthao/context.h>
 #include <depthao/params.h>
+#include <depthao/pose.h>
 
-#include "motion/pose_prior.h"
-#include "test_icp_scene.h"
+#include "motion_fixture.h"
 
+/* the filtered depth of a copy of z (z is used again) */
 static void run(struct dao_context *ctx, const float *z, uint64_t index, float *zout)
 {
-	struct dao_error err;
 	float *copy = malloc((size_t)W * H * 4);
 	assert_non_null(copy);
 	memcpy(copy, z, (size_t)W * H * 4);
-	struct dao_frame in = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
-			       .stride = W * 4, .data = copy};
-	struct dao_frame zf = {.format = DAO_PIXFMT_DEPTH_F32, .width = W, .height = H,
-			       .stride = W * 4, .data = zout};
-	if (dao_context_process(ctx, &in, NULL, index, NULL, &err) ||
-	    dao_context_get_depth(ctx, &zf, &err))
-		fail_msg("%s", err.message);
+	run_frame(ctx, copy, index, NULL, zout);
 	free(copy);
 }
 
 static struct dao_context *make(const struct dao_camera *cam, int motion)
 {
 	struct dao_params p;
-	dao_params_init(&p, DAO_QUALITY_DEFAULT);
-	dao_params_stream_defaults(&p);
-	p.algorithm = DAO_ALGORITHM_NONE; /* the depth alone */
-	p.prefilter = DAO_PREFILTER_NONE;
-	p.depth_temporal_motion = motion;
-	struct dao_context *ctx;
-	struct dao_error err;
-	if (dao_context_create(&ctx, cam, &p, &err))
-		fail_msg("%s", err.message);
-	return ctx;
+	depth_only_params(&p, DAO_QUALITY_DEFAULT);
+	return motion_context(cam, &p, motion);
 }
 
 static void give(struct dao_context *ctx, const struct dao_pose *c)
 {
 	double q[4];
 	struct dao_error err;
-	dao_rot_to_quat(c->r, q);
+	dao_pose_matrix_to_quat(c->r, q);
 	if (dao_context_set_pose(ctx, q, c->t, &err))
 		fail_msg("%s", err.message);
-}
-
-static double rel_mae(const float *z, const float *truth, size_t n)
-{
-	double s = 0.0;
-	size_t c = 0;
-	for (size_t i = 0; i < n; i++)
-		if (z[i] > 0.0f && truth[i] > 0.0f) {
-			s += fabs(z[i] - truth[i]) / truth[i];
-			c++;
-		}
-	return c ? s / (double)c : 0.0;
 }
 
 static void test_boundary(void **state)
@@ -104,31 +79,6 @@ static void test_boundary(void **state)
 	assert_int_equal(dao_context_set_pose(ctx, NULL, NULL, &err), 0);
 	dao_context_destroy(ctx);
 	fixture_free(&f);
-}
-
-/* quaternion -> matrix -> quaternion (up to sign), and the matrix is a rotation */
-static void test_quaternions(void **state)
-{
-	(void)state;
-	uint64_t st = 7;
-	for (int k = 0; k < 2000; k++) {
-		double q[4], n = 0.0, r[9], b[4];
-		for (int i = 0; i < 4; i++)
-			q[i] = gauss(&st), n += q[i] * q[i];
-		for (int i = 0; i < 4; i++)
-			q[i] /= sqrt(n);
-		dao_quat_to_rot(q, r);
-		for (int i = 0; i < 3; i++)
-			for (int j = 0; j < 3; j++) {
-				const double d = r[i * 3] * r[j * 3] + r[i * 3 + 1] * r[j * 3 + 1] +
-						 r[i * 3 + 2] * r[j * 3 + 2];
-				assert_true(fabs(d - (i == j)) < 1e-12);
-			}
-		dao_rot_to_quat(r, b);
-		const double s = q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3] < 0 ? -1 : 1;
-		for (int i = 0; i < 4; i++)
-			assert_true(fabs(q[i] - s * b[i]) < 1e-12);
-	}
 }
 
 /* without poses: source = off and source+icp = icp, bit for bit */
@@ -169,12 +119,10 @@ static void test_without_poses(void **state)
 static void check_reported(struct dao_context *ctx, const struct dao_pose *prev,
 			   const struct dao_pose *cur, int origin, double tol_r, double tol_t)
 {
-	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
-	dao_context_motion(ctx, &mi);
-	assert_int_equal(mi.state, DAO_MOTION_APPLIED);
-	assert_int_equal(mi.origin, origin);
+	struct dao_motion_info mi;
 	struct dao_pose truth;
-	relative(prev, cur, &truth);
+	applied_motion(ctx, prev, cur, &mi, &truth);
+	assert_int_equal(mi.origin, origin);
 	for (int i = 0; i < 9; i++)
 		assert_true(fabs(mi.rotation[i] - truth.r[i]) < tol_r);
 	for (int i = 0; i < 3; i++)
@@ -328,7 +276,6 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_boundary),
-		cmocka_unit_test(test_quaternions),
 		cmocka_unit_test(test_without_poses),
 		cmocka_unit_test(test_pan_true_poses),
 		cmocka_unit_test(test_source_matches_icp),

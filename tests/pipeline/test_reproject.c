@@ -22,7 +22,7 @@
 #include "motion/reproject.h"
 #include "pipeline/kernels.h"
 #include "core/threadpool.h"
-#include "test_icp_scene.h"
+#include "motion_fixture.h"
 
 struct planes {
 	float *hist, *out;
@@ -67,11 +67,7 @@ static void reference(const struct dao_camera *cam, const struct dao_pose *cur_t
 		double a[3], b[3], u, v;
 		dao_camera_pixel_to_view(cam, (double)(i % cam->width), (double)(i / cam->width),
 					 1.0 / p->hist[i], a);
-		/* b = R^T (a - t) */
-		for (int k = 0; k < 3; k++)
-			b[k] = cur_to_prev->r[k] * (a[0] - cur_to_prev->t[0]) +
-			       cur_to_prev->r[3 + k] * (a[1] - cur_to_prev->t[1]) +
-			       cur_to_prev->r[6 + k] * (a[2] - cur_to_prev->t[2]);
+		pose_apply_inverse(cur_to_prev, a, b); /* b = R^T (a - t) */
 		if (dao_camera_view_to_pixel(cam, b, &u, &v))
 			continue;
 		const double xu = floor(u + 0.5), yv = floor(v + 0.5);
@@ -90,11 +86,10 @@ static void test_against_reference(void **state)
 	fixture_init(&f);
 	struct planes p;
 	planes_init(&p, f.npix);
-	struct dao_pose prev_c, cur_c, motion;
-	dao_pose_identity(&prev_c);
-	pose_from(&cur_c, 1.5, -0.7, 0.02, 0.005, -0.01);
-	relative(&prev_c, &cur_c, &motion);
-	render(&f, &prev_c, 1, 1.0, 3u, f.z0);
+	struct two_views v;
+	two_views_make(&v, (const double[5]){0.0, 0.0, 0.0, 0.0, 0.0},
+		       (const double[5]){1.5, -0.7, 0.02, 0.005, -0.01});
+	render(&f, &v.prev, 1, 1.0, 3u, f.z0);
 	for (size_t i = 0; i < f.npix; i++) {
 		/* holes, and counts and ages that tell the sources apart */
 		const int hole = (i * 2654435761u) % 13u == 0;
@@ -102,9 +97,9 @@ static void test_against_reference(void **state)
 		p.count[i] = hole ? 0 : (uint8_t)(1 + i % 200);
 		p.age[i] = (uint8_t)(i % 7);
 	}
-	dao_history_reproject(&f.cam, &motion, p.hist, p.count, p.age, p.out, p.count_out,
+	dao_history_reproject(&f.cam, &v.motion, p.hist, p.count, p.age, p.out, p.count_out,
 			      p.age_out, p.scratch, NULL, NULL);
-	reference(&f.cam, &motion, &p);
+	reference(&f.cam, &v.motion, &p);
 	size_t filled = 0, differ = 0, value_off = 0;
 	for (size_t i = 0; i < f.npix; i++) {
 		const int have = p.count_out[i] != 0, ref_have = p.ref_src[i] >= 0;
@@ -145,17 +140,15 @@ static void test_against_truth(void **state)
 	fixture_init(&f);
 	struct planes p;
 	planes_init(&p, f.npix);
-	struct dao_pose prev_c, cur_c, motion;
-	pose_from(&prev_c, -2.0, 0.0, 0.0, 0.0, 0.0);
-	pose_from(&cur_c, 0.0, 1.0, 0.03, 0.0, 0.02);
-	relative(&prev_c, &cur_c, &motion);
-	render(&f, &prev_c, 1, 0.0, 0u, f.z0);
-	render(&f, &cur_c, 1, 0.0, 0u, f.z1);
+	struct two_views v;
+	two_views_make(&v, (const double[5]){-2.0, 0.0, 0.0, 0.0, 0.0},
+		       (const double[5]){0.0, 1.0, 0.03, 0.0, 0.02});
+	two_views_render(&f, &v, 0.0, 0u, 0u);
 	for (size_t i = 0; i < f.npix; i++) {
 		p.hist[i] = 1.0f / f.z0[i];
 		p.count[i] = 1;
 	}
-	dao_history_reproject(&f.cam, &motion, p.hist, p.count, p.age, p.out, p.count_out,
+	dao_history_reproject(&f.cam, &v.motion, p.hist, p.count, p.age, p.out, p.count_out,
 			      p.age_out, p.scratch, NULL, NULL);
 	size_t have = 0, close = 0;
 	for (size_t i = 0; i < f.npix; i++) {
@@ -191,15 +184,7 @@ static void test_fuzzed_poses(void **state)
 	uint64_t st = 12345u;
 	for (int k = 0; k < 40; k++) {
 		struct dao_pose m;
-		const double scale = k < 20 ? 0.2 : 50.0;
-		pose_from(&m, scale * 100.0 * gauss(&st), scale * 100.0 * gauss(&st),
-			  scale * gauss(&st), scale * gauss(&st), scale * gauss(&st));
-		if (k == 37)
-			m.t[2] = NAN;
-		if (k == 38)
-			m.r[0] = INFINITY;
-		if (k == 39)
-			m.t[0] = -INFINITY;
+		fuzzed_motion(&st, k, 40, &m);
 		dao_history_reproject(&f.cam, &m, p.hist, p.count, p.age, p.out, p.count_out,
 				      p.age_out, p.scratch, NULL, NULL);
 		for (size_t i = 0; i < f.npix; i++) {

@@ -8,7 +8,8 @@
  * estimate was accepted (state APPLIED or STILL) moves the pose by it; any
  * other (NONE: no history to compare with; REFUSED) keeps it, the motion
  * taken as none, as the filter takes it.  What depthao process --pose-out
- * and depthaod's stats share.
+ * and depthaod's stats share.  The rotation as a quaternion:
+ * dao_pose_matrix_to_quat() (<depthao/pose.h>).
  */
 #ifndef DAO_TOOLS_POSE_TRACK_H
 #define DAO_TOOLS_POSE_TRACK_H
@@ -26,9 +27,5 @@ struct pose_track {
 void pose_track_reset(struct pose_track *p);
 /* One processed frame's motion. */
 void pose_track_add(struct pose_track *p, const struct dao_motion_info *mi);
-/* The rotation as a unit quaternion x, y, z, w (w >= 0). */
-void pose_track_quat(const double r[9], double q[4]);
-/* The rotation of a unit quaternion x, y, z, w. */
-void pose_track_matrix(const double q[4], double r[9]);
 
 #endif

@@ -45,7 +45,7 @@ int process_pose_write(const struct process_options *o, struct run_state *st,
 				    : (double)n / o->pose_fps;
 	double q[4];
 	const double *t = st->track.t;
-	pose_track_quat(st->track.r, q);
+	dao_pose_matrix_to_quat(st->track.r, q);
 	if (fprintf(st->pose, "%.6f %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", time, t[0], t[1],
 		    t[2], q[0], q[1], q[2], q[3]) < 0) {
 		fprintf(stderr, "depthao: cannot write --pose-out '%s': %s\n", o->pose_out,

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <depthao/pose.h>
+
 void poses_file_free(struct poses_file *pf)
 {
 	synth_pose_list_free(&pf->list);
@@ -28,28 +30,6 @@ int poses_file_read(const char *path, struct poses_file *pf, struct dao_error *e
 	for (size_t k = 0; k < pf->list.count; k++)
 		synth_quat_from_matrix(pf->list.pose[k].R, pf->q + 4 * k);
 	return 0;
-}
-
-static void slerp(const double a[4], const double b_in[4], double u, double out[4])
-{
-	double b[4], d = 0.0;
-	for (int k = 0; k < 4; k++)
-		d += a[k] * b_in[k];
-	const double s = d < 0.0 ? -1.0 : 1.0; /* the shorter way */
-	for (int k = 0; k < 4; k++)
-		b[k] = s * b_in[k];
-	d = fabs(d);
-	double wa = 1.0 - u, wb = u;
-	if (d < 0.9995) {
-		const double th = acos(d), sn = sin(th);
-		wa = sin((1.0 - u) * th) / sn;
-		wb = sin(u * th) / sn;
-	}
-	double n = 0.0;
-	for (int k = 0; k < 4; k++)
-		out[k] = wa * a[k] + wb * b[k], n += out[k] * out[k];
-	for (int k = 0; k < 4; k++)
-		out[k] /= sqrt(n);
 }
 
 int poses_file_at(const struct poses_file *pf, double t, double q[4], double p[3])
@@ -78,10 +58,8 @@ int poses_file_at(const struct poses_file *pf, double t, double q[4], double p[3
 	if (t < ts[0] || lo + 1 >= n || ts[lo + 1] - ts[lo] > POSES_MAX_GAP)
 		return 0;
 	const double u = (t - ts[lo]) / (ts[lo + 1] - ts[lo]);
-	const double *a = pf->list.pose[lo].t, *b = pf->list.pose[lo + 1].t;
-	for (int k = 0; k < 3; k++)
-		p[k] = a[k] + u * (b[k] - a[k]);
-	slerp(pf->q + 4 * lo, pf->q + 4 * lo + 4, u, q);
+	dao_pose_interpolate(pf->q + 4 * lo, pf->list.pose[lo].t, pf->q + 4 * lo + 4,
+			     pf->list.pose[lo + 1].t, u, q, p);
 	return 1;
 }
 

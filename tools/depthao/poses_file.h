@@ -4,7 +4,7 @@
  * format ("timestamp tx ty tz qx qy qz qw" a line, '#' comments), the pose
  * of the camera's optical frame in a fixed world frame, looked up at a
  * frame's timestamp (interpolated between neighbours: linear in the
- * translation, slerp in the rotation).
+ * translation, slerp in the rotation: dao_pose_interpolate()).
  */
 #ifndef DAO_TOOLS_POSES_FILE_H
 #define DAO_TOOLS_POSES_FILE_H

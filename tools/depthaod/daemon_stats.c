@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <depthao/pose.h>
+
 #include "daemon_internal.h"
 
 static const char *const sink_state_names[] = {"waiting", "running", "retrying", "stopped"};
@@ -53,7 +55,7 @@ static struct json_object *motion_stats(const struct pose_track *p)
 	struct json_object *m = json_object_new_object();
 	const int s = p->state >= 0 && p->state <= 3 ? p->state : 0;
 	double q[4];
-	pose_track_quat(p->r, q);
+	dao_pose_matrix_to_quat(p->r, q);
 	json_object_object_add(m, "state", json_object_new_string(motion_state_names[s]));
 	json_object_object_add(m, "reason", json_object_new_int(p->reason));
 	json_object_object_add(m, "frames_accepted", json_object_new_int64((int64_t)p->accepted));

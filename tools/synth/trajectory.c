@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <depthao/pose.h>
+
 #include "synth/rng.h"
 #include "synth/trajectory.h"
 
@@ -241,41 +243,18 @@ void synth_scene_view_from(struct synth_scene *scene, const struct synth_pose *p
 
 void synth_quat_from_matrix(const double R[3][3], double q[4])
 {
-	/* the largest of w, x, y, z from the trace and the diagonal (Shepperd 1978) */
-	const double tr = R[0][0] + R[1][1] + R[2][2];
-	if (tr >= R[0][0] && tr >= R[1][1] && tr >= R[2][2]) {
-		double s = 2.0 * sqrt(1.0 + tr);
-		q[3] = 0.25 * s;
-		q[0] = (R[2][1] - R[1][2]) / s;
-		q[1] = (R[0][2] - R[2][0]) / s;
-		q[2] = (R[1][0] - R[0][1]) / s;
-	} else {
-		int i = R[0][0] >= R[1][1] && R[0][0] >= R[2][2] ? 0 : R[1][1] >= R[2][2] ? 1 : 2;
-		int j = (i + 1) % 3, k = (i + 2) % 3;
-		double s = 2.0 * sqrt(1.0 + R[i][i] - R[j][j] - R[k][k]);
-		q[i] = 0.25 * s;
-		q[3] = (R[k][j] - R[j][k]) / s;
-		q[j] = (R[j][i] + R[i][j]) / s;
-		q[k] = (R[k][i] + R[i][k]) / s;
-	}
-	if (q[3] < 0)
-		for (int k = 0; k < 4; k++)
-			q[k] = -q[k];
+	double r[9];
+	memcpy(r, R, sizeof r);
+	dao_pose_matrix_to_quat(r, q);
 }
 
 void synth_matrix_from_quat(const double qin[4], double R[3][3])
 {
-	double n = sqrt(qin[0] * qin[0] + qin[1] * qin[1] + qin[2] * qin[2] + qin[3] * qin[3]);
-	const double x = qin[0] / n, y = qin[1] / n, z = qin[2] / n, w = qin[3] / n;
-	R[0][0] = 1 - 2 * (y * y + z * z);
-	R[0][1] = 2 * (x * y - z * w);
-	R[0][2] = 2 * (x * z + y * w);
-	R[1][0] = 2 * (x * y + z * w);
-	R[1][1] = 1 - 2 * (x * x + z * z);
-	R[1][2] = 2 * (y * z - x * w);
-	R[2][0] = 2 * (x * z - y * w);
-	R[2][1] = 2 * (y * z + x * w);
-	R[2][2] = 1 - 2 * (x * x + y * y);
+	const double n = sqrt(qin[0] * qin[0] + qin[1] * qin[1] + qin[2] * qin[2] + qin[3] * qin[3]);
+	const double q[4] = { qin[0] / n, qin[1] / n, qin[2] / n, qin[3] / n };
+	double r[9];
+	dao_pose_quat_to_matrix(q, r);
+	memcpy(R, r, sizeof r);
 }
 
 double synth_rotation_angle(const double Ra[3][3], const double Rb[3][3])

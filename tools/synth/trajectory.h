@@ -85,7 +85,8 @@ void synth_scene_view_from(struct synth_scene *scene, const struct synth_pose *p
 /* Rotation by `angle` radians about the unit axis a (Rodrigues). */
 void synth_rotation(const double a[3], double angle, double (*R)[3]);
 
-/* Unit quaternion (x, y, z, w; w >= 0) of a rotation matrix, and back (q need not be unit). */
+/* Unit quaternion (x, y, z, w; w >= 0) of a rotation matrix, and back (q need not be unit):
+ * <depthao/pose.h>'s conversions for the [3][3] layout. */
 void synth_quat_from_matrix(const double R[3][3], double q[4]);
 void synth_matrix_from_quat(const double q[4], double R[3][3]);
 

@@ -1,9 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* Rigid transforms: composition, inverse, interpolation (rigid.h). */
+/* Rigid transforms: composition, inverse, interpolation (rigid.h; the
+ * interpolation is <depthao/pose.h>'s). */
 #include "tf/rigid.h"
 
 #include <errno.h>
 #include <math.h>
+
+#include <depthao/pose.h>
 
 void dao_rigid_identity(struct dao_rigid *a)
 {
@@ -60,30 +63,7 @@ void dao_rigid_inverse(const struct dao_rigid *a, struct dao_rigid *out)
 void dao_rigid_interpolate(const struct dao_rigid *a, const struct dao_rigid *b, double s,
 			   struct dao_rigid *out)
 {
-	double bq[4], d = 0.0, wa, wb;
-	for (int i = 0; i < 4; i++)
-		d += a->q[i] * b->q[i];
-	for (int i = 0; i < 4; i++)
-		bq[i] = d < 0.0 ? -b->q[i] : b->q[i]; /* the shorter arc */
-	d = fabs(d);
-	if (d > 0.9999995) { /* nearly the same rotation: linear, then normalised */
-		wa = 1.0 - s;
-		wb = s;
-	} else { /* slerp: sin((1-s) th) / sin th, sin(s th) / sin th, cos th = d */
-		const double th = acos(d), sn = sin(th);
-		wa = sin((1.0 - s) * th) / sn;
-		wb = sin(s * th) / sn;
-	}
-	double q[4], n = 0.0;
-	for (int i = 0; i < 4; i++) {
-		q[i] = wa * a->q[i] + wb * bq[i];
-		n += q[i] * q[i];
-	}
-	n = sqrt(n);
-	for (int i = 0; i < 4; i++)
-		out->q[i] = q[i] / n;
-	for (int i = 0; i < 3; i++)
-		out->t[i] = a->t[i] + s * (b->t[i] - a->t[i]);
+	dao_pose_interpolate(a->q, a->t, b->q, b->t, s, out->q, out->t);
 }
 
 int dao_rigid_check(struct dao_rigid *a, double tolerance, const char **why)

@@ -21,7 +21,8 @@ void dao_rigid_compose(const struct dao_rigid *a, const struct dao_rigid *b, str
 void dao_rigid_inverse(const struct dao_rigid *a, struct dao_rigid *out);
 /*
  * The transform s of the way from a (s = 0) to b (s = 1): the translation
- * linear, the rotation spherical (slerp) along the shorter arc.
+ * linear, the rotation spherical (slerp) along the shorter arc
+ * (dao_pose_interpolate()); out may alias a or b.
  */
 void dao_rigid_interpolate(const struct dao_rigid *a, const struct dao_rigid *b, double s,
 			   struct dao_rigid *out);
