@@ -17,6 +17,8 @@
 
 /* samples per block of the causal sweep (its links, then its moments) */
 #define DT_BLOCK 32
+/* samples ahead the causal sweep asks for its input */
+#define DT_PREFETCH 8
 
 static inline vf dt_med3(vf a, vf b, vf c)
 {
@@ -164,6 +166,11 @@ dt_causal(const struct dt_ctx *cp, float *sc, int len, const int in_depth, const
 			const size_t at = (size_t)n * c.stride;
 			wm2 = wm1, wm1 = w0, w0 = wp1;
 			wp1 = n + 1 < len ? dt_load_w(&c, at + c.stride) : zero;
+			/* the line's samples are a row of the input apart (lanes
+			 * floats, often a page or more): too far apart for the
+			 * hardware's prefetchers */
+			if (n + DT_PREFETCH < len)
+				__builtin_prefetch(c.in + at + DT_PREFETCH * c.stride);
 			const vf u = maps ? v_set1(c.pos[2 * len + n]) : zero;
 			/* cell_value in domain.c, a + (b - a) u, as one multiply-add
 			 * (the reference rounds the product: within an ulp) */
