@@ -49,11 +49,8 @@ static void run_pair(const struct pair_case *c, double noise0, double noise, int
 	struct dao_pose prev_c, cur_c, truth;
 	dao_pose_identity(&prev_c);
 	pose_from(&cur_c, c->yaw_deg, c->pitch_deg, c->tx_mm * 1e-3, 0.0, c->tz_mm * 1e-3);
-	render(&f, &prev_c, room, noise0, 11u, f.z0);
-	render(&f, &cur_c, room, noise, 23u, f.z1);
+	render_pair(&f, &prev_c, &cur_c, room, noise0, 11u, noise, 23u);
 	relative(&prev_c, &cur_c, &truth);
-	for (size_t i = 0; i < f.npix; i++)
-		f.inv0[i] = f.z0[i] > 0.0f ? 1.0f / f.z0[i] : 0.0f;
 	struct dao_icp_setup s;
 	dao_icp_setup_default(&s);
 	float *scratch = malloc(dao_icp_scratch_floats(&s, W, H) * sizeof(float));
@@ -150,10 +147,7 @@ static void test_cut_and_holes(void **state)
 	struct dao_pose a, b;
 	dao_pose_identity(&a);
 	pose_from(&b, 70.0, 10.0, 0.8, 0.1, 1.5); /* somewhere else in the room */
-	render(&f, &a, 1, 1.0, 5u, f.z0);
-	render(&f, &b, 1, 1.0, 6u, f.z1);
-	for (size_t i = 0; i < f.npix; i++)
-		f.inv0[i] = f.z0[i] > 0.0f ? 1.0f / f.z0[i] : 0.0f;
+	render_pair(&f, &a, &b, 1, 1.0, 5u, 1.0, 6u);
 	struct dao_icp_setup s;
 	dao_icp_setup_default(&s);
 	float *scratch = malloc(dao_icp_scratch_floats(&s, W, H) * sizeof(float));

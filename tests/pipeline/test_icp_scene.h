@@ -159,4 +159,16 @@ static inline void render(const struct scene_fixture *f, const struct dao_pose *
 		}
 }
 
+/* ICP's two frames: the previous one (pose prev, noise0, seed0) into z0 and
+ * its inverse depth into inv0, the current one (cur, noise1, seed1) into z1 */
+static inline void render_pair(const struct scene_fixture *f, const struct dao_pose *prev,
+			       const struct dao_pose *cur, int room, double noise0,
+			       uint64_t seed0, double noise1, uint64_t seed1)
+{
+	render(f, prev, room, noise0, seed0, f->z0);
+	render(f, cur, room, noise1, seed1, f->z1);
+	for (size_t i = 0; i < f->npix; i++)
+		f->inv0[i] = f->z0[i] > 0.0f ? 1.0f / f->z0[i] : 0.0f;
+}
+
 #endif

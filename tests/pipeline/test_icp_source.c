@@ -161,10 +161,7 @@ static void test_estimate_identical(void **state)
 	struct dao_pose prev_c, cur_c;
 	dao_pose_identity(&prev_c);
 	pose_from(&cur_c, 1.0, 0.5, 0.01, 0.0, 0.01);
-	render(&f, &prev_c, 1, 1.0, 11u, f.z0);
-	render(&f, &cur_c, 1, 1.0, 23u, f.z1);
-	for (size_t i = 0; i < f.npix; i++)
-		f.inv0[i] = f.z0[i] > 0.0f ? 1.0f / f.z0[i] : 0.0f;
+	render_pair(&f, &prev_c, &cur_c, 1, 1.0, 11u, 1.0, 23u);
 	struct dao_icp_setup s;
 	dao_icp_setup_default(&s);
 	float *scratch = malloc(dao_icp_scratch_floats(&s, W, H) * sizeof(float));
