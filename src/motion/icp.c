@@ -500,9 +500,12 @@ void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *ca
 	out->rms = eq.n ? (float)sqrt(eq.r2 / eq.n) : INFINITY;
 	/* the verdict's condition is the geometry's: the last step's pairs
 	 * unweighted by the noise (which leans on the near and the grazing
-	 * surfaces and would hide a flat wall's free directions) */
+	 * surfaces and would hide a flat wall's free directions), over the
+	 * coarse grid's points only: a ratio of eigenvalues, which a quarter
+	 * of the points spread over the same image measures as well, for a
+	 * quarter of a fine step (docs/perf/icp3.md) */
 	st.noise_weight = 0;
-	accumulate(s, &st, sums, out->points, &eq);
+	accumulate(s, &st, sums, n0, &eq);
 	out->cond = eq.n ? (float)condition(eq.a) : 0.0f;
 	out->reason = verdict(s, out);
 	out->valid = out->reason == DAO_ICP_OK;
