@@ -42,6 +42,11 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 		.step = 4,
 		.coarse_iterations = 4,
 		.iterations = 3,
+		/* from the last frame's motion 2 + 2 steps were as good as
+		 * 4 + 3 (docs/perf/icp3.md); from the identity (the first
+		 * frame, after a refusal) they were not */
+		.seeded_coarse_iterations = 2,
+		.seeded_iterations = 2,
 		.normal_radius = 6,
 		.dist_gate = 0.10f,
 		.cos_gate = 0.8660254f, /* 30 degrees */
@@ -490,9 +495,11 @@ void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *ca
 	/* coarse to fine: the coarse grid's points first, where there are
 	 * enough of them, then all (steps below 0.1 mm, then 0.01 mm, end a level) */
 	const int n0 = coarse >= 4 * s->min_inliers ? coarse : out->points;
-	int go = level(s, &st, sums, n0, s->coarse_iterations, 0, scale, 1e-4, &sigma, prior, &eq, out);
+	const int n_coarse = prior ? s->seeded_coarse_iterations : s->coarse_iterations;
+	const int n_fine = prior ? s->seeded_iterations : s->iterations;
+	int go = level(s, &st, sums, n0, n_coarse, 0, scale, 1e-4, &sigma, prior, &eq, out);
 	if (go > 0)
-		go = level(s, &st, sums, out->points, s->iterations, s->coarse_iterations, scale, 1e-5, &sigma, prior,
+		go = level(s, &st, sums, out->points, n_fine, n_coarse, scale, 1e-5, &sigma, prior,
 			   &eq, out);
 	if (go < 0)
 		return;
@@ -500,9 +507,12 @@ void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *ca
 	out->rms = eq.n ? (float)sqrt(eq.r2 / eq.n) : INFINITY;
 	/* the verdict's condition is the geometry's: the last step's pairs
 	 * unweighted by the noise (which leans on the near and the grazing
-	 * surfaces and would hide a flat wall's free directions) */
+	 * surfaces and would hide a flat wall's free directions), over the
+	 * coarse grid's points only: a ratio of eigenvalues, which a quarter
+	 * of the points spread over the same image measures as well, for a
+	 * quarter of a fine step (docs/perf/icp3.md) */
 	st.noise_weight = 0;
-	accumulate(s, &st, sums, out->points, &eq);
+	accumulate(s, &st, sums, n0, &eq);
 	out->cond = eq.n ? (float)condition(eq.a) : 0.0f;
 	out->reason = verdict(s, out);
 	out->valid = out->reason == DAO_ICP_OK;

@@ -40,6 +40,9 @@ struct dao_icp_setup {
 	int step;          /* grid stride in pixels (source points), >= 1 */
 	int coarse_iterations; /* Gauss-Newton steps on the coarse grid (every 2 step px), >= 1 */
 	int iterations;    /* ... then on the whole grid, >= 1 (both end early on a tiny step) */
+	/* the same two counts when a prior seeds the estimate (its start is
+	 * then near: the last frame's motion), >= 1 */
+	int seeded_coarse_iterations, seeded_iterations;
 	int normal_radius; /* pixels between the neighbours of a normal's differences */
 	float dist_gate;   /* pairs farther apart than this (m) are not used */
 	float cos_gate;    /* ... nor pairs whose normals differ by more (cosine) */

@@ -6,10 +6,12 @@
  * thread's alone, CLOCK_THREAD_CPUTIME_ID, and the wall time).  A measuring tool
  * (docs/perf/icp2.md), not a test.
  *
- *   motion-bench DIR SIMD THREADS ROUNDS [POOL_MIN_POINTS [ao]]
+ *   motion-bench DIR SIMD THREADS ROUNDS [POOL_MIN_POINTS [ao|seeded]]
  *
  * (POOL_MIN_POINTS: dao_icp_setup's; "ao": the AO history's reprojection
- * alone instead, by the estimated motions, on the calling thread)
+ * alone instead, by the estimated motions, on the calling thread;
+ * "seeded": each pair's estimate seeded by the last pair's accepted one, as
+ * the pipeline's prior does, the first pair of each pass by none)
  *
  * DIR/depth/NNNN.png (mm) with camera.json's 640x480 at 525 px (synth's);
  * the previous frame is given as 1/z (the history's form).  Prints the mean
@@ -119,12 +121,18 @@ int main(int argc, char **argv)
 		return 0;
 	}
 #endif
+	const int seeded = argc > 6 && !strcmp(argv[6], "seeded");
 	double t0 = cpu_ms(), ang = 0;
 	const double c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID), w0 = clock_ms(CLOCK_MONOTONIC);
-	for (int r = 0; r < rounds; r++)
+	for (int r = 0; r < rounds; r++) {
+		struct dao_pose last;
+		int have = 0;
 		for (int i = 1; i < n; i++) {
 			struct dao_icp_result res;
-			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i], NULL, scratch, &res);
+			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i], seeded && have ? &last : NULL,
+					 scratch, &res);
+			if (res.valid)
+				last = res.pose, have = 1;
 			ang += dao_pose_angle(&res.pose);
 #ifndef MOTION_BENCH_MAIN
 			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2,
@@ -133,6 +141,7 @@ int main(int argc, char **argv)
 			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2);
 #endif
 		}
+	}
 	const double t = cpu_ms() - t0;
 	const double tc = clock_ms(CLOCK_THREAD_CPUTIME_ID) - c0, tw = clock_ms(CLOCK_MONOTONIC) - w0;
 	const double per = (n - 1) * rounds;
