@@ -10,6 +10,7 @@
  */
 #include <string.h>
 
+#include "motion/icp_normal_simd.h"
 #include "motion/icp_pairs.h"
 #include "motion/icp_source.h"
 
@@ -68,20 +69,13 @@ void DAO_ISA_FN(dao_icp_source)(const struct dao_icp_grid *g, int y, float *out)
 			zu = v_gather(up, k, ok);
 			zd = v_gather(down, k, ok);
 		}
-		const vf tol = v_mul(edge, z);
-		ok = m_and(ok, m_and(v_gt(z, zero), m_and(v_le(v_abs(v_sub(zl, z)), tol),
-							 v_le(v_abs(v_sub(zr, z)), tol))));
-		ok = m_and(ok, m_and(v_le(v_abs(v_sub(zu, z)), tol), v_le(v_abs(v_sub(zd, z)), tol)));
+		ok = icp_smooth(ok, z, zl, zr, zu, zd, edge);
 		const vf ux = v_add(v_mul(xf, ax), bx);
 		const vf ul = v_sub(ux, rax), ur = v_add(ux, rax);
 		const vf p0 = v_mul(ux, z), p1 = v_mul(vy, z);
-		const vf dx0 = v_sub(v_mul(ur, zr), v_mul(ul, zl)), dx1 = v_mul(vy, v_sub(zr, zl));
-		const vf dx2 = v_sub(zr, zl);
-		const vf dy0 = v_mul(ux, v_sub(zd, zu)), dy1 = v_sub(v_mul(vd, zd), v_mul(vu, zu));
-		const vf dy2 = v_sub(zd, zu);
-		const vf c0 = v_sub(v_mul(dx1, dy2), v_mul(dx2, dy1));
-		const vf c1 = v_sub(v_mul(dx2, dy0), v_mul(dx0, dy2));
-		const vf c2 = v_sub(v_mul(dx0, dy1), v_mul(dx1, dy0));
+		vf cn[3];
+		icp_cross(ux, vy, ul, ur, vu, vd, zl, zr, zu, zd, cn);
+		const vf c0 = cn[0], c1 = cn[1], c2 = cn[2];
 		const vf len = v_sqrt(v_add(v_add(v_mul(c0, c0), v_mul(c1, c1)), v_mul(c2, c2)));
 		ok = m_and(ok, v_gt(len, zero));
 		const vf cp = v_add(v_add(v_mul(c0, p0), v_mul(c1, p1)), v_mul(c2, z));
