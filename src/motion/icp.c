@@ -12,6 +12,7 @@
 #include "motion/icp.h"
 #include "motion/icp_pairs.h"
 #include "motion/icp_source.h"
+#include "motion/reproject.h"
 #include "core/threadpool.h"
 
 enum { SOA = 6 }; /* x, y, z, nx, ny, nz */
@@ -80,9 +81,8 @@ static size_t grid_stride(const struct dao_icp_setup *s, int w)
 
 static size_t grid_cap(const struct dao_icp_setup *s, int w, int h)
 {
-	const size_t gx = (size_t)(w + s->step - 1) / (size_t)s->step;
-	const size_t gy = (size_t)(h + s->step - 1) / (size_t)s->step;
-	return (gx * gy + DAO_ICP_PAD - 1) / DAO_ICP_PAD * DAO_ICP_PAD;
+	const size_t n = (size_t)grid_w(s, w) * (size_t)grid_h(s, h);
+	return (n + DAO_ICP_PAD - 1) / DAO_ICP_PAD * DAO_ICP_PAD;
 }
 
 static size_t sums_floats(size_t cap)
@@ -95,8 +95,8 @@ size_t dao_icp_scratch_floats(const struct dao_icp_setup *s, int w, int h)
 	const size_t cap = grid_cap(s, w, h), npix = (size_t)w * (size_t)h;
 	/* the source arrays, the target's depth, the grid's rows */
 	const size_t work = SOA * cap + npix + 6 * (size_t)grid_h(s, h) * grid_stride(s, w);
-	/* ... or the history's reprojection (motion/reproject.h), which shares it */
-	const size_t rp = 2 * npix + 2 * (size_t)h;
+	/* ... or the history's reprojection, which shares it */
+	const size_t rp = dao_history_reproject_scratch(w, h);
 	return sums_floats(cap) + (work > rp ? work : rp);
 }
 

@@ -19,14 +19,7 @@ void dao_reproject_land_ref(const struct dao_reproject_land *s, int y0, int y1)
 		float g0[3];
 		dao_reproject_row_g0(s, y, g0);
 		int32_t lo = s->h, hi = -1;
-		const size_t row = (size_t)y * (size_t)w;
-		for (int x = 0; x < w; x++) {
-			const int32_t r = dao_reproject_px(s, g0, dg, x, row + (size_t)x);
-			if (r >= 0) {
-				lo = r < lo ? r : lo;
-				hi = r > hi ? r : hi;
-			}
-		}
+		dao_reproject_px_span(s, g0, dg, 0, w, (size_t)y * (size_t)w, &lo, &hi);
 		s->rows[2 * y] = lo;
 		s->rows[2 * y + 1] = hi;
 	}

@@ -55,13 +55,7 @@ void DAO_ISA_FN(dao_reproject_land)(const struct dao_reproject_land *s, int y0, 
 			hi = v_max(hi, v_sel(ok, yv, none_hi));
 		}
 		int32_t rlo = (int32_t)-v_hmax(v_neg(lo)), rhi = (int32_t)v_hmax(hi);
-		for (; x < w; x++) {
-			const int32_t r = dao_reproject_px(s, g0s, dgs, x, row + (size_t)x);
-			if (r >= 0) {
-				rlo = r < rlo ? r : rlo;
-				rhi = r > rhi ? r : rhi;
-			}
-		}
+		dao_reproject_px_span(s, g0s, dgs, x, w, row, &rlo, &rhi);
 		s->rows[2 * y] = rlo;
 		s->rows[2 * y + 1] = rhi;
 	}

@@ -46,4 +46,19 @@ static inline int32_t dao_reproject_px(const struct dao_reproject_land *s, const
 	return in ? yv : -1;
 }
 
+/* pixels [x0, x1) of row `row` (its first pixel's index) by dao_reproject_px,
+ * widening [*lo, *hi] to their landing rows */
+static inline void dao_reproject_px_span(const struct dao_reproject_land *s, const float g0[3],
+					 const float dg[3], int x0, int x1, size_t row,
+					 int32_t *lo, int32_t *hi)
+{
+	for (int x = x0; x < x1; x++) {
+		const int32_t r = dao_reproject_px(s, g0, dg, x, row + (size_t)x);
+		if (r >= 0) {
+			*lo = r < *lo ? r : *lo;
+			*hi = r > *hi ? r : *hi;
+		}
+	}
+}
+
 #endif
