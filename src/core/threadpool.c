@@ -20,7 +20,7 @@ struct dao_pool {
 	dao_pool_fn fn;
 	dao_pool_thread_fn tfn; /* or this one, told which thread runs the band */
 	void *arg;
-	int rows, band;          /* band: the least rows of a band (min_rows) */
+	int rows, min_rows;      /* a band holds at least min_rows rows (but the last) */
 	int divisor;             /* a band is the rows left / divisor (2 per thread) */
 	atomic_int next_row;
 	atomic_int started;      /* workers that took their index (1 .. nworkers) */
@@ -50,7 +50,7 @@ static inline void cpu_relax(void)
  * set-up paid rarely), the last ones min_rows, so the threads finish within
  * a small band of each other.  Equal bands (four per thread) left one
  * thread idle for half a band on average at the end of every stage:
- * measured 7 % of two threads' time over a default VGA frame, most of it
+ * measured 4-6 % of two threads' time over a default VGA frame, most of it
  * after GTAO's 1 ms bands (docs/perf/sched.md).
  */
 static int take_band(struct dao_pool *p, int *y0, int *y1)
@@ -61,7 +61,7 @@ static int take_band(struct dao_pool *p, int *y0, int *y1)
 		if (left <= 0)
 			return 0;
 		int n = (left + p->divisor - 1) / p->divisor;
-		n = (n + p->band - 1) / p->band * p->band; /* p->band: min_rows */
+		n = (n + p->min_rows - 1) / p->min_rows * p->min_rows;
 		if (n > left)
 			n = left;
 		if (atomic_compare_exchange_weak_explicit(&p->next_row, &at, at + n,
@@ -192,7 +192,7 @@ static void run(struct dao_pool *p, int rows, int min_rows, dao_pool_fn fn,
 	p->tfn = tfn;
 	p->arg = arg;
 	p->rows = rows;
-	p->band = min_rows;
+	p->min_rows = min_rows;
 	p->divisor = 2 * (p->nworkers + 1);
 	atomic_store_explicit(&p->next_row, 0, memory_order_relaxed);
 	atomic_store_explicit(&p->busy, p->nworkers, memory_order_relaxed);
