@@ -6,6 +6,7 @@
 
 #include "core/half.h"
 #include "core/multiversion.h"
+#include "core/planes_alloc.h"
 #include "kernels/gtao.h"
 #include "kernels/gtao_planes.h"
 
@@ -27,8 +28,8 @@ int dao_gtao_planes_init(struct dao_gtao_planes *pl, int w, int h, float max_r_p
 	pl->stride4 = 2 * pl->pad4 + DAO_GTAO_BLOCK * blocks;
 	if (((size_t)h + 2) * 4 * (size_t)pl->stride4 > INT32_MAX)
 		return -EOVERFLOW; /* the tile kernel keeps tap offsets in 32 bits */
-	pl->izp = calloc(((size_t)w + 2) * ((size_t)h + 2), sizeof(float));
-	pl->phase = calloc(((size_t)h + 2) * 4 * (size_t)pl->stride4, sizeof(float));
+	pl->izp = dao_planes_alloc(((size_t)w + 2) * ((size_t)h + 2) * sizeof(float), 1);
+	pl->phase = dao_planes_alloc(((size_t)h + 2) * 4 * (size_t)pl->stride4 * sizeof(float), 1);
 	if (!pl->izp || !pl->phase) {
 		dao_gtao_planes_free(pl);
 		return -ENOMEM;

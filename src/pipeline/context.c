@@ -27,6 +27,7 @@
 #include "core/clock.h"
 #include "core/error_internal.h"
 #include "core/multiversion.h"
+#include "core/planes_alloc.h"
 #include "core/sized.h"
 #include "core/math_util.h"
 #include "denoise/denoise.h"
@@ -291,7 +292,7 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 				     "(%zu bytes per pixel); use a smaller frame",
 				     checked.width, checked.height, per_pixel);
 	}
-	float *mem = malloc(ctx->npix * per_pixel);
+	float *mem = dao_planes_alloc(ctx->npix * per_pixel, 0);
 	if (!mem) {
 		free(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
