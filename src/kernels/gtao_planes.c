@@ -18,6 +18,17 @@ static int offset_cover(int w, float max_r_px)
 	return r < (float)(w + 4) ? (int)r : w + 4;
 }
 
+/* the planes' sizes (dao_planes_alloc) */
+static size_t izp_bytes(const struct dao_gtao_planes *pl)
+{
+	return ((size_t)pl->width + 2) * ((size_t)pl->height + 2) * sizeof(float);
+}
+
+static size_t phase_bytes(const struct dao_gtao_planes *pl)
+{
+	return ((size_t)pl->height + 2) * 4 * (size_t)pl->stride4 * sizeof(float);
+}
+
 int dao_gtao_planes_init(struct dao_gtao_planes *pl, int w, int h, float max_r_px)
 {
 	const int blocks = (w + DAO_GTAO_BLOCK_SPAN - 1) / DAO_GTAO_BLOCK_SPAN;
@@ -28,8 +39,8 @@ int dao_gtao_planes_init(struct dao_gtao_planes *pl, int w, int h, float max_r_p
 	pl->stride4 = 2 * pl->pad4 + DAO_GTAO_BLOCK * blocks;
 	if (((size_t)h + 2) * 4 * (size_t)pl->stride4 > INT32_MAX)
 		return -EOVERFLOW; /* the tile kernel keeps tap offsets in 32 bits */
-	pl->izp = dao_planes_alloc(((size_t)w + 2) * ((size_t)h + 2) * sizeof(float), 1);
-	pl->phase = dao_planes_alloc(((size_t)h + 2) * 4 * (size_t)pl->stride4 * sizeof(float), 1);
+	pl->izp = dao_planes_alloc(izp_bytes(pl));
+	pl->phase = dao_planes_alloc(phase_bytes(pl));
 	if (!pl->izp || !pl->phase) {
 		dao_gtao_planes_free(pl);
 		return -ENOMEM;
@@ -39,8 +50,8 @@ int dao_gtao_planes_init(struct dao_gtao_planes *pl, int w, int h, float max_r_p
 
 void dao_gtao_planes_free(struct dao_gtao_planes *pl)
 {
-	free(pl->izp);
-	free(pl->phase);
+	dao_planes_free(pl->izp, izp_bytes(pl));
+	dao_planes_free(pl->phase, phase_bytes(pl));
 	free(pl->thick);
 	pl->izp = pl->phase = NULL;
 	pl->thick = NULL;

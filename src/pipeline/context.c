@@ -54,6 +54,10 @@
 #include "shade/shade.h"
 #include "simd/cpu_internal.h"
 
+/* the working planes in one block: 1 + 1 + 3 + 1 + 1 + 1 + 2 + 1 planes of floats, then
+ * two of bytes */
+#define PLANE_BYTES_PER_PIXEL (11 * sizeof(float) + 2)
+
 struct dao_context {
 	struct dao_camera cam;
 	struct dao_params params;
@@ -283,8 +287,7 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->params = p;
 	use_kernels(ctx);
 	ctx->npix = (size_t)checked.width * checked.height;
-	/* 1 + 1 + 3 + 1 + 1 + 1 + 2 + 1 planes of floats, then two of bytes */
-	const size_t per_pixel = 11 * sizeof(float) + 2;
+	const size_t per_pixel = PLANE_BYTES_PER_PIXEL;
 	if (ctx->npix > SIZE_MAX / per_pixel) { /* a 32-bit size_t */
 		free(ctx);
 		return dao_error_set(err, -EOVERFLOW,
@@ -292,7 +295,7 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 				     "(%zu bytes per pixel); use a smaller frame",
 				     checked.width, checked.height, per_pixel);
 	}
-	float *mem = dao_planes_alloc(ctx->npix * per_pixel, 0);
+	float *mem = dao_planes_alloc(ctx->npix * per_pixel);
 	if (!mem) {
 		free(ctx);
 		return dao_error_set(err, -ENOMEM, "out of memory for %ux%u working planes",
@@ -336,7 +339,7 @@ void dao_context_destroy(struct dao_context *ctx)
 		return;
 	dao_pool_destroy(ctx->pool);
 	free(ctx->tile_scratch);
-	free(ctx->z_raw);
+	dao_planes_free(ctx->z_raw, ctx->npix * PLANE_BYTES_PER_PIXEL);
 	dao_gtao_planes_free(&ctx->planes);
 	free(ctx->bent);
 	free(ctx->thick);

@@ -53,7 +53,7 @@ static void test_large_plane(void **state)
 {
 	(void)state;
 	const size_t size = 9 * MIB + 12345; /* not a multiple of the page */
-	unsigned char *p = dao_planes_alloc(size, 1);
+	unsigned char *p = dao_planes_alloc(size);
 	assert_non_null(p);
 	assert_int_equal((uintptr_t)p % (2 * MIB), 0);
 	for (size_t i = 0; i < size; i += 4093)
@@ -72,25 +72,32 @@ static void test_large_plane(void **state)
 	else
 		print_message("huge pages not checked: enabled [%s], defrag [%s], %ld kB\n",
 			      enabled, defrag, kb);
-	free(p);
+	dao_planes_free(p, size);
 }
 
 static void test_small_and_edge_sizes(void **state)
 {
 	(void)state;
-	assert_null(dao_planes_alloc(0, 1));
-	assert_null(dao_planes_alloc(SIZE_MAX, 0));
-	assert_null(dao_planes_alloc(SIZE_MAX - MIB, 1));
-	unsigned char *p = dao_planes_alloc(1000, 1);
+	assert_null(dao_planes_alloc(0));
+	assert_null(dao_planes_alloc(SIZE_MAX));
+	assert_null(dao_planes_alloc(SIZE_MAX - MIB));
+	dao_planes_free(NULL, 1000);
+	unsigned char *p = dao_planes_alloc(1000);
 	assert_non_null(p);
 	for (int i = 0; i < 1000; i++)
 		assert_int_equal(p[i], 0);
-	free(p);
-	p = dao_planes_alloc(2 * MIB, 0); /* exactly a huge page */
+	dao_planes_free(p, 1000);
+	p = dao_planes_alloc(2 * MIB); /* exactly a huge page */
 	assert_non_null(p);
 	assert_int_equal((uintptr_t)p % (2 * MIB), 0);
+	assert_int_equal(p[2 * MIB - 1], 0);
 	memset(p, 1, 2 * MIB);
-	free(p);
+	dao_planes_free(p, 2 * MIB);
+	/* released: the next one of the same size may take its place, and is zero again */
+	p = dao_planes_alloc(2 * MIB);
+	assert_non_null(p);
+	assert_int_equal(p[12345], 0);
+	dao_planes_free(p, 2 * MIB);
 }
 
 int main(void)
