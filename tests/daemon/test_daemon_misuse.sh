@@ -43,10 +43,13 @@ echo "stdout closed: $in_dropped frames dropped at the input (live source)"
 # (--max-frames counts processed frames; a frame dropped early may be replaced by a later
 # one: 198 frames 0..199 with 2 dropped, or 200 frames 0..202 with 3 dropped, have both
 # been seen. Either way the recording's indices have no gap but the reported drops.)
+# The drops say how busy the host was (0-3 idle, 83 seen with two builds beside the test);
+# a closed stdout that stalled the pipeline would lose most frames: fewer drops than frames
+# kept.
 frames=$(field frames "$out")
 [ "$(field warning "$out")" = 0 ] && [ "$(field first "$out")" = 0 ] &&
 	[ $(( frames + in_dropped )) = $(( $(field last "$out") + 1 )) ] &&
-	[ $(( frames + in_dropped )) -ge 200 ] && [ "$frames" -le 200 ] && [ "$in_dropped" -le 20 ] ||
+	[ $(( frames + in_dropped )) -ge 200 ] && [ "$frames" -le 200 ] && [ "$in_dropped" -lt "$frames" ] ||
 	fail "stdout closed: expected frames 0..last less the $in_dropped reported dropped, 200 in all: $out"
 if grep -a -q -e "FRAME" -e "Cmono" "$WORK/no-stdout.oni"; then
 	fail "the y4m stream was written into the recording"
