@@ -326,16 +326,23 @@ static size_t pb_len(uint8_t *p, uint32_t field, const void *d, size_t len)
 	return n + put(p + n, d, len);
 }
 
-/* A FrameTransform of count_cb's values: 100 s + 5 ns, odom -> cam, (1, 2, 3), identity. */
-static size_t pb_transform(uint8_t *p, int rotation)
+/* Fields 1 (a Timestamp of 100 s + 5 ns) and 2 ("odom"): their bytes. */
+static size_t pb_stamp_odom(uint8_t *p)
 {
-	uint8_t ts[16], v[64];
-	size_t n = 0, k = pb_varint(ts, 1 << 3);
+	uint8_t ts[16];
+	size_t k = pb_varint(ts, 1 << 3);
 	k += pb_varint(ts + k, 100);
 	k += pb_varint(ts + k, 2 << 3);
 	k += pb_varint(ts + k, 5);
-	n += pb_len(p + n, 1, ts, k);
-	n += pb_len(p + n, 2, "odom", 4);
+	size_t n = pb_len(p, 1, ts, k);
+	return n + pb_len(p + n, 2, "odom", 4);
+}
+
+/* A FrameTransform of count_cb's values: 100 s + 5 ns, odom -> cam, (1, 2, 3), identity. */
+static size_t pb_transform(uint8_t *p, int rotation)
+{
+	uint8_t v[64];
+	size_t n = pb_stamp_odom(p), k;
 	n += pb_len(p + n, 3, "cam", 3);
 	k = pb_f64(v, 1, 1) + pb_f64(v + 9, 2, 2);
 	k += pb_f64(v + k, 3, 3);
@@ -544,14 +551,8 @@ static void test_foxglove_cdr(void **state)
  * orientation 2). */
 static size_t pb_pose_in_frame(uint8_t *p, int poses, int orientation)
 {
-	uint8_t ts[16], v[64], pose[160];
-	size_t n = 0, k = pb_varint(ts, 1 << 3);
-	k += pb_varint(ts + k, 100);
-	k += pb_varint(ts + k, 2 << 3);
-	k += pb_varint(ts + k, 5);
-	n += pb_len(p + n, 1, ts, k);
-	n += pb_len(p + n, 2, "odom", 4);
-	k = pb_f64(v, 1, 1) + pb_f64(v + 9, 2, 2);
+	uint8_t v[64], pose[160];
+	size_t n = pb_stamp_odom(p), k = pb_f64(v, 1, 1) + pb_f64(v + 9, 2, 2);
 	k += pb_f64(v + k, 3, 3);
 	size_t pn = pb_len(pose, 1, v, k);
 	if (orientation)

@@ -25,18 +25,26 @@ static uint64_t stamp_ns(int64_t sec, int64_t nsec, int *bad)
 
 /* ---- protobuf ---- */
 
-static uint64_t pb_timestamp(struct dao_pb *r, uint32_t wire)
+/* A field holding a message (wire type LEN): 1 with s on its bytes, else 0 and r bad. */
+static int pb_sub(struct dao_pb *r, uint32_t wire, struct dao_pb *s)
 {
 	size_t n;
-	int64_t sec = 0, nsec = 0;
 	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &n) : NULL;
 	if (!p) {
 		r->bad = 1;
 		return 0;
 	}
+	dao_pb_init(s, p, n);
+	return 1;
+}
+
+static uint64_t pb_timestamp(struct dao_pb *r, uint32_t wire)
+{
+	int64_t sec = 0, nsec = 0;
 	struct dao_pb t;
 	uint32_t f, w;
-	dao_pb_init(&t, p, n);
+	if (!pb_sub(r, wire, &t))
+		return 0;
 	while (dao_pb_next(&t, &f, &w)) {
 		if ((f == 1 || f == 2) && w == DAO_PB_VARINT) {
 			uint64_t v = dao_pb_varint(&t);
@@ -148,15 +156,10 @@ static int pb_compressed_image(const uint8_t *msg, size_t len, struct dao_fg_ima
 /* A foxglove.Vector3 or foxglove.Quaternion (n doubles, fields 1..n) merged into v. */
 static void pb_vector(struct dao_pb *r, uint32_t wire, double *v, uint32_t n)
 {
-	size_t len;
-	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &len) : NULL;
-	if (!p) {
-		r->bad = 1;
-		return;
-	}
 	struct dao_pb s;
 	uint32_t f, w;
-	dao_pb_init(&s, p, len);
+	if (!pb_sub(r, wire, &s))
+		return;
 	while (dao_pb_next(&s, &f, &w)) {
 		if (f >= 1 && f <= n && w == DAO_PB_I64)
 			v[f - 1] = dao_pb_double(&s);
@@ -199,39 +202,13 @@ static void frame_transform_init(struct dao_tf_msg_transform *t)
 	t->tr.q[3] = 1.0;
 }
 
-/* One foxglove.FrameTransform of len bytes into t (its rotation the identity when left out). */
-static int pb_frame_transform(const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t)
-{
-	struct dao_pb r;
-	uint32_t f, w;
-	int rotation = 0;
-	frame_transform_init(t);
-	dao_pb_init(&r, msg, len);
-	while (dao_pb_next(&r, &f, &w)) {
-		switch (f) {
-		case 1: t->stamp_ns = pb_timestamp(&r, w); break;
-		case 2: pb_name(&r, w, &t->parent, &t->parent_len); break;
-		case 3: pb_name(&r, w, &t->child, &t->child_len); break;
-		case 4: pb_vector(&r, w, t->tr.t, 3); break;
-		case 5: pb_rotation(&r, w, t->tr.q, &rotation); break;
-		default: dao_pb_skip(&r, w);
-		}
-	}
-	return r.bad ? -EINVAL : 0;
-}
-
 /* foxglove.Pose: position 1 (Vector3), orientation 2 (Quaternion), merged into tr. */
 static void pb_pose(struct dao_pb *r, uint32_t wire, struct dao_rigid *tr, int *rotation)
 {
-	size_t len;
-	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &len) : NULL;
-	if (!p) {
-		r->bad = 1;
-		return;
-	}
 	struct dao_pb s;
 	uint32_t f, w;
-	dao_pb_init(&s, p, len);
+	if (!pb_sub(r, wire, &s))
+		return;
 	while (dao_pb_next(&s, &f, &w)) {
 		if (f == 1)
 			pb_vector(&s, w, tr->t, 3);
@@ -244,31 +221,48 @@ static void pb_pose(struct dao_pb *r, uint32_t wire, struct dao_rigid *tr, int *
 		r->bad = 1;
 }
 
-/* foxglove.PoseInFrame (list 0: timestamp 1, frame_id 2, pose 3) or PosesInFrame (list 1:
- * poses 3, repeated; the first into t, the others checked), *n the poses. */
-static int pb_pose_in_frame(int list, const uint8_t *msg, size_t len,
-			    struct dao_tf_msg_transform *t, uint32_t *n)
+/*
+ * foxglove.FrameTransform (list < 0: timestamp 1, parent_frame_id 2, child_frame_id 3,
+ * translation 4, rotation 5), PoseInFrame (list 0: timestamp 1, frame_id 2 as the parent,
+ * pose 3) or PosesInFrame (list 1: poses 3, repeated: the first into t, the others
+ * checked) into t, *n the poses (1 but for a PosesInFrame).  Left out: 0, "", the identity.
+ */
+static int pb_framed(int list, const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t,
+		     uint32_t *n)
 {
 	struct dao_pb r;
 	uint32_t f, w;
 	int rotation = 0;
 	frame_transform_init(t);
-	*n = !list;
+	*n = list != 1;
 	dao_pb_init(&r, msg, len);
 	while (dao_pb_next(&r, &f, &w)) {
-		switch (f) {
-		case 1: t->stamp_ns = pb_timestamp(&r, w); break;
-		case 2: pb_name(&r, w, &t->parent, &t->parent_len); break;
-		case 3: {
+		if (f == 1) {
+			t->stamp_ns = pb_timestamp(&r, w);
+		} else if (f == 2) {
+			pb_name(&r, w, &t->parent, &t->parent_len);
+		} else if (f == 3 && list < 0) {
+			pb_name(&r, w, &t->child, &t->child_len);
+		} else if (f == 3) {
 			struct dao_rigid spare = t->tr;
-			int rot = 0, first = !list || (*n)++ == 0;
+			int rot = 0, first = list == 0 || (*n)++ == 0;
 			pb_pose(&r, w, first ? &t->tr : &spare, first ? &rotation : &rot);
-			break;
-		}
-		default: dao_pb_skip(&r, w);
+		} else if (f == 4 && list < 0) {
+			pb_vector(&r, w, t->tr.t, 3);
+		} else if (f == 5 && list < 0) {
+			pb_rotation(&r, w, t->tr.q, &rotation);
+		} else {
+			dao_pb_skip(&r, w);
 		}
 	}
 	return r.bad ? -EINVAL : 0;
+}
+
+/* One foxglove.FrameTransform of len bytes into t (its rotation the identity when left out). */
+static int pb_frame_transform(const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t)
+{
+	uint32_t n;
+	return pb_framed(-1, msg, len, t, &n);
 }
 
 static int pb_frame_transforms(int list, const uint8_t *msg, size_t len, dao_tf_msg_cb cb,
@@ -621,7 +615,7 @@ int dao_fg_poses_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg, s
 	int r;
 	if (enc == DAO_FG_JSON)
 		return json_poses(list, msg, len, cb, user);
-	if ((r = pb_pose_in_frame(list, msg, len, &t, &n)) < 0)
+	if ((r = pb_framed(list, msg, len, &t, &n)) < 0)
 		return r;
 	if (n != 1)
 		return -ERANGE;
