@@ -1,12 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * libFuzzer target: the tf and odometry parsers (ROS 1 in bag/ros_msg.c,
- * ROS 2 CDR in mcap/ros2_msg.c, Foxglove's FrameTransform(s) in
- * mcap/foxglove_msg.c) and the tf buffer they fill.  The first byte picks
- * the parser: without bit 3, bits 0-1 are 0 ROS 1 TFMessage, 1 ROS 1
- * Odometry, 2 ROS 2 TFMessage, 3 ROS 2 Odometry; with bit 3 (8), 0
- * FrameTransform in protobuf, 1 FrameTransforms in protobuf, 2
- * FrameTransform in JSON, 3 FrameTransforms in JSON.  Bit 2 marks the
+ * libFuzzer target: the tf, odometry and pose parsers (ROS 1 in
+ * bag/ros_msg.c, ROS 2 CDR in mcap/ros2_msg.c, Foxglove's FrameTransform(s)
+ * and PoseInFrame(s) in mcap/foxglove_msg.c) and the tf buffer they fill.
+ * The first byte picks the parser: without bits 3 and 5, bits 0-1 are 0
+ * ROS 1 TFMessage, 1 ROS 1 Odometry, 2 ROS 2 TFMessage, 3 ROS 2 Odometry;
+ * with bit 3 (8), 0 FrameTransform in protobuf, 1 FrameTransforms in
+ * protobuf, 2 FrameTransform in JSON, 3 FrameTransforms in JSON; with bits
+ * 5 and 3 (40) the same of PoseInFrame and PosesInFrame; with bit 5 alone
+ * (32), foxglove_msgs/msg/ in CDR: 0 or 3 FrameTransform, 1 PoseInFrame, 2
+ * PosesInFrame (a pose goes in as frame "pose").  Bit 2 marks the
  * transforms static, else bit 4 static if alone (DAO_TF_STATIC_IF_ALONE).
  * The rest is the message.  Every transform delivered goes into a small
  * buffer (so its limits are met); then every pair of frames is looked up
@@ -42,17 +45,48 @@ static void inside(const char *p, uint32_t n, const struct ctx *c)
 		abort();
 }
 
-static int add(void *user, const struct dao_tf_msg_transform *t)
+/* t into the buffer, its stamp kept for the lookups. */
+static int buffer_add(struct ctx *c, const struct dao_tf_msg_transform *t)
 {
-	struct ctx *c = user;
 	struct dao_error err;
-	inside(t->parent, t->parent_len, c);
-	inside(t->child, t->child_len, c);
 	if (c->n < 8)
 		c->stamps[c->n++] = t->stamp_ns;
 	int r = dao_tf_buffer_add(c->b, t->parent, t->parent_len, t->child, t->child_len,
 				  t->stamp_ns, &t->tr, c->time, &err);
 	return r < 0 ? r : 0;
+}
+
+static int add(void *user, const struct dao_tf_msg_transform *t)
+{
+	inside(t->parent, t->parent_len, user);
+	inside(t->child, t->child_len, user);
+	return buffer_add(user, t);
+}
+
+/* A pose (a transform of an empty child): the camera's frame "pose". */
+static int add_pose(void *user, const struct dao_tf_msg_transform *t)
+{
+	struct dao_tf_msg_transform p = *t;
+	inside(t->parent, t->parent_len, user);
+	if (t->child_len)
+		abort();
+	p.child = "pose";
+	p.child_len = 4;
+	return buffer_add(user, &p);
+}
+
+/* Bit 5's parsers (the pose topics, Foxglove's CDR). */
+static void foxglove_poses(struct ctx *c, uint8_t tag)
+{
+	if (tag & 8) {
+		(void)dao_fg_poses_parse(c->json ? DAO_FG_JSON : DAO_FG_PROTOBUF, tag & 1, c->d,
+					 c->size, add_pose, c);
+		return;
+	}
+	if ((tag & 3) == 1 || (tag & 3) == 2)
+		(void)dao_ros2_fg_pose_parse((tag & 3) == 2, c->d, c->size, add_pose, c);
+	else
+		(void)dao_ros2_fg_transform_parse(c->d, c->size, add, c);
 }
 
 static void lookups(struct ctx *c)
@@ -85,7 +119,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	c.size = size - 1;
 	c.time = data[0] & 4 ? DAO_TF_STATIC : data[0] & 16 ? DAO_TF_STATIC_IF_ALONE : DAO_TF_DYNAMIC;
 	c.json = (data[0] & 8) && (data[0] & 2);
-	switch (data[0] & 11) {
+	switch (data[0] & 32 ? 32 : data[0] & 11) {
+	case 32:
+		foxglove_poses(&c, data[0]);
+		break;
 	case 0:
 		(void)dao_ros_tf_parse(c.d, (uint32_t)c.size, add, &c);
 		break;

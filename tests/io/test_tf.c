@@ -5,8 +5,8 @@
  * static against dynamic transforms, gaps, two parents, cycles, frames not
  * connected, quaternions normalised or refused, the limits, a lone
  * Foxglove transform made static; and the ROS 1 and ROS 2 tf / odometry
- * parsers and Foxglove's FrameTransform(s) (protobuf, JSON) on hand-made,
- * damaged and truncated messages.
+ * parsers and Foxglove's FrameTransform(s) and PoseInFrame(s) (protobuf,
+ * JSON, ROS 2 CDR) on hand-made, damaged and truncated messages.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -326,16 +326,23 @@ static size_t pb_len(uint8_t *p, uint32_t field, const void *d, size_t len)
 	return n + put(p + n, d, len);
 }
 
-/* A FrameTransform of count_cb's values: 100 s + 5 ns, odom -> cam, (1, 2, 3), identity. */
-static size_t pb_transform(uint8_t *p, int rotation)
+/* Fields 1 (a Timestamp of 100 s + 5 ns) and 2 ("odom"): their bytes. */
+static size_t pb_stamp_odom(uint8_t *p)
 {
-	uint8_t ts[16], v[64];
-	size_t n = 0, k = pb_varint(ts, 1 << 3);
+	uint8_t ts[16];
+	size_t k = pb_varint(ts, 1 << 3);
 	k += pb_varint(ts + k, 100);
 	k += pb_varint(ts + k, 2 << 3);
 	k += pb_varint(ts + k, 5);
-	n += pb_len(p + n, 1, ts, k);
-	n += pb_len(p + n, 2, "odom", 4);
+	size_t n = pb_len(p, 1, ts, k);
+	return n + pb_len(p + n, 2, "odom", 4);
+}
+
+/* A FrameTransform of count_cb's values: 100 s + 5 ns, odom -> cam, (1, 2, 3), identity. */
+static size_t pb_transform(uint8_t *p, int rotation)
+{
+	uint8_t v[64];
+	size_t n = pb_stamp_odom(p), k;
 	n += pb_len(p + n, 3, "cam", 3);
 	k = pb_f64(v, 1, 1) + pb_f64(v + 9, 2, 2);
 	k += pb_f64(v + k, 3, 3);
@@ -480,6 +487,130 @@ static void test_foxglove_json(void **state)
 	dao_tf_buffer_free(a.b);
 }
 
+/* A CDR message: header, sec 100, nsec 5, frame_id "odom", then (list) a count of poses, then
+ * poses of translation 1 2 3 and the identity; its length. */
+static size_t cdr_pose(uint8_t *m, int list, uint32_t poses)
+{
+	int32_t sec = 100;
+	uint32_t nsec = 5, l1 = 5;
+	size_t n = 4;
+	memcpy(m, (uint8_t[]){ 0, 1, 0, 0 }, 4);
+	n += put(m + n, &sec, 4);
+	n += put(m + n, &nsec, 4);
+	n += put(m + n, &l1, 4);
+	n += put(m + n, "odom", 5);
+	n = 4 + ((n - 4 + 3) & ~(size_t)3);
+	if (list)
+		n += put(m + n, &poses, 4);
+	if (poses)
+		n = 4 + ((n - 4 + 7) & ~(size_t)7);
+	double v[7] = { 1, 2, 3, 0, 0, 0, 1 };
+	for (uint32_t i = 0; i < poses; i++)
+		n += put(m + n, v, sizeof v);
+	return n;
+}
+
+/* foxglove_msgs/msg/ in CDR: PoseInFrame(s) (one pose only), FrameTransform. */
+static void test_foxglove_cdr(void **state)
+{
+	(void)state;
+	uint8_t m[256];
+	struct dao_tf_msg_transform t;
+	int got = 0;
+	for (int list = 0; list < 2; list++) {
+		size_t n = cdr_pose(m, list, 1);
+		assert_int_equal(dao_ros2_fg_pose_parse(list, m, n, keep_cb, &t), 0);
+		assert_true(t.parent_len == 4 && !memcmp(t.parent, "odom", 4) && t.child_len == 0);
+		assert_int_equal(dao_ros2_fg_pose_parse(list, m, n, count_cb, &got), 0);
+		for (size_t cut = 0; cut < n; cut++)
+			assert_true(dao_ros2_fg_pose_parse(list, m, cut, count_cb, &got) < 0);
+		assert_int_equal(got, list + 1);
+	}
+	/* two poses or none: which is the camera's is unknown */
+	assert_int_equal(dao_ros2_fg_pose_parse(1, m, cdr_pose(m, 1, 2), count_cb, &got), -ERANGE);
+	assert_int_equal(dao_ros2_fg_pose_parse(1, m, cdr_pose(m, 1, 0), count_cb, &got), -ERANGE);
+	/* a count past the bytes: not the type */
+	assert_int_equal(dao_ros2_fg_pose_parse(1, m, cdr_pose(m, 1, 2) - 8, count_cb, &got), -EINVAL);
+	assert_int_equal(got, 2);
+	/* FrameTransform: a TransformStamped alone (frame_id then child_frame_id) */
+	size_t n = cdr_pose(m, 0, 0); /* up to frame_id, aligned to 4 */
+	uint32_t l2 = 4;
+	n += put(m + n, &l2, 4);
+	n += put(m + n, "cam", 4);
+	n = 4 + ((n - 4 + 7) & ~(size_t)7);
+	double v[7] = { 1, 2, 3, 0, 0, 0, 1 };
+	n += put(m + n, v, sizeof v);
+	assert_int_equal(dao_ros2_fg_transform_parse(m, n, keep_cb, &t), 0);
+	assert_true(t.child_len == 3 && !memcmp(t.child, "cam", 3) && t.tr.t[1] == 2.0);
+	for (size_t cut = 0; cut < n; cut++)
+		assert_true(dao_ros2_fg_transform_parse(m, cut, count_cb, &got) < 0);
+	assert_int_equal(got, 2);
+}
+
+/* foxglove.PoseInFrame(s) in protobuf: timestamp 1, frame_id 2, pose(s) 3 (position 1,
+ * orientation 2). */
+static size_t pb_pose_in_frame(uint8_t *p, int poses, int orientation)
+{
+	uint8_t v[64], pose[160];
+	size_t n = pb_stamp_odom(p), k = pb_f64(v, 1, 1) + pb_f64(v + 9, 2, 2);
+	k += pb_f64(v + k, 3, 3);
+	size_t pn = pb_len(pose, 1, v, k);
+	if (orientation)
+		pn += pb_len(pose + pn, 2, v, pb_f64(v, 4, 1));
+	for (int i = 0; i < poses; i++)
+		n += pb_len(p + n, 3, pose, pn);
+	return n;
+}
+
+static int json_poses(const char *text, int list, dao_tf_msg_cb cb, void *user)
+{
+	return dao_fg_poses_parse(DAO_FG_JSON, list, (const uint8_t *)text, strlen(text), cb, user);
+}
+
+#define FP "{\"position\": {\"x\": 1, \"y\": 2, \"z\": 3}, \"orientation\": {\"w\": 1}}"
+#define PIF "{\"timestamp\": {\"sec\": 100, \"nsec\": 5}, \"frame_id\": \"odom\", "
+
+static void test_foxglove_poses(void **state)
+{
+	(void)state;
+	uint8_t m[512];
+	struct dao_tf_msg_transform t;
+	int got = 0;
+	size_t n = pb_pose_in_frame(m, 1, 1);
+	for (int list = 0; list < 2; list++)
+		assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, list, m, n, count_cb, &got), 0);
+	assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), 0);
+	assert_true(t.parent_len == 4 && t.child_len == 0 && t.tr.t[0] == 1.0);
+	for (size_t cut = n - 9; cut < n; cut++) /* inside the pose */
+		assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, 0, m, cut, count_cb, &got),
+				 -EINVAL);
+	assert_int_equal(got, 2);
+	/* PosesInFrame of two or none: refused as such */
+	n = pb_pose_in_frame(m, 2, 1);
+	assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, 1, m, n, count_cb, &got), -ERANGE);
+	n = pb_pose_in_frame(m, 0, 1);
+	assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, 1, m, n, count_cb, &got), -ERANGE);
+	/* the pose or its orientation left out: the identity */
+	assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), 0);
+	assert_true(t.tr.q[3] == 1.0 && t.tr.t[0] == 0.0);
+	n = pb_pose_in_frame(m, 1, 0);
+	assert_int_equal(dao_fg_poses_parse(DAO_FG_PROTOBUF, 0, m, n, keep_cb, &t), 0);
+	assert_true(t.tr.q[3] == 1.0 && t.tr.t[2] == 3.0);
+	/* JSON */
+	assert_int_equal(json_poses(PIF "\"pose\": " FP "}", 0, count_cb, &got), 0);
+	assert_int_equal(json_poses(PIF "\"poses\": [" FP "]}", 1, count_cb, &got), 0);
+	assert_int_equal(got, 4);
+	assert_int_equal(json_poses(PIF "\"poses\": [" FP ", " FP "]}", 1, count_cb, &got), -ERANGE);
+	assert_int_equal(json_poses(PIF "\"poses\": []}", 1, count_cb, &got), -ERANGE);
+	assert_int_equal(json_poses(PIF "\"poses\": [5]}", 1, count_cb, &got), -EINVAL);
+	assert_int_equal(json_poses(PIF "\"pose\": 5}", 0, count_cb, &got), -EINVAL);
+	assert_int_equal(json_poses(PIF "\"pose\": " FP, 0, count_cb, &got), -EINVAL);
+	assert_int_equal(got, 4);
+	assert_int_equal(json_poses("{\"frame_id\": \"odom\", \"pose\": {\"orientation\": "
+				    "{\"x\": 1}}}", 0, keep_cb, &t), 0);
+	assert_true(t.tr.q[3] == 0.0 && t.tr.q[0] == 1.0 && t.stamp_ns == 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -492,6 +623,8 @@ int main(void)
 		cmocka_unit_test(test_lone_static),
 		cmocka_unit_test(test_foxglove_protobuf),
 		cmocka_unit_test(test_foxglove_json),
+		cmocka_unit_test(test_foxglove_cdr),
+		cmocka_unit_test(test_foxglove_poses),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,7 +3,9 @@
 // chunks; protobuf by protobufjs with the .proto that @foxglove/schemas generates, or JSON with
 // its JSON schemas): the depth as foxglove.RawImage 16UC1 (frame_id = the plan's frame_id) and
 // its foxglove.CameraCalibration, /tf as foxglove.FrameTransform (a message a transform) and
-// /tf_static as foxglove.FrameTransforms (a message a group).  No odometry (Foxglove has none).
+// /tf_static as foxglove.FrameTransforms (a message a group).  No odometry (Foxglove has none),
+// but plan.poses (optional: {topic, type PoseInFrame or PosesInFrame, messages: [{stamp_ns,
+// frame, poses: [{q, t, fg}]}]}), the camera's poses as foxglove.PoseInFrame(s).
 // PLAN_DIR/plan.json says what, PLAN_DIR/depth.raw holds the 16-bit frames.  plan.fg (optional):
 //   static_topic  the static groups' topic instead of /tf_static
 //   extra         [{topic, stamp_ns, transforms: [...]}]: more FrameTransforms messages
@@ -11,7 +13,9 @@
 //                 the file's own encoding)
 // and a transform may carry fg: "stamp0" (written with timestamp 0), "truncate" (its
 // message cut short inside its rotation), "nan" (w NaN; JSON: the literal NaN, as json-c
-// reads it) or "nochild" (child_frame_id left out).
+// reads it) or "nochild" (child_frame_id left out); a pose "nan" or "truncate" alike.
+// make_tf_mcap.js writes the same as foxglove_msgs/msg/... in CDR with frameTransform,
+// poseMessage and damaged.
 // usage: node make_fg_tf_mcap.js PLAN_DIR OUT.mcap protobuf|json
 //        node make_fg_tf_mcap.js --seeds TF_DIR [MCAP_DIR]   (the Foxglove seeds of fuzz_tf,
 //        fuzz/corpus/tf, and of fuzz_mcap_reader, fuzz/corpus/mcap)
@@ -26,8 +30,10 @@ require(path.join(M.mods, "protobufjs/ext/descriptor"));
 const { generateProto } = require(path.join(M.mods, "@foxglove/schemas/dist/internal/generateProto"));
 const { foxgloveMessageSchemas: S } = require(path.join(M.mods, "@foxglove/schemas/dist/internal/schemas"));
 const JSONSCHEMA = require(path.join(M.mods, "@foxglove/schemas/jsonschema"));
+const { generateRosMsgMergedSchema } = require(path.join(M.mods, "@foxglove/schemas/dist/internal/generateRos"));
 
-const TYPES = ["RawImage", "CameraCalibration", "FrameTransform", "FrameTransforms", "Vector3", "Quaternion"];
+const TYPES = ["RawImage", "CameraCalibration", "FrameTransform", "FrameTransforms", "Vector3", "Quaternion",
+  "Pose", "PoseInFrame", "PosesInFrame"];
 
 function root() {
   const r = new protobuf.Root();
@@ -38,19 +44,33 @@ function root() {
 }
 
 const split = (ns) => [BigInt(ns) / 1000000000n, BigInt(ns) % 1000000000n];
+// a time in an encoding: json true (JSON), false (protobuf) or "cdr" (builtin_interfaces/Time)
 const time = (ns, json) => {
   const [s, n] = split(ns);
-  return json ? { sec: Number(s), nsec: Number(n) } : { seconds: Number(s), nanos: Number(n) };
+  return json === "cdr" ? { sec: Number(s), nanosec: Number(n) }
+    : json ? { sec: Number(s), nsec: Number(n) } : { seconds: Number(s), nanos: Number(n) };
 };
+const xyz = (v) => ({ x: v[0], y: v[1], z: v[2] });
+const rotation = (x) => ({ x: x.q[0], y: x.q[1], z: x.q[2], w: x.fg === "nan" ? NaN : x.q[3] });
 
-// a plan's transform as a FrameTransform object
+// a plan's transform as a FrameTransform object (CDR has every field: no child is "")
 function frameTransform(t, json) {
   const m = { timestamp: time(t.fg === "stamp0" ? 0 : t.stamp_ns, json), parent_frame_id: t.parent,
-    child_frame_id: t.child, translation: { x: t.t[0], y: t.t[1], z: t.t[2] },
-    rotation: { x: t.q[0], y: t.q[1], z: t.q[2], w: t.fg === "nan" ? NaN : t.q[3] } };
-  if (t.fg === "nochild") delete m.child_frame_id;
+    child_frame_id: t.child, translation: xyz(t.t), rotation: rotation(t) };
+  if (t.fg === "nochild" && json === "cdr") m.child_frame_id = "";
+  else if (t.fg === "nochild") delete m.child_frame_id;
   return m;
 }
+
+// a plan's pose message as a PoseInFrame or PosesInFrame object
+function poseMessage(type, m, json) {
+  const poses = m.poses.map((x) => ({ position: xyz(x.t), orientation: rotation(x) }));
+  const o = { timestamp: time(m.stamp_ns, json), frame_id: m.frame };
+  return type === "PoseInFrame" ? { ...o, pose: poses[0] } : { ...o, poses };
+}
+
+// bytes cut short inside the last rotation when a transform or pose asks for it
+const damaged = (b, xs) => (xs.some((x) => x.fg === "truncate") ? b.subarray(0, b.length - 5) : b);
 
 // encode: name, object -> bytes in the file's encoding
 function encoder(json) {
@@ -64,8 +84,7 @@ function encoder(json) {
 function transformsBytes(enc, name, ts, json) {
   const obj = name === "FrameTransform" ? frameTransform(ts[0], json)
     : { transforms: ts.map((t) => frameTransform(t, json)) };
-  const b = enc(name, obj);
-  return ts.some((t) => t.fg === "truncate") ? b.subarray(0, b.length - 5) : b;
+  return damaged(enc(name, obj), ts);
 }
 
 async function writeFile(plan, raw, out, encoding) {
@@ -81,6 +100,9 @@ async function writeFile(plan, raw, out, encoding) {
       put("/tf", "FrameTransform", t.stamp_ns, transformsBytes(enc, "FrameTransform", [t], json));
   for (const x of fg.extra || [])
     put(x.topic, "FrameTransforms", x.stamp_ns, transformsBytes(enc, "FrameTransforms", x.transforms, json));
+  const ps = plan.poses;
+  for (const m of ps ? ps.messages : [])
+    put(ps.topic, ps.type, m.stamp_ns, damaged(enc(ps.type, poseMessage(ps.type, m, json)), m.poses));
   plan.frames.forEach((f, i) => {
     put("/camera/depth/calibration", "CameraCalibration", f.stamp_ns, enc("CameraCalibration", {
       timestamp: time(f.stamp_ns, json), frame_id: plan.frame_id, width: W, height: H,
@@ -118,7 +140,9 @@ async function writeFile(plan, raw, out, encoding) {
 }
 
 // fuzz_tf's seeds: a tag byte (8 | parser: 0 FrameTransform protobuf, 1 FrameTransforms
-// protobuf, 2 FrameTransform JSON, 3 FrameTransforms JSON; 16 for DAO_TF_STATIC_IF_ALONE);
+// protobuf, 2 FrameTransform JSON, 3 FrameTransforms JSON; 16 for DAO_TF_STATIC_IF_ALONE;
+// 32 | 8 | the same of PoseInFrame(s); 32 | 0 FrameTransform, 1 PoseInFrame, 2 PosesInFrame
+// as foxglove_msgs/msg/ in CDR);
 // and with mcapDir fuzz_mcap_reader's: 8x6 depth, 2 frames, map -> odom (stamped 0, on
 // /tf_static), odom -> cam on /tf, in protobuf and JSON
 async function seeds(dir, mcapDir) {
@@ -140,6 +164,7 @@ async function seeds(dir, mcapDir) {
     child, t: [1, 2, 3], q });
   const a = t("base", 1700000000000000000n, [0, 0, 0.3826834323650898, 0.9238795325112867]);
   const b = t("cam", 1700000000100000000n, [-0.5, 0.5, -0.5, 0.5]);
+  const pose = { stamp_ns: a.stamp_ns, frame: "odom", poses: [{ q: b.q, t: [1, 2, 3] }] };
   for (const json of [false, true]) {
     const enc = encoder(json), tag = json ? 2 : 0, kind = json ? "json" : "proto";
     const write = (name, tagByte, bytes) =>
@@ -148,9 +173,21 @@ async function seeds(dir, mcapDir) {
     write(`fg_${kind}_transforms.bin`, 8 | tag | 1, transformsBytes(enc, "FrameTransforms", [a, b], json));
     write(`fg_${kind}_lone.bin`, 16 | 8 | tag | 1, transformsBytes(enc, "FrameTransforms",
       [a, { ...a, stamp_ns: "1700000000050000000" }, b], json));
+    for (const [name, list] of [["PoseInFrame", 0], ["PosesInFrame", 1]])
+      write(`fg_${kind}_${name === "PoseInFrame" ? "pose" : "poses"}.bin`, 32 | 8 | tag | list,
+        enc(name, poseMessage(name, pose, json)));
   }
+  const cdr = (name, obj) => M.writer(generateRosMsgMergedSchema(S[name], { rosVersion: 2 })).writeMessage(obj);
+  const cdrSeed = (file, tagByte, bytes) =>
+    fs.writeFileSync(path.join(dir, file), Buffer.concat([Buffer.from([tagByte]), Buffer.from(bytes)]));
+  cdrSeed("fg_cdr_transform.bin", 32, cdr("FrameTransform", frameTransform(a, "cdr")));
+  cdrSeed("fg_cdr_pose.bin", 32 | 1, cdr("PoseInFrame", poseMessage("PoseInFrame", pose, "cdr")));
+  cdrSeed("fg_cdr_poses.bin", 32 | 2, cdr("PosesInFrame", poseMessage("PosesInFrame", pose, "cdr")));
 }
 
+module.exports = { frameTransform, poseMessage, damaged };
+if (require.main !== module)
+  return;
 const main = process.argv[2] === "--seeds" ? () => seeds(process.argv[3], process.argv[4])
   : () => writeFile(JSON.parse(fs.readFileSync(path.join(process.argv[2], "plan.json"), "utf8")),
     fs.readFileSync(path.join(process.argv[2], "depth.raw")), process.argv[3], process.argv[4]);

@@ -3,7 +3,12 @@
 // sqlite3 .db3 (sql.js), the messages in CDR by @foxglove/rosmsg2-serialization: the depth
 // (sensor_msgs/msg/Image 16UC1) and its camera_info, /tf and /tf_static
 // (tf2_msgs/msg/TFMessage) and an odometry topic (nav_msgs/msg/Odometry) when the plan has
-// them.  PLAN_DIR/plan.json says what, PLAN_DIR/depth.raw holds the 16-bit frames.
+// them.  With plan.fg_cdr, the transforms are Foxglove's ROS 2 messages instead, as
+// make_fg_tf_mcap.js writes them (/tf foxglove_msgs/msg/FrameTransform, a message a transform,
+// /tf_static FrameTransforms; plan.fg's static_topic, extra and encoding, and the transforms'
+// fg), and plan.poses (make_fg_tf_mcap.js) as foxglove_msgs/msg/PoseInFrame(s); their .msg as
+// @foxglove/schemas generates them.  PLAN_DIR/plan.json says what, PLAN_DIR/depth.raw holds the
+// 16-bit frames.
 // usage: node make_tf_mcap.js PLAN_DIR OUT.mcap OUT.db3  (exit 77 without tests/js/node_modules)
 "use strict";
 const fs = require("fs");
@@ -11,7 +16,10 @@ const path = require("path");
 
 const M = require(path.join(__dirname, "make_mcaps.js"));
 const D = require(path.join(__dirname, "..", "db3", "make_db3.js"));
+const F = require(path.join(__dirname, "make_fg_tf_mcap.js"));
 const initSqlJs = require(path.join(M.mods, "sql.js"));
+const { generateRosMsgMergedSchema } = require(path.join(M.mods, "@foxglove/schemas/dist/internal/generateRos"));
+const { foxgloveMessageSchemas } = require(path.join(M.mods, "@foxglove/schemas/dist/internal/schemas"));
 const { SEP, HEADER, TIME, IMAGE, CAMINFO, writer } = M;
 
 const VECTOR3 = "MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n";
@@ -44,15 +52,38 @@ const transform = (t) => ({ header: header(t.stamp_ns, t.parent), child_frame_id
   transform: { translation: xyz(t.t), rotation: xyzw(t.q) } });
 const zeros = () => new Float64Array(36);
 
+// Foxglove's ROS 2 messages: foxglove_msgs/msg/NAME in CDR, cut short where a value asks
+function fgPut(put, topic, name, time, value, xs) {
+  const def = generateRosMsgMergedSchema(foxgloveMessageSchemas[name], { rosVersion: 2 });
+  put(topic, "foxglove_msgs/msg/" + name, def, time, value, (b) => F.damaged(b, xs));
+}
+
+function fgTransforms(put) {
+  const fg = plan.fg || {};
+  const one = (t) => F.frameTransform(t, "cdr");
+  for (const g of plan.tf_static_messages)
+    fgPut(put, fg.static_topic || "/tf_static", "FrameTransforms", plan.start_ns, { transforms: g.map(one) }, g);
+  for (const g of plan.tf_messages)
+    for (const t of g)
+      fgPut(put, "/tf", "FrameTransform", t.stamp_ns, one(t), [t]);
+  for (const x of fg.extra || [])
+    fgPut(put, x.topic, "FrameTransforms", x.stamp_ns, { transforms: x.transforms.map(one) }, x.transforms);
+}
+
 // every message of the recording: { topic, type, def, time (ns, BigInt), bytes }
 function messages() {
   const out = [];
-  const put = (topic, type, def, time, value) =>
-    out.push({ topic, type, def, time: BigInt(time), bytes: writer(def).writeMessage(value) });
-  for (const g of plan.tf_static_messages)
+  const put = (topic, type, def, time, value, cut = (b) => b) =>
+    out.push({ topic, type, def, time: BigInt(time), bytes: cut(writer(def).writeMessage(value)) });
+  if (plan.fg_cdr)
+    fgTransforms(put);
+  for (const g of plan.fg_cdr ? [] : plan.tf_static_messages)
     put("/tf_static", "tf2_msgs/msg/TFMessage", TF, plan.start_ns, { transforms: g.map(transform) });
-  for (const g of plan.tf_messages)
+  for (const g of plan.fg_cdr ? [] : plan.tf_messages)
     put("/tf", "tf2_msgs/msg/TFMessage", TF, g[0].stamp_ns, { transforms: g.map(transform) });
+  const ps = plan.poses;
+  for (const m of ps ? ps.messages : [])
+    fgPut(put, ps.topic, ps.type, m.stamp_ns, F.poseMessage(ps.type, m, "cdr"), m.poses);
   for (const t of plan.odometry)
     put(plan.odometry_topic, "nav_msgs/msg/Odometry", ODOMETRY, t.stamp_ns, {
       header: header(t.stamp_ns, t.parent), child_frame_id: t.child,
@@ -72,6 +103,12 @@ function messages() {
   return out.sort((a, b) => (a.time < b.time ? -1 : a.time > b.time ? 1 : 0));
 }
 
+// a topic's message and schema encodings (plan.fg.encoding: another for one topic)
+function encodingOf(topic) {
+  const e = (plan.fg || {}).encoding;
+  return e && e.topic === topic ? e : { message: "cdr", schema: "ros2msg" };
+}
+
 async function writeMcap(file, msgs) {
   await M.zstd.isLoaded;
   const w = new M.FileWritable();
@@ -81,8 +118,9 @@ async function writeMcap(file, msgs) {
   let seq = 0;
   for (const m of msgs) {
     if (!channels.has(m.topic)) {
-      const sid = await mw.registerSchema({ name: m.type, encoding: "ros2msg", data: enc.encode(m.def) });
-      channels.set(m.topic, await mw.registerChannel({ topic: m.topic, messageEncoding: "cdr",
+      const e = encodingOf(m.topic);
+      const sid = await mw.registerSchema({ name: m.type, encoding: e.schema, data: enc.encode(m.def) });
+      channels.set(m.topic, await mw.registerChannel({ topic: m.topic, messageEncoding: e.message,
         schemaId: sid, metadata: new Map() }));
     }
     await mw.addMessage({ channelId: channels.get(m.topic), sequence: seq++, logTime: m.time,
@@ -100,7 +138,8 @@ async function writeDb3(file, msgs) {
   for (const m of msgs) {
     if (!ids.has(m.topic)) {
       ids.set(m.topic, ids.size + 1);
-      db.run("INSERT INTO topics VALUES (?, ?, ?, 'cdr', ?)", [ids.size, m.topic, m.type, D.QOS]);
+      db.run("INSERT INTO topics VALUES (?, ?, ?, ?, ?)",
+        [ids.size, m.topic, m.type, encodingOf(m.topic).message, D.QOS]);
     }
     db.run("INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)",
       [ids.get(m.topic), m.time, m.bytes]);

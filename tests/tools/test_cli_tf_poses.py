@@ -56,6 +56,23 @@ the filtered depth of the ROS 2 MCAP to the pixel.  Foxglove-only variants:
   fgenc      /tf in the message encoding cbor (fgproto), or JSON messages under a protobuf
              schema (fgjson): refused, saying what was found and what is read
 
+Foxglove's ROS 2 messages (make_tf_mcap.js with plan fg_cdr: foxglove_msgs/msg/FrameTransform
+on /tf, FrameTransforms on /tf_static, in CDR by @foxglove/rosmsg2-serialization with the .msg
+@foxglove/schemas generates, beside sensor_msgs/msg/Image depth): as MCAP (fgcdr) and .db3
+(fgdb3), through the same checks as fgproto and fgjson (a transform left without
+child_frame_id is written with an empty one; fgenc is /tf in message encoding cbor).
+
+The camera's poses as Foxglove PoseInFrame(s) (pose_topic=/camera_pose, pan's poses in odom
+and /tf_static) in fgproto, fgjson, fgcdr and fgdb3:
+
+  fgpose     PoseInFrame: the truth in odom (the pose's frame_id), and with
+             pose_frame=map map -> odom x the truth; process gives the filtered depth of the
+             ROS 2 MCAP's odometry to the pixel; refused without pose_topic
+  fgposes    PosesInFrame of one pose, one more message with w NaN (skipped, warned)
+  fgposecut  PoseInFrame, one message cut short (skipped, warned)
+  fgposes2   PosesInFrame, one message of two poses: refused, saying why and what to do
+  fgposeenc  /camera_pose in the message encoding cbor: refused
+
 usage: test_cli_tf_poses.py DEPTHAO SOURCE_POSES MAKE_TF_BAG MAKE_TF_MCAP NODE DEPTHAOD
                             MAKE_FG_TF_MCAP
 """
@@ -71,7 +88,9 @@ import numpy as np
 from PIL import Image
 
 DEPTHAO, SOURCE_POSES, MAKE_BAG, MAKE_MCAP, NODE, DEPTHAOD, MAKE_FG = sys.argv[1:8]
-FG_FORMATS = {"fgproto": "protobuf", "fgjson": "json"}
+FG_FORMATS = {"fgproto": "protobuf", "fgjson": "json", "fgcdr": "cdr", "fgdb3": "cdr"}
+FG_SCHEMA = {"protobuf": "foxglove.", "json": "foxglove.", "cdr": "foxglove_msgs/msg/"}
+POSE_TOPIC = "/camera_pose"
 FG_SHARED = ("pan", "slide", "gap", "split")  # the plans written in the Foxglove formats too
 START_NS = 1700000000 * 10**9
 FRAME_ID = "camera_depth_optical_frame"
@@ -233,7 +252,28 @@ def plans(work):
         "tf_messages": clean, "tf_static_messages": st}))
     out["fgenc"] = (seq_pan, pan, plan_dir(work, "fgenc", seq_pan, {
         "tf_messages": clean, "tf_static_messages": statics()}))
+    pose_plans(work, out, seq_pan, pan)
     return out
+
+
+def pose_plans(work, out, seq, pan):
+    """The fgpose* plans: pan's camera poses in odom as PoseInFrame(s) on POSE_TOPIC."""
+    def msg(ns, p, fg=None, n=1):
+        return {"stamp_ns": str(ns), "frame": "odom",
+                "poses": [dict({"q": list(p[0]), "t": list(p[1])}, **({"fg": fg} if fg else {}))] * n}
+    good = [msg(stamp(i), p) for i, p in enumerate(pan)]
+    hurt = {"fgposes": "nan", "fgposecut": "truncate"}
+    for name, kind in (("fgpose", "PoseInFrame"), ("fgposes", "PosesInFrame"),
+                       ("fgposecut", "PoseInFrame"), ("fgposes2", "PosesInFrame"),
+                       ("fgposeenc", "PoseInFrame")):
+        msgs = list(good)
+        if name in hurt:
+            msgs.insert(2, msg(stamp(1) + 10**7, pan[1], hurt[name]))
+        if name == "fgposes2":
+            msgs[3] = msg(stamp(3), pan[3], n=2)
+        plan = {"tf_static_messages": statics(), "poses": {"topic": POSE_TOPIC, "type": kind,
+                                                           "messages": msgs}}
+        out[name] = (seq, pan, plan_dir(work, name, seq, plan))
 
 
 def write_recordings(work, plans_):
@@ -271,23 +311,36 @@ def write_recordings(work, plans_):
         for name, (_, _, d) in plans_.items():
             if name not in FG_SHARED and not name.startswith("fg"):
                 continue
-            if name == "fgenc":  # this file's own encoding under the other's name
-                plan = json.load(open(os.path.join(d, "plan.json")))
-                plan["fg"] = {"encoding": {"topic": "/tf", "message": "cbor", "schema": "protobuf"}
-                              if encoding == "protobuf" else
-                              {"topic": "/tf", "message": "json", "schema": "protobuf"}}
-                json.dump(plan, open(os.path.join(d, "plan.json"), "w"))
+            if fmt == "fgdb3":  # written with fgcdr's MCAP
+                recs[fmt][name] = os.path.join(work, "%s-fgcdr.db3" % name)
+                continue
+            d = fg_plan(work, name, d, encoding)
             path = os.path.join(work, "%s-%s.mcap" % (name, fmt))
-            r = run([NODE, MAKE_FG, d, path, encoding])
-            if r.returncode == 77:
-                print("note: no Foxglove MCAP: " + r.stdout.strip())
-                for f in FG_FORMATS:
-                    recs.pop(f, None)
-                return recs
+            r = run([NODE, MAKE_MCAP, d, path, path[:-5] + ".db3"] if encoding == "cdr" else
+                    [NODE, MAKE_FG, d, path, encoding])
             if r.returncode:
-                sys.exit("make_fg_tf_mcap.js failed: " + r.stdout + r.stderr)
+                sys.exit("make_tf_mcap.js or make_fg_tf_mcap.js failed: " + r.stdout + r.stderr)
             recs[fmt][name] = path
     return recs
+
+
+def fg_plan(work, name, d, encoding):
+    """The plan of d for a Foxglove file in encoding: fgenc and fgposeenc with another
+    encoding for /tf or the pose topic (this file's bytes under another name), CDR with
+    fg_cdr (Foxglove's ROS 2 messages)."""
+    plan = json.load(open(os.path.join(d, "plan.json")))
+    topic = POSE_TOPIC if name == "fgposeenc" else "/tf"
+    plan.setdefault("fg", {})
+    if name in ("fgenc", "fgposeenc"):
+        plan["fg"]["encoding"] = {"topic": topic, "message": "json" if encoding == "json" else "cbor",
+                                  "schema": "ros2msg" if encoding == "cdr" else "protobuf"}
+    plan["fg_cdr"] = encoding == "cdr"
+    out = os.path.join(work, "plan-%s-%s" % (name, encoding))
+    os.makedirs(out, exist_ok=True)
+    json.dump(plan, open(os.path.join(out, "plan.json"), "w"))
+    if not os.path.exists(os.path.join(out, "depth.raw")):
+        os.symlink(os.path.join(d, "depth.raw"), os.path.join(out, "depth.raw"))
+    return out
 
 
 def source_poses(uri):
@@ -457,12 +510,14 @@ def check_errors(work, recs, plans_):
                      "frames seen: 'map', 'odom', 'camera_link', '%s', 'base_link'" % FRAME_ID])
         expect_fail(fmt + " no topic", ["--input", paths["pan"], "--depth-temporal-motion",
                                         "source", "--pose-topic", "/nope"],
-                    ["no nav_msgs/Odometry topic '/nope' (pose_topic), nor transforms; "
-                     "odometry topics: none; transform topics: /tf", "/tf_static"])
+                    ["no nav_msgs/Odometry or Foxglove PoseInFrame(s) topic '/nope' "
+                     "(pose_topic), nor transforms; odometry and pose topics: none; transform "
+                     "topics: /tf", "/tf_static"])
         if "odom" in paths:
             expect_fail(fmt + " no tf", ["--input", paths["odom"], "--depth-temporal-motion",
                                          "source"],
-                        "no tf topic (tf2_msgs/TFMessage such as /tf, or foxglove.FrameTransform(s))")
+                        "no tf topic (tf2_msgs/TFMessage, foxglove.FrameTransform(s)) for the "
+                        "camera's poses, only /tf_static; name a nav_msgs/Odometry")
         r = run([DEPTHAO, "process", "--algorithm", "none", "--depth-out",
                  os.path.join(work, "gapout"), "--input", paths["gap"],
                  "--depth-temporal-motion", "source", "--pose-gap", "0.1"])
@@ -504,7 +559,7 @@ def check_foxglove(recs, plans_):
         if rc or wrong != len(truth):
             fail("%s fgtopic: without pose_topic the decoy should win: %d of %d (%s)" %
                  (fmt, wrong, len(truth), info["error"]))
-        what = "not a foxglove.FrameTransform (%s)" % encoding
+        what = "not a %sFrameTransform (%s)" % (FG_SCHEMA[encoding], encoding)
         check_truth(fmt, "fgnan", paths["fgnan"], truth,
                     warning="1 transforms or messages of /tf_static, /tf skipped as malformed "
                     "(the first: message 2 of '/tf': a rotation that is not a finite number)")
@@ -515,13 +570,68 @@ def check_foxglove(recs, plans_):
                     ["the depth frame '%s' is not connected to 'map' in /tf_static, /tf "
                      "(1 skipped as malformed, the first: message 0 of '/tf_static': a frame "
                      "name that is empty" % FRAME_ID])
-        found = ("'cbor' (schema encoding 'protobuf')" if encoding == "protobuf"
-                 else "'json' (schema encoding 'protobuf')")
         expect_fail(fmt + " fgenc", ["--input", paths["fgenc"], "--depth-temporal-motion",
                                      "source"],
-                    ["topic '/tf' is foxglove.FrameTransform in message encoding " + found,
-                     "poses are read from Foxglove transforms in protobuf (schema encoding "
-                     "protobuf) or json (jsonschema)"])
+                    ["topic '/tf' is %sFrameTransform in message encoding %s" %
+                     (FG_SCHEMA[encoding], wrong_encoding(fmt, encoding)), REFUSED])
+        check_foxglove_poses(fmt, encoding, paths, recs, pan)
+
+
+REFUSED = "read are protobuf, json (jsonschema) and, for foxglove_msgs/msg/*, cdr"
+
+
+def wrong_encoding(fmt, encoding):
+    """What fg_plan wrote for fgenc and fgposeenc: the encodings, as the error names them."""
+    return {"protobuf": "'cbor' (schema encoding 'protobuf')",
+            "json": "'json' (schema encoding 'protobuf')",
+            "cdr": "'cbor' (schema encoding '%s')" % ("" if fmt == "fgdb3" else "ros2msg")}[encoding]
+
+
+def check_foxglove_poses(fmt, encoding, paths, recs, pan):
+    """The camera's poses as PoseInFrame(s) (pose_plans)."""
+    sel = "?pose_topic=" + POSE_TOPIC
+    check_truth(fmt, "fgpose", paths["fgpose"] + sel, pan)
+    check_truth(fmt, "fgpose map", paths["fgpose"] + sel + "&pose_frame=map",
+                [compose(MAP_ODOM, p) for p in pan])
+    kind = FG_SCHEMA[encoding]
+    check_truth(fmt, "fgposes", paths["fgposes"] + sel, pan,
+                warning="1 transforms or messages of %s, /tf_static skipped as malformed (the "
+                "first: message 2 of '%s': a rotation that is not a finite number)" %
+                (POSE_TOPIC, POSE_TOPIC))
+    check_truth(fmt, "fgposecut", paths["fgposecut"] + sel, pan,
+                warning="(the first: message 2 of '%s': not a %sPoseInFrame (%s))" %
+                (POSE_TOPIC, kind, encoding))
+    topic = ["--depth-temporal-motion", "source", "--pose-topic", POSE_TOPIC]
+    expect_fail(fmt + " fgposes2", ["--input", paths["fgposes2"]] + topic,
+                "message 3 of '%s' (%sPosesInFrame) has not exactly one pose: which is the "
+                "camera's is unknown; record it alone, or name another pose_topic" %
+                (POSE_TOPIC, kind))
+    expect_fail(fmt + " fgposeenc", ["--input", paths["fgposeenc"]] + topic,
+                ["topic '%s' is %sPoseInFrame in message encoding %s" %
+                 (POSE_TOPIC, kind, wrong_encoding(fmt, encoding)), REFUSED])
+    expect_fail(fmt + " fgpose without --pose-topic", ["--input", paths["fgpose"],
+                                                       "--depth-temporal-motion", "source"],
+                "for the camera's poses, only /tf_static; name a nav_msgs/Odometry or "
+                "PoseInFrame(s) topic (pose_topic), or use motion icp or off")
+
+
+def check_pose_process(work, recs):
+    """process on PoseInFrame poses against process on the ROS 2 MCAP's odometry."""
+    if "mcap" not in recs:
+        return
+    motion = ["--depth-temporal-motion", "source", "--quiet", "--pose-topic"]
+    want, _ = depth_out(work, "mcap-odom", ["--input", recs["mcap"]["odom"]] + motion + ["/odom"])
+    for fmt in FG_FORMATS:
+        got, _ = depth_out(work, fmt + "-pose", ["--input", recs[fmt]["fgpose"]] + motion +
+                           [POSE_TOPIC])
+        if got is None or want is None:
+            continue
+        n = sum(int((a != b).sum()) for a, b in zip(got, want))
+        print("%s fgpose source: %d pixels of the filtered depth differ from the ROS 2 MCAP's "
+              "odometry's" % (fmt, n))
+        if n or len(got) != len(want):
+            fail("%s fgpose: %d pixels differ from the odometry's (%d frames, %d)" %
+                 (fmt, n, len(got), len(want)))
 
 
 def main():
@@ -536,6 +646,7 @@ def main():
         check_process(work, recs, plans_)
         check_errors(work, recs, plans_)
         check_foxglove(recs, plans_)
+        check_pose_process(work, recs)
         check_daemon(work, recs)
     finally:
         shutil.rmtree(work, ignore_errors=True)

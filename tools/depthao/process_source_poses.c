@@ -58,7 +58,7 @@ int process_source_pose(const struct process_options *o, struct run_state *st,
 			DAO_DEPTH_MOTION_SOURCE ? "source" : "source+icp", err.message);
 		if (r == -ENOTSUP)
 			fprintf(stderr, "depthao: ROS recordings (.bag, .mcap, .db3) carry them in "
-				"their tf or odometry, Foxglove MCAP in foxglove.FrameTransform(s); "
+				"their tf or odometry, Foxglove's in FrameTransform(s) or PoseInFrame(s); "
 				"for others give --depth-temporal-motion icp\n");
 		return 1;
 	}

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Foxglove's image schemas in protobuf or JSON (foxglove_msg.h). */
+/* Foxglove's image, transform and pose schemas in protobuf or JSON (foxglove_msg.h). */
 #include "mcap/foxglove_msg.h"
 
 #include <errno.h>
@@ -25,18 +25,26 @@ static uint64_t stamp_ns(int64_t sec, int64_t nsec, int *bad)
 
 /* ---- protobuf ---- */
 
-static uint64_t pb_timestamp(struct dao_pb *r, uint32_t wire)
+/* A field holding a message (wire type LEN): 1 with s on its bytes, else 0 and r bad. */
+static int pb_sub(struct dao_pb *r, uint32_t wire, struct dao_pb *s)
 {
 	size_t n;
-	int64_t sec = 0, nsec = 0;
 	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &n) : NULL;
 	if (!p) {
 		r->bad = 1;
 		return 0;
 	}
+	dao_pb_init(s, p, n);
+	return 1;
+}
+
+static uint64_t pb_timestamp(struct dao_pb *r, uint32_t wire)
+{
+	int64_t sec = 0, nsec = 0;
 	struct dao_pb t;
 	uint32_t f, w;
-	dao_pb_init(&t, p, n);
+	if (!pb_sub(r, wire, &t))
+		return 0;
 	while (dao_pb_next(&t, &f, &w)) {
 		if ((f == 1 || f == 2) && w == DAO_PB_VARINT) {
 			uint64_t v = dao_pb_varint(&t);
@@ -148,15 +156,10 @@ static int pb_compressed_image(const uint8_t *msg, size_t len, struct dao_fg_ima
 /* A foxglove.Vector3 or foxglove.Quaternion (n doubles, fields 1..n) merged into v. */
 static void pb_vector(struct dao_pb *r, uint32_t wire, double *v, uint32_t n)
 {
-	size_t len;
-	const uint8_t *p = wire == DAO_PB_LEN ? dao_pb_bytes(r, &len) : NULL;
-	if (!p) {
-		r->bad = 1;
-		return;
-	}
 	struct dao_pb s;
 	uint32_t f, w;
-	dao_pb_init(&s, p, len);
+	if (!pb_sub(r, wire, &s))
+		return;
 	while (dao_pb_next(&s, &f, &w)) {
 		if (f >= 1 && f <= n && w == DAO_PB_I64)
 			v[f - 1] = dao_pb_double(&s);
@@ -182,31 +185,84 @@ static void pb_name(struct dao_pb *r, uint32_t wire, const char **name, uint32_t
 	*len = (uint32_t)n;
 }
 
-/* One foxglove.FrameTransform of len bytes into t (its rotation the identity when left out). */
-static int pb_frame_transform(const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t)
+/* A foxglove.Quaternion into q: once present, its components are 0 unless given (a
+ * rotation left out is the identity). */
+static void pb_rotation(struct dao_pb *r, uint32_t wire, double *q, int *seen)
+{
+	if (!(*seen)++)
+		q[3] = 0.0;
+	pb_vector(r, wire, q, 4);
+}
+
+/* t all 0 and "", its rotation the identity: a message's fields left out. */
+static void frame_transform_init(struct dao_tf_msg_transform *t)
+{
+	memset(t, 0, sizeof(*t));
+	t->parent = t->child = "";
+	t->tr.q[3] = 1.0;
+}
+
+/* foxglove.Pose: position 1 (Vector3), orientation 2 (Quaternion), merged into tr. */
+static void pb_pose(struct dao_pb *r, uint32_t wire, struct dao_rigid *tr, int *rotation)
+{
+	struct dao_pb s;
+	uint32_t f, w;
+	if (!pb_sub(r, wire, &s))
+		return;
+	while (dao_pb_next(&s, &f, &w)) {
+		if (f == 1)
+			pb_vector(&s, w, tr->t, 3);
+		else if (f == 2)
+			pb_rotation(&s, w, tr->q, rotation);
+		else
+			dao_pb_skip(&s, w);
+	}
+	if (s.bad)
+		r->bad = 1;
+}
+
+/*
+ * foxglove.FrameTransform (list < 0: timestamp 1, parent_frame_id 2, child_frame_id 3,
+ * translation 4, rotation 5), PoseInFrame (list 0: timestamp 1, frame_id 2 as the parent,
+ * pose 3) or PosesInFrame (list 1: poses 3, repeated: the first into t, the others
+ * checked) into t, *n the poses (1 but for a PosesInFrame).  Left out: 0, "", the identity.
+ */
+static int pb_framed(int list, const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t,
+		     uint32_t *n)
 {
 	struct dao_pb r;
 	uint32_t f, w;
 	int rotation = 0;
-	memset(t, 0, sizeof(*t));
-	t->parent = t->child = "";
-	t->tr.q[3] = 1.0;
+	frame_transform_init(t);
+	*n = list != 1;
 	dao_pb_init(&r, msg, len);
 	while (dao_pb_next(&r, &f, &w)) {
-		switch (f) {
-		case 1: t->stamp_ns = pb_timestamp(&r, w); break;
-		case 2: pb_name(&r, w, &t->parent, &t->parent_len); break;
-		case 3: pb_name(&r, w, &t->child, &t->child_len); break;
-		case 4: pb_vector(&r, w, t->tr.t, 3); break;
-		case 5:
-			if (!rotation++) /* present: its components are 0 unless given */
-				t->tr.q[3] = 0.0;
-			pb_vector(&r, w, t->tr.q, 4);
-			break;
-		default: dao_pb_skip(&r, w);
+		if (f == 1) {
+			t->stamp_ns = pb_timestamp(&r, w);
+		} else if (f == 2) {
+			pb_name(&r, w, &t->parent, &t->parent_len);
+		} else if (f == 3 && list < 0) {
+			pb_name(&r, w, &t->child, &t->child_len);
+		} else if (f == 3) {
+			struct dao_rigid spare = t->tr;
+			int rot = 0, first = list == 0 || (*n)++ == 0;
+			pb_pose(&r, w, first ? &t->tr : &spare, first ? &rotation : &rot);
+		} else if (f == 4 && list < 0) {
+			pb_vector(&r, w, t->tr.t, 3);
+		} else if (f == 5 && list < 0) {
+			pb_rotation(&r, w, t->tr.q, &rotation);
+		} else {
+			dao_pb_skip(&r, w);
 		}
 	}
 	return r.bad ? -EINVAL : 0;
+}
+
+/* One foxglove.FrameTransform of len bytes into t (its rotation the identity when left out). */
+static int pb_frame_transform(const uint8_t *msg, size_t len, struct dao_tf_msg_transform *t)
+{
+	uint32_t n;
+	return pb_framed(-1, msg, len, t, &n);
 }
 
 static int pb_frame_transforms(int list, const uint8_t *msg, size_t len, dao_tf_msg_cb cb,
@@ -478,24 +534,31 @@ static void jname(struct json_object *o, const char *name, const char **s, uint3
 	*len = v ? (uint32_t)json_object_get_string_len(v) : 0;
 }
 
-static int json_frame_transform(struct json_object *o, struct dao_tf_msg_transform *t)
+/* o's Vector3 `tn` and Quaternion `rn` into tr (as protobuf: a rotation left out is the
+ * identity, a component left out 0). */
+static void jrigid(struct json_object *o, const char *tn, const char *rn, struct dao_rigid *tr,
+		   int *bad)
 {
 	static const char *const xyzw[] = { "x", "y", "z", "w" };
+	struct json_object *v = jfield(o, tn, json_type_object, bad);
+	for (int i = 0; v && i < 3; i++)
+		jnumber(v, xyzw[i], &tr->t[i], bad);
+	if ((v = jfield(o, rn, json_type_object, bad)) != NULL)
+		tr->q[3] = 0.0;
+	for (int i = 0; v && i < 4; i++)
+		jnumber(v, xyzw[i], &tr->q[i], bad);
+}
+
+static int json_frame_transform(struct json_object *o, struct dao_tf_msg_transform *t)
+{
 	int bad = 0;
-	memset(t, 0, sizeof(*t));
-	t->tr.q[3] = 1.0; /* a rotation left out */
+	frame_transform_init(t);
 	if (!json_object_is_type(o, json_type_object))
 		return -EINVAL;
 	t->stamp_ns = jstamp(o, &bad);
 	jname(o, "parent_frame_id", &t->parent, &t->parent_len, &bad);
 	jname(o, "child_frame_id", &t->child, &t->child_len, &bad);
-	struct json_object *v = jfield(o, "translation", json_type_object, &bad);
-	for (int i = 0; v && i < 3; i++)
-		jnumber(v, xyzw[i], &t->tr.t[i], &bad);
-	if ((v = jfield(o, "rotation", json_type_object, &bad)) != NULL)
-		t->tr.q[3] = 0.0;
-	for (int i = 0; v && i < 4; i++)
-		jnumber(v, xyzw[i], &t->tr.q[i], &bad);
+	jrigid(o, "translation", "rotation", &t->tr, &bad);
 	return bad ? -EINVAL : 0;
 }
 
@@ -518,6 +581,45 @@ static int json_frame_transforms(int list, const uint8_t *msg, size_t len, dao_t
 		}
 	json_object_put(o);
 	return bad ? -EINVAL : r < 0 ? r : 0;
+}
+
+/* foxglove.PoseInFrame (list 0: "pose") or PosesInFrame (list 1: "poses", one only). */
+static int json_poses(int list, const uint8_t *msg, size_t len, dao_tf_msg_cb cb, void *user)
+{
+	struct json_object *o = json_parse(msg, len);
+	struct dao_tf_msg_transform t;
+	int bad = 0, r;
+	if (!o)
+		return -EINVAL;
+	frame_transform_init(&t);
+	t.stamp_ns = jstamp(o, &bad);
+	jname(o, "frame_id", &t.parent, &t.parent_len, &bad);
+	struct json_object *a = list ? jfield(o, "poses", json_type_array, &bad) : NULL;
+	size_t n = !list ? 1 : a ? json_object_array_length(a) : 0;
+	struct json_object *pose = !list ? jfield(o, "pose", json_type_object, &bad)
+				   : n ? json_object_array_get_idx(a, 0) : NULL;
+	if (list && n && !json_object_is_type(pose, json_type_object))
+		bad = 1;
+	else if (pose)
+		jrigid(pose, "position", "orientation", &t.tr, &bad);
+	r = bad ? -EINVAL : n != 1 ? -ERANGE : cb(user, &t);
+	json_object_put(o);
+	return r < 0 ? r : 0;
+}
+
+int dao_fg_poses_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg, size_t len,
+		       dao_tf_msg_cb cb, void *user)
+{
+	struct dao_tf_msg_transform t;
+	uint32_t n;
+	int r;
+	if (enc == DAO_FG_JSON)
+		return json_poses(list, msg, len, cb, user);
+	if ((r = pb_framed(list, msg, len, &t, &n)) < 0)
+		return r;
+	if (n != 1)
+		return -ERANGE;
+	return (r = cb(user, &t)) < 0 ? r : 0;
 }
 
 int dao_fg_frame_transforms_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg,

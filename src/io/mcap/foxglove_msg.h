@@ -17,7 +17,10 @@
  *   foxglove.FrameTransform: timestamp 1, parent_frame_id 2,
  *     child_frame_id 3, translation 4 (foxglove.Vector3: x 1, y 2, z 3,
  *     double), rotation 5 (foxglove.Quaternion: x 1, y 2, z 3, w 4, double);
- *   foxglove.FrameTransforms: transforms 1 (repeated FrameTransform).
+ *   foxglove.FrameTransforms: transforms 1 (repeated FrameTransform);
+ *   foxglove.PoseInFrame: timestamp 1, frame_id 2, pose 3 (foxglove.Pose:
+ *     position 1, a Vector3, orientation 2, a Quaternion);
+ *   foxglove.PosesInFrame: timestamp 1, frame_id 2, poses 3 (repeated Pose).
  * The timestamp is google.protobuf.Timestamp: seconds 1 (int64), nanos 2
  * (int32).  Pixels are little-endian (RawImage has no byte-order field).
  * The parsers return 0 or -EINVAL (a message that does not fit its type: a
@@ -80,6 +83,17 @@ int dao_fg_calibration_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_
  */
 int dao_fg_frame_transforms_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg,
 				  size_t len, dao_tf_msg_cb cb, void *user);
+
+/*
+ * foxglove.PoseInFrame (list 0) or foxglove.PosesInFrame (list 1): cb called
+ * once with the pose as a transform of an empty child in frame_id at its
+ * timestamp, after the message is checked, as dao_fg_frame_transforms_parse
+ * (a pose left out is the identity, as is an orientation).  0, -EINVAL,
+ * -ERANGE for a PosesInFrame of other than exactly one pose (which one is
+ * the camera's is unknown), or cb's value < 0.
+ */
+int dao_fg_poses_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg, size_t len,
+		       dao_tf_msg_cb cb, void *user);
 
 /* Standard base64 (RFC 4648, padding optional) of `len` chars into out (cap bytes): bytes or -1. */
 long dao_base64_decode(const char *in, size_t len, uint8_t *out, size_t cap);

@@ -79,8 +79,8 @@ int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }
 
-/* Header, child_frame_id, a translation (or position) and a rotation: 0 or -EINVAL. */
-static int stamped_pose(struct dao_cdr *c, struct dao_tf_msg_transform *t)
+/* A builtin_interfaces/Time (a Header's stamp) and the frame_id after it: 0 or -EINVAL. */
+static int stamp_frame(struct dao_cdr *c, struct dao_tf_msg_transform *t)
 {
 	int32_t sec = dao_cdr_i32(c);
 	uint32_t nsec = dao_cdr_u32(c);
@@ -88,12 +88,26 @@ static int stamped_pose(struct dao_cdr *c, struct dao_tf_msg_transform *t)
 		return -EINVAL;
 	t->stamp_ns = (uint64_t)sec * 1000000000u + nsec;
 	t->parent = dao_cdr_string(c, &t->parent_len);
-	t->child = dao_cdr_string(c, &t->child_len);
+	return 0;
+}
+
+/* A translation (or position) and a rotation. */
+static int rigid(struct dao_cdr *c, struct dao_tf_msg_transform *t)
+{
 	for (int i = 0; i < 3; i++)
 		t->tr.t[i] = dao_cdr_f64(c);
 	for (int i = 0; i < 4; i++)
 		t->tr.q[i] = dao_cdr_f64(c);
 	return dao_cdr_ok(c) ? 0 : -EINVAL;
+}
+
+/* Header, child_frame_id, a translation (or position) and a rotation: 0 or -EINVAL. */
+static int stamped_pose(struct dao_cdr *c, struct dao_tf_msg_transform *t)
+{
+	if (stamp_frame(c, t) < 0)
+		return -EINVAL;
+	t->child = dao_cdr_string(c, &t->child_len);
+	return rigid(c, t);
 }
 
 int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user)
@@ -128,4 +142,37 @@ int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_
 	for (int i = 0; i < 36 + 6 + 36; i++) /* covariance, twist, its covariance */
 		(void)dao_cdr_f64(&c);
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
+}
+
+int dao_ros2_fg_transform_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user)
+{
+	struct dao_cdr c;
+	struct dao_tf_msg_transform t;
+	int r = start(&c, msg, len, &t, sizeof(t));
+	if (r < 0)
+		return r;
+	if (stamped_pose(&c, &t) < 0)
+		return -EINVAL;
+	return (r = cb(user, &t)) < 0 ? r : 0;
+}
+
+int dao_ros2_fg_pose_parse(int list, const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb,
+			   void *user)
+{
+	struct dao_cdr c;
+	struct dao_tf_msg_transform t;
+	int r = start(&c, msg, len, &t, sizeof(t));
+	if (r < 0)
+		return r;
+	t.child = "";
+	if (stamp_frame(&c, &t) < 0)
+		return -EINVAL;
+	uint32_t n = list ? dao_cdr_seq(&c, 56) : 1; /* a Pose: 7 float64 */
+	if (!dao_cdr_ok(&c))
+		return -EINVAL;
+	if (n != 1) /* which of them is the camera's is unknown */
+		return -ERANGE;
+	if (rigid(&c, &t) < 0)
+		return -EINVAL;
+	return (r = cb(user, &t)) < 0 ? r : 0;
 }

@@ -68,4 +68,18 @@ int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *
  * the twist are read past.  0, -EINVAL or -ENOTSUP. */
 int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out);
 
+/*
+ * Foxglove's ROS 2 messages (foxglove_msgs/msg/...), cb per transform as
+ * dao_ros2_tf_parse: FrameTransform is a TransformStamped (timestamp
+ * builtin_interfaces/Time, parent_frame_id, child_frame_id, translation,
+ * rotation), so a FrameTransforms is a TFMessage (dao_ros2_tf_parse reads
+ * it); PoseInFrame (list 0: timestamp, frame_id, geometry_msgs/Pose pose)
+ * or PosesInFrame (list 1: ... Pose[] poses) gives its pose as frame_id's
+ * transform with an empty child.  0, -EINVAL, -ENOTSUP, -ERANGE for a
+ * PosesInFrame whose poses are not exactly one, or cb's value.
+ */
+int dao_ros2_fg_transform_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user);
+int dao_ros2_fg_pose_parse(int list, const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb,
+			   void *user);
+
 #endif

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* A recording's camera poses from its tf, Foxglove transforms or odometry (source_poses.h). */
+/* A recording's camera poses from its tf, Foxglove transforms or poses, or odometry
+ * (source_poses.h). */
 #include "plugin/source_poses.h"
 
 #include <errno.h>
@@ -19,8 +20,10 @@ struct dao_source_poses {
 	char topics[120];           /* the topics read, for messages */
 	uint64_t skipped;           /* transforms and messages refused */
 	char skip_reason[200];      /* the first one's */
-	char odom_child[256];       /* odometry: the first message's child_frame_id */
+	char odom_child[256];       /* odometry: the first message's child_frame_id (a pose */
+				    /* topic's: "pose of TOPIC", the camera's frame) */
 	char odom_frame[256];       /* ... and its header.frame_id (the default fixed frame) */
+	int camera_pose;            /* a pose topic gives the camera's pose */
 	char depth_frame[256];      /* the frame resolved for (the depth images' frame_id) */
 	int resolved, source, target;
 	char description[160];
@@ -35,6 +38,7 @@ struct loading {
 	uint32_t index;
 	enum dao_pose_topic kind;
 	struct dao_error *err;
+	char pose_child[256];       /* a pose topic's frame: "pose of TOPIC" */
 };
 
 int dao_source_poses_create(struct dao_source_poses **out, const struct dao_ros_uri *u,
@@ -91,6 +95,35 @@ static void list_add(char *buf, size_t cap, const char *name)
 		snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", name);
 }
 
+/* An odometry or pose message's transform: its frames kept (the first message's), then
+ * added; a pose's child is the camera's frame, "pose of TOPIC". */
+static int add_pose(void *user, const struct dao_tf_msg_transform *t)
+{
+	struct loading *l = user;
+	struct dao_source_poses *p = l->p;
+	struct dao_tf_msg_transform c = *t;
+	if (l->kind == DAO_POSE_TOPIC_POSE) {
+		c.child = l->pose_child;
+		c.child_len = (uint32_t)strlen(l->pose_child);
+	}
+	if (!p->odom_child[0] && c.child_len < sizeof p->odom_child &&
+	    c.parent_len < sizeof p->odom_frame) {
+		memcpy(p->odom_child, c.child, c.child_len);
+		memcpy(p->odom_frame, c.parent, c.parent_len);
+		p->camera_pose = l->kind == DAO_POSE_TOPIC_POSE;
+	}
+	return add(l, &c);
+}
+
+/* A PosesInFrame message of other than one pose: refused (which is the camera's?). */
+static int not_one_pose(const struct dao_pose_feed *feed, const struct dao_pose_topic_info *ti,
+			uint32_t i, struct dao_error *err)
+{
+	return dao_error_set(err, -ERANGE, "%s: message %u of '%s' (%s) has not exactly one pose: "
+			     "which is the camera's is unknown; record it alone, or name another "
+			     "pose_topic", feed->path, i, ti->name, ti->type);
+}
+
 /* Every message of topic t into the buffer. */
 static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed, uint32_t t,
 		      struct dao_error *err)
@@ -103,7 +136,8 @@ static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 	snprintf(why, sizeof why, "not a %.60s%s%.20s%s", ti.type, ti.encoding[0] ? " (" : "",
 		 ti.encoding, ti.encoding[0] ? ")" : "");
 	list_add(p->topics, sizeof p->topics, name);
-	struct loading l = { p, name, 0, kind, err };
+	struct loading l = { p, name, 0, kind, err, "" };
+	snprintf(l.pose_child, sizeof l.pose_child, "pose of %s", name);
 	for (uint32_t i = 0; i < ti.count; i++) {
 		const uint8_t *d;
 		uint64_t len;
@@ -111,19 +145,12 @@ static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 		if (r < 0)
 			return r;
 		l.index = i;
-		if (kind == DAO_POSE_TOPIC_ODOMETRY) {
-			struct dao_tf_msg_transform tr;
-			if ((r = feed->parse_odometry(d, len, &tr)) == 0) {
-				if (!p->odom_child[0] && tr.child_len < sizeof p->odom_child &&
-				    tr.parent_len < sizeof p->odom_frame) {
-					memcpy(p->odom_child, tr.child, tr.child_len);
-					memcpy(p->odom_frame, tr.parent, tr.parent_len);
-				}
-				r = add(&l, &tr);
-			}
-		} else {
+		if (kind == DAO_POSE_TOPIC_ODOMETRY || kind == DAO_POSE_TOPIC_POSE)
+			r = feed->parse_pose(feed->impl, t, d, len, add_pose, &l);
+		else
 			r = feed->parse_tf(feed->impl, t, d, len, add, &l);
-		}
+		if (r == -ERANGE)
+			return not_one_pose(feed, &ti, i, err);
 		if (r == -EINVAL || r == -ENOTSUP)
 			skip(p, name, i, why);
 		else if (r < 0)
@@ -138,14 +165,20 @@ static int is_transforms(enum dao_pose_topic kind)
 	       kind == DAO_POSE_TOPIC_FOXGLOVE;
 }
 
-/* A Foxglove transform topic in an encoding not read. */
+/* A Foxglove transform or pose topic in an encoding not read. */
 static int refused(const struct dao_pose_feed *feed, const struct dao_pose_topic_info *ti,
 		   struct dao_error *err)
 {
 	return dao_error_set(err, -EINVAL, "%s: topic '%s' is %s in message encoding '%s' "
-			     "(schema encoding '%s'); poses are read from Foxglove transforms in "
-			     "protobuf (schema encoding protobuf) or json (jsonschema)", feed->path,
-			     ti->name, ti->type, ti->encoding, ti->schema_encoding);
+			     "(schema encoding '%s'); read are protobuf, json (jsonschema) and, for "
+			     "foxglove_msgs/msg/*, cdr", feed->path, ti->name, ti->type, ti->encoding,
+			     ti->schema_encoding);
+}
+
+/* A topic that gives the camera's pose alone: odometry or Foxglove poses. */
+static int is_poses(enum dao_pose_topic kind)
+{
+	return kind == DAO_POSE_TOPIC_ODOMETRY || kind == DAO_POSE_TOPIC_POSE;
 }
 
 /* The topic named by pose_topic (odometry or transforms): its index, or < 0 with the topics
@@ -157,18 +190,19 @@ static int pose_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 	for (uint32_t t = 0; t < feed->topic_count; t++) {
 		struct dao_pose_topic_info ti;
 		feed->topic(feed->impl, t, &ti);
-		if (!strcmp(ti.name, p->topic) && ti.kind == DAO_POSE_TOPIC_REFUSED)
+		if (!strcmp(ti.name, p->topic) && (ti.kind == DAO_POSE_TOPIC_REFUSED ||
+						   ti.kind == DAO_POSE_TOPIC_POSE_REFUSED))
 			return refused(feed, &ti, err);
-		if (!strcmp(ti.name, p->topic) &&
-		    (ti.kind == DAO_POSE_TOPIC_ODOMETRY || is_transforms(ti.kind)))
+		if (!strcmp(ti.name, p->topic) && (is_poses(ti.kind) || is_transforms(ti.kind)))
 			return (int)t;
-		if (ti.kind == DAO_POSE_TOPIC_ODOMETRY)
+		if (is_poses(ti.kind))
 			list_add(odom, sizeof odom, ti.name);
 		else if (is_transforms(ti.kind))
 			list_add(tf, sizeof tf, ti.name);
 	}
-	return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry topic '%s' (pose_topic), nor "
-			     "transforms; odometry topics: %s; transform topics: %s", feed->path,
+	return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry or Foxglove PoseInFrame(s) "
+			     "topic '%s' (pose_topic), nor transforms; odometry and pose topics: "
+			     "%s; transform topics: %s", feed->path,
 			     p->topic, odom[0] ? odom : "none", tf[0] ? tf : "none");
 }
 
@@ -189,7 +223,7 @@ static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		feed->topic(feed->impl, t, &ti);
 		if (ti.kind == DAO_POSE_TOPIC_REFUSED && (sel < 0 || ti.static_name))
 			return refused(feed, &ti, err);
-		if ((int)t == sel && ti.kind == DAO_POSE_TOPIC_ODOMETRY &&
+		if ((int)t == sel && is_poses(ti.kind) &&
 		    (r = read_topic(p, feed, t, err)) < 0)
 			return r;
 	}
@@ -204,10 +238,10 @@ static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 			return r;
 	}
 	if (sel < 0 && ndynamic == 0)
-		return dao_error_set(err, -ENODATA, "%s: no tf topic (tf2_msgs/TFMessage such as "
-				     "/tf, or foxglove.FrameTransform(s)) to take the camera's poses "
-				     "from%s%s; name a nav_msgs/Odometry topic (pose_topic, "
-				     "--pose-topic), or leave depth-temporal-motion at icp or off",
+		return dao_error_set(err, -ENODATA, "%s: no tf topic (tf2_msgs/TFMessage, "
+				     "foxglove.FrameTransform(s)) for the camera's poses%s%s; name a "
+				     "nav_msgs/Odometry or PoseInFrame(s) topic (pose_topic), or use "
+				     "motion icp or off",
 				     feed->path, p->topics[0] ? ", only " : "", p->topics);
 	if (p->skipped)
 		snprintf(p->warning, sizeof p->warning, "%llu transforms or messages of %.40s skipped "
@@ -257,12 +291,14 @@ static int odometry_fallback(struct dao_source_poses *p, const char *depth, stru
 static int resolve(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		   const char *depth, struct dao_error *err)
 {
-	int s = dao_tf_buffer_find(p->tf, depth);
+	/* a pose topic's pose is the camera's: its frame stands for the depth frame */
+	int s = dao_tf_buffer_find(p->tf, p->camera_pose ? p->odom_child : depth);
 	/* the fixed frame: pose_frame, the odometry's frame, the root of the depth frame's tree */
 	const char *fixed = p->frame[0] ? p->frame : p->odom_frame[0] ? p->odom_frame : depth;
 	p->resolved = 0;
 	p->target = frame_of(p, feed, fixed, p->frame[0] ? "the fixed frame (pose_frame)"
-			     : p->odom_frame[0] ? "the odometry's frame" : "the depth frame", err);
+			     : !p->odom_frame[0] ? "the depth frame"
+			     : p->camera_pose ? "the pose's frame_id" : "the odometry's frame", err);
 	if (p->target < 0)
 		return p->target;
 	int r = fixed == depth ? dao_tf_buffer_root(p->tf, p->target, &p->target, err) : 0;
@@ -271,7 +307,7 @@ static int resolve(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 	r = s < 0 ? 0 : dao_tf_buffer_connected(p->tf, s, p->target, err);
 	if (r < 0)
 		return r;
-	if (!r && p->odom_child[0])
+	if (!r && p->odom_child[0] && !p->camera_pose)
 		r = (s = odometry_fallback(p, depth, err)) >= 0;
 	const char *tn = dao_tf_buffer_frame_name(p->tf, (uint32_t)p->target);
 	if (!r) {

@@ -9,7 +9,9 @@
  * dynamic; foxglove.FrameTransform and FrameTransforms topics: named
  * .../tf_static static, else a transform stamped 0, or the only stamp of
  * its child frame, static, the others dynamic) or, with ?pose_topic=, from
- * a nav_msgs/Odometry topic or one transform topic, and the static ones;
+ * a nav_msgs/Odometry topic, a Foxglove PoseInFrame(s) topic (the pose is
+ * the camera's: the depth frame's in its frame_id) or one transform topic,
+ * and the static ones;
  * then the pose of each depth frame's frame_id in the fixed frame
  * (?pose_frame=, default the root of the depth frame's tree) at its stamp
  * (tf/tf_buffer.h; ?pose_gap= seconds, default 0.5, the longest
@@ -37,6 +39,8 @@ enum dao_pose_topic {
 	DAO_POSE_TOPIC_ODOMETRY,    /* nav_msgs/Odometry */
 	DAO_POSE_TOPIC_FOXGLOVE,    /* Foxglove transforms: stamped 0 or alone static */
 	DAO_POSE_TOPIC_REFUSED,     /* transforms in an encoding not read */
+	DAO_POSE_TOPIC_POSE,        /* Foxglove PoseInFrame(s): the camera's pose */
+	DAO_POSE_TOPIC_POSE_REFUSED, /* ... in an encoding not read */
 };
 
 struct dao_pose_topic_info {
@@ -62,7 +66,10 @@ struct dao_pose_feed {
 	/* a message of a transform topic: cb per transform; -EINVAL when it is not its type */
 	int (*parse_tf)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
 			dao_tf_msg_cb cb, void *user);
-	int (*parse_odometry)(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out);
+	/* a message of an odometry or pose topic: cb once (a pose's child is empty);
+	 * -EINVAL when it is not its type, -ERANGE for a PosesInFrame not of one pose */
+	int (*parse_pose)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
+			  dao_tf_msg_cb cb, void *user);
 };
 
 struct dao_source_poses;
