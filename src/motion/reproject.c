@@ -39,83 +39,50 @@ static void land_rows(void *arg, int y0, int y1)
 	j->land(j->l, y0, y1);
 }
 
-/* the output planes [o0, o0 + n) and the row's source pixels landing there,
- * in row order, the nearer winning (on a tie the first) */
-struct splat_out {
-	const int32_t *dest;
-	const float *zinv;
-	const uint8_t *count, *age;
-	float *hist;
-	uint8_t *count_out, *age_out;
-	size_t o0, n;
-};
-
-static void splat_out_init(struct splat_out *s, const struct reproject_job *j, size_t o0,
-			   size_t n)
-{
-	*s = (struct splat_out){
-		.dest = j->l->dest, .zinv = j->l->zinv, .count = j->count, .age = j->age,
-		.hist = j->hist_out + o0, .count_out = j->count_out + o0,
-		.age_out = j->age_out + o0, .o0 = o0, .n = n,
-	};
-	memset(s->hist, 0, n * sizeof(float));
-	memset(s->count_out, 0, n);
-	memset(s->age_out, 255, n);
-}
-
-static void splat_row(const struct splat_out *s, size_t row, size_t w)
-{
-	/* locals: the byte stores below could alias the pointers */
-	const int32_t *dest = s->dest;
-	const float *zinv = s->zinv;
-	const uint8_t *count = s->count, *age = s->age;
-	float *hist_out = s->hist;
-	uint8_t *count_out = s->count_out, *age_out = s->age_out;
-	const size_t o0 = s->o0, n = s->n;
-	for (size_t i = row; i < row + w; i++) {
-		/* -1 and the other bands' pixels wrap to n or more */
-		const size_t o = (size_t)(int64_t)dest[i] - o0;
-		if (o >= n)
-			continue;
-		/* a landed 1/z is >= 0 (never NaN) and an empty pixel holds 0, so
-		 * the comparison decides but for a 1/z of 0 (an underflow) */
-		const float iz = zinv[i];
-		if (!(iz > hist_out[o]) && count_out[o])
-			continue;
-		hist_out[o] = iz;
-		count_out[o] = count[i];
-		age_out[o] = age[i];
-	}
-}
-
-/* output rows [y0, y1): cleared, then every source row whose landing rows
- * reach them */
+/* output rows [y0, y1): cleared, then every source pixel landing there, in
+ * row order, the nearer winning (on a tie the first) */
 static void splat_rows(void *arg, int y0, int y1)
 {
 	const struct reproject_job *j = arg;
 	const struct dao_reproject_land *l = j->l;
-	const size_t w = (size_t)l->w;
-	const int32_t *rows = l->rows;
-	struct splat_out s;
-	splat_out_init(&s, j, (size_t)y0 * w, (size_t)(y1 - y0) * w);
-	for (int sy = 0; sy < l->h; sy++)
-		if (rows[2 * sy + 1] >= y0 && rows[2 * sy] < y1)
-			splat_row(&s, (size_t)sy * w, w);
+	const size_t w = (size_t)l->w, o0 = (size_t)y0 * w, n = (size_t)(y1 - y0) * w;
+	/* locals: the byte stores below could alias the job's pointers */
+	const int32_t *dest = l->dest, *rows = l->rows;
+	const float *zinv = l->zinv;
+	const uint8_t *count = j->count, *age = j->age;
+	float *hist_out = j->hist_out + o0;
+	uint8_t *count_out = j->count_out + o0, *age_out = j->age_out + o0;
+	const int h = l->h;
+	memset(hist_out, 0, n * sizeof(float));
+	memset(count_out, 0, n);
+	memset(age_out, 255, n);
+	for (int sy = 0; sy < h; sy++) {
+		if (rows[2 * sy + 1] < y0 || rows[2 * sy] >= y1)
+			continue;
+		const size_t row = (size_t)sy * w;
+		for (size_t i = row; i < row + w; i++) {
+			/* -1 and the other bands' pixels wrap to n or more */
+			const size_t o = (size_t)(int64_t)dest[i] - o0;
+			if (o >= n)
+				continue;
+			/* a landed 1/z is >= 0 (never NaN) and an empty pixel holds
+			 * 0: the depth test decides but for a 1/z of 0 (an underflow) */
+			const float iz = zinv[i];
+			if (!(iz > hist_out[o]) && count_out[o])
+				continue;
+			hist_out[o] = iz;
+			count_out[o] = count[i];
+			age_out[o] = age[i];
+		}
+	}
 }
 
-/* one band, all of the output: each source row splat as soon as it has
- * landed, its landing still in the cache (the same visits in the same order
- * as splat_rows over [0, h)) */
-static void land_splat(const struct reproject_job *j)
+static void run_rows(struct dao_pool *pool, int rows, int min_rows, dao_pool_fn fn, void *arg)
 {
-	const struct dao_reproject_land *l = j->l;
-	const size_t w = (size_t)l->w;
-	struct splat_out s;
-	splat_out_init(&s, j, 0, w * (size_t)l->h);
-	for (int y = 0; y < l->h; y++) {
-		j->land(l, y, y + 1);
-		splat_row(&s, (size_t)y * w, w);
-	}
+	if (pool)
+		dao_pool_run(pool, rows, min_rows, fn, arg);
+	else
+		fn(arg, 0, rows);
 }
 
 void dao_history_reproject(const struct dao_camera *cam, const struct dao_pose *cur_to_prev,
@@ -143,11 +110,7 @@ void dao_history_reproject(const struct dao_camera *cam, const struct dao_pose *
 		.l = &l, .land = land ? land : dao_reproject_land_ref, .count = count, .age = age,
 		.hist_out = hist_out, .count_out = count_out, .age_out = age_out,
 	};
-	if (!pool || dao_pool_threads(pool) < 2) {
-		land_splat(&j);
-		return;
-	}
 	/* where every pixel lands, then the splat by output bands */
-	dao_pool_run(pool, h, 8, land_rows, &j);
-	dao_pool_run(pool, h, 8, splat_rows, &j);
+	run_rows(pool, h, 8, land_rows, &j);
+	run_rows(pool, h, 8, splat_rows, &j);
 }
