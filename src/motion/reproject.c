@@ -65,8 +65,10 @@ static void splat_rows(void *arg, int y0, int y1)
 			const size_t o = (size_t)(int64_t)dest[i] - o0;
 			if (o >= n)
 				continue;
+			/* a landed 1/z is >= 0 (never NaN) and an empty pixel holds
+			 * 0: the depth test decides but for a 1/z of 0 (an underflow) */
 			const float iz = zinv[i];
-			if (count_out[o] && !(iz > hist_out[o]))
+			if (!(iz > hist_out[o]) && count_out[o])
 				continue;
 			hist_out[o] = iz;
 			count_out[o] = count[i];
