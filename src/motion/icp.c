@@ -48,6 +48,9 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 		 * frame, after a refusal) they were not */
 		.seeded_coarse_iterations = 2,
 		.seeded_iterations = 2,
+		/* 2.3 mm at most on the tune set's ToF frames, 6.8-30 mm after a
+		 * stop or a start (docs/perf/icp-seeded.md) */
+		.seeded_far = 0.005f,
 		.normal_radius = 6,
 		.dist_gate = 0.10f,
 		.cos_gate = 0.8660254f, /* 30 degrees */
@@ -444,6 +447,7 @@ static int level(const struct dao_icp_setup *s, struct dao_icp_step *st, struct 
 		double big = 0.0;
 		for (int i = 0; i < 6; i++)
 			big = fmax(big, fabs(x[i]));
+		out->step = (float)big;
 		if (big < tol)
 			break;
 	}
@@ -495,9 +499,16 @@ void dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *ca
 	/* coarse to fine: the coarse grid's points first, where there are
 	 * enough of them, then all (steps below 0.1 mm, then 0.01 mm, end a level) */
 	const int n0 = coarse >= 4 * s->min_inliers ? coarse : out->points;
-	const int n_coarse = prior ? s->seeded_coarse_iterations : s->coarse_iterations;
-	const int n_fine = prior ? s->seeded_iterations : s->iterations;
+	int n_coarse = prior ? s->seeded_coarse_iterations : s->coarse_iterations;
+	int n_fine = prior ? s->seeded_iterations : s->iterations;
 	int go = level(s, &st, sums, n0, n_coarse, 0, scale, 1e-4, &sigma, prior, &eq, out);
+	/* a seeded start still far after its coarse steps: the motion changed
+	 * (a stop, a start), the prior was wrong; the unseeded counts' rest */
+	if (go > 0 && prior && out->step > s->seeded_far && n_coarse < s->coarse_iterations) {
+		go = level(s, &st, sums, n0, s->coarse_iterations - n_coarse, n_coarse, scale, 1e-4,
+			   &sigma, prior, &eq, out);
+		n_coarse = s->coarse_iterations, n_fine = s->iterations;
+	}
 	if (go > 0)
 		go = level(s, &st, sums, out->points, n_fine, n_coarse, scale, 1e-5, &sigma, prior,
 			   &eq, out);

@@ -43,6 +43,10 @@ struct dao_icp_setup {
 	/* the same two counts when a prior seeds the estimate (its start is
 	 * then near: the last frame's motion), >= 1 */
 	int seeded_coarse_iterations, seeded_iterations;
+	/* ... unless the last of those coarse steps still moved a point at the
+	 * mean depth by more than this (m): the motion changed, the prior was
+	 * wrong, and the estimate runs on to the unseeded counts */
+	float seeded_far;
 	int normal_radius; /* pixels between the neighbours of a normal's differences */
 	float dist_gate;   /* pairs farther apart than this (m) are not used */
 	float cos_gate;    /* ... nor pairs whose normals differ by more (cosine) */
@@ -98,6 +102,7 @@ struct dao_icp_result {
 	float cond;            /* smallest / largest eigenvalue of the scaled system */
 	float near_z;          /* nearest source depth (m), for the motion's pixel extent */
 	int iterations;        /* steps run */
+	float step;            /* the last step's largest move of a point at the mean depth (m) */
 };
 
 /* Floats of the caller-owned scratch for an image of w x h pixels. */

@@ -3,7 +3,7 @@
  * motion-pose-eval: the camera-motion estimate (depth-temporal-motion=icp)
  * against the true poses of a `depthao synth --trajectory` sequence.
  *
- *   motion-pose-eval DIR [simd] [threads] [frames]
+ *   motion-pose-eval DIR [simd] [threads] [frames] [seeded-coarse seeded-fine]
  *
  * DIR holds depth/NNNN.png, depth/camera.json and poses.txt.  The frames run
  * in order through a context with the streams' defaults (depth-temporal 0.8)
@@ -13,6 +13,10 @@
  * and a summary line "worst ANGLE deg DIST mm" over the frames with an
  * accepted estimate, how many were refused, and the worst over all frames.  A measuring tool, not a
  * test (docs/perf/icp2.md).  simd: 0 auto, 1 reference, 4 avx2, 5 avx512.
+ * seeded-coarse, seeded-fine: the steps of an estimate a prior seeds
+ * (dao_icp_setup.seeded_*; 4 3 gives every estimate the unseeded counts), set by
+ * linking with -Wl,--wrap=dao_icp_estimate: the library unchanged but for
+ * them (docs/perf/icp-seeded.md).
  */
 #include <math.h>
 #include <stdio.h>
@@ -24,6 +28,33 @@
 #include <depthao/params.h>
 #include <depthao/png.h>
 #include <depthao/pose.h>
+
+#include "motion/icp.h"
+
+static int seeded_steps[2]; /* coarse, fine; 0: the setup's */
+
+void __real_dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *cam,
+			     const float *prev_inv, const uint8_t *prev_count, const float *cur_z,
+			     const struct dao_pose *prior, float *scratch,
+			     struct dao_icp_result *out);
+void __wrap_dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *cam,
+			     const float *prev_inv, const uint8_t *prev_count, const float *cur_z,
+			     const struct dao_pose *prior, float *scratch,
+			     struct dao_icp_result *out);
+
+/* the context's call, with the seeded steps asked for */
+void __wrap_dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_camera *cam,
+			     const float *prev_inv, const uint8_t *prev_count, const float *cur_z,
+			     const struct dao_pose *prior, float *scratch,
+			     struct dao_icp_result *out)
+{
+	struct dao_icp_setup t = *s;
+	if (seeded_steps[0] > 0) {
+		t.seeded_coarse_iterations = seeded_steps[0];
+		t.seeded_iterations = seeded_steps[1];
+	}
+	__real_dao_icp_estimate(&t, cam, prev_inv, prev_count, cur_z, prior, scratch, out);
+}
 
 struct pose {
 	double r[9], t[3];
@@ -138,7 +169,14 @@ int main(int argc, char **argv)
 	p.depth_temporal_motion = DAO_DEPTH_MOTION_ICP;
 	p.simd = argc > 2 ? atoi(argv[2]) : 0;
 	p.threads = argc > 3 ? atoi(argv[3]) : 0;
-	const int frames = argc > 4 && atoi(argv[4]) < np ? atoi(argv[4]) : np;
+	const int frames = argc > 4 && atoi(argv[4]) > 0 && atoi(argv[4]) < np ? atoi(argv[4]) : np;
+	if (argc > 6) {
+		seeded_steps[0] = atoi(argv[5]), seeded_steps[1] = atoi(argv[6]);
+		if (seeded_steps[0] < 1 || seeded_steps[1] < 1) {
+			fprintf(stderr, "motion-pose-eval: the seeded steps are >= 1\n");
+			return 2;
+		}
+	}
 	struct dao_context *ctx;
 	struct dao_error err;
 	if (dao_context_create(&ctx, &cam, &p, &err)) {

@@ -160,6 +160,49 @@ static void test_walk_sideways_turn(void **state)
 	assert_non_null(strstr(err.message, "still"));
 }
 
+/*
+ * Stop and start: 60 deg/s about up until (stop) or from (start) the middle frame,
+ * frames / 2, and not a fraction of a pair in between; the length as synth sets it.
+ */
+static void test_stop_start(void **state)
+{
+	(void)state;
+	const int frames[3] = { 16, 9, 16 };
+	const double fps[3] = { 30.0, 30.0, 15.0 };
+	for (int k = 0; k < 6; k++) {
+		struct synth_trajectory tr;
+		const int stop = k < 3, n = frames[k % 3], mid = n / 2;
+		traj(stop ? "stop" : "start", "boxes", 1, &tr);
+		if (k % 3)
+			synth_trajectory_set_length(&tr, n, fps[k % 3]);
+		struct synth_pose a, b;
+		synth_trajectory_pose(&tr, 0.0, &a);
+		assert_identity(&a);
+		for (int i = 0; i + 1 < n; i++) {
+			synth_trajectory_pose(&tr, i / fps[k % 3], &a);
+			synth_trajectory_pose(&tr, (i + 1) / fps[k % 3], &b);
+			const double rate = synth_rotation_angle(a.R, b.R) * fps[k % 3] / DEG;
+			const double want = (i < mid) == stop ? SYNTH_STOP_RATE_DEG : 0.0;
+			if (!(fabs(rate - want) < 1e-6))
+				fail_msg("%s, %d frames: pair %d-%d at %g deg/s, want %g", tr.name, n, i,
+					 i + 1, rate, want);
+			for (int j = 0; j < 3; j++) {
+				assert_true(fabs(b.t[j]) < 1e-12);
+				assert_true(fabs(b.R[j][0] * tr.up[0] + b.R[j][1] * tr.up[1] +
+						 b.R[j][2] * tr.up[2] - tr.up[j]) < 1e-12);
+			}
+		}
+		/* to the right, and by the whole half's turn */
+		struct synth_pose first;
+		synth_trajectory_pose(&tr, 0.0, &first);
+		const double turned = synth_rotation_angle(first.R, b.R);
+		assert_true(fabs(turned / DEG - SYNTH_STOP_RATE_DEG * (stop ? mid : n - 1 - mid) /
+					     fps[k % 3]) < 1e-9);
+		assert_true(b.R[0][2] * tr.right[0] + b.R[1][2] * tr.right[1] + b.R[2][2] * tr.right[2] >
+			    0.0);
+	}
+}
+
 /* Poses written as TUM lines are read back: rotations within 1e-9, positions within 1e-9 m. */
 static void test_tum_round_trip(void **state)
 {
@@ -376,6 +419,7 @@ int main(void)
 		cmocka_unit_test(test_pan_rate),
 		cmocka_unit_test(test_shake_bounds),
 		cmocka_unit_test(test_walk_sideways_turn),
+		cmocka_unit_test(test_stop_start),
 		cmocka_unit_test(test_tum_round_trip),
 		cmocka_unit_test(test_tum_errors),
 		cmocka_unit_test(test_render_from_pose),

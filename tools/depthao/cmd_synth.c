@@ -210,6 +210,8 @@ static int check_args(struct synth_options *o)
 	}
 	if (o->trajectory && !o->frames_given)
 		o->frames = 16;
+	if (o->trajectory) /* stop and start change at the middle frame */
+		synth_trajectory_set_length(&o->tr, o->frames, o->fps);
 	return 0;
 }
 

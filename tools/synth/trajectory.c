@@ -14,7 +14,8 @@
 
 const char *synth_trajectory_names(void)
 {
-	return "still, pan-RATE (deg/s: pan-15, pan-30, pan-60), sideways, walk, shake, turn";
+	return "still, pan-RATE (deg/s: pan-15, pan-30, pan-60), sideways, walk, shake, turn, stop, "
+	       "start";
 }
 
 static void normalize3(double v[3])
@@ -110,7 +111,8 @@ int synth_trajectory_init(struct synth_trajectory *tr, const char *name,
 	} kinds[] = {
 		{ "still", SYNTH_TRAJ_STILL }, { "sideways", SYNTH_TRAJ_SIDEWAYS },
 		{ "walk", SYNTH_TRAJ_WALK },   { "shake", SYNTH_TRAJ_SHAKE },
-		{ "turn", SYNTH_TRAJ_TURN },
+		{ "turn", SYNTH_TRAJ_TURN },   { "stop", SYNTH_TRAJ_STOP },
+		{ "start", SYNTH_TRAJ_START },
 	};
 	if (!name || strlen(name) >= sizeof tr->name)
 		return dao_error_set(err, -EINVAL, "unknown trajectory: use %s", synth_trajectory_names());
@@ -132,7 +134,14 @@ int synth_trajectory_init(struct synth_trajectory *tr, const char *name,
 	level_axes(tr);
 	if (tr->kind == SYNTH_TRAJ_SHAKE)
 		shake_init(tr, seed);
+	synth_trajectory_set_length(tr, 16, 30.0);
 	return 0;
+}
+
+void synth_trajectory_set_length(struct synth_trajectory *tr, int frames, double fps)
+{
+	/* frame i is at i / fps, computed the same way: the middle frame's pose is exact */
+	tr->change_s = (double)(frames / 2) / fps;
 }
 
 void synth_rotation(const double a[3], double angle, double (*R)[3])
@@ -191,6 +200,13 @@ void synth_trajectory_pose(const struct synth_trajectory *tr, double time, struc
 	case SYNTH_TRAJ_PAN:
 		/* a positive angle about up turns left (y is down): minus, to the right */
 		synth_rotation(tr->up, -tr->rate_deg * DEG * time, out->R);
+		break;
+	case SYNTH_TRAJ_STOP:
+		synth_rotation(tr->up, -SYNTH_STOP_RATE_DEG * DEG * fmin(time, tr->change_s), out->R);
+		break;
+	case SYNTH_TRAJ_START:
+		synth_rotation(tr->up, -SYNTH_STOP_RATE_DEG * DEG * fmax(time - tr->change_s, 0.0),
+			       out->R);
 		break;
 	case SYNTH_TRAJ_SIDEWAYS:
 		for (int k = 0; k < 3; k++)

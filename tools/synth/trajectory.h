@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * Camera trajectories of the synthetic sequences (issue #37): a still
- * camera, pans, a sideways move, a walk, a hand's shake and a robot turning
- * in place, as the camera's pose per frame.  Internal to the tools and tests.
+ * camera, pans, a sideways move, a walk, a hand's shake, a robot turning
+ * in place and a pan that stops or starts dead, as the camera's pose per frame.  Internal to the tools and tests.
  *
  * Poses are camera to world, x_w = R x_c + t, in metres.  The world frame is
  * the optical frame of the camera at frame 0 (x right, y down, z forward), so
@@ -39,6 +39,8 @@ enum synth_trajectory_kind {
 	SYNTH_TRAJ_WALK,      /* forward, level, 1 m/s, with a step's bob, sway and nod */
 	SYNTH_TRAJ_SHAKE,     /* a hand holding the camera still: smooth, seeded, 0.5-5 Hz */
 	SYNTH_TRAJ_TURN,      /* a robot turning right in place: the camera 15 cm before the axis */
+	SYNTH_TRAJ_STOP,      /* a pan at 60 deg/s that stops dead at the sequence's middle frame */
+	SYNTH_TRAJ_START,     /* still, then a pan at 60 deg/s from the middle frame on, at once */
 };
 
 #define SYNTH_PI 3.14159265358979323846
@@ -53,6 +55,7 @@ enum synth_trajectory_kind {
 #define SYNTH_TURN_RATE_DEG 60.0         /* deg/s, reached after ... */
 #define SYNTH_TURN_ACCEL_DEG 240.0       /* deg/s^2 from rest */
 #define SYNTH_TURN_OFFSET 0.15           /* m, the camera before the turning axis */
+#define SYNTH_STOP_RATE_DEG 60.0         /* deg/s, stop and start's pan */
 
 struct synth_trajectory {
 	enum synth_trajectory_kind kind;
@@ -62,19 +65,29 @@ struct synth_trajectory {
 	/* shake: per degree of freedom (tx, ty, tz, rx, ry, rz) and term: f (Hz), amplitude, phase */
 	double shake[6][SYNTH_SHAKE_TERMS][3];
 	double shake0[6];                  /* the sum at time 0, subtracted: pose 0 is the identity */
+	double change_s;                   /* stop, start: when the pan stops or starts, s */
 };
 
-/* The names, for the help text: "still, pan-RATE, sideways, walk, shake, turn". */
+/* The names, for the help text: "still, pan-RATE, sideways, walk, shake, turn, stop, start". */
 const char *synth_trajectory_names(void);
 
 /*
  * A trajectory by name (still, pan-RATE with RATE in degrees per second, 1..720,
- * sideways, walk, shake, turn) for a scene whose frame-0 camera sees `scene`
- * (its floor gives "up"; a scene without one gets -y).  `seed` draws the
- * shake.  0, or -EINVAL with a message.
+ * sideways, walk, shake, turn, stop, start) for a scene whose frame-0 camera sees
+ * `scene` (its floor gives "up"; a scene without one gets -y).  `seed` draws the
+ * shake.  Stop and start change at the middle of 16 frames at 30 fps (frame 8)
+ * until synth_trajectory_set_length() says otherwise.  0, or -EINVAL with a message.
  */
 int synth_trajectory_init(struct synth_trajectory *tr, const char *name,
 			  const struct synth_scene *scene, uint64_t seed, struct dao_error *err);
+
+/*
+ * The sequence's length: stop's pan stops dead, start's starts at once, at its
+ * middle frame, frames / 2 (rounded down), at (frames / 2) / fps seconds: the
+ * frame pairs before it move by the whole 60 deg/s / fps, those after it by
+ * nothing (stop; start the other way round), with no pair in between.
+ */
+void synth_trajectory_set_length(struct synth_trajectory *tr, int frames, double fps);
 
 /* The pose at `time` seconds (time 0: the identity). */
 void synth_trajectory_pose(const struct synth_trajectory *tr, double time, struct synth_pose *out);
