@@ -18,7 +18,7 @@
 /* samples per block of the causal sweep (its links, then its moments) */
 #define DT_BLOCK 32
 /* samples ahead the causal sweep asks for its input */
-#define DT_PREFETCH 8
+#define DT_PREFETCH 16
 
 static inline vf dt_med3(vf a, vf b, vf c)
 {
