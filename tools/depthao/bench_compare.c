@@ -21,6 +21,7 @@
 #include <depthao/depthao.h>
 
 #include "bench.h"
+#include "bench_input.h"
 #include "commands.h"
 
 /* One configuration (size x preset x threads) of one run, from its JSON line. */
@@ -407,23 +408,42 @@ static void describe(const struct variant *v, char *out, size_t n)
 		snprintf(out, n, "%c (%s)", v->label, v->path);
 }
 
+/* A child's usage error names an option of --input's ("... unknown option '--fov'"):
+ * a build from before bench --input. */
+static int rejects_input(const char *reason)
+{
+	const char *q = strstr(reason, "option '--");
+	for (int k = 0; q && k < BENCH_INPUT_NOPTIONS; k++) {
+		size_t n = strlen(bench_input_names[k]);
+		if (!strncmp(q + 10, bench_input_names[k], n) && q[10 + n] == '\'')
+			return 1;
+	}
+	return 0;
+}
+
 /* A failed run: 2 if it rejected an option, else 1; the message printed. */
 static int report_failure(struct variant *v, struct child *c, int round)
 {
 	char who[4200];
 	describe(v, who, sizeof who);
+	const char *why = child_reason(c); /* once: it cuts c->err into lines */
 	if (c->status == 2 && v->is_params)
-		return usage_error("bench", "%s: %s", who, child_reason(c));
+		return usage_error("bench", "%s: %s", who, why);
+	if (c->status == 2 && rejects_input(why))
+		return usage_error("bench", "%s is older than bench --input (it says: %s): it "
+				   "times the synthetic frame only; compare the two without --input "
+				   "and its options, or against a build that has it", who,
+				   why);
 	if (c->status == 2)
 		return usage_error("bench", "%s rejects an option that this build accepts (it says: "
 				   "%s); leave that option out to compare the two", who,
-				   child_reason(c));
+				   why);
 	if (c->status > 128)
 		fprintf(stderr, "depthao bench: %s was killed by signal %d in round %d\n", who,
 			c->status - 128, round + 1);
 	else
 		fprintf(stderr, "depthao bench: %s failed (exit %d) in round %d: %s\n", who,
-			c->status, round + 1, child_reason(c));
+			c->status, round + 1, why);
 	return 1;
 }
 
