@@ -8,7 +8,8 @@
 #            2, 4, 8, 2, 4, 8 ... by call (the --version call not counted), p95
 #            twice that; no "noise" stage (as the last release) and a zero
 #            "output" stage
-#   reject   rejects --noise-model as an unknown option (exit 2, as bench does)
+#   reject   rejects --noise-model and --input (bench's before --input was added) as
+#            unknown options (exit 2, as bench does)
 #   fail     exits 1 with a message on stderr
 #   crash    kills itself with SIGSEGV
 #   garbage  prints a line that is not JSON
@@ -29,10 +30,12 @@ for a in "$@"; do
 	--size:*) size=$a ;;
 	--threads:*) threads="$threads $a" ;;
 	esac
-	if [ "$a" = "--noise-model" ] && [ "$FAKE_MODE" = reject ]; then
-		echo "depthao: unknown option '--noise-model' (see 'depthao bench --help')" >&2
+	case "$FAKE_MODE:$a" in
+	reject:--noise-model | reject:--input)
+		echo "depthao: unknown option '$a' (see 'depthao bench --help')" >&2
 		exit 2
-	fi
+		;;
+	esac
 	prev=$a
 done
 case "$FAKE_MODE" in

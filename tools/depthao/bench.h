@@ -21,9 +21,10 @@ struct bench_compare_spec {
 	const struct bench_arg *args;
 	int nargs;
 	/* the sizes, given or the default: one child per size, as the last release
-	 * times the last --size only */
+	 * times the last --size only; with --input one NULL: no --size */
 	const char *sizes[16];
 	int nsizes;
+	const char *input; /* --input (among the args), or NULL */
 	const char *others[BENCH_MAX_VARIANTS]; /* --compare: build directories or binaries */
 	int nothers;
 	const char *params[BENCH_MAX_VARIANTS]; /* --compare-params: options for this build */

@@ -21,6 +21,7 @@
 #include <depthao/depthao.h>
 
 #include "bench.h"
+#include "bench_input.h"
 #include "commands.h"
 
 /* One configuration (size x preset x threads) of one run, from its JSON line. */
@@ -241,7 +242,7 @@ static char *dashed(const char *name)
 }
 
 /*
- * v->argv: PATH bench, the user's options, --size `size`, the options in
+ * v->argv: PATH bench, the user's options, --size `size` (none if NULL), the options in
  * `extra` (or NULL), the words of the parameter set, --json.  `opt` holds the
  * options' "--name" strings.
  */
@@ -260,8 +261,10 @@ static int build_argv(struct variant *v, const struct bench_compare_spec *s, cha
 		if (s->args[i].value)
 			v->argv[n++] = (char *)s->args[i].value;
 	}
-	v->argv[n++] = "--size";
-	v->argv[n++] = (char *)size;
+	if (size) {
+		v->argv[n++] = "--size";
+		v->argv[n++] = (char *)size;
+	}
 	while (extra && *extra)
 		v->argv[n++] = *extra++;
 	/* the parameter set: its words, split at white space */
@@ -405,23 +408,42 @@ static void describe(const struct variant *v, char *out, size_t n)
 		snprintf(out, n, "%c (%s)", v->label, v->path);
 }
 
+/* A child's usage error names an option of --input's ("... unknown option '--fov'"):
+ * a build from before bench --input. */
+static int rejects_input(const char *reason)
+{
+	const char *q = strstr(reason, "option '--");
+	for (int k = 0; q && k < BENCH_INPUT_NOPTIONS; k++) {
+		size_t n = strlen(bench_input_names[k]);
+		if (!strncmp(q + 10, bench_input_names[k], n) && q[10 + n] == '\'')
+			return 1;
+	}
+	return 0;
+}
+
 /* A failed run: 2 if it rejected an option, else 1; the message printed. */
 static int report_failure(struct variant *v, struct child *c, int round)
 {
 	char who[4200];
 	describe(v, who, sizeof who);
+	const char *why = child_reason(c); /* once: it cuts c->err into lines */
 	if (c->status == 2 && v->is_params)
-		return usage_error("bench", "%s: %s", who, child_reason(c));
+		return usage_error("bench", "%s: %s", who, why);
+	if (c->status == 2 && rejects_input(why))
+		return usage_error("bench", "%s is older than bench --input (it says: %s): it "
+				   "times the synthetic frame only; compare the two without --input "
+				   "and its options, or against a build that has it", who,
+				   why);
 	if (c->status == 2)
 		return usage_error("bench", "%s rejects an option that this build accepts (it says: "
 				   "%s); leave that option out to compare the two", who,
-				   child_reason(c));
+				   why);
 	if (c->status > 128)
 		fprintf(stderr, "depthao bench: %s was killed by signal %d in round %d\n", who,
 			c->status - 128, round + 1);
 	else
 		fprintf(stderr, "depthao bench: %s failed (exit %d) in round %d: %s\n", who,
-			c->status, round + 1, child_reason(c));
+			c->status, round + 1, why);
 	return 1;
 }
 
@@ -646,9 +668,11 @@ static void print_json(const struct bench_compare_spec *spec, struct variant *v,
 	json_object_object_add(o, "cpus", json_object_new_int(dao_cpu_count()));
 	json_object_object_add(o, "rounds", json_object_new_int(rounds));
 	json_object *sizes = json_object_new_array();
-	for (int i = 0; i < spec->nsizes; i++)
+	for (int i = 0; !spec->input && i < spec->nsizes; i++)
 		json_object_array_add(sizes, json_object_new_string(spec->sizes[i]));
-	json_object_object_add(o, "sizes", sizes);
+	json_object_object_add(o, "sizes", sizes); /* none with --input: its own */
+	if (spec->input)
+		json_object_object_add(o, "input", json_object_new_string(spec->input));
 	json_object_object_add(o, "load_before", load_before);
 	json_object_object_add(o, "load_after", json_load());
 	json_object *builds = json_object_new_array();
@@ -689,8 +713,11 @@ static void print_header(const struct bench_compare_spec *s, const struct varian
 	printf("each run: depthao bench");
 	for (int k = 2; k < v[0].argc; k++)
 		printf(" %s", v[0].argv[k]);
-	printf("\n  one run per size WxH:");
-	for (int i = 0; i < s->nsizes; i++)
+	if (s->input)
+		printf("\n  one run on the frames of --input %s", s->input);
+	else
+		printf("\n  one run per size WxH:");
+	for (int i = 0; !s->input && i < s->nsizes; i++)
 		printf(" %s", s->sizes[i]);
 	printf("\ntimes in ms per frame: the median over the rounds of each run's median and p95; "
 	       "fps = 1000 / median\nA/X = A's time / X's (> 1: A is slower), the median of the "
@@ -734,11 +761,14 @@ static int setup_variants(const struct bench_compare_spec *s, struct variant *v,
 /* A small run of each variant: an option it rejects fails here, not after minutes. */
 static int preflight(const struct bench_compare_spec *s, struct variant *v, int nv, char **opt)
 {
-	static char *const extra[] = { "--min-time", "0", "--min-iterations", "1",
-				       "--no-reference", NULL };
+	/* with --input: its first frame alone */
+	char *extra[] = { "--min-time", "0", "--min-iterations", "1", "--no-reference",
+			  "--input-frames", "1", NULL };
+	if (!s->input)
+		extra[5] = NULL;
 	for (int i = 0; i < nv; i++) {
 		struct child c;
-		int r = build_argv(&v[i], s, opt, "64x48", extra);
+		int r = build_argv(&v[i], s, opt, s->input ? NULL : "64x48", extra);
 		if (!r)
 			r = run_child(v[i].argv, &c);
 		if (r) {
@@ -771,7 +801,7 @@ static int accumulate(struct variant *v, const struct child *c)
 static int display_argv(const struct bench_compare_spec *s, struct variant *v, int nv, char **opt)
 {
 	for (int i = 0; i < nv; i++)
-		if (build_argv(&v[i], s, opt, "WxH", NULL)) {
+		if (build_argv(&v[i], s, opt, s->input ? NULL : "WxH", NULL)) {
 			fprintf(stderr, "depthao bench: out of memory\n");
 			return 1;
 		}
@@ -793,7 +823,8 @@ static int run_rounds(const struct bench_compare_spec *s, struct variant *v, int
 				struct variant *x = &v[(round + k) % nv];
 				if (tty)
 					fprintf(stderr, "\rround %d/%d: %s %c ", round + 1, s->rounds,
-						s->sizes[si], x->label);
+						s->sizes[si] ? s->sizes[si] : "--input",
+						x->label);
 				struct child c = { 0 };
 				int r = build_argv(x, s, opt, s->sizes[si], NULL);
 				if (!r)

@@ -16,6 +16,7 @@
 
 #include "common/tool_clock.h"
 #include "bench.h"
+#include "bench_input.h"
 #include "cli_params.h"
 #include "commands.h"
 #include <depthao/error.h>
@@ -30,8 +31,18 @@ struct size {
 	int w, h;
 };
 
+/* The frames a configuration is timed on: the synthetic one, or --input's. */
+struct frames {
+	const struct dao_camera *cam;
+	const struct dao_frame *f;
+	uint32_t n;
+	int stream;        /* a stream: cycled with the frame index increasing, stream defaults */
+	const char *input; /* --input, NULL for the synthetic frame */
+};
+
 struct config {
 	struct size size;
+	const struct frames *fr;
 	const char *quality;  /* preset name, or "custom" */
 	struct dao_params params;
 	int threads;
@@ -65,9 +76,10 @@ static void usage(FILE *out)
 		"Times the per-frame pipeline (dao_context_process_shaded: 16-bit AO output and\n"
 		"the shaded RGB image) and each of its stages on a synthetic 16-bit depth\n"
 		"frame (the \"boxes\" scene with Kinect-like noise), for every size x quality x\n"
-		"thread count, after a warm-up.  Prints the median and 95th percentile per frame,\n"
-		"frames per second (1000 / median), megapixels per second, and the speedup over\n"
-		"the scalar reference kernels (simd=reference) at the same settings.\n"
+		"thread count, or on your own frames (--input), after a warm-up.  Prints the\n"
+		"median and 95th percentile per frame, frames per second (1000 / median),\n"
+		"megapixels per second, and the speedup over the scalar reference kernels\n"
+		"(simd=reference) at the same settings.\n"
 		"\n"
 		"  --size WxH[,WxH...] frame sizes, or `sensors` for the cameras' frames: 640x480\n"
 		"                      (Kinect), 848x480 (RealSense), 1280x720, 1024x1024 (Azure\n"
@@ -82,6 +94,20 @@ static void usage(FILE *out)
 		"  --min-time S        time each configuration for at least S seconds (default 0.5)\n"
 		"  --min-iterations N  and at least N frames (default 30)\n"
 		"  --no-reference      skip the (slow) reference runs and the speedup column\n"
+		"  --input PATH        time these frames instead of the synthetic one: what\n"
+		"                      `depthao process --input` takes (a 16-bit depth PNG, a\n"
+		"                      directory of them, .oni, .bag, .mcap, .db3, a source URI;\n"
+		"                      float-metre depth too), at their own size (--size is an\n"
+		"                      error).  A directory, recording or device is timed as a\n"
+		"                      stream: its frames in order, again and again, the frame\n"
+		"                      index one up each frame (the last frame to the first: a\n"
+		"                      cut), with `process`'s stream defaults (--depth-temporal\n"
+		"                      0.8, the noise schedule; --depth-temporal 0 turns it off)\n"
+		"  --input-frames N    the frames read into memory before timing, each then\n"
+		"                      timed at least once (default 30; at most 2 GiB of depth)\n"
+		"  --intrinsics FX,FY,CX,CY, --fov H,V, --intrinsics-file FILE, --depth-unit M,\n"
+		"  --max-pixels N|WxH  the camera, PNG unit and pixel limit, as in `depthao\n"
+		"                      process` (default: the recording's, camera.json beside PNGs)\n"
 		"  --json              one JSON object per configuration and line, no table\n"
 		"  --help              this text\n"
 		"\n"
@@ -96,7 +122,8 @@ static void usage(FILE *out)
 		"                      spaces) added, e.g. '--noise-model fixed'; repeatable\n"
 		"  --rounds N          rounds (default 5)\n"
 		"Each run is a child process `depthao bench OPTIONS --size WxH --json`, one per\n"
-		"size; a round runs every build once per size, the first build in turn.  OPTIONS\n"
+		"size (with --input one, without --size); a round runs every build once per\n"
+		"size, the first build in turn.  OPTIONS\n"
 		"are the ones given, passed on as given (an older build knows fewer: it is said\n"
 		"which one it rejects).  Printed per configuration: each build's median and p95\n"
 		"(medians over the rounds) and fps; the ratio A/X of this build's (A) time to\n"
@@ -158,15 +185,15 @@ static int make_frame(struct size sz, struct dao_camera *cam, uint16_t **out, st
 }
 
 /* Times one configuration; iterations >= min_iter and >= min_time seconds. */
-static int run(const struct config *c, const struct dao_camera *cam, const uint16_t *depth,
-	       int simd, int min_iter, double min_time, int max_iter, struct stats *st,
-	       struct dao_error *err)
+static int run(const struct config *c, int simd, int min_iter, double min_time, int max_iter,
+	       struct stats *st, struct dao_error *err)
 {
+	const struct frames *fr = c->fr;
 	struct dao_params p = c->params;
 	p.threads = c->threads;
 	p.simd = simd;
 	struct dao_context *ctx;
-	int r = dao_context_create(&ctx, cam, &p, err);
+	int r = dao_context_create(&ctx, fr->cam, &p, err);
 	if (r)
 		return r;
 	const size_t npix = (size_t)c->size.w * c->size.h;
@@ -178,21 +205,22 @@ static int run(const struct config *c, const struct dao_camera *cam, const uint1
 		r = dao_error_set(err, -ENOMEM, "out of memory for the benchmark buffers");
 		goto out;
 	}
-	struct dao_frame in = { .format = DAO_PIXFMT_DEPTH16, .width = (uint32_t)c->size.w,
-				.height = (uint32_t)c->size.h, .stride = 2 * c->size.w,
-				.data = (void *)depth, .depth_unit = 0.001f };
-	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY16, .width = in.width, .height = in.height,
+	const uint32_t w = (uint32_t)c->size.w, h = (uint32_t)c->size.h;
+	struct dao_frame ao = { .format = DAO_PIXFMT_GRAY16, .width = w, .height = h,
 				.stride = 2 * c->size.w, .data = ao16 };
-	struct dao_frame sh = { .format = DAO_PIXFMT_RGB24, .width = in.width, .height = in.height,
+	struct dao_frame sh = { .format = DAO_PIXFMT_RGB24, .width = w, .height = h,
 				.stride = 3 * c->size.w, .data = rgb };
 	/* warm-up: caches, page faults, the pool's threads */
 	const int warm = simd == DAO_SIMD_REFERENCE ? 1 : 3;
 	int n = 0;
 	const double start = now_s();
 	for (int i = -warm; i < max_iter; i++) {
+		/* the frames in turn, the index one up each frame: a stream to the temporal
+		 * filters (the last frame to the first a cut in the scene, as a camera may see) */
+		const struct dao_frame *in = &fr->f[(size_t)(i + warm) % fr->n];
 		double t0 = now_s();
 		/* the AO and the shaded image in one pass; none: nothing to shade */
-		r = dao_context_process_shaded(ctx, &in, NULL, (uint64_t)(i + warm), &ao,
+		r = dao_context_process_shaded(ctx, in, NULL, (uint64_t)(i + warm), &ao,
 					       c->params.algorithm != DAO_ALGORITHM_NONE ? &sh : NULL,
 					       err);
 		if (r)
@@ -255,6 +283,18 @@ static void print_json(const struct config *c, int simd, const struct stats *st,
 	json_object_object_add(o, "steps", json_object_new_int(c->params.steps));
 	json_object_object_add(o, "threads", json_object_new_int(c->threads));
 	json_object_object_add(o, "simd", json_object_new_string(dao_simd_name(simd)));
+	if (c->fr->input) {
+		json_object_object_add(o, "input", json_object_new_string(c->fr->input));
+		json_object_object_add(o, "input_frames", json_object_new_int((int)c->fr->n));
+		json_object_object_add(o, "input_format",
+				       json_object_new_string(dao_pixfmt_name(c->fr->f[0].format)));
+		json_object_object_add(o, "stream", json_object_new_boolean(c->fr->stream));
+		/* what a stream changes: its defaults */
+		json_object_object_add(o, "depth_temporal",
+				       json_object_new_double(c->params.depth_temporal));
+		json_object_object_add(o, "noise_interval",
+				       json_object_new_int(c->params.noise_interval));
+	}
 	json_object_object_add(o, "iterations", json_object_new_int(st->iterations));
 	json_object_object_add(o, "median_ms", json_object_new_double(st->median));
 	json_object_object_add(o, "p95_ms", json_object_new_double(st->p95));
@@ -310,15 +350,18 @@ struct bench_options {
 	/* the parameter options, replayed on top of each preset */
 	const char *param_args[2 * MAX_PARAM_OPTIONS];
 	int nparam;
+	struct bench_input_options in; /* --input and the options that go with it */
 	/* --compare, --compare-params, --rounds, and the options to pass on to each run */
 	struct bench_compare_spec cmp;
-	struct bench_arg pass[MAX_PARAM_OPTIONS + MAX_QUALITIES + MAX_THREADS + 8];
+	struct bench_arg pass[MAX_PARAM_OPTIONS + MAX_QUALITIES + MAX_THREADS + 8 +
+			      BENCH_INPUT_NOPTIONS];
 	char size_text[MAX_SIZES][16], thread_text[MAX_THREADS][8];
 };
 
 enum { OPT_SIZE = 1000, OPT_QUALITY, OPT_THREADS, OPT_MIN_TIME, OPT_MIN_ITER, OPT_NO_REF,
        OPT_JSON, OPT_HELP, OPT_COMPARE, OPT_COMPARE_PARAMS, OPT_ROUNDS,
-       OPT_PARAM /* + index in the parameter table */ };
+       OPT_INPUT, /* + index in bench_input_names */
+       OPT_PARAM = OPT_INPUT + BENCH_INPUT_NOPTIONS /* + index in the parameter table */ };
 
 static const struct option bench_long_options[] = {
 	{ "size", required_argument, NULL, OPT_SIZE },
@@ -347,6 +390,9 @@ static void long_options(struct option *opts, char (*names)[64])
 	int k = 0;
 	for (int i = 0; i < N_BENCH_OPTIONS; i++)
 		opts[k++] = bench_long_options[i];
+	for (int i = 0; i < BENCH_INPUT_NOPTIONS; i++)
+		opts[k++] = (struct option){ bench_input_names[i], required_argument, NULL,
+					     OPT_INPUT + i };
 	for (size_t i = 0; i < n; i++) {
 		/* --threads is bench's own (a list of counts to time) */
 		if (!strcmp(t[i].name, "threads"))
@@ -494,6 +540,13 @@ static int finish_compare(struct bench_options *o, int rounds_given)
 	if (!o->cmp.nothers && !o->cmp.nparams)
 		return rounds_given ? usage_error("bench", "--rounds goes with --compare or "
 						  "--compare-params") : 0;
+	o->cmp.args = o->pass;
+	o->cmp.json = o->json;
+	if ((o->cmp.input = o->in.po.input)) {
+		o->cmp.nsizes = 1; /* one run: the input's frames at their size */
+		o->cmp.sizes[0] = NULL;
+		return 0;
+	}
 	/* every size, given or the default, so that all builds time the same frames */
 	for (int i = 0; i < o->nsizes; i++) {
 		snprintf(o->size_text[i], sizeof o->size_text[i], "%dx%d", o->sizes[i].w,
@@ -501,8 +554,6 @@ static int finish_compare(struct bench_options *o, int rounds_given)
 		o->cmp.sizes[i] = o->size_text[i];
 	}
 	o->cmp.nsizes = o->nsizes;
-	o->cmp.args = o->pass;
-	o->cmp.json = o->json;
 	return 0;
 }
 
@@ -514,7 +565,7 @@ static int finish_compare(struct bench_options *o, int rounds_given)
 static int parse_options(int argc, char **argv, struct bench_options *o)
 {
 	static char names[256][64];
-	struct option opts[N_BENCH_OPTIONS + 2 * 256 + 1];
+	struct option opts[N_BENCH_OPTIONS + BENCH_INPUT_NOPTIONS + 2 * 256 + 1];
 	size_t nparams;
 	dao_param_table(&nparams);
 	if (nparams > 256)
@@ -524,6 +575,7 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
 	*o = (struct bench_options){ .sizes = { { 320, 240 }, { 640, 480 }, { 1280, 720 } },
 				     .nsizes = 3, .min_iter = 30, .min_time = 0.5,
 				     .simd = DAO_SIMD_AUTO, .cmp.rounds = 5 };
+	bench_input_options_init(&o->in);
 	struct dao_params over; /* the parameter options, to check them and read slices ... */
 	dao_params_init(&over, DAO_QUALITY_DEFAULT);
 	const struct dao_param_info *table = dao_param_table(&nparams);
@@ -550,6 +602,10 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
 			o->param_args[o->nparam++] = optarg;
 			if ((r = pass_on(o, pi->name, optarg)))
 				return r;
+		} else if (opt >= OPT_INPUT) {
+			if ((r = bench_input_option(&o->in, opt - OPT_INPUT, optarg)) ||
+			    (r = pass_on(o, bench_input_names[opt - OPT_INPUT], optarg)))
+				return r;
 		} else if ((r = bench_option(o, opt, optarg, &size_given))) {
 			return r;
 		}
@@ -557,7 +613,8 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
 	}
 	if (optind < argc)
 		return usage_error("bench", "unexpected argument '%s'", argv[optind]);
-	if ((r = finish_compare(o, rounds_given)))
+	if ((r = bench_input_check(&o->in, size_given, &over)) ||
+	    (r = finish_compare(o, rounds_given)))
 		return r;
 
 	/* --slices, --steps and --simd given as parameter options */
@@ -587,15 +644,36 @@ static int parse_options(int argc, char **argv, struct bench_options *o)
 	return 0;
 }
 
-static void print_header(int resolved, int simd)
+/* What was timed: the synthetic frame, or --input's frames. */
+static void print_input(const struct bench_options *o, const struct bench_input *in)
+{
+	if (!o->in.po.input) {
+		printf("frame = dao_context_process_shaded (depth16 in, gray16 AO and RGB out); "
+		       "synthetic \"boxes\" scene with sensor noise\n");
+		return;
+	}
+	const struct dao_frame *f = &in->frames[0];
+	char unit[32] = "";
+	if (f->format == DAO_PIXFMT_DEPTH16)
+		snprintf(unit, sizeof unit, " (%g mm)", (double)f->depth_unit * 1e3);
+	printf("frame = dao_context_process_shaded (%s in, gray16 AO and RGB out) on --input %s\n",
+	       dao_pixfmt_name(f->format), o->in.po.input);
+	printf("input: %s; %u frame%s of %ux%u %s%s in memory, %s\n", in->description, in->n,
+	       in->n == 1 ? "" : "s", f->width, f->height, dao_pixfmt_name(f->format), unit,
+	       in->stream ? "cycled in order as a stream (frame index increasing; the stream "
+			    "defaults: temporal depth filter, noise schedule)"
+			  : "timed again and again (one file: not a stream)");
+}
+
+static void print_header(const struct bench_options *o, const struct bench_input *in,
+			 int resolved)
 {
 	char model[128];
 	dao_cpu_model(model, sizeof model);
 	printf("depthao %s bench: %s, %d CPUs, kernels %s%s\n", depthao_version_line(), model,
 	       dao_cpu_count(), dao_simd_name((enum dao_simd)resolved),
-	       simd == DAO_SIMD_AUTO ? " (auto)" : "");
-	printf("frame = dao_context_process_shaded (depth16 in, gray16 AO and RGB out); "
-	       "synthetic \"boxes\" scene with sensor noise\n");
+	       o->simd == DAO_SIMD_AUTO ? " (auto)" : "");
+	print_input(o, in);
 	printf("times in ms per frame; fps = 1000 / median; ref = scalar reference kernels "
 	       "(simd=reference), same settings\n\n");
 	printf("%-10s %-15s %2s %8s %8s %7s %8s %8s %7s |", "size", "quality", "th", "median", "p95",
@@ -612,6 +690,8 @@ static int preset_config(const struct bench_options *o, const char *qname, struc
 	enum dao_quality q;
 	dao_quality_parse(qname, &q, NULL);
 	dao_params_init(&c->params, q);
+	if (c->fr->stream) /* as `depthao process` runs a recording */
+		dao_params_stream_defaults(&c->params);
 	c->quality = !strcmp(qname, "default") ? "default" : dao_quality_name(q);
 	for (int k = 0; k < o->nparam; k += 2)
 		dao_params_set(&c->params, o->param_args[k], o->param_args[k + 1], NULL);
@@ -620,33 +700,55 @@ static int preset_config(const struct bench_options *o, const char *qname, struc
 	return dao_params_validate(&c->params, err);
 }
 
-/* Every size x preset x thread count: timed, then the reference at the same settings. */
-static int run_all(const struct bench_options *o, int resolved, struct dao_error *err)
+/* Every preset x thread count on these frames: timed, then the reference at the same
+ * settings. */
+static int run_frames(const struct bench_options *o, struct size sz, const struct frames *fr,
+		      int resolved, struct dao_error *err)
 {
+	/* every input frame timed at least once */
+	const int min_iter = fr->input && (int)fr->n > o->min_iter ? (int)fr->n : o->min_iter;
+	int r = 0;
+	for (int qi = 0; !r && qi < o->nq; qi++) {
+		struct config c = { .size = sz, .fr = fr };
+		r = preset_config(o, o->qnames[qi], &c, err);
+		for (int ti = 0; !r && ti < o->nthreads; ti++) {
+			c.threads = o->threads[ti];
+			struct stats st = { 0 }, ref = { 0 };
+			r = run(&c, o->simd, min_iter, o->min_time, 100000, &st, err);
+			if (!r && !o->no_ref)
+				r = run(&c, DAO_SIMD_REFERENCE, 3, 0.0, 3, &ref, err);
+			if (r)
+				break;
+			if (o->json)
+				print_json(&c, resolved, &st, o->no_ref ? NULL : &ref);
+			else
+				print_row(&c, &st, o->no_ref ? NULL : &ref);
+		}
+	}
+	return r;
+}
+
+/* --input's frames, or the synthetic frame of every size. */
+static int run_all(const struct bench_options *o, const struct bench_input *in, int resolved,
+		   struct dao_error *err)
+{
+	if (o->in.po.input) {
+		const struct frames fr = { &in->cam, in->frames, in->n, in->stream, o->in.po.input };
+		const struct size sz = { (int)in->cam.width, (int)in->cam.height };
+		return run_frames(o, sz, &fr, resolved, err);
+	}
 	for (int si = 0; si < o->nsizes; si++) {
 		struct dao_camera cam;
 		uint16_t *depth = NULL;
-		int r = make_frame(o->sizes[si], &cam, &depth, err);
+		const struct size sz = o->sizes[si];
+		int r = make_frame(sz, &cam, &depth, err);
 		if (r)
 			return r;
-		for (int qi = 0; !r && qi < o->nq; qi++) {
-			struct config c = { .size = o->sizes[si] };
-			r = preset_config(o, o->qnames[qi], &c, err);
-			for (int ti = 0; !r && ti < o->nthreads; ti++) {
-				c.threads = o->threads[ti];
-				struct stats st = { 0 }, ref = { 0 };
-				r = run(&c, &cam, depth, o->simd, o->min_iter, o->min_time, 100000, &st,
-					err);
-				if (!r && !o->no_ref)
-					r = run(&c, &cam, depth, DAO_SIMD_REFERENCE, 3, 0.0, 3, &ref, err);
-				if (r)
-					break;
-				if (o->json)
-					print_json(&c, resolved, &st, o->no_ref ? NULL : &ref);
-				else
-					print_row(&c, &st, o->no_ref ? NULL : &ref);
-			}
-		}
+		const struct dao_frame f = { .format = DAO_PIXFMT_DEPTH16, .width = (uint32_t)sz.w,
+					     .height = (uint32_t)sz.h, .stride = 2 * sz.w,
+					     .data = depth, .depth_unit = 0.001f };
+		const struct frames fr = { &cam, &f, 1, 0, NULL };
+		r = run_frames(o, sz, &fr, resolved, err);
 		free(depth);
 		if (r)
 			return r;
@@ -663,10 +765,15 @@ int cmd_bench(int argc, char **argv)
 	if (o.cmp.nothers || o.cmp.nparams)
 		return bench_compare(&o.cmp);
 	const int resolved = o.simd == DAO_SIMD_AUTO ? (int)dao_simd_best() : o.simd;
+	struct bench_input in = { 0 };
+	if (o.in.po.input && (r = bench_input_load(&o.in, &in)))
+		return r;
 	if (!o.json)
-		print_header(resolved, o.simd);
+		print_header(&o, &in, resolved);
 	struct dao_error err = { 0 };
-	if (run_all(&o, resolved, &err)) {
+	r = run_all(&o, &in, resolved, &err);
+	bench_input_free(&in);
+	if (r) {
 		fprintf(stderr, "depthao bench: %s\n", err.message);
 		return 1;
 	}

@@ -328,6 +328,21 @@ static int frame_option(int argc, char **argv, int *i, struct process_options *o
 	return -1;
 }
 
+int process_camera_options(struct process_options *o)
+{
+	const char *cmd = o->cmd ? o->cmd : "process";
+	if (!!o->intrinsics + !!o->fov + !!o->intrinsics_file > 1)
+		return usage_error(cmd, "give only one of --intrinsics, --fov and --intrinsics-file");
+	if (o->intrinsics && parse_list(o->intrinsics, o->k, 4))
+		return usage_error(cmd, "--intrinsics '%s' must be four numbers FX,FY,CX,CY",
+				   o->intrinsics);
+	if (o->fov && (parse_list(o->fov, o->f, 2) || !(o->f[0] > 0 && o->f[0] < 180) ||
+		       !(o->f[1] > 0 && o->f[1] < 180)))
+		return usage_error(cmd, "--fov '%s' must be two angles H,V in (0, 180) degrees",
+				   o->fov);
+	return 0;
+}
+
 /* What the options say together: an input, an output, one camera: 0 or the exit status. */
 static int check_options(struct process_options *o)
 {
@@ -355,16 +370,9 @@ static int check_options(struct process_options *o)
 		return usage_error("process", "--overlay-out needs colour, and '%s' is depth-only PNG "
 				   "input: give a recording or device with colour (.oni, .bag, "
 				   "openni2:...)", o->input);
-	if (!!o->intrinsics + !!o->fov + !!o->intrinsics_file > 1)
-		return usage_error("process",
-				   "give only one of --intrinsics, --fov and --intrinsics-file");
-	if (o->intrinsics && parse_list(o->intrinsics, o->k, 4))
-		return usage_error("process", "--intrinsics '%s' must be four numbers FX,FY,CX,CY",
-				   o->intrinsics);
-	if (o->fov && (parse_list(o->fov, o->f, 2) || !(o->f[0] > 0 && o->f[0] < 180) ||
-		       !(o->f[1] > 0 && o->f[1] < 180)))
-		return usage_error("process", "--fov '%s' must be two angles H,V in (0, 180) degrees",
-				   o->fov);
+	int status = process_camera_options(o);
+	if (status)
+		return status;
 	if (o->poses && process_input_is_stream(o->input))
 		return usage_error("process", "--poses applies to PNG directories; a ROS "
 				   "recording's own tf or odometry is used with "
@@ -435,19 +443,20 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 {
 	struct dao_error err;
 	char msg[512];
+	const char *cmd = o->cmd ? o->cmd : "process";
 	if (o->intrinsics) {
 		if (dao_camera_from_intrinsics(cam, w, h, o->k[0], o->k[1], o->k[2], o->k[3], &err))
-			return usage_error("process", "--intrinsics: %s", err.message);
+			return usage_error(cmd, "--intrinsics: %s", err.message);
 		return 0;
 	}
 	if (o->fov) {
 		if (dao_camera_from_fov(cam, w, h, o->f[0] * DEG2RAD, o->f[1] * DEG2RAD, &err))
-			return usage_error("process", "--fov: %s", err.message);
+			return usage_error(cmd, "--fov: %s", err.message);
 		return 0;
 	}
 	if (src && src->has_intrinsics && !o->intrinsics_file) {
 		if (dao_camera_from_intrinsics(cam, w, h, src->fx, src->fy, src->cx, src->cy, &err))
-			return usage_error("process", "the source's intrinsics: %s", err.message);
+			return usage_error(cmd, "the source's intrinsics: %s", err.message);
 		if (!o->quiet)
 			fprintf(stderr, "depthao: intrinsics from the source: fx %.2f fy %.2f cx %.2f "
 				"cy %.2f\n", src->fx, src->fy, src->cx, src->cy);
@@ -455,7 +464,7 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 	}
 	if (src && src->has_fov && !o->intrinsics_file) {
 		if (dao_camera_from_fov(cam, w, h, src->hfov, src->vfov, &err))
-			return usage_error("process", "the source's field of view: %s", err.message);
+			return usage_error(cmd, "the source's field of view: %s", err.message);
 		if (!o->quiet)
 			fprintf(stderr, "depthao: field of view from the source: %.2f x %.2f degrees\n",
 				src->hfov / DEG2RAD, src->vfov / DEG2RAD);

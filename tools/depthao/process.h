@@ -23,6 +23,7 @@
 
 struct process_options {
 	const char *input;
+	const char *cmd;        /* the command its usage errors name: NULL = "process" */
 	const char *ao_out, *shaded_out, *overlay_out;
 	const char *cloud_out;  /* --cloud-out: a directory, or one FILE.ply */
 	const char *mcap_out;   /* --mcap-out: FILE.mcap[?sink options] */
@@ -71,6 +72,10 @@ double process_now_ms(void);
 /* "depthao: MESSAGE" on stderr, with what to do when it was the pixel limit. */
 void process_print_error(const struct dao_error *err);
 int process_ensure_dir(const char *path);
+
+/* --intrinsics, --fov and --intrinsics-file: at most one, the numbers parsed into
+ * o->k and o->f.  0 or the usage error's exit status. */
+int process_camera_options(struct process_options *o);
 
 /*
  * The camera for w x h images: --intrinsics, --fov, --intrinsics-file, else
@@ -139,6 +144,13 @@ void process_source_poses_report(const struct process_options *o, const struct r
 int process_input_is_stream(const char *input);
 /* The input without its "NAME:" prefix, if it has one. */
 const char *process_input_path(const char *input);
+/*
+ * The source of o->input (any input: PNG files and directories through the
+ * built-in images source), its plugins loaded: the built-in ones first, the
+ * modules only when none takes it.  0 or the exit status, the message printed.
+ */
+int process_open_source(const struct process_options *o, struct dao_plugins **plugins,
+			struct dao_source **src);
 /* The whole run for such input; returns the exit status. */
 int process_stream(const struct process_options *o);
 /* "N frames, M ms/frame (AO), wrote OUTPUTS" on stderr, after a run. */

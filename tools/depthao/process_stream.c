@@ -141,12 +141,12 @@ static int run(const struct process_options *o, struct dao_source *src,
 }
 
 /*
- * The source of o->input: the built-in sources first (a recording then
- * costs no plugin modules; OpenCV and OpenNI2 pull in tens of megabytes),
- * the modules only when no built-in takes it.  0 or the exit status.
+ * The built-in sources first (a recording then costs no plugin modules; OpenCV
+ * and OpenNI2 pull in tens of megabytes), the modules only when no built-in
+ * takes it.
  */
-static int open_source(const struct process_options *o, struct dao_plugins **plugins,
-		       struct dao_source **src)
+int process_open_source(const struct process_options *o, struct dao_plugins **plugins,
+			struct dao_source **src)
 {
 	struct dao_error err;
 	struct dao_source_options so = {
@@ -270,7 +270,7 @@ int process_stream(const struct process_options *o)
 	struct dao_source *src = NULL;
 	struct run_state st = {0};
 	struct dao_source_info si;
-	int status = open_source(o, &plugins, &src);
+	int status = process_open_source(o, &plugins, &src);
 	if (!status) {
 		dao_source_get_info(src, &si);
 		status = check_source(o, &si);
