@@ -101,12 +101,17 @@ PID=$!
 wait_for 10 test -S "$SOCK" || fail "no socket: $(cat "$WORK/log-stall")"
 recorder_wrote() { [ "$(stat_of "$SOCK" sinks.0.frames_out 2>/dev/null)" = "$1" ]; }
 wait_for 20 recorder_wrote 20 || fail "the recorder did not take 20 frames"
-sleep 2.5 # the idle flush comes 1 s after the last frame
+t_stall=$(date +%s%N)
+# the idle flush comes 1 s after the last frame; waited for in the file itself (a fixed
+# wait failed on a loaded host), up to 20 s
+header_counts() { [ "$(field header "$("$ONI_CHECK" "$WORK/stall.oni" 30 2>/dev/null)")" = "$1" ]; }
+wait_for 20 header_counts 20 || true
+flush_ms=$((($(date +%s%N) - t_stall) / 1000000))
 kill -KILL "$PID"
 wait "$PID" 2>/dev/null || true
 PID=
 out=$("$ONI_CHECK" "$WORK/stall.oni" 30) || fail "the stalled recording does not read back: $out"
-echo "camera stalled after 20 frames, kill -9 2.5 s later: $out"
+echo "camera stalled after 20 frames, header complete $flush_ms ms after the 20th frame was seen, then kill -9: $out"
 [ "$(field frames "$out")" -eq 20 ] || fail "$(field frames "$out") frames in the stalled recording, 20 written"
 [ "$(field header "$out")" -eq 20 ] || fail "the header counts $(field header "$out") synced frames of 20: the last frames were not synced while the camera was silent"
 rm -f "$SOCK"
