@@ -4,19 +4,19 @@
  * from a store of messages by topic.
  *
  * Messages: ROS 2 in the "cdr" message encoding (sensor_msgs/msg/Image,
- * CompressedImage, CameraInfo), and Foxglove's schemas in the "protobuf" or
- * "json" encoding (foxglove.RawImage, foxglove.CompressedImage,
+ * CompressedImage, CameraInfo), and Foxglove's schemas in the "protobuf"
+ * or "json" encoding (foxglove.RawImage, foxglove.CompressedImage,
  * foxglove.CameraCalibration; mcap/foxglove_msg.h) or as ROS 2 messages in
- * "cdr" (foxglove_msgs/msg/RawImage, CompressedImage, CameraCalibration).  The depth topic is an
- * image topic in 16UC1 or mono16 (counts of `unit` metres: ?unit=, else the
- * caller's depth_unit, else 0.001) or 32FC1 (metres; NaN and 0 are no
- * data), a CompressedImage topic of image_transport's compressedDepth
- * (compressed_depth.h: PNG or RVL; 16UC1 counts or 32FC1 quantised), or a
- * foxglove.CompressedImage topic of 16-bit grey PNGs ("png": counts).  With
- * one such topic it is taken; with several, ?topic= chooses (the error
- * lists them).  The intrinsics come from the first CameraInfo or
- * CameraCalibration of the topic's namespace: ".../camera_info" (or
- * ".../calibration") beside ".../image_raw" (beside
+ * "cdr" (foxglove_msgs/msg/RawImage, CompressedImage, CameraCalibration:
+ * the same rules).  The depth topic is an image topic in 16UC1 or mono16
+ * (counts of `unit` metres: ?unit=, else the caller's depth_unit, else
+ * 0.001) or 32FC1 (metres; NaN and 0 are no data), a CompressedImage topic
+ * of image_transport's compressedDepth (compressed_depth.h: PNG or RVL;
+ * 16UC1 counts or 32FC1 quantised), or a foxglove.CompressedImage topic of
+ * 16-bit grey PNGs ("png": counts).  With one such topic it is taken; with
+ * several, ?topic= chooses (the error lists them).  The intrinsics come
+ * from the first CameraInfo or CameraCalibration of the topic's namespace:
+ * ".../camera_info" (or ".../calibration") beside ".../image_raw" (beside
  * ".../image_raw/compressedDepth" too).
  *
  * Colour (want_color): an image topic in rgb8, bgr8, rgba8, bgra8 or mono8,
@@ -143,7 +143,8 @@ static enum schema schema_of(const struct dao_ros2_topic *t, enum dao_fg_encodin
 		if (!strcmp(t->schema, "sensor_msgs/msg/CameraInfo"))
 			return S_CAMERA_INFO;
 		*fg = DAO_FG_CDR; /* Foxglove's schemas as ROS 2 messages */
-		return strncmp(t->schema, "foxglove_msgs/msg/", 18) ? S_NONE : fg_schema(t->schema + 18);
+		return strncmp(t->schema, "foxglove_msgs/msg/", 18) ? S_NONE
+								     : fg_schema(t->schema + 18);
 	}
 	if (!strcmp(t->encoding, "protobuf"))
 		*fg = DAO_FG_PROTOBUF;
