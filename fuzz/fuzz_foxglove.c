@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * libFuzzer target: Foxglove's image schemas (src/io/mcap/foxglove_msg.c)
- * and the protobuf wire-format reader under them.  The first byte chooses
- * the schema (bits 0-1: RawImage, CompressedImage, CameraCalibration) and
- * the encoding (bit 2: JSON, else protobuf); the rest is the message.  The
+ * libFuzzer target: Foxglove's image schemas (src/io/mcap/foxglove_msg.c,
+ * and src/io/mcap/ros2_msg.c for their ROS 2 form) and the protobuf
+ * wire-format reader under them.  The first byte chooses the schema (bits
+ * 0-1: RawImage, CompressedImage, CameraCalibration) and the encoding (bit 3:
+ * foxglove_msgs/msg/... in CDR, else bit 2: JSON, else protobuf); the rest
+ * is the message.  The
  * rest is also read field by field with the wire-format primitives, and
  * base64-decoded into a buffer of its exact size.  Aborts on data outside
  * the message (protobuf) or the buffer (JSON), a string without its NUL, an
@@ -31,11 +33,13 @@ static void image(int compressed, enum dao_fg_encoding enc, const uint8_t *msg, 
 	struct dao_fg_image img;
 	int r = compressed ? dao_fg_compressed_image_parse(enc, msg, n, buf, &img)
 			   : dao_fg_raw_image_parse(enc, msg, n, buf, &img);
-	if (r != 0 && r != -EINVAL && r != -ENOMEM && r != -EFBIG)
+	if (r != 0 && r != -EINVAL && r != -ENOMEM && r != -EFBIG &&
+	    !(r == -ENOTSUP && enc == DAO_FG_CDR))
 		abort();
 	if (r < 0)
 		return;
-	if (!memchr(img.encoding, 0, sizeof img.encoding))
+	if (!memchr(img.encoding, 0, sizeof img.encoding) ||
+	    !memchr(img.frame_id, 0, sizeof img.frame_id))
 		abort();
 	if (enc == DAO_FG_JSON)
 		inside(img.data, img.data_len, buf->p, buf->cap);
@@ -70,7 +74,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	const uint8_t *msg = data + 1;
 	size_t n = size - 1;
-	enum dao_fg_encoding enc = data[0] & 4 ? DAO_FG_JSON : DAO_FG_PROTOBUF;
+	enum dao_fg_encoding enc = data[0] & 8   ? DAO_FG_CDR
+				   : data[0] & 4 ? DAO_FG_JSON
+						 : DAO_FG_PROTOBUF;
 	struct dao_fg_buf buf = {NULL, 0, 1u << 20};
 	switch (data[0] & 3) {
 	case 0:
@@ -80,7 +86,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	default: {
 		struct dao_fg_calibration c;
 		int r = dao_fg_calibration_parse(enc, msg, n, &c);
-		if (r != 0 && r != -EINVAL)
+		if (r != 0 && r != -EINVAL && !(r == -ENOTSUP && enc == DAO_FG_CDR))
 			abort();
 		if (r == 0 && c.d_count > DAO_FG_MAX_DISTORTION && c.d_count > n)
 			abort(); /* more D values than the message can hold */

@@ -13,9 +13,15 @@
 //   zfile/, zmsg/  rosbag2 directories compressed by rosbag2's rules: d16.db3 as zfile_0.db3.zstd
 //                  (compression_mode FILE); each message zstd-compressed (MESSAGE)
 //   bagmcap/       a rosbag2 directory of MCAP storage: metadata.yaml and bagmcap_0.mcap
+//   d32.db3        d16's frames as Image 32FC1 (metres, make_mcaps.js's d32)
+//   fgcdr_16.db3, fgcdr_32.db3, fgcdr_png.db3  Foxglove's schemas as ROS 2 messages
+//                  (foxglove_msgs/msg/RawImage 16UC1 or 32FC1, CompressedImage "png", and
+//                  CameraCalibration, in CDR; make_mcaps.js's fgcdr_*), as ros2 bag record
+//                  stores a node publishing them
 //   damaged: notopics.db3 (no topics table), nocolumn.db3 (messages without timestamp),
 //     texttime.db3 (a timestamp that is text), textdata.db3 (data that is text), badtopic.db3
 //     (a topic_id no topic has), cut.db3 (a CDR message cut short), yuv.db3 (encoding yuv422),
+//     fgcdr_cut.db3 (a foxglove_msgs/msg/RawImage cut short),
 //     bigblob.db3 (a 2 MiB message), split/ (metadata.yaml of two files, neither there), splitmiss/ (its second file missing),
 //     splitorder/ (its files listed out of time order), zbomb/ and zmbomb/ (zstd bombs: a file,
 //     a message), znotz/ (a .zstd that is not), zlz4/ (compression_format lz4),
@@ -83,6 +89,15 @@ const save = (db, file) => { fs.writeFileSync(file, db.export()); db.close(); };
 
 const INFO = { name: "/camera/depth/camera_info", type: "sensor_msgs/msg/CameraInfo", msg: camInfo };
 const DEPTH = { name: "/camera/depth/image_raw", type: "sensor_msgs/msg/Image", msg: image, dt: 1000 };
+const DEPTH32 = { ...DEPTH, msg: (i) => writer(IMAGE).writeMessage({ header: header(i), height: H,
+  width: W, encoding: "32FC1", is_bigendian: 0, step: 4 * W, data: M.metres(pixels(i)) }) };
+// Foxglove's schemas as ROS 2 messages: the depth (kind as make_mcaps.js's fgCdrDepth) and
+// its calibration
+const FG_INFO = { name: "/camera/depth/calibration", type: "foxglove_msgs/msg/CameraCalibration",
+  msg: (i) => M.fgCdr("CameraCalibration", M.fgCdrCalibration(i)) };
+const fgDepth = (kind) => ({ name: kind === "png" ? "/camera/depth/image_png" : "/camera/depth/image_raw",
+  type: "foxglove_msgs/msg/" + (kind === "png" ? "CompressedImage" : "RawImage"), dt: 1000,
+  msg: (i) => M.fgCdr(kind === "png" ? "CompressedImage" : "RawImage", M.fgCdrDepth(i, kind)) });
 
 // The reference reader: every depth message decodes to the frame written.
 async function check(file, topic) {
@@ -144,6 +159,8 @@ async function damaged(SQL, out) {
   save(db, f("badtopic.db3"));
   save(bag(SQL, [INFO, { ...DEPTH, msg: (i) => image(i).subarray(0, 2000) }]), f("cut.db3"));
   save(bag(SQL, [INFO, { ...DEPTH, msg: (i) => image(i, "yuv422") }]), f("yuv.db3"));
+  const fg16 = fgDepth("16UC1");
+  save(bag(SQL, [FG_INFO, { ...fg16, msg: (i) => fg16.msg(i).subarray(0, 2000) }]), f("fgcdr_cut.db3"));
   save(bag(SQL, [INFO, { ...DEPTH, msg: (i) => Buffer.concat([image(i), Buffer.alloc(2 << 20)]) }]), f("bigblob.db3"));
   metadata(f("split"), "sqlite3", ["split_0.db3", "split_1.db3"]);
   // split bags: the second file missing; the files listed out of time order
@@ -166,7 +183,7 @@ async function damaged(SQL, out) {
 }
 
 // fuzz_db3_message: type byte, u16 + CameraInfo, u16 + depth message 0, depth message 1;
-// fuzz_foxglove: schema/encoding byte, message
+// fuzz_foxglove: schema/encoding byte (bit 3: foxglove_msgs in CDR), message
 function seeds(dir) {
   const db3 = path.join(dir, "corpus", "db3_message"), fg = path.join(dir, "corpus", "foxglove");
   fs.mkdirSync(db3, { recursive: true });
@@ -188,6 +205,10 @@ function seeds(dir) {
   put("raw_json.bin", 4, js(M.fgDepth(0, true, false)));
   put("png_json.bin", 5, js(M.fgDepth(0, true, true)));
   put("calibration_json.bin", 6, js(M.fgCalibration(0, true)));
+  put("raw_cdr.bin", 8, M.fgCdr("RawImage", M.fgCdrDepth(0, "16UC1")));
+  put("raw32_cdr.bin", 8, M.fgCdr("RawImage", M.fgCdrDepth(0, "32FC1")));
+  put("png_cdr.bin", 9, M.fgCdr("CompressedImage", M.fgCdrDepth(0, "png")));
+  put("calibration_cdr.bin", 10, M.fgCdr("CameraCalibration", M.fgCdrCalibration(0)));
 }
 
 module.exports = { SCHEMA, QOS };
@@ -209,6 +230,9 @@ if (require.main === module) (async () => {
   const CD = { name: "/camera/depth/image_raw/compressedDepth", type: "sensor_msgs/msg/CompressedImage", msg: cdepth, dt: 1000 };
   save(bag(SQL, [INFO, CD]), path.join(out, "cdepth.db3"));
   await check(path.join(out, "cdepth.db3"), CD.name);
+  save(bag(SQL, [INFO, DEPTH32]), path.join(out, "d32.db3"));
+  for (const kind of ["16UC1", "32FC1", "png"])
+    save(bag(SQL, [FG_INFO, fgDepth(kind)]), path.join(out, "fgcdr_" + (kind === "png" ? "png" : kind.slice(0, 2)) + ".db3"));
   save(bag(SQL, [INFO, DEPTH, { name: "/camera/color/image_raw", type: "sensor_msgs/msg/Image", msg: color,
     dt: 10000000 }]), path.join(out, "color.db3"));
   metadata(path.join(out, "bag"), "sqlite3", ["bag_0.db3"]);

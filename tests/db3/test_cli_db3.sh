@@ -1,11 +1,13 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 # depthao process on rosbag2 sqlite3 bags written here by sql.js with CDR from
-# @foxglove/rosmsg2-serialization, each read back by @foxglove/rosbag2-web (make_db3.js): Image
-# 16UC1, compressedDepth PNG, a bag directory (metadata.yaml) of sqlite3 (one file, and split
-# in two) and of MCAP storage give
-# the same AO as the same frames as 16-bit PNGs, with the CameraInfo's intrinsics; --start and
-# the frame count; colour overlays equal to the same messages' in MCAP; damaged databases.
+# @foxglove/rosmsg2-serialization (make_db3.js; the sensor_msgs ones read back by
+# @foxglove/rosbag2-web): Image 16UC1, compressedDepth PNG, Foxglove's
+# foxglove_msgs/msg/RawImage 16UC1 and CompressedImage PNG with CameraCalibration, a bag
+# directory (metadata.yaml) of sqlite3 (one file, and split in two) and of MCAP storage give
+# the same AO as the same frames as 16-bit PNGs, with the CameraInfo's intrinsics (RawImage
+# 32FC1: as Image 32FC1); --start and the frame count; colour overlays equal to the same
+# messages' in MCAP; damaged databases.
 # usage: test_cli_db3.sh DEPTHAO PNG_INFO NODE
 . "$(dirname "$0")/../tools/cli_lib.sh"
 . "$(dirname "$0")/../tools/recording_lib.sh"
@@ -18,6 +20,14 @@ png_reference "$B"
 for f in d16.db3 cdepth.db3 bag split2 zfile zmsg bagmcap "db3:$B/d16.db3"; do
 	case "$f" in db3:*) same_as_png uri "$f" ;; *) same_as_png "$f" "$B/$f" ;; esac
 done
+
+# Foxglove's schemas as ROS 2 messages (foxglove_msgs/msg/... in CDR; a .db3 has no schema
+# encoding): RawImage 16UC1 and CompressedImage PNG give the PNGs' AO, RawImage 32FC1 that
+# of the same floats in a sensor_msgs/msg/Image
+same_as_png fgcdr_16 "$B/fgcdr_16.db3"
+same_as_png fgcdr_png "$B/fgcdr_png.db3"
+recording_run d32 "$B/d32.db3"
+same_as_run d32 fgcdr_32 "$B/fgcdr_32.db3"
 
 # the frame count, --start/--frames, ?topic= and ?unit= through the URI
 start_frames "$B/d16.db3?topic=/camera/depth/image_raw&unit=0.001" \
@@ -52,7 +62,8 @@ db3_error texttime.db3 "table messages, id 4: timestamp is not an integer"
 db3_error textdata.db3 "table messages, id 2: data is text, not a blob"
 db3_error badtopic.db3 "table messages, id 3: topic_id 99 is not in table topics"
 db3_error cut.db3 "message 0 of '/camera/depth/image_raw' is not a sensor_msgs/msg/Image (cdr)"
-db3_error yuv.db3 "no depth image topic (sensor_msgs/msg/Image in 16UC1, mono16 or 32FC1, or compressedDepth, in CDR; or foxglove.RawImage or 16-bit PNG foxglove.CompressedImage); image topics: /camera/depth/image_raw (yuv422)"
+db3_error fgcdr_cut.db3 "message 0 of '/camera/depth/image_raw' is not a foxglove_msgs/msg/RawImage (cdr)"
+db3_error yuv.db3 "no depth image topic (sensor_msgs Image in 16UC1, mono16 or 32FC1, or compressedDepth; Foxglove RawImage or 16-bit PNG CompressedImage); image topics: /camera/depth/image_raw (yuv422)"
 db3_error bigblob.db3 "table messages, id 2: 2103368 bytes of data, over the limit of 1052576" --max-pixels 1000
 db3_error notsqlite.db3 "not a rosbag2 .db3 file (no SQLite 3 header)"
 # a split bag: the frame count and --start across its files; files missing or out of order

@@ -20,6 +20,7 @@
 #include <errno.h>
 
 #include "mcap/cdr.h"
+#include "mcap/foxglove_msg.h"
 #include "mcap/compressed_depth.h"
 #include "mcap/mcap_format.h"
 #include "mcap/mcap_reader.h"
@@ -420,6 +421,28 @@ static void cdr_strings_and_sequences(void **state)
 	assert_false(dao_cdr_ok(&c));
 }
 
+/* What an image message parsed to, and the check of one stamped 5.000000007 s, 3x2. */
+struct image_fields {
+	uint64_t stamp_ns;
+	uint32_t width, height;
+	const char *encoding;
+	uint32_t step;
+	const uint8_t *data;
+	size_t data_len;
+};
+
+static void image_is(const struct image_fields *got, const char *encoding, uint32_t step,
+		     const char *data)
+{
+	assert_int_equal(got->stamp_ns, 5000000007ull);
+	assert_int_equal(got->width, 3);
+	assert_int_equal(got->height, 2);
+	assert_string_equal(got->encoding, encoding);
+	assert_int_equal(got->step, step);
+	assert_int_equal(got->data_len, strlen(data));
+	assert_memory_equal(got->data, data, strlen(data));
+}
+
 /* A ROS 2 Image: the fields as rosmsg2-serialization lays them out. */
 static void ros2_image(void **state)
 {
@@ -443,15 +466,171 @@ static void ros2_image(void **state)
 	put(&b, "abcdefghijkl", 12);
 	struct dao_ros2_image img;
 	assert_int_equal(dao_ros2_image_parse(b.d, b.n, &img), 0);
-	assert_int_equal(img.header.stamp_ns, 5000000007ull);
-	assert_int_equal(img.height, 2);
-	assert_int_equal(img.width, 3);
-	assert_string_equal(img.encoding, "16UC1");
-	assert_int_equal(img.step, 6);
-	assert_int_equal(img.data_len, 12);
-	assert_memory_equal(img.data, "abcdefghijkl", 12);
+	image_is(&(struct image_fields){ img.header.stamp_ns, img.width, img.height, img.encoding,
+					 img.step, img.data, img.data_len },
+		 "16UC1", 6, "abcdefghijkl");
 	for (size_t cut = 0; cut < b.n; cut++)
 		assert_int_equal(dao_ros2_image_parse(b.d, cut, &img), -EINVAL);
+}
+
+/* CDR built by hand, little-endian: padding to an alignment counted after the
+ * encapsulation header, a string (its NUL counted), a float64. */
+static void cdr_pad(struct buf *b, size_t align)
+{
+	while ((b->n - 4) % align)
+		put8(b, 0);
+}
+
+static void cdr_u32(struct buf *b, uint32_t v)
+{
+	cdr_pad(b, 4);
+	put32(b, v);
+}
+
+static void cdr_str(struct buf *b, const char *s, size_t n)
+{
+	cdr_u32(b, (uint32_t)n + 1);
+	put(b, s, n);
+	put8(b, 0);
+}
+
+static void cdr_f64(struct buf *b, double v)
+{
+	uint64_t u;
+	memcpy(&u, &v, 8);
+	cdr_pad(b, 8);
+	put64(b, u);
+}
+
+/* The encapsulation, a builtin_interfaces/Time and a frame_id: the start of each of
+ * Foxglove's ROS 2 messages. */
+static void fg_cdr_start(struct buf *b, int32_t sec, uint32_t nsec, const char *frame,
+			 size_t frame_len)
+{
+	b->n = 0;
+	put(b, "\0\1\0\0", 4);
+	cdr_u32(b, (uint32_t)sec);
+	cdr_u32(b, nsec);
+	cdr_str(b, frame, frame_len);
+}
+
+/* foxglove_msgs/msg/RawImage: timestamp, frame_id, width, height, encoding, step, data. */
+static size_t fg_cdr_raw(struct buf *b, int32_t sec, uint32_t nsec, const char *frame,
+			 size_t frame_len)
+{
+	fg_cdr_start(b, sec, nsec, frame, frame_len);
+	cdr_u32(b, 3);         /* width */
+	cdr_u32(b, 2);         /* height */
+	cdr_str(b, "32FC1", 5);
+	cdr_u32(b, 12);        /* step */
+	cdr_u32(b, 24);
+	put(b, "abcdefghijklmnopqrstuvwx", 24);
+	return b->n;
+}
+
+static void fg_cdr_raw_image(void **state)
+{
+	(void)state;
+	static struct buf b;
+	struct dao_fg_image img;
+	size_t n = fg_cdr_raw(&b, 5, 7, "cam", 3);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, n, NULL, &img), 0);
+	assert_string_equal(img.frame_id, "cam");
+	image_is(&(struct image_fields){ img.stamp_ns, img.width, img.height, img.encoding, img.step,
+					 img.data, img.data_len },
+		 "32FC1", 12, "abcdefghijklmnopqrstuvwx");
+	for (size_t cut = 0; cut < n; cut++)
+		assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, cut, NULL, &img), -EINVAL);
+	/* as protobuf and JSON: a stamp before 1970 is 0, a nanosecond count of 1e9 refused */
+	fg_cdr_raw(&b, -3, 7, "cam", 3);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), 0);
+	assert_int_equal(img.stamp_ns, 0);
+	fg_cdr_raw(&b, 5, 1000000000u, "cam", 3);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), -EINVAL);
+	/* a frame_id holding a NUL, or of 256 bytes, refused; of 255 taken */
+	fg_cdr_raw(&b, 5, 7, "ca\0m", 4);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), -EINVAL);
+	char frame[257];
+	memset(frame, 'f', 256);
+	frame[256] = 0;
+	fg_cdr_raw(&b, 5, 7, frame, 256);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), -EINVAL);
+	fg_cdr_raw(&b, 5, 7, frame, 255);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), 0);
+	assert_int_equal(strlen(img.frame_id), 255);
+	/* another encapsulation (XCDR2) */
+	b.d[1] = 7;
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), -ENOTSUP);
+}
+
+/* foxglove_msgs/msg/CompressedImage: timestamp, frame_id, data, format (after the data). */
+static void fg_cdr_compressed_image(void **state)
+{
+	(void)state;
+	static struct buf b;
+	struct dao_fg_image img;
+	fg_cdr_start(&b, 9, 0, "", 0);
+	cdr_u32(&b, 5);
+	put(&b, "\x89PNG!", 5);
+	cdr_str(&b, "png", 3);
+	assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), 0);
+	assert_int_equal(img.stamp_ns, 9000000000ull);
+	assert_string_equal(img.frame_id, "");
+	assert_string_equal(img.encoding, "png");
+	assert_int_equal(img.data_len, 5);
+	assert_memory_equal(img.data, "\x89PNG!", 5);
+	for (size_t cut = 0; cut < b.n; cut++)
+		assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, b.d, cut, NULL, &img),
+				 -EINVAL);
+	/* a format of 64 bytes does not fit */
+	char fmt[65];
+	memset(fmt, 'j', 64);
+	b.n -= 8;
+	cdr_str(&b, fmt, 64);
+	assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), -EINVAL);
+}
+
+/* foxglove_msgs/msg/CameraCalibration: timestamp, frame_id, width, height,
+ * distortion_model, d (float64[]), k[9], r[9], p[12]. */
+static size_t fg_cdr_calibration(struct buf *b, uint32_t nd)
+{
+	fg_cdr_start(b, 1, 2, "cam", 3);
+	cdr_u32(b, 64);
+	cdr_u32(b, 48);
+	cdr_str(b, "plumb_bob", 9);
+	cdr_u32(b, nd);
+	for (uint32_t i = 0; i < nd; i++)
+		cdr_f64(b, 0.5 + i);
+	for (int i = 0; i < 30; i++)
+		cdr_f64(b, 100.0 + i);
+	return b->n;
+}
+
+static void fg_cdr_camera_calibration(void **state)
+{
+	(void)state;
+	static struct buf b;
+	struct dao_fg_calibration c;
+	size_t n = fg_cdr_calibration(&b, 5);
+	assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, b.d, n, &c), 0);
+	assert_int_equal(c.stamp_ns, 1000000002ull);
+	assert_int_equal(c.width, 64);
+	assert_int_equal(c.height, 48);
+	assert_int_equal(c.d_count, 5);
+	assert_true(c.d[4] == 4.5);
+	assert_true(c.k[0] == 100.0 && c.k[8] == 108.0);
+	assert_true(c.r[0] == 109.0 && c.p[0] == 118.0 && c.p[11] == 129.0);
+	for (size_t cut = 0; cut < n; cut++)
+		assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, b.d, cut, &c), -EINVAL);
+	/* more distortion values than kept: counted, the first 16 kept */
+	n = fg_cdr_calibration(&b, 20);
+	assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, b.d, n, &c), 0);
+	assert_int_equal(c.d_count, 20);
+	assert_true(c.d[15] == 15.5 && c.k[0] == 100.0);
+	/* a count of D larger than the message */
+	n = fg_cdr_calibration(&b, 5);
+	b.d[4 + 40] = 0xff; /* its low byte, after "plumb_bob" and the padding to 4 */
+	assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, b.d, n, &c), -EINVAL);
 }
 
 static void compressed_depth_formats(void **state)
@@ -507,6 +686,9 @@ int main(void)
 		cmocka_unit_test(cdr_alignment_and_byte_order),
 		cmocka_unit_test(cdr_strings_and_sequences),
 		cmocka_unit_test(ros2_image),
+		cmocka_unit_test(fg_cdr_raw_image),
+		cmocka_unit_test(fg_cdr_compressed_image),
+		cmocka_unit_test(fg_cdr_camera_calibration),
 		cmocka_unit_test(compressed_depth_formats),
 		cmocka_unit_test(rvl_decode),
 	};

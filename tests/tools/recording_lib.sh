@@ -40,15 +40,33 @@ png_reference() {
 same_as_png() {
 	name=$1 input=$2
 	shift 2
+	same_as_run png "$name" "$input" "$@"
+}
+
+# recording_run NAME INPUT [OPTIONS...]: depthao process on INPUT (the temporal depth filter
+# off, a recording being a stream) writes 5 AO and shaded images ($WORK/NAME-ao, NAME-sh),
+# with the CameraInfo's intrinsics and without a warning; 1 if it did not exit 0
+recording_run() {
+	name=$1 input=$2
+	shift 2
 	expect_exit 0 "$name" -- "$DEPTHAO" process --input "$input" --depth-temporal 0 \
-		--ao-out "$WORK/$name-ao" --shaded-out "$WORK/$name-sh" "$@" || return 0
+		--ao-out "$WORK/$name-ao" --shaded-out "$WORK/$name-sh" "$@" || return 1
 	grep -q "intrinsics from the source: $REC_INTRINSICS" "$WORK/err" ||
 		fail "$name: intrinsics not from the CameraInfo: $(cat "$WORK/err")"
 	grep -q "warning" "$WORK/err" && fail "$name: a warning: $(cat "$WORK/err")"
 	[ "$(ls "$WORK/$name-ao" | wc -l)" -eq 5 ] || fail "$name: $(ls "$WORK/$name-ao" | wc -l) AO files"
+	return 0
+}
+
+# same_as_run REF NAME INPUT [OPTIONS...]: as same_as_png, against the AO and shaded images
+# of an earlier run ($WORK/REF-ao, $WORK/REF-sh: png_reference's, a recording_run's)
+same_as_run() {
+	ref=$1 name=$2
+	shift
+	recording_run "$@" || return 0
 	for i in $REC_FRAMES; do
-		cmp -s "$WORK/$name-ao/$i.png" "$WORK/png-ao/$i.png" || fail "$name: AO $i differs from the PNG run"
-		cmp -s "$WORK/$name-sh/$i.png" "$WORK/png-sh/$i.png" || fail "$name: shaded $i differs"
+		cmp -s "$WORK/$name-ao/$i.png" "$WORK/$ref-ao/$i.png" || fail "$name: AO $i differs from the $ref run"
+		cmp -s "$WORK/$name-sh/$i.png" "$WORK/$ref-sh/$i.png" || fail "$name: shaded $i differs from the $ref run"
 	done
 }
 

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Foxglove's image, transform and pose schemas in protobuf or JSON (foxglove_msg.h). */
+/* Foxglove's image, transform and pose schemas in protobuf or JSON, and in CDR through
+ * ros2_msg.c (foxglove_msg.h). */
 #include "mcap/foxglove_msg.h"
 
 #include <errno.h>
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "mcap/protobuf.h"
+#include "mcap/ros2_msg.h"
 
 /* Seconds past 1970 up to which a stamp in ns fits 64 bits, with room. */
 #define MAX_SECONDS 10000000000LL
@@ -613,6 +615,8 @@ int dao_fg_poses_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg, s
 	struct dao_tf_msg_transform t;
 	uint32_t n;
 	int r;
+	if (enc == DAO_FG_CDR)
+		return dao_ros2_fg_pose_parse(list, msg, len, cb, user);
 	if (enc == DAO_FG_JSON)
 		return json_poses(list, msg, len, cb, user);
 	if ((r = pb_framed(list, msg, len, &t, &n)) < 0)
@@ -625,6 +629,9 @@ int dao_fg_poses_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg, s
 int dao_fg_frame_transforms_parse(enum dao_fg_encoding enc, int list, const uint8_t *msg,
 				  size_t len, dao_tf_msg_cb cb, void *user)
 {
+	if (enc == DAO_FG_CDR)
+		return list ? dao_ros2_tf_parse(msg, len, cb, user)
+			    : dao_ros2_fg_transform_parse(msg, len, cb, user);
 	return enc == DAO_FG_JSON ? json_frame_transforms(list, msg, len, cb, user)
 				  : pb_frame_transforms(list, msg, len, cb, user);
 }
@@ -633,6 +640,8 @@ int dao_fg_raw_image_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_t 
 			   struct dao_fg_buf *buf, struct dao_fg_image *img)
 {
 	memset(img, 0, sizeof(*img));
+	if (enc == DAO_FG_CDR)
+		return dao_ros2_fg_image_parse(0, msg, len, img);
 	return enc == DAO_FG_JSON ? json_image(msg, len, 1, buf, img) : pb_raw_image(msg, len, img);
 }
 
@@ -640,6 +649,8 @@ int dao_fg_compressed_image_parse(enum dao_fg_encoding enc, const uint8_t *msg, 
 				  struct dao_fg_buf *buf, struct dao_fg_image *img)
 {
 	memset(img, 0, sizeof(*img));
+	if (enc == DAO_FG_CDR)
+		return dao_ros2_fg_image_parse(1, msg, len, img);
 	return enc == DAO_FG_JSON ? json_image(msg, len, 0, buf, img)
 				  : pb_compressed_image(msg, len, img);
 }
@@ -648,5 +659,7 @@ int dao_fg_calibration_parse(enum dao_fg_encoding enc, const uint8_t *msg, size_
 			     struct dao_fg_calibration *cal)
 {
 	memset(cal, 0, sizeof(*cal));
+	if (enc == DAO_FG_CDR)
+		return dao_ros2_fg_calibration_parse(msg, len, cal);
 	return enc == DAO_FG_JSON ? json_calibration(msg, len, cal) : pb_calibration(msg, len, cal);
 }

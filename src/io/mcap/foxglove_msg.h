@@ -23,16 +23,22 @@
  *   foxglove.PosesInFrame: timestamp 1, frame_id 2, poses 3 (repeated Pose).
  * The timestamp is google.protobuf.Timestamp: seconds 1 (int64), nanos 2
  * (int32).  Pixels are little-endian (RawImage has no byte-order field).
+ * The same schemas as ROS 2 messages, foxglove_msgs/msg/NAME in CDR
+ * (DAO_FG_CDR), are read by ros2_msg.c (their fields in order there) into
+ * the same structs and callbacks, with the same rules.
  * The parsers return 0 or -EINVAL (a message that does not fit its type: a
  * field of the wrong type, a K without 9 values ...); -ENOMEM or -EFBIG when
- * the JSON's bytes do not fit the buffer's limit.
+ * the JSON's bytes do not fit the buffer's limit; -ENOTSUP for a CDR
+ * encapsulation other than XCDR1.
  */
 #include <stddef.h>
 #include <stdint.h>
 
 #include "tf/tf_msg.h"
 
-enum dao_fg_encoding { DAO_FG_PROTOBUF, DAO_FG_JSON };
+/* DAO_FG_CDR: foxglove_msgs/msg/... in CDR (ros2_msg.h: dao_ros2_fg_*_parse,
+ * dao_ros2_tf_parse for a FrameTransforms). */
+enum dao_fg_encoding { DAO_FG_PROTOBUF, DAO_FG_JSON, DAO_FG_CDR };
 
 /* foxglove.RawImage or foxglove.CompressedImage; data points into the
  * message (protobuf) or into the buffer (JSON). */

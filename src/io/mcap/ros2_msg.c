@@ -53,6 +53,26 @@ int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }
 
+/* A calibration's D (float64[]: the first dmax kept), K, R (float64[9]) and P (float64[12]):
+ * D's count. */
+static uint32_t calibration(struct dao_cdr *c, double *d, uint32_t dmax, double k[9],
+			    double r[9], double p[12])
+{
+	uint32_t n = dao_cdr_seq(c, 8);
+	for (uint32_t i = 0; i < n; i++) {
+		double v = dao_cdr_f64(c);
+		if (i < dmax)
+			d[i] = v;
+	}
+	for (int i = 0; i < 9; i++)
+		k[i] = dao_cdr_f64(c);
+	for (int i = 0; i < 9; i++)
+		r[i] = dao_cdr_f64(c);
+	for (int i = 0; i < 12; i++)
+		p[i] = dao_cdr_f64(c);
+	return n;
+}
+
 int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2_camera_info *ci)
 {
 	struct dao_cdr c;
@@ -63,20 +83,23 @@ int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2
 	ci->height = dao_cdr_u32(&c);
 	ci->width = dao_cdr_u32(&c);
 	dao_cdr_string_copy(&c, ci->distortion_model, sizeof ci->distortion_model);
-	ci->distortion_count = dao_cdr_seq(&c, 8);
-	for (uint32_t i = 0; i < ci->distortion_count; i++) {
-		double v = dao_cdr_f64(&c);
-		if (i < DAO_ROS2_MAX_DISTORTION)
-			ci->d[i] = v;
-	}
-	for (int i = 0; i < 9; i++)
-		ci->k[i] = dao_cdr_f64(&c);
-	for (int i = 0; i < 9; i++)
-		ci->r[i] = dao_cdr_f64(&c);
-	for (int i = 0; i < 12; i++)
-		ci->p[i] = dao_cdr_f64(&c);
+	ci->distortion_count = calibration(&c, ci->d, DAO_ROS2_MAX_DISTORTION, ci->k, ci->r, ci->p);
 	/* binning_x, binning_y, roi (x_offset, y_offset, height, width, do_rectify): not used */
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
+}
+
+/* A string copied whole into dst (cap bytes), as Foxglove's protobuf reader does: one that
+ * does not fit or holds a NUL makes the reader bad. */
+static void fg_string(struct dao_cdr *c, char *dst, size_t cap)
+{
+	uint32_t n;
+	const char *s = dao_cdr_string(c, &n);
+	if (n >= cap || memchr(s, 0, n)) {
+		c->bad = 1;
+		n = 0;
+	}
+	memcpy(dst, s, n);
+	dst[n] = 0;
 }
 
 /* A builtin_interfaces/Time (a Header's stamp) and the frame_id after it: 0 or -EINVAL. */
@@ -175,4 +198,58 @@ int dao_ros2_fg_pose_parse(int list, const uint8_t *msg, uint64_t len, dao_tf_ms
 	if (rigid(&c, &t) < 0)
 		return -EINVAL;
 	return (r = cb(user, &t)) < 0 ? r : 0;
+}
+
+/* A Foxglove message's timestamp (builtin_interfaces/Time) and frame_id (into dst, cap
+ * bytes); the reader made bad by a nanosec out of range or a frame_id that does not fit. */
+static uint64_t fg_stamp_frame(struct dao_cdr *c, char *dst, size_t cap)
+{
+	int32_t sec = dao_cdr_i32(c);
+	uint32_t nsec = dao_cdr_u32(c);
+	if (nsec >= 1000000000u)
+		c->bad = 1;
+	fg_string(c, dst, cap);
+	return sec < 0 || c->bad ? 0 : (uint64_t)sec * 1000000000u + nsec;
+}
+
+int dao_ros2_fg_image_parse(int compressed, const uint8_t *msg, uint64_t len,
+			    struct dao_fg_image *img)
+{
+	struct dao_cdr c;
+	int r = start(&c, msg, len, img, sizeof(*img));
+	if (r < 0)
+		return r;
+	img->stamp_ns = fg_stamp_frame(&c, img->frame_id, sizeof img->frame_id);
+	if (!compressed) {
+		img->width = dao_cdr_u32(&c);
+		img->height = dao_cdr_u32(&c);
+		fg_string(&c, img->encoding, sizeof img->encoding);
+		img->step = dao_cdr_u32(&c);
+	}
+	img->data_len = dao_cdr_seq(&c, 1);
+	img->data = dao_cdr_bytes(&c, img->data_len);
+	if (compressed)
+		fg_string(&c, img->encoding, sizeof img->encoding); /* format */
+	if (!dao_cdr_ok(&c)) {
+		img->data = NULL;
+		img->data_len = 0;
+		return -EINVAL;
+	}
+	return 0;
+}
+
+int dao_ros2_fg_calibration_parse(const uint8_t *msg, uint64_t len,
+				  struct dao_fg_calibration *cal)
+{
+	struct dao_cdr c;
+	char text[256];
+	int r = start(&c, msg, len, cal, sizeof(*cal));
+	if (r < 0)
+		return r;
+	cal->stamp_ns = fg_stamp_frame(&c, text, sizeof text);
+	cal->width = dao_cdr_u32(&c);
+	cal->height = dao_cdr_u32(&c);
+	fg_string(&c, text, sizeof text); /* distortion_model */
+	cal->d_count = calibration(&c, cal->d, DAO_FG_MAX_DISTORTION, cal->k, cal->r, cal->p);
+	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }

@@ -12,6 +12,7 @@
  */
 #include <stdint.h>
 
+#include "mcap/foxglove_msg.h"
 #include "tf/tf_msg.h"
 
 struct dao_ros2_header {
@@ -81,5 +82,27 @@ int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_
 int dao_ros2_fg_transform_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user);
 int dao_ros2_fg_pose_parse(int list, const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb,
 			   void *user);
+
+/*
+ * Foxglove's image schemas as ROS 2 messages (foxglove_msgs/msg/..., what
+ * `ros2 bag record` stores of a node publishing them), into the structs of
+ * their protobuf and JSON forms (foxglove_msg.h; dao_fg_*_parse call these
+ * for DAO_FG_CDR), with the same rules: timestamp builtin_interfaces/Time
+ * (a sec before 1970 is 0, a nanosec of 1e9 or more refuses the message),
+ * frame_id and encoding copied whole (too long or holding a NUL refuses it),
+ * the pixels little-endian whatever the encapsulation (RawImage has no
+ * byte-order field).
+ *   RawImage: timestamp, frame_id, width, height (uint32), encoding, step
+ *     (uint32), data (uint8[]);
+ *   CompressedImage: timestamp, frame_id, data (uint8[]), format;
+ *   CameraCalibration: timestamp, frame_id, width, height (uint32),
+ *     distortion_model, d (float64[]), k (float64[9]), r (float64[9]), p
+ *     (float64[12]: all 0 reads as no P).
+ * data points into the message.  0, -EINVAL or -ENOTSUP (encapsulation).
+ */
+int dao_ros2_fg_image_parse(int compressed, const uint8_t *msg, uint64_t len,
+			    struct dao_fg_image *img);
+int dao_ros2_fg_calibration_parse(const uint8_t *msg, uint64_t len,
+				  struct dao_fg_calibration *cal);
 
 #endif

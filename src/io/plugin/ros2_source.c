@@ -4,18 +4,19 @@
  * from a store of messages by topic.
  *
  * Messages: ROS 2 in the "cdr" message encoding (sensor_msgs/msg/Image,
- * CompressedImage, CameraInfo), and Foxglove's schemas in the "protobuf" or
- * "json" encoding (foxglove.RawImage, foxglove.CompressedImage,
- * foxglove.CameraCalibration; mcap/foxglove_msg.h).  The depth topic is an
- * image topic in 16UC1 or mono16 (counts of `unit` metres: ?unit=, else the
- * caller's depth_unit, else 0.001) or 32FC1 (metres; NaN and 0 are no
- * data), a CompressedImage topic of image_transport's compressedDepth
- * (compressed_depth.h: PNG or RVL; 16UC1 counts or 32FC1 quantised), or a
- * foxglove.CompressedImage topic of 16-bit grey PNGs ("png": counts).  With
- * one such topic it is taken; with several, ?topic= chooses (the error
- * lists them).  The intrinsics come from the first CameraInfo or
- * CameraCalibration of the topic's namespace: ".../camera_info" (or
- * ".../calibration") beside ".../image_raw" (beside
+ * CompressedImage, CameraInfo), and Foxglove's schemas in the "protobuf"
+ * or "json" encoding (foxglove.RawImage, foxglove.CompressedImage,
+ * foxglove.CameraCalibration; mcap/foxglove_msg.h) or as ROS 2 messages in
+ * "cdr" (foxglove_msgs/msg/RawImage, CompressedImage, CameraCalibration:
+ * the same rules).  The depth topic is an image topic in 16UC1 or mono16
+ * (counts of `unit` metres: ?unit=, else the caller's depth_unit, else
+ * 0.001) or 32FC1 (metres; NaN and 0 are no data), a CompressedImage topic
+ * of image_transport's compressedDepth (compressed_depth.h: PNG or RVL;
+ * 16UC1 counts or 32FC1 quantised), or a foxglove.CompressedImage topic of
+ * 16-bit grey PNGs ("png": counts).  With one such topic it is taken; with
+ * several, ?topic= chooses (the error lists them).  The intrinsics come
+ * from the first CameraInfo or CameraCalibration of the topic's namespace:
+ * ".../camera_info" (or ".../calibration") beside ".../image_raw" (beside
  * ".../image_raw/compressedDepth" too).
  *
  * Colour (want_color): an image topic in rgb8, bgr8, rgba8, bgra8 or mono8,
@@ -122,6 +123,16 @@ static int find_topic(const struct ros2_source *s, const char *name)
 	return -1;
 }
 
+/* Foxglove's image schemas by name (after "foxglove." or "foxglove_msgs/msg/"). */
+static enum schema fg_schema(const char *name)
+{
+	if (!strcmp(name, "RawImage"))
+		return S_FG_RAW;
+	if (!strcmp(name, "CompressedImage"))
+		return S_FG_COMPRESSED;
+	return !strcmp(name, "CameraCalibration") ? S_FG_CALIB : S_NONE;
+}
+
 static enum schema schema_of(const struct dao_ros2_topic *t, enum dao_fg_encoding *fg)
 {
 	if (!strcmp(t->encoding, "cdr")) {
@@ -129,7 +140,11 @@ static enum schema schema_of(const struct dao_ros2_topic *t, enum dao_fg_encodin
 			return S_IMAGE;
 		if (!strcmp(t->schema, "sensor_msgs/msg/CompressedImage"))
 			return S_COMPRESSED;
-		return !strcmp(t->schema, "sensor_msgs/msg/CameraInfo") ? S_CAMERA_INFO : S_NONE;
+		if (!strcmp(t->schema, "sensor_msgs/msg/CameraInfo"))
+			return S_CAMERA_INFO;
+		*fg = DAO_FG_CDR; /* Foxglove's schemas as ROS 2 messages */
+		return strncmp(t->schema, "foxglove_msgs/msg/", 18) ? S_NONE
+								     : fg_schema(t->schema + 18);
 	}
 	if (!strcmp(t->encoding, "protobuf"))
 		*fg = DAO_FG_PROTOBUF;
@@ -137,11 +152,7 @@ static enum schema schema_of(const struct dao_ros2_topic *t, enum dao_fg_encodin
 		*fg = DAO_FG_JSON;
 	else
 		return S_NONE;
-	if (!strcmp(t->schema, "foxglove.RawImage"))
-		return S_FG_RAW;
-	if (!strcmp(t->schema, "foxglove.CompressedImage"))
-		return S_FG_COMPRESSED;
-	return !strcmp(t->schema, "foxglove.CameraCalibration") ? S_FG_CALIB : S_NONE;
+	return strncmp(t->schema, "foxglove.", 9) ? S_NONE : fg_schema(t->schema + 9);
 }
 
 static int is_image_topic(const struct dao_ros2_topic *t)
@@ -359,9 +370,9 @@ static int pick_topic(struct ros2_source *s, const struct dao_ros_uri *u, struct
 				     u->topic, ndepth ? depth : "none");
 	if (ndepth == 0)
 		return dao_error_set(err, -EINVAL,
-				     "%s: no depth image topic (sensor_msgs/msg/Image in 16UC1, mono16 "
-				     "or 32FC1, or compressedDepth, in CDR; or foxglove.RawImage or "
-				     "16-bit PNG foxglove.CompressedImage); image topics: %s", path,
+				     "%s: no depth image topic (sensor_msgs Image in 16UC1, mono16 or "
+				     "32FC1, or compressedDepth; Foxglove RawImage or 16-bit PNG "
+				     "CompressedImage); image topics: %s", path,
 				     other[0] ? other : "none");
 	if (ndepth > 1)
 		return dao_error_set(err, -EINVAL,
@@ -389,9 +400,9 @@ static int camera_message(struct ros2_source *s, const struct dao_ros2_topic *tp
 	}
 	struct dao_fg_calibration c;
 	if (dao_fg_calibration_parse(fg, d, n > SIZE_MAX ? SIZE_MAX : (size_t)n, &c) < 0)
-		return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a %s (%s; "
-				     "K must have 9 values, P 12 or none)", path, tp->name,
-				     tp->schema, tp->encoding);
+		return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a %s (%s%s)",
+				     path, tp->name, tp->schema, tp->encoding,
+				     fg == DAO_FG_CDR ? "" : "; K must have 9 values, P 12 or none");
 	uint32_t nd = c.d_count < DAO_FG_MAX_DISTORTION ? c.d_count : DAO_FG_MAX_DISTORTION;
 	return dao_ros_camera_info_intrinsics(&s->info, path, tp->name, c.width, c.height, c.k,
 					      c.p, c.d, nd, err);

@@ -10,7 +10,8 @@
  *
  * Messages read: ROS 2 in CDR (sensor_msgs/msg/Image, CompressedImage,
  * CameraInfo) and Foxglove's schemas in protobuf or JSON (foxglove.RawImage,
- * foxglove.CompressedImage, foxglove.CameraCalibration).  The rules (topic
+ * foxglove.CompressedImage, foxglove.CameraCalibration) or as ROS 2 messages in
+ * CDR (foxglove_msgs/msg/RawImage, ...).  The rules (topic
  * choice, unit, intrinsics, colour pairing) are in ros2_source.c's head.
  */
 #include <stdint.h>
