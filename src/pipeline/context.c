@@ -1658,7 +1658,9 @@ int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
 }
 
 /* metres -> counts of `unit`: 0 stays 0 (no depth), a depth below half a count
- * is 1 (it has depth), one past the range 65535; nearest, ties to even */
+ * is 1 (it has depth), one past the range 65535; nearest, ties to even
+ * (exact arithmetic: the same counts on every instruction set) */
+DAO_MULTIVERSION
 static void depth_to_counts(const float *z, int w, float unit, uint16_t *q)
 {
 	const float inv = 1.0f / unit;
