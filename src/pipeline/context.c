@@ -565,48 +565,61 @@ static inline float sat01(float v)
 	return v < 1.0f ? v : 1.0f;
 }
 
+/* a pixel of the caller's AO image before its format: the AO plane's value
+ * (src), or with no plane (algorithm=none) 1 where z has depth and `none`
+ * elsewhere */
+static inline float ao_value(const float *src, const float *z, float none, int x)
+{
+	return src ? sat01(src[x]) : z[x] > 0.0f ? 1.0f : none;
+}
+
+/*
+ * Row y of the caller's AO image (ao_value); one loop per format, simple
+ * enough for the compiler to vectorise (checked with -fopt-info-vec);
+ * rounding to nearest-even like lrintf.  Inlined into each caller, where src
+ * is known to be a plane or NULL.
+ */
+static inline __attribute__((always_inline)) void
+ao_out_row(const struct dao_frame *out, int y, int w, const float *src, const float *z, float none)
+{
+	unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
+	switch (out->format) {
+	case DAO_PIXFMT_GRAY_F32:
+		for (int x = 0; x < w; x++) {
+			const float v = ao_value(src, z, none, x);
+			memcpy(row + 4 * (size_t)x, &v, 4);
+		}
+		break;
+	case DAO_PIXFMT_GRAY16:
+		/* in chunks through an aligned buffer: the caller's rows need not be */
+		for (int x0 = 0; x0 < w; x0 += 256) {
+			uint16_t q[256];
+			const int n = w - x0 < 256 ? w - x0 : 256;
+			for (int x = 0; x < n; x++)
+				q[x] = (uint16_t)round_even(ao_value(src, z, none, x0 + x) * 65535.0f);
+			memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
+		}
+		break;
+	default:
+		for (int x = 0; x < w; x++)
+			row[x] = (uint8_t)round_even(ao_value(src, z, none, x) * 255.0f);
+		break;
+	}
+}
+
 /*
  * algorithm=none: rows [y0, y1) of the caller's AO image as stage_output
  * writes a plane of visibility 1: 1 where z_raw has depth, invalid_value
- * elsewhere, in the output's format.  Two constants selected by the depth:
- * no AO plane is written and read back.
+ * (saturated) elsewhere.  No AO plane is written and read back.
  */
 DAO_MULTIVERSION
 static void depth_only_rows(const struct dao_context *c, const struct dao_frame *out, int y0,
 			    int y1)
 {
 	const int w = (int)c->cam.width;
-	const float open = sat01(1.0f), none = sat01(c->params.invalid_value);
-	const uint16_t open16 = (uint16_t)round_even(open * 65535.0f);
-	const uint16_t none16 = (uint16_t)round_even(none * 65535.0f);
-	const uint8_t open8 = (uint8_t)round_even(open * 255.0f);
-	const uint8_t none8 = (uint8_t)round_even(none * 255.0f);
-	for (int y = y0; y < y1; y++) {
-		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
-		const float *z = c->z_raw + (size_t)y * w;
-		switch (out->format) {
-		case DAO_PIXFMT_GRAY_F32:
-			for (int x = 0; x < w; x++) {
-				const float v = z[x] > 0.0f ? open : none;
-				memcpy(row + 4 * (size_t)x, &v, 4);
-			}
-			break;
-		case DAO_PIXFMT_GRAY16:
-			/* in chunks through an aligned buffer: the caller's rows need not be */
-			for (int x0 = 0; x0 < w; x0 += 256) {
-				uint16_t q[256];
-				const int n = w - x0 < 256 ? w - x0 : 256;
-				for (int x = 0; x < n; x++)
-					q[x] = z[x0 + x] > 0.0f ? open16 : none16;
-				memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
-			}
-			break;
-		default:
-			for (int x = 0; x < w; x++)
-				row[x] = z[x] > 0.0f ? open8 : none8;
-			break;
-		}
-	}
+	const float none = sat01(c->params.invalid_value);
+	for (int y = y0; y < y1; y++)
+		ao_out_row(out, y, w, NULL, c->z_raw + (size_t)y * w, none);
 }
 
 /* algorithm=none with an AO image: its rows, while z_raw's are in the cache
@@ -875,34 +888,8 @@ static void stage_output(void *arg, int y0, int y1)
 	struct dao_frame *out = j->ao_out;
 	if (!out)
 		return;
-	for (int y = y0; y < y1; y++) {
-		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
-		const float *src = c->ao + (size_t)y * w;
-		/* one loop per format, simple enough for the compiler to vectorise
-		 * (checked with -fopt-info-vec); rounding to nearest-even like lrintf */
-		switch (out->format) {
-		case DAO_PIXFMT_GRAY_F32:
-			for (int x = 0; x < w; x++) {
-				const float v = sat01(src[x]);
-				memcpy(row + 4 * (size_t)x, &v, 4);
-			}
-			break;
-		case DAO_PIXFMT_GRAY16:
-			/* in chunks through an aligned buffer: the caller's rows need not be */
-			for (int x0 = 0; x0 < w; x0 += 256) {
-				uint16_t q[256];
-				const int n = w - x0 < 256 ? w - x0 : 256;
-				for (int x = 0; x < n; x++)
-					q[x] = (uint16_t)round_even(sat01(src[x0 + x]) * 65535.0f);
-				memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
-			}
-			break;
-		default:
-			for (int x = 0; x < w; x++)
-				row[x] = (uint8_t)round_even(sat01(src[x]) * 255.0f);
-			break;
-		}
-	}
+	for (int y = y0; y < y1; y++)
+		ao_out_row(out, y, w, c->ao + (size_t)y * w, NULL, 0.0f);
 }
 
 /*
