@@ -539,6 +539,8 @@ struct frame_job {
 	struct dao_prefilter_setup prefilter;
 	int depth_temporal;  /* run the temporal depth filter */
 	int temporal_in_decode; /* ... in stage_decode, on the rows just decoded */
+	int depth_only;      /* algorithm=none: ao_out written by the stage that writes
+			      * z_raw last, on its rows (depth_only_output) */
 	struct dao_temporal_depth_setup depth_temporal_setup;
 	struct dao_domain_pass dt_pass; /* the domain filter's pass being run */
 	_Atomic uint64_t output_ns;     /* stage_finish: the output's time, summed over bands */
@@ -547,6 +549,90 @@ struct frame_job {
 	_Atomic uint64_t shade_ns;         /* stage_finish: the shading's time, summed over bands */
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };
+
+/* v rounded to the nearest integer, ties to even (as lrintf), for 0 <= v < 2^22:
+ * adding 1.5 * 2^23 leaves no fraction bits; vectorises, unlike lrintf */
+static inline int32_t round_even(float v)
+{
+	return (int32_t)((v + 12582912.0f) - 12582912.0f);
+}
+
+/* dao_saturate as two plain selects, which the compiler turns into min/max
+ * (the nested form stays a branch); NaN gives 0 as there */
+static inline float sat01(float v)
+{
+	v = v > 0.0f ? v : 0.0f;
+	return v < 1.0f ? v : 1.0f;
+}
+
+/* a pixel of the caller's AO image before its format: the AO plane's value
+ * (src), or with no plane (algorithm=none) 1 where z has depth and `none`
+ * elsewhere */
+static inline float ao_value(const float *src, const float *z, float none, int x)
+{
+	return src ? sat01(src[x]) : z[x] > 0.0f ? 1.0f : none;
+}
+
+/*
+ * Row y of the caller's AO image (ao_value); one loop per format, simple
+ * enough for the compiler to vectorise (checked with -fopt-info-vec);
+ * rounding to nearest-even like lrintf.  Inlined into each caller, where src
+ * is known to be a plane or NULL.
+ */
+static inline __attribute__((always_inline)) void
+ao_out_row(const struct dao_frame *out, int y, int w, const float *src, const float *z, float none)
+{
+	unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
+	switch (out->format) {
+	case DAO_PIXFMT_GRAY_F32:
+		for (int x = 0; x < w; x++) {
+			const float v = ao_value(src, z, none, x);
+			memcpy(row + 4 * (size_t)x, &v, 4);
+		}
+		break;
+	case DAO_PIXFMT_GRAY16:
+		/* in chunks through an aligned buffer: the caller's rows need not be */
+		for (int x0 = 0; x0 < w; x0 += 256) {
+			uint16_t q[256];
+			const int n = w - x0 < 256 ? w - x0 : 256;
+			for (int x = 0; x < n; x++)
+				q[x] = (uint16_t)round_even(ao_value(src, z, none, x0 + x) * 65535.0f);
+			memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
+		}
+		break;
+	default:
+		for (int x = 0; x < w; x++)
+			row[x] = (uint8_t)round_even(ao_value(src, z, none, x) * 255.0f);
+		break;
+	}
+}
+
+/*
+ * algorithm=none: rows [y0, y1) of the caller's AO image as stage_output
+ * writes a plane of visibility 1: 1 where z_raw has depth, invalid_value
+ * (saturated) elsewhere.  No AO plane is written and read back.
+ */
+DAO_MULTIVERSION
+static void depth_only_rows(const struct dao_context *c, const struct dao_frame *out, int y0,
+			    int y1)
+{
+	const int w = (int)c->cam.width;
+	const float none = sat01(c->params.invalid_value);
+	for (int y = y0; y < y1; y++)
+		ao_out_row(out, y, w, NULL, c->z_raw + (size_t)y * w, none);
+}
+
+/* algorithm=none with an AO image: its rows, while z_raw's are in the cache
+ * (the decode's or the temporal depth filter's rows: whichever writes z_raw
+ * last); timed as the output */
+static void depth_only_output(struct frame_job *j, int y0, int y1)
+{
+	if (!j->depth_only || !j->ao_out)
+		return;
+	const uint64_t t = dao_mono_ns();
+	depth_only_rows(j->ctx, j->ao_out, y0, y1);
+	atomic_fetch_add_explicit(&j->output_ns, dao_mono_ns() - t, memory_order_relaxed);
+}
 
 /* 1/z rows of the filtered depth into the plane the optimised GTAO reads */
 static void fill_inverse_depth(struct dao_context *c, const struct dao_kernels *k, int y0, int y1)
@@ -563,6 +649,8 @@ static void stage_decode(void *arg, int y0, int y1)
 	if (j->temporal_in_decode)
 		j->k.temporal_depth(&j->depth_temporal_setup, c->z_raw, c->depth_hist, c->depth_count,
 				    c->depth_age, y0, y1);
+	if (!j->depth_temporal || j->temporal_in_decode)
+		depth_only_output(j, y0, y1);
 }
 
 /* the temporal depth filter on its own (after the noise measurement) */
@@ -572,6 +660,7 @@ static void stage_temporal_depth(void *arg, int y0, int y1)
 	struct dao_context *c = j->ctx;
 	j->k.temporal_depth(&j->depth_temporal_setup, c->z_raw, c->depth_hist, c->depth_count,
 			    c->depth_age, y0, y1);
+	depth_only_output(j, y0, y1);
 }
 
 static void stage_prefilter_h(void *arg, int y0, int y1)
@@ -785,21 +874,6 @@ static void stage_temporal(void *arg, int y0, int y1)
 	}
 }
 
-/* v rounded to the nearest integer, ties to even (as lrintf), for 0 <= v < 2^22:
- * adding 1.5 * 2^23 leaves no fraction bits; vectorises, unlike lrintf */
-static inline int32_t round_even(float v)
-{
-	return (int32_t)((v + 12582912.0f) - 12582912.0f);
-}
-
-/* dao_saturate as two plain selects, which the compiler turns into min/max
- * (the nested form stays a branch); NaN gives 0 as there */
-static inline float sat01(float v)
-{
-	v = v > 0.0f ? v : 0.0f;
-	return v < 1.0f ? v : 1.0f;
-}
-
 /* Pixels without input depth are exactly invalid_value, whatever the filters did;
  * then the caller's output format. */
 DAO_MULTIVERSION
@@ -814,34 +888,8 @@ static void stage_output(void *arg, int y0, int y1)
 	struct dao_frame *out = j->ao_out;
 	if (!out)
 		return;
-	for (int y = y0; y < y1; y++) {
-		unsigned char *row = (unsigned char *)out->data + (size_t)y * out->stride;
-		const float *src = c->ao + (size_t)y * w;
-		/* one loop per format, simple enough for the compiler to vectorise
-		 * (checked with -fopt-info-vec); rounding to nearest-even like lrintf */
-		switch (out->format) {
-		case DAO_PIXFMT_GRAY_F32:
-			for (int x = 0; x < w; x++) {
-				const float v = sat01(src[x]);
-				memcpy(row + 4 * (size_t)x, &v, 4);
-			}
-			break;
-		case DAO_PIXFMT_GRAY16:
-			/* in chunks through an aligned buffer: the caller's rows need not be */
-			for (int x0 = 0; x0 < w; x0 += 256) {
-				uint16_t q[256];
-				const int n = w - x0 < 256 ? w - x0 : 256;
-				for (int x = 0; x < n; x++)
-					q[x] = (uint16_t)round_even(sat01(src[x0 + x]) * 65535.0f);
-				memcpy(row + 2 * (size_t)x0, q, 2 * (size_t)n);
-			}
-			break;
-		default:
-			for (int x = 0; x < w; x++)
-				row[x] = (uint8_t)round_even(sat01(src[x]) * 255.0f);
-			break;
-		}
-	}
+	for (int y = y0; y < y1; y++)
+		ao_out_row(out, y, w, c->ao + (size_t)y * w, NULL, 0.0f);
 }
 
 /*
@@ -1033,6 +1081,9 @@ static void frame_job_init(struct dao_context *ctx, struct frame_job *job,
 	dao_prefilter_setup_init(&job->prefilter, (int)ctx->cam.width, (int)ctx->cam.height,
 				 p->prefilter_radius, p->depth_noise, ctx->depth_unit);
 	job->depth_temporal = p->depth_temporal > 0.0f;
+	job->depth_only = p->algorithm == DAO_ALGORITHM_NONE;
+	atomic_init(&job->output_ns, 0);
+	atomic_init(&job->shade_ns, 0);
 	/*
 	 * The noise is measured on the samples as the sensor delivers them,
 	 * before the temporal filter: the spatial filters keep the strength
@@ -1392,33 +1443,21 @@ static void record_timings(struct dao_context *ctx, struct frame_job *job, const
 	tm->gtao_ms = t[T_FINISH] - t[T_AO];
 	tm->output_ms = out_ms < finish_ms - shade_ms ? out_ms : finish_ms - shade_ms;
 	tm->denoise_ms = finish_ms - shade_ms - tm->output_ms;
+	if (job->depth_only) { /* the output beside the decode (depth_only_output) */
+		tm->output_ms = out_ms < tm->decode_ms ? out_ms : tm->decode_ms;
+		tm->decode_ms -= tm->output_ms;
+		tm->denoise_ms = 0.0;
+	}
 	if (job->shade_out)
 		tm->shade_ms = shade_ms;
 	tm->process_ms = t[T_END] - t[T_DECODE];
 }
 
-/*
- * algorithm=none, after the prefilter: no normals, AO, denoise or shading.
- * The AO plane is visibility 1 (fully open) where the input had depth and
- * invalid_value elsewhere, through the output stage, so that a caller's `ao`
- * holds a defined image (a constant) rather than stale or uninitialised data.
- */
-static void stage_depth_only(void *arg, int y0, int y1)
-{
-	struct frame_job *j = arg;
-	const int w = (int)j->ctx->cam.width;
-	float *ao = j->ctx->ao;
-	for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
-		ao[i] = 1.0f;
-	stage_output(arg, y0, y1);
-}
-
-static void run_depth_only(struct dao_context *ctx, struct frame_job *job)
+/* algorithm=none, after the prefilter: no normals, AO, denoise or shading
+ * (the caller's AO image was written beside the decode: depth_only_output) */
+static void run_depth_only(struct dao_context *ctx)
 {
 	ctx->ao = ctx->ao_raw;
-	atomic_init(&job->output_ns, 0);
-	atomic_init(&job->shade_ns, 0);
-	dao_pool_run(ctx->pool, (int)ctx->cam.height, 8, stage_depth_only, job);
 	ctx->hist_valid = 0; /* the AO history no longer matches the depth */
 }
 
@@ -1460,10 +1499,10 @@ static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
 	t[T_PREFILTER] = now_ms();
 	run_prefilter(ctx, &job, &dt);
 	t[T_NORMALS] = now_ms();
-	ctx->depth_only = ctx->params.algorithm == DAO_ALGORITHM_NONE;
+	ctx->depth_only = job.depth_only;
 	if (ctx->depth_only) {
 		t[T_AO] = t[T_FINISH] = t[T_NORMALS];
-		run_depth_only(ctx, &job);
+		run_depth_only(ctx);
 	} else {
 		r = run_normals(ctx, &job, normals, err);
 		if (r)
@@ -1606,7 +1645,9 @@ int dao_context_get_bent_normals(struct dao_context *ctx, struct dao_frame *out,
 }
 
 /* metres -> counts of `unit`: 0 stays 0 (no depth), a depth below half a count
- * is 1 (it has depth), one past the range 65535; nearest, ties to even */
+ * is 1 (it has depth), one past the range 65535; nearest, ties to even
+ * (exact arithmetic: the same counts on every instruction set) */
+DAO_MULTIVERSION
 static void depth_to_counts(const float *z, int w, float unit, uint16_t *q)
 {
 	const float inv = 1.0f / unit;

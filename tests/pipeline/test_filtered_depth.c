@@ -327,12 +327,69 @@ static void test_temporal_loss(void **state)
 	free(out);
 }
 
+/* The AO image of algorithm=none in every format: visibility 1 where the
+ * frame has depth, invalid-value elsewhere, rounded as the AO pipeline's
+ * output rounds; on one and two threads, with the temporal depth filter in
+ * the decode (noise-model fixed), after the noise measurement (auto) and off,
+ * over frames whose holes move. */
+static void test_depth_only_ao_formats(void **state)
+{
+	(void)state;
+	static const enum dao_pixfmt fmts[3] = { DAO_PIXFMT_GRAY_F32, DAO_PIXFMT_GRAY16,
+						 DAO_PIXFMT_GRAY8 };
+	static const int bytes[3] = { 4, 2, 1 };
+	/* 0.3: 19660.5 and 76.5 counts, rounded to even (19660, 76) */
+	static const uint32_t open[3] = { 0x3f800000u, 65535u, 255u };
+	static const uint32_t none[3] = { 0x3e99999au, 19660u, 76u };
+	float *in = malloc(sizeof(float) * W * H);
+	unsigned char *buf = malloc(4 * (W + PAD) * H);
+	assert_non_null(in);
+	assert_non_null(buf);
+	const struct dao_camera cam = camera();
+	for (int c = 0; c < 3 * 2 * 3; c++) {
+		const int fmt = c % 3, threads = 1 + (c / 3) % 2, filter = c / 6;
+		struct dao_params p;
+		dao_params_init(&p, DAO_QUALITY_DEFAULT);
+		p.algorithm = DAO_ALGORITHM_NONE;
+		p.threads = threads;
+		p.invalid_value = 0.3f;
+		p.depth_temporal = filter ? 0.8f : 0.0f;
+		p.noise_model = filter == 1 ? DAO_NOISE_MODEL_FIXED : DAO_NOISE_MODEL_AUTO;
+		struct dao_context *ctx = NULL;
+		struct dao_error err;
+		if (dao_context_create(&ctx, &cam, &p, &err))
+			fail_msg("create: %s", err.message);
+		const int stride = bytes[fmt] * W + PAD;
+		struct dao_frame ao = { .format = fmts[fmt], .width = W, .height = H,
+					.stride = stride, .data = buf };
+		for (uint64_t f = 0; f < 4; f++) {
+			make_step(in, 300 + (uint32_t)f);
+			for (int y = 5; y < 15; y++)
+				for (int x = 3 * (int)f; x < 3 * (int)f + 9; x++)
+					in[y * W + x] = 0.0f;
+			memset(buf, 0xa5, 4 * (W + PAD) * H);
+			process(ctx, in, f, &ao);
+			for (int i = 0; i < W * H; i++) {
+				uint32_t v = 0;
+				memcpy(&v, buf + (size_t)(i / W) * stride + (size_t)(i % W) * bytes[fmt],
+				       (size_t)bytes[fmt]);
+				if (v != (in[i] > 0.0f ? open[fmt] : none[fmt]))
+					fail_msg("case %d frame %d pixel (%d, %d): %#x", c, (int)f, i % W,
+						 i / W, v);
+			}
+		}
+		dao_context_destroy(ctx);
+	}
+	free(in);
+	free(buf);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_step_edge),   cmocka_unit_test(test_depth_only),
 		cmocka_unit_test(test_counts),      cmocka_unit_test(test_plane_scale),
-		cmocka_unit_test(test_temporal_loss),
+		cmocka_unit_test(test_temporal_loss), cmocka_unit_test(test_depth_only_ao_formats),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
