@@ -189,7 +189,9 @@ struct dao_timings {
 	double gtao_ms;       /* the AO kernel (and the thickness's column pass) */
 	/* the AO denoise */
 	double denoise_ms;
-	double output_ms;     /* AO to the caller's format */
+	double output_ms;     /* AO to the caller's format (algorithm=none: the constant
+			       * image, written beside the decode and taken out of
+			       * decode_ms; the bands' time over the threads) */
 	double process_ms;    /* all of the last dao_context_process() */
 	double shade_ms;      /* the last dao_context_shade() (or the shading's share
 			       * of dao_context_process_shaded()) */

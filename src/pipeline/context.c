@@ -543,7 +543,9 @@ struct frame_job {
 			      * z_raw last, on its rows (depth_only_output) */
 	struct dao_temporal_depth_setup depth_temporal_setup;
 	struct dao_domain_pass dt_pass; /* the domain filter's pass being run */
-	_Atomic uint64_t output_ns;     /* stage_finish: the output's time, summed over bands */
+	/* the output's time, summed over bands: stage_finish's, or algorithm=none's
+	 * (depth_only_output, from stage_decode or stage_temporal_depth) */
+	_Atomic uint64_t output_ns;
 	const struct dao_frame *shade_out; /* dao_context_process_shaded's image, or NULL */
 	struct dao_shade_setup shade;      /* ... its settings (shade_setup) */
 	_Atomic uint64_t shade_ns;         /* stage_finish: the shading's time, summed over bands */
@@ -1414,8 +1416,6 @@ static void run_finish(struct dao_context *ctx, struct frame_job *job)
 			  : ctx->ao_raw;
 	if (p->denoise == DAO_DENOISE_BILATERAL)
 		dao_pool_run(ctx->pool, h, 4, stage_denoise_h, job);
-	atomic_init(&job->output_ns, 0);
-	atomic_init(&job->shade_ns, 0);
 	if (job->shade_out)
 		shade_setup(ctx, &job->shade);
 	dao_pool_run(ctx->pool, h, 4, stage_finish, job);

@@ -160,7 +160,7 @@ while [ $i -lt 65 ]; do
 	i=$((i + 1))
 done
 input_error "too much depth" \
-	"65 frames of 4096x4096 depth16 take 2.0 GiB, more than bench holds in memory (2 GiB): give --input-frames 64 or fewer" -- \
+	"65 frames of 4096x4096 depth16 take 2080 MiB, more than bench holds in memory (2048 MiB): give --input-frames 64 or fewer" -- \
 	"$DEPTHAO" bench --input "$WORK/big" --input-frames 65 $QUICK
 
 finish

@@ -6,6 +6,7 @@
  * nothing), with the camera `depthao process` would take for them.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,10 +107,16 @@ int bench_input_check(struct bench_input_options *io, int size_given,
 static int is_one_png(const char *input)
 {
 	const char *path = process_input_path(input);
-	size_t n = strlen(path);
+	/* the name without its options (images:x.png?unit=0.0002) */
+	size_t n = dao_uri_path_len(path, NULL);
 	if (dao_uri_prefix_len(input) > 0 && strncmp(input, "images:", 7))
 		return 0;
-	return n > 4 && !strcasecmp(path + n - 4, ".png") && path_is_dir(path) != 1;
+	if (n <= 4 || strncasecmp(path + n - 4, ".png", 4))
+		return 0;
+	char *name = strndup(path, n);
+	const int dir = name ? path_is_dir(name) : -1;
+	free(name);
+	return dir != 1;
 }
 
 static size_t frame_bytes(const struct dao_source_info *si)
@@ -132,17 +139,18 @@ static int frames_to_read(const struct bench_input_options *io, const struct dao
 		return 1;
 	}
 	if (si->format != DAO_PIXFMT_DEPTH16 && si->format != DAO_PIXFMT_DEPTH_F32) {
-		fprintf(stderr, "depthao: '%s' delivers %s images, not depth\n", in,
+		fprintf(stderr, "depthao: '%s' delivers %s images, not depth: give its depth "
+			"topic or stream (?topic=...) or 16-bit depth PNGs\n", in,
 			dao_pixfmt_name(si->format));
 		return 1;
 	}
 	const double each = (double)frame_bytes(si);
 	if (want * each > (double)BENCH_INPUT_MAX_BYTES) {
 		uint64_t fit = BENCH_INPUT_MAX_BYTES / frame_bytes(si);
-		fprintf(stderr, "depthao: %llu frames of %ux%u %s take %.1f GiB, more than "
-			"bench holds in memory (%.0f GiB): give --input-frames %llu or fewer\n",
+		fprintf(stderr, "depthao: %llu frames of %ux%u %s take %.0f MiB, more than "
+			"bench holds in memory (%.0f MiB): give --input-frames %llu or fewer\n",
 			(unsigned long long)want, si->width, si->height, dao_pixfmt_name(si->format),
-			want * each / (1u << 30), (double)BENCH_INPUT_MAX_BYTES / (1u << 30),
+			ceil(want * each / (1u << 20)), (double)BENCH_INPUT_MAX_BYTES / (1u << 20),
 			(unsigned long long)fit);
 		return 1;
 	}
@@ -193,7 +201,8 @@ static int read_frames(const struct bench_input_options *io, struct dao_source *
 		if (r == -EAGAIN && ++empty < MAX_EMPTY_READS)
 			continue;
 		if (r == -EAGAIN) {
-			fprintf(stderr, "depthao: no frame from '%s' for %d s\n", input,
+			fprintf(stderr, "depthao: no frame from '%s' for %d s: check that the "
+				"device streams, or time a recording of it\n", input,
 				READ_TIMEOUT_MS * MAX_EMPTY_READS / 1000);
 			return 1;
 		}
@@ -214,7 +223,8 @@ static int read_frames(const struct bench_input_options *io, struct dao_source *
 		in->n++;
 	}
 	if (in->n == 0) {
-		fprintf(stderr, "depthao: '%s' delivered no frames\n", input);
+		fprintf(stderr, "depthao: '%s' delivered no frames: give a recording or "
+			"directory with depth frames\n", input);
 		return 1;
 	}
 	return 0;
@@ -237,8 +247,8 @@ static int load_from(const struct bench_input_options *io, struct dao_source *sr
 	in->data = malloc((size_t)want * frame_bytes(&si));
 	in->frames = calloc(want, sizeof *in->frames);
 	if (!in->data || !in->frames) {
-		fprintf(stderr, "depthao: out of memory for %u frames of %ux%u\n", want, si.width,
-			si.height);
+		fprintf(stderr, "depthao: out of memory for %u frames of %ux%u: give a smaller "
+			"--input-frames\n", want, si.width, si.height);
 		return 1;
 	}
 	if (dao_source_start(src, &err)) {

@@ -104,7 +104,10 @@ static void usage(FILE *out)
 		"                      cut), with `process`'s stream defaults (--depth-temporal\n"
 		"                      0.8, the noise schedule; --depth-temporal 0 turns it off)\n"
 		"  --input-frames N    the frames read into memory before timing, each then\n"
-		"                      timed at least once (default 30; at most 2 GiB of depth)\n"
+		"                      timed at least once (default 30; at most 2 GiB of depth);\n"
+		"                      the reference runs once on each (a second or so a VGA\n"
+		"                      frame: --no-reference for quick runs); --depth-temporal-\n"
+		"                      motion source is refused (bench reads no poses)\n"
 		"  --intrinsics FX,FY,CX,CY, --fov H,V, --intrinsics-file FILE, --depth-unit M,\n"
 		"  --max-pixels N|WxH  the camera, PNG unit and pixel limit, as in `depthao\n"
 		"                      process` (default: the recording's, camera.json beside PNGs)\n"
@@ -715,8 +718,11 @@ static int run_frames(const struct bench_options *o, struct size sz, const struc
 			c.threads = o->threads[ti];
 			struct stats st = { 0 }, ref = { 0 };
 			r = run(&c, o->simd, min_iter, o->min_time, 100000, &st, err);
+			/* the reference on the same frames: with --input all of them
+			 * (the speedup compares like with like), else three */
+			const int ref_iter = fr->input && (int)fr->n > 3 ? (int)fr->n : 3;
 			if (!r && !o->no_ref)
-				r = run(&c, DAO_SIMD_REFERENCE, 3, 0.0, 3, &ref, err);
+				r = run(&c, DAO_SIMD_REFERENCE, ref_iter, 0.0, ref_iter, &ref, err);
 			if (r)
 				break;
 			if (o->json)

@@ -177,7 +177,8 @@ static void from_fg(struct img *out, const struct dao_fg_image *fi)
 	out->data_len = fi->data_len;
 }
 
-/* A message of an image topic, parsed: 0, -EINVAL (not its schema), -ENOMEM/-EFBIG (JSON). */
+/* A message of an image topic, parsed: 0, -EINVAL (not its schema), -ENOTSUP (a Foxglove
+ * message in XCDR2), -ENOMEM/-EFBIG (JSON). */
 static int parse_image(struct ros2_source *s, const struct dao_ros2_topic *t, const uint8_t *d,
 		       uint64_t n, struct img *out)
 {
@@ -283,8 +284,13 @@ static int not_a(struct ros2_source *s, int r, uint32_t i, const struct dao_ros2
 	if (r == -EFBIG || r == -ENOMEM)
 		return dao_error_set(err, r, "%s: message %u of '%s' holds more bytes than the "
 				     "limit (%zu)", path_of(s), i, t->name, s->buf.max);
-	return dao_error_set(err, -EINVAL, "%s: message %u of '%s' is not a %s (%s)", path_of(s),
-			     i, t->name, t->schema, t->encoding);
+	if (r == -ENOTSUP)
+		return dao_error_set(err, -ENOTSUP, "%s: message %u of '%s' uses a CDR encapsulation "
+				     "depthao does not read (XCDR2): record it with XCDR1, ROS 2's "
+				     "default", path_of(s), i, t->name);
+	return dao_error_set(err, -EINVAL, "%s: message %u of '%s' is not a %s (%s): cut short, "
+			     "a field out of range or a name too long; fix or drop it",
+			     path_of(s), i, t->name, t->schema, t->encoding);
 }
 
 /* Message i of a topic, parsed and described; its time (stamp, else log time). */
@@ -399,10 +405,16 @@ static int camera_message(struct ros2_source *s, const struct dao_ros2_topic *tp
 						      ci.k, ci.p, ci.d, nd, err);
 	}
 	struct dao_fg_calibration c;
-	if (dao_fg_calibration_parse(fg, d, n > SIZE_MAX ? SIZE_MAX : (size_t)n, &c) < 0)
-		return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a %s (%s%s)",
+	const int cr = dao_fg_calibration_parse(fg, d, n > SIZE_MAX ? SIZE_MAX : (size_t)n, &c);
+	if (cr == -ENOTSUP)
+		return dao_error_set(err, -ENOTSUP, "%s: the first message of '%s' uses a CDR "
+				     "encapsulation depthao does not read (XCDR2): record it with "
+				     "XCDR1, ROS 2's default", path, tp->name);
+	if (cr < 0)
+		return dao_error_set(err, -EINVAL, "%s: the first message of '%s' is not a %s (%s%s",
 				     path, tp->name, tp->schema, tp->encoding,
-				     fg == DAO_FG_CDR ? "" : "; K must have 9 values, P 12 or none");
+				     fg == DAO_FG_CDR ? "): cut short or a name too long"
+						      : "; K must have 9 values, P 12 or none)");
 	uint32_t nd = c.d_count < DAO_FG_MAX_DISTORTION ? c.d_count : DAO_FG_MAX_DISTORTION;
 	return dao_ros_camera_info_intrinsics(&s->info, path, tp->name, c.width, c.height, c.k,
 					      c.p, c.d, nd, err);
