@@ -95,16 +95,18 @@ static enum fg_schema fg_schema(const char *schema, int *ros2)
 	return FG_NONE;
 }
 
-/* A Foxglove topic's encoding as read: 0 protobuf, 1 JSON, 2 CDR, -1 none of them. */
+/* A Foxglove topic's encoding as read (an enum dao_fg_encoding), -1 none of them. */
 static int fg_encoding(const struct dao_ros2_topic *t, int ros2)
 {
 	const char *se = t->schema_encoding ? t->schema_encoding : "";
 	if (ros2)
 		return !strcmp(t->encoding, "cdr") && (!strcmp(se, "ros2msg") ||
-						       !strcmp(se, "ros2idl") || !se[0]) ? 2 : -1;
+						       !strcmp(se, "ros2idl") || !se[0])
+			       ? DAO_FG_CDR
+			       : -1;
 	if (!strcmp(t->encoding, "protobuf") && !strcmp(se, "protobuf"))
-		return 0;
-	return !strcmp(t->encoding, "json") && !strcmp(se, "jsonschema") ? 1 : -1;
+		return DAO_FG_PROTOBUF;
+	return !strcmp(t->encoding, "json") && !strcmp(se, "jsonschema") ? DAO_FG_JSON : -1;
 }
 
 static enum dao_pose_topic fg_kind(enum fg_schema fg, int enc, int static_name)
@@ -154,11 +156,7 @@ static int ros2_parse(void *impl, uint32_t topic, const uint8_t *msg, uint64_t l
 			       : odometry(dao_ros2_odometry_parse, msg, len, cb, user);
 	if ((enc = fg_encoding(&t, ros2)) < 0 || len > SIZE_MAX)
 		return -EINVAL;
-	if (enc == 2)
-		return fg == FG_TRANSFORM ? dao_ros2_fg_transform_parse(msg, len, cb, user)
-		       : fg == FG_TRANSFORMS ? dao_ros2_tf_parse(msg, len, cb, user)
-					     : dao_ros2_fg_pose_parse(fg == FG_POSES, msg, len, cb, user);
-	enum dao_fg_encoding e = enc ? DAO_FG_JSON : DAO_FG_PROTOBUF;
+	const enum dao_fg_encoding e = (enum dao_fg_encoding)enc;
 	return fg >= FG_POSE ? dao_fg_poses_parse(e, fg == FG_POSES, msg, (size_t)len, cb, user)
 			     : dao_fg_frame_transforms_parse(e, fg == FG_TRANSFORMS, msg, (size_t)len,
 							     cb, user);
