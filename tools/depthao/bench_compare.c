@@ -412,10 +412,14 @@ static void describe(const struct variant *v, char *out, size_t n)
  * a build from before bench --input. */
 static int rejects_input(const char *reason)
 {
-	const char *q = strstr(reason, "option '--");
-	for (int k = 0; q && k < BENCH_INPUT_NOPTIONS; k++) {
+	static const char lead[] = "option '--";
+	const char *q = strstr(reason, lead);
+	if (!q)
+		return 0;
+	q += sizeof lead - 1;
+	for (int k = 0; k < BENCH_INPUT_NOPTIONS; k++) {
 		size_t n = strlen(bench_input_names[k]);
-		if (!strncmp(q + 10, bench_input_names[k], n) && q[10 + n] == '\'')
+		if (!strncmp(q, bench_input_names[k], n) && q[n] == '\'')
 			return 1;
 	}
 	return 0;
@@ -762,10 +766,11 @@ static int setup_variants(const struct bench_compare_spec *s, struct variant *v,
 static int preflight(const struct bench_compare_spec *s, struct variant *v, int nv, char **opt)
 {
 	/* with --input: its first frame alone */
-	char *extra[] = { "--min-time", "0", "--min-iterations", "1", "--no-reference",
-			  "--input-frames", "1", NULL };
-	if (!s->input)
-		extra[5] = NULL;
+	static char *const quick[] = { "--min-time", "0", "--min-iterations", "1",
+				       "--no-reference", NULL };
+	static char *const quick_input[] = { "--min-time", "0", "--min-iterations", "1",
+					     "--no-reference", "--input-frames", "1", NULL };
+	char *const *extra = s->input ? quick_input : quick;
 	for (int i = 0; i < nv; i++) {
 		struct child c;
 		int r = build_argv(&v[i], s, opt, s->input ? NULL : "64x48", extra);

@@ -26,7 +26,8 @@
 #define MAX_EMPTY_READS 5
 
 enum { IN_INPUT, IN_FRAMES, IN_INTRINSICS, IN_FOV, IN_INTRINSICS_FILE, IN_DEPTH_UNIT,
-       IN_MAX_PIXELS };
+       IN_MAX_PIXELS, IN_COUNT };
+_Static_assert(IN_COUNT == BENCH_INPUT_NOPTIONS, "a name per input option");
 
 const char *const bench_input_names[BENCH_INPUT_NOPTIONS] = {
 	"input", "input-frames", "intrinsics", "fov", "intrinsics-file", "depth-unit", "max-pixels"
