@@ -370,13 +370,30 @@ static void test_depth_only_ao_formats(void **state)
 			memset(buf, 0xa5, 4 * (W + PAD) * H);
 			process(ctx, in, f, &ao);
 			for (int i = 0; i < W * H; i++) {
-				uint32_t v = 0;
-				memcpy(&v, buf + (size_t)(i / W) * stride + (size_t)(i % W) * bytes[fmt],
-				       (size_t)bytes[fmt]);
+				const unsigned char *px =
+					buf + (size_t)(i / W) * stride + (size_t)(i % W) * bytes[fmt];
+				uint32_t v = px[0];
+				if (bytes[fmt] == 2) {
+					uint16_t v16;
+					memcpy(&v16, px, 2);
+					v = v16;
+				} else if (bytes[fmt] == 4) {
+					memcpy(&v, px, 4);
+				}
 				if (v != (in[i] > 0.0f ? open[fmt] : none[fmt]))
 					fail_msg("case %d frame %d pixel (%d, %d): %#x", c, (int)f, i % W,
 						 i / W, v);
 			}
+			/* nothing written past a row's pixels, into the stride's padding */
+			for (int y = 0; y < H; y++)
+				for (int k = 0; k < PAD; k++)
+					if (buf[(size_t)y * stride + (size_t)bytes[fmt] * W + k] != 0xa5)
+						fail_msg("case %d frame %d: row %d's padding byte %d "
+							 "written", c, (int)f, y, k);
+			/* the constant image is the output's time, no denoise ran */
+			struct dao_timings tm = DAO_TIMINGS_INIT;
+			dao_context_timings(ctx, &tm);
+			assert_true(tm.denoise_ms == 0.0);
 		}
 		dao_context_destroy(ctx);
 	}
