@@ -110,16 +110,26 @@ const char *dao_cdr_string(struct dao_cdr *c, uint32_t *len)
 	return (const char *)p;
 }
 
-void dao_cdr_string_copy(struct dao_cdr *c, char *dst, size_t cap)
+static void string_copy(struct dao_cdr *c, char *dst, size_t cap, int strict)
 {
 	uint32_t n;
 	const char *s = dao_cdr_string(c, &n);
-	if (n >= cap) {
+	if (n >= cap || (strict && memchr(s, 0, n))) {
 		c->bad = 1;
 		n = 0;
 	}
 	memcpy(dst, s, n);
 	dst[n] = 0;
+}
+
+void dao_cdr_string_copy(struct dao_cdr *c, char *dst, size_t cap)
+{
+	string_copy(c, dst, cap, 0);
+}
+
+void dao_cdr_string_copy_strict(struct dao_cdr *c, char *dst, size_t cap)
+{
+	string_copy(c, dst, cap, 1);
 }
 
 uint32_t dao_cdr_seq(struct dao_cdr *c, size_t item_size)

@@ -40,8 +40,10 @@ float dao_cdr_f32(struct dao_cdr *c);
 double dao_cdr_f64(struct dao_cdr *c);
 /* A string: its bytes (NUL-terminated in the message) and length without the NUL. */
 const char *dao_cdr_string(struct dao_cdr *c, uint32_t *len);
-/* A string copied into dst (cap bytes, truncated: bad if it does not fit). */
+/* A string copied into dst (cap bytes, empty and bad if it does not fit). */
 void dao_cdr_string_copy(struct dao_cdr *c, char *dst, size_t cap);
+/* ... and bad too if it holds a NUL (Foxglove's strings, as its protobuf reader takes them). */
+void dao_cdr_string_copy_strict(struct dao_cdr *c, char *dst, size_t cap);
 /* A sequence's count, checked against the bytes left for items of item_size bytes. */
 uint32_t dao_cdr_seq(struct dao_cdr *c, size_t item_size);
 /* n raw bytes (a uint8[] or octet sequence's items). */

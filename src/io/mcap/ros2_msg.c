@@ -53,9 +53,9 @@ int dao_ros2_compressed_image_parse(const uint8_t *msg, uint64_t len,
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }
 
-/* A calibration's D (float64[]: the first dmax kept), K, R (float64[9]) and P (float64[12]):
- * D's count. */
-static uint32_t calibration(struct dao_cdr *c, double *d, uint32_t dmax, double k[9],
+/* A CameraInfo's or CameraCalibration's D (float64[]: the first dmax kept), K, R
+ * (float64[9]) and P (float64[12]) read into d, k, r, p: D's count. */
+static uint32_t camera_matrices(struct dao_cdr *c, double *d, uint32_t dmax, double k[9],
 			    double r[9], double p[12])
 {
 	uint32_t n = dao_cdr_seq(c, 8);
@@ -83,23 +83,10 @@ int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2
 	ci->height = dao_cdr_u32(&c);
 	ci->width = dao_cdr_u32(&c);
 	dao_cdr_string_copy(&c, ci->distortion_model, sizeof ci->distortion_model);
-	ci->distortion_count = calibration(&c, ci->d, DAO_ROS2_MAX_DISTORTION, ci->k, ci->r, ci->p);
+	ci->distortion_count =
+		camera_matrices(&c, ci->d, DAO_ROS2_MAX_DISTORTION, ci->k, ci->r, ci->p);
 	/* binning_x, binning_y, roi (x_offset, y_offset, height, width, do_rectify): not used */
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
-}
-
-/* A string copied whole into dst (cap bytes), as Foxglove's protobuf reader does: one that
- * does not fit or holds a NUL makes the reader bad. */
-static void fg_string(struct dao_cdr *c, char *dst, size_t cap)
-{
-	uint32_t n;
-	const char *s = dao_cdr_string(c, &n);
-	if (n >= cap || memchr(s, 0, n)) {
-		c->bad = 1;
-		n = 0;
-	}
-	memcpy(dst, s, n);
-	dst[n] = 0;
 }
 
 /* A builtin_interfaces/Time (a Header's stamp) and the frame_id after it: 0 or -EINVAL. */
@@ -208,7 +195,7 @@ static uint64_t fg_stamp_frame(struct dao_cdr *c, char *dst, size_t cap)
 	uint32_t nsec = dao_cdr_u32(c);
 	if (nsec >= 1000000000u)
 		c->bad = 1;
-	fg_string(c, dst, cap);
+	dao_cdr_string_copy_strict(c, dst, cap);
 	return sec < 0 || c->bad ? 0 : (uint64_t)sec * 1000000000u + nsec;
 }
 
@@ -223,13 +210,13 @@ int dao_ros2_fg_image_parse(int compressed, const uint8_t *msg, uint64_t len,
 	if (!compressed) {
 		img->width = dao_cdr_u32(&c);
 		img->height = dao_cdr_u32(&c);
-		fg_string(&c, img->encoding, sizeof img->encoding);
+		dao_cdr_string_copy_strict(&c, img->encoding, sizeof img->encoding);
 		img->step = dao_cdr_u32(&c);
 	}
 	img->data_len = dao_cdr_seq(&c, 1);
 	img->data = dao_cdr_bytes(&c, img->data_len);
 	if (compressed)
-		fg_string(&c, img->encoding, sizeof img->encoding); /* format */
+		dao_cdr_string_copy_strict(&c, img->encoding, sizeof img->encoding); /* format */
 	if (!dao_cdr_ok(&c)) {
 		img->data = NULL;
 		img->data_len = 0;
@@ -249,7 +236,7 @@ int dao_ros2_fg_calibration_parse(const uint8_t *msg, uint64_t len,
 	cal->stamp_ns = fg_stamp_frame(&c, text, sizeof text);
 	cal->width = dao_cdr_u32(&c);
 	cal->height = dao_cdr_u32(&c);
-	fg_string(&c, text, sizeof text); /* distortion_model */
-	cal->d_count = calibration(&c, cal->d, DAO_FG_MAX_DISTORTION, cal->k, cal->r, cal->p);
+	dao_cdr_string_copy_strict(&c, text, sizeof text); /* distortion_model */
+	cal->d_count = camera_matrices(&c, cal->d, DAO_FG_MAX_DISTORTION, cal->k, cal->r, cal->p);
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }
