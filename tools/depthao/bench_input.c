@@ -40,42 +40,43 @@ void bench_input_options_init(struct bench_input_options *io)
 	io->po.depth_unit = 0.001;
 }
 
-int bench_input_option(struct bench_input_options *io, int k, const char *v)
+int bench_input_option(struct bench_input_options *io, int k, const char *value)
 {
 	char *end;
 	io->given |= 1 << k;
 	switch (k) {
 	case IN_INPUT:
-		io->po.input = v;
-		return *v ? 0 : usage_error("bench", "--input needs a file, directory or URI");
+		io->po.input = value;
+		return *value ? 0 : usage_error("bench", "--input needs a file, directory or URI");
 	case IN_FRAMES: {
 		errno = 0;
-		unsigned long n = strtoul(v, &end, 10);
-		if (*end || end == v || errno || v[0] == '-' || n < 1 || n > BENCH_INPUT_MAX_FRAMES)
+		unsigned long n = strtoul(value, &end, 10);
+		if (*end || end == value || errno || value[0] == '-' || n < 1 ||
+		    n > BENCH_INPUT_MAX_FRAMES)
 			return usage_error("bench", "--input-frames needs a count from 1 to %d",
 					   BENCH_INPUT_MAX_FRAMES);
 		io->frames = (uint32_t)n;
 		return 0;
 	}
 	case IN_INTRINSICS:
-		io->po.intrinsics = v;
+		io->po.intrinsics = value;
 		return 0;
 	case IN_FOV:
-		io->po.fov = v;
+		io->po.fov = value;
 		return 0;
 	case IN_INTRINSICS_FILE:
-		io->po.intrinsics_file = v;
+		io->po.intrinsics_file = value;
 		return 0;
 	case IN_DEPTH_UNIT:
-		io->po.depth_unit = strtod(v, &end);
-		if (*end || end == v || !(io->po.depth_unit > 0 && io->po.depth_unit <= 1))
+		io->po.depth_unit = strtod(value, &end);
+		if (*end || end == value || !(io->po.depth_unit > 0 && io->po.depth_unit <= 1))
 			return usage_error("bench", "--depth-unit '%s' must be a number in (0, 1] "
-					   "metres per count", v);
+					   "metres per count", value);
 		return 0;
 	case IN_MAX_PIXELS:
-		if (pixel_limit_parse(v, &io->po.max_pixels))
+		if (pixel_limit_parse(value, &io->po.max_pixels))
 			return usage_error("bench", "--max-pixels '%s' must be a pixel count or WxH, "
-					   "at most 16384x16384", v);
+					   "at most 16384x16384", value);
 		return 0;
 	}
 	return usage_error("bench", "internal: input option %d", k);

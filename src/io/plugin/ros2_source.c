@@ -12,8 +12,9 @@
  * (counts of `unit` metres: ?unit=, else the caller's depth_unit, else
  * 0.001) or 32FC1 (metres; NaN and 0 are no data), a CompressedImage topic
  * of image_transport's compressedDepth (compressed_depth.h: PNG or RVL;
- * 16UC1 counts or 32FC1 quantised), or a foxglove.CompressedImage topic of
- * 16-bit grey PNGs ("png": counts).  With one such topic it is taken; with
+ * 16UC1 counts or 32FC1 quantised), or a Foxglove CompressedImage topic
+ * (foxglove.CompressedImage or foxglove_msgs/msg/CompressedImage) of 16-bit
+ * grey PNGs ("png": counts).  With one such topic it is taken; with
  * several, ?topic= chooses (the error lists them).  The intrinsics come
  * from the first CameraInfo or CameraCalibration of the topic's namespace:
  * ".../camera_info" (or ".../calibration") beside ".../image_raw" (beside
@@ -124,7 +125,7 @@ static int find_topic(const struct ros2_source *s, const char *name)
 }
 
 /* Foxglove's image schemas by name (after "foxglove." or "foxglove_msgs/msg/"). */
-static enum schema fg_schema(const char *name)
+static enum schema fg_image_schema(const char *name)
 {
 	if (!strcmp(name, "RawImage"))
 		return S_FG_RAW;
@@ -144,7 +145,7 @@ static enum schema schema_of(const struct dao_ros2_topic *t, enum dao_fg_encodin
 			return S_CAMERA_INFO;
 		*fg = DAO_FG_CDR; /* Foxglove's schemas as ROS 2 messages */
 		return strncmp(t->schema, "foxglove_msgs/msg/", 18) ? S_NONE
-								     : fg_schema(t->schema + 18);
+								     : fg_image_schema(t->schema + 18);
 	}
 	if (!strcmp(t->encoding, "protobuf"))
 		*fg = DAO_FG_PROTOBUF;
@@ -152,7 +153,7 @@ static enum schema schema_of(const struct dao_ros2_topic *t, enum dao_fg_encodin
 		*fg = DAO_FG_JSON;
 	else
 		return S_NONE;
-	return strncmp(t->schema, "foxglove.", 9) ? S_NONE : fg_schema(t->schema + 9);
+	return strncmp(t->schema, "foxglove.", 9) ? S_NONE : fg_image_schema(t->schema + 9);
 }
 
 static int is_image_topic(const struct dao_ros2_topic *t)
