@@ -36,6 +36,18 @@ awk -v n="$filled" -v p="$prec" 'BEGIN { exit !(n > 1000 && p >= 95) }' ||
 grep -q '^| tune | gaussian | 1 | .* | [0-9.]* % of [0-9]* (interior ' "$WORK/out" ||
 	fail "fill precision in the summary: $(cat "$WORK/out")"
 
+# parameter options change the filter and are named in its line: the prefilter off leaves
+# the interior as noisy as raw (within 1 %), the default filter is 20 % below it (above)
+expect_exit 0 "eval --depth --prefilter none" -- "$DEPTHAO" eval --depth --scenes boxes \
+	--sensors gaussian --set tune --prefilter none
+grep -q 'parameter options --prefilter none;' "$WORK/out" || fail "filter line: $(cat "$WORK/out")"
+row=$(grep '^| tune | boxes #0 | gaussian |' "$WORK/out") || fail "no row: $(cat "$WORK/out")"
+mae=$(echo "$row" | awk -F'|' '{ print $5 }')
+raw=$(echo "$mae" | awk -F'/' '{ print $1 + 0 }')
+off=$(echo "$mae" | awk -F'/' '{ print $2 + 0 }')
+awk -v r="$raw" -v f="$off" 'BEGIN { exit !(f > 0.99 * r && f < 1.01 * r) }' ||
+	fail "--prefilter none: interior MAE $off mm, raw $raw mm: the option did not reach the filter"
+
 # --check: active stereo on the plane holds the 35 % bar with a wide margin (57 % measured);
 # ToF on boxes does not hold its 20 % (3 %: the model's multipath bias, which no depth filter
 # removes, docs/depth-accuracy.md) and --check says so with exit 1
@@ -60,6 +72,11 @@ expect_usage_error "eval --depth bad sensor" -- "$DEPTHAO" eval --depth --sensor
 expect_usage_error "eval --depth fill too wide" -- "$DEPTHAO" eval --depth --depth-fill 65
 expect_usage_error "eval --depth temporal 1" -- "$DEPTHAO" eval --depth --depth-temporal 1
 expect_usage_error "eval --depth temporal word" -- "$DEPTHAO" eval --depth --depth-temporal x
-expect_usage_error "eval --depth unknown option" -- "$DEPTHAO" eval --depth --radius 0.5
-grep -q "unknown option '--radius'" "$WORK/err" || fail "message: $(cat "$WORK/err")"
+expect_usage_error "eval --depth unknown option" -- "$DEPTHAO" eval --depth --radii 0.5
+grep -q "unknown option '--radii'" "$WORK/err" || fail "message: $(cat "$WORK/err")"
+expect_usage_error "eval --depth parameter out of range" -- "$DEPTHAO" eval --depth \
+	--prefilter-iterations 9
+grep -q "prefilter-iterations" "$WORK/err" || fail "message: $(cat "$WORK/err")"
+expect_usage_error "eval --depth algorithm" -- "$DEPTHAO" eval --depth --algorithm gtao
+grep -q "drop '--algorithm'" "$WORK/err" || fail "message: $(cat "$WORK/err")"
 finish

@@ -17,6 +17,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "cli_params.h"
 #include "commands.h"
 #include "synth/depth_accuracy.h"
 #include "synth/rs_reference.h"
@@ -72,7 +73,7 @@ struct ed_run {
 static void usage(FILE *out)
 {
 	fprintf(out,
-		"usage: depthao eval --depth [options]\n"
+		"usage: depthao eval --depth [options] [parameter options]\n"
 		"\n"
 		"Renders the synthetic scenes (640x480, true depth by ray tracing), simulates each\n"
 		"sensor, and measures depthao's filtered depth (the default preset with the stream\n"
@@ -103,7 +104,9 @@ static void usage(FILE *out)
 		"  --check           exit 1 unless issue #36's bars hold on structured light,\n"
 		"                    active stereo and ToF (interior MAE >= 35 %%/35 %%/20 %% below\n"
 		"                    raw on every scene, edge band no worse, fill precision >= 95 %%)\n"
-		"  --help            this text\n",
+		"  --help            this text\n"
+		"Parameter options (--prefilter-iterations 1, --noise-model fixed; see\n"
+		"'depthao process --help') change depthao's filter; not --algorithm or --threads.\n",
 		DEPTH_ACC_EDGE_PX, DEPTH_ACC_FILL_TOL * 100.0, DEPTH_ACC_FLY_PX);
 }
 
@@ -218,6 +221,54 @@ static int parse_value(const char *a, char *v, struct ed_options *o)
 	return 0;
 }
 
+int eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f,
+		      struct dao_error *err)
+{
+	dao_params_init(p, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(p);
+	for (int i = 0; i < f->nparam_args; i++) {
+		char msg[DAO_ERROR_MESSAGE_MAX];
+		if (cli_apply_param_option(p, f->nparam_args, (char **)f->param_args, &i, msg,
+					   sizeof msg) <= 0) {
+			dao_error_set(err, -EINVAL, "%s", msg);
+			return -1;
+		}
+	}
+	p->algorithm = DAO_ALGORITHM_NONE;
+	p->threads = 1;
+	p->depth_fill = f->fill;
+	if (f->temporal >= 0.0f)
+		p->depth_temporal = f->temporal;
+	return dao_params_validate(p, err) ? -1 : 0;
+}
+
+/* A parameter option at argv[*i] (--prefilter-iterations 1), checked against
+ * the filter's parameters and remembered; 0 or the exit status. */
+static int remember_param(int argc, char **argv, int *i, struct ed_options *o)
+{
+	struct dao_params scratch;
+	dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
+	int j = *i;
+	char msg[DAO_ERROR_MESSAGE_MAX];
+	int r = cli_apply_param_option(&scratch, argc, argv, &j, msg, sizeof msg);
+	if (r < 0)
+		return usage_error("eval", "%s", msg);
+	if (r == 0)
+		return usage_error("eval", "--depth: unknown option '%s' (see depthao eval --depth "
+				   "--help)", argv[*i]);
+	if (!strcmp(argv[*i], "--algorithm") || !strncmp(argv[*i], "--algorithm=", 12) ||
+	    !strcmp(argv[*i], "--threads") || !strncmp(argv[*i], "--threads=", 10))
+		return usage_error("eval", "--depth measures the filter alone on one thread; "
+				   "drop '%s'", argv[*i]);
+	if (o->filter.nparam_args + (j - *i + 1) > EVAL_DEPTH_MAX_PARAM_ARGS)
+		return usage_error("eval", "--depth: more than %d words of parameter options",
+				   EVAL_DEPTH_MAX_PARAM_ARGS);
+	for (int k = *i; k <= j; k++)
+		o->filter.param_args[o->filter.nparam_args++] = argv[k];
+	*i = j;
+	return 0;
+}
+
 /* -1 to go on, else the exit status. */
 static int parse_args(int argc, char **argv, struct ed_options *o)
 {
@@ -252,10 +303,15 @@ static int parse_args(int argc, char **argv, struct ed_options *o)
 			if (r)
 				return r;
 		} else {
-			return usage_error("eval", "--depth: unknown option '%s' (see depthao eval "
-					   "--depth --help)", a);
+			int r = remember_param(argc, argv, &i, o);
+			if (r)
+				return r;
 		}
 	}
+	struct dao_params p;
+	struct dao_error err;
+	if (eval_depth_params(&p, &o->filter, &err))
+		return usage_error("eval", "%s", err.message);
 	return -1;
 }
 
@@ -266,21 +322,11 @@ double eval_thread_ms(void)
 	return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
-void eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f)
-{
-	dao_params_init(p, DAO_QUALITY_DEFAULT);
-	dao_params_stream_defaults(p);
-	p->algorithm = DAO_ALGORITHM_NONE;
-	p->threads = 1;
-	p->depth_fill = f->fill;
-	if (f->temporal >= 0.0f)
-		p->depth_temporal = f->temporal;
-}
-
 static int run_alloc(struct ed_run *e, struct dao_error *err)
 {
 	struct dao_params p;
-	eval_depth_params(&p, &e->o->filter);
+	if (eval_depth_params(&p, &e->o->filter, err))
+		return -1;
 	synth_default_camera(&e->cam);
 	const size_t np = (size_t)e->cam.width * e->cam.height;
 	struct rs_ref_options ro;
@@ -615,11 +661,13 @@ int cmd_eval_depth(int argc, char **argv)
 		status = 1;
 	} else {
 		struct dao_params p;
-		eval_depth_params(&p, &o.filter);
+		eval_depth_params(&p, &o.filter, &err);   /* checked in parse_args */
 		printf("Depth filter: default preset, stream defaults, algorithm none, 1 thread, "
-		       "depth-fill %d, depth-temporal %.2f; "
-		       "%d frame%s of a static camera per case (%s).\n\n", p.depth_fill,
-		       (double)p.depth_temporal, o.frames,
+		       "depth-fill %d, depth-temporal %.2f", p.depth_fill,
+		       (double)p.depth_temporal);
+		for (int i = 0; i < o.filter.nparam_args; i++)
+			printf("%s%s", i ? " " : "; parameter options ", o.filter.param_args[i]);
+		printf("; %d frame%s of a static camera per case (%s).\n\n", o.frames,
 		       o.frames > 1 ? "s" : "", o.frames > 1 ? "spatial and temporal filters" :
 		       "the spatial filters; the temporal ones need a sequence");
 		print_rows(e);

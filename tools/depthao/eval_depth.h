@@ -15,17 +15,23 @@
 /* `depthao eval --depth [options]` (argv[0] is "eval"); the exit status. */
 int cmd_eval_depth(int argc, char **argv);
 
-/* What the options change of depthao's filter: depth-fill (px, 0 = off) and
- * depth-temporal (< 0: the stream default). */
+/* What the options change of depthao's filter: depth-fill (px, 0 = off),
+ * depth-temporal (< 0: the stream default) and any other parameter options
+ * (--prefilter-iterations 1 ...: argv's words, checked when parsed). */
+#define EVAL_DEPTH_MAX_PARAM_ARGS 64
 struct eval_depth_filter {
 	int fill;
 	float temporal;
+	int nparam_args;
+	char *param_args[EVAL_DEPTH_MAX_PARAM_ARGS];
 };
 
 /* The depthao filter as a stream runs it (the default preset, the stream defaults,
  * algorithm none) on one thread, so that the thread's CPU time is the filter's;
- * with `f`'s changes. */
-void eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f);
+ * with `f`'s changes.  0, or -1 with a message in err (a parameter option's
+ * value the parameters refuse together). */
+int eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f,
+		      struct dao_error *err);
 
 /* CPU time of the calling thread, ms. */
 double eval_thread_ms(void);

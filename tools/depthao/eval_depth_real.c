@@ -87,9 +87,10 @@ static int filter_frame(const float *z, const struct dao_camera *cam, double uni
 	if (!st->open) {
 		struct dao_params p;
 		struct rs_ref_options ro;
-		eval_depth_params(&p, st->filter);
 		rs_ref_options_default(&ro);
-		r = dao_context_create(&st->ctx, cam, &p, err);
+		r = eval_depth_params(&p, st->filter, err);
+		if (!r)
+			r = dao_context_create(&st->ctx, cam, &p, err);
 		if (!r)
 			r = rs_ref_init(&st->rs, &ro, (int)w, (int)h, cam->fx, err);
 		if (!r)   /* once untimed: the context's lazy set-up */
