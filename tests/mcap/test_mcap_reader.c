@@ -26,10 +26,12 @@
 #include "mcap/mcap_reader.h"
 #include "mcap/ros2_msg.h"
 
-/* A growing byte buffer: the file being built. */
+/* A growing byte buffer: the file being built; the CDR written into it big-endian
+ * (CDR_BE) when big_endian is set, little-endian (CDR_LE) otherwise. */
 struct buf {
 	uint8_t d[1 << 16];
 	size_t n;
+	int big_endian;
 };
 
 static void put(struct buf *b, const void *p, size_t n)
@@ -473,18 +475,25 @@ static void ros2_image(void **state)
 		assert_int_equal(dao_ros2_image_parse(b.d, cut, &img), -EINVAL);
 }
 
-/* CDR built by hand, little-endian: padding to an alignment counted after the
- * encapsulation header, a string (its NUL counted), a float64. */
+/* CDR built by hand in the buffer's byte order: padding to an alignment counted after
+ * the encapsulation header, a u32 or u64 (aligned to its size), a string (its NUL
+ * counted), a float64. */
 static void cdr_pad(struct buf *b, size_t align)
 {
 	while ((b->n - 4) % align)
 		put8(b, 0);
 }
 
+static void cdr_uint(struct buf *b, uint64_t v, size_t n)
+{
+	cdr_pad(b, n);
+	for (size_t i = 0; i < n; i++)
+		put8(b, (uint8_t)(v >> 8 * (b->big_endian ? n - 1 - i : i)));
+}
+
 static void cdr_u32(struct buf *b, uint32_t v)
 {
-	cdr_pad(b, 4);
-	put32(b, v);
+	cdr_uint(b, v, 4);
 }
 
 static void cdr_str(struct buf *b, const char *s, size_t n)
@@ -498,17 +507,16 @@ static void cdr_f64(struct buf *b, double v)
 {
 	uint64_t u;
 	memcpy(&u, &v, 8);
-	cdr_pad(b, 8);
-	put64(b, u);
+	cdr_uint(b, u, 8);
 }
 
-/* The encapsulation, a builtin_interfaces/Time and a frame_id: the start of each of
- * Foxglove's ROS 2 messages. */
+/* The encapsulation (CDR_BE 0x00 0x00 or CDR_LE 0x00 0x01, two option bytes), a
+ * builtin_interfaces/Time and a frame_id: the start of each of Foxglove's ROS 2 messages. */
 static void fg_cdr_start(struct buf *b, int32_t sec, uint32_t nsec, const char *frame,
 			 size_t frame_len)
 {
 	b->n = 0;
-	put(b, "\0\1\0\0", 4);
+	put(b, b->big_endian ? "\0\0\0\0" : "\0\1\0\0", 4);
 	cdr_u32(b, (uint32_t)sec);
 	cdr_u32(b, nsec);
 	cdr_str(b, frame, frame_len);
@@ -564,15 +572,21 @@ static void fg_cdr_raw_image(void **state)
 }
 
 /* foxglove_msgs/msg/CompressedImage: timestamp, frame_id, data, format (after the data). */
+static size_t fg_cdr_compressed(struct buf *b)
+{
+	fg_cdr_start(b, 9, 0, "", 0);
+	cdr_u32(b, 5);
+	put(b, "\x89PNG!", 5);
+	cdr_str(b, "png", 3);
+	return b->n;
+}
+
 static void fg_cdr_compressed_image(void **state)
 {
 	(void)state;
 	static struct buf b;
 	struct dao_fg_image img;
-	fg_cdr_start(&b, 9, 0, "", 0);
-	cdr_u32(&b, 5);
-	put(&b, "\x89PNG!", 5);
-	cdr_str(&b, "png", 3);
+	fg_cdr_compressed(&b);
 	assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, b.d, b.n, NULL, &img), 0);
 	assert_int_equal(img.stamp_ns, 9000000000ull);
 	assert_string_equal(img.frame_id, "");
@@ -633,6 +647,84 @@ static void fg_cdr_camera_calibration(void **state)
 	assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, b.d, n, &c), -EINVAL);
 }
 
+/* Two images read from messages: the same fields, the same data bytes. */
+static void fg_images_equal(const struct dao_fg_image *a, const struct dao_fg_image *b)
+{
+	assert_int_equal(a->stamp_ns, b->stamp_ns);
+	assert_string_equal(a->frame_id, b->frame_id);
+	assert_int_equal(a->width, b->width);
+	assert_int_equal(a->height, b->height);
+	assert_int_equal(a->step, b->step);
+	assert_string_equal(a->encoding, b->encoding);
+	assert_int_equal(a->data_len, b->data_len);
+	assert_memory_equal(a->data, b->data, a->data_len);
+}
+
+/*
+ * Foxglove's RawImage, CompressedImage and CameraCalibration in big-endian CDR (CDR_BE,
+ * 0x00 0x00): read as the same messages in little-endian are, each number in the
+ * message's byte order, a uint8[]'s bytes (the pixels) as they are; cut short at any
+ * byte refused. The same bytes under a CDR_LE header are refused (frame_id's length read
+ * the other way round runs past the end), so the header's byte order is the one used.
+ */
+static void fg_cdr_big_endian(void **state)
+{
+	(void)state;
+	static struct buf le, be;
+	be.big_endian = 1;
+	struct dao_fg_image li, bi;
+	fg_cdr_raw(&le, 5, 7, "cam", 3);
+	fg_cdr_raw(&be, 5, 7, "cam", 3);
+	assert_int_equal(be.n, le.n);
+	/* written big-endian: the header, and the width after the Time and "cam" */
+	assert_memory_equal(be.d, "\0\0\0\0", 4);
+	assert_memory_equal(be.d + 4 + 16, "\0\0\0\3", 4);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, le.d, le.n, NULL, &li), 0);
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, be.d, be.n, NULL, &bi), 0);
+	fg_images_equal(&bi, &li);
+	assert_string_equal(bi.frame_id, "cam");
+	image_is(&(struct image_fields){ bi.stamp_ns, bi.width, bi.height, bi.encoding, bi.step,
+					 bi.data, bi.data_len },
+		 "32FC1", 12, "abcdefghijklmnopqrstuvwx");
+	for (size_t cut = 0; cut < be.n; cut++)
+		assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, be.d, cut, NULL, &bi), -EINVAL);
+	be.d[1] = 1;
+	assert_int_equal(dao_fg_raw_image_parse(DAO_FG_CDR, be.d, be.n, NULL, &bi), -EINVAL);
+
+	fg_cdr_compressed(&le);
+	fg_cdr_compressed(&be);
+	assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, le.d, le.n, NULL, &li), 0);
+	assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, be.d, be.n, NULL, &bi), 0);
+	fg_images_equal(&bi, &li);
+	assert_int_equal(bi.stamp_ns, 9000000000ull);
+	assert_string_equal(bi.encoding, "png");
+	assert_memory_equal(bi.data, "\x89PNG!", 5);
+	for (size_t cut = 0; cut < be.n; cut++)
+		assert_int_equal(dao_fg_compressed_image_parse(DAO_FG_CDR, be.d, cut, NULL, &bi),
+				 -EINVAL);
+
+	/* D's float64s 8-aligned after a count that ends 4 bytes past a multiple of 8 */
+	struct dao_fg_calibration lc, bc;
+	fg_cdr_calibration(&le, 5);
+	fg_cdr_calibration(&be, 5);
+	assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, le.d, le.n, &lc), 0);
+	assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, be.d, be.n, &bc), 0);
+	assert_int_equal(bc.stamp_ns, lc.stamp_ns);
+	assert_int_equal(bc.width, lc.width);
+	assert_int_equal(bc.height, lc.height);
+	assert_int_equal(bc.d_count, lc.d_count);
+	for (int i = 0; i < DAO_FG_MAX_DISTORTION; i++)
+		assert_true(bc.d[i] == lc.d[i]);
+	for (int i = 0; i < 9; i++)
+		assert_true(bc.k[i] == lc.k[i] && bc.r[i] == lc.r[i]);
+	for (int i = 0; i < 12; i++)
+		assert_true(bc.p[i] == lc.p[i]);
+	assert_true(bc.stamp_ns == 1000000002ull && bc.width == 64 && bc.d_count == 5);
+	assert_true(bc.d[4] == 4.5 && bc.k[0] == 100.0 && bc.p[11] == 129.0);
+	for (size_t cut = 0; cut < be.n; cut++)
+		assert_int_equal(dao_fg_calibration_parse(DAO_FG_CDR, be.d, cut, &bc), -EINVAL);
+}
+
 static void compressed_depth_formats(void **state)
 {
 	(void)state;
@@ -689,6 +781,7 @@ int main(void)
 		cmocka_unit_test(fg_cdr_raw_image),
 		cmocka_unit_test(fg_cdr_compressed_image),
 		cmocka_unit_test(fg_cdr_camera_calibration),
+		cmocka_unit_test(fg_cdr_big_endian),
 		cmocka_unit_test(compressed_depth_formats),
 		cmocka_unit_test(rvl_decode),
 	};

@@ -401,12 +401,116 @@ static void test_depth_only_ao_formats(void **state)
 	free(buf);
 }
 
+/* The metres-to-counts rule of dao_context_get_depth, one pixel at a time: 0 stays 0, a
+ * depth below half a count is 1, past 65535 counts 65535, else the nearest count (ties
+ * to even, the default rounding of nearbyintf). */
+static uint16_t counts_of(float z, float unit)
+{
+	if (!(z > 0.0f))
+		return 0;
+	const float c = fminf(z * (1.0f / unit), 65535.0f);
+	const uint16_t v = (uint16_t)nearbyintf(c);
+	return v ? v : 1;
+}
+
+/*
+ * Rows wider than the depth16 conversion's chunk of 256 pixels, with a ragged tail
+ * (300 = 256 + 44, 517 = 2 x 256 + 5: neither a multiple of a vector's 4, 8 or 16
+ * lanes), into a stride of an odd number of bytes of padding (the rows unaligned): in
+ * metres every pixel the input's (the filters off, the filtered depth is the input),
+ * in counts of three units every pixel the rule above (rounding, 1 below half a count,
+ * saturation); the padding and a guard past the last row untouched.
+ */
+static void test_wide_rows(void **state)
+{
+	(void)state;
+	enum { WH = 7, PADB = 5, GUARD = 64 };
+	static const int widths[] = { 300, 517 };
+	static const float units[] = { 0.0001f, 1e-5f, 10.0f };
+	for (size_t wi = 0; wi < sizeof widths / sizeof widths[0]; wi++) {
+		const int w = widths[wi];
+		struct dao_camera cam;
+		dao_camera_from_intrinsics(&cam, (uint32_t)w, WH, 300, 300, (w - 1) / 2.0, 3, NULL);
+		struct dao_params p;
+		dao_params_init(&p, DAO_QUALITY_DEFAULT);
+		p.threads = 1;
+		p.algorithm = DAO_ALGORITHM_NONE;
+		p.prefilter = DAO_PREFILTER_NONE;
+		p.depth_temporal = 0.0f;
+		struct dao_context *ctx = NULL;
+		struct dao_error err;
+		if (dao_context_create(&ctx, &cam, &p, &err))
+			fail_msg("create %dx%d: %s", w, WH, err.message);
+		/* a depth that differs from pixel to pixel (a shifted or dropped chunk shows),
+		 * holes among them, some at the chunks' edges */
+		float *in = malloc(sizeof(float) * (size_t)w * WH);
+		assert_non_null(in);
+		uint32_t seed = 17;
+		for (int y = 0; y < WH; y++)
+			for (int x = 0; x < w; x++)
+				in[y * w + x] = x % 13 == 0 || x == 255 || x == w - 1
+							? 0.0f
+							: 0.3f + 0.007f * (float)x + 0.09f * (float)y +
+								  0.0004f * unit_noise(&seed);
+		const struct dao_frame f32 = { .format = DAO_PIXFMT_DEPTH_F32, .width = (uint32_t)w,
+					       .height = WH, .stride = 4 * w, .data = in };
+		if (dao_context_process(ctx, &f32, NULL, 0, NULL, &err))
+			fail_msg("process %dx%d: %s", w, WH, err.message);
+		for (int fmt = 0; fmt < 1 + 3; fmt++) { /* metres, then counts of each unit */
+			const int bpp = fmt ? 2 : 4;
+			const int stride = bpp * w + PADB;
+			const size_t size = (size_t)stride * WH;
+			unsigned char *buf = malloc(size + GUARD);
+			assert_non_null(buf);
+			memset(buf, 0xa5, size + GUARD);
+			struct dao_frame o = { .format = fmt ? DAO_PIXFMT_DEPTH16 : DAO_PIXFMT_DEPTH_F32,
+					       .width = (uint32_t)w, .height = WH, .stride = stride,
+					       .data = buf, .depth_unit = fmt ? units[fmt - 1] : 0.0f };
+			if (dao_context_get_depth(ctx, &o, &err))
+				fail_msg("get depth %dx%d format %d: %s", w, WH, fmt, err.message);
+			for (int y = 0; y < WH; y++) {
+				const unsigned char *row = buf + (size_t)y * stride;
+				for (int x = 0; x < w; x++) {
+					const float z = in[y * w + x];
+					if (fmt) {
+						uint16_t got;
+						memcpy(&got, row + 2 * x, 2);
+						if (got != counts_of(z, units[fmt - 1]))
+							fail_msg("%d px, unit %g: (%d, %d) is %u counts, "
+								 "not %u (%.6f m)", w, (double)units[fmt - 1],
+								 x, y, got, counts_of(z, units[fmt - 1]),
+								 (double)z);
+					} else {
+						float got;
+						memcpy(&got, row + 4 * x, 4);
+						if (memcmp(&got, &z, 4))
+							fail_msg("%d px: (%d, %d) is %.6f m, not %.6f", w,
+								 x, y, (double)got, (double)z);
+					}
+				}
+				for (int k = bpp * w; k < stride; k++)
+					if (row[k] != 0xa5)
+						fail_msg("%d px format %d: row %d's padding byte %d written",
+							 w, fmt, y, k - bpp * w);
+			}
+			for (size_t k = size; k < size + GUARD; k++)
+				if (buf[k] != 0xa5)
+					fail_msg("%d px format %d: byte %zu past the image written", w,
+						 fmt, k - size);
+			free(buf);
+		}
+		free(in);
+		dao_context_destroy(ctx);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_step_edge),   cmocka_unit_test(test_depth_only),
 		cmocka_unit_test(test_counts),      cmocka_unit_test(test_plane_scale),
 		cmocka_unit_test(test_temporal_loss), cmocka_unit_test(test_depth_only_ao_formats),
+		cmocka_unit_test(test_wide_rows),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

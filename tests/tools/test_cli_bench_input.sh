@@ -4,12 +4,15 @@
 # directory, one PNG, an .oni recording, float-metre depth from an MCAP), what the JSON
 # and the header say about them, --compare with --input, and the errors.  Timings are
 # printed, never asserted: only that a stage that ran took some time.
+# usage: test_cli_bench_input.sh DEPTHAO PNG_INFO TEST_PLUGINS (tests/daemon's build
+# directory: the test camera testsrc)
 . "$(dirname "$0")/cli_lib.sh"
 
 ROOT=${DAO_SOURCE_ROOT:?}
 NOISY="$ROOT/recordings/spheres-noisy"
 REC="$ROOT/recordings/boxes-sliding.oni"
 FAKE="$(cd "$(dirname "$0")" && pwd)/fake_depthao.sh"
+TEST_PLUGINS=${3:?the directory of the test camera plugin, depthao-testsrc.so}
 BUILD=$(cd "$(dirname "$DEPTHAO")/../.." && pwd)
 QUICK="--quality default --threads 1 --min-iterations 1 --min-time 0 --no-reference"
 
@@ -146,6 +149,17 @@ input_error "mixed sizes" \
 if expect_exit 0 "mixed sizes, the frames before" -- "$DEPTHAO" bench --input "$WORK/mixed" \
 	--fov 58,45 --input-frames 2 $QUICK --json; then
 	json_is "$WORK/out" "$WORK/mixed" 2 640 480 depth16 stream 0.8
+fi
+# ... from a camera whose mode changes after 2 frames (a live source delivers them; bench
+# checks each frame it keeps against the first): the same, as bench says it
+[ -e "$TEST_PLUGINS/depthao-testsrc.so" ] || fail "no test camera in $TEST_PLUGINS"
+CAM="testsrc:fps=200,w=64,h=48,resize_after=2,w2=32,h2=24"
+input_error "camera changing size" \
+	"^depthao: frame 2 of '$CAM' is 32x24 depth16, but the input's frames are 64x48 depth16: bench times frames of one size and format (--input-frames 2 times the frames before it)\$" -- \
+	env DEPTHAO_PLUGIN_PATH="$TEST_PLUGINS" "$DEPTHAO" bench --input "$CAM" --fov 58,45 $QUICK
+if expect_exit 0 "camera changing size, the frames before" -- env DEPTHAO_PLUGIN_PATH="$TEST_PLUGINS" \
+	"$DEPTHAO" bench --input "$CAM" --fov 58,45 --input-frames 2 $QUICK --json; then
+	json_is "$WORK/out" "$CAM" 2 64 48 depth16 stream 0.8
 fi
 # larger than the pixel limit: refused before it is decoded
 input_error "pixel limit" "(--max-pixels raises the limit)" -- \
