@@ -49,6 +49,10 @@
  *    refuses, with a message saying what to do, a descriptor smaller than
  *    the first one that carried a size, or of a version it does not know
  *    (0, or newer than this library's DAO_PLUGIN_VERSION).
+ *  - The callbacks of struct dao_source_ops and dao_sink_ops not marked
+ *    optional below are required: the loader refuses, naming the module and
+ *    the callback, a source without open, get_info, start, read or close and
+ *    a sink without open, negotiate, write or close.
  *  - DAO_PLUGIN_ABI_VERSION changes only when the layout breaks; a plugin
  *    built for another one is refused with a message.
  */
@@ -181,7 +185,8 @@ typedef void (*dao_device_cb)(void *user, const struct dao_device_entry *entry);
 /* A source plugin's table: open a URI, report the stream, read frames. */
 struct dao_source_ops {
 	uint32_t version;           /* DAO_SOURCE_OPS_VERSION */
-	/* 0..100: how well this source handles `uri` (auto selection), 0 = not at all */
+	/* optional: 0..100, how well this source handles `uri` (auto selection), 0 = not at
+	 * all (NULL: never picked for a URI that names no plugin) */
 	int (*probe)(const char *uri);
 	/* optional: enumerate devices; returns the count or < 0 */
 	int (*list_devices)(dao_device_cb cb, void *user, struct dao_error *err);
@@ -195,7 +200,7 @@ struct dao_source_ops {
 	/* the next frame: 0, -EAGAIN, -ENODEV, DAO_SOURCE_EOS or an error */
 	int (*read)(void *state, struct dao_source_frame *frame, int timeout_ms,
 		    struct dao_error *err);
-	/* gives a frame from read back */
+	/* optional: gives a frame from read back */
 	void (*release)(void *state, struct dao_source_frame *frame);
 	/* optional: the next read delivers frame `index` of a recording */
 	int (*seek)(void *state, uint64_t index, struct dao_error *err);
@@ -297,7 +302,8 @@ struct dao_sink_host {
 /* A sink plugin's table: open a URI, negotiate a format, write frames. */
 struct dao_sink_ops {
 	uint32_t version;           /* DAO_SINK_OPS_VERSION */
-	/* 0..100: how well this sink handles `uri` (auto selection), 0 = not at all */
+	/* optional: 0..100, how well this sink handles `uri` (auto selection), 0 = not at all
+	 * (NULL: never picked for a URI that names no plugin) */
 	int (*probe)(const char *uri);
 	/* opens `uri` (without the plugin prefix); its state in *state */
 	int (*open)(const char *uri, void **state, struct dao_error *err);

@@ -3,8 +3,10 @@
  * Test modules for the registry, built from this one file with -DFAKE_KIND=n:
  *   1: a plugin built for another ABI version (must be skipped, with why)
  *   2: a module without the entry symbol (must be skipped)
- *   3: a valid sink-only plugin named "fakesink" (must load)
- *   4: a source "fakebig" whose URI "WxH" is the size it reports (pixel limits)
+ *   3: a valid sink-only plugin named "fakesink" (must load; it takes and drops frames)
+ *   4: a source "fakebig" whose URI "WxH" is the size it reports (pixel limits), a flat
+ *      wall at 1 m; it has the required callbacks only (no probe, release, seek, stop:
+ *      must load and stream)
  *   5: a source "noversion" whose ops table lacks its version (must be skipped)
  *   6: a sink "newersink" built for a newer sink interface and a larger
  *      struct dao_sink_format than this library's (must load and work: it
@@ -13,6 +15,9 @@
  *      sized one (must be skipped, with what to do)
  *   8: a sink "futuredesc" whose descriptor has a version newer than this
  *      library's (must be skipped, with what to do)
+ *   9: a source "nostart", fakebig without start and read (must be skipped, with
+ *      the callbacks it lacks)
+ *  10: a sink "nowrite", fakesink without write (must be skipped, likewise)
  */
 #include <depthao/plugin.h>
 
@@ -37,9 +42,11 @@ int not_a_plugin(void)
 {
 	return 0;
 }
-#elif FAKE_KIND == 4
+#elif FAKE_KIND == 4 || FAKE_KIND == 9
 struct big {
 	unsigned w, h;
+	uint16_t *wall; /* allocated by start: open may be asked for more than fits */
+	uint64_t n;
 };
 
 static int big_open(const char *uri, const struct dao_source_options *o, void **state,
@@ -67,17 +74,54 @@ static void big_info(void *state, struct dao_source_info *in)
 	in->depth_unit = 0.001f;
 	in->frame_count = -1;
 	in->live = 1;
+	snprintf(in->description, sizeof in->description, "a flat wall, %ux%u", b->w, b->h);
 }
 
 static void big_close(void *state)
 {
-	free(state);
+	struct big *b = state;
+	free(b->wall);
+	free(b);
+}
+
+#if FAKE_KIND == 4
+static int big_start(void *state, struct dao_error *err)
+{
+	(void)err;
+	struct big *b = state;
+	if (!b->wall && !(b->wall = malloc(sizeof(uint16_t) * b->w * b->h)))
+		return -12;
+	for (size_t i = 0; i < (size_t)b->w * b->h; i++)
+		b->wall[i] = 1000;
+	return 0;
+}
+
+static int big_read(void *state, struct dao_source_frame *frame, int timeout_ms,
+		    struct dao_error *err)
+{
+	(void)timeout_ms;
+	(void)err;
+	struct big *b = state;
+	frame->depth = (struct dao_frame){.format = DAO_PIXFMT_DEPTH16, .width = b->w,
+					  .height = b->h, .stride = 2 * b->w, .data = b->wall,
+					  .depth_unit = 0.001f, .sequence = b->n};
+	frame->color.format = DAO_PIXFMT_NONE;
+	frame->index = b->n++;
+	return 0;
 }
 
 static const struct dao_source_ops ops = {.version = DAO_SOURCE_OPS_VERSION, .open = big_open,
-					  .get_info = big_info, .close = big_close};
+					  .get_info = big_info, .start = big_start,
+					  .read = big_read, .close = big_close};
 static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "fakebig",
 					 .description = "a test source", .source = &ops};
+#else
+static const struct dao_source_ops ops = {.version = DAO_SOURCE_OPS_VERSION, .open = big_open,
+					  .get_info = big_info, .close = big_close};
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "nostart",
+					 .description = "a test source without start and read",
+					 .source = &ops};
+#endif
 EXPORT const struct dao_plugin *dao_plugin_entry(void);
 const struct dao_plugin *dao_plugin_entry(void)
 {
@@ -153,15 +197,59 @@ static const struct dao_plugin plugin = {
 	.sink = &ops,
 };
 DAO_PLUGIN_DEFINE(plugin)
-#else
+#else /* 3, 10 */
 static int fake_probe(const char *uri)
 {
 	(void)uri;
 	return 0;
 }
-static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION, .probe = fake_probe};
+
+static int fake_open(const char *uri, void **state, struct dao_error *err)
+{
+	(void)uri;
+	(void)err;
+	*state = NULL;
+	return 0;
+}
+
+static int fake_negotiate(void *state, struct dao_sink_format *fmt, struct dao_error *err)
+{
+	(void)state;
+	(void)fmt;
+	(void)err;
+	return 0;
+}
+
+#if FAKE_KIND == 3
+static int fake_write(void *state, const struct dao_frame *frame, struct dao_error *err)
+{
+	(void)state;
+	(void)frame;
+	(void)err;
+	return 0;
+}
+#endif
+
+static int fake_close(void *state, struct dao_error *err)
+{
+	(void)state;
+	(void)err;
+	return 0;
+}
+
+static const struct dao_sink_ops ops = {.version = DAO_SINK_OPS_VERSION, .probe = fake_probe,
+					.open = fake_open, .negotiate = fake_negotiate,
+#if FAKE_KIND == 3
+					.write = fake_write,
+#endif
+					.close = fake_close};
+#if FAKE_KIND == 3
 static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "fakesink",
 					 .description = "a test sink", .sink = &ops};
+#else
+static const struct dao_plugin plugin = {DAO_PLUGIN_HEADER, .name = "nowrite",
+					 .description = "a test sink without write", .sink = &ops};
+#endif
 EXPORT const struct dao_plugin *dao_plugin_entry(void);
 const struct dao_plugin *dao_plugin_entry(void)
 {

@@ -294,7 +294,7 @@ static void test_wrapper_write_stream_fallback(void **state)
 	free(f.data);
 }
 
-static void test_wrapper_incomplete_plugin(void **state)
+static void test_wrapper_fake_plugins(void **state)
 {
 	(void)state;
 	const char *dir = getenv("DAO_FAKE_PLUGIN_DIR");
@@ -304,13 +304,32 @@ static void test_wrapper_incomplete_plugin(void **state)
 	struct dao_sink *s = NULL;
 	struct dao_error err;
 	assert_int_equal(dao_plugins_load(&p, dir, &err), 0);
-	assert_non_null(dao_plugins_find(p, "fakesink"));
-	/* the fake sink has only probe: refused with a reason instead of a crash */
-	assert_int_equal(dao_sink_open(p, "fakesink:x", &s, &err), -ENOTSUP);
-	assert_non_null(strstr(err.message, "fakesink"));
+	/* a sink without write is not loaded (it would be called unchecked): opening it
+	 * says why, no crash */
+	assert_null(dao_plugins_find(p, "nowrite"));
+	assert_int_equal(dao_sink_open(p, "nowrite:x", &s, &err), -ENOENT);
+	assert_non_null(strstr(err.message, "sink 'nowrite' has no write()"));
 	assert_null(s);
+	/* the fake sink has no flush, attach_host or write_stream (optional): it takes frames */
+	assert_int_equal(dao_sink_open(p, "fakesink:x", &s, &err), 0);
+	struct dao_sink_host host = DAO_SINK_HOST_INIT;
+	dao_sink_attach_host(s, &host);
+	struct dao_sink_format fmt = DAO_SINK_FORMAT_INIT;
+	fmt.format = DAO_PIXFMT_GRAY8;
+	fmt.width = 8;
+	fmt.height = 6;
+	assert_int_equal(dao_sink_negotiate(s, &fmt, &err), 0);
+	struct dao_frame f;
+	make_frame(&f, DAO_PIXFMT_GRAY8, 8, 6, 0);
+	assert_int_equal(dao_sink_write(s, &f, &err), 0);
+	struct dao_sink_frame_info info = {.size = sizeof info, .stream = DAO_STREAM_AO8};
+	assert_int_equal(dao_sink_write_stream(s, &info, &f, &err), 0);
+	assert_int_equal(dao_sink_flush(s, &err), 0);
+	assert_int_equal(dao_sink_takes_streams(s), 0);
+	free(f.data);
+	close_ok(s);
 	/* a source-only plugin is not a sink */
-	assert_int_equal(dao_sink_open(p, "nosuch:x", &s, &err), -ENOENT);
+	assert_int_equal(dao_sink_open(p, "fakebig:x", &s, &err), -ENOENT);
 	dao_plugins_free(p);
 }
 
@@ -1411,7 +1430,7 @@ int main(int argc, char **argv)
 		cmocka_unit_test(test_wrapper_auto_pick),
 		cmocka_unit_test(test_wrapper_call_order),
 		cmocka_unit_test(test_wrapper_write_stream_fallback),
-		cmocka_unit_test(test_wrapper_incomplete_plugin),
+		cmocka_unit_test(test_wrapper_fake_plugins),
 		cmocka_unit_test(test_images_sink),
 		cmocka_unit_test(test_y4m_gray8),
 		cmocka_unit_test(test_y4m_gray16),

@@ -485,7 +485,11 @@ static void test_modules_skipped_with_reason(void **state)
 	assert_null(dao_plugins_find(p, "noversion"));
 	assert_null(dao_plugins_find(p, "smalldesc"));
 	assert_null(dao_plugins_find(p, "futuredesc"));
-	int abi = 0, nosym = 0, nover = 0, small = 0, future = 0;
+	assert_null(dao_plugins_find(p, "nostart"));
+	assert_null(dao_plugins_find(p, "nowrite"));
+	/* a source or sink with only the optional callbacks left out loads */
+	assert_non_null(dao_plugins_find(p, "fakebig"));
+	int abi = 0, nosym = 0, nover = 0, small = 0, future = 0, nostart = 0, nowrite = 0;
 	for (size_t i = 0; i < dao_plugins_skipped_count(p); i++) {
 		const char *m = dao_plugins_skipped(p, i);
 		abi += strstr(m, "fake-wrongabi.so") && strstr(m, "ABI") ? 1 : 0;
@@ -496,16 +500,51 @@ static void test_modules_skipped_with_reason(void **state)
 				 strstr(m, "DAO_PLUGIN_HEADER") ? 1 : 0;
 		future += strstr(m, "fake-futuredesc.so") && strstr(m, "version 2") &&
 				  strstr(m, "update depthao") ? 1 : 0;
+		/* a callback the host would call unchecked: each one missing named, what a
+		 * source or sink must have, what to do */
+		nostart += strstr(m, "fake-nostart.so: source 'nostart' has no start(), read(); "
+				     "a source plugin must implement open, get_info, start, read "
+				     "and close: add them and rebuild it (docs/sources.md") ? 1 : 0;
+		nowrite += strstr(m, "fake-nowrite.so: sink 'nowrite' has no write(); a sink "
+				     "plugin must implement open, negotiate, write and close: add "
+				     "it and rebuild it") ? 1 : 0;
 	}
 	assert_int_equal(abi, 1);
 	assert_int_equal(nosym, 1);
 	assert_int_equal(nover, 1);
 	assert_int_equal(small, 1);
 	assert_int_equal(future, 1);
-	assert_int_equal(dao_plugins_skipped_count(p), 5);
+	assert_int_equal(nostart, 1);
+	assert_int_equal(nowrite, 1);
+	assert_int_equal(dao_plugins_skipped_count(p), 7);
 	/* a sink is not a source */
-	struct dao_source *s;
+	struct dao_source *s = NULL;
 	assert_int_equal(dao_source_open(p, "fakesink:x", NULL, &s, &err), -ENOENT);
+	/* opening a refused plugin by name says why it is not there */
+	assert_int_equal(dao_source_open(p, "nostart:64x48", NULL, &s, &err), -ENOENT);
+	assert_null(s);
+	assert_non_null(strstr(err.message, "no source plugin 'nostart': "));
+	assert_non_null(strstr(err.message, "fake-nostart.so: source 'nostart' has no start(), "
+					    "read()"));
+	struct dao_sink *k = NULL;
+	assert_int_equal(dao_sink_open(p, "nowrite:x", &k, &err), -ENOENT);
+	assert_null(k);
+	assert_non_null(strstr(err.message, "no sink plugin 'nowrite': "));
+	assert_non_null(strstr(err.message, "sink 'nowrite' has no write()"));
+	/* the source with only the required callbacks streams */
+	assert_int_equal(dao_source_open(p, "fakebig:64x48", NULL, &s, &err), 0);
+	assert_int_equal(dao_source_start(s, &err), 0);
+	struct dao_source_frame f;
+	assert_int_equal(dao_source_read(s, &f, 100, &err), 0);
+	assert_true(f.depth.width == 64 && f.depth.height == 48);
+	assert_int_equal(((const uint16_t *)f.depth.data)[64 * 48 - 1], 1000);
+	dao_source_release(s, &f); /* no release callback: nothing to give back */
+	assert_int_equal(dao_source_seek(s, 0, &err), -ENOTSUP);
+	dao_source_close(s); /* no stop callback */
+	/* a missing source is an error, not a crash */
+	assert_int_equal(dao_source_start(NULL, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "dao_source_open"));
+	assert_int_equal(dao_source_read(NULL, &f, 0, &err), -EINVAL);
 	dao_plugins_free(p);
 }
 

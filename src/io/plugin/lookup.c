@@ -54,6 +54,10 @@ int dao_plugin_lookup(const struct dao_plugins *p, const char *uri, enum dao_plu
 		char name[64];
 		snprintf(name, sizeof(name), "%.*s", (int)(n < 63 ? n : 63), uri);
 		const struct dao_plugin *pl = dao_plugins_find(p, name);
+		const char *skipped = pl ? NULL : dao_plugins_skipped_reason(p, name);
+		if (skipped)
+			return dao_error_set(err, -ENOENT, "no %s plugin '%s': %s", what, name,
+					     skipped);
 		if (!pl || !has_role(pl, role)) {
 			list_role(p, role, names, sizeof(names));
 			return dao_error_set(err, -ENOENT, "no %s plugin '%s' for '%s'; available: %s",

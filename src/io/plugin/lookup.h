@@ -19,4 +19,10 @@ enum dao_plugin_role {
 int dao_plugin_lookup(const struct dao_plugins *p, const char *uri, enum dao_plugin_role role,
 		      const struct dao_plugin **out, const char **rest, struct dao_error *err);
 
+/*
+ * The module called `name` that was found but not loaded (a required callback
+ * missing): its "path: reason" as dao_plugins_skipped() gives it, or NULL.
+ */
+const char *dao_plugins_skipped_reason(const struct dao_plugins *p, const char *name);
+
 #endif

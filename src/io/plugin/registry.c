@@ -18,6 +18,7 @@
 
 #include "core/error_internal.h"
 #include "plugin/builtin.h"
+#include "plugin/lookup.h"
 #include "plugin/struct_sizes.h"
 
 #ifndef DAO_PLUGIN_DIR
@@ -29,10 +30,17 @@ struct entry {
 	char *origin;
 };
 
+/* a module found but not loaded: "path: reason", and the plugin's name when the
+ * descriptor was readable enough to trust it (NULL otherwise) */
+struct skipped {
+	char *line;
+	char *name;
+};
+
 struct dao_plugins {
 	struct entry *v;
 	size_t n;
-	char **skipped;
+	struct skipped *skipped;
 	size_t nskipped;
 };
 
@@ -41,18 +49,28 @@ const char *dao_plugins_install_dir(void)
 	return DAO_PLUGIN_DIR;
 }
 
-static int add_skipped(struct dao_plugins *p, const char *path, const char *why)
+static int add_skipped_named(struct dao_plugins *p, const char *path, const char *name,
+			     const char *why)
 {
-	char **s = realloc(p->skipped, (p->nskipped + 1) * sizeof(*s));
+	struct skipped *s = realloc(p->skipped, (p->nskipped + 1) * sizeof(*s));
 	if (!s)
 		return -ENOMEM;
 	p->skipped = s;
+	s += p->nskipped;
 	size_t len = strlen(path) + strlen(why) + 3;
-	if (!(s[p->nskipped] = malloc(len)))
+	s->name = NULL;
+	if (!(s->line = malloc(len)) || (name && !(s->name = strdup(name)))) {
+		free(s->line);
 		return -ENOMEM;
-	snprintf(s[p->nskipped], len, "%s: %s", path, why);
+	}
+	snprintf(s->line, len, "%s: %s", path, why);
 	p->nskipped++;
 	return 0;
+}
+
+static int add_skipped(struct dao_plugins *p, const char *path, const char *why)
+{
+	return add_skipped_named(p, path, NULL, why);
 }
 
 static int add(struct dao_plugins *p, const struct dao_plugin *pl, const char *origin)
@@ -75,6 +93,51 @@ static int valid_name(const char *s)
 	for (; *s; s++)
 		if (!((*s >= 'a' && *s <= 'z') || (*s >= '0' && *s <= '9') || *s == '-' || *s == '_'))
 			return 0;
+	return 1;
+}
+
+/* "NAME(), NAME()" of the callbacks marked absent into `missing` ("" if none). */
+static void list_missing(const char *const *names, const int *absent, size_t n, char *missing,
+			 size_t len)
+{
+	size_t k = 0;
+	missing[0] = '\0';
+	for (size_t i = 0; i < n; i++)
+		if (absent[i] && k < len)
+			k += (size_t)snprintf(missing + k, len - k, "%s%s()", k ? ", " : "", names[i]);
+}
+
+/*
+ * Why `pl` is refused for a callback the host calls without checking (the
+ * ones plugin.h does not mark optional): "source 'x' has no read(); ..." into
+ * `why`; 0 if it has them all.  A source's probe, list_devices, release, seek,
+ * stop and frame_pose and a sink's probe, flush, attach_host and write_stream
+ * are optional.
+ */
+static int lacks_callbacks(const struct dao_plugin *pl, char *why, size_t len)
+{
+	static const char *const src_names[] = {"open", "get_info", "start", "read", "close"};
+	static const char *const sink_names[] = {"open", "negotiate", "write", "close"};
+	const struct dao_source_ops *so = pl->source;
+	const struct dao_sink_ops *si = pl->sink;
+	char missing[80] = "";
+	const char *role = "source", *all = "open, get_info, start, read and close";
+	if (so) {
+		const int absent[] = {!so->open, !so->get_info, !so->start, !so->read, !so->close};
+		list_missing(src_names, absent, 5, missing, sizeof missing);
+	}
+	if (!missing[0] && si) {
+		const int absent[] = {!si->open, !si->negotiate, !si->write, !si->close};
+		list_missing(sink_names, absent, 4, missing, sizeof missing);
+		role = "sink";
+		all = "open, negotiate, write and close";
+	}
+	if (!missing[0])
+		return 0;
+	snprintf(why, len,
+		 "%s '%s' has no %s; a %s plugin must implement %s: add %s and rebuild it "
+		 "(docs/sources.md, \"Writing a plugin\")",
+		 role, pl->name, missing, role, all, strchr(missing, ',') ? "them" : "it");
 	return 1;
 }
 
@@ -140,6 +203,12 @@ static int load_module(struct dao_plugins *p, const char *path)
 	if (!valid_name(pl->name) || (!pl->source && !pl->sink)) {
 		dlclose(h);
 		return add_skipped(p, path, "bad plugin table (name must be [a-z0-9_-], and a source or sink)");
+	}
+	/* a callback the host calls unchecked would be a NULL call in the middle of a
+	 * stream: refused here, where the module is named */
+	if (lacks_callbacks(pl, why, sizeof(why))) {
+		dlclose(h);
+		return add_skipped_named(p, path, pl->name, why);
 	}
 	if (dao_plugins_find(p, pl->name)) {
 		snprintf(why, sizeof(why), "a plugin named '%s' is already loaded", pl->name);
@@ -239,8 +308,10 @@ void dao_plugins_free(struct dao_plugins *p)
 		return;
 	for (size_t i = 0; i < p->n; i++)
 		free(p->v[i].origin);
-	for (size_t i = 0; i < p->nskipped; i++)
-		free(p->skipped[i]);
+	for (size_t i = 0; i < p->nskipped; i++) {
+		free(p->skipped[i].line);
+		free(p->skipped[i].name);
+	}
 	free(p->v);
 	free(p->skipped);
 	free(p);
@@ -276,5 +347,13 @@ size_t dao_plugins_skipped_count(const struct dao_plugins *p)
 
 const char *dao_plugins_skipped(const struct dao_plugins *p, size_t i)
 {
-	return p && i < p->nskipped ? p->skipped[i] : NULL;
+	return p && i < p->nskipped ? p->skipped[i].line : NULL;
+}
+
+const char *dao_plugins_skipped_reason(const struct dao_plugins *p, const char *name)
+{
+	for (size_t i = 0; p && name && i < p->nskipped; i++)
+		if (p->skipped[i].name && !strcmp(p->skipped[i].name, name))
+			return p->skipped[i].line;
+	return NULL;
 }

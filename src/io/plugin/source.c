@@ -121,8 +121,14 @@ int dao_source_get_info_sized(const struct dao_source *s, struct dao_source_info
 	return 0;
 }
 
+/* open, get_info, start, read and close of a source's table are there: the registry
+ * refuses a source without them (registry.c, lacks_callbacks) */
+
 int dao_source_start(struct dao_source *s, struct dao_error *err)
 {
+	if (!s)
+		return dao_error_set(err, -EINVAL, "dao_source_start: no source (open one with "
+				     "dao_source_open first)");
 	if (s->started)
 		return 0;
 	int r = s->plugin->source->start(s->state, err);
@@ -134,6 +140,8 @@ int dao_source_start(struct dao_source *s, struct dao_error *err)
 int dao_source_read(struct dao_source *s, struct dao_source_frame *f, int timeout_ms,
 		    struct dao_error *err)
 {
+	if (!s || !f)
+		return dao_error_set(err, -EINVAL, "dao_source_read: source and frame are required");
 	if (!s->started)
 		return dao_error_set(err, -EINVAL, "read from a source that was not started");
 	memset(f, 0, sizeof(*f));
