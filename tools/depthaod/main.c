@@ -313,6 +313,57 @@ static void block_signals(sigset_t *set)
 	signal(SIGPIPE, SIG_IGN); /* a reader going away is an error return, not a death */
 }
 
+/* `uri` names a plugin ("NAME:...") that is not loaded in that role: not installed, or
+ * refused by the loader. */
+static int names_absent_plugin(const struct dao_plugins *plugins, const char *uri, int sink)
+{
+	size_t n = dao_uri_prefix_len(uri);
+	char name[64];
+	if (!n || n >= sizeof name)
+		return n != 0;
+	memcpy(name, uri, n);
+	name[n] = '\0';
+	const struct dao_plugin *pl = dao_plugins_find(plugins, name);
+	return !pl || !(sink ? pl->sink != NULL : pl->source != NULL);
+}
+
+/*
+ * The source and sinks name plugins that are loaded: one that is not (not installed,
+ * or refused by the loader: a required callback missing) is an error at start, not
+ * retried for ever, since plugins are loaded once.  0, or -1 (logged, with the
+ * registry's reason: an open of an absent plugin fails in the lookup, before any
+ * plugin runs).
+ */
+static int check_named_plugins(const struct daemon_config *cfg, const struct dao_plugins *plugins)
+{
+	struct dao_error err = {0};
+	if (names_absent_plugin(plugins, cfg->source_uri, 0)) {
+		struct dao_source *src = NULL;
+		if (dao_source_open(plugins, cfg->source_uri, NULL, &src, &err) == 0) {
+			dao_source_close(src); /* not reached: the lookup fails */
+			return 0;
+		}
+		log_error("source %s: %s; depthaod loads its plugins when it starts: check "
+			  "[source] uri or the plugin, and start depthaod again",
+			  cfg->source_uri, err.message);
+		return -1;
+	}
+	for (unsigned i = 0; i < cfg->nsinks; i++) {
+		if (!names_absent_plugin(plugins, cfg->sinks[i].uri, 1))
+			continue;
+		struct dao_sink *s = NULL;
+		if (dao_sink_open(plugins, cfg->sinks[i].uri, &s, &err) == 0) {
+			dao_sink_close(s, &err); /* not reached: the lookup fails */
+			continue;
+		}
+		log_error("sink %s (%s): %s; depthaod loads its plugins when it starts: check "
+			  "[sink.%s] uri or the plugin, and start depthaod again",
+			  cfg->sinks[i].name, cfg->sinks[i].uri, err.message, cfg->sinks[i].name);
+		return -1;
+	}
+	return 0;
+}
+
 /* The daemon and its control socket, started: 0, or -1 (logged). */
 static int start_daemon(const struct daemon_config *cfg, struct dao_plugins *plugins,
 			struct daemon **d, struct control **ctl)
@@ -425,6 +476,10 @@ int main(int argc, char **argv)
 	if (cli_plugins_load(&plugins, &err) < 0) {
 		log_error("%s", err.message);
 		return 1;
+	}
+	if (check_named_plugins(&cfg, plugins) < 0) {
+		dao_plugins_free(plugins);
+		return 2;
 	}
 	if (start_daemon(&cfg, plugins, &d, &ctl) == 0) {
 		serve(&o, &cfg, d, &set);
