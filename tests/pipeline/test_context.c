@@ -424,6 +424,125 @@ static void test_float_depth_and_normals(void **state)
 	dao_context_destroy(ctx);
 }
 
+/* The GRAY16 value of an AO image pixel of visibility v, one pixel at a time: v clamped
+ * to [0, 1] (NaN 0), x 65535, the nearest count (ties to even, nearbyintf's default). */
+static uint16_t gray16_of(float v)
+{
+	v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+	return (uint16_t)nearbyintf(v * 65535.0f);
+}
+
+/* A wide frame's AO image of `fmt` at `stride` into `buf` (stride x rows + guard, all
+ * 0xa5 first) by a new context: frame 0 of `z` (metres). */
+static void wide_ao(int w, int h, int algorithm, const float *z, enum dao_pixfmt fmt, int stride,
+		    unsigned char *buf, size_t size)
+{
+	struct dao_camera cam;
+	dao_camera_from_intrinsics(&cam, (uint32_t)w, (uint32_t)h, 200, 200, (w - 1) / 2.0,
+				   (h - 1) / 2.0, NULL);
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	p.threads = 1;
+	p.algorithm = algorithm;
+	p.invalid_value = 0.3f; /* 19660.5 counts: a tie, to even */
+	struct dao_context *ctx = NULL;
+	struct dao_error err;
+	if (dao_context_create(&ctx, &cam, &p, &err))
+		fail_msg("create %dx%d: %s", w, h, err.message);
+	const struct dao_frame in = { .format = DAO_PIXFMT_DEPTH_F32, .width = (uint32_t)w,
+				      .height = (uint32_t)h, .stride = 4 * w, .data = (void *)z };
+	struct dao_frame ao = { .format = fmt, .width = (uint32_t)w, .height = (uint32_t)h,
+				.stride = stride, .data = buf };
+	memset(buf, 0xa5, size);
+	if (dao_context_process(ctx, &in, NULL, 0, &ao, &err))
+		fail_msg("process %dx%d: %s", w, h, err.message);
+	dao_context_destroy(ctx);
+}
+
+/* Nothing of `buf` written but the w x h pixels of `bpp` bytes: each row's padding and
+ * the guard after the image still 0xa5. */
+static void untouched_outside(const unsigned char *buf, int w, int h, int bpp, int stride,
+			      size_t guard, const char *what)
+{
+	for (int y = 0; y < h; y++)
+		for (int k = bpp * w; k < stride; k++)
+			if (buf[(size_t)y * stride + k] != 0xa5)
+				fail_msg("%s, %d px: row %d's padding byte %d written", what, w, y,
+					 k - bpp * w);
+	for (size_t k = 0; k < guard; k++)
+		if (buf[(size_t)stride * h + k] != 0xa5)
+			fail_msg("%s, %d px: byte %zu past the image written", what, w, k);
+}
+
+/*
+ * GRAY16 AO images of rows wider than the output's chunk of 256 pixels, with a ragged
+ * tail (300 = 256 + 44, 517 = 2 x 256 + 5), into strides of an odd number of bytes of
+ * padding (rows unaligned), a guard after the image: every pixel of a real run (GTAO)
+ * the rule above applied to the same run's GRAY_F32 image, and every pixel of
+ * algorithm=none's constant image 65535 where there is depth and invalid_value's counts
+ * where not; padding and guard untouched.
+ */
+static void test_ao_wide_rows(void **state)
+{
+	(void)state;
+	enum { WH = 24, PADB = 5, GUARD = 1024 }; /* a guard past a whole chunk */
+	static const int widths[] = { 300, 517 };
+	for (size_t wi = 0; wi < sizeof widths / sizeof widths[0]; wi++) {
+		const int w = widths[wi];
+		/* bumps on a slanted wall (occlusion that differs from pixel to pixel: a shifted
+		 * or dropped chunk shows), holes among them, some at the chunks' edges */
+		float *z = malloc(sizeof(float) * (size_t)w * WH);
+		assert_non_null(z);
+		for (int y = 0; y < WH; y++)
+			for (int x = 0; x < w; x++)
+				z[y * w + x] = x % 13 == 0 || x == 255 || x == 256 || x == w - 1
+						       ? 0.0f
+						       : 1.5f + 0.001f * (float)x +
+								 0.04f * sinf(0.7f * (float)x) *
+									 cosf(0.5f * (float)y);
+		const int s32 = 4 * w + PADB, s16 = 2 * w + PADB;
+		const size_t size32 = (size_t)s32 * WH + GUARD, size16 = (size_t)s16 * WH + GUARD;
+		unsigned char *f32 = malloc(size32), *g16 = malloc(size16);
+		assert_non_null(f32);
+		assert_non_null(g16);
+		for (int alg = 0; alg < 2; alg++) {
+			const int algorithm = alg ? DAO_ALGORITHM_NONE : DAO_ALGORITHM_GTAO;
+			const char *what = alg ? "algorithm=none" : "GTAO";
+			wide_ao(w, WH, algorithm, z, DAO_PIXFMT_GRAY16, s16, g16, size16);
+			if (!alg)
+				wide_ao(w, WH, algorithm, z, DAO_PIXFMT_GRAY_F32, s32, f32, size32);
+			int varied = 0;
+			for (int y = 0; y < WH; y++)
+				for (int x = 0; x < w; x++) {
+					uint16_t got, want;
+					memcpy(&got, g16 + (size_t)y * s16 + 2 * (size_t)x, 2);
+					if (alg) {
+						want = z[y * w + x] > 0.0f ? 65535 : gray16_of(0.3f);
+					} else {
+						float v;
+						memcpy(&v, f32 + (size_t)y * s32 + 4 * (size_t)x, 4);
+						want = gray16_of(v);
+						varied += x && z[y * w + x] > 0.0f && z[y * w + x - 1] > 0.0f &&
+							  memcmp(&v, f32 + (size_t)y * s32 + 4 * (size_t)x - 4,
+								 4) != 0;
+					}
+					if (got != want)
+						fail_msg("%s, %d px: (%d, %d) is %u, not %u", what, w, x, y,
+							 got, want);
+				}
+			/* the real run's occlusion differs between most neighbours */
+			if (!alg && varied < w * WH / 2)
+				fail_msg("GTAO, %d px: only %d pixels differ from their left neighbour",
+					 w, varied);
+			untouched_outside(g16, w, WH, 2, s16, GUARD, what);
+		}
+		assert_int_equal(gray16_of(0.3f), 19660);
+		free(f32);
+		free(g16);
+		free(z);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -434,6 +553,7 @@ int main(void)
 		cmocka_unit_test(test_float_depth_and_normals),
 		cmocka_unit_test(test_params_change_kernels),
 		cmocka_unit_test(test_small_sizes),
+		cmocka_unit_test(test_ao_wide_rows),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
