@@ -215,6 +215,79 @@ static void test_structured_light_statistics(void **state)
 	synth_image_free(&r.img);
 }
 
+/* The 1/z difference of two frames split at 32 x 32 px blocks: the robust sigma
+ * of the blocks' means (the slow part) and of the pixels about their block's
+ * mean (the rest), over the blocks with depth in 3/4 of both frames. */
+static void diff_scales(const float *a, const float *b, double *slow, double *fast)
+{
+	enum { B = 32 };
+	float *means = malloc((NP / (B * B)) * sizeof(float)), *rest = malloc(NP * sizeof(float));
+	size_t nm = 0, nr = 0;
+	for (int by = 0; by + B <= H; by += B)
+		for (int bx = 0; bx + B <= W; bx += B) {
+			double sum = 0.0;
+			int n = 0;
+			for (int y = by; y < by + B; y++)
+				for (int x = bx; x < bx + B; x++) {
+					const size_t i = (size_t)y * W + x;
+					if (a[i] > 0.0f && b[i] > 0.0f)
+						sum += 1.0 / a[i] - 1.0 / b[i], n++;
+				}
+			if (n < B * B * 3 / 4)
+				continue;
+			const double m = sum / n;
+			means[nm++] = (float)m;
+			for (int y = by; y < by + B; y++)
+				for (int x = bx; x < bx + B; x++) {
+					const size_t i = (size_t)y * W + x;
+					if (a[i] > 0.0f && b[i] > 0.0f)
+						rest[nr++] = (float)(1.0 / a[i] - 1.0 / b[i] - m);
+				}
+		}
+	assert_true(nm >= 100);
+	*slow = synth_robust_sigma(means, nm);
+	*fast = synth_robust_sigma(rest, nr);
+	free(means);
+	free(rest);
+}
+
+/* Two frames of one structured-light device share its slow pattern deviation
+ * (the real recording's error repeats from frame to frame) and differ in the
+ * speckle; two devices differ in both. */
+static void test_structured_light_device(void **state)
+{
+	(void)state;
+	struct rendered r;
+	render("plane", &r);
+	float *z[3];
+	const uint64_t seeds[3][2] = { { 1, 1 }, { 1, 2 }, { 2, 2 } };   /* device, frame */
+	for (int k = 0; k < 3; k++) {
+		struct synth_case c;
+		struct dao_error err;
+		assert_int_equal(synth_case_simulate_frame(&c, &r.scene, 0, &r.cam, &r.img,
+							   SYNTH_SENSOR_STRUCTURED_LIGHT, seeds[k][0],
+							   seeds[k][1], 2, &err), 0);
+		z[k] = malloc(NP * sizeof(float));
+		memcpy(z[k], c.depth_m, NP * sizeof(float));
+		synth_case_free(&c);
+	}
+	/* a frame alone is the first frame of its device */
+	float *alone = simulate(&r, SYNTH_SENSOR_STRUCTURED_LIGHT, 1, 2);
+	assert_memory_equal(alone, z[0], NP * sizeof(float));
+	double slow_same, fast_same, slow_other, fast_other;
+	diff_scales(z[0], z[1], &slow_same, &fast_same);
+	diff_scales(z[0], z[2], &slow_other, &fast_other);
+	print_message("structured light, plane, 1/z difference of two frames: one device: "
+		      "slow %.5f, rest %.5f; two devices: slow %.5f, rest %.5f (1/m)\n",
+		      slow_same, fast_same, slow_other, fast_other);
+	assert_true(slow_same < 0.5 * slow_other);
+	assert_true(fast_same > 0.7 * fast_other);
+	for (int k = 0; k < 3; k++)
+		free(z[k]);
+	free(alone);
+	synth_image_free(&r.img);
+}
+
 static void test_determinism(void **state)
 {
 	(void)state;
@@ -315,6 +388,7 @@ int main(void)
 		cmocka_unit_test(test_order_statistics),
 		cmocka_unit_test(test_ransac_exact),
 		cmocka_unit_test(test_structured_light_statistics),
+		cmocka_unit_test(test_structured_light_device),
 		cmocka_unit_test(test_determinism),
 		cmocka_unit_test(test_active_stereo),
 		cmocka_unit_test(test_tof),

@@ -345,8 +345,9 @@ static int write_sequence_frame(const struct synth_options *o, const struct dao_
 		fprintf(stderr, "depthao: %s\n", err.message);
 		return 1;
 	}
-	r = synth_case_simulate(&c, &scene, o->variant, cam, &img, o->sensor,
-				o->seed + (uint64_t)i, 2, &err);
+	/* one device for the whole sequence, new noise in every frame */
+	r = synth_case_simulate_frame(&c, &scene, o->variant, cam, &img, o->sensor, o->seed,
+				      o->seed + (uint64_t)i, 2, &err);
 	if (!r)
 		r = dao_frame_alloc(&gt, DAO_PIXFMT_GRAY16, cam->width, cam->height, &err);
 	if (!r) {

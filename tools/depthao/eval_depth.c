@@ -359,14 +359,16 @@ static void run_free(struct ed_run *e)
 	free(e->dist);
 }
 
-/* One frame of a case through the sensor, the filter and the reference. */
+/* One frame of a case through the sensor (one device, the frame's noise),
+ * the filter and the reference. */
 static int run_frame(struct ed_run *e, const struct synth_scene *sc, const struct synth_image *img,
-		     enum synth_sensor sn, uint64_t seed, int k, struct ed_row *row,
-		     struct dao_error *err)
+		     enum synth_sensor sn, uint64_t device_seed, uint64_t seed, int k,
+		     struct ed_row *row, struct dao_error *err)
 {
 	const uint32_t w = e->cam.width, h = e->cam.height;
 	const size_t np = (size_t)w * h;
-	int r = synth_sensor_simulate(sn, sc, &e->cam, img, seed, 2, e->sim, err);
+	int r = synth_sensor_simulate_frame(sn, sc, &e->cam, img, device_seed, seed, 2, e->sim,
+					    err);
 	if (r)
 		return r;
 	for (size_t i = 0; i < np; i++) {   /* millimetres, as synth_case_make delivers them */
@@ -418,7 +420,8 @@ static int run_scene(struct ed_run *e, const struct synth_scene *sc, int scene_i
 		dao_context_reset(e->ctx);
 		rs_ref_reset(&e->ref);
 		for (int k = 0; k < o->frames; k++) {
-			int r = run_frame(e, sc, img, o->sensors[s], seed + 7919u * (uint64_t)k, k, row, err);
+			int r = run_frame(e, sc, img, o->sensors[s], seed, seed + 7919u * (uint64_t)k,
+					  k, row, err);
 			if (r)
 				return r;
 		}

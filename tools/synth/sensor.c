@@ -44,6 +44,14 @@ int synth_sensor_simulate(enum synth_sensor sensor, const struct synth_scene *sc
 			  const struct dao_camera *cam, const struct synth_image *img,
 			  uint64_t seed, int threads, float *out, struct dao_error *err)
 {
+	return synth_sensor_simulate_frame(sensor, scene, cam, img, seed, seed, threads, out, err);
+}
+
+int synth_sensor_simulate_frame(enum synth_sensor sensor, const struct synth_scene *scene,
+				const struct dao_camera *cam, const struct synth_image *img,
+				uint64_t device_seed, uint64_t seed, int threads, float *out,
+				struct dao_error *err)
+{
 	const size_t np = (size_t)cam->width * cam->height;
 	switch (sensor) {
 	case SYNTH_SENSOR_CLEAN:
@@ -55,7 +63,8 @@ int synth_sensor_simulate(enum synth_sensor sensor, const struct synth_scene *sc
 				   SYNTH_NOISE_QUANTUM, SYNTH_NOISE_DROP, seed);
 		return 0;
 	case SYNTH_SENSOR_STRUCTURED_LIGHT:
-		return synth_sensor_structured_light(scene, cam, img, seed, threads, out, err);
+		return synth_sensor_structured_light(scene, cam, img, device_seed, seed, threads,
+						      out, err);
 	case SYNTH_SENSOR_ACTIVE_STEREO:
 		return synth_sensor_active_stereo(scene, cam, img, seed, threads, out, err);
 	case SYNTH_SENSOR_TOF:

@@ -42,15 +42,29 @@ int synth_sensor_parse(const char *name, enum synth_sensor *out, struct dao_erro
  * is not used): depth in metres in `out` (w x h, 0 = no data), before the
  * millimetre rounding of synth_case_make().  Deterministic for `seed`; uses
  * up to `threads` threads for the ray tracing.  0 or -ENOMEM / -EINVAL.
+ * A frame on its own: synth_sensor_simulate_frame() with both seeds `seed`.
  */
 int synth_sensor_simulate(enum synth_sensor sensor, const struct synth_scene *scene,
 			  const struct dao_camera *cam, const struct synth_image *img,
 			  uint64_t seed, int threads, float *out, struct dao_error *err);
 
-/* The models, called by synth_sensor_simulate (same contract). */
+/*
+ * One frame of a sequence from one device: `device_seed` draws what belongs to
+ * the device and repeats from frame to frame (the structured-light pattern's
+ * slow deviation from its stored reference, sensor_structured.c), `frame_seed`
+ * the noise of this exposure (speckle, read noise, drop-outs).  The same
+ * contract as synth_sensor_simulate otherwise.
+ */
+int synth_sensor_simulate_frame(enum synth_sensor sensor, const struct synth_scene *scene,
+				const struct dao_camera *cam, const struct synth_image *img,
+				uint64_t device_seed, uint64_t frame_seed, int threads, float *out,
+				struct dao_error *err);
+
+/* The models, called by synth_sensor_simulate_frame (same contract; `seed`
+ * is the frame's). */
 int synth_sensor_structured_light(const struct synth_scene *scene, const struct dao_camera *cam,
-				  const struct synth_image *img, uint64_t seed, int threads,
-				  float *out, struct dao_error *err);
+				  const struct synth_image *img, uint64_t device_seed,
+				  uint64_t seed, int threads, float *out, struct dao_error *err);
 int synth_sensor_active_stereo(const struct synth_scene *scene, const struct dao_camera *cam,
 			       const struct synth_image *img, uint64_t seed, int threads,
 			       float *out, struct dao_error *err);

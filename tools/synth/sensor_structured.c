@@ -28,6 +28,10 @@
  *     slow "wavy" deviation of real Kinect walls (reference and projection
  *     drift apart with temperature and lens distortion; Smisek et al. 2011
  *     and Herrera et al. 2012 model it as a per-pixel disparity distortion).
+ *     It belongs to the device: drawn from the device's seed, the same in
+ *     every frame of a sequence (on the real Kinect recording the depth
+ *     error repeats from frame to frame: docs/sensor-models.md), while the
+ *     speckle and read noise are drawn anew for each frame.
  *  3. Block matching (block_match.c): ZNCC over SL_WINDOW^2 windows against
  *     the reference at every integer disparity of the range.  Overlapping
  *     windows make the errors of neighbouring pixels correlated over about
@@ -189,8 +193,8 @@ static void refine_band(void *ctx, int band, int y0, int y1)
 }
 
 int synth_sensor_structured_light(const struct synth_scene *scene, const struct dao_camera *cam,
-				  const struct synth_image *img, uint64_t seed, int threads,
-				  float *out, struct dao_error *err)
+				  const struct synth_image *img, uint64_t device_seed,
+				  uint64_t seed, int threads, float *out, struct dao_error *err)
 {
 	const int w = (int)cam->width, h = (int)cam->height, r = SL_WINDOW / 2;
 	const size_t np = (size_t)w * h;
@@ -209,7 +213,7 @@ int synth_sensor_structured_light(const struct synth_scene *scene, const struct 
 	int ret = -ENOMEM;
 	if (!ir || !ref || !wave || !mean || !inv || !tex3 || !m.disparity || !m.score || !m.second ||
 	    !m.texture || synth_pattern_make(&pat, u0 - 2, w + 4, h, SL_DOT_PITCH, SL_DOT_SIGMA, SL_PATTERN_SEED) ||
-	    synth_smooth_field(wave, w, h, SL_WAVE_SCALE, seed))
+	    synth_smooth_field(wave, w, h, SL_WAVE_SCALE, device_seed))
 		goto out;
 	/* step 1: the stored reference, the pattern at infinity */
 	for (int y = 0; y < h; y++)

@@ -87,13 +87,23 @@ int synth_case_simulate(struct synth_case *c, const struct synth_scene *scene, i
 			const struct dao_camera *cam, const struct synth_image *img,
 			enum synth_sensor sensor, uint64_t seed, int threads, struct dao_error *err)
 {
+	return synth_case_simulate_frame(c, scene, variant, cam, img, sensor, seed, seed, threads,
+					 err);
+}
+
+int synth_case_simulate_frame(struct synth_case *c, const struct synth_scene *scene, int variant,
+			      const struct dao_camera *cam, const struct synth_image *img,
+			      enum synth_sensor sensor, uint64_t device_seed, uint64_t seed,
+			      int threads, struct dao_error *err)
+{
 	const size_t np = (size_t)cam->width * cam->height;
 	*c = (struct synth_case){ .scene = scene->name, .variant = variant, .sensor = sensor,
 				  .noisy = sensor != SYNTH_SENSOR_CLEAN, .gt = img->gt };
 	float *tmp = malloc(np * sizeof(float));
 	if (!tmp)
 		return dao_error_set(err, -ENOMEM, "out of memory for scene '%s'", scene->name);
-	int r = synth_sensor_simulate(sensor, scene, cam, img, seed, threads, tmp, err);
+	int r = synth_sensor_simulate_frame(sensor, scene, cam, img, device_seed, seed, threads, tmp,
+					    err);
 	if (!r)
 		r = case_fill(c, tmp, np, err);
 	free(tmp);

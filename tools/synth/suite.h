@@ -119,6 +119,13 @@ int synth_case_simulate(struct synth_case *c, const struct synth_scene *scene, i
 			const struct dao_camera *cam, const struct synth_image *img,
 			enum synth_sensor sensor, uint64_t seed, int threads, struct dao_error *err);
 
+/* The same for one frame of a sequence from one device (the seeds of
+ * synth_sensor_simulate_frame). */
+int synth_case_simulate_frame(struct synth_case *c, const struct synth_scene *scene, int variant,
+			      const struct dao_camera *cam, const struct synth_image *img,
+			      enum synth_sensor sensor, uint64_t device_seed, uint64_t frame_seed,
+			      int threads, struct dao_error *err);
+
 /* Runs the library with `params` on one case; fills metrics and the time in ms. */
 int synth_suite_run_case(const struct synth_suite *s, int index, struct dao_context *ctx,
 			 float *ao, struct synth_metrics *m, double *ms, struct dao_error *err);
