@@ -45,6 +45,9 @@ man_dir=$(dirname "$(dirname "$(find "$stage" -path '*/man/man8/depthaod.8' | he
 unit_value() {
 	sed -n "s/^$1=//p" "$unit"
 }
+# a refused configuration (exit 2) is not restarted every RestartSec
+[ "$(unit_value RestartPreventExitStatus)" = 2 ] ||
+	fail "the unit restarts a refused configuration: RestartPreventExitStatus='$(unit_value RestartPreventExitStatus)'"
 dirs=""
 for key in StateDirectory:/var/lib LogsDirectory:/var/log RuntimeDirectory:/run; do
 	v=$(unit_value "${key%%:*}")
