@@ -48,6 +48,12 @@ off=$(echo "$mae" | awk -F'/' '{ print $2 + 0 }')
 awk -v r="$raw" -v f="$off" 'BEGIN { exit !(f > 0.99 * r && f < 1.01 * r) }' ||
 	fail "--prefilter none: interior MAE $off mm, raw $raw mm: the option did not reach the filter"
 
+# the options' --name=value and --name_with_underscores forms reach the filter too
+expect_exit 0 "eval --depth --depth-fill=8" -- "$DEPTHAO" eval --depth --scenes=plane \
+	--sensors=clean --set=tune --depth_fill=8 --prefilter_iterations=1
+grep -q 'depth-fill 8, depth-temporal 0.80; parameter options --prefilter_iterations=1;' \
+	"$WORK/out" || fail "filter line: $(grep 'Depth filter' "$WORK/out")"
+
 # --check: active stereo on the plane holds the 35 % bar with a wide margin (57 % measured);
 # ToF on boxes does not hold its 20 % (3 %: the model's multipath bias, which no depth filter
 # removes, docs/depth-accuracy.md) and --check says so with exit 1
@@ -79,4 +85,7 @@ expect_usage_error "eval --depth parameter out of range" -- "$DEPTHAO" eval --de
 grep -q "prefilter-iterations" "$WORK/err" || fail "message: $(cat "$WORK/err")"
 expect_usage_error "eval --depth algorithm" -- "$DEPTHAO" eval --depth --algorithm gtao
 grep -q "drop '--algorithm'" "$WORK/err" || fail "message: $(cat "$WORK/err")"
+# an AO parameter would change nothing of the filtered depth: refused, not ignored
+expect_usage_error "eval --depth AO parameter" -- "$DEPTHAO" eval --depth --radius 0.5
+grep -q -- "--radius does not change the filtered depth" "$WORK/err" || fail "message: $(cat "$WORK/err")"
 finish

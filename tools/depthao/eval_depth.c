@@ -105,8 +105,11 @@ static void usage(FILE *out)
 		"                    active stereo and ToF (interior MAE >= 35 %%/35 %%/20 %% below\n"
 		"                    raw on every scene, edge band no worse, fill precision >= 95 %%)\n"
 		"  --help            this text\n"
-		"Parameter options (--prefilter-iterations 1, --noise-model fixed; see\n"
-		"'depthao process --help') change depthao's filter; not --algorithm or --threads.\n",
+		"Parameter options of the depth filter change it (see 'depthao process --help'):\n"
+		"  --depth-min, --depth-max, --prefilter, --depth-noise, --prefilter-radius,\n"
+		"  --prefilter-scale, --prefilter-range, --prefilter-iterations, --noise-model,\n"
+		"  --depth-temporal-reject, --depth-temporal-persist, --depth-temporal-motion,\n"
+		"  --noise-interval, --simd (the AO's, the denoise's and the shading's do not).\n",
 		DEPTH_ACC_EDGE_PX, DEPTH_ACC_FILL_TOL * 100.0, DEPTH_ACC_FLY_PX);
 }
 
@@ -242,24 +245,63 @@ int eval_depth_params(struct dao_params *p, const struct eval_depth_filter *f,
 	return dao_params_validate(p, err) ? -1 : 0;
 }
 
-/* A parameter option at argv[*i] (--prefilter-iterations 1), checked against
- * the filter's parameters and remembered; 0 or the exit status. */
-static int remember_param(int argc, char **argv, int *i, struct ed_options *o)
+/* What changes the filtered depth with algorithm none, besides --depth-fill and
+ * --depth-temporal: the other parameters are the AO's, the denoise's and the
+ * shading's. */
+static const char *const filter_params[] = {
+	"depth-min", "depth-max", "prefilter", "depth-noise", "prefilter-radius",
+	"prefilter-scale", "prefilter-range", "prefilter-iterations", "noise-model",
+	"depth-temporal-reject", "depth-temporal-persist", "depth-temporal-motion",
+	"noise-interval", "simd",
+};
+
+/* a's long option name as "--name" with '_' read as '-', up to a '=' (*value
+ * then points past it, else NULL); "" for anything else */
+static void option_name(const char *a, char *name, size_t n, const char **value)
 {
+	*value = NULL;
+	name[0] = '\0';
+	if (strncmp(a, "--", 2) || n < 3)
+		return;
+	size_t k = 0;
+	for (; a[k] && a[k] != '=' && k + 1 < n; k++)
+		name[k] = k > 1 && a[k] == '_' ? '-' : a[k];
+	name[k] = '\0';
+	if (a[k] == '=')
+		*value = a + k + 1;
+}
+
+static int in_list(const char *name, const char *const *list, size_t n)
+{
+	for (size_t k = 0; k < n; k++)
+		if (!strcmp(name, list[k]))
+			return 1;
+	return 0;
+}
+
+/* A parameter option at argv[*i] (--prefilter-iterations 1; `name` as
+ * option_name gives it), checked and remembered; 0 or the exit status. */
+static int remember_param(int argc, char **argv, int *i, const char *name, struct ed_options *o)
+{
+	if (!name[0])
+		return usage_error("eval", "--depth: unknown option '%s' (see depthao eval --depth "
+				   "--help)", argv[*i]);
+	if (!strcmp(name, "--algorithm") || !strcmp(name, "--threads"))
+		return usage_error("eval", "--depth measures the filter alone on one thread; "
+				   "drop '%s'", argv[*i]);
+	if (!in_list(name + 2, filter_params, sizeof filter_params / sizeof filter_params[0]))
+		return dao_param_find(name + 2)
+			       ? usage_error("eval", "--depth: %s does not change the filtered depth "
+					     "(it runs algorithm none); the AO's parameters go to "
+					     "depthao eval without --depth", name)
+			       : usage_error("eval", "--depth: unknown option '%s' (see depthao eval "
+					     "--depth --help)", argv[*i]);
 	struct dao_params scratch;
 	dao_params_init(&scratch, DAO_QUALITY_DEFAULT);
 	int j = *i;
 	char msg[DAO_ERROR_MESSAGE_MAX];
-	int r = cli_apply_param_option(&scratch, argc, argv, &j, msg, sizeof msg);
-	if (r < 0)
+	if (cli_apply_param_option(&scratch, argc, argv, &j, msg, sizeof msg) <= 0)
 		return usage_error("eval", "%s", msg);
-	if (r == 0)
-		return usage_error("eval", "--depth: unknown option '%s' (see depthao eval --depth "
-				   "--help)", argv[*i]);
-	if (!strcmp(argv[*i], "--algorithm") || !strncmp(argv[*i], "--algorithm=", 12) ||
-	    !strcmp(argv[*i], "--threads") || !strncmp(argv[*i], "--threads=", 10))
-		return usage_error("eval", "--depth measures the filter alone on one thread; "
-				   "drop '%s'", argv[*i]);
 	if (o->filter.nparam_args + (j - *i + 1) > EVAL_DEPTH_MAX_PARAM_ARGS)
 		return usage_error("eval", "--depth: more than %d words of parameter options",
 				   EVAL_DEPTH_MAX_PARAM_ARGS);
@@ -283,10 +325,9 @@ static int parse_args(int argc, char **argv, struct ed_options *o)
 	for (int k = 0; k < SYNTH_SENSOR_COUNT; k++)
 		o->sensors[k] = (enum synth_sensor)k;
 	for (int i = 1; i < argc; i++) {
-		const char *a = argv[i];
-		int is_valued = 0;
-		for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
-			is_valued |= !strcmp(a, valued[k]);
+		const char *a = argv[i], *eq;
+		char name[48];
+		option_name(a, name, sizeof name, &eq);
 		if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
 			usage(stdout);
 			return 0;
@@ -296,14 +337,15 @@ static int parse_args(int argc, char **argv, struct ed_options *o)
 			o->check = 1;
 		} else if (!strcmp(a, "--real")) {
 			o->real = 1;
-		} else if (is_valued) {
-			if (i + 1 >= argc)
+		} else if (in_list(name, valued, sizeof valued / sizeof valued[0])) {
+			char *v = eq ? (char *)eq : i + 1 < argc ? argv[++i] : NULL;
+			if (!v)
 				return usage_error("eval", "%s needs a value", a);
-			int r = parse_value(a, argv[++i], o);
+			int r = parse_value(name, v, o);
 			if (r)
 				return r;
 		} else {
-			int r = remember_param(argc, argv, &i, o);
+			int r = remember_param(argc, argv, &i, name, o);
 			if (r)
 				return r;
 		}
