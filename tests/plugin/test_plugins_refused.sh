@@ -42,6 +42,15 @@ grep -q "depthaod loads its plugins when it starts" "$WORK/err" ||
 expect 2 "sink a (nowrite:x): no sink plugin 'nowrite': $FAKE/$SINK_WHY" \
 	"$DAEMON" --source fakebig:64x48 --sink a=nowrite:x --stats-interval 0
 [ ! -e "$WORK/d" ] || fail "daemon: the images sink wrote $(ls "$WORK/d")"
+# --check-config sees it too (exit 2, the same reason), and says ok to loaded plugins
+printf '[source]\nuri = nostart:64x48\n[sink.a]\nuri = images:%s/d\n' "$WORK" >"$WORK/bad.ini"
+expect 2 "source nostart:64x48: no source plugin 'nostart': $FAKE/$SRC_WHY" \
+	"$DAEMON" --check-config "$WORK/bad.ini"
+printf '[source]\nuri = fakebig:64x48\n[sink.a]\nuri = images:%s/d\n' "$WORK" >"$WORK/ok.ini"
+"$DAEMON" --check-config "$WORK/ok.ini" >"$WORK/okc.log" 2>&1 ||
+	fail "--check-config fakebig: $(cat "$WORK/okc.log")"
+grep -q "ok.ini: ok (source fakebig:64x48, 1 sink)" "$WORK/okc.log" ||
+	fail "--check-config fakebig: $(cat "$WORK/okc.log")"
 
 # only optional callbacks left out: the source streams in all three programs
 "$DEPTHAO" process --input fakebig:64x48 --frames 3 --ao-out "$WORK/ao" >"$WORK/ok.log" 2>&1 ||

@@ -288,20 +288,6 @@ static void reload(const struct options *o, struct daemon *d)
 		 o->config);
 }
 
-/* depthaod --check FILE: the configuration read and checked, nothing started. */
-static int check_config(const struct options *o)
-{
-	struct daemon_config cfg;
-	char msg[700];
-	if (build_config(o, o->check, &cfg, msg, sizeof msg) < 0) {
-		fprintf(stderr, "depthaod: %s\n", msg);
-		return 2;
-	}
-	printf("%s: ok (source %s, %u sink%s)\n", o->check, cfg.source_uri, cfg.nsinks,
-	       cfg.nsinks == 1 ? "" : "s");
-	return 0;
-}
-
 /* Signals are taken by the main thread only (sigtimedwait); threads inherit the mask. */
 static void block_signals(sigset_t *set)
 {
@@ -361,6 +347,31 @@ static int check_named_plugins(const struct daemon_config *cfg, const struct dao
 			  cfg->sinks[i].name, cfg->sinks[i].uri, err.message, cfg->sinks[i].name);
 		return -1;
 	}
+	return 0;
+}
+
+/* depthaod --check FILE: the configuration read and checked, and the plugins it
+ * names loaded as depthaod would load them; nothing started. */
+static int check_config(const struct options *o)
+{
+	struct daemon_config cfg;
+	char msg[700];
+	if (build_config(o, o->check, &cfg, msg, sizeof msg) < 0) {
+		fprintf(stderr, "depthaod: %s\n", msg);
+		return 2;
+	}
+	struct dao_plugins *plugins = NULL;
+	struct dao_error err = {0};
+	if (cli_plugins_load(&plugins, &err) < 0) {
+		fprintf(stderr, "depthaod: %s\n", err.message);
+		return 1;
+	}
+	const int absent = check_named_plugins(&cfg, plugins) < 0;
+	dao_plugins_free(plugins);
+	if (absent)
+		return 2;
+	printf("%s: ok (source %s, %u sink%s)\n", o->check, cfg.source_uri, cfg.nsinks,
+	       cfg.nsinks == 1 ? "" : "s");
 	return 0;
 }
 
