@@ -207,8 +207,10 @@ static int load_module(struct dao_plugins *p, const char *path)
 	/* a callback the host calls unchecked would be a NULL call in the middle of a
 	 * stream: refused here, where the module is named */
 	if (lacks_callbacks(pl, why, sizeof(why))) {
+		/* the name is the module's: copied before it is closed */
+		const int r = add_skipped_named(p, path, pl->name, why);
 		dlclose(h);
-		return add_skipped_named(p, path, pl->name, why);
+		return r;
 	}
 	if (dao_plugins_find(p, pl->name)) {
 		snprintf(why, sizeof(why), "a plugin named '%s' is already loaded", pl->name);
