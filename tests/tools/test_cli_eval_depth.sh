@@ -5,13 +5,19 @@
 # holes, the picture is written; and the usage errors of its options.
 . "$(dirname "$0")/cli_lib.sh"
 
+# boxes_row: the boxes row of $WORK/out in $row, its interior MAE raw and depthao's (mm)
+# in $raw and $filt
+boxes_row() {
+	row=$(grep '^| tune | boxes #0 | gaussian |' "$WORK/out") || fail "no row: $(cat "$WORK/out")"
+	# | set | scene | input | raw / depthao / ref | red. | RMSE | edge | filled | flying | CPU |
+	mae=$(echo "$row" | awk -F'|' '{ print $5 }')
+	raw=$(echo "$mae" | awk -F'/' '{ print $1 + 0 }')
+	filt=$(echo "$mae" | awk -F'/' '{ print $2 + 0 }')
+}
+
 expect_exit 0 "eval --depth" -- "$DEPTHAO" eval --depth --scenes boxes --sensors gaussian \
 	--set tune --picture "$WORK/p.png" --picture-case boxes:gaussian
-row=$(grep '^| tune | boxes #0 | gaussian |' "$WORK/out") || fail "no row for boxes: $(cat "$WORK/out")"
-# | set | scene | input | raw / depthao / ref | red. | RMSE | edge | filled | flying | CPU |
-mae=$(echo "$row" | awk -F'|' '{ print $5 }')
-raw=$(echo "$mae" | awk -F'/' '{ print $1 + 0 }')
-filt=$(echo "$mae" | awk -F'/' '{ print $2 + 0 }')
+boxes_row
 awk -v r="$raw" -v f="$filt" 'BEGIN { exit !(r > 0.5 && f > 0 && f < 0.8 * r) }' ||
 	fail "interior MAE: filtered $filt mm not 20 % below raw $raw mm"
 # Gaussian noise drops 2 % of the pixels: depthao fills none, the reference chain some
@@ -28,7 +34,7 @@ png_is "$WORK/p.png" "1600 240 rgb24"
 expect_exit 0 "eval --depth --depth-fill 8" -- "$DEPTHAO" eval --depth --scenes boxes \
 	--sensors gaussian --set tune --depth-fill 8
 grep -q 'depth-fill 8, depth-temporal 0.80' "$WORK/out" || fail "no filter line: $(cat "$WORK/out")"
-row=$(grep '^| tune | boxes #0 | gaussian |' "$WORK/out") || fail "no row: $(cat "$WORK/out")"
+boxes_row
 filled=$(echo "$row" | awk -F'|' '{ print $9 }' | awk '{ print $1 }')
 prec=$(echo "$row" | awk -F'|' '{ print $9 }' | sed 's/^ *[0-9]* (\([0-9]*\) %).*/\1/')
 awk -v n="$filled" -v p="$prec" 'BEGIN { exit !(n > 1000 && p >= 95) }' ||
@@ -41,12 +47,9 @@ grep -q '^| tune | gaussian | 1 | .* | [0-9.]* % of [0-9]* (interior ' "$WORK/ou
 expect_exit 0 "eval --depth --prefilter none" -- "$DEPTHAO" eval --depth --scenes boxes \
 	--sensors gaussian --set tune --prefilter none
 grep -q 'parameter options --prefilter none;' "$WORK/out" || fail "filter line: $(cat "$WORK/out")"
-row=$(grep '^| tune | boxes #0 | gaussian |' "$WORK/out") || fail "no row: $(cat "$WORK/out")"
-mae=$(echo "$row" | awk -F'|' '{ print $5 }')
-raw=$(echo "$mae" | awk -F'/' '{ print $1 + 0 }')
-off=$(echo "$mae" | awk -F'/' '{ print $2 + 0 }')
-awk -v r="$raw" -v f="$off" 'BEGIN { exit !(f > 0.99 * r && f < 1.01 * r) }' ||
-	fail "--prefilter none: interior MAE $off mm, raw $raw mm: the option did not reach the filter"
+boxes_row
+awk -v r="$raw" -v f="$filt" 'BEGIN { exit !(f > 0.99 * r && f < 1.01 * r) }' ||
+	fail "--prefilter none: interior MAE $filt mm, raw $raw mm: the option did not reach the filter"
 
 # the options' --name=value and --name_with_underscores forms reach the filter too
 expect_exit 0 "eval --depth --depth-fill=8" -- "$DEPTHAO" eval --depth --scenes=plane \
