@@ -17,7 +17,6 @@ usage: test_cli_settle.py DEPTHAO_CLI
 import glob
 import os
 import re
-import subprocess
 import sys
 import tempfile
 
@@ -28,22 +27,11 @@ except ImportError:
     print("SKIP: numpy or PIL is not installed (python3-numpy, python3-pil)")
     sys.exit(77)
 
+from cli_run import check, run
+
 FRAMES, K = 6, 2
 FLICKER = (r"(\d+) surface points seen in every frame\): off ([\d.]+), depth ([\d.]+), "
            r"depth\+AO ([\d.]+)")
-
-
-def run(cli, *args, expect=0):
-    p = subprocess.run([cli, *args], capture_output=True, text=True, timeout=300)
-    if p.returncode != expect:
-        sys.exit("FAIL: depthao %s: exit %d, want %d\n%s%s" % (" ".join(args), p.returncode, expect,
-                                                               p.stdout, p.stderr))
-    return p.stdout + p.stderr
-
-
-def check(cond, what):
-    if not cond:
-        sys.exit("FAIL: " + what)
 
 
 def frames(directory):
