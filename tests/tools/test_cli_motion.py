@@ -25,10 +25,11 @@ import math
 import os
 import re
 import struct
-import subprocess
 import sys
 import tempfile
 import zlib
+
+from cli_run import check, run
 
 W, H = 64, 48
 
@@ -44,19 +45,6 @@ def write_png16(path, rows):
         f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", len(rows[0]), len(rows), 16, 0, 0, 0, 0)))
         f.write(chunk(b"IDAT", zlib.compress(raw)))
         f.write(chunk(b"IEND", b""))
-
-
-def run(cli, *args, expect=0):
-    p = subprocess.run([cli, *args], capture_output=True, text=True, timeout=300)
-    if p.returncode != expect:
-        sys.exit("FAIL: depthao %s: exit %d, want %d\n%s%s" % (" ".join(args), p.returncode, expect,
-                                                               p.stdout, p.stderr))
-    return p.stdout + p.stderr
-
-
-def check(cond, what):
-    if not cond:
-        sys.exit("FAIL: " + what)
 
 
 def quat_angle(a, b):

@@ -53,6 +53,7 @@ struct seq_options {
 	long max_frames;
 	const char *picture;
 	long picture_frame; /* -1: the last */
+	long settle;        /* --settle K: flicker and change also from frame K (0: not) */
 	enum dao_quality quality;
 	char *overrides[64];
 	int n_override;
@@ -96,6 +97,8 @@ static void usage(FILE *out)
 		"  --picture PATH    PNG of one frame: the truth, off, depth+AO and depth+AO+ICP;\n"
 		"                    above the AO, below the input depth and each one's error\n"
 		"  --picture-frame K that frame (default: the last)\n"
+		"  --settle K        also the flicker and change from frame K on, once the\n"
+		"                    histories have settled (frame 0 has none to average with)\n"
 		"  --help            this text\n",
 		SYNTH_TRAIL_FRAMES);
 }
@@ -119,6 +122,10 @@ static int parse_value(struct seq_options *o, const char *a, const char *v)
 		if (*end || !*v || errno || o->picture_frame < 0 || o->picture_frame > 100000)
 			return usage_error("eval", "--picture-frame '%s' must be an integer in 0..100000",
 					   v);
+	} else if (strcmp(a, "--settle") == 0) {
+		o->settle = strtol(v, &end, 10);
+		if (*end || !*v || errno || o->settle < 1 || o->settle > 100000)
+			return usage_error("eval", "--settle '%s' must be an integer in 1..100000", v);
 	} else if (strcmp(a, "--frames") == 0) {
 		o->max_frames = strtol(v, &end, 10);
 		if (*end || !*v || errno || o->max_frames < 1 || o->max_frames > 100000)
@@ -136,7 +143,7 @@ static int parse_args(int argc, char **argv, struct seq_options *o)
 	*o = (struct seq_options){ .depth_unit = 0.001f, .quality = DAO_QUALITY_DEFAULT,
 				   .picture_frame = -1 };
 	static const char *const valued[] = { "--sequence", "--camera", "--depth-unit", "--frames",
-					      "--quality", "--picture", "--picture-frame" };
+					      "--quality", "--picture", "--picture-frame", "--settle" };
 	const size_t nvalued = sizeof valued / sizeof valued[0];
 	for (int i = 1; i < argc; i++) {
 		const char *a = argv[i];
@@ -339,6 +346,7 @@ struct seq_run {
 	struct dao_context *ctx[NCOLS];
 	struct synth_seq_masks masks;
 	struct synth_seq_column cols[NCOLS];
+	struct synth_seq_column settled[NCOLS]; /* --settle: the same from frame K on */
 	struct synth_seq_track track;
 	int tracking;                   /* true depth and poses: flicker per surface point */
 	struct synth_seq_frame (*res)[NCOLS];
@@ -469,6 +477,13 @@ static int run_frames(struct seq_run *run)
 			if (pose)
 				synth_seq_column_track(&run->cols[c], &run->track, run->ao, run->depth,
 						       run->truth, pose);
+			if (run->o->settle) {
+				synth_seq_column_add(&run->settled[c], &run->masks, run->ao, NULL,
+						     run->depth, NULL);
+				if (pose)
+					synth_seq_column_track(&run->settled[c], &run->track, run->ao,
+							       run->depth, run->truth, pose);
+			}
 			for (int j = 0; j < PIC_COLS && k == run->pic_k; j++)
 				if (pic_col[j] == c)
 					memcpy(run->pic + (size_t)(2 + j) * w * h, run->ao,
@@ -618,6 +633,35 @@ static void print_columns(const double *v, int ratios)
 	printf("%s\n", ratios ? ")" : "");
 }
 
+/* The flicker line of one set of columns; `from`: the first frame they
+ * measured (0: all) */
+static void print_flicker(const struct seq_run *run, const struct synth_seq_column *cols,
+			  long from)
+{
+	const struct seq_input *in = &run->in;
+	long n;
+	double fl[NCOLS];
+	for (int c = 0; c < NCOLS; c++)
+		fl[c] = run->tracking ? synth_seq_flicker_tracked(&cols[c], &run->track, &n)
+				      : synth_seq_flicker(&cols[c], &run->masks, &n);
+	char what[64] = "";
+	if (from)
+		snprintf(what, sizeof what, " from frame %ld (%ld frames)", from, in->frames - from);
+	if (run->tracking && n && in->frames - from > 1) {
+		printf("flicker%s (tracked over the true poses, %ld surface points seen in every "
+		       "frame):", what, n);
+		print_columns(fl, 1);
+	} else if (in->camera_moves) {
+		printf("flicker%s: - (the camera moves: without depth_gt/ the surface points cannot "
+		       "be followed)\n", what);
+	} else if (n == 0 || in->frames - from < 2) {
+		printf("flicker%s: - (no pixel is static with depth in every frame)\n", what);
+	} else {
+		printf("flicker%s (%ld static px):", what, n);
+		print_columns(fl, 1);
+	}
+}
+
 static void print_summary(const struct seq_run *run)
 {
 	const struct seq_input *in = &run->in;
@@ -625,28 +669,19 @@ static void print_summary(const struct seq_run *run)
 		print_frames(run);
 		print_truth_summary(run);
 	}
-	long n;
-	double fl[NCOLS], ch[NCOLS];
-	for (int c = 0; c < NCOLS; c++) {
-		fl[c] = run->tracking ? synth_seq_flicker_tracked(&run->cols[c], &run->track, &n)
-				      : synth_seq_flicker(&run->cols[c], &run->masks, &n);
+	double ch[NCOLS];
+	for (int c = 0; c < NCOLS; c++)
 		ch[c] = synth_seq_change(&run->cols[c]);
-	}
-	if (run->tracking && n && in->frames > 1) {
-		printf("flicker (tracked over the true poses, %ld surface points seen in every frame):",
-		       n);
-		print_columns(fl, 1);
-	} else if (in->camera_moves) {
-		printf("flicker: - (the camera moves: without depth_gt/ the surface points cannot be "
-		       "followed)\n");
-	} else if (n == 0 || in->frames < 2) {
-		printf("flicker: - (no pixel is static with depth in every frame)\n");
-	} else {
-		printf("flicker (%ld static px):", n);
-		print_columns(fl, 1);
-	}
+	print_flicker(run, run->cols, 0);
 	printf("change (mean |AO_k - AO_k-1|):");
 	print_columns(ch, 0);
+	if (run->o->settle) {
+		print_flicker(run, run->settled, run->o->settle);
+		for (int c = 0; c < NCOLS; c++)
+			ch[c] = synth_seq_change(&run->settled[c]);
+		printf("change from frame %ld:", run->o->settle);
+		print_columns(ch, 0);
+	}
 	for (int c = 0; c < NCOLS; c++)
 		if (col_icp[c])
 			printf("motion %s: applied %ld, still %ld, refused %ld, none %ld (frames)\n",
@@ -686,6 +721,12 @@ static int setup_run(struct seq_run *run)
 			run->pic_k, in->frames);
 		return 2;
 	}
+	if (o->settle && o->settle > in->frames - 2) {
+		fprintf(stderr, "depthao: --settle %ld: the sequence has %ld frames; the flicker "
+			"from frame K needs two frames after it (K at most %ld)\n",
+			o->settle, in->frames, in->frames - 2);
+		return 2;
+	}
 	if (o->picture && !in->have_gt) {
 		fprintf(stderr, "depthao: --picture needs the truth (ao_gt/ beside depth/)\n");
 		return 2;
@@ -698,6 +739,11 @@ static int setup_run(struct seq_run *run)
 				       in->have_truth);
 	for (int c = 0; c < NCOLS && !bad; c++)
 		bad = synth_seq_column_init(&run->cols[c], (int)in->cam.width, (int)in->cam.height);
+	for (int c = 0; c < NCOLS && !bad && o->settle; c++) {
+		bad = synth_seq_column_init(&run->settled[c], (int)in->cam.width,
+					    (int)in->cam.height);
+		run->settled[c].skip = o->settle;
+	}
 	run->tracking = in->have_truth && in->have_poses && (long)in->poses.count >= in->frames;
 	if (in->have_poses && (long)in->poses.count < in->frames)
 		fprintf(stderr, "depthao: warning: %s has %zu poses for %ld frames: not used\n",
@@ -727,6 +773,7 @@ static void free_run(struct seq_run *run)
 	for (int c = 0; c < NCOLS; c++) {
 		dao_context_destroy(run->ctx[c]);
 		synth_seq_column_free(&run->cols[c]);
+		synth_seq_column_free(&run->settled[c]);
 	}
 	synth_seq_masks_free(&run->masks);
 	synth_seq_track_free(&run->track);

@@ -107,6 +107,11 @@ void synth_seq_column_add(struct synth_seq_column *c, const struct synth_seq_mas
 	const size_t np = (size_t)c->width * (size_t)c->height;
 	double e_sum = 0.0, t_sum = 0.0;
 	long n = 0, tn = 0;
+	if (c->offered++ < c->skip) {
+		if (out)
+			*out = (struct synth_seq_frame){ 0 };
+		return;
+	}
 	for (size_t i = 0; i < np; i++) {
 		const int valid = depth[i] > 0.0f;
 		const double a = ao[i];
@@ -212,6 +217,8 @@ void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_t
 			    const struct synth_pose *pose)
 {
 	const size_t np = (size_t)t->width * (size_t)t->height;
+	if (c->offered <= c->skip) /* the frame synth_seq_column_add left out */
+		return;
 	for (size_t i = 0; i < np; i++) {
 		if (isnan(t->X[3 * i]))
 			continue;
@@ -230,8 +237,9 @@ double synth_seq_flicker_tracked(const struct synth_seq_column *c, const struct 
 	const size_t np = (size_t)t->width * (size_t)t->height;
 	double s = 0.0;
 	long n = 0;
-	for (size_t i = 0; i < np && t->frames > 1; i++) {
-		if (c->tn[i] != t->frames)
+	const long frames = t->frames - c->skip;
+	for (size_t i = 0; i < np && frames > 1; i++) {
+		if (c->tn[i] != frames)
 			continue;
 		const double mean = c->tsum[i] / c->tn[i];
 		const double var = c->tsumsq[i] / c->tn[i] - mean * mean;

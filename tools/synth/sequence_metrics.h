@@ -25,6 +25,14 @@
  *   per-pixel flicker; with a moving one it follows the surface.
  * - Change: the mean |ao_k - ao_k-1| over the pixels with depth in both
  *   frames, at the same pixel (what issue #37 quotes for the real recording).
+ *
+ * A column with `skip` > 0 leaves out the sequence's first `skip` frames from
+ * its flicker and change (over the same static pixels; tracked, over the
+ * points seen in every frame from `skip` on): what a temporal filter does
+ * once its history has settled.
+ * Frame 0 has no history to average with, so every filter's frame 0 is as
+ * noisy as no filter's: over N frames, a filter with no noise at all after
+ * frame 0 still shows 1/sqrt(N) of no filter's flicker.
  */
 #ifndef DAO_SYNTH_SEQUENCE_METRICS_H
 #define DAO_SYNTH_SEQUENCE_METRICS_H
@@ -61,6 +69,8 @@ struct synth_seq_column {
 	long change_n;
 	double *tsum, *tsumsq;  /* per point of frame 0 (tracked flicker) */
 	int32_t *tn;            /* frames the point was seen in */
+	long skip;              /* the first frames left out (set after init; 0: none) */
+	long offered;           /* frames given to synth_seq_column_add, skipped ones too */
 };
 
 /* The surface points of frame 0, in the world, for the tracked flicker. */
