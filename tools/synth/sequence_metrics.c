@@ -195,21 +195,49 @@ void synth_seq_track_frame(struct synth_seq_track *t, const float *true_depth,
 		}
 }
 
-/* The pixel where frame `pose` sees world point X, if its true depth there agrees; else -1. */
-static long track_pixel(const struct synth_seq_track *t, const float *X, const float *true_depth,
-			const struct synth_pose *pose)
+/*
+ * The AO where frame `pose` sees world point X: bilinear over the four pixels
+ * around its projection (a tap of weight SYNTH_TRACK_MIN_WEIGHT or less left
+ * out and the others' weights renormalised: the float points of a still
+ * camera land within 1e-5 px of a pixel centre), each of which must have
+ * input depth and a true depth that agrees with the point's; 0 with *ok = 0
+ * where one does not or it falls outside the image.  Bilinear, not the
+ * nearest pixel: the nearest's up to half a pixel of rounding, which changes
+ * from frame to frame as the camera moves, would count the AO's variation
+ * across a pixel as flicker.
+ */
+static double track_sample(const struct synth_seq_track *t, const float *X, const float *ao,
+			   const float *depth, const float *true_depth, const struct synth_pose *pose,
+			   int *ok)
 {
 	double d[3] = { X[0] - pose->t[0], X[1] - pose->t[1], X[2] - pose->t[2] }, c[3];
 	for (int k = 0; k < 3; k++) /* x_c = R^T (x_w - t) */
 		c[k] = pose->R[0][k] * d[0] + pose->R[1][k] * d[1] + pose->R[2][k] * d[2];
+	*ok = 0;
 	if (!(c[2] > 0.0))
-		return -1;
-	const double u = floor(t->fx * c[0] / c[2] + t->cx + 0.5);
-	const double v = floor(t->fy * c[1] / c[2] + t->cy + 0.5);
-	if (!(u >= 0 && v >= 0 && u < t->width && v < t->height))
-		return -1;
-	const long q = (long)v * t->width + (long)u;
-	return fabs(true_depth[q] - c[2]) <= SYNTH_TRACK_REL * c[2] ? q : -1;
+		return 0.0;
+	const double u = t->fx * c[0] / c[2] + t->cx, v = t->fy * c[1] / c[2] + t->cy;
+	if (!(u > -1.0 && v > -1.0 && u < t->width && v < t->height))
+		return 0.0;
+	const double x0 = floor(u), y0 = floor(v), a = u - x0, b = v - y0;
+	const double wx[2] = { 1.0 - a, a }, wy[2] = { 1.0 - b, b };
+	double sum = 0.0, wsum = 0.0;
+	for (int dy = 0; dy < 2; dy++)
+		for (int dx = 0; dx < 2; dx++) {
+			const double w = wx[dx] * wy[dy];
+			if (!(w > SYNTH_TRACK_MIN_WEIGHT))
+				continue;
+			const double x = x0 + dx, y = y0 + dy;
+			if (x < 0 || y < 0 || x >= t->width || y >= t->height)
+				return 0.0;
+			const long q = (long)y * t->width + (long)x;
+			if (!(depth[q] > 0.0f) || !(fabs(true_depth[q] - c[2]) <= SYNTH_TRACK_REL * c[2]))
+				return 0.0;
+			sum += w * ao[q];
+			wsum += w;
+		}
+	*ok = 1;
+	return sum / wsum;
 }
 
 void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_track *t,
@@ -222,11 +250,12 @@ void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_t
 	for (size_t i = 0; i < np; i++) {
 		if (isnan(t->X[3 * i]))
 			continue;
-		long q = track_pixel(t, &t->X[3 * i], true_depth, pose);
-		if (q < 0 || !(depth[q] > 0.0f))
+		int ok;
+		const double a = track_sample(t, &t->X[3 * i], ao, depth, true_depth, pose, &ok);
+		if (!ok)
 			continue;
-		c->tsum[i] += ao[q];
-		c->tsumsq[i] += (double)ao[q] * ao[q];
+		c->tsum[i] += a;
+		c->tsumsq[i] += a * a;
 		c->tn[i]++;
 	}
 }

@@ -18,11 +18,13 @@
  *   is only meaningful where the camera stands still (the caller decides).
  * - Tracked flicker: with the true depth and pose of every frame, the same
  *   per surface point instead of per pixel: each pixel of frame 0 with a
- *   surface is a point in the world, projected into every frame (nearest
- *   pixel) where its true depth there agrees within SYNTH_TRACK_REL and the
- *   sensor delivered depth; the std over the frames of the AO there, averaged
- *   over the points seen in every frame.  With a still camera it is the
- *   per-pixel flicker; with a moving one it follows the surface.
+ *   surface is a point in the world, projected into every frame and sampled
+ *   there bilinearly where the four pixels around it (those of weight above
+ *   SYNTH_TRACK_MIN_WEIGHT) have a true depth that agrees within
+ *   SYNTH_TRACK_REL and depth from the sensor; the std over the frames of the
+ *   AO there, averaged over the points seen in every frame.  With a still
+ *   camera it is the per-pixel flicker; with a moving one it follows the
+ *   surface, between pixels too.
  * - Change: the mean |ao_k - ao_k-1| over the pixels with depth in both
  *   frames, at the same pixel (what issue #37 quotes for the real recording).
  *
@@ -46,6 +48,7 @@
 #define SYNTH_STATIC_TOL_M 0.001
 #define SYNTH_STATIC_REL 0.03
 #define SYNTH_TRACK_REL 0.01
+#define SYNTH_TRACK_MIN_WEIGHT 1e-3
 
 /* What the columns of a sequence share: the trail band and the static mask. */
 struct synth_seq_masks {
