@@ -129,7 +129,9 @@ void synth_seq_track_free(struct synth_seq_track *t);
 void synth_seq_track_frame(struct synth_seq_track *t, const float *true_depth,
 			   const struct synth_pose *pose);
 
-/* One frame's AO of a column at the points of frame 0 (see above). */
+/* One frame's AO of a column at the points of frame 0 (see above); after
+ * synth_seq_column_add of the same frame (a `skip` column tells from it which
+ * frames it leaves out). */
 void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_track *t,
 			    const float *ao, const float *depth, const float *true_depth,
 			    const struct synth_pose *pose);
