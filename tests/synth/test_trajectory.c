@@ -415,44 +415,51 @@ static void test_tracked_flicker(void **state)
 
 /*
  * A wall whose AO rises linearly across it, seen by a camera moving 0.3 px a
- * frame: the tracked flicker samples each point between pixels (bilinear, exact
- * on a linear pattern), so a still surface does not flicker; the nearest pixel
- * would jump by up to half a pixel of the ramp (0.003 here).
+ * frame to the right and 0.15 px down: the tracked flicker samples each point
+ * between pixels (bilinear, exact on a linear pattern), so a still surface does
+ * not flicker, from frame 0 or from frame 2 (a `skip` column); the nearest
+ * pixel would jump by up to half a pixel (its std here about 0.003).
  */
 static void test_tracked_flicker_subpixel(void **state)
 {
 	(void)state;
-	enum { W = 16, H = 4, F = 6 };
-	const double fx = 10.0, cx = 7.5, cy = 1.5, z = 2.0, s = 0.3;
+	enum { W = 16, H = 6, F = 6 };
+	const double fx = 10.0, cx = 7.5, cy = 2.5, z = 2.0, sx = 0.3, sy = 0.15;
 	struct synth_seq_masks m;
 	struct synth_seq_track t;
-	struct synth_seq_column c;
+	struct synth_seq_column c, late;
 	assert_int_equal(synth_seq_masks_init(&m, W, H, 1), 0);
 	assert_int_equal(synth_seq_track_init(&t, W, H, fx, fx, cx, cy), 0);
 	assert_int_equal(synth_seq_column_init(&c, W, H), 0);
+	assert_int_equal(synth_seq_column_init(&late, W, H), 0);
+	late.skip = 2;
 	float depth[W * H], ao[W * H];
 	for (int i = 0; i < W * H; i++)
 		depth[i] = (float)z;
 	for (int k = 0; k < F; k++) {
-		/* the camera s px to the right a frame: pixel x sees the wall's point
-		 * x + s k of frame 0 */
+		/* pixel (x, y) sees the wall's point (x + sx k, y + sy k) of frame 0 */
 		struct synth_pose p = { .R = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } },
-					.t = { k * s * z / fx, 0, 0 } };
+					.t = { k * sx * z / fx, k * sy * z / fx, 0 } };
 		for (int y = 0; y < H; y++)
 			for (int x = 0; x < W; x++)
-				ao[y * W + x] = (float)(0.2 + 0.01 * (x + s * k));
+				ao[y * W + x] = (float)(0.2 + 0.01 * (x + sx * k) + 0.02 * (y + sy * k));
 		synth_seq_masks_add(&m, depth, depth);
 		synth_seq_track_frame(&t, depth, &p);
 		synth_seq_column_add(&c, &m, ao, NULL, depth, NULL);
 		synth_seq_column_track(&c, &t, ao, depth, depth, &p);
+		synth_seq_column_add(&late, &m, ao, NULL, depth, NULL);
+		synth_seq_column_track(&late, &t, ao, depth, depth, &p);
 	}
-	long n;
+	long n, n2;
 	const double fl = synth_seq_flicker_tracked(&c, &t, &n);
-	/* the points whose four pixels stay in the image: x from 2 (x - 0.3 k >= 0
-	 * for k <= 5 needs x >= 1.5) to W - 1 */
-	assert_int_equal(n, (W - 2) * H);
-	assert_true(fl < 1e-6);
+	const double fl2 = synth_seq_flicker_tracked(&late, &t, &n2);
+	/* the points whose four pixels stay in the image: x - 0.3 k >= 0 and
+	 * y - 0.15 k >= 0 for k <= 5 (x >= 2, y >= 1); from frame 2, k >= 2 too */
+	assert_int_equal(n, (W - 2) * (H - 1));
+	assert_int_equal(n2, (W - 2) * (H - 1));
+	assert_true(fl < 1e-6 && fl2 < 1e-6);
 	synth_seq_column_free(&c);
+	synth_seq_column_free(&late);
 	synth_seq_track_free(&t);
 	synth_seq_masks_free(&m);
 }

@@ -2,14 +2,21 @@
 # SPDX-License-Identifier: MIT
 """depthao eval --sequence --settle K: the flicker and change from frame K on.
 
-A still structured-light camera of 6 frames (synth). The settled flicker of
-the filters-off column is checked against the AO that `depthao process`
-writes with the same settings, read here by PIL and reduced by numpy: the
-per-pixel standard deviation over frames K..5 at the points with a true
-surface in frame 0 and input depth in every frame from K on (a still camera:
-the tracked points are the pixels). The same for the whole sequence, which
-must differ: a --settle that measured every frame would fail. Usage errors:
-K too large for the sequence, K not a number.
+A still structured-light camera of 6 frames (synth). The filters-off column's
+figures are checked against the AO that `depthao process` writes with the
+same settings, read here by PIL and reduced by numpy:
+- the tracked flicker (depth_gt/ and poses.txt beside the frames): the
+  per-pixel standard deviation over frames K..5 at the points with a true
+  surface in frame 0 and input depth in every frame from K on (a still
+  camera's points are its pixels), and the same over every frame, which must
+  differ by far more than the tolerance: a --settle that measured every frame
+  would fail;
+- the change from frame K: the mean |AO_k - AO_k-1| over the pairs from
+  (K, K+1) on, at the pixels with depth in both frames;
+- the per-pixel flicker of the frames alone (depth/ and its camera.json: no
+  truth), over the pixels with depth in every frame that stays within 3 % of
+  frame 0's.
+Usage errors: K too large for the sequence, K not a number.
 
 usage: test_cli_settle.py DEPTHAO_CLI
 """
@@ -47,6 +54,18 @@ def flicker(ao, depth, truth0, first):
     return ao[first:].std(axis=0)[mask].mean(), int(mask.sum())
 
 
+def change(ao, depth, first):
+    """Mean |AO_k - AO_k-1| over k = first+1.. at the pixels with depth in both."""
+    diffs = [np.abs(ao[k] - ao[k - 1])[(depth[k] > 0) & (depth[k - 1] > 0)]
+             for k in range(first + 1, len(ao))]
+    return np.concatenate(diffs).mean()
+
+
+def near(got, want, what):
+    # 1 %: the AO as 16-bit PNG, and the per-file R2 pattern of process
+    check(abs(got - want) <= 0.01 * want, "%s: %.6f, the PNGs give %.6f" % (what, got, want))
+
+
 def main():
     cli = sys.argv[1]
     with tempfile.TemporaryDirectory() as tmp:
@@ -68,20 +87,28 @@ def main():
         ao = frames(off_dir) / 65535.0
         for m, first in ((settled, K), (whole, 0)):
             want, count = flicker(ao, depth, truth0, first)
-            got = float(m.group(2))
             check(int(m.group(1)) == count,
                   "from frame %d: %s points, the PNGs give %d" % (first, m.group(1), count))
-            # 1 %: the AO as 16-bit PNG, and the per-file R2 pattern of process
-            check(abs(got - want) <= 0.01 * want,
-                  "off from frame %d: %.6f, the PNGs give %.6f" % (first, got, want))
-        check(float(settled.group(2)) < 0.95 * float(whole.group(2)),
-              "frame 0 left out lowers off's flicker: " + text)
-        # the AO history: settled, clearly below its whole-sequence figure
-        check(float(settled.group(4)) < 0.85 * float(whole.group(4)), text)
+            near(float(m.group(2)), want, "off's flicker from frame %d" % first)
+        m = re.search(r"change from frame %d: off ([\d.]+)," % K, text)
+        check(m, text)
+        near(float(m.group(1)), change(ao, depth, K), "off's change from frame %d" % K)
+
+        # the frames alone: per-pixel flicker over the pixels whose depth stays
+        text = run(cli, "eval", "--sequence", os.path.join(base, "depth"), "--quality", "low",
+                   "--settle", str(K))
+        m = re.search(r"flicker from frame %d \(%d frames\) \((\d+) static px\): off ([\d.]+),"
+                      % (K, FRAMES - K), text)
+        check(m, "the frames alone: " + text)
+        static = (depth > 0).all(axis=0) & (np.abs(depth - depth[0]) <= 0.03 * depth[0]).all(axis=0)
+        check(int(m.group(1)) == int(static.sum()),
+              "%s static pixels, the PNGs give %d" % (m.group(1), static.sum()))
+        near(float(m.group(2)), ao[K:].std(axis=0)[static].mean(),
+             "off's flicker of the frames alone from frame %d" % K)
 
         err = run(cli, "eval", "--sequence", base, "--settle", str(FRAMES - 1), expect=2)
         check("--settle %d: the sequence has %d frames" % (FRAMES - 1, FRAMES) in err and
-              "K at most %d" % (FRAMES - 2) in err, err)
+              "needs K + 2 frames at least (%d here)" % (FRAMES + 1) in err, err)
         err = run(cli, "eval", "--sequence", base, "--settle", "x", expect=2)
         check("--settle 'x' must be an integer" in err, err)
     print("ok")

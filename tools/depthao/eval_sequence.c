@@ -97,8 +97,9 @@ static void usage(FILE *out)
 		"  --picture PATH    PNG of one frame: the truth, off, depth+AO and depth+AO+ICP;\n"
 		"                    above the AO, below the input depth and each one's error\n"
 		"  --picture-frame K that frame (default: the last)\n"
-		"  --settle K        also the flicker and change from frame K on, once the\n"
-		"                    histories have settled (frame 0 has none to average with)\n"
+		"  --settle K        also the flicker and change from frame K on (K + 2 frames\n"
+		"                    at least), once the histories have settled (frame 0 has\n"
+		"                    none to average with)\n"
 		"  --help            this text\n",
 		SYNTH_TRAIL_FRAMES);
 }
@@ -723,8 +724,8 @@ static int setup_run(struct seq_run *run)
 	}
 	if (o->settle && o->settle > in->frames - 2) {
 		fprintf(stderr, "depthao: --settle %ld: the sequence has %ld frames; the flicker "
-			"from frame K needs two frames after it (K at most %ld)\n",
-			o->settle, in->frames, in->frames - 2);
+			"from frame K needs K + 2 frames at least (%ld here)\n",
+			o->settle, in->frames, o->settle + 2);
 		return 2;
 	}
 	if (o->picture && !in->have_gt) {

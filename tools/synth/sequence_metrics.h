@@ -74,6 +74,7 @@ struct synth_seq_column {
 	int32_t *tn;            /* frames the point was seen in */
 	long skip;              /* the first frames left out (set after init; 0: none) */
 	long offered;           /* frames given to synth_seq_column_add, skipped ones too */
+	int counting;           /* the last frame given to it counts (not skipped) */
 };
 
 /* The surface points of frame 0, in the world, for the tracked flicker. */
@@ -130,8 +131,8 @@ void synth_seq_track_frame(struct synth_seq_track *t, const float *true_depth,
 			   const struct synth_pose *pose);
 
 /* One frame's AO of a column at the points of frame 0 (see above); after
- * synth_seq_column_add of the same frame (a `skip` column tells from it which
- * frames it leaves out). */
+ * synth_seq_column_add of the same frame, which tells it whether the frame is
+ * one a `skip` column leaves out. */
 void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_track *t,
 			    const float *ao, const float *depth, const float *true_depth,
 			    const struct synth_pose *pose);
