@@ -107,8 +107,7 @@ void synth_seq_column_add(struct synth_seq_column *c, const struct synth_seq_mas
 	const size_t np = (size_t)c->width * (size_t)c->height;
 	double e_sum = 0.0, t_sum = 0.0;
 	long n = 0, tn = 0;
-	c->counting = c->offered++ >= c->skip;
-	if (!c->counting) {
+	if (c->offered++ < c->skip) {
 		if (out)
 			*out = (struct synth_seq_frame){ 0 };
 		return;
@@ -246,7 +245,7 @@ void synth_seq_column_track(struct synth_seq_column *c, const struct synth_seq_t
 			    const struct synth_pose *pose)
 {
 	const size_t np = (size_t)t->width * (size_t)t->height;
-	if (!c->counting) /* a frame synth_seq_column_add left out */
+	if (c->offered <= c->skip) /* a frame synth_seq_column_add left out (or none yet) */
 		return;
 	for (size_t i = 0; i < np; i++) {
 		if (isnan(t->X[3 * i]))

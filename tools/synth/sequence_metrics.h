@@ -74,7 +74,6 @@ struct synth_seq_column {
 	int32_t *tn;            /* frames the point was seen in */
 	long skip;              /* the first frames left out (set after init; 0: none) */
 	long offered;           /* frames given to synth_seq_column_add, skipped ones too */
-	int counting;           /* the last frame given to it counts (not skipped) */
 };
 
 /* The surface points of frame 0, in the world, for the tracked flicker. */
