@@ -5,7 +5,6 @@
  * the normal, compacted), so the per-step loop reads them in order and is
  * ready for SIMD lanes; the target side is a gather from the previous plane.
  */
-#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -66,10 +65,12 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 		.edge = 0.03f,
 		.prior_angle = 0.00524f, /* 0.3 degrees */
 		.prior_dist = 0.003f,
-		/* every step on the calling thread: a step's pairs are 0.1-0.2 ms of
-		 * work, and handing them to the pool cost more CPU time than it
-		 * saved (docs/perf/motion2.md) */
-		.pool_min_points = INT_MAX,
+		/* every step on the pool: on an idle 2-core host the estimate's
+		 * wall time falls by a third at the same CPU time; on a host
+		 * with more runnable threads than cores it costs ~20 % more CPU
+		 * (the worker's spin between steps) for the same wall time
+		 * (docs/perf/icp5.md; motion2.md measured the latter alone) */
+		.pool_min_points = 0,
 	};
 }
 

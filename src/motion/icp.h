@@ -70,8 +70,8 @@ struct dao_icp_setup {
 	dao_icp_pairs_fn pairs;
 	struct dao_pool *pool;
 	/* a step over fewer source points runs on the calling thread (the
-	 * default: every step; the source grid, the target and the
-	 * reprojection still run on the pool) */
+	 * default 0: every step on the pool, as the source grid, the target
+	 * and the reprojection are) */
 	int pool_min_points;
 	/* the source grid's and the target's kernels (NULL: the references,
 	 * motion/icp_source.h; the same result to the bit) */

@@ -6,12 +6,14 @@
  * thread's alone, CLOCK_THREAD_CPUTIME_ID, and the wall time).  A measuring tool
  * (docs/perf/icp2.md), not a test.
  *
- *   motion-bench DIR SIMD THREADS ROUNDS [POOL_MIN_POINTS [ao|seeded]]
+ *   motion-bench DIR SIMD THREADS ROUNDS [POOL_MIN_POINTS [ao|seeded [PART]]]
  *
  * (POOL_MIN_POINTS: dao_icp_setup's; "ao": the AO history's reprojection
  * alone instead, by the estimated motions, on the calling thread;
  * "seeded": each pair's estimate seeded by the last pair's accepted one, as
- * the pipeline's prior does, the first pair of each pass by none)
+ * the pipeline's prior does, the first pair of each pass by none; PART:
+ * "estimate" or "reproject" times that part alone, the other's poses
+ * computed before the clock starts; default both)
  *
  * DIR/depth/NNNN.png (mm) with camera.json's 640x480 at 525 px (synth's);
  * the previous frame is given as 1/z (the history's form).  Prints the mean
@@ -122,18 +124,39 @@ int main(int argc, char **argv)
 	}
 #endif
 	const int seeded = argc > 6 && !strcmp(argv[6], "seeded");
+	const char *part = argc > 7 ? argv[7] : "both";
+	const int estimate = strcmp(part, "reproject") != 0, reproject = strcmp(part, "estimate") != 0;
+	if (strcmp(part, "both") && strcmp(part, "estimate") && strcmp(part, "reproject")) {
+		fprintf(stderr, "motion-bench: PART is both, estimate or reproject, not %s\n", part);
+		return 2;
+	}
+	/* the poses of a pass, for the part timed alone */
+	static struct dao_icp_result fixed[MAXF];
+	{
+		struct dao_pose last;
+		int have = 0;
+		for (int i = 1; i < n; i++) {
+			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i],
+					 seeded && have ? &last : NULL, scratch, &fixed[i]);
+			if (fixed[i].valid)
+				last = fixed[i].pose, have = 1;
+		}
+	}
 	double t0 = cpu_ms(), ang = 0;
 	const double c0 = clock_ms(CLOCK_THREAD_CPUTIME_ID), w0 = clock_ms(CLOCK_MONOTONIC);
 	for (int r = 0; r < rounds; r++) {
 		struct dao_pose last;
 		int have = 0;
 		for (int i = 1; i < n; i++) {
-			struct dao_icp_result res;
-			dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i], seeded && have ? &last : NULL,
-					 scratch, &res);
+			struct dao_icp_result res = fixed[i];
+			if (estimate)
+				dao_icp_estimate(&s, &cam, inv[i - 1], count, z[i],
+						 seeded && have ? &last : NULL, scratch, &res);
 			if (res.valid)
 				last = res.pose, have = 1;
 			ang += dao_pose_angle(&res.pose);
+			if (!reproject)
+				continue;
 #ifndef MOTION_BENCH_MAIN
 			dao_history_reproject(&cam, &res.pose, inv[i - 1], count, age, h, c2, a2,
 					      (int32_t *)(void *)scratch, k.reproject_land, pool);
