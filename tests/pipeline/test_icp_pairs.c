@@ -214,8 +214,8 @@ static void test_threads_identical(void **state)
 		struct dao_pool *pool;
 		assert_int_equal(dao_pool_create(&pool, t), 0);
 		s.pool = pool;
-		/* every step's chunks on the threads, then the default (the steps on
-		 * the caller, the source grid and the target on the threads) */
+		/* every step's chunks on the threads (the default), then the steps
+		 * on the caller alone (the source grid and the target on the threads) */
 		for (int all = 1; all >= 0; all--) {
 			s.pool_min_points = all ? 0 : INT_MAX;
 			struct dao_icp_result r;

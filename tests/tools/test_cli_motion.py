@@ -15,7 +15,8 @@
 4. depthao process --pose-out on a synthetic pan and a sideways move: the
    estimated poses against the true poses.txt (timestamps equal, within
    0.05 degrees and 3 mm on every frame, and the camera seen to move);
-   eval --sequence --picture: the strip's size read from its header.
+   eval --sequence --picture: the strip's size read from its header; the same
+   poses, filtered depth and AO on 1 and 2 threads.
 
 usage: test_cli_motion.py DEPTHAO_CLI
 """
@@ -159,6 +160,29 @@ def read_poses(path):
             if l.strip() and not l.startswith("#")]
 
 
+def threads_identical(cli, tmp, base):
+    """The estimate (its steps on the pool) and the history's reprojection on 1 and 2
+    threads: the same poses (12 digits), filtered depth and AO, to the byte."""
+    outs = []
+    for th in ("1", "2"):
+        d = os.path.join(tmp, "threads" + th)
+        run(cli, "process", "--input", os.path.join(base, "depth"), "--depth-temporal", "0.8",
+            "--depth-temporal-motion", "icp", "--threads", th, "--pose-out", d + ".txt",
+            "--depth-out", os.path.join(d, "depth") + "/", "--ao-out", os.path.join(d, "ao") + "/",
+            "--quiet")
+        files = {}
+        for sub in ("depth", "ao"):
+            for name in sorted(os.listdir(os.path.join(d, sub))):
+                with open(os.path.join(d, sub, name), "rb") as f:
+                    files[sub + "/" + name] = f.read()
+        with open(d + ".txt") as f:
+            files["poses"] = f.read()
+        outs.append(files)
+    check(len(outs[0]) == 9, "threads: %d outputs, not 4 + 4 + poses" % len(outs[0]))
+    differ = sorted(k for k in outs[0] if outs[0][k] != outs[1].get(k))
+    check(not differ, "1 and 2 threads differ: %s" % differ)
+
+
 def pose_out(cli, tmp):
     out = os.path.join(tmp, "p")
     for traj, moved in (("pan-30", 2.9), ("sideways", 0.045)):
@@ -181,6 +205,7 @@ def pose_out(cli, tmp):
               if traj.startswith("pan") else math.dist([0, 0, 0], last[1:4]) > moved,
               "%s: the estimate did not move: %s" % (traj, last))
         if traj == "pan-30":
+            threads_identical(cli, tmp, base)
             pic = os.path.join(tmp, "strip.png")
             text = run(cli, "eval", "--sequence", base, "--quality", "low", "--picture", pic,
                        "--picture-frame", "2")
