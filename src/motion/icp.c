@@ -66,9 +66,10 @@ void dao_icp_setup_default(struct dao_icp_setup *s)
 		.prior_angle = 0.00524f, /* 0.3 degrees */
 		.prior_dist = 0.003f,
 		/* every step on the pool: on an idle 2-core host the estimate's
-		 * wall time falls by a third at the same CPU time; on a host
-		 * with more runnable threads than cores it costs ~20 % more CPU
-		 * (the worker's spin between steps) for the same wall time
+		 * wall time falls by about 30 % (the motion's by a quarter), the
+		 * CPU time unchanged within its spread; on a host with more
+		 * runnable threads than cores it costs 22 % more CPU (the
+		 * worker's spin between steps) for the same wall time
 		 * (docs/perf/icp5.md; motion2.md measured the latter alone) */
 		.pool_min_points = 0,
 	};

@@ -11,9 +11,10 @@
  * (POOL_MIN_POINTS: dao_icp_setup's; "ao": the AO history's reprojection
  * alone instead, by the estimated motions, on the calling thread;
  * "seeded": each pair's estimate seeded by the last pair's accepted one, as
- * the pipeline's prior does, the first pair of each pass by none; PART:
- * "estimate" or "reproject" times that part alone, the other's poses
- * computed before the clock starts; default both)
+ * the pipeline's prior does, the first pair of each pass by none; any
+ * other word, e.g. "-", unseeded; PART: "estimate" or "reproject" times that
+ * part alone, the other's poses computed before the clock starts; default
+ * both; "ao" takes no PART)
  *
  * DIR/depth/NNNN.png (mm) with camera.json's 640x480 at 525 px (synth's);
  * the previous frame is given as 1/z (the history's form).  Prints the mean
@@ -52,7 +53,8 @@ static double cpu_ms(void)
 int main(int argc, char **argv)
 {
 	if (argc < 5) {
-		fprintf(stderr, "usage: motion-bench DIR SIMD THREADS ROUNDS\n");
+		fprintf(stderr, "usage: motion-bench DIR SIMD THREADS ROUNDS [POOL_MIN_POINTS "
+				"[ao|seeded|- [both|estimate|reproject]]]\n");
 		return 2;
 	}
 	struct dao_camera cam;

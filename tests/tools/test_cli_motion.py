@@ -162,7 +162,7 @@ def read_poses(path):
 
 def threads_identical(cli, tmp, base):
     """The estimate (its steps on the pool) and the history's reprojection on 1 and 2
-    threads: the same poses (12 digits), filtered depth and AO, to the byte."""
+    threads: the same poses (as written), filtered depth and AO, to the byte."""
     outs = []
     for th in ("1", "2"):
         d = os.path.join(tmp, "threads" + th)
@@ -179,6 +179,8 @@ def threads_identical(cli, tmp, base):
             files["poses"] = f.read()
         outs.append(files)
     check(len(outs[0]) == 9, "threads: %d outputs, not 4 + 4 + poses" % len(outs[0]))
+    check(outs[0].keys() == outs[1].keys(), "1 and 2 threads wrote different files: %s, %s"
+          % (sorted(outs[0]), sorted(outs[1])))
     differ = sorted(k for k in outs[0] if outs[0][k] != outs[1].get(k))
     check(not differ, "1 and 2 threads differ: %s" % differ)
 
