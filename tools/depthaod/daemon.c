@@ -37,6 +37,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 		snprintf(msg, len, "out of memory");
 		return -ENOMEM;
 	}
+	atomic_init(&d->mem_rss, -1); /* not measured yet */
+	atomic_init(&d->mem_heap, -1);
 	d->cfg = *cfg;
 	d->plugins = plugins;
 	d->lossless = cfg->playback == DAO_PLAYBACK_MANUAL;

@@ -143,6 +143,10 @@ struct daemon {
 	int watchdog_withheld;        /* (processing thread) pings stopped for a hung source */
 	atomic_ullong cpu_ns_total;
 	uint64_t start_ns;
+	/* the process's memory as the stats last measured it (daemon_stats.c):
+	 * measured at most once a second, whoever asks (/api/stats is the network's) */
+	atomic_ullong mem_ns;
+	atomic_llong mem_rss, mem_heap;
 	uint64_t interval_start_ns, interval_processed;
 	/* (lock) frames processed per whole second of the monotonic clock, the last
 	   RECENT_SECONDS + 1 of them: fps_recent, the rate of the last RECENT_SECONDS

@@ -186,7 +186,7 @@ static int next_input(struct daemon *d, struct fq_item **in)
 {
 	watchdog_ping(d); /* each round: per frame, or every 100 ms while idle */
 	if (atomic_load(&d->paused) && !atomic_load(&d->stop)) {
-		nap(d, 20); /* paused: nothing new is processed (live input queues up and drops) */
+		nap(d, 20); /* paused: nothing new is processed (a recording waits, a live source's frames are released) */
 		return 0;
 	}
 	if (!(*in = fq_pop(d->input, 100)))

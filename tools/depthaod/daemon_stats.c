@@ -78,31 +78,41 @@ static struct json_object *motion_stats(const struct pose_track *p)
 /*
  * The process's memory: resident (/proc/self/statm) and, with glibc, what the
  * allocator has handed out and not had back (mallinfo2: every arena's chunks
- * in use plus the mmapped ones).  A leak grows heap_in_use_bytes; the
- * resident size also holds what the allocator keeps for reuse (its
- * per-thread arenas), which settles after the first busy minutes.  -1 where
- * not known (no /proc; not glibc, or an allocator such as ASan's that does
- * not fill mallinfo2).
+ * in use, those in its per-thread caches included, plus the mmapped ones;
+ * not thread stacks or other mmaps).  A leak of allocated memory grows
+ * heap_in_use_bytes; the resident size also holds what the allocator keeps
+ * for reuse (its per-thread arenas), which settles after the first busy
+ * minutes.  -1 where not known (no /proc; not glibc, or an allocator such as
+ * ASan's that leaves mallinfo2 empty).  mallinfo2 locks every arena in turn,
+ * so it runs at most once a second whoever asks (the viewer's /api/stats
+ * included); the others get the last figures.
  */
-static struct json_object *memory_stats(void)
+static struct json_object *memory_stats(struct daemon *d, uint64_t now_ns)
 {
-	long long rss = -1, heap = -1;
-	FILE *f = fopen("/proc/self/statm", "r");
-	if (f) {
-		long long size, pages;
-		const long page = sysconf(_SC_PAGESIZE);
-		if (fscanf(f, "%lld %lld", &size, &pages) == 2 && page > 0)
-			rss = pages * page;
-		fclose(f);
-	}
+	unsigned long long last = atomic_load(&d->mem_ns);
+	if (!last || now_ns - last >= 1000000000u) {
+		if (atomic_compare_exchange_strong(&d->mem_ns, &last, now_ns ? now_ns : 1)) {
+			long long rss = -1, heap = -1;
+			FILE *f = fopen("/proc/self/statm", "re");
+			if (f) {
+				long long pages;
+				const long page = sysconf(_SC_PAGESIZE);
+				if (fscanf(f, "%*s %lld", &pages) == 1 && page > 0)
+					rss = pages * page;
+				fclose(f);
+			}
 #if DAOD_HAVE_MALLINFO2
-	const struct mallinfo2 mi = mallinfo2();
-	if (mi.arena || mi.hblkhd)
-		heap = (long long)(mi.uordblks + mi.hblkhd);
+			const struct mallinfo2 mi = mallinfo2();
+			if (mi.arena || mi.hblkhd)
+				heap = (long long)(mi.uordblks + mi.hblkhd);
 #endif
+			atomic_store(&d->mem_rss, rss);
+			atomic_store(&d->mem_heap, heap);
+		}
+	}
 	struct json_object *m = json_object_new_object();
-	json_object_object_add(m, "rss_bytes", json_object_new_int64(rss));
-	json_object_object_add(m, "heap_in_use_bytes", json_object_new_int64(heap));
+	json_object_object_add(m, "rss_bytes", json_object_new_int64(atomic_load(&d->mem_rss)));
+	json_object_object_add(m, "heap_in_use_bytes", json_object_new_int64(atomic_load(&d->mem_heap)));
 	return m;
 }
 
@@ -140,7 +150,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	json_object_object_add(j, "fps", json_object_new_double(fps));
 	json_object_object_add(j, "fps_recent", json_object_new_double(fps_last));
 	json_object_object_add(j, "fps_recent_window_s", json_object_new_int(RECENT_SECONDS));
-	json_object_object_add(j, "memory", memory_stats());
+	json_object_object_add(j, "memory", memory_stats(d, t));
 	json_object_object_add(j, "cpu_ms_per_frame",
 			       json_object_new_double(processed ? (double)atomic_load(&d->cpu_ns_total) / 1e6 / (double)processed : 0));
 	struct json_object *sinks = json_object_new_array();
