@@ -13,7 +13,7 @@
  * "seeded": each pair's estimate seeded by the last pair's accepted one, as
  * the pipeline's prior does, the first pair of each pass by none; any
  * other word, e.g. "-", unseeded; PART: "estimate" or "reproject" times that
- * part alone, the other's poses computed before the clock starts; default
+ * part alone (the reprojection by poses estimated before the clock starts); default
  * both; "ao" takes no PART)
  *
  * DIR/depth/NNNN.png (mm) with camera.json's 640x480 at 525 px (synth's);
@@ -132,9 +132,10 @@ int main(int argc, char **argv)
 		fprintf(stderr, "motion-bench: PART is both, estimate or reproject, not %s\n", part);
 		return 2;
 	}
-	/* the poses of a pass, for the part timed alone */
+	/* the poses of a pass, for the reprojection timed alone (not computed
+	 * otherwise: "both" runs as before, without this warm-up) */
 	static struct dao_icp_result fixed[MAXF];
-	{
+	if (!estimate) {
 		struct dao_pose last;
 		int have = 0;
 		for (int i = 1; i < n; i++) {
