@@ -15,7 +15,13 @@
  * buffer (so its limits are met); then every pair of frames is looked up
  * at the stamps seen.  Aborts on a name pointing outside the input (JSON's
  * names are in the parsed text: NUL-terminated at their length instead),
- * or a pose that is not finite and unit.
+ * or a pose that is not finite and unit.  The odometry cases also read the
+ * message as a sensor_msgs/Imu (ROS 1 or 2, the same bits) and, where it
+ * parses, run the IMU track (tf/imu_track.c) on it repeated at stamps the
+ * message's bytes give, in rate and orientation mode: aborts on a frame
+ * pointing outside the input, or an input source_poses.c takes (rates below
+ * 1e4 rad/s, an orientation within 1e-3 of unit) turned into a rotation
+ * that is not unit or stamps that do not increase.
  */
 #include <math.h>
 #include <stdint.h>
@@ -25,6 +31,7 @@
 #include "bag/ros_msg.h"
 #include "mcap/foxglove_msg.h"
 #include "mcap/ros2_msg.h"
+#include "tf/imu_track.h"
 #include "tf/tf_buffer.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -108,11 +115,46 @@ static void lookups(struct ctx *c)
 			}
 }
 
+/* m repeated at stamps from the input's bytes, through the IMU track in both modes */
+static void imu(const struct dao_imu_msg *m, const uint8_t *d, size_t size)
+{
+	if (m->frame_len && (m->frame < (const char *)d ||
+			     m->frame + m->frame_len > (const char *)d + size))
+		abort();
+	enum { N = 8 };
+	struct dao_imu_sample s[N];
+	/* what source_poses.c lets through: rates finite and below 1e4 rad/s, orientations
+	 * within 1e-3 of unit */
+	const double qn = sqrt(m->q[0] * m->q[0] + m->q[1] * m->q[1] + m->q[2] * m->q[2] +
+			       m->q[3] * m->q[3]);
+	const int ok[2] = { fabs(m->w[0]) < 1e4 && fabs(m->w[1]) < 1e4 && fabs(m->w[2]) < 1e4,
+			    fabs(qn - 1.0) <= 1e-3 };
+	for (int mode = 0; mode < 2; mode++) {
+		const int finite = ok[mode];
+		for (int i = 0; i < N; i++) {
+			s[i] = (struct dao_imu_sample){ .stamp_ns = m->stamp_ns + d[(size_t)i % size] *
+									     1000000ull };
+			memcpy(s[i].q, m->q, sizeof s[i].q);
+			memcpy(s[i].w, m->w, sizeof s[i].w);
+		}
+		const size_t n = dao_imu_track(s, N, mode, 200000000ull);
+		if (n < 1 || n > N)
+			abort();
+		for (size_t i = 0; finite && i < n; i++) {
+			const double q = s[i].q[0] * s[i].q[0] + s[i].q[1] * s[i].q[1] +
+					 s[i].q[2] * s[i].q[2] + s[i].q[3] * s[i].q[3];
+			if (!(fabs(q - 1.0) < 1e-9) || (i && s[i].stamp_ns <= s[i - 1].stamp_ns))
+				abort();
+		}
+	}
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	struct ctx c = { 0 };
 	struct dao_error err;
 	struct dao_tf_msg_transform t;
+	struct dao_imu_msg im;
 	if (size < 1 || dao_tf_buffer_create(&c.b, 6, 16, &err) < 0)
 		return 0;
 	c.d = data + 1;
@@ -129,6 +171,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	case 1:
 		if (dao_ros_odometry_parse(c.d, (uint32_t)c.size, &t) == 0)
 			(void)add(&c, &t);
+		if (c.size && dao_ros_imu_parse(c.d, (uint32_t)c.size, &im) == 0)
+			imu(&im, c.d, c.size);
 		break;
 	case 2:
 		(void)dao_ros2_tf_parse(c.d, c.size, add, &c);
@@ -136,6 +180,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	case 3:
 		if (dao_ros2_odometry_parse(c.d, c.size, &t) == 0)
 			(void)add(&c, &t);
+		if (c.size && dao_ros2_imu_parse(c.d, c.size, &im) == 0)
+			imu(&im, c.d, c.size);
 		break;
 	default: /* 8-11: Foxglove */
 		(void)dao_fg_frame_transforms_parse(c.json ? DAO_FG_JSON : DAO_FG_PROTOBUF,

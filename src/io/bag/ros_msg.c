@@ -162,3 +162,24 @@ int dao_ros_odometry_parse(const uint8_t *msg, uint32_t len, struct dao_tf_msg_t
 	(void)take(&c, 8 * (36 + 6 + 36)); /* covariance, twist, its covariance */
 	return c.bad || c.left ? -EINVAL : 0;
 }
+
+int dao_ros_imu_parse(const uint8_t *msg, uint32_t len, struct dao_imu_msg *out)
+{
+	struct cursor c = {msg, len, 0};
+	memset(out, 0, sizeof(*out));
+	(void)u32(&c); /* seq */
+	uint64_t sec = u32(&c);
+	uint32_t nsec = u32(&c);
+	if (nsec >= 1000000000u)
+		return -EINVAL;
+	out->stamp_ns = sec * 1000000000u + nsec;
+	out->frame = (const char *)bytes(&c, &out->frame_len);
+	for (int i = 0; i < 4; i++)
+		out->q[i] = f64(&c);
+	out->has_orientation = f64(&c) != -1.0;
+	(void)take(&c, 8 * 8); /* the rest of the orientation's covariance */
+	for (int i = 0; i < 3; i++)
+		out->w[i] = f64(&c);
+	(void)take(&c, 8 * (9 + 3 + 9)); /* covariance, linear_acceleration, covariance */
+	return c.bad || c.left ? -EINVAL : 0;
+}

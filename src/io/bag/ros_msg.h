@@ -66,5 +66,11 @@ int dao_ros_tf_parse(const uint8_t *msg, uint32_t len, dao_tf_msg_cb cb, void *u
  * length).  0 or -EINVAL.
  */
 int dao_ros_odometry_parse(const uint8_t *msg, uint32_t len, struct dao_tf_msg_transform *out);
+/*
+ * sensor_msgs/Imu: Header, orientation Quaternion, float64[9] its covariance,
+ * angular_velocity Vector3, float64[9], linear_acceleration Vector3,
+ * float64[9].  0 or -EINVAL.
+ */
+int dao_ros_imu_parse(const uint8_t *msg, uint32_t len, struct dao_imu_msg *out);
 
 #endif

@@ -154,6 +154,30 @@ int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_
 	return dao_cdr_ok(&c) ? 0 : -EINVAL;
 }
 
+int dao_ros2_imu_parse(const uint8_t *msg, uint64_t len, struct dao_imu_msg *out)
+{
+	struct dao_cdr c;
+	int r = start(&c, msg, len, out, sizeof(*out));
+	if (r < 0)
+		return r;
+	const int32_t sec = dao_cdr_i32(&c);
+	const uint32_t nsec = dao_cdr_u32(&c);
+	if (sec < 0 || nsec >= 1000000000u)
+		return -EINVAL;
+	out->stamp_ns = (uint64_t)sec * 1000000000u + nsec;
+	out->frame = dao_cdr_string(&c, &out->frame_len);
+	for (int i = 0; i < 4; i++)
+		out->q[i] = dao_cdr_f64(&c);
+	out->has_orientation = dao_cdr_f64(&c) != -1.0;
+	for (int i = 1; i < 9; i++) /* the rest of the orientation's covariance */
+		(void)dao_cdr_f64(&c);
+	for (int i = 0; i < 3; i++)
+		out->w[i] = dao_cdr_f64(&c);
+	for (int i = 0; i < 9 + 3 + 9; i++) /* covariance, linear_acceleration, covariance */
+		(void)dao_cdr_f64(&c);
+	return dao_cdr_ok(&c) ? 0 : -EINVAL;
+}
+
 int dao_ros2_fg_transform_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *user)
 {
 	struct dao_cdr c;

@@ -68,6 +68,10 @@ int dao_ros2_tf_parse(const uint8_t *msg, uint64_t len, dao_tf_msg_cb cb, void *
 /* nav_msgs/msg/Odometry: its pose (child_frame_id in header.frame_id); the covariances and
  * the twist are read past.  0, -EINVAL or -ENOTSUP. */
 int dao_ros2_odometry_parse(const uint8_t *msg, uint64_t len, struct dao_tf_msg_transform *out);
+/* sensor_msgs/msg/Imu: its stamp, frame, orientation (where it has one) and angular
+ * velocity; the covariances and the linear acceleration are read past.  0, -EINVAL or
+ * -ENOTSUP. */
+int dao_ros2_imu_parse(const uint8_t *msg, uint64_t len, struct dao_imu_msg *out);
 
 /*
  * Foxglove's ROS 2 messages (foxglove_msgs/msg/...), cb per transform as
