@@ -2,8 +2,8 @@
 // Writes a plan of test_cli_tf_poses.py as MCAP (@mcap/core, zstd chunks) and as a rosbag2
 // sqlite3 .db3 (sql.js), the messages in CDR by @foxglove/rosmsg2-serialization: the depth
 // (sensor_msgs/msg/Image 16UC1) and its camera_info, /tf and /tf_static
-// (tf2_msgs/msg/TFMessage) and an odometry topic (nav_msgs/msg/Odometry) when the plan has
-// them.  With plan.fg_cdr, the transforms are Foxglove's ROS 2 messages instead, as
+// (tf2_msgs/msg/TFMessage), an odometry topic (nav_msgs/msg/Odometry) and an IMU topic
+// (sensor_msgs/msg/Imu, as make_tf_bag.py writes it) when the plan has them.  With plan.fg_cdr, the transforms are Foxglove's ROS 2 messages instead, as
 // make_fg_tf_mcap.js writes them (/tf foxglove_msgs/msg/FrameTransform, a message a transform,
 // /tf_static FrameTransforms; plan.fg's static_topic, extra and encoding, and the transforms'
 // fg), and plan.poses (make_fg_tf_mcap.js) as foxglove_msgs/msg/PoseInFrame(s); their .msg as
@@ -37,6 +37,12 @@ const ODOMETRY = "std_msgs/Header header\nstring child_frame_id\n" +
   SEP + "MSG: geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z\n" + SEP + QUATERNION + SEP +
   "MSG: geometry_msgs/TwistWithCovariance\ngeometry_msgs/Twist twist\nfloat64[36] covariance\n" +
   SEP + "MSG: geometry_msgs/Twist\ngeometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n" +
+  SEP + VECTOR3;
+
+const IMU = "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n" +
+  "float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n" +
+  "float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n" +
+  "float64[9] linear_acceleration_covariance\n" + SEP + HEADER + SEP + TIME + SEP + QUATERNION +
   SEP + VECTOR3;
 
 const planDir = process.argv[2];
@@ -89,6 +95,13 @@ function messages() {
       header: header(t.stamp_ns, t.parent), child_frame_id: t.child,
       pose: { pose: { position: xyz(t.t), orientation: xyzw(t.q) }, covariance: zeros() },
       twist: { twist: { linear: xyz([0, 0, 0]), angular: xyz([0, 0, 0]) }, covariance: zeros() } });
+  const imu = plan.imu;
+  for (const t of imu ? imu.messages : [])
+    put(imu.topic, "sensor_msgs/msg/Imu", IMU, t.stamp_ns, {
+      header: header(t.stamp_ns, imu.frame), orientation: xyzw(t.q || [0, 0, 0, 0]),
+      orientation_covariance: Float64Array.from([t.q ? 0 : -1, 0, 0, 0, 0, 0, 0, 0, 0]),
+      angular_velocity: xyz(t.w), angular_velocity_covariance: new Float64Array(9),
+      linear_acceleration: xyz([0, 0, 9.81]), linear_acceleration_covariance: new Float64Array(9) });
   const K = plan.K;
   plan.frames.forEach((f, i) => {
     put("/camera/depth/camera_info", "sensor_msgs/msg/CameraInfo", CAMINFO, f.stamp_ns, {

@@ -17,6 +17,10 @@
  * (dao_icp_setup.seeded_*; 4 3 gives every estimate the unseeded counts), set by
  * linking with -Wl,--wrap=dao_icp_estimate: the library unchanged but for
  * them (docs/perf/icp-seeded.md).
+ * With DAO_EVAL_ROTATION_SEED=B in the environment, depth-temporal-motion is
+ * source+icp and every frame is given the true rotation (no translation), as
+ * an IMU gives it through a recording's pose_topic, with a gyro bias of B
+ * degrees a second about the axis (1, 2, 3) (0: an ideal IMU).
  */
 #include <math.h>
 #include <stdio.h>
@@ -177,6 +181,10 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
+	const char *seed = getenv("DAO_EVAL_ROTATION_SEED");
+	const double bias = seed ? atof(seed) * 0.017453292519943295 : 0.0;
+	if (seed)
+		p.depth_temporal_motion = DAO_DEPTH_MOTION_SOURCE_ICP;
 	struct dao_context *ctx;
 	struct dao_error err;
 	if (dao_context_create(&ctx, &cam, &p, &err)) {
@@ -188,6 +196,21 @@ int main(int argc, char **argv)
 	for (int i = 0; i < frames; i++) {
 		struct dao_frame f;
 		snprintf(path, sizeof path, "%s/depth/%04d.png", argv[1], i);
+		if (seed) { /* the true rotation after the bias's drift over i / 30 s */
+			const double zero[3] = { 0.0, 0.0, 0.0 }, n = sqrt(14.0);
+			const double h = 0.5 * bias * (double)i / 30.0;
+			const double d[4] = { sin(h) / n, 2.0 * sin(h) / n, 3.0 * sin(h) / n, cos(h) };
+			double q[4], qd[4];
+			dao_pose_matrix_to_quat(poses[i].r, q);
+			qd[0] = q[3] * d[0] + q[0] * d[3] + q[1] * d[2] - q[2] * d[1];
+			qd[1] = q[3] * d[1] - q[0] * d[2] + q[1] * d[3] + q[2] * d[0];
+			qd[2] = q[3] * d[2] + q[0] * d[1] - q[1] * d[0] + q[2] * d[3];
+			qd[3] = q[3] * d[3] - q[0] * d[0] - q[1] * d[1] - q[2] * d[2];
+			if (dao_context_set_pose(ctx, qd, zero, &err)) {
+				fprintf(stderr, "motion-pose-eval: %s\n", err.message);
+				return 1;
+			}
+		}
 		if (dao_png_read_depth(path, 0.001f, &f, &err) ||
 		    dao_context_process(ctx, &f, NULL, (uint64_t)i, NULL, &err)) {
 			fprintf(stderr, "motion-pose-eval: %s: %s\n", path, err.message);

@@ -20,6 +20,10 @@ header.frame_id camera_depth_optical_frame.  Variants (each in every format):
   gap    pan-30 with /tf at frames 0, 1 and 5 only
   split  pan-30 without the mount (base_link -> camera_link) in /tf_static
   bare   odometry whose child base_link has no static transform to the camera
+  imu    pan-30 as sensor_msgs/Imu on /camera/imu (200 Hz, angular velocity only; the
+         IMU's frame mounted on camera_link by /tf_static), no /tf
+  imuq   the same with the IMU's orientation (an AHRS's: from a tilted world frame)
+  imubare  imu without the IMU's mount: its frame taken for the optical frame (a warning)
 
 Checks, through the public API (source_poses.c: dao_source_frame_pose):
 1. pan: every frame's pose in map is map->odom x the truth of poses.txt within 1e-6,
@@ -27,12 +31,18 @@ Checks, through the public API (source_poses.c: dao_source_frame_pose):
    within 1e-6 (interpolated); odom: the truth (odom is the odometry's root);
 2. gap with pose_gap=0.1: frames 2-4 have none, with a message naming the transform and
    the times; bare: base_link's pose and a warning;
+   imu, imuq: every frame's rotation is the IMU's (its rates integrated from its first
+   message, or its orientation) after the mount, within 1e-6, no translation, and the
+   warning that an IMU has no translation; imubare: the IMU's rotation and a warning;
 3. depthao process --depth-temporal-motion source on each recording gives the filtered
    depth of depthao process --poses poses.txt on the PNG frames (--algorithm none
    --depth-out; at most 1 count apart on at most 0.05 % of the pixels), and differs from
-   the filter without motion;
+   the filter without motion; so does source with the IMU of imu and imuq (pan-30 turns
+   about the optical centre: the rotation is all its motion), and source+icp from the IMU
+   moves the history;
 4. error paths: split with --pose-frame map (not connected, the frames listed); a
-   missing --pose-topic; a recording without /tf; PNG input with --pose-frame; an .oni.
+   missing --pose-topic; a recording without /tf; PNG input with --pose-frame; an .oni;
+   imu with --pose-frame.
 
 5. depthaod with depth-temporal-motion source (manual playback, the filtered-depth
    stream) gives process' filtered depth on each recording; on an .oni it says once that
@@ -131,6 +141,10 @@ def axis_angle(axis, deg):
 
 
 MAP_ODOM = (axis_angle([0, 0, 1], 30), [1.0, 2.0, 0.5])
+IMU_TOPIC = "/camera/imu"
+IMU_FRAME = "camera_imu_optical_frame"
+IMU_MOUNT = (axis_angle([1, 0, 0], 90), [0.01, -0.02, 0.03])  # camera_link -> the IMU's frame
+AHRS = axis_angle([0.3, -0.5, 0.8], 40)  # the imuq orientation's world -> the IMU at its start
 MOUNT = (axis_angle([0, 1, 0], 10), [0.2, 0.05, 0.4])     # base_link -> camera_link
 OPTICAL = ([-0.5, 0.5, -0.5, 0.5], [0.0, 0.0, 0.0])       # camera_link -> optical
 CAM = compose(MOUNT, OPTICAL)                              # base_link -> optical
@@ -190,6 +204,25 @@ def statics(mount=True):
     first = [tf(START_NS, "map", "odom", MAP_ODOM)] + \
         ([tf(START_NS, "base_link", "camera_link", MOUNT)] if mount else [])
     return [first, [tf(START_NS, "camera_link", FRAME_ID, OPTICAL)]]
+
+
+def rotvec(q):
+    """The rotation vector (axis times angle) of a unit quaternion."""
+    x, y, z, w = q if q[3] >= 0 else [-v for v in q]
+    n = math.sqrt(x * x + y * y + z * z)
+    if n < 1e-15:
+        return [2 * x, 2 * y, 2 * z]
+    a = 2 * math.atan2(n, w)
+    return [x / n * a, y / n * a, z / n * a]
+
+
+def quat_exp(v):
+    """The unit quaternion of a rotation vector."""
+    a = math.sqrt(sum(x * x for x in v))
+    if a < 1e-15:
+        return [0.0, 0.0, 0.0, 1.0]
+    k = math.sin(a / 2) / a
+    return [v[0] * k, v[1] * k, v[2] * k, math.cos(a / 2)]
 
 
 def base(pose):
@@ -253,7 +286,34 @@ def plans(work):
     out["fgenc"] = (seq_pan, pan, plan_dir(work, "fgenc", seq_pan, {
         "tf_messages": clean, "tf_static_messages": statics()}))
     pose_plans(work, out, seq_pan, pan)
+    imu_plans(work, out, seq_pan, pan)
     return out
+
+
+def imu_plans(work, out, seq, pan):
+    """The imu* plans: pan-30's rotation as an IMU at 200 Hz from 20 ms before the first
+    frame to 20 ms after the last; the expected poses in out[name][1]."""
+    inv = lambda q: [-q[0], -q[1], -q[2], q[3]]
+    rates = [[x * 30 for x in rotvec(qmul(inv(a[0]), b[0]))] for a, b in zip(pan, pan[1:])]
+    if max(abs(a - b) for r in rates for a, b in zip(r, rates[0])) > 1e-9:
+        sys.exit("pan-30 does not turn at a constant rate: %s" % rates)
+    mount_opt = compose(inverse(IMU_MOUNT), OPTICAL)  # the optical frame in the IMU's
+    w_imu = qrot(mount_opt[0], rates[0])
+    t0 = stamp(0) - 20 * 10**6
+    n = (stamp(len(pan) - 1) + 20 * 10**6 - t0) // (5 * 10**6) + 1
+    track = lambda ns: quat_exp([x * (ns - t0) * 1e-9 for x in w_imu])
+    for name, orientation, mounted in (("imu", False, True), ("imuq", True, True),
+                                       ("imubare", False, False)):
+        msgs = [dict({"stamp_ns": str(t0 + k * 5 * 10**6), "w": w_imu},
+                     **({"q": qmul(AHRS, track(t0 + k * 5 * 10**6))} if orientation else {}))
+                for k in range(n)]
+        st = statics() + ([[tf(START_NS, "camera_link", IMU_FRAME, IMU_MOUNT)]] if mounted else [])
+        start = AHRS if orientation else [0.0, 0.0, 0.0, 1.0]
+        want = [(qmul(qmul(start, track(stamp(i))), mount_opt[0] if mounted else [0, 0, 0, 1]),
+                 [0.0, 0.0, 0.0]) for i in range(len(pan))]
+        out[name] = (seq, want, plan_dir(work, name, seq, {
+            "tf_static_messages": st,
+            "imu": {"topic": IMU_TOPIC, "frame": IMU_FRAME, "messages": msgs}}))
 
 
 def pose_plans(work, out, seq, pan):
@@ -404,6 +464,15 @@ def check_sources(recs, plans_):
         check_truth(fmt, "odom", paths["odom"] + "?pose_topic=/odom", pan)
         check_truth(fmt, "bare", paths["bare"] + "?pose_topic=/odom", [base(p) for p in pan],
                     warning="the odometry's pose is taken as the camera's")
+        sel = "?pose_topic=" + IMU_TOPIC
+        note = "%s is an IMU: the poses have its rotation (%s) and no translation"
+        check_truth(fmt, "imu", paths["imu"] + sel, plans_["imu"][1],
+                    warning=note % (IMU_TOPIC, "its rates integrated"))
+        check_truth(fmt, "imuq", paths["imuq"] + sel, plans_["imuq"][1],
+                    warning=note % (IMU_TOPIC, "its orientation"))
+        check_truth(fmt, "imubare", paths["imubare"] + sel, plans_["imubare"][1],
+                    warning="no transform from the IMU's '%s' to the depth frame '%s': its "
+                    "axes taken for the camera's optical axes" % (IMU_FRAME, FRAME_ID))
 
 
 def depth_out(work, tag, args):
@@ -417,11 +486,25 @@ def depth_out(work, tag, args):
             for n in sorted(os.listdir(out))], r.stderr
 
 
-def check_process(work, recs, plans_):
+def references(work, plans_):
+    """pan's filtered depth with --poses poses.txt and without motion, from its PNGs."""
     seq = plans_["pan"][0]
     ref, _ = depth_out(work, "png", ["--input", os.path.join(seq, "depth"), "--poses",
                                      os.path.join(seq, "poses.txt")])
     still, _ = depth_out(work, "png-still", ["--input", os.path.join(seq, "depth")])
+    return ref, still
+
+
+def differences(got, want, still):
+    """The largest difference in counts, the largest share of pixels that differ in a
+    frame, and the pixels that differ from the filter without motion."""
+    diff = [np.abs(a - b) for a, b in zip(got, want)]
+    return (max(int(d.max()) for d in diff), max(float((d > 0).mean()) for d in diff),
+            sum(int((a != b).sum()) for a, b in zip(got, still)))
+
+
+def check_process(work, recs, plans_, ref, still):
+    seq = plans_["pan"][0]
     if ref is None or still is None:
         return
     outs = {}
@@ -449,10 +532,7 @@ def check_process(work, recs, plans_):
             if want is None or len(got) != len(want):
                 fail("%s %s: %s frames" % (fmt, mode, len(got)))
                 continue
-            diff = [np.abs(a - b) for a, b in zip(got, want)]
-            big = max(int(d.max()) for d in diff)
-            share = max(float((d > 0).mean()) for d in diff)
-            moved = sum(int((a != b).sum()) for a, b in zip(got, still))
+            big, share, moved = differences(got, want, still)
             print("%s %s: filtered depth against --poses: largest difference %d counts, "
                   "%.4f %% of the pixels differ; %d pixels differ from the filter without "
                   "motion" % (fmt, mode, big, 100 * share, moved))
@@ -463,6 +543,45 @@ def check_process(work, recs, plans_):
                 fail("%s %s: the same as without motion" % (fmt, mode))
             if "skipped as malformed" not in err:
                 fail("%s %s: no warning of the skipped transform: %s" % (fmt, mode, err))
+
+
+def check_imu_process(work, recs, ref, still):
+    """process with source on an IMU's rotation (the imu plans are pan's frames) against
+    process --poses: pan-30's motion is its rotation alone; source+icp runs from it and
+    moves the history."""
+    if ref is None or still is None:
+        return
+    for fmt, paths in recs.items():
+        if "imu" not in paths:
+            continue
+        for name, mode in (("imu", "source"), ("imuq", "source"), ("imu", "source+icp")):
+            got, err = depth_out(work, "%s-%s-%s" % (fmt, name, mode), [
+                "--input", paths[name], "--depth-temporal-motion", mode, "--pose-topic",
+                IMU_TOPIC])
+            if got is None:
+                continue
+            if len(got) != len(ref):
+                fail("%s %s %s: %d frames" % (fmt, name, mode, len(got)))
+                continue
+            big, share, moved = differences(got, ref, still)
+            if moved == 0:
+                fail("%s %s %s: the same as without motion" % (fmt, name, mode))
+            if "is an IMU" not in err:
+                fail("%s %s %s: no word that an IMU has no translation: %s" %
+                     (fmt, name, mode, err))
+            if mode != "source":
+                print("%s %s %s: %d pixels differ from the filter without motion" %
+                      (fmt, name, mode, moved))
+                continue
+            print("%s %s source: filtered depth against --poses: largest difference %d counts, "
+                  "%.4f %% of the pixels differ" % (fmt, name, big, 100 * share))
+            if big > 1 or share > 5e-4:
+                fail("%s %s: the filtered depth differs from --poses' (%d counts, %.4f %%)" %
+                     (fmt, name, big, 100 * share))
+        expect_fail(fmt + " imu --pose-frame", ["--input", paths["imu"], "--depth-temporal-motion",
+                                                "source", "--pose-topic", IMU_TOPIC,
+                                                "--pose-frame", "map"],
+                    "an IMU's rotation has no frame of the tf to be in")
 
 
 def daemon_depth(work, tag, source):
@@ -510,9 +629,9 @@ def check_errors(work, recs, plans_):
                      "frames seen: 'map', 'odom', 'camera_link', '%s', 'base_link'" % FRAME_ID])
         expect_fail(fmt + " no topic", ["--input", paths["pan"], "--depth-temporal-motion",
                                         "source", "--pose-topic", "/nope"],
-                    ["no nav_msgs/Odometry or Foxglove PoseInFrame(s) topic '/nope' "
-                     "(pose_topic), nor transforms; odometry and pose topics: none; transform "
-                     "topics: /tf", "/tf_static"])
+                    ["no nav_msgs/Odometry, Foxglove PoseInFrame(s) or sensor_msgs/Imu "
+                     "topic '/nope' (pose_topic), nor transforms; odometry, pose and IMU "
+                     "topics: none; transform topics: /tf", "/tf_static"])
         if "odom" in paths:
             expect_fail(fmt + " no tf", ["--input", paths["odom"], "--depth-temporal-motion",
                                          "source"],
@@ -643,7 +762,9 @@ def main():
             print("SKIP: neither rosbag nor node's @mcap/core is there to write recordings")
             sys.exit(77)
         check_sources(recs, plans_)
-        check_process(work, recs, plans_)
+        ref, still = references(work, plans_)
+        check_process(work, recs, plans_, ref, still)
+        check_imu_process(work, recs, ref, still)
         check_errors(work, recs, plans_)
         check_foxglove(recs, plans_)
         check_pose_process(work, recs)

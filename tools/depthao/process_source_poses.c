@@ -2,7 +2,7 @@
 /*
  * depthao process on a recording with depth-temporal-motion source or
  * source+icp: the camera pose of each frame from the source (a ROS
- * recording's tf or odometry, a Foxglove MCAP's FrameTransform(s),
+ * recording's tf, odometry or IMU, a Foxglove MCAP's FrameTransform(s),
  * dao_source_frame_pose) given to the context.
  */
 #include <errno.h>
@@ -58,8 +58,9 @@ int process_source_pose(const struct process_options *o, struct run_state *st,
 			DAO_DEPTH_MOTION_SOURCE ? "source" : "source+icp", err.message);
 		if (r == -ENOTSUP)
 			fprintf(stderr, "depthao: ROS recordings (.bag, .mcap, .db3) carry them in "
-				"their tf or odometry, Foxglove's in FrameTransform(s) or PoseInFrame(s); "
-				"for others give --depth-temporal-motion icp\n");
+				"their tf, odometry or IMU (--pose-topic), Foxglove's in "
+				"FrameTransform(s) or PoseInFrame(s); for others give "
+				"--depth-temporal-motion icp\n");
 		return 1;
 	}
 	if (r == 0 && st->source_posed++ == 0 && !o->quiet)

@@ -573,7 +573,7 @@ const struct dao_plugin dao_builtin_bag_plugin = {
 	.name = "bag",
 	.description = "ROS 1 bags (format 2.0, chunks none/bz2/lz4) and RealSense .bag "
 		       "recordings: depth images 16UC1, mono16, 32FC1, colour rgb8, bgr8, rgba8, "
-		       "bgra8, mono8; camera poses from tf or odometry; "
+		       "bgra8, mono8; camera poses from tf, odometry or an IMU; "
 		       "FILE.bag[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]",
 	.source = &bag_source_ops,
 };

@@ -244,7 +244,7 @@ const struct dao_plugin dao_builtin_db3_plugin = {
 	.name = "db3",
 	.description = "rosbag2 sqlite3 bags (.db3, or a bag directory with metadata.yaml): the "
 		       "mcap source's messages (CDR Image, compressedDepth, CameraInfo, colour; "
-		       "Foxglove schemas; camera poses from tf or odometry); "
+		       "Foxglove schemas; camera poses from tf, odometry or an IMU); "
 		       "FILE.db3|DIR[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]",
 	.source = &db3_source_ops,
 };

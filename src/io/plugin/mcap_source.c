@@ -124,7 +124,7 @@ const struct dao_plugin dao_builtin_mcap_plugin = {
 	.description = "MCAP files (ROS 2 bags; chunks none/zstd/lz4): CDR depth Image 16UC1, "
 		       "mono16, 32FC1 and compressedDepth (PNG, RVL), colour rgb8, bgr8, rgba8, "
 		       "bgra8, mono8, JPEG; Foxglove RawImage, CompressedImage (16-bit PNG, JPEG), "
-		       "CameraCalibration in protobuf or JSON; camera poses from tf, odometry or "
+		       "CameraCalibration in protobuf or JSON; camera poses from tf, odometry, an IMU or "
 		       "Foxglove FrameTransform(s) in protobuf or JSON; "
 		       "FILE.mcap[?topic=T][&unit=M][&color=C][&pose_frame=F][&pose_topic=O]; "
 		       "records the AO (Image mono16, rgb8, CameraInfo, PointCloud2) as a sink",

@@ -15,11 +15,11 @@ static int ends_static(const char *name)
 	return n >= 9 && !strcmp(name + n - 9, "tf_static");
 }
 
-static enum dao_pose_topic kind_of(const char *name, int tf, int odometry)
+static enum dao_pose_topic kind_of(const char *name, int tf, int odometry, int imu)
 {
 	if (tf)
 		return ends_static(name) ? DAO_POSE_TOPIC_TF_STATIC : DAO_POSE_TOPIC_TF;
-	return odometry ? DAO_POSE_TOPIC_ODOMETRY : DAO_POSE_TOPIC_NONE;
+	return odometry ? DAO_POSE_TOPIC_ODOMETRY : imu ? DAO_POSE_TOPIC_IMU : DAO_POSE_TOPIC_NONE;
 }
 
 static void bag_topic(void *impl, uint32_t i, struct dao_pose_topic_info *out)
@@ -31,7 +31,7 @@ static void bag_topic(void *impl, uint32_t i, struct dao_pose_topic_info *out)
 					     .static_name = ends_static(t->name) };
 	out->kind = kind_of(t->name, !strcmp(t->type, "tf2_msgs/TFMessage") ||
 				     !strcmp(t->type, "tf/tfMessage"),
-			    !strcmp(t->type, "nav_msgs/Odometry"));
+			    !strcmp(t->type, "nav_msgs/Odometry"), !strcmp(t->type, "sensor_msgs/Imu"));
 }
 
 static int bag_read(void *impl, uint32_t topic, uint32_t i, const uint8_t **data, uint64_t *len,
@@ -73,10 +73,18 @@ static int bag_pose(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len
 	return odometry(ros_odometry, msg, len, cb, user);
 }
 
+static int bag_imu(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
+		   struct dao_imu_msg *out)
+{
+	(void)impl;
+	(void)topic;
+	return len > UINT32_MAX ? -EINVAL : dao_ros_imu_parse(msg, (uint32_t)len, out);
+}
+
 void dao_bag_pose_feed(struct dao_bag *bag, struct dao_pose_feed *feed)
 {
 	*feed = (struct dao_pose_feed){ bag, dao_bag_path(bag), dao_bag_topic_count(bag), bag_topic,
-					bag_read, bag_tf, bag_pose };
+					bag_read, bag_tf, bag_pose, bag_imu };
 }
 
 /* Foxglove's schemas read for poses. */
@@ -128,7 +136,8 @@ static void ros2_topic(void *impl, uint32_t i, struct dao_pose_topic_info *out)
 					     .schema_encoding = t.schema_encoding ? t.schema_encoding : "",
 					     .static_name = ends_static(t.name) };
 	out->kind = kind_of(t.name, cdr && !strcmp(t.schema, "tf2_msgs/msg/TFMessage"),
-			    cdr && !strcmp(t.schema, "nav_msgs/msg/Odometry"));
+			    cdr && !strcmp(t.schema, "nav_msgs/msg/Odometry"),
+			    cdr && !strcmp(t.schema, "sensor_msgs/msg/Imu"));
 	enum fg_schema fg = fg_schema(t.schema, &ros2);
 	if (fg != FG_NONE)
 		out->kind = fg_kind(fg, fg_encoding(&t, ros2), out->static_name);
@@ -162,9 +171,17 @@ static int ros2_parse(void *impl, uint32_t topic, const uint8_t *msg, uint64_t l
 							     cb, user);
 }
 
+static int ros2_imu(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
+		    struct dao_imu_msg *out)
+{
+	(void)impl;
+	(void)topic;
+	return dao_ros2_imu_parse(msg, len, out);
+}
+
 void dao_ros2_pose_feed(struct dao_ros2_store_ref *ref, struct dao_pose_feed *feed)
 {
 	*feed = (struct dao_pose_feed){ ref, ref->ops->path(ref->store),
 					ref->ops->topic_count(ref->store), ros2_topic, ros2_read,
-					ros2_parse, ros2_parse };
+					ros2_parse, ros2_parse, ros2_imu };
 }

@@ -1,14 +1,16 @@
 /* SPDX-License-Identifier: MIT */
-/* A recording's camera poses from its tf, Foxglove transforms or poses, or odometry
+/* A recording's camera poses from its tf, Foxglove transforms or poses, odometry or IMU
  * (source_poses.h). */
 #include "plugin/source_poses.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error_internal.h"
+#include "tf/imu_track.h"
 #include "tf/tf_buffer.h"
 
 struct dao_source_poses {
@@ -24,6 +26,10 @@ struct dao_source_poses {
 				    /* topic's: "pose of TOPIC", the camera's frame) */
 	char odom_frame[256];       /* ... and its header.frame_id (the default fixed frame) */
 	int camera_pose;            /* a pose topic gives the camera's pose */
+	int imu;                    /* the pose topic is an IMU: 1 its rates, 2 its orientation */
+	struct dao_tf_buffer *imu_tf; /* its rotation: "rotation of TOPIC" -> imu_frame */
+	char imu_frame[256];        /* the IMU's frame (its first message's frame_id) */
+	int imu_mount;              /* the depth frame's pose in the IMU's frame from the tf */
 	char depth_frame[256];      /* the frame resolved for (the depth images' frame_id) */
 	int resolved, source, target;
 	char description[160];
@@ -59,6 +65,7 @@ void dao_source_poses_free(struct dao_source_poses *p)
 	if (!p)
 		return;
 	dao_tf_buffer_free(p->tf);
+	dao_tf_buffer_free(p->imu_tf);
 	free(p);
 }
 
@@ -86,6 +93,17 @@ static int add(void *user, const struct dao_tf_msg_transform *t)
 	if (r < 0)
 		*l->err = e;
 	return r < 0 ? r : 0;
+}
+
+/* s after buf's text, as much as fits */
+static void list_append(char *buf, size_t cap, const char *s)
+{
+	size_t n = strlen(buf), k = strlen(s);
+	if (n + 1 >= cap)
+		return;
+	k = k < cap - 1 - n ? k : cap - 1 - n;
+	memcpy(buf + n, s, k);
+	buf[n + k] = 0;
 }
 
 static void list_add(char *buf, size_t cap, const char *name)
@@ -124,6 +142,106 @@ static int not_one_pose(const struct dao_pose_feed *feed, const struct dao_pose_
 			     "pose_topic", feed->path, i, ti->name, ti->type);
 }
 
+/* Whether an IMU message's values can be taken: rates below 1e4 rad/s (a gyro's range is
+ * tens; NaN fails too), an orientation within 1e-3 of unit (as a transform's). */
+static int imu_usable(const struct dao_imu_msg *m, int orientation)
+{
+	if (!orientation)
+		return fabs(m->w[0]) < 1e4 && fabs(m->w[1]) < 1e4 && fabs(m->w[2]) < 1e4;
+	const double n = sqrt(m->q[0] * m->q[0] + m->q[1] * m->q[1] + m->q[2] * m->q[2] +
+			      m->q[3] * m->q[3]);
+	return fabs(n - 1.0) <= 1e-3;
+}
+
+/*
+ * An IMU topic: its rotation (imu_track.h) as the transforms from its frame (the first
+ * message's frame_id) to "rotation of TOPIC", stamped as the messages, no translation.
+ * The first message decides: its orientation where it has one (messages without are
+ * skipped), else the angular velocity of every message, integrated.
+ */
+static int read_imu(struct dao_source_poses *p, const struct dao_pose_feed *feed, uint32_t t,
+		    const struct dao_pose_topic_info *ti, const char *why, struct dao_error *err)
+{
+	if (ti->count > DAO_POSES_MAX_SAMPLES)
+		return dao_error_set(err, -E2BIG, "%s: '%s' has %u messages, more than the %u "
+				     "read for poses; cut the recording", feed->path, ti->name,
+				     ti->count, DAO_POSES_MAX_SAMPLES);
+	struct dao_imu_sample *v = ti->count ? malloc(ti->count * sizeof(*v)) : NULL;
+	if (ti->count && !v)
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	char *frame = p->imu_frame;
+	int mode = 0; /* 1 rates, 2 orientation: the first message's */
+	size_t n = 0;
+	int r = 0;
+	for (uint32_t i = 0; i < ti->count; i++) {
+		const uint8_t *d;
+		uint64_t len;
+		struct dao_imu_msg m;
+		if ((r = feed->read(feed->impl, t, i, &d, &len, err)) < 0)
+			break;
+		if (feed->parse_imu(feed->impl, t, d, len, &m) < 0) {
+			skip(p, ti->name, i, why);
+			continue;
+		}
+		if (!mode) {
+			if (m.frame_len == 0 || m.frame_len > DAO_TF_NAME_MAX) {
+				r = dao_error_set(err, -EINVAL, "%s: message %u of the IMU topic '%s' "
+						  "has %s frame_id: its place on the camera is unknown",
+						  feed->path, i, ti->name,
+						  m.frame_len ? "too long a" : "an empty");
+				break;
+			}
+			memcpy(frame, m.frame, m.frame_len);
+			frame[m.frame_len] = 0;
+			mode = m.has_orientation ? 2 : 1;
+		}
+		if (m.frame_len != strlen(frame) || memcmp(m.frame, frame, m.frame_len)) {
+			skip(p, ti->name, i, "another frame_id than the first message's");
+			continue;
+		}
+		if (mode == 2 && !m.has_orientation) {
+			skip(p, ti->name, i, "no orientation, which the first message has");
+			continue;
+		}
+		if (!imu_usable(&m, mode == 2)) {
+			skip(p, ti->name, i, mode == 2 ? "an orientation that is not a unit quaternion"
+						       : "an angular velocity not finite or beyond 1e4 "
+							 "rad/s");
+			continue;
+		}
+		v[n].stamp_ns = m.stamp_ns;
+		memcpy(v[n].q, m.q, sizeof m.q);
+		memcpy(v[n].w, m.w, sizeof m.w);
+		n++;
+	}
+	if (r >= 0 && !n)
+		r = dao_error_set(err, -ENODATA, "%s: the IMU topic '%s' has no message that can be "
+				  "read%s%s", feed->path, ti->name, p->skipped ? ": " : "",
+				  p->skipped ? p->skip_reason : "");
+	if (r >= 0)
+		r = dao_tf_buffer_create(&p->imu_tf, 2, DAO_POSES_MAX_SAMPLES, err);
+	if (r >= 0) {
+		n = dao_imu_track(v, n, mode == 2, p->gap_ns);
+		p->imu = mode;
+		/* the fixed frame: where the IMU's rotation starts (or its orientation's) */
+		snprintf(p->odom_frame, sizeof p->odom_frame, "rotation of %.200s", ti->name);
+		for (size_t i = 0; i < n && r >= 0; i++) {
+			struct dao_rigid tr = { .q = { v[i].q[0], v[i].q[1], v[i].q[2], v[i].q[3] } };
+			struct dao_error e;
+			r = dao_tf_buffer_add(p->imu_tf, p->odom_frame, strlen(p->odom_frame), frame,
+					      strlen(frame), v[i].stamp_ns, &tr, DAO_TF_DYNAMIC, &e);
+			if (r == 1)
+				skip(p, ti->name, (uint32_t)i, e.message);
+			if (r < 0)
+				*err = e;
+		}
+	}
+	if (r >= 0)
+		r = dao_tf_buffer_finish(p->imu_tf, err);
+	free(v);
+	return r < 0 ? r : 0;
+}
+
 /* Every message of topic t into the buffer. */
 static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed, uint32_t t,
 		      struct dao_error *err)
@@ -138,6 +256,8 @@ static int read_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 	list_add(p->topics, sizeof p->topics, name);
 	struct loading l = { p, name, 0, kind, err, "" };
 	snprintf(l.pose_child, sizeof l.pose_child, "pose of %s", name);
+	if (kind == DAO_POSE_TOPIC_IMU)
+		return read_imu(p, feed, t, &ti, why, err);
 	for (uint32_t i = 0; i < ti.count; i++) {
 		const uint8_t *d;
 		uint64_t len;
@@ -175,10 +295,12 @@ static int refused(const struct dao_pose_feed *feed, const struct dao_pose_topic
 			     ti->schema_encoding);
 }
 
-/* A topic that gives the camera's pose alone: odometry or Foxglove poses. */
+/* A topic that gives the camera's pose (or rotation) alone: odometry, Foxglove poses, an
+ * IMU. */
 static int is_poses(enum dao_pose_topic kind)
 {
-	return kind == DAO_POSE_TOPIC_ODOMETRY || kind == DAO_POSE_TOPIC_POSE;
+	return kind == DAO_POSE_TOPIC_ODOMETRY || kind == DAO_POSE_TOPIC_POSE ||
+	       kind == DAO_POSE_TOPIC_IMU;
 }
 
 /* The topic named by pose_topic (odometry or transforms): its index, or < 0 with the topics
@@ -200,9 +322,9 @@ static int pose_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 		else if (is_transforms(ti.kind))
 			list_add(tf, sizeof tf, ti.name);
 	}
-	return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry or Foxglove PoseInFrame(s) "
-			     "topic '%s' (pose_topic), nor transforms; odometry and pose topics: "
-			     "%s; transform topics: %s", feed->path,
+	return dao_error_set(err, -EINVAL, "%s: no nav_msgs/Odometry, Foxglove PoseInFrame(s) "
+			     "or sensor_msgs/Imu topic '%s' (pose_topic), nor transforms; "
+			     "odometry, pose and IMU topics: %s; transform topics: %s", feed->path,
 			     p->topic, odom[0] ? odom : "none", tf[0] ? tf : "none");
 }
 
@@ -243,10 +365,18 @@ static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 				     "nav_msgs/Odometry or PoseInFrame(s) topic (pose_topic), or use "
 				     "motion icp or off",
 				     feed->path, p->topics[0] ? ", only " : "", p->topics);
+	size_t w = 0;
 	if (p->skipped)
-		snprintf(p->warning, sizeof p->warning, "%llu transforms or messages of %.40s skipped "
-			 "as malformed (the first: %.120s)", (unsigned long long)p->skipped, p->topics,
-			 p->skip_reason);
+		w = (size_t)snprintf(p->warning, sizeof p->warning, "%llu transforms or messages of "
+				     "%.40s skipped as malformed (the first: %.100s); ",
+				     (unsigned long long)p->skipped, p->topics, p->skip_reason);
+	if (p->imu && w < sizeof p->warning)
+		w += (size_t)snprintf(p->warning + w, sizeof p->warning - w, "%.40s is an IMU: "
+				      "the poses have its rotation (%s) and no translation; "
+				      "depth-temporal-motion source+icp estimates the translation",
+				      p->topic, p->imu == 2 ? "its orientation" : "its rates integrated");
+	else if (w >= 2 && w < sizeof p->warning)
+		p->warning[w - 2] = 0; /* no "; " after the last part */
 	return dao_tf_buffer_finish(p->tf, err);
 }
 
@@ -285,6 +415,66 @@ static int odometry_fallback(struct dao_source_poses *p, const char *depth, stru
 		 "camera's", p->topics, p->odom_child, depth);
 	p->warned = 0;
 	return c;
+}
+
+/*
+ * An IMU's poses for the depth images' frame `depth`: the IMU's rotation (imu_tf) after the
+ * depth frame's pose in the IMU's frame (the tf's transforms between them, as at each
+ * frame's time), or the IMU's own frame taken for the depth frame where none connects them.
+ */
+static int resolve_imu(struct dao_source_poses *p, const struct dao_pose_feed *feed,
+		       const char *depth, struct dao_error *err)
+{
+	p->resolved = 0;
+	if (p->frame[0])
+		return dao_error_set(err, -EINVAL, "%s: pose_frame '%s' with the IMU topic '%s': an "
+				     "IMU's rotation has no frame of the tf to be in (it is from where "
+				     "it started); leave pose_frame out", feed->path, p->frame,
+				     p->topic);
+	const int s = dao_tf_buffer_find(p->tf, depth), i = dao_tf_buffer_find(p->tf, p->imu_frame);
+	int r = s >= 0 && i >= 0 ? dao_tf_buffer_connected(p->tf, s, i, err) : 0;
+	if (r < 0)
+		return r;
+	p->imu_mount = r && s != i;
+	if (!r && strcmp(depth, p->imu_frame)) {
+		char note[sizeof p->warning];
+		snprintf(note, sizeof note, "%s", p->warning);
+		snprintf(p->warning, sizeof p->warning, "%.40s: no transform from the IMU's "
+			 "'%.40s' to the depth frame '%.40s': its axes taken for the camera's "
+			 "optical axes; ", p->topic, p->imu_frame, depth);
+		list_append(p->warning, sizeof p->warning, note);
+		p->warned = 0;
+	}
+	p->source = s;
+	p->target = i;
+	p->resolved = 1;
+	snprintf(p->depth_frame, sizeof p->depth_frame, "%s", depth);
+	snprintf(p->description, sizeof p->description, "'%.50s' in '%.60s' (%llu samples)%s",
+		 depth, p->odom_frame, (unsigned long long)dao_tf_buffer_samples(p->imu_tf),
+		 p->imu_mount ? ", mounted as the tf has it" : "");
+	return 0;
+}
+
+/* The pose of the depth frame at stamp_ns from the IMU (resolve_imu). */
+static int imu_pose(struct dao_source_poses *p, uint64_t stamp_ns, struct dao_rigid *out,
+		    struct dao_error *err)
+{
+	struct dao_rigid rot, mount;
+	int r = dao_tf_buffer_lookup(p->imu_tf, dao_tf_buffer_find(p->imu_tf, p->odom_frame),
+				     dao_tf_buffer_find(p->imu_tf, p->imu_frame), stamp_ns, p->gap_ns,
+				     &rot, err);
+	if (r < 0)
+		return r;
+	dao_rigid_identity(&mount);
+	if (p->imu_mount &&
+	    (r = dao_tf_buffer_lookup(p->tf, p->target, p->source, stamp_ns, p->gap_ns, &mount,
+				      err)) < 0)
+		return r;
+	dao_rigid_compose(&rot, &mount, out);
+	/* no translation: the IMU measures none (the rotation about the IMU's origin would
+	 * move the camera by its lever arm, which is no better a guess than not at all) */
+	out->t[0] = out->t[1] = out->t[2] = 0.0;
+	return 0;
 }
 
 /* The source and target frames for the depth images' frame `depth`. */
@@ -347,10 +537,13 @@ int dao_source_poses_get(struct dao_source_poses *p, const struct dao_pose_feed 
 				     len ? "too long" : "empty");
 	memcpy(depth, frame_id, len);
 	depth[len] = 0;
-	if ((!p->resolved || strcmp(depth, p->depth_frame)) && (r = resolve(p, feed, depth, err)) < 0)
+	if ((!p->resolved || strcmp(depth, p->depth_frame)) &&
+	    (r = p->imu ? resolve_imu(p, feed, depth, err) : resolve(p, feed, depth, err)) < 0)
 		return r;
 	struct dao_rigid tr;
-	if ((r = dao_tf_buffer_lookup(p->tf, p->target, p->source, stamp_ns, p->gap_ns, &tr, err)) < 0)
+	if ((r = p->imu ? imu_pose(p, stamp_ns, &tr, err)
+			: dao_tf_buffer_lookup(p->tf, p->target, p->source, stamp_ns, p->gap_ns, &tr,
+					       err)) < 0)
 		return r;
 	memcpy(pose->rotation, tr.q, sizeof tr.q);
 	memcpy(pose->translation, tr.t, sizeof tr.t);

@@ -10,8 +10,10 @@
  * .../tf_static static, else a transform stamped 0, or the only stamp of
  * its child frame, static, the others dynamic) or, with ?pose_topic=, from
  * a nav_msgs/Odometry topic, a Foxglove PoseInFrame(s) topic (the pose is
- * the camera's: the depth frame's in its frame_id) or one transform topic,
- * and the static ones;
+ * the camera's: the depth frame's in its frame_id), a sensor_msgs/Imu topic
+ * (the IMU's rotation: its orientation, or its angular velocity integrated
+ * from the first message on; no translation) or one transform topic, and the
+ * static ones;
  * then the pose of each depth frame's frame_id in the fixed frame
  * (?pose_frame=, default the root of the depth frame's tree) at its stamp
  * (tf/tf_buffer.h; ?pose_gap= seconds, default 0.5, the longest
@@ -41,6 +43,7 @@ enum dao_pose_topic {
 	DAO_POSE_TOPIC_REFUSED,     /* transforms in an encoding not read */
 	DAO_POSE_TOPIC_POSE,        /* Foxglove PoseInFrame(s): the camera's pose */
 	DAO_POSE_TOPIC_POSE_REFUSED, /* ... in an encoding not read */
+	DAO_POSE_TOPIC_IMU,         /* sensor_msgs/Imu: the rotation (pose_topic only) */
 };
 
 struct dao_pose_topic_info {
@@ -70,6 +73,9 @@ struct dao_pose_feed {
 	 * -EINVAL when it is not its type, -ERANGE for a PosesInFrame not of one pose */
 	int (*parse_pose)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
 			  dao_tf_msg_cb cb, void *user);
+	/* a message of an IMU topic: 0, or -EINVAL when it is not its type */
+	int (*parse_imu)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
+			 struct dao_imu_msg *out);
 };
 
 struct dao_source_poses;
