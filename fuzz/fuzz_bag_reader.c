@@ -3,13 +3,18 @@
  * libFuzzer target: the input is a ROS bag.  It is read twice: with the
  * bag reader alone (every message of every topic, each parsed as an Image,
  * a CameraInfo and a Float32), then as the built-in "bag" source (every
- * frame of the depth topic it picks, one seek back).  Any outcome is fine
- * except a crash, a sanitizer report, an error without a message, or an
- * error code the source does not document.
+ * frame of the depth topic it picks, one seek back), and where the bytes
+ * hold "/imu" once more with pose_topic=/imu (a sensor_msgs/Imu topic's
+ * rotation for the poses).  Any outcome is fine except a crash, a sanitizer
+ * report, an error without a message, or an error code the source does not
+ * document.
  */
+#define _GNU_SOURCE /* memmem */
 #include <errno.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "bag/bag_reader.h"
 #include "bag/ros_msg.h"
@@ -70,5 +75,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	fuzz_file_store(&file, "fuzz.bag", "bag", data, size);
 	read_raw();
 	fuzz_play_source(file.uri, MAX_PIXELS, 0, codes);
+	/* an IMU topic named /imu: played again with it as the poses' (source_poses.c's IMU
+	 * path: its messages, the gaps, the mount); only then, to keep the runs fast */
+	if (memmem(data, size, "/imu", 4)) {
+		char uri[sizeof file.uri + 32];
+		snprintf(uri, sizeof uri, "%s?pose_topic=/imu&pose_gap=0.02", file.uri);
+		fuzz_play_source(uri, MAX_PIXELS, 0, codes);
+	}
 	return 0;
 }

@@ -4,13 +4,17 @@
  * MCAP reader alone (every message of every channel, one past the end,
  * each parsed as a ROS 2 Image, CompressedImage and CameraInfo), then as
  * the built-in "mcap" source (every frame of the depth topic it picks, one
- * seek back).  Any outcome is fine
- * except a crash, a sanitizer report, an error without a message, or an
- * error code the source does not document.
+ * seek back), and where the bytes hold "/imu" once more with
+ * pose_topic=/imu (a sensor_msgs/msg/Imu topic's rotation for the poses).
+ * Any outcome is fine except a crash, a sanitizer report, an error without
+ * a message, or an error code the source does not document.
  */
+#define _GNU_SOURCE /* memmem */
 #include <errno.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "harness.h"
 #include "mcap/mcap_reader.h"
@@ -72,5 +76,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	fuzz_file_store(&file, "fuzz.mcap", "mcap", data, size);
 	read_raw();
 	fuzz_play_source(file.uri, MAX_PIXELS, 0, codes);
+	/* an IMU topic named /imu: played again with it as the poses' (source_poses.c's IMU
+	 * path: its messages, the gaps, the mount); only then, to keep the runs fast */
+	if (memmem(data, size, "/imu", 4)) {
+		char uri[sizeof file.uri + 32];
+		snprintf(uri, sizeof uri, "%s?pose_topic=/imu&pose_gap=0.02", file.uri);
+		fuzz_play_source(uri, MAX_PIXELS, 0, codes);
+	}
 	return 0;
 }

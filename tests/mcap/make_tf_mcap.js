@@ -3,7 +3,8 @@
 // sqlite3 .db3 (sql.js), the messages in CDR by @foxglove/rosmsg2-serialization: the depth
 // (sensor_msgs/msg/Image 16UC1) and its camera_info, /tf and /tf_static
 // (tf2_msgs/msg/TFMessage), an odometry topic (nav_msgs/msg/Odometry) and an IMU topic
-// (sensor_msgs/msg/Imu, as make_tf_bag.py writes it) when the plan has them.  With plan.fg_cdr, the transforms are Foxglove's ROS 2 messages instead, as
+// (sensor_msgs/msg/Imu, as make_tf_bag.py writes it) when the plan has them.  With
+// plan.fg_cdr, the transforms are Foxglove's ROS 2 messages instead, as
 // make_fg_tf_mcap.js writes them (/tf foxglove_msgs/msg/FrameTransform, a message a transform,
 // /tf_static FrameTransforms; plan.fg's static_topic, extra and encoding, and the transforms'
 // fg), and plan.poses (make_fg_tf_mcap.js) as foxglove_msgs/msg/PoseInFrame(s); their .msg as

@@ -20,7 +20,9 @@
  * With DAO_EVAL_ROTATION_SEED=B in the environment, depth-temporal-motion is
  * source+icp and every frame is given the true rotation (no translation), as
  * an IMU gives it through a recording's pose_topic, with a gyro bias of B
- * degrees a second about the axis (1, 2, 3) (0: an ideal IMU).
+ * degrees a second about the axis (1, 2, 3) (0: an ideal IMU); with
+ * DAO_EVAL_SEED_LAST_T as well, the seed's translation is the last accepted
+ * estimate's instead of the poses' (docs/perf/imu.md: not kept).
  */
 #include <math.h>
 #include <stdio.h>
@@ -57,7 +59,19 @@ void __wrap_dao_icp_estimate(const struct dao_icp_setup *s, const struct dao_cam
 		t.seeded_coarse_iterations = seeded_steps[0];
 		t.seeded_iterations = seeded_steps[1];
 	}
+	/* DAO_EVAL_SEED_LAST_T: a seed's translation replaced by the last accepted
+	 * estimate's (the rotation from the poses given, the translation as icp's prior) */
+	static struct dao_pose last;
+	static int have_last;
+	struct dao_pose seed;
+	if (prior && have_last && getenv("DAO_EVAL_SEED_LAST_T")) {
+		seed = *prior;
+		memcpy(seed.t, last.t, sizeof seed.t);
+		prior = &seed;
+	}
 	__real_dao_icp_estimate(&t, cam, prev_inv, prev_count, cur_z, prior, scratch, out);
+	have_last = out->valid;
+	last = out->pose;
 }
 
 struct pose {

@@ -24,6 +24,11 @@ header.frame_id camera_depth_optical_frame.  Variants (each in every format):
          IMU's frame mounted on camera_link by /tf_static), no /tf
   imuq   the same with the IMU's orientation (an AHRS's: from a tilted world frame)
   imubare  imu without the IMU's mount: its frame taken for the optical frame (a warning)
+  imunoframe  imu with frame_id "/": no frame, taken for the optical frame (a warning)
+  imugap   imu with 30 ms between two messages, between frames 2 and 3, read with pose_gap=0.01:
+           frame 3 has no pose, and the turn in the gap is lost after it
+  (pan-30 turns at a constant rate, where the side a rate multiplies on does not matter:
+  test imu-track checks that on an axis that turns)
 
 Checks, through the public API (source_poses.c: dao_source_frame_pose):
 1. pan: every frame's pose in map is map->odom x the truth of poses.txt within 1e-6,
@@ -33,13 +38,14 @@ Checks, through the public API (source_poses.c: dao_source_frame_pose):
    the times; bare: base_link's pose and a warning;
    imu, imuq: every frame's rotation is the IMU's (its rates integrated from its first
    message, or its orientation) after the mount, within 1e-6, no translation, and the
-   warning that an IMU has no translation; imubare: the IMU's rotation and a warning;
+   warning that an IMU has no translation; imubare, imunoframe: the IMU's rotation and a
+   warning; imugap: no pose for frame 3;
 3. depthao process --depth-temporal-motion source on each recording gives the filtered
    depth of depthao process --poses poses.txt on the PNG frames (--algorithm none
    --depth-out; at most 1 count apart on at most 0.05 % of the pixels), and differs from
    the filter without motion; so does source with the IMU of imu and imuq (pan-30 turns
    about the optical centre: the rotation is all its motion), and source+icp from the IMU
-   moves the history;
+   gives the poses (--pose-out) of source+icp from the true poses within 1e-6;
 4. error paths: split with --pose-frame map (not connected, the frames listed); a
    missing --pose-topic; a recording without /tf; PNG input with --pose-frame; an .oni;
    imu with --pose-frame.
@@ -302,18 +308,30 @@ def imu_plans(work, out, seq, pan):
     t0 = stamp(0) - 20 * 10**6
     n = (stamp(len(pan) - 1) + 20 * 10**6 - t0) // (5 * 10**6) + 1
     track = lambda ns: quat_exp([x * (ns - t0) * 1e-9 for x in w_imu])
-    for name, orientation, mounted in (("imu", False, True), ("imuq", True, True),
-                                       ("imubare", False, False)):
-        msgs = [dict({"stamp_ns": str(t0 + k * 5 * 10**6), "w": w_imu},
-                     **({"q": qmul(AHRS, track(t0 + k * 5 * 10**6))} if orientation else {}))
-                for k in range(n)]
+    # imunoframe: frame_id "/" (no frame); imugap: no messages between 70 and 100 ms
+    # after frame 0, between frames 2 and 3 (read with pose_gap=0.01, a gap)
+    gap = (stamp(2) + 4 * 10**6, stamp(3) - 4 * 10**6)
+    for name, orientation, mounted, frame in (("imu", False, True, IMU_FRAME),
+                                              ("imuq", True, True, IMU_FRAME),
+                                              ("imubare", False, False, IMU_FRAME),
+                                              ("imunoframe", False, True, "/"),
+                                              ("imugap", False, True, IMU_FRAME)):
+        stamps = [t0 + k * 5 * 10**6 for k in range(n)]
+        if name == "imugap":
+            stamps = [t for t in stamps if not gap[0] < t < gap[1]]
+        msgs = [dict({"stamp_ns": str(t), "w": w_imu},
+                     **({"q": qmul(AHRS, track(t))} if orientation else {})) for t in stamps]
         st = statics() + ([[tf(START_NS, "camera_link", IMU_FRAME, IMU_MOUNT)]] if mounted else [])
         start = AHRS if orientation else [0.0, 0.0, 0.0, 1.0]
-        want = [(qmul(qmul(start, track(stamp(i))), mount_opt[0] if mounted else [0, 0, 0, 1]),
-                 [0.0, 0.0, 0.0]) for i in range(len(pan))]
+        axes = mount_opt[0] if mounted and frame != "/" else [0, 0, 0, 1]
+        # after a gap the integration goes on from where it stopped: the turn in it is lost
+        lost = lambda ns: 0 if name != "imugap" or ns < gap[1] else \
+            min(t for t in stamps if t > gap[0]) - max(t for t in stamps if t < gap[0])
+        want = [(qmul(qmul(start, track(stamp(i) - lost(stamp(i)))), axes), [0.0, 0.0, 0.0])
+                for i in range(len(pan))]
         out[name] = (seq, want, plan_dir(work, name, seq, {
             "tf_static_messages": st,
-            "imu": {"topic": IMU_TOPIC, "frame": IMU_FRAME, "messages": msgs}}))
+            "imu": {"topic": IMU_TOPIC, "frame": frame, "messages": msgs}}))
 
 
 def pose_plans(work, out, seq, pan):
@@ -465,14 +483,35 @@ def check_sources(recs, plans_):
         check_truth(fmt, "bare", paths["bare"] + "?pose_topic=/odom", [base(p) for p in pan],
                     warning="the odometry's pose is taken as the camera's")
         sel = "?pose_topic=" + IMU_TOPIC
-        note = "%s is an IMU: the poses have its rotation (%s) and no translation"
+        note = "%s is an IMU: a rotation (%s), no translation; source+icp finds the translation"
         check_truth(fmt, "imu", paths["imu"] + sel, plans_["imu"][1],
                     warning=note % (IMU_TOPIC, "its rates integrated"))
         check_truth(fmt, "imuq", paths["imuq"] + sel, plans_["imuq"][1],
                     warning=note % (IMU_TOPIC, "its orientation"))
+        axes = "no transform from the IMU's '%s' to '%s': its axes taken for the optical frame's; "
         check_truth(fmt, "imubare", paths["imubare"] + sel, plans_["imubare"][1],
-                    warning="no transform from the IMU's '%s' to the depth frame '%s': its "
-                    "axes taken for the camera's optical axes" % (IMU_FRAME, FRAME_ID))
+                    warning=axes % (IMU_FRAME, FRAME_ID) +
+                    note % (IMU_TOPIC, "its rates integrated"))
+        check_truth(fmt, "imunoframe", paths["imunoframe"] + sel, plans_["imunoframe"][1],
+                    warning=axes % ("(no frame_id)", FRAME_ID) +
+                    note % (IMU_TOPIC, "its rates integrated"))
+        check_imu_gap(fmt, paths["imugap"] + sel + "&pose_gap=0.01", plans_["imugap"][1])
+
+
+def check_imu_gap(fmt, uri, want):
+    """imugap: frame 3, the first after the IMU's gap, has no pose (its turn in the gap is
+    unknown); the others are the truth."""
+    rc, frames, info = source_poses(uri)
+    if rc:
+        return fail("%s imugap: source_poses failed: %s" % (fmt, info["error"]))
+    for i, w in enumerate(want):
+        got = frames.get(i)
+        if i == 3:
+            if not isinstance(got, str) or "the IMU's messages have a gap" not in got:
+                fail("%s imugap: frame 3 should have no pose: %s" % (fmt, got))
+        elif not isinstance(got, tuple) or not close(got, w):
+            fail("%s imugap: frame %d: %s, want %s" % (fmt, i, got, w))
+    print("%s imugap: frame 3 without a pose, the others the truth" % fmt)
 
 
 def depth_out(work, tag, args):
@@ -545,19 +584,46 @@ def check_process(work, recs, plans_, ref, still):
                 fail("%s %s: no warning of the skipped transform: %s" % (fmt, mode, err))
 
 
-def check_imu_process(work, recs, ref, still):
+def pose_rows(path):
+    """A --pose-out file's poses (tx ty tz qx qy qz qw a frame), the quaternions with w >= 0."""
+    rows = [[float(x) for x in line.split()[1:]] for line in open(path) if line[0] != "#"]
+    return [r[:3] + ([-x for x in r[3:]] if r[6] < 0 else r[3:]) for r in rows]
+
+
+def pose_distance(a, b):
+    return max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra, rb)) \
+        if len(a) == len(b) else float("inf")
+
+
+def imu_seed_reference(work, seq):
+    """--pose-out of source+icp seeded with the truth's rotations (pan-30 has no translation:
+    an IMU's seed exactly), and of icp alone, from the PNG frames."""
+    out = {}
+    for tag, args in (("truth", ["--poses", os.path.join(seq, "poses.txt"),
+                                 "--depth-temporal-motion", "source+icp"]),
+                      ("icp", ["--depth-temporal-motion", "icp"])):
+        path = os.path.join(work, "imu-ref-%s.txt" % tag)
+        got, _ = depth_out(work, "png-imu-" + tag, ["--input", os.path.join(seq, "depth"),
+                                                    "--pose-out", path] + args)
+        out[tag] = pose_rows(path) if got is not None else None
+    return out
+
+
+def check_imu_process(work, recs, plans_, ref, still):
     """process with source on an IMU's rotation (the imu plans are pan's frames) against
-    process --poses: pan-30's motion is its rotation alone; source+icp runs from it and
-    moves the history."""
+    process --poses: pan-30's motion is its rotation alone; source+icp from the IMU estimates
+    what source+icp from the true poses does (--pose-out)."""
     if ref is None or still is None:
         return
+    seeds = imu_seed_reference(work, plans_["pan"][0])
     for fmt, paths in recs.items():
         if "imu" not in paths:
             continue
         for name, mode in (("imu", "source"), ("imuq", "source"), ("imu", "source+icp")):
+            pose_out = os.path.join(work, "poses-%s-%s-%s.txt" % (fmt, name, mode))
             got, err = depth_out(work, "%s-%s-%s" % (fmt, name, mode), [
                 "--input", paths[name], "--depth-temporal-motion", mode, "--pose-topic",
-                IMU_TOPIC])
+                IMU_TOPIC, "--pose-out", pose_out])
             if got is None:
                 continue
             if len(got) != len(ref):
@@ -570,8 +636,13 @@ def check_imu_process(work, recs, ref, still):
                 fail("%s %s %s: no word that an IMU has no translation: %s" %
                      (fmt, name, mode, err))
             if mode != "source":
-                print("%s %s %s: %d pixels differ from the filter without motion" %
-                      (fmt, name, mode, moved))
+                d, d_icp = (pose_distance(pose_rows(pose_out), seeds[k]) if seeds[k] else None
+                            for k in ("truth", "icp"))
+                print("%s %s %s: poses %.2e from source+icp seeded by the truth, %.2e from icp "
+                      "alone" % (fmt, name, mode, d, d_icp))
+                if d is None or not d <= 1e-6:
+                    fail("%s %s %s: the poses are %s from those seeded by the truth" %
+                         (fmt, name, mode, d))
                 continue
             print("%s %s source: filtered depth against --poses: largest difference %d counts, "
                   "%.4f %% of the pixels differ" % (fmt, name, big, 100 * share))
@@ -730,8 +801,8 @@ def check_foxglove_poses(fmt, encoding, paths, recs, pan):
                  (POSE_TOPIC, kind, wrong_encoding(fmt, encoding)), REFUSED])
     expect_fail(fmt + " fgpose without --pose-topic", ["--input", paths["fgpose"],
                                                        "--depth-temporal-motion", "source"],
-                "for the camera's poses, only /tf_static; name a nav_msgs/Odometry or "
-                "PoseInFrame(s) topic (pose_topic), or use motion icp or off")
+                "for the camera's poses, only /tf_static; name a nav_msgs/Odometry, "
+                "PoseInFrame(s) or sensor_msgs/Imu topic (pose_topic), or use motion icp or off")
 
 
 def check_pose_process(work, recs):
@@ -764,7 +835,7 @@ def main():
         check_sources(recs, plans_)
         ref, still = references(work, plans_)
         check_process(work, recs, plans_, ref, still)
-        check_imu_process(work, recs, ref, still)
+        check_imu_process(work, recs, plans_, ref, still)
         check_errors(work, recs, plans_)
         check_foxglove(recs, plans_)
         check_pose_process(work, recs)

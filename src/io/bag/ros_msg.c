@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Deserializing sensor_msgs/Image, CameraInfo, std_msgs/Float32, tf2_msgs/TFMessage and
- * nav_msgs/Odometry. */
+/* Deserializing sensor_msgs/Image, CameraInfo, Imu, std_msgs/Float32, tf2_msgs/TFMessage
+ * and nav_msgs/Odometry. */
 #include "bag/ros_msg.h"
 
 #include <errno.h>

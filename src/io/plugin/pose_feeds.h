@@ -6,10 +6,11 @@
  * The recordings as feeds of source_poses.h: a ROS 1 bag (tf2_msgs/
  * TFMessage or tf/tfMessage, nav_msgs/Odometry, sensor_msgs/Imu, ROS 1
  * serialization) and a store of the mcap and db3 sources
- * (tf2_msgs/msg/TFMessage, nav_msgs/msg/Odometry, sensor_msgs/msg/Imu in CDR; foxglove.FrameTransform(s) and
- * foxglove.PoseInFrame / PosesInFrame in protobuf, schema encoding
- * "protobuf", or in json, schema encoding "jsonschema", and the same as
- * foxglove_msgs/msg/... in cdr, schema encoding "ros2msg", "ros2idl" or none
+ * (tf2_msgs/msg/TFMessage, nav_msgs/msg/Odometry, sensor_msgs/msg/Imu in CDR;
+ * foxglove.FrameTransform(s) and foxglove.PoseInFrame / PosesInFrame in
+ * protobuf, schema encoding "protobuf", or in json, schema encoding
+ * "jsonschema", and the same as foxglove_msgs/msg/... in cdr, schema
+ * encoding "ros2msg", "ros2idl" or none
  * (a .db3): other encodings of these are DAO_POSE_TOPIC_REFUSED or
  * DAO_POSE_TOPIC_POSE_REFUSED).  A transform topic whose name ends in
  * "tf_static" is static.

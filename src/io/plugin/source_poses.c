@@ -27,9 +27,14 @@ struct dao_source_poses {
 	char odom_frame[256];       /* ... and its header.frame_id (the default fixed frame) */
 	int camera_pose;            /* a pose topic gives the camera's pose */
 	int imu;                    /* the pose topic is an IMU: 1 its rates, 2 its orientation */
-	struct dao_tf_buffer *imu_tf; /* its rotation: "rotation of TOPIC" -> imu_frame */
-	char imu_frame[256];        /* the IMU's frame (its first message's frame_id) */
+	struct dao_tf_buffer *imu_tf; /* its rotation: imu_fixed -> imu_frame */
+	char imu_fixed[256];        /* "rotation of TOPIC" */
+	char imu_frame[256];        /* the first message's frame_id (no leading '/'), or "" */
+	int imu_fixed_i, imu_frame_i; /* their frames in imu_tf */
 	int imu_mount;              /* the depth frame's pose in the IMU's frame from the tf */
+	uint64_t *imu_breaks;       /* the first stamps after the gaps (the rotation restarts) */
+	size_t imu_nbreaks;
+	long imu_segment;           /* the segment (between gaps) of the last pose, -1 none */
 	char depth_frame[256];      /* the frame resolved for (the depth images' frame_id) */
 	int resolved, source, target;
 	char description[160];
@@ -66,6 +71,7 @@ void dao_source_poses_free(struct dao_source_poses *p)
 		return;
 	dao_tf_buffer_free(p->tf);
 	dao_tf_buffer_free(p->imu_tf);
+	free(p->imu_breaks);
 	free(p);
 }
 
@@ -142,15 +148,125 @@ static int not_one_pose(const struct dao_pose_feed *feed, const struct dao_pose_
 			     "pose_topic", feed->path, i, ti->name, ti->type);
 }
 
-/* Whether an IMU message's values can be taken: rates below 1e4 rad/s (a gyro's range is
- * tens; NaN fails too), an orientation within 1e-3 of unit (as a transform's). */
-static int imu_usable(const struct dao_imu_msg *m, int orientation)
+/* Whether an IMU message has an orientation to take: marked as there (not
+ * orientation_covariance[0] -1) and a unit quaternion within 1e-3, as a transform's (a
+ * driver that fills none but the mark, with zeros, has none). */
+static int imu_has_orientation(const struct dao_imu_msg *m)
 {
-	if (!orientation)
-		return fabs(m->w[0]) < 1e4 && fabs(m->w[1]) < 1e4 && fabs(m->w[2]) < 1e4;
-	const double n = sqrt(m->q[0] * m->q[0] + m->q[1] * m->q[1] + m->q[2] * m->q[2] +
-			      m->q[3] * m->q[3]);
-	return fabs(n - 1.0) <= 1e-3;
+	struct dao_rigid r = { .q = { m->q[0], m->q[1], m->q[2], m->q[3] } };
+	const char *why;
+	return m->has_orientation && dao_rigid_check(&r, 1e-3, &why) == 0;
+}
+
+/* A gyro's range is tens of rad/s; NaN fails too. */
+static int imu_rates_usable(const struct dao_imu_msg *m)
+{
+	return fabs(m->w[0]) < 1e4 && fabs(m->w[1]) < 1e4 && fabs(m->w[2]) < 1e4;
+}
+
+/* The first IMU message's frame_id kept (without a leading '/': as the tf names it; ""
+ * where it names no frame: empty, "/" or holding a NUL). */
+static void imu_keep_frame(struct dao_source_poses *p, const struct dao_imu_msg *m)
+{
+	const char *f = m->frame;
+	uint32_t n = m->frame_len;
+	if (n && f[0] == '/')
+		f++, n--;
+	if (n > DAO_TF_NAME_MAX || memchr(f, 0, n))
+		n = 0;
+	memcpy(p->imu_frame, f, n);
+	p->imu_frame[n] = 0;
+}
+
+/* Whether message m names the first message's frame. */
+static int imu_same_frame(const struct dao_source_poses *p, const struct dao_imu_msg *m)
+{
+	const char *f = m->frame;
+	uint32_t n = m->frame_len;
+	if (n && f[0] == '/')
+		f++, n--;
+	if (!p->imu_frame[0])
+		return n == 0 || (n <= DAO_TF_NAME_MAX && memchr(f, 0, n));
+	return n == strlen(p->imu_frame) && !memcmp(f, p->imu_frame, n);
+}
+
+/* The usable messages of IMU topic t into v (at most ti->count), *n of them; *mode 2 for
+ * orientations (the first message has one), else 1 (its rates). */
+static int imu_collect(struct dao_source_poses *p, const struct dao_pose_feed *feed, uint32_t t,
+		       const struct dao_pose_topic_info *ti, const char *why,
+		       struct dao_imu_sample *v, size_t *n, int *mode, struct dao_error *err)
+{
+	*n = 0;
+	*mode = 0;
+	for (uint32_t i = 0; i < ti->count; i++) {
+		const uint8_t *d;
+		uint64_t len;
+		struct dao_imu_msg m;
+		int r = feed->read(feed->impl, t, i, &d, &len, err);
+		if (r < 0)
+			return r;
+		if (feed->parse_imu(feed->impl, t, d, len, &m) < 0) {
+			skip(p, ti->name, i, why);
+			continue;
+		}
+		if (!*mode) {
+			imu_keep_frame(p, &m);
+			*mode = imu_has_orientation(&m) ? 2 : 1;
+		}
+		const char *bad = !imu_same_frame(p, &m) ? "another frame_id than the first message's"
+				  : *mode == 2 && !imu_has_orientation(&m)
+					  ? "no unit orientation, which the first message has"
+				  : *mode == 1 && !imu_rates_usable(&m)
+					  ? "an angular velocity not finite or beyond 1e4 rad/s"
+					  : NULL;
+		if (bad) {
+			skip(p, ti->name, i, bad);
+			continue;
+		}
+		v[*n].stamp_ns = m.stamp_ns;
+		memcpy(v[*n].q, m.q, sizeof m.q);
+		memcpy(v[*n].w, m.w, sizeof m.w);
+		(*n)++;
+	}
+	return 0;
+}
+
+/* The track of the n samples of v (imu_track.h) into imu_tf, imu_fixed -> the IMU's frame
+ * ("imu of TOPIC" where the messages name none), and the gaps' stamps into imu_breaks. */
+static int imu_store(struct dao_source_poses *p, const char *topic, struct dao_imu_sample *v,
+		     size_t n, int mode, struct dao_error *err)
+{
+	n = dao_imu_track(v, n, mode == 2, p->gap_ns);
+	size_t breaks = 0;
+	for (size_t i = 1; i < n; i++)
+		breaks += v[i].segment != v[i - 1].segment;
+	if (breaks && !(p->imu_breaks = malloc(breaks * sizeof(*p->imu_breaks))))
+		return dao_error_set(err, -ENOMEM, "out of memory");
+	for (size_t i = 1; i < n; i++)
+		if (v[i].segment != v[i - 1].segment)
+			p->imu_breaks[p->imu_nbreaks++] = v[i].stamp_ns;
+	int r = dao_tf_buffer_create(&p->imu_tf, 2, DAO_POSES_MAX_SAMPLES, err);
+	if (r < 0)
+		return r;
+	char child[300];
+	snprintf(p->imu_fixed, sizeof p->imu_fixed, "rotation of %.200s", topic);
+	snprintf(child, sizeof child, "%s%.200s", p->imu_frame[0] ? "" : "imu of ",
+		 p->imu_frame[0] ? p->imu_frame : topic);
+	for (size_t i = 0; i < n; i++) {
+		struct dao_rigid tr = { .q = { v[i].q[0], v[i].q[1], v[i].q[2], v[i].q[3] } };
+		struct dao_error e;
+		r = dao_tf_buffer_add(p->imu_tf, p->imu_fixed, strlen(p->imu_fixed), child,
+				      strlen(child), v[i].stamp_ns, &tr, DAO_TF_DYNAMIC, &e);
+		if (r) /* 1 (refused) cannot happen: the names and the rotation are checked */
+			return r < 0 ? (*err = e, r) : dao_error_set(err, -EINVAL, "%s", e.message);
+	}
+	if ((r = dao_tf_buffer_finish(p->imu_tf, err)) < 0)
+		return r;
+	p->imu_fixed_i = dao_tf_buffer_find(p->imu_tf, p->imu_fixed);
+	p->imu_frame_i = dao_tf_buffer_find(p->imu_tf, child);
+	p->imu = mode;
+	p->imu_segment = -1;
+	return 0;
 }
 
 /*
@@ -164,80 +280,19 @@ static int read_imu(struct dao_source_poses *p, const struct dao_pose_feed *feed
 {
 	if (ti->count > DAO_POSES_MAX_SAMPLES)
 		return dao_error_set(err, -E2BIG, "%s: '%s' has %u messages, more than the %u "
-				     "read for poses; cut the recording", feed->path, ti->name,
-				     ti->count, DAO_POSES_MAX_SAMPLES);
+				     "read for poses (35 minutes at 1 kHz); cut the recording",
+				     feed->path, ti->name, ti->count, DAO_POSES_MAX_SAMPLES);
 	struct dao_imu_sample *v = ti->count ? malloc(ti->count * sizeof(*v)) : NULL;
 	if (ti->count && !v)
 		return dao_error_set(err, -ENOMEM, "out of memory");
-	char *frame = p->imu_frame;
-	int mode = 0; /* 1 rates, 2 orientation: the first message's */
-	size_t n = 0;
-	int r = 0;
-	for (uint32_t i = 0; i < ti->count; i++) {
-		const uint8_t *d;
-		uint64_t len;
-		struct dao_imu_msg m;
-		if ((r = feed->read(feed->impl, t, i, &d, &len, err)) < 0)
-			break;
-		if (feed->parse_imu(feed->impl, t, d, len, &m) < 0) {
-			skip(p, ti->name, i, why);
-			continue;
-		}
-		if (!mode) {
-			if (m.frame_len == 0 || m.frame_len > DAO_TF_NAME_MAX) {
-				r = dao_error_set(err, -EINVAL, "%s: message %u of the IMU topic '%s' "
-						  "has %s frame_id: its place on the camera is unknown",
-						  feed->path, i, ti->name,
-						  m.frame_len ? "too long a" : "an empty");
-				break;
-			}
-			memcpy(frame, m.frame, m.frame_len);
-			frame[m.frame_len] = 0;
-			mode = m.has_orientation ? 2 : 1;
-		}
-		if (m.frame_len != strlen(frame) || memcmp(m.frame, frame, m.frame_len)) {
-			skip(p, ti->name, i, "another frame_id than the first message's");
-			continue;
-		}
-		if (mode == 2 && !m.has_orientation) {
-			skip(p, ti->name, i, "no orientation, which the first message has");
-			continue;
-		}
-		if (!imu_usable(&m, mode == 2)) {
-			skip(p, ti->name, i, mode == 2 ? "an orientation that is not a unit quaternion"
-						       : "an angular velocity not finite or beyond 1e4 "
-							 "rad/s");
-			continue;
-		}
-		v[n].stamp_ns = m.stamp_ns;
-		memcpy(v[n].q, m.q, sizeof m.q);
-		memcpy(v[n].w, m.w, sizeof m.w);
-		n++;
-	}
+	size_t n;
+	int mode, r = imu_collect(p, feed, t, ti, why, v, &n, &mode, err);
 	if (r >= 0 && !n)
 		r = dao_error_set(err, -ENODATA, "%s: the IMU topic '%s' has no message that can be "
 				  "read%s%s", feed->path, ti->name, p->skipped ? ": " : "",
 				  p->skipped ? p->skip_reason : "");
 	if (r >= 0)
-		r = dao_tf_buffer_create(&p->imu_tf, 2, DAO_POSES_MAX_SAMPLES, err);
-	if (r >= 0) {
-		n = dao_imu_track(v, n, mode == 2, p->gap_ns);
-		p->imu = mode;
-		/* the fixed frame: where the IMU's rotation starts (or its orientation's) */
-		snprintf(p->odom_frame, sizeof p->odom_frame, "rotation of %.200s", ti->name);
-		for (size_t i = 0; i < n && r >= 0; i++) {
-			struct dao_rigid tr = { .q = { v[i].q[0], v[i].q[1], v[i].q[2], v[i].q[3] } };
-			struct dao_error e;
-			r = dao_tf_buffer_add(p->imu_tf, p->odom_frame, strlen(p->odom_frame), frame,
-					      strlen(frame), v[i].stamp_ns, &tr, DAO_TF_DYNAMIC, &e);
-			if (r == 1)
-				skip(p, ti->name, (uint32_t)i, e.message);
-			if (r < 0)
-				*err = e;
-		}
-	}
-	if (r >= 0)
-		r = dao_tf_buffer_finish(p->imu_tf, err);
+		r = imu_store(p, ti->name, v, n, mode, err);
 	free(v);
 	return r < 0 ? r : 0;
 }
@@ -303,8 +358,8 @@ static int is_poses(enum dao_pose_topic kind)
 	       kind == DAO_POSE_TOPIC_IMU;
 }
 
-/* The topic named by pose_topic (odometry or transforms): its index, or < 0 with the topics
- * there are. */
+/* The topic named by pose_topic (odometry, poses, an IMU or transforms): its index, or < 0
+ * with the topics there are. */
 static int pose_topic(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		      struct dao_error *err)
 {
@@ -330,7 +385,7 @@ static int pose_topic(struct dao_source_poses *p, const struct dao_pose_feed *fe
 
 /*
  * The topics read into a new buffer: every transform topic; or, with pose_topic, that
- * topic (odometry or transforms) and the static transform topics.
+ * topic (odometry, poses, an IMU or transforms) and the static transform topics.
  */
 static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		struct dao_error *err)
@@ -362,21 +417,20 @@ static int load(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 	if (sel < 0 && ndynamic == 0)
 		return dao_error_set(err, -ENODATA, "%s: no tf topic (tf2_msgs/TFMessage, "
 				     "foxglove.FrameTransform(s)) for the camera's poses%s%s; name a "
-				     "nav_msgs/Odometry or PoseInFrame(s) topic (pose_topic), or use "
-				     "motion icp or off",
+				     "nav_msgs/Odometry, PoseInFrame(s) or sensor_msgs/Imu topic "
+				     "(pose_topic), or use motion icp or off",
 				     feed->path, p->topics[0] ? ", only " : "", p->topics);
-	size_t w = 0;
+	char skipped[sizeof p->warning] = "";
 	if (p->skipped)
-		w = (size_t)snprintf(p->warning, sizeof p->warning, "%llu transforms or messages of "
-				     "%.40s skipped as malformed (the first: %.100s); ",
-				     (unsigned long long)p->skipped, p->topics, p->skip_reason);
-	if (p->imu && w < sizeof p->warning)
-		w += (size_t)snprintf(p->warning + w, sizeof p->warning - w, "%.40s is an IMU: "
-				      "the poses have its rotation (%s) and no translation; "
-				      "depth-temporal-motion source+icp estimates the translation",
-				      p->topic, p->imu == 2 ? "its orientation" : "its rates integrated");
-	else if (w >= 2 && w < sizeof p->warning)
-		p->warning[w - 2] = 0; /* no "; " after the last part */
+		snprintf(skipped, sizeof skipped, "%llu transforms or messages of %.40s skipped as "
+			 "malformed (the first: %.120s)", (unsigned long long)p->skipped, p->topics,
+			 p->skip_reason);
+	if (p->imu) /* the IMU's note first: the skipped part may not fit after it */
+		snprintf(p->warning, sizeof p->warning, "%.40s is an IMU: a rotation (%s), no "
+			 "translation; source+icp finds the translation%s", p->topic,
+			 p->imu == 2 ? "its orientation" : "its rates integrated",
+			 skipped[0] ? "; " : "");
+	list_append(p->warning, sizeof p->warning, skipped);
 	return dao_tf_buffer_finish(p->tf, err);
 }
 
@@ -420,7 +474,8 @@ static int odometry_fallback(struct dao_source_poses *p, const char *depth, stru
 /*
  * An IMU's poses for the depth images' frame `depth`: the IMU's rotation (imu_tf) after the
  * depth frame's pose in the IMU's frame (the tf's transforms between them, as at each
- * frame's time), or the IMU's own frame taken for the depth frame where none connects them.
+ * frame's time), or the IMU's axes taken for the optical frame's where no transform
+ * connects them (or the messages name no frame).
  */
 static int resolve_imu(struct dao_source_poses *p, const struct dao_pose_feed *feed,
 		       const char *depth, struct dao_error *err)
@@ -431,17 +486,19 @@ static int resolve_imu(struct dao_source_poses *p, const struct dao_pose_feed *f
 				     "IMU's rotation has no frame of the tf to be in (it is from where "
 				     "it started); leave pose_frame out", feed->path, p->frame,
 				     p->topic);
-	const int s = dao_tf_buffer_find(p->tf, depth), i = dao_tf_buffer_find(p->tf, p->imu_frame);
+	const char *d = depth[0] == '/' ? depth + 1 : depth;
+	const int s = dao_tf_buffer_find(p->tf, depth);
+	const int i = p->imu_frame[0] ? dao_tf_buffer_find(p->tf, p->imu_frame) : -1;
 	int r = s >= 0 && i >= 0 ? dao_tf_buffer_connected(p->tf, s, i, err) : 0;
 	if (r < 0)
 		return r;
 	p->imu_mount = r && s != i;
-	if (!r && strcmp(depth, p->imu_frame)) {
+	if (!r && strcmp(d, p->imu_frame)) {
 		char note[sizeof p->warning];
 		snprintf(note, sizeof note, "%s", p->warning);
-		snprintf(p->warning, sizeof p->warning, "%.40s: no transform from the IMU's "
-			 "'%.40s' to the depth frame '%.40s': its axes taken for the camera's "
-			 "optical axes; ", p->topic, p->imu_frame, depth);
+		snprintf(p->warning, sizeof p->warning, "no transform from the IMU's '%.40s' to "
+			 "'%.40s': its axes taken for the optical frame's; ",
+			 p->imu_frame[0] ? p->imu_frame : "(no frame_id)", d);
 		list_append(p->warning, sizeof p->warning, note);
 		p->warned = 0;
 	}
@@ -450,21 +507,41 @@ static int resolve_imu(struct dao_source_poses *p, const struct dao_pose_feed *f
 	p->resolved = 1;
 	snprintf(p->depth_frame, sizeof p->depth_frame, "%s", depth);
 	snprintf(p->description, sizeof p->description, "'%.50s' in '%.60s' (%llu samples)%s",
-		 depth, p->odom_frame, (unsigned long long)dao_tf_buffer_samples(p->imu_tf),
+		 depth, p->imu_fixed, (unsigned long long)dao_tf_buffer_samples(p->imu_tf),
 		 p->imu_mount ? ", mounted as the tf has it" : "");
 	return 0;
 }
 
-/* The pose of the depth frame at stamp_ns from the IMU (resolve_imu). */
+/* The segment (between the IMU's gaps) stamp_ns falls in: how many gaps precede it. */
+static long imu_segment_of(const struct dao_source_poses *p, uint64_t stamp_ns)
+{
+	size_t lo = 0, hi = p->imu_nbreaks;
+	while (lo < hi) {
+		const size_t mid = lo + (hi - lo) / 2;
+		if (p->imu_breaks[mid] <= stamp_ns)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	return (long)lo;
+}
+
+/* The pose of the depth frame at stamp_ns from the IMU (resolve_imu); -ENOENT for the first
+ * frame after a gap, whose rotation is not known relative to the frames before it. */
 static int imu_pose(struct dao_source_poses *p, uint64_t stamp_ns, struct dao_rigid *out,
 		    struct dao_error *err)
 {
 	struct dao_rigid rot, mount;
-	int r = dao_tf_buffer_lookup(p->imu_tf, dao_tf_buffer_find(p->imu_tf, p->odom_frame),
-				     dao_tf_buffer_find(p->imu_tf, p->imu_frame), stamp_ns, p->gap_ns,
-				     &rot, err);
+	int r = dao_tf_buffer_lookup(p->imu_tf, p->imu_fixed_i, p->imu_frame_i, stamp_ns,
+				     p->gap_ns, &rot, err);
 	if (r < 0)
 		return r;
+	const long seg = imu_segment_of(p, stamp_ns), last = p->imu_segment;
+	p->imu_segment = seg;
+	if (last >= 0 && seg != last)
+		return dao_error_set(err, -ENOENT, "no pose at %.6f s: the IMU's messages have a gap "
+				     "(more than pose_gap) since the last frame, and its turn in the "
+				     "gap is unknown", (double)stamp_ns * 1e-9);
 	dao_rigid_identity(&mount);
 	if (p->imu_mount &&
 	    (r = dao_tf_buffer_lookup(p->tf, p->target, p->source, stamp_ns, p->gap_ns, &mount,

@@ -73,7 +73,8 @@ struct dao_pose_feed {
 	 * -EINVAL when it is not its type, -ERANGE for a PosesInFrame not of one pose */
 	int (*parse_pose)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
 			  dao_tf_msg_cb cb, void *user);
-	/* a message of an IMU topic: 0, or -EINVAL when it is not its type */
+	/* a message of an IMU topic: 0, or -EINVAL (-ENOTSUP: an encoding not read) when it
+	 * is not its type */
 	int (*parse_imu)(void *impl, uint32_t topic, const uint8_t *msg, uint64_t len,
 			 struct dao_imu_msg *out);
 };

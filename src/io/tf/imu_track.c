@@ -5,21 +5,14 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "tf/rigid.h"
+
 static int by_stamp(const void *a, const void *b)
 {
 	const struct dao_imu_sample *x = a, *y = b;
 	if (x->stamp_ns != y->stamp_ns)
 		return x->stamp_ns > y->stamp_ns ? 1 : -1;
 	return (x->order > y->order) - (x->order < y->order);
-}
-
-/* out = a b, quaternions x y z w; out may alias neither */
-static void quat_mul(const double a[4], const double b[4], double out[4])
-{
-	out[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];
-	out[1] = a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0];
-	out[2] = a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3];
-	out[3] = a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2];
 }
 
 static void quat_normalise(double q[4])
@@ -53,13 +46,17 @@ size_t dao_imu_track(struct dao_imu_sample *s, size_t n, int orientation, uint64
 		if (s[i].stamp_ns != s[m - 1].stamp_ns)
 			s[m++] = s[i];
 	if (orientation) {
-		for (size_t i = 0; i < m; i++)
+		for (size_t i = 0; i < m; i++) {
 			quat_normalise(s[i].q);
+			s[i].segment = 0; /* absolute: a gap loses nothing */
+		}
 		return m;
 	}
-	double q[4] = { 0.0, 0.0, 0.0, 1.0 };
+	struct dao_rigid q; /* translations stay 0: compose multiplies the rotations */
+	dao_rigid_identity(&q);
 	double prev_w[3] = { s[0].w[0], s[0].w[1], s[0].w[2] };
 	uint64_t prev_t = s[0].stamp_ns;
+	size_t segment = 0;
 	for (size_t i = 0; i < m; i++) {
 		const uint64_t dt_ns = s[i].stamp_ns - prev_t;
 		if (i > 0 && dt_ns <= gap_ns) {
@@ -67,18 +64,19 @@ size_t dao_imu_track(struct dao_imu_sample *s, size_t n, int orientation, uint64
 			const double v[3] = { 0.5 * (prev_w[0] + s[i].w[0]) * dt,
 					      0.5 * (prev_w[1] + s[i].w[1]) * dt,
 					      0.5 * (prev_w[2] + s[i].w[2]) * dt };
-			double dq[4], nq[4];
-			quat_exp_half(v, dq);
-			quat_mul(q, dq, nq);
-			quat_normalise(nq);
-			for (int k = 0; k < 4; k++)
-				q[k] = nq[k];
+			struct dao_rigid step = { .t = { 0.0, 0.0, 0.0 } };
+			quat_exp_half(v, step.q);
+			dao_rigid_compose(&q, &step, &q);
+			quat_normalise(q.q);
+		} else if (i > 0) {
+			segment++;
 		}
 		prev_t = s[i].stamp_ns;
 		for (int k = 0; k < 3; k++)
 			prev_w[k] = s[i].w[k];
 		for (int k = 0; k < 4; k++)
-			s[i].q[k] = q[k];
+			s[i].q[k] = q.q[k];
+		s[i].segment = segment;
 	}
 	return m;
 }

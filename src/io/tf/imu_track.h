@@ -16,11 +16,13 @@ struct dao_imu_sample {
 	double q[4]; /* in: the orientation (orientation mode); out: the rotation, x y z w */
 	double w[3]; /* angular velocity, rad/s, in the IMU's frame */
 	size_t order; /* set by dao_imu_track: the arrival order, which breaks ties */
+	size_t segment; /* out: how many gaps precede the sample */
 };
 
 /*
  * Sorts the n samples by stamp (a recorder writes them in arrival order),
- * keeps the first of samples with the same stamp, and gives each kept one
+ * keeps the first of samples with the same stamp (a driver's repeat; the tf
+ * buffer keeps the last of a transform's, a correction), and gives each kept one
  * its rotation q, from the IMU's frame to a fixed one: with `orientation`
  * the one it reports (normalised); else the angular velocity integrated
  * from the identity at the first sample.  Between two samples the rate is
@@ -28,12 +30,12 @@ struct dao_imu_sample {
  * grows by exp(w dt / 2) multiplied on the right (a body rate: q' = q (0, w)
  * / 2; Solà, "Quaternion kinematics for the error-state Kalman filter",
  * 2017, the integration of rotation rates); exact for a constant rate,
- * within 2e-5 rad of a 1000 times finer integration between two frames of
- * a hand's shake (tests/io/test_imu_track.c), where a motion seed needs a
- * tenth of a degree.  Two
- * samples more than gap_ns apart are not integrated across (the rotation
- * between them is unknown): the later one keeps the earlier one's
- * rotation.  Returns the samples kept (the first ones of s).
+ * within 2.1e-5 rad of a 1000 times finer integration between two frames
+ * of a hand's shake (tests/io/test_imu_track.c), where a motion seed needs
+ * a tenth of a degree.  Two samples more than gap_ns apart are not
+ * integrated across (the turn between them is unknown): the later one
+ * keeps the earlier one's rotation and starts a new segment.  Returns the
+ * samples kept (the first ones of s).
  */
 size_t dao_imu_track(struct dao_imu_sample *s, size_t n, int orientation, uint64_t gap_ns);
 
