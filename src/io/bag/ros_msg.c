@@ -114,16 +114,23 @@ int dao_ros_float32_parse(const uint8_t *msg, uint32_t len, float *value)
 	return 0;
 }
 
-/* Header, child_frame_id, then a translation (or position) and a rotation: 0 or -EINVAL. */
-static int stamped_pose(struct cursor *c, struct dao_tf_msg_transform *t)
+/* A Header's stamp and frame_id (its seq read past); a nanosecond field of 1e9 or more
+ * marks the cursor bad. */
+static void stamp_frame(struct cursor *c, uint64_t *stamp_ns, const char **frame, uint32_t *len)
 {
 	(void)u32(c); /* seq */
 	uint64_t sec = u32(c);
 	uint32_t nsec = u32(c);
 	if (nsec >= 1000000000u)
 		c->bad = 1;
-	t->stamp_ns = sec * 1000000000u + nsec;
-	t->parent = (const char *)bytes(c, &t->parent_len);
+	*stamp_ns = sec * 1000000000u + nsec;
+	*frame = (const char *)bytes(c, len);
+}
+
+/* Header, child_frame_id, then a translation (or position) and a rotation: 0 or -EINVAL. */
+static int stamped_pose(struct cursor *c, struct dao_tf_msg_transform *t)
+{
+	stamp_frame(c, &t->stamp_ns, &t->parent, &t->parent_len);
 	t->child = (const char *)bytes(c, &t->child_len);
 	for (int i = 0; i < 3; i++)
 		t->tr.t[i] = f64(c);
@@ -167,13 +174,7 @@ int dao_ros_imu_parse(const uint8_t *msg, uint32_t len, struct dao_imu_msg *out)
 {
 	struct cursor c = {msg, len, 0};
 	memset(out, 0, sizeof(*out));
-	(void)u32(&c); /* seq */
-	uint64_t sec = u32(&c);
-	uint32_t nsec = u32(&c);
-	if (nsec >= 1000000000u)
-		return -EINVAL;
-	out->stamp_ns = sec * 1000000000u + nsec;
-	out->frame = (const char *)bytes(&c, &out->frame_len);
+	stamp_frame(&c, &out->stamp_ns, &out->frame, &out->frame_len);
 	for (int i = 0; i < 4; i++)
 		out->q[i] = f64(&c);
 	out->has_orientation = f64(&c) != -1.0;

@@ -90,15 +90,21 @@ int dao_ros2_camera_info_parse(const uint8_t *msg, uint64_t len, struct dao_ros2
 }
 
 /* A builtin_interfaces/Time (a Header's stamp) and the frame_id after it: 0 or -EINVAL. */
-static int stamp_frame(struct dao_cdr *c, struct dao_tf_msg_transform *t)
+static int stamp_and_frame(struct dao_cdr *c, uint64_t *stamp_ns, const char **frame,
+			   uint32_t *len)
 {
 	int32_t sec = dao_cdr_i32(c);
 	uint32_t nsec = dao_cdr_u32(c);
 	if (sec < 0 || nsec >= 1000000000u)
 		return -EINVAL;
-	t->stamp_ns = (uint64_t)sec * 1000000000u + nsec;
-	t->parent = dao_cdr_string(c, &t->parent_len);
+	*stamp_ns = (uint64_t)sec * 1000000000u + nsec;
+	*frame = dao_cdr_string(c, len);
 	return 0;
+}
+
+static int stamp_frame(struct dao_cdr *c, struct dao_tf_msg_transform *t)
+{
+	return stamp_and_frame(c, &t->stamp_ns, &t->parent, &t->parent_len);
 }
 
 /* A translation (or position) and a rotation. */
@@ -160,12 +166,8 @@ int dao_ros2_imu_parse(const uint8_t *msg, uint64_t len, struct dao_imu_msg *out
 	int r = start(&c, msg, len, out, sizeof(*out));
 	if (r < 0)
 		return r;
-	const int32_t sec = dao_cdr_i32(&c);
-	const uint32_t nsec = dao_cdr_u32(&c);
-	if (sec < 0 || nsec >= 1000000000u)
+	if (stamp_and_frame(&c, &out->stamp_ns, &out->frame, &out->frame_len) < 0)
 		return -EINVAL;
-	out->stamp_ns = (uint64_t)sec * 1000000000u + nsec;
-	out->frame = dao_cdr_string(&c, &out->frame_len);
 	for (int i = 0; i < 4; i++)
 		out->q[i] = dao_cdr_f64(&c);
 	out->has_orientation = dao_cdr_f64(&c) != -1.0;
