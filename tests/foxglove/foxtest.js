@@ -91,13 +91,21 @@ function connect(port, query = "") {
     const ws = new WebSocket(`ws://127.0.0.1:${port}/${query}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
     const client = new FoxgloveClient({ ws });
     const st = { client, ws, info: null, channels: [], statuses: [], values: [] };
+    // resolved once the greeting is whole: serverInfo, the channels and, on a connection
+    // without control, the status saying so (sent after the channels: a test counting
+    // statuses from here on must not see it arrive late)
+    const greeted = () => st.info && st.channels.length &&
+      (st.info.metadata?.control !== "false" || st.statuses.length > 0);
     client.on("error", (e) => reject(e));
     client.on("serverInfo", (i) => { st.info = i; });
-    client.on("status", (s) => st.statuses.push(s));
+    client.on("status", (s) => {
+      st.statuses.push(s);
+      if (greeted()) resolve(st);
+    });
     client.on("parameterValues", (v) => st.values.push(v));
     client.on("advertise", (ch) => {
       st.channels.push(...ch);
-      resolve(st);
+      if (greeted()) resolve(st);
     });
     setTimeout(() => reject(new Error("no advertise within 20 s")), 20000);
   });
