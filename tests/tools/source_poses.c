@@ -5,12 +5,14 @@
  *   INDEX STAMP_NS pose TX TY TZ QX QY QZ QW
  *   INDEX STAMP_NS gap MESSAGE
  * then "description ..." and "warning ..." lines once; or "error CODE MESSAGE"
- * and exit 1 when the source cannot give poses (or cannot be read).
- * usage: source_poses URI
+ * and exit 1 when the source cannot give poses (or cannot be read).  With
+ * "again", a line "again", a seek back to frame 0 and every frame once more.
+ * usage: source_poses URI [again]
  */
 #include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <depthao/io.h>
 #include <depthao/plugin.h>
@@ -54,8 +56,8 @@ int main(int argc, char **argv)
 	struct dao_source *src;
 	struct dao_error err;
 	int r;
-	if (argc != 2) {
-		fprintf(stderr, "usage: source_poses URI\n");
+	if (argc != 2 && (argc != 3 || strcmp(argv[2], "again"))) {
+		fprintf(stderr, "usage: source_poses URI [again]\n");
 		return 2;
 	}
 	if ((r = dao_plugins_load(&plugins, "", &err)) < 0)
@@ -66,6 +68,10 @@ int main(int argc, char **argv)
 		return fail(r, &err);
 	}
 	int status = dump(src);
+	if (!status && argc == 3) {
+		printf("again\n");
+		status = (r = dao_source_seek(src, 0, &err)) < 0 ? fail(r, &err) : dump(src);
+	}
 	dao_source_close(src);
 	dao_plugins_free(plugins);
 	return status;

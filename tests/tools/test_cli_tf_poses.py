@@ -26,7 +26,9 @@ header.frame_id camera_depth_optical_frame.  Variants (each in every format):
   imubare  imu without the IMU's mount: its frame taken for the optical frame (a warning)
   imunoframe  imu with frame_id "/": no frame, taken for the optical frame (a warning)
   imugap   imu with 30 ms between two messages, between frames 2 and 3, read with pose_gap=0.01:
-           frame 3 has no pose, and the turn in the gap is lost after it
+           frame 3 has no pose, and the turn in the gap is lost after it (and after a seek
+           back to frame 0, the same)
+  imugap2  the same with 60 ms around frame 3: frame 3 has none, frame 4 has one
   (pan-30 turns at a constant rate, where the side a rate multiplies on does not matter:
   test imu-track checks that on an axis that turns)
 
@@ -309,23 +311,26 @@ def imu_plans(work, out, seq, pan):
     n = (stamp(len(pan) - 1) + 20 * 10**6 - t0) // (5 * 10**6) + 1
     track = lambda ns: quat_exp([x * (ns - t0) * 1e-9 for x in w_imu])
     # imunoframe: frame_id "/" (no frame); imugap: no messages between 70 and 100 ms
-    # after frame 0, between frames 2 and 3 (read with pose_gap=0.01, a gap)
-    gap = (stamp(2) + 4 * 10**6, stamp(3) - 4 * 10**6)
+    # after frame 0, between frames 2 and 3 (read with pose_gap=0.01, a gap); imugap2:
+    # none between 70 and 130 ms, around frame 3
+    gaps = {"imugap": (stamp(2) + 4 * 10**6, stamp(3) - 4 * 10**6),
+            "imugap2": (stamp(2) + 4 * 10**6, stamp(4) - 4 * 10**6)}
     for name, orientation, mounted, frame in (("imu", False, True, IMU_FRAME),
                                               ("imuq", True, True, IMU_FRAME),
                                               ("imubare", False, False, IMU_FRAME),
                                               ("imunoframe", False, True, "/"),
-                                              ("imugap", False, True, IMU_FRAME)):
+                                              ("imugap", False, True, IMU_FRAME),
+                                              ("imugap2", False, True, IMU_FRAME)):
         stamps = [t0 + k * 5 * 10**6 for k in range(n)]
-        if name == "imugap":
-            stamps = [t for t in stamps if not gap[0] < t < gap[1]]
+        gap = gaps.get(name, (0, 0))
+        stamps = [t for t in stamps if not gap[0] < t < gap[1]]
         msgs = [dict({"stamp_ns": str(t), "w": w_imu},
                      **({"q": qmul(AHRS, track(t))} if orientation else {})) for t in stamps]
         st = statics() + ([[tf(START_NS, "camera_link", IMU_FRAME, IMU_MOUNT)]] if mounted else [])
         start = AHRS if orientation else [0.0, 0.0, 0.0, 1.0]
         axes = mount_opt[0] if mounted and frame != "/" else [0, 0, 0, 1]
         # after a gap the integration goes on from where it stopped: the turn in it is lost
-        lost = lambda ns: 0 if name != "imugap" or ns < gap[1] else \
+        lost = lambda ns: 0 if name not in gaps or ns < gap[1] else \
             min(t for t in stamps if t > gap[0]) - max(t for t in stamps if t < gap[0])
         want = [(qmul(qmul(start, track(stamp(i) - lost(stamp(i)))), axes), [0.0, 0.0, 0.0])
                 for i in range(len(pan))]
@@ -421,9 +426,19 @@ def fg_plan(work, name, d, encoding):
     return out
 
 
-def source_poses(uri):
-    r = run([SOURCE_POSES, uri])
-    lines = r.stdout.splitlines()
+def source_poses(uri, again=False):
+    """(exit status, {frame: (q, t) or the gap's message}, {description, warning, error});
+    with again, a seek back and every frame once more: a list of two such frame maps."""
+    r = run([SOURCE_POSES, uri] + (["again"] if again else []))
+    if again:
+        passes = r.stdout.split("again\n")
+        got = [parse_poses(p.splitlines()) for p in passes]
+        return r.returncode, [g[0] for g in got], got[0][1]
+    frames, info = parse_poses(r.stdout.splitlines())
+    return r.returncode, frames, info
+
+
+def parse_poses(lines):
     frames = {}
     info = {"description": [], "warning": [], "error": []}
     for line in lines:
@@ -435,7 +450,7 @@ def source_poses(uri):
             frames[int(w[0])] = (v[3:7], v[0:3])
         else:
             frames[int(w[0])] = w[3]
-    return r.returncode, frames, info
+    return frames, info
 
 
 def close(a, b, tol=1e-6):
@@ -495,23 +510,31 @@ def check_sources(recs, plans_):
         check_truth(fmt, "imunoframe", paths["imunoframe"] + sel, plans_["imunoframe"][1],
                     warning=axes % ("(no frame_id)", FRAME_ID) +
                     note % (IMU_TOPIC, "its rates integrated"))
-        check_imu_gap(fmt, paths["imugap"] + sel + "&pose_gap=0.01", plans_["imugap"][1])
+        check_imu_gap(fmt, "imugap", paths["imugap"] + sel + "&pose_gap=0.01",
+                      plans_["imugap"][1], 3, "the IMU's messages have a gap")
+        check_imu_gap(fmt, "imugap2", paths["imugap2"] + sel + "&pose_gap=0.01",
+                      plans_["imugap2"][1], 3, "farther apart than 0.010 s")
 
 
-def check_imu_gap(fmt, uri, want):
+def check_imu_gap(fmt, name, uri, want, hole, why):
     """imugap: frame 3, the first after the IMU's gap, has no pose (its turn in the gap is
-    unknown); the others are the truth."""
-    rc, frames, info = source_poses(uri)
-    if rc:
-        return fail("%s imugap: source_poses failed: %s" % (fmt, info["error"]))
-    for i, w in enumerate(want):
-        got = frames.get(i)
-        if i == 3:
-            if not isinstance(got, str) or "the IMU's messages have a gap" not in got:
-                fail("%s imugap: frame 3 should have no pose: %s" % (fmt, got))
-        elif not isinstance(got, tuple) or not close(got, w):
-            fail("%s imugap: frame %d: %s, want %s" % (fmt, i, got, w))
-    print("%s imugap: frame 3 without a pose, the others the truth" % fmt)
+    unknown); imugap2: frame 3, inside the gap, has none, and frame 4 after it has one (the
+    frame before it had none: no motion to get wrong); the others are the truth, also
+    after a seek back to frame 0."""
+    rc, passes, info = source_poses(uri, again=True)
+    if rc or len(passes) != 2:
+        return fail("%s %s: source_poses failed: %s" % (fmt, name, info["error"]))
+    for k, frames in enumerate(passes):
+        for i, w in enumerate(want):
+            got = frames.get(i)
+            if i == hole:
+                if not isinstance(got, str) or why not in got:
+                    fail("%s %s: pass %d: frame %d should have no pose: %s" %
+                         (fmt, name, k, i, got))
+            elif not isinstance(got, tuple) or not close(got, w):
+                fail("%s %s: pass %d: frame %d: %s, want %s" % (fmt, name, k, i, got, w))
+    print("%s %s: frame %d without a pose, the others the truth, twice (a seek back)" %
+          (fmt, name, hole))
 
 
 def depth_out(work, tag, args):

@@ -34,7 +34,11 @@ struct dao_source_poses {
 	int imu_mount;              /* the depth frame's pose in the IMU's frame from the tf */
 	uint64_t *imu_breaks;       /* the first stamps after the gaps (the rotation restarts) */
 	size_t imu_nbreaks;
-	long imu_segment;           /* the segment (between gaps) of the last pose, -1 none */
+	long imu_segment;           /* the segment (between gaps) of the last frame's pose, -1:
+				     * it had none (or a seek back: nothing to continue) */
+	uint64_t imu_stamp;         /* the last frame's stamp ... */
+	int imu_refused;            /* ... refused for a gap: asked again, refused again */
+	long imu_segment_before;    /* imu_segment before the last frame (for a repeat) */
 	char depth_frame[256];      /* the frame resolved for (the depth images' frame_id) */
 	int resolved, source, target;
 	char description[160];
@@ -164,29 +168,33 @@ static int imu_rates_usable(const struct dao_imu_msg *m)
 	return fabs(m->w[0]) < 1e4 && fabs(m->w[1]) < 1e4 && fabs(m->w[2]) < 1e4;
 }
 
-/* The first IMU message's frame_id kept (without a leading '/': as the tf names it; ""
- * where it names no frame: empty, "/" or holding a NUL). */
-static void imu_keep_frame(struct dao_source_poses *p, const struct dao_imu_msg *m)
+/* An IMU message's frame_id as the tf names it (no leading '/'), *n 0 where it names no
+ * frame: empty, "/", longer than a frame name or holding a NUL. */
+static const char *imu_frame_name(const struct dao_imu_msg *m, uint32_t *n)
 {
 	const char *f = m->frame;
-	uint32_t n = m->frame_len;
-	if (n && f[0] == '/')
-		f++, n--;
-	if (n > DAO_TF_NAME_MAX || memchr(f, 0, n))
-		n = 0;
+	*n = m->frame_len;
+	if (*n && f[0] == '/')
+		f++, (*n)--;
+	if (*n > DAO_TF_NAME_MAX || memchr(f, 0, *n))
+		*n = 0;
+	return f;
+}
+
+/* The first IMU message's frame_id kept ("" where it names none). */
+static void imu_keep_frame(struct dao_source_poses *p, const struct dao_imu_msg *m)
+{
+	uint32_t n;
+	const char *f = imu_frame_name(m, &n);
 	memcpy(p->imu_frame, f, n);
 	p->imu_frame[n] = 0;
 }
 
-/* Whether message m names the first message's frame. */
+/* Whether message m names the first message's frame (or, like it, none). */
 static int imu_same_frame(const struct dao_source_poses *p, const struct dao_imu_msg *m)
 {
-	const char *f = m->frame;
-	uint32_t n = m->frame_len;
-	if (n && f[0] == '/')
-		f++, n--;
-	if (!p->imu_frame[0])
-		return n == 0 || (n <= DAO_TF_NAME_MAX && memchr(f, 0, n));
+	uint32_t n;
+	const char *f = imu_frame_name(m, &n);
 	return n == strlen(p->imu_frame) && !memcmp(f, p->imu_frame, n);
 }
 
@@ -233,8 +241,8 @@ static int imu_collect(struct dao_source_poses *p, const struct dao_pose_feed *f
 
 /* The track of the n samples of v (imu_track.h) into imu_tf, imu_fixed -> the IMU's frame
  * ("imu of TOPIC" where the messages name none), and the gaps' stamps into imu_breaks. */
-static int imu_store(struct dao_source_poses *p, const char *topic, struct dao_imu_sample *v,
-		     size_t n, int mode, struct dao_error *err)
+static int imu_store(struct dao_source_poses *p, const char *path, const char *topic,
+		     struct dao_imu_sample *v, size_t n, int mode, struct dao_error *err)
 {
 	n = dao_imu_track(v, n, mode == 2, p->gap_ns);
 	size_t breaks = 0;
@@ -257,15 +265,19 @@ static int imu_store(struct dao_source_poses *p, const char *topic, struct dao_i
 		struct dao_error e;
 		r = dao_tf_buffer_add(p->imu_tf, p->imu_fixed, strlen(p->imu_fixed), child,
 				      strlen(child), v[i].stamp_ns, &tr, DAO_TF_DYNAMIC, &e);
-		if (r) /* 1 (refused) cannot happen: the names and the rotation are checked */
-			return r < 0 ? (*err = e, r) : dao_error_set(err, -EINVAL, "%s", e.message);
+		if (r < 0)
+			return *err = e, r;
+		if (r) /* refused: the names (an IMU frame named as imu_fixed is its own parent) */
+			return dao_error_set(err, -EINVAL, "%s: the IMU topic '%s': %s; rename its "
+					     "frame_id", path, topic, e.message);
 	}
 	if ((r = dao_tf_buffer_finish(p->imu_tf, err)) < 0)
 		return r;
 	p->imu_fixed_i = dao_tf_buffer_find(p->imu_tf, p->imu_fixed);
 	p->imu_frame_i = dao_tf_buffer_find(p->imu_tf, child);
 	p->imu = mode;
-	p->imu_segment = -1;
+	p->imu_segment = p->imu_segment_before = -1;
+	p->imu_refused = 0;
 	return 0;
 }
 
@@ -292,7 +304,7 @@ static int read_imu(struct dao_source_poses *p, const struct dao_pose_feed *feed
 				  "read%s%s", feed->path, ti->name, p->skipped ? ": " : "",
 				  p->skipped ? p->skip_reason : "");
 	if (r >= 0)
-		r = imu_store(p, ti->name, v, n, mode, err);
+		r = imu_store(p, feed->path, ti->name, v, n, mode, err);
 	free(v);
 	return r < 0 ? r : 0;
 }
@@ -527,21 +539,34 @@ static long imu_segment_of(const struct dao_source_poses *p, uint64_t stamp_ns)
 }
 
 /* The pose of the depth frame at stamp_ns from the IMU (resolve_imu); -ENOENT for the first
- * frame after a gap, whose rotation is not known relative to the frames before it. */
+ * frame after a gap whose frame before had a pose: the IMU's turn in the gap is unknown,
+ * so the motion between the two poses would be wrong.  The answer for one frame is the
+ * same however often it is asked; a seek back starts afresh. */
 static int imu_pose(struct dao_source_poses *p, uint64_t stamp_ns, struct dao_rigid *out,
 		    struct dao_error *err)
 {
+	if (p->imu_refused && stamp_ns == p->imu_stamp)
+		goto gap;
+	long last = p->imu_segment;
+	if (stamp_ns < p->imu_stamp)
+		last = -1; /* a seek back, or frames out of order: nothing to continue */
+	else if (stamp_ns == p->imu_stamp)
+		last = p->imu_segment_before;
+	p->imu_segment_before = last;
+	p->imu_stamp = stamp_ns;
+	p->imu_segment = -1;
+	p->imu_refused = 0;
 	struct dao_rigid rot, mount;
 	int r = dao_tf_buffer_lookup(p->imu_tf, p->imu_fixed_i, p->imu_frame_i, stamp_ns,
 				     p->gap_ns, &rot, err);
 	if (r < 0)
 		return r;
-	const long seg = imu_segment_of(p, stamp_ns), last = p->imu_segment;
-	p->imu_segment = seg;
-	if (last >= 0 && seg != last)
-		return dao_error_set(err, -ENOENT, "no pose at %.6f s: the IMU's messages have a gap "
-				     "(more than pose_gap) since the last frame, and its turn in the "
-				     "gap is unknown", (double)stamp_ns * 1e-9);
+	/* the segment of the sample the lookup may have snapped to (within its 1 us) */
+	const long seg = imu_segment_of(p, stamp_ns + 1000);
+	if (last >= 0 && seg != last) {
+		p->imu_refused = 1;
+		goto gap;
+	}
 	dao_rigid_identity(&mount);
 	if (p->imu_mount &&
 	    (r = dao_tf_buffer_lookup(p->tf, p->target, p->source, stamp_ns, p->gap_ns, &mount,
@@ -551,7 +576,12 @@ static int imu_pose(struct dao_source_poses *p, uint64_t stamp_ns, struct dao_ri
 	/* no translation: the IMU measures none (the rotation about the IMU's origin would
 	 * move the camera by its lever arm, which is no better a guess than not at all) */
 	out->t[0] = out->t[1] = out->t[2] = 0.0;
+	p->imu_segment = seg;
 	return 0;
+gap:
+	return dao_error_set(err, -ENOENT, "no pose at %.6f s: the IMU's messages have a gap "
+			     "(more than pose_gap) since the last frame, and its turn in the gap "
+			     "is unknown", (double)stamp_ns * 1e-9);
 }
 
 /* The source and target frames for the depth images' frame `depth`. */
@@ -608,10 +638,10 @@ int dao_source_poses_get(struct dao_source_poses *p, const struct dao_pose_feed 
 		*err = p->failure;
 		return p->loaded;
 	}
-	if (len == 0 || len > DAO_TF_NAME_MAX)
+	if (len == 0 || len > DAO_TF_NAME_MAX || (len == 1 && frame_id[0] == '/'))
 		return dao_error_set(err, -EINVAL, "%s: the depth image's frame_id is %s: "
 				     "its frame in the tf is unknown", feed->path,
-				     len ? "too long" : "empty");
+				     len > 1 ? "too long" : len ? "'/'" : "empty");
 	memcpy(depth, frame_id, len);
 	depth[len] = 0;
 	if ((!p->resolved || strcmp(depth, p->depth_frame)) &&
