@@ -50,6 +50,8 @@ static void test_constant_rate(void **state)
 	}
 }
 
+/* the Hamilton product, written here rather than taken from tf/rigid.c, which the code
+ * under test uses: the reference stays independent of it */
 static void quat_mul(const double a[4], const double b[4], double out[4])
 {
 	out[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];

@@ -36,6 +36,7 @@
 #include <depthao/pose.h>
 
 #include "motion/icp.h"
+#include "tf/rigid.h"
 
 static int seeded_steps[2]; /* coarse, fine; 0: the setup's */
 
@@ -213,14 +214,11 @@ int main(int argc, char **argv)
 		if (seed) { /* the true rotation after the bias's drift over i / 30 s */
 			const double zero[3] = { 0.0, 0.0, 0.0 }, n = sqrt(14.0);
 			const double h = 0.5 * bias * (double)i / 30.0;
-			const double d[4] = { sin(h) / n, 2.0 * sin(h) / n, 3.0 * sin(h) / n, cos(h) };
-			double q[4], qd[4];
-			dao_pose_matrix_to_quat(poses[i].r, q);
-			qd[0] = q[3] * d[0] + q[0] * d[3] + q[1] * d[2] - q[2] * d[1];
-			qd[1] = q[3] * d[1] - q[0] * d[2] + q[1] * d[3] + q[2] * d[0];
-			qd[2] = q[3] * d[2] + q[0] * d[1] - q[1] * d[0] + q[2] * d[3];
-			qd[3] = q[3] * d[3] - q[0] * d[0] - q[1] * d[1] - q[2] * d[2];
-			if (dao_context_set_pose(ctx, qd, zero, &err)) {
+			struct dao_rigid truth = { .t = { 0.0 } }, drift = {
+				.q = { sin(h) / n, 2.0 * sin(h) / n, 3.0 * sin(h) / n, cos(h) } }, seen;
+			dao_pose_matrix_to_quat(poses[i].r, truth.q);
+			dao_rigid_compose(&truth, &drift, &seen);
+			if (dao_context_set_pose(ctx, seen.q, zero, &err)) {
 				fprintf(stderr, "motion-pose-eval: %s\n", err.message);
 				return 1;
 			}
