@@ -37,7 +37,7 @@ PACKAGES=(
 	xvfb xauth
 	python3 python3-numpy python3-pytest python3-pil python3-rosbag python3-sensor-msgs
 	python3-open3d python3-mesonpy python3-venv python3-yaml libyaml-dev
-	ros-core libroscpp-dev libimage-transport-dev libsensor-msgs-dev
+	ros-core libroscpp-dev libimage-transport-dev libsensor-msgs-dev libtf2-ros-dev
 	libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
 	libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev libgstrtspserver-1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good

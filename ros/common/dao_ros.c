@@ -243,6 +243,25 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 	return 0;
 }
 
+/* The camera is the same and frames follow each other (the indices say so to
+ * the temporal filters), unless time went back: a bag played again. */
+static void follow_or_restart(struct dao_ros_proc *proc, uint64_t stamp_ns)
+{
+	if (proc->frames && stamp_ns < proc->last_stamp)
+		dao_context_reset(proc->ctx);
+	proc->last_stamp = stamp_ns;
+}
+
+int dao_ros_proc_set_pose(struct dao_ros_proc *proc, uint64_t stamp_ns, const double rotation[4],
+			  const double translation[3], struct dao_error *err)
+{
+	if (!proc->ctx || !proc->depth.data)
+		return dao_error_set(err, -EINVAL, "dao_ros_proc_set_pose: the image was not prepared");
+	/* a reset forgets a pose given before it: restart first, then the pose */
+	follow_or_restart(proc, stamp_ns);
+	return dao_context_set_pose(proc->ctx, rotation, translation, err);
+}
+
 int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *depth,
 		     uint64_t stamp_ns, struct dao_ros_output *ao, struct dao_ros_output *shaded,
 		     struct dao_error *err)
@@ -252,11 +271,7 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		return dao_error_set(err, -EINVAL, "dao_ros_proc_run: the image was not prepared");
 	if (!ao->data)
 		return dao_error_set(err, -EINVAL, "dao_ros_proc_run: no AO buffer");
-	/* the camera is the same and frames follow each other (the indices say
-	 * so to the temporal filters), unless time went back: a bag played again */
-	if (proc->frames && stamp_ns < proc->last_stamp)
-		dao_context_reset(proc->ctx);
-	proc->last_stamp = stamp_ns;
+	follow_or_restart(proc, stamp_ns);
 	struct dao_frame out = {
 		.size = DAO_FRAME_SIZE,
 		.format = proc->settings.ao_encoding == DAO_ROS_AO_32FC1 ? DAO_PIXFMT_GRAY_F32

@@ -125,6 +125,23 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		     struct dao_error *err);
 
 /*
+ * The camera's pose for the frame of `stamp_ns`, to be run next (after
+ * dao_ros_proc_prepare(), before dao_ros_proc_run()): the depth image's
+ * frame in a fixed frame, as the shell looked it up in tf, given to the
+ * context as dao_context_set_pose() takes it (`rotation` x, y, z, w of the
+ * rotation from the image's optical frame to the fixed frame, `translation`
+ * its origin there, metres).  rotation NULL: this frame has no pose.
+ * depth_temporal_motion source and source+icp follow the motion between
+ * the poses of consecutive frames; the other modes ignore them.  A stamp
+ * that goes back starts the histories over here, as in dao_ros_proc_run().
+ * -EINVAL before a prepare, or with the library's message for a pose that
+ * is not one (a non-finite value, a quaternion that is not a unit one):
+ * the frame then has no pose.
+ */
+int dao_ros_proc_set_pose(struct dao_ros_proc *proc, uint64_t stamp_ns, const double rotation[4],
+			  const double translation[3], struct dao_error *err);
+
+/*
  * The filtered depth of the frame last run (dao_context_get_depth: the depth
  * the AO was computed from), as a depth image for depth_image_proc and the
  * other image-pipeline nodes.  dao_ros_proc_depth_layout() gives its layout

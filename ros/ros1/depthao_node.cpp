@@ -14,9 +14,13 @@
 //        (image_transport's compressedDepth format, PNG or RVL), each computed
 //        only while it has subscribers.  Plain publishers, not image_transport's:
 //        an installed compressed_depth plugin would advertise the same topic.
+//   poses: with ~pose_frame, each image's frame in that fixed frame from tf at
+//        the image's stamp (tf2_ros), for depth_temporal_motion source and
+//        source+icp: the temporal filters follow the camera's motion.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,6 +32,9 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
+#include <tf2/exceptions.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 
 #include "dao_ros.h"
 #include "dao_ros_cdepth.h"
@@ -87,6 +94,9 @@ private:
 		    dynamic_reconfigure::Reconfigure::Response &res);
 	bool read_parameters(dao_ros_settings *s, dao_params *p);
 	bool read_cdepth_parameters();
+	bool read_pose_parameters();
+	void check_pose_use(const dao_params &p);
+	void set_pose(const std_msgs::Header &h);
 	void publish_depth(const sensor_msgs::ImageConstPtr &img,
 			   const sensor_msgs::CameraInfoConstPtr &info);
 	dynamic_reconfigure::Config config_of(const dao_params &p, int which) const;
@@ -109,6 +119,13 @@ private:
 	sensor_msgs::CompressedImage cdepth_msg_;
 	dao_ros_cdepth cdepth_;
 	bool warned_distortion_ = false;
+	// poses from tf (~pose_frame): looked up only while the motion mode uses them
+	std::string pose_frame_;
+	double pose_timeout_ = 0.1;
+	std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+	std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+	bool poses_used_ = false, said_pose_ok_ = false;
+	int checked_motion_ = -1;  // the motion mode check_pose_use() last saw
 	std::string last_error_;
 	ros::WallTime last_error_time_;
 };
@@ -171,7 +188,8 @@ bool DepthaoNode::read_parameters(dao_ros_settings *s, dao_params *p)
 				continue;
 			std::string n = full.substr(ns.size());
 			if (n == "quality" || n == "stream" || n == "depth_unit" || n == "ao_encoding" ||
-			    n == "queue_size" || n.find('/') != std::string::npos ||
+			    n == "queue_size" || n == "pose_frame" || n == "pose_timeout" ||
+			    n.find('/') != std::string::npos ||
 			    dao_param_find(n.c_str()))
 				continue;
 			ROS_WARN("~%s is not a parameter of depthao_node: ignored (the AO parameters "
@@ -195,6 +213,89 @@ bool DepthaoNode::read_cdepth_parameters()
 		}
 	}
 	return true;
+}
+
+// Frames in tf2 have no leading '/' (tf2_ros strips it from what it receives);
+// older drivers still send one.
+std::string tf2_frame(const std::string &f)
+{
+	return !f.empty() && f[0] == '/' ? f.substr(1) : f;
+}
+
+bool DepthaoNode::read_pose_parameters()
+{
+	pnh_.param<std::string>("pose_frame", pose_frame_, "");
+	pose_frame_ = tf2_frame(pose_frame_);
+	pnh_.param("pose_timeout", pose_timeout_, 0.1);
+	if (!std::isfinite(pose_timeout_) || pose_timeout_ < 0.0 || pose_timeout_ > 10.0) {
+		ROS_FATAL("~pose_timeout: %g is not a wait for tf in seconds (0 to 10; 0.1 by default)",
+			  pose_timeout_);
+		return false;
+	}
+	if (!pose_frame_.empty()) {
+		tf_buffer_.reset(new tf2_ros::Buffer());
+		tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_));
+	}
+	return true;
+}
+
+// Says when the poses and the motion mode do not go together: at start, and
+// when a reconfigure changes the mode.
+void DepthaoNode::check_pose_use(const dao_params &p)
+{
+	if (p.depth_temporal_motion == checked_motion_)
+		return;
+	checked_motion_ = p.depth_temporal_motion;
+	const bool wants = p.depth_temporal_motion == DAO_DEPTH_MOTION_SOURCE ||
+			   p.depth_temporal_motion == DAO_DEPTH_MOTION_SOURCE_ICP;
+	poses_used_ = wants && !pose_frame_.empty();
+	if (wants && pose_frame_.empty())
+		ROS_WARN("depth_temporal_motion is %s but ~pose_frame is not set: no frame has a "
+			 "pose, so %s; set ~pose_frame to tf's fixed frame (odom, map, world)",
+			 p.depth_temporal_motion == DAO_DEPTH_MOTION_SOURCE ? "source" : "source+icp",
+			 p.depth_temporal_motion == DAO_DEPTH_MOTION_SOURCE
+				 ? "the history stays where it was, as with off (a still camera)"
+				 : "the motion is estimated from the depth alone, as with icp");
+	else if (!wants && !pose_frame_.empty())
+		ROS_WARN("~pose_frame '%s' is set but depth_temporal_motion is not source or "
+			 "source+icp: the poses are not used (tf is not read)", pose_frame_.c_str());
+}
+
+// The image's frame in ~pose_frame at the image's stamp, for the next run; no
+// pose (the motion mode's fallback for this frame) when tf cannot give it in
+// ~pose_timeout.
+void DepthaoNode::set_pose(const std_msgs::Header &h)
+{
+	dao_error err{};
+	const uint64_t stamp = dao_ros_stamp_ns(h.stamp.sec, h.stamp.nsec);
+	const std::string frame = tf2_frame(h.frame_id);
+	std::string why;
+	if (frame.empty())
+		why = "the depth image has no frame_id";
+	else if (tf_buffer_->canTransform(pose_frame_, frame, h.stamp, ros::Duration(pose_timeout_), &why)) {
+		try {
+			const geometry_msgs::Transform t =
+				tf_buffer_->lookupTransform(pose_frame_, frame, h.stamp).transform;
+			const double q[4] = { t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w };
+			const double v[3] = { t.translation.x, t.translation.y, t.translation.z };
+			if (dao_ros_proc_set_pose(proc_, stamp, q, v, &err) == 0) {
+				if (!said_pose_ok_)
+					ROS_INFO("poses: '%s' in '%s' from tf at each image's stamp",
+						 frame.c_str(), pose_frame_.c_str());
+				said_pose_ok_ = true;
+				return;
+			}
+			why = std::string("tf gave no pose: ") + err.message;
+		} catch (const tf2::TransformException &e) {
+			why = e.what();
+		}
+	} else if (why.empty())
+		why = "tf has no transform in time (~pose_timeout " + std::to_string(pose_timeout_) + " s)";
+	ROS_WARN_THROTTLE(5.0, "no pose for the depth image of %u.%09u s: '%s' in '%s': %s; "
+			  "the frame goes without one (source: the history stays where it was; source+icp: ICP alone)",
+			  h.stamp.sec, h.stamp.nsec, frame.c_str(), pose_frame_.c_str(), why.c_str());
+	if (dao_ros_proc_set_pose(proc_, stamp, nullptr, nullptr, &err))
+		log_error("pose", err);
 }
 
 dynamic_reconfigure::Config DepthaoNode::config_of(const dao_params &p, int which) const
@@ -275,7 +376,7 @@ bool DepthaoNode::start()
 {
 	dao_ros_settings s;
 	dao_params p;
-	if (!read_parameters(&s, &p))
+	if (!read_parameters(&s, &p) || !read_pose_parameters())
 		return false;
 	dao_error err{};
 	if (dao_ros_proc_create(&proc_, &s, &p, &err)) {
@@ -322,13 +423,15 @@ bool DepthaoNode::start()
 	update_pub_ = pnh_.advertise<dynamic_reconfigure::Config>("parameter_updates", 1, true);
 	descr_pub_.publish(descr);
 	publish_config(p);
+	check_pose_use(p);
 	set_srv_ = pnh_.advertiseService("set_parameters", &DepthaoNode::on_set, this);
 
 	sub_ = it_.subscribeCamera("depth/image", queue, &DepthaoNode::on_depth, this);
-	ROS_INFO("depthao %s: %s + %s -> %s (%s), %s (rgb8); depth_unit %g m", dao_version(),
+	ROS_INFO("depthao %s: %s + %s -> %s (%s), %s (rgb8); depth_unit %g m%s%s", dao_version(),
 		 sub_.getTopic().c_str(), sub_.getInfoTopic().c_str(), ao_pub_.getTopic().c_str(),
 		 dao_ros_ao_encoding_name(s.ao_encoding), shaded_pub_.getTopic().c_str(),
-		 static_cast<double>(s.depth_unit));
+		 static_cast<double>(s.depth_unit), pose_frame_.empty() ? "" : "; poses in ",
+		 pose_frame_.c_str());
 	return true;
 }
 
@@ -358,6 +461,7 @@ bool DepthaoNode::on_set(dynamic_reconfigure::Reconfigure::Request &req,
 	dao_ros_proc_get_params(proc_, &p);
 	res.config = config_of(p, 0);
 	publish_config(p);
+	check_pose_use(p);
 	return true;
 }
 
@@ -399,6 +503,8 @@ void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
 			outs[i]->data = msgs[i]->data.data();
 		}
 	}
+	if (poses_used_)
+		set_pose(img->header);
 	if (dao_ros_proc_run(proc_, &depth, dao_ros_stamp_ns(img->header.stamp.sec, img->header.stamp.nsec),
 			     &ao, &shaded, &err)) {
 		log_error(sub_.getTopic().c_str(), err);

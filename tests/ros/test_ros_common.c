@@ -484,6 +484,82 @@ static void test_time_back_resets(void **state)
 	dao_ros_proc_destroy(pc);
 }
 
+/* one frame with a pose (rotation NULL: none) through prepare + set_pose + run */
+static int run_posed(struct dao_ros_proc *proc, const struct dao_ros_image *img, uint64_t stamp,
+		     const double *q, const double *t, struct dao_error *err)
+{
+	struct dao_ros_output ao, sh;
+	int distorted;
+	int r = dao_ros_proc_prepare(proc, img, &info, &ao, &sh, &distorted, err);
+	if (!r)
+		r = dao_ros_proc_set_pose(proc, stamp, q, t, err);
+	if (r)
+		return r;
+	ao.data = ao_16;
+	sh.data = NULL;
+	return dao_ros_proc_run(proc, img, stamp, &ao, &sh, err);
+}
+
+/* poses from the shell (tf) reach depth_temporal_motion=source; a bag played
+ * again (the stamp goes back) starts over before the pose is taken, so its
+ * frames equal those of a processor whose history was other frames; bad poses are refused with the library's
+ * message and the frame has none */
+static void test_poses(void **state)
+{
+	(void)state;
+	static uint16_t fresh[3][W * H], again[3][W * H], none[3][W * H];
+	struct dao_params p;
+	dao_params_init(&p, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&p);
+	p.depth_temporal_motion = DAO_DEPTH_MOTION_SOURCE;
+	struct dao_ros_image img;
+	struct dao_error err;
+	struct dao_ros_proc *pa = make_proc("mono16", &p), *pb = make_proc("mono16", &p),
+			    *pc = make_proc("mono16", &p);
+	const double q[4] = { 0.0, 0.0, 0.0, 1.0 };
+	double t[3] = { 0.0, 0.0, 0.0 };
+
+	make_image(in_buf, &img, "16UC1", 0, 0, 0);
+	assert_int_equal(dao_ros_proc_set_pose(pa, 1, q, t, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "not prepared"));
+	for (int i = 0; i < 3; i++) { /* a first play: other frames, later stamps (the */
+		make_image(in_buf, &img, "16UC1", 0, 0, 7 - i); /* indices go on: same counts) */
+		t[0] = 0.02 * i;
+		assert_int_equal(run_posed(pa, &img, 20 + (uint64_t)i, q, t, &err), 0);
+		make_image(in_buf, &img, "16UC1", 0, 0, 9 + i);
+		assert_int_equal(run_posed(pb, &img, 20 + (uint64_t)i, NULL, NULL, &err), 0);
+		assert_int_equal(run_posed(pc, &img, 20 + (uint64_t)i, NULL, NULL, &err), 0);
+	}
+	for (int i = 0; i < 3; i++) {
+		make_image(in_buf, &img, "16UC1", 0, 0, i);
+		t[0] = 0.03 * i; /* 3 cm a frame to the right */
+		assert_int_equal(run_posed(pa, &img, 5 + (uint64_t)i, q, t, &err), 0);
+		memcpy(again[i], ao_16, sizeof again[i]);
+		assert_int_equal(run_posed(pb, &img, 5 + (uint64_t)i, q, t, &err), 0);
+		memcpy(fresh[i], ao_16, sizeof fresh[i]);
+		assert_int_equal(run_posed(pc, &img, 5 + (uint64_t)i, NULL, NULL, &err), 0);
+		memcpy(none[i], ao_16, sizeof none[i]);
+		assert_memory_equal(again[i], fresh[i], sizeof fresh[i]);
+	}
+	/* the poses were used from the second frame after the stamp went back on: the
+	 * first one's pose was not lost to the restart */
+	assert_memory_equal(again[0], none[0], sizeof none[0]);
+	assert_true(memcmp(again[1], none[1], sizeof none[1]) != 0);
+	assert_true(memcmp(again[2], none[2], sizeof none[2]) != 0);
+
+	const double bad[4] = { 0.0, 0.0, 0.0, 2.0 }, inf[3] = { INFINITY, 0.0, 0.0 };
+	struct dao_ros_output ao, sh;
+	int distorted;
+	assert_int_equal(dao_ros_proc_prepare(pc, &img, &info, &ao, &sh, &distorted, &err), 0);
+	assert_int_equal(dao_ros_proc_set_pose(pc, 9, bad, t, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "camera pose: the rotation quaternion"));
+	assert_int_equal(dao_ros_proc_set_pose(pc, 9, q, inf, &err), -EINVAL);
+	assert_non_null(strstr(err.message, "is not a finite"));
+	dao_ros_proc_destroy(pa);
+	dao_ros_proc_destroy(pb);
+	dao_ros_proc_destroy(pc);
+}
+
 static void test_params(void **state)
 {
 	(void)state;
@@ -609,6 +685,7 @@ int main(void)
 		cmocka_unit_test(test_camera_followed),
 		cmocka_unit_test(test_projection_with_distortion),
 		cmocka_unit_test(test_time_back_resets),
+		cmocka_unit_test(test_poses),
 		cmocka_unit_test(test_params),
 		cmocka_unit_test(test_no_allocation),
 		cmocka_unit_test(test_filtered_depth),

@@ -24,6 +24,11 @@ build's libdepthao, in a child process), with its camera_info; its compressedDep
 (a: 16UC1 PNG, b: 32FC1 RVL, c: 16UC1 RVL), decoded here by a decoder written from the
 format's description (ConfigHeader, PNG through PIL, RVL), gives the same depth (32FC1:
 the quantised inverse depth recomputed here, and within its step of the depth).
+Poses from tf (issue #37): node d (`~pose_frame world`, depth_temporal_motion source) on a
+bag of a camera moving through a static scene (its depth ray-cast here from the poses, tf a
+moving /tf and a latched /tf_static) gives what `depthao process --pose-frame world` gives
+on the same bag, and not what motion off gives; node e (`~pose_frame nowhere`) logs why its
+frames have no pose and gives what motion off gives.
 Exits 77 when ROS (roscore, rosbag, rospy, the node) is absent.  Every process
 started here is killed on every exit path.
 """
@@ -227,6 +232,80 @@ def write_bag(path, topic, make, distorted=False):
             t = stamp(i) + genpy.Duration(0, 2000000)
             b.write(topic + "/camera_info", info_msg(i, distorted=distorted), t)
             b.write(topic + "/image", make(i), t)
+
+
+# ---------------------------------------------------------------- a moving camera
+CAM_LINK_TO_OPTICAL = (-0.5, 0.5, -0.5, 0.5)  # REP 103: optical z forward = the link's x
+
+
+def quat_mul(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz)
+
+
+def quat_matrix(q):
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def link_pose(i):
+    """cam_link in world at frame i: 1 cm a frame to the left (world +y), turning 0.6
+    degrees a frame about world z, 1 cm up/down."""
+    a = np.radians(0.6 * i) / 2
+    return (0.0, 0.0, float(np.sin(a)), float(np.cos(a))), (0.0, 0.01 * i, 0.005 * (i % 2))
+
+
+def moving_depth(i):
+    """16-bit depth (mm) of a static room seen from link_pose(i): a wall 2.5 m ahead
+    (world x = 2.5) leaning back, a box face at x = 1.8; holes and +-2 mm noise."""
+    q, t = link_pose(i)
+    R = quat_matrix(quat_mul(q, CAM_LINK_TO_OPTICAL))
+    u, v = np.meshgrid(np.arange(W, dtype=np.float64), np.arange(H, dtype=np.float64))
+    rays = np.stack([(u - K[2]) / K[0], (v - K[5]) / K[4], np.ones_like(u)], -1) @ R.T
+    o = np.array(t)
+    # wall: x - 0.1 z = 2.5; a ray o + s r (s the optical depth, since r's optical z is 1)
+    s_wall = (2.5 - o[0] + 0.1 * o[2]) / (rays[..., 0] - 0.1 * rays[..., 2])
+    s_box = (1.8 - o[0]) / rays[..., 0]
+    hit = o + s_box[..., None] * rays
+    on_box = (np.abs(hit[..., 1] - 0.05) < 0.35) & (hit[..., 2] > -0.3) & (hit[..., 2] < 0.25)
+    s = np.where(on_box, s_box, s_wall)
+    y, x = np.mgrid[0:H, 0:W]
+    noise = ((x * 7919 + y * 104729 + i * 15485863) % 5 - 2) * 0.001
+    mm = np.rint((s + noise) * 1000.0).astype(np.uint16)
+    mm[(x * 7 + y * 3 + i) % 37 == 0] = 0
+    return image_msg(i, "16UC1", mm.tobytes(), 2 * W)
+
+
+def write_moving_bag(path):
+    sys.path.insert(0, os.path.join(os.environ["DAO_SOURCE_ROOT"], "tests", "bag"))
+    import make_tf_bag
+    from genpy.dynamic import generate_dynamic
+    types = generate_dynamic("tf2_msgs/TFMessage", make_tf_bag.TF_MESSAGE)
+
+    def tf(parent, child, q, t, when):
+        m = types["tf2_msgs/TFMessage"]()
+        m.transforms = [make_tf_bag.transform(types, {
+            "stamp_ns": when.to_nsec(), "parent": parent, "child": child, "q": q, "t": t})]
+        return m
+
+    with rosbag.Bag(path, "w") as b:
+        static = tf("cam_link", "cam_depth_optical", CAM_LINK_TO_OPTICAL, (0.0, 0.0, 0.0),
+                    stamp(0))
+        # latched, as tf2_ros' static broadcaster publishes it (rosbag play keeps that)
+        b.write("/tf_static", static, stamp(0), connection_header={
+            "topic": "/tf_static", "type": static._type, "md5sum": static._md5sum,
+            "message_definition": static._full_text, "latching": "1"})
+        for i in range(FRAMES):
+            q, t = link_pose(i)
+            b.write("/tf", tf("world", "cam_link", q, t, stamp(i)),
+                    stamp(i) + genpy.Duration(0, 1000000))
+            t = stamp(i) + genpy.Duration(0, 2000000)
+            b.write("/mov/depth/camera_info", info_msg(i), t)
+            b.write("/mov/depth/image", moving_depth(i), t)
 
 
 def read_png(path):
@@ -667,8 +746,44 @@ def main():
     check_run("a distorted", col_a, bag_a, FRAMES, "mono16",
               ["--radius", "0.25", "--prefilter", "none", "--slices", "3",
                "--occlusion-color", "203040", "--intrinsics", "52,53.5,38,28"], 2 * FRAMES)
+    # poses from tf: d follows the camera through tf as depthao process follows it
+    # through the bag's tf; e's fixed frame is not in the tree: no poses, as motion off
+    bag_m = os.path.join(WORK, "moving.bag")
+    write_moving_bag(bag_m)
+    # stdbuf: d's INFO lines go to stdout, a file here, buffered until exit otherwise
+    node_d = start(["stdbuf", "-oL", NODE, "__ns:=/d", "__name:=depthao", "depth/image:=/mov/depth/image",
+                    "_queue_size:=50", "_pose_frame:=/world", "_pose_timeout:=5",
+                    "_depth_temporal_motion:=source"], os.path.join(WORK, "d.log"))
+    node_e = start([NODE, "__ns:=/e", "__name:=depthao", "depth/image:=/mov/depth/image",
+                    "_queue_size:=50", "_pose_frame:=nowhere", "_pose_timeout:=0.05",
+                    "_depth_temporal_motion:=source"], os.path.join(WORK, "e.log"))
+    col_d, col_e = {"ao": Collector("/d/ao/image")}, {"ao": Collector("/e/ao/image")}
+    for c in (col_d["ao"], col_e["ao"]):
+        wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
+    play(bag_m)
+    wait_for("%d AO frames of d and e" % FRAMES, lambda: col_d["ao"].count() >= FRAMES and
+             col_e["ao"].count() >= FRAMES)
+    check_run("d (poses from tf)", col_d, bag_m, FRAMES, "mono16",
+              ["--depth-temporal-motion", "source", "--pose-frame", "world"], 0)
+    check_run("e (no poses)", col_e, bag_m, FRAMES, "mono16",
+              ["--depth-temporal-motion", "off"], 0)
+    with col_d["ao"].lock, col_e["ao"].lock:
+        differ = [int(np.count_nonzero(as_array(a) != as_array(b)))
+                  for a, b in zip(col_d["ao"].msgs[1:FRAMES], col_e["ao"].msgs[1:FRAMES])]
+    if min(differ) < W * H // 20:
+        fail("d's AO (poses) differs from e's (no poses) in only %s pixels of frames 1-%d: "
+             "the poses do not reach the temporal filter" % (differ, FRAMES - 1))
+    print("poses: d's AO differs from motion off in %s pixels of frames 1-%d" % (differ, FRAMES - 1))
+    if "poses: 'cam_depth_optical' in 'world' from tf at each image's stamp" not in log_of("d"):
+        fail("d did not say where its poses come from: %s" % log_of("d"))
+    wait_for("e's reason", lambda: "no pose for the depth image of 200.000000000 s: "
+             "'cam_depth_optical' in 'nowhere'" in log_of("e"))
+    for name, p in (("d", node_d), ("e", node_e)):
+        if p.poll() is not None:
+            fail("node %s stopped: %s" % (name, log_of(name)))
+
     # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
-    for name in ("a", "b", "c", "bad"):
+    for name in ("a", "b", "c", "d", "e", "bad"):
         for word in ("AddressSanitizer", "runtime error:"):
             if word in log_of(name):
                 fail("%s in the log of %s: %s" % (word, name, log_of(name)))
