@@ -97,6 +97,7 @@ private:
 	bool read_pose_parameters();
 	void check_pose_use(const dao_params &p);
 	void set_pose(const std_msgs::Header &h);
+	bool wait_for_transform(const std::string &frame, const ros::Time &stamp, std::string *why);
 	void publish_depth(const sensor_msgs::ImageConstPtr &img,
 			   const sensor_msgs::CameraInfoConstPtr &info);
 	dynamic_reconfigure::Config config_of(const dao_params &p, int which) const;
@@ -126,6 +127,8 @@ private:
 	std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
 	bool poses_used_ = false, said_pose_ok_ = false;
 	int checked_motion_ = -1;  // the motion mode check_pose_use() last saw
+	bool have_pose_stamp_ = false;
+	uint64_t last_pose_stamp_ = 0;
 	std::string last_error_;
 	ros::WallTime last_error_time_;
 };
@@ -224,12 +227,32 @@ std::string tf2_frame(const std::string &f)
 
 bool DepthaoNode::read_pose_parameters()
 {
-	pnh_.param<std::string>("pose_frame", pose_frame_, "");
-	pose_frame_ = tf2_frame(pose_frame_);
-	pnh_.param("pose_timeout", pose_timeout_, 0.1);
+	XmlRpc::XmlRpcValue v;
+	if (pnh_.getParam("pose_frame", v)) {
+		if (v.getType() != XmlRpc::XmlRpcValue::TypeString) {
+			ROS_FATAL("~pose_frame: give tf's fixed frame as a name (odom, map), not a %s",
+				  v.getType() == XmlRpc::XmlRpcValue::TypeBoolean ? "boolean" : "number");
+			return false;
+		}
+		const std::string given = static_cast<std::string>(v);
+		pose_frame_ = tf2_frame(given);
+		if (!given.empty() && pose_frame_.empty()) {
+			ROS_FATAL("~pose_frame '%s' names no frame: give tf's fixed frame (odom, map)",
+				  given.c_str());
+			return false;
+		}
+	}
+	if (pnh_.getParam("pose_timeout", v)) {
+		if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble)
+			pose_timeout_ = static_cast<double>(v);
+		else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
+			pose_timeout_ = static_cast<int>(v);
+		else
+			pose_timeout_ = -1.0; /* refused below */
+	}
 	if (!std::isfinite(pose_timeout_) || pose_timeout_ < 0.0 || pose_timeout_ > 10.0) {
-		ROS_FATAL("~pose_timeout: %g is not a wait for tf in seconds (0 to 10; 0.1 by default)",
-			  pose_timeout_);
+		ROS_FATAL("~pose_timeout: %s is not a wait for tf in seconds (0 to 10; 0.1 by default)",
+			  text_of(v).empty() ? "that" : text_of(v).c_str());
 		return false;
 	}
 	if (!pose_frame_.empty()) {
@@ -258,21 +281,45 @@ void DepthaoNode::check_pose_use(const dao_params &p)
 				 : "the motion is estimated from the depth alone, as with icp");
 	else if (!wants && !pose_frame_.empty())
 		ROS_WARN("~pose_frame '%s' is set but depth_temporal_motion is not source or "
-			 "source+icp: the poses are not used (tf is not read)", pose_frame_.c_str());
+			 "source+icp: the poses are not used (no tf lookups)", pose_frame_.c_str());
+}
+
+// Whether tf can place `frame` in ~pose_frame at `stamp` within ~pose_timeout
+// of wall-clock time (tf2_ros' own wait counts ROS time, which stands still
+// under sim time without /clock).
+bool DepthaoNode::wait_for_transform(const std::string &frame, const ros::Time &stamp,
+				     std::string *why)
+{
+	const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(pose_timeout_);
+	for (;;) {
+		why->clear();
+		if (tf_buffer_->canTransform(pose_frame_, frame, stamp, ros::Duration(0), why))
+			return true;
+		if (ros::WallTime::now() >= deadline || !ros::ok())
+			return false;
+		ros::WallDuration(0.002).sleep();
+	}
 }
 
 // The image's frame in ~pose_frame at the image's stamp, for the next run; no
-// pose (the motion mode's fallback for this frame) when tf cannot give it in
-// ~pose_timeout.
+// pose (the motion mode's fallback for this frame and the next) when tf cannot
+// give it in ~pose_timeout.
 void DepthaoNode::set_pose(const std_msgs::Header &h)
 {
 	dao_error err{};
 	const uint64_t stamp = dao_ros_stamp_ns(h.stamp.sec, h.stamp.nsec);
 	const std::string frame = tf2_frame(h.frame_id);
 	std::string why;
+	// a bag played again without sim time: tf keeps the first play's transforms
+	// (10 s of them) and refuses older ones; start it over with the histories
+	// (static transforms stay)
+	if (have_pose_stamp_ && stamp < last_pose_stamp_)
+		tf_buffer_->clear();
+	have_pose_stamp_ = true;
+	last_pose_stamp_ = stamp;
 	if (frame.empty())
 		why = "the depth image has no frame_id";
-	else if (tf_buffer_->canTransform(pose_frame_, frame, h.stamp, ros::Duration(pose_timeout_), &why)) {
+	else if (wait_for_transform(frame, h.stamp, &why)) {
 		try {
 			const geometry_msgs::Transform t =
 				tf_buffer_->lookupTransform(pose_frame_, frame, h.stamp).transform;
@@ -292,7 +339,8 @@ void DepthaoNode::set_pose(const std_msgs::Header &h)
 	} else if (why.empty())
 		why = "tf has no transform in time (~pose_timeout " + std::to_string(pose_timeout_) + " s)";
 	ROS_WARN_THROTTLE(5.0, "no pose for the depth image of %u.%09u s: '%s' in '%s': %s; "
-			  "the frame goes without one (source: the history stays where it was; source+icp: ICP alone)",
+			  "this frame and the next go without the camera's motion (source: the "
+			  "history stays where it was; source+icp: ICP alone)",
 			  h.stamp.sec, h.stamp.nsec, frame.c_str(), pose_frame_.c_str(), why.c_str());
 	if (dao_ros_proc_set_pose(proc_, stamp, nullptr, nullptr, &err))
 		log_error("pose", err);

@@ -502,8 +502,9 @@ static int run_posed(struct dao_ros_proc *proc, const struct dao_ros_image *img,
 
 /* poses from the shell (tf) reach depth_temporal_motion=source; a bag played
  * again (the stamp goes back) starts over before the pose is taken, so its
- * frames equal those of a processor whose history was other frames; bad poses are refused with the library's
- * message and the frame has none */
+ * frames equal those of a processor whose history was other frames, and its
+ * first frame's pose is kept (the second frame follows the motion); bad poses
+ * are refused with the library's message */
 static void test_poses(void **state)
 {
 	(void)state;

@@ -750,8 +750,7 @@ def main():
     # through the bag's tf; e's fixed frame is not in the tree: no poses, as motion off
     bag_m = os.path.join(WORK, "moving.bag")
     write_moving_bag(bag_m)
-    # stdbuf: d's INFO lines go to stdout, a file here, buffered until exit otherwise
-    node_d = start(["stdbuf", "-oL", NODE, "__ns:=/d", "__name:=depthao", "depth/image:=/mov/depth/image",
+    node_d = start([NODE, "__ns:=/d", "__name:=depthao", "depth/image:=/mov/depth/image",
                     "_queue_size:=50", "_pose_frame:=/world", "_pose_timeout:=5",
                     "_depth_temporal_motion:=source"], os.path.join(WORK, "d.log"))
     node_e = start([NODE, "__ns:=/e", "__name:=depthao", "depth/image:=/mov/depth/image",
@@ -760,6 +759,16 @@ def main():
     col_d, col_e = {"ao": Collector("/d/ao/image")}, {"ao": Collector("/e/ao/image")}
     for c in (col_d["ao"], col_e["ao"]):
         wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
+    # rosbag play --wait-for-subscribers waits for one subscriber a topic: wait for both
+    probe = rosgraph.Master("/dao_test_probe")
+
+    def subscribed(topic, nodes):
+        subs = dict(probe.getSystemState()[1]).get(topic, [])
+        return all(n in subs for n in nodes)
+    wait_for("d and e to subscribe to the moving camera and d to tf", lambda:
+             subscribed("/mov/depth/image", ["/d/depthao", "/e/depthao"]) and
+             subscribed("/mov/depth/camera_info", ["/d/depthao", "/e/depthao"]) and
+             subscribed("/tf", ["/d/depthao"]) and subscribed("/tf_static", ["/d/depthao"]))
     play(bag_m)
     wait_for("%d AO frames of d and e" % FRAMES, lambda: col_d["ao"].count() >= FRAMES and
              col_e["ao"].count() >= FRAMES)
@@ -774,13 +783,32 @@ def main():
         fail("d's AO (poses) differs from e's (no poses) in only %s pixels of frames 1-%d: "
              "the poses do not reach the temporal filter" % (differ, FRAMES - 1))
     print("poses: d's AO differs from motion off in %s pixels of frames 1-%d" % (differ, FRAMES - 1))
-    if "poses: 'cam_depth_optical' in 'world' from tf at each image's stamp" not in log_of("d"):
-        fail("d did not say where its poses come from: %s" % log_of("d"))
     wait_for("e's reason", lambda: "no pose for the depth image of 200.000000000 s: "
              "'cam_depth_optical' in 'nowhere'" in log_of("e"))
     for name, p in (("d", node_d), ("e", node_e)):
         if p.poll() is not None:
             fail("node %s stopped: %s" % (name, log_of(name)))
+    # d's INFO lines go to stdout, a file here, buffered until it exits: stop it first
+    node_d.send_signal(signal.SIGINT)
+    try:
+        node_d.wait(TIMEOUT)
+    except subprocess.TimeoutExpired:
+        fail("node d did not stop on SIGINT")
+    if "poses: 'cam_depth_optical' in 'world' from tf at each image's stamp" not in log_of("d"):
+        fail("d did not say where its poses come from: %s" % log_of("d"))
+    # pose parameters refused at start
+    for k, (bad, words) in enumerate(((["_pose_frame:=/"], "~pose_frame '/' names no frame"),
+                                      (["_pose_frame:=3"], "~pose_frame: give tf's fixed frame "
+                                       "as a name"),
+                                      (["_pose_timeout:=11"], "~pose_timeout: 11 is not a wait"),
+                                      (["_pose_timeout:=soon"], "~pose_timeout: soon is not"))):
+        p = start([NODE, "__name:=badpose%d" % k] + bad, os.path.join(WORK, "badpose.log"))
+        try:
+            st = p.wait(TIMEOUT)
+        except subprocess.TimeoutExpired:
+            fail("the node did not stop on %s" % bad)
+        if st != 1 or words not in log_of("badpose"):
+            fail("%s: exit %s, log: %s" % (bad, st, log_of("badpose")))
 
     # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
     for name in ("a", "b", "c", "d", "e", "bad"):
