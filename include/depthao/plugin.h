@@ -260,6 +260,19 @@ struct dao_sink_frame_info {
 	enum dao_stream stream;     /* which of the frame's streams this is */
 	uint64_t capture_ns;        /* CLOCK_MONOTONIC when the source delivered the frame
 				       (latency = now - capture_ns), 0 if unknown */
+	/* appended after the first layout (read them when DAO_STRUCT_HAS(struct
+	 * dao_sink_frame_info, info, pose_translation)): the camera's pose at this frame where the pipeline follows the camera
+	 * (depth-temporal-motion icp, source or source+icp): has_pose 1,
+	 * pose_rotation the unit quaternion x, y, z, w (w last) of the rotation from
+	 * the frame's optical frame (x right, y down, z forward) to the first frame's,
+	 * pose_translation the optical centre in the first frame's, metres:
+	 * x_first = R x + t, the motions accepted since the first frame composed
+	 * (depthaod's stats "motion", depthao process --pose-out).  has_pose 0: no
+	 * pose (motion off, or a host that does not track it). */
+	int32_t has_pose;
+	uint32_t reserved;          /* 0 */
+	double pose_rotation[4];    /* x, y, z, w: optical frame to the first frame's */
+	double pose_translation[3]; /* the optical centre in the first frame's, m */
 };
 
 /* Levels of the messages a sink logs through its host. */

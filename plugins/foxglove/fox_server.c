@@ -39,10 +39,11 @@
 #define PARAM_POLL_NS 1000000000ull
 
 static const char *const topics[CH_COUNT] = {"/depthao/ao", "/depthao/shaded",
-					     "/depthao/calibration", "/depthao/cloud"};
+					     "/depthao/calibration", "/depthao/cloud",
+					     "/depthao/tf"};
 static const char *const schema_names[CH_COUNT] = {"foxglove.RawImage", "foxglove.CompressedImage",
 						   "foxglove.CameraCalibration",
-						   "foxglove.PointCloud"};
+						   "foxglove.PointCloud", "foxglove.FrameTransform"};
 
 struct fox_client {
 	struct fox_client *next;

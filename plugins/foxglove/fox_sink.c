@@ -20,6 +20,10 @@
  *   /depthao/shaded       foxglove.CompressedImage jpeg
  *   /depthao/calibration  foxglove.CameraCalibration (with every AO frame)
  *   /depthao/cloud        foxglove.PointCloud x, y, z (m, float32) and ao (0..1)
+ *   /depthao/tf           foxglove.FrameTransform: the camera's pose (frame "depthao", the
+ *                         images' and the cloud's) in "depthao_odom" (the first frame's
+ *                         optical frame), with each AO frame where the host tracks it
+ *                         (depth-temporal-motion not off)
  * Each message is built once per frame, and only for a channel somebody is
  * subscribed to; the streams it needs are asked of the host (want_streams).
  */
@@ -41,6 +45,7 @@
 #define DEFAULT_QUALITY 80
 #define DEFAULT_CLOUD_STEP 4
 #define FRAME_ID "depthao"
+#define POSE_FRAME_ID "depthao_odom"
 
 uint64_t fox_now_ns(void)
 {
@@ -116,7 +121,7 @@ void fox_msg_unref(struct fox_sink *s, struct fox_msg *m)
 void fox_update_wanted(struct fox_sink *s)
 {
 	unsigned mask = 0;
-	if (s->subscribers[CH_AO] || s->subscribers[CH_CALIB])
+	if (s->subscribers[CH_AO] || s->subscribers[CH_CALIB] || s->subscribers[CH_TF])
 		mask |= 1u << DAO_STREAM_AO;
 	if (s->subscribers[CH_SHADED])
 		mask |= 1u << DAO_STREAM_SHADED;
@@ -398,6 +403,33 @@ static int publish_calibration(struct fox_sink *s, uint64_t cap)
 	return 0;
 }
 
+/* foxglove.FrameTransform: the camera (FRAME_ID) in POSE_FRAME_ID */
+static int publish_tf(struct fox_sink *s, const struct dao_sink_frame_info *info, uint64_t cap)
+{
+	const uint64_t ts = wall_ns(s, cap);
+	const size_t vec = 3 * 9, quat = 4 * 9; /* doubles: a tag and 8 bytes each */
+	const size_t len = fox_pb_time_size(ts) + fox_pb_len_size(sizeof POSE_FRAME_ID - 1) +
+			   fox_pb_len_size(sizeof FRAME_ID - 1) + fox_pb_len_size(vec) +
+			   fox_pb_len_size(quat);
+	struct fox_msg *m = fox_msg_get(s, CH_TF, FOX_HEADER + len);
+	if (!m)
+		return -ENOMEM;
+	data_header(s, m, cap);
+	uint8_t *p = m->buf + LWS_PRE + FOX_HEADER;
+	p = fox_pb_time(p, 1, ts);
+	p = fox_pb_string(p, 2, POSE_FRAME_ID);
+	p = fox_pb_string(p, 3, FRAME_ID);
+	p = fox_pb_len(p, 4, vec);
+	for (unsigned i = 0; i < 3; i++)
+		p = fox_pb_double(p, i + 1, info->pose_translation[i]);
+	p = fox_pb_len(p, 5, quat);
+	for (unsigned i = 0; i < 4; i++)
+		p = fox_pb_double(p, i + 1, info->pose_rotation[i]);
+	m->len = (size_t)(p - (m->buf + LWS_PRE));
+	fox_publish(s, m);
+	return 0;
+}
+
 static size_t field_size(const char *name)
 {
 	return fox_pb_len_size(fox_pb_len_size(strlen(name)) + 5 + 2);
@@ -504,6 +536,10 @@ static int fox_write_stream(void *state, const struct dao_sink_frame_info *info,
 			r = publish_ao(s, f, cap);
 		if (r == 0 && subs[CH_CALIB] && cam_ok)
 			r = publish_calibration(s, cap);
+		if (r == 0 && subs[CH_TF] &&
+		    DAO_STRUCT_HAS(struct dao_sink_frame_info, info, pose_translation) &&
+		    info->has_pose)
+			r = publish_tf(s, info, cap);
 		if (r == 0 && subs[CH_CLOUD] && cam_ok) {
 			r = keep16(&s->ao, &s->ao_cap, f);
 			s->ao_seq = f->sequence;
@@ -591,8 +627,8 @@ static const struct dao_plugin fox_plugin = {
 	DAO_PLUGIN_HEADER,
 	.name = "foxglove",
 	.description = "Foxglove WebSocket server (libwebsockets): the AO, the shaded image, the "
-		       "calibration and the AO point cloud live in Foxglove, the AO parameters as "
-		       "its parameters, foxglove:[HOST:]PORT",
+		       "calibration, the AO point cloud and the camera's pose live in Foxglove, the "
+		       "AO parameters as its parameters, foxglove:[HOST:]PORT",
 	.sink = &fox_sink_ops,
 };
 

@@ -19,7 +19,7 @@
 
 #include <depthao/plugin.h>
 
-enum fox_channel { CH_AO = 0, CH_SHADED, CH_CALIB, CH_CLOUD, CH_COUNT };
+enum fox_channel { CH_AO = 0, CH_SHADED, CH_CALIB, CH_CLOUD, CH_TF, CH_COUNT };
 
 #define FOX_DEFAULT_CLIENTS 16     /* ?max-clients= (1..256) */
 #define FOX_DEFAULT_QUEUE 2        /* data messages queued per client (?queue= 1..16) */

@@ -123,7 +123,7 @@ function foxgloveRoot() {
   protobuf.parse(`syntax = "proto3"; package google.protobuf;
     message Timestamp { int64 seconds = 1; int32 nanos = 2; }`, r);
   for (const name of ["Vector3", "Quaternion", "Pose", "PackedElementField", "RawImage",
-    "CompressedImage", "CameraCalibration", "PointCloud"]) {
+    "CompressedImage", "CameraCalibration", "PointCloud", "FrameTransform"]) {
     const text = schemas.generateProto(schemas.foxgloveMessageSchemas[name],
       name === "PackedElementField" ? [schemas.foxgloveEnumSchemas.NumericType] : [])
       .replace(/^import .*$/mg, "");

@@ -2,8 +2,10 @@
 // A reference client subscribes to every channel; each message decodes with the
 // schema the channel advertised and with Foxglove's own, alike; the AO image equals
 // the AO PNG depthaod writes of the same frame; the point cloud's ao field is that
-// image's pixel under each point (projected with the calibration); the parameters
-// read, change with the token and are refused read-only.
+// image's pixel under each point (projected with the calibration); the camera's pose
+// (depth-temporal-motion icp) comes with each AO image, equal to the one depthaod's MCAP
+// recorder writes on /tf for the same frame (@mcap/core, CDR by @foxglove/rosmsg2-
+// serialization); the parameters read, change with the token and are refused read-only.
 // usage: node test_fox_stream.js DEPTHAOD PLUGIN_DIRS
 "use strict";
 const fs = require("fs");
@@ -14,14 +16,48 @@ const t = require("./foxtest.js");
 async function main() {
   const [depthaod, plugins] = process.argv.slice(2);
   const pngDir = fs.mkdtempSync(path.join(os.tmpdir(), "fox-ao-"));
+  const rec = path.join(pngDir, "rec.mcap");
   const d = new t.Daemon(depthaod, plugins, "token=s3cret&cloud-step=4",
-    ["--sink", "ao=images:" + pngDir, "--stream", "ao=ao"]);
+    ["--sink", "ao=images:" + pngDir, "--stream", "ao=ao", "--sink", "rec=mcap:" + rec + "?frame_id=depthao",
+      "--depth-temporal-motion", "icp"]);
+  let tfs;
   try {
-    await run(d, pngDir);
+    tfs = await run(d, pngDir);
   } finally {
     await d.stop();
   }
+  await checkRecordedPoses(rec, tfs);
   console.log("ok");
+}
+
+// The poses on /tf of depthaod's MCAP recording, by stamp: each /depthao/tf message the
+// client got is the one recorded for the same frame (the wall clock the sink stamps with
+// is the capture's; the recording keeps the frame's own time: matched by order of the
+// translation instead, every client message must be one of the recording's poses).
+async function checkRecordedPoses(rec, tfs) {
+  const { McapIndexedReader } = require(path.join(__dirname, "..", "js", "node_modules", "@mcap/core"));
+  const support = require(path.join(__dirname, "..", "js", "node_modules", "@mcap/support"));
+  const { MessageReader } = require(path.join(__dirname, "..", "js", "node_modules", "@foxglove/rosmsg2-serialization"));
+  const { parse } = require(path.join(__dirname, "..", "js", "node_modules", "@foxglove/rosmsg"));
+  const buf = fs.readFileSync(rec);
+  const readable = { size: async () => BigInt(buf.length), read: async (o, l) => buf.subarray(Number(o), Number(o + l)) };
+  const rd = await McapIndexedReader.Initialize({ readable, decompressHandlers: await support.loadDecompressHandlers() });
+  const recorded = new Set();
+  for await (const m of rd.readMessages({ topics: ["/tf"] })) {
+    const ch = rd.channelsById.get(m.channelId), sc = rd.schemasById.get(ch.schemaId);
+    const msg = new MessageReader(parse(new TextDecoder().decode(sc.data), { ros2: true })).readMessage(m.data);
+    const tr = msg.transforms[0];
+    if (tr.header.frame_id !== "depthao_odom" || tr.child_frame_id !== "depthao")
+      t.fail(`recorded /tf: '${tr.child_frame_id}' in '${tr.header.frame_id}'`);
+    const v = tr.transform;
+    recorded.add([v.translation.x, v.translation.y, v.translation.z, v.rotation.x, v.rotation.y, v.rotation.z, v.rotation.w].join(","));
+  }
+  if (!recorded.size) t.fail("the MCAP recording has no /tf");
+  for (const tf of tfs) {
+    const k = [tf.translation.x, tf.translation.y, tf.translation.z, tf.rotation.x, tf.rotation.y, tf.rotation.z, tf.rotation.w].join(",");
+    if (!recorded.has(k)) t.fail("a pose on /depthao/tf that the recording does not have: " + k);
+  }
+  console.log(`${tfs.length} poses on /depthao/tf, each one of the ${recorded.size} the MCAP recording has`);
 }
 
 function sub(st, topic) {
@@ -38,7 +74,8 @@ async function run(d, pngDir) {
     t.fail("serverInfo capabilities: " + JSON.stringify(caps));
   const fox = t.foxgloveRoot();
   const want = { "/depthao/ao": "foxglove.RawImage", "/depthao/shaded": "foxglove.CompressedImage",
-    "/depthao/calibration": "foxglove.CameraCalibration", "/depthao/cloud": "foxglove.PointCloud" };
+    "/depthao/calibration": "foxglove.CameraCalibration", "/depthao/cloud": "foxglove.PointCloud",
+    "/depthao/tf": "foxglove.FrameTransform" };
   const got = {};
   const types = {};
   const aoAll = [];
@@ -114,6 +151,18 @@ async function run(d, pngDir) {
   }
   if (!checked) t.fail("no cloud had the timestamp of an AO image");
   console.log(`${checked} cloud points checked against the AO images`);
+  // the camera's pose: the images' frame in depthao_odom, stamped as an AO image
+  let posed = 0;
+  for (const tf of dec["/depthao/tf"]) {
+    const q = tf.rotation, v = tf.translation;
+    const parent = tf.parent_frame_id ?? tf.parentFrameId, child = tf.child_frame_id ?? tf.childFrameId;
+    if (parent !== "depthao_odom" || child !== "depthao") t.fail(`tf: '${child}' in '${parent}'`);
+    if (Math.abs(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w - 1) > 1e-9 ||
+        ![v.x, v.y, v.z].every(Number.isFinite))
+      t.fail("tf: not a pose: " + JSON.stringify(tf));
+    posed += aoByTs.has(String(tf.ts));
+  }
+  if (!posed) t.fail("no pose had the timestamp of an AO image");
 
   // parameters: read; refused read-only; set with the token; subscribers told
   a.client.getParameters(["radius"], "g1");
@@ -156,6 +205,7 @@ async function run(d, pngDir) {
   }
   console.log(`${matched} of the ${pngs.length} AO PNGs of the last loop equal a received AO image`);
   if (matched < pngs.length / 2) t.fail(`only ${matched} of ${pngs.length} AO PNGs equal a received AO image`);
+  return dec["/depthao/tf"];
 }
 
 // field names without case or underscores (protobufjs camel-cases descriptor names),

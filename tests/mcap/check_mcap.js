@@ -2,11 +2,17 @@
 // Reads an MCAP file depthao wrote with the reference implementation (@mcap/core; CDR by
 // @foxglove/rosmsg2-serialization, the schemas parsed by @foxglove/rosmsg) and checks it.
 //   node check_mcap.js FILE [--ao DIR] [--shaded DIR] [--depth DIR] [--compression C] [--cloud]
+//                        [--poses FILE [--pose-tolerance M]]
 //     the indexed reader (footer, summary, statistics, chunk indexes, CRCs) and the
 //     stream reader (CRCs of chunks and the data section) agree; every message decodes
 //     with its schema; with --ao/--shaded the images equal the PNGs of those directories
 //     (in name order), with --depth the 16UC1 filtered depth (/depthao/depth_filtered)
-//     those of DIR (then "depth N" is printed too); the chunks use compression C.
+//     those of DIR (then "depth N" is printed too); the chunks use compression C; with
+//     --poses the camera poses on /tf (tf2_msgs/msg/TFMessage, one transform each, just
+//     before its AO image, the same stamp) equal those of FILE (a TUM trajectory,
+//     depthao process --pose-out: tx ty tz qx qy qz qw, to its 9 and 12 decimals; with
+//     --pose-tolerance within M metres and M in each quaternion component), one for each
+//     AO image (then "tf N" is printed too); without it there must be none.
 //   node check_mcap.js FILE --cut
 //     a file cut short (no footer): the stream reader alone, up to where it ends.
 // Prints "ao N shaded N info N points N chunks N"; exit 1 on a failed check, 77 without
@@ -84,6 +90,27 @@ function decoders(schemas) {
 
 // Checks one decoded message of a topic; counts in `n`.
 function check(topic, msg, n, ref, logTime) {
+  if (topic === "/tf") {
+    const poses = ref.poses;
+    if (!poses) fail("/tf: a camera pose in a recording made without motion (--poses not given)");
+    if (msg.transforms.length !== 1) fail(`/tf: ${msg.transforms.length} transforms, want 1`);
+    const t = msg.transforms[0], s = t.header.stamp;
+    if (BigInt(s.sec) * 1000000000n + BigInt(s.nanosec) !== logTime) fail(`/tf: stamp != log time ${logTime}`);
+    if (t.header.frame_id !== ref.poseFrame || t.child_frame_id !== ref.frameId)
+      fail(`/tf: '${t.child_frame_id}' in '${t.header.frame_id}', want '${ref.frameId}' in '${ref.poseFrame}'`);
+    if (n.tf >= poses.length) fail(`/tf: more poses than ${poses.length}`);
+    const want = poses[n.tf], tr = t.transform.translation, q = t.transform.rotation;
+    const got = [tr.x, tr.y, tr.z, q.x, q.y, q.z, q.w];
+    for (let i = 0; i < 7; i++)
+      if (Math.abs(got[i] - want[i]) > (ref.tolerance ?? (i < 3 ? 6e-10 : 6e-13)))
+        fail(`/tf ${n.tf}: ${got} != the pose file's ${want}`);
+    if (n.tf !== n.ao) fail(`/tf ${n.tf} does not come just before AO image ${n.ao}`);
+    ref.tfStamp = logTime;
+    n.tf++;
+    return;
+  }
+  if (topic === "/depthao/ao" && ref.poses && (n.tf !== n.ao + 1 || ref.tfStamp !== logTime))
+    fail(`AO image ${n.ao} without its pose just before it (${n.tf} poses)`);
   const stamp = BigInt(msg.header.stamp.sec) * 1000000000n + BigInt(msg.header.stamp.nanosec);
   if (stamp !== logTime) fail(`${topic}: header stamp ${stamp} != log time ${logTime}`);
   if (topic === "/depthao/ao" || topic === "/depthao/shaded" || topic === "/depthao/depth_filtered") {
@@ -122,7 +149,7 @@ function check(topic, msg, n, ref, logTime) {
 function streamRead(buf, ref, cut) {
   const r = new core.McapStreamReader({ decompressHandlers: handlers, validateCrcs: true });
   r.append(buf);
-  const schemas = new Map(), channels = new Map(), n = { ao: 0, shaded: 0, info: 0, points: 0, depth: 0, chunks: 0 };
+  const schemas = new Map(), channels = new Map(), n = { ao: 0, shaded: 0, info: 0, points: 0, depth: 0, tf: 0, chunks: 0 };
   let dec = null, rec, end = false;
   while ((rec = r.nextRecord()) !== undefined) {
     if (rec.type === "Schema") schemas.set(rec.id, rec);
@@ -142,7 +169,12 @@ let handlers;
 (async () => {
   handlers = await support.loadDecompressHandlers();
   const buf = fs.readFileSync(file);
-  const ref = { ao: pngs(opt("--ao")), shaded: pngs(opt("--shaded")), depth: pngs(opt("--depth")) };
+  const ref = { ao: pngs(opt("--ao")), shaded: pngs(opt("--shaded")), depth: pngs(opt("--depth")),
+                poses: opt("--poses") ? fs.readFileSync(opt("--poses"), "utf8").split("\n")
+                  .filter((l) => l.trim() && !l.startsWith("#")).map((l) => l.trim().split(/\s+/).slice(1).map(Number)) : null,
+                poseFrame: opt("--pose-frame") || "depthao_odom",
+                tolerance: opt("--pose-tolerance") !== undefined ? Number(opt("--pose-tolerance")) : undefined,
+                frameId: opt("--frame-id") || "camera_depth_optical_frame" };
   if (args.includes("--cut")) {
     const n = streamRead(buf, {}, true);
     console.log(`ao ${n.ao} shaded ${n.shaded} info ${n.info} points ${n.points} chunks -`);
@@ -159,7 +191,7 @@ let handlers;
   const comp = opt("--compression");
   if (comp !== undefined && !rd.chunkIndexes.every((c) => c.compression === (comp === "none" ? "" : comp)))
     fail(`chunk compression: ${rd.chunkIndexes.map((c) => c.compression)}`);
-  const dec = decoders(rd.schemasById), n = { ao: 0, shaded: 0, info: 0, points: 0, depth: 0, chunks: rd.chunkIndexes.length };
+  const dec = decoders(rd.schemasById), n = { ao: 0, shaded: 0, info: 0, points: 0, depth: 0, tf: 0, chunks: rd.chunkIndexes.length };
   let count = 0n;
   for await (const m of rd.readMessages({ validateCrcs: true })) {
     const ch = rd.channelsById.get(m.channelId);
@@ -168,10 +200,12 @@ let handlers;
   }
   if (count !== st.messageCount || Number(st.chunkCount) !== rd.chunkIndexes.length)
     fail(`statistics: ${st.messageCount} messages, ${st.chunkCount} chunks; read ${count}, ${rd.chunkIndexes.length}`);
-  for (const k of ["ao", "shaded", "info", "points", "depth"])
+  for (const k of ["ao", "shaded", "info", "points", "depth", "tf"])
     if (n[k] !== s[k]) fail(`${k}: the indexed reader read ${n[k]}, the stream reader ${s[k]}`);
   for (const k of ["ao", "shaded", "depth"])
     if (ref[k] && n[k] !== ref[k].length) fail(`${k}: ${n[k]} messages, ${ref[k].length} PNGs`);
+  if (ref.poses && (n.tf !== ref.poses.length || n.tf !== n.ao))
+    fail(`/tf: ${n.tf} poses for ${n.ao} AO images, the pose file has ${ref.poses.length}`);
   console.log(`ao ${n.ao} shaded ${n.shaded} info ${n.info} points ${n.points} chunks ${n.chunks}` +
-              (ref.depth ? ` depth ${n.depth}` : ""));
+              (ref.depth ? ` depth ${n.depth}` : "") + (ref.poses ? ` tf ${n.tf}` : ""));
 })().catch((e) => fail(e.stack || String(e)));

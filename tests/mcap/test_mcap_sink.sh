@@ -49,6 +49,32 @@ check "$WORK/fd.mcap" --depth "$WORK/fd"
 [ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 4 shaded 4 info 4 points 0 chunks .* depth 4$" "$WORK/check" ||
 	fail "filtered_depth: $(cat "$WORK/check")"
 
+# a moving camera (synth sideways) with depth-temporal-motion icp: the pose of every frame
+# on /tf, just before its AO image, equal to --pose-out's (@mcap/core); depthao's own source
+# reads them back as the camera's poses (source motion, --pose-out again: the same poses)
+expect_exit 0 "synth sideways" -- "$DEPTHAO" synth --scene boxes --trajectory sideways \
+	--frames 5 --rays 1 --out "$WORK/syn" || true
+SEQ="$WORK/syn/boxes-sideways/depth"
+expect_exit 0 "?pose_frame= with icp" -- "$DEPTHAO" process --input "$SEQ" --quiet \
+	--depth-temporal 0.8 --depth-temporal-motion icp --pose-out "$WORK/poses.txt" \
+	--mcap-out "$WORK/tf.mcap?filtered_depth=true&pose_frame=odom&frame_id=cam" || true
+check "$WORK/tf.mcap" --poses "$WORK/poses.txt" --pose-frame odom --frame-id cam
+[ "$HAVE_NODE" -eq 0 ] || grep -q "^ao 5 shaded 5 info 5 points 0 chunks .* tf 5$" "$WORK/check" ||
+	fail "poses: $(cat "$WORK/check")"
+moved=$(awk '!/^#/ && $2 > 0.05 { n++ } END { print n + 0 }' "$WORK/poses.txt")
+[ "$moved" -ge 1 ] || fail "the camera did not move 5 cm in the estimate: $(cat "$WORK/poses.txt")"
+expect_exit 0 "the poses read back" -- "$DEPTHAO" process \
+	--input "$WORK/tf.mcap?topic=/depthao/depth_filtered" --algorithm none --depth-out "$WORK/back" \
+	--depth-temporal 0.8 --depth-temporal-motion source --pose-out "$WORK/back.txt" || true
+grep -q "camera poses: 'cam' in 'odom' from /tf (5 transforms)" "$WORK/err" ||
+	fail "read back: $(cat "$WORK/err")"
+[ "$(grep -v '^#' "$WORK/poses.txt")" = "$(grep -v '^#' "$WORK/back.txt")" ] ||
+	fail "the poses read back differ: $(cat "$WORK/back.txt")"
+expect_exit 1 "pose_frame = frame_id" -- "$DEPTHAO" process --input "$SEQ" \
+	--mcap-out "$WORK/y.mcap?pose_frame=cam&frame_id=cam"
+grep -q "frame_id 'cam' and pose_frame 'cam' must be two names" "$WORK/err" ||
+	fail "pose_frame = frame_id: $(cat "$WORK/err")"
+
 # depthao's own source: the AO topic's pixels are the AO PNGs', its timestamps the
 # recording's, the CameraInfo the pinhole of the recording's field of view
 out=$("${DAO_MCAP_ROUNDTRIP:?}" "$WORK/out.mcap" "$WORK/ao" "$REC" 2>&1) || fail "round trip: $out"

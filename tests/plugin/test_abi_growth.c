@@ -148,6 +148,10 @@ static const struct frozen layout[] = {
 	F(dao_sink_frame_info, size, 0),
 	F(dao_sink_frame_info, stream, 4),
 	F(dao_sink_frame_info, capture_ns, 8),
+	F(dao_sink_frame_info, has_pose, 16),
+	F(dao_sink_frame_info, reserved, 20),
+	F(dao_sink_frame_info, pose_rotation, 24),
+	F(dao_sink_frame_info, pose_translation, 56),
 	F(dao_timings, size, 0),
 	F(dao_timings, decode_ms, 8),
 	F(dao_timings, prefilter_ms, 16),
@@ -246,7 +250,7 @@ static void test_layout_frozen(void **state)
 			 DAO_END_OF(struct dao_sink_format, reserved));
 	assert_int_equal(sizeof(struct dao_sink_host), DAO_END_OF(struct dao_sink_host, want_streams));
 	assert_int_equal(sizeof(struct dao_sink_frame_info),
-			 DAO_END_OF(struct dao_sink_frame_info, capture_ns));
+			 DAO_END_OF(struct dao_sink_frame_info, pose_translation));
 	assert_int_equal(sizeof(struct dao_timings), DAO_END_OF(struct dao_timings, noise_ms));
 	assert_int_equal(sizeof(struct dao_motion_info),
 			 DAO_END_OF(struct dao_motion_info, reserved));

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * depthao process --pose-out FILE: the camera pose of every frame as
- * depth-temporal-motion=icp estimated it, accumulated from frame to frame
+ * the temporal depth filter followed it (depth-temporal-motion icp, source,
+ * source+icp), accumulated from frame to frame
  * (common/pose_track.h), one line a frame in the TUM RGB-D trajectory format
  * that `depthao synth --trajectory` writes as poses.txt.
  */
@@ -23,8 +24,10 @@ int process_pose_open(const struct process_options *o, struct run_state *st)
 			strerror(errno));
 		return 1;
 	}
-	fprintf(st->pose, "# depthao process: the camera pose estimated from the depth "
-		"(depth-temporal-motion icp)\n# timestamp tx ty tz qx qy qz qw\n");
+	fprintf(st->pose, "# depthao process: the camera pose, the frame-to-frame motions the "
+		"temporal depth filter followed composed (depth-temporal-motion icp, source or "
+		"source+icp); camera to world, world = the optical frame of the first frame\n"
+		"# timestamp tx ty tz qx qy qz qw\n");
 	pose_track_reset(&st->track);
 	return 0;
 }

@@ -7,6 +7,12 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <depthao/uri.h>
+
+#include "common/camera_file.h"
 
 #include "notify.h"
 #include "daemon_internal.h"
@@ -21,6 +27,51 @@ static int camera_error(struct dao_error *err, int r, const char *what)
 	err->message[n] = '\0';
 	err->code = r;
 	return r;
+}
+
+/*
+ * The camera file beside the source, as depthao process finds it for PNG input:
+ * camera.json (else camera.yaml) in the directory the source's path names, or
+ * in the directory of the file it names.  1 and *cam; 0: none there; < 0 with
+ * err: one there that cannot be used.
+ */
+static int camera_beside(const char *uri, uint32_t w, uint32_t h, struct dao_camera *cam,
+			 struct dao_error *err)
+{
+	const size_t pre = dao_uri_prefix_len(uri);
+	const char *path = uri + (pre ? pre + 1 : 0);
+	char dir[4096], file[4096 + 16], msg[512];
+	struct stat st;
+	if (!*path || snprintf(dir, sizeof dir, "%s", path) >= (int)sizeof dir)
+		return 0;
+	if (stat(dir, &st) != 0)
+		return 0;
+	if (!S_ISDIR(st.st_mode)) {
+		char *slash = strrchr(dir, '/');
+		if (slash)
+			*slash = '\0';
+		else
+			snprintf(dir, sizeof dir, ".");
+	}
+	static const char *const names[] = {"camera.json", "camera.yaml"};
+	for (int i = 0; i < 2; i++) {
+		snprintf(file, sizeof file, "%s/%s", dir, names[i]);
+		if (access(file, F_OK) != 0)
+			continue;
+		if (camera_file_read(file, cam, msg, sizeof msg) != 0)
+			return dao_error_set(err, -EINVAL, "%s ([source] intrinsics_file or "
+					     "intrinsics overrides it)", msg);
+		if (cam->width != w || cam->height != h)
+			return dao_error_set(err, -EINVAL,
+					     "the camera file beside the source, %s, is for %ux%u "
+					     "images, the source delivers %ux%u ([source] "
+					     "intrinsics_file or intrinsics overrides it)",
+					     file, cam->width, cam->height, w, h);
+		log_info("intrinsics from %s: fx %.2f fy %.2f cx %.2f cy %.2f", file, cam->fx,
+			 cam->fy, cam->cx, cam->cy);
+		return 1;
+	}
+	return 0;
 }
 
 /* The camera of w x h frames from the config or the source: 0, or negative with err set. */
@@ -58,6 +109,8 @@ static int make_camera(struct daemon *d, uint32_t w, uint32_t h, struct dao_came
 	}
 	if (in.has_fov)
 		return dao_camera_from_fov(cam, w, h, in.hfov, in.vfov, err);
+	if ((r = camera_beside(c->source_uri, w, h, cam, err)) != 0)
+		return r < 0 ? r : 0;
 	log_warn("no intrinsics: the source has no field of view and the config gives none; "
 		 "assuming %.1f x %.1f degrees ([source] intrinsics or fov)",
 		 DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
@@ -71,6 +124,10 @@ struct outputs {
 	int have_fdepth;         /* ... for this frame */
 	int have_rgb;            /* the shaded image of this frame (none with algorithm=none) */
 	int said_no_shading;     /* algorithm=none with a sink that wants shading: logged */
+	/* the camera's pose after this frame (the stats' "motion"), for the sinks: where
+	 * the pipeline follows the camera (depth-temporal-motion not off) */
+	int has_pose;
+	double pose_q[4], pose_t[3];
 };
 
 static void free_outputs(struct outputs *o)
@@ -108,7 +165,7 @@ static const struct dao_frame *stream_frame(int stream, const struct fq_item *in
 
 /* Queues one stream's frame for a sink. */
 static void push_frame(struct daemon *d, struct sink_runner *s, int stream,
-		       const struct dao_frame *f, const struct fq_item *in)
+		       const struct dao_frame *f, const struct fq_item *in, const struct outputs *o)
 {
 	uint64_t dropped = 0;
 	struct fq_item *it = fq_begin_push(s->q, !d->lossless, &dropped);
@@ -129,6 +186,10 @@ static void push_frame(struct daemon *d, struct sink_runner *s, int stream,
 	it->index = in->index;
 	it->t_capture_ns = in->t_capture_ns;
 	it->stream = stream;
+	/* in a sink's queue: the pose the sinks get (outputs), not the source's */
+	it->has_pose = o->has_pose;
+	memcpy(it->pose_q, o->pose_q, sizeof it->pose_q);
+	memcpy(it->pose_t, o->pose_t, sizeof it->pose_t);
 	fq_end_push(s->q, it);
 }
 
@@ -142,11 +203,11 @@ static void fan_out(struct daemon *d, const struct fq_item *in, struct outputs *
 		const int primary = (int)s->cfg->stream;
 		const struct dao_frame *f = stream_frame(primary, in, o, have_overlay);
 		if (f)
-			push_frame(d, s, primary, f, in);
+			push_frame(d, s, primary, f, in, o);
 		unsigned extra = atomic_load(&s->extra_streams) & ~(1u << primary);
 		for (int k = 0; k < STREAM_COUNT; k++)
 			if ((extra & (1u << k)) && (f = stream_frame(k, in, o, have_overlay)))
-				push_frame(d, s, k, f, in);
+				push_frame(d, s, k, f, in, o);
 	}
 }
 
@@ -305,8 +366,13 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 	if (r == 0) {
 		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 		dao_context_motion(ctx, &mi);
+		struct dao_params p;
+		dao_context_get_params(ctx, &p);
+		o->has_pose = p.depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
 		pthread_mutex_lock(&d->lock);
 		pose_track_add(&d->pose, &mi);
+		dao_pose_matrix_to_quat(d->pose.r, o->pose_q);
+		memcpy(o->pose_t, d->pose.t, sizeof o->pose_t);
 		pthread_mutex_unlock(&d->lock);
 		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
 			ao_to_8bit(&o->ao16, &o->ao8);

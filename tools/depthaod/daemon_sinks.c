@@ -323,9 +323,12 @@ static int open_sink(struct sink_runner *s, const struct fq_item *it)
 static void write_frame(struct sink_runner *s, const struct fq_item *it)
 {
 	struct dao_error err = {0};
-	const struct dao_sink_frame_info info = {.size = sizeof(struct dao_sink_frame_info),
-						 .stream = (enum dao_stream)it->stream,
-						 .capture_ns = it->t_capture_ns};
+	struct dao_sink_frame_info info = {.size = sizeof(struct dao_sink_frame_info),
+					   .stream = (enum dao_stream)it->stream,
+					   .capture_ns = it->t_capture_ns,
+					   .has_pose = it->has_pose};
+	memcpy(info.pose_rotation, it->pose_q, sizeof info.pose_rotation);
+	memcpy(info.pose_translation, it->pose_t, sizeof info.pose_translation);
 	int r = dao_sink_write_stream(s->sink, &info, &it->frame, &err);
 	if (it->stream != (int)s->cfg->stream) {
 		/* a stream asked for besides (want_streams): the sink's counters and its

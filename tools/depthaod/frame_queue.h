@@ -20,7 +20,9 @@ struct fq_item {
 	uint64_t index;           /* source frame index */
 	uint64_t t_capture_ns;    /* CLOCK_MONOTONIC when the source delivered it */
 	int stream;               /* sink queues: the stream of `frame` (enum stream_kind) */
-	int has_pose;             /* the source's camera pose for the frame (pose_q, pose_t) */
+	int has_pose;             /* the camera's pose for the frame (pose_q, pose_t): the
+				     source's in the input queue, the tracked one (the sinks
+				     get it) in a sink's */
 	double pose_q[4], pose_t[3];
 	size_t frame_cap;         /* bytes allocated for frame.data (fq_item_copy_frame) */
 };

@@ -29,6 +29,14 @@ const char dao_ros2_point_cloud2_schema[] =
 	"uint8 INT32=5\nuint8 UINT32=6\nuint8 FLOAT32=7\nuint8 FLOAT64=8\nstring name\n"
 	"uint32 offset\nuint8 datatype\nuint32 count\n";
 
+const char dao_ros2_tf_schema[] =
+	"geometry_msgs/TransformStamped[] transforms\n" SEP
+	"MSG: geometry_msgs/TransformStamped\nstd_msgs/Header header\nstring child_frame_id\n"
+	"Transform transform\n" HEADER_MSG TIME_MSG SEP
+	"MSG: geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n" SEP
+	"MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n" SEP
+	"MSG: geometry_msgs/Quaternion\nfloat64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n";
+
 /* A CDR writer; with base NULL it only counts. `at` counts from after the 4-byte
  * encapsulation header, as alignment does. */
 struct cdrw {
@@ -202,4 +210,29 @@ uint8_t *dao_ros2_cloud_encode(uint8_t *out, uint64_t stamp_ns, const char *fram
 	uint8_t *p;
 	cloud(out, stamp_ns, frame_id, npoints, &p);
 	return p;
+}
+
+static size_t tf(uint8_t *out, uint64_t ns, const char *parent, const char *child,
+		 const double q[4], const double t[3])
+{
+	struct cdrw c = begin(out);
+	u32(&c, 1); /* one TransformStamped */
+	header(&c, ns, parent);
+	str(&c, child);
+	for (int i = 0; i < 3; i++)
+		f64(&c, t ? t[i] : 0);
+	for (int i = 0; i < 4; i++)
+		f64(&c, q ? q[i] : 0);
+	return 4 + c.at;
+}
+
+size_t dao_ros2_tf_size(const char *parent, const char *child)
+{
+	return tf(NULL, 0, parent, child, NULL, NULL);
+}
+
+void dao_ros2_tf_encode(uint8_t *out, uint64_t stamp_ns, const char *parent, const char *child,
+			const double q[4], const double t[3])
+{
+	tf(out, stamp_ns, parent, child, q, t);
 }

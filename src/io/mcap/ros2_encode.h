@@ -43,4 +43,14 @@ size_t dao_ros2_cloud_size(const char *frame_id, uint32_t npoints);
 uint8_t *dao_ros2_cloud_encode(uint8_t *out, uint64_t stamp_ns, const char *frame_id,
 			       uint32_t npoints);
 
+/*
+ * tf2_msgs/msg/TFMessage with one transform: `child` in `parent` at stamp_ns,
+ * rotation q (x, y, z, w) and translation t (m), as geometry_msgs/Transform
+ * has them (x_parent = R x_child + t).
+ */
+extern const char dao_ros2_tf_schema[];
+size_t dao_ros2_tf_size(const char *parent, const char *child);
+void dao_ros2_tf_encode(uint8_t *out, uint64_t stamp_ns, const char *parent, const char *child,
+			const double q[4], const double t[3]);
+
 #endif

@@ -11,6 +11,8 @@
  *   filtered_depth=true        also the filtered depth (the host's filtered-depth stream)
  *   frame_id=NAME              the messages' header.frame_id (default
  *                              camera_depth_optical_frame)
+ *   pose_frame=NAME            the fixed frame of the camera's poses on /tf (default
+ *                              depthao_odom)
  *   overwrite=true             replace PATH (else PATH-1.mcap, PATH-2.mcap ...)
  *
  * Topics (the sensor_msgs/msg types, CDR):
@@ -22,6 +24,9 @@
  *                         metres (x right, y down, z forward) and ao 0..1
  *   /depthao/depth_filtered  Image (filtered_depth=true): the filtered depth, 16UC1
  *                         millimetres (REP 118) when its unit is 1 mm, else 32FC1 metres
+ *   /tf                   tf2_msgs/TFMessage: the camera's pose (frame_id in pose_frame)
+ *                         with each AO frame where the host tracks it (the frame info's
+ *                         has_pose: depth-temporal-motion not off), just before it
  * The sink takes the stream it is configured for (ao, shaded or depth) and
  * asks its host for the others it records (want_streams); without a host
  * (depthao process) the program hands every stream to write_stream.  The
@@ -57,9 +62,9 @@
 #define MCAP_SINK_DEFAULT_VFOV_DEG 45.6
 #define MCAP_SINK_HELP                                                                  \
 	"?compression=zstd|lz4|none&level=1..19&chunk=BYTES&cloud=true&filtered_depth=true" \
-	"&frame_id=NAME&overwrite=true"
+	"&frame_id=NAME&pose_frame=NAME&overwrite=true"
 
-enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_FDEPTH, CH_COUNT };
+enum { CH_AO, CH_SHADED, CH_INFO, CH_CLOUD, CH_FDEPTH, CH_TF, CH_COUNT };
 
 struct mcap_sink {
 	struct dao_recorder rec; /* the path, the file written, the host */
@@ -68,6 +73,7 @@ struct mcap_sink {
 	int fdepth;           /* filtered_depth=true */
 	struct dao_frame fdepth_m; /* its 32FC1 metres when the unit is not 1 mm */
 	char frame_id[64];
+	char pose_frame[64];
 	struct dao_mcap_writer *w;
 	uint16_t ch[CH_COUNT];
 	struct dao_ros2_pinhole cam;
@@ -81,7 +87,8 @@ struct mcap_sink {
 };
 
 static const char *const mcap_sink_options[] = {"compression", "level", "chunk", "cloud",
-						"frame_id", "overwrite", "filtered_depth", NULL};
+						"frame_id", "overwrite", "filtered_depth", "pose_frame",
+						NULL};
 
 static int mcap_sink_probe(const char *uri)
 {
@@ -106,6 +113,13 @@ static int parse_options(struct mcap_sink *s, const char *text, struct dao_error
 	    (r = dao_options_get_bool(o, "filtered_depth", &s->fdepth, err)) >= 0 &&
 	    (r = dao_options_get_bool(o, "overwrite", &s->wo.overwrite, err)) >= 0)
 		r = dao_options_get_string(o, "frame_id", s->frame_id, sizeof s->frame_id, err);
+	if (r >= 0)
+		r = dao_options_get_string(o, "pose_frame", s->pose_frame, sizeof s->pose_frame, err);
+	if (r >= 0 && (!s->frame_id[0] || !s->pose_frame[0] || !strcmp(s->frame_id, s->pose_frame)))
+		r = dao_error_set(err, -EINVAL,
+				  "mcap: frame_id '%s' and pose_frame '%s' must be two names (the "
+				  "camera's frame and the fixed frame its poses are in)",
+				  s->frame_id, s->pose_frame);
 	s->wo.compression = (enum dao_mcap_compression)comp;
 	s->wo.zstd_level = (int)level;
 	s->wo.chunk_size = (uint64_t)chunk;
@@ -120,6 +134,7 @@ static int mcap_sink_open(const char *uri, void **state, struct dao_error *err)
 	if (!s)
 		return dao_error_set(err, -ENOMEM, "out of memory");
 	snprintf(s->frame_id, sizeof s->frame_id, "camera_depth_optical_frame");
+	snprintf(s->pose_frame, sizeof s->pose_frame, "depthao_odom");
 	s->wo.profile = "ros2";
 	int r = dao_recorder_init(&s->rec, "mcap", uri, n, MCAP_SINK_HELP, err);
 	if (r == 0 && !strcmp(s->rec.path, "-"))
@@ -170,7 +185,7 @@ static int open_writer(struct mcap_sink *s, struct dao_error *err)
 /* The schemas and channels, all before the first message. */
 static int add_channels(struct mcap_sink *s, struct dao_error *err)
 {
-	uint16_t img, info, pc;
+	uint16_t img, info, pc, tf;
 	struct dao_mcap_writer *w = s->w;
 	int r;
 	if ((r = dao_mcap_writer_add_schema(w, "sensor_msgs/msg/Image", "ros2msg",
@@ -181,7 +196,10 @@ static int add_channels(struct mcap_sink *s, struct dao_error *err)
 	    (r = dao_mcap_writer_add_channel(w, img, "/depthao/shaded", "cdr", &s->ch[CH_SHADED],
 					     err)) < 0 ||
 	    (r = dao_mcap_writer_add_channel(w, info, "/depthao/camera_info", "cdr",
-					     &s->ch[CH_INFO], err)) < 0)
+					     &s->ch[CH_INFO], err)) < 0 ||
+	    (r = dao_mcap_writer_add_schema(w, "tf2_msgs/msg/TFMessage", "ros2msg",
+					    dao_ros2_tf_schema, &tf, err)) < 0 ||
+	    (r = dao_mcap_writer_add_channel(w, tf, "/tf", "cdr", &s->ch[CH_TF], err)) < 0)
 		return r;
 	if (s->fdepth && (r = dao_mcap_writer_add_channel(w, img, "/depthao/depth_filtered", "cdr",
 							  &s->ch[CH_FDEPTH], err)) < 0)
@@ -254,14 +272,31 @@ static uint64_t stamp(const struct mcap_sink *s, const struct dao_frame *f)
 	return f->timestamp_ns ? f->timestamp_ns : (uint64_t)(f->sequence * 1e9 / s->fps);
 }
 
-/* An image; the AO's CameraInfo goes first, so that a message refused on a full disk
- * never leaves an AO image without it. */
+/* The camera's pose at stamp t on /tf (the frame info's, when it has one). */
+static int put_pose(struct mcap_sink *s, const struct dao_sink_frame_info *info, uint64_t t,
+		    struct dao_error *err)
+{
+	if (!DAO_STRUCT_HAS(struct dao_sink_frame_info, info, pose_translation) || !info->has_pose)
+		return 0;
+	uint8_t *p;
+	size_t n = dao_ros2_tf_size(s->pose_frame, s->frame_id);
+	int r = dao_mcap_writer_message(s->w, s->ch[CH_TF], t, t, n, &p, err);
+	if (r == 0)
+		dao_ros2_tf_encode(p, t, s->pose_frame, s->frame_id, info->pose_rotation,
+				   info->pose_translation);
+	return r;
+}
+
+/* An image; the AO's pose and CameraInfo go first, so that a message refused on a full
+ * disk never leaves an AO image without them. */
 static int put_image(struct mcap_sink *s, int ch, const char *encoding, const struct dao_frame *f,
-		     struct dao_error *err)
+		     const struct dao_sink_frame_info *info, struct dao_error *err)
 {
 	uint8_t *p;
 	uint64_t t = stamp(s, f);
 	int r;
+	if (ch == CH_AO && (r = put_pose(s, info, t, err)) < 0)
+		return r;
 	if (ch == CH_AO) {
 		size_t n = dao_ros2_camera_info_size(s->frame_id);
 		if ((r = dao_mcap_writer_message(s->w, s->ch[CH_INFO], t, t, n, &p, err)) < 0)
@@ -323,7 +358,7 @@ static int put_filtered_depth(struct mcap_sink *s, const struct dao_frame *f,
 			      struct dao_error *err)
 {
 	if (fabsf(f->depth_unit - 0.001f) <= 1e-9f)
-		return put_image(s, CH_FDEPTH, "16UC1", f, err);
+		return put_image(s, CH_FDEPTH, "16UC1", f, NULL, err);
 	if (!s->fdepth_m.data &&
 	    dao_frame_alloc(&s->fdepth_m, DAO_PIXFMT_DEPTH_F32, f->width, f->height, err) < 0)
 		return -ENOMEM;
@@ -337,7 +372,7 @@ static int put_filtered_depth(struct mcap_sink *s, const struct dao_frame *f,
 	}
 	s->fdepth_m.sequence = f->sequence;
 	s->fdepth_m.timestamp_ns = f->timestamp_ns;
-	return put_image(s, CH_FDEPTH, "32FC1", &s->fdepth_m, err);
+	return put_image(s, CH_FDEPTH, "32FC1", &s->fdepth_m, NULL, err);
 }
 
 static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info *info,
@@ -358,14 +393,14 @@ static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info 
 				     s->cam.width, s->cam.height);
 	int r = 0;
 	if (st == DAO_STREAM_AO) {
-		r = put_image(s, CH_AO, "mono16", f, err);
+		r = put_image(s, CH_AO, "mono16", f, info, err);
 		if (r == 0 && s->cloud) {
 			copy_rows(s->ao, f);
 			s->ao_seq = f->sequence;
 			s->have_ao = 1;
 		}
 	} else if (st == DAO_STREAM_SHADED) {
-		r = put_image(s, CH_SHADED, "rgb8", f, err);
+		r = put_image(s, CH_SHADED, "rgb8", f, NULL, err);
 	} else if (st == DAO_STREAM_FILTERED_DEPTH && s->fdepth) {
 		r = put_filtered_depth(s, f, err);
 	} else if (st == DAO_STREAM_DEPTH && s->cloud) {
@@ -383,7 +418,7 @@ static int mcap_sink_write_stream(void *state, const struct dao_sink_frame_info 
 static int mcap_sink_write(void *state, const struct dao_frame *frame, struct dao_error *err)
 {
 	struct mcap_sink *s = state;
-	const struct dao_sink_frame_info info = {sizeof(info), s->configured, 0};
+	const struct dao_sink_frame_info info = {.size = sizeof(info), .stream = s->configured};
 	return mcap_sink_write_stream(state, &info, frame, err);
 }
 
