@@ -31,8 +31,8 @@
  *
  * Growing the interface without breaking built plugins and programs (README
  * "ABI policy"; PipeWire versions its interfaces the same way):
- *  - struct dao_source_info, dao_source_options, dao_sink_format and
- *    dao_sink_host begin with `size`, the sizeof of the struct as the code
+ *  - struct dao_source_info, dao_source_options, dao_sink_format,
+ *    dao_sink_host and dao_sink_frame_info begin with `size`, the sizeof of the struct as the code
  *    that filled it was built.  Fields are only ever appended.  Whoever reads
  *    a field added after the first layout checks DAO_STRUCT_HAS() first (and
  *    takes 0 / the default otherwise); whoever fills a struct the other side
@@ -261,18 +261,20 @@ struct dao_sink_frame_info {
 	uint64_t capture_ns;        /* CLOCK_MONOTONIC when the source delivered the frame
 				       (latency = now - capture_ns), 0 if unknown */
 	/* appended after the first layout (read them when DAO_STRUCT_HAS(struct
-	 * dao_sink_frame_info, info, pose_translation)): the camera's pose at this frame where the pipeline follows the camera
-	 * (depth-temporal-motion icp, source or source+icp): has_pose 1,
+	 * dao_sink_frame_info, info, pose_translation)): the camera's pose at this
+	 * frame where the pipeline follows the camera (the temporal depth filter on,
+	 * depth-temporal-motion icp, source or source+icp): has_pose 1,
 	 * pose_rotation the unit quaternion x, y, z, w (w last) of the rotation from
-	 * the frame's optical frame (x right, y down, z forward) to the first frame's,
-	 * pose_translation the optical centre in the first frame's, metres:
-	 * x_first = R x + t, the motions accepted since the first frame composed
+	 * the frame's optical frame (x right, y down, z forward) to the first
+	 * followed frame's, pose_translation the optical centre there, metres:
+	 * x_first = R x + t, the motions accepted since that frame composed
 	 * (depthaod's stats "motion", depthao process --pose-out).  has_pose 0: no
-	 * pose (motion off, or a host that does not track it). */
+	 * pose (the motion not followed; a frame after a cut or a gap in the
+	 * source's poses, whose motion is unknown; a host that does not track it). */
 	int32_t has_pose;
 	uint32_t reserved;          /* 0 */
-	double pose_rotation[4];    /* x, y, z, w: optical frame to the first frame's */
-	double pose_translation[3]; /* the optical centre in the first frame's, m */
+	double pose_rotation[4];    /* x, y, z, w: optical frame to the first one's */
+	double pose_translation[3]; /* the optical centre in the first one's, m */
 };
 
 /* Levels of the messages a sink logs through its host. */

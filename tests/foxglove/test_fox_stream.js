@@ -42,7 +42,7 @@ async function checkRecordedPoses(rec, tfs) {
   const buf = fs.readFileSync(rec);
   const readable = { size: async () => BigInt(buf.length), read: async (o, l) => buf.subarray(Number(o), Number(o + l)) };
   const rd = await McapIndexedReader.Initialize({ readable, decompressHandlers: await support.loadDecompressHandlers() });
-  const recorded = new Set();
+  const recorded = new Map(); // pose -> its place in the recording
   for await (const m of rd.readMessages({ topics: ["/tf"] })) {
     const ch = rd.channelsById.get(m.channelId), sc = rd.schemasById.get(ch.schemaId);
     const msg = new MessageReader(parse(new TextDecoder().decode(sc.data), { ros2: true })).readMessage(m.data);
@@ -50,13 +50,18 @@ async function checkRecordedPoses(rec, tfs) {
     if (tr.header.frame_id !== "depthao_odom" || tr.child_frame_id !== "depthao")
       t.fail(`recorded /tf: '${tr.child_frame_id}' in '${tr.header.frame_id}'`);
     const v = tr.transform;
-    recorded.add([v.translation.x, v.translation.y, v.translation.z, v.rotation.x, v.rotation.y, v.rotation.z, v.rotation.w].join(","));
+    const key = [v.translation.x, v.translation.y, v.translation.z, v.rotation.x, v.rotation.y, v.rotation.z, v.rotation.w].join(",");
+    if (!recorded.has(key)) recorded.set(key, recorded.size);
   }
   if (!recorded.size) t.fail("the MCAP recording has no /tf");
   const seen = new Set();
+  let last = -1;
   for (const tf of tfs) {
     const k = [tf.translation.x, tf.translation.y, tf.translation.z, tf.rotation.x, tf.rotation.y, tf.rotation.z, tf.rotation.w].join(",");
     if (!recorded.has(k)) t.fail("a pose on /depthao/tf that the recording does not have: " + k);
+    // in the recording's order: a pose sent with another frame's image would break it
+    if (recorded.get(k) <= last) t.fail(`pose ${seen.size} on /depthao/tf is the recording's ${recorded.get(k)}, after its ${last}`);
+    last = recorded.get(k);
     seen.add(k);
   }
   // the camera stands still, but each accepted estimate moves the pose by a little: the

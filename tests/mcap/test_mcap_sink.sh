@@ -70,6 +70,10 @@ grep -q "camera poses: 'cam' in 'odom' from /tf (5 transforms)" "$WORK/err" ||
 	fail "read back: $(cat "$WORK/err")"
 [ "$(grep -v '^#' "$WORK/poses.txt")" = "$(grep -v '^#' "$WORK/back.txt")" ] ||
 	fail "the poses read back differ: $(cat "$WORK/back.txt")"
+# icp without the temporal depth filter (PNG input's default) follows nothing: no /tf
+expect_exit 0 "icp with depth-temporal 0" -- "$DEPTHAO" process --input "$SEQ" --quiet \
+	--depth-temporal-motion icp --mcap-out "$WORK/notf.mcap" || true
+check "$WORK/notf.mcap"
 expect_exit 1 "pose_frame = frame_id" -- "$DEPTHAO" process --input "$SEQ" \
 	--mcap-out "$WORK/y.mcap?pose_frame=cam&frame_id=cam"
 grep -q "frame_id 'cam' and pose_frame 'cam' must be two names" "$WORK/err" ||

@@ -38,3 +38,14 @@ void pose_track_add(struct pose_track *p, const struct dao_motion_info *mi)
 	dao_pose_quat_to_matrix(q, p->r);
 	memcpy(p->t, t, sizeof t);
 }
+
+int pose_track_follows(const struct dao_params *params)
+{
+	return params->depth_temporal > 0.0f &&
+	       params->depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
+}
+
+int pose_track_publishable(const struct pose_track *p, const struct dao_params *params)
+{
+	return pose_track_follows(params) && (p->frames == 1 || p->state != DAO_MOTION_NONE);
+}

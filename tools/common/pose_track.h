@@ -28,4 +28,17 @@ void pose_track_reset(struct pose_track *p);
 /* One processed frame's motion. */
 void pose_track_add(struct pose_track *p, const struct dao_motion_info *mi);
 
+/* Whether a run with these parameters follows the camera: the temporal depth
+ * filter on and depth-temporal-motion not off (else every state is NONE). */
+int pose_track_follows(const struct dao_params *params);
+
+/*
+ * Whether the pose after the last pose_track_add() is one to hand on (a
+ * sink's /tf): the run follows the camera, and the frame is the track's
+ * first (the origin) or had its motion estimated or given (a state other than
+ * NONE: not a frame after a cut or a gap in the source's poses, whose motion
+ * is unknown).
+ */
+int pose_track_publishable(const struct pose_track *p, const struct dao_params *params);
+
 #endif

@@ -61,7 +61,7 @@ struct run_state {
 	struct dao_sink *mcap;
 	unsigned mcap_streams; /* the streams it asked for besides (1u << enum dao_stream) */
 	struct pose_track mcap_track; /* the camera's pose the sink records (/tf) */
-	int mcap_pose;                /* ... when the motion is followed (not off) */
+	int mcap_pose;                /* ... when it is one (pose_track_publishable) */
 	FILE *pose;            /* --pose-out: the file, the camera-to-world pose so far */
 	struct pose_track track;
 	uint64_t pose_t0;      /* the first frame's timestamp_ns */

@@ -111,7 +111,7 @@ int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int 
 	dao_context_get_params(st->ctx, &p);
 	dao_context_motion(st->ctx, &mi);
 	pose_track_add(&st->mcap_track, &mi);
-	st->mcap_pose = p.depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
+	st->mcap_pose = pose_track_publishable(&st->mcap_track, &p);
 	if (!have_shaded)
 		r = dao_context_shade(st->ctx, &st->rgb, &err);
 	struct dao_frame d = *depth;

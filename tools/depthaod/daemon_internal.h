@@ -153,8 +153,10 @@ struct daemon {
 	   complete seconds (fps is the mean over the interval) */
 	uint64_t recent_sec[RECENT_SECONDS + 1];
 	unsigned recent_count[RECENT_SECONDS + 1];
-	/* (lock) the camera's pose from depth-temporal-motion (stats "motion") */
+	/* (lock) the camera's pose from depth-temporal-motion (stats "motion"), from the
+	 * first frame the motion was followed at (pose_followed: it was at the last frame) */
 	struct pose_track pose;
+	int pose_followed;
 };
 
 /* daemon_stats.c: counts one processed frame for fps_recent */

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -30,10 +31,11 @@ static int camera_error(struct dao_error *err, int r, const char *what)
 }
 
 /*
- * The camera file beside the source, as depthao process finds it for PNG input:
- * camera.json (else camera.yaml) in the directory the source's path names, or
- * in the directory of the file it names.  1 and *cam; 0: none there; < 0 with
- * err: one there that cannot be used.
+ * The camera file beside a PNG source, as depthao process finds it for PNG
+ * input: camera.json (else camera.yaml) in the directory the source's path
+ * names, or in that of the .png file it names (not beside a recording: a
+ * shared directory's camera file may be another camera's).  1 and *cam; 0:
+ * none there; < 0 with err: one there that cannot be used.
  */
 static int camera_beside(const char *uri, uint32_t w, uint32_t h, struct dao_camera *cam,
 			 struct dao_error *err)
@@ -47,6 +49,9 @@ static int camera_beside(const char *uri, uint32_t w, uint32_t h, struct dao_cam
 	if (stat(dir, &st) != 0)
 		return 0;
 	if (!S_ISDIR(st.st_mode)) {
+		const size_t n = strlen(dir);
+		if (n < 4 || strcasecmp(dir + n - 4, ".png") != 0)
+			return 0;
 		char *slash = strrchr(dir, '/');
 		if (slash)
 			*slash = '\0';
@@ -56,7 +61,7 @@ static int camera_beside(const char *uri, uint32_t w, uint32_t h, struct dao_cam
 	static const char *const names[] = {"camera.json", "camera.yaml"};
 	for (int i = 0; i < 2; i++) {
 		snprintf(file, sizeof file, "%s/%s", dir, names[i]);
-		if (access(file, F_OK) != 0)
+		if (access(file, R_OK) != 0)
 			continue;
 		if (camera_file_read(file, cam, msg, sizeof msg) != 0)
 			return dao_error_set(err, -EINVAL, "%s ([source] intrinsics_file or "
@@ -293,6 +298,7 @@ static int setup_pipeline(struct daemon *d, struct dao_context **ctx, struct out
 	log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
 		 dao_simd_name(dao_context_simd(*ctx)));
 	pthread_mutex_lock(&d->lock);
+	d->pose_followed = 0; /* a new camera: the pose starts over at its first frame */
 	dao_camera_fov(&cam, &d->cam_hfov, &d->cam_vfov);
 	d->have_cam = 1;
 	pthread_mutex_unlock(&d->lock);
@@ -368,9 +374,20 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 		dao_context_motion(ctx, &mi);
 		struct dao_params p;
 		dao_context_get_params(ctx, &p);
-		o->has_pose = p.depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
+		const int follows = pose_track_follows(&p);
 		pthread_mutex_lock(&d->lock);
+		/* following the camera (again): its pose starts here, the motion made while
+		 * it was not followed being unknown */
+		if (follows && !d->pose_followed) {
+			if (d->pose.frames)
+				log_info("frame %llu: the camera's motion is followed again: its "
+					 "pose starts over from this frame",
+					 (unsigned long long)in->index);
+			pose_track_reset(&d->pose);
+		}
+		d->pose_followed = follows;
 		pose_track_add(&d->pose, &mi);
+		o->has_pose = pose_track_publishable(&d->pose, &p);
 		dao_pose_matrix_to_quat(d->pose.r, o->pose_q);
 		memcpy(o->pose_t, d->pose.t, sizeof o->pose_t);
 		pthread_mutex_unlock(&d->lock);
