@@ -11,6 +11,8 @@
 
 #include "dao_ros.h"
 
+#include "common/pose_track.h"
+
 struct dao_ros_proc {
 	struct dao_ros_settings settings;
 	struct dao_params params;
@@ -22,6 +24,10 @@ struct dao_ros_proc {
 	struct dao_frame depth;         /* the prepared frame (points into the message or swapped) */
 	uint64_t frames, index;
 	uint64_t last_stamp;
+	/* the camera's pose (dao_ros_proc_pose): from the first frame the motion was
+	 * followed at since the context (re)started; followed: at the last frame */
+	struct pose_track track;
+	int followed, have_pose;
 };
 
 void dao_ros_settings_init(struct dao_ros_settings *s)
@@ -204,6 +210,7 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		proc->cam = cam;
 		memcpy(proc->k, use, sizeof proc->k);
 		proc->index = 0;
+		proc->followed = 0;
 	}
 	size_t bpp = dao_pixfmt_bytes_per_pixel(fmt);
 	const void *data = depth->data;
@@ -247,8 +254,10 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
  * the temporal filters), unless time went back: a bag played again. */
 static void follow_or_restart(struct dao_ros_proc *proc, uint64_t stamp_ns)
 {
-	if (proc->frames && stamp_ns < proc->last_stamp)
+	if (proc->frames && stamp_ns < proc->last_stamp) {
 		dao_context_reset(proc->ctx);
+		proc->followed = 0;
+	}
 	proc->last_stamp = stamp_ns;
 }
 
@@ -285,6 +294,14 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		return r;
 	proc->index++;
 	proc->frames++;
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(proc->ctx, &mi);
+	const int follows = pose_track_follows(&proc->params);
+	if (follows && !proc->followed)
+		pose_track_reset(&proc->track);
+	proc->followed = follows;
+	pose_track_add(&proc->track, &mi);
+	proc->have_pose = pose_track_publishable(&proc->track, &proc->params);
 	if (shaded && shaded->data) {
 		struct dao_frame rgb = {
 			.size = DAO_FRAME_SIZE,
@@ -469,4 +486,13 @@ int dao_ros_param_set_string(struct dao_params *p, const struct dao_param_info *
 			     const char *v, struct dao_error *err)
 {
 	return dao_params_set(p, pi->name, v, err);
+}
+
+int dao_ros_proc_pose(const struct dao_ros_proc *proc, double rotation[4], double translation[3])
+{
+	if (!proc->have_pose)
+		return 0;
+	dao_pose_matrix_to_quat(proc->track.r, rotation);
+	memcpy(translation, proc->track.t, 3 * sizeof *translation);
+	return 1;
 }

@@ -155,6 +155,19 @@ void dao_ros_proc_depth_layout(const struct dao_ros_proc *proc, struct dao_ros_o
 int dao_ros_proc_depth(struct dao_ros_proc *proc, struct dao_ros_output *out,
 		       struct dao_error *err);
 
+/*
+ * The camera's pose after the last dao_ros_proc_run(), where the motion is
+ * followed (depth_temporal > 0, depth_temporal_motion not off): the motions
+ * accepted since the first followed frame composed, as depthao process
+ * --pose-out and depthaod give it (x_first = R x + t; `rotation` x, y, z, w
+ * from the image's optical frame to the first followed frame's, `translation`
+ * metres).  It starts over with the histories (new intrinsics, a stamp going
+ * back) and when the motion is followed again.  1 with the pose; 0: none to
+ * give (the motion not followed, a frame whose motion is unknown: after a
+ * cut, or without a pose in source mode).
+ */
+int dao_ros_proc_pose(const struct dao_ros_proc *proc, double rotation[4], double translation[3]);
+
 /* The AO parameters now in use, and new ones (validated; applied at once). */
 void dao_ros_proc_get_params(const struct dao_ros_proc *proc, struct dao_params *out);
 int dao_ros_proc_set_params(struct dao_ros_proc *proc, const struct dao_params *params,

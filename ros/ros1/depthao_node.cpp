@@ -17,6 +17,9 @@
 //   poses: with ~pose_frame, each image's frame in that fixed frame from tf at
 //        the image's stamp (tf2_ros), for depth_temporal_motion source and
 //        source+icp: the temporal filters follow the camera's motion.
+//   out: camera_pose (geometry_msgs/PoseStamped): where the motion is followed,
+//        the camera's pose in ~odom_frame (the first followed frame's optical
+//        frame), as depthao process --pose-out gives it.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +30,7 @@
 #include <dynamic_reconfigure/Config.h>
 #include <dynamic_reconfigure/ConfigDescription.h>
 #include <dynamic_reconfigure/Reconfigure.h>
+#include <geometry_msgs/PoseStamped.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -114,7 +118,9 @@ private:
 	std::vector<dao_ros_param_desc> descs_;
 	dao_params defaults_{};
 	sensor_msgs::Image ao_msg_, shaded_msg_;  // reused: their data keep their capacity
-	ros::Publisher depth_pub_, depth_info_pub_, cdepth_pub_;
+	ros::Publisher depth_pub_, depth_info_pub_, cdepth_pub_, pose_pub_;
+	std::string odom_frame_ = "depthao_odom";
+	geometry_msgs::PoseStamped pose_msg_;
 	sensor_msgs::Image depth_msg_;
 	sensor_msgs::CameraInfo depth_info_msg_;
 	sensor_msgs::CompressedImage cdepth_msg_;
@@ -192,6 +198,7 @@ bool DepthaoNode::read_parameters(dao_ros_settings *s, dao_params *p)
 			std::string n = full.substr(ns.size());
 			if (n == "quality" || n == "stream" || n == "depth_unit" || n == "ao_encoding" ||
 			    n == "queue_size" || n == "pose_frame" || n == "pose_timeout" ||
+			    n == "odom_frame" ||
 			    n.find('/') != std::string::npos ||
 			    dao_param_find(n.c_str()))
 				continue;
@@ -254,6 +261,15 @@ bool DepthaoNode::read_pose_parameters()
 		ROS_FATAL("~pose_timeout: %s is not a wait for tf in seconds (0 to 10; 0.1 by default)",
 			  text_of(v).empty() ? "that" : text_of(v).c_str());
 		return false;
+	}
+	if (pnh_.getParam("odom_frame", v)) {
+		if (v.getType() != XmlRpc::XmlRpcValue::TypeString ||
+		    tf2_frame(static_cast<std::string>(v)).empty()) {
+			ROS_FATAL("~odom_frame: give the name of the frame camera_pose is in "
+				  "(depthao_odom by default)");
+			return false;
+		}
+		odom_frame_ = tf2_frame(static_cast<std::string>(v));
 	}
 	if (!pose_frame_.empty()) {
 		tf_buffer_.reset(new tf2_ros::Buffer());
@@ -445,6 +461,7 @@ bool DepthaoNode::start()
 	depth_info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("depth_filtered/camera_info", queue);
 	cdepth_pub_ = nh_.advertise<sensor_msgs::CompressedImage>("depth_filtered/image/compressedDepth",
 								   queue);
+	pose_pub_ = nh_.advertise<geometry_msgs::PoseStamped>("camera_pose", queue);
 
 	dynamic_reconfigure::ConfigDescription descr;
 	dynamic_reconfigure::Group g;
@@ -562,6 +579,19 @@ void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
 	if (want_shaded)
 		shaded_pub_.publish(shaded_msg_);
 	publish_depth(img, info);
+	double q[4], t[3];
+	if (pose_pub_.getNumSubscribers() > 0 && dao_ros_proc_pose(proc_, q, t)) {
+		pose_msg_.header.stamp = img->header.stamp;
+		pose_msg_.header.frame_id = odom_frame_;
+		pose_msg_.pose.position.x = t[0];
+		pose_msg_.pose.position.y = t[1];
+		pose_msg_.pose.position.z = t[2];
+		pose_msg_.pose.orientation.x = q[0];
+		pose_msg_.pose.orientation.y = q[1];
+		pose_msg_.pose.orientation.z = q[2];
+		pose_msg_.pose.orientation.w = q[3];
+		pose_pub_.publish(pose_msg_);
+	}
 }
 
 // The filtered depth of the frame just run, on the topics that have subscribers.

@@ -479,6 +479,8 @@ static void test_time_back_resets(void **state)
 	memcpy(c, ao_16, sizeof c);
 	assert_memory_equal(a, b, sizeof a);
 	assert_true(memcmp(a, c, sizeof a) != 0);
+	double q[4], t[3]; /* the motion is not followed (off): no pose out */
+	assert_int_equal(dao_ros_proc_pose(pa, q, t), 0);
 	dao_ros_proc_destroy(pa);
 	dao_ros_proc_destroy(pb);
 	dao_ros_proc_destroy(pc);
@@ -536,10 +538,17 @@ static void test_poses(void **state)
 		t[0] = 0.03 * i; /* 3 cm a frame to the right */
 		assert_int_equal(run_posed(pa, &img, 5 + (uint64_t)i, q, t, &err), 0);
 		memcpy(again[i], ao_16, sizeof again[i]);
-		assert_int_equal(run_posed(pb, &img, 5 + (uint64_t)i, q, t, &err), 0);
-		memcpy(fresh[i], ao_16, sizeof fresh[i]);
+		/* the pose out: the given ones' motion since the restart (frame 5 the origin) */
+		double pq[4], pt[3];
+		assert_int_equal(dao_ros_proc_pose(pa, pq, pt), 1);
+		assert_true(fabs(pt[0] - 0.03 * i) < 1e-9 && fabs(pt[1]) < 1e-9 && fabs(pt[2]) < 1e-9);
+		assert_true(fabs(pq[3] - 1.0) < 1e-12);
+		/* without poses in source mode the motion is unknown: no pose after the first */
 		assert_int_equal(run_posed(pc, &img, 5 + (uint64_t)i, NULL, NULL, &err), 0);
 		memcpy(none[i], ao_16, sizeof none[i]);
+		assert_int_equal(dao_ros_proc_pose(pc, pq, pt), i == 0);
+		assert_int_equal(run_posed(pb, &img, 5 + (uint64_t)i, q, t, &err), 0);
+		memcpy(fresh[i], ao_16, sizeof fresh[i]);
 		assert_memory_equal(again[i], fresh[i], sizeof fresh[i]);
 	}
 	/* the poses were used from the second frame after the stamp went back on: the

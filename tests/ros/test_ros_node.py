@@ -28,7 +28,9 @@ Poses from tf (issue #37): node d (`~pose_frame world`, depth_temporal_motion so
 bag of a camera moving through a static scene (its depth ray-cast here from the poses, tf a
 moving /tf and a latched /tf_static) gives what `depthao process --pose-frame world` gives
 on the same bag, and not what motion off gives; node e (`~pose_frame nowhere`) logs why its
-frames have no pose and gives what motion off gives.
+frames have no pose and gives what motion off gives; d's camera_pose (geometry_msgs/
+PoseStamped in depthao_odom) is the true pose of each frame's optical frame in the first's
+(from the bag's tf, within 1e-9) and `depthao process --pose-out`'s to its printed digits.
 Exits 77 when ROS (roscore, rosbag, rospy, the node) is absent.  Every process
 started here is killed on every exit path.
 """
@@ -278,6 +280,15 @@ def moving_depth(i):
     mm = np.rint((s + noise) * 1000.0).astype(np.uint16)
     mm[(x * 7 + y * 3 + i) % 37 == 0] = 0
     return image_msg(i, "16UC1", mm.tobytes(), 2 * W)
+
+
+SEP = "=" * 80 + "\n"
+POSE_STAMPED = ("std_msgs/Header header\ngeometry_msgs/Pose pose\n" + SEP +
+                "MSG: std_msgs/Header\nuint32 seq\ntime stamp\nstring frame_id\n" + SEP +
+                "MSG: geometry_msgs/Pose\ngeometry_msgs/Point position\n"
+                "geometry_msgs/Quaternion orientation\n" + SEP +
+                "MSG: geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z\n" + SEP +
+                "MSG: geometry_msgs/Quaternion\nfloat64 x\nfloat64 y\nfloat64 z\nfloat64 w\n")
 
 
 def write_moving_bag(path):
@@ -756,8 +767,11 @@ def main():
     node_e = start([NODE, "__ns:=/e", "__name:=depthao", "depth/image:=/mov/depth/image",
                     "_queue_size:=50", "_pose_frame:=nowhere", "_pose_timeout:=0.05",
                     "_depth_temporal_motion:=source"], os.path.join(WORK, "e.log"))
+    from genpy.dynamic import generate_dynamic
+    pose_cls = generate_dynamic("geometry_msgs/PoseStamped", POSE_STAMPED)["geometry_msgs/PoseStamped"]
     col_d, col_e = {"ao": Collector("/d/ao/image")}, {"ao": Collector("/e/ao/image")}
-    for c in (col_d["ao"], col_e["ao"]):
+    col_pose = Collector("/d/camera_pose", pose_cls)
+    for c in (col_d["ao"], col_e["ao"], col_pose):
         wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
     # rosbag play --wait-for-subscribers waits for one subscriber a topic: wait for both
     probe = rosgraph.Master("/dao_test_probe")
@@ -770,8 +784,8 @@ def main():
              subscribed("/mov/depth/camera_info", ["/d/depthao", "/e/depthao"]) and
              subscribed("/tf", ["/d/depthao"]) and subscribed("/tf_static", ["/d/depthao"]))
     play(bag_m)
-    wait_for("%d AO frames of d and e" % FRAMES, lambda: col_d["ao"].count() >= FRAMES and
-             col_e["ao"].count() >= FRAMES)
+    wait_for("%d AO frames of d and e, poses of d" % FRAMES, lambda: col_d["ao"].count() >= FRAMES
+             and col_e["ao"].count() >= FRAMES and col_pose.count() >= FRAMES)
     check_run("d (poses from tf)", col_d, bag_m, FRAMES, "mono16",
               ["--depth-temporal-motion", "source", "--pose-frame", "world"], 0)
     check_run("e (no poses)", col_e, bag_m, FRAMES, "mono16",
@@ -788,6 +802,34 @@ def main():
     for name, p in (("d", node_d), ("e", node_e)):
         if p.poll() is not None:
             fail("node %s stopped: %s" % (name, log_of(name)))
+    # d's camera_pose: each frame's optical frame in the first's, the truth of the bag's tf
+    # (to rounding) and depthao process --pose-out's on the same bag (to its printed digits)
+    cli("--input", bag_m, "--depth-temporal-motion", "source", "--pose-frame", "world",
+        "--pose-out", os.path.join(WORK, "d-poses.txt"), "--ao-out", os.path.join(WORK, "d-ao"))
+    want = [[float(v) for v in l.split()[1:]] for l in open(os.path.join(WORK, "d-poses.txt"))
+            if l.strip() and not l.startswith("#")]
+    with col_pose.lock:
+        got = list(col_pose.msgs)
+    if len(got) != FRAMES or len(want) != FRAMES:
+        fail("d: %d poses on camera_pose, --pose-out has %d, want %d" % (len(got), len(want), FRAMES))
+
+    def optical(i):
+        q, t = link_pose(i)
+        return quat_matrix(quat_mul(q, CAM_LINK_TO_OPTICAL)), np.array(t)
+    r0, t0 = optical(0)
+    for i, (m, w) in enumerate(zip(got, want)):
+        p, o = m.pose.position, m.pose.orientation
+        v = [p.x, p.y, p.z, o.x, o.y, o.z, o.w]
+        ri, ti = optical(i)
+        true_r, true_t = r0.T @ ri, r0.T @ (ti - t0)
+        if (m.header.stamp, m.header.frame_id) != (stamp(i), "depthao_odom") or \
+                np.abs(quat_matrix(v[3:]) - true_r).max() > 1e-9 or \
+                np.abs(np.array(v[:3]) - true_t).max() > 1e-9 or \
+                any(abs(a - b) > (6e-10 if k < 3 else 6e-13) for k, (a, b) in enumerate(zip(v, w))):
+            fail("d pose %d: %s %r %s; truth %s %s; --pose-out %s" % (
+                i, m.header.stamp, m.header.frame_id, v, true_t, true_r.tolist(), w))
+    print("d: %d poses on camera_pose, the truth and depthao process --pose-out's (moved %.3f m)"
+          % (FRAMES, float(np.linalg.norm(want[-1][:3]))))
     # d's INFO lines go to stdout, a file here, buffered until it exits: stop it first
     node_d.send_signal(signal.SIGINT)
     try:
