@@ -11,8 +11,6 @@
 
 #include "dao_ros.h"
 
-#include "common/pose_track.h"
-
 struct dao_ros_proc {
 	struct dao_ros_settings settings;
 	struct dao_params params;
@@ -26,9 +24,36 @@ struct dao_ros_proc {
 	uint64_t last_stamp;
 	/* the camera's pose (dao_ros_proc_pose): from the first frame the motion was
 	 * followed at since the context (re)started; followed: at the last frame */
-	struct pose_track track;
+	struct pose {
+		double r[9], t[3]; /* camera to the first followed frame's optical frame */
+		uint64_t frames;
+	} track;
 	int followed, have_pose;
 };
+
+/* The pose composed with one frame's motion where it was accepted, as depthao
+ * process --pose-out and depthaod accumulate it (tools/common/pose_track.c;
+ * ros/ builds on the public API only): R' = R M_r, t' = R M_t + t. */
+static void pose_add(struct pose *p, const struct dao_motion_info *mi)
+{
+	p->frames++;
+	if (mi->state != DAO_MOTION_APPLIED && mi->state != DAO_MOTION_STILL)
+		return;
+	for (int i = 0; i < 12; i++)
+		if (!isfinite(i < 9 ? mi->rotation[i] : mi->translation[i - 9]))
+			return;
+	double r[9], t[3], q[4];
+	for (int i = 0; i < 3; i++) {
+		for (int j = 0; j < 3; j++)
+			r[i * 3 + j] = p->r[i * 3] * mi->rotation[j] + p->r[i * 3 + 1] * mi->rotation[3 + j] +
+				       p->r[i * 3 + 2] * mi->rotation[6 + j];
+		t[i] = p->r[i * 3] * mi->translation[0] + p->r[i * 3 + 1] * mi->translation[1] +
+		       p->r[i * 3 + 2] * mi->translation[2] + p->t[i];
+	}
+	dao_pose_matrix_to_quat(r, q); /* a rotation still after many products */
+	dao_pose_quat_to_matrix(q, p->r);
+	memcpy(p->t, t, sizeof t);
+}
 
 void dao_ros_settings_init(struct dao_ros_settings *s)
 {
@@ -294,14 +319,19 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		return r;
 	proc->index++;
 	proc->frames++;
+	/* the motion is followed with the temporal filter on and a mode not off; a
+	 * pose is given for a frame whose motion is known (or the first) */
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 	dao_context_motion(proc->ctx, &mi);
-	const int follows = pose_track_follows(&proc->params);
-	if (follows && !proc->followed)
-		pose_track_reset(&proc->track);
+	const int follows = proc->params.depth_temporal > 0.0f &&
+			    proc->params.depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
+	if (follows && !proc->followed) {
+		memset(&proc->track, 0, sizeof proc->track);
+		proc->track.r[0] = proc->track.r[4] = proc->track.r[8] = 1.0;
+	}
 	proc->followed = follows;
-	pose_track_add(&proc->track, &mi);
-	proc->have_pose = pose_track_publishable(&proc->track, &proc->params);
+	pose_add(&proc->track, &mi);
+	proc->have_pose = follows && (proc->track.frames == 1 || mi.state != DAO_MOTION_NONE);
 	if (shaded && shaded->data) {
 		struct dao_frame rgb = {
 			.size = DAO_FRAME_SIZE,
