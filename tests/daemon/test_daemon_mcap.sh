@@ -62,8 +62,8 @@ rm -f "$SOCK"
 # before its AO image, within 2 mm and 0.002 in each quaternion component of the true one
 # (synth's poses.txt, in the first frame's optical frame; the estimate is 1.5 mm off at
 # worst here, with the intrinsics of the camera.json beside the PNGs; 6 mm with the
-# default field of view): a pose inverted, its rotation conjugated or left out is 8 mm or
-# 0.008 off from the first frame on; with the motion off, no /tf message
+# default field of view): a pose inverted, its rotation conjugated or left out is at
+# least 7.7 mm or 0.0077 off from the first moved frame on; with the motion off, no /tf
 for name in pan-30 sideways; do
 	"$DEPTHAO" synth --scene boxes --trajectory "$name" --frames 5 --rays 1 --out "$WORK/syn" \
 		>"$WORK/err-syn" 2>&1 || fail "synth $name: $(cat "$WORK/err-syn")"
