@@ -610,6 +610,19 @@ def log_of(name):
         return f.read()
 
 
+def expect_refused(tag, cases):
+    """Each (args, words): the node started with args stops with status 1 and its log (TAG.log)
+    has words.  Private parameters stay on the server: a node name each."""
+    for k, (bad, words) in enumerate(cases):
+        p = start([NODE, "__name:=%s%d" % (tag, k)] + bad, os.path.join(WORK, tag + ".log"))
+        try:
+            st = p.wait(TIMEOUT)
+        except subprocess.TimeoutExpired:
+            fail("the node did not stop on %s" % bad)
+        if st != 1 or words not in log_of(tag):
+            fail("%s: exit %s, log: %s" % (bad, st, log_of(tag)))
+
+
 def main():
     os.environ["ROS_HOME"] = os.path.join(WORK, "ros_home")
     os.environ["ROS_LOG_DIR"] = os.path.join(WORK, "ros_log")
@@ -623,17 +636,9 @@ def main():
     start_roscore()
 
     # parameters refused at start: an error naming them, exit status 1
-    # (private parameters stay on the server: a node name each)
-    for k, (bad, words) in enumerate(((["_radius:=-1"], "radius"),
-                                      (["_ao_encoding:=rgb8"], "mono16 or 32FC1"),
-                                      (["_prefilter:=blur"], "blur"))):
-        p = start([NODE, "__name:=bad%d" % k] + bad, os.path.join(WORK, "bad.log"))
-        try:
-            st = p.wait(TIMEOUT)
-        except subprocess.TimeoutExpired:
-            fail("the node did not stop on %s" % bad)
-        if st != 1 or words not in log_of("bad"):
-            fail("%s: exit %s, log: %s" % (bad, st, log_of("bad")))
+    expect_refused("bad", ((["_radius:=-1"], "radius"),
+                           (["_ao_encoding:=rgb8"], "mono16 or 32FC1"),
+                           (["_prefilter:=blur"], "blur")))
 
     # node a through roslaunch: the package 'depthao' is the build directory (package.xml
     # beside the node); AO parameters from a YAML file
@@ -839,21 +844,13 @@ def main():
     if "poses: 'cam_depth_optical' in 'world' from tf at each image's stamp" not in log_of("d"):
         fail("d did not say where its poses come from: %s" % log_of("d"))
     # pose parameters refused at start
-    for k, (bad, words) in enumerate(((["_pose_frame:=/"], "~pose_frame '/' names no frame"),
-                                      (["_pose_frame:=3"], "~pose_frame: give tf's fixed frame "
-                                       "as a name"),
-                                      (["_pose_timeout:=11"], "~pose_timeout: 11 is not a wait"),
-                                      (["_pose_timeout:=soon"], "~pose_timeout: soon is not"))):
-        p = start([NODE, "__name:=badpose%d" % k] + bad, os.path.join(WORK, "badpose.log"))
-        try:
-            st = p.wait(TIMEOUT)
-        except subprocess.TimeoutExpired:
-            fail("the node did not stop on %s" % bad)
-        if st != 1 or words not in log_of("badpose"):
-            fail("%s: exit %s, log: %s" % (bad, st, log_of("badpose")))
+    expect_refused("badpose", ((["_pose_frame:=/"], "~pose_frame '/' names no frame"),
+                               (["_pose_frame:=3"], "~pose_frame: give tf's fixed frame as a name"),
+                               (["_pose_timeout:=11"], "~pose_timeout: 11 is not a wait"),
+                               (["_pose_timeout:=soon"], "~pose_timeout: soon is not")))
 
     # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
-    for name in ("a", "b", "c", "d", "e", "bad"):
+    for name in ("a", "b", "c", "d", "e", "bad", "badpose"):
         for word in ("AddressSanitizer", "runtime error:"):
             if word in log_of(name):
                 fail("%s in the log of %s: %s" % (word, name, log_of(name)))
