@@ -313,6 +313,24 @@ static inline void dao_context_motion(const struct dao_context *ctx, struct dao_
 }
 
 /*
+ * Moves a camera pose by one frame's motion as dao_context_motion() reported
+ * it: (rotation, translation), the pose of the frame before (a row-major
+ * rotation matrix and metres, camera to a fixed frame: x_fixed = R x + t, as
+ * <depthao/pose.h> has it), becomes this frame's, R M and R m + t for the
+ * motion's M and m, where the motion was accepted (state STILL or APPLIED,
+ * every value finite); R is kept a rotation through its unit quaternion
+ * however many motions it composes.  From the identity at the first frame
+ * this is the pose depthao process --pose-out prints and depthaod's sinks
+ * carry: the camera in the first frame's optical frame.  1: the pose moved;
+ * 0: the frame's motion is unknown or was refused (NONE, REFUSED, a value not
+ * finite) and the pose is kept, the motion taken as none, as the depth filter
+ * takes it; -EINVAL: a NULL argument or a motion whose size does not reach
+ * its translation.
+ */
+DAO_API int dao_motion_accumulate(const struct dao_motion_info *motion, double rotation[9],
+				  double translation[3]);
+
+/*
  * The camera's pose for the next dao_context_process() call, from the source
  * (a recording's tf or odometry, a trajectory file, a tracker): `rotation` a
  * unit quaternion x, y, z, w (w last) of the rotation from the camera's

@@ -31,30 +31,6 @@ struct dao_ros_proc {
 	int followed, have_pose;
 };
 
-/* The pose composed with one frame's motion where it was accepted, as depthao
- * process --pose-out and depthaod accumulate it (tools/common/pose_track.c;
- * ros/ builds on the public API only): R' = R M_r, t' = R M_t + t. */
-static void pose_add(struct pose *p, const struct dao_motion_info *mi)
-{
-	p->frames++;
-	if (mi->state != DAO_MOTION_APPLIED && mi->state != DAO_MOTION_STILL)
-		return;
-	for (int i = 0; i < 12; i++)
-		if (!isfinite(i < 9 ? mi->rotation[i] : mi->translation[i - 9]))
-			return;
-	double r[9], t[3], q[4];
-	for (int i = 0; i < 3; i++) {
-		for (int j = 0; j < 3; j++)
-			r[i * 3 + j] = p->r[i * 3] * mi->rotation[j] + p->r[i * 3 + 1] * mi->rotation[3 + j] +
-				       p->r[i * 3 + 2] * mi->rotation[6 + j];
-		t[i] = p->r[i * 3] * mi->translation[0] + p->r[i * 3 + 1] * mi->translation[1] +
-		       p->r[i * 3 + 2] * mi->translation[2] + p->t[i];
-	}
-	dao_pose_matrix_to_quat(r, q); /* a rotation still after many products */
-	dao_pose_quat_to_matrix(q, p->r);
-	memcpy(p->t, t, sizeof t);
-}
-
 void dao_ros_settings_init(struct dao_ros_settings *s)
 {
 	s->depth_unit = 0.001f;
@@ -330,7 +306,8 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		proc->track.r[0] = proc->track.r[4] = proc->track.r[8] = 1.0;
 	}
 	proc->followed = follows;
-	pose_add(&proc->track, &mi);
+	proc->track.frames++;
+	dao_motion_accumulate(&mi, proc->track.r, proc->track.t);
 	proc->have_pose = follows && (proc->track.frames == 1 || mi.state != DAO_MOTION_NONE);
 	if (shaded && shaded->data) {
 		struct dao_frame rgb = {

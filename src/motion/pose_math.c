@@ -1,7 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* Rigid poses: quaternion <-> rotation matrix, interpolation (<depthao/pose.h>). */
+/* Rigid poses: quaternion <-> rotation matrix, interpolation (<depthao/pose.h>);
+ * a pose moved by a frame's motion (dao_motion_accumulate, <depthao/context.h>). */
+#include <errno.h>
 #include <math.h>
+#include <stddef.h>
+#include <string.h>
 
+#include <depthao/context.h>
 #include <depthao/pose.h>
 
 void dao_pose_quat_to_matrix(const double q[4], double r[9])
@@ -77,4 +82,31 @@ void dao_pose_interpolate(const double qa[4], const double ta[3], const double q
 		q[i] = v[i] / n;
 	for (int i = 0; i < 3; i++)
 		t[i] = u[i];
+}
+
+int dao_motion_accumulate(const struct dao_motion_info *mi, double rotation[9],
+			  double translation[3])
+{
+	if (!mi || !rotation || !translation ||
+	    mi->size < offsetof(struct dao_motion_info, translation) + sizeof mi->translation)
+		return -EINVAL;
+	if (mi->state != DAO_MOTION_APPLIED && mi->state != DAO_MOTION_STILL)
+		return 0;
+	for (int i = 0; i < 12; i++)
+		if (!isfinite(i < 9 ? mi->rotation[i] : mi->translation[i - 9]))
+			return 0;
+	/* fixed <- previous <- this: R' = R M, t' = R m + t */
+	const double *r = rotation, *m = mi->rotation;
+	double rn[9], t[3], q[4];
+	for (int i = 0; i < 3; i++) {
+		for (int j = 0; j < 3; j++)
+			rn[i * 3 + j] = r[i * 3] * m[j] + r[i * 3 + 1] * m[3 + j] + r[i * 3 + 2] * m[6 + j];
+		t[i] = r[i * 3] * mi->translation[0] + r[i * 3 + 1] * mi->translation[1] +
+		       r[i * 3 + 2] * mi->translation[2] + translation[i];
+	}
+	/* a rotation still after thousands of products */
+	dao_pose_matrix_to_quat(rn, q);
+	dao_pose_quat_to_matrix(q, rotation);
+	memcpy(translation, t, sizeof t);
+	return 1;
 }

@@ -7,11 +7,17 @@
  * exact at its ends, against a rotation built here independently from the
  * axis and angle of Ra^T Rb (Rodrigues) in between and outside [0, 1], along
  * the shorter arc when qa . qb < 0, within the documented bound where it is
- * linear, and with its outputs on its inputs.
+ * linear, and with its outputs on its inputs.  dao_motion_accumulate
+ * (<depthao/context.h>): a chain of 2000 small motions between random poses
+ * ends at the last pose seen from the first (within 1e-9, still a
+ * rotation); a motion that was not accepted (NONE, REFUSED, a NaN) leaves
+ * the pose alone; bad arguments are refused.
  */
+#include <errno.h>
 #include <math.h>
 #include <string.h>
 
+#include <depthao/context.h>
 #include <depthao/pose.h>
 
 #include "common/cmocka_all.h"
@@ -351,6 +357,130 @@ static void test_interpolate_in_place(void **state)
 	}
 }
 
+/* The motion from pose b's camera to pose a's (p_a = M p_b + m), as
+ * dao_context_motion reports the last frame's: M = Ra^T Rb, m = Ra^T (tb - ta). */
+static void motion_between(const double ra[9], const double ta[3], const double rb[9],
+			   const double tb[3], struct dao_motion_info *mi)
+{
+	double rat[9];
+	mat_transpose(ra, rat);
+	mat_mul(rat, rb, mi->rotation);
+	for (int i = 0; i < 3; i++)
+		mi->translation[i] = rat[i * 3] * (tb[0] - ta[0]) + rat[i * 3 + 1] * (tb[1] - ta[1]) +
+				     rat[i * 3 + 2] * (tb[2] - ta[2]);
+}
+
+static void test_accumulate_chain(void **state)
+{
+	(void)state;
+	uint64_t st = 71;
+	/* a camera wandering from a random first pose: about a degree and a
+	 * centimetre a frame, 2000 frames; every 7th frame's estimate refused and
+	 * every 11th unknown (cut): their motion is taken as none, so the truth
+	 * the pose is compared with skips it too */
+	double q0[4], t0[3], r0[9];
+	random_pose(&st, q0, t0, 1.0);
+	dao_pose_quat_to_matrix(q0, r0);
+	double rp[9], tp[3], r[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, t[3] = { 0, 0, 0 };
+	memcpy(rp, r0, sizeof rp), memcpy(tp, t0, sizeof tp);
+	double want_r[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, want_t[3] = { 0, 0, 0 };
+	for (int k = 1; k <= 2000; k++) {
+		const double axis[3] = { gauss(&st), gauss(&st), gauss(&st) };
+		double dq[4], dr[9], rn[9], tn[3];
+		quat_axis(axis, 0.02 * uniform(&st), dq);
+		dao_pose_quat_to_matrix(dq, dr);
+		mat_mul(rp, dr, rn);
+		for (int i = 0; i < 3; i++)
+			tn[i] = tp[i] + 0.01 * gauss(&st);
+		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		motion_between(rp, tp, rn, tn, &mi);
+		mi.state = k % 11 == 0 ? DAO_MOTION_NONE
+			   : k % 7 == 0 ? DAO_MOTION_REFUSED
+			   : k % 3 == 0 ? DAO_MOTION_STILL
+					: DAO_MOTION_APPLIED;
+		const int accepted = mi.state == DAO_MOTION_STILL || mi.state == DAO_MOTION_APPLIED;
+		const double keep_r[9] = { r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8] };
+		const double keep_t[3] = { t[0], t[1], t[2] };
+		assert_int_equal(dao_motion_accumulate(&mi, r, t), accepted);
+		if (!accepted) {
+			assert_memory_equal(r, keep_r, sizeof r);
+			assert_memory_equal(t, keep_t, sizeof t);
+		} else { /* the truth: the same step composed here, want = want M, want m + t */
+			double wr[9];
+			mat_mul(want_r, mi.rotation, wr);
+			for (int i = 0; i < 3; i++)
+				want_t[i] += want_r[i * 3] * mi.translation[0] +
+					     want_r[i * 3 + 1] * mi.translation[1] +
+					     want_r[i * 3 + 2] * mi.translation[2];
+			memcpy(want_r, wr, sizeof wr);
+		}
+		memcpy(rp, rn, sizeof rp), memcpy(tp, tn, sizeof tp);
+	}
+	for (int i = 0; i < 9; i++)
+		assert_true(fabs(r[i] - want_r[i]) < 1e-9);
+	for (int i = 0; i < 3; i++)
+		assert_true(fabs(t[i] - want_t[i]) < 1e-9);
+	assert_rotation(r, 1e-12);
+	/* every motion accepted: the last pose seen from the first, r0^T (rp, tp - t0) */
+	double ra[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, ta[3] = { 0, 0, 0 };
+	memcpy(rp, r0, sizeof rp), memcpy(tp, t0, sizeof tp);
+	for (int k = 1; k <= 2000; k++) {
+		double q[4], rn[9], tn[3];
+		random_pose(&st, q, tn, 1.0);
+		/* a random pose, brought within 2 degrees and 2 cm of the last */
+		dao_pose_interpolate((double[4]){ 0, 0, 0, 1 }, (double[3]){ 0, 0, 0 }, q, tn,
+				     0.01 * uniform(&st), q, tn);
+		double dr[9];
+		dao_pose_quat_to_matrix(q, dr);
+		mat_mul(rp, dr, rn);
+		for (int i = 0; i < 3; i++)
+			tn[i] += tp[i];
+		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		motion_between(rp, tp, rn, tn, &mi);
+		mi.state = DAO_MOTION_APPLIED;
+		assert_int_equal(dao_motion_accumulate(&mi, ra, ta), 1);
+		memcpy(rp, rn, sizeof rp), memcpy(tp, tn, sizeof tp);
+	}
+	double r0t[9], want[9];
+	mat_transpose(r0, r0t);
+	mat_mul(r0t, rp, want);
+	for (int i = 0; i < 9; i++)
+		assert_true(fabs(ra[i] - want[i]) < 1e-9);
+	for (int i = 0; i < 3; i++) {
+		const double w = r0t[i * 3] * (tp[0] - t0[0]) + r0t[i * 3 + 1] * (tp[1] - t0[1]) +
+				 r0t[i * 3 + 2] * (tp[2] - t0[2]);
+		assert_true(fabs(ta[i] - w) < 1e-9);
+	}
+	assert_rotation(ra, 1e-12);
+}
+
+static void test_accumulate_refuses(void **state)
+{
+	(void)state;
+	double r[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, t[3] = { 1, 2, 3 };
+	const double r_in[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, t_in[3] = { 1, 2, 3 };
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	mi.state = DAO_MOTION_APPLIED;
+	mi.rotation[0] = mi.rotation[4] = mi.rotation[8] = 1.0;
+	mi.translation[2] = NAN; /* not finite: as none */
+	assert_int_equal(dao_motion_accumulate(&mi, r, t), 0);
+	mi.translation[2] = 0.5;
+	mi.rotation[1] = INFINITY;
+	assert_int_equal(dao_motion_accumulate(&mi, r, t), 0);
+	assert_memory_equal(r, r_in, sizeof r);
+	assert_memory_equal(t, t_in, sizeof t);
+	mi.rotation[1] = 0.0;
+	assert_int_equal(dao_motion_accumulate(NULL, r, t), -EINVAL);
+	assert_int_equal(dao_motion_accumulate(&mi, NULL, t), -EINVAL);
+	assert_int_equal(dao_motion_accumulate(&mi, r, NULL), -EINVAL);
+	mi.size = (uint32_t)offsetof(struct dao_motion_info, translation); /* an older, shorter struct */
+	assert_int_equal(dao_motion_accumulate(&mi, r, t), -EINVAL);
+	assert_memory_equal(t, t_in, sizeof t);
+	mi.size = sizeof mi;
+	assert_int_equal(dao_motion_accumulate(&mi, r, t), 1);
+	assert_true(t[2] == 3.5);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -362,6 +492,8 @@ int main(void)
 		cmocka_unit_test(test_interpolate_nearly_equal),
 		cmocka_unit_test(test_shorter_arc),
 		cmocka_unit_test(test_interpolate_in_place),
+		cmocka_unit_test(test_accumulate_chain),
+		cmocka_unit_test(test_accumulate_refuses),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

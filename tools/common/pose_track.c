@@ -1,8 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-#include <math.h>
 #include <string.h>
-
-#include <depthao/pose.h>
 
 #include "common/pose_track.h"
 
@@ -18,25 +15,7 @@ void pose_track_add(struct pose_track *p, const struct dao_motion_info *mi)
 	p->state = mi->state;
 	p->reason = mi->reason;
 	p->refused += mi->state == DAO_MOTION_REFUSED;
-	if (mi->state != DAO_MOTION_APPLIED && mi->state != DAO_MOTION_STILL)
-		return;
-	for (int i = 0; i < 12; i++)
-		if (!isfinite(i < 9 ? mi->rotation[i] : mi->translation[i - 9]))
-			return;
-	p->accepted++;
-	/* world <- previous <- this: R' = R M_r, t' = R M_t + t */
-	double r[9], t[3], q[4];
-	for (int i = 0; i < 3; i++) {
-		for (int j = 0; j < 3; j++)
-			r[i * 3 + j] = p->r[i * 3] * mi->rotation[j] + p->r[i * 3 + 1] * mi->rotation[3 + j] +
-				       p->r[i * 3 + 2] * mi->rotation[6 + j];
-		t[i] = p->r[i * 3] * mi->translation[0] + p->r[i * 3 + 1] * mi->translation[1] +
-		       p->r[i * 3 + 2] * mi->translation[2] + p->t[i];
-	}
-	/* a rotation still after thousands of products: through the unit quaternion */
-	dao_pose_matrix_to_quat(r, q);
-	dao_pose_quat_to_matrix(q, p->r);
-	memcpy(p->t, t, sizeof t);
+	p->accepted += dao_motion_accumulate(mi, p->r, p->t) == 1;
 }
 
 int pose_track_follows(const struct dao_params *params)
