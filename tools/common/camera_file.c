@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <json-c/json.h>
@@ -217,4 +218,33 @@ int camera_file_read(const char *path, struct dao_camera *cam, char *msg, size_t
 	if (!r && warning[0])
 		fprintf(stderr, "depthao: warning: %s\n", warning);
 	return r;
+}
+
+int camera_file_beside(const char *path, char *out, size_t len)
+{
+	char dir[4096];
+	struct stat st;
+	if (!path || !*path || snprintf(dir, sizeof dir, "%s", path) >= (int)sizeof dir ||
+	    stat(dir, &st) != 0)
+		return 0;
+	if (!S_ISDIR(st.st_mode)) {
+		const size_t n = strlen(dir);
+		if (n < 4 || strcasecmp(dir + n - 4, ".png") != 0)
+			return 0;
+		char *slash = strrchr(dir, '/');
+		if (slash == dir)
+			dir[1] = '\0'; /* a file in / */
+		else if (slash)
+			*slash = '\0';
+		else
+			snprintf(dir, sizeof dir, ".");
+	}
+	static const char *const names[] = { "camera.json", "camera.yaml" };
+	for (int i = 0; i < 2; i++) {
+		const int n = snprintf(out, len, "%s%s%s", dir,
+				       dir[strlen(dir) - 1] == '/' ? "" : "/", names[i]);
+		if (n > 0 && (size_t)n < len && access(out, R_OK) == 0)
+			return 1;
+	}
+	return 0;
 }

@@ -28,6 +28,17 @@ int camera_file_load(const char *path, struct dao_camera *cam, char *warning, si
 int camera_file_read(const char *path, struct dao_camera *cam, char *msg, size_t len);
 
 /*
+ * The camera file beside PNG input, where depthao process and depthaod both
+ * look for it when nothing else gives the intrinsics: camera.json, else
+ * camera.yaml (a ROS CameraInfo), in `path` when it is a directory, or in the
+ * directory of `path` when it names a .png file (any case); never beside a
+ * recording, whose directory's camera file may be another camera's.  1 with
+ * its path in `out` (`len` bytes); 0: none readable there, or `path` is not
+ * PNG input (or its directory's name does not fit in `out`).
+ */
+int camera_file_beside(const char *path, char *out, size_t len);
+
+/*
  * Writes a camera file atomically (temp file + rename); `extra` (may be NULL)
  * is an object whose keys are added.  Returns 0 or -1 with a message.
  */

@@ -242,7 +242,7 @@ static int load_from(const struct bench_input_options *io, struct dao_source *sr
 	dao_source_get_info(src, &si);
 	int status = frames_to_read(io, &si, &want);
 	if (!status)
-		status = process_resolve_camera(&io->po, 0, si.width, si.height, &si, &in->cam);
+		status = process_resolve_camera(&io->po, si.width, si.height, &si, &in->cam);
 	if (status)
 		return status;
 	snprintf(in->description, sizeof in->description, "%s", si.description);

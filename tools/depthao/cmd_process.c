@@ -438,8 +438,8 @@ static int parse_args(int argc, char **argv, struct process_options *o)
 }
 
 /* The camera for images of w x h, from the options, a camera.json beside the input, or a default. */
-int process_resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
-			   uint32_t h, const struct dao_source_info *src, struct dao_camera *cam)
+int process_resolve_camera(const struct process_options *o, uint32_t w, uint32_t h,
+			   const struct dao_source_info *src, struct dao_camera *cam)
 {
 	struct dao_error err;
 	char msg[512];
@@ -471,40 +471,26 @@ int process_resolve_camera(const struct process_options *o, int input_is_dir, ui
 		return 0;
 	}
 	const char *file = o->intrinsics_file;
-	char *auto_file = NULL;
-	if (!file) {
-		/* PNG input (also as the images source): camera.json beside it */
-		const char *in = src ? process_input_path(o->input) : o->input;
-		int in_dir = src ? path_is_dir(in) == 1 : input_is_dir;
-		char *dir = in_dir ? strdup(in) : path_dirname(in);
-		auto_file = dir ? path_join(dir, "camera.json") : NULL;
-		if (auto_file && access(auto_file, F_OK) != 0) {
-			/* else a ROS CameraInfo */
-			free(auto_file);
-			auto_file = dir ? path_join(dir, "camera.yaml") : NULL;
-		}
-		free(dir);
-		if (auto_file && access(auto_file, R_OK) == 0) {
-			file = auto_file;
-			if (!o->quiet)
-				fprintf(stderr, "depthao: using intrinsics from %s\n", file);
-		}
+	char beside[4096 + 16];
+	/* PNG input (also as the images source): camera.json beside it */
+	if (!file && camera_file_beside(src ? process_input_path(o->input) : o->input, beside,
+					sizeof beside)) {
+		file = beside;
+		if (!o->quiet)
+			fprintf(stderr, "depthao: using intrinsics from %s\n", file);
 	}
 	if (file) {
-		int r = camera_file_read(file, cam, msg, sizeof msg);
-		if (!r && (cam->width != w || cam->height != h)) {
-			snprintf(msg, sizeof msg, "camera file '%s' is for %ux%u images, the input is %ux%u",
-				 file, cam->width, cam->height, w, h);
-			r = -1;
-		}
-		free(auto_file);
-		if (r) {
+		if (camera_file_read(file, cam, msg, sizeof msg)) {
 			fprintf(stderr, "depthao: %s\n", msg);
+			return 1;
+		}
+		if (cam->width != w || cam->height != h) {
+			fprintf(stderr, "depthao: camera file '%s' is for %ux%u images, the input is "
+				"%ux%u\n", file, cam->width, cam->height, w, h);
 			return 1;
 		}
 		return 0;
 	}
-	free(auto_file);
 	fprintf(stderr,
 		"depthao: warning: no intrinsics given; assuming a %.1f x %.1f degree field of view "
 		"(use --intrinsics, --fov or --intrinsics-file)\n", DEFAULT_HFOV_DEG, DEFAULT_VFOV_DEG);
@@ -742,7 +728,7 @@ static int open_run(const struct process_options *o, int is_dir, const struct fi
 	int status = !first ? 1 : probe_size(first, o->max_pixels, &w, &h);
 	free(first);
 	if (!status)
-		status = process_resolve_camera(o, is_dir, w, h, NULL, &cam);
+		status = process_resolve_camera(o, w, h, NULL, &cam);
 	if (!status && (dao_context_create(&st->ctx, &cam, &o->params, &err) ||
 			dao_frame_alloc(&st->ao, DAO_PIXFMT_GRAY16, w, h, &err) ||
 			dao_frame_alloc(&st->rgb, DAO_PIXFMT_RGB24, w, h, &err) ||

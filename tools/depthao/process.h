@@ -81,11 +81,12 @@ int process_camera_options(struct process_options *o);
 
 /*
  * The camera for w x h images: --intrinsics, --fov, --intrinsics-file, else
- * the source's field of view (src may be NULL), else camera.json beside PNG
- * input, else a default field of view (with a warning).  0 or an exit status.
+ * the source's intrinsics or field of view (src may be NULL), else the camera
+ * file beside PNG input (camera_file_beside), else a default field of view
+ * (with a warning).  0 or an exit status.
  */
-int process_resolve_camera(const struct process_options *o, int input_is_dir, uint32_t w,
-			   uint32_t h, const struct dao_source_info *src, struct dao_camera *cam);
+int process_resolve_camera(const struct process_options *o, uint32_t w, uint32_t h,
+			   const struct dao_source_info *src, struct dao_camera *cam);
 
 /* The output paths of one frame; NULL where that output is not wanted. */
 struct process_paths {

@@ -229,7 +229,7 @@ static int prepare_run(const struct process_options *o, struct dao_source *src,
 	struct dao_error err;
 	struct dao_camera cam;
 	int status;
-	if ((status = process_resolve_camera(o, 0, si->width, si->height, si, &cam)))
+	if ((status = process_resolve_camera(o, si->width, si->height, si, &cam)))
 		return status;
 	if ((o->ao_out && process_ensure_dir(o->ao_out)) ||
 	    (o->shaded_out && process_ensure_dir(o->shaded_out)) ||

@@ -30,53 +30,28 @@ static int camera_error(struct dao_error *err, int r, const char *what)
 	return r;
 }
 
-/*
- * The camera file beside a PNG source, as depthao process finds it for PNG
- * input: camera.json (else camera.yaml) in the directory the source's path
- * names, or in that of the .png file it names (not beside a recording: a
- * shared directory's camera file may be another camera's).  1 and *cam; 0:
- * none there; < 0 with err: one there that cannot be used.
- */
+/* The camera file beside a PNG source (camera_file_beside, as depthao process
+ * finds it).  1 and *cam; 0: none there; < 0 with err: one there that cannot
+ * be used. */
 static int camera_beside(const char *uri, uint32_t w, uint32_t h, struct dao_camera *cam,
 			 struct dao_error *err)
 {
 	const size_t pre = dao_uri_prefix_len(uri);
-	const char *path = uri + (pre ? pre + 1 : 0);
-	char dir[4096], file[4096 + 16], msg[512];
-	struct stat st;
-	if (!*path || snprintf(dir, sizeof dir, "%s", path) >= (int)sizeof dir)
+	char file[4096 + 16], msg[512];
+	if (!camera_file_beside(uri + (pre ? pre + 1 : 0), file, sizeof file))
 		return 0;
-	if (stat(dir, &st) != 0)
-		return 0;
-	if (!S_ISDIR(st.st_mode)) {
-		const size_t n = strlen(dir);
-		if (n < 4 || strcasecmp(dir + n - 4, ".png") != 0)
-			return 0;
-		char *slash = strrchr(dir, '/');
-		if (slash)
-			*slash = '\0';
-		else
-			snprintf(dir, sizeof dir, ".");
-	}
-	static const char *const names[] = {"camera.json", "camera.yaml"};
-	for (int i = 0; i < 2; i++) {
-		snprintf(file, sizeof file, "%s/%s", dir, names[i]);
-		if (access(file, R_OK) != 0)
-			continue;
-		if (camera_file_read(file, cam, msg, sizeof msg) != 0)
-			return dao_error_set(err, -EINVAL, "%s ([source] intrinsics_file or "
-					     "intrinsics overrides it)", msg);
-		if (cam->width != w || cam->height != h)
-			return dao_error_set(err, -EINVAL,
-					     "the camera file beside the source, %s, is for %ux%u "
-					     "images, the source delivers %ux%u ([source] "
-					     "intrinsics_file or intrinsics overrides it)",
-					     file, cam->width, cam->height, w, h);
-		log_info("intrinsics from %s: fx %.2f fy %.2f cx %.2f cy %.2f", file, cam->fx,
-			 cam->fy, cam->cx, cam->cy);
-		return 1;
-	}
-	return 0;
+	if (camera_file_read(file, cam, msg, sizeof msg) != 0)
+		return dao_error_set(err, -EINVAL, "%s ([source] intrinsics_file or intrinsics "
+				     "overrides it)", msg);
+	if (cam->width != w || cam->height != h)
+		return dao_error_set(err, -EINVAL,
+				     "the camera file beside the source, %s, is for %ux%u images, "
+				     "the source delivers %ux%u ([source] intrinsics_file or "
+				     "intrinsics overrides it)",
+				     file, cam->width, cam->height, w, h);
+	log_info("intrinsics from %s: fx %.2f fy %.2f cx %.2f cy %.2f", file, cam->fx, cam->fy,
+		 cam->cx, cam->cy);
+	return 1;
 }
 
 /* The camera of w x h frames from the config or the source: 0, or negative with err set. */
