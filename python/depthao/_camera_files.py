@@ -186,12 +186,19 @@ def file_intrinsics(path):
 
 
 def beside(path):
-    """camera.json, else camera.yaml, in a directory of images or beside an
-    image; None if there is neither."""
-    d = path if os.path.isdir(path) else os.path.dirname(path) or "."
+    """camera.json, else camera.yaml, readable, in a directory of images or
+    beside a .png file (the rule of the depthao command and depthaod:
+    tools/common/camera_file.c, camera_file_beside); None if there is neither
+    or `path` is not PNG input."""
+    if os.path.isdir(path):
+        d = path
+    elif os.path.isfile(path) and path.lower().endswith(".png"):
+        d = os.path.dirname(path) or "."
+    else:
+        return None
     for name in ("camera.json", "camera.yaml"):
         f = os.path.join(d, name)
-        if os.path.exists(f):
+        if os.access(f, os.R_OK):
             return f
     return None
 

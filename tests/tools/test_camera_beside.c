@@ -3,9 +3,12 @@
  * tools/common/camera_file.c's camera_file_beside (depthao process and
  * depthaod both find the intrinsics of PNG input with it): camera.json before
  * camera.yaml, in a directory or in a .png file's (any case, also relative to
- * the working directory and in /); none beside a recording or a path that
- * does not exist, and none when the path does not fit.
+ * the working directory); none beside a recording or a path that does not
+ * exist, and none when the path does not fit; a camera.json that cannot be
+ * read is reported (-1, EACCES), not passed over for camera.yaml (as root,
+ * whom permissions do not stop, checked in a child that became nobody).
  */
+#include <errno.h>
 #include <limits.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -14,6 +17,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -80,7 +86,7 @@ static void test_beside(void **state)
 	expect(missing, ""); /* a path that is not there */
 	expect("", "");
 	expect(NULL, "");
-	char out[8];
+	char out[8], out2[PATH_MAX] = "";
 	assert_int_equal(camera_file_beside(dir, out, sizeof out), 0); /* does not fit */
 
 	/* relative to the working directory: "./camera.json" */
@@ -93,6 +99,24 @@ static void test_beside(void **state)
 	expect("000001.png", "./camera.yaml");
 	assert_int_equal(chdir(cwd), 0);
 
+	/* unreadable: reported, even with camera.yaml beside it */
+	touch(dir, "camera.json");
+	assert_int_equal(chmod(json, 0), 0);
+	assert_int_equal(chmod(dir, 0755), 0);
+	const pid_t pid = fork();
+	assert_true(pid >= 0);
+	if (pid == 0) { /* as nobody if root (65534), then the check; the exit status says */
+		if (geteuid() == 0 && (setgid(65534) != 0 || setuid(65534) != 0))
+			_exit(2);
+		errno = 0;
+		const int r = camera_file_beside(dir, out2, sizeof out2);
+		_exit(r == -1 && errno == EACCES && strcmp(out2, json) == 0 ? 0 : 1);
+	}
+	int status = 0;
+	assert_int_equal(waitpid(pid, &status, 0), pid);
+	assert_true(WIFEXITED(status));
+	assert_int_equal(WEXITSTATUS(status), 0);
+	drop(dir, "camera.json");
 	drop(dir, "camera.yaml");
 	drop(dir, "000001.png");
 	drop(dir, "DEPTH.PNG");

@@ -243,8 +243,9 @@ int camera_file_beside(const char *path, char *out, size_t len)
 	for (int i = 0; i < 2; i++) {
 		const int n = snprintf(out, len, "%s%s%s", dir,
 				       dir[strlen(dir) - 1] == '/' ? "" : "/", names[i]);
-		if (n > 0 && (size_t)n < len && access(out, R_OK) == 0)
-			return 1;
+		if (n <= 0 || (size_t)n >= len || access(out, F_OK) != 0)
+			continue;
+		return access(out, R_OK) == 0 ? 1 : -1;
 	}
 	return 0;
 }

@@ -29,12 +29,14 @@ int camera_file_read(const char *path, struct dao_camera *cam, char *msg, size_t
 
 /*
  * The camera file beside PNG input, where depthao process and depthaod both
- * look for it when nothing else gives the intrinsics: camera.json, else
- * camera.yaml (a ROS CameraInfo), in `path` when it is a directory, or in the
- * directory of `path` when it names a .png file (any case); never beside a
- * recording, whose directory's camera file may be another camera's.  1 with
- * its path in `out` (`len` bytes); 0: none readable there, or `path` is not
- * PNG input (or its directory's name does not fit in `out`).
+ * look for it when nothing else gives the intrinsics (a recording's own come
+ * first): camera.json, else camera.yaml (a ROS CameraInfo), in `path` when it
+ * is a directory, or in the directory of `path` when it names a .png file (any
+ * case); not beside other files (a recording's directory may hold another
+ * camera's file).  1 with its path in `out` (`len` bytes); -1 with its path in
+ * `out`: the first of them there cannot be read (errno says why: tell the
+ * user, rather than run with a default camera); 0: neither is there, or
+ * `path` is not PNG input (or its directory's name does not fit in `out`).
  */
 int camera_file_beside(const char *path, char *out, size_t len);
 

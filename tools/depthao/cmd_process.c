@@ -473,8 +473,15 @@ int process_resolve_camera(const struct process_options *o, uint32_t w, uint32_t
 	const char *file = o->intrinsics_file;
 	char beside[4096 + 16];
 	/* PNG input (also as the images source): camera.json beside it */
-	if (!file && camera_file_beside(src ? process_input_path(o->input) : o->input, beside,
-					sizeof beside)) {
+	int found = file ? 0 : camera_file_beside(src ? process_input_path(o->input) : o->input,
+						   beside, sizeof beside);
+	if (found < 0) {
+		fprintf(stderr, "depthao: the camera file beside the input, %s, cannot be read: %s "
+			"(make it readable, or give --intrinsics-file, --intrinsics or --fov)\n",
+			beside, strerror(errno));
+		return 1;
+	}
+	if (found) {
 		file = beside;
 		if (!o->quiet)
 			fprintf(stderr, "depthao: using intrinsics from %s\n", file);

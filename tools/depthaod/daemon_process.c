@@ -38,7 +38,12 @@ static int camera_beside(const char *uri, uint32_t w, uint32_t h, struct dao_cam
 {
 	const size_t pre = dao_uri_prefix_len(uri);
 	char file[4096 + 16], msg[512];
-	if (!camera_file_beside(uri + (pre ? pre + 1 : 0), file, sizeof file))
+	const int found = camera_file_beside(uri + (pre ? pre + 1 : 0), file, sizeof file);
+	if (found < 0)
+		return dao_error_set(err, -errno, "the camera file beside the source, %s, cannot be "
+				     "read: %s (make it readable, or give [source] intrinsics_file or "
+				     "intrinsics)", file, strerror(errno));
+	if (!found)
 		return 0;
 	if (camera_file_read(file, cam, msg, sizeof msg) != 0)
 		return dao_error_set(err, -EINVAL, "%s ([source] intrinsics_file or intrinsics "
