@@ -270,7 +270,8 @@ struct dao_sink_frame_info {
 	 * x_first = R x + t, the motions accepted since that frame composed
 	 * (depthaod's stats "motion", depthao process --pose-out).  has_pose 0: no
 	 * pose (the motion not followed; a frame after a cut or a gap in the
-	 * source's poses, whose motion is unknown; a host that does not track it). */
+	 * source's poses, whose motion is unknown; one whose estimate was refused;
+	 * a host that does not track it). */
 	int32_t has_pose;
 	uint32_t reserved;          /* 0 */
 	double pose_rotation[4];    /* x, y, z, w: optical frame to the first one's */

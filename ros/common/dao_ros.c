@@ -296,7 +296,7 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 	proc->index++;
 	proc->frames++;
 	/* the motion is followed with the temporal filter on and a mode not off; a
-	 * pose is given for a frame whose motion is known (or the first) */
+	 * pose is given for a frame whose motion was accepted (or the first) */
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 	dao_context_motion(proc->ctx, &mi);
 	const int follows = proc->params.depth_temporal > 0.0f &&
@@ -306,9 +306,11 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		proc->track.r[0] = proc->track.r[4] = proc->track.r[8] = 1.0;
 	}
 	proc->followed = follows;
-	proc->track.frames++;
-	dao_motion_accumulate(&mi, proc->track.r, proc->track.t);
-	proc->have_pose = follows && (proc->track.frames == 1 || mi.state != DAO_MOTION_NONE);
+	/* the first followed frame is the origin: its own motion (from a frame before the
+	 * track started, when the motion was switched on again) moves nothing */
+	const int moved = ++proc->track.frames > 1 &&
+			  dao_motion_accumulate(&mi, proc->track.r, proc->track.t) == 1;
+	proc->have_pose = follows && (proc->track.frames == 1 || moved);
 	if (shaded && shaded->data) {
 		struct dao_frame rgb = {
 			.size = DAO_FRAME_SIZE,
@@ -366,9 +368,14 @@ int dao_ros_proc_set_params(struct dao_ros_proc *proc, const struct dao_params *
 {
 	int r = proc->ctx ? dao_context_set_params(proc->ctx, params, err)
 			  : dao_params_validate(params, err);
-	if (!r)
-		proc->params = *params;
-	return r;
+	if (r)
+		return r;
+	proc->params = *params;
+	/* switched off: switched on again, even before the next frame, the pose
+	 * starts over (dao_ros_proc_pose) */
+	if (params->depth_temporal <= 0.0f || params->depth_temporal_motion == DAO_DEPTH_MOTION_OFF)
+		proc->followed = 0;
+	return 0;
 }
 
 uint64_t dao_ros_proc_frames(const struct dao_ros_proc *proc)

@@ -271,6 +271,13 @@ bool DepthaoNode::read_pose_parameters()
 		}
 		odom_frame_ = tf2_frame(static_cast<std::string>(v));
 	}
+	if (odom_frame_ == pose_frame_) {
+		ROS_FATAL("~odom_frame '%s' is ~pose_frame: camera_pose is in a frame of its own "
+			  "(the first followed frame's optical frame), not in tf's fixed frame; give "
+			  "~odom_frame another name (depthao_odom by default)",
+			  odom_frame_.c_str());
+		return false;
+	}
 	if (!pose_frame_.empty()) {
 		tf_buffer_.reset(new tf2_ros::Buffer());
 		tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_));
@@ -581,6 +588,10 @@ void DepthaoNode::on_depth(const sensor_msgs::ImageConstPtr &img,
 	publish_depth(img, info);
 	double q[4], t[3];
 	if (pose_pub_.getNumSubscribers() > 0 && dao_ros_proc_pose(proc_, q, t)) {
+		if (tf2_frame(img->header.frame_id) == odom_frame_)
+			ROS_WARN_ONCE("~odom_frame '%s' is the depth image's own frame: camera_pose "
+				      "would put the camera in itself; give ~odom_frame another name",
+				      odom_frame_.c_str());
 		pose_msg_.header.stamp = img->header.stamp;
 		pose_msg_.header.frame_id = odom_frame_;
 		pose_msg_.pose.position.x = t[0];

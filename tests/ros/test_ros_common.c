@@ -506,7 +506,8 @@ static int run_posed(struct dao_ros_proc *proc, const struct dao_ros_image *img,
  * again (the stamp goes back) starts over before the pose is taken, so its
  * frames equal those of a processor whose history was other frames, and its
  * first frame's pose is kept (the second frame follows the motion); bad poses
- * are refused with the library's message */
+ * are refused with the library's message; the pose starts over when the motion
+ * is switched off and on again between two frames */
 static void test_poses(void **state)
 {
 	(void)state;
@@ -565,6 +566,28 @@ static void test_poses(void **state)
 	assert_non_null(strstr(err.message, "camera pose: the rotation quaternion"));
 	assert_int_equal(dao_ros_proc_set_pose(pc, 9, q, inf, &err), -EINVAL);
 	assert_non_null(strstr(err.message, "is not a finite"));
+
+	/* the motion switched off and on again between two frames (a reconfigure): the
+	 * pose starts over at the next frame, 3 cm on from the last (0.06 from frame 5) */
+	struct dao_params off = p;
+	off.depth_temporal_motion = DAO_DEPTH_MOTION_OFF;
+	assert_int_equal(dao_ros_proc_set_params(pa, &off, &err), 0);
+	assert_int_equal(dao_ros_proc_set_params(pa, &p, &err), 0);
+	make_image(in_buf, &img, "16UC1", 0, 0, 3);
+	t[0] = 0.09;
+	assert_int_equal(run_posed(pa, &img, 8, q, t, &err), 0);
+	double pq[4], pt[3];
+	assert_int_equal(dao_ros_proc_pose(pa, pq, pt), 1);
+	assert_true(fabs(pt[0]) < 1e-12 && fabs(pq[3] - 1.0) < 1e-12); /* the origin again */
+	/* a jump beyond 0.25 m a frame is refused: no pose for that frame; the next
+	 * one's motion (2 cm) moves the pose held since, the jump lost */
+	t[0] = 0.9;
+	assert_int_equal(run_posed(pa, &img, 9, q, t, &err), 0);
+	assert_int_equal(dao_ros_proc_pose(pa, pq, pt), 0);
+	t[0] = 0.92;
+	assert_int_equal(run_posed(pa, &img, 10, q, t, &err), 0);
+	assert_int_equal(dao_ros_proc_pose(pa, pq, pt), 1);
+	assert_true(fabs(pt[0] - 0.02) < 1e-9);
 	dao_ros_proc_destroy(pa);
 	dao_ros_proc_destroy(pb);
 	dao_ros_proc_destroy(pc);

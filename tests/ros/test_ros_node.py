@@ -30,7 +30,8 @@ moving /tf and a latched /tf_static) gives what `depthao process --pose-frame wo
 on the same bag, and not what motion off gives; node e (`~pose_frame nowhere`) logs why its
 frames have no pose and gives what motion off gives; d's camera_pose (geometry_msgs/
 PoseStamped in depthao_odom) is the true pose of each frame's optical frame in the first's
-(from the bag's tf, within 1e-9) and `depthao process --pose-out`'s to its printed digits.
+(from the bag's tf, within 1e-9) and `depthao process --pose-out`'s to its printed digits;
+e's is the first frame's origin only (no motion after it).
 Exits 77 when ROS (roscore, rosbag, rospy, the node) is absent.  Every process
 started here is killed on every exit path.
 """
@@ -776,7 +777,8 @@ def main():
     pose_cls = generate_dynamic("geometry_msgs/PoseStamped", POSE_STAMPED)["geometry_msgs/PoseStamped"]
     col_d, col_e = {"ao": Collector("/d/ao/image")}, {"ao": Collector("/e/ao/image")}
     col_pose = Collector("/d/camera_pose", pose_cls)
-    for c in (col_d["ao"], col_e["ao"], col_pose):
+    col_pose_e = Collector("/e/camera_pose", pose_cls)
+    for c in (col_d["ao"], col_e["ao"], col_pose, col_pose_e):
         wait_for("%s to be published" % c.topic, lambda: c.sub.get_num_connections() > 0)
     # rosbag play --wait-for-subscribers waits for one subscriber a topic: wait for both
     probe = rosgraph.Master("/dao_test_probe")
@@ -835,6 +837,14 @@ def main():
                 i, m.header.stamp, m.header.frame_id, v, true_t, true_r.tolist(), w))
     print("d: %d poses on camera_pose, the truth and depthao process --pose-out's (moved %.3f m)"
           % (FRAMES, float(np.linalg.norm(want[-1][:3]))))
+    # e (no poses, so no motion): the first frame's pose, the origin, and none after it
+    # (its frames' AO came long ago, each before its pose)
+    with col_pose_e.lock:
+        got_e = list(col_pose_e.msgs)
+    if len(got_e) != 1 or got_e[0].header.stamp != stamp(0) or \
+            [got_e[0].pose.orientation.w, got_e[0].pose.position.x] != [1.0, 0.0]:
+        fail("e: %d poses on camera_pose, want the origin of frame 0 only: %s" % (
+            len(got_e), [(m.header.stamp, m.pose) for m in got_e]))
     # d's INFO lines go to stdout, a file here, buffered until it exits: stop it first
     node_d.send_signal(signal.SIGINT)
     try:
@@ -847,7 +857,9 @@ def main():
     expect_refused("badpose", ((["_pose_frame:=/"], "~pose_frame '/' names no frame"),
                                (["_pose_frame:=3"], "~pose_frame: give tf's fixed frame as a name"),
                                (["_pose_timeout:=11"], "~pose_timeout: 11 is not a wait"),
-                               (["_pose_timeout:=soon"], "~pose_timeout: soon is not")))
+                               (["_pose_timeout:=soon"], "~pose_timeout: soon is not"),
+                               (["_pose_frame:=odom", "_odom_frame:=odom"],
+                                "~odom_frame 'odom' is ~pose_frame")))
 
     # a sanitizer build (bootstrap.sh test) reports into the logs and may go on
     for name in ("a", "b", "c", "d", "e", "bad", "badpose"):

@@ -4,7 +4,8 @@
  * the pose accumulated from per-frame motions against poses composed here
  * independently (a turn of 1 degree a frame about the vertical with a step
  * along the view: after 90 frames a quarter turn, the camera on a known
- * arc); refused, still-less and non-finite motions hold the pose.  (The
+ * arc); refused, still-less and non-finite motions hold the pose; which
+ * poses are handed on (pose_track_publishable).  (The
  * quaternion round trip on every kind of rotation, trace above and below 0:
  * tests/motion/test_pose_math.c.)
  */
@@ -80,10 +81,47 @@ static void test_accumulates(void **state)
 	assert_true(fabs(q[0]) < 1e-12 && fabs(q[2]) < 1e-12);
 }
 
+/* Which poses are handed on (a sink's /tf): the first frame's, then those of frames
+ * whose motion was accepted; none where the motion is not followed. */
+static void test_publishable(void **state)
+{
+	(void)state;
+	struct dao_params on, off;
+	dao_params_init(&on, DAO_QUALITY_DEFAULT);
+	on.depth_temporal = 0.8f;
+	on.depth_temporal_motion = DAO_DEPTH_MOTION_ICP;
+	off = on;
+	off.depth_temporal_motion = DAO_DEPTH_MOTION_OFF;
+	struct pose_track p;
+	pose_track_reset(&p);
+	struct dao_motion_info mi;
+	step_motion(&mi, 0.0, 0.0, DAO_MOTION_NONE);
+	pose_track_add(&p, &mi);
+	assert_true(pose_track_publishable(&p, &on)); /* the origin */
+	assert_false(pose_track_publishable(&p, &off));
+	static const struct {
+		int state, publish;
+	} seq[] = {
+		{ DAO_MOTION_APPLIED, 1 }, { DAO_MOTION_STILL, 1 }, { DAO_MOTION_REFUSED, 0 },
+		{ DAO_MOTION_APPLIED, 1 }, { DAO_MOTION_NONE, 0 }, { DAO_MOTION_STILL, 1 },
+	};
+	for (size_t k = 0; k < sizeof seq / sizeof seq[0]; k++) {
+		step_motion(&mi, 1.0, 0.01, seq[k].state);
+		pose_track_add(&p, &mi);
+		assert_int_equal(pose_track_publishable(&p, &on), seq[k].publish);
+		assert_false(pose_track_publishable(&p, &off));
+	}
+	step_motion(&mi, 1.0, 0.01, DAO_MOTION_APPLIED);
+	mi.rotation[4] = NAN; /* accepted, but not a motion: not moved, not handed on */
+	pose_track_add(&p, &mi);
+	assert_false(pose_track_publishable(&p, &on));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_accumulates),
+		cmocka_unit_test(test_publishable),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,7 +15,10 @@ void pose_track_add(struct pose_track *p, const struct dao_motion_info *mi)
 	p->state = mi->state;
 	p->reason = mi->reason;
 	p->refused += mi->state == DAO_MOTION_REFUSED;
-	p->accepted += dao_motion_accumulate(mi, p->r, p->t) == 1;
+	/* the first frame is the origin: a motion it has (from a frame before the track
+	 * started: the motion switched on mid-stream) moves nothing */
+	p->moved = p->frames > 1 && dao_motion_accumulate(mi, p->r, p->t) == 1;
+	p->accepted += p->moved;
 }
 
 int pose_track_follows(const struct dao_params *params)
@@ -26,5 +29,5 @@ int pose_track_follows(const struct dao_params *params)
 
 int pose_track_publishable(const struct pose_track *p, const struct dao_params *params)
 {
-	return pose_track_follows(params) && (p->frames == 1 || p->state != DAO_MOTION_NONE);
+	return pose_track_follows(params) && (p->frames == 1 || p->moved);
 }

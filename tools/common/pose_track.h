@@ -21,6 +21,7 @@ struct pose_track {
 	double t[3];  /* the optical centre in the world, m */
 	unsigned long long frames, accepted, refused; /* frames added; estimates used, refused */
 	int state, reason; /* the last frame's (enum dao_motion_state, dao_motion_info.reason) */
+	int moved;         /* the last frame's motion was accepted: it moved the pose */
 };
 
 /* The identity, no frames. */
@@ -35,9 +36,10 @@ int pose_track_follows(const struct dao_params *params);
 /*
  * Whether the pose after the last pose_track_add() is one to hand on (a
  * sink's /tf): the run follows the camera, and the frame is the track's
- * first (the origin) or had its motion estimated or given (a state other than
- * NONE: not a frame after a cut or a gap in the source's poses, whose motion
- * is unknown).
+ * first (the origin) or its motion was accepted (STILL or APPLIED).  Not
+ * after a cut or a gap in the source's poses (NONE: the motion unknown), nor
+ * where the estimate was refused (REFUSED: the camera may well have moved;
+ * the pose held there would be stale).
  */
 int pose_track_publishable(const struct pose_track *p, const struct dao_params *params);
 
