@@ -130,6 +130,28 @@ def _unknown_parameter_message(name):
     return "unknown parameter '%s'" % name
 
 
+def _quaternion(rotation):
+    """A rotation given as a quaternion (x, y, z, w) or a 3x3 rotation matrix, as the
+    quaternion's 4 floats (the library checks its norm)."""
+    try:
+        r = np.asarray(rotation, np.float64)
+    except (TypeError, ValueError):
+        r = None
+    if r is not None and r.shape == (4,):
+        return r.tolist()
+    if r is None or r.shape != (3, 3):
+        raise ValueError("rotation must be a quaternion (x, y, z, w) or a 3x3 rotation "
+                         "matrix, got %r" % (rotation,))
+    if not np.all(np.isfinite(r)):
+        raise ValueError("rotation matrix has a value that is not finite: %r" % (r.tolist(),))
+    if np.abs(r @ r.T - np.eye(3)).max() > 1e-6 or abs(np.linalg.det(r) - 1.0) > 1e-6:
+        raise ValueError("the 3x3 rotation matrix is not a rotation (R R^T = I and det R = +1 "
+                         "within 1e-6): %r" % (r.tolist(),))
+    q = (ctypes.c_double * 4)()
+    lib.dao_pose_matrix_to_quat((ctypes.c_double * 9)(*r.ravel().tolist()), q)
+    return q[:]
+
+
 class AO:
     """Ambient occlusion for the frames of one camera (a dao_context).
 
@@ -168,6 +190,13 @@ class AO:
         object.__setattr__(self, "_lock", threading.Lock())
         object.__setattr__(self, "_camera", camera)
         object.__setattr__(self, "_last_ao", None)
+        # the camera's pose (AO.pose): rotation matrix and translation, as
+        # dao_motion_accumulate moves them; frames since it started
+        object.__setattr__(self, "_track_r", (ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 1))
+        object.__setattr__(self, "_track_t", (ctypes.c_double * 3)())
+        object.__setattr__(self, "_track_frames", 0)
+        object.__setattr__(self, "_followed", False)
+        object.__setattr__(self, "_have_pose", False)
         p = _params.Params(quality)
         if stream:
             lib.dao_params_stream_defaults(p.buf)
@@ -350,6 +379,8 @@ class AO:
             r = lib.dao_context_process(self._handle(), ctypes.byref(dframe), None,
                                         int(frame_index), ctypes.byref(aframe),
                                         ctypes.byref(err))
+            if r >= 0:
+                self._follow()
         _lib.check(r, err)
         if target is not result:
             result[...] = target
@@ -358,9 +389,116 @@ class AO:
 
     def reset(self):
         """Starts the temporal filters' histories over (a cut the frame
-        indices do not show: another scene, another camera)."""
+        indices do not show: another scene, another camera), and the camera's
+        pose (AO.pose) with them."""
         with self._lock:
             lib.dao_context_reset(self._handle())
+            object.__setattr__(self, "_followed", False)
+            object.__setattr__(self, "_have_pose", False)
+
+    # --- the camera's motion ----------------------------------------------
+
+    def _follow(self):
+        """After a processed frame (under the lock): the camera's pose moved by the
+        frame's motion where the run follows it, as depthao process --pose-out."""
+        p = self._current()
+        follows = p.get("depth_temporal") > 0 and p.get("depth_temporal_motion") != "off"
+        mi = _lib.dao_motion_info()
+        lib.dao_context_motion_sized(self._handle(), ctypes.byref(mi), ctypes.sizeof(mi))
+        if follows and not self._followed:  # from here, in this frame's optical frame
+            self._track_r[:] = (1, 0, 0, 0, 1, 0, 0, 0, 1)
+            self._track_t[:] = (0, 0, 0)
+            object.__setattr__(self, "_track_frames", 0)
+        object.__setattr__(self, "_followed", follows)
+        object.__setattr__(self, "_track_frames", self._track_frames + 1)
+        # the first followed frame is the origin: its own motion (from a frame before
+        # the track started) moves nothing
+        moved = self._track_frames > 1 and lib.dao_motion_accumulate(
+            ctypes.byref(mi), self._track_r, self._track_t) == 1
+        object.__setattr__(self, "_have_pose", follows and (self._track_frames == 1 or moved))
+
+    def set_pose(self, rotation, translation=None):
+        """The camera's pose for the next process() (dao_context_set_pose), from
+        whatever knows it (odometry, tf, a tracker, a trajectory file; a source
+        opened with poses=True gives info["pose"]).
+
+        rotation: the rotation from the camera's optical frame (x right, y down,
+        z forward) to a fixed world frame, as a unit quaternion (x, y, z, w; w
+        last) or a 3x3 rotation matrix; translation: the optical centre in that
+        frame, metres (x_world = R x_camera + t).  rotation None: the next frame
+        has no pose.  The pose serves the next process() only.  Used with
+        depth_temporal_motion "source" (the motion between consecutive frames'
+        poses carries the depth history) and "source+icp" (it seeds the
+        estimate); the other modes ignore it.  ValueError for a quaternion whose
+        norm is not 1 within 1e-3, a matrix that is not a rotation, a value that
+        is not finite, a translation beyond 1e6 m (the next frame then has no
+        pose).
+        """
+        err = _lib.new_error()
+        if rotation is None:
+            with self._lock:
+                _lib.check(lib.dao_context_set_pose(self._handle(), None, None,
+                                                    ctypes.byref(err)), err)
+            return
+        q = _quaternion(rotation)
+        try:
+            t = np.asarray(translation, np.float64)
+        except (TypeError, ValueError):
+            t = None
+        if translation is None or t is None or t.shape != (3,):
+            raise ValueError("translation must be 3 numbers (metres), got %r" % (translation,))
+        qc = (ctypes.c_double * 4)(*q)
+        tc = (ctypes.c_double * 3)(*t.tolist())
+        with self._lock:
+            _lib.check(lib.dao_context_set_pose(self._handle(), qc, tc, ctypes.byref(err)), err)
+
+    @property
+    def motion(self):
+        """What became of the last frame's camera-motion estimate
+        (dao_context_motion): a dict with state ("none": not estimated, the
+        motion not followed or no history; "refused", with its reason 1-5;
+        "still"; "applied"), rotation (3x3) and translation (3,) of the motion
+        from the last frame's camera to the one before (p_prev = R p + t,
+        metres), reason, points, pairs, rms (m), condition, iterations, and
+        origin ("depth", "source", "source+icp")."""
+        mi = _lib.dao_motion_info()
+        with self._lock:
+            _lib.check(lib.dao_context_motion_sized(self._handle(), ctypes.byref(mi),
+                                                    ctypes.sizeof(mi)), None)
+        out = {}
+        for name, value in _lib.filled_fields(mi):
+            if name == "reserved":
+                continue
+            if name == "rotation":
+                value = np.array(value[:], np.float64).reshape(3, 3)
+            elif name == "translation":
+                value = np.array(value[:], np.float64)
+            elif name == "state":
+                value = _lib.MOTION_STATES[value] if 0 <= value < 4 else value
+            elif name == "origin":
+                value = _lib.MOTION_ORIGINS[value] if 0 <= value < 3 else value
+            out[name] = value
+        return out
+
+    @property
+    def pose(self):
+        """The camera's pose after the last process(), where the run follows the
+        camera (depth_temporal > 0 and depth_temporal_motion not "off"): the
+        motions accepted since the first followed frame composed
+        (dao_motion_accumulate), as depthao process --pose-out gives them.  A
+        tuple (rotation, translation): the unit quaternion x, y, z, w (w last) from
+        this frame's optical frame to the first followed frame's, and the optical
+        centre there, metres.  None where there is none: the motion not followed,
+        or a frame whose motion estimate was refused or is unknown (after a cut,
+        or without a pose in "source" mode).  A motion not known is taken as none:
+        the poses after it are off by it.  It starts over with reset() and when
+        the motion is followed again."""
+        with self._lock:
+            if not self._have_pose:
+                return None
+            q = (ctypes.c_double * 4)()
+            lib.dao_pose_matrix_to_quat(self._track_r, q)
+            return np.array(q[:], np.float64), np.array(self._track_t[:], np.float64)
 
     def shade(self, out=None):
         """The occlusion-shaded image of the last processed frame: uint8 RGB

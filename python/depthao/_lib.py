@@ -213,6 +213,26 @@ class dao_noise_info(ctypes.Structure):
                 ("cells_measured", ctypes.c_int)]
 
 
+class dao_motion_info(ctypes.Structure):
+    _fields_ = [("size", ctypes.c_uint32), ("state", ctypes.c_int),
+                ("rotation", ctypes.c_double * 9), ("translation", ctypes.c_double * 3),
+                ("reason", ctypes.c_int), ("points", ctypes.c_int), ("pairs", ctypes.c_int),
+                ("rms", ctypes.c_float), ("condition", ctypes.c_float),
+                ("iterations", ctypes.c_int), ("origin", ctypes.c_int),
+                ("reserved", ctypes.c_uint32)]
+
+
+# enum dao_motion_state, enum dao_motion_origin
+MOTION_STATES = ("none", "refused", "still", "applied")
+MOTION_ORIGINS = ("depth", "source", "source+icp")
+
+
+class dao_source_pose(ctypes.Structure):
+    _fields_ = [("size", ctypes.c_uint32), ("reserved", ctypes.c_uint32),
+                ("rotation", ctypes.c_double * 4), ("translation", ctypes.c_double * 3),
+                ("description", ctypes.c_char * 160), ("warning", ctypes.c_char * 256)]
+
+
 DAO_SOURCE_EOS = 1
 PLAYBACK_MANUAL = 0
 PLAYBACK_REALTIME = 1
@@ -287,6 +307,11 @@ _PROTOTYPES = {
     "dao_context_timings_sized": (_int, [_vp, _P(dao_timings), ctypes.c_size_t]),
     "dao_context_noise_sized": (_int, [_vp, _P(dao_noise_info), ctypes.c_size_t]),
     "dao_context_simd": (_int, [_vp]),
+    "dao_context_motion_sized": (_int, [_vp, _P(dao_motion_info), ctypes.c_size_t]),
+    "dao_context_set_pose": (_int, [_vp, _P(_dbl), _P(_dbl), _E]),
+    "dao_motion_accumulate": (_int, [_P(dao_motion_info), _P(_dbl), _P(_dbl)]),
+    "dao_pose_matrix_to_quat": (None, [_P(_dbl), _P(_dbl)]),
+    "dao_pose_quat_to_matrix": (None, [_P(_dbl), _P(_dbl)]),
     "dao_simd_name": (_cp, [_int]),
     "dao_frame_free": (None, [_P(dao_frame)]),
     "dao_png_read": (_int, [_cp, _P(dao_frame), _E]),
@@ -300,6 +325,8 @@ _PROTOTYPES = {
     "dao_source_read": (_int, [_vp, _P(dao_source_frame), _int, _E]),
     "dao_source_release": (None, [_vp, _P(dao_source_frame)]),
     "dao_source_seek": (_int, [_vp, _u64, _E]),
+    "dao_source_frame_pose_sized": (_int, [_vp, _P(dao_source_frame), _P(dao_source_pose),
+                                           ctypes.c_size_t, _E]),
     "dao_source_close": (None, [_vp]),
 }
 

@@ -77,7 +77,11 @@ class Source:
     sequence, timestamp_ns, depth_unit, and color: with open(..., color=True)
     on a source with colour (.info["has_color"]: an .oni recording with a
     colour stream, a bag with a colour topic, OpenNI2 devices), a uint8 RGB (h, w, 3) copy of the colour
-    frame paired with the depth (the one recorded nearest in time), else None.  Iteration ends at the end of the
+    frame paired with the depth (the one recorded nearest in time), else None;
+    with open(..., poses=True), pose: the camera's pose the source carries for
+    the frame (a ROS recording's tf or odometry, docs/sources.md), a tuple
+    (rotation, translation) as AO.set_pose() takes it, or None for a frame
+    without one (then pose_missing says why).  Iteration ends at the end of the
     recording; a live source that delivers nothing for `timeout` seconds
     raises TimeoutError.
 
@@ -87,7 +91,7 @@ class Source:
     """
 
     def __init__(self, uri, playback="manual", loop=False, start=0, step=1, unit=None,
-                 timeout=5.0, plugin_path=None, color=False):
+                 timeout=5.0, plugin_path=None, color=False, poses=False):
         if playback not in _PLAYBACK:
             raise ValueError("playback must be 'manual' or 'realtime', got %r" % (playback,))
         if timeout is not None and not (isinstance(timeout, numbers.Real) and timeout > 0):
@@ -107,6 +111,8 @@ class Source:
                                  % unit)
             opts.depth_unit = unit
         self._timeout = timeout
+        self._poses = bool(poses)
+        self.pose_description = None
         self._lock = threading.Lock()
         self._src = None
         self._done = False
@@ -248,10 +254,37 @@ class Source:
                         else None,
                         "color": (_frames.array_from_frame(frame.color)
                                   if frame.color.format == _lib.PIXFMT_RGB24 else None)}
+                if self._poses:
+                    self._frame_pose(src, frame, info)
                 index = frame.index
             finally:
                 lib.dao_source_release(src, ctypes.byref(frame))
             return index, depth, info
+
+    def _frame_pose(self, src, frame, info):
+        """info["pose"] (and "pose_missing") of the frame just read, before its release.
+        A source that carries no poses, or cannot give any, raises its error."""
+        pose = _lib.dao_source_pose()
+        pose.size = ctypes.sizeof(pose)
+        err = _lib.new_error()
+        r = lib.dao_source_frame_pose_sized(src, ctypes.byref(frame), ctypes.byref(pose),
+                                            ctypes.sizeof(pose), ctypes.byref(err))
+        if r == -errno.ENOENT:  # a gap in the poses: this frame has none
+            info["pose"] = None
+            info["pose_missing"] = _lib.text(err.message)
+            return
+        if r == -errno.ENOTSUP:
+            raise OSError(errno.ENOTSUP, "'%s' carries no camera poses (poses=True): a ROS "
+                          "recording with tf or odometry does (bag, mcap, db3 sources)"
+                          % self.uri)
+        _lib.check(r, err)
+        info["pose"] = (np.array(pose.rotation[:], np.float64),
+                        np.array(pose.translation[:], np.float64))
+        info["pose_missing"] = None
+        if self.pose_description is None:
+            self.pose_description = _lib.text(pose.description)
+            if pose.warning:
+                warnings.warn(_lib.text(pose.warning), RuntimeWarning, stacklevel=3)
 
     def close(self):
         """Stops and closes the source (also when collected)."""
@@ -276,7 +309,7 @@ class Source:
 
 
 def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout=5.0,
-         plugin_path=None, color=False):
+         plugin_path=None, color=False, poses=False):
     """Opens a recording or device through the library's sources:
     "FILE.oni" or "oni:FILE" (depthao's reader), "FILE.bag" or "bag:FILE.bag?topic=..."
     (ROS 1 bags and RealSense recordings), "images:DIR", "images:FILE.png", a
@@ -294,11 +327,18 @@ def open(uri, playback="manual", loop=False, start=0, step=1, unit=None, timeout
     (sources with colour: .oni recordings with a colour stream, bags with a
     colour topic (FILE.bag?color=TOPIC when there are several), OpenNI2; the
     others deliver None; .info["has_color"] says which).
+    poses: also deliver the camera's pose of each frame from the recording's tf
+    or odometry, in info["pose"] (bag, mcap and db3 sources; the fixed frame in
+    the URI, e.g. "FILE.bag?pose_frame=odom", docs/sources.md); the first
+    frame's read then loads the recording's transforms.  A source without
+    poses raises OSError (ENOTSUP) on the first frame.  Hand each pose to
+    AO.set_pose() before AO.process() with depth_temporal_motion="source" or
+    "source+icp".
     plugin_path: directories (colon-separated) to load plugin modules from,
     instead of $DEPTHAO_PLUGIN_PATH / the install directory.
     """
     return Source(uri, playback=playback, loop=loop, start=start, step=step, unit=unit,
-                  timeout=timeout, plugin_path=plugin_path, color=color)
+                  timeout=timeout, plugin_path=plugin_path, color=color, poses=poses)
 
 
 # --- PNG ----------------------------------------------------------------------
