@@ -2,6 +2,7 @@
 """Camera and AO: struct dao_camera and struct dao_context."""
 
 import ctypes
+import errno
 import math
 import numbers
 import os
@@ -337,6 +338,38 @@ class AO:
         into (may be a strided view) instead of a new one.
         The GIL is released while the library works.
         """
+        return self._process(depth, unit, frame_index, out, None)
+
+    def process_shaded(self, depth, unit=0.001, frame_index=0, out=None, shaded_out=None):
+        """process() and shade() in one call (dao_context_process_shaded): the same
+        visibility and the same shaded image, byte for byte, the shading done on each
+        band of rows while its AO is still in the core's cache (one pass over the
+        frame fewer).  Returns (visibility, shaded): float32 (H, W) and uint8 RGB (H, W, 3);
+        shaded_out may be uint8 (H, W, 3) for RGB or (H, W) for gray (also a strided
+        view) to write into.  With algorithm="none" the frame is processed and OSError
+        ENODATA raised, as shade() does."""
+        h, w = self._camera.shape
+        if shaded_out is None:
+            s_result = s_target = np.empty((h, w, 3), np.uint8)
+        else:
+            if not isinstance(shaded_out, np.ndarray):
+                raise ValueError("shaded_out must be a numpy array, got %s"
+                                 % type(shaded_out).__name__)
+            comps = 3 if shaded_out.ndim == 3 else 1
+            s_result = self._check_image("shaded_out", shaded_out, {"u1": "uint8"}, comps)
+            if not shaded_out.flags.writeable:
+                raise ValueError("shaded_out is read-only")
+            if out is not None and np.may_share_memory(out, shaded_out):
+                raise ValueError("out and shaded_out share memory")
+            s_target = shaded_out
+            if _frames.row_stride(shaded_out, comps) is None or \
+                    np.may_share_memory(shaded_out, depth):
+                s_target = np.empty(shaded_out.shape, np.uint8)
+        vis = self._process(depth, unit, frame_index, out, (s_result, s_target))
+        return vis, s_result
+
+    def _process(self, depth, unit, frame_index, out, shaded):
+        """process() and process_shaded(): shaded None, or (array returned, array filled)."""
         depth = self._check_image("depth", depth, {"u2": "uint16 (with unit)",
                                                    "f4": "float32 (metres)",
                                                    "f8": "float64 (metres)"}, 1)
@@ -375,16 +408,32 @@ class AO:
                 target = out
         aframe = _frames.make_frame(target, _lib.PIXFMT_GRAY_F32, ostride)
         err = _lib.new_error()
+        sframe = None
+        if shaded is not None:
+            s_result, s_target = shaded
+            comps = 3 if s_target.ndim == 3 else 1
+            sframe = _frames.make_frame(s_target, _lib.PIXFMT_RGB24 if comps == 3 else
+                                        _lib.PIXFMT_GRAY8, _frames.row_stride(s_target, comps))
         with self._lock:
-            r = lib.dao_context_process(self._handle(), ctypes.byref(dframe), None,
-                                        int(frame_index), ctypes.byref(aframe),
-                                        ctypes.byref(err))
-            if r >= 0:
+            if sframe is None:
+                r = lib.dao_context_process(self._handle(), ctypes.byref(dframe), None,
+                                            int(frame_index), ctypes.byref(aframe),
+                                            ctypes.byref(err))
+            else:
+                r = lib.dao_context_process_shaded(self._handle(), ctypes.byref(dframe), None,
+                                                   int(frame_index), ctypes.byref(aframe),
+                                                   ctypes.byref(sframe), ctypes.byref(err))
+            # algorithm=none with a shaded image: processed, -ENODATA (nothing to shade)
+            processed = r >= 0 or (sframe is not None and r == -errno.ENODATA)
+            if processed:
                 self._follow()
+        if processed:
+            if target is not result:
+                result[...] = target
+            object.__setattr__(self, "_last_ao", result)
         _lib.check(r, err)
-        if target is not result:
-            result[...] = target
-        object.__setattr__(self, "_last_ao", result)
+        if sframe is not None and s_target is not s_result:
+            s_result[...] = s_target
         return result
 
     def reset(self):

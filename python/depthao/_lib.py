@@ -301,6 +301,8 @@ _PROTOTYPES = {
     "dao_context_get_params_sized": (_int, [_vp, _vp, ctypes.c_size_t]),
     "dao_context_process": (_int, [_vp, _P(dao_frame), _P(dao_frame), _u64, _P(dao_frame), _E]),
     "dao_context_shade": (_int, [_vp, _P(dao_frame), _E]),
+    "dao_context_process_shaded": (_int, [_vp, _P(dao_frame), _P(dao_frame), _u64,
+                                          _P(dao_frame), _P(dao_frame), _E]),
     "dao_overlay": (_int, [_P(dao_frame), _P(dao_frame), _P(dao_frame), _E]),
     "dao_context_get_depth": (_int, [_vp, _P(dao_frame), _E]),
     "dao_context_get_normals": (_int, [_vp, _P(dao_frame), _E]),

@@ -245,6 +245,51 @@ def test_out_arrays(frame0, monkeypatch):
     assert np.array_equal(ao.process(f, out=f), expect)
 
 
+def test_process_shaded(oni_frames):
+    """process_shaded() gives process() then shade(), byte for byte, on a recording's
+    frames with the temporal filters on (the histories advance alike), into new arrays,
+    strided and transposed ones, and gray; with algorithm="none" it processes and then
+    raises ENODATA, as shade() does."""
+    cam, frames = oni_frames
+    i0, d0, _ = frames[0]
+    a = depthao.AO(cam, stream=True, threads=2)
+    b = depthao.AO(cam, stream=True, threads=2)
+    h, w = d0.shape
+    padded = np.zeros((h, w + 2, 3), np.uint8)
+    for k, (i, d, info) in enumerate(frames[:4]):
+        want_vis = a.process(d, unit=info["depth_unit"], frame_index=i)
+        want_rgb = a.shade()
+        if k == 1:
+            vis, rgb = b.process_shaded(d, unit=info["depth_unit"], frame_index=i,
+                                        shaded_out=padded[:, 1:-1])
+            assert rgb.base is padded and (padded[:, 0] == 0).all()
+        elif k == 2:
+            t = np.zeros((w, h, 3), np.uint8).transpose(1, 0, 2)   # written through a copy
+            vis, rgb = b.process_shaded(d, unit=info["depth_unit"], frame_index=i,
+                                        shaded_out=t)
+            assert rgb is t
+        else:
+            vis, rgb = b.process_shaded(d, unit=info["depth_unit"], frame_index=i)
+        assert np.array_equal(vis, want_vis), k
+        assert np.array_equal(rgb, want_rgb), k
+    a.set("shade", "ao")
+    b.set("shade", "ao")
+    i4, d4, _ = frames[4]
+    want_vis = a.process(d4, frame_index=i4)
+    gray = a.shade(out=np.zeros((h, w), np.uint8))
+    vis, g = b.process_shaded(d4, frame_index=i4, shaded_out=np.zeros((h, w), np.uint8))
+    assert np.array_equal(vis, want_vis) and np.array_equal(g, gray)
+    with pytest.raises(ValueError, match="shaded_out must be uint8"):
+        b.process_shaded(d4, shaded_out=np.zeros((h, w, 3), np.float32))
+    with pytest.raises(ValueError, match="shaded_out must have shape"):
+        b.process_shaded(d4, shaded_out=np.zeros((h, w, 4), np.uint8))
+    n = depthao.AO(cam, algorithm="none")
+    with pytest.raises(OSError) as e:
+        n.process_shaded(d0, frame_index=i0)
+    assert e.value.errno == errno.ENODATA
+    assert np.array_equal(n.filtered_depth(unit=0.001) > 0, d0 > 0)  # the frame was processed
+
+
 def test_no_allocation_per_call_with_out(frame0, monkeypatch):
     """With out= and a contiguous input nothing is copied or allocated."""
     cam, d = frame0
