@@ -131,6 +131,12 @@ def _unknown_parameter_message(name):
     return "unknown parameter '%s'" % name
 
 
+def _follows(p):
+    """Whether parameters p (a _params.Params) follow the camera's motion: the temporal
+    depth filter on and depth_temporal_motion not off (tools/common/pose_track.c)."""
+    return p.get("depth_temporal") > 0 and p.get("depth_temporal_motion") != "off"
+
+
 def _quaternion(rotation):
     """A rotation given as a quaternion (x, y, z, w) or a 3x3 rotation matrix, as the
     quaternion's 4 floats (the library checks its norm)."""
@@ -212,6 +218,7 @@ class AO:
         object.__setattr__(self, "_ctx", ctx)
         object.__setattr__(self, "_finalizer",
                            weakref.finalize(self, lib.dao_context_destroy, ctx.value))
+        object.__setattr__(self, "_follows", _follows(p))
 
     # --- lifetime ---------------------------------------------------------
 
@@ -271,6 +278,10 @@ class AO:
                 p.set(k, v)
             err = _lib.new_error()
             _lib.check(lib.dao_context_set_params(self._handle(), p.buf, ctypes.byref(err)), err)
+            follows = _follows(p)
+            object.__setattr__(self, "_follows", follows)
+            if not follows:  # switched on again, even before the next frame: a new origin
+                object.__setattr__(self, "_followed", False)
 
     def set(self, name, value):
         """Sets one parameter (by its library or Python name)."""
@@ -450,8 +461,7 @@ class AO:
     def _follow(self):
         """After a processed frame (under the lock): the camera's pose moved by the
         frame's motion where the run follows it, as depthao process --pose-out."""
-        p = self._current()
-        follows = p.get("depth_temporal") > 0 and p.get("depth_temporal_motion") != "off"
+        follows = self._follows
         mi = _lib.dao_motion_info()
         lib.dao_context_motion_sized(self._handle(), ctypes.byref(mi), ctypes.sizeof(mi))
         if follows and not self._followed:  # from here, in this frame's optical frame
@@ -489,13 +499,19 @@ class AO:
                 _lib.check(lib.dao_context_set_pose(self._handle(), None, None,
                                                     ctypes.byref(err)), err)
             return
-        q = _quaternion(rotation)
         try:
-            t = np.asarray(translation, np.float64)
-        except (TypeError, ValueError):
-            t = None
-        if translation is None or t is None or t.shape != (3,):
-            raise ValueError("translation must be 3 numbers (metres), got %r" % (translation,))
+            q = _quaternion(rotation)
+            try:
+                t = np.asarray(translation, np.float64)
+            except (TypeError, ValueError):
+                t = None
+            if translation is None or t is None or t.shape != (3,):
+                raise ValueError("translation must be 3 numbers (metres), got %r"
+                                 % (translation,))
+        except ValueError:
+            with self._lock:  # as the library does with a bad pose: none for the next frame
+                lib.dao_context_set_pose(self._handle(), None, None, None)
+            raise
         qc = (ctypes.c_double * 4)(*q)
         tc = (ctypes.c_double * 3)(*t.tolist())
         with self._lock:
@@ -534,7 +550,9 @@ class AO:
         """The camera's pose after the last process(), where the run follows the
         camera (depth_temporal > 0 and depth_temporal_motion not "off"): the
         motions accepted since the first followed frame composed
-        (dao_motion_accumulate), as depthao process --pose-out gives them.  A
+        (dao_motion_accumulate), as depthao process --pose-out gives them where
+        this is not None (--pose-out also prints the pose held through a frame
+        without one, and does not start over).  A
         tuple (rotation, translation): the unit quaternion x, y, z, w (w last) from
         this frame's optical frame to the first followed frame's, and the optical
         centre there, metres.  None where there is none: the motion not followed,

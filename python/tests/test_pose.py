@@ -174,6 +174,45 @@ def test_pose_from_icp_and_when_there_is_none():
     ao.close()
 
 
+def test_origin_and_refused_frames():
+    """The first followed frame is the origin even where it has a motion (the motion
+    switched on mid-stream, the depth history kept); a refused motion (a jump beyond
+    0.25 m) gives no pose, and the next frame's moves the pose held through it; the
+    motion switched off and on between two frames starts the pose over."""
+    poses = trajectory(6)
+    ao = depthao.AO(CAM, stream=True)  # depth_temporal_motion off
+    for k in (0, 1):
+        ao.process(render(*poses[k]), frame_index=k)
+        assert ao.pose is None
+    ao.depth_temporal_motion = "icp"
+    ao.process(render(*poses[2]), frame_index=2)
+    assert ao.motion["state"] == "applied"  # the motion from frame 1, not followed then
+    q, t = ao.pose
+    assert np.array_equal(q, [0, 0, 0, 1]) and np.array_equal(t, [0, 0, 0])
+    ao.process(render(*poses[3]), frame_index=3)
+    want_r, want_t = relative(poses[2], poses[3])
+    assert np.abs(ao.pose[1] - want_t).max() < 3e-4
+    # source mode: a jump of 0.4 m is refused: no pose; then 1 cm on moves the held pose
+    ao.update(depth_temporal_motion="off")
+    ao.update(depth_temporal_motion="source")  # off and on between two frames: a new origin
+    r, t0 = poses[4]
+    ao.set_pose(r, t0)
+    ao.process(render(r, t0), frame_index=4)
+    q, t = ao.pose
+    assert np.array_equal(q, [0, 0, 0, 1]) and np.array_equal(t, [0, 0, 0])
+    t1 = t0 + np.array([0.4, 0.0, 0.0])
+    ao.set_pose(r, t1)
+    ao.process(render(r, t1), frame_index=5)
+    assert ao.motion["state"] == "refused" and ao.motion["reason"] == 4
+    assert ao.pose is None
+    ao.set_pose(r, t1 + np.array([0.01, 0.0, 0.0]))
+    ao.process(render(r, t1 + np.array([0.01, 0.0, 0.0])), frame_index=6)
+    assert ao.motion["state"] == "applied"
+    q, t = ao.pose
+    assert np.abs(t - r.T @ np.array([0.01, 0.0, 0.0])).max() < 1e-9  # the jump lost
+    ao.close()
+
+
 def test_set_pose_errors():
     ao = depthao.AO(CAM, stream=True, depth_temporal_motion="source")
     for bad, match in (([0, 0, 0, 2], "norm"), ([0, 0, float("nan"), 1], "finite"),
@@ -188,6 +227,16 @@ def test_set_pose_errors():
         ao.set_pose([0, 0, 0, 1], [2e6, 0, 0])
     with pytest.raises(AttributeError):
         ao.pose = None
+    # a pose refused in Python, like one refused by the library, leaves the next frame
+    # without one (not the pose set before it)
+    poses = trajectory(2)
+    ao.set_pose(*poses[0])
+    ao.process(render(*poses[0]), frame_index=0)
+    ao.set_pose(*poses[1])
+    with pytest.raises(ValueError):
+        ao.set_pose(np.eye(3) * 2, poses[1][1])
+    ao.process(render(*poses[1]), frame_index=1)
+    assert ao.motion["state"] == "none" and ao.pose is None
     ao.close()
     with pytest.raises(ValueError, match="closed"):
         ao.set_pose([0, 0, 0, 1], [0, 0, 0])

@@ -115,6 +115,16 @@ static void test_publishable(void **state)
 	mi.rotation[4] = NAN; /* accepted, but not a motion: not moved, not handed on */
 	pose_track_add(&p, &mi);
 	assert_false(pose_track_publishable(&p, &on));
+	/* a track started at a frame with a motion (followed again mid-stream): that frame
+	 * is the origin, its motion (from the frame before) moves nothing */
+	pose_track_reset(&p);
+	step_motion(&mi, 5.0, 0.1, DAO_MOTION_APPLIED);
+	pose_track_add(&p, &mi);
+	assert_true(pose_track_publishable(&p, &on));
+	assert_true(p.r[0] == 1.0 && p.r[2] == 0.0 && p.t[0] == 0.0 && p.t[2] == 0.0);
+	assert_int_equal(p.accepted, 0);
+	pose_track_add(&p, &mi); /* the next one moves it */
+	assert_true(fabs(p.t[2] - cos(5.0 * M_PI / 180.0) * 0.1) < 1e-12);
 }
 
 int main(void)

@@ -251,6 +251,10 @@ void daemon_set_params(struct daemon *d, const struct dao_params *p)
 	pthread_mutex_lock(&d->lock);
 	d->params = *p;
 	d->params_pending = 1;
+	/* the motion switched off: switched on again, even before the next frame, the
+	 * pose starts over (process_frame) */
+	if (!pose_track_follows(p))
+		d->pose_followed = 0;
 	pthread_mutex_unlock(&d->lock);
 }
 
