@@ -251,6 +251,14 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 	return 0;
 }
 
+/* Whether parameters follow the camera's motion: the temporal depth filter on and
+ * depth_temporal_motion not off (as tools/common/pose_track_follows, which ros/
+ * may not include: test layering). */
+static int follows_motion(const struct dao_params *p)
+{
+	return p->depth_temporal > 0.0f && p->depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
+}
+
 /* The camera is the same and frames follow each other (the indices say so to
  * the temporal filters), unless time went back: a bag played again. */
 static void follow_or_restart(struct dao_ros_proc *proc, uint64_t stamp_ns)
@@ -299,8 +307,7 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 	 * pose is given for a frame whose motion was accepted (or the first) */
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 	dao_context_motion(proc->ctx, &mi);
-	const int follows = proc->params.depth_temporal > 0.0f &&
-			    proc->params.depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
+	const int follows = follows_motion(&proc->params);
 	if (follows && !proc->followed) {
 		memset(&proc->track, 0, sizeof proc->track);
 		proc->track.r[0] = proc->track.r[4] = proc->track.r[8] = 1.0;
@@ -373,7 +380,7 @@ int dao_ros_proc_set_params(struct dao_ros_proc *proc, const struct dao_params *
 	proc->params = *params;
 	/* switched off: switched on again, even before the next frame, the pose
 	 * starts over (dao_ros_proc_pose) */
-	if (params->depth_temporal <= 0.0f || params->depth_temporal_motion == DAO_DEPTH_MOTION_OFF)
+	if (!follows_motion(params))
 		proc->followed = 0;
 	return 0;
 }

@@ -7,9 +7,10 @@
  * trajectory format and `depthao synth`'s poses.txt have it.  A frame whose
  * estimate was accepted (state APPLIED or STILL) moves the pose by it; any
  * other (NONE: no history to compare with; REFUSED) keeps it, the motion
- * taken as none, as the filter takes it (the library's dao_motion_accumulate).  What depthao process --pose-out
- * and depthaod's stats share.  The rotation as a quaternion:
- * dao_pose_matrix_to_quat() (<depthao/pose.h>).
+ * taken as none, as the filter takes it (the library's
+ * dao_motion_accumulate).  What depthao process --pose-out and depthaod's
+ * stats share.  The rotation as a quaternion: dao_pose_matrix_to_quat()
+ * (<depthao/pose.h>).
  */
 #ifndef DAO_TOOLS_POSE_TRACK_H
 #define DAO_TOOLS_POSE_TRACK_H
