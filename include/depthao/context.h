@@ -331,6 +331,46 @@ DAO_API int dao_motion_accumulate(const struct dao_motion_info *motion, double r
 				  double translation[3]);
 
 /*
+ * The camera's pose as the context keeps it: the motions of the frames it
+ * processed composed with dao_motion_accumulate() from the track's first
+ * frame (its origin, the identity: the world is that frame's optical frame),
+ * camera to world.  A track runs while the motion is followed (the
+ * temporal depth filter on and depth-temporal-motion not off); switching
+ * the motion off ends it (frames 0), dao_context_reset() too, and the next
+ * frame that follows the motion starts a new one.  A frame whose motion is
+ * unknown (a cut, a gap in the poses given) or refused keeps the pose: the
+ * motion taken as none, as the depth filter takes it (dead reckoning).
+ * What depthao process --pose-out prints, and depthaod's sinks, the ROS
+ * node and Python hand on where `current` is 1.  Filled like struct
+ * dao_motion_info: `size` first, fields appended.
+ */
+struct dao_pose_track {
+	uint32_t size;          /* bytes filled, set by the library */
+	int current;            /* 1: the pose is the last frame's (the origin, or its motion
+				 * was accepted); 0: held from an earlier frame, or no track */
+	uint64_t frames;        /* frames of the track, the origin and the last one included;
+				 * 0: no track (the motion not followed, no frame since a reset) */
+	uint64_t accepted;      /* ... whose motion moved the pose (STILL, APPLIED) */
+	uint64_t refused;       /* ... whose estimate was refused (REFUSED) */
+	double rotation[9];     /* camera to world, row-major (the identity without a track) */
+	double translation[3];  /* the optical centre in the world, m */
+};
+
+/* A struct dao_pose_track with its size set and every field 0. */
+#define DAO_POSE_TRACK_INIT { .size = sizeof(struct dao_pose_track) }
+
+/* Copies the pose track into `out` of `size` bytes, as dao_context_timings_sized(). */
+DAO_API int dao_context_pose_track_sized(const struct dao_context *ctx,
+					 struct dao_pose_track *out, size_t size);
+
+/* Copies the camera's pose track into `out` (dao_context_pose_track_sized()). */
+static inline void dao_context_pose_track(const struct dao_context *ctx,
+					  struct dao_pose_track *out)
+{
+	(void)dao_context_pose_track_sized(ctx, out, sizeof(*out));
+}
+
+/*
  * The camera's pose for the next dao_context_process() call, from the source
  * (a recording's tf or odometry, a trajectory file, a tracker): `rotation` a
  * unit quaternion x, y, z, w (w last) of the rotation from the camera's

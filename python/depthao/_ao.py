@@ -131,12 +131,6 @@ def _unknown_parameter_message(name):
     return "unknown parameter '%s'" % name
 
 
-def _follows(p):
-    """Whether parameters p (a _params.Params) follow the camera's motion: the temporal
-    depth filter on and depth_temporal_motion not off (tools/common/pose_track.c)."""
-    return p.get("depth_temporal") > 0 and p.get("depth_temporal_motion") != "off"
-
-
 def _quaternion(rotation):
     """A rotation given as a quaternion (x, y, z, w) or a 3x3 rotation matrix, as the
     quaternion's 4 floats (the library checks its norm)."""
@@ -197,13 +191,6 @@ class AO:
         object.__setattr__(self, "_lock", threading.Lock())
         object.__setattr__(self, "_camera", camera)
         object.__setattr__(self, "_last_ao", None)
-        # the camera's pose (AO.pose): rotation matrix and translation, as
-        # dao_motion_accumulate moves them; frames since it started
-        object.__setattr__(self, "_track_r", (ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 1))
-        object.__setattr__(self, "_track_t", (ctypes.c_double * 3)())
-        object.__setattr__(self, "_track_frames", 0)
-        object.__setattr__(self, "_followed", False)
-        object.__setattr__(self, "_have_pose", False)
         p = _params.Params(quality)
         if stream:
             lib.dao_params_stream_defaults(p.buf)
@@ -218,7 +205,6 @@ class AO:
         object.__setattr__(self, "_ctx", ctx)
         object.__setattr__(self, "_finalizer",
                            weakref.finalize(self, lib.dao_context_destroy, ctx.value))
-        object.__setattr__(self, "_follows", _follows(p))
 
     # --- lifetime ---------------------------------------------------------
 
@@ -278,10 +264,6 @@ class AO:
                 p.set(k, v)
             err = _lib.new_error()
             _lib.check(lib.dao_context_set_params(self._handle(), p.buf, ctypes.byref(err)), err)
-            follows = _follows(p)
-            object.__setattr__(self, "_follows", follows)
-            if not follows:  # switched on again, even before the next frame: a new origin
-                object.__setattr__(self, "_followed", False)
 
     def set(self, name, value):
         """Sets one parameter (by its library or Python name)."""
@@ -436,8 +418,6 @@ class AO:
                                                    ctypes.byref(sframe), ctypes.byref(err))
             # algorithm=none with a shaded image: processed, -ENODATA (nothing to shade)
             processed = r >= 0 or (sframe is not None and r == -errno.ENODATA)
-            if processed:
-                self._follow()
         if processed:
             if target is not result:
                 result[...] = target
@@ -453,28 +433,8 @@ class AO:
         pose (AO.pose) with them."""
         with self._lock:
             lib.dao_context_reset(self._handle())
-            object.__setattr__(self, "_followed", False)
-            object.__setattr__(self, "_have_pose", False)
 
     # --- the camera's motion ----------------------------------------------
-
-    def _follow(self):
-        """After a processed frame (under the lock): the camera's pose moved by the
-        frame's motion where the run follows it, as depthao process --pose-out."""
-        follows = self._follows
-        mi = _lib.dao_motion_info()
-        lib.dao_context_motion_sized(self._handle(), ctypes.byref(mi), ctypes.sizeof(mi))
-        if follows and not self._followed:  # from here, in this frame's optical frame
-            self._track_r[:] = (1, 0, 0, 0, 1, 0, 0, 0, 1)
-            self._track_t[:] = (0, 0, 0)
-            object.__setattr__(self, "_track_frames", 0)
-        object.__setattr__(self, "_followed", follows)
-        object.__setattr__(self, "_track_frames", self._track_frames + 1)
-        # the first followed frame is the origin: its own motion (from a frame before
-        # the track started) moves nothing
-        moved = self._track_frames > 1 and lib.dao_motion_accumulate(
-            ctypes.byref(mi), self._track_r, self._track_t) == 1
-        object.__setattr__(self, "_have_pose", follows and (self._track_frames == 1 or moved))
 
     def set_pose(self, rotation, translation=None):
         """The camera's pose for the next process() (dao_context_set_pose), from
@@ -549,10 +509,10 @@ class AO:
     def pose(self):
         """The camera's pose after the last process(), where the run follows the
         camera (depth_temporal > 0 and depth_temporal_motion not "off"): the
-        motions accepted since the first followed frame composed
-        (dao_motion_accumulate), as depthao process --pose-out gives them where
-        this is not None (--pose-out also prints the pose held through a frame
-        without one, and does not start over).  A
+        motions accepted since the first followed frame composed (the
+        library's pose track, dao_context_pose_track), as depthao process
+        --pose-out gives them where this is not None (--pose-out also prints
+        the pose held through a frame without one).  A
         tuple (rotation, translation): the unit quaternion x, y, z, w (w last) from
         this frame's optical frame to the first followed frame's, and the optical
         centre there, metres.  None where there is none: the motion not followed,
@@ -560,12 +520,14 @@ class AO:
         or without a pose in "source" mode).  A motion not known is taken as none:
         the poses after it are off by it.  It starts over with reset() and when
         the motion is followed again."""
+        pt = _lib.dao_pose_track()
         with self._lock:
-            if not self._have_pose:
-                return None
-            q = (ctypes.c_double * 4)()
-            lib.dao_pose_matrix_to_quat(self._track_r, q)
-            return np.array(q[:], np.float64), np.array(self._track_t[:], np.float64)
+            lib.dao_context_pose_track_sized(self._handle(), ctypes.byref(pt), ctypes.sizeof(pt))
+        if not pt.current:
+            return None
+        q = (ctypes.c_double * 4)()
+        lib.dao_pose_matrix_to_quat(pt.rotation, q)
+        return np.array(q[:], np.float64), np.array(pt.translation[:], np.float64)
 
     def shade(self, out=None):
         """The occlusion-shaded image of the last processed frame: uint8 RGB

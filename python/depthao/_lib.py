@@ -222,6 +222,13 @@ class dao_motion_info(ctypes.Structure):
                 ("reserved", ctypes.c_uint32)]
 
 
+class dao_pose_track(ctypes.Structure):
+    _fields_ = [("size", ctypes.c_uint32), ("current", ctypes.c_int),
+                ("frames", ctypes.c_uint64), ("accepted", ctypes.c_uint64),
+                ("refused", ctypes.c_uint64), ("rotation", ctypes.c_double * 9),
+                ("translation", ctypes.c_double * 3)]
+
+
 # enum dao_motion_state, enum dao_motion_origin
 MOTION_STATES = ("none", "refused", "still", "applied")
 MOTION_ORIGINS = ("depth", "source", "source+icp")
@@ -312,6 +319,7 @@ _PROTOTYPES = {
     "dao_context_motion_sized": (_int, [_vp, _P(dao_motion_info), ctypes.c_size_t]),
     "dao_context_set_pose": (_int, [_vp, _P(_dbl), _P(_dbl), _E]),
     "dao_motion_accumulate": (_int, [_P(dao_motion_info), _P(_dbl), _P(_dbl)]),
+    "dao_context_pose_track_sized": (_int, [_vp, _P(dao_pose_track), ctypes.c_size_t]),
     "dao_pose_matrix_to_quat": (None, [_P(_dbl), _P(_dbl)]),
     "dao_pose_quat_to_matrix": (None, [_P(_dbl), _P(_dbl)]),
     "dao_simd_name": (_cp, [_int]),

@@ -682,6 +682,7 @@ _STRUCTS = {
     "dao_source_info": _lib.dao_source_info, "dao_source_options": _lib.dao_source_options,
     "dao_source_frame": _lib.dao_source_frame,
     "dao_motion_info": _lib.dao_motion_info, "dao_source_pose": _lib.dao_source_pose,
+    "dao_pose_track": _lib.dao_pose_track,
 }
 
 

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """The camera's motion and pose through the Python binding (issue #37, item 3):
 AO.set_pose() feeding depth_temporal_motion="source", AO.motion, AO.pose (the pose
-dao_motion_accumulate composes, as depthao process --pose-out gives it), and a ROS
+the library's track composes, dao_context_pose_track, as depthao process --pose-out
+gives it), and a ROS
 bag's tf read with depthao.open(..., poses=True).
 
 The depth is ray-cast here, in numpy, from a camera moving inside a box-shaped room

@@ -22,13 +22,6 @@ struct dao_ros_proc {
 	struct dao_frame depth;         /* the prepared frame (points into the message or swapped) */
 	uint64_t frames, index;
 	uint64_t last_stamp;
-	/* the camera's pose (dao_ros_proc_pose): from the first frame the motion was
-	 * followed at since the context (re)started; followed: at the last frame */
-	struct pose {
-		double r[9], t[3]; /* camera to the first followed frame's optical frame */
-		uint64_t frames;
-	} track;
-	int followed, have_pose;
 };
 
 void dao_ros_settings_init(struct dao_ros_settings *s)
@@ -211,7 +204,6 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 		proc->cam = cam;
 		memcpy(proc->k, use, sizeof proc->k);
 		proc->index = 0;
-		proc->followed = 0;
 	}
 	size_t bpp = dao_pixfmt_bytes_per_pixel(fmt);
 	const void *data = depth->data;
@@ -251,21 +243,12 @@ int dao_ros_proc_prepare(struct dao_ros_proc *proc, const struct dao_ros_image *
 	return 0;
 }
 
-/* Whether parameters follow the camera's motion: the temporal depth filter on and
- * depth_temporal_motion not off (as tools/common/pose_track_follows, which ros/
- * may not include: test layering). */
-static int follows_motion(const struct dao_params *p)
-{
-	return p->depth_temporal > 0.0f && p->depth_temporal_motion != DAO_DEPTH_MOTION_OFF;
-}
-
 /* The camera is the same and frames follow each other (the indices say so to
  * the temporal filters), unless time went back: a bag played again. */
 static void follow_or_restart(struct dao_ros_proc *proc, uint64_t stamp_ns)
 {
 	if (proc->frames && stamp_ns < proc->last_stamp) {
-		dao_context_reset(proc->ctx);
-		proc->followed = 0;
+		dao_context_reset(proc->ctx); /* the pose track starts over too */
 	}
 	proc->last_stamp = stamp_ns;
 }
@@ -303,21 +286,6 @@ int dao_ros_proc_run(struct dao_ros_proc *proc, const struct dao_ros_image *dept
 		return r;
 	proc->index++;
 	proc->frames++;
-	/* the motion is followed with the temporal filter on and a mode not off; a
-	 * pose is given for a frame whose motion was accepted (or the first) */
-	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
-	dao_context_motion(proc->ctx, &mi);
-	const int follows = follows_motion(&proc->params);
-	if (follows && !proc->followed) {
-		memset(&proc->track, 0, sizeof proc->track);
-		proc->track.r[0] = proc->track.r[4] = proc->track.r[8] = 1.0;
-	}
-	proc->followed = follows;
-	/* the first followed frame is the origin: its own motion (from a frame before the
-	 * track started, when the motion was switched on again) moves nothing */
-	const int moved = ++proc->track.frames > 1 &&
-			  dao_motion_accumulate(&mi, proc->track.r, proc->track.t) == 1;
-	proc->have_pose = follows && (proc->track.frames == 1 || moved);
 	if (shaded && shaded->data) {
 		struct dao_frame rgb = {
 			.size = DAO_FRAME_SIZE,
@@ -377,11 +345,7 @@ int dao_ros_proc_set_params(struct dao_ros_proc *proc, const struct dao_params *
 			  : dao_params_validate(params, err);
 	if (r)
 		return r;
-	proc->params = *params;
-	/* switched off: switched on again, even before the next frame, the pose
-	 * starts over (dao_ros_proc_pose) */
-	if (!follows_motion(params))
-		proc->followed = 0;
+	proc->params = *params; /* switched off, the context's pose track ends there */
 	return 0;
 }
 
@@ -511,9 +475,13 @@ int dao_ros_param_set_string(struct dao_params *p, const struct dao_param_info *
 
 int dao_ros_proc_pose(const struct dao_ros_proc *proc, double rotation[4], double translation[3])
 {
-	if (!proc->have_pose)
+	struct dao_pose_track pt = DAO_POSE_TRACK_INIT;
+	if (!proc->ctx)
 		return 0;
-	dao_pose_matrix_to_quat(proc->track.r, rotation);
-	memcpy(translation, proc->track.t, 3 * sizeof *translation);
+	dao_context_pose_track(proc->ctx, &pt);
+	if (!pt.current)
+		return 0;
+	dao_pose_matrix_to_quat(pt.rotation, rotation);
+	memcpy(translation, pt.translation, 3 * sizeof *translation);
 	return 1;
 }

@@ -47,6 +47,7 @@
 #include "pipeline/temporal_depth.h"
 #include "motion/icp.h"
 #include "motion/pose_prior.h"
+#include "motion/pose_track.h"
 #include "motion/reproject.h"
 #include "motion/ao_reproject.h"
 #include "core/threadpool.h"
@@ -104,6 +105,7 @@ struct dao_context {
 	float *ao_motion_mem, *ao_motion_ao, *ao_motion_z;
 	int motion_origin;            /* ... enum dao_motion_origin */
 	struct dao_pose_prior poses;  /* dao_context_set_pose (motion/pose_prior.h) */
+	struct dao_track track;       /* dao_context_pose_track (motion/pose_track.h) */
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -286,6 +288,7 @@ int dao_context_create(struct dao_context **out, const struct dao_camera *cam,
 	ctx->cam = checked;
 	ctx->params = p;
 	use_kernels(ctx);
+	dao_track_end(&ctx->track);
 	ctx->npix = (size_t)checked.width * checked.height;
 	const size_t per_pixel = PLANE_BYTES_PER_PIXEL;
 	if (ctx->npix > SIZE_MAX / per_pixel) { /* a 32-bit size_t */
@@ -398,6 +401,10 @@ int dao_context_set_params(struct dao_context *ctx, const struct dao_params *cal
 	use_kernels(ctx);
 	ctx->hist_valid = 0;
 	dao_noise_reuse_restart(&ctx->noise_reuse);
+	/* the motion no longer followed: the track ends now, so that switching it on
+	 * again, even before the next frame, starts a new one */
+	if (!dao_track_follows(params))
+		dao_track_end(&ctx->track);
 	return 0;
 }
 
@@ -409,6 +416,7 @@ void dao_context_reset(struct dao_context *ctx)
 	ctx->depth_hist_valid = 0;
 	dao_noise_reuse_restart(&ctx->noise_reuse);
 	dao_pose_prior_clear(&ctx->poses);
+	dao_track_end(&ctx->track);
 }
 
 int dao_context_set_pose(struct dao_context *ctx, const double rotation[4],
@@ -1518,6 +1526,9 @@ static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
 	ctx->have_index = 1;
 	ctx->last_frame_index = frame_index;
 	dao_pose_prior_end(&ctx->poses);
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(ctx, &mi);
+	dao_track_add(&ctx->track, dao_track_follows(&ctx->params), &mi);
 	return 0;
 }
 
@@ -1721,6 +1732,13 @@ int dao_context_motion_sized(const struct dao_context *ctx, struct dao_motion_in
 		m.origin = ctx->motion_origin;
 	}
 	return dao_sized_copy_out(out, size, &m, sizeof m);
+}
+
+int dao_context_pose_track_sized(const struct dao_context *ctx, struct dao_pose_track *out,
+				 size_t size)
+{
+	return ctx ? dao_sized_copy_out(out, size, &ctx->track.pub, sizeof(ctx->track.pub))
+		   : -EINVAL;
 }
 
 int dao_context_timings_sized(const struct dao_context *ctx, struct dao_timings *out,

@@ -8,6 +8,8 @@
 
 #include <cmocka.h>
 
+#include <depthao/pose.h>
+
 #include "motion_fixture.h"
 
 void pose_apply(const struct dao_pose *c, const double a[3], double w[3])
@@ -104,4 +106,13 @@ void applied_motion(struct dao_context *ctx, const struct dao_pose *prev,
 	dao_context_motion(ctx, mi);
 	assert_int_equal(mi->state, DAO_MOTION_APPLIED);
 	relative(prev, cur, truth);
+}
+
+void give_pose(struct dao_context *ctx, const struct dao_pose *c)
+{
+	double q[4];
+	struct dao_error err;
+	dao_pose_matrix_to_quat(c->r, q);
+	if (dao_context_set_pose(ctx, q, c->t, &err))
+		fail_msg("%s", err.message);
 }

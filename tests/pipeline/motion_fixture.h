@@ -53,6 +53,9 @@ void run_frame(struct dao_context *ctx, float *z, uint64_t index, float *ao, flo
 /* mean |z - truth| / truth over the pixels where both have depth */
 double rel_mae(const float *z, const float *truth, size_t n);
 
+/* The pose c (camera to world) for ctx's next frame (dao_context_set_pose). */
+void give_pose(struct dao_context *ctx, const struct dao_pose *c);
+
 /* The motion ctx applied to the last frame (state APPLIED, asserted) and the true
  * motion prev^-1 cur. */
 void applied_motion(struct dao_context *ctx, const struct dao_pose *prev,

@@ -44,15 +44,6 @@ static struct dao_context *make(const struct dao_camera *cam, int motion)
 	return motion_context(cam, &p, motion);
 }
 
-static void give(struct dao_context *ctx, const struct dao_pose *c)
-{
-	double q[4];
-	struct dao_error err;
-	dao_pose_matrix_to_quat(c->r, q);
-	if (dao_context_set_pose(ctx, q, c->t, &err))
-		fail_msg("%s", err.message);
-}
-
 static void test_boundary(void **state)
 {
 	(void)state;
@@ -99,7 +90,7 @@ static void test_without_poses(void **state)
 		pose_from(&c, 0.5 * k, 0.2 * k, 0.01 * k, 0.0, 0.0);
 		render(&f, &c, 1, 1.0, 400u + k, f.z0);
 		if (k == 2) /* one pose alone gives no motion */
-			give(ctx[1], &c), give(ctx[3], &c);
+			give_pose(ctx[1], &c), give_pose(ctx[3], &c);
 		for (int m = 0; m < 4; m++)
 			run(ctx[m], f.z0, k, zo[m]);
 		assert_memory_equal(zo[0], zo[1], f.npix * 4);
@@ -156,7 +147,7 @@ static void test_pan_true_poses(void **state)
 		relative(&g, &c, &w); /* g^-1 c: every pose in another world frame */
 		for (int m = 0; m < 3; m++) {
 			if (m)
-				give(ctx[m], &w);
+				give_pose(ctx[m], &w);
 			run(ctx[m], f.z0, k, zo);
 			if (k >= 3)
 				mae[m] += rel_mae(zo, truth, f.npix) / 5.0;
@@ -215,7 +206,7 @@ static void test_source_matches_icp(void **state)
 			}
 			chain = n;
 		}
-		give(src, &chain);
+		give_pose(src, &chain);
 		run(src, f.z0, k, zb);
 		size_t differ = 0, n = 0;
 		for (size_t i = 0; i < f.npix; i++) {
@@ -247,8 +238,8 @@ static void test_wall_and_still(void **state)
 		struct dao_pose c;
 		pose_from(&c, 0.0, 0.0, k < 3 ? 0.02 * k : 0.04, 0.0, 0.0); /* still from frame 3 */
 		render(&f, &c, 0, 1.0, 700u + k, f.z0);
-		give(src, &c);
-		give(both, &c);
+		give_pose(src, &c);
+		give_pose(both, &c);
 		run(src, f.z0, k, zb);
 		run(both, f.z0, k, zb);
 		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;

@@ -3,7 +3,7 @@
  * depthao process --pose-out FILE: the camera pose of every frame as
  * the temporal depth filter followed it (depth-temporal-motion icp, source,
  * source+icp), accumulated from frame to frame
- * (common/pose_track.h), one line a frame in the TUM RGB-D trajectory format
+ * (the context's track, dao_context_pose_track), one line a frame in the TUM RGB-D trajectory format
  * that `depthao synth --trajectory` writes as poses.txt.
  */
 #include <errno.h>
@@ -28,7 +28,6 @@ int process_pose_open(const struct process_options *o, struct run_state *st)
 		"temporal depth filter followed composed (depth-temporal-motion icp, source or "
 		"source+icp); camera to world, world = the optical frame of the first frame\n"
 		"# timestamp tx ty tz qx qy qz qw\n");
-	pose_track_reset(&st->track);
 	return 0;
 }
 
@@ -37,9 +36,8 @@ int process_pose_write(const struct process_options *o, struct run_state *st,
 {
 	if (!st->pose)
 		return 0;
-	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
-	dao_context_motion(st->ctx, &mi);
-	pose_track_add(&st->track, &mi);
+	struct dao_pose_track pt = DAO_POSE_TRACK_INIT;
+	dao_context_pose_track(st->ctx, &pt);
 	if (n == 0)
 		st->pose_t0 = depth->timestamp_ns;
 	/* the recording's clock from its first frame, else the frame number at --pose-fps */
@@ -47,8 +45,8 @@ int process_pose_write(const struct process_options *o, struct run_state *st,
 				    ? (double)(depth->timestamp_ns - st->pose_t0) * 1e-9
 				    : (double)n / o->pose_fps;
 	double q[4];
-	const double *t = st->track.t;
-	dao_pose_matrix_to_quat(st->track.r, q);
+	const double *t = pt.translation;
+	dao_pose_matrix_to_quat(pt.rotation, q);
 	if (fprintf(st->pose, "%.6f %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", time, t[0], t[1],
 		    t[2], q[0], q[1], q[2], q[3]) < 0) {
 		fprintf(stderr, "depthao: cannot write --pose-out '%s': %s\n", o->pose_out,

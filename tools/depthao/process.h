@@ -10,7 +10,6 @@
 #include <depthao/io.h>
 #include <depthao/plugin.h>
 
-#include "common/pose_track.h"
 
 /* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
 #define DEG2RAD (3.14159265358979323846 / 180.0)
@@ -60,10 +59,7 @@ struct run_state {
 	struct dao_plugins *mcap_plugins; /* --mcap-out: the built-in sinks */
 	struct dao_sink *mcap;
 	unsigned mcap_streams; /* the streams it asked for besides (1u << enum dao_stream) */
-	struct pose_track mcap_track; /* the camera's pose the sink records (/tf) */
-	int mcap_pose;                /* ... when it is one (pose_track_publishable) */
 	FILE *pose;            /* --pose-out: the file, the camera-to-world pose so far */
-	struct pose_track track;
 	uint64_t pose_t0;      /* the first frame's timestamp_ns */
 	size_t source_posed;   /* frames the source gave a pose (depth-temporal-motion source) */
 	size_t source_unposed; /* ... and frames it had none for (a gap) */

@@ -44,7 +44,6 @@ int process_mcap_open(const struct process_options *o, struct run_state *st,
 		return 1;
 	}
 	snprintf(uri, n, "mcap:%s", o->mcap_out);
-	pose_track_reset(&st->mcap_track);
 	struct dao_sink_host host = DAO_SINK_HOST_INIT;
 	host.log = host_log;
 	host.want_streams = host_want_streams;
@@ -74,10 +73,14 @@ int process_mcap_open(const struct process_options *o, struct run_state *st,
 static int put(struct run_state *st, enum dao_stream stream, const struct dao_frame *f,
 	       struct dao_error *err)
 {
+	/* the pose after this frame's motion where it is this frame's (the track's
+	 * origin, or its motion accepted), as depthaod's sinks have it */
+	struct dao_pose_track pt = DAO_POSE_TRACK_INIT;
+	dao_context_pose_track(st->ctx, &pt);
 	struct dao_sink_frame_info info = {.size = sizeof(info), .stream = stream,
-					   .has_pose = st->mcap_pose};
-	dao_pose_matrix_to_quat(st->mcap_track.r, info.pose_rotation);
-	memcpy(info.pose_translation, st->mcap_track.t, sizeof info.pose_translation);
+					   .has_pose = pt.current};
+	dao_pose_matrix_to_quat(pt.rotation, info.pose_rotation);
+	memcpy(info.pose_translation, pt.translation, sizeof info.pose_translation);
 	return dao_sink_write_stream(st->mcap, &info, f, err);
 }
 
@@ -105,13 +108,6 @@ int process_mcap_write(struct run_state *st, const struct dao_frame *depth, int 
 	int r = 0;
 	if (!st->mcap)
 		return 0;
-	/* the pose after this frame's motion, as --pose-out and depthaod's sinks have it */
-	struct dao_params p;
-	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
-	dao_context_get_params(st->ctx, &p);
-	dao_context_motion(st->ctx, &mi);
-	pose_track_add(&st->mcap_track, &mi);
-	st->mcap_pose = pose_track_publishable(&st->mcap_track, &p);
 	if (!have_shaded)
 		r = dao_context_shade(st->ctx, &st->rgb, &err);
 	struct dao_frame d = *depth;

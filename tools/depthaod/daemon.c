@@ -45,7 +45,8 @@ int daemon_create(struct daemon **out, const struct daemon_config *cfg,
 	d->snapshot_notify_fd = -1;
 	d->source_log = (struct log_limit)LOG_LIMIT_INIT(60000, 5);
 	pthread_mutex_init(&d->lock, NULL);
-	pose_track_reset(&d->pose);
+	d->pose = (struct dao_pose_track)DAO_POSE_TRACK_INIT;
+	d->pose.rotation[0] = d->pose.rotation[4] = d->pose.rotation[8] = 1.0;
 	pthread_condattr_t ca;
 	pthread_condattr_init(&ca);
 	pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
@@ -252,9 +253,10 @@ void daemon_set_params(struct daemon *d, const struct dao_params *p)
 	d->params = *p;
 	d->params_pending = 1;
 	/* the motion switched off: switched on again, even before the next frame, the
-	 * pose starts over (process_frame) */
-	if (!pose_track_follows(p))
-		d->pose_followed = 0;
+	 * pose starts over (take_settings), as the library's track does when it sees
+	 * the motion off */
+	if (p->depth_temporal <= 0.0f || p->depth_temporal_motion == DAO_DEPTH_MOTION_OFF)
+		d->pose_restart = 1;
 	pthread_mutex_unlock(&d->lock);
 }
 

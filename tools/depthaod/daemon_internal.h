@@ -12,7 +12,6 @@
 #include <stdint.h>
 #include <time.h>
 
-#include "common/pose_track.h"
 #include "common/tool_clock.h"
 #include "daemon.h"
 #include "frame_queue.h"
@@ -153,10 +152,13 @@ struct daemon {
 	   complete seconds (fps is the mean over the interval) */
 	uint64_t recent_sec[RECENT_SECONDS + 1];
 	unsigned recent_count[RECENT_SECONDS + 1];
-	/* (lock) the camera's pose from depth-temporal-motion (stats "motion"), from the
-	 * first frame the motion was followed at (pose_followed: it was at the last frame) */
-	struct pose_track pose;
-	int pose_followed;
+	/* (lock) the camera's pose track (dao_context_pose_track) and the last frame's
+	 * motion estimate (stats "motion") */
+	struct dao_pose_track pose;
+	int motion_state, motion_reason;
+	/* (lock) the motion was switched off by new parameters: the track ends at the
+	 * next frame, though the parameters that reach it follow the motion again */
+	int pose_restart;
 };
 
 /* daemon_stats.c: counts one processed frame for fps_recent */

@@ -278,7 +278,7 @@ static int setup_pipeline(struct daemon *d, struct dao_context **ctx, struct out
 	log_info("pipeline: %ux%u, fx %.1f, fy %.1f, %s kernels", w, h, cam.fx, cam.fy,
 		 dao_simd_name(dao_context_simd(*ctx)));
 	pthread_mutex_lock(&d->lock);
-	d->pose_followed = 0; /* a new camera: the pose starts over at its first frame */
+	d->pose_restart = 0; /* a new camera, a new context: its pose track starts at its first frame */
 	dao_camera_fov(&cam, &d->cam_hfov, &d->cam_vfov);
 	d->have_cam = 1;
 	pthread_mutex_unlock(&d->lock);
@@ -295,6 +295,12 @@ static int take_settings(struct daemon *d, struct dao_context *ctx, unsigned *ex
 	struct dao_error err = {0};
 	pthread_mutex_lock(&d->lock);
 	if (d->params_pending) {
+		if (d->pose_restart) { /* off, then on again: the context sees the off */
+			struct dao_params off = d->params;
+			off.depth_temporal_motion = DAO_DEPTH_MOTION_OFF;
+			(void)dao_context_set_params(ctx, &off, &err);
+			d->pose_restart = 0;
+		}
 		if (dao_context_set_params(ctx, &d->params, &err) < 0)
 			log_error("new AO parameters refused: %s", err.message);
 		d->params_pending = 0;
@@ -350,26 +356,23 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 	}
 	*have_overlay = 0;
 	if (r == 0) {
+		/* the camera's pose, handed on where it is this frame's (the track's origin,
+		 * or its motion accepted) */
 		struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+		struct dao_pose_track pt = DAO_POSE_TRACK_INIT;
 		dao_context_motion(ctx, &mi);
-		struct dao_params p;
-		dao_context_get_params(ctx, &p);
-		const int follows = pose_track_follows(&p);
+		dao_context_pose_track(ctx, &pt);
 		pthread_mutex_lock(&d->lock);
-		/* following the camera (again): its pose starts here, the motion made while
-		 * it was not followed being unknown */
-		if (follows && !d->pose_followed) {
-			if (d->pose.frames)
-				log_info("frame %llu: the camera's motion is followed again: its "
-					 "pose starts over from this frame",
-					 (unsigned long long)in->index);
-			pose_track_reset(&d->pose);
-		}
-		d->pose_followed = follows;
-		pose_track_add(&d->pose, &mi);
-		o->has_pose = pose_track_publishable(&d->pose, &p);
-		dao_pose_matrix_to_quat(d->pose.r, o->pose_q);
-		memcpy(o->pose_t, d->pose.t, sizeof o->pose_t);
+		if (pt.frames == 1 && d->pose.frames > 1)
+			log_info("frame %llu: the camera's motion is followed again: its pose "
+				 "starts over from this frame", (unsigned long long)in->index);
+		if (pt.frames) /* while the motion is off the stats keep the last pose */
+			d->pose = pt;
+		d->motion_state = mi.state;
+		d->motion_reason = mi.reason;
+		o->has_pose = pt.current;
+		dao_pose_matrix_to_quat(pt.rotation, o->pose_q);
+		memcpy(o->pose_t, pt.translation, sizeof o->pose_t);
 		pthread_mutex_unlock(&d->lock);
 		if (d->wants[STREAM_AO8] || (extra & (1u << STREAM_AO8)))
 			ao_to_8bit(&o->ao16, &o->ao8);

@@ -53,21 +53,22 @@ static double fps_recent(const struct daemon *d, uint64_t now_ns)
 
 static const char *const motion_state_names[] = {"none", "refused", "still", "applied"};
 
-/* "motion": the last frame's camera-motion estimate and the pose accumulated from them
-   (common/pose_track.h); the lock held */
-static struct json_object *motion_stats(const struct pose_track *p)
+/* "motion": the last frame's camera-motion estimate and the pose the context's track
+   accumulated from them (dao_context_pose_track); the lock held */
+static struct json_object *motion_stats(const struct daemon *d)
 {
+	const struct dao_pose_track *p = &d->pose;
 	struct json_object *m = json_object_new_object();
-	const int s = p->state >= 0 && p->state <= 3 ? p->state : 0;
+	const int s = d->motion_state >= 0 && d->motion_state <= 3 ? d->motion_state : 0;
 	double q[4];
-	dao_pose_matrix_to_quat(p->r, q);
+	dao_pose_matrix_to_quat(p->rotation, q);
 	json_object_object_add(m, "state", json_object_new_string(motion_state_names[s]));
-	json_object_object_add(m, "reason", json_object_new_int(p->reason));
+	json_object_object_add(m, "reason", json_object_new_int(d->motion_reason));
 	json_object_object_add(m, "frames_accepted", json_object_new_int64((int64_t)p->accepted));
 	json_object_object_add(m, "frames_refused", json_object_new_int64((int64_t)p->refused));
 	struct json_object *t = json_object_new_array(), *qa = json_object_new_array();
 	for (int i = 0; i < 3; i++)
-		json_object_array_add(t, json_object_new_double(p->t[i]));
+		json_object_array_add(t, json_object_new_double(p->translation[i]));
 	for (int i = 0; i < 4; i++)
 		json_object_array_add(qa, json_object_new_double(q[i]));
 	json_object_object_add(m, "position_m", t);
@@ -131,7 +132,7 @@ struct json_object *daemon_stats(struct daemon *d, int reset_interval)
 	double secs = (double)(t - d->interval_start_ns) / 1e9;
 	double fps = secs > 0 ? (double)(processed - d->interval_processed) / secs : 0;
 	const double fps_last = fps_recent(d, t);
-	struct json_object *motion = motion_stats(&d->pose);
+	struct json_object *motion = motion_stats(d);
 	if (reset_interval) {
 		d->interval_start_ns = t;
 		d->interval_processed = processed;
