@@ -350,8 +350,9 @@ struct dao_pose_track {
 				 * was accepted); 0: held from an earlier frame, or no track */
 	uint64_t frames;        /* frames of the track, the origin and the last one included;
 				 * 0: no track (the motion not followed, no frame since a reset) */
-	uint64_t accepted;      /* ... whose motion moved the pose (STILL, APPLIED) */
-	uint64_t refused;       /* ... whose estimate was refused (REFUSED) */
+	uint64_t accepted;      /* ... after the origin whose motion moved the pose (STILL,
+				 * APPLIED) */
+	uint64_t refused;       /* ... after the origin whose estimate was refused (REFUSED) */
 	double rotation[9];     /* camera to world, row-major (the identity without a track) */
 	double translation[3];  /* the optical centre in the world, m */
 };

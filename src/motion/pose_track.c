@@ -4,26 +4,24 @@
 
 #include "motion/pose_track.h"
 
-void dao_track_end(struct dao_track *t)
+void dao_track_end(struct dao_pose_track *t)
 {
 	memset(t, 0, sizeof *t);
-	t->pub.size = sizeof t->pub;
-	t->pub.rotation[0] = t->pub.rotation[4] = t->pub.rotation[8] = 1.0;
+	t->size = sizeof *t;
+	t->rotation[0] = t->rotation[4] = t->rotation[8] = 1.0;
 }
 
-void dao_track_add(struct dao_track *t, int follows, const struct dao_motion_info *mi)
+void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motion_info *mi)
 {
-	if (!follows || !t->followed)
-		dao_track_end(t); /* no track, or the origin of a new one */
-	if (!follows)
+	if (!follows) {
+		dao_track_end(t);
 		return;
-	struct dao_pose_track *p = &t->pub;
-	t->followed = 1;
-	const int later = ++p->frames > 1;
-	const int moved = later && dao_motion_accumulate(mi, p->rotation, p->translation) == 1;
-	p->accepted += (uint64_t)moved;
-	p->refused += (uint64_t)(later && mi->state == DAO_MOTION_REFUSED);
-	p->current = !later || moved;
+	}
+	const int later = ++t->frames > 1; /* else the origin of a new track: the identity */
+	const int moved = later && dao_motion_accumulate(mi, t->rotation, t->translation) == 1;
+	t->accepted += (uint64_t)moved;
+	t->refused += (uint64_t)(later && mi->state == DAO_MOTION_REFUSED);
+	t->current = !later || moved;
 }
 
 int dao_track_follows(const struct dao_params *p)

@@ -2,21 +2,16 @@
 /*
  * The camera's pose track a context keeps (dao_context_pose_track,
  * <depthao/context.h>): each processed frame's motion composed from the
- * track's first frame, while the motion is followed.
+ * track's first frame, while the motion is followed.  frames 0: no track.
  */
 #ifndef DAO_MOTION_POSE_TRACK_H
 #define DAO_MOTION_POSE_TRACK_H
 
 #include <depthao/context.h>
 
-struct dao_track {
-	struct dao_pose_track pub; /* what dao_context_pose_track copies out */
-	int followed;              /* the last frame followed the motion: the track goes on */
-};
-
 /* No track (frames 0, the identity): the motion switched off, a reset.  The
  * next frame that follows the motion starts a new one. */
-void dao_track_end(struct dao_track *t);
+void dao_track_end(struct dao_pose_track *t);
 
 /*
  * One processed frame: `follows` whether its parameters follow the motion
@@ -24,7 +19,7 @@ void dao_track_end(struct dao_track *t);
  * The track's first frame is its origin: its own motion (from a frame before
  * the track began) moves nothing.
  */
-void dao_track_add(struct dao_track *t, int follows, const struct dao_motion_info *mi);
+void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motion_info *mi);
 
 /* Whether parameters follow the camera's motion: the temporal depth filter on
  * and depth-temporal-motion not off (else every motion is NONE). */

@@ -105,7 +105,7 @@ struct dao_context {
 	float *ao_motion_mem, *ao_motion_ao, *ao_motion_z;
 	int motion_origin;            /* ... enum dao_motion_origin */
 	struct dao_pose_prior poses;  /* dao_context_set_pose (motion/pose_prior.h) */
-	struct dao_track track;       /* dao_context_pose_track (motion/pose_track.h) */
+	struct dao_pose_track track;  /* dao_context_pose_track (motion/pose_track.h) */
 	struct dao_gtao_planes planes; /* 1/z of the filtered depth for the optimised GTAO */
 	float r2_tile[2 * 4096];
 	uint64_t r2_frame; /* frame index mod 64 (R2 repeats) r2_tile holds, or UINT64_MAX */
@@ -1493,6 +1493,7 @@ static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
 	noise_and_filter_init(ctx, &job, &dt);
 	ctx->have_frame = 0;
 	ctx->have_index = 0; /* until this frame is through: an error leaves the histories half done */
+	ctx->track.current = 0; /* nor is the pose this frame's until it is through */
 
 	double t[T_END + 1];
 	t[T_DECODE] = now_ms();
@@ -1737,7 +1738,7 @@ int dao_context_motion_sized(const struct dao_context *ctx, struct dao_motion_in
 int dao_context_pose_track_sized(const struct dao_context *ctx, struct dao_pose_track *out,
 				 size_t size)
 {
-	return ctx ? dao_sized_copy_out(out, size, &ctx->track.pub, sizeof(ctx->track.pub))
+	return ctx ? dao_sized_copy_out(out, size, &ctx->track, sizeof(ctx->track))
 		   : -EINVAL;
 }
 

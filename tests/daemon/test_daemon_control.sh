@@ -98,6 +98,24 @@ for k in 0 1 2 3; do
 done
 echo "$q" | awk '{ n = $1*$1 + $2*$2 + $3*$3 + $4*$4; exit !(n > 0.999999 && n < 1.000001 && $4 > 0.99) }' ||
 	fail "orientation:$q"
+# on again: the pose starts over (logged); off and on back to back, which the daemon may
+# take together before its next frame: it starts over all the same
+restarts() {
+	grep -c "its pose starts over" "$WORK/log" || true # (grep -c exits 1 on a count of 0)
+}
+restarted_beyond() {
+	[ "$(restarts)" -gt "$1" ]
+}
+r0=$(restarts)
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion icp >/dev/null
+wait_for 10 restarted_beyond "$r0" || fail "the pose did not start over: $(cat "$WORK/log")"
+n0=$(stat_of "$SOCK" frames_processed)
+wait_for 10 processed_beyond $((n0 + 2)) || fail "no frames with the motion on again"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion off >/dev/null
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion icp >/dev/null
+wait_for 10 restarted_beyond $((r0 + 1)) ||
+	fail "off and on again: the pose did not start over: $(cat "$WORK/log")"
+"$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion off >/dev/null
 "$DEPTHAO" ctl --socket "$SOCK" set depth-temporal 0 >/dev/null
 
 # set/get round trip; a bad value and a bad command are errors, and the daemon carries on

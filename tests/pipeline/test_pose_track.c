@@ -151,6 +151,13 @@ static void test_composes_and_holds(void **state_)
 			break;
 		}
 	}
+	/* the same pose again: no motion (STILL), accepted, the pose as it was */
+	relative(&g, &c[6], &w);
+	compose(&w, &turn, &w);
+	give_pose(ctx, &w);
+	run_frame(ctx, f.z0, 7, NULL, NULL);
+	assert_int_equal(state(ctx), DAO_MOTION_STILL);
+	assert_track(ctx, 8, 1, 4, 1, &held);
 	dao_context_destroy(ctx);
 	fixture_free(&f);
 }
@@ -265,6 +272,31 @@ static void test_ao_path(void **state_)
 	}
 	relative(&c[0], &c[2], &want);
 	assert_track(ctx, 3, 1, 2, 0, &want);
+	/* a frame that fails half way (normals of the wrong format): not this frame's
+	 * pose, nor moved; the next frame starts the histories over (no motion) */
+	struct dao_frame bad = ao;
+	give_pose(ctx, &c[2]);
+	assert_int_equal(dao_context_process(ctx, &depth, &bad, 3, &ao, &err), -EINVAL);
+	assert_track(ctx, 3, 0, 2, 0, &want);
+	give_pose(ctx, &c[2]);
+	if (dao_context_process(ctx, &depth, NULL, 4, &ao, &err))
+		fail_msg("%s", err.message);
+	assert_int_equal(state(ctx), DAO_MOTION_NONE);
+	assert_track(ctx, 4, 0, 2, 0, &want);
+	dao_context_destroy(ctx);
+
+	/* the depth alone with a shaded image asked for: -ENODATA, but the frame was
+	 * processed and the track goes on (depthaod and Python rely on it) */
+	struct dao_params none;
+	depth_only_params(&none, DAO_QUALITY_DEFAULT);
+	ctx = motion_context(&f.cam, &none, DAO_DEPTH_MOTION_SOURCE);
+	for (unsigned k = 0; k < 2; k++) {
+		give_pose(ctx, &c[k]);
+		assert_int_equal(dao_context_process_shaded(ctx, &depth, NULL, k, &ao, &rgb, &err),
+				 -ENODATA);
+	}
+	relative(&c[0], &c[1], &want);
+	assert_track(ctx, 2, 1, 1, 0, &want);
 	dao_frame_free(&ao), dao_frame_free(&rgb), dao_frame_free(&depth);
 	dao_context_destroy(ctx);
 	fixture_free(&f);

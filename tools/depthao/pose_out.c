@@ -2,8 +2,8 @@
 /*
  * depthao process --pose-out FILE: the camera pose of every frame as
  * the temporal depth filter followed it (depth-temporal-motion icp, source,
- * source+icp), accumulated from frame to frame
- * (the context's track, dao_context_pose_track), one line a frame in the TUM RGB-D trajectory format
+ * source+icp), accumulated from frame to frame (the context's track,
+ * dao_context_pose_track), one line a frame in the TUM RGB-D trajectory format
  * that `depthao synth --trajectory` writes as poses.txt.
  */
 #include <errno.h>

@@ -10,7 +10,6 @@
 #include <depthao/io.h>
 #include <depthao/plugin.h>
 
-
 /* Kinect v1 / PrimeSense-like field of view used when nothing else is known. */
 #define DEG2RAD (3.14159265358979323846 / 180.0)
 #define DEFAULT_HFOV_DEG 58.5

@@ -110,7 +110,8 @@ struct outputs {
 	int have_rgb;            /* the shaded image of this frame (none with algorithm=none) */
 	int said_no_shading;     /* algorithm=none with a sink that wants shading: logged */
 	/* the camera's pose after this frame (the stats' "motion"), for the sinks: where
-	 * the pipeline follows the camera (depth-temporal-motion not off) */
+	 * it is this frame's (dao_pose_track.current: the pipeline follows the camera,
+	 * and the frame is the track's origin or its motion was accepted) */
 	int has_pose;
 	double pose_q[4], pose_t[3];
 };
@@ -295,14 +296,17 @@ static int take_settings(struct daemon *d, struct dao_context *ctx, unsigned *ex
 	struct dao_error err = {0};
 	pthread_mutex_lock(&d->lock);
 	if (d->params_pending) {
-		if (d->pose_restart) { /* off, then on again: the context sees the off */
+		if (dao_context_set_params(ctx, &d->params, &err) < 0) {
+			log_error("new AO parameters refused: %s", err.message);
+		} else if (d->pose_restart) {
+			/* switched off, then on again: the context sees the off (its pose track
+			 * ends), then the settings it has just taken, which cannot fail now */
 			struct dao_params off = d->params;
 			off.depth_temporal_motion = DAO_DEPTH_MOTION_OFF;
-			(void)dao_context_set_params(ctx, &off, &err);
-			d->pose_restart = 0;
+			(void)dao_context_set_params(ctx, &off, NULL);
+			(void)dao_context_set_params(ctx, &d->params, NULL);
 		}
-		if (dao_context_set_params(ctx, &d->params, &err) < 0)
-			log_error("new AO parameters refused: %s", err.message);
+		d->pose_restart = 0;
 		d->params_pending = 0;
 	}
 	*extra = sinks_wanted_streams(d);
