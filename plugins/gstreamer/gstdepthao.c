@@ -13,6 +13,9 @@
  *                            (dao_overlay)
  *   depth_src: (request pad) GRAY16_LE, the filtered depth of each frame
  *               (dao_context_get_depth) in counts of depth-unit, 0 = no depth
+ *   bus:  element messages "depthao-motion" (post-messages) while the camera's
+ *         motion is followed (depth-temporal-motion): the motion estimate and
+ *         the camera's pose of each frame (post_motion)
  *
  * depth_src is an optional output, so a request pad (as tee's src_%u or the
  * colour input here): requested by name (d.depth_src), it gets the input's
@@ -62,6 +65,7 @@
 #include <depthao/context.h>
 #include <depthao/overlay.h>
 #include <depthao/params.h>
+#include <depthao/pose.h>
 
 #ifndef PACKAGE
 #define PACKAGE "depthao"
@@ -104,6 +108,7 @@ struct _GstDepthao {
 	gboolean params_dirty;    /* params changed since the context last got them */
 	gboolean camera_dirty;    /* an intrinsics property changed */
 	gboolean reset_pending;   /* a flush: the temporal histories start over */
+	gboolean post_messages;   /* "depthao-motion" element messages while the motion is followed */
 
 	/* streaming thread */
 	struct dao_context *ctx;
@@ -152,6 +157,7 @@ enum {
 	PROP_HFOV_DEG,
 	PROP_VFOV_DEG,
 	PROP_QUALITY,
+	PROP_POST_MESSAGES,
 	PROP_PARAM_FIRST, /* + index in the library's parameter table */
 };
 
@@ -417,6 +423,9 @@ static void gst_depthao_set_property(GObject *object, guint id, const GValue *va
 		self->params_dirty = TRUE;
 		break;
 	}
+	case PROP_POST_MESSAGES:
+		self->post_messages = g_value_get_boolean(value);
+		break;
 	default:
 		if (id >= PROP_PARAM_FIRST && id - PROP_PARAM_FIRST < param_count) {
 			size_t i = id - PROP_PARAM_FIRST;
@@ -465,6 +474,9 @@ static void gst_depthao_get_property(GObject *object, guint id, GValue *value, G
 		break;
 	case PROP_QUALITY:
 		g_value_set_enum(value, (gint)self->quality);
+		break;
+	case PROP_POST_MESSAGES:
+		g_value_set_boolean(value, self->post_messages);
 		break;
 	default:
 		if (id >= PROP_PARAM_FIRST && id - PROP_PARAM_FIRST < param_count)
@@ -824,6 +836,70 @@ static int render(GstDepthao *self, const struct dao_frame *depth, GstVideoFrame
 	if (r == 0 && of != GST_VIDEO_FORMAT_RGB)
 		repack_rgb(self->scratch, w, h, od, os, of == GST_VIDEO_FORMAT_BGRx);
 	return r;
+}
+
+/* ---- the camera's motion (element messages) ------------------------------ */
+
+static const char *const motion_state_names[] = {"none", "refused", "still", "applied"};
+
+/* n doubles as a GstValueArray field ("< a, b, c >") */
+static void set_doubles(GstStructure *s, const char *field, const double *v, guint n)
+{
+	GValue arr = G_VALUE_INIT, d = G_VALUE_INIT;
+	gst_value_array_init(&arr, n);
+	g_value_init(&d, G_TYPE_DOUBLE);
+	for (guint i = 0; i < n; i++) {
+		g_value_set_double(&d, v[i]);
+		gst_value_array_append_value(&arr, &d);
+	}
+	g_value_unset(&d);
+	gst_structure_take_value(s, field, &arr);
+}
+
+/*
+ * After a frame: while the context follows the camera's motion (its pose
+ * track runs) and post-messages is on, an element message "depthao-motion"
+ * with the buffer's times (as the level element gives them), the motion
+ * estimate (dao_context_motion: state, reason, this frame to the last as a
+ * quaternion x, y, z, w and metres) and the camera's pose
+ * (dao_context_pose_track: this frame's optical frame to the track's first,
+ * with pose-current FALSE where it was held from an earlier frame).
+ */
+static void post_motion(GstDepthao *self, GstBaseTransform *bt, GstBuffer *buf,
+			guint64 frame_index)
+{
+	GST_OBJECT_LOCK(self);
+	const gboolean post = self->post_messages;
+	GST_OBJECT_UNLOCK(self);
+	struct dao_pose_track pt = DAO_POSE_TRACK_INIT;
+	dao_context_pose_track(self->ctx, &pt);
+	if (!post || pt.frames == 0) /* the motion not followed */
+		return;
+	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
+	dao_context_motion(self->ctx, &mi);
+	const GstClockTime pts = GST_BUFFER_PTS(buf);
+	GstClockTime st = GST_CLOCK_TIME_NONE, rt = GST_CLOCK_TIME_NONE;
+	if (GST_CLOCK_TIME_IS_VALID(pts)) {
+		st = gst_segment_to_stream_time(&bt->segment, GST_FORMAT_TIME, pts);
+		rt = gst_segment_to_running_time(&bt->segment, GST_FORMAT_TIME, pts);
+	}
+	const int state = mi.state >= 0 && mi.state <= 3 ? mi.state : 0;
+	double mq[4], pq[4];
+	dao_pose_matrix_to_quat(mi.rotation, mq);
+	dao_pose_matrix_to_quat(pt.rotation, pq);
+	GstStructure *s = gst_structure_new(
+		"depthao-motion", "timestamp", G_TYPE_UINT64, (guint64)pts, "stream-time",
+		G_TYPE_UINT64, (guint64)st, "running-time", G_TYPE_UINT64, (guint64)rt, "duration",
+		G_TYPE_UINT64, (guint64)GST_BUFFER_DURATION(buf), "frame", G_TYPE_UINT64,
+		frame_index, "state", G_TYPE_STRING, motion_state_names[state], "reason",
+		G_TYPE_INT, mi.reason, "pose-current", G_TYPE_BOOLEAN, pt.current ? TRUE : FALSE,
+		"track-frames", G_TYPE_UINT64, (guint64)pt.frames, "track-accepted", G_TYPE_UINT64,
+		(guint64)pt.accepted, "track-refused", G_TYPE_UINT64, (guint64)pt.refused, NULL);
+	set_doubles(s, "motion-rotation", mq, 4);
+	set_doubles(s, "motion-translation", mi.translation, 3);
+	set_doubles(s, "pose-rotation", pq, 4);
+	set_doubles(s, "pose-translation", pt.translation, 3);
+	gst_element_post_message(GST_ELEMENT(self), gst_message_new_element(GST_OBJECT(self), s));
 }
 
 /* ---- filtered depth (depth_src) ----------------------------------------- */
@@ -1309,6 +1385,7 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 			GST_ELEMENT_ERROR(self, STREAM, FAILED, ("depthao: %s", err.message),
 					  ("frame %" G_GUINT64_FORMAT, self->frame_index));
 		if (ret == GST_FLOW_OK) {
+			post_motion(self, GST_BASE_TRANSFORM(filter), in->buffer, self->frame_index);
 			self->frame_index++;
 			ret = push_depth(self, GST_BASE_TRANSFORM(filter), in->buffer, unit);
 		}
@@ -1319,6 +1396,7 @@ static GstFlowReturn gst_depthao_transform_frame(GstVideoFilter *filter, GstVide
 				  ("frame %" G_GUINT64_FORMAT, self->frame_index));
 		return GST_FLOW_ERROR;
 	}
+	post_motion(self, GST_BASE_TRANSFORM(filter), in->buffer, self->frame_index);
 	self->frame_index++;
 	return push_depth(self, GST_BASE_TRANSFORM(filter), in->buffer, unit);
 }
@@ -1394,6 +1472,7 @@ static void gst_depthao_init(GstDepthao *self)
 	dao_params_init(&self->params, DAO_QUALITY_DEFAULT);
 	dao_params_stream_defaults(&self->params);
 	self->explicit_set = g_new0(guint8, param_count ? param_count : 1);
+	self->post_messages = TRUE;
 	g_mutex_init(&self->color_lock);
 	g_cond_init(&self->color_cond);
 	gst_segment_init(&self->color_segment, GST_FORMAT_TIME);
@@ -1414,6 +1493,31 @@ static void install_double(GObjectClass *oc, guint id, const char *name, const c
 			   double min, double max, double def)
 {
 	install_double_flags(oc, id, name, blurb, min, max, def, 0);
+}
+
+/* Every AO parameter of the library, from its table, as a property (after the
+ * element's own, whose names win). */
+static void install_param_properties(GObjectClass *oc)
+{
+	struct dao_params defaults;
+	dao_params_init(&defaults, DAO_QUALITY_DEFAULT);
+	dao_params_stream_defaults(&defaults);
+	param_table = dao_param_table(&param_count);
+	param_enum_types = g_new0(GType, param_count ? param_count : 1);
+	for (size_t i = 0; i < param_count; i++) {
+		const struct dao_param_info *pi = &param_table[i];
+		if (!g_param_spec_is_valid_name(pi->name) ||
+		    g_object_class_find_property(oc, pi->name)) {
+			GST_WARNING("AO parameter '%s' left out: its name clashes with a property",
+				    pi->name);
+			continue;
+		}
+		if (pi->type == DAO_PARAM_ENUM)
+			param_enum_types[i] = register_param_enum(pi);
+		GParamSpec *ps = param_spec(pi, param_enum_types[i], &defaults);
+		if (ps)
+			g_object_class_install_property(oc, (guint)(PROP_PARAM_FIRST + i), ps);
+	}
 }
 
 static void gst_depthao_class_init(GstDepthaoClass *klass)
@@ -1460,27 +1564,18 @@ static void gst_depthao_class_init(GstDepthaoClass *klass)
 				  gst_depthao_quality_get_type(), DAO_QUALITY_DEFAULT,
 				  G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
 					  GST_PARAM_MUTABLE_PLAYING));
+	g_object_class_install_property(
+		oc, PROP_POST_MESSAGES,
+		g_param_spec_boolean("post-messages", "post-messages",
+				     "post a \"depthao-motion\" element message for every frame "
+				     "while the camera's motion is followed (depth-temporal > 0, "
+				     "depth-temporal-motion not off): the motion estimate and the "
+				     "camera's pose",
+				     TRUE,
+				     G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+					     GST_PARAM_MUTABLE_PLAYING));
 
-	/* every AO parameter of the library, from its table */
-	struct dao_params defaults;
-	dao_params_init(&defaults, DAO_QUALITY_DEFAULT);
-	dao_params_stream_defaults(&defaults);
-	param_table = dao_param_table(&param_count);
-	param_enum_types = g_new0(GType, param_count ? param_count : 1);
-	for (size_t i = 0; i < param_count; i++) {
-		const struct dao_param_info *pi = &param_table[i];
-		if (!g_param_spec_is_valid_name(pi->name) ||
-		    g_object_class_find_property(oc, pi->name)) {
-			GST_WARNING("AO parameter '%s' left out: its name clashes with a property",
-				    pi->name);
-			continue;
-		}
-		if (pi->type == DAO_PARAM_ENUM)
-			param_enum_types[i] = register_param_enum(pi);
-		GParamSpec *ps = param_spec(pi, param_enum_types[i], &defaults);
-		if (ps)
-			g_object_class_install_property(oc, (guint)(PROP_PARAM_FIRST + i), ps);
-	}
+	install_param_properties(oc);
 
 	gst_element_class_set_static_metadata(
 		ec, "Depth ambient occlusion", "Filter/Effect/Video",

@@ -10,7 +10,6 @@ colour stream without frames are errors.
 usage: test_gst_color.py DEPTHAO   (GST_PLUGIN_PATH set; exit 77 without
 gst-launch-1.0, PIL or numpy)"""
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -21,24 +20,12 @@ try:
 except ImportError as e:
     print("SKIP: %s (python3-numpy, python3-pil)" % e)
     sys.exit(77)
-if not shutil.which("gst-launch-1.0"):
-    print("SKIP: gst-launch-1.0 not installed (gstreamer1.0-tools)")
-    sys.exit(77)
+from gst_checks import check, launch, require, status  # noqa: E402
+
+require("gst-launch-1.0")
 
 DEPTHAO = sys.argv[1]
 CAM = ["fx=525", "fy=525", "cx=319.5", "cy=239.5"]
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
-
-
-def launch(*args):
-    return subprocess.run(["timeout", "60", "gst-launch-1.0", *args], capture_output=True,
-                          text=True)
 
 
 def raw(path, shape, dtype):
@@ -209,11 +196,7 @@ def main():
         fov(tmp, depth)
         overlay(tmp, depth)
         errors(tmp, depth)
-    if failures:
-        print("%d failure(s)" % len(failures))
-        return 1
-    print("all passed")
-    return 0
+    return status()
 
 
 sys.exit(main())

@@ -19,28 +19,15 @@ try:
 except ImportError as e:
     print("SKIP: %s (python3-numpy)" % e)
     sys.exit(77)
-for tool in ("gst-launch-1.0", "gst-inspect-1.0"):
-    if not shutil.which(tool):
-        print("SKIP: %s not installed (gstreamer1.0-tools)" % tool)
-        sys.exit(77)
+from gst_checks import check, launch, require, status  # noqa: E402
+
+require("gst-launch-1.0", "gst-inspect-1.0")
 sys.path.insert(0, os.path.join(os.environ["DAO_SOURCE_ROOT"], "python"))
 import depthao  # noqa: E402  (DEPTHAO_LIBRARY: the build's libdepthao)
 
 W, H, N = 160, 120, 6
 FX, FY, CX, CY = 140.0, 141.0, 79.5, 59.5
 CAM = ["fx=%g" % FX, "fy=%g" % FY, "cx=%g" % CX, "cy=%g" % CY]
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
-
-
-def launch(*args):
-    return subprocess.run(["timeout", "120", "gst-launch-1.0", *args], capture_output=True,
-                          text=True)
 
 
 def scene(i, unit):
@@ -63,10 +50,7 @@ def main():
         run(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    if failures:
-        print("%d failure(s)" % len(failures))
-        sys.exit(1)
-    print("ok")
+    sys.exit(status())
 
 
 def run(tmp):
