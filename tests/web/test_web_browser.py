@@ -177,6 +177,21 @@ def main():
             if time.monotonic() > end:
                 fail("no statistics on the page")
             time.sleep(0.3)
+        # the camera's motion is shown once it is followed
+        def stats():
+            return wd.js("return document.getElementById('stats').textContent") or ""
+        if "camera motion" in stats():
+            fail("camera motion shown while it is not followed: %r" % stats())
+        st, _, body = d.request("POST", "/api/params", json.dumps({"depth-temporal-motion": "icp"}),
+                                {"Content-Type": "application/json"})
+        if st != 200:
+            fail("setting depth-temporal-motion: %d %s" % (st, body[:200]))
+        end = time.monotonic() + 30
+        while not any(s in stats() for s in ("stillcamera motion", "appliedcamera motion")):
+            if time.monotonic() > end:
+                fail("no camera motion on the page with depth-temporal-motion icp: %r" % stats())
+            time.sleep(0.3)
+        print("motion followed: %r" % stats())
         # live: the picture changes between screenshots (the spheres roll)
         img = wd.element("#live")
         shots = []
