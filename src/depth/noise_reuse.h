@@ -23,7 +23,7 @@
  *   prefilter-scale, at exponents 1/4 and 3/4: a 5 % move changes them
  *   1 % and 4 %);
  * - with the temporal depth filter, the noise after it over the noise
- *   before it (the side windows' threshold, context.c): it falls from 1 to
+ *   before it (the side windows' threshold, context_frame.c): it falls from 1 to
  *   about 1/3 in the first frames of a history and rises where the scene
  *   moves (the filter's histories restart there).
  *

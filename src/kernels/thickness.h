@@ -70,7 +70,7 @@ struct dao_thickness_setup {
  * a thin slab seen face-on (a plate from above, 2 cm crossed over 3.5 cm)
  * times 3 still spans less than one gap, and the light passes between its
  * samples (README.md, the ceiling: the true thickness plus a sample spacing
- * is VBAO's best model).  The pipeline sets it (context.c); init leaves 0.
+ * is VBAO's best model).  The pipeline sets it (context_frame.c); init leaves 0.
  */
 
 /*
@@ -134,7 +134,7 @@ void dao_thickness_setup_rounding(struct dao_thickness_setup *t, float scale);
  * frame reads 0.0013, its disparity bands 0.0029 apart); below, by nothing
  * (init's 0).  And the dropouts filled (fill_px, dao_thickness_fill_rows) up
  * to DAO_THICKNESS_FILL_PX px of scale.  The pipeline sets it with the crease
- * (context.c).
+ * (context_frame.c).
  */
 #define DAO_THICKNESS_NOISE_TOL 2.0f
 void dao_thickness_setup_noise(struct dao_thickness_setup *t, float scale, float sigma);

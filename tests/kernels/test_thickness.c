@@ -492,7 +492,7 @@ static void sensor_estimate(const struct synth_scene *s, const struct dao_camera
 	assert_true(ni.measured);
 	dao_context_destroy(ctx);
 	synth_case_free(&c);
-	/* as the pipeline runs it (context.c) */
+	/* as the pipeline runs it (context_frame.c) */
 	struct dao_thickness_setup ts;
 	dao_thickness_setup_init(&ts, cam, 0.5f);
 	dao_thickness_setup_rounding(&ts, ni.prefilter_scale);
