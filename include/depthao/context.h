@@ -340,8 +340,9 @@ DAO_API int dao_motion_accumulate(const struct dao_motion_info *motion, double r
  * frame that follows the motion starts a new one.  A frame whose motion is
  * unknown (a cut, a gap in the poses given) or refused keeps the pose: the
  * motion taken as none, as the depth filter takes it (dead reckoning).
- * What depthao process --pose-out prints, and depthaod's sinks, the ROS
- * node and Python hand on where `current` is 1.  Filled like struct
+ * depthao process --pose-out prints this pose for every frame, held ones
+ * included; depthaod's sinks, the ROS node and Python hand it on only where
+ * `current` is 1 (GStreamer's messages carry the flag).  Filled like struct
  * dao_motion_info: `size` first, fields appended.
  */
 struct dao_pose_track {

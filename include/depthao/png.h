@@ -22,6 +22,8 @@ extern "C" {
 
 /*
  * Reads a PNG into a newly allocated frame (free with dao_frame_free()).
+ * `out` is overwritten whole, not read: a frame it held is not freed (free
+ * it first to reuse the struct); timestamp_ns and sequence are 0.
  * Gray 8-bit -> GRAY8, gray 16-bit -> GRAY16, RGB 8-bit -> RGB24; other
  * layouts (palette, alpha, 16-bit RGB) are converted to RGB24 when 8-bit
  * and rejected otherwise.  Images larger than DAO_DEFAULT_MAX_PIXELS are
