@@ -53,7 +53,8 @@
  * on by default (dao_params_stream_defaults: depth-temporal 0.8; the
  * property depth-temporal=0 turns it off, as a preset loaded by quality=
  * does not); its history starts over after a flush (a seek) and at a buffer
- * marked DISCONT, as after a new context (new caps or intrinsics).
+ * marked DISCONT, as after a new context (another frame size or new
+ * intrinsics; new caps of the same size and camera keep it).
  */
 #include <math.h>
 #include <string.h>
@@ -871,9 +872,11 @@ static void post_motion(GstDepthao *self, GstBaseTransform *bt, GstBuffer *buf,
 	GST_OBJECT_LOCK(self);
 	const gboolean post = self->post_messages;
 	GST_OBJECT_UNLOCK(self);
+	if (!post)
+		return;
 	struct dao_pose_track pt = DAO_POSE_TRACK_INIT;
 	dao_context_pose_track(self->ctx, &pt);
-	if (!post || pt.frames == 0) /* the motion not followed */
+	if (pt.frames == 0) /* the motion not followed */
 		return;
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 	dao_context_motion(self->ctx, &mi);

@@ -24,6 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/error_internal.h"
 #include "core/planes_alloc.h"
 #include "core/threadpool.h"
 #include "kernels/thickness.h"

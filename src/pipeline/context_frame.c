@@ -10,12 +10,21 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/error_internal.h"
+#include "core/math_util.h"
 #include "core/multiversion.h"
 #include "core/threadpool.h"
+#include "denoise/denoise.h"
 #include "depth/decode.h"
+#include "depth/domain.h"
+#include "depth/prefilter.h"
+#include "kernels/ao_variants.h"
 #include "kernels/depth_fill.h"
 #include "kernels/thickness.h"
+#include "motion/ao_reproject.h"
+#include "motion/reproject.h"
 #include "pipeline/context_internal.h"
+#include "pipeline/temporal_depth.h"
 
 static int check_depth(const struct dao_context *ctx, const struct dao_frame *depth,
 		       struct dao_error *err)
@@ -127,7 +136,7 @@ struct frame_job {
 	 * (depth_only_output, from stage_decode or stage_temporal_depth) */
 	_Atomic uint64_t output_ns;
 	const struct dao_frame *shade_out; /* dao_context_process_shaded's image, or NULL */
-	struct dao_shade_setup shade;      /* ... its settings (shade_setup) */
+	struct dao_shade_setup shade;      /* ... its settings (dao_ctx_shade_setup) */
 	_Atomic uint64_t shade_ns;         /* stage_finish: the shading's time, summed over bands */
 	struct dao_kernels k;  /* k.simd: the resolved kernel set */
 };

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/error_internal.h"
 #include "core/multiversion.h"
 #include "core/sized.h"
 #include "core/threadpool.h"

@@ -78,6 +78,7 @@ motion_accepted() {
 }
 wait_for 20 motion_accepted ||
 	fail "no camera motion accepted: $("$DEPTHAO" ctl --socket "$SOCK" stats)"
+[ "$(stat_of "$SOCK" motion.followed)" = true ] || fail "motion.followed with icp on"
 "$DEPTHAO" ctl --socket "$SOCK" set depth-temporal-motion off >/dev/null
 n0=$(stat_of "$SOCK" frames_processed)
 wait_for 10 processed_beyond $((n0 + 2)) || fail "no frames after depth-temporal-motion off"
@@ -86,6 +87,8 @@ sleep 0.3
 "$DEPTHAO" ctl --socket "$SOCK" stats >"$WORK/stats2.json" || fail "ctl stats"
 [ "$("$JSON_GET" stats.motion.state <"$WORK/stats2.json")" = none ] ||
 	fail "motion state after off: $(cat "$WORK/stats2.json")"
+[ "$("$JSON_GET" stats.motion.followed <"$WORK/stats2.json")" = false ] ||
+	fail "motion.followed after off: $(cat "$WORK/stats2.json")"
 for k in 0 1 2; do
 	p=$("$JSON_GET" stats.motion.position_m.$k <"$WORK/stats.json")
 	[ "$p" = "$("$JSON_GET" stats.motion.position_m.$k <"$WORK/stats2.json")" ] ||

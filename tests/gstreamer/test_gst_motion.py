@@ -5,8 +5,9 @@ output): a pan `depthao synth --trajectory` renders with its true poses, through
 message a frame, in order, with the buffer's timestamps; its motion estimate and pose are
 the library's for the same frames (the Python binding over the same libdepthao, the
 element's defaults), the pose within 2 mm and 0.06 degrees a frame of the truth, the
-track's counts agree with the states; none with post-messages=false, none while the motion is not
-followed (the default).
+track's counts agree with the states; the GRAY8 AO and the AO over colour post the
+same; none with post-messages=false, none while the motion is not followed (the
+default).
 usage: test_gst_motion.py DEPTHAO_CLI   (GST_PLUGIN_PATH, DEPTHAO_LIBRARY, DAO_SOURCE_ROOT
 set; exit 77 without gst-launch-1.0 or numpy)"""
 import math
@@ -30,6 +31,9 @@ import depthao  # noqa: E402  (DEPTHAO_LIBRARY: the build's libdepthao)
 
 N = 8
 
+# the fields of a structure as gst_structure_to_string writes these: name=(type)value,
+# a value plain, quoted, or a GstValueArray "< a, b >" of numbers (this structure's
+# kinds only: no escaped quotes, no nested arrays)
 FIELD = re.compile(r"([\w-]+)=\((\w+)\)(<[^>]*>|\"[^\"]*\"|[^,;]*)")
 
 
@@ -151,6 +155,22 @@ def run(cli, tmp):
     check(got and got[0]["state"] == "none" and got[0]["pose-rotation"] == [0, 0, 0, 1] and
           got[0]["pose-translation"] == [0, 0, 0], "frame 0 is not the origin: %s" % got[:1])
     check(accepted >= N - 2, "only %d of %d motions accepted on a clean pan" % (accepted, N - 1))
+
+    # the other outputs post as the shaded one: the AO (GRAY8), and the AO over colour
+    p = launch("-m", *src, "depthao", *cam, "depth-temporal-motion=icp", "!",
+               "video/x-raw,format=GRAY8", "!", "fakesink")
+    check(p.returncode == 0 and [m.get("frame") for m in messages(p.stdout)] == list(range(N)),
+          "GRAY8 output: messages for frames %s" % [m.get("frame") for m in messages(p.stdout)])
+    p = launch("-m", *src, "depthao", "name=d", *cam, "depth-temporal-motion=icp", "!",
+               "video/x-raw,format=RGB", "!", "fakesink",
+               "videotestsrc", "num-buffers=%d" % N, "!",
+               "video/x-raw,format=RGB,width=640,height=480,framerate=30/1", "!", "d.color_sink")
+    got_overlay = messages(p.stdout)
+    check(p.returncode == 0 and [m.get("frame") for m in got_overlay] == list(range(N)),
+          "AO over colour: messages for frames %s: %s" % (
+              [m.get("frame") for m in got_overlay], p.stderr[-500:]))
+    check([m.get("pose-translation") for m in got_overlay] ==
+          [m.get("pose-translation") for m in got], "AO over colour: another pose")
 
     p = launch("-m", *src, "depthao", *cam, "depth-temporal-motion=icp", "post-messages=false",
                "!", "fakesink")

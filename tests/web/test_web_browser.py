@@ -192,6 +192,16 @@ def main():
                 fail("no camera motion on the page with depth-temporal-motion icp: %r" % stats())
             time.sleep(0.3)
         print("motion followed: %r" % stats())
+        # ... and gone again once it is switched off
+        st, _, body = d.request("POST", "/api/params", json.dumps({"depth-temporal-motion": "off"}),
+                                {"Content-Type": "application/json"})
+        if st != 200:
+            fail("setting depth-temporal-motion off: %d %s" % (st, body[:200]))
+        end = time.monotonic() + 30
+        while "camera motion" in stats():
+            if time.monotonic() > end:
+                fail("camera motion still shown with depth-temporal-motion off: %r" % stats())
+            time.sleep(0.3)
         # live: the picture changes between screenshots (the spheres roll)
         img = wd.element("#live")
         shots = []

@@ -156,6 +156,7 @@ struct daemon {
 	 * motion estimate (stats "motion") */
 	struct dao_pose_track pose;
 	int motion_state, motion_reason;
+	int motion_followed; /* the last frame followed the motion (its track ran) */
 	/* (lock) the motion was switched off by new parameters: the track ends at the
 	 * next frame, though the parameters that reach it follow the motion again */
 	int pose_restart;

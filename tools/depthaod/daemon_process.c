@@ -372,6 +372,7 @@ static int process_frame(struct daemon *d, struct dao_context *ctx, const struct
 				 "starts over from this frame", (unsigned long long)in->index);
 		if (pt.frames) /* while the motion is off the stats keep the last pose */
 			d->pose = pt;
+		d->motion_followed = pt.frames > 0;
 		d->motion_state = mi.state;
 		d->motion_reason = mi.reason;
 		o->has_pose = pt.current;

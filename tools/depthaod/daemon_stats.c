@@ -62,6 +62,7 @@ static struct json_object *motion_stats(const struct daemon *d)
 	const int s = d->motion_state >= 0 && d->motion_state <= 3 ? d->motion_state : 0;
 	double q[4];
 	dao_pose_matrix_to_quat(p->rotation, q);
+	json_object_object_add(m, "followed", json_object_new_boolean(d->motion_followed));
 	json_object_object_add(m, "state", json_object_new_string(motion_state_names[s]));
 	json_object_object_add(m, "reason", json_object_new_int(d->motion_reason));
 	json_object_object_add(m, "frames_accepted", json_object_new_int64((int64_t)p->accepted));
