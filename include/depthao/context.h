@@ -356,6 +356,9 @@ struct dao_pose_track {
 	uint64_t refused;       /* ... after the origin whose estimate was refused (REFUSED) */
 	double rotation[9];     /* camera to world, row-major (the identity without a track) */
 	double translation[3];  /* the optical centre in the world, m */
+	uint64_t frame_index;   /* the frame the pose is of, the last one where it was
+				 * current (its frame_index for dao_context_process) ... */
+	uint64_t timestamp_ns;  /* ... and that frame's depth timestamp_ns (0 without a track) */
 };
 
 /* A struct dao_pose_track with its size set and every field 0. */

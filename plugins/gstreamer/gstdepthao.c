@@ -896,6 +896,7 @@ static void post_motion(GstDepthao *self, GstBaseTransform *bt, GstBuffer *buf,
 		G_TYPE_UINT64, (guint64)GST_BUFFER_DURATION(buf), "frame", G_TYPE_UINT64,
 		frame_index, "state", G_TYPE_STRING, motion_state_names[state], "reason",
 		G_TYPE_INT, mi.reason, "pose-current", G_TYPE_BOOLEAN, pt.current ? TRUE : FALSE,
+		"pose-frame", G_TYPE_UINT64, (guint64)pt.frame_index,
 		"track-frames", G_TYPE_UINT64, (guint64)pt.frames, "track-accepted", G_TYPE_UINT64,
 		(guint64)pt.accepted, "track-refused", G_TYPE_UINT64, (guint64)pt.refused, NULL);
 	set_doubles(s, "motion-rotation", mq, 4);

@@ -226,7 +226,8 @@ class dao_pose_track(ctypes.Structure):
     _fields_ = [("size", ctypes.c_uint32), ("current", ctypes.c_int),
                 ("frames", ctypes.c_uint64), ("accepted", ctypes.c_uint64),
                 ("refused", ctypes.c_uint64), ("rotation", ctypes.c_double * 9),
-                ("translation", ctypes.c_double * 3)]
+                ("translation", ctypes.c_double * 3), ("frame_index", ctypes.c_uint64),
+                ("timestamp_ns", ctypes.c_uint64)]
 
 
 # enum dao_motion_state, enum dao_motion_origin

@@ -11,7 +11,8 @@ void dao_track_end(struct dao_pose_track *t)
 	t->rotation[0] = t->rotation[4] = t->rotation[8] = 1.0;
 }
 
-void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motion_info *mi)
+void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motion_info *mi,
+		   uint64_t frame_index, uint64_t timestamp_ns)
 {
 	if (!follows) {
 		dao_track_end(t);
@@ -22,6 +23,10 @@ void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motio
 	t->accepted += (uint64_t)moved;
 	t->refused += (uint64_t)(later && mi->state == DAO_MOTION_REFUSED);
 	t->current = !later || moved;
+	if (t->current) {
+		t->frame_index = frame_index;
+		t->timestamp_ns = timestamp_ns;
+	}
 }
 
 int dao_track_follows(const struct dao_params *p)

@@ -14,12 +14,14 @@
 void dao_track_end(struct dao_pose_track *t);
 
 /*
- * One processed frame: `follows` whether its parameters follow the motion
- * (dao_track_follows), `mi` the motion dao_context_motion reports for it.
- * The track's first frame is its origin: its own motion (from a frame before
- * the track began) moves nothing.
+ * One processed frame, `frame_index` with the depth's `timestamp_ns`:
+ * `follows` whether its parameters follow the motion (dao_track_follows),
+ * `mi` the motion dao_context_motion reports for it.  The track's first frame
+ * is its origin: its own motion (from a frame before the track began) moves
+ * nothing.
  */
-void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motion_info *mi);
+void dao_track_add(struct dao_pose_track *t, int follows, const struct dao_motion_info *mi,
+		   uint64_t frame_index, uint64_t timestamp_ns);
 
 /* Whether parameters follow the camera's motion: the temporal depth filter on
  * and depth-temporal-motion not off (else every motion is NONE). */

@@ -1015,7 +1015,8 @@ static int process_frame(struct dao_context *ctx, const struct dao_frame *depth,
 	dao_pose_prior_end(&ctx->poses);
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
 	dao_context_motion(ctx, &mi);
-	dao_track_add(&ctx->track, dao_track_follows(&ctx->params), &mi);
+	dao_track_add(&ctx->track, dao_track_follows(&ctx->params), &mi, frame_index,
+		      depth->timestamp_ns);
 	return 0;
 }
 

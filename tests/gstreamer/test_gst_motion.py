@@ -122,6 +122,8 @@ def run(cli, tmp):
         check(m["state"] == mo["state"], "frame %d: state %s, the library's %s"
               % (i, m["state"], mo["state"]))
         check(m["track-frames"] == i + 1, "frame %d: track-frames %s" % (i, m["track-frames"]))
+        check(m["pose-frame"] == (i if m["pose-current"] else got[i - 1]["pose-frame"]),
+              "frame %d: pose-frame %s" % (i, m["pose-frame"]))
         if i:
             accepted += m["state"] in ("applied", "still")
             refused += m["state"] == "refused"

@@ -89,6 +89,12 @@ static void assert_track(const struct dao_context *ctx, uint64_t frames, int cur
 	assert_pose(&pt, want);
 }
 
+/* the frame the track's pose is of */
+static uint64_t pose_frame(const struct dao_context *ctx)
+{
+	return track(ctx).frame_index;
+}
+
 static int state(const struct dao_context *ctx)
 {
 	struct dao_motion_info mi = DAO_MOTION_INFO_INIT;
@@ -134,20 +140,23 @@ static void test_composes_and_holds(void **state_)
 			assert_track(ctx, k + 1, 1, k, 0, &want);
 			held = want;
 			break;
-		case 3: /* no pose: no motion, the pose held */
+		case 3: /* no pose: no motion, the pose held (frame 2's) */
 		case 4: /* a pose, but none for the frame before */
 			assert_int_equal(state(ctx), DAO_MOTION_NONE);
 			assert_track(ctx, k + 1, 0, 2, 0, &held);
+			assert_int_equal(pose_frame(ctx), 2);
 			break;
 		case 5: /* the motion 4 -> 5 on the pose held since frame 2: 2 -> 4 is lost */
 			assert_int_equal(state(ctx), DAO_MOTION_APPLIED);
 			relative(&c[4], &c[5], &w);
 			compose(&held, &w, &held);
 			assert_track(ctx, 6, 1, 3, 0, &held);
+			assert_int_equal(pose_frame(ctx), 5);
 			break;
 		case 6:
 			assert_int_equal(state(ctx), DAO_MOTION_REFUSED);
 			assert_track(ctx, 7, 0, 3, 1, &held);
+			assert_int_equal(pose_frame(ctx), 5);
 			break;
 		}
 	}
@@ -158,6 +167,7 @@ static void test_composes_and_holds(void **state_)
 	run_frame(ctx, f.z0, 7, NULL, NULL);
 	assert_int_equal(state(ctx), DAO_MOTION_STILL);
 	assert_track(ctx, 8, 1, 4, 1, &held);
+	assert_int_equal(pose_frame(ctx), 7);
 	dao_context_destroy(ctx);
 	fixture_free(&f);
 }
@@ -267,11 +277,13 @@ static void test_ao_path(void **state_)
 			memcpy((uint8_t *)depth.data + (size_t)y * depth.stride, f.z0 + (size_t)y * W,
 			       W * sizeof(float));
 		give_pose(ctx, &c[k]);
+		depth.timestamp_ns = 1000000000u + 33333333u * k;
 		if (dao_context_process_shaded(ctx, &depth, NULL, k, &ao, &rgb, &err))
 			fail_msg("%s", err.message);
 	}
 	relative(&c[0], &c[2], &want);
 	assert_track(ctx, 3, 1, 2, 0, &want);
+	assert_int_equal(track(ctx).timestamp_ns, 1000000000u + 33333333u * 2);
 	/* a frame that fails half way (normals of the wrong format): not this frame's
 	 * pose, nor moved; the next frame starts the histories over (no motion) */
 	struct dao_frame bad = ao;
@@ -279,10 +291,14 @@ static void test_ao_path(void **state_)
 	assert_int_equal(dao_context_process(ctx, &depth, &bad, 3, &ao, &err), -EINVAL);
 	assert_track(ctx, 3, 0, 2, 0, &want);
 	give_pose(ctx, &c[2]);
+	depth.timestamp_ns = 2000000000u;
 	if (dao_context_process(ctx, &depth, NULL, 4, &ao, &err))
 		fail_msg("%s", err.message);
 	assert_int_equal(state(ctx), DAO_MOTION_NONE);
 	assert_track(ctx, 4, 0, 2, 0, &want);
+	/* the pose held is frame 2's, and says so */
+	assert_int_equal(pose_frame(ctx), 2);
+	assert_int_equal(track(ctx).timestamp_ns, 1000000000u + 33333333u * 2);
 	dao_context_destroy(ctx);
 
 	/* the depth alone with a shaded image asked for: -ENODATA, but the frame was
@@ -320,6 +336,11 @@ static void test_boundary(void **state_)
 	assert_int_equal(dao_context_pose_track_sized(ctx, &pt, older), 0);
 	assert_int_equal(pt.size, older);
 	assert_int_equal(pt.current, 0);
+	struct dao_pose_track none = DAO_POSE_TRACK_INIT;
+	dao_context_pose_track(ctx, &none); /* no track: frame 0, no time */
+	assert_int_equal(none.frames, 0);
+	assert_int_equal(none.frame_index, 0);
+	assert_int_equal(none.timestamp_ns, 0);
 	const uint8_t *tail = (const uint8_t *)&pt + older;
 	for (size_t i = 0; i < sizeof pt - older; i++)
 		assert_int_equal(tail[i], 0xab);

@@ -220,6 +220,15 @@ static const struct frozen layout[] = {
 	F(dao_plugin, sink, 40),
 	F(dao_motion_info, origin, 128),
 	F(dao_motion_info, reserved, 132),
+	F(dao_pose_track, size, 0),
+	F(dao_pose_track, current, 4),
+	F(dao_pose_track, frames, 8),
+	F(dao_pose_track, accepted, 16),
+	F(dao_pose_track, refused, 24),
+	F(dao_pose_track, rotation, 32),
+	F(dao_pose_track, translation, 104),
+	F(dao_pose_track, frame_index, 128),
+	F(dao_pose_track, timestamp_ns, 136),
 };
 
 static void test_layout_frozen(void **state)
@@ -254,6 +263,8 @@ static void test_layout_frozen(void **state)
 	assert_int_equal(sizeof(struct dao_timings), DAO_END_OF(struct dao_timings, noise_ms));
 	assert_int_equal(sizeof(struct dao_motion_info),
 			 DAO_END_OF(struct dao_motion_info, reserved));
+	assert_int_equal(sizeof(struct dao_pose_track),
+			 DAO_END_OF(struct dao_pose_track, timestamp_ns));
 	assert_int_equal(sizeof(struct dao_noise_info),
 			 DAO_END_OF(struct dao_noise_info, cells_measured));
 	assert_int_equal(sizeof(struct dao_camera), DAO_END_OF(struct dao_camera, by));
