@@ -529,6 +529,27 @@ class AO:
         lib.dao_pose_matrix_to_quat(pt.rotation, q)
         return np.array(q[:], np.float64), np.array(pt.translation[:], np.float64)
 
+    @property
+    def pose_track(self):
+        """The library's pose track as it stands (dao_context_pose_track), held
+        poses included: a dict with "rotation" (unit quaternion x, y, z, w) and
+        "translation" (metres), "current" (the pose is the last frame's; where
+        False it was held from the frame "frame_index", with that frame's
+        "timestamp_ns"), and the counts "frames" (0: no track), "accepted" and
+        "refused" (the frames after the origin whose motion moved the pose, or
+        whose estimate was refused).  What depthao process --pose-out prints
+        for every frame; AO.pose is its current poses only."""
+        pt = _lib.dao_pose_track()
+        with self._lock:
+            lib.dao_context_pose_track_sized(self._handle(), ctypes.byref(pt), ctypes.sizeof(pt))
+        q = (ctypes.c_double * 4)()
+        lib.dao_pose_matrix_to_quat(pt.rotation, q)
+        return {"rotation": np.array(q[:], np.float64),
+                "translation": np.array(pt.translation[:], np.float64),
+                "current": bool(pt.current), "frame_index": int(pt.frame_index),
+                "timestamp_ns": int(pt.timestamp_ns), "frames": int(pt.frames),
+                "accepted": int(pt.accepted), "refused": int(pt.refused)}
+
     def shade(self, out=None):
         """The occlusion-shaded image of the last processed frame: uint8 RGB
         (H, W, 3) by default; `out` may be uint8 (H, W, 3) for RGB or (H, W)

@@ -102,6 +102,7 @@ def test_set_pose_drives_source_motion():
     poses = trajectory(6)
     ao = depthao.AO(CAM, stream=True, depth_temporal_motion="source")
     assert ao.pose is None and ao.motion["state"] == "none"
+    assert ao.pose_track["frames"] == 0 and not ao.pose_track["current"]
     for k, (r, t) in enumerate(poses):
         # the quaternion on even frames, the matrix on odd ones
         ao.set_pose(quat(r) if k % 2 == 0 else r, t)
@@ -132,6 +133,15 @@ def test_set_pose_drives_source_motion():
     assert ao.motion["state"] == "still"
     q, tt = ao.pose  # the pose kept through the frames without motion
     assert np.abs(q - last[0]).max() < 1e-12 and np.abs(tt - last[1]).max() < 1e-12
+    track = ao.pose_track
+    assert track["current"] and track["frame_index"] == 8 and track["frames"] == 9
+    assert track["accepted"] == 6 and track["refused"] == 0  # frames 1-5 and 8
+    assert np.abs(track["rotation"] - q).max() < 1e-15
+    ao.set_pose(None)  # held: the track says from which frame
+    ao.process(render(r, t), frame_index=9)
+    track = ao.pose_track
+    assert ao.pose is None and not track["current"] and track["frame_index"] == 8
+    assert np.abs(track["translation"] - tt).max() < 1e-15
     ao.close()
 
 
