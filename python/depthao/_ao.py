@@ -520,14 +520,8 @@ class AO:
         or without a pose in "source" mode).  A motion not known is taken as none:
         the poses after it are off by it.  It starts over with reset() and when
         the motion is followed again."""
-        pt = _lib.dao_pose_track()
-        with self._lock:
-            lib.dao_context_pose_track_sized(self._handle(), ctypes.byref(pt), ctypes.sizeof(pt))
-        if not pt.current:
-            return None
-        q = (ctypes.c_double * 4)()
-        lib.dao_pose_matrix_to_quat(pt.rotation, q)
-        return np.array(q[:], np.float64), np.array(pt.translation[:], np.float64)
+        track = self.pose_track
+        return (track["rotation"], track["translation"]) if track["current"] else None
 
     @property
     def pose_track(self):

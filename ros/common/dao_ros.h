@@ -161,11 +161,11 @@ int dao_ros_proc_depth(struct dao_ros_proc *proc, struct dao_ros_output *out,
  * pose track (dao_context_pose_track), the motions accepted since the first
  * followed frame composed, as depthao process --pose-out and depthaod give it
  * (x_first = R x + t; `rotation` x, y, z, w from the image's optical frame to
- * the first followed frame's, `translation` metres).  It starts over with the histories (new
- * intrinsics, a stamp going back) and when the motion is followed again.  1
- * with the pose; 0: none to give (the motion not followed, a frame whose motion
- * estimate was refused or is unknown: after a cut, or without a pose in source
- * mode).
+ * the first followed frame's, `translation` metres).  It starts over with the
+ * histories (new intrinsics, a stamp going back) and when the motion is
+ * followed again.  1 with the pose; 0: none to give (the motion not
+ * followed, a frame whose motion estimate was refused or is unknown: after a
+ * cut, or without a pose in source mode).
  */
 int dao_ros_proc_pose(const struct dao_ros_proc *proc, double rotation[4], double translation[3]);
 

@@ -252,9 +252,10 @@ void daemon_set_params(struct daemon *d, const struct dao_params *p)
 	pthread_mutex_lock(&d->lock);
 	d->params = *p;
 	d->params_pending = 1;
-	/* the motion switched off: switched on again, even before the next frame, the
-	 * pose starts over (take_settings), as the library's track does when it sees
-	 * the motion off */
+	/* the motion switched off (the library's rule, src/motion/pose_track.c, which
+	 * is not public): switched on again, even before the next frame, the pose
+	 * starts over (take_settings), as the library's track does when it sees the
+	 * motion off */
 	if (p->depth_temporal <= 0.0f || p->depth_temporal_motion == DAO_DEPTH_MOTION_OFF)
 		d->pose_restart = 1;
 	pthread_mutex_unlock(&d->lock);
